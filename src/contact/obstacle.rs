@@ -1,0 +1,217 @@
+//! Rigid obstacles as supporting half-spaces.
+//!
+//! At time `t` an obstacle presents, near a point `x`, the admissible half-space
+//! `g(x) = n . x - c >= 0` with the unit normal `n` pointing into the admissible side
+//! (away from the obstacle). `g` is the gap, m. The normal velocity of the obstacle's surface
+//! at `x` is `w = dc/dt - dn/dt . x`: a node stays on the surface when `n . v = w`.
+
+use std::f64::consts::PI;
+
+/// The admissible half-space `n . x - c >= 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfSpace {
+    /// Unit normal into the admissible side.
+    pub normal: [f64; 2],
+    /// Offset `c`, m.
+    pub offset: f64,
+}
+
+impl HalfSpace {
+    /// The gap `n . x - c` (negative: penetration), m.
+    pub fn gap(&self, x: [f64; 2]) -> f64 {
+        self.normal[0] * x[0] + self.normal[1] * x[1] - self.offset
+    }
+}
+
+/// A rigid obstacle whose surface may move in time.
+pub trait Obstacle: Send + Sync + std::fmt::Debug {
+    /// The supporting half-space at time `t` (s) near the point `x` (m).
+    fn half_space(&self, t: f64, x: [f64; 2]) -> HalfSpace;
+
+    /// Normal velocity of the surface at `x` and time `t`, m/s: `dc/dt - dn/dt . x`.
+    /// The default differentiates [`Obstacle::half_space`] numerically.
+    fn surface_normal_velocity(&self, t: f64, x: [f64; 2]) -> f64 {
+        let dt = 1e-7 * (1.0 + t.abs()).min(1.0) * self.time_scale();
+        let a = self.half_space(t - dt, x);
+        let b = self.half_space(t + dt, x);
+        let cdot = (b.offset - a.offset) / (2.0 * dt);
+        let ndot = [
+            (b.normal[0] - a.normal[0]) / (2.0 * dt),
+            (b.normal[1] - a.normal[1]) / (2.0 * dt),
+        ];
+        cdot - ndot[0] * x[0] - ndot[1] * x[1]
+    }
+
+    /// A characteristic time of the obstacle's motion, s (for numerical differentiation).
+    fn time_scale(&self) -> f64 {
+        1.0
+    }
+}
+
+/// A fixed plane (a wall in 1D: `normal = [-1, 0]` for a wall on the right of the body).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane {
+    /// The half-space.
+    pub half_space: HalfSpace,
+}
+
+/// A fixed wall in 1D at `position` (m), the body on the side `side` (-1: the body is on
+/// the left, `x <= position`; +1: on the right).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wall {
+    /// Position of the wall, m.
+    pub position: f64,
+    /// Side of the admissible region: -1 (left of the wall) or +1 (right of it).
+    pub side: f64,
+}
+
+impl Obstacle for Plane {
+    fn half_space(&self, _t: f64, _x: [f64; 2]) -> HalfSpace {
+        self.half_space
+    }
+    fn surface_normal_velocity(&self, _t: f64, _x: [f64; 2]) -> f64 {
+        0.0
+    }
+}
+
+impl Obstacle for Wall {
+    fn half_space(&self, _t: f64, _x: [f64; 2]) -> HalfSpace {
+        HalfSpace {
+            normal: [self.side, 0.0],
+            offset: self.side * self.position,
+        }
+    }
+    fn surface_normal_velocity(&self, _t: f64, _x: [f64; 2]) -> f64 {
+        0.0
+    }
+}
+
+/// The flattening program of the rolling wheel: `d(t)` rises from 0 to `depth` over
+/// `[0, settle_time]` as `depth (1 - cos(pi t / settle_time)) / 2` (zero velocity at both
+/// ends), then stays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Flattening {
+    /// Final flattening `d`, m.
+    pub depth: f64,
+    /// Duration of the settling ramp, s.
+    pub settle_time: f64,
+}
+
+impl Flattening {
+    /// `d(t)`, m.
+    pub fn at(&self, t: f64) -> f64 {
+        if self.settle_time <= 0.0 || t >= self.settle_time {
+            self.depth
+        } else if t <= 0.0 {
+            0.0
+        } else {
+            self.depth * 0.5 * (1.0 - (PI * t / self.settle_time).cos())
+        }
+    }
+
+    /// `d'(t)`, m/s.
+    pub fn rate(&self, t: f64) -> f64 {
+        if self.settle_time <= 0.0 || t >= self.settle_time || t <= 0.0 {
+            0.0
+        } else {
+            self.depth * 0.5 * PI / self.settle_time * (PI * t / self.settle_time).sin()
+        }
+    }
+}
+
+/// The rigid base of the rolling wheel seen in the wheel's rotating frame: a straight line
+/// at distance `radius - d(t)` from `centre`, turning about `centre` at `omega` rad/s
+/// (counter-clockwise positive). At angle `theta = theta0 + omega t` the outward direction
+/// from the centre to the base is `e = (sin theta, -cos theta)` (`theta = 0`: base below the
+/// wheel), the admissible side is `e . (x - centre) <= radius - d(t)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotatingLine {
+    /// Centre of rotation (the wheel's axle), m.
+    pub centre: [f64; 2],
+    /// Undeformed radius `R`, m.
+    pub radius: f64,
+    /// Angular speed of the base in the wheel's frame, rad/s.
+    pub omega: f64,
+    /// Initial angle, rad.
+    pub theta0: f64,
+    /// Flattening program.
+    pub flattening: Flattening,
+}
+
+impl RotatingLine {
+    /// Angle of the base at time `t`, rad.
+    pub fn angle(&self, t: f64) -> f64 {
+        self.theta0 + self.omega * t
+    }
+
+    /// Unit vector from the centre towards the base at time `t`.
+    pub fn direction(&self, t: f64) -> [f64; 2] {
+        let th = self.angle(t);
+        [th.sin(), -th.cos()]
+    }
+}
+
+impl Obstacle for RotatingLine {
+    fn half_space(&self, t: f64, _x: [f64; 2]) -> HalfSpace {
+        let e = self.direction(t);
+        let rho = self.radius - self.flattening.at(t);
+        HalfSpace {
+            normal: [-e[0], -e[1]],
+            offset: -rho - e[0] * self.centre[0] - e[1] * self.centre[1],
+        }
+    }
+
+    fn surface_normal_velocity(&self, t: f64, x: [f64; 2]) -> f64 {
+        // w = -rho' + e' . (x - centre), e' = omega (cos th, sin th).
+        let th = self.angle(t);
+        let ed = [self.omega * th.cos(), self.omega * th.sin()];
+        self.flattening.rate(t) + ed[0] * (x[0] - self.centre[0]) + ed[1] * (x[1] - self.centre[1])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotating_line_rate_matches_numerical_derivative() {
+        let line = RotatingLine {
+            centre: [0.01, -0.02],
+            radius: 0.1,
+            omega: 300.0,
+            theta0: 0.3,
+            flattening: Flattening { depth: 1e-3, settle_time: 2e-3 },
+        };
+        #[derive(Debug)]
+        struct Numeric(RotatingLine);
+        impl Obstacle for Numeric {
+            fn half_space(&self, t: f64, x: [f64; 2]) -> HalfSpace {
+                self.0.half_space(t, x)
+            }
+            fn time_scale(&self) -> f64 {
+                1e-3
+            }
+        }
+        let x = [0.03, -0.09];
+        for t in [0.0005, 0.0011, 0.003] {
+            let a = line.surface_normal_velocity(t, x);
+            let b = Numeric(line).surface_normal_velocity(t, x);
+            assert!((a - b).abs() < 1e-6 * (1.0 + a.abs()), "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn base_below_the_wheel_at_angle_zero() {
+        let line = RotatingLine {
+            centre: [0.0, 0.0],
+            radius: 0.1,
+            omega: 1.0,
+            theta0: 0.0,
+            flattening: Flattening { depth: 0.001, settle_time: 0.0 },
+        };
+        let hs = line.half_space(0.0, [0.0, 0.0]);
+        assert!((hs.gap([0.0, -0.099]) - 0.0).abs() < 1e-15);
+        assert!(hs.gap([0.0, 0.0]) > 0.0);
+        assert!(hs.gap([0.0, -0.1]) < 0.0);
+    }
+}

@@ -1,0 +1,120 @@
+//! The `softway` command line: parse, validate, call the library, report.
+
+use clap::{Parser, Subcommand};
+use softway::run::{run_scenario, RunOptions, INTERRUPT};
+use softway::scenario::Scenario;
+use softway::time::sdof::analyse;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::atomic::Ordering;
+
+/// Dynamic contact by the space-time finite element method (Bajer's soft way).
+#[derive(Parser, Debug)]
+#[command(name = "softway", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scenario and write history.csv, summary.json, plots and fields into a folder.
+    Run {
+        /// The scenario file (TOML).
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Spectral radius, damping and period error of the scheme against omega*h.
+    Stability {
+        /// alpha of Eq. (8), in (0, 1].
+        #[arg(long, default_value_t = 0.8)]
+        alpha: f64,
+        /// gamma of Eq. (24), in [0, 1].
+        #[arg(long, default_value_t = 0.0)]
+        gamma: f64,
+        /// Also write stability.csv and stability.png into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print one JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPT.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        eprintln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
+    });
+    match try_main(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("softway: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    match cli.command {
+        Command::Run { scenario, out, quiet } => {
+            let sc = Scenario::from_file(&scenario)?;
+            for w in &sc.warnings {
+                eprintln!("softway: warning: {w}");
+            }
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+            let report = run_scenario(&sc, &out, &RunOptions { progress: !quiet })?;
+            println!("{} ({})", sc.name, scenario.display());
+            for l in &report.lines {
+                println!("  {l}");
+            }
+            println!("  wrote:");
+            for f in &report.files {
+                println!("    {}", f.display());
+            }
+            if report.interrupted {
+                eprintln!("softway: interrupted; the files above hold the steps computed so far");
+                return Ok(ExitCode::from(130));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Stability { alpha, gamma, out, json } => {
+            if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+                return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
+            }
+            if !(gamma.is_finite() && (0.0..=1.0).contains(&gamma)) {
+                return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
+            }
+            let rep = analyse(alpha, gamma, 5);
+            if json {
+                let j = serde_json::json!({
+                    "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
+                    "rho_inf": rep.rho_inf,
+                    "unconditionally_stable": rep.unconditionally_stable,
+                    "stability_limit_omega_h": rep.stability_limit_omega_h,
+                    "table": rep.table,
+                });
+                println!("{}", serde_json::to_string_pretty(&j)?);
+            } else {
+                print!("{}", softway::output::stability::table_text(&rep));
+            }
+            if let Some(dir) = out {
+                let files = softway::output::stability::write(&rep, &dir)?;
+                if !json {
+                    for f in files {
+                        println!("wrote {}", f.display());
+                    }
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

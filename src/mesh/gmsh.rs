@@ -1,0 +1,1213 @@
+//! Import of Gmsh `.msh` meshes (MSH format 4.1, ASCII or binary).
+//!
+//! [`read_msh`] reads a 2D triangle mesh: the 3-node triangles (Gmsh element type 2) become
+//! the cells ([`Cells::Tri3`]), `z` is ignored, and every *named* physical group
+//! (`$PhysicalNames`) becomes a node set of that name holding all nodes of the entities
+//! tagged with it, whatever their dimension (points at the centre, curves on the rim,
+//! surfaces). Points and lines are used only for these groups, never as cells.
+//!
+//! Nodes are renumbered compactly (`0..n`, in increasing Gmsh node tag order), keeping only
+//! the nodes used by triangles or by named groups, so sparse Gmsh node tags are fine.
+//!
+//! Orientation: if all triangles are clockwise they are all reversed; a triangle of (near)
+//! zero area, or a mesh with triangles of both orientations, is an error naming the Gmsh
+//! element tag.
+//!
+//! Parsing goes through the [`mshio`] crate; the `$PhysicalNames` section (which `mshio`
+//! skips) is read here. Export from Gmsh with `Mesh.MshFileVersion = 4.1` (the default in
+//! Gmsh 4) and `-2` (2D mesh), for example `gmsh -2 -format msh41 disk.geo`.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+
+use mshio::{ElementType, MshFile, MshParserError};
+
+use super::{Cells, Mesh};
+
+/// Errors when reading a Gmsh mesh. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum GmshError {
+    /// The file could not be read (missing, no permission, ...).
+    #[error("cannot read Gmsh mesh file {}: {source}", .path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file is not MSH format version 4.1.
+    #[error(
+        "{}: unsupported Gmsh MSH format version {version} (only 4.1 is supported; \
+         export with Mesh.MshFileVersion = 4.1, e.g. `gmsh -2 -format msh41`)",
+        .path.display()
+    )]
+    UnsupportedVersion {
+        /// The file.
+        path: PathBuf,
+        /// The version found in the `$MeshFormat` header.
+        version: String,
+    },
+    /// The file is not valid MSH 4.1 (message from the `mshio` parser or from this reader).
+    #[error("{}: invalid Gmsh MSH 4.1 file: {message}", .path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, and where.
+        message: String,
+    },
+    /// The mesh holds no 3-node triangles.
+    #[error(
+        "{}: the mesh has no 3-node triangles (Gmsh element type 2); mesh the surfaces \
+         in 2D (gmsh -2) with first-order triangles",
+        .path.display()
+    )]
+    NoTriangles {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A surface or volume element that is not a 3-node triangle (quads, second-order
+    /// triangles, tetrahedra, ...).
+    #[error(
+        "{}: element {element} has unsupported type {element_type} on a {dim}D entity; \
+         only 3-node triangles (type 2) are supported as cells",
+        .path.display()
+    )]
+    UnsupportedElement {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of the (first) element of that type.
+        element: u64,
+        /// Gmsh element type number and name, e.g. `3 (Qua4)`.
+        element_type: String,
+        /// Dimension of the entity holding the element.
+        dim: i32,
+    },
+    /// An element refers to a node tag that is not in the `$Nodes` section.
+    #[error("{}: element {element} refers to node {node}, which is not in $Nodes", .path.display())]
+    MissingNode {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of the element.
+        element: u64,
+        /// The missing Gmsh node tag.
+        node: u64,
+    },
+    /// A triangle has zero (or near-zero, relative to the mean triangle area) area.
+    #[error(
+        "{}: triangle {element} is degenerate: area {area:e} (mean triangle area {mean_area:e})",
+        .path.display()
+    )]
+    DegenerateElement {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of the triangle.
+        element: u64,
+        /// Its signed area (counter-clockwise positive).
+        area: f64,
+        /// The mean absolute triangle area of the mesh.
+        mean_area: f64,
+    },
+    /// The triangles do not all have the same orientation.
+    #[error(
+        "{}: triangle {element} is inverted: {inverted} of {total} triangles are oriented \
+         against the rest of the mesh",
+        .path.display()
+    )]
+    InvertedElement {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of the first triangle oriented against the majority.
+        element: u64,
+        /// Number of triangles oriented against the majority.
+        inverted: usize,
+        /// Number of triangles.
+        total: usize,
+    },
+}
+
+/// Reads a Gmsh MSH 4.1 file (ASCII or binary) as a 2D triangle mesh.
+///
+/// See the [module documentation](self) for what is read and how.
+///
+/// # Errors
+/// A [`GmshError`] naming the file: [`GmshError::Io`] if it cannot be read,
+/// [`GmshError::UnsupportedVersion`] for other MSH versions, [`GmshError::Parse`] for
+/// malformed content, [`GmshError::NoTriangles`], [`GmshError::UnsupportedElement`],
+/// [`GmshError::MissingNode`], [`GmshError::DegenerateElement`] and
+/// [`GmshError::InvertedElement`] for unusable meshes.
+pub fn read_msh(path: &Path) -> Result<Mesh, GmshError> {
+    let bytes = std::fs::read(path).map_err(|source| GmshError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_msh(&bytes, path)
+}
+
+/// Relative area below which a triangle counts as degenerate.
+const DEGENERATE_RELATIVE_AREA: f64 = 1e-12;
+
+/// Parses the bytes of a MSH 4.1 file; `path` only names the file in errors.
+fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
+    let parse_err = |message: String| GmshError::Parse {
+        path: path.to_path_buf(),
+        message,
+    };
+
+    let header = read_header(bytes).map_err(|e| match e {
+        HeaderError::Version(version) => GmshError::UnsupportedVersion {
+            path: path.to_path_buf(),
+            version,
+        },
+        HeaderError::Invalid(message) => parse_err(message),
+    })?;
+
+    let names = read_physical_names(bytes).map_err(parse_err)?;
+
+    // Counts of the $Nodes and $Elements sections, checked before mshio sees them (it
+    // cannot handle empty sections), and the $Nodes header patched so that mshio keeps the
+    // node tags (it drops them when they are contiguous, assuming they are in file order).
+    let mut patched = None;
+    if let Some(counts) = section_counts(bytes, "$Nodes", &header) {
+        if counts.count == 0 {
+            return Err(GmshError::NoTriangles {
+                path: path.to_path_buf(),
+            });
+        }
+        let mut copy = bytes.to_vec();
+        if patch_max_tag(&mut copy, &counts, &header) {
+            patched = Some(copy);
+        }
+    }
+    if let Some(counts) = section_counts(bytes, "$Elements", &header) {
+        if counts.count == 0 {
+            return Err(GmshError::NoTriangles {
+                path: path.to_path_buf(),
+            });
+        }
+    }
+    let input: &[u8] = patched.as_deref().unwrap_or(bytes);
+
+    // mshio should not panic on the input checked above; catch it anyway so that a bad file
+    // can never bring the program down.
+    let parsed = std::panic::catch_unwind(|| {
+        mshio::parse_msh_bytes(input).map_err(|e| describe_parse_error(&e, input, header.binary))
+    });
+    let msh = match parsed {
+        Ok(Ok(msh)) => msh,
+        Ok(Err(message)) => return Err(parse_err(message)),
+        Err(_) => {
+            return Err(parse_err(
+                "internal error in the MSH parser (mshio panicked)".to_string(),
+            ))
+        }
+    };
+
+    build_mesh(&msh, &names, path)
+}
+
+/// Builds the mesh from the parsed file and the physical names `(dim, tag) -> name`.
+fn build_mesh(
+    msh: &MshFile<u64, i32, f64>,
+    names: &BTreeMap<(i32, i32), String>,
+    path: &Path,
+) -> Result<Mesh, GmshError> {
+    let missing = |element: u64, node: u64| GmshError::MissingNode {
+        path: path.to_path_buf(),
+        element,
+        node,
+    };
+
+    // Node coordinates by tag, and the nodes of each entity's node block.
+    let mut coords: HashMap<u64, [f64; 2]> = HashMap::new();
+    let mut entity_nodes: HashMap<(i32, i32), Vec<u64>> = HashMap::new();
+    if let Some(nodes) = &msh.data.nodes {
+        let mut next_tag = nodes.min_node_tag;
+        for block in &nodes.node_blocks {
+            let list = entity_nodes
+                .entry((block.entity_dim, block.entity_tag))
+                .or_default();
+            match &block.node_tags {
+                Some(tags) => {
+                    for (&tag, &i) in tags {
+                        if let Some(n) = block.nodes.get(i) {
+                            coords.insert(tag, [n.x, n.y]);
+                            list.push(tag);
+                        }
+                    }
+                }
+                None => {
+                    // Contiguous tags, in file order.
+                    for n in &block.nodes {
+                        coords.insert(next_tag, [n.x, n.y]);
+                        list.push(next_tag);
+                        next_tag = next_tag.saturating_add(1);
+                    }
+                }
+            }
+        }
+    }
+
+    // Physical tags of each entity.
+    let mut entity_physicals: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
+    if let Some(entities) = &msh.data.entities {
+        for p in &entities.points {
+            entity_physicals.insert((0, p.tag), p.physical_tags.clone());
+        }
+        for c in &entities.curves {
+            entity_physicals.insert((1, c.tag), c.physical_tags.clone());
+        }
+        for s in &entities.surfaces {
+            entity_physicals.insert((2, s.tag), s.physical_tags.clone());
+        }
+        for v in &entities.volumes {
+            entity_physicals.insert((3, v.tag), v.physical_tags.clone());
+        }
+    }
+    let group_names = |dim: i32, tag: i32| -> Vec<&String> {
+        entity_physicals
+            .get(&(dim, tag))
+            .map(|phys| {
+                phys.iter()
+                    .filter_map(|&p| names.get(&(dim, p)).or_else(|| names.get(&(dim, -p))))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+
+    // Named groups (possibly empty) and triangles.
+    let mut groups: BTreeMap<String, BTreeSet<u64>> = names
+        .values()
+        .map(|name| (name.clone(), BTreeSet::new()))
+        .collect();
+    let mut triangles: Vec<(u64, [u64; 3])> = Vec::new();
+    if let Some(elements) = &msh.data.elements {
+        for block in &elements.element_blocks {
+            let (dim, tag) = (block.entity_dim, block.entity_tag);
+            if block.element_type == ElementType::Tri3 {
+                for el in &block.elements {
+                    if let [a, b, c] = el.nodes[..] {
+                        for n in [a, b, c] {
+                            if !coords.contains_key(&n) {
+                                return Err(missing(el.element_tag, n));
+                            }
+                        }
+                        triangles.push((el.element_tag, [a, b, c]));
+                    }
+                }
+            } else if dim >= 2 {
+                if let Some(el) = block.elements.first() {
+                    let et = block.element_type;
+                    return Err(GmshError::UnsupportedElement {
+                        path: path.to_path_buf(),
+                        element: el.element_tag,
+                        element_type: format!("{} ({et:?})", et as i32),
+                        dim,
+                    });
+                }
+            }
+            for name in group_names(dim, tag) {
+                let set = groups.entry(name.clone()).or_default();
+                for el in &block.elements {
+                    for &n in &el.nodes {
+                        if !coords.contains_key(&n) {
+                            return Err(missing(el.element_tag, n));
+                        }
+                        set.insert(n);
+                    }
+                }
+            }
+        }
+    }
+    if triangles.is_empty() {
+        return Err(GmshError::NoTriangles {
+            path: path.to_path_buf(),
+        });
+    }
+    // Nodes classified on a grouped entity (e.g. a physical point without a point element).
+    for (&(dim, tag), list) in &entity_nodes {
+        for name in group_names(dim, tag) {
+            groups.entry(name.clone()).or_default().extend(list);
+        }
+    }
+
+    // Compact renumbering in increasing tag order.
+    let mut used: BTreeSet<u64> = triangles.iter().flat_map(|(_, t)| *t).collect();
+    for set in groups.values() {
+        used.extend(set);
+    }
+    let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
+    let points: Vec<[f64; 2]> = used
+        .iter()
+        .map(|t| coords.get(t).copied().unwrap_or([f64::NAN; 2]))
+        .collect();
+    let idx = |t: &u64| index.get(t).copied().unwrap_or(0);
+    let mut cells: Vec<[usize; 3]> = triangles
+        .iter()
+        .map(|(_, t)| [idx(&t[0]), idx(&t[1]), idx(&t[2])])
+        .collect();
+
+    orient(&mut cells, &points, &triangles, path)?;
+
+    let node_sets = groups
+        .into_iter()
+        .map(|(name, set)| {
+            let mut v: Vec<usize> = set.iter().map(idx).collect();
+            v.sort_unstable();
+            v.dedup();
+            (name, v)
+        })
+        .collect();
+
+    Ok(Mesh {
+        dim: 2,
+        points,
+        cells: Cells::Tri3(cells),
+        node_sets,
+    })
+}
+
+/// Checks the triangle areas and makes all triangles counter-clockwise (see the module
+/// documentation). `triangles` gives the Gmsh tag of each cell, for errors.
+fn orient(
+    cells: &mut [[usize; 3]],
+    points: &[[f64; 2]],
+    triangles: &[(u64, [u64; 3])],
+    path: &Path,
+) -> Result<(), GmshError> {
+    let area = |t: &[usize; 3]| {
+        let p = |i: usize| points.get(t[i]).copied().unwrap_or([f64::NAN; 2]);
+        let (a, b, c) = (p(0), p(1), p(2));
+        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+    };
+    let areas: Vec<f64> = cells.iter().map(area).collect();
+    let mean_area = areas.iter().map(|a| a.abs()).sum::<f64>() / areas.len().max(1) as f64;
+    let tol = DEGENERATE_RELATIVE_AREA * mean_area;
+    for (k, &a) in areas.iter().enumerate() {
+        // NaN areas (from NaN coordinates) count as degenerate.
+        if a.is_nan() || a.abs() <= tol {
+            return Err(GmshError::DegenerateElement {
+                path: path.to_path_buf(),
+                element: triangles[k].0,
+                area: a,
+                mean_area,
+            });
+        }
+    }
+    let positive = areas.iter().filter(|&&a| a > 0.0).count();
+    let negative = areas.len() - positive;
+    if negative == 0 {
+        return Ok(());
+    }
+    if positive == 0 {
+        for c in cells.iter_mut() {
+            c.swap(1, 2);
+        }
+        return Ok(());
+    }
+    // Mixed: the minority orientation is inverted.
+    let majority_positive = positive >= negative;
+    let first = areas
+        .iter()
+        .position(|&a| (a > 0.0) != majority_positive)
+        .unwrap_or(0);
+    Err(GmshError::InvertedElement {
+        path: path.to_path_buf(),
+        element: triangles[first].0,
+        inverted: positive.min(negative),
+        total: areas.len(),
+    })
+}
+
+/// The `$MeshFormat` header.
+#[derive(Debug, Clone, Copy)]
+struct Header {
+    binary: bool,
+    /// Size of `size_t` in bytes (4 or 8).
+    size_t: usize,
+    /// Byte order of a binary file (true: little endian).
+    little_endian: bool,
+}
+
+enum HeaderError {
+    Version(String),
+    Invalid(String),
+}
+
+/// Reads and checks the `$MeshFormat` header (before mshio, which panics on some bad headers).
+fn read_header(bytes: &[u8]) -> Result<Header, HeaderError> {
+    let invalid = |m: &str| HeaderError::Invalid(m.to_string());
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(bytes.len());
+    let rest = &bytes[start..];
+    let Some(rest) = rest.strip_prefix(b"$MeshFormat") else {
+        return Err(invalid(
+            "not a Gmsh mesh file: it does not start with a $MeshFormat section",
+        ));
+    };
+    let rest = strip_newline(rest).ok_or_else(|| invalid("bad $MeshFormat line"))?;
+    let line_end = rest
+        .iter()
+        .position(|&b| b == b'\n')
+        .ok_or_else(|| invalid("truncated $MeshFormat header"))?;
+    let line = String::from_utf8_lossy(&rest[..line_end]);
+    let tokens: Vec<&str> = line.split_whitespace().collect();
+    let [version, file_type, data_size] = tokens[..] else {
+        return Err(invalid(
+            "the $MeshFormat header must read `version file-type data-size`",
+        ));
+    };
+    if version.parse::<f64>().ok() != Some(4.1) {
+        return Err(HeaderError::Version(version.to_string()));
+    }
+    let binary = match file_type {
+        "0" => false,
+        "1" => true,
+        _ => {
+            return Err(HeaderError::Invalid(format!(
+                "file type must be 0 (ASCII) or 1 (binary), got {file_type}"
+            )))
+        }
+    };
+    let size_t = match data_size {
+        "4" => 4,
+        "8" => 8,
+        _ => {
+            return Err(HeaderError::Invalid(format!(
+                "data size (size of size_t) must be 4 or 8, got {data_size}"
+            )))
+        }
+    };
+    let mut little_endian = true;
+    if binary {
+        let one = rest
+            .get(line_end + 1..line_end + 5)
+            .and_then(|b| <[u8; 4]>::try_from(b).ok())
+            .ok_or_else(|| invalid("truncated binary $MeshFormat header"))?;
+        little_endian = if i32::from_le_bytes(one) == 1 {
+            true
+        } else if i32::from_be_bytes(one) == 1 {
+            false
+        } else {
+            return Err(invalid(
+                "binary $MeshFormat header: the endianness test integer is not 1",
+            ));
+        };
+    }
+    Ok(Header {
+        binary,
+        size_t,
+        little_endian,
+    })
+}
+
+/// Strips one line break (`\n` or `\r\n`) from the start.
+fn strip_newline(b: &[u8]) -> Option<&[u8]> {
+    b.strip_prefix(b"\n").or_else(|| b.strip_prefix(b"\r\n"))
+}
+
+/// Offset of the body of section `tag` (just after the line holding `tag`), if present. The
+/// tag must start a line and be followed by a line break.
+fn find_section(bytes: &[u8], tag: &str) -> Option<usize> {
+    let tag = tag.as_bytes();
+    let mut from = 0;
+    while let Some(pos) = find(&bytes[from..], tag).map(|p| p + from) {
+        let at_line_start = pos == 0 || bytes[pos - 1] == b'\n';
+        let after = &bytes[pos + tag.len()..];
+        if at_line_start {
+            if let Some(body) = strip_newline(after) {
+                return Some(bytes.len() - body.len());
+            }
+        }
+        from = pos + 1;
+    }
+    None
+}
+
+/// First position of `needle` in `hay`.
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    if needle.is_empty() || hay.len() < needle.len() {
+        return None;
+    }
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// Reads `$PhysicalNames` (always ASCII, also in binary files): `(dim, tag) -> name`.
+fn read_physical_names(bytes: &[u8]) -> Result<BTreeMap<(i32, i32), String>, String> {
+    let mut names = BTreeMap::new();
+    let Some(start) = find_section(bytes, "$PhysicalNames") else {
+        return Ok(names);
+    };
+    let len = find(&bytes[start..], b"$EndPhysicalNames")
+        .ok_or("the $PhysicalNames section has no $EndPhysicalNames")?;
+    let text = String::from_utf8_lossy(&bytes[start..start + len]);
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let count: usize = lines
+        .next()
+        .and_then(|l| l.parse().ok())
+        .ok_or("$PhysicalNames: the first line must be the number of names")?;
+    for k in 0..count {
+        let line = lines
+            .next()
+            .ok_or_else(|| format!("$PhysicalNames: {count} names announced, {k} found"))?;
+        let bad = || format!("$PhysicalNames: bad entry `{line}` (expected `dim tag \"name\"`)");
+        let mut parts = line.splitn(3, char::is_whitespace);
+        let dim: i32 = parts.next().and_then(|s| s.parse().ok()).ok_or_else(bad)?;
+        let tag: i32 = parts.next().and_then(|s| s.parse().ok()).ok_or_else(bad)?;
+        let name = parts
+            .next()
+            .map(str::trim)
+            .and_then(|s| s.strip_prefix('"'))
+            .and_then(|s| s.strip_suffix('"'))
+            .ok_or_else(bad)?;
+        names.insert((dim, tag), name.to_string());
+    }
+    Ok(names)
+}
+
+/// The header of a `$Nodes` or `$Elements` section.
+#[derive(Debug, Clone, Copy)]
+struct SectionCounts {
+    /// Number of nodes or elements.
+    count: u64,
+    /// Byte range of the maximum tag in the file.
+    max_tag: (usize, usize),
+}
+
+/// Reads `numEntityBlocks numX minTag maxTag` at the start of section `tag`. `None` if the
+/// section is absent or its header unreadable (mshio then reports the problem).
+fn section_counts(bytes: &[u8], tag: &str, header: &Header) -> Option<SectionCounts> {
+    let start = find_section(bytes, tag)?;
+    if header.binary {
+        let n = header.size_t;
+        let read = |k: usize| -> Option<u64> {
+            let b = bytes.get(start + k * n..start + (k + 1) * n)?;
+            Some(match (n, header.little_endian) {
+                (4, true) => u64::from(u32::from_le_bytes(b.try_into().ok()?)),
+                (4, false) => u64::from(u32::from_be_bytes(b.try_into().ok()?)),
+                (_, true) => u64::from_le_bytes(b.try_into().ok()?),
+                (_, false) => u64::from_be_bytes(b.try_into().ok()?),
+            })
+        };
+        let count = read(1)?;
+        read(3)?;
+        Some(SectionCounts {
+            count,
+            max_tag: (start + 3 * n, start + 4 * n),
+        })
+    } else {
+        // Four whitespace-separated integers.
+        let mut spans = Vec::with_capacity(4);
+        let mut i = start;
+        while spans.len() < 4 {
+            while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+                i += 1;
+            }
+            let s = i;
+            while i < bytes.len() && bytes[i].is_ascii_digit() {
+                i += 1;
+            }
+            if s == i {
+                return None;
+            }
+            spans.push((s, i));
+        }
+        let num = |k: usize| -> Option<u64> {
+            let (s, e) = spans[k];
+            std::str::from_utf8(&bytes[s..e]).ok()?.parse().ok()
+        };
+        let count = num(1)?;
+        num(3)?;
+        Some(SectionCounts {
+            count,
+            max_tag: spans[3],
+        })
+    }
+}
+
+/// Replaces the maximum node tag in the `$Nodes` header by the largest value, so that mshio
+/// treats the tags as sparse and keeps them. Returns false if nothing was changed.
+fn patch_max_tag(bytes: &mut Vec<u8>, counts: &SectionCounts, header: &Header) -> bool {
+    let (s, e) = counts.max_tag;
+    if e > bytes.len() || s > e {
+        return false;
+    }
+    if header.binary {
+        bytes[s..e].fill(0xff);
+    } else {
+        let max = if header.size_t == 4 {
+            u64::from(u32::MAX)
+        } else {
+            u64::MAX
+        };
+        bytes.splice(s..e, max.to_string().into_bytes());
+    }
+    true
+}
+
+/// A readable message from an mshio error: what went wrong, in which section, and where
+/// (line for ASCII files, byte offset for binary ones). mshio's own `Display` appends a hex
+/// dump of the whole rest of the file, which is not wanted here.
+fn describe_parse_error(err: &MshParserError<&[u8]>, input: &[u8], binary: bool) -> String {
+    let trace = err.filtered_backtrace();
+    let Some((rest, _)) = trace.first() else {
+        return "unknown parse error".to_string();
+    };
+    // The innermost error kind that is not a context note, then the contexts from the
+    // outermost (section) to the innermost (value).
+    let kind = trace
+        .iter()
+        .find(|(_, k)| k.context().is_none())
+        .map_or_else(|| "parse error".to_string(), |(_, k)| k.to_string());
+    let context: Vec<&str> = trace
+        .iter()
+        .rev()
+        .filter_map(|(_, k)| k.context())
+        .collect();
+    let mut message = kind.trim_end().to_string();
+    if !context.is_empty() {
+        message = format!("{message} (in {})", context.join(" > "));
+    }
+    let base = input.as_ptr() as usize;
+    let at = rest.as_ptr() as usize;
+    if at >= base && at - base <= input.len() {
+        let offset = at - base;
+        if binary {
+            message.push_str(&format!(", at byte {offset}"));
+        } else {
+            let line = input[..offset].iter().filter(|&&b| b == b'\n').count() + 1;
+            message.push_str(&format!(", near line {line}"));
+        }
+    }
+    message
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A temporary directory removed on drop.
+    struct TempDir(PathBuf);
+
+    impl TempDir {
+        fn new(name: &str) -> Self {
+            let dir = std::env::temp_dir()
+                .join(format!("softway-gmsh-test-{}-{name}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).unwrap();
+            TempDir(dir)
+        }
+        fn write(&self, file: &str, content: &[u8]) -> PathBuf {
+            let p = self.0.join(file);
+            std::fs::write(&p, content).unwrap();
+            p
+        }
+    }
+
+    impl Drop for TempDir {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    /// Node coordinates of the unit square test mesh: 4 corners and the centre.
+    const XY: [[f64; 2]; 5] = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]];
+
+    /// The unit square, split into 4 triangles around its centre, as ASCII MSH 4.1.
+    ///
+    /// `tags[i]` is the Gmsh tag of node `XY[i]`; `tris` are the triangles (element tags
+    /// 3, 4, ...) as indices into `XY`. Physical groups: "corner" (point 1, physical 1),
+    /// "bottom" (curve 1, physical 1), "body" (surface 1, physical 2), and an unnamed
+    /// physical group 7 on curve 3.
+    fn square_ascii(tags: [u64; 5], tris: &[[usize; 3]]) -> String {
+        let mut s = String::from(
+            "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n\
+             $PhysicalNames\n3\n0 1 \"corner\"\n1 1 \"bottom\"\n2 2 \"body\"\n$EndPhysicalNames\n\
+             $Entities\n4 4 1 0\n\
+             1 0 0 0 1 1\n2 1 0 0 0\n3 1 1 0 0\n4 0 1 0 0\n\
+             1 0 0 0 1 0 0 1 1 2 1 -2\n\
+             2 1 0 0 1 1 0 0 2 2 -3\n\
+             3 0 1 0 1 1 0 1 7 2 3 -4\n\
+             4 0 0 0 0 1 0 0 2 4 -1\n\
+             1 0 0 0 1 1 0 1 2 4 1 2 3 4\n\
+             $EndEntities\n",
+        );
+        let (min, max) = (tags.iter().min().unwrap(), tags.iter().max().unwrap());
+        s += &format!("$Nodes\n9 5 {min} {max}\n");
+        for p in 0..4 {
+            let [x, y] = XY[p];
+            s += &format!("0 {} 0 1\n{}\n{x} {y} 0\n", p + 1, tags[p]);
+        }
+        for c in 1..=4 {
+            s += &format!("1 {c} 0 0\n");
+        }
+        s += &format!("2 1 0 1\n{}\n0.5 0.5 0\n$EndNodes\n", tags[4]);
+        let n_el = 3 + tris.len();
+        s += &format!("$Elements\n4 {n_el} 1 {n_el}\n");
+        s += &format!("0 1 15 1\n1 {}\n", tags[0]);
+        s += &format!("1 1 1 1\n2 {} {}\n", tags[0], tags[1]);
+        s += &format!("1 3 1 1\n{} {} {}\n", n_el, tags[2], tags[3]);
+        s += &format!("2 1 2 {}\n", tris.len());
+        for (k, t) in tris.iter().enumerate() {
+            s += &format!("{} {} {} {}\n", k + 3, tags[t[0]], tags[t[1]], tags[t[2]]);
+        }
+        s += "$EndElements\n";
+        s
+    }
+
+    /// The same mesh as [`square_ascii`] (without the unnamed group), in binary MSH 4.1.
+    fn square_binary(tags: [u64; 5], tris: &[[usize; 3]], little: bool) -> Vec<u8> {
+        let mut b: Vec<u8> = Vec::new();
+        let int = |b: &mut Vec<u8>, v: i32| {
+            b.extend(if little {
+                v.to_le_bytes()
+            } else {
+                v.to_be_bytes()
+            })
+        };
+        let size = |b: &mut Vec<u8>, v: u64| {
+            b.extend(if little {
+                v.to_le_bytes()
+            } else {
+                v.to_be_bytes()
+            })
+        };
+        let dbl = |b: &mut Vec<u8>, v: f64| {
+            b.extend(if little {
+                v.to_le_bytes()
+            } else {
+                v.to_be_bytes()
+            })
+        };
+        b.extend(b"$MeshFormat\n4.1 1 8\n");
+        int(&mut b, 1);
+        b.extend(b"\n$EndMeshFormat\n");
+        b.extend(b"$PhysicalNames\n3\n0 1 \"corner\"\n1 1 \"bottom\"\n2 2 \"body\"\n");
+        b.extend(b"$EndPhysicalNames\n$Entities\n");
+        for n in [4, 4, 1, 0] {
+            size(&mut b, n);
+        }
+        for (p, xy) in XY.iter().take(4).enumerate() {
+            int(&mut b, p as i32 + 1);
+            dbl(&mut b, xy[0]);
+            dbl(&mut b, xy[1]);
+            dbl(&mut b, 0.0);
+            if p == 0 {
+                size(&mut b, 1);
+                int(&mut b, 1);
+            } else {
+                size(&mut b, 0);
+            }
+        }
+        for c in 0..4usize {
+            int(&mut b, c as i32 + 1);
+            for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
+                dbl(&mut b, v);
+            }
+            if c == 0 {
+                size(&mut b, 1);
+                int(&mut b, 1);
+            } else {
+                size(&mut b, 0);
+            }
+            size(&mut b, 2);
+            int(&mut b, c as i32 + 1);
+            int(&mut b, -(((c + 1) % 4) as i32 + 1));
+        }
+        int(&mut b, 1);
+        for v in [0.0, 0.0, 0.0, 1.0, 1.0, 0.0] {
+            dbl(&mut b, v);
+        }
+        size(&mut b, 1);
+        int(&mut b, 2);
+        size(&mut b, 4);
+        for c in 1..=4 {
+            int(&mut b, c);
+        }
+        b.extend(b"\n$EndEntities\n$Nodes\n");
+        let (min, max) = (*tags.iter().min().unwrap(), *tags.iter().max().unwrap());
+        for v in [5, 5, min, max] {
+            size(&mut b, v);
+        }
+        let block = |b: &mut Vec<u8>, dim: i32, tag: i32, nodes: &[usize]| {
+            int(b, dim);
+            int(b, tag);
+            int(b, 0);
+            size(b, nodes.len() as u64);
+            for &n in nodes {
+                size(b, tags[n]);
+            }
+            for &n in nodes {
+                dbl(b, XY[n][0]);
+                dbl(b, XY[n][1]);
+                dbl(b, 0.0);
+            }
+        };
+        for p in 0..4 {
+            block(&mut b, 0, p as i32 + 1, &[p]);
+        }
+        block(&mut b, 2, 1, &[4]);
+        b.extend(b"\n$EndNodes\n$Elements\n");
+        let n_el = 2 + tris.len() as u64;
+        for v in [3, n_el, 1, n_el] {
+            size(&mut b, v);
+        }
+        for v in [0, 1, 15] {
+            int(&mut b, v);
+        }
+        size(&mut b, 1);
+        size(&mut b, 1);
+        size(&mut b, tags[0]);
+        for v in [1, 1, 1] {
+            int(&mut b, v);
+        }
+        size(&mut b, 1);
+        for v in [2, tags[0], tags[1]] {
+            size(&mut b, v);
+        }
+        for v in [2, 1, 2] {
+            int(&mut b, v);
+        }
+        size(&mut b, tris.len() as u64);
+        for (k, t) in tris.iter().enumerate() {
+            for v in [k as u64 + 3, tags[t[0]], tags[t[1]], tags[t[2]]] {
+                size(&mut b, v);
+            }
+        }
+        b.extend(b"\n$EndElements\n");
+        b
+    }
+
+    const CCW: [[usize; 3]; 4] = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+    const TAGS: [u64; 5] = [1, 2, 3, 4, 5];
+
+    fn signed_area(m: &Mesh, t: [usize; 3]) -> f64 {
+        let [a, b, c] = [m.points[t[0]], m.points[t[1]], m.points[t[2]]];
+        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+    }
+
+    fn tris(m: &Mesh) -> Vec<[usize; 3]> {
+        match &m.cells {
+            Cells::Tri3(t) => t.clone(),
+            Cells::Bar2(_) => panic!("expected triangles"),
+        }
+    }
+
+    /// The index of the node at `xy`.
+    fn node_at(m: &Mesh, xy: [f64; 2]) -> usize {
+        m.points.iter().position(|p| *p == xy).expect("node")
+    }
+
+    /// Checks the square mesh read back: counts, coordinates, sets, orientation.
+    fn check_square(m: &Mesh) {
+        assert_eq!(m.dim, 2);
+        assert_eq!(m.n_nodes(), 5);
+        assert_eq!(m.cells.len(), 4);
+        for p in XY {
+            node_at(m, p);
+        }
+        let mut total = 0.0;
+        for t in tris(m) {
+            let a = signed_area(m, t);
+            assert!(a > 0.0, "triangle {t:?} area {a}");
+            total += a;
+            assert!(t.contains(&node_at(m, [0.5, 0.5])));
+        }
+        assert!((total - 1.0).abs() < 1e-14);
+        let set = |name: &str, xy: &[[f64; 2]]| {
+            let mut expect: Vec<usize> = xy.iter().map(|&p| node_at(m, p)).collect();
+            expect.sort_unstable();
+            assert_eq!(m.node_set(name), Some(expect.as_slice()), "set {name}");
+        };
+        set("bottom", &[[0.0, 0.0], [1.0, 0.0]]);
+        set("corner", &[[0.0, 0.0]]);
+        set("body", &XY);
+        assert_eq!(m.node_sets.len(), 3, "{:?}", m.node_sets.keys());
+    }
+
+    #[test]
+    fn ascii_square_counts_sets_orientation() {
+        let dir = TempDir::new("ascii");
+        let p = dir.write("square.msh", square_ascii(TAGS, &CCW).as_bytes());
+        let m = read_msh(&p).unwrap();
+        check_square(&m);
+        // Tags 1..5 in increasing order: the node order is kept.
+        assert_eq!(m.points, XY.to_vec());
+        assert_eq!(tris(&m), CCW.to_vec());
+        assert_eq!(m.node_set("bottom"), Some(&[0, 1][..]));
+    }
+
+    #[test]
+    fn two_triangles_and_eight_triangles() {
+        let dir = TempDir::new("two-eight");
+        // Two triangles: the centre node is used only by the "body" group's node block.
+        let two = [[0, 1, 2], [0, 2, 3]];
+        let p = dir.write("two.msh", square_ascii(TAGS, &two).as_bytes());
+        let m = read_msh(&p).unwrap();
+        assert_eq!(m.cells.len(), 2);
+        assert_eq!(m.n_nodes(), 5, "group nodes are kept");
+        assert_eq!(m.node_set("body").unwrap().len(), 5);
+
+        // Eight triangles on a 3 x 3 node grid, one node block, no named boundary groups.
+        let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+        s += "$PhysicalNames\n1\n2 1 \"body\"\n$EndPhysicalNames\n";
+        s += "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 1 1 0\n$EndEntities\n";
+        s += "$Nodes\n1 9 1 9\n2 1 0 9\n";
+        for k in 1..=9 {
+            s += &format!("{k}\n");
+        }
+        for j in 0..3 {
+            for i in 0..3 {
+                s += &format!("{} {} 0\n", i as f64 / 2.0, j as f64 / 2.0);
+            }
+        }
+        s += "$EndNodes\n$Elements\n1 8 1 8\n2 1 2 8\n";
+        let mut e = 1;
+        for j in 0..2 {
+            for i in 0..2 {
+                let n = |i: usize, j: usize| 1 + i + 3 * j;
+                s += &format!("{e} {} {} {}\n", n(i, j), n(i + 1, j), n(i + 1, j + 1));
+                s += &format!(
+                    "{} {} {} {}\n",
+                    e + 1,
+                    n(i, j),
+                    n(i + 1, j + 1),
+                    n(i, j + 1)
+                );
+                e += 2;
+            }
+        }
+        s += "$EndElements\n";
+        let p = dir.write("eight.msh", s.as_bytes());
+        let m = read_msh(&p).unwrap();
+        assert_eq!((m.n_nodes(), m.cells.len()), (9, 8));
+        assert_eq!(m.node_set("body").unwrap(), &(0..9).collect::<Vec<_>>()[..]);
+        let total: f64 = tris(&m).into_iter().map(|t| signed_area(&m, t)).sum();
+        assert!((total - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn sparse_and_permuted_tags() {
+        let dir = TempDir::new("tags");
+        // Sparse tags.
+        let p = dir.write(
+            "sparse.msh",
+            square_ascii([101, 7, 33, 2000, 5], &CCW).as_bytes(),
+        );
+        let m = read_msh(&p).unwrap();
+        check_square(&m);
+        // Renumbered by increasing tag: 5 (centre), 7, 33, 101, 2000.
+        assert_eq!(m.points[0], [0.5, 0.5]);
+        assert_eq!(m.points[4], [0.0, 1.0]);
+        // Contiguous tags 1..=5, but not in file order: mshio would drop them.
+        let p = dir.write(
+            "permuted.msh",
+            square_ascii([5, 4, 3, 2, 1], &CCW).as_bytes(),
+        );
+        let m = read_msh(&p).unwrap();
+        check_square(&m);
+        assert_eq!(
+            m.points,
+            vec![[0.5, 0.5], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]
+        );
+    }
+
+    #[test]
+    fn clockwise_mesh_is_reversed() {
+        let dir = TempDir::new("cw");
+        let cw: Vec<[usize; 3]> = CCW.iter().map(|t| [t[0], t[2], t[1]]).collect();
+        let p = dir.write("cw.msh", square_ascii(TAGS, &cw).as_bytes());
+        let m = read_msh(&p).unwrap();
+        check_square(&m);
+        assert_eq!(tris(&m), CCW.to_vec());
+    }
+
+    #[test]
+    fn zero_area_triangle_is_an_error() {
+        let dir = TempDir::new("zero");
+        let mut t = CCW.to_vec();
+        t[3] = [0, 2, 4]; // (0,0), (1,1), (0.5,0.5): collinear; element tag 6
+        let p = dir.write("zero.msh", square_ascii(TAGS, &t).as_bytes());
+        let e = read_msh(&p).unwrap_err();
+        assert!(
+            matches!(e, GmshError::DegenerateElement { element: 6, .. }),
+            "{e:?}"
+        );
+        let msg = e.to_string();
+        assert!(
+            msg.contains("zero.msh") && msg.contains("triangle 6"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn inverted_triangle_is_an_error() {
+        let dir = TempDir::new("inverted");
+        let mut t = CCW.to_vec();
+        t[2] = [2, 4, 3]; // element tag 5, clockwise
+        let p = dir.write("inv.msh", square_ascii(TAGS, &t).as_bytes());
+        let e = read_msh(&p).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GmshError::InvertedElement {
+                    element: 5,
+                    inverted: 1,
+                    total: 4,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("inv.msh"));
+        // Mostly clockwise: the one counter-clockwise triangle is the inverted one.
+        let t = vec![[0, 4, 1], [1, 2, 4], [2, 4, 3], [3, 4, 0]];
+        let p = dir.write("inv2.msh", square_ascii(TAGS, &t).as_bytes());
+        let e = read_msh(&p).unwrap_err();
+        assert!(
+            matches!(e, GmshError::InvertedElement { element: 4, .. }),
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn missing_file_names_the_path() {
+        let dir = TempDir::new("missing");
+        let p = dir.0.join("nope.msh");
+        let e = read_msh(&p).unwrap_err();
+        assert!(matches!(e, GmshError::Io { .. }), "{e:?}");
+        assert!(e.to_string().contains("nope.msh"), "{e}");
+    }
+
+    #[test]
+    fn garbage_and_bad_headers() {
+        let dir = TempDir::new("garbage");
+        let cases: &[(&str, &[u8])] = &[
+            ("garbage.msh", b"hello, this is not a mesh\n\x00\xff"),
+            ("empty.msh", b""),
+            ("bad-type.msh", b"$MeshFormat\n4.1 7 8\n$EndMeshFormat\n"),
+            ("bad-size.msh", b"$MeshFormat\n4.1 0 99999999999999\n$EndMeshFormat\n"),
+            ("short.msh", b"$MeshFormat\n4.1 0\n$EndMeshFormat\n"),
+            ("bin-short.msh", b"$MeshFormat\n4.1 1 8\n"),
+            (
+                "bad-body.msh",
+                b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n2 1 0 2\n1\n2\n0 0 0\nx y z\n$EndNodes\n",
+            ),
+            (
+                "bad-names.msh",
+                b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 1 \"a\"\n$EndPhysicalNames\n",
+            ),
+            (
+                "unclosed-names.msh",
+                b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"a\"\n",
+            ),
+        ];
+        for (name, content) in cases {
+            let p = dir.write(name, content);
+            let e = read_msh(&p).unwrap_err();
+            assert!(matches!(e, GmshError::Parse { .. }), "{name}: {e:?}");
+            let msg = e.to_string();
+            assert!(msg.contains(name), "{msg}");
+            assert!(!msg.contains("panicked"), "{msg}");
+        }
+        // The parser's message says where.
+        let e = read_msh(&dir.0.join("bad-body.msh")).unwrap_err();
+        assert!(e.to_string().contains("line 10"), "{e}");
+    }
+
+    #[test]
+    fn unsupported_version() {
+        let dir = TempDir::new("version");
+        let p = dir.write("old.msh", b"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
+        let e = read_msh(&p).unwrap_err();
+        assert!(
+            matches!(&e, GmshError::UnsupportedVersion { version, .. } if version == "2.2"),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("old.msh"));
+    }
+
+    #[test]
+    fn no_triangles_and_unsupported_elements() {
+        let dir = TempDir::new("notri");
+        let head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n\
+                    $Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n";
+        // Lines only.
+        let s = format!("{head}$Elements\n1 1 1 1\n1 1 1 1\n1 1 2\n$EndElements\n");
+        let e = read_msh(&dir.write("lines.msh", s.as_bytes())).unwrap_err();
+        assert!(matches!(e, GmshError::NoTriangles { .. }), "{e:?}");
+        assert!(e.to_string().contains("lines.msh"));
+        // No $Elements at all, and an empty $Elements section.
+        let e = read_msh(&dir.write("none.msh", head.as_bytes())).unwrap_err();
+        assert!(matches!(e, GmshError::NoTriangles { .. }), "{e:?}");
+        let s = format!("{head}$Elements\n0 0 0 0\n$EndElements\n");
+        let e = read_msh(&dir.write("zero-el.msh", s.as_bytes())).unwrap_err();
+        assert!(matches!(e, GmshError::NoTriangles { .. }), "{e:?}");
+        let s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n0 0 1 1\n$EndNodes\n";
+        let e = read_msh(&dir.write("zero-nodes.msh", s.as_bytes())).unwrap_err();
+        assert!(matches!(e, GmshError::NoTriangles { .. }), "{e:?}");
+        // A quad.
+        let s = format!("{head}$Elements\n1 1 7 7\n2 1 3 1\n7 1 2 3 4\n$EndElements\n");
+        let e = read_msh(&dir.write("quad.msh", s.as_bytes())).unwrap_err();
+        assert!(
+            matches!(&e, GmshError::UnsupportedElement { element: 7, dim: 2, element_type, .. }
+                if element_type == "3 (Qua4)"),
+            "{e:?}"
+        );
+        // A triangle on a missing node.
+        let s = format!("{head}$Elements\n1 1 3 3\n2 1 2 1\n3 1 2 99\n$EndElements\n");
+        let e = read_msh(&dir.write("missing-node.msh", s.as_bytes())).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GmshError::MissingNode {
+                    element: 3,
+                    node: 99,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        // No $Entities and no names: a mesh without node sets is fine.
+        let s = format!("{head}$Elements\n1 2 1 2\n2 1 2 2\n1 1 2 3\n2 1 3 4\n$EndElements\n");
+        let m = read_msh(&dir.write("plain.msh", s.as_bytes())).unwrap();
+        assert_eq!((m.n_nodes(), m.cells.len()), (4, 2));
+        assert!(m.node_sets.is_empty());
+    }
+
+    #[test]
+    fn binary_little_and_big_endian() {
+        let dir = TempDir::new("binary");
+        for little in [true, false] {
+            let bytes = square_binary(TAGS, &CCW, little);
+            let m = read_msh(&dir.write("bin.msh", &bytes)).unwrap();
+            check_square(&m);
+            assert_eq!(m.points, XY.to_vec());
+            // Sparse and permuted tags, clockwise triangles.
+            let cw: Vec<[usize; 3]> = CCW.iter().map(|t| [t[0], t[2], t[1]]).collect();
+            let bytes = square_binary([5, 4, 3, 2, 1], &cw, little);
+            let m = read_msh(&dir.write("bin2.msh", &bytes)).unwrap();
+            check_square(&m);
+            assert_eq!(m.points[0], [0.5, 0.5]);
+            let bytes = square_binary([10, 40, 20, 90, 3], &CCW, little);
+            check_square(&read_msh(&dir.write("bin3.msh", &bytes)).unwrap());
+        }
+    }
+
+    #[test]
+    fn truncated_files_give_errors_not_panics() {
+        let ascii = square_ascii([101, 7, 33, 2000, 5], &CCW).into_bytes();
+        let binary = square_binary(TAGS, &CCW, true);
+        let p = Path::new("truncated.msh");
+        for bytes in [&ascii, &binary] {
+            for len in 0..bytes.len() {
+                if let Err(GmshError::Parse { message, .. }) = parse_msh(&bytes[..len], p) {
+                    assert!(!message.contains("panicked"), "length {len}: {message}");
+                }
+            }
+            assert!(parse_msh(bytes, p).is_ok());
+        }
+    }
+}

@@ -1,0 +1,105 @@
+//! Atomic file writing and a streaming CSV writer.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Writes `contents` to `path` atomically (temporary file in the same folder, then rename).
+///
+/// # Errors
+/// The I/O error, with the path in its message.
+pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let tmp = tmp_path(path);
+    let res = (|| {
+        let mut f = File::create(&tmp)?;
+        f.write_all(contents)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if res.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    res.map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))
+}
+
+/// Serializes `value` as pretty JSON into `path`, atomically.
+///
+/// # Errors
+/// I/O errors.
+pub fn write_json<T: serde::Serialize>(path: &Path, value: &T) -> std::io::Result<()> {
+    let mut s = serde_json::to_string_pretty(value).map_err(std::io::Error::other)?;
+    s.push('\n');
+    write_atomic(path, s.as_bytes())
+}
+
+fn tmp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().map(|s| s.to_os_string()).unwrap_or_default();
+    name.push(".part");
+    path.with_file_name(name)
+}
+
+/// A CSV file written row by row into `<path>.part`, flushed regularly, and renamed to
+/// `path` by [`CsvWriter::finish`]. If the run is interrupted, `finish` still renames what
+/// was written (every row complete).
+#[derive(Debug)]
+pub struct CsvWriter {
+    out: BufWriter<File>,
+    path: PathBuf,
+    tmp: PathBuf,
+    rows: usize,
+    line: String,
+}
+
+impl CsvWriter {
+    /// Creates the file and writes the header.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn create(path: &Path, header: &[&str]) -> std::io::Result<Self> {
+        let tmp = tmp_path(path);
+        let f = File::create(&tmp)
+            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", tmp.display())))?;
+        let mut out = BufWriter::with_capacity(1 << 16, f);
+        writeln!(out, "{}", header.join(","))?;
+        Ok(Self {
+            out,
+            path: path.to_path_buf(),
+            tmp,
+            rows: 0,
+            line: String::with_capacity(512),
+        })
+    }
+
+    /// Writes one row: a label (may be empty: then not written) and numbers.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn row(&mut self, label: Option<&str>, values: &[f64]) -> std::io::Result<()> {
+        use std::fmt::Write as _;
+        self.line.clear();
+        if let Some(l) = label {
+            self.line.push_str(l);
+        }
+        for (i, v) in values.iter().enumerate() {
+            if i > 0 || label.is_some() {
+                self.line.push(',');
+            }
+            let _ = write!(self.line, "{v:e}");
+        }
+        self.line.push('\n');
+        self.out.write_all(self.line.as_bytes())?;
+        self.rows += 1;
+        Ok(())
+    }
+
+    /// Flushes and renames the file into place.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn finish(mut self) -> std::io::Result<usize> {
+        self.out.flush()?;
+        self.out.get_ref().sync_all()?;
+        std::fs::rename(&self.tmp, &self.path)?;
+        Ok(self.rows)
+    }
+}

@@ -1,0 +1,90 @@
+//! Jobs: run a validated [`Scenario`](crate::scenario::Scenario) and write its results
+//! (`history.csv`, `summary.json`, plots, VTK) into an output folder.
+
+pub mod bar;
+pub mod sdof;
+
+use crate::scenario::{Model, Scenario};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+/// Errors of a job.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The simulation failed.
+    #[error("run `{run}`: {source}")]
+    Simulation {
+        /// Run label.
+        run: String,
+        /// Cause.
+        source: crate::simulation::SimError,
+    },
+    /// Output could not be written.
+    #[error("cannot write {path}: {message}")]
+    Output {
+        /// File or folder.
+        path: PathBuf,
+        /// Cause.
+        message: String,
+    },
+}
+
+impl RunError {
+    pub(crate) fn output(path: &Path, e: impl std::fmt::Display) -> Self {
+        RunError::Output {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Options of a job.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Show a progress bar (on a terminal).
+    pub progress: bool,
+}
+
+/// What a job reports back.
+#[derive(Debug, Clone, Default)]
+pub struct RunReport {
+    /// Lines for the screen summary.
+    pub lines: Vec<String>,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// True if interrupted.
+    pub interrupted: bool,
+}
+
+/// Set by Ctrl-C: the running job stops at the next step and writes what it has.
+pub static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+/// Runs every run of the scenario and writes the results into `out`.
+///
+/// # Errors
+/// [`RunError`].
+pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
+    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    match &sc.runs[0].model {
+        Model::Sdof(_) => sdof::run(sc, out, opts),
+        Model::BarImpact(_) => bar::run(sc, out, opts),
+    }
+}
+
+/// A progress bar over `len` steps (hidden when not on a terminal or not asked for).
+pub(crate) fn progress_bar(len: u64, label: &str, show: bool) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !show || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let pb = indicatif::ProgressBar::new(len);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix:>12} [{bar:40}] {pos}/{len} steps ({per_sec}, eta {eta}) {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    pb.set_prefix(label.to_string());
+    pb
+}

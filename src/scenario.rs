@@ -1,0 +1,442 @@
+//! Scenario files (TOML): parsed into raw structs (unknown keys rejected), then validated into
+//! a [`Scenario`] whose every value has been checked, with errors that name the file, the
+//! key and what is allowed (ripgrep's low-level / high-level arguments split).
+//!
+//! ```toml
+//! name = "bar-impact"          # output folder name (default: the file's stem)
+//! kind = "bar_impact"          # "sdof" | "bar_impact" | "wheel"
+//!
+//! [time]
+//! alpha = 0.8                  # Eq. (8), in (0, 1]; default 0.8
+//! gamma = 0.0                  # Eq. (24), in [0, 1]; default 0
+//! h = 0.01                     # time step, s (> 0)
+//! t_end = 5.0                  # end time, s (> 0)
+//!
+//! [bar]                        # for kind = "bar_impact"
+//! length = 1.0                 # m
+//! ea = 1.0                     # axial stiffness EA, N
+//! rho_a = 1.0                  # mass per length rho A, kg/m
+//! speed = 1.0                  # initial speed towards the wall, m/s
+//! gap = 0.5                    # distance from the head to the wall, m
+//! elements = 8
+//! mass = "consistent"          # or "lumped"
+//! damping = 0.0                # eta_z per unit length (Eq. 22), N s/m^2
+//!
+//! [contact]
+//! method = "soft_way"          # "soft_way" | "soft_way_no_restore" | "exact"
+//!
+//! [[runs]]                     # optional: several runs of one scenario
+//! label = "h = 0.4"
+//! h = 0.4                      # any of h, alpha, gamma, elements, method
+//! ```
+
+use crate::contact::ContactMethod;
+use crate::problems::BarImpact;
+use crate::time::sdof::analyse;
+use crate::time::SpaceTimeParams;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A scenario error: the file, the key at fault and what is allowed.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    /// The file cannot be read.
+    #[error("{path}: cannot read the scenario: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax or schema error (unknown key, wrong type).
+    #[error("{path}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// A value out of its allowed range.
+    #[error("{path}: `{key}` = {value}: {allowed}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Dotted key, e.g. `bar.length` or `runs[2].h`.
+        key: String,
+        /// The value found.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+    /// A required key is missing.
+    #[error("{path}: missing `{key}`: {why}")]
+    Missing {
+        /// The file.
+        path: PathBuf,
+        /// Dotted key.
+        key: String,
+        /// What it is for.
+        why: String,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    name: Option<String>,
+    kind: String,
+    description: Option<String>,
+    time: Option<RawTime>,
+    bar: Option<RawBar>,
+    sdof: Option<RawSdof>,
+    contact: Option<RawContact>,
+    #[serde(default)]
+    runs: Vec<RawRun>,
+    output: Option<RawOutput>,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawTime {
+    alpha: Option<f64>,
+    gamma: Option<f64>,
+    h: Option<f64>,
+    t_end: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBar {
+    length: f64,
+    ea: f64,
+    rho_a: f64,
+    speed: f64,
+    gap: f64,
+    elements: i64,
+    mass: Option<String>,
+    damping: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSdof {
+    mass: f64,
+    stiffness: f64,
+    x0: Option<f64>,
+    v0: Option<f64>,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawContact {
+    method: Option<String>,
+}
+
+#[derive(Debug, Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+struct RawRun {
+    label: Option<String>,
+    h: Option<f64>,
+    alpha: Option<f64>,
+    gamma: Option<f64>,
+    elements: Option<i64>,
+    method: Option<String>,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawOutput {
+    history_stride: Option<i64>,
+    plots: Option<bool>,
+}
+
+/// A one-degree-of-freedom oscillator `m x'' + k x = 0`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Sdof {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Stiffness, N/m.
+    pub stiffness: f64,
+    /// Initial displacement, m.
+    pub x0: f64,
+    /// Initial velocity, m/s.
+    pub v0: f64,
+}
+
+/// The physical model of a scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Model {
+    /// One degree of freedom.
+    Sdof(Sdof),
+    /// Elastic bar against a rigid wall.
+    BarImpact(BarImpact),
+}
+
+/// One run of a scenario (the scenario may list several).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    /// Label (plots, CSV).
+    pub label: String,
+    /// The scheme.
+    pub params: SpaceTimeParams,
+    /// The model, with this run's overrides.
+    pub model: Model,
+    /// Contact method.
+    pub method: ContactMethod,
+    /// End time, s.
+    pub t_end: f64,
+}
+
+/// A validated scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// Name (default output folder `out/<name>`).
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// The file it came from.
+    pub path: PathBuf,
+    /// The runs (at least one).
+    pub runs: Vec<Run>,
+    /// Write every `history_stride`-th step to `history.csv` (default 1).
+    pub history_stride: usize,
+    /// Draw plots (default true).
+    pub plots: bool,
+    /// Warnings found while validating (e.g. a conditionally stable `(alpha, gamma)`).
+    pub warnings: Vec<String>,
+}
+
+struct Ctx<'a> {
+    path: &'a Path,
+}
+
+impl Ctx<'_> {
+    fn invalid(&self, key: &str, value: impl std::fmt::Display, allowed: &str) -> ScenarioError {
+        ScenarioError::Invalid {
+            path: self.path.to_path_buf(),
+            key: key.to_string(),
+            value: value.to_string(),
+            allowed: allowed.to_string(),
+        }
+    }
+    fn missing(&self, key: &str, why: &str) -> ScenarioError {
+        ScenarioError::Missing {
+            path: self.path.to_path_buf(),
+            key: key.to_string(),
+            why: why.to_string(),
+        }
+    }
+    fn positive(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v, "must be a finite number > 0"))
+        }
+    }
+    fn non_negative(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v, "must be a finite number >= 0"))
+        }
+    }
+    fn count(&self, key: &str, v: i64, max: i64) -> Result<usize, ScenarioError> {
+        if v >= 1 && v <= max {
+            Ok(v as usize)
+        } else {
+            Err(self.invalid(key, v, &format!("must be a whole number from 1 to {max}")))
+        }
+    }
+    fn alpha(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() && v > 0.0 && v <= 1.0 {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v, "alpha must be in (0, 1] (Eq. 8)"))
+        }
+    }
+    fn gamma(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() && (0.0..=1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v, "gamma must be in [0, 1] (Eq. 24)"))
+        }
+    }
+    fn method(&self, key: &str, v: &str) -> Result<ContactMethod, ScenarioError> {
+        match v {
+            "soft_way" => Ok(ContactMethod::SoftWay),
+            "soft_way_no_restore" => Ok(ContactMethod::SoftWayNoRestore),
+            "exact" => Ok(ContactMethod::Exact),
+            _ => Err(self.invalid(
+                key,
+                format!("\"{v}\""),
+                "allowed: \"soft_way\", \"soft_way_no_restore\", \"exact\"",
+            )),
+        }
+    }
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file.
+    ///
+    /// # Errors
+    /// [`ScenarioError`] naming the file, the key and what is allowed.
+    pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_str(&text, path)
+    }
+
+    /// Parses and validates scenario text; `path` names it in errors.
+    ///
+    /// # Errors
+    /// [`ScenarioError`].
+    pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
+        let raw: RawScenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string().trim_end().replace('\n', " ").replace("  ", " "),
+        })?;
+        let cx = Ctx { path };
+        let name = match raw.name {
+            Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) => n,
+            Some(n) => return Err(cx.invalid("name", format!("\"{n}\""), "must be a non-empty name without slashes")),
+            None => path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scenario".into()),
+        };
+        let time = raw.time.unwrap_or_default();
+        let alpha = cx.alpha("time.alpha", time.alpha.unwrap_or(SpaceTimeParams::DEFAULT_ALPHA))?;
+        let gamma = cx.gamma("time.gamma", time.gamma.unwrap_or(SpaceTimeParams::DEFAULT_GAMMA))?;
+        let h = match time.h {
+            Some(h) => Some(cx.positive("time.h", h)?),
+            None => None,
+        };
+        let t_end = cx.positive(
+            "time.t_end",
+            time.t_end.ok_or_else(|| cx.missing("time.t_end", "the end time of the run, s"))?,
+        )?;
+        let method = cx.method(
+            "contact.method",
+            raw.contact.and_then(|c| c.method).as_deref().unwrap_or("soft_way"),
+        )?;
+        let model = match raw.kind.as_str() {
+            "sdof" => {
+                let s = raw.sdof.ok_or_else(|| cx.missing("sdof", "kind = \"sdof\" needs a [sdof] table"))?;
+                Model::Sdof(Sdof {
+                    mass: cx.positive("sdof.mass", s.mass)?,
+                    stiffness: cx.positive("sdof.stiffness", s.stiffness)?,
+                    x0: finite(&cx, "sdof.x0", s.x0.unwrap_or(1.0))?,
+                    v0: finite(&cx, "sdof.v0", s.v0.unwrap_or(0.0))?,
+                })
+            }
+            "bar_impact" => {
+                let b = raw
+                    .bar
+                    .ok_or_else(|| cx.missing("bar", "kind = \"bar_impact\" needs a [bar] table"))?;
+                let lumped = match b.mass.as_deref().unwrap_or("consistent") {
+                    "consistent" => false,
+                    "lumped" => true,
+                    other => {
+                        return Err(cx.invalid(
+                            "bar.mass",
+                            format!("\"{other}\""),
+                            "allowed: \"consistent\", \"lumped\"",
+                        ))
+                    }
+                };
+                Model::BarImpact(BarImpact {
+                    length: cx.positive("bar.length", b.length)?,
+                    ea: cx.positive("bar.ea", b.ea)?,
+                    rho_a: cx.positive("bar.rho_a", b.rho_a)?,
+                    speed: cx.positive("bar.speed", b.speed)?,
+                    gap: cx.non_negative("bar.gap", b.gap)?,
+                    elements: cx.count("bar.elements", b.elements, 1_000_000)?,
+                    lumped,
+                    damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
+                })
+            }
+            other => {
+                return Err(cx.invalid(
+                    "kind",
+                    format!("\"{other}\""),
+                    "allowed: \"sdof\", \"bar_impact\", \"wheel\"",
+                ))
+            }
+        };
+        let base_runs = if raw.runs.is_empty() { vec![RawRun::default()] } else { raw.runs };
+        let mut runs = Vec::with_capacity(base_runs.len());
+        let mut warnings = Vec::new();
+        for (i, r) in base_runs.iter().enumerate() {
+            let key = |k: &str| format!("runs[{i}].{k}");
+            let alpha = match r.alpha {
+                Some(a) => cx.alpha(&key("alpha"), a)?,
+                None => alpha,
+            };
+            let gamma = match r.gamma {
+                Some(g) => cx.gamma(&key("gamma"), g)?,
+                None => gamma,
+            };
+            let h = match (r.h, h) {
+                (Some(h), _) => cx.positive(&key("h"), h)?,
+                (None, Some(h)) => h,
+                (None, None) => return Err(cx.missing("time.h", "the time step, s (or runs[].h)")),
+            };
+            if h > t_end {
+                return Err(cx.invalid(&key("h"), h, &format!("the step must not exceed time.t_end = {t_end}")));
+            }
+            let method = match &r.method {
+                Some(m) => cx.method(&key("method"), m)?,
+                None => method,
+            };
+            let mut model = model.clone();
+            if let Some(e) = r.elements {
+                match &mut model {
+                    Model::BarImpact(b) => b.elements = cx.count(&key("elements"), e, 1_000_000)?,
+                    _ => return Err(cx.invalid(&key("elements"), e, "only bar scenarios have elements")),
+                }
+            }
+            let label = r.label.clone().unwrap_or_else(|| {
+                if base_runs.len() == 1 {
+                    "run".into()
+                } else {
+                    format!("h = {h}")
+                }
+            });
+            let rep = analyse(alpha, gamma, 1);
+            if let Some(lim) = rep.stability_limit_omega_h {
+                let msg = format!(
+                    "{label}: (alpha = {alpha}, gamma = {gamma}) is only conditionally stable: omega h must stay below {lim:.4} (see `softway stability --alpha {alpha} --gamma {gamma}`)"
+                );
+                warnings.push(msg);
+            }
+            runs.push(Run {
+                label,
+                params: SpaceTimeParams { alpha, gamma, h },
+                model,
+                method,
+                t_end,
+            });
+        }
+        let out = raw.output.unwrap_or_default();
+        let history_stride = cx.count("output.history_stride", out.history_stride.unwrap_or(1), 1_000_000_000)?;
+        Ok(Self {
+            name,
+            description: raw.description.unwrap_or_default(),
+            path: path.to_path_buf(),
+            runs,
+            history_stride,
+            plots: out.plots.unwrap_or(true),
+            warnings,
+        })
+    }
+}
+
+fn finite(cx: &Ctx, key: &str, v: f64) -> Result<f64, ScenarioError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(cx.invalid(key, v, "must be a finite number"))
+    }
+}
