@@ -1,0 +1,136 @@
+//! Bad input gives a one-line error naming the file and the key, a non-zero exit, no panic.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn softway() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_softway"))
+}
+
+fn scenario(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("softway-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const BAR: &str = r#"
+kind = "bar_impact"
+[time]
+alpha = 0.8
+h = 0.1
+t_end = 1.0
+[bar]
+length = 1.0
+ea = 1.0
+rho_a = 1.0
+speed = 1.0
+gap = 0.5
+elements = 8
+"#;
+
+/// Runs `softway run` on the text; returns (exit code, stderr).
+fn run_err(name: &str, text: &str) -> (i32, String) {
+    let p = scenario(name, text);
+    let out_dir = p.with_extension("out");
+    let o = softway().arg("run").arg(&p).arg("--out").arg(&out_dir).arg("--quiet").output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(!out_dir.join("summary.json").exists(), "a result was written for bad input");
+    (o.status.code().unwrap_or(-1), err)
+}
+
+fn assert_one_line_error(code: i32, err: &str, must: &[&str]) {
+    assert_ne!(code, 0);
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "expected one line, got: {err}");
+    for m in must {
+        assert!(err.contains(m), "`{m}` missing from: {err}");
+    }
+}
+
+#[test]
+fn valid_bar_scenario_runs() {
+    let p = scenario("ok", BAR);
+    let out = p.with_extension("out");
+    let o = softway().arg("run").arg(&p).arg("--out").arg(&out).arg("--quiet").output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["runs"].as_array().unwrap().len(), 1);
+    assert!(out.join("history.csv").exists());
+    assert!(out.join("bar_head.png").exists());
+}
+
+#[test]
+fn unknown_key() {
+    let (c, e) = run_err("unknown", &BAR.replace("gap = 0.5", "gap = 0.5\nlenght = 2.0"));
+    assert_one_line_error(c, &e, &["unknown.toml", "lenght"]);
+}
+
+#[test]
+fn negative_length() {
+    let (c, e) = run_err("neglen", &BAR.replace("length = 1.0", "length = -1.0"));
+    assert_one_line_error(c, &e, &["neglen.toml", "bar.length", "> 0"]);
+}
+
+#[test]
+fn zero_and_negative_step() {
+    for (name, h) in [("zeroh", "0.0"), ("negh", "-0.01")] {
+        let (c, e) = run_err(name, &BAR.replace("h = 0.1", &format!("h = {h}")));
+        assert_one_line_error(c, &e, &[name, "time.h", "> 0"]);
+    }
+}
+
+#[test]
+fn zero_elements() {
+    let (c, e) = run_err("zeroel", &BAR.replace("elements = 8", "elements = 0"));
+    assert_one_line_error(c, &e, &["zeroel.toml", "bar.elements", "1 to"]);
+}
+
+#[test]
+fn alpha_and_gamma_out_of_range() {
+    let (c, e) = run_err("alpha", &BAR.replace("alpha = 0.8", "alpha = 1.5"));
+    assert_one_line_error(c, &e, &["time.alpha", "(0, 1]"]);
+    let (c, e) = run_err("gamma", &BAR.replace("alpha = 0.8", "alpha = 0.8\ngamma = -0.1"));
+    assert_one_line_error(c, &e, &["time.gamma", "[0, 1]"]);
+}
+
+#[test]
+fn wrong_type_and_bad_syntax() {
+    let (c, e) = run_err("wrongtype", &BAR.replace("elements = 8", "elements = \"eight\""));
+    assert_one_line_error(c, &e, &["wrongtype.toml", "elements"]);
+    let (c, e) = run_err("syntax", "kind = \"bar_impact\"\n[time\nh = 1");
+    assert_one_line_error(c, &e, &["syntax.toml"]);
+}
+
+#[test]
+fn missing_file() {
+    let o = softway().args(["run", "/nonexistent/dir/nothing.toml", "--quiet"]).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(err.contains("/nonexistent/dir/nothing.toml") && !err.contains("panicked"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+fn stability_bad_alpha() {
+    let o = softway().args(["stability", "--alpha", "0", "--gamma", "0.2"]).output().unwrap();
+    assert_ne!(o.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--alpha"));
+}
+
+#[test]
+fn stability_json_reports_the_limits() {
+    let o = softway().args(["stability", "--alpha", "0.75", "--gamma", "0.2", "--json"]).output().unwrap();
+    assert!(o.status.success());
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["unconditionally_stable"], false);
+    let lim = j["stability_limit_omega_h"].as_f64().unwrap();
+    assert!(lim > 5.0 && lim < 6.0, "{lim}");
+    let o = softway().args(["stability", "--alpha", "0.8", "--gamma", "0.0", "--json"]).output().unwrap();
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(j["unconditionally_stable"], true);
+    assert!(j["stability_limit_omega_h"].is_null());
+    assert!((j["rho_inf"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+}
