@@ -3,7 +3,11 @@
 //! memory allocated once, so that the time loop does not allocate.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
+use faer::Side;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
 
@@ -133,5 +137,68 @@ impl SparseLu {
             Par::Seq,
             MemStack::new(&mut self.solve_scratch),
         );
+    }
+}
+
+/// Sparse Cholesky factorization `A = L L^T` of a symmetric positive definite matrix (only
+/// the upper triangle is read), symbolic analysis (AMD ordering) once, solve without
+/// allocation.
+pub struct SparseLlt {
+    symbolic: SymbolicCholesky<usize>,
+    numeric: Vec<f64>,
+    solve_scratch: MemBuffer,
+    n: usize,
+}
+
+impl std::fmt::Debug for SparseLlt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SparseLlt").field("n", &self.n).finish()
+    }
+}
+
+impl SparseLlt {
+    /// Analyses and factors.
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Upper,
+            Default::default(),
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
+        let solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let mut numeric = vec![0.0; symbolic.len_val()];
+        let mat = SparseColMatRef::new(pattern.as_ref(), values);
+        let mut scratch = MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut numeric,
+                mat,
+                Side::Upper,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut scratch),
+                Default::default(),
+            )
+            .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
+        Ok(Self { symbolic, numeric, solve_scratch, n: pattern.nrows() })
+    }
+
+    /// Number of stored values of the factor.
+    pub fn factor_nnz(&self) -> usize {
+        self.numeric.len()
+    }
+
+    /// Solves `A x = rhs` in place, without allocating.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.numeric);
+        let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
+        llt.solve_in_place_with_conj(Conj::No, m, Par::Seq, MemStack::new(&mut self.solve_scratch));
     }
 }

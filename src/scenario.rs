@@ -23,7 +23,8 @@
 //! damping = 0.0                # eta_z per unit length (Eq. 22), N s/m^2
 //!
 //! [contact]
-//! method = "soft_way"          # "soft_way" | "soft_way_no_restore" | "exact"
+//! method = "soft_way"          # "soft_way" | "soft_way_braking_restore" |
+//!                              # "soft_way_no_restore" | "exact"
 //!
 //! [[runs]]                     # optional: several runs of one scenario
 //! label = "h = 0.4"
@@ -265,11 +266,12 @@ impl Ctx<'_> {
         match v {
             "soft_way" => Ok(ContactMethod::SoftWay),
             "soft_way_no_restore" => Ok(ContactMethod::SoftWayNoRestore),
+            "soft_way_braking_restore" => Ok(ContactMethod::SoftWayBrakingRestore),
             "exact" => Ok(ContactMethod::Exact),
             _ => Err(self.invalid(
                 key,
                 format!("\"{v}\""),
-                "allowed: \"soft_way\", \"soft_way_no_restore\", \"exact\"",
+                "allowed: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\", \"exact\"",
             )),
         }
     }

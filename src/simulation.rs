@@ -8,7 +8,8 @@
 //! One interval `[t0, t1]` is solved by [`Simulation`] as follows (Table 1):
 //! 1. the pairs' modes at `t0` give the constraints (brake, hold) and the forces given back;
 //! 2. solve; a held pair with a tensile multiplier is released and the step solved again
-//!    with its braking reaction added as a force (item 7);
+//!    with the momentum taken at its arrival given back as a force (item 7; see
+//!    [`crate::contact::softway`], Release);
 //! 3. a free pair found penetrating at `t1` is, with the soft way, braked in the previous
 //!    interval `[t_{-1}, t0]` (Eq. 26), which is solved again (items 4-5), and the interval
 //!    is solved again with the pair held (item 6). Without a previous interval (first step),
@@ -172,6 +173,11 @@ struct Work {
     restore: Vec<Option<[f64; 2]>>,
     released: Vec<bool>,
     pen: Vec<usize>,
+    // The braking step solved again with the braking pairs stopped (`n.v = w`): its
+    // multipliers are the impulses given back at release.
+    rhs_stop: Vec<f64>,
+    cons_stop: Vec<VelocityConstraint>,
+    lambda_stop: Vec<f64>,
 }
 
 /// The step loop over a [`Problem`].
@@ -237,6 +243,9 @@ impl Simulation {
                 restore: vec![None; np],
                 released: vec![false; np],
                 pen: Vec::with_capacity(np),
+                rhs_stop: vec![0.0; n],
+                cons_stop: Vec::with_capacity(np),
+                lambda_stop: vec![0.0; np.max(1)],
             },
             problem,
             stats: RunStats::default(),
@@ -360,7 +369,7 @@ impl Simulation {
                         h,
                         bt,
                     );
-                    self.snaps[0].pairs[p].mode = PairMode::Brake { q, normal: n };
+                    self.snaps[0].pairs[p].mode = PairMode::Brake { q, normal: n, w };
                 }
                 // Repeat the previous step with the braking; a pair found penetrating at
                 // t_{k-1} in that repetition is held at once.
@@ -426,7 +435,7 @@ impl Simulation {
                 let pair = pb.pairs[p];
                 match w.modes[p] {
                     PairMode::Free => {}
-                    PairMode::Brake { q, normal } => {
+                    PairMode::Brake { q, normal, .. } => {
                         w.cons.push(VelocityConstraint { node: pair.node, normal, rhs: q });
                         w.cons_pair.push(p);
                     }
@@ -449,6 +458,21 @@ impl Simulation {
                         w.cons_pair.push(p);
                     }
                 }
+            }
+            // In a braking step, the impulses that would stop the braked nodes (relative
+            // normal velocity 0 at t1): lambda_s = S^-1 (w - C A^-1 b), given back at release.
+            let braking = w.cons_pair.iter().any(|&p| matches!(w.modes[p], PairMode::Brake { .. }));
+            if braking && pb.contact.restores_stopping_impulse() {
+                w.rhs_stop.copy_from_slice(&w.rhs);
+                w.cons_stop.clear();
+                for (c, &p) in w.cons.iter().zip(&w.cons_pair) {
+                    let mut c = *c;
+                    if let PairMode::Brake { w: wn, .. } = w.modes[p] {
+                        c.rhs = wn;
+                    }
+                    w.cons_stop.push(c);
+                }
+                self.stepper.solve(&mut w.rhs_stop, &w.cons_stop, &mut w.lambda_stop);
             }
             self.stepper.solve(&mut w.rhs, &w.cons, &mut w.lambda);
             ts.v.copy_from_slice(&w.rhs);
@@ -520,7 +544,11 @@ impl Simulation {
             match w.modes[p] {
                 PairMode::Brake { normal, .. } => {
                     st.braked = true;
-                    st.brake_force = [lam / h * normal[0], lam / h * normal[1]];
+                    let ls = match i {
+                        Some(i) if pb.contact.restores_stopping_impulse() => w.lambda_stop[i],
+                        _ => lam,
+                    };
+                    st.brake_force = [ls / h * normal[0], ls / h * normal[1]];
                     st.mode = PairMode::Hold;
                 }
                 PairMode::Hold => st.held = true,

@@ -15,16 +15,31 @@
 //! which for a fixed obstacle (`w = 0`) is Eq. (26), and the position at `t_{i-1}` is then
 //! Eq. (27). Only the normal component is prescribed: the tangential motion stays free.
 //!
-//! **Holding.** While held, the node's normal velocity at the end of each step is chosen so
-//! that the gap is exactly zero there: from `n_1 . x_1 = c_1` and Eq. (10),
-//! $$n_1 \cdot v_1 = \frac{c_1 - n_1\cdot x_0 - h(1-\beta)\, n_1 \cdot v_0}{h\beta},$$
-//! which equals `w` after a braking step and is `0` for a fixed obstacle, as in Table 1
-//! (item 6, `v = 0`). For `beta = 0` (explicit `alpha = 1`, `gamma = 0`) the position does
-//! not depend on `v_1` and the velocity condition `n . v_1 = w` is used instead.
+//! **Holding.** Table 1 (item 6) holds the node with `v = 0`, i.e. `n . v_1 = w`. Asking
+//! instead for a zero gap at `t_1` in one step, `n.v_1 = (c_1 - n.x_0 - h(1-beta) n.v_0) /
+//! (h beta)`, is unstable: an error `e_0` in the relative normal velocity gives
+//! `e_1 = -(1-beta)/beta e_0`, a factor -4 per step for `alpha = 0.8, gamma = 0` (any
+//! `beta < 1/2`), so round-off grows into a spurious tension and the node chatters. The
+//! holding velocity is therefore the surface velocity plus a deadbeat drift correction:
+//! with `g* = n.x_0 + h[(1-beta) n.v_0 + beta w] - c_1`, the gap at `t_1` if `n.v_1 = w`,
+//! $$n_1 \cdot v_1 = w - g^*/h .$$
+//! The gap and velocity errors `(g, h e)` then evolve with the matrix
+//! `[[1-beta, (1-beta)^2], [-1, -(1-beta)]]`, whose eigenvalues are both 0 (nilpotent): any
+//! drift is gone after two steps, for every `beta` in `[0, 1]`. After a braking step
+//! `g* = 0` and this is exactly Table 1's `v = w`.
 //!
 //! **Release.** A held node whose multiplier turns tensile (`lambda < 0`) is released; the
-//! same step is solved again with the braking reaction `R` added as an external force on the
-//! node (Table 1, item 7), which gives back the impulse `R h` taken by braking.
+//! same step is solved again with a force `R` added on the node (Table 1, item 7), which
+//! gives back the momentum taken by the arrival. `R h` is the impulse that would have
+//! stopped the node's relative normal motion in the braking step,
+//! `lambda_s = S^{-1}(w - C A^{-1} b)` (`S = C A^{-1} C^T`), i.e. the braking multiplier
+//! `lambda_b = S^{-1}(v_bar - C A^{-1} b)` completed with `S^{-1}(w - v_bar)`, the part of
+//! the approach momentum that the arrival step removes. Table 1's `R` (the braking reaction
+//! alone) is about the fraction `(q_{-1} - v_bar)/(q_{-1} - w)` of it, anywhere in
+//! `(-beta, 1 - beta]` depending on where the node happens to be inside the step; with
+//! `lambda_s` the restored momentum does not depend on that phase, and for `h -> 0` it is
+//! the node's effective mass times its approach speed, so the impact gives back the energy
+//! it took (an elastic impact of the node).
 
 use serde::Serialize;
 
@@ -32,9 +47,13 @@ use serde::Serialize;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactMethod {
-    /// The paper's soft way: brake in the step before impact, hold, release on tension,
-    /// give the momentum back (Table 1).
+    /// The soft way (Table 1): brake in the step before impact, hold, release on tension,
+    /// give the momentum back; the momentum given back is the impulse that would have
+    /// stopped the node in the braking step (module docs, Release), independent of where
+    /// the node arrives inside the step.
     SoftWay,
+    /// The soft way with Table 1's literal restore: the braking reaction `R` alone.
+    SoftWayBrakingRestore,
     /// The soft way without giving the braking momentum back (for comparison: the rebound
     /// is slower).
     SoftWayNoRestore,
@@ -46,11 +65,20 @@ pub enum ContactMethod {
 impl ContactMethod {
     /// True for the methods that brake one step early.
     pub fn brakes(&self) -> bool {
-        matches!(self, ContactMethod::SoftWay | ContactMethod::SoftWayNoRestore)
+        matches!(
+            self,
+            ContactMethod::SoftWay | ContactMethod::SoftWayBrakingRestore | ContactMethod::SoftWayNoRestore
+        )
     }
 
     /// True when the braking impulse is given back at release.
     pub fn restores(&self) -> bool {
+        matches!(self, ContactMethod::SoftWay | ContactMethod::SoftWayBrakingRestore)
+    }
+
+    /// True when the momentum given back is the full stopping impulse of the braking step
+    /// (not Table 1's braking reaction alone).
+    pub fn restores_stopping_impulse(&self) -> bool {
         matches!(self, ContactMethod::SoftWay)
     }
 }
@@ -66,8 +94,11 @@ pub enum PairMode {
         q: f64,
         /// The obstacle's normal at the instant of arrival.
         normal: [f64; 2],
+        /// The obstacle's surface normal velocity at the instant of arrival, m/s.
+        w: f64,
     },
-    /// Held on the obstacle: zero gap at the end of the step.
+    /// Held on the obstacle: relative normal velocity zero at the end of the step, with a
+    /// deadbeat correction of any gap drift ([`holding_velocity`]).
     Hold,
 }
 
@@ -76,9 +107,10 @@ pub enum PairMode {
 pub struct PairState {
     /// The constraint for the next step.
     pub mode: PairMode,
-    /// Force to add on the node in the next step (the braking reaction given back), N.
+    /// Force to add on the node in the next step (the arrival momentum given back), N.
     pub restore: Option<[f64; 2]>,
-    /// The braking reaction `R` (vector, N) kept since the last braking.
+    /// The force `R = lambda_s / h` (vector, N) to give back at release, kept since the last
+    /// braking (module docs, Release).
     pub brake_force: [f64; 2],
     /// Constraint force of the step that ended here (`lambda / h`, N, positive when
     /// compressive), braking included.
@@ -114,14 +146,12 @@ pub fn braking_velocity(c: f64, p_prev: f64, q_prev: f64, w: f64, h: f64, beta: 
     (c - p_prev) / h - (1.0 - beta) * q_prev - beta * w
 }
 
-/// The normal velocity that puts the node exactly on the surface at the end of the step
-/// (holding), or `w` when `beta` is too small for the position to depend on `v_1`.
+/// The holding normal velocity (module docs): the surface velocity `w` corrected by the
+/// gap `g*` the node would have at the end of the step if it moved with the surface,
+/// `w - g*/h` (deadbeat, stable for every `beta`).
 pub fn holding_velocity(c1: f64, p0: f64, q0: f64, w: f64, h: f64, beta: f64) -> f64 {
-    if beta < 1e-9 {
-        w
-    } else {
-        (c1 - p0 - h * (1.0 - beta) * q0) / (h * beta)
-    }
+    let g_star = p0 + h * ((1.0 - beta) * q0 + beta * w) - c1;
+    w - g_star / h
 }
 
 #[cfg(test)]
@@ -144,6 +174,20 @@ mod tests {
         assert!(v1.abs() < 1e-12);
         let x1 = x0 + h * ((1.0 - beta) * v0 + beta * v1);
         assert!((x1 - x_c).abs() < 1e-14);
+    }
+
+    #[test]
+    fn holding_removes_a_velocity_error_instead_of_amplifying_it() {
+        // On the wall with a small velocity error: the old zero-gap law multiplied it by
+        // -(1-beta)/beta each step; the deadbeat law clears gap and error in two steps.
+        let (x_c, h, beta) = (0.5, 0.01, 0.2);
+        let (mut x, mut v) = (x_c, 1e-6);
+        for _ in 0..50 {
+            let v1 = holding_velocity(x_c, x, v, 0.0, h, beta);
+            x += h * ((1.0 - beta) * v + beta * v1);
+            v = v1;
+        }
+        assert!(v.abs() < 1e-12 && (x - x_c).abs() < 1e-15, "v {v:e}, gap {:e}", x - x_c);
     }
 
     #[test]

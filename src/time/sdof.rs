@@ -179,7 +179,7 @@ mod tests {
 
     #[test]
     fn amplification_matrix_matches_the_step() {
-        let (m, k, a, g, h) = (1.5, 12.0, 0.75, 0.1, 0.3);
+        let (m, k, a, g, h): (f64, f64, f64, f64, f64) = (1.5, 12.0, 0.75, 0.1, 0.3);
         let w = (k / m).sqrt();
         let (x0, v0) = (0.7, 0.2);
         let (x1, v1) = step(m, k, 0.0, sp(a, g, h), x0, v0);
@@ -254,11 +254,12 @@ mod tests {
     }
 
     #[test]
-    fn state_error_is_first_order_and_bounded_for_beta_not_one_half() {
-        // x'' + x = 0 from (1, 0): beta != 1/2 gives an O(h) distortion of the orbit
-        // that does not accumulate: the error after 1 and after 10 periods is alike.
-        let err = |h: f64, periods: f64| {
-            let n = (periods * 2.0 * std::f64::consts::PI / h).round() as usize;
+    fn state_error_is_second_order_at_whole_periods_first_order_in_between() {
+        // x'' + x = 0 from (1, 0). beta != 1/2 distorts the discrete orbit by O(h), an
+        // oscillating error that vanishes at whole periods, where only the O(h^2) phase
+        // drift is left, growing linearly with the number of periods.
+        let err_at = |h: f64, t_target: f64| {
+            let n = (t_target / h).round() as usize;
             let t = n as f64 * h;
             let (mut x, mut v) = (1.0, 0.0);
             for _ in 0..n {
@@ -266,12 +267,19 @@ mod tests {
             }
             ((x - t.cos()).powi(2) + (v + t.sin()).powi(2)).sqrt()
         };
-        let e: Vec<f64> = [0.02, 0.01, 0.005].iter().map(|&h| err(h, 1.0)).collect();
-        for w in e.windows(2) {
+        let tp = 2.0 * std::f64::consts::PI;
+        let whole: Vec<f64> = [0.02, 0.01, 0.005].iter().map(|&h| err_at(h, tp)).collect();
+        for w in whole.windows(2) {
             let order = (w[0] / w[1]).log2();
-            assert!(order > 0.9, "order {order}");
+            assert!((order - 2.0).abs() < 0.1, "whole period: order {order}");
         }
-        assert!(err(0.01, 10.0) < 3.0 * err(0.01, 1.0));
+        let ratio = err_at(0.01, 10.0 * tp) / err_at(0.01, tp);
+        assert!(ratio > 9.0 && ratio < 11.0, "phase drift not linear: {ratio}");
+        let between: Vec<f64> = [0.02, 0.01, 0.005].iter().map(|&h| err_at(h, 2.0)).collect();
+        for w in between.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            assert!((order - 1.0).abs() < 0.15, "t = 2: order {order}");
+        }
         // beta = 1/2 (alpha = 1/2, gamma = 0) is second order pointwise.
         let e2 = |h: f64| {
             let n = (2.0 / h).round() as usize;

@@ -1,0 +1,352 @@
+//! The elastic wheel on a rigid base, in the wheel's rotating frame (paper §4, DESIGN §3).
+//!
+//! The wheel (a disk of plane-stress triangles) does not turn; the base line turns about
+//! its centre at `omega` and presses it to the flattening `d(t)`
+//! ([`Flattening`](crate::contact::obstacle::Flattening)); the forces of the circular motion
+//! are those of [`crate::frame`].
+//!
+//! **Support at the axle.** [`Support::CentrePinned`] (default) fixes the centre node: the
+//! wheel may turn rigidly about the axle, a motion the paper reports ("the material
+//! vibrates around the wheel axis"), left neutral by the stress stiffening of
+//! [`crate::frame`]. A single pinned node is a point constraint whose stiffness vanishes
+//! under mesh refinement (the displacement of a point load in 2D elasticity is unbounded),
+//! so the modes it adds locally near the axle depend on the mesh; [`Support::Hub`] clamps
+//! every node within a hub radius instead, which converges under refinement.
+
+use crate::assembly::Assembler;
+use crate::contact::obstacle::{Flattening, RotatingLine};
+use crate::contact::{ContactMethod, Obstacle};
+use crate::element::tri3::{self, Tri3Geometry};
+use crate::linalg::{LinalgError, SparseLu};
+use crate::material::{Elastic, PlaneModel};
+use crate::mesh::{Cells, Mesh};
+use crate::simulation::{ContactPair, Problem};
+use crate::time::step::LinearModel;
+use crate::time::SpaceTimeParams;
+
+/// How the wheel is held at the axle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case", tag = "type")]
+pub enum Support {
+    /// The centre node pinned (both displacements zero).
+    CentrePinned,
+    /// Every node within `radius` (m) of the centre clamped.
+    Hub {
+        /// Hub radius, m.
+        radius: f64,
+    },
+}
+
+/// Errors building the wheel model.
+#[derive(Debug, thiserror::Error)]
+pub enum WheelError {
+    /// A triangle is degenerate or inverted.
+    #[error("element {element} (nodes {nodes:?}): {source}")]
+    Element {
+        /// Element index (0-based).
+        element: usize,
+        /// Its nodes.
+        nodes: [usize; 3],
+        /// The cause.
+        source: tri3::ElementError,
+    },
+    /// The mesh is not made of triangles.
+    #[error("the wheel needs a mesh of 3-node triangles")]
+    NotTriangles,
+    /// No node at the centre / no node in the hub.
+    #[error("the support holds no node: {0}")]
+    Support(String),
+    /// The matrices could not be factored.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+}
+
+/// The wheel problem's physical data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelSpec {
+    /// Radius `R`, m (the contact candidates are the nodes at this radius).
+    pub radius: f64,
+    /// Thickness, m.
+    pub thickness: f64,
+    /// Material.
+    pub material: Elastic,
+    /// Plane stress or strain.
+    pub plane: PlaneModel,
+    /// Lumped mass.
+    pub lumped: bool,
+    /// External damping `eta_z` (Eq. 22), per unit volume, N s/m^4 (times the mass shape).
+    pub damping: f64,
+    /// Support at the axle.
+    pub support: Support,
+    /// Wheel spin, rad/s (the base turns at `+omega` in the wheel's frame).
+    pub omega: f64,
+    /// Flattening program.
+    pub flattening: Flattening,
+    /// Include the stress stiffening of the centrifugal prestress (default true).
+    pub stress_stiffening: bool,
+    /// Include the rotating-frame terms at all (false: a disk pressed by a turning line
+    /// without inertial forces of the rotation).
+    pub rotating_frame: bool,
+}
+
+/// The assembled wheel: mesh, element geometry, matrices and the spinning equilibrium.
+#[derive(Debug)]
+pub struct WheelModel {
+    /// The mesh (centre at the origin).
+    pub mesh: Mesh,
+    /// Triangles.
+    pub triangles: Vec<[usize; 3]>,
+    /// Element geometry.
+    pub geometry: Vec<Tri3Geometry>,
+    /// Elasticity matrix.
+    pub d: [[f64; 3]; 3],
+    /// `M`, `K_eff`, `C` (damping + Coriolis).
+    pub model: LinearModel,
+    /// The elastic stiffness `K` alone (strain energy, stresses).
+    pub k_elastic: Vec<f64>,
+    /// Supported dofs.
+    pub fixed_dofs: Vec<usize>,
+    /// Rim nodes (contact candidates), by angle.
+    pub rim: Vec<usize>,
+    /// The spinning equilibrium `u_c`.
+    pub u_spin: Vec<f64>,
+    /// The constant load `K_eff u_c`.
+    pub load: Vec<f64>,
+    /// The data.
+    pub spec: WheelSpec,
+}
+
+/// Element geometry of every triangle, with an error naming a bad element.
+///
+/// # Errors
+/// [`WheelError::Element`].
+pub fn triangle_geometry(mesh: &Mesh) -> Result<(Vec<[usize; 3]>, Vec<Tri3Geometry>), WheelError> {
+    let Cells::Tri3(tris) = &mesh.cells else { return Err(WheelError::NotTriangles) };
+    let mut g = Vec::with_capacity(tris.len());
+    for (e, t) in tris.iter().enumerate() {
+        let p = [mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]];
+        g.push(tri3::geometry(&p).map_err(|source| WheelError::Element { element: e, nodes: *t, source })?);
+    }
+    Ok((tris.clone(), g))
+}
+
+/// Assembles `M` (consistent or lumped) and `K` of a triangle mesh.
+pub fn assemble_mass_stiffness(
+    asm: &Assembler,
+    geom: &[Tri3Geometry],
+    d: &[[f64; 3]; 3],
+    material: &Elastic,
+    thickness: f64,
+    lumped: bool,
+) -> (Vec<f64>, Vec<f64>) {
+    let mut m = asm.zeros();
+    let mut k = asm.zeros();
+    asm.assemble_par_into(&mut m, |e, out| {
+        let mut b = [[0.0; 6]; 6];
+        tri3::mass_into(&geom[e], material.density, thickness, lumped, &mut b);
+        out.copy_from_slice(b.as_flattened());
+    });
+    asm.assemble_par_into(&mut k, |e, out| {
+        let mut b = [[0.0; 6]; 6];
+        tri3::stiffness_into(&geom[e], d, thickness, &mut b);
+        out.copy_from_slice(b.as_flattened());
+    });
+    (m, k)
+}
+
+/// Solves `K u = f` with the given fixed dofs (and, when `pin_rotation`, the tangential
+/// displacement of one rim node, to remove the rigid rotation of a wheel pinned at one
+/// node; a load with no moment about the centre gives that pin no reaction).
+///
+/// # Errors
+/// [`LinalgError`] when `K` is singular on the free dofs.
+pub fn static_solve(asm: &Assembler, k: &[f64], f: &[f64], fixed: &[usize]) -> Result<Vec<f64>, LinalgError> {
+    let n = asm.pattern.nrows();
+    let mut is_fixed = vec![false; n];
+    for &d in fixed {
+        is_fixed[d] = true;
+    }
+    let mut a = k.to_vec();
+    let cp = asm.pattern.col_ptr();
+    let ri = asm.pattern.row_idx();
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if is_fixed[i] || is_fixed[j] {
+                a[p] = if i == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    let mut lu = SparseLu::new(&asm.pattern, &a)?;
+    let mut u: Vec<f64> = f.iter().zip(&is_fixed).map(|(&x, &fx)| if fx { 0.0 } else { x }).collect();
+    lu.solve_in_place(&mut u);
+    Ok(u)
+}
+
+impl WheelModel {
+    /// Builds the model on `mesh` (a disk centred at the origin).
+    ///
+    /// # Errors
+    /// [`WheelError`].
+    pub fn new(mesh: Mesh, spec: WheelSpec) -> Result<Self, WheelError> {
+        let (triangles, geometry) = triangle_geometry(&mesh)?;
+        let d = spec.plane.elasticity_matrix(&spec.material);
+        let asm = Assembler::new(&mesh);
+        let (m, k) = assemble_mass_stiffness(&asm, &geometry, &d, &spec.material, spec.thickness, spec.lumped);
+        let n = mesh.n_dofs();
+        // Supports.
+        let held: Vec<usize> = match spec.support {
+            Support::CentrePinned => {
+                let c = (0..mesh.n_nodes())
+                    .min_by(|&a, &b| norm(mesh.points[a]).total_cmp(&norm(mesh.points[b])))
+                    .ok_or_else(|| WheelError::Support("empty mesh".into()))?;
+                if norm(mesh.points[c]) > 1e-6 * spec.radius {
+                    return Err(WheelError::Support(format!(
+                        "no node at the centre (the nearest is {:.3e} m away)",
+                        norm(mesh.points[c])
+                    )));
+                }
+                vec![c]
+            }
+            Support::Hub { radius } => {
+                let v = crate::mesh::generators::nodes_within(&mesh, [0.0, 0.0], radius);
+                if v.is_empty() {
+                    return Err(WheelError::Support(format!("no node within the hub radius {radius} m")));
+                }
+                v
+            }
+        };
+        let fixed_dofs: Vec<usize> = held.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
+        // Rim: nodes at the outer radius.
+        let rmax = mesh.points.iter().map(|&p| norm(p)).fold(0.0, f64::max);
+        let mut rim: Vec<usize> = (0..mesh.n_nodes())
+            .filter(|&i| norm(mesh.points[i]) > rmax * (1.0 - 1e-6))
+            .collect();
+        rim.sort_by(|&a, &b| angle(mesh.points[a]).total_cmp(&angle(mesh.points[b])));
+        let mut c = asm.zeros();
+        if spec.damping > 0.0 {
+            // eta_z N^T N: the mass shape with eta_z in place of rho (Eq. 22).
+            asm.assemble_par_into(&mut c, |e, out| {
+                let mut b = [[0.0; 6]; 6];
+                tri3::mass_into(&geometry[e], spec.damping, spec.thickness, spec.lumped, &mut b);
+                out.copy_from_slice(b.as_flattened());
+            });
+        }
+        let mut k_eff = k.clone();
+        let mut u_spin = vec![0.0; n];
+        let mut load = vec![0.0; n];
+        if spec.rotating_frame && spec.omega != 0.0 {
+            let om = -spec.omega;
+            let x = mesh.reference_positions();
+            let mut fc = vec![0.0; n];
+            crate::linalg::spmv_add(&asm.pattern, &m, om * om, &x, &mut fc);
+            // Static centrifugal equilibrium; a pinned wheel also gets the tangential dof of
+            // one rim node fixed (no reaction: the load is radial).
+            let mut fixed_static = fixed_dofs.clone();
+            if matches!(spec.support, Support::CentrePinned) {
+                if let Some(&r) = rim.first() {
+                    let p = mesh.points[r];
+                    fixed_static.push(if p[0].abs() > p[1].abs() { 2 * r + 1 } else { 2 * r });
+                }
+            }
+            u_spin = static_solve(&asm, &k, &fc, &fixed_static)?;
+            if spec.stress_stiffening {
+                let mut ks = asm.zeros();
+                asm.assemble_par_into(&mut ks, |e, out| {
+                    let t = triangles[e];
+                    let ue = [
+                        u_spin[2 * t[0]], u_spin[2 * t[0] + 1], u_spin[2 * t[1]],
+                        u_spin[2 * t[1] + 1], u_spin[2 * t[2]], u_spin[2 * t[2] + 1],
+                    ];
+                    let s = tri3::stress(&geometry[e], &d, &ue);
+                    let mut b = [[0.0; 6]; 6];
+                    tri3::geometric_stiffness_into(&geometry[e], s, spec.thickness, &mut b);
+                    out.copy_from_slice(b.as_flattened());
+                });
+                for (a, b) in k_eff.iter_mut().zip(&ks) {
+                    *a += b;
+                }
+            }
+            for (a, b) in k_eff.iter_mut().zip(&m) {
+                *a -= om * om * b;
+            }
+            crate::frame::add_coriolis(&asm, &m, om, &mut c);
+            crate::linalg::spmv_add(&asm.pattern, &k_eff, 1.0, &u_spin, &mut load);
+            for &dof in &fixed_dofs {
+                load[dof] = 0.0;
+            }
+        }
+        Ok(Self {
+            mesh,
+            triangles,
+            geometry,
+            d,
+            model: LinearModel { assembler: asm, m, k: k_eff, c },
+            k_elastic: k,
+            fixed_dofs,
+            rim,
+            u_spin,
+            load,
+            spec,
+        })
+    }
+
+    /// The rotating base.
+    pub fn base(&self) -> RotatingLine {
+        RotatingLine {
+            centre: [0.0, 0.0],
+            radius: self.spec.radius,
+            omega: self.spec.omega,
+            theta0: 0.0,
+            flattening: self.spec.flattening,
+        }
+    }
+
+    /// The simulation problem from `t = 0` for `steps` steps.
+    pub fn problem(&self, params: SpaceTimeParams, gamma_schedule: Vec<(f64, f64)>, contact: ContactMethod, steps: usize) -> Problem {
+        let load = self.load.clone();
+        let base: Box<dyn Obstacle> = Box::new(self.base());
+        let n = self.mesh.n_dofs();
+        Problem {
+            dim: 2,
+            reference: self.mesh.reference_positions(),
+            model: self.model.clone(),
+            params,
+            gamma_schedule,
+            dirichlet: self.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
+            load: Box::new(move |_, f| f.copy_from_slice(&load)),
+            obstacles: vec![base],
+            pairs: self.rim.iter().map(|&node| ContactPair { node, obstacle: 0 }).collect(),
+            contact,
+            u0: self.u_spin.clone(),
+            v0: vec![0.0; n],
+            t0: 0.0,
+            steps,
+            gap_tol: 1e-9 * self.spec.radius,
+        }
+    }
+
+    /// Element stresses `[sxx, syy, txy]` (Pa) of the displacement `u`, into `out`.
+    pub fn stresses_into(&self, u: &[f64], out: &mut [[f64; 3]]) {
+        for (e, t) in self.triangles.iter().enumerate() {
+            let ue = [
+                u[2 * t[0]], u[2 * t[0] + 1], u[2 * t[1]], u[2 * t[1] + 1], u[2 * t[2]], u[2 * t[2] + 1],
+            ];
+            out[e] = tri3::stress(&self.geometry[e], &self.d, &ue);
+        }
+    }
+
+    /// `J2` (Pa^2) and von Mises stress (Pa) of one element stress.
+    pub fn j2_vm(&self, s: [f64; 3]) -> (f64, f64) {
+        let szz = self.spec.plane.sigma_zz(&self.spec.material, s[0], s[1]);
+        (tri3::j2(s[0], s[1], s[2], szz), tri3::von_mises(s[0], s[1], s[2], szz))
+    }
+}
+
+fn norm(p: [f64; 2]) -> f64 {
+    (p[0] * p[0] + p[1] * p[1]).sqrt()
+}
+
+fn angle(p: [f64; 2]) -> f64 {
+    p[1].atan2(p[0])
+}
