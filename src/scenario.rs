@@ -90,6 +90,9 @@ struct RawScenario {
     time: Option<RawTime>,
     bar: Option<RawBar>,
     sdof: Option<RawSdof>,
+    wheel: Option<RawWheel>,
+    material: Option<RawMaterial>,
+    rolling: Option<RawRolling>,
     contact: Option<RawContact>,
     #[serde(default)]
     runs: Vec<RawRun>,
@@ -125,6 +128,41 @@ struct RawSdof {
     stiffness: f64,
     x0: Option<f64>,
     v0: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWheel {
+    radius: f64,
+    thickness: f64,
+    rings: Option<i64>,
+    mesh: Option<String>,
+    plane: Option<String>,
+    mass: Option<String>,
+    support: Option<String>,
+    hub_radius: Option<f64>,
+    damping: Option<f64>,
+    stress_stiffening: Option<bool>,
+    rotating_frame: Option<bool>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMaterial {
+    young: f64,
+    poisson: f64,
+    density: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRolling {
+    omega: f64,
+    flattening: f64,
+    settle_time: f64,
+    turns: f64,
+    settle_gamma: Option<f64>,
+    fields_per_turn: Option<i64>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -164,6 +202,37 @@ pub struct Sdof {
     pub v0: f64,
 }
 
+/// Where the wheel's mesh comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshSource {
+    /// The hexagonal-pattern disk of `n` rings (12: the paper's 469 nodes, 864 triangles).
+    Rings(usize),
+    /// A Gmsh `.msh` file (4.1, ASCII or binary), centred at the axle.
+    Gmsh(PathBuf),
+}
+
+/// The rolling wheel scenario (paper §4).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelScenario {
+    /// The physical data.
+    pub spec: crate::wheel::WheelSpec,
+    /// The mesh.
+    pub mesh: MeshSource,
+    /// Turns rolled after settling.
+    pub turns: f64,
+    /// `gamma` during settling (default: the run's gamma).
+    pub settle_gamma: Option<f64>,
+    /// Velocity-field snapshots over the last turn (Fig. 17), default 8.
+    pub fields_per_turn: usize,
+}
+
+impl WheelScenario {
+    /// Settling time plus the turns, s.
+    pub fn duration(&self) -> f64 {
+        self.spec.flattening.settle_time + self.turns * 2.0 * std::f64::consts::PI / self.spec.omega
+    }
+}
+
 /// The physical model of a scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Model {
@@ -171,6 +240,8 @@ pub enum Model {
     Sdof(Sdof),
     /// Elastic bar against a rigid wall.
     BarImpact(BarImpact),
+    /// The elastic wheel rolling on a rigid base.
+    Wheel(Box<WheelScenario>),
 }
 
 /// One run of a scenario (the scenario may list several).
@@ -315,10 +386,11 @@ impl Scenario {
             Some(h) => Some(cx.positive("time.h", h)?),
             None => None,
         };
-        let t_end = cx.positive(
-            "time.t_end",
-            time.t_end.ok_or_else(|| cx.missing("time.t_end", "the end time of the run, s"))?,
-        )?;
+        let t_end = match (time.t_end, raw.kind.as_str()) {
+            (Some(t), _) => cx.positive("time.t_end", t)?,
+            (None, "wheel") => f64::NAN,
+            (None, _) => return Err(cx.missing("time.t_end", "the end time of the run, s")),
+        };
         let method = cx.method(
             "contact.method",
             raw.contact.and_then(|c| c.method).as_deref().unwrap_or("soft_way"),
@@ -359,6 +431,7 @@ impl Scenario {
                     damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
                 })
             }
+            "wheel" => Model::Wheel(Box::new(wheel_model(&cx, raw.wheel, raw.material, raw.rolling)?)),
             other => {
                 return Err(cx.invalid(
                     "kind",
@@ -366,6 +439,19 @@ impl Scenario {
                     "allowed: \"sdof\", \"bar_impact\", \"wheel\"",
                 ))
             }
+        };
+        let t_end = match &model {
+            Model::Wheel(w) => {
+                if time.t_end.is_some() {
+                    return Err(cx.invalid(
+                        "time.t_end",
+                        t_end,
+                        "a wheel run lasts rolling.settle_time + rolling.turns turns: remove time.t_end",
+                    ));
+                }
+                w.duration()
+            }
+            _ => t_end,
         };
         let base_runs = if raw.runs.is_empty() { vec![RawRun::default()] } else { raw.runs };
         let mut runs = Vec::with_capacity(base_runs.len());
@@ -441,4 +527,129 @@ fn finite(cx: &Ctx, key: &str, v: f64) -> Result<f64, ScenarioError> {
     } else {
         Err(cx.invalid(key, v, "must be a finite number"))
     }
+}
+
+fn wheel_model(
+    cx: &Ctx,
+    w: Option<RawWheel>,
+    m: Option<RawMaterial>,
+    r: Option<RawRolling>,
+) -> Result<WheelScenario, ScenarioError> {
+    use crate::contact::obstacle::Flattening;
+    use crate::material::{Elastic, PlaneModel};
+    use crate::wheel::{Support, WheelSpec};
+    let w = w.ok_or_else(|| cx.missing("wheel", "kind = \"wheel\" needs a [wheel] table"))?;
+    let m = m.ok_or_else(|| cx.missing("material", "the wheel's [material] (young, poisson, density)"))?;
+    let r = r.ok_or_else(|| cx.missing("rolling", "[rolling] (omega, flattening, settle_time, turns)"))?;
+    let radius = cx.positive("wheel.radius", w.radius)?;
+    let thickness = cx.positive("wheel.thickness", w.thickness)?;
+    let young = cx.positive("material.young", m.young)?;
+    if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+        return Err(cx.invalid("material.poisson", m.poisson, "Poisson's ratio must be in (-1, 0.5)"));
+    }
+    let density = cx.positive("material.density", m.density)?;
+    let mesh = match (w.rings, &w.mesh) {
+        (Some(_), Some(_)) => {
+            return Err(cx.invalid("wheel.mesh", "given with wheel.rings", "give either wheel.rings or wheel.mesh, not both"))
+        }
+        (Some(n), None) => MeshSource::Rings(cx.count("wheel.rings", n, 400)?),
+        (None, Some(f)) => {
+            let p = Path::new(f);
+            let p = if p.is_relative() {
+                cx.path.parent().unwrap_or(Path::new(".")).join(p)
+            } else {
+                p.to_path_buf()
+            };
+            MeshSource::Gmsh(p)
+        }
+        (None, None) => MeshSource::Rings(12),
+    };
+    let plane = match w.plane.as_deref().unwrap_or("stress") {
+        "stress" => PlaneModel::Stress,
+        "strain" => PlaneModel::Strain,
+        o => return Err(cx.invalid("wheel.plane", format!("\"{o}\""), "allowed: \"stress\", \"strain\"")),
+    };
+    let lumped = match w.mass.as_deref().unwrap_or("consistent") {
+        "consistent" => false,
+        "lumped" => true,
+        o => return Err(cx.invalid("wheel.mass", format!("\"{o}\""), "allowed: \"consistent\", \"lumped\"")),
+    };
+    let support = match w.support.as_deref().unwrap_or("centre") {
+        "centre" | "center" => Support::CentrePinned,
+        "hub" => {
+            let hr = w
+                .hub_radius
+                .ok_or_else(|| cx.missing("wheel.hub_radius", "support = \"hub\" needs the hub radius, m"))?;
+            let hr = cx.positive("wheel.hub_radius", hr)?;
+            if hr >= radius {
+                return Err(cx.invalid("wheel.hub_radius", hr, &format!("must be smaller than wheel.radius = {radius}")));
+            }
+            Support::Hub { radius: hr }
+        }
+        o => return Err(cx.invalid("wheel.support", format!("\"{o}\""), "allowed: \"centre\", \"hub\"")),
+    };
+    let omega = r.omega;
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(cx.invalid("rolling.omega", omega, "the wheel's angular speed must be a finite number > 0, rad/s"));
+    }
+    let depth = cx.positive("rolling.flattening", r.flattening)?;
+    if depth >= radius {
+        return Err(cx.invalid(
+            "rolling.flattening",
+            depth,
+            &format!("the flattening must be smaller than wheel.radius = {radius} m"),
+        ));
+    }
+    let settle_time = cx.non_negative("rolling.settle_time", r.settle_time)?;
+    let turns = cx.positive("rolling.turns", r.turns)?;
+    let settle_gamma = match r.settle_gamma {
+        Some(g) => Some(cx.gamma("rolling.settle_gamma", g)?),
+        None => None,
+    };
+    Ok(WheelScenario {
+        spec: WheelSpec {
+            radius,
+            thickness,
+            material: Elastic { young, poisson: m.poisson, density },
+            plane,
+            lumped,
+            damping: cx.non_negative("wheel.damping", w.damping.unwrap_or(0.0))?,
+            support,
+            omega,
+            flattening: Flattening { depth, settle_time },
+            stress_stiffening: w.stress_stiffening.unwrap_or(true),
+            rotating_frame: w.rotating_frame.unwrap_or(true),
+        },
+        mesh,
+        turns,
+        settle_gamma,
+        fields_per_turn: cx.count("rolling.fields_per_turn", r.fields_per_turn.unwrap_or(8), 1000)?,
+    })
+}
+
+/// Sets a dotted key (e.g. `rolling.omega`) in TOML text to a value, for sweeps and
+/// command-line overrides; the result is validated as usual.
+///
+/// # Errors
+/// A message naming the key when the text is not TOML or the key cannot be set.
+pub fn set_key(text: &str, key: &str, value: &str) -> Result<String, String> {
+    let mut doc: toml::Table = toml::from_str(text).map_err(|e| e.to_string())?;
+    let parsed: toml::Value = match toml::from_str::<toml::Table>(&format!("v = {value}")) {
+        Ok(t) => t["v"].clone(),
+        Err(_) => toml::Value::String(value.to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut cur = &mut doc;
+    for (i, part) in parts.iter().enumerate() {
+        if i + 1 == parts.len() {
+            cur.insert((*part).to_string(), parsed.clone());
+        } else {
+            cur = cur
+                .entry((*part).to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+                .as_table_mut()
+                .ok_or_else(|| format!("`{}` is not a table", parts[..=i].join(".")))?;
+        }
+    }
+    toml::to_string(&doc).map_err(|e| e.to_string())
 }

@@ -3,6 +3,7 @@
 
 pub mod bar;
 pub mod sdof;
+pub mod wheel;
 
 use crate::scenario::{Model, Scenario};
 use std::path::{Path, PathBuf};
@@ -68,6 +69,7 @@ pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunR
     match &sc.runs[0].model {
         Model::Sdof(_) => sdof::run(sc, out, opts),
         Model::BarImpact(_) => bar::run(sc, out, opts),
+        Model::Wheel(_) => wheel::run(sc, out, opts),
     }
 }
 
