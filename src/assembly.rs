@@ -28,7 +28,11 @@ impl Assembler {
         let dim = mesh.dim;
         let n = mesh.n_dofs();
         let n_el = mesh.cells.len();
-        let npe = if n_el > 0 { mesh.cell_nodes(0).len() } else { 0 };
+        let npe = if n_el > 0 {
+            mesh.cell_nodes(0).len()
+        } else {
+            0
+        };
         let ndof_e = dim * npe;
         let mut elem_dofs = Vec::with_capacity(n_el * ndof_e);
         for e in 0..n_el {
@@ -61,7 +65,9 @@ impl Assembler {
             for &i in d {
                 for &j in d {
                     let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
-                    let k = rows.binary_search(&i).expect("pattern holds element entries");
+                    let k = rows
+                        .binary_search(&i)
+                        .expect("pattern holds element entries");
                     slots.push(col_ptr[j] + k);
                 }
             }

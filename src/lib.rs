@@ -10,7 +10,7 @@
 //! time and the virtual velocity is a Dirac at `t0 + alpha h`. The semi-discrete equation
 //! `M v' + C v + K u = f + r` then gives
 //! $$\big(M + \alpha h C + \tfrac{\alpha^2h^2}{2}K\big) v_1 = M v_0 - (1-\alpha)hCv_0 - hKu_0
-//!   - (\alpha - \tfrac{\alpha^2}{2})h^2 K v_0 + h f(t_0 + \alpha h) + h r,$$
+//!   \;-\; (\alpha - \tfrac{\alpha^2}{2})h^2 K v_0 + h f(t_0 + \alpha h) + h r,$$
 //! $$u_1 = u_0 + h[(1-\beta)v_0 + \beta v_1],\qquad \beta = 1 - \alpha/(1+\gamma).$$
 //! For one degree of freedom this is Eq. (9) with Eq. (10); `gamma = 0` preserves energy
 //! (Eq. 11) and `gamma > 0` adds numerical dissipation (Eq. 24). See [`time`].
@@ -38,6 +38,8 @@
 //! Units are SI inside: m, s, kg, N, Pa.
 
 #![warn(missing_docs)]
+// Index loops over degrees of freedom mirror the equations; iterators would hide them.
+#![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
 pub mod assembly;

@@ -7,8 +7,8 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
 };
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
-use faer::Side;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::Side;
 use faer::{Conj, MatMut, Par};
 
 /// Errors of the linear algebra layer.
@@ -167,7 +167,8 @@ impl SparseLlt {
             Side::Upper,
             Default::default(),
             CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL,
+                supernodal_flop_ratio_threshold:
+                    faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL,
                 ..Default::default()
             },
         )
@@ -175,7 +176,9 @@ impl SparseLlt {
         let solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
         let mut numeric = vec![0.0; symbolic.len_val()];
         let mat = SparseColMatRef::new(pattern.as_ref(), values);
-        let mut scratch = MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
+        let mut scratch = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
         symbolic
             .factorize_numeric_llt::<f64>(
                 &mut numeric,
@@ -187,7 +190,12 @@ impl SparseLlt {
                 Default::default(),
             )
             .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
-        Ok(Self { symbolic, numeric, solve_scratch, n: pattern.nrows() })
+        Ok(Self {
+            symbolic,
+            numeric,
+            solve_scratch,
+            n: pattern.nrows(),
+        })
     }
 
     /// Number of stored values of the factor.
@@ -199,6 +207,11 @@ impl SparseLlt {
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.numeric);
         let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
-        llt.solve_in_place_with_conj(Conj::No, m, Par::Seq, MemStack::new(&mut self.solve_scratch));
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            m,
+            Par::Seq,
+            MemStack::new(&mut self.solve_scratch),
+        );
     }
 }

@@ -65,7 +65,11 @@ fn main() -> ExitCode {
 
 fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
     match cli.command {
-        Command::Run { scenario, out, quiet } => {
+        Command::Run {
+            scenario,
+            out,
+            quiet,
+        } => {
             let sc = Scenario::from_file(&scenario)?;
             for w in &sc.warnings {
                 eprintln!("softway: warning: {w}");
@@ -86,7 +90,12 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Stability { alpha, gamma, out, json } => {
+        Command::Stability {
+            alpha,
+            gamma,
+            out,
+            json,
+        } => {
             if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
                 return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
             }

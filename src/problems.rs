@@ -57,7 +57,12 @@ impl BarImpact {
         let mut node_sets = std::collections::BTreeMap::new();
         node_sets.insert("head".to_string(), vec![n]);
         node_sets.insert("tail".to_string(), vec![0]);
-        Mesh { dim: 1, points, cells, node_sets }
+        Mesh {
+            dim: 1,
+            points,
+            cells,
+            node_sets,
+        }
     }
 
     /// The model `M, K, C` of the bar.
@@ -87,16 +92,29 @@ impl BarImpact {
                 out.copy_from_slice(&[b[0][0], b[0][1], b[1][0], b[1][1]]);
             });
         }
-        LinearModel { assembler: asm, m, k, c }
+        LinearModel {
+            assembler: asm,
+            m,
+            k,
+            c,
+        }
     }
 
     /// The full problem: the bar moving at `speed` towards a wall at `L + gap`, run to
     /// `t_end`.
-    pub fn problem(&self, params: SpaceTimeParams, contact: ContactMethod, t_end: f64) -> (Mesh, Problem) {
+    pub fn problem(
+        &self,
+        params: SpaceTimeParams,
+        contact: ContactMethod,
+        t_end: f64,
+    ) -> (Mesh, Problem) {
         let mesh = self.mesh();
         let model = self.model(&mesh);
         let n = mesh.n_dofs();
-        let wall: Box<dyn Obstacle> = Box::new(Wall { position: self.length + self.gap, side: -1.0 });
+        let wall: Box<dyn Obstacle> = Box::new(Wall {
+            position: self.length + self.gap,
+            side: -1.0,
+        });
         let steps = (t_end / params.h).round() as usize;
         let problem = Problem {
             dim: 1,
@@ -107,7 +125,10 @@ impl BarImpact {
             dirichlet: vec![],
             load: Box::new(|_, f| f.fill(0.0)),
             obstacles: vec![wall],
-            pairs: vec![ContactPair { node: self.elements, obstacle: 0 }],
+            pairs: vec![ContactPair {
+                node: self.elements,
+                obstacle: 0,
+            }],
             contact,
             u0: vec![0.0; n],
             v0: vec![self.speed; n],

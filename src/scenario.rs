@@ -368,20 +368,36 @@ impl Scenario {
     pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
         let raw: RawScenario = toml::from_str(text).map_err(|e| ScenarioError::Parse {
             path: path.to_path_buf(),
-            message: e.to_string().trim_end().replace('\n', " ").replace("  ", " "),
+            message: e
+                .to_string()
+                .trim_end()
+                .replace('\n', " ")
+                .replace("  ", " "),
         })?;
         let cx = Ctx { path };
         let name = match raw.name {
             Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) => n,
-            Some(n) => return Err(cx.invalid("name", format!("\"{n}\""), "must be a non-empty name without slashes")),
+            Some(n) => {
+                return Err(cx.invalid(
+                    "name",
+                    format!("\"{n}\""),
+                    "must be a non-empty name without slashes",
+                ))
+            }
             None => path
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "scenario".into()),
         };
         let time = raw.time.unwrap_or_default();
-        let alpha = cx.alpha("time.alpha", time.alpha.unwrap_or(SpaceTimeParams::DEFAULT_ALPHA))?;
-        let gamma = cx.gamma("time.gamma", time.gamma.unwrap_or(SpaceTimeParams::DEFAULT_GAMMA))?;
+        let alpha = cx.alpha(
+            "time.alpha",
+            time.alpha.unwrap_or(SpaceTimeParams::DEFAULT_ALPHA),
+        )?;
+        let gamma = cx.gamma(
+            "time.gamma",
+            time.gamma.unwrap_or(SpaceTimeParams::DEFAULT_GAMMA),
+        )?;
         let h = match time.h {
             Some(h) => Some(cx.positive("time.h", h)?),
             None => None,
@@ -393,11 +409,16 @@ impl Scenario {
         };
         let method = cx.method(
             "contact.method",
-            raw.contact.and_then(|c| c.method).as_deref().unwrap_or("soft_way"),
+            raw.contact
+                .and_then(|c| c.method)
+                .as_deref()
+                .unwrap_or("soft_way"),
         )?;
         let model = match raw.kind.as_str() {
             "sdof" => {
-                let s = raw.sdof.ok_or_else(|| cx.missing("sdof", "kind = \"sdof\" needs a [sdof] table"))?;
+                let s = raw
+                    .sdof
+                    .ok_or_else(|| cx.missing("sdof", "kind = \"sdof\" needs a [sdof] table"))?;
                 Model::Sdof(Sdof {
                     mass: cx.positive("sdof.mass", s.mass)?,
                     stiffness: cx.positive("sdof.stiffness", s.stiffness)?,
@@ -406,9 +427,9 @@ impl Scenario {
                 })
             }
             "bar_impact" => {
-                let b = raw
-                    .bar
-                    .ok_or_else(|| cx.missing("bar", "kind = \"bar_impact\" needs a [bar] table"))?;
+                let b = raw.bar.ok_or_else(|| {
+                    cx.missing("bar", "kind = \"bar_impact\" needs a [bar] table")
+                })?;
                 let lumped = match b.mass.as_deref().unwrap_or("consistent") {
                     "consistent" => false,
                     "lumped" => true,
@@ -431,7 +452,12 @@ impl Scenario {
                     damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
                 })
             }
-            "wheel" => Model::Wheel(Box::new(wheel_model(&cx, raw.wheel, raw.material, raw.rolling)?)),
+            "wheel" => Model::Wheel(Box::new(wheel_model(
+                &cx,
+                raw.wheel,
+                raw.material,
+                raw.rolling,
+            )?)),
             other => {
                 return Err(cx.invalid(
                     "kind",
@@ -453,7 +479,11 @@ impl Scenario {
             }
             _ => t_end,
         };
-        let base_runs = if raw.runs.is_empty() { vec![RawRun::default()] } else { raw.runs };
+        let base_runs = if raw.runs.is_empty() {
+            vec![RawRun::default()]
+        } else {
+            raw.runs
+        };
         let mut runs = Vec::with_capacity(base_runs.len());
         let mut warnings = Vec::new();
         for (i, r) in base_runs.iter().enumerate() {
@@ -472,7 +502,11 @@ impl Scenario {
                 (None, None) => return Err(cx.missing("time.h", "the time step, s (or runs[].h)")),
             };
             if h > t_end {
-                return Err(cx.invalid(&key("h"), h, &format!("the step must not exceed time.t_end = {t_end}")));
+                return Err(cx.invalid(
+                    &key("h"),
+                    h,
+                    &format!("the step must not exceed time.t_end = {t_end}"),
+                ));
             }
             let method = match &r.method {
                 Some(m) => cx.method(&key("method"), m)?,
@@ -482,7 +516,13 @@ impl Scenario {
             if let Some(e) = r.elements {
                 match &mut model {
                     Model::BarImpact(b) => b.elements = cx.count(&key("elements"), e, 1_000_000)?,
-                    _ => return Err(cx.invalid(&key("elements"), e, "only bar scenarios have elements")),
+                    _ => {
+                        return Err(cx.invalid(
+                            &key("elements"),
+                            e,
+                            "only bar scenarios have elements",
+                        ))
+                    }
                 }
             }
             let label = r.label.clone().unwrap_or_else(|| {
@@ -508,7 +548,11 @@ impl Scenario {
             });
         }
         let out = raw.output.unwrap_or_default();
-        let history_stride = cx.count("output.history_stride", out.history_stride.unwrap_or(1), 1_000_000_000)?;
+        let history_stride = cx.count(
+            "output.history_stride",
+            out.history_stride.unwrap_or(1),
+            1_000_000_000,
+        )?;
         Ok(Self {
             name,
             description: raw.description.unwrap_or_default(),
@@ -539,18 +583,36 @@ fn wheel_model(
     use crate::material::{Elastic, PlaneModel};
     use crate::wheel::{Support, WheelSpec};
     let w = w.ok_or_else(|| cx.missing("wheel", "kind = \"wheel\" needs a [wheel] table"))?;
-    let m = m.ok_or_else(|| cx.missing("material", "the wheel's [material] (young, poisson, density)"))?;
-    let r = r.ok_or_else(|| cx.missing("rolling", "[rolling] (omega, flattening, settle_time, turns)"))?;
+    let m = m.ok_or_else(|| {
+        cx.missing(
+            "material",
+            "the wheel's [material] (young, poisson, density)",
+        )
+    })?;
+    let r = r.ok_or_else(|| {
+        cx.missing(
+            "rolling",
+            "[rolling] (omega, flattening, settle_time, turns)",
+        )
+    })?;
     let radius = cx.positive("wheel.radius", w.radius)?;
     let thickness = cx.positive("wheel.thickness", w.thickness)?;
     let young = cx.positive("material.young", m.young)?;
     if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
-        return Err(cx.invalid("material.poisson", m.poisson, "Poisson's ratio must be in (-1, 0.5)"));
+        return Err(cx.invalid(
+            "material.poisson",
+            m.poisson,
+            "Poisson's ratio must be in (-1, 0.5)",
+        ));
     }
     let density = cx.positive("material.density", m.density)?;
     let mesh = match (w.rings, &w.mesh) {
         (Some(_), Some(_)) => {
-            return Err(cx.invalid("wheel.mesh", "given with wheel.rings", "give either wheel.rings or wheel.mesh, not both"))
+            return Err(cx.invalid(
+                "wheel.mesh",
+                "given with wheel.rings",
+                "give either wheel.rings or wheel.mesh, not both",
+            ))
         }
         (Some(n), None) => MeshSource::Rings(cx.count("wheel.rings", n, 400)?),
         (None, Some(f)) => {
@@ -567,30 +629,59 @@ fn wheel_model(
     let plane = match w.plane.as_deref().unwrap_or("stress") {
         "stress" => PlaneModel::Stress,
         "strain" => PlaneModel::Strain,
-        o => return Err(cx.invalid("wheel.plane", format!("\"{o}\""), "allowed: \"stress\", \"strain\"")),
+        o => {
+            return Err(cx.invalid(
+                "wheel.plane",
+                format!("\"{o}\""),
+                "allowed: \"stress\", \"strain\"",
+            ))
+        }
     };
     let lumped = match w.mass.as_deref().unwrap_or("consistent") {
         "consistent" => false,
         "lumped" => true,
-        o => return Err(cx.invalid("wheel.mass", format!("\"{o}\""), "allowed: \"consistent\", \"lumped\"")),
+        o => {
+            return Err(cx.invalid(
+                "wheel.mass",
+                format!("\"{o}\""),
+                "allowed: \"consistent\", \"lumped\"",
+            ))
+        }
     };
     let support = match w.support.as_deref().unwrap_or("centre") {
         "centre" | "center" => Support::CentrePinned,
         "hub" => {
-            let hr = w
-                .hub_radius
-                .ok_or_else(|| cx.missing("wheel.hub_radius", "support = \"hub\" needs the hub radius, m"))?;
+            let hr = w.hub_radius.ok_or_else(|| {
+                cx.missing(
+                    "wheel.hub_radius",
+                    "support = \"hub\" needs the hub radius, m",
+                )
+            })?;
             let hr = cx.positive("wheel.hub_radius", hr)?;
             if hr >= radius {
-                return Err(cx.invalid("wheel.hub_radius", hr, &format!("must be smaller than wheel.radius = {radius}")));
+                return Err(cx.invalid(
+                    "wheel.hub_radius",
+                    hr,
+                    &format!("must be smaller than wheel.radius = {radius}"),
+                ));
             }
             Support::Hub { radius: hr }
         }
-        o => return Err(cx.invalid("wheel.support", format!("\"{o}\""), "allowed: \"centre\", \"hub\"")),
+        o => {
+            return Err(cx.invalid(
+                "wheel.support",
+                format!("\"{o}\""),
+                "allowed: \"centre\", \"hub\"",
+            ))
+        }
     };
     let omega = r.omega;
     if !(omega.is_finite() && omega > 0.0) {
-        return Err(cx.invalid("rolling.omega", omega, "the wheel's angular speed must be a finite number > 0, rad/s"));
+        return Err(cx.invalid(
+            "rolling.omega",
+            omega,
+            "the wheel's angular speed must be a finite number > 0, rad/s",
+        ));
     }
     let depth = cx.positive("rolling.flattening", r.flattening)?;
     if depth >= radius {
@@ -610,7 +701,11 @@ fn wheel_model(
         spec: WheelSpec {
             radius,
             thickness,
-            material: Elastic { young, poisson: m.poisson, density },
+            material: Elastic {
+                young,
+                poisson: m.poisson,
+                density,
+            },
             plane,
             lumped,
             damping: cx.non_negative("wheel.damping", w.damping.unwrap_or(0.0))?,
@@ -623,7 +718,11 @@ fn wheel_model(
         mesh,
         turns,
         settle_gamma,
-        fields_per_turn: cx.count("rolling.fields_per_turn", r.fields_per_turn.unwrap_or(8), 1000)?,
+        fields_per_turn: cx.count(
+            "rolling.fields_per_turn",
+            r.fields_per_turn.unwrap_or(8),
+            1000,
+        )?,
     })
 }
 

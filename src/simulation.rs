@@ -111,7 +111,6 @@ pub struct Snapshot {
     pub pairs: Vec<PairState>,
 }
 
-
 /// What an observer sees of a final step.
 #[derive(Debug)]
 pub struct StepView<'a> {
@@ -191,7 +190,9 @@ pub struct Simulation {
 
 impl std::fmt::Debug for Simulation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Simulation").field("problem", &self.problem).finish()
+        f.debug_struct("Simulation")
+            .field("problem", &self.problem)
+            .finish()
     }
 }
 
@@ -213,7 +214,7 @@ impl Simulation {
         let cache = if contact_nodes.len() * per_node <= 256 << 20 {
             contact_nodes.len()
         } else {
-            64.max(np.min(64))
+            64
         };
         let stepper = Stepper::new(
             &problem.model,
@@ -282,7 +283,9 @@ impl Simulation {
     fn gap(&self, s: &Snapshot, p: usize) -> f64 {
         let pair = self.problem.pairs[p];
         let x = Self::node_pos(&self.problem, s, pair.node);
-        self.problem.obstacles[pair.obstacle].half_space(s.t, x).gap(x)
+        self.problem.obstacles[pair.obstacle]
+            .half_space(s.t, x)
+            .gap(x)
     }
 
     /// Runs all steps, calling `observer` once per final step (the initial state included).
@@ -304,7 +307,10 @@ impl Simulation {
             self.advance(have_prev)?;
             let k = self.snaps[2].k;
             if !self.snaps[2].v.iter().all(|x| x.is_finite()) {
-                return Err(SimError::NotFinite { step: k, t: self.snaps[2].t });
+                return Err(SimError::NotFinite {
+                    step: k,
+                    t: self.snaps[2].t,
+                });
             }
             self.emit(1, &mut observer)?;
             self.snaps.rotate_left(1);
@@ -351,7 +357,10 @@ impl Simulation {
                 self.stats.brakings += pen.len();
                 let h = self.problem.params.h;
                 let t_arrive = self.snaps[2].t;
-                let bt = beta(self.problem.params.alpha, self.problem.gamma_at(self.snaps[0].t));
+                let bt = beta(
+                    self.problem.params.alpha,
+                    self.problem.gamma_at(self.snaps[0].t),
+                );
                 for &p in &pen {
                     let pair = self.problem.pairs[p];
                     let obst = &self.problem.obstacles[pair.obstacle];
@@ -436,7 +445,11 @@ impl Simulation {
                 match w.modes[p] {
                     PairMode::Free => {}
                     PairMode::Brake { q, normal, .. } => {
-                        w.cons.push(VelocityConstraint { node: pair.node, normal, rhs: q });
+                        w.cons.push(VelocityConstraint {
+                            node: pair.node,
+                            normal,
+                            rhs: q,
+                        });
                         w.cons_pair.push(p);
                     }
                     PairMode::Hold => {
@@ -454,14 +467,21 @@ impl Simulation {
                             h,
                             bt,
                         );
-                        w.cons.push(VelocityConstraint { node: pair.node, normal: n, rhs: g });
+                        w.cons.push(VelocityConstraint {
+                            node: pair.node,
+                            normal: n,
+                            rhs: g,
+                        });
                         w.cons_pair.push(p);
                     }
                 }
             }
             // In a braking step, the impulses that would stop the braked nodes (relative
             // normal velocity 0 at t1): lambda_s = S^-1 (w - C A^-1 b), given back at release.
-            let braking = w.cons_pair.iter().any(|&p| matches!(w.modes[p], PairMode::Brake { .. }));
+            let braking = w
+                .cons_pair
+                .iter()
+                .any(|&p| matches!(w.modes[p], PairMode::Brake { .. }));
             if braking && pb.contact.restores_stopping_impulse() {
                 w.rhs_stop.copy_from_slice(&w.rhs);
                 w.cons_stop.clear();
@@ -472,11 +492,13 @@ impl Simulation {
                     }
                     w.cons_stop.push(c);
                 }
-                self.stepper.solve(&mut w.rhs_stop, &w.cons_stop, &mut w.lambda_stop);
+                self.stepper
+                    .solve(&mut w.rhs_stop, &w.cons_stop, &mut w.lambda_stop);
             }
             self.stepper.solve(&mut w.rhs, &w.cons, &mut w.lambda);
             ts.v.copy_from_slice(&w.rhs);
-            self.stepper.update_displacement(bt, &fs.u, &fs.v, &ts.v, &mut ts.u);
+            self.stepper
+                .update_displacement(bt, &fs.u, &fs.v, &ts.v, &mut ts.u);
             ts.t = t1;
             ts.k = fs.k + 1;
             // Tension: release (Table 1, item 7).

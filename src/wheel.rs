@@ -121,11 +121,17 @@ pub struct WheelModel {
 /// # Errors
 /// [`WheelError::Element`].
 pub fn triangle_geometry(mesh: &Mesh) -> Result<(Vec<[usize; 3]>, Vec<Tri3Geometry>), WheelError> {
-    let Cells::Tri3(tris) = &mesh.cells else { return Err(WheelError::NotTriangles) };
+    let Cells::Tri3(tris) = &mesh.cells else {
+        return Err(WheelError::NotTriangles);
+    };
     let mut g = Vec::with_capacity(tris.len());
     for (e, t) in tris.iter().enumerate() {
         let p = [mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]];
-        g.push(tri3::geometry(&p).map_err(|source| WheelError::Element { element: e, nodes: *t, source })?);
+        g.push(tri3::geometry(&p).map_err(|source| WheelError::Element {
+            element: e,
+            nodes: *t,
+            source,
+        })?);
     }
     Ok((tris.clone(), g))
 }
@@ -160,7 +166,12 @@ pub fn assemble_mass_stiffness(
 ///
 /// # Errors
 /// [`LinalgError`] when `K` is singular on the free dofs.
-pub fn static_solve(asm: &Assembler, k: &[f64], f: &[f64], fixed: &[usize]) -> Result<Vec<f64>, LinalgError> {
+pub fn static_solve(
+    asm: &Assembler,
+    k: &[f64],
+    f: &[f64],
+    fixed: &[usize],
+) -> Result<Vec<f64>, LinalgError> {
     let n = asm.pattern.nrows();
     let mut is_fixed = vec![false; n];
     for &d in fixed {
@@ -178,7 +189,11 @@ pub fn static_solve(asm: &Assembler, k: &[f64], f: &[f64], fixed: &[usize]) -> R
         }
     }
     let mut lu = SparseLu::new(&asm.pattern, &a)?;
-    let mut u: Vec<f64> = f.iter().zip(&is_fixed).map(|(&x, &fx)| if fx { 0.0 } else { x }).collect();
+    let mut u: Vec<f64> = f
+        .iter()
+        .zip(&is_fixed)
+        .map(|(&x, &fx)| if fx { 0.0 } else { x })
+        .collect();
     lu.solve_in_place(&mut u);
     Ok(u)
 }
@@ -192,7 +207,14 @@ impl WheelModel {
         let (triangles, geometry) = triangle_geometry(&mesh)?;
         let d = spec.plane.elasticity_matrix(&spec.material);
         let asm = Assembler::new(&mesh);
-        let (m, k) = assemble_mass_stiffness(&asm, &geometry, &d, &spec.material, spec.thickness, spec.lumped);
+        let (m, k) = assemble_mass_stiffness(
+            &asm,
+            &geometry,
+            &d,
+            &spec.material,
+            spec.thickness,
+            spec.lumped,
+        );
         let n = mesh.n_dofs();
         // Supports.
         let held: Vec<usize> = match spec.support {
@@ -211,7 +233,9 @@ impl WheelModel {
             Support::Hub { radius } => {
                 let v = crate::mesh::generators::nodes_within(&mesh, [0.0, 0.0], radius);
                 if v.is_empty() {
-                    return Err(WheelError::Support(format!("no node within the hub radius {radius} m")));
+                    return Err(WheelError::Support(format!(
+                        "no node within the hub radius {radius} m"
+                    )));
                 }
                 v
             }
@@ -228,7 +252,13 @@ impl WheelModel {
             // eta_z N^T N: the mass shape with eta_z in place of rho (Eq. 22).
             asm.assemble_par_into(&mut c, |e, out| {
                 let mut b = [[0.0; 6]; 6];
-                tri3::mass_into(&geometry[e], spec.damping, spec.thickness, spec.lumped, &mut b);
+                tri3::mass_into(
+                    &geometry[e],
+                    spec.damping,
+                    spec.thickness,
+                    spec.lumped,
+                    &mut b,
+                );
                 out.copy_from_slice(b.as_flattened());
             });
         }
@@ -246,7 +276,11 @@ impl WheelModel {
             if matches!(spec.support, Support::CentrePinned) {
                 if let Some(&r) = rim.first() {
                     let p = mesh.points[r];
-                    fixed_static.push(if p[0].abs() > p[1].abs() { 2 * r + 1 } else { 2 * r });
+                    fixed_static.push(if p[0].abs() > p[1].abs() {
+                        2 * r + 1
+                    } else {
+                        2 * r
+                    });
                 }
             }
             u_spin = static_solve(&asm, &k, &fc, &fixed_static)?;
@@ -255,8 +289,12 @@ impl WheelModel {
                 asm.assemble_par_into(&mut ks, |e, out| {
                     let t = triangles[e];
                     let ue = [
-                        u_spin[2 * t[0]], u_spin[2 * t[0] + 1], u_spin[2 * t[1]],
-                        u_spin[2 * t[1] + 1], u_spin[2 * t[2]], u_spin[2 * t[2] + 1],
+                        u_spin[2 * t[0]],
+                        u_spin[2 * t[0] + 1],
+                        u_spin[2 * t[1]],
+                        u_spin[2 * t[1] + 1],
+                        u_spin[2 * t[2]],
+                        u_spin[2 * t[2] + 1],
                     ];
                     let s = tri3::stress(&geometry[e], &d, &ue);
                     let mut b = [[0.0; 6]; 6];
@@ -281,7 +319,12 @@ impl WheelModel {
             triangles,
             geometry,
             d,
-            model: LinearModel { assembler: asm, m, k: k_eff, c },
+            model: LinearModel {
+                assembler: asm,
+                m,
+                k: k_eff,
+                c,
+            },
             k_elastic: k,
             fixed_dofs,
             rim,
@@ -291,11 +334,23 @@ impl WheelModel {
         })
     }
 
-    /// The rotating base.
+    /// The rim radius of the spinning wheel (undeformed radius plus the centrifugal
+    /// expansion), m: the flattening `d` is measured from it.
+    pub fn spinning_radius(&self) -> f64 {
+        self.rim
+            .iter()
+            .map(|&i| {
+                let p = self.mesh.points[i];
+                norm([p[0] + self.u_spin[2 * i], p[1] + self.u_spin[2 * i + 1]])
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The rotating base, at `spinning_radius() - d(t)` from the axle.
     pub fn base(&self) -> RotatingLine {
         RotatingLine {
             centre: [0.0, 0.0],
-            radius: self.spec.radius,
+            radius: self.spinning_radius(),
             omega: self.spec.omega,
             theta0: 0.0,
             flattening: self.spec.flattening,
@@ -303,7 +358,13 @@ impl WheelModel {
     }
 
     /// The simulation problem from `t = 0` for `steps` steps.
-    pub fn problem(&self, params: SpaceTimeParams, gamma_schedule: Vec<(f64, f64)>, contact: ContactMethod, steps: usize) -> Problem {
+    pub fn problem(
+        &self,
+        params: SpaceTimeParams,
+        gamma_schedule: Vec<(f64, f64)>,
+        contact: ContactMethod,
+        steps: usize,
+    ) -> Problem {
         let load = self.load.clone();
         let base: Box<dyn Obstacle> = Box::new(self.base());
         let n = self.mesh.n_dofs();
@@ -316,7 +377,11 @@ impl WheelModel {
             dirichlet: self.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
             load: Box::new(move |_, f| f.copy_from_slice(&load)),
             obstacles: vec![base],
-            pairs: self.rim.iter().map(|&node| ContactPair { node, obstacle: 0 }).collect(),
+            pairs: self
+                .rim
+                .iter()
+                .map(|&node| ContactPair { node, obstacle: 0 })
+                .collect(),
             contact,
             u0: self.u_spin.clone(),
             v0: vec![0.0; n],
@@ -330,7 +395,12 @@ impl WheelModel {
     pub fn stresses_into(&self, u: &[f64], out: &mut [[f64; 3]]) {
         for (e, t) in self.triangles.iter().enumerate() {
             let ue = [
-                u[2 * t[0]], u[2 * t[0] + 1], u[2 * t[1]], u[2 * t[1] + 1], u[2 * t[2]], u[2 * t[2] + 1],
+                u[2 * t[0]],
+                u[2 * t[0] + 1],
+                u[2 * t[1]],
+                u[2 * t[1] + 1],
+                u[2 * t[2]],
+                u[2 * t[2] + 1],
             ];
             out[e] = tri3::stress(&self.geometry[e], &self.d, &ue);
         }
@@ -339,7 +409,10 @@ impl WheelModel {
     /// `J2` (Pa^2) and von Mises stress (Pa) of one element stress.
     pub fn j2_vm(&self, s: [f64; 3]) -> (f64, f64) {
         let szz = self.spec.plane.sigma_zz(&self.spec.material, s[0], s[1]);
-        (tri3::j2(s[0], s[1], s[2], szz), tri3::von_mises(s[0], s[1], s[2], szz))
+        (
+            tri3::j2(s[0], s[1], s[2], szz),
+            tri3::von_mises(s[0], s[1], s[2], szz),
+        )
     }
 }
 

@@ -34,10 +34,20 @@ elements = 8
 fn run_err(name: &str, text: &str) -> (i32, String) {
     let p = scenario(name, text);
     let out_dir = p.with_extension("out");
-    let o = softway().arg("run").arg(&p).arg("--out").arg(&out_dir).arg("--quiet").output().unwrap();
+    let o = softway()
+        .arg("run")
+        .arg(&p)
+        .arg("--out")
+        .arg(&out_dir)
+        .arg("--quiet")
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(!err.contains("panicked"), "panic: {err}");
-    assert!(!out_dir.join("summary.json").exists(), "a result was written for bad input");
+    assert!(
+        !out_dir.join("summary.json").exists(),
+        "a result was written for bad input"
+    );
     (o.status.code().unwrap_or(-1), err)
 }
 
@@ -54,9 +64,17 @@ fn assert_one_line_error(code: i32, err: &str, must: &[&str]) {
 fn valid_bar_scenario_runs() {
     let p = scenario("ok", BAR);
     let out = p.with_extension("out");
-    let o = softway().arg("run").arg(&p).arg("--out").arg(&out).arg("--quiet").output().unwrap();
+    let o = softway()
+        .arg("run")
+        .arg(&p)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(s["runs"].as_array().unwrap().len(), 1);
     assert!(out.join("history.csv").exists());
     assert!(out.join("bar_head.png").exists());
@@ -64,7 +82,10 @@ fn valid_bar_scenario_runs() {
 
 #[test]
 fn unknown_key() {
-    let (c, e) = run_err("unknown", &BAR.replace("gap = 0.5", "gap = 0.5\nlenght = 2.0"));
+    let (c, e) = run_err(
+        "unknown",
+        &BAR.replace("gap = 0.5", "gap = 0.5\nlenght = 2.0"),
+    );
     assert_one_line_error(c, &e, &["unknown.toml", "lenght"]);
 }
 
@@ -92,13 +113,19 @@ fn zero_elements() {
 fn alpha_and_gamma_out_of_range() {
     let (c, e) = run_err("alpha", &BAR.replace("alpha = 0.8", "alpha = 1.5"));
     assert_one_line_error(c, &e, &["time.alpha", "(0, 1]"]);
-    let (c, e) = run_err("gamma", &BAR.replace("alpha = 0.8", "alpha = 0.8\ngamma = -0.1"));
+    let (c, e) = run_err(
+        "gamma",
+        &BAR.replace("alpha = 0.8", "alpha = 0.8\ngamma = -0.1"),
+    );
     assert_one_line_error(c, &e, &["time.gamma", "[0, 1]"]);
 }
 
 #[test]
 fn wrong_type_and_bad_syntax() {
-    let (c, e) = run_err("wrongtype", &BAR.replace("elements = 8", "elements = \"eight\""));
+    let (c, e) = run_err(
+        "wrongtype",
+        &BAR.replace("elements = 8", "elements = \"eight\""),
+    );
     assert_one_line_error(c, &e, &["wrongtype.toml", "elements"]);
     let (c, e) = run_err("syntax", "kind = \"bar_impact\"\n[time\nh = 1");
     assert_one_line_error(c, &e, &["syntax.toml"]);
@@ -106,29 +133,44 @@ fn wrong_type_and_bad_syntax() {
 
 #[test]
 fn missing_file() {
-    let o = softway().args(["run", "/nonexistent/dir/nothing.toml", "--quiet"]).output().unwrap();
+    let o = softway()
+        .args(["run", "/nonexistent/dir/nothing.toml", "--quiet"])
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert_ne!(o.status.code(), Some(0));
-    assert!(err.contains("/nonexistent/dir/nothing.toml") && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("/nonexistent/dir/nothing.toml") && !err.contains("panicked"),
+        "{err}"
+    );
     assert_eq!(err.lines().count(), 1, "{err}");
 }
 
 #[test]
 fn stability_bad_alpha() {
-    let o = softway().args(["stability", "--alpha", "0", "--gamma", "0.2"]).output().unwrap();
+    let o = softway()
+        .args(["stability", "--alpha", "0", "--gamma", "0.2"])
+        .output()
+        .unwrap();
     assert_ne!(o.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--alpha"));
 }
 
 #[test]
 fn stability_json_reports_the_limits() {
-    let o = softway().args(["stability", "--alpha", "0.75", "--gamma", "0.2", "--json"]).output().unwrap();
+    let o = softway()
+        .args(["stability", "--alpha", "0.75", "--gamma", "0.2", "--json"])
+        .output()
+        .unwrap();
     assert!(o.status.success());
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(j["unconditionally_stable"], false);
     let lim = j["stability_limit_omega_h"].as_f64().unwrap();
     assert!(lim > 5.0 && lim < 6.0, "{lim}");
-    let o = softway().args(["stability", "--alpha", "0.8", "--gamma", "0.0", "--json"]).output().unwrap();
+    let o = softway()
+        .args(["stability", "--alpha", "0.8", "--gamma", "0.0", "--json"])
+        .output()
+        .unwrap();
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(j["unconditionally_stable"], true);
     assert!(j["stability_limit_omega_h"].is_null());

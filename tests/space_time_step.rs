@@ -1,24 +1,39 @@
 //! The multi-degree-of-freedom step against the closed form of Eqs. (9)-(10), and the
 //! multiplier solve against a direct solve of the bordered system.
 
+use faer::linalg::solvers::Solve;
 use softway::assembly::Assembler;
 use softway::mesh::{Cells, Mesh};
 use softway::time::sdof;
 use softway::time::step::{LinearModel, Stepper, VelocityConstraint};
 use softway::time::SpaceTimeParams;
-use faer::linalg::solvers::Solve;
 use std::collections::BTreeMap;
 
 fn one_dof(m: f64, k: f64) -> LinearModel {
-    let mesh = Mesh { dim: 1, points: vec![[0.0, 0.0]], cells: Cells::Bar2(vec![]), node_sets: BTreeMap::new() };
+    let mesh = Mesh {
+        dim: 1,
+        points: vec![[0.0, 0.0]],
+        cells: Cells::Bar2(vec![]),
+        node_sets: BTreeMap::new(),
+    };
     let asm = Assembler::new(&mesh);
-    LinearModel { m: vec![m], k: vec![k], c: vec![0.0], assembler: asm }
+    LinearModel {
+        m: vec![m],
+        k: vec![k],
+        c: vec![0.0],
+        assembler: asm,
+    }
 }
 
 #[test]
 fn one_dof_step_is_eq_9_and_eq_10_exactly() {
     let (m, k) = (2.5, 40.0);
-    for (alpha, gamma, h) in [(0.8, 0.0, 0.05), (0.75, 0.2, 0.2), (1.0, 0.0, 0.01), (0.71, 0.5, 0.3)] {
+    for (alpha, gamma, h) in [
+        (0.8, 0.0, 0.05),
+        (0.75, 0.2, 0.2),
+        (1.0, 0.0, 0.01),
+        (0.71, 0.5, 0.3),
+    ] {
         let p = SpaceTimeParams { alpha, gamma, h };
         let mut st = Stepper::new(&one_dof(m, k), 1, p, &[], 0, 0).unwrap();
         let (mut u, mut v) = (vec![0.3], vec![-1.2]);
@@ -51,11 +66,22 @@ fn multipliers_match_the_bordered_system() {
     let mut m = asm.zeros();
     let mut k = asm.zeros();
     let mut c = asm.zeros();
-    asm.assemble_serial_into(&mut m, |_, o| o.copy_from_slice(&[0.2 / 3.0, 0.1 / 3.0, 0.1 / 3.0, 0.2 / 3.0]));
+    asm.assemble_serial_into(&mut m, |_, o| {
+        o.copy_from_slice(&[0.2 / 3.0, 0.1 / 3.0, 0.1 / 3.0, 0.2 / 3.0])
+    });
     asm.assemble_serial_into(&mut k, |_, o| o.copy_from_slice(&[5.0, -5.0, -5.0, 5.0]));
     asm.assemble_serial_into(&mut c, |_, o| o.copy_from_slice(&[0.01, 0.0, 0.0, 0.01]));
-    let model = LinearModel { assembler: asm.clone(), m, k, c };
-    let p = SpaceTimeParams { alpha: 0.8, gamma: 0.1, h: 0.05 };
+    let model = LinearModel {
+        assembler: asm.clone(),
+        m,
+        k,
+        c,
+    };
+    let p = SpaceTimeParams {
+        alpha: 0.8,
+        gamma: 0.1,
+        h: 0.05,
+    };
     let mut st = Stepper::new(&model, 1, p, &[(0, 0.0)], 2, 2).unwrap();
     let n = n_el + 1;
     let u: Vec<f64> = (0..n).map(|i| 0.01 * i as f64).collect();
@@ -65,8 +91,16 @@ fn multipliers_match_the_bordered_system() {
     st.rhs_into(&u, &v, &f, &mut b);
     let b0 = b.clone();
     let cons = [
-        VelocityConstraint { node: 2, normal: [1.0, 0.0], rhs: 0.25 },
-        VelocityConstraint { node: 6, normal: [-1.0, 0.0], rhs: 0.1 },
+        VelocityConstraint {
+            node: 2,
+            normal: [1.0, 0.0],
+            rhs: 0.25,
+        },
+        VelocityConstraint {
+            node: 6,
+            normal: [-1.0, 0.0],
+            rhs: 0.1,
+        },
     ];
     let mut lam = [0.0; 2];
     st.solve(&mut b, &cons, &mut lam);
@@ -80,7 +114,8 @@ fn multipliers_match_the_bordered_system() {
     let mut rhs = faer::Mat::<f64>::zeros(nb, 1);
     for i in 1..n {
         for j in 1..n {
-            big[(i - 1, j - 1)] = md[(i, j)] + a * hh * cd[(i, j)] + 0.5 * a * a * hh * hh * kd[(i, j)];
+            big[(i - 1, j - 1)] =
+                md[(i, j)] + a * hh * cd[(i, j)] + 0.5 * a * a * hh * hh * kd[(i, j)];
         }
         rhs[(i - 1, 0)] = b0[i];
     }
@@ -92,7 +127,12 @@ fn multipliers_match_the_bordered_system() {
     let x = big.partial_piv_lu().solve(&rhs);
     assert!(b[0].abs() < 1e-14);
     for i in 1..n {
-        assert!((b[i] - x[(i - 1, 0)]).abs() < 1e-10, "v[{i}] {} vs {}", b[i], x[(i - 1, 0)]);
+        assert!(
+            (b[i] - x[(i - 1, 0)]).abs() < 1e-10,
+            "v[{i}] {} vs {}",
+            b[i],
+            x[(i - 1, 0)]
+        );
     }
     for q in 0..2 {
         assert!((lam[q] - x[(n - 1 + q, 0)]).abs() < 1e-10);

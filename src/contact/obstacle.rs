@@ -180,7 +180,10 @@ mod tests {
             radius: 0.1,
             omega: 300.0,
             theta0: 0.3,
-            flattening: Flattening { depth: 1e-3, settle_time: 2e-3 },
+            flattening: Flattening {
+                depth: 1e-3,
+                settle_time: 2e-3,
+            },
         };
         #[derive(Debug)]
         struct Numeric(RotatingLine);
@@ -207,7 +210,10 @@ mod tests {
             radius: 0.1,
             omega: 1.0,
             theta0: 0.0,
-            flattening: Flattening { depth: 0.001, settle_time: 0.0 },
+            flattening: Flattening {
+                depth: 0.001,
+                settle_time: 0.0,
+            },
         };
         let hs = line.half_space(0.0, [0.0, 0.0]);
         assert!((hs.gap([0.0, -0.099]) - 0.0).abs() < 1e-15);

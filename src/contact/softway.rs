@@ -67,13 +67,18 @@ impl ContactMethod {
     pub fn brakes(&self) -> bool {
         matches!(
             self,
-            ContactMethod::SoftWay | ContactMethod::SoftWayBrakingRestore | ContactMethod::SoftWayNoRestore
+            ContactMethod::SoftWay
+                | ContactMethod::SoftWayBrakingRestore
+                | ContactMethod::SoftWayNoRestore
         )
     }
 
     /// True when the braking impulse is given back at release.
     pub fn restores(&self) -> bool {
-        matches!(self, ContactMethod::SoftWay | ContactMethod::SoftWayBrakingRestore)
+        matches!(
+            self,
+            ContactMethod::SoftWay | ContactMethod::SoftWayBrakingRestore
+        )
     }
 
     /// True when the momentum given back is the full stopping impulse of the braking step
@@ -187,7 +192,11 @@ mod tests {
             x += h * ((1.0 - beta) * v + beta * v1);
             v = v1;
         }
-        assert!(v.abs() < 1e-12 && (x - x_c).abs() < 1e-15, "v {v:e}, gap {:e}", x - x_c);
+        assert!(
+            v.abs() < 1e-12 && (x - x_c).abs() < 1e-15,
+            "v {v:e}, gap {:e}",
+            x - x_c
+        );
     }
 
     #[test]

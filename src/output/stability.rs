@@ -9,16 +9,40 @@ use std::path::{Path, PathBuf};
 /// The report as a text table for the terminal.
 pub fn table_text(r: &StabilityReport) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "space-time scheme: alpha = {}, gamma = {}, beta = 1 - alpha/(1+gamma) = {:.6}", r.alpha, r.gamma, r.beta);
-    let _ = writeln!(s, "{:>12} {:>16} {:>16} {:>16}", "omega*h", "spectral radius", "damping ratio", "period error");
+    let _ = writeln!(
+        s,
+        "space-time scheme: alpha = {}, gamma = {}, beta = 1 - alpha/(1+gamma) = {:.6}",
+        r.alpha, r.gamma, r.beta
+    );
+    let _ = writeln!(
+        s,
+        "{:>12} {:>16} {:>16} {:>16}",
+        "omega*h", "spectral radius", "damping ratio", "period error"
+    );
     for a in &r.table {
-        let f = |x: f64| if x.is_finite() { format!("{x:>16.6e}") } else { format!("{:>16}", "(real roots)") };
-        let _ = writeln!(s, "{:>12.4e} {:>16.10} {} {}", a.omega_h, a.spectral_radius, f(a.damping_ratio), f(a.period_error));
+        let f = |x: f64| {
+            if x.is_finite() {
+                format!("{x:>16.6e}")
+            } else {
+                format!("{:>16}", "(real roots)")
+            }
+        };
+        let _ = writeln!(
+            s,
+            "{:>12.4e} {:>16.10} {} {}",
+            a.omega_h,
+            a.spectral_radius,
+            f(a.damping_ratio),
+            f(a.period_error)
+        );
     }
     let _ = writeln!(s, "high-frequency limit rho_inf = {:.6}", r.rho_inf);
     match r.stability_limit_omega_h {
         None => {
-            let _ = writeln!(s, "unconditionally stable (spectral radius <= 1 for omega*h in 1e-6..1e8)");
+            let _ = writeln!(
+                s,
+                "unconditionally stable (spectral radius <= 1 for omega*h in 1e-6..1e8)"
+            );
         }
         Some(l) => {
             let _ = writeln!(s, "conditionally stable: omega*h < {l:.6} (the time step must satisfy h < {l:.4} / omega_max)");
@@ -35,22 +59,49 @@ pub fn write(r: &StabilityReport, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn st
     std::fs::create_dir_all(dir)?;
     let mut csv = String::from("omega_h,spectral_radius,damping_ratio,period_error\n");
     for a in &r.table {
-        let _ = writeln!(csv, "{:e},{:e},{:e},{:e}", a.omega_h, a.spectral_radius, a.damping_ratio, a.period_error);
+        let _ = writeln!(
+            csv,
+            "{:e},{:e},{:e},{:e}",
+            a.omega_h, a.spectral_radius, a.damping_ratio, a.period_error
+        );
     }
     let c = dir.join("stability.csv");
     write_atomic(&c, csv.as_bytes())?;
     let x: Vec<f64> = r.table.iter().map(|a| a.omega_h).collect();
     let title = format!("alpha = {}, gamma = {}", r.alpha, r.gamma);
-    let mut p1 = Panel::new(format!("Spectral radius ({title})"), "omega h", "spectral radius");
+    let mut p1 = Panel::new(
+        format!("Spectral radius ({title})"),
+        "omega h",
+        "spectral radius",
+    );
     p1.x_log = true;
-    p1.series.push(Series::new("spectral radius", x.clone(), r.table.iter().map(|a| a.spectral_radius).collect(), SeriesStyle::Line));
+    p1.series.push(Series::new(
+        "spectral radius",
+        x.clone(),
+        r.table.iter().map(|a| a.spectral_radius).collect(),
+        SeriesStyle::Line,
+    ));
     p1.hlines.push((1.0, "1 (stability bound)".into()));
-    let mut p2 = Panel::new("Relative period error (T_num - T)/T", "omega h", "period error");
+    let mut p2 = Panel::new(
+        "Relative period error (T_num - T)/T",
+        "omega h",
+        "period error",
+    );
     p2.x_log = true;
-    p2.series.push(Series::new("period error", x.clone(), r.table.iter().map(|a| a.period_error).collect(), SeriesStyle::Line));
+    p2.series.push(Series::new(
+        "period error",
+        x.clone(),
+        r.table.iter().map(|a| a.period_error).collect(),
+        SeriesStyle::Line,
+    ));
     let mut p3 = Panel::new("Algorithmic damping ratio", "omega h", "damping ratio xi");
     p3.x_log = true;
-    p3.series.push(Series::new("damping ratio", x, r.table.iter().map(|a| a.damping_ratio).collect(), SeriesStyle::Line));
+    p3.series.push(Series::new(
+        "damping ratio",
+        x,
+        r.table.iter().map(|a| a.damping_ratio).collect(),
+        SeriesStyle::Line,
+    ));
     let png = dir.join("stability.png");
     panels(&png, &[p1, p2, p3], 3, 1, (1200, 1500))?;
     Ok(vec![c, png])

@@ -143,7 +143,8 @@ pub fn simulate(
     let start = Instant::now();
     let mut trace = BarTrace::default();
     let (mut first, mut last) = (None, None);
-    let (mut fsum, mut f2sum, mut nheld, mut fpeak, mut bpeak) = (0.0, 0.0, 0usize, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let (mut fsum, mut f2sum, mut nheld, mut fpeak, mut bpeak) =
+        (0.0, 0.0, 0usize, f64::NEG_INFINITY, f64::NEG_INFINITY);
     let (mut e0, mut e1, mut vcm, mut max_pen) = (None, 0.0, 0.0, 0.0f64);
     let mut csv = csv;
     let stats = sim
@@ -180,10 +181,25 @@ pub fn simulate(
             }
             if let Some(w) = csv.as_deref_mut() {
                 if st.k % stride == 0 {
-                    let state = if pair.held { 2.0 } else if pair.braked { 1.0 } else { 0.0 };
+                    let state = if pair.held {
+                        2.0
+                    } else if pair.braked {
+                        1.0
+                    } else {
+                        0.0
+                    };
                     w.row(
                         Some(&run.label),
-                        &[st.t, st.u[head], st.v[head], s.contact_force, s.kinetic, s.strain, e, state],
+                        &[
+                            st.t,
+                            st.u[head],
+                            st.v[head],
+                            s.contact_force,
+                            s.kinetic,
+                            s.strain,
+                            e,
+                            state,
+                        ],
                     )?;
                 }
             }
@@ -209,7 +225,8 @@ pub fn simulate(
         _ => None,
     };
     let mean = (nheld > 0).then(|| fsum / nheld as f64);
-    let chatter = mean.map(|m| ((f2sum / nheld as f64 - m * m).max(0.0)).sqrt() / exact.contact_force);
+    let chatter =
+        mean.map(|m| ((f2sum / nheld as f64 - m * m).max(0.0)).sqrt() / exact.contact_force);
     let rebound = -vcm;
     let e0 = e0.unwrap_or(0.0);
     let summary = BarSummary {
@@ -257,14 +274,26 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     let hist = out.join("history.csv");
     let mut csv = CsvWriter::create(
         &hist,
-        &["run", "t_s", "head_u_m", "head_v_m_s", "contact_force_N", "kinetic_J", "strain_J", "total_J", "contact_state"],
+        &[
+            "run",
+            "t_s",
+            "head_u_m",
+            "head_v_m_s",
+            "contact_force_N",
+            "kinetic_J",
+            "strain_J",
+            "total_J",
+            "contact_state",
+        ],
     )
     .map_err(|e| RunError::output(&hist, e))?;
     let mut summaries = Vec::new();
     let mut traces = Vec::new();
     let mut report = RunReport::default();
     for run in &sc.runs {
-        let Model::BarImpact(bar) = &run.model else { unreachable!("bar job on a bar scenario") };
+        let Model::BarImpact(bar) = &run.model else {
+            unreachable!("bar job on a bar scenario")
+        };
         let (s, tr) = simulate(run, bar, Some(&mut csv), sc.history_stride, opts.progress)?;
         let interrupted = s.interrupted;
         summaries.push(s);
@@ -326,22 +355,43 @@ fn fmt_opt(x: Option<f64>) -> String {
     x.map(|v| format!("{v:.4}")).unwrap_or_else(|| "-".into())
 }
 
-fn plot_traces(png: &Path, traces: &[(String, BarTrace)], exact: &BarExact, sc: &Scenario) -> Result<(), RunError> {
-    let style = |i: usize| if i == 0 { SeriesStyle::Line } else if i % 2 == 1 { SeriesStyle::Dashed } else { SeriesStyle::Line };
+fn plot_traces(
+    png: &Path,
+    traces: &[(String, BarTrace)],
+    exact: &BarExact,
+    sc: &Scenario,
+) -> Result<(), RunError> {
+    let style = |i: usize| {
+        if i == 0 {
+            SeriesStyle::Line
+        } else if i % 2 == 1 {
+            SeriesStyle::Dashed
+        } else {
+            SeriesStyle::Line
+        }
+    };
     let mk = |title: &str, ylab: &str, pick: &dyn Fn(&BarTrace) -> &Vec<f64>| {
         let mut p = Panel::new(title, "time t [s]", ylab);
         for (i, (label, tr)) in traces.iter().enumerate() {
-            p.series.push(Series::new(label.clone(), tr.t.clone(), pick(tr).clone(), style(i)));
+            p.series.push(Series::new(
+                label.clone(),
+                tr.t.clone(),
+                pick(tr).clone(),
+                style(i),
+            ));
         }
         p
     };
     let mut pu = mk("Displacement of the head A", "u_A [m]", &|t| &t.u);
     let mut pv = mk("Velocity of the head A", "v_A [m/s]", &|t| &t.v);
     let mut pf = mk("Contact force (braking included)", "F [N]", &|t| &t.force);
-    pu.hlines.push((exact.impact_time * exact.rebound_velocity, "wall".into()));
+    pu.hlines
+        .push((exact.impact_time * exact.rebound_velocity, "wall".into()));
     pv.hlines.push((exact.rebound_velocity, "v0".into()));
-    pv.hlines.push((-exact.rebound_velocity, "-v0 (exact rebound)".into()));
-    pf.hlines.push((exact.contact_force, "exact rho A c v0".into()));
+    pv.hlines
+        .push((-exact.rebound_velocity, "-v0 (exact rebound)".into()));
+    pf.hlines
+        .push((exact.contact_force, "exact rho A c v0".into()));
     let _ = sc;
     panels(png, &[pu, pv, pf], 3, 1, (1200, 1500)).map_err(|e| RunError::output(png, e))
 }

@@ -20,6 +20,14 @@ pub enum RunError {
         /// Cause.
         source: crate::simulation::SimError,
     },
+    /// The model could not be built from the input (mesh file, elements, supports).
+    #[error("{path}: {message}")]
+    Input {
+        /// File at fault.
+        path: PathBuf,
+        /// Cause.
+        message: String,
+    },
     /// Output could not be written.
     #[error("cannot write {path}: {message}")]
     Output {
@@ -31,6 +39,13 @@ pub enum RunError {
 }
 
 impl RunError {
+    pub(crate) fn input(path: &Path, e: impl std::fmt::Display) -> Self {
+        RunError::Input {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+
     pub(crate) fn output(path: &Path, e: impl std::fmt::Display) -> Self {
         RunError::Output {
             path: path.to_path_buf(),

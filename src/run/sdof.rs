@@ -47,14 +47,35 @@ pub struct SdofSummary {
 /// [`RunError`].
 pub fn run(sc: &Scenario, out: &Path, _opts: &RunOptions) -> Result<RunReport, RunError> {
     let hist = out.join("history.csv");
-    let mut csv = CsvWriter::create(&hist, &["run", "t_s", "x_m", "v_m_s", "x_exact_m", "v_exact_m_s", "energy_J"])
-        .map_err(|e| RunError::output(&hist, e))?;
+    let mut csv = CsvWriter::create(
+        &hist,
+        &[
+            "run",
+            "t_s",
+            "x_m",
+            "v_m_s",
+            "x_exact_m",
+            "v_exact_m_s",
+            "energy_J",
+        ],
+    )
+    .map_err(|e| RunError::output(&hist, e))?;
     let mut report = RunReport::default();
     let mut sums = Vec::new();
-    let mut px = Panel::new("One degree of freedom: displacement (Eqs. 9-10)", "time t [s]", "x [m]");
-    let mut pe = Panel::new("Error against the exact solution", "time t [s]", "x - x_exact [m]");
+    let mut px = Panel::new(
+        "One degree of freedom: displacement (Eqs. 9-10)",
+        "time t [s]",
+        "x [m]",
+    );
+    let mut pe = Panel::new(
+        "Error against the exact solution",
+        "time t [s]",
+        "x - x_exact [m]",
+    );
     for (ri, run) in sc.runs.iter().enumerate() {
-        let Model::Sdof(o) = run.model else { unreachable!("sdof job on a sdof scenario") };
+        let Model::Sdof(o) = run.model else {
+            unreachable!("sdof job on a sdof scenario")
+        };
         let w = (o.stiffness / o.mass).sqrt();
         let n = (run.t_end / run.params.h).round() as usize;
         let (mut x, mut v) = (o.x0, o.v0);
@@ -91,12 +112,19 @@ pub fn run(sc: &Scenario, out: &Path, _opts: &RunOptions) -> Result<RunReport, R
             (x, v) = (x1, v1);
             steps += 1;
         }
-        let period = (crossings.len() >= 2)
-            .then(|| (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64);
+        let period = (crossings.len() >= 2).then(|| {
+            (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64
+        });
         let amp = amplification(run.params.alpha, run.params.gamma, w * run.params.h);
-        let style = if ri % 2 == 0 { SeriesStyle::Line } else { SeriesStyle::Dashed };
-        px.series.push(Series::new(run.label.clone(), ts.clone(), xs, style));
-        pe.series.push(Series::new(run.label.clone(), ts, es, style));
+        let style = if ri % 2 == 0 {
+            SeriesStyle::Line
+        } else {
+            SeriesStyle::Dashed
+        };
+        px.series
+            .push(Series::new(run.label.clone(), ts.clone(), xs, style));
+        pe.series
+            .push(Series::new(run.label.clone(), ts, es, style));
         sums.push(SdofSummary {
             label: run.label.clone(),
             h: run.params.h,

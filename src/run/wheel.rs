@@ -10,13 +10,16 @@
 //! ([`count_oscillations`](crate::analysis::signal::count_oscillations)).
 
 use super::{progress_bar, RunError, RunOptions, RunReport, INTERRUPT};
-use crate::analysis::signal::{amplitude_spectrum, count_oscillations, dominant_peak, moving_average, resample_uniform};
+use crate::analysis::signal::{
+    amplitude_spectrum, count_oscillations, dominant_peak, moving_average, resample_uniform,
+};
 use crate::mesh::generators::disk_rings;
 use crate::mesh::gmsh::read_msh;
 use crate::mesh::Mesh;
 use crate::output::files::{write_json, CsvWriter};
 use crate::output::plot::{
-    line_plot, mesh_color_map_with, mesh_vector_fields, MeshColorMap, MeshOptions, MeshVectorField, Panel, Series, SeriesStyle,
+    line_plot, mesh_color_map_with, mesh_vector_fields, MeshColorMap, MeshOptions, MeshVectorField,
+    Panel, Series, SeriesStyle,
 };
 use crate::output::vtk::{write_vtu, Field, PvdWriter};
 use crate::scenario::{MeshSource, Model, Run, Scenario, WheelScenario};
@@ -97,10 +100,15 @@ pub struct WheelSummary {
 /// [`RunError`] for a bad mesh or a singular model.
 pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError> {
     let mesh: Mesh = match &ws.mesh {
-        MeshSource::Rings(n) => disk_rings(ws.spec.radius, *n).map_err(|e| RunError::output(sc_path, e))?,
-        MeshSource::Gmsh(p) => read_msh(p).map_err(|e| RunError::output(p, e))?,
+        MeshSource::Rings(n) => {
+            disk_rings(ws.spec.radius, *n).map_err(|e| RunError::input(sc_path, e))?
+        }
+        MeshSource::Gmsh(p) => read_msh(p).map_err(|e| RunError::Input {
+            path: sc_path.to_path_buf(),
+            message: e.to_string(),
+        })?,
     };
-    WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::output(sc_path, e))
+    WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::input(sc_path, e))
 }
 
 /// Runs a wheel scenario (its first run; a sweep calls [`simulate`] per value).
@@ -109,7 +117,9 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
 /// [`RunError`].
 pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else { unreachable!("wheel job on a wheel scenario") };
+    let Model::Wheel(ws) = &run.model else {
+        unreachable!("wheel job on a wheel scenario")
+    };
     let wm = build(ws, &sc.path)?;
     let (summary, files) = simulate(&wm, ws, run, sc, out, opts.progress)?;
     let sj = out.join("summary.json");
@@ -123,7 +133,11 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
         );
     }
     write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
-    let mut report = RunReport { files, interrupted: summary.interrupted, ..Default::default() };
+    let mut report = RunReport {
+        files,
+        interrupted: summary.interrupted,
+        ..Default::default()
+    };
     report.files.push(sj);
     report.lines = summary_lines(&summary);
     Ok(report)
@@ -177,12 +191,24 @@ pub fn simulate(
         _ => vec![],
     };
     let problem = wm.problem(run.params, gamma_schedule, run.method, steps);
-    let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation { run: run.label.clone(), source })?;
+    let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation {
+        run: run.label.clone(),
+        source,
+    })?;
     let base = wm.base();
     let hist = out.join("history.csv");
     let mut csv = CsvWriter::create(
         &hist,
-        &["t_s", "base_angle_deg", "contact_force_N", "nodes_in_contact", "kinetic_J", "strain_J", "total_J", "min_gap_m"],
+        &[
+            "t_s",
+            "base_angle_deg",
+            "contact_force_N",
+            "nodes_in_contact",
+            "kinetic_J",
+            "strain_J",
+            "total_J",
+            "min_gap_m",
+        ],
     )
     .map_err(|e| RunError::output(&hist, e))?;
     let n_el = wm.triangles.len();
@@ -192,7 +218,9 @@ pub fn simulate(
     let avg_start = t_settle + (full_turns - 1.0) * turn_time;
     let avg_end = t_settle + full_turns * turn_time;
     let n_snap = ws.fields_per_turn;
-    let snap_times: Vec<f64> = (0..n_snap).map(|i| avg_start + (i as f64 + 0.5) * turn_time / n_snap as f64).collect();
+    let snap_times: Vec<f64> = (0..n_snap)
+        .map(|i| avg_start + (i as f64 + 0.5) * turn_time / n_snap as f64)
+        .collect();
     let mut snaps_v: Vec<Vec<f64>> = Vec::with_capacity(n_snap);
     let mut snaps_u: Vec<Vec<f64>> = Vec::with_capacity(n_snap);
     let mut snaps_t: Vec<f64> = Vec::with_capacity(n_snap);
@@ -214,7 +242,8 @@ pub fn simulate(
             let t = st.t;
             let min_gap = st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
             max_pen = max_pen.max(-min_gap);
-            let e = s.kinetic + 0.5 * crate::linalg::quadratic_form(wm.model.pattern(), &wm.k_elastic, &st.u);
+            let e = s.kinetic
+                + 0.5 * crate::linalg::quadratic_form(wm.model.pattern(), &wm.k_elastic, &st.u);
             e_final = e;
             all_t.push(t);
             all_f.push(s.contact_force);
@@ -243,7 +272,16 @@ pub fn simulate(
             if st.k % stride == 0 {
                 csv.row(
                     None,
-                    &[t, base.angle(t).to_degrees(), s.contact_force, s.held as f64, s.kinetic, e - s.kinetic, e, min_gap],
+                    &[
+                        t,
+                        base.angle(t).to_degrees(),
+                        s.contact_force,
+                        s.held as f64,
+                        s.kinetic,
+                        e - s.kinetic,
+                        e,
+                        min_gap,
+                    ],
                 )?;
             }
             if st.k % 256 == 0 {
@@ -251,7 +289,10 @@ pub fn simulate(
             }
             Ok(())
         })
-        .map_err(|source| RunError::Simulation { run: run.label.clone(), source })?;
+        .map_err(|source| RunError::Simulation {
+            run: run.label.clone(),
+            source,
+        })?;
     pb.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     csv.finish().map_err(|e| RunError::output(&hist, e))?;
@@ -267,7 +308,10 @@ pub fn simulate(
     let smooth_w = ((1.0 / node_pass_hz) / h).round().max(1.0) as usize;
     let mut osc = Vec::new();
     for k in 0..(ws.turns.floor() as usize) {
-        let (a, b) = (t_settle + k as f64 * turn_time, t_settle + (k + 1) as f64 * turn_time);
+        let (a, b) = (
+            t_settle + k as f64 * turn_time,
+            t_settle + (k + 1) as f64 * turn_time,
+        );
         let seg: Vec<f64> = force_t
             .iter()
             .zip(&force_y)
@@ -284,7 +328,11 @@ pub fn simulate(
     // The wheel's own oscillation: the largest peak above the rotation frequency away from
     // the node-passing ripple and its harmonics (+-10%).
     let mut wheel_spec = spec.clone();
-    for (f, a) in wheel_spec.frequency_hz.iter().zip(wheel_spec.amplitude.iter_mut()) {
+    for (f, a) in wheel_spec
+        .frequency_hz
+        .iter()
+        .zip(wheel_spec.amplitude.iter_mut())
+    {
         let harmonic = (f / node_pass_hz).round();
         if harmonic >= 1.0 && (f - harmonic * node_pass_hz).abs() < 0.1 * node_pass_hz {
             *a = 0.0;
@@ -337,8 +385,16 @@ pub fn simulate(
         None,
         &[],
         &[
-            Field { name: "J2_turn_average_MPa2", components: 1, values: &j2_avg },
-            Field { name: "von_mises_turn_average_MPa", components: 1, values: &vm_avg },
+            Field {
+                name: "J2_turn_average_MPa2",
+                components: 1,
+                values: &j2_avg,
+            },
+            Field {
+                name: "von_mises_turn_average_MPa",
+                components: 1,
+                values: &vm_avg,
+            },
         ],
     )
     .map_err(|e| RunError::output(&vtu, e))?;
@@ -347,12 +403,26 @@ pub fn simulate(
     for (i, ((t, v), u)) in snaps_t.iter().zip(&snaps_v).zip(&snaps_u).enumerate() {
         let name = format!("velocity_{i:03}.vtu");
         let p = out.join(&name);
-        let speed: Vec<f64> = v.chunks(2).map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt()).collect();
+        let speed: Vec<f64> = v
+            .chunks(2)
+            .map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt())
+            .collect();
         write_vtu(
             &p,
             &wm.mesh,
             Some(u),
-            &[Field { name: "velocity", components: 2, values: v }, Field { name: "speed", components: 1, values: &speed }],
+            &[
+                Field {
+                    name: "velocity",
+                    components: 2,
+                    values: v,
+                },
+                Field {
+                    name: "speed",
+                    components: 1,
+                    values: &speed,
+                },
+            ],
             &[],
         )
         .map_err(|e| RunError::output(&p, e))?;
@@ -369,26 +439,48 @@ pub fn simulate(
         // Fig. 12: force over the turns.
         let turns_axis: Vec<f64> = all_t.iter().map(|t| (t - t_settle) / turn_time).collect();
         let mut p = Panel::new(
-            format!("Contact force, omega = {omega} rad/s ({:.0} km/h)", summary.speed_km_h),
+            format!(
+                "Contact force, omega = {omega} rad/s ({:.0} km/h)",
+                summary.speed_km_h
+            ),
             "turns after settling",
             "contact force [N]",
         );
-        p.series.push(Series::new("contact force", turns_axis.clone(), all_f.clone(), SeriesStyle::Line));
-        p.hlines.push((mean, format!("mean over the turns {mean:.3e} N")));
+        p.series.push(Series::new(
+            "contact force",
+            turns_axis.clone(),
+            all_f.clone(),
+            SeriesStyle::Line,
+        ));
+        p.hlines
+            .push((mean, format!("mean over the turns {mean:.3e} N")));
         let png = out.join("contact_force.png");
         line_plot(&png, &p, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
         // Fig. 13: a zoom on a quarter of the last turn.
         let z0 = full_turns - 1.0;
-        let mut pz = Panel::new("Contact force (zoom on a quarter turn)", "turns after settling", "contact force [N]");
-        pz.series.push(Series::new("contact force", turns_axis, all_f, SeriesStyle::Line));
+        let mut pz = Panel::new(
+            "Contact force (zoom on a quarter turn)",
+            "turns after settling",
+            "contact force [N]",
+        );
+        pz.series.push(Series::new(
+            "contact force",
+            turns_axis,
+            all_f,
+            SeriesStyle::Line,
+        ));
         pz.x_range = Some((z0, z0 + 0.25));
         let png = out.join("contact_force_zoom.png");
         line_plot(&png, &pz, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
         // Spectrum.
         if !spec.frequency_hz.is_empty() {
-            let mut ps = Panel::new("Amplitude spectrum of the contact force (rolling phase)", "frequency [Hz]", "amplitude [N]");
+            let mut ps = Panel::new(
+                "Amplitude spectrum of the contact force (rolling phase)",
+                "frequency [Hz]",
+                "amplitude [N]",
+            );
             ps.x_log = true;
             let (f, a): (Vec<f64>, Vec<f64>) = spec
                 .frequency_hz
@@ -397,15 +489,26 @@ pub fn simulate(
                 .filter(|(f, _)| **f > 0.0)
                 .map(|(f, a)| (*f, *a))
                 .unzip();
-            ps.series.push(Series::new("amplitude", f, a, SeriesStyle::Line));
+            ps.series
+                .push(Series::new("amplitude", f, a, SeriesStyle::Line));
             let png = out.join("spectrum.png");
             line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
             files.push(png);
         }
         // Figs. 14/16: J2 turn average.
         for (name, vals, label, title) in [
-            ("j2_turn_average.png", &j2_avg, "J2 [MPa²]", "J2 averaged over one full turn"),
-            ("von_mises_turn_average.png", &vm_avg, "von Mises [MPa]", "von Mises stress averaged over one full turn"),
+            (
+                "j2_turn_average.png",
+                &j2_avg,
+                "J2 [MPa²]",
+                "J2 averaged over one full turn",
+            ),
+            (
+                "von_mises_turn_average.png",
+                &vm_avg,
+                "von Mises [MPa]",
+                "von Mises stress averaged over one full turn",
+            ),
         ] {
             let png = out.join(name);
             // The point support at the axle concentrates the reaction in its few elements;
@@ -413,9 +516,14 @@ pub fn simulate(
             let top = percentile(vals, 0.97);
             let vmax = vals.iter().cloned().fold(0.0, f64::max);
             let clipped = vmax > 1.5 * top;
-            let opts = MeshOptions { value_range: clipped.then_some((0.0, top)), ..Default::default() };
+            let opts = MeshOptions {
+                value_range: clipped.then_some((0.0, top)),
+                ..Default::default()
+            };
             let title = if clipped {
-                format!("{title}, omega = {omega} rad/s (scale clipped at {top:.3e}; max {vmax:.3e})")
+                format!(
+                    "{title}, omega = {omega} rad/s (scale clipped at {top:.3e}; max {vmax:.3e})"
+                )
             } else {
                 format!("{title}, omega = {omega} rad/s")
             };
@@ -438,7 +546,10 @@ pub fn simulate(
         }
         // Fig. 17: velocity fields.
         if !snaps_v.is_empty() {
-            let vecs: Vec<Vec<[f64; 2]>> = snaps_v.iter().map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect()).collect();
+            let vecs: Vec<Vec<[f64; 2]>> = snaps_v
+                .iter()
+                .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
+                .collect();
             let frames: Vec<MeshVectorField> = vecs
                 .iter()
                 .zip(&snaps_t)
@@ -446,14 +557,18 @@ pub fn simulate(
                     points: &wm.mesh.points,
                     triangles: &wm.triangles,
                     vectors: v,
-                    title: format!("base at {:.0} deg", base.angle(*t).to_degrees().rem_euclid(360.0)),
+                    title: format!(
+                        "base at {:.0} deg",
+                        base.angle(*t).to_degrees().rem_euclid(360.0)
+                    ),
                     colorbar_label: "velocity in the wheel's frame [m/s]".into(),
                     length_unit_scale: 100.0,
                     length_unit: "cm".into(),
                 })
                 .collect();
             let png = out.join("velocity_fields.png");
-            mesh_vector_fields(&png, &frames, 4, (1800, 1000)).map_err(|e| RunError::output(&png, e))?;
+            mesh_vector_fields(&png, &frames, 4, (1800, 1000))
+                .map_err(|e| RunError::output(&png, e))?;
             files.push(png);
         }
     }

@@ -162,7 +162,9 @@ mod tests {
 
     /// Eq. (9) written out literally as printed in the paper.
     fn eq9(m: f64, k: f64, a: f64, h: f64, x0: f64, v0: f64) -> f64 {
-        (1.0 - k * h * h / (2.0 * m) * (1.0 - (1.0 - a) * (1.0 - a))) / (1.0 + k * a * a * h * h / (2.0 * m)) * v0
+        (1.0 - k * h * h / (2.0 * m) * (1.0 - (1.0 - a) * (1.0 - a)))
+            / (1.0 + k * a * a * h * h / (2.0 * m))
+            * v0
             - k / m * h / (1.0 + k * a * a * h * h / (2.0 * m)) * x0
     }
 
@@ -184,7 +186,10 @@ mod tests {
         let (x0, v0) = (0.7, 0.2);
         let (x1, v1) = step(m, k, 0.0, sp(a, g, h), x0, v0);
         let gm = amplification_matrix(a, g, w * h);
-        let z1 = [gm[0][0] * w * x0 + gm[0][1] * v0, gm[1][0] * w * x0 + gm[1][1] * v0];
+        let z1 = [
+            gm[0][0] * w * x0 + gm[0][1] * v0,
+            gm[1][0] * w * x0 + gm[1][1] * v0,
+        ];
         assert!((z1[0] - w * x1).abs() < 1e-13);
         assert!((z1[1] - v1).abs() < 1e-13);
     }
@@ -245,10 +250,16 @@ mod tests {
                 .collect();
             for w in errs.windows(2) {
                 let order = (w[0] / w[1]).log2();
-                assert!((order - 2.0).abs() < 0.1, "alpha {a} gamma {g}: order {order} ({errs:?})");
+                assert!(
+                    (order - 2.0).abs() < 0.1,
+                    "alpha {a} gamma {g}: order {order} ({errs:?})"
+                );
             }
             // The same from the amplification matrix.
-            let pe: Vec<f64> = [0.1, 0.05].iter().map(|&w| amplification(a, g, w).period_error).collect();
+            let pe: Vec<f64> = [0.1, 0.05]
+                .iter()
+                .map(|&w| amplification(a, g, w).period_error)
+                .collect();
             assert!(((pe[0] / pe[1]).log2() - 2.0).abs() < 0.01);
         }
     }
@@ -274,8 +285,14 @@ mod tests {
             assert!((order - 2.0).abs() < 0.1, "whole period: order {order}");
         }
         let ratio = err_at(0.01, 10.0 * tp) / err_at(0.01, tp);
-        assert!(ratio > 9.0 && ratio < 11.0, "phase drift not linear: {ratio}");
-        let between: Vec<f64> = [0.02, 0.01, 0.005].iter().map(|&h| err_at(h, 2.0)).collect();
+        assert!(
+            ratio > 9.0 && ratio < 11.0,
+            "phase drift not linear: {ratio}"
+        );
+        let between: Vec<f64> = [0.02, 0.01, 0.005]
+            .iter()
+            .map(|&h| err_at(h, 2.0))
+            .collect();
         for w in between.windows(2) {
             let order = (w[0] / w[1]).log2();
             assert!((order - 1.0).abs() < 0.15, "t = 2: order {order}");

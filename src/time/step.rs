@@ -128,7 +128,8 @@ impl Stepper {
         let mut bv = vec![0.0; nnz];
         for p in 0..nnz {
             a_vals[p] = model.m[p] + a * h * model.c[p] + 0.5 * a * a * h * h * model.k[p];
-            bv[p] = model.m[p] - (1.0 - a) * h * model.c[p] - (a - 0.5 * a * a) * h * h * model.k[p];
+            bv[p] =
+                model.m[p] - (1.0 - a) * h * model.c[p] - (a - 0.5 * a * a) * h * h * model.k[p];
         }
         let a_orig = a_vals.clone();
         let mut is_bc = vec![false; n];
@@ -259,7 +260,14 @@ impl Stepper {
     }
 
     /// `u1 = u0 + h [(1 - beta) v0 + beta v1]`, Eq. (10).
-    pub fn update_displacement(&self, beta: f64, u0: &[f64], v0: &[f64], v1: &[f64], u1: &mut [f64]) {
+    pub fn update_displacement(
+        &self,
+        beta: f64,
+        u0: &[f64],
+        v0: &[f64],
+        v1: &[f64],
+        u1: &mut [f64],
+    ) {
         let h = self.params.h;
         for i in 0..self.n {
             u1[i] = u0[i] + h * ((1.0 - beta) * v0[i] + beta * v1[i]);
@@ -325,7 +333,10 @@ impl Stepper {
 /// the solution replaces `r`. A singular system (two identical constraints) gets the
 /// minimum-norm-like treatment of zeroing the dependent multiplier.
 pub fn dense_solve_in_place(s: &mut [f64], r: &mut [f64], k: usize) {
-    let scale = (0..k).map(|i| s[i * k + i].abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let scale = (0..k)
+        .map(|i| s[i * k + i].abs())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
     for col in 0..k {
         let mut piv = col;
         for row in col + 1..k {

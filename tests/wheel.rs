@@ -1,0 +1,268 @@
+//! The wheel: spinning-disk stresses against the closed form, the neutral rigid rotation of
+//! a pinned spinning wheel, serial against parallel assembly, a short rolling run's
+//! invariants, and bad input through the CLI.
+
+use softway::assembly::Assembler;
+use softway::contact::obstacle::Flattening;
+use softway::contact::ContactMethod;
+use softway::linalg::spmv_into;
+use softway::material::{Elastic, PlaneModel};
+use softway::mesh::generators::disk_rings;
+use softway::simulation::Simulation;
+use softway::time::SpaceTimeParams;
+use softway::wheel::{assemble_mass_stiffness, triangle_geometry, Support, WheelModel, WheelSpec};
+use std::process::Command;
+use std::sync::atomic::AtomicBool;
+
+const STEEL: Elastic = Elastic {
+    young: 2.05e11,
+    poisson: 0.3,
+    density: 7830.0,
+};
+
+fn spec(omega: f64, depth: f64, support: Support) -> WheelSpec {
+    WheelSpec {
+        radius: 0.1,
+        thickness: 0.01,
+        material: STEEL,
+        plane: PlaneModel::Stress,
+        lumped: false,
+        damping: 0.0,
+        support,
+        omega,
+        flattening: Flattening {
+            depth,
+            settle_time: 2e-3,
+        },
+        stress_stiffening: true,
+        rotating_frame: true,
+    }
+}
+
+/// RMS error of the element stresses of the spinning equilibrium against the plane-stress
+/// solid disk: sigma_r = (3+nu)/8 rho w^2 (R^2 - r^2),
+/// sigma_t = rho w^2/8 ((3+nu) R^2 - (1+3nu) r^2), relative to the centre value.
+fn spinning_disk_error(rings: usize) -> f64 {
+    let w = 3000.0;
+    let wm = WheelModel::new(
+        disk_rings(0.1, rings).unwrap(),
+        spec(w, 1e-3, Support::CentrePinned),
+    )
+    .unwrap();
+    let mut s = vec![[0.0; 3]; wm.triangles.len()];
+    wm.stresses_into(&wm.u_spin, &mut s);
+    let (nu, rho, r0) = (0.3, 7830.0, 0.1);
+    let scale = (3.0 + nu) / 8.0 * rho * w * w * r0 * r0;
+    let mut err2 = 0.0;
+    for (e, t) in wm.triangles.iter().enumerate() {
+        let c = [0, 1].map(|k| {
+            (wm.mesh.points[t[0]][k] + wm.mesh.points[t[1]][k] + wm.mesh.points[t[2]][k]) / 3.0
+        });
+        let r2 = c[0] * c[0] + c[1] * c[1];
+        let sr = (3.0 + nu) / 8.0 * rho * w * w * (r0 * r0 - r2);
+        let st = rho * w * w / 8.0 * ((3.0 + nu) * r0 * r0 - (1.0 + 3.0 * nu) * r2);
+        let (cth, sth) = if r2 > 0.0 {
+            (c[0] / r2.sqrt(), c[1] / r2.sqrt())
+        } else {
+            (1.0, 0.0)
+        };
+        let sxx = sr * cth * cth + st * sth * sth;
+        let syy = sr * sth * sth + st * cth * cth;
+        let sxy = (sr - st) * cth * sth;
+        let d = [s[e][0] - sxx, s[e][1] - syy, s[e][2] - sxy];
+        err2 += (d[0] * d[0] + d[1] * d[1] + 2.0 * d[2] * d[2]) * wm.geometry[e].area;
+    }
+    (err2 / (std::f64::consts::PI * r0 * r0)).sqrt() / scale
+}
+
+#[test]
+fn spinning_disk_matches_the_closed_form_and_converges() {
+    let e: Vec<f64> = [6, 12, 24]
+        .iter()
+        .map(|&n| spinning_disk_error(n))
+        .collect();
+    assert!(e[2] < 0.05, "{e:?}");
+    for w in e.windows(2) {
+        let order = (w[0] / w[1]).log2();
+        assert!(order > 0.7, "errors {e:?}: order {order}");
+    }
+}
+
+#[test]
+fn rigid_rotation_of_the_pinned_spinning_wheel_is_neutral() {
+    let wm = WheelModel::new(
+        disk_rings(0.1, 8).unwrap(),
+        spec(300.0, 1e-3, Support::CentrePinned),
+    )
+    .unwrap();
+    let n = wm.mesh.n_dofs();
+    let u: Vec<f64> = wm.mesh.points.iter().flat_map(|p| [-p[1], p[0]]).collect();
+    let mut ku = vec![0.0; n];
+    spmv_into(wm.model.pattern(), &wm.model.k, &u, &mut ku);
+    let mut mu = vec![0.0; n];
+    spmv_into(wm.model.pattern(), &wm.model.m, &u, &mut mu);
+    let free = |v: &[f64]| -> f64 {
+        v.iter()
+            .enumerate()
+            .filter(|(i, _)| !wm.fixed_dofs.contains(i))
+            .map(|(_, x)| x * x)
+            .sum::<f64>()
+            .sqrt()
+    };
+    // Without stress stiffening K_eff u_rot = -Omega^2 M u_rot: a negative stiffness.
+    let spin = 300.0f64 * 300.0;
+    assert!(
+        free(&ku) < 1e-9 * spin * free(&mu),
+        "|K_eff u_rot| = {:e} vs Omega^2 |M u_rot| = {:e}",
+        free(&ku),
+        spin * free(&mu)
+    );
+    let mut s2 = spec(300.0, 1e-3, Support::CentrePinned);
+    s2.stress_stiffening = false;
+    let wm2 = WheelModel::new(disk_rings(0.1, 8).unwrap(), s2).unwrap();
+    spmv_into(wm2.model.pattern(), &wm2.model.k, &u, &mut ku);
+    assert!((free(&ku) / (spin * free(&mu)) - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn serial_and_parallel_assembly_agree() {
+    let mesh = disk_rings(0.1, 20).unwrap();
+    let (_, g) = triangle_geometry(&mesh).unwrap();
+    let asm = Assembler::new(&mesh);
+    let d = PlaneModel::Stress.elasticity_matrix(&STEEL);
+    let (m_par, k_par) = assemble_mass_stiffness(&asm, &g, &d, &STEEL, 0.01, false);
+    let mut k_ser = asm.zeros();
+    asm.assemble_serial_into(&mut k_ser, |e, out| {
+        let mut b = [[0.0; 6]; 6];
+        softway::element::tri3::stiffness_into(&g[e], &d, 0.01, &mut b);
+        out.copy_from_slice(b.as_flattened());
+    });
+    assert_eq!(k_par, k_ser);
+    let total: f64 = {
+        let ones = vec![1.0; mesh.n_dofs()];
+        let mut r = vec![0.0; mesh.n_dofs()];
+        spmv_into(&asm.pattern, &m_par, &ones, &mut r);
+        r.iter().sum::<f64>() / 2.0
+    };
+    let area: f64 = g.iter().map(|x| x.area).sum();
+    assert!((total - 7830.0 * 0.01 * area).abs() < 1e-10 * total);
+}
+
+#[test]
+fn short_rolling_run_is_stable_without_penetration() {
+    let wm = WheelModel::new(
+        disk_rings(0.1, 8).unwrap(),
+        spec(300.0, 5e-4, Support::CentrePinned),
+    )
+    .unwrap();
+    let h = 4e-6;
+    let steps = (6e-3 / h) as usize;
+    let pb = wm.problem(
+        SpaceTimeParams {
+            alpha: 0.8,
+            gamma: 0.2,
+            h,
+        },
+        vec![],
+        ContactMethod::SoftWay,
+        steps,
+    );
+    let mut sim = Simulation::new(pb).unwrap();
+    let (mut max_pen, mut emax, mut fmax, mut finite) = (0.0f64, 0.0f64, 0.0f64, true);
+    let mut held_end = 0;
+    sim.run(&AtomicBool::new(false), |s| {
+        if s.state.k > 0 {
+            for p in &s.state.pairs {
+                max_pen = max_pen.max(-p.gap);
+            }
+        }
+        finite &= s.state.u.iter().chain(&s.state.v).all(|x| x.is_finite());
+        emax = emax.max(s.kinetic + s.strain);
+        fmax = fmax.max(s.contact_force);
+        held_end = s.held;
+        Ok(())
+    })
+    .unwrap();
+    assert!(finite);
+    assert!(max_pen < 1e-6 * 5e-4, "penetration {max_pen:e} m");
+    assert!(held_end >= 1, "the wheel lost contact at the end");
+    // The work of the contact force is bounded by F_max * d: the energy cannot exceed it.
+    assert!(
+        emax < fmax * 5e-4,
+        "energy {emax:e} J vs F d = {:e} J",
+        fmax * 5e-4
+    );
+}
+
+fn wheel_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml")).unwrap()
+}
+
+fn cli_error(name: &str, text: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("softway-wheel-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_softway"))
+        .args([
+            "run",
+            p.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_ne!(o.status.code(), Some(0), "{name}: accepted");
+    assert!(!err.contains("panicked"), "{name}: {err}");
+    assert!(!dir.join("out/summary.json").exists());
+    err
+}
+
+#[test]
+fn bad_wheel_inputs_give_clear_errors() {
+    let t = wheel_text();
+    let e = cli_error("flat", &t.replace("flattening = 1e-3", "flattening = 0.2"));
+    assert!(
+        e.contains("rolling.flattening") && e.contains("smaller than wheel.radius"),
+        "{e}"
+    );
+    let e = cli_error("omega", &t.replace("omega = 300.0", "omega = -300.0"));
+    assert!(e.contains("rolling.omega"), "{e}");
+    let e = cli_error("nu", &t.replace("poisson = 0.3", "poisson = 0.5"));
+    assert!(
+        e.contains("material.poisson") && e.contains("(-1, 0.5)"),
+        "{e}"
+    );
+    let e = cli_error(
+        "nomesh",
+        &t.replace("rings = 12", "mesh = \"does-not-exist.msh\""),
+    );
+    assert!(e.contains("does-not-exist.msh"), "{e}");
+    let dir = std::env::temp_dir().join(format!("softway-wheel-{}-bad", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("garbage.msh"),
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\nthis is not a mesh\n",
+    )
+    .unwrap();
+    let g = dir.join("garbage.msh");
+    let e = cli_error(
+        "bad",
+        &t.replace("rings = 12", &format!("mesh = \"{}\"", g.display())),
+    );
+    assert!(e.contains("garbage.msh"), "{e}");
+    // A triangle of zero area.
+    let msh = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 1 0\n1 0 0 0 1 1 0 0 0\n$EndEntities\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n$EndNodes\n$Elements\n1 2 1 2\n2 1 2 2\n1 1 2 3\n2 1 2 4\n$EndElements\n";
+    std::fs::write(dir.join("flat.msh"), msh).unwrap();
+    let f = dir.join("flat.msh");
+    let e = cli_error(
+        "zero",
+        &t.replace("rings = 12", &format!("mesh = \"{}\"", f.display())),
+    );
+    assert!(
+        e.contains("flat.msh") && (e.contains("element 1") || e.contains("area")),
+        "{e}"
+    );
+}
