@@ -97,6 +97,14 @@ struct RawScenario {
     #[serde(default)]
     runs: Vec<RawRun>,
     output: Option<RawOutput>,
+    sweep: Option<RawSweep>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSweep {
+    key: String,
+    values: Vec<toml::Value>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -276,6 +284,8 @@ pub struct Scenario {
     pub plots: bool,
     /// Warnings found while validating (e.g. a conditionally stable `(alpha, gamma)`).
     pub warnings: Vec<String>,
+    /// A default sweep for `softway sweep`: the dotted key and its values (TOML literals).
+    pub sweep: Option<(String, Vec<String>)>,
 }
 
 struct Ctx<'a> {
@@ -561,6 +571,13 @@ impl Scenario {
             history_stride,
             plots: out.plots.unwrap_or(true),
             warnings,
+            sweep: match raw.sweep {
+                Some(sw) if sw.values.is_empty() => {
+                    return Err(cx.invalid("sweep.values", "[]", "give at least one value"));
+                }
+                Some(sw) => Some((sw.key, sw.values.iter().map(|v| v.to_string()).collect())),
+                None => None,
+            },
         })
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod bar;
 pub mod sdof;
+pub mod sweep;
 pub mod wheel;
 
 use crate::scenario::{Model, Scenario};

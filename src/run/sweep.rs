@@ -1,0 +1,128 @@
+//! Parameter sweeps: one scenario over a list of values of one key, run in parallel, with a
+//! table (`sweep.csv`, `sweep.md`) and, for the wheel, the paper's Fig. 15 (`sweep.png`:
+//! oscillations per turn and maximal contact force against omega).
+
+use super::{run_scenario, RunError, RunOptions};
+use crate::output::files::write_atomic;
+use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::scenario::{set_key, Scenario};
+use rayon::prelude::*;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One point of a sweep.
+#[derive(Debug, Clone)]
+pub struct SweepPoint {
+    /// The value (TOML literal).
+    pub value: String,
+    /// Its output folder.
+    pub dir: PathBuf,
+    /// Its `summary.json`.
+    pub summary: serde_json::Value,
+}
+
+/// Errors of a sweep.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    /// The key cannot be set or the result is not a valid scenario.
+    #[error("{key} = {value}: {message}")]
+    Value {
+        /// Key.
+        key: String,
+        /// Value.
+        value: String,
+        /// Cause.
+        message: String,
+    },
+    /// A run failed.
+    #[error(transparent)]
+    Run(#[from] RunError),
+}
+
+/// Runs the scenario text at `path` for every value of `key`, in parallel (rayon), into
+/// `out/<key>=<value>/`; writes the table and plot into `out`.
+///
+/// # Errors
+/// [`SweepError`]; every value is validated before any run starts.
+pub fn sweep(path: &Path, text: &str, key: &str, values: &[String], out: &Path) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
+    let mut scs = Vec::new();
+    for v in values {
+        let t = set_key(text, key, v).map_err(|m| SweepError::Value { key: key.into(), value: v.clone(), message: m })?;
+        let sc = Scenario::from_str(&t, path).map_err(|e| SweepError::Value {
+            key: key.into(),
+            value: v.clone(),
+            message: e.to_string(),
+        })?;
+        scs.push((v.clone(), sc));
+    }
+    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    let results: Vec<Result<SweepPoint, SweepError>> = scs
+        .par_iter()
+        .map(|(v, sc)| {
+            let dir = out.join(format!("{key}={}", v.trim_matches('"')));
+            let rep = run_scenario(sc, &dir, &RunOptions { progress: false })?;
+            let sj = dir.join("summary.json");
+            let summary = std::fs::read_to_string(&sj)
+                .ok()
+                .and_then(|s| serde_json::from_str(&s).ok())
+                .unwrap_or(serde_json::Value::Null);
+            eprintln!("  {key} = {v}: done{}", if rep.interrupted { " (interrupted)" } else { "" });
+            Ok(SweepPoint { value: v.clone(), dir, summary })
+        })
+        .collect();
+    let points: Vec<SweepPoint> = results.into_iter().collect::<Result<_, _>>()?;
+    let mut files = Vec::new();
+    // Table: the key and every scalar number of the summaries.
+    let mut cols: Vec<String> = Vec::new();
+    for p in &points {
+        if let Some(o) = p.summary.as_object() {
+            for (k, v) in o {
+                if (v.is_number() || k == "oscillations_per_turn") && !cols.contains(k) {
+                    cols.push(k.clone());
+                }
+            }
+        }
+    }
+    let cell = |p: &SweepPoint, c: &str| -> String {
+        match &p.summary[c] {
+            serde_json::Value::Number(n) => n.to_string(),
+            serde_json::Value::Array(a) => a.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" "),
+            _ => String::new(),
+        }
+    };
+    let mut csv = format!("{key},{}\n", cols.join(","));
+    let mut md = format!("| {key} | {} |\n|{}|\n", cols.join(" | "), vec!["---"; cols.len() + 1].join("|"));
+    for p in &points {
+        let row: Vec<String> = cols.iter().map(|c| cell(p, c)).collect();
+        let _ = writeln!(csv, "{},{}", p.value, row.join(","));
+        let _ = writeln!(md, "| {} | {} |", p.value, row.join(" | "));
+    }
+    for (name, body) in [("sweep.csv", csv), ("sweep.md", md)] {
+        let f = out.join(name);
+        write_atomic(&f, body.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+        files.push(f);
+    }
+    // Fig. 15 for wheels.
+    let xs: Vec<f64> = points.iter().filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok()).collect();
+    let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
+    if is_wheel && xs.len() == points.len() {
+        let osc: Vec<f64> = points
+            .iter()
+            .map(|p| {
+                let v: Vec<f64> = p.summary["oscillations_per_turn"].as_array().map(|a| a.iter().skip(1).filter_map(|x| x.as_f64()).collect()).unwrap_or_default();
+                if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 }
+            })
+            .collect();
+        let cyc: Vec<f64> = points.iter().map(|p| p.summary["dominant_cycles_per_turn"].as_f64().unwrap_or(f64::NAN)).collect();
+        let fmax: Vec<f64> = points.iter().map(|p| p.summary["max_contact_force"].as_f64().unwrap_or(f64::NAN)).collect();
+        let mut p1 = Panel::new("Oscillations of the contact force per turn (Fig. 15)", format!("{key} [rad/s]"), "cycles per turn");
+        p1.series.push(Series::new("counted (mean of turns 2..)", xs.clone(), osc, SeriesStyle::LineMarkers));
+        p1.series.push(Series::new("dominant spectral peak / rotation frequency", xs.clone(), cyc, SeriesStyle::LineMarkers));
+        let mut p2 = Panel::new("Maximal contact force", format!("{key} [rad/s]"), "max contact force [N]");
+        p2.series.push(Series::new("max over the turns", xs, fmax, SeriesStyle::LineMarkers));
+        let png = out.join("sweep.png");
+        panels(&png, &[p1, p2], 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    Ok((points, files))
+}
