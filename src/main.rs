@@ -105,32 +105,52 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Sweep { scenario, set, out, jobs } => {
-            let text = std::fs::read_to_string(&scenario).map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+        Command::Sweep {
+            scenario,
+            set,
+            out,
+            jobs,
+        } => {
+            let text = std::fs::read_to_string(&scenario)
+                .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
             let sc = Scenario::from_file(&scenario)?;
             let (key, values) = match set {
                 Some(s) => {
-                    let (k, v) = s
-                        .split_once('=')
-                        .ok_or_else(|| format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)"))?;
-                    let vals: Vec<String> = v.split(',').map(|x| x.trim().to_string()).filter(|x| !x.is_empty()).collect();
+                    let (k, v) = s.split_once('=').ok_or_else(|| {
+                        format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)")
+                    })?;
+                    let vals: Vec<String> = v
+                        .split(',')
+                        .map(|x| x.trim().to_string())
+                        .filter(|x| !x.is_empty())
+                        .collect();
                     if vals.is_empty() {
                         return Err(format!("--set {s}: no values").into());
                     }
                     (k.trim().to_string(), vals)
                 }
-                None => sc
-                    .sweep
-                    .clone()
-                    .ok_or_else(|| format!("{}: no [sweep] table and no --set KEY=V1,V2,...", scenario.display()))?,
+                None => sc.sweep.clone().ok_or_else(|| {
+                    format!(
+                        "{}: no [sweep] table and no --set KEY=V1,V2,...",
+                        scenario.display()
+                    )
+                })?,
             };
-            let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
+            let out =
+                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
             if let Some(j) = jobs {
-                rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global().ok();
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(j.max(1))
+                    .build_global()
+                    .ok();
             }
             println!("{}: sweeping {key} over {} values", sc.name, values.len());
-            let (points, files) = softway::run::sweep::sweep(&scenario, &text, &key, &values, &out)?;
-            print!("{}", std::fs::read_to_string(out.join("sweep.md")).unwrap_or_default());
+            let (points, files) =
+                softway::run::sweep::sweep(&scenario, &text, &key, &values, &out)?;
+            print!(
+                "{}",
+                std::fs::read_to_string(out.join("sweep.md")).unwrap_or_default()
+            );
             println!("  wrote:");
             for f in files {
                 println!("    {}", f.display());

@@ -44,10 +44,20 @@ pub enum SweepError {
 ///
 /// # Errors
 /// [`SweepError`]; every value is validated before any run starts.
-pub fn sweep(path: &Path, text: &str, key: &str, values: &[String], out: &Path) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
+pub fn sweep(
+    path: &Path,
+    text: &str,
+    key: &str,
+    values: &[String],
+    out: &Path,
+) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
     let mut scs = Vec::new();
     for v in values {
-        let t = set_key(text, key, v).map_err(|m| SweepError::Value { key: key.into(), value: v.clone(), message: m })?;
+        let t = set_key(text, key, v).map_err(|m| SweepError::Value {
+            key: key.into(),
+            value: v.clone(),
+            message: m,
+        })?;
         let sc = Scenario::from_str(&t, path).map_err(|e| SweepError::Value {
             key: key.into(),
             value: v.clone(),
@@ -66,8 +76,19 @@ pub fn sweep(path: &Path, text: &str, key: &str, values: &[String], out: &Path) 
                 .ok()
                 .and_then(|s| serde_json::from_str(&s).ok())
                 .unwrap_or(serde_json::Value::Null);
-            eprintln!("  {key} = {v}: done{}", if rep.interrupted { " (interrupted)" } else { "" });
-            Ok(SweepPoint { value: v.clone(), dir, summary })
+            eprintln!(
+                "  {key} = {v}: done{}",
+                if rep.interrupted {
+                    " (interrupted)"
+                } else {
+                    ""
+                }
+            );
+            Ok(SweepPoint {
+                value: v.clone(),
+                dir,
+                summary,
+            })
         })
         .collect();
     let points: Vec<SweepPoint> = results.into_iter().collect::<Result<_, _>>()?;
@@ -86,12 +107,20 @@ pub fn sweep(path: &Path, text: &str, key: &str, values: &[String], out: &Path) 
     let cell = |p: &SweepPoint, c: &str| -> String {
         match &p.summary[c] {
             serde_json::Value::Number(n) => n.to_string(),
-            serde_json::Value::Array(a) => a.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(" "),
+            serde_json::Value::Array(a) => a
+                .iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(" "),
             _ => String::new(),
         }
     };
     let mut csv = format!("{key},{}\n", cols.join(","));
-    let mut md = format!("| {key} | {} |\n|{}|\n", cols.join(" | "), vec!["---"; cols.len() + 1].join("|"));
+    let mut md = format!(
+        "| {key} | {} |\n|{}|\n",
+        cols.join(" | "),
+        vec!["---"; cols.len() + 1].join("|")
+    );
     for p in &points {
         let row: Vec<String> = cols.iter().map(|c| cell(p, c)).collect();
         let _ = writeln!(csv, "{},{}", p.value, row.join(","));
@@ -103,23 +132,66 @@ pub fn sweep(path: &Path, text: &str, key: &str, values: &[String], out: &Path) 
         files.push(f);
     }
     // Fig. 15 for wheels.
-    let xs: Vec<f64> = points.iter().filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok()).collect();
+    let xs: Vec<f64> = points
+        .iter()
+        .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
+        .collect();
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
     if is_wheel && xs.len() == points.len() {
         let osc: Vec<f64> = points
             .iter()
             .map(|p| {
-                let v: Vec<f64> = p.summary["oscillations_per_turn"].as_array().map(|a| a.iter().skip(1).filter_map(|x| x.as_f64()).collect()).unwrap_or_default();
-                if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 }
+                let v: Vec<f64> = p.summary["oscillations_per_turn"]
+                    .as_array()
+                    .map(|a| a.iter().skip(1).filter_map(|x| x.as_f64()).collect())
+                    .unwrap_or_default();
+                if v.is_empty() {
+                    f64::NAN
+                } else {
+                    v.iter().sum::<f64>() / v.len() as f64
+                }
             })
             .collect();
-        let cyc: Vec<f64> = points.iter().map(|p| p.summary["dominant_cycles_per_turn"].as_f64().unwrap_or(f64::NAN)).collect();
-        let fmax: Vec<f64> = points.iter().map(|p| p.summary["max_contact_force"].as_f64().unwrap_or(f64::NAN)).collect();
-        let mut p1 = Panel::new("Oscillations of the contact force per turn (Fig. 15)", format!("{key} [rad/s]"), "cycles per turn");
-        p1.series.push(Series::new("counted (mean of turns 2..)", xs.clone(), osc, SeriesStyle::LineMarkers));
-        p1.series.push(Series::new("dominant spectral peak / rotation frequency", xs.clone(), cyc, SeriesStyle::LineMarkers));
-        let mut p2 = Panel::new("Maximal contact force", format!("{key} [rad/s]"), "max contact force [N]");
-        p2.series.push(Series::new("max over the turns", xs, fmax, SeriesStyle::LineMarkers));
+        let cyc: Vec<f64> = points
+            .iter()
+            .map(|p| {
+                p.summary["dominant_cycles_per_turn"]
+                    .as_f64()
+                    .unwrap_or(f64::NAN)
+            })
+            .collect();
+        let fmax: Vec<f64> = points
+            .iter()
+            .map(|p| p.summary["max_contact_force"].as_f64().unwrap_or(f64::NAN))
+            .collect();
+        let mut p1 = Panel::new(
+            "Oscillations of the contact force per turn (Fig. 15)",
+            format!("{key} [rad/s]"),
+            "cycles per turn",
+        );
+        p1.series.push(Series::new(
+            "counted (mean of turns 2..)",
+            xs.clone(),
+            osc,
+            SeriesStyle::LineMarkers,
+        ));
+        p1.series.push(Series::new(
+            "dominant spectral peak / rotation frequency",
+            xs.clone(),
+            cyc,
+            SeriesStyle::LineMarkers,
+        ));
+        let mut p2 = Panel::new(
+            "Maximal contact force",
+            format!("{key} [rad/s]"),
+            "max contact force [N]",
+        );
+        p2.series.push(Series::new(
+            "max over the turns",
+            xs,
+            fmax,
+            SeriesStyle::LineMarkers,
+        ));
         let png = out.join("sweep.png");
         panels(&png, &[p1, p2], 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
