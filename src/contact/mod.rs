@@ -8,6 +8,7 @@
 
 pub mod obstacle;
 pub mod softway;
+pub mod statics;
 
 pub use obstacle::{HalfSpace, Obstacle, Plane, RotatingLine, Wall};
 pub use softway::{ContactMethod, PairMode, PairState};

@@ -1,0 +1,142 @@
+//! Static frictionless contact of nodes against a rigid half-space, by an active-set method:
+//! solve `K u = f + sum_i lambda_i n` with `n . (X_i + u_i) = c` on the active nodes
+//! (Lagrange multipliers through the factored `K`, as in the dynamic step), then drop
+//! active nodes in tension (`lambda_i < 0`) and add free nodes that penetrate; repeat until
+//! the set does not change.
+
+use crate::contact::HalfSpace;
+use crate::linalg::{LinalgError, Pattern, SparseLu};
+use crate::time::step::dense_solve_in_place;
+
+/// The result of a static contact solve.
+#[derive(Debug, Clone)]
+pub struct StaticContact {
+    /// Displacement, m.
+    pub u: Vec<f64>,
+    /// Active nodes and their contact forces (N, compressive positive).
+    pub active: Vec<(usize, f64)>,
+    /// Active-set iterations.
+    pub iterations: usize,
+}
+
+/// Solves the static contact of the `candidates` (2D nodes) against `plane`, with `K` on
+/// `pattern`, fixed dofs `fixed`, load `f` and reference positions `x`.
+///
+/// # Errors
+/// [`LinalgError`] when `K` with the fixed dofs is singular.
+pub fn solve(
+    pattern: &Pattern,
+    k: &[f64],
+    fixed: &[usize],
+    f: &[f64],
+    x: &[f64],
+    candidates: &[usize],
+    plane: HalfSpace,
+) -> Result<StaticContact, LinalgError> {
+    let n = pattern.nrows();
+    let mut is_fixed = vec![false; n];
+    for &d in fixed {
+        is_fixed[d] = true;
+    }
+    let mut a = k.to_vec();
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            if is_fixed[ri[p]] || is_fixed[j] {
+                a[p] = if ri[p] == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    let mut lu = SparseLu::new(pattern, &a)?;
+    let mut u0: Vec<f64> = f
+        .iter()
+        .zip(&is_fixed)
+        .map(|(&v, &fx)| if fx { 0.0 } else { v })
+        .collect();
+    lu.solve_in_place(&mut u0);
+    // K^-1 n at a candidate node (normal columns), computed when it first becomes active.
+    let mut cols: Vec<Option<Vec<f64>>> = vec![None; candidates.len()];
+    let mut column = |c: usize, cols: &mut Vec<Option<Vec<f64>>>| {
+        if cols[c].is_none() {
+            let i = candidates[c];
+            let mut e = vec![0.0; n];
+            if !(is_fixed[2 * i] || is_fixed[2 * i + 1]) {
+                e[2 * i] = plane.normal[0];
+                e[2 * i + 1] = plane.normal[1];
+                lu.solve_in_place(&mut e);
+            }
+            cols[c] = Some(e);
+        }
+    };
+    let gap = |u: &[f64], c: usize| {
+        let i = candidates[c];
+        plane.gap([x[2 * i] + u[2 * i], x[2 * i + 1] + u[2 * i + 1]])
+    };
+    let mut active: Vec<usize> = (0..candidates.len())
+        .filter(|&c| gap(&u0, c) < 0.0)
+        .collect();
+    let mut u = u0.clone();
+    let mut lam = Vec::new();
+    for it in 1..=100 {
+        for &c in &active {
+            column(c, &mut cols);
+        }
+        let cols_ref = |c: usize| cols[c].as_deref().unwrap_or(&[]);
+        let m = active.len();
+        let mut s = vec![0.0; m * m];
+        let mut r = vec![0.0; m];
+        for (p, &cp_) in active.iter().enumerate() {
+            let i = candidates[cp_];
+            r[p] = -gap(&u0, cp_);
+            for (q, &cq) in active.iter().enumerate() {
+                s[p * m + q] = plane.normal[0] * cols_ref(cq)[2 * i]
+                    + plane.normal[1] * cols_ref(cq)[2 * i + 1];
+            }
+        }
+        dense_solve_in_place(&mut s, &mut r, m);
+        u.copy_from_slice(&u0);
+        for (q, &cq) in active.iter().enumerate() {
+            for (ui, ci) in u.iter_mut().zip(cols_ref(cq)) {
+                *ui += r[q] * ci;
+            }
+        }
+        lam = r;
+        let mut next: Vec<usize> = active
+            .iter()
+            .zip(&lam)
+            .filter(|(_, &l)| l >= 0.0)
+            .map(|(&c, _)| c)
+            .collect();
+        for c in 0..candidates.len() {
+            if !next.contains(&c)
+                && !active.contains(&c)
+                && gap(&u, c) < -1e-12 * plane.offset.abs().max(1.0)
+            {
+                next.push(c);
+            }
+        }
+        next.sort_unstable();
+        if next == active {
+            return Ok(StaticContact {
+                u,
+                active: active
+                    .iter()
+                    .zip(&lam)
+                    .map(|(&c, &l)| (candidates[c], l))
+                    .collect(),
+                iterations: it,
+            });
+        }
+        active = next;
+    }
+    Ok(StaticContact {
+        u,
+        active: active
+            .iter()
+            .zip(&lam)
+            .map(|(&c, &l)| (candidates[c], l))
+            .collect(),
+        iterations: 100,
+    })
+}

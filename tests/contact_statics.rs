@@ -1,0 +1,154 @@
+//! Contact statics: the rolling force against an active-set static solve of the same mesh,
+//! and the contact half-width against Hertz on fine disks.
+
+use softway::contact::obstacle::Flattening;
+use softway::contact::statics;
+use softway::contact::{ContactMethod, Obstacle};
+use softway::material::{Elastic, PlaneModel};
+use softway::mesh::generators::disk_rings;
+use softway::simulation::Simulation;
+use softway::time::SpaceTimeParams;
+use softway::wheel::{Support, WheelModel, WheelSpec};
+use std::sync::atomic::AtomicBool;
+
+fn spec(omega: f64, depth: f64, settle: f64, frame: bool, support: Support) -> WheelSpec {
+    WheelSpec {
+        radius: 0.1,
+        thickness: 0.01,
+        material: Elastic {
+            young: 2.05e11,
+            poisson: 0.3,
+            density: 7830.0,
+        },
+        plane: PlaneModel::Stress,
+        lumped: false,
+        damping: 0.0,
+        support,
+        omega,
+        flattening: Flattening {
+            depth,
+            settle_time: settle,
+        },
+        stress_stiffening: true,
+        rotating_frame: frame,
+    }
+}
+
+/// Static contact of the wheel against the base at time `t` (its angle and depth then).
+fn static_force(wm: &WheelModel, t: f64) -> (f64, Vec<(usize, f64)>) {
+    let base = wm.base();
+    let hs = base.half_space(t, [0.0, 0.0]);
+    // The pinned wheel's rigid rotation is removed by fixing the tangential dof of the rim
+    // node opposite the base (no reaction: the contact forces pass near the axle).
+    let e = base.direction(t);
+    let top = *wm
+        .rim
+        .iter()
+        .max_by(|&&a, &&b| {
+            let pa = wm.mesh.points[a];
+            let pb = wm.mesh.points[b];
+            (-(pa[0] * e[0] + pa[1] * e[1])).total_cmp(&(-(pb[0] * e[0] + pb[1] * e[1])))
+        })
+        .unwrap();
+    let mut fixed = wm.fixed_dofs.clone();
+    if matches!(wm.spec.support, Support::CentrePinned) {
+        fixed.push(if e[1].abs() > e[0].abs() {
+            2 * top
+        } else {
+            2 * top + 1
+        });
+    }
+    let x = wm.mesh.reference_positions();
+    let f = vec![0.0; x.len()];
+    let sol = statics::solve(
+        wm.model.pattern(),
+        &wm.k_elastic,
+        &fixed,
+        &f,
+        &x,
+        &wm.rim,
+        hs,
+    )
+    .unwrap();
+    (sol.active.iter().map(|a| a.1).sum(), sol.active)
+}
+
+#[test]
+fn slow_damped_roll_carries_the_static_contact_force() {
+    // Slow roll (5 rad/s), strong numerical damping, no rotating-frame forces, the wheel
+    // clamped on a 1 cm hub (a pinned wheel would be set turning by the contact forces'
+    // moment): quasi-static.
+    let (depth, settle, omega) = (1e-3, 4e-3, 5.0);
+    let wm = WheelModel::new(
+        disk_rings(0.1, 12).unwrap(),
+        spec(omega, depth, settle, false, Support::Hub { radius: 0.01 }),
+    )
+    .unwrap();
+    let h = 4e-6;
+    // Roll over one node spacing after settling.
+    let t_roll = 2.0 * std::f64::consts::PI / omega / wm.rim.len() as f64;
+    let steps = ((settle + t_roll) / h) as usize;
+    let pb = wm.problem(
+        SpaceTimeParams {
+            alpha: 0.9,
+            gamma: 0.5,
+            h,
+        },
+        vec![],
+        ContactMethod::SoftWay,
+        steps,
+    );
+    let mut sim = Simulation::new(pb).unwrap();
+    let (mut sum, mut cnt) = (0.0, 0);
+    sim.run(&AtomicBool::new(false), |s| {
+        if s.state.t > settle + 0.2 * t_roll {
+            sum += s.contact_force;
+            cnt += 1;
+        }
+        Ok(())
+    })
+    .unwrap();
+    let dynamic = sum / cnt as f64;
+    let stat: f64 = (0..6)
+        .map(|k| static_force(&wm, settle + 0.2 * t_roll + k as f64 / 5.0 * 0.8 * t_roll).0)
+        .sum::<f64>()
+        / 6.0;
+    println!("dynamic mean {dynamic:.5e} N, static mean {stat:.5e} N");
+    assert!(
+        (dynamic / stat - 1.0).abs() < 0.03,
+        "dynamic {dynamic:e} vs static {stat:e}"
+    );
+}
+
+#[test]
+fn contact_half_width_approaches_hertz_on_fine_disks() {
+    let mut rel = Vec::new();
+    for rings in [48usize, 96] {
+        let wm = WheelModel::new(
+            disk_rings(0.1, rings).unwrap(),
+            spec(1.0, 2e-5, 0.0, false, Support::CentrePinned),
+        )
+        .unwrap();
+        let (force, active) = static_force(&wm, 0.0);
+        let spacing = 2.0 * std::f64::consts::PI * 0.1 / wm.rim.len() as f64;
+        let xs: Vec<f64> = active
+            .iter()
+            .filter(|a| a.1 > 0.0)
+            .map(|a| wm.mesh.points[a.0][0])
+            .collect();
+        let half = (xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - xs.iter().cloned().fold(f64::INFINITY, f64::min))
+            / 2.0
+            + spacing / 2.0;
+        // Hertz, cylinder on a rigid plane, plane stress (E* = E): b = sqrt(4 P R / (pi E)).
+        let p = force / 0.01;
+        let b = (4.0 * p * 0.1 / (std::f64::consts::PI * 2.05e11)).sqrt();
+        println!("{rings} rings: force {force:.4e} N, half-width {half:.4e} m, Hertz {b:.4e} m, spacing {spacing:.2e} m");
+        assert!(
+            (half - b).abs() < spacing,
+            "{rings} rings: {half:e} vs Hertz {b:e} (spacing {spacing:e})"
+        );
+        rel.push((half - b).abs() / b);
+    }
+    assert!(rel[1] <= rel[0] + 0.02, "{rel:?}");
+}
