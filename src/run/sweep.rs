@@ -93,9 +93,30 @@ pub fn sweep(
         .collect();
     let points: Vec<SweepPoint> = results.into_iter().collect::<Result<_, _>>()?;
     let mut files = Vec::new();
-    // Table: the key and every scalar number of the summaries.
-    let mut cols: Vec<String> = Vec::new();
-    for p in &points {
+    // Table: the key figures (wheel), or every scalar number of the summaries.
+    let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
+    let mut cols: Vec<String> = if is_wheel {
+        [
+            "speed_km_h",
+            "mean_contact_force",
+            "min_contact_force",
+            "max_contact_force",
+            "oscillations_per_turn",
+            "dominant_frequency_hz",
+            "dominant_cycles_per_turn",
+            "max_von_mises_turn_average_mpa",
+            "energy_after_settling",
+            "energy_final",
+            "steps",
+            "wall_time_s",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+    } else {
+        Vec::new()
+    };
+    for p in points.iter().filter(|_| !is_wheel) {
         if let Some(o) = p.summary.as_object() {
             for (k, v) in o {
                 if (v.is_number() || k == "oscillations_per_turn") && !cols.contains(k) {
@@ -106,7 +127,10 @@ pub fn sweep(
     }
     let cell = |p: &SweepPoint, c: &str| -> String {
         match &p.summary[c] {
-            serde_json::Value::Number(n) => n.to_string(),
+            serde_json::Value::Number(n) => match n.as_f64() {
+                Some(x) if n.is_f64() => format!("{x:.5}"),
+                _ => n.to_string(),
+            },
             serde_json::Value::Array(a) => a
                 .iter()
                 .map(|x| x.to_string())
@@ -136,7 +160,6 @@ pub fn sweep(
         .iter()
         .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
         .collect();
-    let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
     if is_wheel && xs.len() == points.len() {
         let osc: Vec<f64> = points
             .iter()
