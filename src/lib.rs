@@ -26,6 +26,7 @@
 //! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.
 //! - [`element`]: bar and triangle kernels.
 //! - [`material`]: linear elastic material, plane stress / strain.
+//! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (dense).
 //! - [`assembly`]: sparsity pattern once, element scatter (serial and parallel).
 //! - [`linalg`]: sparse products, sparse LU with reusable symbolic analysis.
 //! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step.
@@ -49,6 +50,7 @@ pub mod frame;
 pub mod linalg;
 pub mod material;
 pub mod mesh;
+pub mod modes;
 pub mod output;
 pub mod problems;
 pub mod run;

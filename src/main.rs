@@ -44,6 +44,18 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
+    /// Natural frequencies (Hz) and periods (us) of a wheel scenario's model, at rest and
+    /// spinning (rotating frame), with the mode shapes as VTU.
+    Modes {
+        /// The scenario file (TOML, kind = "wheel").
+        scenario: PathBuf,
+        /// Number of elastic modes.
+        #[arg(long, default_value_t = 12)]
+        count: usize,
+        /// Output folder [default: out/<scenario name>-modes].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
         /// alpha of Eq. (8), in (0, 1].
@@ -161,6 +173,74 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Modes {
+            scenario,
+            count,
+            out,
+        } => {
+            let sc = Scenario::from_file(&scenario)?;
+            let softway::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
+                return Err(format!(
+                    "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
+                    scenario.display()
+                )
+                .into());
+            };
+            if count == 0 {
+                return Err("--count 0: ask for at least one mode".into());
+            }
+            let wm = softway::run::wheel::build(ws, &sc.path)?;
+            let rep = softway::modes::modes_report(&wm, count)?;
+            println!(
+                "{}: {} dofs ({} free), support {:?}",
+                sc.name, rep.dofs, rep.free_dofs, wm.spec.support
+            );
+            println!("at rest:");
+            println!(
+                "{:>5} {:>14} {:>12} {:>5}  kind",
+                "mode", "frequency Hz", "period us", "n"
+            );
+            for (i, m) in rep.at_rest.iter().enumerate() {
+                println!(
+                    "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
+                    i + 1,
+                    m.frequency_hz,
+                    m.period_us,
+                    m.wavenumber
+                        .map(|n| n.to_string())
+                        .unwrap_or_else(|| "-".into()),
+                    m.kind
+                );
+            }
+            if let Some(sp) = &rep.spinning {
+                println!(
+                    "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
+                    ws.spec.omega
+                );
+                println!(
+                    "{:>5} {:>14} {:>14} {:>10}  kind",
+                    "mode", "frequency Hz", "at rest Hz", "whirl"
+                );
+                for (i, m) in sp.iter().enumerate() {
+                    println!(
+                        "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
+                        i + 1,
+                        m.frequency_hz,
+                        m.rest_frequency_hz,
+                        m.whirl.to_string(),
+                        m.kind
+                    );
+                }
+            }
+            for n in &rep.notes {
+                println!("note: {n}");
+            }
+            let out =
+                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
+            let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, &out)?;
+            println!("wrote {} files into {}", files.len(), out.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::Stability {

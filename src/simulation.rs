@@ -172,6 +172,7 @@ struct Work {
     restore: Vec<Option<[f64; 2]>>,
     released: Vec<bool>,
     pen: Vec<usize>,
+    pen_saved: Vec<usize>,
     // The braking step solved again with the braking pairs stopped (`n.v = w`): its
     // multipliers are the impulses given back at release.
     rhs_stop: Vec<f64>,
@@ -244,6 +245,7 @@ impl Simulation {
                 restore: vec![None; np],
                 released: vec![false; np],
                 pen: Vec::with_capacity(np),
+                pen_saved: Vec::with_capacity(np),
                 rhs_stop: vec![0.0; n],
                 cons_stop: Vec::with_capacity(np),
                 lambda_stop: vec![0.0; np.max(1)],
@@ -350,7 +352,9 @@ impl Simulation {
             if npen == 0 {
                 return Ok(());
             }
-            let pen: Vec<usize> = self.work.pen.clone();
+            let mut pen = std::mem::take(&mut self.work.pen_saved);
+            pen.clear();
+            pen.extend_from_slice(&self.work.pen);
             if self.problem.contact.brakes() && have_prev && step_backs < 2 {
                 step_backs += 1;
                 self.stats.step_backs += 1;
@@ -402,9 +406,12 @@ impl Simulation {
                     self.snaps[1].pairs[p].mode = PairMode::Hold;
                 }
                 if immediate > MAX_RESOLVES {
+                    self.work.pen_saved = pen;
                     return Ok(());
                 }
             }
+            // Give the buffer back (no allocation in the loop).
+            self.work.pen_saved = pen;
         }
     }
 
