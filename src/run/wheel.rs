@@ -476,19 +476,24 @@ pub fn simulate(
         files.push(png);
         // Spectrum.
         if !spec.frequency_hz.is_empty() {
+            let (lo, hi) = (0.5 * rot_hz, (20.0 * node_pass_hz).min(0.5 / h));
             let mut ps = Panel::new(
-                "Amplitude spectrum of the contact force (rolling phase)",
+                "Amplitude spectrum of the contact force (rolling phase; largest peak per log bin)",
                 "frequency [Hz]",
                 "amplitude [N]",
             );
             ps.x_log = true;
-            let (f, a): (Vec<f64>, Vec<f64>) = spec
-                .frequency_hz
-                .iter()
-                .zip(&spec.amplitude)
-                .filter(|(f, _)| **f > 0.0)
-                .map(|(f, a)| (*f, *a))
+            ps.y_log = true;
+            ps.x_range = Some((lo, hi));
+            let (f, a) = peak_envelope(&spec.frequency_hz, &spec.amplitude, lo, hi, 1200);
+            // Five decades below the largest peak.
+            let amax = a.iter().cloned().fold(0.0, f64::max);
+            let (f, a): (Vec<f64>, Vec<f64>) = f
+                .into_iter()
+                .zip(a)
+                .filter(|(_, x)| *x >= amax * 1e-5)
                 .unzip();
+            ps.y_range = Some((amax * 1e-5, amax * 2.0));
             ps.series
                 .push(Series::new("amplitude", f, a, SeriesStyle::Line));
             let png = out.join("spectrum.png");
@@ -520,12 +525,11 @@ pub fn simulate(
                 value_range: clipped.then_some((0.0, top)),
                 ..Default::default()
             };
-            let title = if clipped {
-                format!(
-                    "{title}, omega = {omega} rad/s (scale clipped at {top:.3e}; max {vmax:.3e})"
-                )
+            let title = format!("{title}, {omega} rad/s");
+            let label = if clipped {
+                format!("{label}, clipped at {top:.0} (max {vmax:.0})")
             } else {
-                format!("{title}, omega = {omega} rad/s")
+                label.to_string()
             };
             mesh_color_map_with(
                 &png,
@@ -534,7 +538,7 @@ pub fn simulate(
                     triangles: &wm.triangles,
                     cell_values: vals,
                     title,
-                    colorbar_label: label.into(),
+                    colorbar_label: label,
                     length_unit_scale: 100.0,
                     length_unit: "cm".into(),
                 },
@@ -582,4 +586,23 @@ fn percentile(v: &[f64], q: f64) -> f64 {
     }
     s.sort_by(f64::total_cmp);
     s[((s.len() - 1) as f64 * q).round() as usize]
+}
+
+/// The largest amplitude in each of `bins` log-spaced frequency bins over `[lo, hi]` (a
+/// peak envelope that keeps every peak of a dense spectrum drawable).
+fn peak_envelope(f: &[f64], a: &[f64], lo: f64, hi: f64, bins: usize) -> (Vec<f64>, Vec<f64>) {
+    let (llo, lhi) = (lo.max(f64::MIN_POSITIVE).ln(), hi.ln());
+    let mut best: Vec<Option<(f64, f64)>> = vec![None; bins];
+    for (&fi, &ai) in f.iter().zip(a) {
+        if fi < lo || fi > hi || ai.is_nan() || ai <= 0.0 {
+            continue;
+        }
+        let k = (((fi.ln() - llo) / (lhi - llo)) * bins as f64)
+            .floor()
+            .clamp(0.0, (bins - 1) as f64) as usize;
+        if best[k].is_none_or(|(_, b)| ai > b) {
+            best[k] = Some((fi, ai));
+        }
+    }
+    best.into_iter().flatten().unzip()
 }
