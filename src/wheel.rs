@@ -251,11 +251,15 @@ impl WheelModel {
             }
         };
         let fixed_dofs: Vec<usize> = held.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
-        // Rim: nodes at the outer radius.
+        // Rim: the node set "rim" (a Gmsh physical group, or the generator's), else the
+        // nodes at the outer radius.
         let rmax = mesh.points.iter().map(|&p| norm(p)).fold(0.0, f64::max);
-        let mut rim: Vec<usize> = (0..mesh.n_nodes())
-            .filter(|&i| norm(mesh.points[i]) > rmax * (1.0 - 1e-6))
-            .collect();
+        let mut rim: Vec<usize> = match mesh.node_set("rim") {
+            Some(r) if !r.is_empty() => r.to_vec(),
+            _ => (0..mesh.n_nodes())
+                .filter(|&i| norm(mesh.points[i]) > rmax * (1.0 - 1e-6))
+                .collect(),
+        };
         rim.sort_by(|&a, &b| angle(mesh.points[a]).total_cmp(&angle(mesh.points[b])));
         let mut c = asm.zeros();
         if spec.damping > 0.0 {
