@@ -4,34 +4,13 @@
 //! through the factored matrix). Compare the sizes as ratios within one run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use softway::contact::obstacle::Flattening;
-use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::disk_rings;
 use softway::time::step::{Stepper, VelocityConstraint};
 use softway::time::SpaceTimeParams;
-use softway::wheel::{Support, WheelModel, WheelSpec};
+use softway::wheel::{WheelModel, WheelSpec};
 
 fn wheel(rings: usize) -> WheelModel {
-    let spec = WheelSpec {
-        radius: 0.1,
-        thickness: 0.01,
-        material: Elastic {
-            young: 2.05e11,
-            poisson: 0.3,
-            density: 7830.0,
-        },
-        plane: PlaneModel::Stress,
-        lumped: false,
-        damping: 0.0,
-        support: Support::CentrePinned,
-        omega: 300.0,
-        flattening: Flattening {
-            depth: 1e-3,
-            settle_time: 5e-3,
-        },
-        stress_stiffening: true,
-        rotating_frame: true,
-    };
+    let spec = WheelSpec::paper();
     WheelModel::new(disk_rings(0.1, rings).unwrap(), spec).unwrap()
 }
 

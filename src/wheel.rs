@@ -99,6 +99,46 @@ pub struct WheelSpec {
     pub rotating_frame: bool,
 }
 
+impl WheelSpec {
+    /// The paper's wheel (§4): R = 10 cm, 1 cm thick, steel (E = 2.05e11 Pa, nu = 0.3,
+    /// rho = 7830 kg/m^3), plane stress, consistent mass, centre pinned, omega = 300 rad/s,
+    /// flattening 0.1 cm reached after 5 ms, all rotating-frame terms.
+    pub fn paper() -> Self {
+        Self {
+            radius: 0.1,
+            thickness: 0.01,
+            material: Elastic {
+                young: 2.05e11,
+                poisson: 0.3,
+                density: 7830.0,
+            },
+            plane: PlaneModel::Stress,
+            lumped: false,
+            damping: 0.0,
+            support: Support::CentrePinned,
+            omega: 300.0,
+            flattening: Flattening {
+                depth: 1e-3,
+                settle_time: 5e-3,
+            },
+            stress_stiffening: true,
+            rotating_frame: true,
+        }
+    }
+}
+
+/// The six displacements of triangle `t` from the global vector `u`.
+pub fn element_displacements(u: &[f64], t: &[usize; 3]) -> [f64; 6] {
+    [
+        u[2 * t[0]],
+        u[2 * t[0] + 1],
+        u[2 * t[1]],
+        u[2 * t[1] + 1],
+        u[2 * t[2]],
+        u[2 * t[2] + 1],
+    ]
+}
+
 /// The assembled wheel: mesh, element geometry, matrices and the spinning equilibrium.
 #[derive(Debug)]
 pub struct WheelModel {
@@ -302,14 +342,7 @@ impl WheelModel {
                 let mut ks = asm.zeros();
                 asm.assemble_par_into(&mut ks, |e, out| {
                     let t = triangles[e];
-                    let ue = [
-                        u_spin[2 * t[0]],
-                        u_spin[2 * t[0] + 1],
-                        u_spin[2 * t[1]],
-                        u_spin[2 * t[1] + 1],
-                        u_spin[2 * t[2]],
-                        u_spin[2 * t[2] + 1],
-                    ];
+                    let ue = element_displacements(&u_spin, &t);
                     let s = tri3::stress(&geometry[e], &d, &ue);
                     let mut b = [[0.0; 6]; 6];
                     tri3::geometric_stiffness_into(&geometry[e], s, spec.thickness, &mut b);
@@ -408,14 +441,7 @@ impl WheelModel {
     /// Element stresses `[sxx, syy, txy]` (Pa) of the displacement `u`, into `out`.
     pub fn stresses_into(&self, u: &[f64], out: &mut [[f64; 3]]) {
         for (e, t) in self.triangles.iter().enumerate() {
-            let ue = [
-                u[2 * t[0]],
-                u[2 * t[0] + 1],
-                u[2 * t[1]],
-                u[2 * t[1] + 1],
-                u[2 * t[2]],
-                u[2 * t[2] + 1],
-            ];
+            let ue = element_displacements(u, t);
             out[e] = tri3::stress(&self.geometry[e], &self.d, &ue);
         }
     }

@@ -4,7 +4,6 @@
 use softway::contact::obstacle::Flattening;
 use softway::contact::statics;
 use softway::contact::{ContactMethod, Obstacle};
-use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::disk_rings;
 use softway::simulation::Simulation;
 use softway::time::SpaceTimeParams;
@@ -13,24 +12,14 @@ use std::sync::atomic::AtomicBool;
 
 fn spec(omega: f64, depth: f64, settle: f64, frame: bool, support: Support) -> WheelSpec {
     WheelSpec {
-        radius: 0.1,
-        thickness: 0.01,
-        material: Elastic {
-            young: 2.05e11,
-            poisson: 0.3,
-            density: 7830.0,
-        },
-        plane: PlaneModel::Stress,
-        lumped: false,
-        damping: 0.0,
-        support,
         omega,
+        support,
         flattening: Flattening {
             depth,
             settle_time: settle,
         },
-        stress_stiffening: true,
         rotating_frame: frame,
+        ..WheelSpec::paper()
     }
 }
 

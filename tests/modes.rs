@@ -4,7 +4,6 @@
 //! frequencies of the paper's disk and of refined disks for both supports.
 
 use softway::assembly::Assembler;
-use softway::contact::obstacle::Flattening;
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators;
 use softway::modes::{
@@ -24,20 +23,9 @@ fn steel() -> Elastic {
 fn wheel(rings: usize, support: Support, omega: f64) -> WheelModel {
     let mesh = generators::disk_rings(0.1, rings).unwrap();
     let spec = WheelSpec {
-        radius: 0.1,
-        thickness: 0.01,
-        material: steel(),
-        plane: PlaneModel::Stress,
-        lumped: false,
-        damping: 0.0,
         support,
         omega,
-        flattening: Flattening {
-            depth: 0.001,
-            settle_time: 1e-3,
-        },
-        stress_stiffening: true,
-        rotating_frame: true,
+        ..WheelSpec::paper()
     };
     WheelModel::new(mesh, spec).unwrap()
 }

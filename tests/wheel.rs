@@ -22,20 +22,13 @@ const STEEL: Elastic = Elastic {
 
 fn spec(omega: f64, depth: f64, support: Support) -> WheelSpec {
     WheelSpec {
-        radius: 0.1,
-        thickness: 0.01,
-        material: STEEL,
-        plane: PlaneModel::Stress,
-        lumped: false,
-        damping: 0.0,
-        support,
         omega,
+        support,
         flattening: Flattening {
             depth,
             settle_time: 2e-3,
         },
-        stress_stiffening: true,
-        rotating_frame: true,
+        ..WheelSpec::paper()
     }
 }
 
