@@ -74,10 +74,12 @@ fn spinning_disk_matches_the_closed_form_and_converges() {
         .iter()
         .map(|&n| spinning_disk_error(n))
         .collect();
-    assert!(e[2] < 0.05, "{e:?}");
+    println!("spinning disk stress errors (6, 12, 24 rings): {e:?}");
+    // Constant-strain triangles: stresses converge at first order in the mesh size.
+    assert!(e[2] < 0.01, "{e:?}");
     for w in e.windows(2) {
         let order = (w[0] / w[1]).log2();
-        assert!(order > 0.7, "errors {e:?}: order {order}");
+        assert!((order - 1.0).abs() < 0.15, "errors {e:?}: order {order}");
     }
 }
 
