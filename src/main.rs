@@ -44,6 +44,15 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
+    /// Run the combinations (contact treatment, time step) of a bar scenario side by side
+    /// against the exact answer: compare.csv, compare.md, overlaid force and energy plots.
+    Compare {
+        /// The scenario file (TOML, kind = "bar_impact", one [[runs]] entry per combination).
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Natural frequencies (Hz) and periods (us) of a wheel scenario's model, at rest and
     /// spinning (rotating frame), with the mode shapes as VTU.
     Modes {
@@ -172,6 +181,23 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Compare { scenario, out } => {
+            let sc = Scenario::from_file(&scenario)?;
+            for w in &sc.warnings {
+                eprintln!("softway: warning: {w}");
+            }
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+            let report =
+                softway::run::compare::compare(&sc, &out, &RunOptions { progress: false })?;
+            for l in &report.lines {
+                println!("{l}");
+            }
+            println!("wrote:");
+            for f in &report.files {
+                println!("  {}", f.display());
             }
             Ok(ExitCode::SUCCESS)
         }

@@ -2,6 +2,7 @@
 //! (`history.csv`, `summary.json`, plots, VTK) into an output folder.
 
 pub mod bar;
+pub mod compare;
 pub mod sdof;
 pub mod sweep;
 pub mod wheel;
