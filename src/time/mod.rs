@@ -6,7 +6,10 @@
 //!   amplification matrix: spectral radius, algorithmic damping, period error, stability.
 //! - [`step`]: the multi-degree-of-freedom step `A v1 = b` with Dirichlet velocities and
 //!   velocity constraints imposed by Lagrange multipliers through the factored `A`.
+//! - [`classic`]: Newmark, HHT-alpha, generalized-alpha and the central difference on the
+//!   same model, with the same constraint machinery, and their amplification matrices.
 
+pub mod classic;
 pub mod params;
 pub mod sdof;
 pub mod step;

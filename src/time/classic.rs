@@ -1,0 +1,875 @@
+//! The classic time integrators of structural dynamics on the same [`LinearModel`] as the
+//! space-time step: Newmark, HHT-alpha, generalized-alpha (Chung-Hulbert) and the explicit
+//! central difference, with Dirichlet conditions and node constraints imposed through the
+//! factored effective matrix (the machinery of [`crate::time::step`]).
+//!
+//! # The family
+//!
+//! All four methods are members of the generalized-alpha family (Chung & Hulbert 1993) for
+//! `M a + C v + K u = f(t) + r`: with the Newmark updates
+//! $$u_1 = u_0 + h v_0 + h^2\big[(\tfrac12 - \beta) a_0 + \beta a_1\big],\qquad
+//!   v_1 = v_0 + h\big[(1-\gamma) a_0 + \gamma a_1\big],$$
+//! the balance is enforced at the shifted times
+//! $$M a_{1-\alpha_m} + C v_{1-\alpha_f} + K u_{1-\alpha_f} = f_{1-\alpha_f} + r,\qquad
+//!   x_{1-\alpha} = (1-\alpha) x_1 + \alpha x_0 .$$
+//! Writing the predictors `u* = u0 + h v0 + h^2 (1/2 - beta) a0`, `v* = v0 + h (1 - gamma) a0`,
+//! the unknown is the end acceleration `a1`:
+//! $$A a_1 = b,\qquad A = (1-\alpha_m) M + (1-\alpha_f)(\gamma h C + \beta h^2 K),$$
+//! $$b = (1-\alpha_f) f_1 + \alpha_f f_0 - \alpha_m M a_0 - C[\alpha_f v_0 + (1-\alpha_f) v^*]
+//!   \;-\; K[\alpha_f u_0 + (1-\alpha_f) u^*] + r,$$
+//! then `u1 = u* + beta h^2 a1`, `v1 = v* + gamma h a1`.
+//!
+//! | method | `alpha_m` | `alpha_f` | `beta` | `gamma` |
+//! |---|---|---|---|---|
+//! | Newmark | 0 | 0 | `beta` | `gamma_N` |
+//! | HHT-alpha (`alpha_H` in [-1/3, 0]) | 0 | `-alpha_H` | `(1 - alpha_H)^2 / 4` | `1/2 - alpha_H` |
+//! | generalized-alpha (`rho_inf` in [0, 1]) | `(2 rho - 1)/(rho + 1)` | `rho/(rho + 1)` | `(1 - alpha_m + alpha_f)^2/4` | `1/2 - alpha_m + alpha_f` |
+//! | central difference | 0 | 0 | 0 | 1/2 |
+//!
+//! `A` depends on the parameters and `h` only: it is factored once ([`SparseLu`]), or, when
+//! it is diagonal (central difference with a lumped mass and a diagonal or zero `C`),
+//! inverted entry by entry: the explicit method. The step allocates nothing.
+//!
+//! # Dirichlet conditions
+//!
+//! A prescribed acceleration, velocity or displacement of a dof at `t1` fixes that dof of
+//! `a1` (`a1 = (g - v*)/(gamma h)` or `(g - u*)/(beta h^2)`); the rows and columns of `A` are
+//! replaced by the identity and the value is lifted into `b`, as in [`crate::time::step`].
+//! A prescribed displacement needs `beta > 0` (not the central difference, whose `u1` does
+//! not depend on `a1`); [`ClassicStepper::new`] rejects it otherwise.
+//!
+//! # Node constraints (exact enforcement of contact)
+//!
+//! A constraint `n . v_node(t1) = g` or `n . u_node(t1) = g` is, through the Newmark
+//! updates, a linear condition `n . a_node(t1) = g'` with
+//! `g' = (g - n . v*)/(gamma h)` or `(g - n . u*)/(beta h^2)`. The conditions are imposed by
+//! Lagrange multipliers through the factored `A`:
+//! $$A a_1 = b + C^T\lambda,\quad C a_1 = g'\ \Rightarrow\
+//!   \lambda = (C A^{-1} C^T)^{-1}(g' - C A^{-1} b),\quad a_1 = A^{-1}b + A^{-1}C^T\lambda.$$
+//! The columns `A^{-1} e_d` of the constrained nodes are cached (least recently used) while
+//! `A` does not change; each step solves only the small dense system. **The multiplier is
+//! a force** (N): the reaction `r` in the balance equation, i.e. acting at the shifted time
+//! `t0 + (1 - alpha_f) h` (at `t1` for Newmark and the central difference); its impulse over
+//! the step is about `h lambda`. Displacement constraints need `beta > 0`.
+
+use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
+use crate::time::step::{dense_solve_in_place, LinearModel};
+use serde::Serialize;
+
+/// Errors of the classic integrators.
+#[derive(Debug, thiserror::Error)]
+pub enum ClassicError {
+    /// The effective matrix is singular.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    /// A prescribed displacement with `beta = 0` (explicit): `u1` does not depend on `a1`.
+    #[error("a prescribed displacement needs beta > 0 (dof {0})")]
+    DisplacementNeedsImplicit(usize),
+    /// The parameters are out of their range.
+    #[error("invalid parameters: {0}")]
+    InvalidParameters(String),
+}
+
+/// Parameters of the generalized-alpha family (dimensionless). See the module table.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ClassicParams {
+    /// Weight `alpha_m` of `a0` in the inertia term.
+    pub alpha_m: f64,
+    /// Weight `alpha_f` of the start state in the internal and external forces.
+    pub alpha_f: f64,
+    /// Newmark `beta`: weight of `a1` in the displacement update.
+    pub beta: f64,
+    /// Newmark `gamma`: weight of `a1` in the velocity update.
+    pub gamma: f64,
+}
+
+impl ClassicParams {
+    /// Default `gamma_N` of the dissipative Newmark choice.
+    pub const DEFAULT_DISSIPATIVE_GAMMA: f64 = 0.6;
+    /// Default `alpha_H` of HHT-alpha.
+    pub const DEFAULT_ALPHA_H: f64 = -0.1;
+    /// Default `rho_inf` of generalized-alpha.
+    pub const DEFAULT_RHO_INF: f64 = 0.8;
+
+    /// Newmark with `beta` and `gamma_N` (`alpha_m = alpha_f = 0`). Unconditionally stable for
+    /// `2 beta >= gamma_N >= 1/2`; second order only for `gamma_N = 1/2`.
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Self {
+            alpha_m: 0.0,
+            alpha_f: 0.0,
+            beta,
+            gamma,
+        }
+    }
+
+    /// Newmark average acceleration (trapezoidal rule): `beta = 1/4`, `gamma_N = 1/2`;
+    /// no dissipation, `rho_inf = 1`.
+    pub fn average_acceleration() -> Self {
+        Self::newmark(0.25, 0.5)
+    }
+
+    /// Dissipative Newmark: `gamma_N > 1/2`, `beta = (gamma_N + 1/2)^2 / 4` (default
+    /// `gamma_N = 0.6`), unconditionally stable, **first order** (the `O(h)` velocity error
+    /// of `gamma_N != 1/2`), `rho_inf = (3/2 - gamma_N)/(gamma_N + 1/2)`
+    /// (0.818 for `gamma_N = 0.6`).
+    pub fn newmark_dissipative(gamma: f64) -> Self {
+        Self::newmark((gamma + 0.5).powi(2) / 4.0, gamma)
+    }
+
+    /// HHT-alpha (Hilber, Hughes & Taylor 1977) with `alpha_H` in [-1/3, 0] (default -0.1):
+    /// `alpha_f = -alpha_H`, `gamma = 1/2 - alpha_H`, `beta = (1 - alpha_H)^2/4`;
+    /// `rho_inf = (1 + alpha_H)/(1 - alpha_H)`.
+    ///
+    /// # Errors
+    /// [`ClassicError::InvalidParameters`] outside [-1/3, 0].
+    pub fn hht(alpha_h: f64) -> Result<Self, ClassicError> {
+        if !(-1.0 / 3.0 - 1e-12..=0.0).contains(&alpha_h) {
+            return Err(ClassicError::InvalidParameters(format!(
+                "alpha_H = {alpha_h} not in [-1/3, 0]"
+            )));
+        }
+        Ok(Self {
+            alpha_m: 0.0,
+            alpha_f: -alpha_h,
+            beta: (1.0 - alpha_h).powi(2) / 4.0,
+            gamma: 0.5 - alpha_h,
+        })
+    }
+
+    /// Generalized-alpha (Chung & Hulbert 1993) with the high-frequency spectral radius
+    /// `rho_inf` in [0, 1] (default 0.8): `alpha_m = (2 rho - 1)/(rho + 1)`,
+    /// `alpha_f = rho/(rho + 1)`, `gamma = 1/2 - alpha_m + alpha_f`,
+    /// `beta = (1 - alpha_m + alpha_f)^2/4`.
+    ///
+    /// # Errors
+    /// [`ClassicError::InvalidParameters`] outside [0, 1].
+    pub fn generalized_alpha(rho_inf: f64) -> Result<Self, ClassicError> {
+        if !(0.0..=1.0).contains(&rho_inf) {
+            return Err(ClassicError::InvalidParameters(format!(
+                "rho_inf = {rho_inf} not in [0, 1]"
+            )));
+        }
+        let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+        let af = rho_inf / (rho_inf + 1.0);
+        Ok(Self {
+            alpha_m: am,
+            alpha_f: af,
+            beta: (1.0 - am + af).powi(2) / 4.0,
+            gamma: 0.5 - am + af,
+        })
+    }
+
+    /// Central difference: Newmark `beta = 0`, `gamma = 1/2`. Explicit with a lumped mass;
+    /// stable for `omega_max h <= 2` ([`stable_step`]).
+    pub fn central_difference() -> Self {
+        Self::newmark(0.0, 0.5)
+    }
+
+    /// True for `beta = 0`, `alpha_m = alpha_f = 0` (the central difference).
+    pub fn is_explicit(&self) -> bool {
+        self.beta == 0.0 && self.alpha_m == 0.0 && self.alpha_f == 0.0
+    }
+}
+
+/// What a Dirichlet condition prescribes at `t1`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Kinematic {
+    /// Acceleration, m/s^2.
+    Acceleration,
+    /// Velocity, m/s.
+    Velocity,
+    /// Displacement, m (needs `beta > 0`).
+    Displacement,
+}
+
+/// A Dirichlet condition: `dof` has the prescribed `kind` equal to `value` at every step end.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Dirichlet {
+    /// The dof.
+    pub dof: usize,
+    /// The prescribed quantity.
+    pub kind: Kinematic,
+    /// The value (m/s^2, m/s or m).
+    pub value: f64,
+}
+
+/// A node constraint at `t1`: `normal . v_node(t1) = rhs` (kind `Velocity`) or
+/// `normal . u_node(t1) = rhs` (kind `Displacement`); `Acceleration` constrains `a1`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeConstraint {
+    /// The node.
+    pub node: usize,
+    /// Unit direction (only the first `dim` components are used).
+    pub normal: [f64; 2],
+    /// The constrained quantity.
+    pub kind: Kinematic,
+    /// Prescribed value (m/s^2, m/s or m).
+    pub rhs: f64,
+}
+
+/// The state `(u, v, a)` at one time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Displacements, m.
+    pub u: Vec<f64>,
+    /// Velocities, m/s.
+    pub v: Vec<f64>,
+    /// Accelerations, m/s^2.
+    pub a: Vec<f64>,
+}
+
+impl State {
+    /// Zero state of `n` dofs.
+    pub fn zeros(n: usize) -> Self {
+        Self {
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+        }
+    }
+}
+
+enum Solver {
+    Lu(Box<SparseLu>),
+    /// Inverse diagonal (explicit).
+    Diagonal(Vec<f64>),
+}
+
+impl Solver {
+    fn solve_in_place(&mut self, b: &mut [f64]) {
+        match self {
+            Solver::Lu(lu) => lu.solve_in_place(b),
+            Solver::Diagonal(d) => {
+                for (bi, di) in b.iter_mut().zip(d.iter()) {
+                    *bi *= di;
+                }
+            }
+        }
+    }
+}
+
+const NO_SLOT: usize = usize::MAX;
+
+/// A classic integrator on a [`LinearModel`]: the effective matrix factored once, the
+/// Dirichlet conditions, the constraint column cache and all work memory.
+pub struct ClassicStepper {
+    params: ClassicParams,
+    h: f64,
+    dim: usize,
+    n: usize,
+    pattern: Pattern,
+    m: Vec<f64>,
+    c: Vec<f64>,
+    k: Vec<f64>,
+    a_orig: Vec<f64>,
+    solver: Solver,
+    bcs: Vec<Dirichlet>,
+    is_bc: Vec<bool>,
+    slot_of_node: Vec<usize>,
+    node_of_slot: Vec<usize>,
+    last_used: Vec<u64>,
+    cols: Vec<f64>,
+    clock: u64,
+    s_mat: Vec<f64>,
+    r_vec: Vec<f64>,
+    slots_active: Vec<usize>,
+    unit: Vec<f64>,
+    work: Vec<f64>,
+}
+
+impl std::fmt::Debug for ClassicStepper {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ClassicStepper")
+            .field("params", &self.params)
+            .field("h", &self.h)
+            .field("n", &self.n)
+            .field("explicit", &self.is_diagonal())
+            .finish()
+    }
+}
+
+impl ClassicStepper {
+    /// Builds and factors `A = (1 - alpha_m) M + (1 - alpha_f)(gamma h C + beta h^2 K)` for
+    /// the step `h` (s), with the Dirichlet conditions `bcs` (the first of a dof wins), room
+    /// for `max_constraints` simultaneous node constraints and a cache of the columns of
+    /// `cache_nodes` constrained nodes (`dim` dofs per node). A diagonal `A` is inverted
+    /// directly (explicit method).
+    ///
+    /// # Errors
+    /// [`ClassicError`] when `A` is singular or a displacement is prescribed with `beta = 0`.
+    pub fn new(
+        model: &LinearModel,
+        dim: usize,
+        params: ClassicParams,
+        h: f64,
+        bcs: &[Dirichlet],
+        max_constraints: usize,
+        cache_nodes: usize,
+    ) -> Result<Self, ClassicError> {
+        let n = model.n();
+        let pattern = model.pattern().clone();
+        let ClassicParams {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = params;
+        let a_vals: Vec<f64> = (0..model.m.len())
+            .map(|p| {
+                (1.0 - alpha_m) * model.m[p]
+                    + (1.0 - alpha_f) * (gamma * h * model.c[p] + beta * h * h * model.k[p])
+            })
+            .collect();
+        let a_orig = a_vals.clone();
+        let mut is_bc = vec![false; n];
+        let mut kept = Vec::with_capacity(bcs.len());
+        for bc in bcs {
+            if bc.kind == Kinematic::Displacement && beta == 0.0 {
+                return Err(ClassicError::DisplacementNeedsImplicit(bc.dof));
+            }
+            if !is_bc[bc.dof] {
+                is_bc[bc.dof] = true;
+                kept.push(*bc);
+            }
+        }
+        let mut a_vals = a_vals;
+        let cp = pattern.col_ptr();
+        let ri = pattern.row_idx();
+        let mut diagonal = true;
+        let mut diag = vec![0.0; n];
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                let i = ri[p];
+                if is_bc[i] || is_bc[j] {
+                    a_vals[p] = if i == j { 1.0 } else { 0.0 };
+                }
+                if i == j {
+                    diag[j] = a_vals[p];
+                } else if a_vals[p] != 0.0 {
+                    diagonal = false;
+                }
+            }
+        }
+        let solver = if diagonal {
+            if let Some(j) = diag.iter().position(|&d| d == 0.0) {
+                return Err(ClassicError::Linalg(LinalgError::Singular(format!(
+                    "zero diagonal of the effective matrix at dof {j}"
+                ))));
+            }
+            Solver::Diagonal(diag.iter().map(|d| 1.0 / d).collect())
+        } else {
+            Solver::Lu(Box::new(SparseLu::new(&pattern, &a_vals)?))
+        };
+        let cache_nodes = cache_nodes.max(max_constraints).max(1);
+        let mc = max_constraints.max(1);
+        Ok(Self {
+            params,
+            h,
+            dim,
+            n,
+            pattern,
+            m: model.m.clone(),
+            c: model.c.clone(),
+            k: model.k.clone(),
+            a_orig,
+            solver,
+            bcs: kept,
+            is_bc,
+            slot_of_node: vec![NO_SLOT; n / dim.max(1)],
+            node_of_slot: vec![NO_SLOT; cache_nodes],
+            last_used: vec![0; cache_nodes],
+            cols: vec![0.0; cache_nodes * dim * n],
+            clock: 0,
+            s_mat: vec![0.0; mc * mc],
+            r_vec: vec![0.0; mc],
+            slots_active: vec![0; mc],
+            unit: vec![0.0; n],
+            work: vec![0.0; n],
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> ClassicParams {
+        self.params
+    }
+
+    /// The time step, s.
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// Number of dofs.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// True when the effective matrix is diagonal (explicit: no factorization).
+    pub fn is_diagonal(&self) -> bool {
+        matches!(self.solver, Solver::Diagonal(_))
+    }
+
+    /// True when the dof has a Dirichlet condition.
+    pub fn is_dirichlet(&self, dof: usize) -> bool {
+        self.is_bc[dof]
+    }
+
+    /// One step `(u, v, a)(t0) -> (u, v, a)(t1)` with the external forces `f0 = f(t0)` and
+    /// `f1 = f(t1)` (N per dof; the balance uses `(1 - alpha_f) f1 + alpha_f f0`) and the
+    /// node `constraints` at `t1`; the multipliers (forces, N) go to `lambda[..len]`.
+    /// Allocates nothing.
+    ///
+    /// # Panics
+    /// When more constraints are given than `max_constraints` of [`ClassicStepper::new`],
+    /// or a displacement constraint is given with `beta = 0`.
+    pub fn step(
+        &mut self,
+        s0: &State,
+        f0: &[f64],
+        f1: &[f64],
+        constraints: &[NodeConstraint],
+        lambda: &mut [f64],
+        s1: &mut State,
+    ) {
+        let ClassicParams {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.params;
+        let h = self.h;
+        let n = self.n;
+        // Predictors into s1.u, s1.v.
+        for i in 0..n {
+            s1.u[i] = s0.u[i] + h * s0.v[i] + h * h * (0.5 - beta) * s0.a[i];
+            s1.v[i] = s0.v[i] + h * (1.0 - gamma) * s0.a[i];
+        }
+        let b = &mut s1.a;
+        for i in 0..n {
+            b[i] = (1.0 - alpha_f) * f1[i] + alpha_f * f0[i];
+        }
+        if alpha_m != 0.0 {
+            spmv_add(&self.pattern, &self.m, -alpha_m, &s0.a, b);
+        }
+        for i in 0..n {
+            self.work[i] = alpha_f * s0.v[i] + (1.0 - alpha_f) * s1.v[i];
+        }
+        spmv_add(&self.pattern, &self.c, -1.0, &self.work, b);
+        for i in 0..n {
+            self.work[i] = alpha_f * s0.u[i] + (1.0 - alpha_f) * s1.u[i];
+        }
+        spmv_add(&self.pattern, &self.k, -1.0, &self.work, b);
+        // Dirichlet: target accelerations, lifted.
+        let cp = self.pattern.col_ptr();
+        let ri = self.pattern.row_idx();
+        for bc in &self.bcs {
+            let j = bc.dof;
+            let g = target_acc(bc.kind, bc.value, s1.u[j], s1.v[j], beta, gamma, h);
+            self.work[j] = g;
+            if g != 0.0 {
+                for p in cp[j]..cp[j + 1] {
+                    let i = ri[p];
+                    if !self.is_bc[i] {
+                        b[i] -= self.a_orig[p] * g;
+                    }
+                }
+            }
+        }
+        for bc in &self.bcs {
+            b[bc.dof] = self.work[bc.dof];
+        }
+        self.solver.solve_in_place(b);
+        let nc = constraints.len();
+        if nc > 0 {
+            assert!(nc <= self.r_vec.len(), "too many simultaneous constraints");
+            self.clock += 1;
+            for (q, c) in constraints.iter().enumerate() {
+                self.slots_active[q] = self.ensure_cached(c.node);
+            }
+            let dim = self.dim;
+            for (p, cp) in constraints.iter().enumerate() {
+                let (mut an, mut un, mut vn) = (0.0, 0.0, 0.0);
+                for c in 0..dim {
+                    let d = dim * cp.node + c;
+                    an += cp.normal[c] * s1.a[d];
+                    un += cp.normal[c] * s1.u[d];
+                    vn += cp.normal[c] * s1.v[d];
+                }
+                let g = target_acc(cp.kind, cp.rhs, un, vn, beta, gamma, h);
+                self.r_vec[p] = g - an;
+                for (q, cq) in constraints.iter().enumerate() {
+                    let s = self.slots_active[q];
+                    let mut v = 0.0;
+                    for c2 in 0..dim {
+                        let col = &self.cols[(s * dim + c2) * n..(s * dim + c2 + 1) * n];
+                        for c in 0..dim {
+                            v += cp.normal[c] * col[dim * cp.node + c] * cq.normal[c2];
+                        }
+                    }
+                    self.s_mat[p * nc + q] = v;
+                }
+            }
+            dense_solve_in_place(&mut self.s_mat[..nc * nc], &mut self.r_vec[..nc], nc);
+            for (q, cq) in constraints.iter().enumerate() {
+                let l = self.r_vec[q];
+                lambda[q] = l;
+                let s = self.slots_active[q];
+                for c2 in 0..dim {
+                    let w = l * cq.normal[c2];
+                    if w == 0.0 {
+                        continue;
+                    }
+                    let col = &self.cols[(s * dim + c2) * n..(s * dim + c2 + 1) * n];
+                    for (ai, ci) in s1.a.iter_mut().zip(col) {
+                        *ai += w * ci;
+                    }
+                }
+            }
+        }
+        for i in 0..n {
+            s1.u[i] += beta * h * h * s1.a[i];
+            s1.v[i] += gamma * h * s1.a[i];
+        }
+    }
+
+    fn ensure_cached(&mut self, node: usize) -> usize {
+        let s = self.slot_of_node[node];
+        if s != NO_SLOT {
+            self.last_used[s] = self.clock;
+            return s;
+        }
+        let mut s = 0;
+        for i in 0..self.node_of_slot.len() {
+            if self.last_used[i] < self.last_used[s] {
+                s = i;
+            }
+        }
+        assert!(
+            self.last_used[s] < self.clock || self.node_of_slot[s] == NO_SLOT,
+            "constraint column cache smaller than the active set"
+        );
+        if self.node_of_slot[s] != NO_SLOT {
+            self.slot_of_node[self.node_of_slot[s]] = NO_SLOT;
+        }
+        let (dim, n) = (self.dim, self.n);
+        for c in 0..dim {
+            let d = dim * node + c;
+            self.unit.fill(0.0);
+            if !self.is_bc[d] {
+                self.unit[d] = 1.0;
+                self.solver.solve_in_place(&mut self.unit);
+            }
+            self.cols[(s * dim + c) * n..(s * dim + c + 1) * n].copy_from_slice(&self.unit);
+        }
+        self.node_of_slot[s] = node;
+        self.slot_of_node[node] = s;
+        self.last_used[s] = self.clock;
+        s
+    }
+}
+
+/// The end acceleration that realises a prescribed quantity, given the predictors.
+fn target_acc(
+    kind: Kinematic,
+    g: f64,
+    u_pred: f64,
+    v_pred: f64,
+    beta: f64,
+    gamma: f64,
+    h: f64,
+) -> f64 {
+    match kind {
+        Kinematic::Acceleration => g,
+        Kinematic::Velocity => (g - v_pred) / (gamma * h),
+        Kinematic::Displacement => {
+            assert!(beta > 0.0, "a displacement constraint needs beta > 0");
+            (g - u_pred) / (beta * h * h)
+        }
+    }
+}
+
+/// The consistent initial acceleration: `M a0 = f0 - C v0 - K u0` on the free dofs, `a0 = 0`
+/// on the Dirichlet dofs (constant prescribed values). Factors `M` (allocates; call once).
+///
+/// # Errors
+/// [`LinalgError`] when `M` restricted to the free dofs is singular.
+pub fn initial_acceleration(
+    model: &LinearModel,
+    bc_dofs: &[usize],
+    u0: &[f64],
+    v0: &[f64],
+    f0: &[f64],
+) -> Result<Vec<f64>, LinalgError> {
+    let n = model.n();
+    let pattern = model.pattern();
+    let mut is_bc = vec![false; n];
+    for &d in bc_dofs {
+        is_bc[d] = true;
+    }
+    let mut mv = model.m.clone();
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if is_bc[i] || is_bc[j] {
+                mv[p] = if i == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    let mut b = f0.to_vec();
+    spmv_add(pattern, &model.c, -1.0, v0, &mut b);
+    spmv_add(pattern, &model.k, -1.0, u0, &mut b);
+    for (bi, &bc) in b.iter_mut().zip(&is_bc) {
+        if bc {
+            *bi = 0.0;
+        }
+    }
+    SparseLu::new(pattern, &mv)?.solve_in_place(&mut b);
+    Ok(b)
+}
+
+/// The largest natural circular frequency `omega_max` (rad/s) of `K phi = omega^2 M phi` for a
+/// diagonal (lumped) `M`, the Dirichlet dofs removed, by power iteration on `M^{-1} K` from
+/// an alternating start (Rayleigh quotient, relative tolerance 1e-12, at most `max_iter`
+/// iterations). A lower bound that converges to `omega_max`; see also
+/// [`max_frequency_bound`].
+pub fn max_frequency(model: &LinearModel, bc_dofs: &[usize], max_iter: usize) -> f64 {
+    let n = model.n();
+    let mdiag = diagonal(model.pattern(), &model.m);
+    let mut free = vec![true; n];
+    for &d in bc_dofs {
+        free[d] = false;
+    }
+    let mut x: Vec<f64> = (0..n)
+        .map(|i| {
+            if free[i] {
+                if i % 2 == 0 {
+                    1.0
+                } else {
+                    -1.0
+                }
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut y = vec![0.0; n];
+    let mut lam = 0.0;
+    for _ in 0..max_iter.max(1) {
+        y.fill(0.0);
+        spmv_add(model.pattern(), &model.k, 1.0, &x, &mut y);
+        // Rayleigh quotient x^T K x / x^T M x.
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..n {
+            if free[i] {
+                num += x[i] * y[i];
+                den += x[i] * mdiag[i] * x[i];
+            }
+        }
+        let new = num / den;
+        let mut norm = 0.0f64;
+        for i in 0..n {
+            y[i] = if free[i] { y[i] / mdiag[i] } else { 0.0 };
+            norm = norm.max(y[i].abs());
+        }
+        for i in 0..n {
+            x[i] = y[i] / norm;
+        }
+        if (new - lam).abs() <= 1e-12 * new.abs() {
+            lam = new;
+            break;
+        }
+        lam = new;
+    }
+    lam.max(0.0).sqrt()
+}
+
+/// Gershgorin upper bound of `omega_max` (rad/s) for a diagonal `M`:
+/// `omega_max^2 <= max_i sum_j |K_ij| / M_ii` over the free dofs. Exact for a uniform
+/// free-free lumped bar in the limit of many elements.
+pub fn max_frequency_bound(model: &LinearModel, bc_dofs: &[usize]) -> f64 {
+    let n = model.n();
+    let mdiag = diagonal(model.pattern(), &model.m);
+    let mut rows = vec![0.0; n];
+    let cp = model.pattern().col_ptr();
+    let ri = model.pattern().row_idx();
+    let mut free = vec![true; n];
+    for &d in bc_dofs {
+        free[d] = false;
+    }
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            if free[j] {
+                rows[ri[p]] += model.k[p].abs();
+            }
+        }
+    }
+    (0..n)
+        .filter(|&i| free[i])
+        .map(|i| rows[i] / mdiag[i])
+        .fold(0.0, f64::max)
+        .sqrt()
+}
+
+/// The stable step of the central difference, `h_crit = 2 / omega_max` (s), with
+/// `omega_max` from [`max_frequency`] (100 000 iterations at most).
+pub fn stable_step(model: &LinearModel, bc_dofs: &[usize]) -> f64 {
+    2.0 / max_frequency(model, bc_dofs, 100_000)
+}
+
+fn diagonal(pattern: &Pattern, values: &[f64]) -> Vec<f64> {
+    let n = pattern.nrows();
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    let mut d = vec![0.0; n];
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            if ri[p] == j {
+                d[j] = values[p];
+            }
+        }
+    }
+    d
+}
+
+/// One step of the family for one dof `m a + c v + k u = f` (kg, N s/m, N/m; forces `f0`,
+/// `f1` in N at `t0`, `t1`), state `(u, v, a)`; the same arithmetic as
+/// [`ClassicStepper::step`].
+#[allow(clippy::too_many_arguments)]
+pub fn sdof_step(
+    m: f64,
+    c: f64,
+    k: f64,
+    f0: f64,
+    f1: f64,
+    p: ClassicParams,
+    h: f64,
+    s0: (f64, f64, f64),
+) -> (f64, f64, f64) {
+    let (u0, v0, a0) = s0;
+    let up = u0 + h * v0 + h * h * (0.5 - p.beta) * a0;
+    let vp = v0 + h * (1.0 - p.gamma) * a0;
+    let lhs = (1.0 - p.alpha_m) * m + (1.0 - p.alpha_f) * (p.gamma * h * c + p.beta * h * h * k);
+    let mut b = (1.0 - p.alpha_f) * f1 + p.alpha_f * f0;
+    if p.alpha_m != 0.0 {
+        b += m * (-p.alpha_m * a0);
+    }
+    b += c * -(p.alpha_f * v0 + (1.0 - p.alpha_f) * vp);
+    b += k * -(p.alpha_f * u0 + (1.0 - p.alpha_f) * up);
+    let a1 = b / lhs;
+    (up + p.beta * h * h * a1, vp + p.gamma * h * a1, a1)
+}
+
+/// The amplification matrix `G(Omega)`, `Omega = omega h`, of `u'' + omega^2 u = 0` on the
+/// scaled state `(u, h v, h^2 a)`: built column by column from [`sdof_step`].
+pub fn amplification_matrix(p: ClassicParams, omega_h: f64) -> [[f64; 3]; 3] {
+    let mut g = [[0.0; 3]; 3];
+    for (j, e) in [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)]
+        .into_iter()
+        .enumerate()
+    {
+        let (u, v, a) = sdof_step(1.0, 0.0, omega_h * omega_h, 0.0, 0.0, p, 1.0, e);
+        g[0][j] = u;
+        g[1][j] = v;
+        g[2][j] = a;
+    }
+    g
+}
+
+/// Spectral properties at one `omega h`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Amplification {
+    /// `omega h`.
+    pub omega_h: f64,
+    /// Spectral radius of `G` (all three eigenvalues; clusters averaged, see
+    /// [`clustered_spectral_radius`]).
+    pub spectral_radius: f64,
+    /// Algorithmic damping ratio `-ln(rho_p)/(omega_bar h)` of the principal complex pair
+    /// (NaN without one).
+    pub damping_ratio: f64,
+    /// Relative period error `Omega/(omega_bar h) - 1` of the principal pair (NaN without).
+    pub period_error: f64,
+}
+
+/// The three eigenvalues `[re, im]` of `G(omega h)` (faer's dense eigensolver).
+pub fn eigenvalues(p: ClassicParams, omega_h: f64) -> [[f64; 2]; 3] {
+    let g = amplification_matrix(p, omega_h);
+    let mat = faer::Mat::<f64>::from_fn(3, 3, |i, j| g[i][j]);
+    let mut out = [[0.0; 2]; 3];
+    match mat.eigen() {
+        Ok(evd) => {
+            let s = evd.S().column_vector();
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = [s[i].re, s[i].im];
+            }
+        }
+        Err(_) => out = [[f64::NAN; 2]; 3],
+    }
+    out
+}
+
+/// Spectral radius of three eigenvalues, robust to multiple eigenvalues: eigenvalues closer
+/// than `1e-4 max(1, |lambda|_max)` form a cluster and are replaced by its mean. A multiple
+/// eigenvalue of a defective `G` (the double root `-1` of average acceleration, the triple
+/// root `-rho_inf` of generalized-alpha) is computed only to `eps^(1/2)`..`eps^(1/3)`
+/// (1e-8..6e-6), but the sum of a cluster, hence its mean, to round-off.
+pub fn clustered_spectral_radius(ev: &[[f64; 2]; 3]) -> f64 {
+    let mag = |l: [f64; 2]| l[0].hypot(l[1]);
+    let big = ev.iter().map(|&l| mag(l)).fold(1.0, f64::max);
+    let tol = 1e-4 * big;
+    let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < tol;
+    let mut rho = 0.0f64;
+    for i in 0..3 {
+        // The cluster of i: every eigenvalue linked to i directly or through a third one.
+        let mut member = [false; 3];
+        member[i] = true;
+        for _ in 0..2 {
+            for j in 0..3 {
+                for k in 0..3 {
+                    if member[k] && close(ev[j], ev[k]) {
+                        member[j] = true;
+                    }
+                }
+            }
+        }
+        let (mut re, mut im, mut cnt) = (0.0, 0.0, 0.0);
+        for j in 0..3 {
+            if member[j] {
+                re += ev[j][0];
+                im += ev[j][1];
+                cnt += 1.0;
+            }
+        }
+        rho = rho.max((re / cnt).hypot(im / cnt));
+    }
+    rho
+}
+
+/// Eigen-analysis of `G(omega h)`.
+pub fn amplification(p: ClassicParams, omega_h: f64) -> Amplification {
+    let ev = eigenvalues(p, omega_h);
+    let rho = clustered_spectral_radius(&ev);
+    // Principal pair: the complex eigenvalue with positive imaginary part.
+    let pair = ev
+        .iter()
+        .filter(|l| l[1] > 0.0)
+        .max_by(|a, b| a[0].hypot(a[1]).total_cmp(&b[0].hypot(b[1])));
+    let (xi, pe) = match pair {
+        Some(l) => {
+            let phase = l[1].atan2(l[0]);
+            (-(l[0].hypot(l[1])).ln() / phase, omega_h / phase - 1.0)
+        }
+        None => (f64::NAN, f64::NAN),
+    };
+    Amplification {
+        omega_h,
+        spectral_radius: rho,
+        damping_ratio: xi,
+        period_error: pe,
+    }
+}
+
+/// High-frequency spectral radius: the spectral radius at `omega h = 1e8`.
+pub fn rho_inf(p: ClassicParams) -> f64 {
+    amplification(p, 1e8).spectral_radius
+}
