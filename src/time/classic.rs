@@ -53,7 +53,8 @@
 //! the step is about `h lambda`. Displacement constraints need `beta > 0`.
 
 use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
-use crate::time::step::{dense_solve_in_place, LinearModel};
+use crate::time::constraints::ColumnCache;
+use crate::time::step::{LinearModel, VelocityConstraint};
 use serde::Serialize;
 
 /// Errors of the classic integrators.
@@ -248,8 +249,6 @@ impl Solver {
     }
 }
 
-const NO_SLOT: usize = usize::MAX;
-
 /// A classic integrator on a [`LinearModel`]: the effective matrix factored once, the
 /// Dirichlet conditions, the constraint column cache and all work memory.
 pub struct ClassicStepper {
@@ -265,15 +264,8 @@ pub struct ClassicStepper {
     solver: Solver,
     bcs: Vec<Dirichlet>,
     is_bc: Vec<bool>,
-    slot_of_node: Vec<usize>,
-    node_of_slot: Vec<usize>,
-    last_used: Vec<u64>,
-    cols: Vec<f64>,
-    clock: u64,
-    s_mat: Vec<f64>,
-    r_vec: Vec<f64>,
-    slots_active: Vec<usize>,
-    unit: Vec<f64>,
+    cache: ColumnCache,
+    rows: Vec<VelocityConstraint>,
     work: Vec<f64>,
 }
 
@@ -360,8 +352,6 @@ impl ClassicStepper {
         } else {
             Solver::Lu(Box::new(SparseLu::new(&pattern, &a_vals)?))
         };
-        let cache_nodes = cache_nodes.max(max_constraints).max(1);
-        let mc = max_constraints.max(1);
         Ok(Self {
             params,
             h,
@@ -375,15 +365,8 @@ impl ClassicStepper {
             solver,
             bcs: kept,
             is_bc,
-            slot_of_node: vec![NO_SLOT; n / dim.max(1)],
-            node_of_slot: vec![NO_SLOT; cache_nodes],
-            last_used: vec![0; cache_nodes],
-            cols: vec![0.0; cache_nodes * dim * n],
-            clock: 0,
-            s_mat: vec![0.0; mc * mc],
-            r_vec: vec![0.0; mc],
-            slots_active: vec![0; mc],
-            unit: vec![0.0; n],
+            cache: ColumnCache::new(n, dim, max_constraints, cache_nodes),
+            rows: Vec::with_capacity(max_constraints),
             work: vec![0.0; n],
         })
     }
@@ -478,92 +461,32 @@ impl ClassicStepper {
             b[bc.dof] = self.work[bc.dof];
         }
         self.solver.solve_in_place(b);
-        let nc = constraints.len();
-        if nc > 0 {
-            assert!(nc <= self.r_vec.len(), "too many simultaneous constraints");
-            self.clock += 1;
-            for (q, c) in constraints.iter().enumerate() {
-                self.slots_active[q] = self.ensure_cached(c.node);
+        // Constraints: each becomes `n . a1 = g` on the end acceleration.
+        self.rows.clear();
+        let dim = self.dim;
+        for cp in constraints {
+            let (mut un, mut vn) = (0.0, 0.0);
+            for c in 0..dim {
+                let d = dim * cp.node + c;
+                un += cp.normal[c] * s1.u[d];
+                vn += cp.normal[c] * s1.v[d];
             }
-            let dim = self.dim;
-            for (p, cp) in constraints.iter().enumerate() {
-                let (mut an, mut un, mut vn) = (0.0, 0.0, 0.0);
-                for c in 0..dim {
-                    let d = dim * cp.node + c;
-                    an += cp.normal[c] * s1.a[d];
-                    un += cp.normal[c] * s1.u[d];
-                    vn += cp.normal[c] * s1.v[d];
-                }
-                let g = target_acc(cp.kind, cp.rhs, un, vn, beta, gamma, h);
-                self.r_vec[p] = g - an;
-                for (q, cq) in constraints.iter().enumerate() {
-                    let s = self.slots_active[q];
-                    let mut v = 0.0;
-                    for c2 in 0..dim {
-                        let col = &self.cols[(s * dim + c2) * n..(s * dim + c2 + 1) * n];
-                        for c in 0..dim {
-                            v += cp.normal[c] * col[dim * cp.node + c] * cq.normal[c2];
-                        }
-                    }
-                    self.s_mat[p * nc + q] = v;
-                }
-            }
-            dense_solve_in_place(&mut self.s_mat[..nc * nc], &mut self.r_vec[..nc], nc);
-            for (q, cq) in constraints.iter().enumerate() {
-                let l = self.r_vec[q];
-                lambda[q] = l;
-                let s = self.slots_active[q];
-                for c2 in 0..dim {
-                    let w = l * cq.normal[c2];
-                    if w == 0.0 {
-                        continue;
-                    }
-                    let col = &self.cols[(s * dim + c2) * n..(s * dim + c2 + 1) * n];
-                    for (ai, ci) in s1.a.iter_mut().zip(col) {
-                        *ai += w * ci;
-                    }
-                }
-            }
+            let g = target_acc(cp.kind, cp.rhs, un, vn, beta, gamma, h);
+            self.rows.push(VelocityConstraint {
+                node: cp.node,
+                normal: cp.normal,
+                rhs: g,
+            });
         }
+        let solver = &mut self.solver;
+        self.cache
+            .apply(&mut s1.a, &self.rows, lambda, &self.is_bc, |r| {
+                solver.solve_in_place(r)
+            });
         for i in 0..n {
             s1.u[i] += beta * h * h * s1.a[i];
             s1.v[i] += gamma * h * s1.a[i];
         }
-    }
-
-    fn ensure_cached(&mut self, node: usize) -> usize {
-        let s = self.slot_of_node[node];
-        if s != NO_SLOT {
-            self.last_used[s] = self.clock;
-            return s;
-        }
-        let mut s = 0;
-        for i in 0..self.node_of_slot.len() {
-            if self.last_used[i] < self.last_used[s] {
-                s = i;
-            }
-        }
-        assert!(
-            self.last_used[s] < self.clock || self.node_of_slot[s] == NO_SLOT,
-            "constraint column cache smaller than the active set"
-        );
-        if self.node_of_slot[s] != NO_SLOT {
-            self.slot_of_node[self.node_of_slot[s]] = NO_SLOT;
-        }
-        let (dim, n) = (self.dim, self.n);
-        for c in 0..dim {
-            let d = dim * node + c;
-            self.unit.fill(0.0);
-            if !self.is_bc[d] {
-                self.unit[d] = 1.0;
-                self.solver.solve_in_place(&mut self.unit);
-            }
-            self.cols[(s * dim + c) * n..(s * dim + c + 1) * n].copy_from_slice(&self.unit);
-        }
-        self.node_of_slot[s] = node;
-        self.slot_of_node[node] = s;
-        self.last_used[s] = self.clock;
-        s
     }
 }
 

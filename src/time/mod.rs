@@ -10,6 +10,7 @@
 //!   same model, with the same constraint machinery, and their amplification matrices.
 
 pub mod classic;
+pub mod constraints;
 pub mod params;
 pub mod sdof;
 pub mod step;

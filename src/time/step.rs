@@ -25,6 +25,7 @@
 
 use crate::assembly::Assembler;
 use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
+use crate::time::constraints::ColumnCache;
 use crate::time::SpaceTimeParams;
 
 /// The semi-discrete linear model `M v' + C v + K u = f` on one sparsity pattern.
@@ -67,7 +68,6 @@ pub struct VelocityConstraint {
 /// machinery. All work memory is allocated in [`Stepper::new`].
 pub struct Stepper {
     params: SpaceTimeParams,
-    dim: usize,
     n: usize,
     pattern: Pattern,
     /// Values of `M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K`.
@@ -80,18 +80,7 @@ pub struct Stepper {
     bc_dofs: Vec<usize>,
     bc_values: Vec<f64>,
     is_bc: Vec<bool>,
-    // Constraint column cache: slot s holds A^{-1} e_{dim*node + c} at
-    // cols[(s*dim + c)*n ..][..n].
-    slot_of_node: Vec<usize>,
-    node_of_slot: Vec<usize>,
-    last_used: Vec<u64>,
-    cols: Vec<f64>,
-    clock: u64,
-    // Dense work for the multipliers.
-    s_mat: Vec<f64>,
-    r_vec: Vec<f64>,
-    slots_active: Vec<usize>,
-    unit: Vec<f64>,
+    cache: ColumnCache,
 }
 
 impl std::fmt::Debug for Stepper {
@@ -102,8 +91,6 @@ impl std::fmt::Debug for Stepper {
             .finish()
     }
 }
-
-const NO_SLOT: usize = usize::MAX;
 
 impl Stepper {
     /// Builds and factors `A` for `params`, with the Dirichlet velocities `bcs` (dof, value
@@ -153,11 +140,8 @@ impl Stepper {
             }
         }
         let lu = SparseLu::new(&pattern, &a_vals)?;
-        let cache_nodes = cache_nodes.max(max_constraints).max(1);
-        let mc = max_constraints.max(1);
         Ok(Self {
             params,
-            dim,
             n,
             pattern,
             bv,
@@ -167,15 +151,7 @@ impl Stepper {
             bc_dofs,
             bc_values,
             is_bc,
-            slot_of_node: vec![NO_SLOT; n / dim.max(1)],
-            node_of_slot: vec![NO_SLOT; cache_nodes],
-            last_used: vec![0; cache_nodes],
-            cols: vec![0.0; cache_nodes * dim * n],
-            clock: 0,
-            s_mat: vec![0.0; mc * mc],
-            r_vec: vec![0.0; mc],
-            slots_active: vec![0; mc],
-            unit: vec![0.0; n],
+            cache: ColumnCache::new(n, dim, max_constraints, cache_nodes),
         })
     }
 
@@ -213,50 +189,10 @@ impl Stepper {
     pub fn solve(&mut self, b: &mut [f64], constraints: &[VelocityConstraint], lambda: &mut [f64]) {
         self.apply_dirichlet(b);
         self.lu.solve_in_place(b);
-        let k = constraints.len();
-        if k == 0 {
-            return;
-        }
-        assert!(k <= self.r_vec.len(), "too many simultaneous constraints");
-        self.clock += 1;
-        for (q, c) in constraints.iter().enumerate() {
-            self.slots_active[q] = self.ensure_cached(c.node);
-        }
-        let (dim, n) = (self.dim, self.n);
-        for (p, cp) in constraints.iter().enumerate() {
-            let mut vn = 0.0;
-            for c in 0..dim {
-                vn += cp.normal[c] * b[dim * cp.node + c];
-            }
-            self.r_vec[p] = cp.rhs - vn;
-            for (q, cq) in constraints.iter().enumerate() {
-                let s = self.slots_active[q];
-                let mut v = 0.0;
-                for c2 in 0..dim {
-                    let col = &self.cols[(s * dim + c2) * n..(s * dim + c2 + 1) * n];
-                    for c in 0..dim {
-                        v += cp.normal[c] * col[dim * cp.node + c] * cq.normal[c2];
-                    }
-                }
-                self.s_mat[p * k + q] = v;
-            }
-        }
-        dense_solve_in_place(&mut self.s_mat[..k * k], &mut self.r_vec[..k], k);
-        for (q, cq) in constraints.iter().enumerate() {
-            let l = self.r_vec[q];
-            lambda[q] = l;
-            let s = self.slots_active[q];
-            for c2 in 0..dim {
-                let w = l * cq.normal[c2];
-                if w == 0.0 {
-                    continue;
-                }
-                let col = &self.cols[(s * dim + c2) * n..(s * dim + c2 + 1) * n];
-                for (bi, ci) in b.iter_mut().zip(col) {
-                    *bi += w * ci;
-                }
-            }
-        }
+        let lu = &mut self.lu;
+        self.cache.apply(b, constraints, lambda, &self.is_bc, |r| {
+            lu.solve_in_place(r)
+        });
     }
 
     /// `u1 = u0 + h [(1 - beta) v0 + beta v1]`, Eq. (10).
@@ -290,42 +226,6 @@ impl Stepper {
         for (&j, &g) in self.bc_dofs.iter().zip(&self.bc_values) {
             b[j] = g;
         }
-    }
-
-    fn ensure_cached(&mut self, node: usize) -> usize {
-        let s = self.slot_of_node[node];
-        if s != NO_SLOT {
-            self.last_used[s] = self.clock;
-            return s;
-        }
-        // Least recently used slot (empty slots have last_used 0).
-        let mut s = 0;
-        for i in 0..self.node_of_slot.len() {
-            if self.last_used[i] < self.last_used[s] {
-                s = i;
-            }
-        }
-        assert!(
-            self.last_used[s] < self.clock || self.node_of_slot[s] == NO_SLOT,
-            "constraint column cache smaller than the active set"
-        );
-        if self.node_of_slot[s] != NO_SLOT {
-            self.slot_of_node[self.node_of_slot[s]] = NO_SLOT;
-        }
-        let (dim, n) = (self.dim, self.n);
-        for c in 0..dim {
-            let d = dim * node + c;
-            self.unit.fill(0.0);
-            if !self.is_bc[d] {
-                self.unit[d] = 1.0;
-                self.lu.solve_in_place(&mut self.unit);
-            }
-            self.cols[(s * dim + c) * n..(s * dim + c + 1) * n].copy_from_slice(&self.unit);
-        }
-        self.node_of_slot[s] = node;
-        self.slot_of_node[node] = s;
-        self.last_used[s] = self.clock;
-        s
     }
 }
 
