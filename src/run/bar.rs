@@ -326,7 +326,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     report.files.push(sj);
     if sc.plots && !traces.is_empty() {
         let png = out.join("bar_head.png");
-        plot_traces(&png, &traces, &summaries[0].exact, sc)?;
+        plot_traces(&png, &traces, &summaries[0].exact)?;
         report.files.push(png);
     }
     for s in &summaries {
@@ -359,7 +359,6 @@ fn plot_traces(
     png: &Path,
     traces: &[(String, BarTrace)],
     exact: &BarExact,
-    sc: &Scenario,
 ) -> Result<(), RunError> {
     let style = |i: usize| {
         if i == 0 {
@@ -392,6 +391,5 @@ fn plot_traces(
         .push((-exact.rebound_velocity, "-v0 (exact rebound)".into()));
     pf.hlines
         .push((exact.contact_force, "exact rho A c v0".into()));
-    let _ = sc;
     panels(png, &[pu, pv, pf], 3, 1, (1200, 1500)).map_err(|e| RunError::output(png, e))
 }

@@ -322,7 +322,7 @@ pub fn simulate(
             osc.push(count_oscillations(&moving_average(&seg, smooth_w), 0.1));
         }
     }
-    let (rt, ry) = resample_uniform(&force_t, &force_y, h);
+    let (_, ry) = resample_uniform(&force_t, &force_y, h);
     let spec = amplitude_spectrum(&ry, h);
     let rot_hz = omega / (2.0 * PI);
     // The wheel's own oscillation: the largest peak above the rotation frequency away from
@@ -339,7 +339,6 @@ pub fn simulate(
         }
     }
     let dom = dominant_peak(&wheel_spec, rot_hz);
-    let _ = rt;
 
     // Turn averages.
     let cnt = n_avg.max(1) as f64;
