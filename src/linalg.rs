@@ -25,6 +25,22 @@ pub enum LinalgError {
 /// A square sparse pattern in compressed sparse column form (faer's symbolic matrix).
 pub type Pattern = SymbolicSparseColMat<usize>;
 
+/// Replaces the rows and columns of the `fixed` dofs by those of the identity (Dirichlet
+/// conditions imposed on a matrix sharing `pattern`; the right-hand side is lifted by the
+/// caller).
+pub fn set_identity_rows(pattern: &Pattern, values: &mut [f64], fixed: &[bool]) {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if fixed[i] || fixed[j] {
+                values[p] = if i == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+}
+
 /// `y = A x` for a CSC matrix given by its pattern and values (overwrites `y`).
 pub fn spmv_into(pattern: &Pattern, values: &[f64], x: &[f64], y: &mut [f64]) {
     y.fill(0.0);

@@ -228,16 +228,7 @@ pub fn static_solve(
         is_fixed[d] = true;
     }
     let mut a = k.to_vec();
-    let cp = asm.pattern.col_ptr();
-    let ri = asm.pattern.row_idx();
-    for j in 0..n {
-        for p in cp[j]..cp[j + 1] {
-            let i = ri[p];
-            if is_fixed[i] || is_fixed[j] {
-                a[p] = if i == j { 1.0 } else { 0.0 };
-            }
-        }
-    }
+    crate::linalg::set_identity_rows(&asm.pattern, &mut a, &is_fixed);
     let mut lu = SparseLu::new(&asm.pattern, &a)?;
     let mut u: Vec<f64> = f
         .iter()

@@ -39,15 +39,7 @@ pub fn solve(
         is_fixed[d] = true;
     }
     let mut a = k.to_vec();
-    let cp = pattern.col_ptr();
-    let ri = pattern.row_idx();
-    for j in 0..n {
-        for p in cp[j]..cp[j + 1] {
-            if is_fixed[ri[p]] || is_fixed[j] {
-                a[p] = if ri[p] == j { 1.0 } else { 0.0 };
-            }
-        }
-    }
+    crate::linalg::set_identity_rows(pattern, &mut a, &is_fixed);
     let mut lu = SparseLu::new(pattern, &a)?;
     let mut u0: Vec<f64> = f
         .iter()

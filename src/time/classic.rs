@@ -325,6 +325,7 @@ impl ClassicStepper {
             }
         }
         let mut a_vals = a_vals;
+        crate::linalg::set_identity_rows(&pattern, &mut a_vals, &is_bc);
         let cp = pattern.col_ptr();
         let ri = pattern.row_idx();
         let mut diagonal = true;
@@ -332,9 +333,6 @@ impl ClassicStepper {
         for j in 0..n {
             for p in cp[j]..cp[j + 1] {
                 let i = ri[p];
-                if is_bc[i] || is_bc[j] {
-                    a_vals[p] = if i == j { 1.0 } else { 0.0 };
-                }
                 if i == j {
                     diag[j] = a_vals[p];
                 } else if a_vals[p] != 0.0 {
@@ -529,16 +527,7 @@ pub fn initial_acceleration(
         is_bc[d] = true;
     }
     let mut mv = model.m.clone();
-    let cp = pattern.col_ptr();
-    let ri = pattern.row_idx();
-    for j in 0..n {
-        for p in cp[j]..cp[j + 1] {
-            let i = ri[p];
-            if is_bc[i] || is_bc[j] {
-                mv[p] = if i == j { 1.0 } else { 0.0 };
-            }
-        }
-    }
+    crate::linalg::set_identity_rows(pattern, &mut mv, &is_bc);
     let mut b = f0.to_vec();
     spmv_add(pattern, &model.c, -1.0, v0, &mut b);
     spmv_add(pattern, &model.k, -1.0, u0, &mut b);
@@ -699,20 +688,10 @@ pub fn amplification_matrix(p: ClassicParams, omega_h: f64) -> [[f64; 3]; 3] {
     g
 }
 
-/// Spectral properties at one `omega h`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Amplification {
-    /// `omega h`.
-    pub omega_h: f64,
-    /// Spectral radius of `G` (all three eigenvalues; clusters averaged, see
-    /// [`clustered_spectral_radius`]).
-    pub spectral_radius: f64,
-    /// Algorithmic damping ratio `-ln(rho_p)/(omega_bar h)` of the principal complex pair
-    /// (NaN without one).
-    pub damping_ratio: f64,
-    /// Relative period error `Omega/(omega_bar h) - 1` of the principal pair (NaN without).
-    pub period_error: f64,
-}
+/// Spectral properties at one `omega h` (the same record as the space-time scheme's; the
+/// spectral radius is over all three eigenvalues, clusters averaged, see
+/// [`clustered_spectral_radius`]; damping and period error are those of the principal pair).
+pub use super::sdof::Amplification;
 
 /// The three eigenvalues `[re, im]` of `G(omega h)` (faer's dense eigensolver).
 pub fn eigenvalues(p: ClassicParams, omega_h: f64) -> [[f64; 2]; 3] {

@@ -129,16 +129,7 @@ impl Stepper {
                 bc_values.push(v);
             }
         }
-        let cp = pattern.col_ptr();
-        let ri = pattern.row_idx();
-        for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                let i = ri[p];
-                if is_bc[i] || is_bc[j] {
-                    a_vals[p] = if i == j { 1.0 } else { 0.0 };
-                }
-            }
-        }
+        crate::linalg::set_identity_rows(&pattern, &mut a_vals, &is_bc);
         let lu = SparseLu::new(&pattern, &a_vals)?;
         Ok(Self {
             params,
