@@ -135,6 +135,7 @@ impl BarImpact {
             t0: 0.0,
             steps,
             gap_tol: 1e-12 * self.length,
+            energy_stiffness: None,
         };
         (mesh, problem)
     }

@@ -69,6 +69,10 @@ pub struct Problem {
     pub steps: usize,
     /// Gap below `-gap_tol` (m) counts as penetration.
     pub gap_tol: f64,
+    /// Stiffness of the reported strain energy `u^T K u / 2` (on the model's pattern);
+    /// `None`: the model's `K` (in a rotating frame `K` holds spin terms: pass the elastic
+    /// stiffness here).
+    pub energy_stiffness: Option<Vec<f64>>,
 }
 
 impl std::fmt::Debug for Problem {
@@ -330,7 +334,8 @@ impl Simulation {
         let s = &self.snaps[i];
         let m = &self.problem.model;
         let kinetic = 0.5 * quadratic_form(m.pattern(), &m.m, &s.v);
-        let strain = 0.5 * quadratic_form(m.pattern(), &m.k, &s.u);
+        let k = self.problem.energy_stiffness.as_deref().unwrap_or(&m.k);
+        let strain = 0.5 * quadratic_form(m.pattern(), k, &s.u);
         let contact_force = s.pairs.iter().map(|p| p.force).sum();
         let held = s.pairs.iter().filter(|p| p.held).count();
         observer(&StepView {

@@ -426,6 +426,7 @@ impl WheelModel {
             t0: 0.0,
             steps,
             gap_tol: 1e-9 * self.spec.radius,
+            energy_stiffness: Some(self.k_elastic.clone()),
         }
     }
 

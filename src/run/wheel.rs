@@ -242,8 +242,7 @@ pub fn simulate(
             let t = st.t;
             let min_gap = st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
             max_pen = max_pen.max(-min_gap);
-            let e = s.kinetic
-                + 0.5 * crate::linalg::quadratic_form(wm.model.pattern(), &wm.k_elastic, &st.u);
+            let e = s.kinetic + s.strain;
             e_final = e;
             all_t.push(t);
             all_f.push(s.contact_force);
@@ -278,7 +277,7 @@ pub fn simulate(
                         s.contact_force,
                         s.held as f64,
                         s.kinetic,
-                        e - s.kinetic,
+                        s.strain,
                         e,
                         min_gap,
                     ],
