@@ -47,6 +47,7 @@ pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod frame;
+pub mod lab;
 pub mod linalg;
 pub mod material;
 pub mod mesh;

@@ -411,6 +411,40 @@ impl ClassicStepper {
         lambda: &mut [f64],
         s1: &mut State,
     ) {
+        self.predict(s0, f0, f1, s1);
+        let ClassicParams { beta, gamma, .. } = self.params;
+        let h = self.h;
+        // Constraints: each becomes `n . a1 = g` on the end acceleration.
+        self.rows.clear();
+        let dim = self.dim;
+        for cp in constraints {
+            let (mut un, mut vn) = (0.0, 0.0);
+            for c in 0..dim {
+                let d = dim * cp.node + c;
+                un += cp.normal[c] * s1.u[d];
+                vn += cp.normal[c] * s1.v[d];
+            }
+            let g = target_acc(cp.kind, cp.rhs, un, vn, beta, gamma, h);
+            self.rows.push(VelocityConstraint {
+                node: cp.node,
+                normal: cp.normal,
+                rhs: g,
+            });
+        }
+        let solver = &mut self.solver;
+        self.cache
+            .apply(&mut s1.a, &self.rows, lambda, &self.is_bc, |r| {
+                solver.solve_in_place(r)
+            });
+        self.finish(s1);
+    }
+
+    /// The unconstrained part of a step: the predictors `u* = u0 + h v0 + h^2 (1/2 - beta) a0`
+    /// and `v* = v0 + h (1 - gamma) a0` into `s1.u`, `s1.v`, and the end acceleration without
+    /// constraints, `a1 = A^{-1} b`, into `s1.a`. A reaction `r` (N) added later changes `a1`
+    /// by `A^{-1} r` ([`ClassicStepper::apply_inverse`]); [`ClassicStepper::finish`] then
+    /// completes `u1 = u* + beta h^2 a1`, `v1 = v* + gamma h a1`.
+    pub fn predict(&mut self, s0: &State, f0: &[f64], f1: &[f64], s1: &mut State) {
         let ClassicParams {
             alpha_m,
             alpha_f,
@@ -419,7 +453,6 @@ impl ClassicStepper {
         } = self.params;
         let h = self.h;
         let n = self.n;
-        // Predictors into s1.u, s1.v.
         for i in 0..n {
             s1.u[i] = s0.u[i] + h * s0.v[i] + h * h * (0.5 - beta) * s0.a[i];
             s1.v[i] = s0.v[i] + h * (1.0 - gamma) * s0.a[i];
@@ -459,29 +492,24 @@ impl ClassicStepper {
             b[bc.dof] = self.work[bc.dof];
         }
         self.solver.solve_in_place(b);
-        // Constraints: each becomes `n . a1 = g` on the end acceleration.
-        self.rows.clear();
-        let dim = self.dim;
-        for cp in constraints {
-            let (mut un, mut vn) = (0.0, 0.0);
-            for c in 0..dim {
-                let d = dim * cp.node + c;
-                un += cp.normal[c] * s1.u[d];
-                vn += cp.normal[c] * s1.v[d];
+    }
+
+    /// `r <- A^{-1} r` with the Dirichlet rows of `r` set to zero first (the response of the
+    /// end acceleration to a reaction `r`, N).
+    pub fn apply_inverse(&mut self, r: &mut [f64]) {
+        for (ri, &bc) in r.iter_mut().zip(&self.is_bc) {
+            if bc {
+                *ri = 0.0;
             }
-            let g = target_acc(cp.kind, cp.rhs, un, vn, beta, gamma, h);
-            self.rows.push(VelocityConstraint {
-                node: cp.node,
-                normal: cp.normal,
-                rhs: g,
-            });
         }
-        let solver = &mut self.solver;
-        self.cache
-            .apply(&mut s1.a, &self.rows, lambda, &self.is_bc, |r| {
-                solver.solve_in_place(r)
-            });
-        for i in 0..n {
+        self.solver.solve_in_place(r);
+    }
+
+    /// Completes a step from the predictors in `s1.u`, `s1.v` and the end acceleration in
+    /// `s1.a`: `u1 = u* + beta h^2 a1`, `v1 = v* + gamma h a1`.
+    pub fn finish(&self, s1: &mut State) {
+        let (beta, gamma, h) = (self.params.beta, self.params.gamma, self.h);
+        for i in 0..self.n {
             s1.u[i] += beta * h * h * s1.a[i];
             s1.v[i] += gamma * h * s1.a[i];
         }

@@ -186,6 +186,17 @@ impl Stepper {
         });
     }
 
+    /// `r <- A^{-1} r` with the Dirichlet rows of `r` set to zero first: the velocity
+    /// response to an impulse `r` (N s) added to `b`.
+    pub fn apply_inverse(&mut self, r: &mut [f64]) {
+        for (ri, &bc) in r.iter_mut().zip(&self.is_bc) {
+            if bc {
+                *ri = 0.0;
+            }
+        }
+        self.lu.solve_in_place(r);
+    }
+
     /// `u1 = u0 + h [(1 - beta) v0 + beta v1]`, Eq. (10).
     pub fn update_displacement(
         &self,
