@@ -115,7 +115,9 @@ impl Integrator {
     /// The name used in tables.
     pub fn name(&self) -> String {
         match self {
-            Integrator::SpaceTime { alpha, gamma } => format!("space_time({alpha},{gamma})"),
+            Integrator::SpaceTime { alpha, gamma } => {
+                format!("space_time(alpha={alpha} gamma={gamma})")
+            }
             Integrator::Classic { kind, params } => match kind {
                 ClassicKind::Newmark => "newmark".into(),
                 ClassicKind::NewmarkDissipative => format!("newmark({:.2})", params.gamma),

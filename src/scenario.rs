@@ -32,7 +32,9 @@
 //! ```
 
 use crate::contact::ContactMethod;
-use crate::problems::BarImpact;
+use crate::lab::{ClassicKind, Integrator, Treatment};
+use crate::problems::{BarImpact, TwoBars};
+use crate::time::classic::ClassicParams;
 use crate::time::sdof::analyse;
 use crate::time::SpaceTimeParams;
 use serde::Deserialize;
@@ -89,6 +91,7 @@ struct RawScenario {
     description: Option<String>,
     time: Option<RawTime>,
     bar: Option<RawBar>,
+    two_bars: Option<RawBar>,
     sdof: Option<RawSdof>,
     wheel: Option<RawWheel>,
     material: Option<RawMaterial>,
@@ -114,6 +117,12 @@ struct RawTime {
     gamma: Option<f64>,
     h: Option<f64>,
     t_end: Option<f64>,
+
+    integrator: Option<String>,
+    rho_inf: Option<f64>,
+    alpha_h: Option<f64>,
+    gamma_n: Option<f64>,
+    cfl: Option<f64>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -177,6 +186,8 @@ struct RawRolling {
 #[serde(deny_unknown_fields)]
 struct RawContact {
     method: Option<String>,
+    penalty: Option<f64>,
+    restitution: Option<f64>,
 }
 
 #[derive(Debug, Deserialize, Default, Clone)]
@@ -188,6 +199,13 @@ struct RawRun {
     gamma: Option<f64>,
     elements: Option<i64>,
     method: Option<String>,
+    penalty: Option<f64>,
+    restitution: Option<f64>,
+    integrator: Option<String>,
+    rho_inf: Option<f64>,
+    alpha_h: Option<f64>,
+    gamma_n: Option<f64>,
+    cfl: Option<f64>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -248,6 +266,8 @@ pub enum Model {
     Sdof(Sdof),
     /// Elastic bar against a rigid wall.
     BarImpact(BarImpact),
+    /// Two elastic bars colliding (node-to-node contact).
+    TwoBars(TwoBars),
     /// The elastic wheel rolling on a rigid base.
     Wheel(Box<WheelScenario>),
 }
@@ -261,10 +281,37 @@ pub struct Run {
     pub params: SpaceTimeParams,
     /// The model, with this run's overrides.
     pub model: Model,
-    /// Contact method.
+    /// Contact method of the driver (the wheel; for bars see `contact`).
     pub method: ContactMethod,
+    /// The time integrator.
+    pub integrator: Integrator,
+    /// The contact treatment.
+    pub contact: Contact,
     /// End time, s.
     pub t_end: f64,
+}
+
+/// The contact treatment of a run: the soft way family in the driver
+/// ([`crate::simulation`]), or a treatment of the laboratory ([`crate::lab`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Contact {
+    /// Run by [`crate::simulation::Simulation`].
+    Driver(ContactMethod),
+    /// Run by [`crate::lab::Lab`].
+    Lab(Treatment),
+}
+
+impl Contact {
+    /// The name used in tables.
+    pub fn name(&self) -> String {
+        match self {
+            Contact::Driver(m) => serde_json::to_value(m)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default(),
+            Contact::Lab(t) => t.name(),
+        }
+    }
 }
 
 /// A validated scenario.
@@ -352,9 +399,125 @@ impl Ctx<'_> {
             _ => Err(self.invalid(
                 key,
                 format!("\"{v}\""),
-                "allowed: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\", \"exact\"",
+                "allowed for the wheel: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\", \"exact\"",
             )),
         }
+    }
+
+    /// The contact treatment named `v` (key `key`), with its parameters.
+    fn contact(
+        &self,
+        key: &str,
+        v: &str,
+        penalty: Option<(String, f64)>,
+        restitution: Option<(String, f64)>,
+    ) -> Result<Contact, ScenarioError> {
+        let t = match v {
+            "soft_way" | "soft_way_no_restore" | "soft_way_braking_restore" => {
+                return Ok(Contact::Driver(self.method(key, v)?))
+            }
+            "exact" => Treatment::Exact,
+            "penalty" => {
+                let (k, s) = penalty.ok_or_else(|| {
+                    self.missing(
+                        "contact.penalty",
+                        "method = \"penalty\" needs the penalty stiffness, N/m (or runs[].penalty)",
+                    )
+                })?;
+                Treatment::Penalty {
+                    stiffness: self.positive(&k, s)?,
+                }
+            }
+            "mass_redistribution" => Treatment::MassRedistribution,
+            "moreau_jean" => {
+                let e = match restitution {
+                    Some((k, e)) if !(0.0..=1.0).contains(&e) => {
+                        return Err(self.invalid(&k, e, "the restitution must be in [0, 1]"))
+                    }
+                    Some((_, e)) => e,
+                    None => 0.0,
+                };
+                Treatment::MoreauJean { restitution: e }
+            }
+            "subdivision" => Treatment::Subdivision,
+            _ => {
+                return Err(self.invalid(
+                    key,
+                    format!("\"{v}\""),
+                    "allowed: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\", \"exact\", \"penalty\", \"mass_redistribution\", \"moreau_jean\", \"subdivision\"",
+                ))
+            }
+        };
+        Ok(Contact::Lab(t))
+    }
+
+    /// The integrator named `v` (key `key`) with `alpha`, `gamma` (space-time) and the
+    /// optional parameters `(key, value)` of the classic ones.
+    fn integrator(
+        &self,
+        key: &str,
+        v: &str,
+        (alpha, gamma): (f64, f64),
+        rho_inf: Option<(String, f64)>,
+        alpha_h: Option<(String, f64)>,
+        gamma_n: Option<(String, f64)>,
+    ) -> Result<Integrator, ScenarioError> {
+        let unused = |p: &Option<(String, f64)>, what: &str| -> Result<(), ScenarioError> {
+            match p {
+                Some((k, x)) => {
+                    Err(self.invalid(k, x, &format!("only used with integrator = \"{what}\"")))
+                }
+                None => Ok(()),
+            }
+        };
+        let (kind, params) = match v {
+            "space_time" => {
+                unused(&rho_inf, "generalized_alpha")?;
+                unused(&alpha_h, "hht")?;
+                unused(&gamma_n, "newmark_dissipative")?;
+                return Ok(Integrator::SpaceTime { alpha, gamma });
+            }
+            "newmark" => (ClassicKind::Newmark, ClassicParams::average_acceleration()),
+            "newmark_dissipative" => {
+                let g = match gamma_n.clone() {
+                    Some((k, g)) if !(g.is_finite() && g > 0.5 && g <= 1.0) => {
+                        return Err(self.invalid(&k, g, "gamma_n must be in (0.5, 1]"))
+                    }
+                    Some((_, g)) => g,
+                    None => ClassicParams::DEFAULT_DISSIPATIVE_GAMMA,
+                };
+                (ClassicKind::NewmarkDissipative, ClassicParams::newmark_dissipative(g))
+            }
+            "hht" => {
+                let (k, a) = alpha_h.clone().unwrap_or(("alpha_h".into(), ClassicParams::DEFAULT_ALPHA_H));
+                let p = ClassicParams::hht(a).map_err(|_| self.invalid(&k, a, "alpha_h must be in [-1/3, 0]"))?;
+                (ClassicKind::Hht, p)
+            }
+            "generalized_alpha" => {
+                let (k, r) = rho_inf.clone().unwrap_or(("rho_inf".into(), ClassicParams::DEFAULT_RHO_INF));
+                let p = ClassicParams::generalized_alpha(r)
+                    .map_err(|_| self.invalid(&k, r, "rho_inf must be in [0, 1]"))?;
+                (ClassicKind::GeneralizedAlpha, p)
+            }
+            "central_difference" => (ClassicKind::CentralDifference, ClassicParams::central_difference()),
+            _ => {
+                return Err(self.invalid(
+                    key,
+                    format!("\"{v}\""),
+                    "allowed: \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\", \"generalized_alpha\", \"central_difference\"",
+                ))
+            }
+        };
+        if kind != ClassicKind::GeneralizedAlpha {
+            unused(&rho_inf, "generalized_alpha")?;
+        }
+        if kind != ClassicKind::Hht {
+            unused(&alpha_h, "hht")?;
+        }
+        if kind != ClassicKind::NewmarkDissipative {
+            unused(&gamma_n, "newmark_dissipative")?;
+        }
+        Ok(Integrator::Classic { kind, params })
     }
 }
 
@@ -417,13 +580,7 @@ impl Scenario {
             (None, "wheel") => f64::NAN,
             (None, _) => return Err(cx.missing("time.t_end", "the end time of the run, s")),
         };
-        let method = cx.method(
-            "contact.method",
-            raw.contact
-                .and_then(|c| c.method)
-                .as_deref()
-                .unwrap_or("soft_way"),
-        )?;
+        let contact = raw.contact.unwrap_or_default();
         let model = match raw.kind.as_str() {
             "sdof" => {
                 let s = raw
@@ -440,17 +597,7 @@ impl Scenario {
                 let b = raw.bar.ok_or_else(|| {
                     cx.missing("bar", "kind = \"bar_impact\" needs a [bar] table")
                 })?;
-                let lumped = match b.mass.as_deref().unwrap_or("consistent") {
-                    "consistent" => false,
-                    "lumped" => true,
-                    other => {
-                        return Err(cx.invalid(
-                            "bar.mass",
-                            format!("\"{other}\""),
-                            "allowed: \"consistent\", \"lumped\"",
-                        ))
-                    }
-                };
+                let lumped = mass_kind(&cx, "bar.mass", b.mass.as_deref())?;
                 Model::BarImpact(BarImpact {
                     length: cx.positive("bar.length", b.length)?,
                     ea: cx.positive("bar.ea", b.ea)?,
@@ -460,6 +607,27 @@ impl Scenario {
                     elements: cx.count("bar.elements", b.elements, 1_000_000)?,
                     lumped,
                     damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
+                })
+            }
+            "two_bars" => {
+                let b = raw.two_bars.ok_or_else(|| {
+                    cx.missing("two_bars", "kind = \"two_bars\" needs a [two_bars] table")
+                })?;
+                if b.damping.is_some() {
+                    return Err(cx.invalid(
+                        "two_bars.damping",
+                        b.damping.unwrap_or_default(),
+                        "the two-bars case has no external damping",
+                    ));
+                }
+                Model::TwoBars(TwoBars {
+                    length: cx.positive("two_bars.length", b.length)?,
+                    ea: cx.positive("two_bars.ea", b.ea)?,
+                    rho_a: cx.positive("two_bars.rho_a", b.rho_a)?,
+                    speed: cx.positive("two_bars.speed", b.speed)?,
+                    gap: cx.non_negative("two_bars.gap", b.gap)?,
+                    elements: cx.count("two_bars.elements", b.elements, 1_000_000)?,
+                    lumped: mass_kind(&cx, "two_bars.mass", b.mass.as_deref())?,
                 })
             }
             "wheel" => Model::Wheel(Box::new(wheel_model(
@@ -472,7 +640,7 @@ impl Scenario {
                 return Err(cx.invalid(
                     "kind",
                     format!("\"{other}\""),
-                    "allowed: \"sdof\", \"bar_impact\", \"wheel\"",
+                    "allowed: \"sdof\", \"bar_impact\", \"two_bars\", \"wheel\"",
                 ))
             }
         };
@@ -518,14 +686,11 @@ impl Scenario {
                     &format!("the step must not exceed time.t_end = {t_end}"),
                 ));
             }
-            let method = match &r.method {
-                Some(m) => cx.method(&key("method"), m)?,
-                None => method,
-            };
             let mut model = model.clone();
             if let Some(e) = r.elements {
                 match &mut model {
                     Model::BarImpact(b) => b.elements = cx.count(&key("elements"), e, 1_000_000)?,
+                    Model::TwoBars(b) => b.elements = cx.count(&key("elements"), e, 1_000_000)?,
                     _ => {
                         return Err(cx.invalid(
                             &key("elements"),
@@ -533,6 +698,136 @@ impl Scenario {
                             "only bar scenarios have elements",
                         ))
                     }
+                }
+            }
+            // Each setting from the run, else from its table, with the key it came from.
+            let pick = |run: Option<f64>, name: &str, table: &str, base: Option<f64>| {
+                run.map(|x| (key(name), x))
+                    .or(base.map(|x| (format!("{table}.{name}"), x)))
+            };
+            let (method_key, method_name) = match (&r.method, &contact.method) {
+                (Some(m), _) => (key("method"), m.clone()),
+                (None, Some(m)) => ("contact.method".to_string(), m.clone()),
+                (None, None) => (
+                    "contact.method".to_string(),
+                    if matches!(model, Model::TwoBars(_)) {
+                        "exact"
+                    } else {
+                        "soft_way"
+                    }
+                    .to_string(),
+                ),
+            };
+            let run_contact = cx.contact(
+                &method_key,
+                &method_name,
+                pick(r.penalty, "penalty", "contact", contact.penalty),
+                pick(r.restitution, "restitution", "contact", contact.restitution),
+            )?;
+            let (integ_key, integ_name) = match (&r.integrator, &time.integrator) {
+                (Some(m), _) => (key("integrator"), m.clone()),
+                (None, Some(m)) => ("time.integrator".to_string(), m.clone()),
+                (None, None) => ("time.integrator".to_string(), "space_time".to_string()),
+            };
+            let integrator = cx.integrator(
+                &integ_key,
+                &integ_name,
+                (alpha, gamma),
+                pick(r.rho_inf, "rho_inf", "time", time.rho_inf),
+                pick(r.alpha_h, "alpha_h", "time", time.alpha_h),
+                pick(r.gamma_n, "gamma_n", "time", time.gamma_n),
+            )?;
+            let space_time = matches!(integrator, Integrator::SpaceTime { .. });
+            let method = match (&model, run_contact) {
+                (Model::Wheel(_) | Model::Sdof(_), _) if !space_time => {
+                    return Err(cx.invalid(
+                        &integ_key,
+                        format!("\"{integ_name}\""),
+                        "only bar scenarios (bar_impact, two_bars) run the classic integrators; use \"space_time\"",
+                    ))
+                }
+                (Model::Wheel(_), Contact::Lab(Treatment::Exact)) => ContactMethod::Exact,
+                (Model::Wheel(_), Contact::Lab(_)) => {
+                    return Err(cx.invalid(
+                        &method_key,
+                        format!("\"{method_name}\""),
+                        "the wheel runs \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\" or \"exact\"",
+                    ))
+                }
+                (Model::TwoBars(_), Contact::Driver(_)) => {
+                    return Err(cx.invalid(
+                        &method_key,
+                        format!("\"{method_name}\""),
+                        "the soft way brakes a node against an obstacle; two_bars (node against node) runs \"exact\", \"penalty\", \"mass_redistribution\", \"moreau_jean\" or \"subdivision\"",
+                    ))
+                }
+                (_, Contact::Driver(_)) if !space_time => {
+                    return Err(cx.invalid(
+                        &method_key,
+                        format!("\"{method_name}\""),
+                        &format!("the soft way is a treatment of the space-time scheme, not of {}; use integrator = \"space_time\"", integrator.name()),
+                    ))
+                }
+                (_, Contact::Driver(m)) => m,
+                (_, Contact::Lab(t)) => {
+                    let refuse = match t {
+                        Treatment::Subdivision if !space_time => Some("subdivision of the time step (the paper's Fig. 5) is a space-time treatment: use integrator = \"space_time\""),
+                        Treatment::MassRedistribution if integrator.is_explicit() => Some("mass redistribution makes the contact nodes massless: the explicit central difference would divide by zero; use an implicit integrator"),
+                        Treatment::MoreauJean { .. } if integrator.is_explicit() => Some("Moreau-Jean is a velocity-level implicit treatment; with the central difference the impulse acts one step late and the contact chatters: use an implicit integrator"),
+                        _ => None,
+                    };
+                    if let Some(why) = refuse {
+                        return Err(cx.invalid(&method_key, format!("\"{method_name}\""), why));
+                    }
+                    ContactMethod::Exact
+                }
+            };
+            // The central difference runs explicit: lumped mass, step from cfl if given.
+            let mut h = h;
+            if integrator.is_explicit() {
+                match &mut model {
+                    Model::BarImpact(b) => b.lumped = true,
+                    Model::TwoBars(b) => b.lumped = true,
+                    _ => {}
+                }
+            }
+            let pen = match run_contact {
+                Contact::Lab(Treatment::Penalty { stiffness }) => Some(stiffness),
+                _ => None,
+            };
+            if let Some((k, c)) = pick(r.cfl, "cfl", "time", time.cfl) {
+                if !integrator.is_explicit() {
+                    return Err(cx.invalid(
+                        &k,
+                        c,
+                        "cfl sets the step of integrator = \"central_difference\" only",
+                    ));
+                }
+                if !(c.is_finite() && c > 0.0 && c <= 1.0) {
+                    return Err(cx.invalid(&k, c, "cfl must be in (0, 1]: the step as a fraction of the stable step 2/omega_max (penalty spring included)"));
+                }
+                h = c * explicit_stable_step(&model, pen);
+            } else if integrator.is_explicit() {
+                let hc = explicit_stable_step(&model, pen);
+                if h > hc {
+                    let with = if pen.is_some() {
+                        " with the penalty spring"
+                    } else {
+                        ""
+                    };
+                    warnings.push(format!(
+                        "run {i}: h = {h} exceeds the central difference's stable step{with}, {hc:.4e} s (2/omega_max): expect a blow-up (or set cfl)"
+                    ));
+                }
+            }
+            if let (Some(stiffness), true) = (pen, integrator.is_explicit()) {
+                let m = explicit_contact_mass(&model);
+                if h * (stiffness / m).sqrt() >= 2.0 {
+                    warnings.push(format!(
+                        "run {i}: penalty {stiffness:e} N/m on a node of {m:.3e} kg with the central difference: h sqrt(k/m) = {:.2} >= 2, the explicit penalty is unstable (keep k below {:.3e} N/m)",
+                        h * (stiffness / m).sqrt(),
+                        4.0 * m / (h * h)
+                    ));
                 }
             }
             let label = r.label.clone().unwrap_or_else(|| {
@@ -543,7 +838,7 @@ impl Scenario {
                 }
             });
             let rep = analyse(alpha, gamma, 1);
-            if let Some(lim) = rep.stability_limit_omega_h {
+            if let (true, Some(lim)) = (space_time, rep.stability_limit_omega_h) {
                 let msg = format!(
                     "{label}: (alpha = {alpha}, gamma = {gamma}) is only conditionally stable: omega h must stay below {lim:.4} (see `softway stability --alpha {alpha} --gamma {gamma}`)"
                 );
@@ -554,6 +849,8 @@ impl Scenario {
                 params: SpaceTimeParams { alpha, gamma, h },
                 model,
                 method,
+                integrator,
+                contact: run_contact,
                 t_end,
             });
         }
@@ -579,6 +876,62 @@ impl Scenario {
                 None => None,
             },
         })
+    }
+}
+
+fn mass_kind(cx: &Ctx, key: &str, v: Option<&str>) -> Result<bool, ScenarioError> {
+    match v.unwrap_or("consistent") {
+        "consistent" => Ok(false),
+        "lumped" => Ok(true),
+        other => Err(cx.invalid(
+            key,
+            format!("\"{other}\""),
+            "allowed: \"consistent\", \"lumped\"",
+        )),
+    }
+}
+
+/// The stable step `2 / omega_max` of the central difference on a bar model (lumped), with
+/// a penalty spring `k` (N/m) on the contact dofs when given (for two bars, `2 k` on each
+/// of the two facing dofs: an upper bound of the spring between them).
+fn explicit_stable_step(model: &Model, penalty: Option<f64>) -> f64 {
+    let (mut m, dofs, k) = match model {
+        Model::BarImpact(b) => {
+            let mesh = b.mesh();
+            let k = penalty.unwrap_or(0.0);
+            (b.model(&mesh), vec![b.elements], k)
+        }
+        Model::TwoBars(b) => {
+            let mesh = b.mesh();
+            let k = 2.0 * penalty.unwrap_or(0.0);
+            (
+                crate::problems::bar_model(&mesh, b.ea, b.rho_a, true, 0.0),
+                vec![b.elements, b.elements + 1],
+                k,
+            )
+        }
+        _ => return f64::INFINITY,
+    };
+    if k > 0.0 {
+        let pattern = m.pattern().clone();
+        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+        for &d in &dofs {
+            for p in cp[d]..cp[d + 1] {
+                if ri[p] == d {
+                    m.k[p] += k;
+                }
+            }
+        }
+    }
+    crate::time::classic::stable_step(&m, &[])
+}
+
+/// The lumped mass of a contact node of a bar model, kg.
+fn explicit_contact_mass(model: &Model) -> f64 {
+    match model {
+        Model::BarImpact(b) => b.rho_a * b.length / (2.0 * b.elements as f64),
+        Model::TwoBars(b) => b.rho_a * b.length / (2.0 * b.elements as f64),
+        _ => f64::INFINITY,
     }
 }
 

@@ -2,9 +2,10 @@
 //! Figs. 8-9): contact from gap/v0 for 2L/c, force rho A c v0, rebound at v0, energy kept.
 
 use softway::contact::ContactMethod;
+use softway::lab::Integrator;
 use softway::problems::BarImpact;
 use softway::run::bar::{simulate, BarSummary};
-use softway::scenario::{Model, Run};
+use softway::scenario::{Contact, Model, Run};
 use softway::time::SpaceTimeParams;
 
 fn run(bar: BarImpact, h: f64, method: ContactMethod) -> BarSummary {
@@ -20,9 +21,14 @@ fn run(bar: BarImpact, h: f64, method: ContactMethod) -> BarSummary {
         },
         model: Model::BarImpact(bar),
         method,
+        integrator: Integrator::SpaceTime {
+            alpha: 0.8,
+            gamma: 0.0,
+        },
+        contact: Contact::Driver(method),
         t_end,
     };
-    simulate(&r, &bar, None, 1, false).unwrap().0
+    simulate(&r, None, 1, false).unwrap().0
 }
 
 const PAPER: BarImpact = BarImpact {

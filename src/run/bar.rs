@@ -3,10 +3,10 @@
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
 use super::{progress_bar, RunError, RunOptions, RunReport, INTERRUPT};
+use crate::lab::{Lab, LabError};
 use crate::output::files::{write_json, CsvWriter};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::problems::BarImpact;
-use crate::scenario::{Model, Run, Scenario};
+use crate::scenario::{Contact, Model, Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
 use std::path::Path;
@@ -17,46 +17,60 @@ use std::time::Instant;
 pub struct BarSummary {
     /// Run label.
     pub label: String,
+    /// The case: `bar_impact` (a bar against a wall) or `two_bars`.
+    pub case: &'static str,
     /// Time step, s.
     pub h: f64,
-    /// `alpha`.
+    /// The integrator (e.g. `space_time(0.8,0)`, `newmark`).
+    pub integrator: String,
+    /// `alpha` of the space-time scheme.
     pub alpha: f64,
-    /// `gamma`.
+    /// `gamma` of the space-time scheme.
     pub gamma: f64,
-    /// `beta`.
+    /// `beta` of the space-time scheme.
     pub beta: f64,
-    /// Elements.
+    /// Elements (per bar).
     pub elements: usize,
-    /// Contact method.
-    pub method: crate::contact::ContactMethod,
-    /// First instant the head is held on the wall, s (None: no contact).
+    /// Contact treatment.
+    pub contact: String,
+    /// First instant the contact carries a reaction, s (None: no contact).
     pub impact_time: Option<f64>,
-    /// Last instant the head is held on the wall, s.
+    /// Last instant the contact carries a reaction, s.
     pub release_time: Option<f64>,
-    /// `release_time - impact_time + h` (the held steps times h), s.
+    /// `release_time - impact_time + h` (the steps in contact times h), s.
     pub contact_duration: Option<f64>,
-    /// Mean contact force over the held steps, N.
+    /// Mean contact force over the steps in contact, N.
     pub mean_contact_force: Option<f64>,
-    /// Largest contact force over the held steps, N.
+    /// Largest contact force over the steps in contact, N.
     pub peak_contact_force: Option<f64>,
-    /// Largest braking force, N.
+    /// Largest braking force (soft way), N.
     pub peak_braking_force: Option<f64>,
-    /// Standard deviation of the contact force over the held steps, relative to the exact force.
+    /// Standard deviation of the contact force over the steps in contact, relative to the
+    /// exact force.
     pub contact_force_chatter: Option<f64>,
-    /// Centre-of-mass velocity away from the wall at the end of the run, m/s (exact: v0).
+    /// One bar: the centre-of-mass velocity away from the wall at the end (exact: v0).
+    /// Two bars: bar B's centre-of-mass velocity at the end (exact: v0), m/s.
     pub rebound_velocity: f64,
+    /// Two bars: bar A's centre-of-mass velocity at the end (exact: 0), m/s.
+    pub velocity_left_behind: Option<f64>,
     /// Total energy at the start, J.
     pub energy_initial: f64,
     /// Total energy at the end, J.
     pub energy_final: f64,
     /// Largest penetration seen, m.
     pub max_penetration: f64,
+    /// Penetration at the last step in contact, m.
+    pub penetration_at_release: f64,
     /// Steps.
     pub steps: usize,
-    /// Brakings (steps stepped back).
+    /// Brakings (soft way: steps stepped back).
     pub brakings: usize,
+    /// Entries into contact.
+    pub entries: usize,
     /// Releases.
     pub releases: usize,
+    /// Factorizations of a system matrix.
+    pub factorizations: usize,
     /// Wall-clock time of the run, s.
     pub wall_time_s: f64,
     /// Exact values.
@@ -76,7 +90,7 @@ pub struct BarExact {
     pub release_time: f64,
     /// `2 L / c`, s.
     pub contact_duration: f64,
-    /// `rho A c v0`, N.
+    /// `rho A c v0` (two bars: half of it), N.
     pub contact_force: f64,
     /// `v0`, m/s.
     pub rebound_velocity: f64,
@@ -95,18 +109,20 @@ pub struct BarErrors {
     pub mean_contact_force: Option<f64>,
     /// `rebound_velocity / v0 - 1`.
     pub rebound_velocity: f64,
+    /// Two bars: `velocity_left_behind / v0`.
+    pub velocity_left_behind: Option<f64>,
     /// `energy_final / energy_initial - 1`.
     pub energy: f64,
 }
 
-/// The per-step trace of the head kept for plots.
+/// The per-step trace kept for plots.
 #[derive(Debug, Clone, Default)]
 pub struct BarTrace {
     /// Times, s.
     pub t: Vec<f64>,
-    /// Head displacement, m.
+    /// Displacement of the contact node (one bar: the head; two bars: A's head), m.
     pub u: Vec<f64>,
-    /// Head velocity, m/s.
+    /// Its velocity, m/s.
     pub v: Vec<f64>,
     /// Total contact force, N.
     pub force: Vec<f64>,
@@ -114,155 +130,363 @@ pub struct BarTrace {
     pub energy: Vec<f64>,
 }
 
-/// Runs one bar run; rows go to `csv` (if given) with the run label.
+/// What one step end gives the recorder.
+struct Sample<'a> {
+    k: usize,
+    t: f64,
+    u: &'a [f64],
+    v: &'a [f64],
+    kinetic: f64,
+    strain: f64,
+    penalty: f64,
+    force: f64,
+    gap: f64,
+    in_contact: bool,
+    braked: bool,
+}
+
+/// The figures accumulated over a run.
+struct Recorder<'a> {
+    label: &'a str,
+    head: usize,
+    /// Mass of each dof (row sums of M) and the dofs of each body.
+    mass_rows: Vec<f64>,
+    bodies: Vec<std::ops::Range<usize>>,
+    trace: BarTrace,
+    first: Option<f64>,
+    last: Option<f64>,
+    fsum: f64,
+    f2sum: f64,
+    nheld: usize,
+    fpeak: f64,
+    bpeak: f64,
+    e0: Option<f64>,
+    e1: f64,
+    vcm: Vec<f64>,
+    max_pen: f64,
+    pen_last: f64,
+    csv: Option<&'a mut CsvWriter>,
+    stride: usize,
+    pb: indicatif::ProgressBar,
+}
+
+impl<'a> Recorder<'a> {
+    fn new(
+        label: &'a str,
+        head: usize,
+        model: &crate::time::step::LinearModel,
+        bodies: Vec<std::ops::Range<usize>>,
+        csv: Option<&'a mut CsvWriter>,
+        stride: usize,
+        pb: indicatif::ProgressBar,
+    ) -> Self {
+        let n = model.n();
+        let mut mass_rows = vec![0.0; n];
+        crate::linalg::spmv_into(model.pattern(), &model.m, &vec![1.0; n], &mut mass_rows);
+        let nb = bodies.len();
+        Self {
+            label,
+            head,
+            mass_rows,
+            bodies,
+            trace: BarTrace::default(),
+            first: None,
+            last: None,
+            fsum: 0.0,
+            f2sum: 0.0,
+            nheld: 0,
+            fpeak: f64::NEG_INFINITY,
+            bpeak: f64::NEG_INFINITY,
+            e0: None,
+            e1: 0.0,
+            vcm: vec![0.0; nb],
+            max_pen: 0.0,
+            pen_last: 0.0,
+            csv,
+            stride,
+            pb,
+        }
+    }
+
+    fn record(&mut self, s: &Sample) -> Result<(), std::io::Error> {
+        let e = s.kinetic + s.strain + s.penalty;
+        if self.e0.is_none() {
+            self.e0 = Some(e);
+        }
+        self.e1 = e;
+        for (b, r) in self.bodies.iter().enumerate() {
+            let (mut p, mut m) = (0.0, 0.0);
+            for i in r.clone() {
+                p += self.mass_rows[i] * s.v[i];
+                m += self.mass_rows[i];
+            }
+            self.vcm[b] = p / m;
+        }
+        self.max_pen = self.max_pen.max(-s.gap);
+        if s.in_contact {
+            if self.first.is_none() {
+                self.first = Some(s.t);
+            }
+            self.last = Some(s.t);
+            self.fsum += s.force;
+            self.f2sum += s.force * s.force;
+            self.nheld += 1;
+            self.fpeak = self.fpeak.max(s.force);
+            self.pen_last = (-s.gap).max(0.0);
+        }
+        if s.braked {
+            self.bpeak = self.bpeak.max(s.force);
+        }
+        self.trace.t.push(s.t);
+        self.trace.u.push(s.u[self.head]);
+        self.trace.v.push(s.v[self.head]);
+        self.trace.force.push(s.force);
+        self.trace.energy.push(e);
+        if s.k % 64 == 0 {
+            self.pb.set_position(s.k as u64);
+        }
+        if let Some(w) = self.csv.as_deref_mut() {
+            if s.k % self.stride == 0 {
+                let state = if s.in_contact {
+                    2.0
+                } else if s.braked {
+                    1.0
+                } else {
+                    0.0
+                };
+                w.row(
+                    Some(self.label),
+                    &[
+                        s.t,
+                        s.u[self.head],
+                        s.v[self.head],
+                        s.force,
+                        s.kinetic,
+                        s.strain,
+                        e,
+                        state,
+                        s.gap,
+                    ],
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Counters common to both drivers.
+struct Counts {
+    steps: usize,
+    brakings: usize,
+    entries: usize,
+    releases: usize,
+    factorizations: usize,
+    interrupted: bool,
+}
+
+/// Runs one run of a bar scenario (`bar_impact` or `two_bars`): the soft way family in the
+/// driver ([`Simulation`]), every other treatment and integrator in the laboratory
+/// ([`Lab`]); rows go to `csv` (if given) with the run label.
 ///
 /// # Errors
 /// [`RunError`].
 pub fn simulate(
     run: &Run,
-    bar: &BarImpact,
     csv: Option<&mut CsvWriter>,
     stride: usize,
     show_progress: bool,
 ) -> Result<(BarSummary, BarTrace), RunError> {
-    let (mesh, problem) = bar.problem(run.params, run.method, run.t_end);
-    let head = mesh.n_nodes() - 1;
-    let mass_rows = {
-        let ones = vec![1.0; problem.model.n()];
-        let mut r = vec![0.0; problem.model.n()];
-        crate::linalg::spmv_into(problem.model.pattern(), &problem.model.m, &ones, &mut r);
-        r
-    };
-    let total_mass: f64 = mass_rows.iter().sum();
-    let steps = problem.steps;
-    let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation {
+    let h = run.params.h;
+    let sim_err = |source: crate::simulation::SimError| RunError::Simulation {
         run: run.label.clone(),
         source,
-    })?;
+    };
+    let lab_err = |e: LabError| RunError::Lab {
+        run: run.label.clone(),
+        message: e.to_string(),
+    };
+    let (case, exact, elements) = match &run.model {
+        Model::BarImpact(b) => (
+            "bar_impact",
+            BarExact {
+                impact_time: b.exact_impact_time(),
+                release_time: b.exact_impact_time() + b.exact_contact_duration(),
+                contact_duration: b.exact_contact_duration(),
+                contact_force: b.exact_contact_force(),
+                rebound_velocity: b.speed,
+                energy: 0.5 * b.rho_a * b.length * b.speed * b.speed,
+            },
+            b.elements,
+        ),
+        Model::TwoBars(b) => (
+            "two_bars",
+            BarExact {
+                impact_time: b.exact_impact_time(),
+                release_time: b.exact_impact_time() + b.exact_contact_duration(),
+                contact_duration: b.exact_contact_duration(),
+                contact_force: b.exact_contact_force(),
+                rebound_velocity: b.speed,
+                energy: 0.5 * b.rho_a * b.length * b.speed * b.speed,
+            },
+            b.elements,
+        ),
+        _ => unreachable!("bar job on a bar scenario"),
+    };
+    let steps = (run.t_end / h).round() as usize;
     let pb = progress_bar(steps as u64, &run.label, show_progress);
     let start = Instant::now();
-    let mut trace = BarTrace::default();
-    let (mut first, mut last) = (None, None);
-    let (mut fsum, mut f2sum, mut nheld, mut fpeak, mut bpeak) =
-        (0.0, 0.0, 0usize, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    let (mut e0, mut e1, mut vcm, mut max_pen) = (None, 0.0, 0.0, 0.0f64);
-    let mut csv = csv;
-    let stats = sim
-        .run(&INTERRUPT, |s| {
-            let st = &s.state;
-            let pair = &st.pairs[0];
-            let e = s.kinetic + s.strain;
-            if e0.is_none() {
-                e0 = Some(e);
-            }
-            e1 = e;
-            vcm = mass_rows.iter().zip(&st.v).map(|(m, v)| m * v).sum::<f64>() / total_mass;
-            max_pen = max_pen.max(-pair.gap);
-            if pair.held {
-                if first.is_none() {
-                    first = Some(st.t);
+    let (rec, counts) = match (&run.model, run.contact) {
+        (Model::BarImpact(bar), Contact::Driver(method)) => {
+            let (mesh, problem) = bar.problem(run.params, method, run.t_end);
+            let head = mesh.n_nodes() - 1;
+            let n = problem.model.n();
+            let mut rec = Recorder::new(
+                &run.label,
+                head,
+                &problem.model,
+                vec![std::ops::Range { start: 0, end: n }],
+                csv,
+                stride,
+                pb,
+            );
+            let mut sim = Simulation::new(problem).map_err(sim_err)?;
+            let stats = sim
+                .run(&INTERRUPT, |s| {
+                    let st = &s.state;
+                    let pair = &st.pairs[0];
+                    rec.record(&Sample {
+                        k: st.k,
+                        t: st.t,
+                        u: &st.u,
+                        v: &st.v,
+                        kinetic: s.kinetic,
+                        strain: s.strain,
+                        penalty: 0.0,
+                        force: s.contact_force,
+                        gap: pair.gap,
+                        in_contact: pair.held,
+                        braked: pair.braked,
+                    })
+                })
+                .map_err(sim_err)?;
+            let c = Counts {
+                steps: stats.steps,
+                brakings: stats.brakings,
+                entries: stats.brakings + usize::from(rec.first.is_some() && stats.brakings == 0),
+                releases: stats.releases,
+                factorizations: 1,
+                interrupted: stats.interrupted,
+            };
+            (rec, c)
+        }
+        (_, Contact::Lab(treatment)) => {
+            let (mesh, problem, bodies) = match &run.model {
+                Model::BarImpact(b) => {
+                    let (m, p) = b.lab_problem(run.integrator, treatment, h, run.t_end);
+                    let n = p.model.n();
+                    (m, p, vec![std::ops::Range { start: 0, end: n }])
                 }
-                last = Some(st.t);
-                fsum += pair.force;
-                f2sum += pair.force * pair.force;
-                nheld += 1;
-                fpeak = fpeak.max(pair.force);
-            }
-            if pair.braked {
-                bpeak = bpeak.max(pair.force);
-            }
-            trace.t.push(st.t);
-            trace.u.push(st.u[head]);
-            trace.v.push(st.v[head]);
-            trace.force.push(s.contact_force);
-            trace.energy.push(e);
-            if st.k % 64 == 0 {
-                pb.set_position(st.k as u64);
-            }
-            if let Some(w) = csv.as_deref_mut() {
-                if st.k % stride == 0 {
-                    let state = if pair.held {
-                        2.0
-                    } else if pair.braked {
-                        1.0
-                    } else {
-                        0.0
-                    };
-                    w.row(
-                        Some(&run.label),
-                        &[
-                            st.t,
-                            st.u[head],
-                            st.v[head],
-                            s.contact_force,
-                            s.kinetic,
-                            s.strain,
-                            e,
-                            state,
-                        ],
-                    )?;
+                Model::TwoBars(b) => {
+                    let (m, p) = b.lab_problem(run.integrator, treatment, h, run.t_end);
+                    let n = p.model.n();
+                    (m, p, vec![0..n / 2, n / 2..n])
                 }
-            }
-            Ok(())
-        })
-        .map_err(|source| RunError::Simulation {
-            run: run.label.clone(),
-            source,
-        })?;
-    pb.finish_and_clear();
-    let wall = start.elapsed().as_secs_f64();
-    let h = run.params.h;
-    let exact = BarExact {
-        impact_time: bar.exact_impact_time(),
-        release_time: bar.exact_impact_time() + bar.exact_contact_duration(),
-        contact_duration: bar.exact_contact_duration(),
-        contact_force: bar.exact_contact_force(),
-        rebound_velocity: bar.speed,
-        energy: 0.5 * bar.rho_a * bar.length * bar.speed * bar.speed,
+                _ => unreachable!(),
+            };
+            let head = mesh
+                .node_sets
+                .get("a_head")
+                .or(mesh.node_sets.get("head"))
+                .map(|v| v[0])
+                .unwrap_or(0);
+            let mut lab = Lab::new(problem).map_err(lab_err)?;
+            let mut rec = Recorder::new(&run.label, head, lab.model(), bodies, csv, stride, pb);
+            let stats = lab
+                .run(&INTERRUPT, |s| {
+                    rec.record(&Sample {
+                        k: s.k,
+                        t: s.t,
+                        u: s.u,
+                        v: s.v,
+                        kinetic: s.kinetic,
+                        strain: s.strain,
+                        penalty: s.penalty,
+                        force: s.forces.iter().sum(),
+                        gap: s.gaps[0],
+                        in_contact: s.active[0],
+                        braked: false,
+                    })
+                })
+                .map_err(lab_err)?;
+            let c = Counts {
+                steps: stats.steps,
+                brakings: 0,
+                entries: stats.entries,
+                releases: stats.releases,
+                factorizations: stats.factorizations,
+                interrupted: stats.interrupted,
+            };
+            (rec, c)
+        }
+        _ => unreachable!("the scenario refuses the soft way on two bars"),
     };
-    let duration = match (first, last) {
+    rec.pb.finish_and_clear();
+    let wall = start.elapsed().as_secs_f64();
+    let duration = match (rec.first, rec.last) {
         (Some(a), Some(b)) => Some(b - a + h),
         _ => None,
     };
-    let mean = (nheld > 0).then(|| fsum / nheld as f64);
+    let nheld = rec.nheld;
+    let mean = (nheld > 0).then(|| rec.fsum / nheld as f64);
     let chatter =
-        mean.map(|m| ((f2sum / nheld as f64 - m * m).max(0.0)).sqrt() / exact.contact_force);
-    let rebound = -vcm;
-    let e0 = e0.unwrap_or(0.0);
+        mean.map(|m| ((rec.f2sum / nheld as f64 - m * m).max(0.0)).sqrt() / exact.contact_force);
+    let (rebound, left) = if rec.vcm.len() == 2 {
+        (rec.vcm[1], Some(rec.vcm[0]))
+    } else {
+        (-rec.vcm[0], None)
+    };
+    let e0 = rec.e0.unwrap_or(0.0);
     let summary = BarSummary {
         label: run.label.clone(),
+        case,
         h,
+        integrator: run.integrator.name(),
         alpha: run.params.alpha,
         gamma: run.params.gamma,
         beta: run.params.beta(),
-        elements: bar.elements,
-        method: run.method,
-        impact_time: first,
-        release_time: last,
+        elements,
+        contact: run.contact.name(),
+        impact_time: rec.first,
+        release_time: rec.last,
         contact_duration: duration,
         mean_contact_force: mean,
-        peak_contact_force: (nheld > 0).then_some(fpeak),
-        peak_braking_force: bpeak.is_finite().then_some(bpeak),
+        peak_contact_force: (nheld > 0).then_some(rec.fpeak),
+        peak_braking_force: rec.bpeak.is_finite().then_some(rec.bpeak),
         contact_force_chatter: chatter,
         rebound_velocity: rebound,
+        velocity_left_behind: left,
         energy_initial: e0,
-        energy_final: e1,
-        max_penetration: max_pen,
-        steps: stats.steps,
-        brakings: stats.brakings,
-        releases: stats.releases,
+        energy_final: rec.e1,
+        max_penetration: rec.max_pen,
+        penetration_at_release: rec.pen_last,
+        steps: counts.steps,
+        brakings: counts.brakings,
+        entries: counts.entries,
+        releases: counts.releases,
+        factorizations: counts.factorizations,
         wall_time_s: wall,
         exact,
         errors: BarErrors {
-            impact_time: first.map(|t| t - exact.impact_time),
+            impact_time: rec.first.map(|t| t - exact.impact_time),
             contact_duration: duration.map(|d| d / exact.contact_duration - 1.0),
             mean_contact_force: mean.map(|m| m / exact.contact_force - 1.0),
             rebound_velocity: rebound / exact.rebound_velocity - 1.0,
-            energy: if e0 > 0.0 { e1 / e0 - 1.0 } else { 0.0 },
+            velocity_left_behind: left.map(|v| v / exact.rebound_velocity),
+            energy: if e0 > 0.0 { rec.e1 / e0 - 1.0 } else { 0.0 },
         },
-        interrupted: stats.interrupted,
+        interrupted: counts.interrupted,
     };
-    Ok((summary, trace))
+    Ok((summary, rec.trace))
 }
 
 /// Runs all runs of a bar scenario and writes `history.csv`, `summary.json` and
@@ -284,6 +508,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             "strain_J",
             "total_J",
             "contact_state",
+            "gap_m",
         ],
     )
     .map_err(|e| RunError::output(&hist, e))?;
@@ -291,10 +516,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     let mut traces = Vec::new();
     let mut report = RunReport::default();
     for run in &sc.runs {
-        let Model::BarImpact(bar) = &run.model else {
-            unreachable!("bar job on a bar scenario")
-        };
-        let (s, tr) = simulate(run, bar, Some(&mut csv), sc.history_stride, opts.progress)?;
+        let (s, tr) = simulate(run, Some(&mut csv), sc.history_stride, opts.progress)?;
         let interrupted = s.interrupted;
         summaries.push(s);
         traces.push((run.label.clone(), tr));
@@ -307,7 +529,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     report.files.push(hist);
     let mut json = serde_json::json!({
         "scenario": sc.name,
-        "kind": "bar_impact",
+        "kind": summaries.first().map(|s| s.case).unwrap_or("bar_impact"),
         "units": {"time": "s", "length": "m", "velocity": "m/s", "force": "N", "energy": "J"},
         "interrupted": report.interrupted,
         "runs": summaries,

@@ -1,28 +1,32 @@
-//! `softway compare`: the runs of a bar scenario (combinations of contact treatment and
-//! time step on one mesh) side by side against the exact d'Alembert answer: `compare.csv`,
+//! `softway compare`: the runs of a bar scenario (combinations of integrator, contact
+//! treatment, time step and mesh) side by side against the exact d'Alembert answer: `compare.csv`,
 //! `compare.md`, and overlaid plots of the contact force and the total energy.
 
 use super::bar::{simulate, BarSummary, BarTrace};
 use super::{RunError, RunOptions, RunReport};
 use crate::output::files::write_atomic;
-use crate::output::plot::{line_plot, Panel, Series, SeriesStyle};
+use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario};
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// The columns of the comparison, one row per run.
-pub const COLUMNS: [&str; 13] = [
+pub const COLUMNS: [&str; 17] = [
     "run",
     "integrator",
     "contact",
     "h_s",
+    "elements",
     "contact_duration_error",
     "mean_force_error",
     "rebound_error",
+    "left_behind",
     "energy_change",
     "force_chatter",
     "max_penetration_m",
-    "brakings",
+    "penetration_at_release_m",
+    "entries",
+    "factorizations",
     "steps",
     "wall_time_s",
 ];
@@ -31,24 +35,64 @@ fn row(s: &BarSummary) -> Vec<String> {
     let o = |x: Option<f64>| x.map(|v| format!("{v:+.4}")).unwrap_or_else(|| "-".into());
     vec![
         s.label.clone(),
-        "space_time".into(),
-        serde_json::to_value(s.method)
-            .ok()
-            .and_then(|v| v.as_str().map(String::from))
-            .unwrap_or_default(),
-        format!("{}", s.h),
+        s.integrator.clone(),
+        s.contact.clone(),
+        {
+            let r = format!("{}", s.h);
+            if r.len() > 8 {
+                format!("{:.4e}", s.h)
+            } else {
+                r
+            }
+        },
+        s.elements.to_string(),
         o(s.errors.contact_duration),
         o(s.errors.mean_contact_force),
         format!("{:+.4}", s.errors.rebound_velocity),
+        o(s.errors.velocity_left_behind),
         format!("{:+.4}", s.errors.energy),
         s.contact_force_chatter
             .map(|v| format!("{v:.4}"))
             .unwrap_or_else(|| "-".into()),
         format!("{:.2e}", s.max_penetration.max(0.0)),
-        s.brakings.to_string(),
+        format!("{:.2e}", s.penetration_at_release),
+        s.entries.to_string(),
+        s.factorizations.to_string(),
         s.steps.to_string(),
         format!("{:.4}", s.wall_time_s),
     ]
+}
+
+/// A CSV field, quoted (RFC 4180) when it holds a comma, a quote or a line break.
+fn csv_field(c: &str) -> String {
+    if c.contains([',', '"', '\n']) {
+        format!("\"{}\"", c.replace('"', "\"\""))
+    } else {
+        c.to_string()
+    }
+}
+
+/// A Markdown table padded to its column widths (readable as plain text too).
+fn markdown(rows: &[Vec<String>]) -> String {
+    let mut w: Vec<usize> = COLUMNS.iter().map(|c| c.len()).collect();
+    for r in rows {
+        for (i, c) in r.iter().enumerate() {
+            w[i] = w[i].max(c.chars().count());
+        }
+    }
+    let line = |cells: &mut dyn Iterator<Item = String>| {
+        let v: Vec<String> = cells
+            .enumerate()
+            .map(|(i, c)| format!("{c:<width$}", width = w[i]))
+            .collect();
+        format!("| {} |\n", v.join(" | "))
+    };
+    let mut md = line(&mut COLUMNS.iter().map(|c| c.to_string()));
+    md += &line(&mut w.iter().map(|&n| "-".repeat(n)));
+    for r in rows {
+        md += &line(&mut r.iter().cloned());
+    }
+    md
 }
 
 /// Runs every run of a bar scenario and writes the comparison into `out`.
@@ -60,65 +104,70 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
     let mut rows = Vec::new();
     let mut traces: Vec<(String, BarTrace)> = Vec::new();
     let mut exact_force = 0.0;
+    let mut interrupted = false;
     for run in &sc.runs {
-        let Model::BarImpact(bar) = &run.model else {
+        if !matches!(run.model, Model::BarImpact(_) | Model::TwoBars(_)) {
             return Err(RunError::input(
                 &sc.path,
-                "`softway compare` needs a bar scenario (kind = \"bar_impact\")",
+                "`softway compare` needs a bar scenario (kind = \"bar_impact\" or \"two_bars\")",
             ));
-        };
-        let (s, tr) = simulate(run, bar, None, 1, opts.progress)?;
+        }
+        let (s, tr) = simulate(run, None, 1, opts.progress)?;
         exact_force = s.exact.contact_force;
         rows.push(row(&s));
         traces.push((run.label.clone(), tr));
         if s.interrupted {
+            interrupted = true;
             break;
         }
     }
     let mut csv = format!("{}\n", COLUMNS.join(","));
-    let mut md = format!(
-        "| {} |\n|{}|\n",
-        COLUMNS.join(" | "),
-        vec!["---"; COLUMNS.len()].join("|")
-    );
     for r in &rows {
-        let _ = writeln!(csv, "{}", r.join(","));
-        let _ = writeln!(md, "| {} |", r.join(" | "));
+        let cells: Vec<String> = r.iter().map(|c| csv_field(c)).collect();
+        let _ = writeln!(csv, "{}", cells.join(","));
     }
-    let mut report = RunReport::default();
+    let md = markdown(&rows);
+    let mut report = RunReport {
+        interrupted,
+        ..RunReport::default()
+    };
     for (name, body) in [("compare.csv", &csv), ("compare.md", &md)] {
         let f = out.join(name);
         write_atomic(&f, body.as_bytes()).map_err(|e| RunError::output(&f, e))?;
         report.files.push(f);
     }
-    if sc.plots {
-        let style = |i: usize| {
-            if i % 2 == 0 {
-                SeriesStyle::Line
-            } else {
-                SeriesStyle::Dashed
-            }
-        };
-        let mut pf = Panel::new("Contact force, all runs", "time t [s]", "contact force [N]");
-        let mut pe = Panel::new("Total energy, all runs", "time t [s]", "energy [J]");
-        for (i, (label, tr)) in traces.iter().enumerate() {
-            pf.series.push(Series::new(
-                label.clone(),
+    if sc.plots && !traces.is_empty() {
+        // One small panel per run (force against the exact force, energy against the
+        // initial energy): twenty overlaid curves would be unreadable.
+        let cols = traces.len().clamp(1, 4);
+        let nrows = traces.len().div_ceil(cols);
+        let size = (1700, (330 * nrows as u32).max(400));
+        let mut pf = Vec::new();
+        let mut pe = Vec::new();
+        for (label, tr) in &traces {
+            let mut p = Panel::new(label, "t [s]", "F [N]");
+            p.series.push(Series::new(
+                "contact force",
                 tr.t.clone(),
                 tr.force.clone(),
-                style(i),
+                SeriesStyle::Line,
             ));
-            pe.series.push(Series::new(
-                label.clone(),
+            p.hlines.push((exact_force, "exact".into()));
+            pf.push(p);
+            let e0 = tr.energy.first().copied().unwrap_or(1.0);
+            let mut p = Panel::new(label, "t [s]", "E / E0");
+            p.series.push(Series::new(
+                "total energy",
                 tr.t.clone(),
-                tr.energy.clone(),
-                style(i),
+                tr.energy.iter().map(|e| e / e0).collect(),
+                SeriesStyle::Line,
             ));
+            p.hlines.push((1.0, "E0".into()));
+            pe.push(p);
         }
-        pf.hlines.push((exact_force, "exact rho A c v0".into()));
-        for (name, p) in [("compare_force.png", &pf), ("compare_energy.png", &pe)] {
+        for (name, ps) in [("compare_force.png", &pf), ("compare_energy.png", &pe)] {
             let f = out.join(name);
-            line_plot(&f, p, (1400, 800)).map_err(|e| RunError::output(&f, e))?;
+            panels(&f, ps, nrows, cols, size).map_err(|e| RunError::output(&f, e))?;
             report.files.push(f);
         }
     }

@@ -22,6 +22,14 @@ pub enum RunError {
         /// Cause.
         source: crate::simulation::SimError,
     },
+    /// A laboratory run failed.
+    #[error("run `{run}`: {message}")]
+    Lab {
+        /// Run label.
+        run: String,
+        /// Cause.
+        message: String,
+    },
     /// The model could not be built from the input (mesh file, elements, supports).
     #[error("{path}: {message}")]
     Input {
@@ -85,7 +93,7 @@ pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunR
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     match &sc.runs[0].model {
         Model::Sdof(_) => sdof::run(sc, out, opts),
-        Model::BarImpact(_) => bar::run(sc, out, opts),
+        Model::BarImpact(_) | Model::TwoBars(_) => bar::run(sc, out, opts),
         Model::Wheel(_) => wheel::run(sc, out, opts),
     }
 }
