@@ -29,9 +29,13 @@
 //! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (dense).
 //! - [`assembly`]: sparsity pattern once, element scatter (serial and parallel).
 //! - [`linalg`]: sparse products, sparse LU with reusable symbolic analysis.
-//! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step.
+//! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step, and
+//!   the classic integrators.
 //! - [`contact`]: obstacles and the soft-way state machine.
 //! - [`simulation`]: the step loop with step-back-and-repeat.
+//! - [`lab`]: the contact laboratory: every integrator (space-time, Newmark family, central
+//!   difference) with exact enforcement, penalty, mass redistribution, Moreau-Jean and the
+//!   paper's time subdivision (Fig. 5), on linear gaps (node-wall, node-node).
 //! - [`scenario`]: TOML scenarios, validated.
 //! - [`output`]: CSV, JSON, VTK, plots.
 //! - [`analysis`]: signals (spectra, oscillation counts).

@@ -44,10 +44,12 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
-    /// Run the combinations (contact treatment, time step) of a bar scenario side by side
-    /// against the exact answer: compare.csv, compare.md, overlaid force and energy plots.
+    /// Run the combinations (integrator, contact treatment, time step, mesh) of a bar
+    /// scenario side by side against the exact answer: compare.csv, compare.md, force and
+    /// energy plots.
     Compare {
-        /// The scenario file (TOML, kind = "bar_impact", one [[runs]] entry per combination).
+        /// The scenario file (TOML, kind = "bar_impact" or "two_bars", one [[runs]] entry
+        /// per combination).
         scenario: PathBuf,
         /// Output folder [default: out/<scenario name>].
         #[arg(long)]
@@ -198,6 +200,10 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             println!("wrote:");
             for f in &report.files {
                 println!("  {}", f.display());
+            }
+            if report.interrupted {
+                eprintln!("softway: interrupted: the table holds the runs finished before");
+                return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
         }

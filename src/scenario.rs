@@ -4,13 +4,16 @@
 //!
 //! ```toml
 //! name = "bar-impact"          # output folder name (default: the file's stem)
-//! kind = "bar_impact"          # "sdof" | "bar_impact" | "wheel"
+//! kind = "bar_impact"          # "sdof" | "bar_impact" | "two_bars" | "wheel"
 //!
 //! [time]
 //! alpha = 0.8                  # Eq. (8), in (0, 1]; default 0.8
 //! gamma = 0.0                  # Eq. (24), in [0, 1]; default 0
 //! h = 0.01                     # time step, s (> 0)
 //! t_end = 5.0                  # end time, s (> 0)
+//! integrator = "space_time"   # bars: also "newmark", "newmark_dissipative" (gamma_n),
+//!                              # "hht" (alpha_h), "generalized_alpha" (rho_inf),
+//!                              # "central_difference" (lumped mass; cfl sets h)
 //!
 //! [bar]                        # for kind = "bar_impact"
 //! length = 1.0                 # m
@@ -24,7 +27,9 @@
 //!
 //! [contact]
 //! method = "soft_way"          # "soft_way" | "soft_way_braking_restore" |
-//!                              # "soft_way_no_restore" | "exact"
+//!                              # "soft_way_no_restore" | "exact"; bars: also "penalty"
+//!                              # (penalty, N/m), "mass_redistribution", "moreau_jean"
+//!                              # (restitution), "subdivision" (see crate::lab)
 //!
 //! [[runs]]                     # optional: several runs of one scenario
 //! label = "h = 0.4"

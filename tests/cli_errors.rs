@@ -176,3 +176,109 @@ fn stability_json_reports_the_limits() {
     assert!(j["stability_limit_omega_h"].is_null());
     assert!((j["rho_inf"].as_f64().unwrap() - 1.0).abs() < 1e-9);
 }
+
+#[test]
+fn unknown_integrator_and_contact() {
+    let (c, e) = run_err(
+        "badinteg",
+        &BAR.replace("[time]", "[time]\nintegrator = \"runge_kutta\""),
+    );
+    assert_one_line_error(
+        c,
+        &e,
+        &["badinteg.toml", "time.integrator", "generalized_alpha"],
+    );
+    let (c, e) = run_err(
+        "badcontact",
+        &format!("{BAR}\n[contact]\nmethod = \"glue\"\n"),
+    );
+    assert_one_line_error(c, &e, &["badcontact.toml", "contact.method", "penalty"]);
+}
+
+#[test]
+fn penalty_needs_its_stiffness() {
+    let (c, e) = run_err(
+        "nopen",
+        &format!("{BAR}\n[contact]\nmethod = \"penalty\"\n"),
+    );
+    assert_one_line_error(c, &e, &["nopen.toml", "contact.penalty", "N/m"]);
+    let (c, e) = run_err(
+        "negpen",
+        &format!("{BAR}\n[contact]\nmethod = \"penalty\"\npenalty = -5.0\n"),
+    );
+    assert_one_line_error(c, &e, &["negpen.toml", "contact.penalty", "> 0"]);
+}
+
+#[test]
+fn combinations_that_do_not_exist_are_refused() {
+    // The soft way is a space-time treatment.
+    let (c, e) = run_err(
+        "softnewmark",
+        &BAR.replace("[time]", "[time]\nintegrator = \"newmark\""),
+    );
+    assert_one_line_error(c, &e, &["softnewmark.toml", "contact.method", "space_time"]);
+    // Subdivision (Fig. 5) too.
+    let (c, e) = run_err(
+        "subhht",
+        &format!(
+            "{}\n[contact]\nmethod = \"subdivision\"\n",
+            BAR.replace("[time]", "[time]\nintegrator = \"hht\"")
+        ),
+    );
+    assert_one_line_error(c, &e, &["subhht.toml", "contact.method", "space-time"]);
+    // A parameter of another integrator.
+    let (c, e) = run_err(
+        "rhonewmark",
+        &format!(
+            "{}\n[contact]\nmethod = \"exact\"\n",
+            BAR.replace("[time]", "[time]\nintegrator = \"newmark\"\nrho_inf = 0.5")
+        ),
+    );
+    assert_one_line_error(
+        c,
+        &e,
+        &["rhonewmark.toml", "time.rho_inf", "generalized_alpha"],
+    );
+    // rho_inf out of range.
+    let (c, e) = run_err(
+        "rhobad",
+        &format!(
+            "{}\n[contact]\nmethod = \"exact\"\n",
+            BAR.replace(
+                "[time]",
+                "[time]\nintegrator = \"generalized_alpha\"\nrho_inf = 1.5"
+            )
+        ),
+    );
+    assert_one_line_error(c, &e, &["rhobad.toml", "time.rho_inf", "[0, 1]"]);
+}
+
+#[test]
+fn two_bars_compare_exchanges_velocities() {
+    let dir = std::env::temp_dir().join(format!("softway-two-bars-{}", std::process::id()));
+    let o = softway()
+        .args([
+            "compare",
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/scenarios/compare-two-bars.toml"
+            ),
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(dir.join("compare.csv")).unwrap();
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |n: &str| head.iter().position(|c| *c == n).unwrap();
+    let (left, reb) = (col("left_behind"), col("rebound_error"));
+    // Labels hold commas: read the numeric columns from the end of each line.
+    let nc = head.len();
+    for line in csv.lines().skip(1) {
+        let cells: Vec<&str> = line.rsplitn(nc - 2, ',').collect::<Vec<_>>();
+        let from_end = |i: usize| cells[nc - 1 - i].parse::<f64>().unwrap();
+        let (l, r) = (from_end(left), from_end(reb));
+        assert!(l.abs() < 0.025 && r.abs() < 0.025, "{line}");
+    }
+}
