@@ -910,6 +910,24 @@ impl Lab {
         e.finish(s0, w, s1);
     }
 
+    /// A sub-step `[t, t + len]` (`span = (t, len)`) with its own factorization, from `cur`
+    /// into `s1` with the held pairs held.
+    #[allow(clippy::too_many_arguments)]
+    fn sub_step(
+        pb: &LabProblem,
+        held: &[bool],
+        span: (f64, f64),
+        cur: &State,
+        w: &mut Work,
+        s1: &mut State,
+        stats: &mut LabStats,
+    ) -> Result<(), LabError> {
+        stats.factorizations += 1;
+        let mut es = Engine::new(&pb.model, pb.integrator, span.1, &pb.fixed, &pb.gaps)?;
+        Self::solve_held(&mut es, pb, held, span.0, cur, w, s1);
+        Ok(())
+    }
+
     /// The space-time exact treatment (as the driver's `exact`): hold on penetration,
     /// release on tension.
     fn step_held(&mut self, t0: f64) {
@@ -1004,23 +1022,15 @@ impl Lab {
             if let Some((p, th)) = rel {
                 self.stats.releases += 1;
                 if th * rem > 1e-9 * h {
-                    self.stats.factorizations += 1;
-                    let mut es = Engine::new(
-                        &self.pb.model,
-                        self.pb.integrator,
-                        th * rem,
-                        &self.pb.fixed,
-                        &self.pb.gaps,
-                    )?;
-                    Self::solve_held(
-                        &mut es,
+                    Self::sub_step(
                         &self.pb,
                         &self.held,
-                        t,
+                        (t, th * rem),
                         cur,
                         &mut self.w,
                         &mut self.s1,
-                    );
+                        &mut self.stats,
+                    )?;
                     for q in 0..k {
                         self.impulse[q] += self.w.lam[q].max(0.0);
                     }
@@ -1065,23 +1075,15 @@ impl Lab {
                     lam_keep.fill(0.0);
                     break;
                 }
-                self.stats.factorizations += 1;
-                let mut es = Engine::new(
-                    &self.pb.model,
-                    self.pb.integrator,
-                    th * rem,
-                    &self.pb.fixed,
-                    &self.pb.gaps,
-                )?;
-                Self::solve_held(
-                    &mut es,
+                Self::sub_step(
                     &self.pb,
                     &self.held,
-                    t,
+                    (t, th * rem),
                     cur,
                     &mut self.w,
                     &mut self.s1,
-                );
+                    &mut self.stats,
+                )?;
                 lam_keep.copy_from_slice(&self.w.lam);
                 let g = self.pb.gaps[p].eval(&self.s1.u);
                 if g.abs() <= self.pb.gap_tol {

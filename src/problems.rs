@@ -204,17 +204,31 @@ pub struct TwoBars {
 }
 
 impl TwoBars {
+    /// Bar A alone against a wall at the same distance: the same wave speed, impact time
+    /// and contact duration.
+    pub fn bar_a(&self) -> BarImpact {
+        BarImpact {
+            length: self.length,
+            ea: self.ea,
+            rho_a: self.rho_a,
+            speed: self.speed,
+            gap: self.gap,
+            elements: self.elements,
+            lumped: self.lumped,
+            damping: 0.0,
+        }
+    }
     /// Wave speed `c`, m/s.
     pub fn wave_speed(&self) -> f64 {
-        (self.ea / self.rho_a).sqrt()
+        self.bar_a().wave_speed()
     }
     /// Exact impact time `gap / v0`, s.
     pub fn exact_impact_time(&self) -> f64 {
-        self.gap / self.speed
+        self.bar_a().exact_impact_time()
     }
     /// Exact contact duration `2 L / c`, s.
     pub fn exact_contact_duration(&self) -> f64 {
-        2.0 * self.length / self.wave_speed()
+        self.bar_a().exact_contact_duration()
     }
     /// Exact contact force `rho A c v0 / 2`, N.
     pub fn exact_contact_force(&self) -> f64 {

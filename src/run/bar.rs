@@ -305,32 +305,19 @@ pub fn simulate(
         run: run.label.clone(),
         message: e.to_string(),
     };
-    let (case, exact, elements) = match &run.model {
-        Model::BarImpact(b) => (
-            "bar_impact",
-            BarExact {
-                impact_time: b.exact_impact_time(),
-                release_time: b.exact_impact_time() + b.exact_contact_duration(),
-                contact_duration: b.exact_contact_duration(),
-                contact_force: b.exact_contact_force(),
-                rebound_velocity: b.speed,
-                energy: 0.5 * b.rho_a * b.length * b.speed * b.speed,
-            },
-            b.elements,
-        ),
-        Model::TwoBars(b) => (
-            "two_bars",
-            BarExact {
-                impact_time: b.exact_impact_time(),
-                release_time: b.exact_impact_time() + b.exact_contact_duration(),
-                contact_duration: b.exact_contact_duration(),
-                contact_force: b.exact_contact_force(),
-                rebound_velocity: b.speed,
-                energy: 0.5 * b.rho_a * b.length * b.speed * b.speed,
-            },
-            b.elements,
-        ),
+    // The exact answers of bar A (against a wall, or against bar B: half the force).
+    let (case, a, force, elements) = match &run.model {
+        Model::BarImpact(b) => ("bar_impact", *b, b.exact_contact_force(), b.elements),
+        Model::TwoBars(b) => ("two_bars", b.bar_a(), b.exact_contact_force(), b.elements),
         _ => unreachable!("bar job on a bar scenario"),
+    };
+    let exact = BarExact {
+        impact_time: a.exact_impact_time(),
+        release_time: a.exact_impact_time() + a.exact_contact_duration(),
+        contact_duration: a.exact_contact_duration(),
+        contact_force: force,
+        rebound_velocity: a.speed,
+        energy: 0.5 * a.rho_a * a.length * a.speed * a.speed,
     };
     let steps = (run.t_end / h).round() as usize;
     let pb = progress_bar(steps as u64, &run.label, show_progress);
