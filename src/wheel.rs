@@ -2,7 +2,7 @@
 //!
 //! The wheel (a disk of plane-stress triangles) does not turn; the base line turns about
 //! its centre at `omega` and presses it to the flattening `d(t)`
-//! ([`Flattening`](crate::contact::obstacle::Flattening)); the forces of the circular motion
+//! ([`Flattening`]); the forces of the circular motion
 //! are those of [`crate::frame`].
 //!
 //! **Support at the axle.** The paper does not state it. [`Support::CentrePinned`] (the

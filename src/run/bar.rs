@@ -535,7 +535,12 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     report.files.push(sj);
     if sc.plots && !traces.is_empty() {
         let png = out.join("bar_head.png");
-        plot_traces(&png, &traces, &summaries[0].exact)?;
+        plot_traces(
+            &png,
+            &traces,
+            &summaries[0].exact,
+            summaries[0].case == "two_bars",
+        )?;
         report.files.push(png);
     }
     for s in &summaries {
@@ -568,6 +573,7 @@ fn plot_traces(
     png: &Path,
     traces: &[(String, BarTrace)],
     exact: &BarExact,
+    two_bars: bool,
 ) -> Result<(), RunError> {
     let style = |i: usize| {
         if i == 0 {
@@ -593,12 +599,20 @@ fn plot_traces(
     let mut pu = mk("Displacement of the head A", "u_A [m]", &|t| &t.u);
     let mut pv = mk("Velocity of the head A", "v_A [m/s]", &|t| &t.v);
     let mut pf = mk("Contact force (braking included)", "F [N]", &|t| &t.force);
-    pu.hlines
-        .push((exact.impact_time * exact.rebound_velocity, "wall".into()));
+    let gap = exact.impact_time * exact.rebound_velocity;
     pv.hlines.push((exact.rebound_velocity, "v0".into()));
-    pv.hlines
-        .push((-exact.rebound_velocity, "-v0 (exact rebound)".into()));
-    pf.hlines
-        .push((exact.contact_force, "exact rho A c v0".into()));
+    if two_bars {
+        pu.hlines.push((gap, "bar B's end at rest".into()));
+        pv.hlines.push((
+            0.5 * exact.rebound_velocity,
+            "v0/2 (exact, in contact)".into(),
+        ));
+        pv.hlines.push((0.0, "0 (exact, after the impact)".into()));
+    } else {
+        pu.hlines.push((gap, "wall".into()));
+        pv.hlines
+            .push((-exact.rebound_velocity, "-v0 (exact rebound)".into()));
+    }
+    pf.hlines.push((exact.contact_force, "exact force".into()));
     panels(png, &[pu, pv, pf], 3, 1, (1200, 1500)).map_err(|e| RunError::output(png, e))
 }

@@ -1,4 +1,4 @@
-//! Jobs: run a validated [`Scenario`](crate::scenario::Scenario) and write its results
+//! Jobs: run a validated [`Scenario`] and write its results
 //! (`history.csv`, `summary.json`, plots, VTK) into an output folder.
 
 pub mod bar;

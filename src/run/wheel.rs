@@ -7,7 +7,7 @@
 //! period `2 pi / (omega N_rim)` (the base passes one rim node in that time: a ripple of the
 //! mesh, not of the wheel), then every local maximum whose prominence is at least 10% of the
 //! turn's force range counts as one oscillation
-//! ([`count_oscillations`](crate::analysis::signal::count_oscillations)).
+//! ([`count_oscillations`]).
 
 use super::{progress_bar, RunError, RunOptions, RunReport, INTERRUPT};
 use crate::analysis::signal::{
