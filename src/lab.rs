@@ -536,6 +536,26 @@ impl Lcp {
         }
     }
 
+    /// Solves the equalities `y_p = 0` on the pairs of `self.act` (the others get
+    /// `lambda = 0`).
+    fn solve_set(&mut self, w: &[f64], y0: &[f64], lam: &mut [f64]) {
+        let k = y0.len();
+        self.idx.clear();
+        self.idx.extend((0..k).filter(|&p| self.act[p]));
+        let m = self.idx.len();
+        for (a, &p) in self.idx.iter().enumerate() {
+            self.r[a] = -y0[p];
+            for (b, &q) in self.idx.iter().enumerate() {
+                self.m[a * m + b] = w[p * k + q];
+            }
+        }
+        dense_solve_in_place(&mut self.m[..m * m], &mut self.r[..m], m);
+        lam[..k].fill(0.0);
+        for (a, &p) in self.idx.iter().enumerate() {
+            lam[p] = self.r[a];
+        }
+    }
+
     /// Returns the number of active-set changes.
     fn solve(&mut self, w: &[f64], y0: &[f64], cand: &[bool], tol: f64, lam: &mut [f64]) -> usize {
         let k = y0.len();
@@ -545,22 +565,11 @@ impl Lcp {
         }
         let mut changes = 0;
         for _ in 0..(10 + 4 * k) {
-            self.idx.clear();
-            self.idx.extend((0..k).filter(|&p| self.act[p]));
-            let m = self.idx.len();
-            for (a, &p) in self.idx.iter().enumerate() {
-                self.r[a] = -y0[p];
-                for (b, &q) in self.idx.iter().enumerate() {
-                    self.m[a * m + b] = w[p * k + q];
-                }
-            }
-            dense_solve_in_place(&mut self.m[..m * m], &mut self.r[..m], m);
-            lam[..k].fill(0.0);
+            self.solve_set(w, y0, lam);
             let mut worst = None;
-            for (a, &p) in self.idx.iter().enumerate() {
-                lam[p] = self.r[a];
-                if self.r[a] < 0.0 && worst.is_none_or(|(_, v)| self.r[a] < v) {
-                    worst = Some((p, self.r[a]));
+            for &p in &self.idx {
+                if lam[p] < 0.0 && worst.is_none_or(|(_, v)| lam[p] < v) {
+                    worst = Some((p, lam[p]));
                 }
             }
             if let Some((p, _)) = worst {
@@ -603,14 +612,15 @@ pub struct Lab {
     impulse: Vec<f64>,
     gapv: Vec<f64>,
     active: Vec<bool>,
-    /// `M^{-1}` on the dofs (subdivision's velocity jumps).
-    mass_lu: Option<SparseLu>,
+    /// Subdivision's velocity jumps: `M^{-1} c_p^T`, `k` columns of `n` (computed once).
+    minv_c: Vec<f64>,
     /// Subdivision's work: the state at the current sub-step start, the forces at the step
-    /// start, a column of `M^{-1}` and the multipliers of an accepted sub-step.
+    /// start and the multipliers of an accepted sub-step.
     cur: State,
     f_start: Vec<f64>,
-    col: Vec<f64>,
     lam_keep: Vec<f64>,
+    /// Moreau-Jean's tolerance on velocities, m/s.
+    vel_tol: f64,
     stats: LabStats,
     massless: Vec<usize>,
 }
@@ -689,12 +699,22 @@ impl Lab {
             bc.extend_from_slice(&massless);
             s0.a = initial_acceleration(&pb.model, &bc, &s0.u, &s0.v, &f)?;
         }
-        let mass_lu = if pb.treatment == Treatment::Subdivision {
-            Some(SparseLu::new(pb.model.pattern(), &pb.model.m)?)
+        let minv_c = if pb.treatment == Treatment::Subdivision {
+            let mut lu = SparseLu::new(pb.model.pattern(), &pb.model.m)?;
+            let mut cols = vec![0.0; k * n];
+            for (p, col) in cols.chunks_mut(n).enumerate() {
+                for &(d, c) in &pb.gaps[p].terms {
+                    col[d] += c;
+                }
+                lu.solve_in_place(col);
+            }
+            cols
         } else {
-            None
+            vec![]
         };
-        let mut lab = Self {
+        let vel_tol = 1e-12 * pb.v0.iter().fold(1e-300_f64, |a, v| a.max(v.abs()));
+        let gapv = pb.gaps.iter().map(|g| g.eval(&s0.u)).collect();
+        let lab = Self {
             engine,
             s1: s0.clone(),
             s0,
@@ -713,13 +733,13 @@ impl Lab {
             locked: vec![false; k],
             force: vec![0.0; k],
             impulse: vec![0.0; k],
-            gapv: pb.gaps.iter().map(|g| g.eval(&pb.u0)).collect(),
+            gapv,
             active: vec![false; k],
-            mass_lu,
+            minv_c,
             cur: State::zeros(n),
             f_start: vec![0.0; k],
-            col: vec![0.0; n],
             lam_keep: vec![0.0; k],
+            vel_tol,
             stats: LabStats {
                 factorizations: 1,
                 ..LabStats::default()
@@ -727,9 +747,6 @@ impl Lab {
             massless,
             pb,
         };
-        for p in 0..k {
-            lab.gapv[p] = lab.pb.gaps[p].eval(&lab.s0.u);
-        }
         Ok(lab)
     }
 
@@ -842,7 +859,7 @@ impl Lab {
                 Treatment::MoreauJean { restitution } => {
                     let gn = g.dot(&self.s0.v);
                     w.cand[p] = g.eval(&self.s0.u) + 0.5 * h * gn <= 0.0;
-                    tol = 1e-12 * pb.v0.iter().fold(1e-300_f64, |a, v| a.max(v.abs()));
+                    tol = self.vel_tol;
                     (g.dot(&w.pred.v) + restitution * gn + mu_v * cx, mu_v, 0.0)
                 }
                 _ if e.is_explicit() => {
@@ -891,21 +908,15 @@ impl Lab {
         e.free(&pb.load, t, s0, w);
         // Equalities on the held pairs: y = g(U) + h c.x = 0.
         let h = e.h;
-        w.lam[..k].fill(0.0);
-        w.lcp.idx.clear();
-        w.lcp.idx.extend((0..k).filter(|&p| held[p]));
-        let m = w.lcp.idx.len();
-        for (a, &p) in w.lcp.idx.iter().enumerate() {
+        for p in 0..k {
             let g = &pb.gaps[p];
-            w.lcp.r[a] = -(g.eval(&w.pred.u) + h * g.dot(&w.x));
-            for (b, &q) in w.lcp.idx.iter().enumerate() {
-                w.lcp.m[a * m + b] = h * e.s[p * k + q];
+            w.y0[p] = g.eval(&w.pred.u) + h * g.dot(&w.x);
+            for q in 0..k {
+                w.w[p * k + q] = h * e.s[p * k + q];
             }
         }
-        dense_solve_in_place(&mut w.lcp.m[..m * m], &mut w.lcp.r[..m], m);
-        for (a, &p) in w.lcp.idx.iter().enumerate() {
-            w.lam[p] = w.lcp.r[a];
-        }
+        w.lcp.act.copy_from_slice(held);
+        w.lcp.solve_set(&w.w, &w.y0, &mut w.lam);
         e.correct(&mut w.x, &w.lam);
         e.finish(s0, w, s1);
     }
@@ -1031,12 +1042,16 @@ impl Lab {
                         &mut self.s1,
                         &mut self.stats,
                     )?;
-                    for q in 0..k {
-                        self.impulse[q] += self.w.lam[q].max(0.0);
+                    // Keep the held part only if it stayed compressive; otherwise the
+                    // force crossed zero earlier than interpolated: release at `t`.
+                    if self.w.lam[p] >= 0.0 {
+                        for q in 0..k {
+                            self.impulse[q] += self.w.lam[q];
+                        }
+                        cur.u.copy_from_slice(&self.s1.u);
+                        cur.v.copy_from_slice(&self.s1.v);
+                        t += th * rem;
                     }
-                    cur.u.copy_from_slice(&self.s1.u);
-                    cur.v.copy_from_slice(&self.s1.v);
-                    t += th * rem;
                 }
                 self.held[p] = false;
                 continue;
@@ -1097,22 +1112,16 @@ impl Lab {
                 th = ta + (tb - ta) * ga / (ga - gb);
             }
             for q in 0..k {
-                self.impulse[q] += lam_keep[q].max(0.0);
+                self.impulse[q] += lam_keep[q];
             }
             cur.u.copy_from_slice(&self.s1.u);
             cur.v.copy_from_slice(&self.s1.v);
             t += th * rem;
             // The velocity jump at t_c: M dv = c^T P with c.(v + dv) = 0.
-            let lu = self.mass_lu.as_mut().expect("factored for subdivision");
-            let col = &mut self.col;
-            col.fill(0.0);
-            for &(d, c) in &self.pb.gaps[p].terms {
-                col[d] += c;
-            }
-            lu.solve_in_place(col);
-            let cmc = self.pb.gaps[p].dot(col);
-            let pimp = -self.pb.gaps[p].dot(&cur.v) / cmc;
-            for (vi, ci) in cur.v.iter_mut().zip(col.iter()) {
+            let n = cur.v.len();
+            let col = &self.minv_c[p * n..(p + 1) * n];
+            let pimp = -self.pb.gaps[p].dot(&cur.v) / self.pb.gaps[p].dot(col);
+            for (vi, ci) in cur.v.iter_mut().zip(col) {
                 *vi += pimp * ci;
             }
             self.impulse[p] += pimp.max(0.0);

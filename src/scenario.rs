@@ -896,48 +896,46 @@ fn mass_kind(cx: &Ctx, key: &str, v: Option<&str>) -> Result<bool, ScenarioError
     }
 }
 
-/// The stable step `2 / omega_max` of the central difference on a bar model (lumped), with
-/// a penalty spring `k` (N/m) on the contact dofs when given (for two bars, `2 k` on each
-/// of the two facing dofs: an upper bound of the spring between them).
+/// The bar carrying the contact node: the bar itself, or bar A of two bars.
+fn contact_bar(model: &Model) -> Option<BarImpact> {
+    match model {
+        Model::BarImpact(b) => Some(*b),
+        Model::TwoBars(b) => Some(b.bar_a()),
+        _ => None,
+    }
+}
+
+/// The stable step `2 / omega_max` of the central difference on the contact bar (lumped),
+/// with a penalty spring `k` (N/m) on the contact dof when given (for two bars `2 k`: the
+/// spring between two equal facing nodes acts on their relative motion at twice the rate).
 fn explicit_stable_step(model: &Model, penalty: Option<f64>) -> f64 {
-    let (mut m, dofs, k) = match model {
-        Model::BarImpact(b) => {
-            let mesh = b.mesh();
-            let k = penalty.unwrap_or(0.0);
-            (b.model(&mesh), vec![b.elements], k)
-        }
-        Model::TwoBars(b) => {
-            let mesh = b.mesh();
-            let k = 2.0 * penalty.unwrap_or(0.0);
-            (
-                crate::problems::bar_model(&mesh, b.ea, b.rho_a, true, 0.0),
-                vec![b.elements, b.elements + 1],
-                k,
-            )
-        }
-        _ => return f64::INFINITY,
+    let Some(mut bar) = contact_bar(model) else {
+        return f64::INFINITY;
     };
-    if k > 0.0 {
-        let pattern = m.pattern().clone();
-        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-        for &d in &dofs {
-            for p in cp[d]..cp[d + 1] {
-                if ri[p] == d {
-                    m.k[p] += k;
-                }
-            }
+    bar.lumped = true;
+    let k = penalty.unwrap_or(0.0)
+        * if matches!(model, Model::TwoBars(_)) {
+            2.0
+        } else {
+            1.0
+        };
+    let mut m = bar.model(&bar.mesh());
+    let pattern = m.pattern().clone();
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let d = bar.elements;
+    for p in cp[d]..cp[d + 1] {
+        if ri[p] == d {
+            m.k[p] += k;
         }
     }
     crate::time::classic::stable_step(&m, &[])
 }
 
-/// The lumped mass of a contact node of a bar model, kg.
+/// The lumped mass of the contact node, kg.
 fn explicit_contact_mass(model: &Model) -> f64 {
-    match model {
-        Model::BarImpact(b) => b.rho_a * b.length / (2.0 * b.elements as f64),
-        Model::TwoBars(b) => b.rho_a * b.length / (2.0 * b.elements as f64),
-        _ => f64::INFINITY,
-    }
+    contact_bar(model)
+        .map(|b| b.rho_a * b.length / (2.0 * b.elements as f64))
+        .unwrap_or(f64::INFINITY)
 }
 
 fn finite(cx: &Ctx, key: &str, v: f64) -> Result<f64, ScenarioError> {

@@ -3,21 +3,30 @@
 
 use std::process::Command;
 
-#[test]
-fn compare_bar_writes_one_row_per_combination() {
-    let dir = std::env::temp_dir().join(format!("softway-compare-{}", std::process::id()));
+/// Runs `softway compare` on a shipped scenario; returns the header and the rows of
+/// `compare.csv` and the output folder.
+fn compare(scenario: &str) -> (Vec<String>, Vec<Vec<String>>, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("softway-{scenario}-{}", std::process::id()));
     let o = Command::new(env!("CARGO_BIN_EXE_softway"))
-        .args([
-            "compare",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/compare-bar.toml"),
-            "--out",
-        ])
+        .arg("compare")
+        .arg(format!(
+            "{}/scenarios/{scenario}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .arg("--out")
         .arg(&dir)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(dir.join("compare.csv")).unwrap();
-    let rows: Vec<Vec<String>> = csv.lines().skip(1).map(split_csv).collect();
+    let mut lines = csv.lines().map(split_csv);
+    let head = lines.next().unwrap();
+    (head, lines.collect(), dir)
+}
+
+#[test]
+fn compare_bar_writes_one_row_per_combination() {
+    let (head, rows, dir) = compare("compare-bar");
     let runs = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/compare-bar.toml"
@@ -26,14 +35,7 @@ fn compare_bar_writes_one_row_per_combination() {
     .matches("[[runs]]")
     .count();
     assert_eq!(rows.len(), runs);
-    let col = |name: &str| {
-        csv.lines()
-            .next()
-            .unwrap()
-            .split(',')
-            .position(|c| c == name)
-            .unwrap()
-    };
+    let col = |name: &str| head.iter().position(|c| c == name).unwrap();
     let (pen, en, contact, integ) = (
         col("max_penetration_m"),
         col("energy_change"),
@@ -59,6 +61,20 @@ fn compare_bar_writes_one_row_per_combination() {
         }
     }
     assert!(dir.join("compare_force.png").exists() && dir.join("compare_energy.png").exists());
+}
+
+/// Two equal bars exchange their velocities under every combination of the shipped
+/// comparison: A is left with less than 2.5 % of v0 and B leaves within 2.5 % of v0.
+#[test]
+fn two_bars_exchange_velocities() {
+    let (head, rows, _) = compare("compare-two-bars");
+    let col = |name: &str| head.iter().position(|c| c == name).unwrap();
+    let (left, reb) = (col("left_behind"), col("rebound_error"));
+    assert!(!rows.is_empty());
+    for r in &rows {
+        let (l, e): (f64, f64) = (r[left].parse().unwrap(), r[reb].parse().unwrap());
+        assert!(l.abs() < 0.025 && e.abs() < 0.025, "{r:?}");
+    }
 }
 
 /// Splits one CSV line (RFC 4180 quoting, no line breaks inside fields).

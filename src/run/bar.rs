@@ -65,7 +65,7 @@ pub struct BarSummary {
     pub steps: usize,
     /// Brakings (soft way: steps stepped back).
     pub brakings: usize,
-    /// Entries into contact.
+    /// Entries into contact (output steps where the contact starts carrying a reaction).
     pub entries: usize,
     /// Releases.
     pub releases: usize,
@@ -165,6 +165,8 @@ struct Recorder<'a> {
     vcm: Vec<f64>,
     max_pen: f64,
     pen_last: f64,
+    entries: usize,
+    was_in_contact: bool,
     csv: Option<&'a mut CsvWriter>,
     stride: usize,
     pb: indicatif::ProgressBar,
@@ -202,6 +204,8 @@ impl<'a> Recorder<'a> {
             vcm: vec![0.0; nb],
             max_pen: 0.0,
             pen_last: 0.0,
+            entries: 0,
+            was_in_contact: false,
             csv,
             stride,
             pb,
@@ -223,6 +227,10 @@ impl<'a> Recorder<'a> {
             self.vcm[b] = p / m;
         }
         self.max_pen = self.max_pen.max(-s.gap);
+        if s.in_contact && !self.was_in_contact {
+            self.entries += 1;
+        }
+        self.was_in_contact = s.in_contact;
         if s.in_contact {
             if self.first.is_none() {
                 self.first = Some(s.t);
@@ -278,7 +286,6 @@ impl<'a> Recorder<'a> {
 struct Counts {
     steps: usize,
     brakings: usize,
-    entries: usize,
     releases: usize,
     factorizations: usize,
     interrupted: bool,
@@ -359,7 +366,6 @@ pub fn simulate(
             let c = Counts {
                 steps: stats.steps,
                 brakings: stats.brakings,
-                entries: stats.brakings + usize::from(rec.first.is_some() && stats.brakings == 0),
                 releases: stats.releases,
                 factorizations: 1,
                 interrupted: stats.interrupted,
@@ -408,7 +414,6 @@ pub fn simulate(
             let c = Counts {
                 steps: stats.steps,
                 brakings: 0,
-                entries: stats.entries,
                 releases: stats.releases,
                 factorizations: stats.factorizations,
                 interrupted: stats.interrupted,
@@ -458,7 +463,7 @@ pub fn simulate(
         penetration_at_release: rec.pen_last,
         steps: counts.steps,
         brakings: counts.brakings,
-        entries: counts.entries,
+        entries: rec.entries,
         releases: counts.releases,
         factorizations: counts.factorizations,
         wall_time_s: wall,
