@@ -31,11 +31,10 @@
 //! - [`linalg`]: sparse products, sparse LU with reusable symbolic analysis.
 //! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step, and
 //!   the classic integrators.
-//! - [`contact`]: obstacles and the soft-way state machine.
-//! - [`simulation`]: the step loop with step-back-and-repeat.
-//! - [`lab`]: the contact laboratory: every integrator (space-time, Newmark family, central
-//!   difference) with exact enforcement, penalty, mass redistribution, Moreau-Jean and the
-//!   paper's time subdivision (Fig. 5), on linear gaps (node-wall, node-node).
+//! - [`contact`]: obstacles, pairs (node-obstacle, node-node), constraint rows, and the
+//!   treatments: the soft way, exact, penalty, mass redistribution, Moreau-Jean, subdivision.
+//! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
+//!   integrator and any treatment.
 //! - [`scenario`]: TOML scenarios, validated.
 //! - [`output`]: CSV, JSON, VTK, plots.
 //! - [`analysis`]: signals (spectra, oscillation counts).
@@ -51,7 +50,6 @@ pub mod assembly;
 pub mod contact;
 pub mod element;
 pub mod frame;
-pub mod lab;
 pub mod linalg;
 pub mod material;
 pub mod mesh;

@@ -116,6 +116,22 @@ impl SparseLu {
         Ok(lu)
     }
 
+    /// A second numeric factorization of `values` on this one's symbolic analysis (the same
+    /// pattern; no new ordering).
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is singular.
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        let mut lu = Self {
+            symbolic: self.symbolic.clone(),
+            numeric: NumericLu::new(),
+            solve_scratch: MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+            n: self.n,
+        };
+        lu.refactor(pattern, values)?;
+        Ok(lu)
+    }
+
     /// Numeric factorization of new values on the pattern analysed in [`SparseLu::new`].
     ///
     /// # Errors

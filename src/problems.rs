@@ -1,13 +1,12 @@
 //! Builders of the paper's model problems from plain parameters (the scenarios call these).
 
 use crate::assembly::Assembler;
-use crate::contact::{ContactMethod, Obstacle, Wall};
+use crate::contact::{Obstacle, Pair, Treatment, Wall};
 use crate::element::bar2;
-use crate::lab::{Integrator, LabProblem, LinearGap, Treatment};
 use crate::mesh::{Cells, Mesh};
-use crate::simulation::{ContactPair, Problem};
+use crate::simulation::Problem;
 use crate::time::step::LinearModel;
-use crate::time::SpaceTimeParams;
+use crate::time::Integrator;
 
 /// An elastic bar moving rigidly towards a rigid wall (paper §3.1, Fig. 8).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,44 +70,13 @@ impl BarImpact {
         bar_model(mesh, self.ea, self.rho_a, self.lumped, self.damping)
     }
 
-    /// The same bar for the contact laboratory ([`crate::lab`]): the head's gap to the wall
-    /// is `gap - u_head`.
-    pub fn lab_problem(
+    /// The problem: the bar moving at `speed` towards a wall at `L + gap`, run to `t_end`
+    /// with the step `h`.
+    pub fn problem(
         &self,
         integrator: Integrator,
         treatment: Treatment,
         h: f64,
-        t_end: f64,
-    ) -> (Mesh, LabProblem) {
-        let mesh = self.mesh();
-        let model = self.model(&mesh);
-        let n = mesh.n_dofs();
-        let pb = LabProblem {
-            model,
-            fixed: vec![],
-            load: Box::new(|_, f| f.fill(0.0)),
-            gaps: vec![LinearGap {
-                terms: vec![(self.elements, -1.0)],
-                offset: self.gap,
-            }],
-            u0: vec![0.0; n],
-            v0: vec![self.speed; n],
-            t0: 0.0,
-            h,
-            steps: (t_end / h).round() as usize,
-            integrator,
-            treatment,
-            gap_tol: 1e-12 * self.length,
-        };
-        (mesh, pb)
-    }
-
-    /// The full problem: the bar moving at `speed` towards a wall at `L + gap`, run to
-    /// `t_end`.
-    pub fn problem(
-        &self,
-        params: SpaceTimeParams,
-        contact: ContactMethod,
         t_end: f64,
     ) -> (Mesh, Problem) {
         let mesh = self.mesh();
@@ -118,25 +86,25 @@ impl BarImpact {
             position: self.length + self.gap,
             side: -1.0,
         });
-        let steps = (t_end / params.h).round() as usize;
         let problem = Problem {
             dim: 1,
             reference: mesh.reference_positions(),
             model,
-            params,
+            integrator,
+            h,
             gamma_schedule: vec![],
             dirichlet: vec![],
             load: Box::new(|_, f| f.fill(0.0)),
             obstacles: vec![wall],
-            pairs: vec![ContactPair {
+            pairs: vec![Pair::Obstacle {
                 node: self.elements,
                 obstacle: 0,
             }],
-            contact,
+            treatment,
             u0: vec![0.0; n],
             v0: vec![self.speed; n],
             t0: 0.0,
-            steps,
+            steps: (t_end / h).round() as usize,
             gap_tol: 1e-12 * self.length,
             energy_stiffness: None,
         };
@@ -263,35 +231,42 @@ impl TwoBars {
         }
     }
 
-    /// The laboratory problem: one gap, `gap + u_{B,tail} - u_{A,head}`.
-    pub fn lab_problem(
+    /// The problem: bar A's head facing bar B's tail (a node-to-node pair along `+x`), run
+    /// to `t_end` with the step `h`.
+    pub fn problem(
         &self,
         integrator: Integrator,
         treatment: Treatment,
         h: f64,
         t_end: f64,
-    ) -> (Mesh, LabProblem) {
+    ) -> (Mesh, Problem) {
         let mesh = self.mesh();
         let model = bar_model(&mesh, self.ea, self.rho_a, self.lumped, 0.0);
         let n = self.elements;
         let mut v0 = vec![0.0; 2 * n + 2];
         v0[..=n].fill(self.speed);
-        let pb = LabProblem {
+        let pb = Problem {
+            dim: 1,
+            reference: mesh.reference_positions(),
             model,
-            fixed: vec![],
+            integrator,
+            h,
+            gamma_schedule: vec![],
+            dirichlet: vec![],
             load: Box::new(|_, f| f.fill(0.0)),
-            gaps: vec![LinearGap {
-                terms: vec![(n, -1.0), (n + 1, 1.0)],
-                offset: self.gap,
+            obstacles: vec![],
+            pairs: vec![Pair::Nodes {
+                a: n,
+                b: n + 1,
+                normal: [1.0, 0.0, 0.0],
             }],
+            treatment,
             u0: vec![0.0; 2 * n + 2],
             v0,
             t0: 0.0,
-            h,
             steps: (t_end / h).round() as usize,
-            integrator,
-            treatment,
             gap_tol: 1e-12 * self.length,
+            energy_stiffness: None,
         };
         (mesh, pb)
     }

@@ -36,12 +36,12 @@
 //! h = 0.4                      # any of h, alpha, gamma, elements, method
 //! ```
 
-use crate::contact::ContactMethod;
-use crate::lab::{ClassicKind, Integrator, Treatment};
+use crate::contact::{Restore, Treatment};
 use crate::problems::{BarImpact, TwoBars};
 use crate::time::classic::ClassicParams;
 use crate::time::sdof::analyse;
 use crate::time::SpaceTimeParams;
+use crate::time::{ClassicKind, Integrator};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -286,8 +286,6 @@ pub struct Run {
     pub params: SpaceTimeParams,
     /// The model, with this run's overrides.
     pub model: Model,
-    /// Contact method of the driver (the wheel; for bars see `contact`).
-    pub method: ContactMethod,
     /// The time integrator.
     pub integrator: Integrator,
     /// The contact treatment.
@@ -296,28 +294,8 @@ pub struct Run {
     pub t_end: f64,
 }
 
-/// The contact treatment of a run: the soft way family in the driver
-/// ([`crate::simulation`]), or a treatment of the laboratory ([`crate::lab`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Contact {
-    /// Run by [`crate::simulation::Simulation`].
-    Driver(ContactMethod),
-    /// Run by [`crate::lab::Lab`].
-    Lab(Treatment),
-}
-
-impl Contact {
-    /// The name used in tables.
-    pub fn name(&self) -> String {
-        match self {
-            Contact::Driver(m) => serde_json::to_value(m)
-                .ok()
-                .and_then(|v| v.as_str().map(String::from))
-                .unwrap_or_default(),
-            Contact::Lab(t) => t.name(),
-        }
-    }
-}
+/// The contact treatment of a run.
+pub type Contact = Treatment;
 
 /// A validated scenario.
 #[derive(Debug, Clone, PartialEq)]
@@ -395,12 +373,13 @@ impl Ctx<'_> {
             Err(self.invalid(key, v, "gamma must be in [0, 1] (Eq. 24)"))
         }
     }
-    fn method(&self, key: &str, v: &str) -> Result<ContactMethod, ScenarioError> {
+    fn method(&self, key: &str, v: &str) -> Result<Treatment, ScenarioError> {
+        let soft = |restore| Ok(Treatment::SoftWay { restore });
         match v {
-            "soft_way" => Ok(ContactMethod::SoftWay),
-            "soft_way_no_restore" => Ok(ContactMethod::SoftWayNoRestore),
-            "soft_way_braking_restore" => Ok(ContactMethod::SoftWayBrakingRestore),
-            "exact" => Ok(ContactMethod::Exact),
+            "soft_way" => soft(Restore::StoppingImpulse),
+            "soft_way_no_restore" => soft(Restore::Nothing),
+            "soft_way_braking_restore" => soft(Restore::BrakingReaction),
+            "exact" => Ok(Treatment::Exact),
             _ => Err(self.invalid(
                 key,
                 format!("\"{v}\""),
@@ -419,7 +398,7 @@ impl Ctx<'_> {
     ) -> Result<Contact, ScenarioError> {
         let t = match v {
             "soft_way" | "soft_way_no_restore" | "soft_way_braking_restore" => {
-                return Ok(Contact::Driver(self.method(key, v)?))
+                return self.method(key, v)
             }
             "exact" => Treatment::Exact,
             "penalty" => {
@@ -453,7 +432,7 @@ impl Ctx<'_> {
                 ))
             }
         };
-        Ok(Contact::Lab(t))
+        Ok(t)
     }
 
     /// The integrator named `v` (key `key`) with `alpha`, `gamma` (space-time) and the
@@ -743,50 +722,23 @@ impl Scenario {
                 pick(r.gamma_n, "gamma_n", "time", time.gamma_n),
             )?;
             let space_time = matches!(integrator, Integrator::SpaceTime { .. });
-            let method = match (&model, run_contact) {
-                (Model::Wheel(_) | Model::Sdof(_), _) if !space_time => {
-                    return Err(cx.invalid(
-                        &integ_key,
-                        format!("\"{integ_name}\""),
-                        "only bar scenarios (bar_impact, two_bars) run the classic integrators; use \"space_time\"",
-                    ))
-                }
-                (Model::Wheel(_), Contact::Lab(Treatment::Exact)) => ContactMethod::Exact,
-                (Model::Wheel(_), Contact::Lab(_)) => {
-                    return Err(cx.invalid(
-                        &method_key,
-                        format!("\"{method_name}\""),
-                        "the wheel runs \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\" or \"exact\"",
-                    ))
-                }
-                (Model::TwoBars(_), Contact::Driver(_)) => {
-                    return Err(cx.invalid(
-                        &method_key,
-                        format!("\"{method_name}\""),
-                        "the soft way brakes a node against an obstacle; two_bars (node against node) runs \"exact\", \"penalty\", \"mass_redistribution\", \"moreau_jean\" or \"subdivision\"",
-                    ))
-                }
-                (_, Contact::Driver(_)) if !space_time => {
-                    return Err(cx.invalid(
-                        &method_key,
-                        format!("\"{method_name}\""),
-                        &format!("the soft way is a treatment of the space-time scheme, not of {}; use integrator = \"space_time\"", integrator.name()),
-                    ))
-                }
-                (_, Contact::Driver(m)) => m,
-                (_, Contact::Lab(t)) => {
-                    let refuse = match t {
-                        Treatment::Subdivision if !space_time => Some("subdivision of the time step (the paper's Fig. 5) is a space-time treatment: use integrator = \"space_time\""),
-                        Treatment::MassRedistribution if integrator.is_explicit() => Some("mass redistribution makes the contact nodes massless: the explicit central difference would divide by zero; use an implicit integrator"),
-                        Treatment::MoreauJean { .. } if integrator.is_explicit() => Some("Moreau-Jean is a velocity-level implicit treatment; with the central difference the impulse acts one step late and the contact chatters: use an implicit integrator"),
-                        _ => None,
-                    };
-                    if let Some(why) = refuse {
-                        return Err(cx.invalid(&method_key, format!("\"{method_name}\""), why));
-                    }
-                    ContactMethod::Exact
-                }
-            };
+            if matches!(model, Model::Sdof(_)) && !space_time {
+                return Err(cx.invalid(
+                    &integ_key,
+                    format!("\"{integ_name}\""),
+                    "the one-degree-of-freedom scheme is the space-time scheme's (Eqs. 9-10); use \"space_time\"",
+                ));
+            }
+            if matches!(model, Model::Wheel(_)) && integrator.is_explicit() {
+                return Err(cx.invalid(
+                    &integ_key,
+                    format!("\"{integ_name}\""),
+                    "the wheel's stable explicit step is about 1e-8 s (hundreds of millions of steps a turn); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"",
+                ));
+            }
+            if let Err(why) = run_contact.check(&integrator) {
+                return Err(cx.invalid(&method_key, format!("\"{method_name}\""), &why));
+            }
             // The central difference runs explicit: lumped mass, step from cfl if given.
             let mut h = h;
             if integrator.is_explicit() {
@@ -797,7 +749,7 @@ impl Scenario {
                 }
             }
             let pen = match run_contact {
-                Contact::Lab(Treatment::Penalty { stiffness }) => Some(stiffness),
+                Treatment::Penalty { stiffness } => Some(stiffness),
                 _ => None,
             };
             if let Some((k, c)) = pick(r.cfl, "cfl", "time", time.cfl) {
@@ -853,7 +805,6 @@ impl Scenario {
                 label,
                 params: SpaceTimeParams { alpha, gamma, h },
                 model,
-                method,
                 integrator,
                 contact: run_contact,
                 t_end,

@@ -1,53 +1,49 @@
-//! The driver: the step loop of the space-time scheme with the soft-way contact of Table 1
-//! (go on, repeat the step, or step back and repeat the previous one).
+//! The driver: one step loop for every integrator and every contact treatment.
 //!
-//! States are kept for `t_{k-2}`, `t_{k-1}` and `t_k` in three preallocated snapshots; a step
-//! is reported to the observer only when it can no longer be revised (when the next step
-//! has been accepted without stepping back), so outputs never hold a step that was undone.
+//! A [`Problem`] names the model, the integrator ([`Integrator`]: the space-time scheme or
+//! a member of the generalized-alpha family), the contact treatment ([`Treatment`]: the
+//! soft way and its variants, exact enforcement, penalty, mass redistribution, Moreau-Jean,
+//! the paper's subdivision), the obstacles and the contact pairs (node against obstacle,
+//! node against node). [`Simulation::new`] builds the integrator through its contract
+//! ([`TimeIntegrator`]) and the treatment through its own ([`ContactTreatment`]), allocates
+//! all work memory, and [`Simulation::run`] steps.
 //!
-//! One interval `[t0, t1]` is solved by [`Simulation`] as follows (Table 1):
-//! 1. the pairs' modes at `t0` give the constraints (brake, hold) and the forces given back;
-//! 2. solve; a held pair with a tensile multiplier is released and the step solved again
-//!    with the momentum taken at its arrival given back as a force (item 7; see
-//!    [`crate::contact::softway`], Release);
-//! 3. a free pair found penetrating at `t1` is, with the soft way, braked in the previous
-//!    interval `[t_{-1}, t0]` (Eq. 26), which is solved again (items 4-5), and the interval
-//!    is solved again with the pair held (item 6). Without a previous interval (first step),
-//!    or for the exact method, the pair is held at once in the current interval.
+//! States are kept for `t_{k-2}`, `t_{k-1}` and `t_k` in three preallocated snapshots (the
+//! ring): the soft way may step back and repeat the previous interval (Table 1, item 4). A
+//! step is reported to the observer only when it can no longer be revised, so outputs never
+//! hold a step that was undone.
+//!
+//! The [`Engine`] is what a treatment works with: the integrator, the pairs' geometry, the
+//! constraint rows and their solution ([`RowSolver`]), the loads and the work vectors.
 
-use crate::contact::softway::{braking_velocity, holding_velocity};
-use crate::contact::{ContactMethod, Obstacle, PairMode, PairState};
+use crate::contact::pair::{Geometry, Pair};
+use crate::contact::rows::RowSolver;
+use crate::contact::treatment::{build as build_treatment, ContactTreatment, Treatment};
+use crate::contact::{Obstacle, PairState};
 use crate::linalg::{quadratic_form, LinalgError};
-use crate::time::params::beta;
-use crate::time::step::{LinearModel, Stepper, VelocityConstraint};
+use crate::time::classic::{ClassicError, ClassicStepper, Dirichlet, Kinematic};
+use crate::time::integrator::{BuildError, Integrator, State, TimeIntegrator};
+use crate::time::step::{LinearModel, Stepper};
 use crate::time::SpaceTimeParams;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// External force at time `t` (s), written into the slice (N per dof; overwrite it).
 pub type LoadFn = Box<dyn Fn(f64, &mut [f64]) + Send + Sync>;
 
-/// A contact pair: a node against an obstacle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ContactPair {
-    /// The node.
-    pub node: usize,
-    /// Index into [`Problem::obstacles`].
-    pub obstacle: usize,
-}
-
-/// Everything the driver needs: the model, the scheme, supports, loads, obstacles, contact
-/// pairs and the initial state.
+/// Everything the driver needs: the model, the integrator and the contact treatment,
+/// supports, loads, obstacles, contact pairs and the initial state.
 pub struct Problem {
-    /// Spatial dimension (1 or 2).
+    /// Spatial dimension (1, 2 or 3).
     pub dim: usize,
     /// Reference positions of the nodes, flat (`dim` per node), m.
     pub reference: Vec<f64>,
     /// The semi-discrete model.
     pub model: LinearModel,
-    /// `alpha` and `h` (fixed), and the initial `gamma`.
-    pub params: SpaceTimeParams,
-    /// `gamma` from given instants on: `(t_from, gamma)`, sorted by time; before the first,
-    /// `params.gamma`.
+    /// The integrator and its parameters.
+    pub integrator: Integrator,
+    /// Time step, s.
+    pub h: f64,
+    /// Space-time scheme: `gamma` from given instants on, `(t_from, gamma)` sorted by time.
     pub gamma_schedule: Vec<(f64, f64)>,
     /// Prescribed velocities `(dof, value m/s)`.
     pub dirichlet: Vec<(usize, f64)>,
@@ -56,9 +52,9 @@ pub struct Problem {
     /// Rigid obstacles.
     pub obstacles: Vec<Box<dyn Obstacle>>,
     /// Contact pairs.
-    pub pairs: Vec<ContactPair>,
+    pub pairs: Vec<Pair>,
     /// Contact treatment.
-    pub contact: ContactMethod,
+    pub treatment: Treatment,
     /// Initial displacement, m.
     pub u0: Vec<f64>,
     /// Initial velocity, m/s.
@@ -80,39 +76,33 @@ impl std::fmt::Debug for Problem {
         f.debug_struct("Problem")
             .field("dim", &self.dim)
             .field("dofs", &self.model.n())
-            .field("params", &self.params)
+            .field("integrator", &self.integrator)
+            .field("treatment", &self.treatment)
+            .field("h", &self.h)
             .field("pairs", &self.pairs.len())
             .field("steps", &self.steps)
             .finish()
     }
 }
 
-impl Problem {
-    /// `gamma` in force for the step starting at `t`.
-    pub fn gamma_at(&self, t: f64) -> f64 {
-        let mut g = self.params.gamma;
-        for &(t_from, gm) in &self.gamma_schedule {
-            if t + 1e-12 * self.params.h >= t_from {
-                g = gm;
-            }
-        }
-        g
-    }
-}
-
-/// The state at the end of a step.
+/// The state at the end of a step, with the pairs' states.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Snapshot {
     /// Step index (0: the initial state).
     pub k: usize,
     /// Time, s.
     pub t: f64,
-    /// Displacement, m.
-    pub u: Vec<f64>,
-    /// Velocity, m/s.
-    pub v: Vec<f64>,
+    /// `u`, `v`, `a`.
+    pub state: State,
     /// Contact pairs.
     pub pairs: Vec<PairState>,
+}
+
+impl std::ops::Deref for Snapshot {
+    type Target = State;
+    fn deref(&self) -> &State {
+        &self.state
+    }
 }
 
 /// What an observer sees of a final step.
@@ -124,9 +114,11 @@ pub struct StepView<'a> {
     pub kinetic: f64,
     /// Strain energy `u^T K u / 2`, J.
     pub strain: f64,
+    /// Energy stored in penalty springs, J.
+    pub penalty: f64,
     /// Sum of the pairs' constraint forces (braking included), N.
     pub contact_force: f64,
-    /// Pairs held on their obstacle.
+    /// Pairs held on their obstacle (carrying a reaction).
     pub held: usize,
 }
 
@@ -137,12 +129,18 @@ pub struct RunStats {
     pub steps: usize,
     /// Steps stepped back and repeated (braking, Table 1 item 4).
     pub step_backs: usize,
-    /// Extra solves of the same interval (releases, immediate holds).
+    /// Extra solves of the same interval (active-set changes, releases, immediate holds).
     pub resolves: usize,
     /// Braking events.
     pub brakings: usize,
+    /// Entries into contact.
+    pub entries: usize,
     /// Releases.
     pub releases: usize,
+    /// Numeric factorizations of a system matrix.
+    pub factorizations: usize,
+    /// Symbolic analyses of a system matrix.
+    pub symbolic_analyses: usize,
     /// True when the run stopped on an interrupt.
     pub interrupted: bool,
 }
@@ -153,11 +151,17 @@ pub enum SimError {
     /// The system matrix could not be factored.
     #[error(transparent)]
     Linalg(#[from] LinalgError),
+    /// The classic integrator could not be set up.
+    #[error(transparent)]
+    Classic(#[from] ClassicError),
+    /// A combination that does not exist.
+    #[error("{0}")]
+    Unsupported(String),
     /// The observer failed (writing output).
     #[error("writing results failed: {0}")]
     Output(#[from] std::io::Error),
     /// The solution blew up.
-    #[error("the solution is not finite at step {step} (t = {t:e} s): the time step is beyond the stability limit of (alpha, gamma) or the model is ill-posed")]
+    #[error("the solution is not finite at step {step} (t = {t:e} s): the time step is beyond the stability limit of the integrator (with a penalty: of the penalty spring) or the model is ill-posed")]
     NotFinite {
         /// Step.
         step: usize,
@@ -166,132 +170,274 @@ pub enum SimError {
     },
 }
 
-struct Work {
-    f: Vec<f64>,
-    rhs: Vec<f64>,
-    cons: Vec<VelocityConstraint>,
-    cons_pair: Vec<usize>,
-    lambda: Vec<f64>,
-    modes: Vec<PairMode>,
-    restore: Vec<Option<[f64; 2]>>,
-    released: Vec<bool>,
-    pen: Vec<usize>,
-    pen_saved: Vec<usize>,
-    // The braking step solved again with the braking pairs stopped (`n.v = w`): its
-    // multipliers are the impulses given back at release.
-    rhs_stop: Vec<f64>,
-    cons_stop: Vec<VelocityConstraint>,
-    lambda_stop: Vec<f64>,
+impl From<BuildError> for SimError {
+    fn from(e: BuildError) -> Self {
+        match e {
+            BuildError::Linalg(l) => SimError::Linalg(l),
+            BuildError::Classic(c) => SimError::Classic(c),
+        }
+    }
+}
+
+/// What a treatment works with (module docs).
+pub struct Engine {
+    /// Spatial dimension.
+    pub dim: usize,
+    /// Reference positions, m.
+    pub reference: Vec<f64>,
+    /// The integrator.
+    pub integ: Box<dyn TimeIntegrator>,
+    /// The run's step, s.
+    pub h: f64,
+    /// The model actually integrated (after any mass redistribution).
+    pub model: LinearModel,
+    /// External load.
+    pub load: LoadFn,
+    /// Obstacles.
+    pub obstacles: Vec<Box<dyn Obstacle>>,
+    /// Pairs.
+    pub pairs: Vec<Pair>,
+    /// Penetration tolerance, m.
+    pub gap_tol: f64,
+    /// The constraint rows and their solver.
+    pub rows: RowSolver,
+    /// Nodal forces added to the load in the next prediction (the soft way's restore), N.
+    pub extra: Vec<f64>,
+    /// Load scratch.
+    pub f: Vec<f64>,
+    /// Predictors `U`, `V`.
+    pub pred: State,
+    /// The free solution `x_free`.
+    pub xfree: Vec<f64>,
+    /// `x` of the last solve.
+    pub x: Vec<f64>,
+    /// Counters.
+    pub stats: RunStats,
+}
+
+impl std::fmt::Debug for Engine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Engine")
+            .field("dim", &self.dim)
+            .field("integrator", &self.integ.name())
+            .field("pairs", &self.pairs.len())
+            .finish()
+    }
+}
+
+impl Engine {
+    /// The geometry of pair `p` at time `t` in the configuration `u`.
+    pub fn geometry(&self, p: usize, t: f64, u: &[f64]) -> Geometry {
+        self.pairs[p].geometry(&self.obstacles, self.dim, &self.reference, u, t)
+    }
+
+    /// The gap of pair `p` at time `t` in the configuration `u`, m.
+    pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
+        self.geometry(p, t, u).gap(&self.reference, u)
+    }
+
+    /// Predicts the step from `(t0, s0)` (loads plus [`Engine::extra`]): `pred` and `xfree`.
+    pub fn predict(&mut self, t0: f64, s0: &State) {
+        self.integ.predict(
+            t0,
+            s0,
+            &self.load,
+            &self.extra,
+            &mut self.f,
+            &mut self.pred,
+            &mut self.xfree,
+        );
+    }
+
+    /// Solves the rows in [`Engine::rows`] from `xfree` into `x`; returns the active-set
+    /// changes.
+    pub fn solve(&mut self, tol: f64) -> usize {
+        self.x.copy_from_slice(&self.xfree);
+        self.rows.solve(self.integ.as_mut(), &mut self.x, tol)
+    }
+
+    /// The end state from `pred` and `x`.
+    pub fn finish(&self, s0: &State, s1: &mut State) {
+        self.integ.finish(s0, &self.pred, &self.x, s1);
+    }
+
+    /// Switches the integrator to the step `h` (a numeric refactorization at most; the
+    /// cached columns are dropped).
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the new matrix is singular.
+    pub fn set_step(&mut self, h: f64) -> Result<(), LinalgError> {
+        if h != self.integ.h() {
+            self.integ.set_step(h)?;
+            self.rows.invalidate();
+        }
+        Ok(())
+    }
 }
 
 /// The step loop over a [`Problem`].
 pub struct Simulation {
-    problem: Problem,
-    stepper: Stepper,
+    engine: Engine,
+    treatment: Box<dyn ContactTreatment>,
+    energy_stiffness: Option<Vec<f64>>,
+    steps: usize,
     snaps: [Snapshot; 3],
-    work: Work,
-    stats: RunStats,
+    massless: Vec<usize>,
 }
 
 impl std::fmt::Debug for Simulation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Simulation")
-            .field("problem", &self.problem)
+            .field("engine", &self.engine)
+            .field("treatment", &self.treatment.name())
             .finish()
     }
 }
 
-const MAX_RESOLVES: usize = 32;
+/// Builds the integrator of `choice` on `model` with the step `h`, the `gamma` schedule of
+/// the space-time scheme and the prescribed velocities.
+///
+/// # Errors
+/// [`BuildError`] when a matrix is singular or a parameter is invalid.
+pub fn build_integrator(
+    choice: Integrator,
+    model: &LinearModel,
+    h: f64,
+    gamma_schedule: Vec<(f64, f64)>,
+    dirichlet: &[(usize, f64)],
+) -> Result<Box<dyn TimeIntegrator>, BuildError> {
+    Ok(match choice {
+        Integrator::SpaceTime { alpha, gamma } => Box::new(
+            Stepper::new(model, SpaceTimeParams { alpha, gamma, h }, dirichlet)?
+                .with_schedule(gamma_schedule),
+        ),
+        Integrator::Classic { params, .. } => {
+            let bcs: Vec<Dirichlet> = dirichlet
+                .iter()
+                .map(|&(dof, value)| Dirichlet {
+                    dof,
+                    kind: Kinematic::Velocity,
+                    value,
+                })
+                .collect();
+            Box::new(ClassicStepper::new(model, params, h, &bcs)?)
+        }
+    })
+}
 
 impl Simulation {
-    /// Factors the system and allocates all work memory.
+    /// Checks the combination, lets the treatment adjust the model (mass redistribution),
+    /// builds and factors the integrator, completes the initial state and allocates all work
+    /// memory.
     ///
     /// # Errors
-    /// [`SimError::Linalg`] when `A` is singular.
+    /// [`SimError::Unsupported`] for a combination that does not exist; [`SimError`] when a
+    /// matrix is singular.
     pub fn new(problem: Problem) -> Result<Self, SimError> {
-        let n = problem.model.n();
-        let np = problem.pairs.len();
-        let mut contact_nodes: Vec<usize> = problem.pairs.iter().map(|p| p.node).collect();
+        let Problem {
+            dim,
+            reference,
+            mut model,
+            integrator,
+            h,
+            gamma_schedule,
+            dirichlet,
+            load,
+            obstacles,
+            pairs,
+            treatment,
+            u0,
+            v0,
+            t0,
+            steps,
+            gap_tol,
+            energy_stiffness,
+        } = problem;
+        treatment
+            .check(&integrator)
+            .map_err(SimError::Unsupported)?;
+        let n = model.n();
+        let np = pairs.len();
+        let mut contact_nodes: Vec<usize> = pairs
+            .iter()
+            .flat_map(|p| {
+                let (nodes, len) = p.nodes();
+                nodes.into_iter().take(len)
+            })
+            .collect();
         contact_nodes.sort_unstable();
         contact_nodes.dedup();
-        // Cache all contact nodes' columns when that fits in 256 MiB, else 64 of them.
-        let per_node = problem.dim * n * 8;
-        let cache = if contact_nodes.len() * per_node <= 256 << 20 {
-            contact_nodes.len()
+        let mut treat = build_treatment(treatment, &integrator, np);
+        let massless = treat.adjust_model(&mut model, dim, &contact_nodes);
+        let integ = build_integrator(integrator, &model, h, gamma_schedule, &dirichlet)?;
+        // Cache all contact dofs' columns when that fits in 256 MiB, else 128 of them.
+        let contact_dofs = contact_nodes.len() * dim;
+        let cache = if contact_dofs * n * 8 <= 256 << 20 {
+            contact_dofs
         } else {
-            64
+            128
         };
-        let stepper = Stepper::new(
-            &problem.model,
-            problem.dim,
-            problem.params,
-            &problem.dirichlet,
-            np,
-            cache,
-        )?;
-        let snap = Snapshot {
-            k: 0,
-            t: problem.t0,
-            u: problem.u0.clone(),
-            v: problem.v0.clone(),
-            pairs: vec![PairState::default(); np],
-        };
-        let mut sim = Self {
-            stepper,
-            snaps: [snap.clone(), snap.clone(), snap],
-            work: Work {
-                f: vec![0.0; n],
-                rhs: vec![0.0; n],
-                cons: Vec::with_capacity(np),
-                cons_pair: Vec::with_capacity(np),
-                lambda: vec![0.0; np.max(1)],
-                modes: vec![PairMode::Free; np],
-                restore: vec![None; np],
-                released: vec![false; np],
-                pen: Vec::with_capacity(np),
-                pen_saved: Vec::with_capacity(np),
-                rhs_stop: vec![0.0; n],
-                cons_stop: Vec::with_capacity(np),
-                lambda_stop: vec![0.0; np.max(1)],
-            },
-            problem,
+        let mut state = State::zeros(n);
+        state.u.copy_from_slice(&u0);
+        state.v.copy_from_slice(&v0);
+        let mut engine = Engine {
+            dim,
+            reference,
+            integ,
+            h,
+            model,
+            load,
+            obstacles,
+            pairs,
+            gap_tol,
+            rows: RowSolver::new(n, np, cache),
+            extra: vec![0.0; n],
+            f: vec![0.0; n],
+            pred: State::zeros(n),
+            xfree: vec![0.0; n],
+            x: vec![0.0; n],
             stats: RunStats::default(),
         };
-        // Initial gaps.
+        if !integrator.is_space_time() {
+            for &(d, _) in &dirichlet {
+                state.v[d] = 0.0;
+            }
+            engine
+                .integ
+                .initialize(t0, &mut state, &engine.load, &massless)?;
+        }
+        let mut snap = Snapshot {
+            k: 0,
+            t: t0,
+            state,
+            pairs: vec![PairState::default(); np],
+        };
         for p in 0..np {
-            let g = sim.gap(&sim.snaps[1], p);
-            sim.snaps[1].pairs[p].gap = g;
+            snap.pairs[p].gap = engine.gap(p, t0, &snap.state.u);
         }
-        Ok(sim)
+        Ok(Self {
+            engine,
+            treatment: treat,
+            energy_stiffness,
+            steps,
+            snaps: [snap.clone(), snap.clone(), snap],
+            massless,
+        })
     }
 
-    /// The problem.
-    pub fn problem(&self) -> &Problem {
-        &self.problem
+    /// The engine (integrator, pairs, model).
+    pub fn engine(&self) -> &Engine {
+        &self.engine
     }
 
-    fn node_pos(pb: &Problem, s: &Snapshot, node: usize) -> [f64; 2] {
-        let mut x = [0.0; 2];
-        for c in 0..pb.dim {
-            x[c] = pb.reference[pb.dim * node + c] + s.u[pb.dim * node + c];
-        }
-        x
+    /// The dofs made massless by mass redistribution.
+    pub fn massless_dofs(&self) -> &[usize] {
+        &self.massless
     }
 
-    fn node_vel(pb: &Problem, s: &Snapshot, node: usize) -> [f64; 2] {
-        let mut v = [0.0; 2];
-        for c in 0..pb.dim {
-            v[c] = s.v[pb.dim * node + c];
-        }
-        v
-    }
-
-    fn gap(&self, s: &Snapshot, p: usize) -> f64 {
-        let pair = self.problem.pairs[p];
-        let x = Self::node_pos(&self.problem, s, pair.node);
-        self.problem.obstacles[pair.obstacle]
-            .half_space(s.t, x)
-            .gap(x)
+    /// The treatment's name.
+    pub fn treatment_name(&self) -> String {
+        self.treatment.name()
     }
 
     /// Runs all steps, calling `observer` once per final step (the initial state included).
@@ -305,12 +451,13 @@ impl Simulation {
     {
         // snaps[0] = t_{k-2}, snaps[1] = t_{k-1}, snaps[2] = t_k.
         let mut have_prev = false;
-        for _ in 0..self.problem.steps {
+        for _ in 0..self.steps {
             if interrupt.load(Ordering::Relaxed) {
-                self.stats.interrupted = true;
+                self.engine.stats.interrupted = true;
                 break;
             }
-            self.advance(have_prev)?;
+            self.treatment
+                .advance(&mut self.engine, &mut self.snaps, have_prev)?;
             let k = self.snaps[2].k;
             if !self.snaps[2].v.iter().all(|x| x.is_finite()) {
                 return Err(SimError::NotFinite {
@@ -321,10 +468,13 @@ impl Simulation {
             self.emit(1, &mut observer)?;
             self.snaps.rotate_left(1);
             have_prev = true;
-            self.stats.steps += 1;
+            self.engine.stats.steps += 1;
         }
         self.emit(1, &mut observer)?;
-        Ok(self.stats)
+        let mut stats = self.engine.stats;
+        stats.factorizations = self.engine.integ.factorizations();
+        stats.symbolic_analyses = self.engine.integ.symbolic_analyses();
+        Ok(stats)
     }
 
     fn emit<F>(&self, i: usize, observer: &mut F) -> Result<(), std::io::Error>
@@ -332,9 +482,9 @@ impl Simulation {
         F: FnMut(&StepView) -> Result<(), std::io::Error>,
     {
         let s = &self.snaps[i];
-        let m = &self.problem.model;
+        let m = &self.engine.model;
         let kinetic = 0.5 * quadratic_form(m.pattern(), &m.m, &s.v);
-        let k = self.problem.energy_stiffness.as_deref().unwrap_or(&m.k);
+        let k = self.energy_stiffness.as_deref().unwrap_or(&m.k);
         let strain = 0.5 * quadratic_form(m.pattern(), k, &s.u);
         let contact_force = s.pairs.iter().map(|p| p.force).sum();
         let held = s.pairs.iter().filter(|p| p.held).count();
@@ -342,258 +492,9 @@ impl Simulation {
             state: s,
             kinetic,
             strain,
+            penalty: self.treatment.stored_energy(s),
             contact_force,
             held,
         })
-    }
-
-    /// Solves `[t_{k-1}, t_k]` into `snaps[2]`, stepping back into `[t_{k-2}, t_{k-1}]` when
-    /// the soft way asks for it.
-    fn advance(&mut self, have_prev: bool) -> Result<(), SimError> {
-        let mut step_backs = 0;
-        let mut immediate = 0;
-        loop {
-            let npen = self.solve_interval(1, 2);
-            if npen == 0 {
-                return Ok(());
-            }
-            let mut pen = std::mem::take(&mut self.work.pen_saved);
-            pen.clear();
-            pen.extend_from_slice(&self.work.pen);
-            if self.problem.contact.brakes() && have_prev && step_backs < 2 {
-                step_backs += 1;
-                self.stats.step_backs += 1;
-                self.stats.brakings += pen.len();
-                let h = self.problem.params.h;
-                let t_arrive = self.snaps[2].t;
-                let bt = beta(
-                    self.problem.params.alpha,
-                    self.problem.gamma_at(self.snaps[0].t),
-                );
-                for &p in &pen {
-                    let pair = self.problem.pairs[p];
-                    let obst = &self.problem.obstacles[pair.obstacle];
-                    let x_pred = Self::node_pos(&self.problem, &self.snaps[2], pair.node);
-                    let hs = obst.half_space(t_arrive, x_pred);
-                    let w = obst.surface_normal_velocity(t_arrive, x_pred);
-                    let xm1 = Self::node_pos(&self.problem, &self.snaps[0], pair.node);
-                    let vm1 = Self::node_vel(&self.problem, &self.snaps[0], pair.node);
-                    let n = hs.normal;
-                    let q = braking_velocity(
-                        hs.offset,
-                        n[0] * xm1[0] + n[1] * xm1[1],
-                        n[0] * vm1[0] + n[1] * vm1[1],
-                        w,
-                        h,
-                        bt,
-                    );
-                    self.snaps[0].pairs[p].mode = PairMode::Brake { q, normal: n, w };
-                }
-                // Repeat the previous step with the braking; a pair found penetrating at
-                // t_{k-1} in that repetition is held at once.
-                let mut guard = 0;
-                loop {
-                    let np = self.solve_interval(0, 1);
-                    if np == 0 || guard >= MAX_RESOLVES {
-                        break;
-                    }
-                    guard += 1;
-                    self.stats.resolves += 1;
-                    for i in 0..self.work.pen.len() {
-                        let p = self.work.pen[i];
-                        self.snaps[0].pairs[p].mode = PairMode::Hold;
-                    }
-                }
-            } else {
-                immediate += 1;
-                self.stats.resolves += 1;
-                for &p in &pen {
-                    self.snaps[1].pairs[p].mode = PairMode::Hold;
-                }
-                if immediate > MAX_RESOLVES {
-                    self.work.pen_saved = pen;
-                    return Ok(());
-                }
-            }
-            // Give the buffer back (no allocation in the loop).
-            self.work.pen_saved = pen;
-        }
-    }
-
-    /// Solves the interval from `snaps[from]` into `snaps[to]`; returns the number of free
-    /// pairs found penetrating at the end (listed in `work.pen`).
-    fn solve_interval(&mut self, from: usize, to: usize) -> usize {
-        let pb = &self.problem;
-        let (fs, ts) = {
-            let (lo, hi) = self.snaps.split_at_mut(to);
-            (&lo[from], &mut hi[0])
-        };
-        let w = &mut self.work;
-        let h = pb.params.h;
-        let t0 = fs.t;
-        let t1 = t0 + h;
-        let bt = beta(pb.params.alpha, pb.gamma_at(t0));
-        let np = pb.pairs.len();
-        for p in 0..np {
-            w.modes[p] = fs.pairs[p].mode;
-            w.restore[p] = fs.pairs[p].restore;
-            w.released[p] = false;
-        }
-        for _ in 0..MAX_RESOLVES {
-            (pb.load)(t0 + pb.params.alpha * h, &mut w.f);
-            for p in 0..np {
-                if let Some(r) = w.restore[p] {
-                    let node = pb.pairs[p].node;
-                    for c in 0..pb.dim {
-                        w.f[pb.dim * node + c] += r[c];
-                    }
-                }
-            }
-            self.stepper.rhs_into(&fs.u, &fs.v, &w.f, &mut w.rhs);
-            w.cons.clear();
-            w.cons_pair.clear();
-            for p in 0..np {
-                let pair = pb.pairs[p];
-                match w.modes[p] {
-                    PairMode::Free => {}
-                    PairMode::Brake { q, normal, .. } => {
-                        w.cons.push(VelocityConstraint {
-                            node: pair.node,
-                            normal,
-                            rhs: q,
-                        });
-                        w.cons_pair.push(p);
-                    }
-                    PairMode::Hold => {
-                        let obst = &pb.obstacles[pair.obstacle];
-                        let x0 = Self::node_pos(pb, fs, pair.node);
-                        let v0 = Self::node_vel(pb, fs, pair.node);
-                        let hs = obst.half_space(t1, x0);
-                        let n = hs.normal;
-                        let wn = obst.surface_normal_velocity(t1, x0);
-                        let g = holding_velocity(
-                            hs.offset,
-                            n[0] * x0[0] + n[1] * x0[1],
-                            n[0] * v0[0] + n[1] * v0[1],
-                            wn,
-                            h,
-                            bt,
-                        );
-                        w.cons.push(VelocityConstraint {
-                            node: pair.node,
-                            normal: n,
-                            rhs: g,
-                        });
-                        w.cons_pair.push(p);
-                    }
-                }
-            }
-            // In a braking step, the impulses that would stop the braked nodes (relative
-            // normal velocity 0 at t1): lambda_s = S^-1 (w - C A^-1 b), given back at release.
-            let braking = w
-                .cons_pair
-                .iter()
-                .any(|&p| matches!(w.modes[p], PairMode::Brake { .. }));
-            if braking && pb.contact.restores_stopping_impulse() {
-                w.rhs_stop.copy_from_slice(&w.rhs);
-                w.cons_stop.clear();
-                for (c, &p) in w.cons.iter().zip(&w.cons_pair) {
-                    let mut c = *c;
-                    if let PairMode::Brake { w: wn, .. } = w.modes[p] {
-                        c.rhs = wn;
-                    }
-                    w.cons_stop.push(c);
-                }
-                self.stepper
-                    .solve(&mut w.rhs_stop, &w.cons_stop, &mut w.lambda_stop);
-            }
-            self.stepper.solve(&mut w.rhs, &w.cons, &mut w.lambda);
-            ts.v.copy_from_slice(&w.rhs);
-            self.stepper
-                .update_displacement(bt, &fs.u, &fs.v, &ts.v, &mut ts.u);
-            ts.t = t1;
-            ts.k = fs.k + 1;
-            // Tension: release (Table 1, item 7).
-            let mut changed = false;
-            for (i, &p) in w.cons_pair.iter().enumerate() {
-                if w.modes[p] == PairMode::Hold && w.lambda[i] < 0.0 {
-                    w.modes[p] = PairMode::Free;
-                    w.released[p] = true;
-                    let bf = fs.pairs[p].brake_force;
-                    if pb.contact.restores() && (bf[0] != 0.0 || bf[1] != 0.0) {
-                        w.restore[p] = Some(bf);
-                    }
-                    changed = true;
-                    self.stats.releases += 1;
-                }
-            }
-            if changed {
-                self.stats.resolves += 1;
-                continue;
-            }
-            // Penetration of free pairs at t1.
-            w.pen.clear();
-            for p in 0..np {
-                if w.modes[p] != PairMode::Free {
-                    continue;
-                }
-                let pair = pb.pairs[p];
-                let x1 = Self::node_pos(pb, ts, pair.node);
-                let g = pb.obstacles[pair.obstacle].half_space(t1, x1).gap(x1);
-                if g < -pb.gap_tol {
-                    if w.released[p] {
-                        // Released in this very step and penetrating again: hold it.
-                        w.modes[p] = PairMode::Hold;
-                        w.restore[p] = None;
-                        changed = true;
-                    } else {
-                        w.pen.push(p);
-                    }
-                }
-            }
-            if changed {
-                self.stats.resolves += 1;
-                continue;
-            }
-            break;
-        }
-        // Record the pairs' states at t1 and their modes for the next step.
-        for p in 0..np {
-            let prev = fs.pairs[p];
-            let i = w.cons_pair.iter().position(|&q| q == p);
-            let lam = i.map(|i| w.lambda[i]).unwrap_or(0.0);
-            let pair = pb.pairs[p];
-            let x1 = Self::node_pos(pb, ts, pair.node);
-            let gap = pb.obstacles[pair.obstacle].half_space(t1, x1).gap(x1);
-            let mut st = PairState {
-                mode: w.modes[p],
-                restore: None,
-                brake_force: prev.brake_force,
-                force: lam / h,
-                held: false,
-                braked: false,
-                released: w.released[p],
-                gap,
-            };
-            match w.modes[p] {
-                PairMode::Brake { normal, .. } => {
-                    st.braked = true;
-                    let ls = match i {
-                        Some(i) if pb.contact.restores_stopping_impulse() => w.lambda_stop[i],
-                        _ => lam,
-                    };
-                    st.brake_force = [ls / h * normal[0], ls / h * normal[1]];
-                    st.mode = PairMode::Hold;
-                }
-                PairMode::Hold => st.held = true,
-                PairMode::Free => {
-                    if w.released[p] {
-                        st.brake_force = [0.0; 2];
-                    }
-                }
-            }
-            ts.pairs[p] = st;
-        }
-        w.pen.len()
     }
 }

@@ -25,14 +25,14 @@
 
 use crate::assembly::Assembler;
 use crate::contact::obstacle::{Flattening, RotatingLine};
-use crate::contact::{ContactMethod, Obstacle};
+use crate::contact::{Obstacle, Pair, Treatment};
 use crate::element::tri3::{self, Tri3Geometry};
 use crate::linalg::{LinalgError, SparseLu};
 use crate::material::{Elastic, PlaneModel};
 use crate::mesh::{Cells, Mesh};
-use crate::simulation::{ContactPair, Problem};
+use crate::simulation::Problem;
 use crate::time::step::LinearModel;
-use crate::time::SpaceTimeParams;
+use crate::time::Integrator;
 
 /// How the wheel is held at the axle.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -387,7 +387,7 @@ impl WheelModel {
     /// The rotating base, at `spinning_radius() - d(t)` from the axle.
     pub fn base(&self) -> RotatingLine {
         RotatingLine {
-            centre: [0.0, 0.0],
+            centre: [0.0; 3],
             radius: self.spinning_radius(),
             omega: self.spec.omega,
             theta0: 0.0,
@@ -398,9 +398,10 @@ impl WheelModel {
     /// The simulation problem from `t = 0` for `steps` steps.
     pub fn problem(
         &self,
-        params: SpaceTimeParams,
+        integrator: Integrator,
+        h: f64,
         gamma_schedule: Vec<(f64, f64)>,
-        contact: ContactMethod,
+        treatment: Treatment,
         steps: usize,
     ) -> Problem {
         let load = self.load.clone();
@@ -410,7 +411,8 @@ impl WheelModel {
             dim: 2,
             reference: self.mesh.reference_positions(),
             model: self.model.clone(),
-            params,
+            integrator,
+            h,
             gamma_schedule,
             dirichlet: self.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
             load: Box::new(move |_, f| f.copy_from_slice(&load)),
@@ -418,9 +420,9 @@ impl WheelModel {
             pairs: self
                 .rim
                 .iter()
-                .map(|&node| ContactPair { node, obstacle: 0 })
+                .map(|&node| Pair::Obstacle { node, obstacle: 0 })
                 .collect(),
-            contact,
+            treatment,
             u0: self.u_spin.clone(),
             v0: vec![0.0; n],
             t0: 0.0,

@@ -4,42 +4,54 @@
 //! `g(x) = n . x - c >= 0` with the unit normal `n` pointing into the admissible side
 //! (away from the obstacle). `g` is the gap, m. The normal velocity of the obstacle's surface
 //! at `x` is `w = dc/dt - dn/dt . x`: a node stays on the surface when `n . v = w`.
+//!
+//! Points and normals are [`Vector`]s of three components whatever the dimension of the
+//! model: a 1D or 2D model leaves the trailing components zero, so the same obstacles, pairs
+//! and contact rows serve 1D, 2D and (with a 3D element and mesh reader) 3D models.
 
 use std::f64::consts::PI;
+
+/// A point or direction, m (three components; unused trailing components are zero).
+pub type Vector = [f64; 3];
+
+/// `a . b`.
+pub fn dot(a: Vector, b: Vector) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
 
 /// The admissible half-space `n . x - c >= 0`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HalfSpace {
     /// Unit normal into the admissible side.
-    pub normal: [f64; 2],
+    pub normal: Vector,
     /// Offset `c`, m.
     pub offset: f64,
 }
 
 impl HalfSpace {
     /// The gap `n . x - c` (negative: penetration), m.
-    pub fn gap(&self, x: [f64; 2]) -> f64 {
-        self.normal[0] * x[0] + self.normal[1] * x[1] - self.offset
+    pub fn gap(&self, x: Vector) -> f64 {
+        dot(self.normal, x) - self.offset
     }
 }
 
 /// A rigid obstacle whose surface may move in time.
 pub trait Obstacle: Send + Sync + std::fmt::Debug {
     /// The supporting half-space at time `t` (s) near the point `x` (m).
-    fn half_space(&self, t: f64, x: [f64; 2]) -> HalfSpace;
+    fn half_space(&self, t: f64, x: Vector) -> HalfSpace;
 
     /// Normal velocity of the surface at `x` and time `t`, m/s: `dc/dt - dn/dt . x`.
     /// The default differentiates [`Obstacle::half_space`] numerically.
-    fn surface_normal_velocity(&self, t: f64, x: [f64; 2]) -> f64 {
+    fn surface_normal_velocity(&self, t: f64, x: Vector) -> f64 {
         let dt = 1e-7 * (1.0 + t.abs()).min(1.0) * self.time_scale();
         let a = self.half_space(t - dt, x);
         let b = self.half_space(t + dt, x);
         let cdot = (b.offset - a.offset) / (2.0 * dt);
-        let ndot = [
-            (b.normal[0] - a.normal[0]) / (2.0 * dt),
-            (b.normal[1] - a.normal[1]) / (2.0 * dt),
-        ];
-        cdot - ndot[0] * x[0] - ndot[1] * x[1]
+        let mut ndot = [0.0; 3];
+        for c in 0..3 {
+            ndot[c] = (b.normal[c] - a.normal[c]) / (2.0 * dt);
+        }
+        cdot - dot(ndot, x)
     }
 
     /// A characteristic time of the obstacle's motion, s (for numerical differentiation).
@@ -66,22 +78,22 @@ pub struct Wall {
 }
 
 impl Obstacle for Plane {
-    fn half_space(&self, _t: f64, _x: [f64; 2]) -> HalfSpace {
+    fn half_space(&self, _t: f64, _x: Vector) -> HalfSpace {
         self.half_space
     }
-    fn surface_normal_velocity(&self, _t: f64, _x: [f64; 2]) -> f64 {
+    fn surface_normal_velocity(&self, _t: f64, _x: Vector) -> f64 {
         0.0
     }
 }
 
 impl Obstacle for Wall {
-    fn half_space(&self, _t: f64, _x: [f64; 2]) -> HalfSpace {
+    fn half_space(&self, _t: f64, _x: Vector) -> HalfSpace {
         HalfSpace {
-            normal: [self.side, 0.0],
+            normal: [self.side, 0.0, 0.0],
             offset: self.side * self.position,
         }
     }
-    fn surface_normal_velocity(&self, _t: f64, _x: [f64; 2]) -> f64 {
+    fn surface_normal_velocity(&self, _t: f64, _x: Vector) -> f64 {
         0.0
     }
 }
@@ -127,7 +139,7 @@ impl Flattening {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotatingLine {
     /// Centre of rotation (the wheel's axle), m.
-    pub centre: [f64; 2],
+    pub centre: Vector,
     /// Undeformed radius `R`, m.
     pub radius: f64,
     /// Angular speed of the base in the wheel's frame, rad/s.
@@ -145,23 +157,23 @@ impl RotatingLine {
     }
 
     /// Unit vector from the centre towards the base at time `t`.
-    pub fn direction(&self, t: f64) -> [f64; 2] {
+    pub fn direction(&self, t: f64) -> Vector {
         let th = self.angle(t);
-        [th.sin(), -th.cos()]
+        [th.sin(), -th.cos(), 0.0]
     }
 }
 
 impl Obstacle for RotatingLine {
-    fn half_space(&self, t: f64, _x: [f64; 2]) -> HalfSpace {
+    fn half_space(&self, t: f64, _x: Vector) -> HalfSpace {
         let e = self.direction(t);
         let rho = self.radius - self.flattening.at(t);
         HalfSpace {
-            normal: [-e[0], -e[1]],
+            normal: [-e[0], -e[1], 0.0],
             offset: -rho - e[0] * self.centre[0] - e[1] * self.centre[1],
         }
     }
 
-    fn surface_normal_velocity(&self, t: f64, x: [f64; 2]) -> f64 {
+    fn surface_normal_velocity(&self, t: f64, x: Vector) -> f64 {
         // w = -rho' + e' . (x - centre), e' = omega (cos th, sin th).
         let th = self.angle(t);
         let ed = [self.omega * th.cos(), self.omega * th.sin()];
@@ -176,7 +188,7 @@ mod tests {
     #[test]
     fn rotating_line_rate_matches_numerical_derivative() {
         let line = RotatingLine {
-            centre: [0.01, -0.02],
+            centre: [0.01, -0.02, 0.0],
             radius: 0.1,
             omega: 300.0,
             theta0: 0.3,
@@ -188,14 +200,14 @@ mod tests {
         #[derive(Debug)]
         struct Numeric(RotatingLine);
         impl Obstacle for Numeric {
-            fn half_space(&self, t: f64, x: [f64; 2]) -> HalfSpace {
+            fn half_space(&self, t: f64, x: Vector) -> HalfSpace {
                 self.0.half_space(t, x)
             }
             fn time_scale(&self) -> f64 {
                 1e-3
             }
         }
-        let x = [0.03, -0.09];
+        let x = [0.03, -0.09, 0.0];
         for t in [0.0005, 0.0011, 0.003] {
             let a = line.surface_normal_velocity(t, x);
             let b = Numeric(line).surface_normal_velocity(t, x);
@@ -206,7 +218,7 @@ mod tests {
     #[test]
     fn base_below_the_wheel_at_angle_zero() {
         let line = RotatingLine {
-            centre: [0.0, 0.0],
+            centre: [0.0; 3],
             radius: 0.1,
             omega: 1.0,
             theta0: 0.0,
@@ -215,9 +227,9 @@ mod tests {
                 settle_time: 0.0,
             },
         };
-        let hs = line.half_space(0.0, [0.0, 0.0]);
-        assert!((hs.gap([0.0, -0.099]) - 0.0).abs() < 1e-15);
-        assert!(hs.gap([0.0, 0.0]) > 0.0);
-        assert!(hs.gap([0.0, -0.1]) < 0.0);
+        let hs = line.half_space(0.0, [0.0; 3]);
+        assert!((hs.gap([0.0, -0.099, 0.0]) - 0.0).abs() < 1e-15);
+        assert!(hs.gap([0.0; 3]) > 0.0);
+        assert!(hs.gap([0.0, -0.1, 0.0]) < 0.0);
     }
 }

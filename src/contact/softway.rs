@@ -41,65 +41,25 @@
 //! the node's effective mass times its approach speed, so the impact gives back the energy
 //! it took (an elastic impact of the node).
 
+use super::mass_redistribution::redistribute_mass;
+use super::rows::{Row, RowKind, Terms};
+use super::treatment::{ContactTreatment, Treatment};
+use crate::simulation::{Engine, SimError, Snapshot};
+use crate::time::step::LinearModel;
 use serde::Serialize;
-
-/// Which contact treatment the driver applies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ContactMethod {
-    /// The soft way (Table 1): brake in the step before impact, hold, release on tension,
-    /// give the momentum back; the momentum given back is the impulse that would have
-    /// stopped the node in the braking step (module docs, Release), independent of where
-    /// the node arrives inside the step.
-    SoftWay,
-    /// The soft way with Table 1's literal restore: the braking reaction `R` alone.
-    SoftWayBrakingRestore,
-    /// The soft way without giving the braking momentum back (for comparison: the rebound
-    /// is slower).
-    SoftWayNoRestore,
-    /// Exact enforcement: the node is put on the obstacle in the step where penetration is
-    /// found (a velocity jump), held while compressive; no braking, no momentum restoring.
-    Exact,
-}
-
-impl ContactMethod {
-    /// True for the methods that brake one step early.
-    pub fn brakes(&self) -> bool {
-        matches!(
-            self,
-            ContactMethod::SoftWay
-                | ContactMethod::SoftWayBrakingRestore
-                | ContactMethod::SoftWayNoRestore
-        )
-    }
-
-    /// True when the braking impulse is given back at release.
-    pub fn restores(&self) -> bool {
-        matches!(
-            self,
-            ContactMethod::SoftWay | ContactMethod::SoftWayBrakingRestore
-        )
-    }
-
-    /// True when the momentum given back is the full stopping impulse of the braking step
-    /// (not Table 1's braking reaction alone).
-    pub fn restores_stopping_impulse(&self) -> bool {
-        matches!(self, ContactMethod::SoftWay)
-    }
-}
 
 /// The constraint a contact pair gets in the next step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PairMode {
     /// No constraint.
     Free,
-    /// Braking: `normal . v = q` at the end of the step (Eq. 26).
+    /// Braking: `c . v = q` at the end of the step (Eq. 26).
     Brake {
         /// Prescribed normal velocity, m/s.
         q: f64,
-        /// The obstacle's normal at the instant of arrival.
-        normal: [f64; 2],
-        /// The obstacle's surface normal velocity at the instant of arrival, m/s.
+        /// The row `c` at the instant of arrival.
+        terms: Terms,
+        /// The boundary's normal velocity at the instant of arrival, m/s.
         w: f64,
     },
     /// Held on the obstacle: relative normal velocity zero at the end of the step, with a
@@ -107,20 +67,22 @@ pub enum PairMode {
     Hold,
 }
 
-/// The state of one (node, obstacle) pair at the end of a step.
+/// The state of one contact pair at the end of a step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairState {
     /// The constraint for the next step.
     pub mode: PairMode,
-    /// Force to add on the node in the next step (the arrival momentum given back), N.
-    pub restore: Option<[f64; 2]>,
-    /// The force `R = lambda_s / h` (vector, N) to give back at release, kept since the last
-    /// braking (module docs, Release).
-    pub brake_force: [f64; 2],
-    /// Constraint force of the step that ended here (`lambda / h`, N, positive when
-    /// compressive), braking included.
+    /// Force to add along `brake_row` in the next step (the arrival momentum given back), N.
+    pub restore: Option<f64>,
+    /// The force `R = lambda_s / h` (N, along `brake_row`) to give back at release, kept since
+    /// the last braking (module docs, Release).
+    pub brake_force: f64,
+    /// The row of the last braking.
+    pub brake_row: Terms,
+    /// Constraint force of the step that ended here (N, positive when compressive), braking
+    /// included.
     pub force: f64,
-    /// Held on the obstacle at the end of the step.
+    /// Carrying a reaction (held on its obstacle) at the end of the step.
     pub held: bool,
     /// Braked in the step that ended here.
     pub braked: bool,
@@ -135,7 +97,8 @@ impl Default for PairState {
         Self {
             mode: PairMode::Free,
             restore: None,
-            brake_force: [0.0; 2],
+            brake_force: 0.0,
+            brake_row: Terms::default(),
             force: 0.0,
             held: false,
             braked: false,
@@ -157,6 +120,348 @@ pub fn braking_velocity(c: f64, p_prev: f64, q_prev: f64, w: f64, h: f64, beta: 
 pub fn holding_velocity(c1: f64, p0: f64, q0: f64, w: f64, h: f64, beta: f64) -> f64 {
     let g_star = p0 + h * ((1.0 - beta) * q0 + beta * w) - c1;
     w - g_star / h
+}
+
+/// What the soft way gives back at release (module docs, Release).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Restore {
+    /// The impulse that would have stopped the node in the braking step (`soft_way`): the
+    /// same whatever the phase of the arrival inside the step.
+    StoppingImpulse,
+    /// Table 1's braking reaction alone (`soft_way_braking_restore`).
+    BrakingReaction,
+    /// Nothing (`soft_way_no_restore`; exact enforcement).
+    Nothing,
+}
+
+const MAX_RESOLVES: usize = 32;
+
+/// The soft way's state machine (Table 1) on the engine; with `brakes = false` it is exact
+/// enforcement for the space-time scheme (held at once in the step where penetration is
+/// found, released on tension).
+///
+/// One interval `[t0, t1]` is solved as follows (Table 1):
+/// 1. the pairs' modes at `t0` give the rows (brake, hold) and the forces given back;
+/// 2. solve; a held pair with a tensile multiplier is released and the step solved again
+///    with the momentum taken at its arrival given back as a force (item 7);
+/// 3. a free pair found penetrating at `t1` is, with the soft way, braked in the previous
+///    interval `[t_{-1}, t0]` (Eq. 26), which is solved again (items 4-5), and the interval
+///    is solved again with the pair held (item 6). Without a previous interval (first step),
+///    or for exact enforcement, the pair is held at once in the current interval.
+#[derive(Debug, Clone)]
+pub struct SoftWay {
+    brakes: bool,
+    restore_mode: Restore,
+    mass_redistribution: bool,
+    modes: Vec<PairMode>,
+    restore: Vec<Option<f64>>,
+    released: Vec<bool>,
+    pen: Vec<usize>,
+    pen_saved: Vec<usize>,
+    /// The pair of each row of the last solve.
+    row_pair: Vec<usize>,
+    lambda: Vec<f64>,
+    lambda_stop: Vec<f64>,
+}
+
+impl SoftWay {
+    /// For `pairs` contact pairs; `brakes`: the soft way (else exact enforcement).
+    pub fn new(brakes: bool, restore: Restore, pairs: usize) -> Self {
+        Self {
+            brakes,
+            restore_mode: restore,
+            mass_redistribution: false,
+            modes: vec![PairMode::Free; pairs],
+            restore: vec![None; pairs],
+            released: vec![false; pairs],
+            pen: Vec::with_capacity(pairs),
+            pen_saved: Vec::with_capacity(pairs),
+            row_pair: Vec::with_capacity(pairs),
+            lambda: vec![0.0; pairs],
+            lambda_stop: vec![0.0; pairs],
+        }
+    }
+
+    /// With the contact nodes made massless first (mass redistribution).
+    pub fn with_mass_redistribution(mut self) -> Self {
+        self.mass_redistribution = true;
+        self
+    }
+
+    /// The rows of the current modes: brake rows get `c.v1 = q` (or, with `stop`, the
+    /// boundary's velocity `w`), held rows the holding velocity.
+    fn push_rows(&mut self, eng: &mut Engine, fs: &Snapshot, t1: f64, bt: f64, stop: bool) {
+        let h = eng.integ.h();
+        eng.rows.clear();
+        self.row_pair.clear();
+        for p in 0..self.modes.len() {
+            let (terms, g) = match self.modes[p] {
+                PairMode::Free => continue,
+                PairMode::Brake { q, terms, w } => (terms, if stop { w } else { q }),
+                PairMode::Hold => {
+                    let geo = eng.geometry(p, t1, &fs.u);
+                    let g = holding_velocity(
+                        geo.offset,
+                        geo.position(&eng.reference, &fs.u),
+                        geo.terms.dot(&fs.v),
+                        geo.w,
+                        h,
+                        bt,
+                    );
+                    (geo.terms, g)
+                }
+            };
+            eng.rows.push(Row {
+                pair: p,
+                terms,
+                kind: RowKind::Equality,
+                y0: -g,
+                mu: 1.0,
+                reg: 0.0,
+            });
+            self.row_pair.push(p);
+        }
+    }
+}
+
+impl ContactTreatment for SoftWay {
+    fn name(&self) -> String {
+        if self.brakes {
+            Treatment::SoftWay {
+                restore: self.restore_mode,
+            }
+            .name()
+        } else if self.mass_redistribution {
+            "mass_redistribution".into()
+        } else {
+            "exact".into()
+        }
+    }
+
+    fn adjust_model(
+        &mut self,
+        model: &mut LinearModel,
+        dim: usize,
+        contact_nodes: &[usize],
+    ) -> Vec<usize> {
+        if self.mass_redistribution {
+            redistribute_mass(model, dim, contact_nodes)
+        } else {
+            Vec::new()
+        }
+    }
+
+    fn solve_interval(
+        &mut self,
+        eng: &mut Engine,
+        fs: &Snapshot,
+        ts: &mut Snapshot,
+    ) -> Result<(), SimError> {
+        let h = eng.integ.h();
+        let t0 = fs.t;
+        let t1 = t0 + h;
+        let bt = eng.integ.displacement_weight(t0);
+        let np = self.modes.len();
+        for p in 0..np {
+            self.modes[p] = fs.pairs[p].mode;
+            self.restore[p] = fs.pairs[p].restore;
+            self.released[p] = false;
+        }
+        for _ in 0..MAX_RESOLVES {
+            eng.extra.fill(0.0);
+            for p in 0..np {
+                if let Some(r) = self.restore[p] {
+                    fs.pairs[p].brake_row.scatter(r, &mut eng.extra);
+                }
+            }
+            eng.predict(t0, &fs.state);
+            // In a braking step, the impulses that would stop the braked nodes (relative
+            // normal velocity w at t1): given back at release.
+            let braking = self
+                .modes
+                .iter()
+                .any(|m| matches!(m, PairMode::Brake { .. }));
+            if braking && self.restore_mode == Restore::StoppingImpulse {
+                self.push_rows(eng, fs, t1, bt, true);
+                eng.solve(0.0);
+                let k = self.row_pair.len();
+                self.lambda_stop[..k].copy_from_slice(eng.rows.lambda());
+            }
+            self.push_rows(eng, fs, t1, bt, false);
+            eng.solve(0.0);
+            let k = self.row_pair.len();
+            self.lambda[..k].copy_from_slice(eng.rows.lambda());
+            eng.finish(&fs.state, &mut ts.state);
+            ts.t = t1;
+            ts.k = fs.k + 1;
+            // Tension: release (Table 1, item 7).
+            let mut changed = false;
+            for i in 0..k {
+                let p = self.row_pair[i];
+                if self.modes[p] == PairMode::Hold && self.lambda[i] < 0.0 {
+                    self.modes[p] = PairMode::Free;
+                    self.released[p] = true;
+                    let bf = fs.pairs[p].brake_force;
+                    if self.restore_mode != Restore::Nothing && bf != 0.0 {
+                        self.restore[p] = Some(bf);
+                    }
+                    changed = true;
+                    eng.stats.releases += 1;
+                }
+            }
+            if changed {
+                eng.stats.resolves += 1;
+                continue;
+            }
+            // Penetration of free pairs at t1.
+            self.pen.clear();
+            for p in 0..np {
+                if self.modes[p] != PairMode::Free {
+                    continue;
+                }
+                if eng.gap(p, t1, &ts.u) < -eng.gap_tol {
+                    if self.released[p] {
+                        // Released in this very step and penetrating again: hold it.
+                        self.modes[p] = PairMode::Hold;
+                        self.restore[p] = None;
+                        changed = true;
+                    } else {
+                        self.pen.push(p);
+                    }
+                }
+            }
+            if changed {
+                eng.stats.resolves += 1;
+                continue;
+            }
+            break;
+        }
+        // Record the pairs' states at t1 and their modes for the next step.
+        let k = self.row_pair.len();
+        for p in 0..np {
+            let prev = fs.pairs[p];
+            let i = self.row_pair[..k].iter().position(|&q| q == p);
+            let lam = i.map(|i| self.lambda[i]).unwrap_or(0.0);
+            let gap = eng.gap(p, t1, &ts.u);
+            let mut st = PairState {
+                mode: self.modes[p],
+                restore: None,
+                brake_force: prev.brake_force,
+                brake_row: prev.brake_row,
+                force: lam / h,
+                held: false,
+                braked: false,
+                released: self.released[p],
+                gap,
+            };
+            match self.modes[p] {
+                PairMode::Brake { terms, .. } => {
+                    st.braked = true;
+                    let ls = match i {
+                        Some(i) if self.restore_mode == Restore::StoppingImpulse => {
+                            self.lambda_stop[i]
+                        }
+                        _ => lam,
+                    };
+                    st.brake_force = ls / h;
+                    st.brake_row = terms;
+                    st.mode = PairMode::Hold;
+                }
+                PairMode::Hold => {
+                    st.held = true;
+                    if !prev.held && !prev.braked {
+                        eng.stats.entries += 1;
+                    }
+                }
+                PairMode::Free => {
+                    if self.released[p] {
+                        st.brake_force = 0.0;
+                    }
+                }
+            }
+            ts.pairs[p] = st;
+        }
+        Ok(())
+    }
+
+    /// Solves `[t_{k-1}, t_k]`, stepping back into `[t_{k-2}, t_{k-1}]` when the soft way
+    /// asks for it (Table 1, items 4-6).
+    fn advance(
+        &mut self,
+        eng: &mut Engine,
+        ring: &mut [Snapshot; 3],
+        have_prev: bool,
+    ) -> Result<(), SimError> {
+        let mut step_backs = 0;
+        let mut immediate = 0;
+        loop {
+            {
+                let (lo, hi) = ring.split_at_mut(2);
+                self.solve_interval(eng, &lo[1], &mut hi[0])?;
+            }
+            if self.pen.is_empty() {
+                return Ok(());
+            }
+            let mut pen = std::mem::take(&mut self.pen_saved);
+            pen.clear();
+            pen.extend_from_slice(&self.pen);
+            if self.brakes && have_prev && step_backs < 2 {
+                step_backs += 1;
+                eng.stats.step_backs += 1;
+                eng.stats.brakings += pen.len();
+                let h = eng.integ.h();
+                let t_arrive = ring[2].t;
+                let bt = eng.integ.displacement_weight(ring[0].t);
+                for &p in &pen {
+                    let geo = eng.geometry(p, t_arrive, &ring[2].u);
+                    let q = braking_velocity(
+                        geo.offset,
+                        geo.position(&eng.reference, &ring[0].u),
+                        geo.terms.dot(&ring[0].v),
+                        geo.w,
+                        h,
+                        bt,
+                    );
+                    ring[0].pairs[p].mode = PairMode::Brake {
+                        q,
+                        terms: geo.terms,
+                        w: geo.w,
+                    };
+                }
+                // Repeat the previous step with the braking; a pair found penetrating at
+                // t_{k-1} in that repetition is held at once.
+                let mut guard = 0;
+                loop {
+                    {
+                        let (lo, hi) = ring.split_at_mut(1);
+                        self.solve_interval(eng, &lo[0], &mut hi[0])?;
+                    }
+                    if self.pen.is_empty() || guard >= MAX_RESOLVES {
+                        break;
+                    }
+                    guard += 1;
+                    eng.stats.resolves += 1;
+                    for i in 0..self.pen.len() {
+                        let p = self.pen[i];
+                        ring[0].pairs[p].mode = PairMode::Hold;
+                    }
+                }
+            } else {
+                immediate += 1;
+                eng.stats.resolves += 1;
+                for &p in &pen {
+                    ring[1].pairs[p].mode = PairMode::Hold;
+                }
+                if immediate > MAX_RESOLVES {
+                    self.pen_saved = pen;
+                    return Ok(());
+                }
+            }
+            // Give the buffer back (no allocation in the loop).
+            self.pen_saved = pen;
+        }
+    }
 }
 
 #[cfg(test)]

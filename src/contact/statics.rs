@@ -63,7 +63,7 @@ pub fn solve(
     };
     let gap = |u: &[f64], c: usize| {
         let i = candidates[c];
-        plane.gap([x[2 * i] + u[2 * i], x[2 * i + 1] + u[2 * i + 1]])
+        plane.gap([x[2 * i] + u[2 * i], x[2 * i + 1] + u[2 * i + 1], 0.0])
     };
     let mut active: Vec<usize> = (0..candidates.len())
         .filter(|&c| gap(&u0, c) < 0.0)

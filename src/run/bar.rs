@@ -3,10 +3,9 @@
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
 use super::{progress_bar, RunError, RunOptions, RunReport, INTERRUPT};
-use crate::lab::{Lab, LabError};
 use crate::output::files::{write_json, CsvWriter};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::scenario::{Contact, Model, Run, Scenario};
+use crate::scenario::{Model, Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
 use std::path::Path;
@@ -291,9 +290,9 @@ struct Counts {
     interrupted: bool,
 }
 
-/// Runs one run of a bar scenario (`bar_impact` or `two_bars`): the soft way family in the
-/// driver ([`Simulation`]), every other treatment and integrator in the laboratory
-/// ([`Lab`]); rows go to `csv` (if given) with the run label.
+/// Runs one run of a bar scenario (`bar_impact` or `two_bars`) with its integrator and
+/// contact treatment through the driver ([`Simulation`]); rows go to `csv` (if given) with
+/// the run label.
 ///
 /// # Errors
 /// [`RunError`].
@@ -307,10 +306,6 @@ pub fn simulate(
     let sim_err = |source: crate::simulation::SimError| RunError::Simulation {
         run: run.label.clone(),
         source,
-    };
-    let lab_err = |e: LabError| RunError::Lab {
-        run: run.label.clone(),
-        message: e.to_string(),
     };
     // The exact answers of bar A (against a wall, or against bar B: half the force).
     let (case, a, force, elements) = match &run.model {
@@ -329,98 +324,60 @@ pub fn simulate(
     let steps = (run.t_end / h).round() as usize;
     let pb = progress_bar(steps as u64, &run.label, show_progress);
     let start = Instant::now();
-    let (rec, counts) = match (&run.model, run.contact) {
-        (Model::BarImpact(bar), Contact::Driver(method)) => {
-            let (mesh, problem) = bar.problem(run.params, method, run.t_end);
-            let head = mesh.n_nodes() - 1;
-            let n = problem.model.n();
-            let mut rec = Recorder::new(
-                &run.label,
-                head,
-                &problem.model,
-                vec![std::ops::Range { start: 0, end: n }],
-                csv,
-                stride,
-                pb,
-            );
-            let mut sim = Simulation::new(problem).map_err(sim_err)?;
-            let stats = sim
-                .run(&INTERRUPT, |s| {
-                    let st = &s.state;
-                    let pair = &st.pairs[0];
-                    rec.record(&Sample {
-                        k: st.k,
-                        t: st.t,
-                        u: &st.u,
-                        v: &st.v,
-                        kinetic: s.kinetic,
-                        strain: s.strain,
-                        penalty: 0.0,
-                        force: s.contact_force,
-                        gap: pair.gap,
-                        in_contact: pair.held,
-                        braked: pair.braked,
-                    })
-                })
-                .map_err(sim_err)?;
-            let c = Counts {
-                steps: stats.steps,
-                brakings: stats.brakings,
-                releases: stats.releases,
-                factorizations: 1,
-                interrupted: stats.interrupted,
-            };
-            (rec, c)
+    let (mesh, problem, bodies) = match &run.model {
+        Model::BarImpact(b) => {
+            let (m, p) = b.problem(run.integrator, run.contact, h, run.t_end);
+            let n = p.model.n();
+            (m, p, vec![0..n])
         }
-        (_, Contact::Lab(treatment)) => {
-            let (mesh, problem, bodies) = match &run.model {
-                Model::BarImpact(b) => {
-                    let (m, p) = b.lab_problem(run.integrator, treatment, h, run.t_end);
-                    let n = p.model.n();
-                    (m, p, vec![std::ops::Range { start: 0, end: n }])
-                }
-                Model::TwoBars(b) => {
-                    let (m, p) = b.lab_problem(run.integrator, treatment, h, run.t_end);
-                    let n = p.model.n();
-                    (m, p, vec![0..n / 2, n / 2..n])
-                }
-                _ => unreachable!(),
-            };
-            let head = mesh
-                .node_sets
-                .get("a_head")
-                .or(mesh.node_sets.get("head"))
-                .map(|v| v[0])
-                .unwrap_or(0);
-            let mut lab = Lab::new(problem).map_err(lab_err)?;
-            let mut rec = Recorder::new(&run.label, head, lab.model(), bodies, csv, stride, pb);
-            let stats = lab
-                .run(&INTERRUPT, |s| {
-                    rec.record(&Sample {
-                        k: s.k,
-                        t: s.t,
-                        u: s.u,
-                        v: s.v,
-                        kinetic: s.kinetic,
-                        strain: s.strain,
-                        penalty: s.penalty,
-                        force: s.forces.iter().sum(),
-                        gap: s.gaps[0],
-                        in_contact: s.active[0],
-                        braked: false,
-                    })
-                })
-                .map_err(lab_err)?;
-            let c = Counts {
-                steps: stats.steps,
-                brakings: 0,
-                releases: stats.releases,
-                factorizations: stats.factorizations,
-                interrupted: stats.interrupted,
-            };
-            (rec, c)
+        Model::TwoBars(b) => {
+            let (m, p) = b.problem(run.integrator, run.contact, h, run.t_end);
+            let n = p.model.n();
+            (m, p, vec![0..n / 2, n / 2..n])
         }
-        _ => unreachable!("the scenario refuses the soft way on two bars"),
+        _ => unreachable!("bar job on a bar scenario"),
+    };
+    let head = mesh
+        .node_sets
+        .get("a_head")
+        .or(mesh.node_sets.get("head"))
+        .map(|v| v[0])
+        .unwrap_or(0);
+    let mut sim = Simulation::new(problem).map_err(sim_err)?;
+    let mut rec = Recorder::new(
+        &run.label,
+        head,
+        &sim.engine().model,
+        bodies,
+        csv,
+        stride,
+        pb,
+    );
+    let stats = sim
+        .run(&INTERRUPT, |s| {
+            let st = &s.state;
+            let pair = &st.pairs[0];
+            rec.record(&Sample {
+                k: st.k,
+                t: st.t,
+                u: &st.u,
+                v: &st.v,
+                kinetic: s.kinetic,
+                strain: s.strain,
+                penalty: s.penalty,
+                force: s.contact_force,
+                gap: pair.gap,
+                in_contact: pair.held,
+                braked: pair.braked,
+            })
+        })
+        .map_err(sim_err)?;
+    let counts = Counts {
+        steps: stats.steps,
+        brakings: stats.brakings,
+        releases: stats.releases,
+        factorizations: stats.factorizations,
+        interrupted: stats.interrupted,
     };
     rec.pb.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();

@@ -22,14 +22,6 @@ pub enum RunError {
         /// Cause.
         source: crate::simulation::SimError,
     },
-    /// A laboratory run failed.
-    #[error("run `{run}`: {message}")]
-    Lab {
-        /// Run label.
-        run: String,
-        /// Cause.
-        message: String,
-    },
     /// The model could not be built from the input (mesh file, elements, supports).
     #[error("{path}: {message}")]
     Input {

@@ -190,7 +190,7 @@ pub fn simulate(
         Some(g) if t_settle > 0.0 => vec![(0.0, g), (t_settle, run.params.gamma)],
         _ => vec![],
     };
-    let problem = wm.problem(run.params, gamma_schedule, run.method, steps);
+    let problem = wm.problem(run.integrator, h, gamma_schedule, run.contact, steps);
     let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation {
         run: run.label.clone(),
         source,

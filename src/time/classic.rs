@@ -38,23 +38,21 @@
 //! A prescribed displacement needs `beta > 0` (not the central difference, whose `u1` does
 //! not depend on `a1`); [`ClassicStepper::new`] rejects it otherwise.
 //!
-//! # Node constraints (exact enforcement of contact)
+//! # Constraints (exact enforcement of contact)
 //!
-//! A constraint `n . v_node(t1) = g` or `n . u_node(t1) = g` is, through the Newmark
-//! updates, a linear condition `n . a_node(t1) = g'` with
-//! `g' = (g - n . v*)/(gamma h)` or `(g - n . u*)/(beta h^2)`. The conditions are imposed by
-//! Lagrange multipliers through the factored `A`:
-//! $$A a_1 = b + C^T\lambda,\quad C a_1 = g'\ \Rightarrow\
-//!   \lambda = (C A^{-1} C^T)^{-1}(g' - C A^{-1} b),\quad a_1 = A^{-1}b + A^{-1}C^T\lambda.$$
-//! The columns `A^{-1} e_d` of the constrained nodes are cached (least recently used) while
-//! `A` does not change; each step solves only the small dense system. **The multiplier is
-//! a force** (N): the reaction `r` in the balance equation, i.e. acting at the shifted time
-//! `t0 + (1 - alpha_f) h` (at `t1` for Newmark and the central difference); its impulse over
-//! the step is about `h lambda`. Displacement constraints need `beta > 0`.
+//! A constraint row `c . a1 = g'` on the end acceleration (a velocity or displacement target
+//! turned into one through the Newmark updates, `g' = (g - c . v*)/(gamma h)` or
+//! `(g - c . u*)/(beta h^2)`) is imposed by a Lagrange multiplier through the factored `A`
+//! ([`crate::contact::rows`]). **The multiplier is a force** (N): the reaction `r` in the
+//! balance equation, acting at the shifted time `t0 + (1 - alpha_f) h` (at `t1` for Newmark
+//! and the central difference); its impulse over the step is about `h lambda`.
+//! [`ClassicStepper`] implements the [`TimeIntegrator`] contract with `x = a1`.
 
 use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
-use crate::time::constraints::ColumnCache;
-use crate::time::step::{LinearModel, VelocityConstraint};
+use crate::simulation::LoadFn;
+pub use crate::time::integrator::State;
+use crate::time::integrator::{Maps, MultiplierUnit, TimeIntegrator};
+use crate::time::step::LinearModel;
 use serde::Serialize;
 
 /// Errors of the classic integrators.
@@ -194,42 +192,6 @@ pub struct Dirichlet {
     pub value: f64,
 }
 
-/// A node constraint at `t1`: `normal . v_node(t1) = rhs` (kind `Velocity`) or
-/// `normal . u_node(t1) = rhs` (kind `Displacement`); `Acceleration` constrains `a1`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NodeConstraint {
-    /// The node.
-    pub node: usize,
-    /// Unit direction (only the first `dim` components are used).
-    pub normal: [f64; 2],
-    /// The constrained quantity.
-    pub kind: Kinematic,
-    /// Prescribed value (m/s^2, m/s or m).
-    pub rhs: f64,
-}
-
-/// The state `(u, v, a)` at one time.
-#[derive(Debug, Clone, PartialEq)]
-pub struct State {
-    /// Displacements, m.
-    pub u: Vec<f64>,
-    /// Velocities, m/s.
-    pub v: Vec<f64>,
-    /// Accelerations, m/s^2.
-    pub a: Vec<f64>,
-}
-
-impl State {
-    /// Zero state of `n` dofs.
-    pub fn zeros(n: usize) -> Self {
-        Self {
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            a: vec![0.0; n],
-        }
-    }
-}
-
 enum Solver {
     Lu(Box<SparseLu>),
     /// Inverse diagonal (explicit).
@@ -250,23 +212,23 @@ impl Solver {
 }
 
 /// A classic integrator on a [`LinearModel`]: the effective matrix factored once, the
-/// Dirichlet conditions, the constraint column cache and all work memory.
+/// Dirichlet conditions and all work memory.
 pub struct ClassicStepper {
     params: ClassicParams,
     h: f64,
-    dim: usize,
     n: usize,
     pattern: Pattern,
     m: Vec<f64>,
     c: Vec<f64>,
     k: Vec<f64>,
     a_orig: Vec<f64>,
+    a_work: Vec<f64>,
     solver: Solver,
     bcs: Vec<Dirichlet>,
     is_bc: Vec<bool>,
-    cache: ColumnCache,
-    rows: Vec<VelocityConstraint>,
     work: Vec<f64>,
+    f1: Vec<f64>,
+    factorizations: usize,
 }
 
 impl std::fmt::Debug for ClassicStepper {
@@ -282,41 +244,23 @@ impl std::fmt::Debug for ClassicStepper {
 
 impl ClassicStepper {
     /// Builds and factors `A = (1 - alpha_m) M + (1 - alpha_f)(gamma h C + beta h^2 K)` for
-    /// the step `h` (s), with the Dirichlet conditions `bcs` (the first of a dof wins), room
-    /// for `max_constraints` simultaneous node constraints and a cache of the columns of
-    /// `cache_nodes` constrained nodes (`dim` dofs per node). A diagonal `A` is inverted
-    /// directly (explicit method).
+    /// the step `h` (s), with the Dirichlet conditions `bcs` (the first of a dof wins). A
+    /// diagonal `A` is inverted directly (explicit method).
     ///
     /// # Errors
     /// [`ClassicError`] when `A` is singular or a displacement is prescribed with `beta = 0`.
     pub fn new(
         model: &LinearModel,
-        dim: usize,
         params: ClassicParams,
         h: f64,
         bcs: &[Dirichlet],
-        max_constraints: usize,
-        cache_nodes: usize,
     ) -> Result<Self, ClassicError> {
         let n = model.n();
         let pattern = model.pattern().clone();
-        let ClassicParams {
-            alpha_m,
-            alpha_f,
-            beta,
-            gamma,
-        } = params;
-        let a_vals: Vec<f64> = (0..model.m.len())
-            .map(|p| {
-                (1.0 - alpha_m) * model.m[p]
-                    + (1.0 - alpha_f) * (gamma * h * model.c[p] + beta * h * h * model.k[p])
-            })
-            .collect();
-        let a_orig = a_vals.clone();
         let mut is_bc = vec![false; n];
         let mut kept = Vec::with_capacity(bcs.len());
         for bc in bcs {
-            if bc.kind == Kinematic::Displacement && beta == 0.0 {
+            if bc.kind == Kinematic::Displacement && params.beta == 0.0 {
                 return Err(ClassicError::DisplacementNeedsImplicit(bc.dof));
             }
             if !is_bc[bc.dof] {
@@ -324,49 +268,71 @@ impl ClassicStepper {
                 kept.push(*bc);
             }
         }
-        let mut a_vals = a_vals;
-        crate::linalg::set_identity_rows(&pattern, &mut a_vals, &is_bc);
-        let cp = pattern.col_ptr();
-        let ri = pattern.row_idx();
-        let mut diagonal = true;
-        let mut diag = vec![0.0; n];
-        for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                let i = ri[p];
-                if i == j {
-                    diag[j] = a_vals[p];
-                } else if a_vals[p] != 0.0 {
-                    diagonal = false;
-                }
-            }
-        }
-        let solver = if diagonal {
-            if let Some(j) = diag.iter().position(|&d| d == 0.0) {
-                return Err(ClassicError::Linalg(LinalgError::Singular(format!(
-                    "zero diagonal of the effective matrix at dof {j}"
-                ))));
-            }
-            Solver::Diagonal(diag.iter().map(|d| 1.0 / d).collect())
-        } else {
-            Solver::Lu(Box::new(SparseLu::new(&pattern, &a_vals)?))
-        };
-        Ok(Self {
+        let nnz = model.m.len();
+        let mut st = Self {
             params,
             h,
-            dim,
             n,
             pattern,
             m: model.m.clone(),
             c: model.c.clone(),
             k: model.k.clone(),
-            a_orig,
-            solver,
+            a_orig: vec![0.0; nnz],
+            a_work: vec![0.0; nnz],
+            solver: Solver::Diagonal(vec![0.0; n]),
             bcs: kept,
             is_bc,
-            cache: ColumnCache::new(n, dim, max_constraints, cache_nodes),
-            rows: Vec::with_capacity(max_constraints),
             work: vec![0.0; n],
-        })
+            f1: vec![0.0; n],
+            factorizations: 0,
+        };
+        st.operators(h);
+        st.solver = match st.inverse_diagonal()? {
+            Some(d) => Solver::Diagonal(d),
+            None => Solver::Lu(Box::new(SparseLu::new(&st.pattern, &st.a_work)?)),
+        };
+        st.factorizations = 1;
+        Ok(st)
+    }
+
+    /// `A` for the step `h` into `a_orig`, and with the Dirichlet identity rows into `a_work`.
+    fn operators(&mut self, h: f64) {
+        let ClassicParams {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.params;
+        for p in 0..self.m.len() {
+            self.a_orig[p] = (1.0 - alpha_m) * self.m[p]
+                + (1.0 - alpha_f) * (gamma * h * self.c[p] + beta * h * h * self.k[p]);
+        }
+        self.a_work.copy_from_slice(&self.a_orig);
+        crate::linalg::set_identity_rows(&self.pattern, &mut self.a_work, &self.is_bc);
+        self.h = h;
+    }
+
+    /// The inverse diagonal of `a_work` when it is diagonal (explicit), else `None`.
+    fn inverse_diagonal(&self) -> Result<Option<Vec<f64>>, ClassicError> {
+        let cp = self.pattern.col_ptr();
+        let ri = self.pattern.row_idx();
+        let mut diag = vec![0.0; self.n];
+        for j in 0..self.n {
+            for p in cp[j]..cp[j + 1] {
+                let i = ri[p];
+                if i == j {
+                    diag[j] = self.a_work[p];
+                } else if self.a_work[p] != 0.0 {
+                    return Ok(None);
+                }
+            }
+        }
+        if let Some(j) = diag.iter().position(|&d| d == 0.0) {
+            return Err(ClassicError::Linalg(LinalgError::Singular(format!(
+                "zero diagonal of the effective matrix at dof {j}"
+            ))));
+        }
+        Ok(Some(diag.iter().map(|d| 1.0 / d).collect()))
     }
 
     /// The parameters.
@@ -394,48 +360,12 @@ impl ClassicStepper {
         self.is_bc[dof]
     }
 
-    /// One step `(u, v, a)(t0) -> (u, v, a)(t1)` with the external forces `f0 = f(t0)` and
-    /// `f1 = f(t1)` (N per dof; the balance uses `(1 - alpha_f) f1 + alpha_f f0`) and the
-    /// node `constraints` at `t1`; the multipliers (forces, N) go to `lambda[..len]`.
-    /// Allocates nothing.
-    ///
-    /// # Panics
-    /// When more constraints are given than `max_constraints` of [`ClassicStepper::new`],
-    /// or a displacement constraint is given with `beta = 0`.
-    pub fn step(
-        &mut self,
-        s0: &State,
-        f0: &[f64],
-        f1: &[f64],
-        constraints: &[NodeConstraint],
-        lambda: &mut [f64],
-        s1: &mut State,
-    ) {
+    /// One unconstrained step `(u, v, a)(t0) -> (u, v, a)(t1)` with the external forces
+    /// `f0 = f(t0)` and `f1 = f(t1)` (N per dof; the balance uses `(1 - alpha_f) f1 +
+    /// alpha_f f0`). Allocates nothing. Constrained steps go through the driver
+    /// ([`crate::simulation`]).
+    pub fn step(&mut self, s0: &State, f0: &[f64], f1: &[f64], s1: &mut State) {
         self.predict(s0, f0, f1, s1);
-        let ClassicParams { beta, gamma, .. } = self.params;
-        let h = self.h;
-        // Constraints: each becomes `n . a1 = g` on the end acceleration.
-        self.rows.clear();
-        let dim = self.dim;
-        for cp in constraints {
-            let (mut un, mut vn) = (0.0, 0.0);
-            for c in 0..dim {
-                let d = dim * cp.node + c;
-                un += cp.normal[c] * s1.u[d];
-                vn += cp.normal[c] * s1.v[d];
-            }
-            let g = target_acc(cp.kind, cp.rhs, un, vn, beta, gamma, h);
-            self.rows.push(VelocityConstraint {
-                node: cp.node,
-                normal: cp.normal,
-                rhs: g,
-            });
-        }
-        let solver = &mut self.solver;
-        self.cache
-            .apply(&mut s1.a, &self.rows, lambda, &self.is_bc, |r| {
-                solver.solve_in_place(r)
-            });
         self.finish(s1);
     }
 
@@ -516,6 +446,116 @@ impl ClassicStepper {
     }
 }
 
+impl TimeIntegrator for ClassicStepper {
+    fn name(&self) -> String {
+        format!(
+            "classic(alpha_m={} alpha_f={} beta={} gamma={})",
+            self.params.alpha_m, self.params.alpha_f, self.params.beta, self.params.gamma
+        )
+    }
+    fn n(&self) -> usize {
+        self.n
+    }
+    fn h(&self) -> f64 {
+        self.h
+    }
+    fn unit(&self) -> MultiplierUnit {
+        MultiplierUnit::Force
+    }
+    fn maps(&self) -> Maps {
+        Maps {
+            mu_u: self.params.beta * self.h * self.h,
+            mu_v: self.params.gamma * self.h,
+            force: 1.0,
+        }
+    }
+    fn displacement_weight(&self, _t0: f64) -> f64 {
+        self.params.beta * self.h
+    }
+    fn is_explicit(&self) -> bool {
+        self.is_diagonal()
+    }
+    fn is_fixed(&self, dof: usize) -> bool {
+        self.is_bc[dof]
+    }
+    fn initialize(
+        &mut self,
+        t0: f64,
+        s0: &mut State,
+        load: &LoadFn,
+        massless: &[usize],
+    ) -> Result<(), LinalgError> {
+        let mut f = vec![0.0; self.n];
+        load(t0, &mut f);
+        let mut bc: Vec<usize> = (0..self.n).filter(|&d| self.is_bc[d]).collect();
+        bc.extend_from_slice(massless);
+        let mats = (&self.pattern, &self.m[..], &self.c[..], &self.k[..]);
+        s0.a = acceleration_of(mats, &bc, &s0.u, &s0.v, &f)?;
+        Ok(())
+    }
+    fn predict(
+        &mut self,
+        t0: f64,
+        s0: &State,
+        load: &LoadFn,
+        extra: &[f64],
+        f: &mut [f64],
+        pred: &mut State,
+        x: &mut [f64],
+    ) {
+        let h = self.h;
+        load(t0, f);
+        let mut f1 = std::mem::take(&mut self.f1);
+        load(t0 + h, &mut f1);
+        for ((fi, gi), ei) in f.iter_mut().zip(f1.iter_mut()).zip(extra) {
+            *fi += ei;
+            *gi += ei;
+        }
+        ClassicStepper::predict(self, s0, f, &f1, pred);
+        self.f1 = f1;
+        x.copy_from_slice(&pred.a);
+    }
+    fn apply_inverse(&mut self, r: &mut [f64]) {
+        ClassicStepper::apply_inverse(self, r)
+    }
+    fn finish(&self, _s0: &State, pred: &State, x: &[f64], s1: &mut State) {
+        let Maps { mu_u, mu_v, .. } = TimeIntegrator::maps(self);
+        for i in 0..self.n {
+            s1.u[i] = pred.u[i] + mu_u * x[i];
+            s1.v[i] = pred.v[i] + mu_v * x[i];
+        }
+        s1.a.copy_from_slice(x);
+    }
+    fn stiffness_point(&self, _s0: &State, pred: &State, p: &mut [f64]) -> f64 {
+        p.copy_from_slice(&pred.u);
+        self.params.beta * self.h * self.h
+    }
+    fn set_step(&mut self, h: f64) -> Result<(), LinalgError> {
+        if h == self.h {
+            return Ok(());
+        }
+        self.operators(h);
+        match &mut self.solver {
+            Solver::Lu(lu) => lu.refactor(&self.pattern, &self.a_work)?,
+            Solver::Diagonal(_) => {
+                let d = self.inverse_diagonal().map_err(|e| match e {
+                    ClassicError::Linalg(l) => l,
+                    other => LinalgError::Singular(other.to_string()),
+                })?;
+                self.solver = Solver::Diagonal(d.unwrap_or_default());
+            }
+        }
+        self.factorizations += 1;
+        Ok(())
+    }
+    fn factorizations(&self) -> usize {
+        self.factorizations
+    }
+    fn symbolic_analyses(&self) -> usize {
+        usize::from(!self.is_diagonal())
+    }
+}
+
 /// The end acceleration that realises a prescribed quantity, given the predictors.
 fn target_acc(
     kind: Kinematic,
@@ -548,17 +588,28 @@ pub fn initial_acceleration(
     v0: &[f64],
     f0: &[f64],
 ) -> Result<Vec<f64>, LinalgError> {
-    let n = model.n();
-    let pattern = model.pattern();
+    let mats = (model.pattern(), &model.m[..], &model.c[..], &model.k[..]);
+    acceleration_of(mats, bc_dofs, u0, v0, f0)
+}
+
+/// [`initial_acceleration`] on the matrices `(pattern, M, C, K)`.
+fn acceleration_of(
+    (pattern, m, c, k): (&Pattern, &[f64], &[f64], &[f64]),
+    bc_dofs: &[usize],
+    u0: &[f64],
+    v0: &[f64],
+    f0: &[f64],
+) -> Result<Vec<f64>, LinalgError> {
+    let n = pattern.nrows();
     let mut is_bc = vec![false; n];
     for &d in bc_dofs {
         is_bc[d] = true;
     }
-    let mut mv = model.m.clone();
+    let mut mv = m.to_vec();
     crate::linalg::set_identity_rows(pattern, &mut mv, &is_bc);
     let mut b = f0.to_vec();
-    spmv_add(pattern, &model.c, -1.0, v0, &mut b);
-    spmv_add(pattern, &model.k, -1.0, u0, &mut b);
+    spmv_add(pattern, c, -1.0, v0, &mut b);
+    spmv_add(pattern, k, -1.0, u0, &mut b);
     for (bi, &bc) in b.iter_mut().zip(&is_bc) {
         if bc {
             *bi = 0.0;

@@ -25,7 +25,9 @@
 
 use crate::assembly::Assembler;
 use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
-use crate::time::constraints::ColumnCache;
+use crate::simulation::LoadFn;
+use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
+use crate::time::params::beta;
 use crate::time::SpaceTimeParams;
 
 /// The semi-discrete linear model `M v' + C v + K u = f` on one sparsity pattern.
@@ -53,34 +55,37 @@ impl LinearModel {
     }
 }
 
-/// A linear velocity constraint on one node: `normal . v_node(t1) = rhs`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VelocityConstraint {
-    /// The node.
-    pub node: usize,
-    /// Unit direction (only the first `dim` components are used).
-    pub normal: [f64; 2],
-    /// Prescribed value of `normal . v`, m/s.
-    pub rhs: f64,
-}
-
-/// The space-time stepper: factored `A`, the right-hand-side operators and the constraint
-/// machinery. All work memory is allocated in [`Stepper::new`].
+/// The space-time stepper: factored `A`, the right-hand-side operators and the Dirichlet
+/// velocities. All work memory is allocated in [`Stepper::new`]; it implements the
+/// [`TimeIntegrator`] contract (multipliers are impulses).
 pub struct Stepper {
     params: SpaceTimeParams,
+    /// `gamma` from given instants on: `(t_from, gamma)`, sorted by time.
+    schedule: Vec<(f64, f64)>,
+    /// `beta` of the step being solved (set by `predict`).
+    beta_now: f64,
     n: usize,
     pattern: Pattern,
-    /// Values of `M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K`.
+    m: Vec<f64>,
+    c: Vec<f64>,
+    /// Values of `M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K` for the current `h`.
     bv: Vec<f64>,
     /// Values of `K`.
     k: Vec<f64>,
-    /// Values of `A` before the Dirichlet rows and columns were replaced (for lifting).
+    /// Values of `A` for the current `h` before the Dirichlet rows and columns were replaced
+    /// (for lifting).
     a_orig: Vec<f64>,
+    a_work: Vec<f64>,
+    /// The factor of the run's step `params.h`.
     lu: SparseLu,
+    /// A second numeric factor on the same symbolic analysis, for another step length.
+    lu_other: Option<(f64, SparseLu)>,
+    /// The step length in force, s.
+    h_now: f64,
+    factorizations: usize,
     bc_dofs: Vec<usize>,
     bc_values: Vec<f64>,
     is_bc: Vec<bool>,
-    cache: ColumnCache,
 }
 
 impl std::fmt::Debug for Stepper {
@@ -94,31 +99,17 @@ impl std::fmt::Debug for Stepper {
 
 impl Stepper {
     /// Builds and factors `A` for `params`, with the Dirichlet velocities `bcs` (dof, value
-    /// in m/s) and room for `max_constraints` simultaneous velocity constraints, caching the
-    /// columns of at most `cache_nodes` constrained nodes.
+    /// in m/s).
     ///
     /// # Errors
     /// [`LinalgError`] when `A` is singular.
     pub fn new(
         model: &LinearModel,
-        dim: usize,
         params: SpaceTimeParams,
         bcs: &[(usize, f64)],
-        max_constraints: usize,
-        cache_nodes: usize,
     ) -> Result<Self, LinalgError> {
         let n = model.n();
-        let (a, h) = (params.alpha, params.h);
         let pattern = model.pattern().clone();
-        let nnz = model.m.len();
-        let mut a_vals = vec![0.0; nnz];
-        let mut bv = vec![0.0; nnz];
-        for p in 0..nnz {
-            a_vals[p] = model.m[p] + a * h * model.c[p] + 0.5 * a * a * h * h * model.k[p];
-            bv[p] =
-                model.m[p] - (1.0 - a) * h * model.c[p] - (a - 0.5 * a * a) * h * h * model.k[p];
-        }
-        let a_orig = a_vals.clone();
         let mut is_bc = vec![false; n];
         let mut bc_dofs = Vec::with_capacity(bcs.len());
         let mut bc_values = Vec::with_capacity(bcs.len());
@@ -129,23 +120,106 @@ impl Stepper {
                 bc_values.push(v);
             }
         }
-        crate::linalg::set_identity_rows(&pattern, &mut a_vals, &is_bc);
-        let lu = SparseLu::new(&pattern, &a_vals)?;
+        let nnz = model.m.len();
+        let (mut a_orig, mut bv, mut a_work) = (vec![0.0; nnz], vec![0.0; nnz], vec![0.0; nnz]);
+        Operators {
+            m: &model.m,
+            c: &model.c,
+            k: &model.k,
+            pattern: &pattern,
+            is_bc: &is_bc,
+        }
+        .fill(params.alpha, params.h, &mut a_orig, &mut bv, &mut a_work);
+        let lu = SparseLu::new(&pattern, &a_work)?;
         Ok(Self {
             params,
+            schedule: Vec::new(),
+            beta_now: params.beta(),
             n,
-            pattern,
+            m: model.m.clone(),
+            c: model.c.clone(),
             bv,
             k: model.k.clone(),
             a_orig,
+            a_work,
             lu,
+            lu_other: None,
+            h_now: params.h,
+            factorizations: 1,
+            pattern,
             bc_dofs,
             bc_values,
             is_bc,
-            cache: ColumnCache::new(n, dim, max_constraints, cache_nodes),
         })
     }
 
+    /// The same with `gamma` changing at given instants: `(t_from, gamma)`, sorted by time;
+    /// before the first, `params.gamma`.
+    pub fn with_schedule(mut self, schedule: Vec<(f64, f64)>) -> Self {
+        self.schedule = schedule;
+        self
+    }
+
+    /// `gamma` in force for the step starting at `t`.
+    pub fn gamma_at(&self, t: f64) -> f64 {
+        let mut g = self.params.gamma;
+        for &(t_from, gm) in &self.schedule {
+            if t + 1e-12 * self.params.h >= t_from {
+                g = gm;
+            }
+        }
+        g
+    }
+
+    /// `beta` in force for the step starting at `t` (Eq. 24).
+    pub fn beta_at(&self, t: f64) -> f64 {
+        beta(self.params.alpha, self.gamma_at(t))
+    }
+
+    /// `bv`, `a_orig` and `a_work` (with the Dirichlet identity rows) for the step `h`.
+    fn operators(&mut self, h: f64) {
+        let ops = Operators {
+            m: &self.m,
+            c: &self.c,
+            k: &self.k,
+            pattern: &self.pattern,
+            is_bc: &self.is_bc,
+        };
+        ops.fill(
+            self.params.alpha,
+            h,
+            &mut self.a_orig,
+            &mut self.bv,
+            &mut self.a_work,
+        );
+        self.h_now = h;
+    }
+}
+
+/// The matrices the step's operators are made of.
+struct Operators<'a> {
+    m: &'a [f64],
+    c: &'a [f64],
+    k: &'a [f64],
+    pattern: &'a Pattern,
+    is_bc: &'a [bool],
+}
+
+impl Operators<'_> {
+    /// `A = M + alpha h C + alpha^2 h^2/2 K`, `B = M - (1-alpha) h C - (alpha - alpha^2/2)
+    /// h^2 K` and `A` with the Dirichlet identity rows, for the step `h`.
+    fn fill(&self, a: f64, h: f64, a_orig: &mut [f64], bv: &mut [f64], a_work: &mut [f64]) {
+        let (m, c, k) = (self.m, self.c, self.k);
+        for p in 0..m.len() {
+            a_orig[p] = m[p] + a * h * c[p] + 0.5 * a * a * h * h * k[p];
+            bv[p] = m[p] - (1.0 - a) * h * c[p] - (a - 0.5 * a * a) * h * h * k[p];
+        }
+        a_work.copy_from_slice(a_orig);
+        crate::linalg::set_identity_rows(self.pattern, a_work, self.is_bc);
+    }
+}
+
+impl Stepper {
     /// The scheme's parameters.
     pub fn params(&self) -> SpaceTimeParams {
         self.params
@@ -164,7 +238,7 @@ impl Stepper {
     /// `b = (M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K) v0 - h K u0 + h f`, where `f` is
     /// the external force at `t0 + alpha h` (N per dof).
     pub fn rhs_into(&self, u0: &[f64], v0: &[f64], f: &[f64], b: &mut [f64]) {
-        let h = self.params.h;
+        let h = self.h_now;
         for (bi, fi) in b.iter_mut().zip(f) {
             *bi = h * fi;
         }
@@ -172,29 +246,17 @@ impl Stepper {
         spmv_add(&self.pattern, &self.k, -h, u0, b);
     }
 
-    /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities and the
-    /// velocity constraints; writes the multipliers (impulses, N s) into `lambda[..len]`.
-    ///
-    /// # Panics
-    /// When more constraints are given than `max_constraints` of [`Stepper::new`].
-    pub fn solve(&mut self, b: &mut [f64], constraints: &[VelocityConstraint], lambda: &mut [f64]) {
+    /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities.
+    pub fn solve(&mut self, b: &mut [f64]) {
         self.apply_dirichlet(b);
-        self.lu.solve_in_place(b);
-        let lu = &mut self.lu;
-        self.cache.apply(b, constraints, lambda, &self.is_bc, |r| {
-            lu.solve_in_place(r)
-        });
+        self.factor().solve_in_place(b);
     }
 
-    /// `r <- A^{-1} r` with the Dirichlet rows of `r` set to zero first: the velocity
-    /// response to an impulse `r` (N s) added to `b`.
-    pub fn apply_inverse(&mut self, r: &mut [f64]) {
-        for (ri, &bc) in r.iter_mut().zip(&self.is_bc) {
-            if bc {
-                *ri = 0.0;
-            }
+    fn factor(&mut self) -> &mut SparseLu {
+        match &mut self.lu_other {
+            Some((h, lu)) if *h == self.h_now => lu,
+            _ => &mut self.lu,
         }
-        self.lu.solve_in_place(r);
     }
 
     /// `u1 = u0 + h [(1 - beta) v0 + beta v1]`, Eq. (10).
@@ -206,7 +268,7 @@ impl Stepper {
         v1: &[f64],
         u1: &mut [f64],
     ) {
-        let h = self.params.h;
+        let h = self.h_now;
         for i in 0..self.n {
             u1[i] = u0[i] + h * ((1.0 - beta) * v0[i] + beta * v1[i]);
         }
@@ -228,6 +290,113 @@ impl Stepper {
         for (&j, &g) in self.bc_dofs.iter().zip(&self.bc_values) {
             b[j] = g;
         }
+    }
+}
+
+impl TimeIntegrator for Stepper {
+    fn name(&self) -> String {
+        format!(
+            "space_time(alpha={} gamma={})",
+            self.params.alpha, self.params.gamma
+        )
+    }
+    fn n(&self) -> usize {
+        self.n
+    }
+    fn h(&self) -> f64 {
+        self.h_now
+    }
+    fn unit(&self) -> MultiplierUnit {
+        MultiplierUnit::Impulse
+    }
+    fn maps(&self) -> Maps {
+        Maps {
+            mu_u: self.h_now * self.beta_now,
+            mu_v: 1.0,
+            force: 1.0 / self.h_now,
+        }
+    }
+    fn displacement_weight(&self, t0: f64) -> f64 {
+        self.beta_at(t0)
+    }
+    fn is_fixed(&self, dof: usize) -> bool {
+        self.is_bc[dof]
+    }
+    fn predict(
+        &mut self,
+        t0: f64,
+        s0: &State,
+        load: &LoadFn,
+        extra: &[f64],
+        f: &mut [f64],
+        pred: &mut State,
+        x: &mut [f64],
+    ) {
+        let h = self.h_now;
+        self.beta_now = self.beta_at(t0);
+        load(t0 + self.params.alpha * h, f);
+        for (fi, ei) in f.iter_mut().zip(extra) {
+            *fi += ei;
+        }
+        self.rhs_into(&s0.u, &s0.v, f, x);
+        self.solve(x);
+        let bt = self.beta_now;
+        for i in 0..self.n {
+            pred.u[i] = s0.u[i] + h * (1.0 - bt) * s0.v[i];
+            pred.v[i] = 0.0;
+        }
+    }
+    fn apply_inverse(&mut self, r: &mut [f64]) {
+        for (ri, &bc) in r.iter_mut().zip(&self.is_bc) {
+            if bc {
+                *ri = 0.0;
+            }
+        }
+        self.factor().solve_in_place(r);
+    }
+    fn finish(&self, s0: &State, _pred: &State, x: &[f64], s1: &mut State) {
+        s1.v.copy_from_slice(x);
+        self.update_displacement(self.beta_now, &s0.u, &s0.v, x, &mut s1.u);
+        let h = self.h_now;
+        for i in 0..self.n {
+            s1.a[i] = (s1.v[i] - s0.v[i]) / h;
+        }
+    }
+    fn stiffness_point(&self, s0: &State, _pred: &State, p: &mut [f64]) -> f64 {
+        let (a, h) = (self.params.alpha, self.h_now);
+        for i in 0..self.n {
+            p[i] = s0.u[i] + h * (a - 0.5 * a * a) * s0.v[i];
+        }
+        0.5 * h * a * a
+    }
+    fn set_step(&mut self, h: f64) -> Result<(), LinalgError> {
+        if h == self.h_now {
+            return Ok(());
+        }
+        self.operators(h);
+        if h == self.params.h {
+            return Ok(());
+        }
+        match &mut self.lu_other {
+            Some((ho, _)) if *ho == h => {}
+            Some((ho, lu)) => {
+                lu.refactor(&self.pattern, &self.a_work)?;
+                *ho = h;
+                self.factorizations += 1;
+            }
+            None => {
+                let lu = self.lu.with_values(&self.pattern, &self.a_work)?;
+                self.lu_other = Some((h, lu));
+                self.factorizations += 1;
+            }
+        }
+        Ok(())
+    }
+    fn factorizations(&self) -> usize {
+        self.factorizations
+    }
+    fn symbolic_analyses(&self) -> usize {
+        1
     }
 }
 

@@ -1,0 +1,118 @@
+//! Contact pairs of both kinds (rapier's one-body and two-body constraints): a node against
+//! a rigid obstacle, and a node against a node of another body.
+//!
+//! At a time `t` and a configuration, a pair presents a [`Geometry`]: the row `c` on its
+//! dofs, the offset `o` and the normal velocity `w` of the admissible boundary, with the gap
+//! $$g = c \cdot x - o \ge 0,\qquad x = X + u$$
+//! (`X` the reference positions). For a node against an obstacle, `c` is the obstacle's
+//! normal `n` on the node's dofs, `o` its offset and `w` its surface normal velocity; for
+//! node `a` against node `b` along the fixed unit normal `n` (from `a` to `b`), `c` is `-n` on
+//! `a` and `+n` on `b`, `o = 0` and `w = 0`. Every treatment works on `c`, `o`, `w` alone, so
+//! the soft way brakes the relative normal velocity of two bodies exactly as it brakes a node
+//! against a wall.
+
+use super::obstacle::{Obstacle, Vector};
+use super::rows::Terms;
+
+/// A contact pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Pair {
+    /// A node against an obstacle (index into the problem's obstacles).
+    Obstacle {
+        /// The node.
+        node: usize,
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// Node `a` of one body facing node `b` of another along `normal` (unit, from `a` to
+    /// `b`).
+    Nodes {
+        /// The first node.
+        a: usize,
+        /// The second node.
+        b: usize,
+        /// The unit normal from `a` to `b`.
+        normal: Vector,
+    },
+}
+
+/// A pair's row, offset and boundary velocity at one instant (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// `c`.
+    pub terms: Terms,
+    /// `o`, m.
+    pub offset: f64,
+    /// `w`, m/s.
+    pub w: f64,
+}
+
+impl Geometry {
+    /// `c . (X + u)`, m.
+    pub fn position(&self, reference: &[f64], u: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for (d, c) in self.terms.iter() {
+            s += c * (reference[d] + u[d]);
+        }
+        s
+    }
+
+    /// The gap `c . (X + u) - o`, m.
+    pub fn gap(&self, reference: &[f64], u: &[f64]) -> f64 {
+        self.position(reference, u) - self.offset
+    }
+}
+
+impl Pair {
+    /// The nodes of the pair.
+    pub fn nodes(&self) -> ([usize; 2], usize) {
+        match *self {
+            Pair::Obstacle { node, .. } => ([node, node], 1),
+            Pair::Nodes { a, b, .. } => ([a, b], 2),
+        }
+    }
+
+    /// The geometry at time `t` (s) in the configuration `u` of a model of dimension `dim`
+    /// with reference positions `reference` (flat, `dim` per node).
+    pub fn geometry(
+        &self,
+        obstacles: &[Box<dyn Obstacle>],
+        dim: usize,
+        reference: &[f64],
+        u: &[f64],
+        t: f64,
+    ) -> Geometry {
+        let mut terms = Terms::default();
+        match *self {
+            Pair::Obstacle { node, obstacle } => {
+                let mut x = [0.0; 3];
+                for c in 0..dim {
+                    x[c] = reference[dim * node + c] + u[dim * node + c];
+                }
+                let obst = &obstacles[obstacle];
+                let hs = obst.half_space(t, x);
+                for c in 0..dim {
+                    terms.push(dim * node + c, hs.normal[c]);
+                }
+                Geometry {
+                    terms,
+                    offset: hs.offset,
+                    w: obst.surface_normal_velocity(t, x),
+                }
+            }
+            Pair::Nodes { a, b, normal } => {
+                for c in 0..dim {
+                    terms.push(dim * a + c, -normal[c]);
+                }
+                for c in 0..dim {
+                    terms.push(dim * b + c, normal[c]);
+                }
+                Geometry {
+                    terms,
+                    offset: 0.0,
+                    w: 0.0,
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,429 @@
+//! Constraint rows and their solution through the factored matrix of any integrator
+//! (DESIGN §2; the integrator contract of [`crate::time::integrator`]).
+//!
+//! # Rows
+//!
+//! A row `p` acts on a few dofs with the coefficients `c_p` (a contact pair's normal on its
+//! node's dofs; for two bodies, `-n` on one node and `+n` on the other). Its reaction enters
+//! the step as `c_p^T lambda_p`, and its condition is written on the integrator's unknown `x`
+//! (`x = v1` for the space-time scheme, `a1` for the generalized-alpha family):
+//! $$y_p = y_{0,p} + \mu_p\, c_p \cdot x + r_p \lambda_p,$$
+//! with one of three kinds:
+//! - [`RowKind::Equality`]: `y_p = 0`, `lambda_p` free (a braked or held node);
+//! - [`RowKind::Unilateral`]: `y_p >= 0`, `lambda_p >= 0`, `y_p lambda_p = 0` (Signorini,
+//!   normal contact);
+//! - [`RowKind::Bounded`]: `|lambda_p| <= mu_f lambda_q` with `q` a unilateral or equality
+//!   row of the same set: `y_p = 0` inside the bound (stick), and on it `lambda_p =
+//!   -sign(y_p) mu_f lambda_q` (slip opposed by the force): Coulomb friction.
+//!
+//! # Solution
+//!
+//! With `x = x_free + sum_q z_q lambda_q`, `z_q = A^{-1} c_q^T`, the conditions are a small
+//! linear complementarity problem `y = y0' + W lambda`:
+//! $$y'_{0,p} = y_{0,p} + \mu_p c_p\cdot x_{free},\qquad W_{pq} = \mu_p\, c_p\cdot z_q +
+//!   \delta_{pq} r_p,$$
+//! solved exactly by an active set: equality rows always active; a unilateral row enters
+//! when violated (`y < -tol`) and leaves when its multiplier turns negative, one change at a
+//! time (the most violated first); a bounded row sticks until its multiplier leaves the
+//! bound, then slides on it while `y` keeps the sign that the bound opposes. Each active set
+//! is one dense solve of its size. The columns `A^{-1} e_d` of the constrained dofs are
+//! cached (least recently used slot replaced) while `A` does not change, so a change of the
+//! active set, a new pair or a turned normal costs no factorization, only column solves the
+//! first time a dof is constrained. All memory is allocated in [`RowSolver::new`].
+
+use crate::time::integrator::TimeIntegrator;
+use crate::time::step::dense_solve_in_place;
+
+/// Most dofs one row acts on: two nodes of three components.
+pub const MAX_TERMS: usize = 6;
+
+/// The coefficients of a row on at most [`MAX_TERMS`] dofs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Terms {
+    len: usize,
+    dof: [usize; MAX_TERMS],
+    coef: [f64; MAX_TERMS],
+}
+
+impl Default for Terms {
+    fn default() -> Self {
+        Self {
+            len: 0,
+            dof: [0; MAX_TERMS],
+            coef: [0.0; MAX_TERMS],
+        }
+    }
+}
+
+impl Terms {
+    /// Adds `coef` on `dof`.
+    ///
+    /// # Panics
+    /// Beyond [`MAX_TERMS`] terms.
+    pub fn push(&mut self, dof: usize, coef: f64) {
+        assert!(
+            self.len < MAX_TERMS,
+            "a row acts on at most {MAX_TERMS} dofs"
+        );
+        self.dof[self.len] = dof;
+        self.coef[self.len] = coef;
+        self.len += 1;
+    }
+
+    /// The `(dof, coefficient)` pairs.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..self.len).map(|i| (self.dof[i], self.coef[i]))
+    }
+
+    /// `c . x`.
+    pub fn dot(&self, x: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for i in 0..self.len {
+            s += self.coef[i] * x[self.dof[i]];
+        }
+        s
+    }
+
+    /// `y[dof] += s c` for every term.
+    pub fn scatter(&self, s: f64, y: &mut [f64]) {
+        for i in 0..self.len {
+            y[self.dof[i]] += self.coef[i] * s;
+        }
+    }
+}
+
+/// The kind of a row (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RowKind {
+    /// `y = 0`.
+    Equality,
+    /// `y >= 0`, `lambda >= 0`, `y lambda = 0`.
+    Unilateral,
+    /// `|lambda| <= mu_f lambda_normal`, stick (`y = 0`) or slip.
+    Bounded {
+        /// Index of the normal row in the same set.
+        normal: usize,
+        /// Friction coefficient.
+        mu_f: f64,
+    },
+}
+
+/// One row: `y = y0 + mu c.x + reg lambda` with its kind.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// The owner (a contact pair's index), for the caller.
+    pub pair: usize,
+    /// `c`.
+    pub terms: Terms,
+    /// The kind.
+    pub kind: RowKind,
+    /// `y0`.
+    pub y0: f64,
+    /// `mu`.
+    pub mu: f64,
+    /// `reg` (a penalty's compliance; 0 for a hard condition).
+    pub reg: f64,
+}
+
+const NO_SLOT: usize = usize::MAX;
+
+/// The rows of one solve, the column cache and the dense work (module docs).
+#[derive(Debug, Clone)]
+pub struct RowSolver {
+    n: usize,
+    rows: Vec<Row>,
+    lambda: Vec<f64>,
+    slot_of_dof: Vec<usize>,
+    dof_of_slot: Vec<usize>,
+    last_used: Vec<u64>,
+    cols: Vec<f64>,
+    clock: u64,
+    solves: usize,
+    y0: Vec<f64>,
+    w: Vec<f64>,
+    state: Vec<Activity>,
+    idx: Vec<usize>,
+    m: Vec<f64>,
+    r: Vec<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Activity {
+    Off,
+    On,
+    /// A bounded row on its bound: `lambda_p = s mu_f lambda_normal`.
+    Slip(f64),
+}
+
+impl RowSolver {
+    /// Room for `max_rows` rows at once and the columns of `cache_dofs` dofs (at least
+    /// `MAX_TERMS * max_rows`), for `n` dofs.
+    pub fn new(n: usize, max_rows: usize, cache_dofs: usize) -> Self {
+        let mr = max_rows.max(1);
+        let slots = cache_dofs.max(MAX_TERMS * mr).min(n.max(1));
+        Self {
+            n,
+            rows: Vec::with_capacity(mr),
+            lambda: vec![0.0; mr],
+            slot_of_dof: vec![NO_SLOT; n],
+            dof_of_slot: vec![NO_SLOT; slots],
+            last_used: vec![0; slots],
+            cols: vec![0.0; slots * n],
+            clock: 0,
+            solves: 0,
+            y0: vec![0.0; mr],
+            w: vec![0.0; mr * mr],
+            state: vec![Activity::Off; mr],
+            idx: Vec::with_capacity(mr),
+            m: vec![0.0; mr * mr],
+            r: vec![0.0; mr],
+        }
+    }
+
+    /// Drops every cached column (call after `A` changes).
+    pub fn invalidate(&mut self) {
+        self.slot_of_dof.fill(NO_SLOT);
+        self.dof_of_slot.fill(NO_SLOT);
+        self.last_used.fill(0);
+    }
+
+    /// Removes all rows.
+    pub fn clear(&mut self) {
+        self.rows.clear();
+    }
+
+    /// Adds a row; returns its index.
+    ///
+    /// # Panics
+    /// Beyond `max_rows` of [`RowSolver::new`].
+    pub fn push(&mut self, row: Row) -> usize {
+        assert!(
+            self.rows.len() < self.lambda.len(),
+            "too many simultaneous constraint rows"
+        );
+        self.rows.push(row);
+        self.rows.len() - 1
+    }
+
+    /// The rows.
+    pub fn rows(&self) -> &[Row] {
+        &self.rows
+    }
+
+    /// The multipliers of the last solve, one per row.
+    pub fn lambda(&self) -> &[f64] {
+        &self.lambda[..self.rows.len()]
+    }
+
+    /// Column solves done so far (`A^{-1} e_d` for a newly constrained dof).
+    pub fn column_solves(&self) -> usize {
+        self.solves
+    }
+
+    /// Solves the rows: `x` holds `x_free` on entry and `x_free + sum z_q lambda_q` on exit;
+    /// `tol` is the violation tolerance of unilateral rows (in the units of `y`). Returns the
+    /// number of active-set changes.
+    pub fn solve(&mut self, integ: &mut dyn TimeIntegrator, x: &mut [f64], tol: f64) -> usize {
+        let k = self.rows.len();
+        if k == 0 {
+            return 0;
+        }
+        self.clock += 1;
+        for p in 0..k {
+            let t = self.rows[p].terms;
+            for (d, _) in t.iter() {
+                self.ensure_cached(d, integ);
+            }
+        }
+        let n = self.n;
+        for p in 0..k {
+            let rp = self.rows[p];
+            self.y0[p] = rp.y0 + rp.mu * rp.terms.dot(x);
+            for q in 0..k {
+                let tq = self.rows[q].terms;
+                let mut v = 0.0;
+                for (dq, cq) in tq.iter() {
+                    let s = self.slot_of_dof[dq];
+                    let col = &self.cols[s * n..(s + 1) * n];
+                    for (dp, cp) in rp.terms.iter() {
+                        v += cp * col[dp] * cq;
+                    }
+                }
+                self.w[p * k + q] = rp.mu * v + if p == q { rp.reg } else { 0.0 };
+            }
+        }
+        let changes = self.active_set(k, tol);
+        for q in 0..k {
+            let l = self.lambda[q];
+            if l == 0.0 {
+                continue;
+            }
+            for (d, c) in self.rows[q].terms.iter() {
+                let wgt = l * c;
+                if wgt == 0.0 {
+                    continue;
+                }
+                let s = self.slot_of_dof[d];
+                for (xi, ci) in x.iter_mut().zip(&self.cols[s * n..(s + 1) * n]) {
+                    *xi += wgt * ci;
+                }
+            }
+        }
+        changes
+    }
+
+    /// `y_p` of the current multipliers.
+    fn y(&self, p: usize, k: usize) -> f64 {
+        let mut y = self.y0[p];
+        for q in 0..k {
+            y += self.w[p * k + q] * self.lambda[q];
+        }
+        y
+    }
+
+    fn active_set(&mut self, k: usize, tol: f64) -> usize {
+        for p in 0..k {
+            self.state[p] = match self.rows[p].kind {
+                RowKind::Equality | RowKind::Bounded { .. } => Activity::On,
+                RowKind::Unilateral if self.y0[p] < -tol => Activity::On,
+                RowKind::Unilateral => Activity::Off,
+            };
+        }
+        let mut changes = 0;
+        for _ in 0..(10 + 4 * k) {
+            self.solve_set(k);
+            // Leave: the most negative unilateral multiplier.
+            let mut worst: Option<(usize, f64)> = None;
+            for &p in &self.idx {
+                let l = self.lambda[p];
+                if self.rows[p].kind == RowKind::Unilateral
+                    && l < 0.0
+                    && worst.is_none_or(|(_, v)| l < v)
+                {
+                    worst = Some((p, l));
+                }
+            }
+            if let Some((p, _)) = worst {
+                self.state[p] = Activity::Off;
+                changes += 1;
+                continue;
+            }
+            // Friction: a sticking row beyond its bound slides; a sliding row whose `y` no
+            // longer has the sign its force opposes sticks.
+            let mut moved = false;
+            for p in 0..k {
+                if let RowKind::Bounded { normal, mu_f } = self.rows[p].kind {
+                    let bound = mu_f * self.lambda[normal].max(0.0);
+                    match self.state[p] {
+                        Activity::On if self.lambda[p].abs() > bound * (1.0 + 1e-12) => {
+                            self.state[p] = Activity::Slip(self.lambda[p].signum());
+                            moved = true;
+                        }
+                        Activity::Slip(s) if -s * self.y(p, k) < -tol => {
+                            self.state[p] = Activity::On;
+                            moved = true;
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            if moved {
+                changes += 1;
+                continue;
+            }
+            // Enter: the most violated inactive unilateral row.
+            let mut viol: Option<(usize, f64)> = None;
+            for p in 0..k {
+                if self.rows[p].kind != RowKind::Unilateral || self.state[p] != Activity::Off {
+                    continue;
+                }
+                let y = self.y(p, k);
+                if y < -tol && viol.is_none_or(|(_, v)| y < v) {
+                    viol = Some((p, y));
+                }
+            }
+            match viol {
+                Some((p, _)) => {
+                    self.state[p] = Activity::On;
+                    changes += 1;
+                }
+                None => break,
+            }
+        }
+        changes
+    }
+
+    /// Solves the equations of the active rows (`y_p = 0`, or the slip relation), the others
+    /// getting `lambda = 0`.
+    fn solve_set(&mut self, k: usize) {
+        self.idx.clear();
+        for p in 0..k {
+            if self.state[p] != Activity::Off {
+                self.idx.push(p);
+            }
+        }
+        let m = self.idx.len();
+        for a in 0..m {
+            let p = self.idx[a];
+            match (self.state[p], self.rows[p].kind) {
+                (Activity::Slip(s), RowKind::Bounded { normal, mu_f }) => {
+                    self.r[a] = 0.0;
+                    for b in 0..m {
+                        let q = self.idx[b];
+                        self.m[a * m + b] = if q == p {
+                            1.0
+                        } else if q == normal {
+                            -s * mu_f
+                        } else {
+                            0.0
+                        };
+                    }
+                }
+                _ => {
+                    self.r[a] = -self.y0[p];
+                    for b in 0..m {
+                        self.m[a * m + b] = self.w[p * k + self.idx[b]];
+                    }
+                }
+            }
+        }
+        dense_solve_in_place(&mut self.m[..m * m], &mut self.r[..m], m);
+        self.lambda[..k].fill(0.0);
+        for a in 0..m {
+            self.lambda[self.idx[a]] = self.r[a];
+        }
+    }
+
+    fn ensure_cached(&mut self, dof: usize, integ: &mut dyn TimeIntegrator) {
+        let s = self.slot_of_dof[dof];
+        if s != NO_SLOT {
+            self.last_used[s] = self.clock;
+            return;
+        }
+        // Least recently used slot (empty slots have last_used 0).
+        let mut s = 0;
+        for i in 0..self.dof_of_slot.len() {
+            if self.last_used[i] < self.last_used[s] {
+                s = i;
+            }
+        }
+        assert!(
+            self.last_used[s] < self.clock || self.dof_of_slot[s] == NO_SLOT,
+            "constraint column cache smaller than the active rows"
+        );
+        if self.dof_of_slot[s] != NO_SLOT {
+            self.slot_of_dof[self.dof_of_slot[s]] = NO_SLOT;
+        }
+        let n = self.n;
+        let col = &mut self.cols[s * n..(s + 1) * n];
+        col.fill(0.0);
+        if !integ.is_fixed(dof) {
+            col[dof] = 1.0;
+            integ.apply_inverse(col);
+            self.solves += 1;
+        }
+        self.dof_of_slot[s] = dof;
+        self.slot_of_dof[dof] = s;
+        self.last_used[s] = self.clock;
+    }
+}

@@ -1,0 +1,207 @@
+//! The contact-treatment contract, and the choice of a treatment.
+//!
+//! A treatment turns the pairs and their states into constraint rows
+//! ([`crate::contact::rows`]) for the engine to solve through the integrator's factored
+//! matrix, judges each solution (accept it, solve the interval again with another active set,
+//! or ask the driver to step back and repeat the previous interval), and records the pairs'
+//! states and reactions at the end of the interval ([`PairState`]): the force of a pair is
+//! always a force (N, compressive positive), whatever the unit of its multiplier.
+//!
+//! | treatment | file | rows | judge |
+//! |---|---|---|---|
+//! | soft way (three restore variants), space-time exact (and mass redistribution) | [`super::softway`] | equalities: braking (Eq. 26) and holding velocities | release on tension, hold on penetration, step back to brake |
+//! | exact (generalized-alpha family), penalty, Moreau-Jean, mass redistribution | [`super::complementarity`] | unilateral rows, one complementarity problem per step | accept (the active set is solved exactly) |
+//! | subdivision (Fig. 5) | [`super::subdivision`] | equalities on sub-steps | cut the step at entries and releases |
+//!
+//! The combinations that do not exist are refused by [`Treatment::check`], in one place.
+
+use super::{PairState, Restore};
+use crate::simulation::{Engine, SimError, Snapshot};
+use crate::time::integrator::Integrator;
+use crate::time::step::LinearModel;
+use serde::Serialize;
+
+/// The choice of a contact treatment (scenario key `contact.method`), with its parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "name", rename_all = "snake_case")]
+pub enum Treatment {
+    /// The soft way (Table 1): brake in the step before impact, hold, release on tension,
+    /// give back the momentum as `restore` says ([`Restore`]).
+    SoftWay {
+        /// What is given back at release.
+        restore: Restore,
+    },
+    /// Exact enforcement by a Lagrange multiplier: space-time, the node is held from the
+    /// step where penetration is found (a velocity jump), released on tension; the
+    /// generalized-alpha family, Signorini on the step-end displacement (the central
+    /// difference: on the next position, Carpenter's forward increment).
+    Exact,
+    /// Penalty.
+    Penalty {
+        /// Penalty stiffness, N/m.
+        stiffness: f64,
+    },
+    /// Massless contact nodes (Khenous, Laborde & Renard), then exact enforcement.
+    MassRedistribution,
+    /// Velocity-level impulses with Newton's restitution (Moreau-Jean).
+    MoreauJean {
+        /// Restitution coefficient in [0, 1].
+        restitution: f64,
+    },
+    /// Sub-steps at the instants of entering and leaving contact (the paper's Fig. 5).
+    Subdivision,
+}
+
+impl Treatment {
+    /// The paper's soft way with the stopping impulse given back.
+    pub const SOFT_WAY: Treatment = Treatment::SoftWay {
+        restore: Restore::StoppingImpulse,
+    };
+
+    /// The name used in tables and scenario files.
+    pub fn name(&self) -> String {
+        match self {
+            Treatment::SoftWay { restore } => match restore {
+                Restore::StoppingImpulse => "soft_way".into(),
+                Restore::BrakingReaction => "soft_way_braking_restore".into(),
+                Restore::Nothing => "soft_way_no_restore".into(),
+            },
+            Treatment::Exact => "exact".into(),
+            Treatment::Penalty { stiffness } => format!("penalty({stiffness:e})"),
+            Treatment::MassRedistribution => "mass_redistribution".into(),
+            Treatment::MoreauJean { restitution } => format!("moreau_jean({restitution})"),
+            Treatment::Subdivision => "subdivision".into(),
+        }
+    }
+
+    /// True for the soft way family.
+    pub fn is_soft_way(&self) -> bool {
+        matches!(self, Treatment::SoftWay { .. })
+    }
+
+    /// Refuses the combinations that do not exist, with the reason (the one place where
+    /// they are listed):
+    /// - the soft way and the subdivision with an integrator other than the space-time
+    ///   scheme (their formulas, Eqs. 26-27 and Fig. 5, are the space-time scheme's);
+    /// - mass redistribution and Moreau-Jean with the explicit central difference (a
+    ///   massless node divides by zero; the explicit step has no implicit velocity level);
+    /// - a penalty stiffness that is not finite and positive, a restitution outside [0, 1].
+    ///
+    /// # Errors
+    /// The reason, one line.
+    pub fn check(&self, integrator: &Integrator) -> Result<(), String> {
+        let st = integrator.is_space_time();
+        match *self {
+            Treatment::SoftWay { .. } if !st => Err(format!(
+                "the soft way (Eqs. 26-27) is a space-time treatment, not one of {}: use integrator = \"space_time\"",
+                integrator.name()
+            )),
+            Treatment::Subdivision if !st => Err(format!(
+                "subdivision of the time step (the paper's Fig. 5) is a space-time treatment, not one of {}: use integrator = \"space_time\"",
+                integrator.name()
+            )),
+            Treatment::MassRedistribution if integrator.is_explicit() => Err(
+                "mass redistribution makes the contact nodes massless: the explicit central difference would divide by a zero mass; use an implicit integrator".into(),
+            ),
+            Treatment::MoreauJean { .. } if integrator.is_explicit() => Err(
+                "Moreau-Jean works at the velocity level of an implicit step; not available with the explicit central difference".into(),
+            ),
+            Treatment::Penalty { stiffness } if !(stiffness.is_finite() && stiffness > 0.0) => {
+                Err(format!("the penalty stiffness must be > 0 N/m, got {stiffness}"))
+            }
+            Treatment::MoreauJean { restitution } if !(0.0..=1.0).contains(&restitution) => Err(
+                format!("the restitution must be in [0, 1], got {restitution}"),
+            ),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The contract of a contact treatment (module docs).
+pub trait ContactTreatment: Send {
+    /// The name used in tables.
+    fn name(&self) -> String;
+
+    /// Adjusts the model before the integrator is built (mass redistribution); returns the
+    /// dofs made massless. `contact_nodes` are the nodes of the pairs.
+    fn adjust_model(
+        &mut self,
+        _model: &mut LinearModel,
+        _dim: usize,
+        _contact_nodes: &[usize],
+    ) -> Vec<usize> {
+        Vec::new()
+    }
+
+    /// Solves the interval from `from` into `to`: builds the rows, solves, judges (solving
+    /// again while the active set changes), and records the pairs' states at the end.
+    ///
+    /// # Errors
+    /// [`SimError`] when a matrix cannot be factored (subdivision).
+    fn solve_interval(
+        &mut self,
+        eng: &mut Engine,
+        from: &Snapshot,
+        to: &mut Snapshot,
+    ) -> Result<(), SimError>;
+
+    /// One step of the ring `[t_{k-2}, t_{k-1}, t_k]`: solves `ring[1] -> ring[2]`. A
+    /// treatment that steps back (the soft way) may also solve `ring[0] -> ring[1]` again.
+    ///
+    /// # Errors
+    /// As [`ContactTreatment::solve_interval`].
+    fn advance(
+        &mut self,
+        eng: &mut Engine,
+        ring: &mut [Snapshot; 3],
+        _have_prev: bool,
+    ) -> Result<(), SimError> {
+        let (lo, hi) = ring.split_at_mut(2);
+        self.solve_interval(eng, &lo[1], &mut hi[0])
+    }
+
+    /// Energy stored by the treatment in the state (penalty springs), J.
+    fn stored_energy(&self, _s: &Snapshot) -> f64 {
+        0.0
+    }
+}
+
+/// Builds the treatment of `choice` for `integrator` and `pairs` contact pairs.
+pub fn build(
+    choice: Treatment,
+    integrator: &Integrator,
+    pairs: usize,
+) -> Box<dyn ContactTreatment> {
+    use super::complementarity::{Complementarity, Law};
+    use super::softway::SoftWay;
+    let st = integrator.is_space_time();
+    match choice {
+        Treatment::SoftWay { restore } => Box::new(SoftWay::new(true, restore, pairs)),
+        Treatment::Exact if st => Box::new(SoftWay::new(false, Restore::Nothing, pairs)),
+        Treatment::MassRedistribution if st => {
+            Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_mass_redistribution())
+        }
+        Treatment::Exact => Box::new(Complementarity::new(Law::Exact, pairs)),
+        Treatment::MassRedistribution => {
+            Box::new(Complementarity::new(Law::Exact, pairs).with_mass_redistribution())
+        }
+        Treatment::Penalty { stiffness } => {
+            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs))
+        }
+        Treatment::MoreauJean { restitution } => {
+            Box::new(Complementarity::new(Law::MoreauJean { restitution }, pairs))
+        }
+        Treatment::Subdivision => Box::new(super::subdivision::Subdivision::new(pairs)),
+    }
+}
+
+/// Records a pair's state from its mode at the end of an interval (shared by the
+/// treatments without the soft way's modes): force, reaction flag, gap.
+pub fn plain_state(force: f64, held: bool, gap: f64) -> PairState {
+    PairState {
+        force,
+        held,
+        gap,
+        ..PairState::default()
+    }
+}
