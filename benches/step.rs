@@ -4,8 +4,9 @@
 //! through the factored matrix). Compare the sizes as ratios within one run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
 use softway::mesh::generators::disk_rings;
-use softway::time::step::{Stepper, VelocityConstraint};
+use softway::time::step::Stepper;
 use softway::time::SpaceTimeParams;
 use softway::wheel::{WheelModel, WheelSpec};
 
@@ -26,27 +27,33 @@ fn bench_step(c: &mut Criterion) {
             h: 2e-6,
         };
         let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
-        let mut st = Stepper::new(&w.model, 2, p, &bcs, 4, 4).unwrap();
+        let mut st = Stepper::new(&w.model, p, &bcs).unwrap();
         let u = w.u_spin.clone();
         let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
         let mut b = vec![0.0; n];
         let mut u1 = vec![0.0; n];
         let bottom = w.rim[w.rim.len() * 3 / 4];
-        let cons: Vec<VelocityConstraint> = (0..4)
-            .map(|k| VelocityConstraint {
-                node: w.rim[(w.rim.iter().position(|&x| x == bottom).unwrap() + k) % w.rim.len()],
-                normal: [0.0, 1.0],
-                rhs: 0.0,
-            })
-            .collect();
-        let mut lam = [0.0; 4];
+        let mut rows = RowSolver::new(n, 4, 8);
+        for k in 0..4 {
+            let node = w.rim[(w.rim.iter().position(|&x| x == bottom).unwrap() + k) % w.rim.len()];
+            let mut terms = Terms::default();
+            terms.push(2 * node + 1, 1.0);
+            rows.push(Row {
+                pair: k,
+                terms,
+                kind: RowKind::Equality,
+                y0: 0.0,
+                mu: 1.0,
+                reg: 0.0,
+            });
+        }
         g.bench_with_input(
             BenchmarkId::new("free", format!("{rings} rings, {n} dofs")),
             &rings,
             |bch, _| {
                 bch.iter(|| {
                     st.rhs_into(&u, &v, &w.load, &mut b);
-                    st.solve(&mut b, &[], &mut []);
+                    st.solve(&mut b);
                     st.update_displacement(0.333, &u, &v, &b, &mut u1);
                     b[0]
                 })
@@ -58,9 +65,10 @@ fn bench_step(c: &mut Criterion) {
             |bch, _| {
                 bch.iter(|| {
                     st.rhs_into(&u, &v, &w.load, &mut b);
-                    st.solve(&mut b, &cons, &mut lam);
+                    st.solve(&mut b);
+                    rows.solve(&mut st, &mut b, 0.0);
                     st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                    lam[0]
+                    rows.lambda()[0]
                 })
             },
         );

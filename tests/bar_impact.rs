@@ -1,14 +1,14 @@
 //! The elastic bar striking a rigid wall against the exact d'Alembert solution (paper §3.1,
 //! Figs. 8-9): contact from gap/v0 for 2L/c, force rho A c v0, rebound at v0, energy kept.
 
-use softway::contact::ContactMethod;
-use softway::lab::Integrator;
+use softway::contact::{Restore, Treatment};
 use softway::problems::BarImpact;
 use softway::run::bar::{simulate, BarSummary};
-use softway::scenario::{Contact, Model, Run};
+use softway::scenario::{Model, Run};
+use softway::time::Integrator;
 use softway::time::SpaceTimeParams;
 
-fn run(bar: BarImpact, h: f64, method: ContactMethod) -> BarSummary {
+fn run(bar: BarImpact, h: f64, restore: Restore) -> BarSummary {
     let t_end = bar.exact_impact_time()
         + bar.exact_contact_duration()
         + 1.5 * bar.length / bar.wave_speed();
@@ -20,12 +20,11 @@ fn run(bar: BarImpact, h: f64, method: ContactMethod) -> BarSummary {
             h,
         },
         model: Model::BarImpact(bar),
-        method,
         integrator: Integrator::SpaceTime {
             alpha: 0.8,
             gamma: 0.0,
         },
-        contact: Contact::Driver(method),
+        contact: Treatment::SoftWay { restore },
         t_end,
     };
     simulate(&r, None, 1, false).unwrap().0
@@ -63,7 +62,7 @@ fn ladder(bar: BarImpact) -> Vec<(usize, f64, BarSummary)> {
                 elements: ne,
                 ..bar
             };
-            (ne, h, run(b, h, ContactMethod::SoftWay))
+            (ne, h, run(b, h, Restore::StoppingImpulse))
         })
         .collect()
 }
@@ -130,9 +129,9 @@ fn another_bar_converges_to_dalembert() {
 
 #[test]
 fn momentum_restoring_on_the_paper_bar() {
-    let with = run(PAPER, 0.01, ContactMethod::SoftWay);
-    let paper_r = run(PAPER, 0.01, ContactMethod::SoftWayBrakingRestore);
-    let without = run(PAPER, 0.01, ContactMethod::SoftWayNoRestore);
+    let with = run(PAPER, 0.01, Restore::StoppingImpulse);
+    let paper_r = run(PAPER, 0.01, Restore::BrakingReaction);
+    let without = run(PAPER, 0.01, Restore::Nothing);
     println!(
         "rebound: restore {:.4}, braking-reaction restore {:.4}, none {:.4}; energy {:.4} / {:.4} / {:.4}",
         with.rebound_velocity, paper_r.rebound_velocity, without.rebound_velocity,

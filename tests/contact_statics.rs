@@ -3,10 +3,10 @@
 
 use softway::contact::obstacle::Flattening;
 use softway::contact::statics;
-use softway::contact::{ContactMethod, Obstacle};
+use softway::contact::{Obstacle, Treatment};
 use softway::mesh::generators::disk_rings;
 use softway::simulation::Simulation;
-use softway::time::SpaceTimeParams;
+use softway::time::Integrator;
 use softway::wheel::{Support, WheelModel, WheelSpec};
 use std::sync::atomic::AtomicBool;
 
@@ -26,7 +26,7 @@ fn spec(omega: f64, depth: f64, settle: f64, frame: bool, support: Support) -> W
 /// Static contact of the wheel against the base at time `t` (its angle and depth then).
 fn static_force(wm: &WheelModel, t: f64) -> (f64, Vec<(usize, f64)>) {
     let base = wm.base();
-    let hs = base.half_space(t, [0.0, 0.0]);
+    let hs = base.half_space(t, [0.0; 3]);
     // The pinned wheel's rigid rotation is removed by fixing the tangential dof of the rim
     // node opposite the base (no reaction: the contact forces pass near the axle).
     let e = base.direction(t);
@@ -78,13 +78,13 @@ fn slow_damped_roll_carries_the_static_contact_force() {
     let t_roll = 2.0 * std::f64::consts::PI / omega / wm.rim.len() as f64;
     let steps = ((settle + t_roll) / h) as usize;
     let pb = wm.problem(
-        SpaceTimeParams {
+        Integrator::SpaceTime {
             alpha: 0.9,
             gamma: 0.5,
-            h,
         },
+        h,
         vec![],
-        ContactMethod::SoftWay,
+        Treatment::SOFT_WAY,
         steps,
     );
     let mut sim = Simulation::new(pb).unwrap();

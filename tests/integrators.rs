@@ -2,12 +2,15 @@
 //! of accuracy, high-frequency spectral radius, the central difference stability limit, the
 //! multi-dof step against the one-dof step, and exact node constraints.
 
+use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
 use softway::problems::BarImpact;
+use softway::simulation::LoadFn;
 use softway::time::classic::{
     amplification, initial_acceleration, max_frequency, max_frequency_bound, rho_inf, sdof_step,
-    stable_step, ClassicParams, ClassicStepper, Dirichlet, Kinematic, NodeConstraint, State,
+    stable_step, ClassicParams, ClassicStepper, Dirichlet, Kinematic, State,
 };
 use softway::time::step::LinearModel;
+use softway::time::TimeIntegrator;
 
 fn methods() -> Vec<(String, ClassicParams, f64)> {
     // (name, params, expected order)
@@ -108,7 +111,7 @@ fn bar_run(p: ClassicParams, h: f64, lumped: bool) -> State {
         kind,
         value: 0.0,
     }];
-    let mut st = ClassicStepper::new(&model, 1, p, h, &bcs, 1, 1).unwrap();
+    let mut st = ClassicStepper::new(&model, p, h, &bcs).unwrap();
     let x = |i: usize| i as f64 / (n - 1) as f64;
     let force = |t: f64, f: &mut [f64]| {
         f.fill(0.0);
@@ -127,7 +130,7 @@ fn bar_run(p: ClassicParams, h: f64, lumped: bool) -> State {
     for i in 0..steps {
         force(i as f64 * h, &mut f0);
         force((i + 1) as f64 * h, &mut f1);
-        st.step(&s0, &f0, &f1, &[], &mut [], &mut s1);
+        st.step(&s0, &f0, &f1, &mut s1);
         std::mem::swap(&mut s0, &mut s1);
     }
     s0
@@ -245,7 +248,7 @@ fn central_difference_stability_limit() {
             kind: Kinematic::Velocity,
             value: 0.0,
         }];
-        let mut st = ClassicStepper::new(&model, 1, p, h, &bcs, 1, 1).unwrap();
+        let mut st = ClassicStepper::new(&model, p, h, &bcs).unwrap();
         assert!(st.is_diagonal());
         let mut s0 = State::zeros(n);
         for i in 1..n {
@@ -255,7 +258,7 @@ fn central_difference_stability_limit() {
         s0.a = initial_acceleration(&model, &[0], &s0.u, &s0.v, &z).unwrap();
         let mut s1 = State::zeros(n);
         for _ in 0..1000 {
-            st.step(&s0, &z, &z, &[], &mut [], &mut s1);
+            st.step(&s0, &z, &z, &mut s1);
             std::mem::swap(&mut s0, &mut s1);
         }
         s0.u.iter().fold(0.0f64, |m, x| {
@@ -305,14 +308,14 @@ fn multi_dof_step_reproduces_the_sdof_step_for_one_dof() {
             kind: Kinematic::Velocity,
             value: 0.0,
         }];
-        let mut st = ClassicStepper::new(&model, 1, p, h, &bcs, 1, 1).unwrap();
+        let mut st = ClassicStepper::new(&model, p, h, &bcs).unwrap();
         let mut s0 = State::zeros(2);
         let mut s1 = State::zeros(2);
         (s0.u[1], s0.v[1], s0.a[1]) = (0.3, -0.7, 0.25);
         let mut sd = (0.3, -0.7, 0.25);
         for i in 0..50 {
             let (fa, fb) = ((0.1 * i as f64).cos(), (0.1 * (i + 1) as f64).cos());
-            st.step(&s0, &[0.0, fa], &[0.0, fb], &[], &mut [], &mut s1);
+            st.step(&s0, &[0.0, fa], &[0.0, fb], &mut s1);
             sd = sdof_step(m, c, k, fa, fb, p, h, sd);
             std::mem::swap(&mut s0, &mut s1);
             let scale = sd.0.abs() + sd.1.abs() + sd.2.abs();
@@ -346,12 +349,14 @@ fn node_constraints_are_exact() {
             if p.is_explicit() && kind == Kinematic::Displacement {
                 continue;
             }
-            let mut st = ClassicStepper::new(&model, 1, p, h, &[], 2, 2).unwrap();
+            let mut st = ClassicStepper::new(&model, p, h, &[]).unwrap();
             let mut s0 = State::zeros(n);
             s0.v.fill(1.0);
             let mut s1 = State::zeros(n);
+            let (mut pred, mut x, mut f) = (State::zeros(n), vec![0.0; n], vec![0.0; n]);
             let z = vec![0.0; n];
-            let mut lambda = [0.0; 2];
+            let load: LoadFn = Box::new(|_, f| f.fill(0.0));
+            let mut rows = RowSolver::new(n, 1, 1);
             let momentum = |v: &[f64]| {
                 let mut mv = vec![0.0; n];
                 softway::linalg::spmv_add(model.pattern(), &model.m, 1.0, v, &mut mv);
@@ -359,15 +364,29 @@ fn node_constraints_are_exact() {
             };
             let momentum0 = momentum(&s0.v);
             let rhs = 0.0;
-            let con = [NodeConstraint {
-                node: n - 1,
-                normal: [1.0, 0.0],
-                kind,
-                rhs,
-            }];
+            let mut terms = Terms::default();
+            terms.push(n - 1, 1.0);
             let mut impulse = 0.0;
             for _ in 0..20 {
-                st.step(&s0, &z, &z, &con, &mut lambda, &mut s1);
+                // Through the integrator contract: v1 = V + mu_v x, u1 = U + mu_u x.
+                TimeIntegrator::predict(&mut st, 0.0, &s0, &load, &z, &mut f, &mut pred, &mut x);
+                let maps = TimeIntegrator::maps(&st);
+                let (y0, mu) = match kind {
+                    Kinematic::Velocity => (pred.v[n - 1] - rhs, maps.mu_v),
+                    _ => (pred.u[n - 1] - rhs, maps.mu_u),
+                };
+                rows.clear();
+                rows.push(Row {
+                    pair: 0,
+                    terms,
+                    kind: RowKind::Equality,
+                    y0,
+                    mu,
+                    reg: 0.0,
+                });
+                rows.solve(&mut st, &mut x, 0.0);
+                TimeIntegrator::finish(&st, &s0, &pred, &x, &mut s1);
+                let lambda = rows.lambda().to_vec();
                 impulse += h * lambda[0];
                 let got = match kind {
                     Kinematic::Velocity => s1.v[n - 1],

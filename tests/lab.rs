@@ -1,23 +1,23 @@
-//! The contact laboratory (`softway::lab`) against the exact d'Alembert answers of the bar
-//! striking a wall and of two bars colliding head on (paper §3.1): every contact treatment
-//! with the space-time scheme on refinement ladders, every classic integrator with exact
-//! and penalty enforcement, the known failure of Newmark with exact enforcement and its cure
-//! by mass redistribution, penalty tending to exact enforcement, the lab against the
-//! driver, momentum conservation in the node-to-node contact, and the refused combinations.
+//! Every integrator with every contact treatment through the one driver, against the exact
+//! d'Alembert answers of the bar striking a wall and of two bars colliding head on (paper
+//! §3.1): every contact treatment with the space-time scheme on refinement ladders, every
+//! classic integrator with exact and penalty enforcement, the known failure of Newmark with
+//! exact enforcement and its cure by mass redistribution, penalty tending to exact
+//! enforcement, the soft way between two deformable bodies, momentum conservation in the
+//! node-to-node contact, one symbolic analysis for the subdivision, and the refused
+//! combinations.
 //!
 //! Bar (length 1, EA 1, rho A 1, speed 1, gap 0.5): contact for 2L/c = 2 s with the force
 //! rho A c v0 = 1 N, rebound at v0 = 1 m/s, energy 0.5 J kept. Two bars (same data): contact
 //! for 2 s with the force 1/2 N, then A at rest and B at v0.
 
-use softway::contact::ContactMethod;
-use softway::lab::{
-    redistribute_mass, ClassicKind, Integrator, Lab, LabError, LabProblem, LabStats, Treatment,
-};
+use softway::contact::mass_redistribution::redistribute_mass;
+use softway::contact::Treatment;
 use softway::linalg::spmv_into;
 use softway::problems::{BarImpact, TwoBars};
-use softway::simulation::Simulation;
+use softway::simulation::{Problem, RunStats, SimError, Simulation};
 use softway::time::classic::ClassicParams;
-use softway::time::SpaceTimeParams;
+use softway::time::{ClassicKind, Integrator};
 use std::sync::atomic::AtomicBool;
 
 /// Run length, s: impact at 0.5 s, release at 2.5 s, then 1.5 s of free flight.
@@ -47,7 +47,7 @@ struct Metrics {
     /// Displacement of the contact node at every step end (index = step), m.
     head: Vec<f64>,
     /// The lab's counters.
-    stats: LabStats,
+    stats: RunStats,
 }
 
 impl Metrics {
@@ -60,17 +60,13 @@ impl Metrics {
 /// Runs a laboratory problem and measures it. `split`: the first dof of bar B (two bars);
 /// `head_dof`: the dof recorded in `Metrics::head`. The mass rows come from the model
 /// actually integrated (mass redistribution changes `M`).
-fn run_lab(pb: LabProblem, split: Option<usize>, head_dof: usize) -> Metrics {
+fn run_lab(pb: Problem, split: Option<usize>, head_dof: usize) -> Metrics {
     let n = pb.model.n();
     let h = pb.h;
-    let mut lab = Lab::new(pb).expect("lab set up");
+    let mut lab = Simulation::new(pb).expect("set up");
     let mut rows = vec![0.0; n];
-    spmv_into(
-        lab.model().pattern(),
-        &lab.model().m,
-        &vec![1.0; n],
-        &mut rows,
-    );
+    let model = &lab.engine().model;
+    spmv_into(model.pattern(), &model.m, &vec![1.0; n], &mut rows);
     let mean_v = |v: &[f64], r: std::ops::Range<usize>| {
         r.clone().map(|i| rows[i] * v[i]).sum::<f64>() / r.map(|i| rows[i]).sum::<f64>()
     };
@@ -80,16 +76,17 @@ fn run_lab(pb: LabProblem, split: Option<usize>, head_dof: usize) -> Metrics {
     let mut energy = Vec::new();
     let mut head = Vec::new();
     let stats = lab
-        .run(&AtomicBool::new(false), |s| {
+        .run(&AtomicBool::new(false), |view| {
+            let s = view.state;
             assert_eq!(s.k, energy.len(), "steps are reported in order");
-            energy.push(s.kinetic + s.strain + s.penalty);
+            energy.push(view.kinetic + view.strain + view.penalty);
             head.push(s.u[head_dof]);
-            max_pen = max_pen.max(-s.gaps[0]);
-            if s.active[0] {
+            max_pen = max_pen.max(-s.pairs[0].gap);
+            if s.pairs[0].held || s.pairs[0].force != 0.0 {
                 first.get_or_insert(s.t);
                 first_k.get_or_insert(s.k);
                 last = Some(s.t);
-                fsum += s.forces[0];
+                fsum += s.pairs[0].force;
                 nf += 1;
             }
             let p: f64 = (0..n).map(|i| rows[i] * s.v[i]).sum();
@@ -97,10 +94,10 @@ fn run_lab(pb: LabProblem, split: Option<usize>, head_dof: usize) -> Metrics {
             drift = drift.max((p - p0).abs());
             match split {
                 Some(b) => {
-                    va = mean_v(s.v, 0..b);
-                    vb = mean_v(s.v, b..n);
+                    va = mean_v(&s.v, 0..b);
+                    vb = mean_v(&s.v, b..n);
                 }
-                None => va = mean_v(s.v, 0..n),
+                None => va = mean_v(&s.v, 0..n),
             }
             Ok(())
         })
@@ -150,12 +147,12 @@ fn two_bars(elements: usize, lumped: bool) -> TwoBars {
 }
 
 fn run_bar(b: BarImpact, i: Integrator, t: Treatment, h: f64) -> Metrics {
-    let (_, pb) = b.lab_problem(i, t, h, T_END);
+    let (_, pb) = b.problem(i, t, h, T_END);
     run_lab(pb, None, b.elements)
 }
 
 fn run_two(b: TwoBars, i: Integrator, t: Treatment, h: f64) -> Metrics {
-    let (_, pb) = b.lab_problem(i, t, h, T_END);
+    let (_, pb) = b.problem(i, t, h, T_END);
     run_lab(pb, Some(b.elements + 1), b.elements)
 }
 
@@ -401,36 +398,6 @@ fn penalty_converges_to_exact_as_stiffness_grows() {
     assert!(stiff.max_pen < 1e-6);
 }
 
-/// The lab's space-time exact treatment and the driver's `ContactMethod::Exact` are two
-/// independent implementations of the same rule (hold the node from the start of the step
-/// where it penetrates with c.v1 = -g*/h, release on tension): on the bar (40 elements,
-/// h = 0.01, alpha 0.8, gamma 0) the head displacement agrees to 1e-10 m at every step.
-#[test]
-fn lab_exact_space_time_matches_the_driver() {
-    let b = bar(40, false);
-    let params = SpaceTimeParams {
-        alpha: 0.8,
-        gamma: 0.0,
-        h: 0.01,
-    };
-    let lab = run_bar(b, ST, Treatment::Exact, params.h);
-    let (_, pb) = b.problem(params, ContactMethod::Exact, T_END);
-    let mut sim = Simulation::new(pb).expect("driver set up");
-    let mut head = vec![f64::NAN; lab.head.len()];
-    sim.run(&AtomicBool::new(false), |s| {
-        head[s.state.k] = s.state.u[b.elements];
-        Ok(())
-    })
-    .expect("driver run");
-    assert!(
-        lab.head.iter().any(|&u| u > 0.49),
-        "the head reaches the wall"
-    );
-    for (k, (a, d)) in lab.head.iter().zip(&head).enumerate() {
-        assert!((a - d).abs() <= 1e-10, "step {k}: lab {a} driver {d}");
-    }
-}
-
 /// Two bars colliding head on exchange their velocities: on the ladder N = 10, 40, 160
 /// elements per bar (h = 0.4 / N), A's final velocity |v_A| and |v_B - 1| shrink at every
 /// level and are below 0.01 at the finest for the space-time scheme with exact
@@ -513,8 +480,8 @@ fn mass_redistribution_keeps_total_mass() {
     }
 }
 
-/// The combinations that do not exist are refused by `Lab::new` with
-/// `LabError::Unsupported` rather than a panic: subdivision with a classic integrator,
+/// The combinations that do not exist are refused by `Simulation::new` with
+/// `SimError::Unsupported` rather than a panic: subdivision with a classic integrator,
 /// mass redistribution with the explicit central difference (a zero mass to divide by), a
 /// non-positive penalty, a restitution outside [0, 1].
 #[test]
@@ -543,9 +510,9 @@ fn unsupported_combinations_are_refused() {
         ),
     ];
     for (b, integ, tr) in cases {
-        let (_, pb) = b.lab_problem(integ, tr, 0.01, 0.1);
-        match Lab::new(pb) {
-            Err(LabError::Unsupported(msg)) => assert!(!msg.is_empty()),
+        let (_, pb) = b.problem(integ, tr, 0.01, 0.1);
+        match Simulation::new(pb) {
+            Err(SimError::Unsupported(msg)) => assert!(!msg.is_empty()),
             other => panic!("{} {}: {other:?}", integ.name(), tr.name()),
         }
     }

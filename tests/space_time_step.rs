@@ -3,9 +3,10 @@
 
 use faer::linalg::solvers::Solve;
 use softway::assembly::Assembler;
+use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
 use softway::mesh::{Cells, Mesh};
 use softway::time::sdof;
-use softway::time::step::{LinearModel, Stepper, VelocityConstraint};
+use softway::time::step::{LinearModel, Stepper};
 use softway::time::SpaceTimeParams;
 use std::collections::BTreeMap;
 
@@ -35,14 +36,14 @@ fn one_dof_step_is_eq_9_and_eq_10_exactly() {
         (0.71, 0.5, 0.3),
     ] {
         let p = SpaceTimeParams { alpha, gamma, h };
-        let mut st = Stepper::new(&one_dof(m, k), 1, p, &[], 0, 0).unwrap();
+        let mut st = Stepper::new(&one_dof(m, k), p, &[]).unwrap();
         let (mut u, mut v) = (vec![0.3], vec![-1.2]);
         let (mut xr, mut vr) = (0.3, -1.2);
         let mut b = vec![0.0];
         let mut u1 = vec![0.0];
         for _ in 0..50 {
             st.rhs_into(&u, &v, &[0.0], &mut b);
-            st.solve(&mut b, &[], &mut []);
+            st.solve(&mut b);
             st.update_displacement(p.beta(), &u, &v, &b, &mut u1);
             (u[0], v[0]) = (u1[0], b[0]);
             (xr, vr) = sdof::step(m, k, 0.0, p, xr, vr);
@@ -82,7 +83,7 @@ fn multipliers_match_the_bordered_system() {
         gamma: 0.1,
         h: 0.05,
     };
-    let mut st = Stepper::new(&model, 1, p, &[(0, 0.0)], 2, 2).unwrap();
+    let mut st = Stepper::new(&model, p, &[(0, 0.0)]).unwrap();
     let n = n_el + 1;
     let u: Vec<f64> = (0..n).map(|i| 0.01 * i as f64).collect();
     let v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
@@ -90,20 +91,24 @@ fn multipliers_match_the_bordered_system() {
     let mut b = vec![0.0; n];
     st.rhs_into(&u, &v, &f, &mut b);
     let b0 = b.clone();
-    let cons = [
-        VelocityConstraint {
-            node: 2,
-            normal: [1.0, 0.0],
-            rhs: 0.25,
-        },
-        VelocityConstraint {
-            node: 6,
-            normal: [-1.0, 0.0],
-            rhs: 0.1,
-        },
-    ];
-    let mut lam = [0.0; 2];
-    st.solve(&mut b, &cons, &mut lam);
+    // Velocity constraints c.v1 = g as equality rows y = -g + c.x on x = v1.
+    let cons = [(2usize, 1.0, 0.25), (6, -1.0, 0.1)];
+    let mut rows = RowSolver::new(n, 2, 2);
+    for (q, &(node, c, g)) in cons.iter().enumerate() {
+        let mut terms = Terms::default();
+        terms.push(node, c);
+        rows.push(Row {
+            pair: q,
+            terms,
+            kind: RowKind::Equality,
+            y0: -g,
+            mu: 1.0,
+            reg: 0.0,
+        });
+    }
+    st.solve(&mut b);
+    rows.solve(&mut st, &mut b, 0.0);
+    let lam = rows.lambda().to_vec();
     // Direct dense bordered solve with the Dirichlet dof 0 eliminated.
     let (a, hh) = (p.alpha, p.h);
     let md = asm.to_dense(&model.m);
@@ -119,10 +124,10 @@ fn multipliers_match_the_bordered_system() {
         }
         rhs[(i - 1, 0)] = b0[i];
     }
-    for (q, cq) in cons.iter().enumerate() {
-        big[(cq.node - 1, n - 1 + q)] = -cq.normal[0];
-        big[(n - 1 + q, cq.node - 1)] = cq.normal[0];
-        rhs[(n - 1 + q, 0)] = cq.rhs;
+    for (q, &(node, c, g)) in cons.iter().enumerate() {
+        big[(node - 1, n - 1 + q)] = -c;
+        big[(n - 1 + q, node - 1)] = c;
+        rhs[(n - 1 + q, 0)] = g;
     }
     let x = big.partial_piv_lu().solve(&rhs);
     assert!(b[0].abs() < 1e-14);

@@ -4,12 +4,12 @@
 
 use softway::assembly::Assembler;
 use softway::contact::obstacle::Flattening;
-use softway::contact::ContactMethod;
+use softway::contact::Treatment;
 use softway::linalg::spmv_into;
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::disk_rings;
 use softway::simulation::Simulation;
-use softway::time::SpaceTimeParams;
+use softway::time::Integrator;
 use softway::wheel::{assemble_mass_stiffness, triangle_geometry, Support, WheelModel, WheelSpec};
 use std::process::Command;
 use std::sync::atomic::AtomicBool;
@@ -153,13 +153,13 @@ fn short_rolling_run_is_stable_without_penetration() {
     let h = 4e-6;
     let steps = (6e-3 / h) as usize;
     let pb = wm.problem(
-        SpaceTimeParams {
+        Integrator::SpaceTime {
             alpha: 0.8,
             gamma: 0.2,
-            h,
         },
+        h,
         vec![],
-        ContactMethod::SoftWay,
+        Treatment::SOFT_WAY,
         steps,
     );
     let mut sim = Simulation::new(pb).unwrap();
