@@ -44,8 +44,6 @@ struct Metrics {
     first_active: Option<usize>,
     /// Total energy at every step end (index = step), J.
     energy: Vec<f64>,
-    /// Displacement of the contact node at every step end (index = step), m.
-    head: Vec<f64>,
     /// The lab's counters.
     stats: RunStats,
 }
@@ -57,10 +55,9 @@ impl Metrics {
     }
 }
 
-/// Runs a laboratory problem and measures it. `split`: the first dof of bar B (two bars);
-/// `head_dof`: the dof recorded in `Metrics::head`. The mass rows come from the model
+/// Runs a problem and measures it. `split`: the first dof of bar B (two bars). The mass rows come from the model
 /// actually integrated (mass redistribution changes `M`).
-fn run_lab(pb: Problem, split: Option<usize>, head_dof: usize) -> Metrics {
+fn run_lab(pb: Problem, split: Option<usize>) -> Metrics {
     let n = pb.model.n();
     let h = pb.h;
     let mut lab = Simulation::new(pb).expect("set up");
@@ -74,13 +71,11 @@ fn run_lab(pb: Problem, split: Option<usize>, head_dof: usize) -> Metrics {
     let (mut first_k, mut max_pen, mut p0, mut drift) = (None, 0.0f64, None, 0.0f64);
     let (mut va, mut vb) = (0.0, 0.0);
     let mut energy = Vec::new();
-    let mut head = Vec::new();
     let stats = lab
         .run(&AtomicBool::new(false), |view| {
             let s = view.state;
             assert_eq!(s.k, energy.len(), "steps are reported in order");
             energy.push(view.kinetic + view.strain + view.penalty);
-            head.push(s.u[head_dof]);
             max_pen = max_pen.max(-s.pairs[0].gap);
             if s.pairs[0].held || s.pairs[0].force != 0.0 {
                 first.get_or_insert(s.t);
@@ -116,7 +111,6 @@ fn run_lab(pb: Problem, split: Option<usize>, head_dof: usize) -> Metrics {
         momentum_drift: drift,
         first_active: first_k,
         energy,
-        head,
         stats,
     }
 }
@@ -148,12 +142,12 @@ fn two_bars(elements: usize, lumped: bool) -> TwoBars {
 
 fn run_bar(b: BarImpact, i: Integrator, t: Treatment, h: f64) -> Metrics {
     let (_, pb) = b.problem(i, t, h, T_END);
-    run_lab(pb, None, b.elements)
+    run_lab(pb, None)
 }
 
 fn run_two(b: TwoBars, i: Integrator, t: Treatment, h: f64) -> Metrics {
     let (_, pb) = b.problem(i, t, h, T_END);
-    run_lab(pb, Some(b.elements + 1), b.elements)
+    run_lab(pb, Some(b.elements + 1))
 }
 
 /// The paper's space-time scheme.

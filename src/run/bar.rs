@@ -328,7 +328,7 @@ pub fn simulate(
         Model::BarImpact(b) => {
             let (m, p) = b.problem(run.integrator, run.contact, h, run.t_end);
             let n = p.model.n();
-            (m, p, vec![0..n])
+            (m, p, vec![std::ops::Range { start: 0, end: n }])
         }
         Model::TwoBars(b) => {
             let (m, p) = b.problem(run.integrator, run.contact, h, run.t_end);

@@ -493,6 +493,7 @@ impl TimeIntegrator for ClassicStepper {
         s0.a = acceleration_of(mats, &bc, &s0.u, &s0.v, &f)?;
         Ok(())
     }
+    #[allow(clippy::too_many_arguments)]
     fn predict(
         &mut self,
         t0: f64,

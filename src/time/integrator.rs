@@ -122,6 +122,7 @@ pub trait TimeIntegrator: Send {
     /// The predictors `U`, `V` into `pred.u`, `pred.v` and `x_free = A^{-1} b` into `x`, for
     /// the step from `(t0, s0)` with the external load plus the nodal forces `extra` (N),
     /// using `f` as scratch.
+    #[allow(clippy::too_many_arguments)]
     fn predict(
         &mut self,
         t0: f64,

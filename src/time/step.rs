@@ -322,6 +322,7 @@ impl TimeIntegrator for Stepper {
     fn is_fixed(&self, dof: usize) -> bool {
         self.is_bc[dof]
     }
+    #[allow(clippy::too_many_arguments)]
     fn predict(
         &mut self,
         t0: f64,
