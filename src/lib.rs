@@ -22,6 +22,45 @@
 //! imposed with Lagrange multipliers through the factored matrix. See [`contact`] and
 //! [`simulation`].
 //!
+//! ## One engine, two contracts
+//!
+//! Every run goes through one driver ([`simulation::Simulation`]): a step loop over a ring of
+//! three states (`t_{k-2}`, `t_{k-1}`, `t_k`) so that a treatment may step back and repeat
+//! the previous interval, with observers called on final steps only. The driver takes any
+//! integrator and any contact treatment through two contracts.
+//!
+//! **The integrator contract** ([`time::TimeIntegrator`], after MFEM's `ODESolver`). Each
+//! integrator solves per step one linear system with a constant factored matrix in an
+//! unknown `x` that fixes the end state linearly:
+//! $$A x = b + \sum_p c_p^T\lambda_p,\qquad u_1 = U + \mu_u x,\qquad v_1 = V + \mu_v x.$$
+//! Space-time: `x = v1`, `U = u0 + h(1-beta)v0`, `mu_u = h beta`, `V = 0`, `mu_v = 1`, and
+//! `lambda` is an impulse (N s). Generalized-alpha family (Newmark, HHT, generalized-alpha,
+//! central difference): `x = a1`, `mu_u = beta_N h^2`, `mu_v = gamma_N h`, and `lambda` is a
+//! force (N). The contract: `predict` (`U`, `V`, `x_free = A^{-1} b`), `apply_inverse`,
+//! `finish`, `maps`, `stiffness_point` (where `K u` is evaluated), `set_step` (another `h`
+//! on the same symbolic analysis).
+//!
+//! **The contact-treatment contract** ([`contact::ContactTreatment`], after rapier's one-
+//! and two-body constraints). A pair (node against obstacle, node against node:
+//! [`contact::Pair`]) presents a row `c`, an offset `o` and a boundary velocity `w`, with the
+//! gap `g = c.(X + u) - o`. A treatment turns the pairs and their states into rows
+//! $$y_p = y_{0,p} + \mu_p\, c_p\cdot x + r_p\lambda_p$$
+//! of kind equality, unilateral (`y >= 0`, `lambda >= 0`, `y lambda = 0`) or bounded
+//! (`|lambda| <= mu_f lambda_n`, for friction), which [`contact::rows::RowSolver`] solves
+//! through the integrator's factored matrix and cached columns `A^{-1} e_d` (no
+//! refactorization on a change of the active set); it judges the solution (accept, solve
+//! again, step back) and records the pairs' forces (always in N).
+//!
+//! | question | file |
+//! |---|---|
+//! | where is the step equation? | `src/time/step.rs` (space-time), `src/time/classic.rs` |
+//! | where is the integrator contract? | `src/time/integrator.rs` |
+//! | where is the soft way? | `src/contact/softway.rs` |
+//! | where are the other treatments? | `src/contact/complementarity.rs`, `mass_redistribution.rs`, `subdivision.rs` |
+//! | where are constraint rows solved? | `src/contact/rows.rs` |
+//! | where is the step loop? | `src/simulation.rs` |
+//! | where are the rotating-frame terms? | `src/frame.rs`, `src/wheel.rs` |
+//!
 //! ## Module map
 //! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.
 //! - [`element`]: bar and triangle kernels.

@@ -427,3 +427,140 @@ impl RowSolver {
         self.last_used[s] = self.clock;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::LinalgError;
+    use crate::simulation::LoadFn;
+    use crate::time::integrator::{Maps, MultiplierUnit, State};
+
+    /// `A = diag(d)`: the rows' solution is checkable by hand.
+    struct Diagonal(Vec<f64>);
+
+    impl TimeIntegrator for Diagonal {
+        fn name(&self) -> String {
+            "diagonal".into()
+        }
+        fn n(&self) -> usize {
+            self.0.len()
+        }
+        fn h(&self) -> f64 {
+            1.0
+        }
+        fn unit(&self) -> MultiplierUnit {
+            MultiplierUnit::Impulse
+        }
+        fn maps(&self) -> Maps {
+            Maps {
+                mu_u: 1.0,
+                mu_v: 1.0,
+                force: 1.0,
+            }
+        }
+        fn displacement_weight(&self, _t0: f64) -> f64 {
+            1.0
+        }
+        fn is_fixed(&self, _dof: usize) -> bool {
+            false
+        }
+        fn predict(
+            &mut self,
+            _t0: f64,
+            _s0: &State,
+            _load: &LoadFn,
+            _extra: &[f64],
+            _f: &mut [f64],
+            _pred: &mut State,
+            _x: &mut [f64],
+        ) {
+        }
+        fn apply_inverse(&mut self, r: &mut [f64]) {
+            for (ri, di) in r.iter_mut().zip(&self.0) {
+                *ri /= di;
+            }
+        }
+        fn finish(&self, _s0: &State, _pred: &State, _x: &[f64], _s1: &mut State) {}
+        fn stiffness_point(&self, _s0: &State, _pred: &State, _p: &mut [f64]) -> f64 {
+            0.0
+        }
+        fn set_step(&mut self, _h: f64) -> Result<(), LinalgError> {
+            Ok(())
+        }
+        fn factorizations(&self) -> usize {
+            0
+        }
+        fn symbolic_analyses(&self) -> usize {
+            0
+        }
+    }
+
+    fn row(dof: usize, kind: RowKind) -> Row {
+        let mut terms = Terms::default();
+        terms.push(dof, 1.0);
+        Row {
+            pair: dof,
+            terms,
+            kind,
+            y0: 0.0,
+            mu: 1.0,
+            reg: 0.0,
+        }
+    }
+
+    /// A node approaching a plane (normal velocity -1, unit mass) with a tangential velocity
+    /// `vt`, friction coefficient 0.5: the normal impulse stops it (1 N s); the tangential
+    /// impulse stops the sliding when it can (`|vt| <= 0.5`: stick) and is `-0.5 sign(vt)`
+    /// otherwise (slip, the velocity keeping its sign).
+    #[test]
+    fn coulomb_rows_stick_inside_the_cone_and_slide_on_it() {
+        for (vt, lt, xt) in [(2.0, -0.5, 1.5), (0.3, -0.3, 0.0), (-4.0, 0.5, -3.5)] {
+            let mut integ = Diagonal(vec![1.0, 1.0]);
+            let mut rows = RowSolver::new(2, 2, 2);
+            let n = rows.push(row(0, RowKind::Unilateral));
+            rows.push(row(
+                1,
+                RowKind::Bounded {
+                    normal: n,
+                    mu_f: 0.5,
+                },
+            ));
+            let mut x = vec![-1.0, vt];
+            rows.solve(&mut integ, &mut x, 1e-12);
+            let l = rows.lambda();
+            assert!((l[0] - 1.0).abs() < 1e-14, "{vt}: {l:?}");
+            assert!((l[1] - lt).abs() < 1e-14, "{vt}: {l:?}");
+            assert!(
+                x[0].abs() < 1e-14 && (x[1] - xt).abs() < 1e-14,
+                "{vt}: {x:?}"
+            );
+        }
+    }
+
+    /// A unilateral row that is not violated carries nothing; a separating node is let go;
+    /// an equality row is imposed whatever its sign; a penalty row (`reg > 0`) gives
+    /// `lambda = -y0 / (W + reg)`.
+    #[test]
+    fn unilateral_equality_and_compliant_rows() {
+        let mut integ = Diagonal(vec![2.0, 4.0]);
+        let mut rows = RowSolver::new(2, 2, 2);
+        rows.push(row(0, RowKind::Unilateral));
+        rows.push(row(1, RowKind::Equality));
+        let mut x = vec![0.5, 1.0];
+        rows.solve(&mut integ, &mut x, 1e-12);
+        assert_eq!(rows.lambda()[0], 0.0);
+        assert!((rows.lambda()[1] + 4.0).abs() < 1e-14 && x[1].abs() < 1e-14);
+        rows.clear();
+        let mut r = row(0, RowKind::Unilateral);
+        r.reg = 0.5;
+        rows.push(r);
+        let mut x = vec![-1.0, 0.0];
+        rows.solve(&mut integ, &mut x, 1e-12);
+        // y = x0 + lambda/2 + 0.5 lambda = -1 + lambda = 0.
+        assert!(
+            (rows.lambda()[0] - 1.0).abs() < 1e-14,
+            "{:?}",
+            rows.lambda()
+        );
+    }
+}

@@ -211,6 +211,12 @@ pub fn simulate(
         ],
     )
     .map_err(|e| RunError::output(&hist, e))?;
+    // Per contact node, long format: one row per node carrying a reaction, per stride.
+    let nodes_path = out.join("contact_nodes.csv");
+    let mut nodes_csv =
+        CsvWriter::create(&nodes_path, &["node", "t_s", "force_N", "gap_m", "held"])
+            .map_err(|e| RunError::output(&nodes_path, e))?;
+    let node_ids: Vec<String> = wm.rim.iter().map(|n| n.to_string()).collect();
     let n_el = wm.triangles.len();
     let n = wm.mesh.n_dofs();
     // Last full turn: averaging window and snapshots.
@@ -269,6 +275,12 @@ pub fn simulate(
                 snaps_u.push(st.u.clone());
             }
             if st.k % stride == 0 {
+                for (p, ps) in st.pairs.iter().enumerate() {
+                    if ps.held || ps.force != 0.0 {
+                        let held = if ps.held { 1.0 } else { 0.0 };
+                        nodes_csv.row(Some(&node_ids[p]), &[t, ps.force, ps.gap, held])?;
+                    }
+                }
                 csv.row(
                     None,
                     &[
@@ -295,7 +307,10 @@ pub fn simulate(
     pb.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
     csv.finish().map_err(|e| RunError::output(&hist, e))?;
-    let mut files = vec![hist];
+    nodes_csv
+        .finish()
+        .map_err(|e| RunError::output(&nodes_path, e))?;
+    let mut files = vec![hist, nodes_path];
 
     // Contact force statistics over the rolling phase.
     let nf = force_y.len().max(1) as f64;
