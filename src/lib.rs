@@ -36,7 +36,10 @@
 //! - [`lab`]: the contact laboratory: every integrator (space-time, Newmark family, central
 //!   difference) with exact enforcement, penalty, mass redistribution, Moreau-Jean and the
 //!   paper's time subdivision (Fig. 5), on linear gaps (node-wall, node-node).
-//! - [`scenario`]: TOML scenarios, validated.
+//! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed
+//!   combinations of model, integrator and contact in one table).
+//! - [`build`]: what a scenario needs a model for (the central difference's step from
+//!   `cfl`), before the jobs of [`run`] start.
 //! - [`output`]: CSV, JSON, VTK, plots.
 //! - [`analysis`]: signals (spectra, oscillation counts).
 //!
@@ -48,6 +51,7 @@
 
 pub mod analysis;
 pub mod assembly;
+pub mod build;
 pub mod contact;
 pub mod element;
 pub mod frame;
