@@ -74,7 +74,10 @@
 //!   treatments: the soft way, exact, penalty, mass redistribution, Moreau-Jean, subdivision.
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
-//! - [`scenario`]: TOML scenarios, validated.
+//! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed
+//!   combinations of model, integrator and contact in one table).
+//! - [`build`]: what a scenario needs a model for (the central difference's step from
+//!   `cfl`), before the jobs of [`run`] start.
 //! - [`output`]: CSV, JSON, VTK, plots.
 //! - [`analysis`]: signals (spectra, oscillation counts).
 //!
@@ -86,6 +89,7 @@
 
 pub mod analysis;
 pub mod assembly;
+pub mod build;
 pub mod contact;
 pub mod element;
 pub mod frame;

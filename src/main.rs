@@ -1,6 +1,9 @@
-//! The `softway` command line: parse, validate, call the library, report.
+//! The `softway` command line: parse, validate, call the library, report. A scenario goes
+//! through the library's three stages: [`Scenario::from_file`] parses and validates it,
+//! [`resolve`] builds what needs a model (the step from `cfl`), the jobs run it.
 
 use clap::{Parser, Subcommand};
+use softway::build::resolve;
 use softway::run::{run_scenario, RunOptions, INTERRUPT};
 use softway::scenario::Scenario;
 use softway::time::sdof::analyse;
@@ -108,7 +111,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             out,
             quiet,
         } => {
-            let sc = Scenario::from_file(&scenario)?;
+            let sc = resolve(&Scenario::from_file(&scenario)?)?;
             for w in &sc.warnings {
                 eprintln!("softway: warning: {w}");
             }
@@ -187,7 +190,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Compare { scenario, out } => {
-            let sc = Scenario::from_file(&scenario)?;
+            let sc = resolve(&Scenario::from_file(&scenario)?)?;
             for w in &sc.warnings {
                 eprintln!("softway: warning: {w}");
             }

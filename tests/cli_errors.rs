@@ -252,3 +252,70 @@ fn combinations_that_do_not_exist_are_refused() {
     );
     assert_one_line_error(c, &e, &["rhobad.toml", "time.rho_inf", "[0, 1]"]);
 }
+
+#[test]
+fn a_refused_combination_in_runs_names_the_run_key() {
+    let (c, e) = run_err(
+        "runsmj",
+        &format!(
+            "{BAR}\n[[runs]]\nh = 0.05\n[[runs]]\nintegrator = \"central_difference\"\nmethod = \"moreau_jean\"\n"
+        ),
+    );
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "runsmj.toml",
+            "`runs[1].method`",
+            "\"moreau_jean\"",
+            "implicit",
+        ],
+    );
+    // The run sets the integrator only: the refused method is the default one, named by
+    // the key it stands for.
+    let (c, e) = run_err(
+        "runsrc",
+        &format!("{BAR}\n[[runs]]\nintegrator = \"newmark\"\n"),
+    );
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "runsrc.toml",
+            "`contact.method`",
+            "\"soft_way\"",
+            "not one of newmark",
+        ],
+    );
+}
+
+/// `softway run` builds the scenario before running it: `cfl` becomes
+/// `h = cfl * 2 / omega_max = cfl * dx / c` of the lumped bar (8 elements of 1/8 m, c = 1).
+#[test]
+fn cfl_is_resolved_before_the_run() {
+    let p = scenario(
+        "cfl",
+        &BAR.replace(
+            "[time]",
+            "[time]\nintegrator = \"central_difference\"\ncfl = 0.5",
+        )
+        .replace(
+            "elements = 8",
+            "elements = 8\n[contact]\nmethod = \"exact\"",
+        ),
+    );
+    let out = p.with_extension("out");
+    let o = softway()
+        .arg("run")
+        .arg(&p)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let h = s["runs"][0]["h"].as_f64().unwrap();
+    assert!((h - 0.5 * 0.125).abs() < 1e-9 * 0.0625, "h = {h}");
+}

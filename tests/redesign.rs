@@ -19,6 +19,7 @@
 //! contact step) are not compared.
 
 use serde_json::Value;
+use softway::build::resolve;
 use softway::run::bar::simulate;
 use softway::scenario::Scenario;
 use std::path::Path;
@@ -78,6 +79,7 @@ fn manifest(rel: &str) -> std::path::PathBuf {
 
 fn bar_figures(name: &str) -> Value {
     let sc = Scenario::from_file(&manifest(&format!("scenarios/{name}.toml"))).unwrap();
+    let sc = resolve(&sc).unwrap();
     let mut runs = serde_json::Map::new();
     for run in &sc.runs {
         let (s, _) = simulate(run, None, 1, false).unwrap();

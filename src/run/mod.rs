@@ -1,5 +1,6 @@
-//! Jobs: run a validated [`Scenario`] and write its results
-//! (`history.csv`, `summary.json`, plots, VTK) into an output folder.
+//! Jobs: run a built [`Scenario`] (validated by [`crate::scenario`], its steps resolved by
+//! [`crate::build::resolve`]) and write its results (`history.csv`, `summary.json`, plots,
+//! VTK) into an output folder.
 
 pub mod bar;
 pub mod compare;

@@ -3,6 +3,7 @@
 //! oscillations per turn and maximal contact force against omega).
 
 use super::{run_scenario, RunError, RunOptions};
+use crate::build::resolve;
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::scenario::{set_key, Scenario};
@@ -43,7 +44,7 @@ pub enum SweepError {
 /// `out/<key>=<value>/`; writes the table and plot into `out`.
 ///
 /// # Errors
-/// [`SweepError`]; every value is validated before any run starts.
+/// [`SweepError`]; every value is validated and built before any run starts.
 pub fn sweep(
     path: &Path,
     text: &str,
@@ -58,11 +59,13 @@ pub fn sweep(
             value: v.clone(),
             message: m,
         })?;
-        let sc = Scenario::from_str(&t, path).map_err(|e| SweepError::Value {
-            key: key.into(),
-            value: v.clone(),
-            message: e.to_string(),
-        })?;
+        let sc = Scenario::from_str(&t, path)
+            .and_then(|sc| resolve(&sc))
+            .map_err(|e| SweepError::Value {
+                key: key.into(),
+                value: v.clone(),
+                message: e.to_string(),
+            })?;
         scs.push((v.clone(), sc));
     }
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;

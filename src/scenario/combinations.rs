@@ -1,0 +1,359 @@
+//! The combinations of model, integrator and contact treatment a scenario may ask for: one
+//! table, [`check_combination`], that every run goes through (the top-level settings and
+//! each `[[runs]]` entry alike).
+//!
+//! Allowed (every other combination is refused with the reason):
+//!
+//! | kind         | integrator                                            | contact `method`                                                   |
+//! |--------------|-------------------------------------------------------|--------------------------------------------------------------------|
+//! | `sdof`       | `space_time`                                          | any (the oscillator has no contact; the method is not used)        |
+//! | `bar_impact`, `two_bars`, `wheel` | `space_time`                     | `soft_way*`, `exact`, `penalty`, `mass_redistribution`, `moreau_jean`, `subdivision` |
+//! | `bar_impact`, `two_bars`, `wheel` | `newmark`, `newmark_dissipative`, `hht`, `generalized_alpha` | `exact`, `penalty`, `mass_redistribution`, `moreau_jean` |
+//! | `bar_impact`, `two_bars` | `central_difference`                      | `exact`, `penalty`                                                 |
+//!
+//! `soft_way*` is `soft_way`, `soft_way_braking_restore` and `soft_way_no_restore`. The rules
+//! between an integrator and a treatment alone (the soft way and the subdivision are
+//! space-time treatments; mass redistribution and Moreau-Jean need an implicit step) are the
+//! engine's, [`crate::contact::Treatment::check`]; this table adds the model's: the
+//! oscillator is the space-time scheme's, and the wheel's explicit stable step (~1e-8 s) is
+//! refused.
+//!
+//! To allow a combination, delete (or narrow) the arm of [`check_combination`] that refuses
+//! it and update the table above; the test `allowed_set_is_the_documented_table` in this
+//! file holds the same table and must change with it.
+
+use crate::time::{ClassicKind, Integrator};
+
+use super::{Contact, Model};
+
+/// The kind of model, as `kind` names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelKind {
+    /// `sdof`.
+    Sdof,
+    /// `bar_impact`.
+    BarImpact,
+    /// `two_bars`.
+    TwoBars,
+    /// `wheel`.
+    Wheel,
+}
+
+impl ModelKind {
+    /// The kind of a model.
+    pub fn of(model: &Model) -> Self {
+        match model {
+            Model::Sdof(_) => ModelKind::Sdof,
+            Model::BarImpact(_) => ModelKind::BarImpact,
+            Model::TwoBars(_) => ModelKind::TwoBars,
+            Model::Wheel(_) => ModelKind::Wheel,
+        }
+    }
+}
+
+/// The family of a time integrator, as far as the combinations care.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// The space-time scheme (`space_time`).
+    SpaceTime,
+    /// An implicit member of the generalized-alpha family (`newmark`,
+    /// `newmark_dissipative`, `hht`, `generalized_alpha`).
+    Implicit,
+    /// The explicit central difference (`central_difference`).
+    Explicit,
+}
+
+impl Family {
+    /// The family of an integrator.
+    pub fn of(integrator: &Integrator) -> Self {
+        match integrator {
+            Integrator::SpaceTime { .. } => Family::SpaceTime,
+            Integrator::Classic {
+                kind: ClassicKind::CentralDifference,
+                ..
+            } => Family::Explicit,
+            Integrator::Classic { .. } => Family::Implicit,
+        }
+    }
+}
+
+/// Which setting a refusal is about: the error names that key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Culprit {
+    /// `time.integrator` (or `runs[i].integrator`).
+    Integrator,
+    /// `contact.method` (or `runs[i].method`).
+    Contact,
+}
+
+/// A combination refused: the key at fault and why.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Refusal {
+    /// The key the error names.
+    pub culprit: Culprit,
+    /// Why, and what to use instead.
+    pub why: String,
+}
+
+fn refuse(culprit: Culprit, why: impl Into<String>) -> Result<(), Refusal> {
+    Err(Refusal {
+        culprit,
+        why: why.into(),
+    })
+}
+
+/// Whether a model kind runs with an integrator and a contact treatment: the list of
+/// allowed combinations (module docs). One arm per refused case, in the order the checks are
+/// made; everything that reaches the last arm is allowed.
+///
+/// # Errors
+/// [`Refusal`] naming the setting at fault and what is allowed instead.
+pub fn check_combination(
+    kind: ModelKind,
+    integrator: &Integrator,
+    contact: &Contact,
+) -> Result<(), Refusal> {
+    use Culprit::{Contact as Method, Integrator as Integ};
+    use Family::{Explicit, Implicit};
+    use ModelKind::{Sdof, Wheel};
+    match (kind, Family::of(integrator)) {
+        (Sdof, Implicit | Explicit) => refuse(
+            Integ,
+            "the one-degree-of-freedom scheme is the space-time scheme's (Eqs. 9-10); use \"space_time\"",
+        ),
+        (Sdof, _) => Ok(()),
+        (Wheel, Explicit) => refuse(
+            Integ,
+            "the wheel's stable explicit step is about 1e-8 s (hundreds of millions of steps a turn); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"",
+        ),
+        _ => contact
+            .check(integrator)
+            .map_err(|why| Refusal { culprit: Method, why }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::{Restore, Treatment};
+    use crate::time::classic::ClassicParams;
+
+    fn integrators() -> Vec<(&'static str, Integrator)> {
+        let classic = |kind, params| Integrator::Classic { kind, params };
+        vec![
+            (
+                "space_time",
+                Integrator::SpaceTime {
+                    alpha: 0.8,
+                    gamma: 0.0,
+                },
+            ),
+            (
+                "newmark",
+                classic(ClassicKind::Newmark, ClassicParams::average_acceleration()),
+            ),
+            (
+                "newmark_dissipative",
+                classic(
+                    ClassicKind::NewmarkDissipative,
+                    ClassicParams::newmark_dissipative(0.6),
+                ),
+            ),
+            (
+                "hht",
+                classic(ClassicKind::Hht, ClassicParams::hht(-0.1).unwrap()),
+            ),
+            (
+                "generalized_alpha",
+                classic(
+                    ClassicKind::GeneralizedAlpha,
+                    ClassicParams::generalized_alpha(0.5).unwrap(),
+                ),
+            ),
+            (
+                "central_difference",
+                classic(
+                    ClassicKind::CentralDifference,
+                    ClassicParams::central_difference(),
+                ),
+            ),
+        ]
+    }
+
+    fn contacts() -> Vec<(&'static str, Contact)> {
+        vec![
+            ("soft_way", Treatment::SOFT_WAY),
+            (
+                "soft_way_braking_restore",
+                Treatment::SoftWay {
+                    restore: Restore::BrakingReaction,
+                },
+            ),
+            (
+                "soft_way_no_restore",
+                Treatment::SoftWay {
+                    restore: Restore::Nothing,
+                },
+            ),
+            ("exact", Treatment::Exact),
+            ("penalty", Treatment::Penalty { stiffness: 50.0 }),
+            ("mass_redistribution", Treatment::MassRedistribution),
+            ("moreau_jean", Treatment::MoreauJean { restitution: 0.0 }),
+            ("subdivision", Treatment::Subdivision),
+        ]
+    }
+
+    /// The table of the module docs, written out independently of the `match`.
+    fn documented(kind: ModelKind, integrator: &str, contact: &str) -> bool {
+        let soft = contact.starts_with("soft_way");
+        let implicit = matches!(
+            integrator,
+            "newmark" | "newmark_dissipative" | "hht" | "generalized_alpha"
+        );
+        match (kind, integrator) {
+            (ModelKind::Sdof, _) => integrator == "space_time",
+            (_, "space_time") => true,
+            (_, _) if implicit => !soft && contact != "subdivision",
+            (ModelKind::Wheel, "central_difference") => false,
+            (_, "central_difference") => matches!(contact, "exact" | "penalty"),
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn allowed_set_is_the_documented_table() {
+        let kinds = [
+            ModelKind::Sdof,
+            ModelKind::BarImpact,
+            ModelKind::TwoBars,
+            ModelKind::Wheel,
+        ];
+        let mut allowed = 0;
+        for kind in kinds {
+            for (iname, integ) in integrators() {
+                for (cname, contact) in contacts() {
+                    let got = check_combination(kind, &integ, &contact);
+                    assert_eq!(
+                        got.is_ok(),
+                        documented(kind, iname, cname),
+                        "{kind:?} x {iname} x {cname}: {got:?}"
+                    );
+                    allowed += usize::from(got.is_ok());
+                }
+            }
+        }
+        // sdof 8, bar_impact and two_bars 8 + 4*4 + 2 each, wheel 8 + 4*4: 84.
+        assert_eq!(allowed, 8 + 26 + 26 + 24);
+    }
+
+    /// A scenario of `kind` with `time.h` and `[contact] penalty` set (the penalty is
+    /// needed by `method = "penalty"` and unused by the others).
+    fn scenario_text(kind: ModelKind) -> String {
+        let model = match kind {
+            ModelKind::Sdof => "kind = \"sdof\"\n[sdof]\nmass = 1.0\nstiffness = 1.0\n",
+            ModelKind::BarImpact | ModelKind::TwoBars => {
+                "[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n"
+            }
+            ModelKind::Wheel => concat!(
+                "kind = \"wheel\"\n",
+                "[wheel]\nradius = 0.1\nthickness = 0.01\n",
+                "[material]\nyoung = 2.05e11\npoisson = 0.3\ndensity = 7830.0\n",
+                "[rolling]\nomega = 300.0\nflattening = 1e-3\nsettle_time = 5e-3\nturns = 1\n",
+            ),
+        };
+        let model = match kind {
+            ModelKind::BarImpact => format!("kind = \"bar_impact\"\n{model}"),
+            ModelKind::TwoBars => {
+                format!(
+                    "kind = \"two_bars\"\n{}",
+                    model.replace("[bar]", "[two_bars]")
+                )
+            }
+            _ => model.to_string(),
+        };
+        let t_end = if kind == ModelKind::Wheel {
+            ""
+        } else {
+            "t_end = 1.0\n"
+        };
+        format!("{model}[contact]\npenalty = 50.0\n[time]\nh = 1e-6\n{t_end}")
+    }
+
+    /// Every (kind, integrator, contact) through the parser, set at the top level and in a
+    /// `[[runs]]` entry: the documented ones parse, the others give one error naming the
+    /// key at fault (`time.integrator` / `contact.method`, or `runs[0].integrator` /
+    /// `runs[0].method`) and the value.
+    #[test]
+    fn every_path_goes_through_the_table() {
+        use crate::scenario::Scenario;
+        use std::path::Path;
+        let kinds = [
+            ModelKind::Sdof,
+            ModelKind::BarImpact,
+            ModelKind::TwoBars,
+            ModelKind::Wheel,
+        ];
+        let path = Path::new("combo.toml");
+        let (mut allowed, mut refused) = (0, 0);
+        for kind in kinds {
+            let base = scenario_text(kind);
+            for (iname, _) in integrators() {
+                for (cname, _) in contacts() {
+                    let top = base
+                        .replace("[time]\n", &format!("[time]\nintegrator = \"{iname}\"\n"))
+                        .replace("[contact]\n", &format!("[contact]\nmethod = \"{cname}\"\n"));
+                    let run =
+                        format!("{base}[[runs]]\nintegrator = \"{iname}\"\nmethod = \"{cname}\"\n");
+                    let ok = documented(kind, iname, cname);
+                    for (text, prefix) in [(top, None), (run, Some("runs[0]."))] {
+                        let got = Scenario::from_str(&text, path);
+                        let what = format!("{kind:?} x {iname} x {cname} ({prefix:?})");
+                        if ok {
+                            let sc = got.unwrap_or_else(|e| panic!("{what}: {e}"));
+                            assert_eq!(sc.runs.len(), 1, "{what}");
+                            allowed += 1;
+                            continue;
+                        }
+                        let e = got.expect_err(&what).to_string();
+                        let (field, value) = match kind {
+                            ModelKind::Sdof if iname != "space_time" => ("integrator", iname),
+                            ModelKind::Wheel if iname == "central_difference" => {
+                                ("integrator", iname)
+                            }
+                            _ => ("method", cname),
+                        };
+                        let key = match prefix {
+                            Some(p) => format!("`{p}{field}`"),
+                            None if field == "integrator" => "`time.integrator`".into(),
+                            None => "`contact.method`".into(),
+                        };
+                        let value = format!("\"{value}\"");
+                        assert!(
+                            e.starts_with("combo.toml: ") && e.contains(&key) && e.contains(&value),
+                            "{what}: {e}"
+                        );
+                        assert_eq!(e.lines().count(), 1, "{what}: {e}");
+                        refused += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!((allowed, refused), (2 * 84, 2 * (4 * 6 * 8 - 84)));
+    }
+
+    #[test]
+    fn refusals_blame_the_integrator_for_the_oscillator_and_the_explicit_wheel() {
+        let newmark = &integrators()[1].1;
+        for kind in [ModelKind::Sdof, ModelKind::Wheel] {
+            // The central difference.
+            let r = check_combination(kind, &integrators()[5].1, &Treatment::Exact);
+            assert_eq!(r.unwrap_err().culprit, Culprit::Integrator);
+        }
+        let r = check_combination(ModelKind::BarImpact, newmark, &Treatment::SOFT_WAY);
+        let r = r.unwrap_err();
+        assert_eq!(r.culprit, Culprit::Contact);
+        assert!(r.why.contains("not one of newmark"), "{}", r.why);
+        let sdof = check_combination(ModelKind::Sdof, newmark, &Treatment::Exact);
+        assert_eq!(sdof.unwrap_err().culprit, Culprit::Integrator);
+    }
+}

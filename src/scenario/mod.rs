@@ -1,0 +1,381 @@
+//! Scenario files (TOML), read in three stages (parse, then validate, then build: ripgrep's
+//! low-level / high-level arguments split):
+//!
+//! 1. **Parse** (`raw.rs`, private): the text into structs that mirror the file. Unknown keys
+//!    and wrong types are refused here, by the TOML parser, with the file, the line and the
+//!    key.
+//! 2. **Validate** (`validate.rs`, private, behind [`Scenario::from_file`] and
+//!    [`Scenario::from_str`]): types, ranges and defaults of every value, and the
+//!    combinations of model, integrator and contact treatment, refused in one table:
+//!    [`combinations::check_combination`]. The result is a [`Scenario<RunSpec>`]: plain
+//!    data, nothing assembled, no mesh read. A run whose step is set by `cfl` keeps it as
+//!    [`TimeStep::Cfl`].
+//! 3. **Build** ([`crate::build`]): what needs a model. [`crate::build::resolve`] turns each
+//!    [`RunSpec`] into a [`Run`] with its step `h` (assembling the contact bar to find the
+//!    central difference's stable step when `cfl` is given, and warning about an explicit
+//!    step or penalty beyond stability); the jobs ([`crate::run`]) take the built
+//!    [`Scenario`] (= `Scenario<Run>`). Wheel meshes are read later still, by
+//!    [`crate::run::wheel::build`].
+//!
+//! Errors name the file, the key and what is allowed, on one line ([`ScenarioError`]).
+//!
+//! ```toml
+//! name = "bar-impact"          # output folder name (default: the file's stem)
+//! kind = "bar_impact"          # "sdof" | "bar_impact" | "two_bars" | "wheel"
+//!
+//! [time]
+//! alpha = 0.8                  # Eq. (8), in (0, 1]; default 0.8
+//! gamma = 0.0                  # Eq. (24), in [0, 1]; default 0
+//! h = 0.01                     # time step, s (> 0)
+//! t_end = 5.0                  # end time, s (> 0)
+//! integrator = "space_time"   # bars: also "newmark", "newmark_dissipative" (gamma_n),
+//!                              # "hht" (alpha_h), "generalized_alpha" (rho_inf),
+//!                              # "central_difference" (lumped mass; cfl sets h)
+//!
+//! [bar]                        # for kind = "bar_impact"
+//! length = 1.0                 # m
+//! ea = 1.0                     # axial stiffness EA, N
+//! rho_a = 1.0                  # mass per length rho A, kg/m
+//! speed = 1.0                  # initial speed towards the wall, m/s
+//! gap = 0.5                    # distance from the head to the wall, m
+//! elements = 8
+//! mass = "consistent"          # or "lumped"
+//! damping = 0.0                # eta_z per unit length (Eq. 22), N s/m^2
+//!
+//! [contact]
+//! method = "soft_way"          # "soft_way" | "soft_way_braking_restore" |
+//!                              # "soft_way_no_restore" | "exact" | "penalty" (penalty,
+//!                              # N/m) | "mass_redistribution" | "moreau_jean"
+//!                              # (restitution) | "subdivision" (see crate::contact)
+//!
+//! [[runs]]                     # optional: several runs of one scenario
+//! label = "h = 0.4"
+//! h = 0.4                      # any of h, alpha, gamma, elements, method
+//! ```
+
+use crate::contact::Treatment;
+use crate::problems::{BarImpact, TwoBars};
+use crate::time::Integrator;
+use crate::time::SpaceTimeParams;
+use std::path::{Path, PathBuf};
+
+pub mod combinations;
+mod raw;
+mod validate;
+
+pub use raw::set_key;
+
+/// A scenario error: the file, the key at fault and what is allowed.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    /// The file cannot be read.
+    #[error("{path}: cannot read the scenario: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax or schema error (unknown key, wrong type).
+    #[error("{path}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// A value out of its allowed range.
+    #[error("{path}: `{key}` = {value}: {allowed}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Dotted key, e.g. `bar.length` or `runs[2].h`.
+        key: String,
+        /// The value found.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+    /// A required key is missing.
+    #[error("{path}: missing `{key}`: {why}")]
+    Missing {
+        /// The file.
+        path: PathBuf,
+        /// Dotted key.
+        key: String,
+        /// What it is for.
+        why: String,
+    },
+}
+
+/// A one-degree-of-freedom oscillator `m x'' + k x = 0`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Sdof {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Stiffness, N/m.
+    pub stiffness: f64,
+    /// Initial displacement, m.
+    pub x0: f64,
+    /// Initial velocity, m/s.
+    pub v0: f64,
+}
+
+/// Where the wheel's mesh comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshSource {
+    /// The hexagonal-pattern disk of `n` rings (12: the paper's 469 nodes, 864 triangles).
+    Rings(usize),
+    /// A Gmsh `.msh` file (4.1, ASCII or binary), centred at the axle.
+    Gmsh(PathBuf),
+}
+
+/// The rolling wheel scenario (paper §4).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelScenario {
+    /// The physical data.
+    pub spec: crate::wheel::WheelSpec,
+    /// The mesh.
+    pub mesh: MeshSource,
+    /// Turns rolled after settling.
+    pub turns: f64,
+    /// `gamma` during settling (default: the run's gamma).
+    pub settle_gamma: Option<f64>,
+    /// Velocity-field snapshots over the last turn (Fig. 17), default 8.
+    pub fields_per_turn: usize,
+}
+
+impl WheelScenario {
+    /// Settling time plus the turns, s.
+    pub fn duration(&self) -> f64 {
+        self.spec.flattening.settle_time + self.turns * 2.0 * std::f64::consts::PI / self.spec.omega
+    }
+}
+
+/// The physical model of a scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Model {
+    /// One degree of freedom.
+    Sdof(Sdof),
+    /// Elastic bar against a rigid wall.
+    BarImpact(BarImpact),
+    /// Two elastic bars colliding (node-to-node contact).
+    TwoBars(TwoBars),
+    /// The elastic wheel rolling on a rigid base.
+    Wheel(Box<WheelScenario>),
+}
+
+/// One run of a built scenario (the scenario may list several): what the jobs run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    /// Label (plots, CSV).
+    pub label: String,
+    /// The scheme.
+    pub params: SpaceTimeParams,
+    /// The model, with this run's overrides.
+    pub model: Model,
+    /// The time integrator.
+    pub integrator: Integrator,
+    /// The contact treatment.
+    pub contact: Contact,
+    /// End time, s.
+    pub t_end: f64,
+}
+
+/// The contact treatment of a run.
+pub type Contact = Treatment;
+
+/// The time step of a validated run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeStep {
+    /// A fixed step `h`, s (`time.h` or `runs[i].h`).
+    Fixed(f64),
+    /// The central difference's step as a fraction of its stable step:
+    /// `h = cfl * 2 / omega_max`, with `omega_max` of the lumped contact bar (penalty spring
+    /// included). Resolved by [`crate::build::resolve`].
+    Cfl {
+        /// The fraction, in (0, 1].
+        cfl: f64,
+        /// Where it was set: `time.cfl` or `runs[i].cfl`.
+        key: String,
+    },
+}
+
+/// One validated run, before the build step: every setting checked, the step possibly
+/// still a `cfl` fraction ([`TimeStep`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSpec {
+    /// The `label` given, if any (default: [`RunSpec::label_or_default`]).
+    pub label: Option<String>,
+    /// `alpha` of the space-time scheme, Eq. (8), in (0, 1].
+    pub alpha: f64,
+    /// `gamma` of the space-time scheme, Eq. (24), in [0, 1].
+    pub gamma: f64,
+    /// The time step.
+    pub step: TimeStep,
+    /// The model, with this run's overrides (`elements`; lumped mass for the central
+    /// difference).
+    pub model: Model,
+    /// The time integrator.
+    pub integrator: Integrator,
+    /// The contact treatment.
+    pub contact: Contact,
+    /// End time, s.
+    pub t_end: f64,
+}
+
+impl RunSpec {
+    /// The label: the one given, else `run` for the only run of a scenario, else
+    /// `h = <h>` with the run's step `h` (s).
+    pub fn label_or_default(&self, runs: usize, h: f64) -> String {
+        self.label.clone().unwrap_or_else(|| {
+            if runs == 1 {
+                "run".into()
+            } else {
+                format!("h = {h}")
+            }
+        })
+    }
+}
+
+/// A scenario: validated (`Scenario<RunSpec>`, from [`Scenario::from_file`]) or built
+/// (`Scenario<Run>`, the default parameter, from [`crate::build::resolve`]; what the jobs
+/// run).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario<R = Run> {
+    /// Name (default output folder `out/<name>`).
+    pub name: String,
+    /// Free text.
+    pub description: String,
+    /// The file it came from.
+    pub path: PathBuf,
+    /// The runs (at least one).
+    pub runs: Vec<R>,
+    /// Write every `history_stride`-th step to `history.csv` (default 1).
+    pub history_stride: usize,
+    /// Draw plots (default true).
+    pub plots: bool,
+    /// Warnings found while validating (e.g. a conditionally stable `(alpha, gamma)`) and,
+    /// once built, while building (an explicit step beyond the stable step).
+    pub warnings: Vec<String>,
+    /// A default sweep for `softway sweep`: the dotted key and its values (TOML literals).
+    pub sweep: Option<(String, Vec<String>)>,
+}
+
+impl Scenario<RunSpec> {
+    /// Reads, parses and validates a scenario file (no model is built).
+    ///
+    /// # Errors
+    /// [`ScenarioError`] naming the file, the key and what is allowed.
+    pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::from_str(&text, path)
+    }
+
+    /// Parses and validates scenario text; `path` names it in errors (no model is built).
+    ///
+    /// # Errors
+    /// [`ScenarioError`].
+    pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
+        validate::validate(raw::parse(text, path)?, path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BAR: &str = r#"
+kind = "bar_impact"
+[time]
+h = 0.1
+t_end = 1.0
+integrator = "central_difference"
+cfl = 0.5
+[bar]
+length = 1.0
+ea = 1.0
+rho_a = 1.0
+speed = 1.0
+gap = 0.5
+elements = 1000000
+[contact]
+method = "exact"
+"#;
+
+    /// Validation keeps `cfl` as it is: the step of a run is not known before the build
+    /// stage assembles the bar. A million elements: building them (assembly and a power
+    /// iteration of up to 1e5 sweeps) would take minutes, validating takes microseconds.
+    #[test]
+    fn parsing_a_cfl_scenario_builds_nothing() {
+        let text = format!("{BAR}[[runs]]\n[[runs]]\ncfl = 0.25\n[[runs]]\nh = 0.05\n");
+        let t0 = std::time::Instant::now();
+        let sc = Scenario::from_str(&text, Path::new("big.toml")).unwrap();
+        assert!(t0.elapsed().as_secs_f64() < 10.0, "{:?}", t0.elapsed());
+        let steps: Vec<&TimeStep> = sc.runs.iter().map(|r| &r.step).collect();
+        assert_eq!(
+            steps,
+            [
+                &TimeStep::Cfl {
+                    cfl: 0.5,
+                    key: "time.cfl".into()
+                },
+                &TimeStep::Cfl {
+                    cfl: 0.25,
+                    key: "runs[1].cfl".into()
+                },
+                // A run's h does not override the scenario's cfl (as before the split).
+                &TimeStep::Cfl {
+                    cfl: 0.5,
+                    key: "time.cfl".into()
+                },
+            ]
+        );
+        // The explicit integrator's lumped mass is a validated setting.
+        assert!(
+            matches!(sc.runs[0].model, Model::BarImpact(b) if b.lumped && b.elements == 1_000_000)
+        );
+        // Nothing built, so no stability warning yet (those come from crate::build).
+        assert!(sc.warnings.is_empty(), "{:?}", sc.warnings);
+        assert!(sc.runs.iter().all(|r| r.label.is_none()));
+    }
+
+    #[test]
+    fn cfl_is_refused_at_validation_for_an_implicit_integrator_and_out_of_range() {
+        let e = Scenario::from_str(
+            &BAR.replace("central_difference", "newmark"),
+            Path::new("impl.toml"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("impl.toml: `time.cfl` = 0.5") && e.contains("central_difference"),
+            "{e}"
+        );
+        let e = Scenario::from_str(&format!("{BAR}[[runs]]\ncfl = 1.5\n"), Path::new("r.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("r.toml: `runs[0].cfl` = 1.5") && e.contains("(0, 1]"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn unknown_keys_are_refused_at_parse_naming_the_file_and_the_key() {
+        let e = Scenario::from_str(
+            &BAR.replace("cfl = 0.5", "cfl = 0.5\ncfll = 1"),
+            Path::new("typo.toml"),
+        )
+        .unwrap_err();
+        assert!(matches!(e, ScenarioError::Parse { .. }), "{e:?}");
+        let e = e.to_string();
+        assert!(
+            e.starts_with("typo.toml: ") && e.contains("cfll") && !e.contains('\n'),
+            "{e}"
+        );
+    }
+}

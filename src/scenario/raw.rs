@@ -1,0 +1,196 @@
+//! Stage 1, parse: the TOML text into plain structs that mirror the file, nothing checked
+//! but the syntax, the types and the key names (`deny_unknown_fields`: a misspelt key is an
+//! error naming the file, the key, its line and the keys allowed there).
+//!
+//! Every field is what the file says, `None` where a key is absent; defaults, ranges and
+//! combinations are the validation's business ([`super::validate`]).
+
+use super::ScenarioError;
+use serde::Deserialize;
+use std::path::Path;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawScenario {
+    pub name: Option<String>,
+    pub kind: String,
+    pub description: Option<String>,
+    pub time: Option<RawTime>,
+    pub bar: Option<RawBar>,
+    pub two_bars: Option<RawBar>,
+    pub sdof: Option<RawSdof>,
+    pub wheel: Option<RawWheel>,
+    pub material: Option<RawMaterial>,
+    pub rolling: Option<RawRolling>,
+    pub contact: Option<RawContact>,
+    #[serde(default)]
+    pub runs: Vec<RawRun>,
+    pub output: Option<RawOutput>,
+    pub sweep: Option<RawSweep>,
+}
+
+/// `[sweep]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSweep {
+    pub key: String,
+    pub values: Vec<toml::Value>,
+}
+
+/// `[time]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTime {
+    pub alpha: Option<f64>,
+    pub gamma: Option<f64>,
+    pub h: Option<f64>,
+    pub t_end: Option<f64>,
+
+    pub integrator: Option<String>,
+    pub rho_inf: Option<f64>,
+    pub alpha_h: Option<f64>,
+    pub gamma_n: Option<f64>,
+    pub cfl: Option<f64>,
+}
+
+/// `[bar]` and `[two_bars]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawBar {
+    pub length: f64,
+    pub ea: f64,
+    pub rho_a: f64,
+    pub speed: f64,
+    pub gap: f64,
+    pub elements: i64,
+    pub mass: Option<String>,
+    pub damping: Option<f64>,
+}
+
+/// `[sdof]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSdof {
+    pub mass: f64,
+    pub stiffness: f64,
+    pub x0: Option<f64>,
+    pub v0: Option<f64>,
+}
+
+/// `[wheel]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawWheel {
+    pub radius: f64,
+    pub thickness: f64,
+    pub rings: Option<i64>,
+    pub mesh: Option<String>,
+    pub plane: Option<String>,
+    pub mass: Option<String>,
+    pub support: Option<String>,
+    pub hub_radius: Option<f64>,
+    pub damping: Option<f64>,
+    pub stress_stiffening: Option<bool>,
+    pub rotating_frame: Option<bool>,
+}
+
+/// `[material]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawMaterial {
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+}
+
+/// `[rolling]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawRolling {
+    pub omega: f64,
+    pub flattening: f64,
+    pub settle_time: f64,
+    pub turns: f64,
+    pub settle_gamma: Option<f64>,
+    pub fields_per_turn: Option<i64>,
+}
+
+/// `[contact]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawContact {
+    pub method: Option<String>,
+    pub penalty: Option<f64>,
+    pub restitution: Option<f64>,
+}
+
+/// One `[[runs]]` entry: overrides of `[time]`, `[contact]` and the bar's `elements`.
+#[derive(Debug, Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawRun {
+    pub label: Option<String>,
+    pub h: Option<f64>,
+    pub alpha: Option<f64>,
+    pub gamma: Option<f64>,
+    pub elements: Option<i64>,
+    pub method: Option<String>,
+    pub penalty: Option<f64>,
+    pub restitution: Option<f64>,
+    pub integrator: Option<String>,
+    pub rho_inf: Option<f64>,
+    pub alpha_h: Option<f64>,
+    pub gamma_n: Option<f64>,
+    pub cfl: Option<f64>,
+}
+
+/// `[output]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawOutput {
+    pub history_stride: Option<i64>,
+    pub plots: Option<bool>,
+}
+
+/// Parses scenario text; `path` names it in errors.
+///
+/// # Errors
+/// [`ScenarioError::Parse`]: TOML syntax, a wrong type or an unknown key, with the parser's
+/// message (line, column, the key) on one line.
+pub(super) fn parse(text: &str, path: &Path) -> Result<RawScenario, ScenarioError> {
+    toml::from_str(text).map_err(|e| ScenarioError::Parse {
+        path: path.to_path_buf(),
+        message: e
+            .to_string()
+            .trim_end()
+            .replace('\n', " ")
+            .replace("  ", " "),
+    })
+}
+
+/// Sets a dotted key (e.g. `rolling.omega`) in TOML text to a value, for sweeps and
+/// command-line overrides; the result is validated as usual.
+///
+/// # Errors
+/// A message naming the key when the text is not TOML or the key cannot be set.
+pub fn set_key(text: &str, key: &str, value: &str) -> Result<String, String> {
+    let mut doc: toml::Table = toml::from_str(text).map_err(|e| e.to_string())?;
+    let parsed: toml::Value = match toml::from_str::<toml::Table>(&format!("v = {value}")) {
+        Ok(t) => t["v"].clone(),
+        Err(_) => toml::Value::String(value.to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut cur = &mut doc;
+    for (i, part) in parts.iter().enumerate() {
+        if i + 1 == parts.len() {
+            cur.insert((*part).to_string(), parsed.clone());
+        } else {
+            cur = cur
+                .entry((*part).to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+                .as_table_mut()
+                .ok_or_else(|| format!("`{}` is not a table", parts[..=i].join(".")))?;
+        }
+    }
+    toml::to_string(&doc).map_err(|e| e.to_string())
+}
