@@ -4,6 +4,9 @@
 //! failed run never leaves a half-written result behind.
 
 pub mod files;
-pub mod plot;
 pub mod stability;
 pub mod vtk;
+
+/// PNG figures: the `softway-plot` workspace crate (crates/softway-plot),
+/// re-exported so that `output::plot::…` paths name it.
+pub use softway_plot as plot;

@@ -1,0 +1,408 @@
+//! PNG figures for reports and papers: the plotting layer of `softway`.
+//!
+//! A small, self-contained plotting library on top of [`plotters`]'
+//! bitmap backend. It knows nothing about the solver: it takes plain
+//! vectors and slices (x–y series, triangle meshes with cell values or
+//! nodal vectors) and writes PNG files.
+//!
+//! # API
+//!
+//! * [`line_plot`] / [`panels`]: x–y line plots (one [`Panel`] or a grid of
+//!   panels whose axes are aligned per row and column) of [`Series`] drawn
+//!   in a [`SeriesStyle`], with optional logarithmic axes, reference lines
+//!   and a legend placed where it hides no data: inside if possible, else
+//!   outside to the right of the axes if there is room, else inside with
+//!   head room added above the data (only when the y range is automatic).
+//! * [`mesh_color_map`] / [`mesh_color_map_with`]: a scalar per triangle
+//!   ([`MeshColorMap`]) drawn as a colour map with a colour bar, equal
+//!   aspect ratio.
+//! * [`mesh_vector_fields`] / [`mesh_vector_fields_with`]: a grid of small
+//!   panels (successive stages), each showing a nodal vector field
+//!   ([`MeshVectorField`]) as arrows over its magnitude colour map, with one
+//!   shared colour scale.
+//! * [`MeshOptions`] / [`EdgeMode`]: element edges and a fixed colour range
+//!   for the mesh plots.
+//! * [`PlotError`]: every function returns `Result<(), PlotError>`.
+//!
+//! ```no_run
+//! use softway_plot::{line_plot, Panel, Series, SeriesStyle};
+//!
+//! let t: Vec<f64> = (0..100).map(|i| 0.01 * f64::from(i)).collect();
+//! let u: Vec<f64> = t.iter().map(|t| (6.0 * t).sin()).collect();
+//! let mut panel = Panel::new("Free-end displacement", "t [ms]", "u [mm]");
+//! panel.series.push(Series::new("u", t, u, SeriesStyle::Line));
+//! panel.hlines.push((1.0, "exact amplitude".into()));
+//! line_plot("out/u.png".as_ref(), &panel, (1200, 800))?;
+//! # Ok::<(), softway_plot::PlotError>(())
+//! ```
+//!
+//! # Conventions
+//!
+//! All text uses DejaVu Sans, embedded through the `dejavu` crate and
+//! registered with plotters' `ab_glyph` support, so no system font is
+//! needed. Font sizes and line widths scale with the image size (tick labels
+//! are about 20 px high at 1200×800). Tick labels use a common factor such
+//! as `×10⁻³` (printed at the end of the axis) for very large or small
+//! values. Images must be at least 120×90 pixels; up to 4 megapixels they
+//! are rendered 2× super-sampled (anti-aliased). They are written
+//! atomically: the PNG is first written to `<path>.tmp.png` and then renamed
+//! to `path`, so a failed draw never leaves a half-written figure behind.
+//! Missing parent directories of `path` are created.
+//!
+//! Non-finite values are skipped (a line is broken there); on logarithmic
+//! axes non-positive values are skipped as well. Empty input gives
+//! [`PlotError::Empty`]; inconsistent input (length mismatches, node indices
+//! out of range, a grid too small for the panels) gives [`PlotError::Draw`].
+//! No function of this crate panics on bad data.
+//!
+//! # Why a separate crate
+//!
+//! The plotting layer is about a fifth of the code of `softway` but has
+//! nothing to do with contact mechanics. As its own workspace crate the
+//! solver crate reads as a solver (it uses this one as
+//! `softway::output::plot`), the plotting code has its own tests, built and
+//! run on their own (`cargo test -p softway-plot`), and it can be reused by
+//! other tools without the solver. The tests write their figures to a
+//! temporary directory; set `SOFTWAY_PLOT_SAMPLE_DIR` to keep them and look
+//! at them.
+//!
+//! # Modules (private)
+//!
+//! `render` (fonts, super-sampled canvas, atomic PNG writing), `style`
+//! (sizes, colours, text), `axes` (ranges, scales, number formatting and
+//! ticks), `geom` (pixel geometry, clipping, dashes, drawing primitives),
+//! `line` (layout and painting of line-plot panels, legends), `mesh`
+//! (colour maps, colour bars, vector fields).
+
+mod axes;
+mod geom;
+mod line;
+mod mesh;
+mod render;
+mod style;
+#[cfg(test)]
+mod test_util;
+
+use std::path::{Path, PathBuf};
+
+use geom::Rect;
+use line::{draw_no_data, draw_panel, layout_panel, paint_panel, validate_panel};
+use mesh::{render_color_map, render_vector_fields};
+use render::{render, save_png, Fail};
+use style::Sty;
+
+/// Error returned by the plotting functions.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The figure could not be drawn or written (invalid input such as
+    /// mismatched lengths, an image too small for the layout, an I/O error).
+    #[error("cannot draw {path}: {message}")]
+    Draw {
+        /// Target file of the figure.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+    /// There is nothing to draw (no series, no finite data, no triangles…).
+    #[error("nothing to plot in {path}: {why}")]
+    Empty {
+        /// Target file of the figure.
+        path: PathBuf,
+        /// Why the input is considered empty.
+        why: String,
+    },
+}
+
+/// One data series of a line plot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend label (series with an empty label are left out of the legend).
+    pub label: String,
+    /// Abscissae; must have the same length as `y`.
+    pub x: Vec<f64>,
+    /// Ordinates; non-finite values break the line.
+    pub y: Vec<f64>,
+    /// How the series is drawn. Its colour (and marker shape) is chosen
+    /// from a colour-blind-safe qualitative palette by the series index.
+    pub style: SeriesStyle,
+}
+
+impl Series {
+    /// Convenience constructor.
+    pub fn new(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>, style: SeriesStyle) -> Self {
+        Self {
+            label: label.into(),
+            x,
+            y,
+            style,
+        }
+    }
+}
+
+/// Drawing style of a [`Series`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SeriesStyle {
+    /// Solid line.
+    #[default]
+    Line,
+    /// Dashed line.
+    Dashed,
+    /// Markers only, one per data point.
+    Markers,
+    /// Solid line with markers (at most about 25 markers per series, evenly
+    /// spread over the points, so that dense series stay readable).
+    LineMarkers,
+}
+
+/// One set of axes: title, axis labels, series and reference lines.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Panel {
+    /// Title drawn above the axes (may be empty).
+    pub title: String,
+    /// Label of the x axis, with units, e.g. `"t [ms]"`.
+    pub x_label: String,
+    /// Label of the y axis, with units, e.g. `"u [mm]"`.
+    pub y_label: String,
+    /// Logarithmic x axis (non-positive x values are skipped).
+    pub x_log: bool,
+    /// Logarithmic y axis (non-positive y values are skipped).
+    pub y_log: bool,
+    /// The data series.
+    pub series: Vec<Series>,
+    /// Fixed x range `(min, max)`; automatic (data range + 5 %) when `None`.
+    pub x_range: Option<(f64, f64)>,
+    /// Fixed y range `(min, max)`; automatic (data range + 5 %) when `None`.
+    pub y_range: Option<(f64, f64)>,
+    /// Horizontal reference lines `(y, label)`, e.g. exact values: drawn thin,
+    /// grey and dashed, and listed in the legend (unless the label is empty).
+    pub hlines: Vec<(f64, String)>,
+}
+
+impl Panel {
+    /// A panel with the given title and axis labels and no data yet.
+    pub fn new(
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            ..Self::default()
+        }
+    }
+}
+
+/// A scalar field, constant per triangle, on a 2-D triangle mesh.
+#[derive(Debug, Clone)]
+pub struct MeshColorMap<'a> {
+    /// Node coordinates (in the solver's length unit, e.g. metres).
+    pub points: &'a [[f64; 2]],
+    /// Triangles as node indices into `points`.
+    pub triangles: &'a [[usize; 3]],
+    /// One value per triangle (non-finite values are drawn light grey).
+    pub cell_values: &'a [f64],
+    /// Figure title (may be empty).
+    pub title: String,
+    /// Colour-bar label with units, e.g. `"J2 [MPa^2]"`.
+    pub colorbar_label: String,
+    /// Factor applied to coordinates for the axes, e.g. `100.0` for cm
+    /// when `points` are in metres (non-positive or non-finite means 1).
+    pub length_unit_scale: f64,
+    /// Name of the displayed length unit, e.g. `"cm"` (axes become
+    /// `x [cm]`, `y [cm]`).
+    pub length_unit: String,
+}
+
+/// A nodal vector field (e.g. velocity) on a 2-D triangle mesh: one stage
+/// of [`mesh_vector_fields`].
+#[derive(Debug, Clone)]
+pub struct MeshVectorField<'a> {
+    /// Node coordinates (in the solver's length unit, e.g. metres).
+    pub points: &'a [[f64; 2]],
+    /// Triangles as node indices into `points`.
+    pub triangles: &'a [[usize; 3]],
+    /// One vector per node (same length as `points`).
+    pub vectors: &'a [[f64; 2]],
+    /// Panel title, e.g. `"t = 0.20 ms"`.
+    pub title: String,
+    /// Colour-bar label with units, e.g. `"|v| [m/s]"`; the first frame's
+    /// label is used for the shared colour bar.
+    pub colorbar_label: String,
+    /// Factor applied to coordinates for the axes (non-positive means 1).
+    pub length_unit_scale: f64,
+    /// Name of the displayed length unit, e.g. `"cm"`.
+    pub length_unit: String,
+}
+
+/// Whether element edges are drawn on mesh plots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EdgeMode {
+    /// Draw thin edges only when the elements are large enough on screen
+    /// for the edges not to hide the colours.
+    #[default]
+    Auto,
+    /// Always draw thin element edges.
+    Always,
+    /// Never draw element edges (the outline of vector-field meshes is
+    /// still drawn).
+    Never,
+}
+
+/// Extra options for [`mesh_color_map_with`] and
+/// [`mesh_vector_fields_with`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MeshOptions {
+    /// Element-edge drawing.
+    pub edges: EdgeMode,
+    /// Fixed colour scale `(min, max)` (for vector fields: of the
+    /// magnitude); automatic when `None`. Values outside are clamped.
+    pub value_range: Option<(f64, f64)>,
+}
+
+/// Draws one panel of x–y data into a PNG file of `size` = (width, height)
+/// pixels.
+///
+/// A legend is drawn when there is more than one labelled entry or any
+/// labelled reference line.
+pub fn line_plot(path: &Path, panel: &Panel, size: (u32, u32)) -> Result<(), PlotError> {
+    let run = || -> Result<Vec<u8>, Fail> {
+        validate_panel(panel)?;
+        render(size, |area, fig| {
+            let st = Sty::new(fig, (fig.w, fig.h));
+            let cell = Rect::new(0.0, 0.0, fig.w, fig.h);
+            draw_panel(area, cell, panel, &st)
+        })
+    };
+    let buf = run().map_err(|f| f.at(path))?;
+    save_png(path, size, &buf)
+}
+
+/// Draws several panels in a `rows` × `cols` grid (row-major order) into
+/// one PNG file of `size` = (width, height) pixels.
+///
+/// Panels without any plottable data show "no data"; if no panel has data
+/// the result is [`PlotError::Empty`].
+pub fn panels(
+    path: &Path,
+    panels: &[Panel],
+    rows: usize,
+    cols: usize,
+    size: (u32, u32),
+) -> Result<(), PlotError> {
+    let run = || -> Result<Vec<u8>, Fail> {
+        if panels.is_empty() {
+            return Err(Fail::Empty("no panels".into()));
+        }
+        if rows == 0 || cols == 0 || rows.saturating_mul(cols) < panels.len() {
+            return Err(Fail::Draw(format!(
+                "a {rows}x{cols} grid cannot hold {} panels",
+                panels.len()
+            )));
+        }
+        let mut any = false;
+        for p in panels {
+            match validate_panel(p) {
+                Ok(()) => any = true,
+                Err(Fail::Empty(_)) => {}
+                Err(e) => return Err(e),
+            }
+        }
+        if !any {
+            return Err(Fail::Empty("no panel has finite data".into()));
+        }
+        render(size, |area, fig| {
+            let cw = fig.w / cols as f64;
+            let ch = fig.h / rows as f64;
+            let st = Sty::new(fig, (cw / fig.k, ch / fig.k));
+            let cell_of = |i: usize| {
+                let (r, c) = ((i / cols) as f64, (i % cols) as f64);
+                Rect::new(c * cw, r * ch, (c + 1.0) * cw, (r + 1.0) * ch)
+            };
+            // First pass: natural layouts; then align the plot rectangles of
+            // each column (left/right) and each row (top/bottom).
+            let mut col_x = vec![(f64::NEG_INFINITY, f64::INFINITY); cols];
+            let mut row_y = vec![(f64::NEG_INFINITY, f64::INFINITY); rows];
+            for (i, p) in panels.iter().enumerate() {
+                let cell = cell_of(i);
+                match layout_panel(cell, p, &st, None) {
+                    Ok(l) => {
+                        let (cx, ry) = (&mut col_x[i % cols], &mut row_y[i / cols]);
+                        cx.0 = cx.0.max(l.plot.x0 - cell.x0);
+                        cx.1 = cx.1.min(l.plot.x1 - cell.x0);
+                        ry.0 = ry.0.max(l.plot.y0 - cell.y0);
+                        ry.1 = ry.1.min(l.plot.y1 - cell.y0);
+                    }
+                    Err(Fail::Empty(_)) => {}
+                    Err(e) => return Err(e),
+                }
+            }
+            for (i, p) in panels.iter().enumerate() {
+                let cell = cell_of(i);
+                let (x0, x1) = col_x[i % cols];
+                let (y0, y1) = row_y[i / cols];
+                let forced =
+                    (x0.is_finite() && y0.is_finite() && x1 - x0 >= 20.0 && y1 - y0 >= 20.0)
+                        .then(|| Rect::new(cell.x0 + x0, cell.y0 + y0, cell.x0 + x1, cell.y0 + y1));
+                match layout_panel(cell, p, &st, forced) {
+                    Ok(l) => paint_panel(area, cell, p, &st, &l)?,
+                    Err(Fail::Empty(_)) => draw_no_data(area, cell, p, &st)?,
+                    Err(e) => return Err(e),
+                }
+            }
+            Ok(())
+        })
+    };
+    let buf = run().map_err(|f| f.at(path))?;
+    save_png(path, size, &buf)
+}
+
+/// Draws a per-triangle scalar field as a colour map (viridis) with a colour
+/// bar, equal aspect ratio, into a PNG file of `size` pixels.
+///
+/// Same as [`mesh_color_map_with`] with default [`MeshOptions`].
+pub fn mesh_color_map(path: &Path, map: &MeshColorMap, size: (u32, u32)) -> Result<(), PlotError> {
+    mesh_color_map_with(path, map, size, &MeshOptions::default())
+}
+
+/// [`mesh_color_map`] with explicit options (edges, fixed colour range).
+pub fn mesh_color_map_with(
+    path: &Path,
+    map: &MeshColorMap,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Result<(), PlotError> {
+    let buf = render_color_map(map, size, opts).map_err(|f| f.at(path))?;
+    save_png(path, size, &buf)
+}
+
+/// Draws a grid (`cols` columns, 0 = automatic) of small panels, one per
+/// frame in row-major order: the mesh (outline, and edges when visible), the
+/// vector magnitude as a colour map (per triangle, mean of its nodes) and
+/// arrows, centred on their nodes, on an evenly spread subset of nodes
+/// (about 12 across). All frames share the colour scale (0 to the largest
+/// magnitude), the arrow scale (the largest arrow over all frames is 1/8 of
+/// a panel width), the axes extent (union of all frames) and one colour bar.
+/// The length unit and the colour-bar label are taken from the first frame.
+pub fn mesh_vector_fields(
+    path: &Path,
+    frames: &[MeshVectorField],
+    cols: usize,
+    size: (u32, u32),
+) -> Result<(), PlotError> {
+    mesh_vector_fields_with(path, frames, cols, size, &MeshOptions::default())
+}
+
+/// [`mesh_vector_fields`] with explicit options (edges, fixed magnitude
+/// range for the colour scale).
+pub fn mesh_vector_fields_with(
+    path: &Path,
+    frames: &[MeshVectorField],
+    cols: usize,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Result<(), PlotError> {
+    let buf = render_vector_fields(frames, cols, size, opts).map_err(|f| f.at(path))?;
+    save_png(path, size, &buf)
+}

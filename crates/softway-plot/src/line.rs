@@ -1,0 +1,1165 @@
+//! Line plots: panel validation, layout (ticks, labels, legend placement)
+//! and painting.
+
+use plotters::prelude::*;
+
+use crate::axes::{extend, make_ticks, resolve_range, valid, Scale, Ticks};
+use crate::geom::{
+    clip_polylines, clip_segment, dash_polyline, draw_line, draw_marker, draw_polyline, fill_rect,
+    stroke_rect, Pt, Rect,
+};
+use crate::render::{Area, Fail, Res};
+use crate::style::{
+    draw_text, series_color, text_w, Sty, CAP, DESC, GRID_MAJOR, GRID_MINOR, HA, REF_LINE, TEXT, VA,
+};
+use crate::{Panel, Series, SeriesStyle};
+
+pub(crate) fn validate_panel(p: &Panel) -> Res<()> {
+    for (i, s) in p.series.iter().enumerate() {
+        if s.x.len() != s.y.len() {
+            return Err(Fail::Draw(format!(
+                "series {i} ({:?}) has {} x values but {} y values",
+                s.label,
+                s.x.len(),
+                s.y.len()
+            )));
+        }
+    }
+    let any = p.series.iter().any(|s| {
+        s.x.iter()
+            .zip(&s.y)
+            .any(|(&x, &y)| valid(x, p.x_log) && valid(y, p.y_log))
+    });
+    if any {
+        Ok(())
+    } else if p.series.is_empty() {
+        Err(Fail::Empty("the panel has no series".into()))
+    } else {
+        Err(Fail::Empty(format!(
+            "no series of panel {:?} has a finite{} point",
+            p.title,
+            if p.x_log || p.y_log {
+                " (positive on log axes)"
+            } else {
+                ""
+            }
+        )))
+    }
+}
+
+/// Axis ranges of a panel (x, y).
+fn panel_ranges(p: &Panel) -> Res<((f64, f64), (f64, f64))> {
+    let mut dx = None;
+    for s in &p.series {
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if valid(x, p.x_log) && valid(y, p.y_log) {
+                extend(&mut dx, x);
+            }
+        }
+    }
+    let xr = resolve_range(p.x_range, dx, p.x_log)
+        .ok_or_else(|| Fail::Empty("no finite data".into()))?;
+    let mut dy = None;
+    for s in &p.series {
+        for (&x, &y) in s.x.iter().zip(&s.y) {
+            if valid(x, p.x_log) && valid(y, p.y_log) && x >= xr.0 && x <= xr.1 {
+                extend(&mut dy, y);
+            }
+        }
+    }
+    for (y, _) in &p.hlines {
+        if valid(*y, p.y_log) {
+            extend(&mut dy, *y);
+        }
+    }
+    let yr = resolve_range(p.y_range, dy, p.y_log)
+        .or_else(|| resolve_range(None, dx.map(|_| (1.0, 1.0)), p.y_log))
+        .ok_or_else(|| Fail::Empty("no finite data".into()))?;
+    Ok((xr, yr))
+}
+
+#[derive(Debug, Clone)]
+enum EntryKind {
+    Series {
+        color: RGBColor,
+        style: SeriesStyle,
+        shape: usize,
+    },
+    Reference,
+}
+
+#[derive(Debug, Clone)]
+struct Entry {
+    label: String,
+    kind: EntryKind,
+}
+
+struct LegendGeom {
+    w: f64,
+    h: f64,
+    row: f64,
+    sample: f64,
+}
+
+fn legend_geom(entries: &[Entry], st: &Sty) -> LegendGeom {
+    let f = st.fleg;
+    let sample = 2.4 * f;
+    let tw = entries
+        .iter()
+        .map(|e| text_w(&e.label, f))
+        .fold(0.0, f64::max);
+    let row = 1.4 * f;
+    LegendGeom {
+        w: 0.6 * f + sample + 0.5 * f + tw + 0.7 * f,
+        h: entries.len() as f64 * row + 0.5 * f,
+        row,
+        sample,
+    }
+}
+
+fn draw_legend(area: &Area, r: Rect, entries: &[Entry], g: &LegendGeom, st: &Sty) -> Res<()> {
+    fill_rect(area, r, WHITE.mix(0.9))?;
+    stroke_rect(area, r, RGBColor(175, 175, 175), st.thin)?;
+    let f = st.fleg;
+    for (i, e) in entries.iter().enumerate() {
+        let cy = r.y0 + 0.25 * f + (i as f64 + 0.5) * g.row;
+        let (a, b) = ((r.x0 + 0.6 * f, cy), (r.x0 + 0.6 * f + g.sample, cy));
+        match &e.kind {
+            EntryKind::Series {
+                color,
+                style,
+                shape,
+            } => {
+                let c = color.to_rgba();
+                match style {
+                    SeriesStyle::Line => draw_polyline(area, &[a, b], c, st.lw)?,
+                    SeriesStyle::Dashed => {
+                        for d in dash_polyline(&[a, b], 3.0 * st.lw, 2.2 * st.lw) {
+                            draw_polyline(area, &d, c, st.lw)?;
+                        }
+                    }
+                    SeriesStyle::Markers => {
+                        draw_marker(area, (0.5 * (a.0 + b.0), cy), *shape, 2.2 * st.lw, *color)?
+                    }
+                    SeriesStyle::LineMarkers => {
+                        draw_polyline(area, &[a, b], c, st.lw)?;
+                        draw_marker(area, (0.5 * (a.0 + b.0), cy), *shape, 2.2 * st.lw, *color)?;
+                    }
+                }
+            }
+            EntryKind::Reference => {
+                for d in dash_polyline(&[a, b], 4.0 * st.thin, 3.0 * st.thin) {
+                    draw_polyline(area, &d, REF_LINE.to_rgba(), 1.3 * st.thin)?;
+                }
+            }
+        }
+        draw_text(
+            area,
+            &e.label,
+            (b.0 + 0.5 * f, cy),
+            f,
+            HA::Left,
+            VA::Center,
+            false,
+            TEXT,
+        )?;
+    }
+    Ok(())
+}
+
+/// How much of the data a legend at `r` would hide.
+fn legend_overlap(r: &Rect, lines: &[Vec<Pt>], marks: &[Pt], hlines: &[f64]) -> usize {
+    let mut n = 0;
+    for l in lines {
+        for w in l.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            if a.0.max(b.0) < r.x0
+                || a.0.min(b.0) > r.x1
+                || a.1.max(b.1) < r.y0
+                || a.1.min(b.1) > r.y1
+            {
+                continue;
+            }
+            if clip_segment(a, b, r).is_some() {
+                n += 1;
+            }
+        }
+    }
+    n += marks.iter().filter(|&&p| r.contains(p)).count();
+    n += hlines.iter().filter(|&&y| y >= r.y0 && y <= r.y1).count() * 3;
+    n
+}
+
+/// Pixel-space geometry of one series.
+struct SeriesPx {
+    lines: Vec<Vec<Pt>>,
+    isolated: Vec<Pt>,
+    markers: Vec<Pt>,
+}
+
+fn series_pixels(s: &Series, xs: &Scale, ys: &Scale, plot: &Rect, lw: f64) -> SeriesPx {
+    let pts: Vec<Option<Pt>> =
+        s.x.iter()
+            .zip(&s.y)
+            .map(|(&x, &y)| {
+                if !(valid(x, xs.log) && valid(y, ys.log)) {
+                    return None;
+                }
+                let q = (xs.px(x), ys.px(y));
+                (q.0.is_finite() && q.1.is_finite()).then_some(q)
+            })
+            .collect();
+    let clip = plot.grow(0.5 * lw);
+    let (lines, isolated) = match s.style {
+        SeriesStyle::Markers => (Vec::new(), Vec::new()),
+        _ => clip_polylines(&pts, &clip),
+    };
+    let markers: Vec<Pt> = match s.style {
+        SeriesStyle::Markers => pts.iter().flatten().copied().collect(),
+        SeriesStyle::LineMarkers => {
+            let valid_pts: Vec<Pt> = pts.iter().flatten().copied().collect();
+            let every = valid_pts.len().div_ceil(25).max(1);
+            valid_pts.into_iter().step_by(every).collect()
+        }
+        _ => Vec::new(),
+    }
+    .into_iter()
+    .filter(|&p| plot.grow(1.0).contains(p))
+    .collect();
+    SeriesPx {
+        lines,
+        isolated,
+        markers,
+    }
+}
+
+/// Draws a panel that has no data: frame, title and "no data".
+pub(crate) fn draw_no_data(area: &Area, cell: Rect, p: &Panel, st: &Sty) -> Res<()> {
+    let r = Rect::new(
+        cell.x0 + 4.0 * st.fs,
+        cell.y0 + 3.0 * st.fs,
+        cell.x1 - 2.0 * st.fs,
+        cell.y1 - 3.0 * st.fs,
+    );
+    if r.w() <= 0.0 || r.h() <= 0.0 {
+        return Ok(());
+    }
+    stroke_rect(area, r, RGBColor(150, 150, 150), st.frame)?;
+    draw_text(
+        area,
+        &p.title,
+        (r.cx(), r.y0 - 0.6 * st.pad),
+        st.ft,
+        HA::Center,
+        VA::Baseline,
+        false,
+        TEXT,
+    )?;
+    draw_text(
+        area,
+        "no data",
+        (r.cx(), r.cy()),
+        st.fl,
+        HA::Center,
+        VA::Center,
+        false,
+        RGBColor(120, 120, 120),
+    )
+}
+
+/// Geometry of one laid-out panel.
+pub(crate) struct PanelLayout {
+    pub(crate) plot: Rect,
+    xt: Ticks,
+    yt: Ticks,
+    xs: Scale,
+    ys: Scale,
+    px: Vec<SeriesPx>,
+    entries: Vec<Entry>,
+    lg: LegendGeom,
+    legend: Option<Rect>,
+    /// How much data the legend hides (0 when outside or free).
+    legend_score: usize,
+    title_top: f64,
+}
+
+fn legend_entries(p: &Panel) -> Vec<Entry> {
+    let mut entries = Vec::new();
+    for (i, s) in p.series.iter().enumerate() {
+        if !s.label.is_empty() {
+            entries.push(Entry {
+                label: s.label.clone(),
+                kind: EntryKind::Series {
+                    color: series_color(i),
+                    style: s.style,
+                    shape: i,
+                },
+            });
+        }
+    }
+    for (y, l) in &p.hlines {
+        if !l.is_empty() && valid(*y, p.y_log) {
+            entries.push(Entry {
+                label: l.clone(),
+                kind: EntryKind::Reference,
+            });
+        }
+    }
+    entries
+}
+
+/// Lays out a panel in `cell`. With `forced`, the plot rectangle is given
+/// (used to align the axes of a grid of panels); otherwise it is derived
+/// from the labels. A legend that would hide data goes outside, to the
+/// right, when there is room; else, with an automatic y range, head room is
+/// added above the data for it.
+pub(crate) fn layout_panel(
+    cell: Rect,
+    p: &Panel,
+    st: &Sty,
+    forced: Option<Rect>,
+) -> Res<PanelLayout> {
+    let l = layout_panel_with(cell, p, st, forced, 0.0)?;
+    if l.legend_score > 0 && p.y_range.is_none() {
+        let h = (l.lg.h + 2.0 * st.pad) / l.plot.h();
+        if h < 0.4 {
+            return layout_panel_with(cell, p, st, forced, h);
+        }
+    }
+    Ok(l)
+}
+
+/// [`layout_panel`] with a fraction `headroom` of the plot height kept free
+/// above the data.
+fn layout_panel_with(
+    cell: Rect,
+    p: &Panel,
+    st: &Sty,
+    forced: Option<Rect>,
+    headroom: f64,
+) -> Res<PanelLayout> {
+    validate_panel(p)?;
+    let ((xlo, xhi), (ylo, mut yhi)) = panel_ranges(p)?;
+    if headroom > 0.0 {
+        yhi = if p.y_log {
+            10f64.powf(ylo.log10() + (yhi.log10() - ylo.log10()) / (1.0 - headroom))
+        } else {
+            ylo + (yhi - ylo) / (1.0 - headroom)
+        };
+    }
+    let (fs, fl, ft, pad, tick) = (st.fs, st.fl, st.ft, st.pad, st.tick);
+    let scales = |plot: &Rect| {
+        (
+            Scale {
+                lo: xlo,
+                hi: xhi,
+                log: p.x_log,
+                p_lo: plot.x0,
+                p_hi: plot.x1,
+            },
+            Scale {
+                lo: ylo,
+                hi: yhi,
+                log: p.y_log,
+                p_lo: plot.y1,
+                p_hi: plot.y0,
+            },
+        )
+    };
+    let xticks = |plot: &Rect| make_ticks(xlo, xhi, p.x_log, plot.w(), fs, true);
+    let yticks = |plot: &Rect| make_ticks(ylo, yhi, p.y_log, plot.h(), fs, false);
+    let title_top = cell.y0 + pad;
+
+    let mut plot = match forced {
+        Some(r) => r,
+        None => {
+            // Vertical layout (independent of the tick labels, except for
+            // the band of a common y factor).
+            let mut top = title_top;
+            if !p.title.is_empty() {
+                top += (CAP + DESC) * ft + 0.8 * pad;
+            }
+            let label_block = if p.x_label.is_empty() {
+                0.0
+            } else {
+                (CAP + DESC) * fl + 0.8 * pad
+            };
+            let bottom = cell.y1 - pad - label_block - CAP * fs - 0.6 * pad - tick;
+            let mut plot = Rect::new(cell.x0, top + 0.5 * CAP * fs, cell.x1, bottom);
+            if yticks(&plot).offset.is_some() {
+                plot.y0 = top + CAP * fs + 0.8 * pad;
+            }
+            // Horizontal layout.
+            let ylabel_block = if p.y_label.is_empty() {
+                0.0
+            } else {
+                (CAP + DESC) * fl + 0.8 * pad
+            };
+            plot.x0 =
+                cell.x0 + pad + ylabel_block + yticks(&plot).max_label_w(fs) + 0.6 * pad + tick;
+            plot.x1 = cell.x1 - pad;
+            // Keep the last x tick label inside the cell.
+            for _ in 0..2 {
+                let (xs, _) = scales(&plot);
+                let overhang = xticks(&plot)
+                    .major
+                    .iter()
+                    .map(|(v, l)| xs.px(*v) + 0.5 * text_w(l, fs) - (cell.x1 - 0.3 * pad))
+                    .fold(0.0, f64::max);
+                if overhang <= 0.0 {
+                    break;
+                }
+                plot.x1 -= overhang;
+            }
+            plot
+        }
+    };
+    let too_small = |plot: &Rect| {
+        if plot.w() < 20.0 || plot.h() < 20.0 {
+            Err(Fail::Draw(
+                "the image is too small for the axes, labels and legend".into(),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    too_small(&plot)?;
+    let pixels = |plot: &Rect| {
+        let (xs, ys) = scales(plot);
+        p.series
+            .iter()
+            .map(|s| series_pixels(s, &xs, &ys, plot, st.lw))
+            .collect::<Vec<_>>()
+    };
+    let mut px = pixels(&plot);
+
+    // Legend placement: the inside position hiding the least data, or
+    // outside on the right when every inside position hides something.
+    let entries = legend_entries(p);
+    let lg = legend_geom(&entries, st);
+    let mut legend = None;
+    let mut legend_score = 0;
+    if !entries.is_empty() && (entries.len() > 1 || !p.hlines.is_empty()) {
+        let (_, ys) = scales(&plot);
+        let hl: Vec<f64> = p
+            .hlines
+            .iter()
+            .filter(|(y, _)| valid(*y, p.y_log))
+            .map(|(y, _)| ys.px(*y))
+            .collect();
+        let inset = 0.6 * pad;
+        let (l, r) = (plot.x0 + inset, plot.x1 - inset - lg.w);
+        let (t, b) = (plot.y0 + inset, plot.y1 - inset - lg.h);
+        let (cx, cy) = (plot.cx() - 0.5 * lg.w, plot.cy() - 0.5 * lg.h);
+        let candidates = [
+            (r, t),
+            (l, t),
+            (r, b),
+            (l, b),
+            (cx, t),
+            (cx, b),
+            (r, cy),
+            (l, cy),
+        ];
+        let lines: Vec<Vec<Pt>> = px.iter().flat_map(|s| s.lines.iter().cloned()).collect();
+        let marks: Vec<Pt> = px
+            .iter()
+            .flat_map(|s| s.markers.iter().chain(&s.isolated).copied())
+            .collect();
+        let fits_inside = lg.w <= plot.w() - 2.0 * inset && lg.h <= plot.h() - 2.0 * inset;
+        let mut best = (usize::MAX, candidates[0]);
+        if fits_inside {
+            for &(x, y) in &candidates {
+                let rr = Rect::new(x, y, x + lg.w, y + lg.h).grow(0.5 * pad);
+                let score = legend_overlap(&rr, &lines, &marks, &hl);
+                if score < best.0 {
+                    best = (score, (x, y));
+                }
+            }
+        }
+        let outside_at =
+            |plot: &Rect| Rect::new(plot.x1 + pad, plot.y0, plot.x1 + pad + lg.w, plot.y0 + lg.h);
+        if best.0 > 0 && lg.h <= plot.h() {
+            match forced {
+                Some(_) if cell.x1 - pad - plot.x1 >= lg.w + pad => {
+                    legend = Some(outside_at(&plot));
+                }
+                None if lg.w + pad < 0.4 * plot.w() => {
+                    plot.x1 = cell.x1 - pad - lg.w - pad;
+                    too_small(&plot)?;
+                    px = pixels(&plot);
+                    legend = Some(outside_at(&plot));
+                }
+                _ => {}
+            }
+        }
+        if legend.is_none() {
+            // Inside, even if it hides data (or does not quite fit).
+            let (x, y) = best.1;
+            legend = Some(Rect::new(x, y, x + lg.w, y + lg.h));
+            legend_score = best.0;
+        }
+    }
+    let (xs, ys) = scales(&plot);
+    Ok(PanelLayout {
+        plot,
+        xt: xticks(&plot),
+        yt: yticks(&plot),
+        xs,
+        ys,
+        px,
+        entries,
+        lg,
+        legend,
+        legend_score,
+        title_top,
+    })
+}
+
+pub(crate) fn draw_panel(area: &Area, cell: Rect, p: &Panel, st: &Sty) -> Res<()> {
+    let lay = layout_panel(cell, p, st, None)?;
+    paint_panel(area, cell, p, st, &lay)
+}
+
+pub(crate) fn paint_panel(
+    area: &Area,
+    cell: Rect,
+    p: &Panel,
+    st: &Sty,
+    lay: &PanelLayout,
+) -> Res<()> {
+    let (fs, fl, ft, pad, tick) = (st.fs, st.fl, st.ft, st.pad, st.tick);
+    let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
+
+    // Grid.
+    for &v in &xt.minor {
+        let x = xs.px(v);
+        draw_line(area, (x, plot.y0), (x, plot.y1), GRID_MINOR, st.thin)?;
+    }
+    for &v in &yt.minor {
+        let y = ys.px(v);
+        draw_line(area, (plot.x0, y), (plot.x1, y), GRID_MINOR, st.thin)?;
+    }
+    for (v, _) in &xt.major {
+        let x = xs.px(*v);
+        draw_line(area, (x, plot.y0), (x, plot.y1), GRID_MAJOR, st.thin)?;
+    }
+    for (v, _) in &yt.major {
+        let y = ys.px(*v);
+        draw_line(area, (plot.x0, y), (plot.x1, y), GRID_MAJOR, st.thin)?;
+    }
+
+    // Reference lines.
+    for (y, _) in &p.hlines {
+        if valid(*y, p.y_log) && *y >= ys.lo && *y <= ys.hi {
+            let yy = ys.px(*y);
+            for d in dash_polyline(
+                &[(plot.x0, yy), (plot.x1, yy)],
+                4.0 * st.thin,
+                3.0 * st.thin,
+            ) {
+                draw_polyline(area, &d, REF_LINE.to_rgba(), 1.3 * st.thin)?;
+            }
+        }
+    }
+
+    // Series.
+    for (i, (s, sp)) in p.series.iter().zip(&lay.px).enumerate() {
+        let color = series_color(i);
+        match s.style {
+            SeriesStyle::Dashed => {
+                for l in &sp.lines {
+                    for d in dash_polyline(l, 3.0 * st.lw, 2.2 * st.lw) {
+                        draw_polyline(area, &d, color.to_rgba(), st.lw)?;
+                    }
+                }
+            }
+            SeriesStyle::Line | SeriesStyle::LineMarkers => {
+                for l in &sp.lines {
+                    draw_polyline(area, l, color.to_rgba(), st.lw)?;
+                }
+            }
+            SeriesStyle::Markers => {}
+        }
+        for &q in &sp.isolated {
+            draw_marker(area, q, 0, 0.9 * st.lw, color)?;
+        }
+        for &q in &sp.markers {
+            draw_marker(area, q, i, 2.2 * st.lw, color)?;
+        }
+    }
+
+    // Frame and ticks.
+    stroke_rect(area, plot, TEXT, st.frame)?;
+    for (v, l) in &xt.major {
+        let x = xs.px(*v);
+        draw_line(area, (x, plot.y1), (x, plot.y1 + tick), TEXT, st.thin)?;
+        draw_text(
+            area,
+            l,
+            (x, plot.y1 + tick + 0.6 * pad),
+            fs,
+            HA::Center,
+            VA::Top,
+            false,
+            TEXT,
+        )?;
+    }
+    if p.x_log {
+        for &v in &xt.minor {
+            let x = xs.px(v);
+            draw_line(area, (x, plot.y1), (x, plot.y1 + 0.6 * tick), TEXT, st.thin)?;
+        }
+    }
+    for (v, l) in &yt.major {
+        let y = ys.px(*v);
+        draw_line(area, (plot.x0 - tick, y), (plot.x0, y), TEXT, st.thin)?;
+        draw_text(
+            area,
+            l,
+            (plot.x0 - tick - 0.6 * pad, y),
+            fs,
+            HA::Right,
+            VA::Center,
+            false,
+            TEXT,
+        )?;
+    }
+    if p.y_log {
+        for &v in &yt.minor {
+            let y = ys.px(v);
+            draw_line(area, (plot.x0 - 0.6 * tick, y), (plot.x0, y), TEXT, st.thin)?;
+        }
+    }
+
+    // Labels, title, common factors.
+    let xlabel_base = cell.y1 - pad - DESC * fl;
+    draw_text(
+        area,
+        &p.x_label,
+        (plot.cx(), xlabel_base),
+        fl,
+        HA::Center,
+        VA::Baseline,
+        false,
+        TEXT,
+    )?;
+    if let Some(o) = &xt.offset {
+        draw_text(
+            area,
+            o,
+            (plot.x1, xlabel_base),
+            fs,
+            HA::Right,
+            VA::Baseline,
+            false,
+            TEXT,
+        )?;
+    }
+    draw_text(
+        area,
+        &p.y_label,
+        (cell.x0 + pad, plot.cy()),
+        fl,
+        HA::Center,
+        VA::Top,
+        true,
+        TEXT,
+    )?;
+    if let Some(o) = &yt.offset {
+        draw_text(
+            area,
+            o,
+            (plot.x0, plot.y0 - 0.6 * pad),
+            fs,
+            HA::Left,
+            VA::Baseline,
+            false,
+            TEXT,
+        )?;
+    }
+    draw_text(
+        area,
+        &p.title,
+        (plot.cx(), lay.title_top),
+        ft,
+        HA::Center,
+        VA::Top,
+        false,
+        TEXT,
+    )?;
+    if let Some(r) = lay.legend {
+        draw_legend(area, r, &lay.entries, &lay.lg, st)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::{assert_png, decode_png, out_dir};
+    use crate::{line_plot, panels, PlotError};
+    use std::f64::consts::PI;
+
+    fn sine_panel(n: usize) -> Panel {
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
+        let mut p = Panel::new("Sine and cosine", "t [s]", "u [m]");
+        p.series.push(Series::new(
+            "sin",
+            t.clone(),
+            t.iter().map(|t| (2.0 * PI * t).sin()).collect(),
+            SeriesStyle::Line,
+        ));
+        p.series.push(Series::new(
+            "cos",
+            t.clone(),
+            t.iter().map(|t| (2.0 * PI * t).cos()).collect(),
+            SeriesStyle::Dashed,
+        ));
+        p
+    }
+
+    fn count_color(rgb: &[u8], c: RGBColor) -> usize {
+        rgb.chunks(3)
+            .filter(|p| (p[0], p[1], p[2]) == (c.0, c.1, c.2))
+            .count()
+    }
+
+    #[test]
+    fn line_plot_sample_and_errors() {
+        let dir = out_dir("line_plot");
+        // Two-panel displacement / velocity plot, three runs and an exact
+        // reference value.
+        let omega = 2.0 * PI * 0.8; // rad/ms
+        let mut disp = Panel::new("Free-end displacement", "t [ms]", "u [mm]");
+        let mut vel = Panel::new("Free-end velocity", "t [ms]", "v [m/s]");
+        let styles = [
+            SeriesStyle::Line,
+            SeriesStyle::Dashed,
+            SeriesStyle::LineMarkers,
+        ];
+        for (k, dt) in [0.05f64, 0.02, 0.005].iter().enumerate() {
+            let n = (3.0 / dt) as usize + 1;
+            let t: Vec<f64> = (0..n).map(|i| i as f64 * dt).collect();
+            let damp = 1.0 - 0.3 * dt / 0.05;
+            let mut u: Vec<f64> = t
+                .iter()
+                .map(|&t| 1.2 * (omega * t).sin() * (-0.2 * damp * t).exp())
+                .collect();
+            let v: Vec<f64> = t
+                .iter()
+                .map(|&t| 1.2 * omega * (omega * t).cos() * (-0.2 * damp * t).exp())
+                .collect();
+            if k == 0 {
+                u[10] = f64::NAN; // must break the line, not fail
+            }
+            disp.series.push(Series::new(
+                format!("Δt = {dt} ms"),
+                t.clone(),
+                u,
+                styles[k],
+            ));
+            vel.series
+                .push(Series::new(format!("Δt = {dt} ms"), t, v, styles[k]));
+        }
+        disp.hlines.push((1.2, "exact amplitude".into()));
+        vel.hlines.push((0.0, String::new()));
+        let p = dir.join("displacement_velocity.png");
+        panels(&p, &[disp.clone(), vel.clone()], 2, 1, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+        let p = dir.join("displacement_velocity_side_by_side.png");
+        panels(&p, &[disp.clone(), vel], 1, 2, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+        let p = dir.join("displacement.png");
+        line_plot(&p, &disp, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+
+        // Log-x plot (non-positive x values are skipped), small values.
+        let mut conv = Panel::new("Energy drift", "Δt [s]", "relative energy error [-]");
+        conv.x_log = true;
+        let dts: Vec<f64> = vec![0.0, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3];
+        conv.series.push(Series::new(
+            "velocity formulation",
+            dts.clone(),
+            dts.iter().map(|d| 2e-3 + 40.0 * d).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        conv.series.push(Series::new(
+            "displacement formulation",
+            dts.clone(),
+            dts.iter().map(|d| 2.5e-3 + 90.0 * d).collect(),
+            SeriesStyle::Markers,
+        ));
+        let p = dir.join("log_x.png");
+        line_plot(&p, &conv, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+        // Log-log with a reference.
+        let mut ll = Panel::new("Convergence", "h [m]", "error [-]");
+        ll.x_log = true;
+        ll.y_log = true;
+        let hs: Vec<f64> = (0..6).map(|i| 0.1 / 2f64.powi(i)).collect();
+        ll.series.push(Series::new(
+            "L2 error",
+            hs.clone(),
+            hs.iter().map(|h| 0.5 * h * h).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        ll.series.push(Series::new(
+            "H1 error",
+            hs.clone(),
+            hs.iter().map(|h| 0.8 * h).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        let p = dir.join("log_log.png");
+        line_plot(&p, &ll, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+
+        // Constant data, one series: no legend, range gets width.
+        let mut c = Panel::new("", "x [m]", "p [Pa]");
+        c.series.push(Series::new(
+            "p",
+            vec![0.0, 1.0, 2.0],
+            vec![3e5; 3],
+            SeriesStyle::Line,
+        ));
+        let p = dir.join("constant.png");
+        line_plot(&p, &c, (600, 400)).unwrap();
+        assert_png(&p, (600, 400));
+
+        // Errors.
+        let empty = Panel::new("e", "x", "y");
+        assert!(matches!(
+            line_plot(&dir.join("e1.png"), &empty, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        let mut nan = Panel::new("e", "x", "y");
+        nan.series.push(Series::new(
+            "a",
+            vec![f64::NAN],
+            vec![1.0],
+            SeriesStyle::Line,
+        ));
+        assert!(matches!(
+            line_plot(&dir.join("e2.png"), &nan, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        let mut neg = Panel::new("e", "x", "y");
+        neg.y_log = true;
+        neg.series.push(Series::new(
+            "a",
+            vec![1.0, 2.0],
+            vec![-1.0, 0.0],
+            SeriesStyle::Line,
+        ));
+        assert!(matches!(
+            line_plot(&dir.join("e3.png"), &neg, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        assert!(matches!(
+            panels(&dir.join("e4.png"), &[], 1, 1, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        let mut bad = Panel::new("e", "x", "y");
+        bad.series.push(Series::new(
+            "a",
+            vec![1.0, 2.0],
+            vec![1.0],
+            SeriesStyle::Line,
+        ));
+        assert!(matches!(
+            line_plot(&dir.join("e5.png"), &bad, (600, 400)),
+            Err(PlotError::Draw { .. })
+        ));
+        assert!(matches!(
+            panels(
+                &dir.join("e6.png"),
+                &[c.clone(), c.clone()],
+                1,
+                1,
+                (600, 400)
+            ),
+            Err(PlotError::Draw { .. })
+        ));
+        assert!(matches!(
+            line_plot(&dir.join("e7.png"), &c, (10, 10)),
+            Err(PlotError::Draw { .. })
+        ));
+        for i in 1..=7 {
+            assert!(!dir.join(format!("e{i}.png")).exists());
+        }
+    }
+
+    #[test]
+    fn edge_cases_sample() {
+        let dir = out_dir("edge_cases");
+        // Large and small magnitudes (common factors), clipped fixed ranges,
+        // a dense series, an empty panel and a single series without legend.
+        let n = 200_000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-8).collect();
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&t| 2.5e8 * (1.0 + (3e3 * t).sin() + 0.1 * (2e5 * t).sin()))
+            .collect();
+        let mut big = Panel::new("Contact force", "t [s]", "F [N]");
+        big.series
+            .push(Series::new("dense", t.clone(), f, SeriesStyle::Line));
+        let mut clipped = Panel::new("Zoom (fixed ranges)", "t [s]", "F [N]");
+        clipped.series.push(big.series[0].clone());
+        clipped.x_range = Some((2e-4, 5e-4));
+        clipped.y_range = Some((4e8, 6e8));
+        let mut small = Panel::new("Gap", "x [m]", "g [m]");
+        small.series.push(Series::new(
+            "gap",
+            (0..50).map(|i| i as f64 * 0.002).collect(),
+            (0..50).map(|i| -3e-6 + 1e-7 * i as f64).collect(),
+            SeriesStyle::Markers,
+        ));
+        small.hlines.push((0.0, "contact".into()));
+        let empty = Panel::new("Nothing yet", "x", "y");
+        let mut semilog = Panel::new("Residual", "iteration [-]", "‖r‖ [N]");
+        semilog.y_log = true;
+        semilog.series.push(Series::new(
+            "Newton",
+            (0..8).map(f64::from).collect(),
+            vec![1.0, 0.3, 2e-2, 1e-4, 3e-9, 1e-15, 0.0, f64::NAN],
+            SeriesStyle::LineMarkers,
+        ));
+        semilog.series.push(Series::new(
+            "modified Newton",
+            (0..8).map(f64::from).collect(),
+            (0..8).map(|i| 0.5f64.powi(2 * i)).collect(),
+            SeriesStyle::Dashed,
+        ));
+        let mut narrow_log = Panel::new("Narrow log range", "f [Hz]", "A [-]");
+        narrow_log.x_log = true;
+        narrow_log.series.push(Series::new(
+            "spectrum",
+            (0..40).map(|i| 200.0 + 15.0 * f64::from(i)).collect(),
+            (0..40)
+                .map(|i| 1.0 / (1.0 + (f64::from(i) - 20.0).powi(2)))
+                .collect(),
+            SeriesStyle::Line,
+        ));
+        let start = std::time::Instant::now();
+        let p = dir.join("grid_3x2.png");
+        panels(
+            &p,
+            &[big.clone(), clipped, small, empty, semilog, narrow_log],
+            3,
+            2,
+            (1200, 1200),
+        )
+        .unwrap();
+        assert_png(&p, (1200, 1200));
+        let p = dir.join("single_small.png");
+        line_plot(&p, &big, (600, 400)).unwrap();
+        assert_png(&p, (600, 400));
+        assert!(start.elapsed().as_secs() < 60);
+    }
+
+    #[test]
+    fn hostile_input_does_not_panic() {
+        let dir = out_dir("hostile");
+        let cases: Vec<(Vec<f64>, Vec<f64>)> = vec![
+            (vec![0.0, 1.0], vec![-1e308, 1e308]),
+            (vec![0.0, 1.0], vec![f64::MAX, f64::MAX]),
+            (vec![0.0, 1e-310], vec![1e-320, 2e-320]),
+            (vec![1.0, 1.0, 1.0], vec![0.0, 0.0, 0.0]),
+            (
+                vec![f64::INFINITY, 1.0, f64::NAN],
+                vec![1.0, 2.0, f64::NEG_INFINITY],
+            ),
+            (vec![1e15, 1e15 + 1.0], vec![1.0, 2.0]),
+        ];
+        for (i, (x, y)) in cases.into_iter().enumerate() {
+            for (xl, yl) in [(false, false), (true, true)] {
+                let mut p = Panel::new("hostile", "x", "y");
+                p.x_log = xl;
+                p.y_log = yl;
+                p.series.push(Series::new(
+                    "a",
+                    x.clone(),
+                    y.clone(),
+                    SeriesStyle::LineMarkers,
+                ));
+                p.series
+                    .push(Series::new("b", x.clone(), y.clone(), SeriesStyle::Dashed));
+                p.hlines.push((f64::NAN, "nan".into()));
+                p.x_range = Some((f64::NAN, 3.0));
+                let path = dir.join(format!("case{i}_{xl}.png"));
+                match line_plot(&path, &p, (300, 200)) {
+                    Ok(()) => {
+                        assert_png(&path, (300, 200));
+                    }
+                    Err(e) => assert!(!path.exists(), "{e}"),
+                }
+            }
+        }
+        // Writing onto a directory fails cleanly, leaving no temporary file.
+        let target = dir.join("is_a_dir.png");
+        std::fs::create_dir_all(&target).unwrap();
+        let mut p = Panel::new("", "x", "y");
+        p.series.push(Series::new(
+            "",
+            vec![0.0, 1.0],
+            vec![0.0, 1.0],
+            SeriesStyle::Line,
+        ));
+        let err = line_plot(&target, &p, (300, 200)).unwrap_err();
+        assert!(matches!(err, PlotError::Draw { .. }), "{err}");
+        assert!(!dir.join("is_a_dir.png.tmp.png").exists());
+    }
+
+    #[test]
+    fn line_plot_writes_a_decodable_png_showing_the_series() {
+        let dir = out_dir("line_plot_png");
+        for size in [(640, 480), (333, 201)] {
+            let p = dir.join(format!("sine_{}x{}.png", size.0, size.1));
+            line_plot(&p, &sine_panel(200), size).unwrap();
+            let img = assert_png(&p, size);
+            let n = (size.0 * size.1) as usize;
+            // Mostly white background, and both series drawn in their own
+            // palette colours (the line interiors keep the exact colour).
+            assert!(count_color(&img.rgb, WHITE) > n / 2);
+            for i in 0..2 {
+                let c = series_color(i);
+                let k = count_color(&img.rgb, c);
+                assert!(k > size.0 as usize / 4, "series {i}: {k} pixels of {c:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_input_gives_typed_errors_and_no_file() {
+        let dir = out_dir("bad_input");
+        let good = sine_panel(20);
+        // A length mismatch in one panel of a grid: a drawing error (not a
+        // panic, not "empty"), naming the series.
+        let mut bad = sine_panel(20);
+        bad.series[1].y.pop();
+        let p = dir.join("mismatch.png");
+        match panels(&p, &[good.clone(), bad], 1, 2, (600, 400)) {
+            Err(PlotError::Draw { message, .. }) => assert!(message.contains("cos"), "{message}"),
+            other => panic!("expected PlotError::Draw, got {other:?}"),
+        }
+        // No series, or no finite point in any panel: empty.
+        let mut all_nan = sine_panel(20);
+        for s in &mut all_nan.series {
+            s.y.iter_mut().for_each(|y| *y = f64::NAN);
+        }
+        let none = Panel::new("nothing", "x", "y");
+        let q = dir.join("empty.png");
+        for input in [vec![none.clone()], vec![all_nan.clone(), none]] {
+            let r = panels(&q, &input, 1, input.len(), (600, 400));
+            assert!(matches!(r, Err(PlotError::Empty { .. })), "{r:?}");
+        }
+        assert!(matches!(
+            line_plot(&q, &all_nan, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        // One panel with data is enough for a grid; the other shows "no data".
+        let r = dir.join("half_empty.png");
+        panels(&r, &[good, all_nan], 2, 1, (600, 600)).unwrap();
+        assert_png(&r, (600, 600));
+        assert!(!p.exists() && !q.exists());
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["half_empty.png"]);
+    }
+
+    #[test]
+    fn atomic_write_replaces_or_keeps_the_figure() {
+        let dir = out_dir("atomic");
+        let p = dir.join("sub/dir/fig.png");
+        line_plot(&p, &sine_panel(50), (400, 300)).unwrap();
+        assert_png(&p, (400, 300));
+        // A successful redraw replaces the figure.
+        line_plot(&p, &sine_panel(50), (500, 300)).unwrap();
+        assert_png(&p, (500, 300));
+        let before = std::fs::read(&p).unwrap();
+        // A failed draw (too small, or bad data) leaves it untouched.
+        assert!(line_plot(&p, &sine_panel(50), (50, 50)).is_err());
+        let mut bad = sine_panel(50);
+        bad.series[0].x.push(2.0);
+        assert!(line_plot(&p, &bad, (400, 300)).is_err());
+        assert_eq!(std::fs::read(&p).unwrap(), before);
+        let names: Vec<_> = std::fs::read_dir(p.parent().unwrap())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["fig.png"], "no temporary file left behind");
+    }
+
+    #[test]
+    fn non_finite_values_are_skipped() {
+        let x = vec![0.0, 1.0, 2.0, 2.5, 3.0, 4.0, f64::INFINITY, 5.0];
+        let y = vec![
+            0.0,
+            0.5,
+            f64::NAN,
+            f64::INFINITY,
+            1.0,
+            2.0,
+            9.0,
+            f64::NEG_INFINITY,
+        ];
+        let mut p = Panel::new("gaps", "x", "y");
+        p.series
+            .push(Series::new("a", x.clone(), y.clone(), SeriesStyle::Line));
+        // Ranges from the finite points only: x in [0, 4], y in [0, 2].
+        let ((x0, x1), (y0, y1)) = panel_ranges(&p).unwrap();
+        assert_eq!((x0, x1), auto_range_lin(0.0, 4.0));
+        assert_eq!((y0, y1), auto_range_lin(0.0, 2.0));
+        // The line is broken at the non-finite points: two pieces, 0-1 and
+        // 3-4.
+        let plot = Rect::new(0.0, 0.0, 400.0, 300.0);
+        let xs = Scale {
+            lo: x0,
+            hi: x1,
+            log: false,
+            p_lo: plot.x0,
+            p_hi: plot.x1,
+        };
+        let ys = Scale {
+            lo: y0,
+            hi: y1,
+            log: false,
+            p_lo: plot.y1,
+            p_hi: plot.y0,
+        };
+        let sp = series_pixels(&p.series[0], &xs, &ys, &plot, 2.0);
+        assert_eq!(sp.lines.len(), 2, "{:?}", sp.lines);
+        assert!(sp.lines.iter().all(|l| l.len() == 2));
+        assert!(sp
+            .lines
+            .iter()
+            .flatten()
+            .all(|q| q.0.is_finite() && q.1.is_finite()));
+        // On a log axis non-positive values are skipped as well.
+        let mut lg = Panel::new("log", "x", "y");
+        lg.y_log = true;
+        lg.series.push(Series::new(
+            "b",
+            vec![0.0, 1.0, 2.0, 3.0, 4.0],
+            vec![-1.0, 0.0, 1.0, 10.0, 100.0],
+            SeriesStyle::Line,
+        ));
+        let ((lx0, lx1), (ly0, ly1)) = panel_ranges(&lg).unwrap();
+        assert_eq!((lx0, lx1), auto_range_lin(2.0, 4.0));
+        assert!((ly0.log10() + 0.1).abs() < 1e-12 && (ly1.log10() - 2.1).abs() < 1e-12);
+        // Both draw.
+        let dir = out_dir("non_finite");
+        for (name, panel) in [("gaps.png", &p), ("log.png", &lg)] {
+            let f = dir.join(name);
+            line_plot(&f, panel, (400, 300)).unwrap();
+            assert_eq!(decode_png(&f).width, 400);
+        }
+    }
+
+    /// The automatic linear range of the data extent `lo..hi`.
+    fn auto_range_lin(lo: f64, hi: f64) -> (f64, f64) {
+        crate::axes::auto_range(lo, hi, false)
+    }
+}

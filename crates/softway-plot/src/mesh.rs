@@ -1,0 +1,1049 @@
+//! Mesh plots: colour maps, colour bars and vector fields on triangle
+//! meshes.
+
+use std::collections::HashMap;
+
+use plotters::prelude::*;
+
+use crate::axes::{auto_range, extend, is_const, linear_ticks, Scale, Ticks};
+use crate::geom::{draw_line, draw_polyline, fill_polygon, fill_rect, stroke_rect, Pt, Rect};
+use crate::render::{de, render, Area, Fail, Res};
+use crate::style::{draw_text, ipt, viridis, Sty, CAP, DESC, HA, NO_DATA, TEXT, VA};
+use crate::{EdgeMode, MeshColorMap, MeshOptions, MeshVectorField};
+
+fn unit_scale(s: f64) -> f64 {
+    if s.is_finite() && s > 0.0 {
+        s
+    } else {
+        1.0
+    }
+}
+
+fn axis_label(name: &str, unit: &str) -> String {
+    if unit.is_empty() {
+        name.to_string()
+    } else {
+        format!("{name} [{unit}]")
+    }
+}
+
+fn check_triangles(points: &[[f64; 2]], triangles: &[[usize; 3]], what: &str) -> Res<()> {
+    if let Some((i, t)) = triangles
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&n| n >= points.len()))
+    {
+        return Err(Fail::Draw(format!(
+            "{what}: triangle {i} {t:?} refers to a node beyond the {} points",
+            points.len()
+        )));
+    }
+    Ok(())
+}
+
+fn tri_ok(points: &[[f64; 2]], t: &[usize; 3]) -> bool {
+    t.iter()
+        .all(|&n| points[n][0].is_finite() && points[n][1].is_finite())
+}
+
+/// Bounding box (x0, x1, y0, y1) of the nodes of drawable triangles.
+fn mesh_bbox(points: &[[f64; 2]], triangles: &[[usize; 3]], s: f64) -> Option<[f64; 4]> {
+    let mut b: Option<[f64; 4]> = None;
+    for t in triangles.iter().filter(|t| tri_ok(points, t)) {
+        for &n in t {
+            let (x, y) = (points[n][0] * s, points[n][1] * s);
+            b = Some(match b {
+                None => [x, x, y, y],
+                Some([a, c, d, e]) => [a.min(x), c.max(x), d.min(y), e.max(y)],
+            });
+        }
+    }
+    b
+}
+
+/// Adds a margin (`frac` of the larger extent) around a bounding box.
+fn pad_bbox([x0, x1, y0, y1]: [f64; 4], frac: f64) -> [f64; 4] {
+    let ext = (x1 - x0).max(y1 - y0);
+    let m = if ext > 0.0 {
+        frac * ext
+    } else {
+        0.5 * x0.abs().max(y0.abs()).max(1.0)
+    };
+    [x0 - m, x1 + m, y0 - m, y1 + m]
+}
+
+fn value_range(vals: impl Iterator<Item = f64>, user: Option<(f64, f64)>) -> Option<(f64, f64)> {
+    if let Some((a, b)) = user {
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        if a.is_finite() && b.is_finite() {
+            return Some(if is_const(a, b) {
+                auto_range(a, b, false)
+            } else {
+                (a, b)
+            });
+        }
+    }
+    let mut r = None;
+    for v in vals.filter(|v| v.is_finite()) {
+        extend(&mut r, v);
+    }
+    r.map(|(a, b)| {
+        if is_const(a, b) {
+            auto_range(a, b, false)
+        } else {
+            (a, b)
+        }
+    })
+}
+
+/// Pixel mapping of a mesh panel (equal aspect).
+#[derive(Debug, Clone, Copy)]
+struct MeshView {
+    /// Displayed data extent (x0, x1, y0, y1).
+    bb: [f64; 4],
+    /// Plot rectangle in pixels.
+    r: Rect,
+    /// Length-unit scale applied to the raw coordinates.
+    unit: f64,
+}
+
+impl MeshView {
+    fn px(&self, p: [f64; 2]) -> Pt {
+        let s = self.r.w() / (self.bb[1] - self.bb[0]);
+        (
+            self.r.x0 + (p[0] * self.unit - self.bb[0]) * s,
+            self.r.y1 - (p[1] * self.unit - self.bb[2]) * s,
+        )
+    }
+    fn xscale(&self) -> Scale {
+        Scale {
+            lo: self.bb[0],
+            hi: self.bb[1],
+            log: false,
+            p_lo: self.r.x0,
+            p_hi: self.r.x1,
+        }
+    }
+    fn yscale(&self) -> Scale {
+        Scale {
+            lo: self.bb[2],
+            hi: self.bb[3],
+            log: false,
+            p_lo: self.r.y1,
+            p_hi: self.r.y0,
+        }
+    }
+}
+
+/// Triangles filled with one colour each; returns the mean triangle size in
+/// pixels.
+fn fill_triangles<F>(
+    area: &Area,
+    v: &MeshView,
+    points: &[[f64; 2]],
+    triangles: &[[usize; 3]],
+    color_of: F,
+) -> Res<f64>
+where
+    F: Fn(usize) -> RGBColor,
+{
+    let mut area_sum = 0.0;
+    let mut n = 0usize;
+    for (i, t) in triangles.iter().enumerate() {
+        if !tri_ok(points, t) {
+            continue;
+        }
+        let q: Vec<Pt> = t.iter().map(|&k| v.px(points[k])).collect();
+        let c = color_of(i);
+        fill_polygon(area, &q, c)?;
+        // Same-colour outline closes rasterisation cracks between neighbours.
+        let closed = [q[0], q[1], q[2], q[0]];
+        draw_polyline(area, &closed, c.to_rgba(), 1.0)?;
+        area_sum += 0.5
+            * ((q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[2].0 - q[0].0) * (q[1].1 - q[0].1)).abs();
+        n += 1;
+    }
+    Ok(if n > 0 {
+        (2.0 * area_sum / n as f64).sqrt()
+    } else {
+        0.0
+    })
+}
+
+/// Element edges (light) and, optionally, the boundary outline (dark).
+#[allow(clippy::too_many_arguments)]
+fn draw_edges(
+    area: &Area,
+    v: &MeshView,
+    points: &[[f64; 2]],
+    triangles: &[[usize; 3]],
+    inner: bool,
+    outline: bool,
+    inner_color: RGBAColor,
+    st: &Sty,
+) -> Res<()> {
+    if !inner && !outline {
+        return Ok(());
+    }
+    let mut count: HashMap<(usize, usize), u32> = HashMap::new();
+    for t in triangles.iter().filter(|t| tri_ok(points, t)) {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let mut edges: Vec<_> = count.into_iter().collect();
+    edges.sort_unstable();
+    if inner {
+        for &((a, b), c) in &edges {
+            if c > 1 || !outline {
+                draw_polyline(
+                    area,
+                    &[v.px(points[a]), v.px(points[b])],
+                    inner_color,
+                    st.thin,
+                )?;
+            }
+        }
+    }
+    if outline {
+        for &((a, b), c) in &edges {
+            if c == 1 {
+                draw_polyline(
+                    area,
+                    &[v.px(points[a]), v.px(points[b])],
+                    RGBColor(60, 60, 60).to_rgba(),
+                    st.thin,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Width needed right of the plot for a colour bar (gap, bar, ticks,
+/// labels, rotated title).
+fn colorbar_width(t: &Ticks, label: &str, st: &Sty) -> f64 {
+    let bar = 1.1 * st.fs;
+    let gap = 1.2 * st.fs;
+    let lab = if label.is_empty() {
+        0.0
+    } else {
+        0.8 * st.pad + (CAP + DESC) * st.fl
+    };
+    gap + bar + st.tick + 0.4 * st.pad + t.max_label_w(st.fs) + lab + st.pad
+}
+
+/// Draws a vertical colour bar in `r` for values `vmin..vmax`.
+fn draw_colorbar(
+    area: &Area,
+    r: Rect,
+    (vmin, vmax): (f64, f64),
+    t: &Ticks,
+    label: &str,
+    st: &Sty,
+) -> Res<()> {
+    let h = r.h();
+    let n = h.ceil().max(1.0) as usize;
+    for i in 0..n {
+        let y = r.y0 + i as f64;
+        let tt = 1.0 - (i as f64 + 0.5) / h;
+        let y1 = (y + 1.0).min(r.y1);
+        fill_rect(area, Rect::new(r.x0, y, r.x1, y1), viridis(tt).to_rgba())?;
+    }
+    stroke_rect(area, r, TEXT, st.thin)?;
+    let ys = Scale {
+        lo: vmin,
+        hi: vmax,
+        log: false,
+        p_lo: r.y1,
+        p_hi: r.y0,
+    };
+    for (v, l) in &t.major {
+        let y = ys.px(*v);
+        draw_line(area, (r.x1, y), (r.x1 + st.tick, y), TEXT, st.thin)?;
+        draw_text(
+            area,
+            l,
+            (r.x1 + st.tick + 0.4 * st.pad, y),
+            st.fs,
+            HA::Left,
+            VA::Center,
+            false,
+            TEXT,
+        )?;
+    }
+    if let Some(o) = &t.offset {
+        draw_text(
+            area,
+            o,
+            (r.x0, r.y0 - 0.6 * st.pad),
+            st.fs,
+            HA::Left,
+            VA::Baseline,
+            false,
+            TEXT,
+        )?;
+    }
+    let lx = r.x1 + st.tick + 0.4 * st.pad + t.max_label_w(st.fs) + 0.8 * st.pad;
+    draw_text(
+        area,
+        label,
+        (lx, r.cy()),
+        st.fl,
+        HA::Center,
+        VA::Top,
+        true,
+        TEXT,
+    )
+}
+
+/// Axis tick labels and ticks of a mesh panel.
+#[allow(clippy::too_many_arguments)]
+fn draw_mesh_axes(
+    area: &Area,
+    v: &MeshView,
+    xt: &Ticks,
+    yt: &Ticks,
+    x_labels: bool,
+    y_labels: bool,
+    st: &Sty,
+) -> Res<()> {
+    let r = v.r;
+    stroke_rect(area, r, TEXT, st.thin)?;
+    let (xs, ys) = (v.xscale(), v.yscale());
+    for (val, l) in &xt.major {
+        let x = xs.px(*val);
+        draw_line(area, (x, r.y1), (x, r.y1 + st.tick), TEXT, st.thin)?;
+        if x_labels {
+            draw_text(
+                area,
+                l,
+                (x, r.y1 + st.tick + 0.6 * st.pad),
+                st.fs,
+                HA::Center,
+                VA::Top,
+                false,
+                TEXT,
+            )?;
+        }
+    }
+    for (val, l) in &yt.major {
+        let y = ys.px(*val);
+        draw_line(area, (r.x0 - st.tick, y), (r.x0, y), TEXT, st.thin)?;
+        if y_labels {
+            draw_text(
+                area,
+                l,
+                (r.x0 - st.tick - 0.6 * st.pad, y),
+                st.fs,
+                HA::Right,
+                VA::Center,
+                false,
+                TEXT,
+            )?;
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn render_color_map(
+    map: &MeshColorMap,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Res<Vec<u8>> {
+    if map.triangles.is_empty() || map.points.is_empty() {
+        return Err(Fail::Empty("the mesh has no triangles".into()));
+    }
+    if map.cell_values.len() != map.triangles.len() {
+        return Err(Fail::Draw(format!(
+            "{} cell values for {} triangles",
+            map.cell_values.len(),
+            map.triangles.len()
+        )));
+    }
+    check_triangles(map.points, map.triangles, "colour map")?;
+    let unit = unit_scale(map.length_unit_scale);
+    let bb0 = mesh_bbox(map.points, map.triangles, unit)
+        .ok_or_else(|| Fail::Empty("no triangle has finite coordinates".into()))?;
+    let vr = value_range(
+        map.triangles
+            .iter()
+            .zip(map.cell_values)
+            .filter(|(t, _)| tri_ok(map.points, t))
+            .map(|(_, &v)| v),
+        opts.value_range,
+    )
+    .ok_or_else(|| Fail::Empty("no finite cell value".into()))?;
+    let bb = pad_bbox(bb0, 0.03);
+    let (dx, dy) = (bb[1] - bb[0], bb[3] - bb[2]);
+    let xl = axis_label("x", &map.length_unit);
+    let yl = axis_label("y", &map.length_unit);
+
+    render(size, |area, fig| {
+        let st = Sty::new(fig, fig.out);
+        let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+        let top = pad
+            + if map.title.is_empty() {
+                0.5 * CAP * fs
+            } else {
+                (CAP + DESC) * st.ft + pad
+            };
+        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad;
+        let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
+        let mut cb_w = 6.0 * fs;
+        let mut layout = None;
+        for _ in 0..3 {
+            let avail_w = fig.w - left_w - cb_w - pad;
+            let avail_h = fig.h - top - bottom;
+            if avail_w <= 20.0 || avail_h <= 20.0 {
+                return Err(Fail::Draw(
+                    "the image is too small for the colour map".into(),
+                ));
+            }
+            let s = (avail_w / dx).min(avail_h / dy);
+            let (pw, ph) = (dx * s, dy * s);
+            let x0 = left_w + 0.5 * (avail_w - pw);
+            let y0 = top + 0.5 * (avail_h - ph);
+            let r = Rect::new(x0, y0, x0 + pw, y0 + ph);
+            let xt = linear_ticks(bb[0], bb[1], pw, fs, true);
+            let yt = linear_ticks(bb[2], bb[3], ph, fs, false);
+            // A slender domain still gets a usable colour bar.
+            let cbh = ph.max(0.45 * avail_h).min(avail_h);
+            let cb = Rect::new(
+                r.x1 + 1.2 * fs,
+                r.cy() - 0.5 * cbh,
+                r.x1 + 2.3 * fs,
+                r.cy() + 0.5 * cbh,
+            );
+            let ct = linear_ticks(vr.0, vr.1, cbh, fs, false);
+            let new_left =
+                pad + (CAP + DESC) * fl + 0.8 * pad + yt.max_label_w(fs) + 0.6 * pad + tick;
+            let new_cb = colorbar_width(&ct, &map.colorbar_label, &st);
+            let done = (new_left - left_w).abs() < 1.0 && (new_cb - cb_w).abs() < 1.0;
+            left_w = new_left;
+            cb_w = new_cb;
+            layout = Some((r, cb, xt, yt, ct));
+            if done {
+                break;
+            }
+        }
+        let Some((r, cb, xt, yt, ct)) = layout else {
+            return Err(Fail::Draw("layout failed".into()));
+        };
+        let v = MeshView { bb, r, unit };
+        let size_px = fill_triangles(area, &v, map.points, map.triangles, |i| {
+            let val = map.cell_values[i];
+            if val.is_finite() {
+                viridis((val - vr.0) / (vr.1 - vr.0))
+            } else {
+                NO_DATA
+            }
+        })?;
+        let inner = match opts.edges {
+            EdgeMode::Always => true,
+            EdgeMode::Never => false,
+            EdgeMode::Auto => size_px >= 12.0 * fig.k,
+        };
+        draw_edges(
+            area,
+            &v,
+            map.points,
+            map.triangles,
+            inner,
+            false,
+            BLACK.mix(0.3),
+            &st,
+        )?;
+        draw_mesh_axes(area, &v, &xt, &yt, true, true, &st)?;
+        // Axis labels and title.
+        draw_text(
+            area,
+            &xl,
+            (r.cx(), r.y1 + tick + 0.6 * pad + CAP * fs + pad),
+            fl,
+            HA::Center,
+            VA::Top,
+            false,
+            TEXT,
+        )?;
+        let ylx = r.x0 - tick - 0.6 * pad - yt.max_label_w(fs) - 0.8 * pad - (CAP + DESC) * fl;
+        draw_text(
+            area,
+            &yl,
+            (ylx, r.cy()),
+            fl,
+            HA::Center,
+            VA::Top,
+            true,
+            TEXT,
+        )?;
+        draw_text(
+            area,
+            &map.title,
+            (r.cx(), pad),
+            st.ft,
+            HA::Center,
+            VA::Top,
+            false,
+            TEXT,
+        )?;
+        draw_colorbar(area, cb, vr, &ct, &map.colorbar_label, &st)
+    })
+}
+
+/// Evenly spread subset of the nodes used by drawable triangles: in each
+/// cell of a grid of about `n_across` cells over the larger extent, the
+/// node closest to the cell centre.
+fn arrow_nodes(
+    points: &[[f64; 2]],
+    triangles: &[[usize; 3]],
+    unit: f64,
+    bb: [f64; 4],
+    n_across: f64,
+) -> Vec<usize> {
+    let cell = (bb[1] - bb[0]).max(bb[3] - bb[2]) / n_across;
+    if cell.is_nan() || cell <= 0.0 {
+        return Vec::new();
+    }
+    let nx = ((bb[1] - bb[0]) / cell).ceil().max(1.0) as usize;
+    let ny = ((bb[3] - bb[2]) / cell).ceil().max(1.0) as usize;
+    let mut used = vec![false; points.len()];
+    for t in triangles.iter().filter(|t| tri_ok(points, t)) {
+        for &n in t {
+            used[n] = true;
+        }
+    }
+    let mut best: HashMap<(usize, usize), (f64, usize)> = HashMap::new();
+    for (n, p) in points.iter().enumerate().filter(|(n, _)| used[*n]) {
+        let (x, y) = (p[0] * unit - bb[0], p[1] * unit - bb[2]);
+        let (i, j) = (
+            ((x / cell) as usize).min(nx - 1),
+            ((y / cell) as usize).min(ny - 1),
+        );
+        let (cx, cy) = ((i as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);
+        let d = (x - cx).powi(2) + (y - cy).powi(2);
+        let e = best.entry((i, j)).or_insert((f64::INFINITY, n));
+        if d < e.0 {
+            *e = (d, n);
+        }
+    }
+    let mut nodes: Vec<usize> = best.into_values().map(|(_, n)| n).collect();
+    nodes.sort_unstable();
+    nodes
+}
+
+/// Black arrow with a thin white halo (visible on dark and light colours).
+fn draw_arrow(area: &Area, from: Pt, to: Pt, st: &Sty) -> Res<()> {
+    let (dx, dy) = (to.0 - from.0, to.1 - from.1);
+    let len = (dx * dx + dy * dy).sqrt();
+    if len < 0.3 * st.fs {
+        return Ok(());
+    }
+    let (ux, uy) = (dx / len, dy / len);
+    let head = (0.35 * len).min(0.5 * st.fs);
+    let half = 0.42 * head;
+    let base = (to.0 - head * ux, to.1 - head * uy);
+    let shaft = 1.1 * st.thin;
+    let halo = 0.4 * st.thin + 0.5;
+    let tri = |grow: f64| {
+        [
+            (to.0 + grow * 1.6 * ux, to.1 + grow * 1.6 * uy),
+            (
+                base.0 - (half + grow) * uy - grow * ux,
+                base.1 + (half + grow) * ux - grow * uy,
+            ),
+            (
+                base.0 + (half + grow) * uy - grow * ux,
+                base.1 - (half + grow) * ux - grow * uy,
+            ),
+        ]
+    };
+    let white = WHITE.mix(0.6);
+    draw_polyline(
+        area,
+        &[(from.0 - halo * ux, from.1 - halo * uy), base],
+        white,
+        shaft + 2.0 * halo,
+    )?;
+    area.draw(&Polygon::new(
+        tri(halo).iter().map(|&p| ipt(p)).collect::<Vec<_>>(),
+        white.filled(),
+    ))
+    .map_err(de)?;
+    draw_polyline(area, &[from, base], BLACK.to_rgba(), shaft)?;
+    fill_polygon(area, &tri(0.0), BLACK)
+}
+
+pub(crate) fn render_vector_fields(
+    frames: &[MeshVectorField],
+    cols: usize,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Res<Vec<u8>> {
+    if frames.is_empty() {
+        return Err(Fail::Empty("no frames".into()));
+    }
+    for (i, f) in frames.iter().enumerate() {
+        if f.vectors.len() != f.points.len() {
+            return Err(Fail::Draw(format!(
+                "frame {i}: {} vectors for {} points",
+                f.vectors.len(),
+                f.points.len()
+            )));
+        }
+        check_triangles(f.points, f.triangles, &format!("frame {i}"))?;
+    }
+    let n = frames.len();
+    let cols = if cols == 0 {
+        (n as f64).sqrt().ceil() as usize
+    } else {
+        cols.min(n)
+    };
+    let rows = n.div_ceil(cols);
+    let unit = unit_scale(frames[0].length_unit_scale);
+    let mut bb0: Option<[f64; 4]> = None;
+    for f in frames {
+        if let Some(b) = mesh_bbox(f.points, f.triangles, unit) {
+            bb0 = Some(match bb0 {
+                None => b,
+                Some(a) => [
+                    a[0].min(b[0]),
+                    a[1].max(b[1]),
+                    a[2].min(b[2]),
+                    a[3].max(b[3]),
+                ],
+            });
+        }
+    }
+    // Arrows are centred on their node and at most 1/8 of the panel width
+    // long: a margin of 7.5 % keeps them inside the frame.
+    let bb = pad_bbox(
+        bb0.ok_or_else(|| Fail::Empty("no frame has a drawable triangle".into()))?,
+        0.075,
+    );
+    let mags: Vec<Vec<f64>> = frames
+        .iter()
+        .map(|f| f.vectors.iter().map(|v| v[0].hypot(v[1])).collect())
+        .collect();
+    let max_mag = mags
+        .iter()
+        .flatten()
+        .filter(|m| m.is_finite())
+        .fold(0.0f64, |a, &m| a.max(m));
+    let vr = match opts.value_range {
+        Some(_) => value_range(std::iter::empty(), opts.value_range),
+        None => None,
+    }
+    .unwrap_or((0.0, if max_mag > 0.0 { max_mag } else { 1.0 }));
+    let (dx, dy) = (bb[1] - bb[0], bb[3] - bb[2]);
+    let xl = axis_label("x", &frames[0].length_unit);
+    let yl = axis_label("y", &frames[0].length_unit);
+    let cb_label = frames[0].colorbar_label.clone();
+
+    render(size, |area, fig| {
+        let st = Sty::new(fig, (fig.out.0 / cols as f64, fig.out.1 / rows as f64));
+        let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+        let title_band = if frames.iter().any(|f| !f.title.is_empty()) {
+            (CAP + DESC) * fs + 0.6 * pad
+        } else {
+            0.5 * CAP * fs
+        };
+        let hgap = 1.2 * fs;
+        let vgap = 1.2 * pad;
+        let top = pad;
+        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad;
+        let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
+        let mut cb_w = 6.0 * fs;
+        let mut layout = None;
+        for _ in 0..3 {
+            let avail_w = fig.w - left_w - cb_w - pad - (cols - 1) as f64 * hgap;
+            let avail_h =
+                fig.h - top - bottom - rows as f64 * title_band - (rows - 1) as f64 * vgap;
+            if avail_w <= 20.0 * cols as f64 || avail_h <= 20.0 * rows as f64 {
+                return Err(Fail::Draw(
+                    "the image is too small for this many frames".into(),
+                ));
+            }
+            let s = (avail_w / (cols as f64 * dx)).min(avail_h / (rows as f64 * dy));
+            let (pw, ph) = (dx * s, dy * s);
+            let gw = cols as f64 * pw + (cols - 1) as f64 * hgap;
+            let gh = rows as f64 * (title_band + ph) + (rows - 1) as f64 * vgap;
+            let x0 = left_w + 0.5 * (avail_w + (cols - 1) as f64 * hgap - gw);
+            let y0 = top + 0.5 * (fig.h - top - bottom - gh);
+            let xt = linear_ticks(bb[0], bb[1], pw, fs, true);
+            let yt = linear_ticks(bb[2], bb[3], ph, fs, false);
+            let ct = linear_ticks(vr.0, vr.1, gh - title_band, fs, false);
+            let new_left =
+                pad + (CAP + DESC) * fl + 0.8 * pad + yt.max_label_w(fs) + 0.6 * pad + tick;
+            let new_cb = colorbar_width(&ct, &cb_label, &st);
+            let done = (new_left - left_w).abs() < 1.0 && (new_cb - cb_w).abs() < 1.0;
+            left_w = new_left;
+            cb_w = new_cb;
+            layout = Some((x0, y0, pw, ph, gw, gh, xt, yt, ct));
+            if done {
+                break;
+            }
+        }
+        let Some((x0, y0, pw, ph, gw, gh, xt, yt, ct)) = layout else {
+            return Err(Fail::Draw("layout failed".into()));
+        };
+        let arrow_scale = if max_mag > 0.0 {
+            pw / 8.0 / max_mag
+        } else {
+            0.0
+        };
+        for (i, f) in frames.iter().enumerate() {
+            let (r, c) = (i / cols, i % cols);
+            let px0 = x0 + c as f64 * (pw + hgap);
+            let py0 = y0 + r as f64 * (title_band + ph + vgap) + title_band;
+            let v = MeshView {
+                bb,
+                r: Rect::new(px0, py0, px0 + pw, py0 + ph),
+                unit,
+            };
+            let m = &mags[i];
+            let size_px = fill_triangles(area, &v, f.points, f.triangles, |t| {
+                let tri = f.triangles[t];
+                let mean = (m[tri[0]] + m[tri[1]] + m[tri[2]]) / 3.0;
+                if mean.is_finite() {
+                    viridis((mean - vr.0) / (vr.1 - vr.0))
+                } else {
+                    NO_DATA
+                }
+            })?;
+            let inner = match opts.edges {
+                EdgeMode::Always => true,
+                EdgeMode::Never => false,
+                EdgeMode::Auto => size_px >= 10.0 * fig.k,
+            };
+            draw_edges(
+                area,
+                &v,
+                f.points,
+                f.triangles,
+                inner,
+                true,
+                WHITE.mix(0.35),
+                &st,
+            )?;
+            for node in arrow_nodes(f.points, f.triangles, unit, bb, 12.0) {
+                let vec = f.vectors[node];
+                if !(vec[0].is_finite() && vec[1].is_finite()) {
+                    continue;
+                }
+                let c = v.px(f.points[node]);
+                let (hx, hy) = (0.5 * vec[0] * arrow_scale, -0.5 * vec[1] * arrow_scale);
+                draw_arrow(area, (c.0 - hx, c.1 - hy), (c.0 + hx, c.1 + hy), &st)?;
+            }
+            let bottom_of_column = i + cols >= n;
+            draw_mesh_axes(area, &v, &xt, &yt, bottom_of_column, c == 0, &st)?;
+            draw_text(
+                area,
+                &f.title,
+                (v.r.cx(), py0 - 0.6 * pad - DESC * fs),
+                fs,
+                HA::Center,
+                VA::Baseline,
+                false,
+                TEXT,
+            )?;
+        }
+        // Shared axis labels and colour bar.
+        let grid_bottom = y0 + gh;
+        draw_text(
+            area,
+            &xl,
+            (
+                x0 + 0.5 * gw,
+                grid_bottom + tick + 0.6 * pad + CAP * fs + pad,
+            ),
+            fl,
+            HA::Center,
+            VA::Top,
+            false,
+            TEXT,
+        )?;
+        let ylx = x0 - tick - 0.6 * pad - yt.max_label_w(fs) - 0.8 * pad - (CAP + DESC) * fl;
+        draw_text(
+            area,
+            &yl,
+            (ylx, y0 + title_band + 0.5 * (gh - title_band)),
+            fl,
+            HA::Center,
+            VA::Top,
+            true,
+            TEXT,
+        )?;
+        let cb = Rect::new(
+            x0 + gw + 1.2 * fs,
+            y0 + title_band,
+            x0 + gw + 2.3 * fs,
+            grid_bottom,
+        );
+        draw_colorbar(area, cb, vr, &ct, &cb_label, &st)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::{assert_png, centroid, disk, distinct_colors, out_dir, rectangle};
+    use crate::{mesh_color_map, mesh_vector_fields, mesh_vector_fields_with, PlotError};
+    use std::f64::consts::PI;
+
+    #[test]
+    fn mesh_color_map_sample() {
+        let dir = out_dir("mesh_color_map");
+        let (pts, tris) = disk(0.05, 8);
+        let vals: Vec<f64> = tris
+            .iter()
+            .map(|t| {
+                let c = centroid(&pts, t);
+                let r2 = (c[0] * c[0] + c[1] * c[1]) / 0.0025;
+                // J2-like field concentrated near the contact point (bottom).
+                let d2 = (c[0] * c[0] + (c[1] + 0.05) * (c[1] + 0.05)) / 0.0025;
+                12.0 * (-4.0 * d2).exp() + 0.5 * r2
+            })
+            .collect();
+        let map = MeshColorMap {
+            points: &pts,
+            triangles: &tris,
+            cell_values: &vals,
+            title: "von Mises invariant at t = 0.40 ms".into(),
+            colorbar_label: "J2 [MPa²]".into(),
+            length_unit_scale: 100.0,
+            length_unit: "cm".into(),
+        };
+        let p = dir.join("disk_j2.png");
+        mesh_color_map(&p, &map, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+        let buf = render_color_map(&map, (1200, 800), &MeshOptions::default()).unwrap();
+        assert!(distinct_colors(&buf) > 50);
+
+        // Fine mesh, tiny values (colour-bar factor), no edges.
+        let (pts2, tris2) = disk(0.05, 40);
+        let vals2: Vec<f64> = tris2
+            .iter()
+            .map(|t| 3e-6 * centroid(&pts2, t)[0].sin())
+            .collect();
+        let map2 = MeshColorMap {
+            points: &pts2,
+            triangles: &tris2,
+            cell_values: &vals2,
+            title: String::new(),
+            colorbar_label: "ε [-]".into(),
+            length_unit_scale: 1000.0,
+            length_unit: "mm".into(),
+        };
+        let p = dir.join("disk_fine.png");
+        mesh_color_map(&p, &map2, (800, 800)).unwrap();
+        assert_png(&p, (800, 800));
+
+        // Slender bar with a signed field.
+        let (pb, tb) = rectangle(1.0, 0.1, 60, 6);
+        let vb: Vec<f64> = tb
+            .iter()
+            .map(|t| {
+                let c = centroid(&pb, t);
+                -80.0 * (PI * c[0]).sin() * (c[1] - 0.05) / 0.05
+            })
+            .collect();
+        let bar = MeshColorMap {
+            points: &pb,
+            triangles: &tb,
+            cell_values: &vb,
+            title: "Bending stress".into(),
+            colorbar_label: "σxx [MPa]".into(),
+            length_unit_scale: 1.0,
+            length_unit: "m".into(),
+        };
+        let p = dir.join("bar.png");
+        mesh_color_map(&p, &bar, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+
+        // Errors.
+        let empty = MeshColorMap {
+            points: &pts,
+            triangles: &[],
+            cell_values: &[],
+            ..map.clone()
+        };
+        assert!(matches!(
+            mesh_color_map(&dir.join("e1.png"), &empty, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        let short = MeshColorMap {
+            cell_values: &vals[1..],
+            ..map.clone()
+        };
+        assert!(matches!(
+            mesh_color_map(&dir.join("e2.png"), &short, (600, 400)),
+            Err(PlotError::Draw { .. })
+        ));
+        let bad_tri = [[0usize, 1, 99_999]];
+        let bad = MeshColorMap {
+            triangles: &bad_tri,
+            cell_values: &vals[..1],
+            ..map.clone()
+        };
+        assert!(matches!(
+            mesh_color_map(&dir.join("e3.png"), &bad, (600, 400)),
+            Err(PlotError::Draw { .. })
+        ));
+        let nan_vals = vec![f64::NAN; tris.len()];
+        let nan = MeshColorMap {
+            cell_values: &nan_vals,
+            ..map.clone()
+        };
+        assert!(matches!(
+            mesh_color_map(&dir.join("e4.png"), &nan, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+    }
+
+    #[test]
+    fn vector_fields_sample() {
+        let dir = out_dir("vector_fields");
+        let (pts, tris) = disk(0.05, 10);
+        let times = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5];
+        // Falling disk hitting the ground: uniform downward velocity that is
+        // progressively stopped from the contact point upwards, with a
+        // slight rebound and rotation.
+        let fields: Vec<Vec<[f64; 2]>> = times
+            .iter()
+            .map(|&t| {
+                let front = -0.05 + 0.2 * t; // m
+                pts.iter()
+                    .map(|p| {
+                        let behind = p[1] < front;
+                        let vy = if behind { 0.6 * t } else { -1.5 };
+                        [0.3 * p[1] / 0.05 * t, vy]
+                    })
+                    .collect()
+            })
+            .collect();
+        let frames: Vec<MeshVectorField> = times
+            .iter()
+            .zip(&fields)
+            .map(|(t, v)| MeshVectorField {
+                points: &pts,
+                triangles: &tris,
+                vectors: v,
+                title: format!("t = {t:.1} ms"),
+                colorbar_label: "|v| [m/s]".into(),
+                length_unit_scale: 100.0,
+                length_unit: "cm".into(),
+            })
+            .collect();
+        let p = dir.join("velocity_2x3.png");
+        mesh_vector_fields(&p, &frames, 3, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+        let buf = render_vector_fields(&frames, 3, (1200, 800), &MeshOptions::default()).unwrap();
+        assert!(distinct_colors(&buf) > 50);
+        let p = dir.join("velocity_5_frames.png");
+        mesh_vector_fields(&p, &frames[..5], 3, (1200, 800)).unwrap();
+        assert_png(&p, (1200, 800));
+
+        // Slender bar, 3 rows x 2 columns, fixed colour range, all edges.
+        let (pb, tb) = rectangle(1.0, 0.1, 40, 4);
+        let bar_fields: Vec<Vec<[f64; 2]>> = (0..6)
+            .map(|k| {
+                let x0 = 0.2 * k as f64;
+                pb.iter()
+                    .map(|p| {
+                        let a = (-((p[0] - x0) / 0.08).powi(2)).exp();
+                        [2.0 * a, 0.2 * a * (p[1] - 0.05) / 0.05]
+                    })
+                    .collect()
+            })
+            .collect();
+        let bar_frames: Vec<MeshVectorField> = bar_fields
+            .iter()
+            .enumerate()
+            .map(|(k, v)| MeshVectorField {
+                points: &pb,
+                triangles: &tb,
+                vectors: v,
+                title: format!("t = {:.2} ms", 0.05 * k as f64),
+                colorbar_label: "|v| [m/s]".into(),
+                length_unit_scale: 100.0,
+                length_unit: "cm".into(),
+            })
+            .collect();
+        let p = dir.join("bar_3x2.png");
+        let opts = MeshOptions {
+            edges: EdgeMode::Always,
+            value_range: Some((0.0, 2.5)),
+        };
+        mesh_vector_fields_with(&p, &bar_frames, 2, (1200, 800), &opts).unwrap();
+        assert_png(&p, (1200, 800));
+
+        // Errors.
+        assert!(matches!(
+            mesh_vector_fields(&dir.join("e1.png"), &[], 3, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+        let bad = MeshVectorField {
+            vectors: &fields[0][1..],
+            ..frames[0].clone()
+        };
+        assert!(matches!(
+            mesh_vector_fields(&dir.join("e2.png"), &[bad], 3, (600, 400)),
+            Err(PlotError::Draw { .. })
+        ));
+        let empty = MeshVectorField {
+            triangles: &[],
+            ..frames[0].clone()
+        };
+        assert!(matches!(
+            mesh_vector_fields(&dir.join("e3.png"), &[empty], 3, (600, 400)),
+            Err(PlotError::Empty { .. })
+        ));
+    }
+
+    #[test]
+    fn non_finite_cell_values_are_drawn_as_no_data() {
+        let (pts, tris) = rectangle(2.0, 1.0, 4, 2);
+        let vals: Vec<f64> = (0..tris.len()).map(|i| i as f64).collect();
+        let map = MeshColorMap {
+            points: &pts,
+            triangles: &tris,
+            cell_values: &vals,
+            title: String::new(),
+            colorbar_label: "s [-]".into(),
+            length_unit_scale: 1.0,
+            length_unit: "m".into(),
+        };
+        let grey = |buf: &[u8]| {
+            buf.chunks(3)
+                .filter(|p| (p[0], p[1], p[2]) == (NO_DATA.0, NO_DATA.1, NO_DATA.2))
+                .count()
+        };
+        let opts = MeshOptions::default();
+        let clean = render_color_map(&map, (400, 300), &opts).unwrap();
+        let before = grey(&clean);
+        // Two cells without a value: grey, and the colour scale is that of
+        // the finite values (the full viridis range is still used).
+        let mut holes = vals.clone();
+        holes[0] = f64::NAN;
+        holes[5] = f64::INFINITY;
+        let map = MeshColorMap {
+            cell_values: &holes,
+            ..map
+        };
+        let buf = render_color_map(&map, (400, 300), &opts).unwrap();
+        assert!(
+            grey(&buf) > before + 500,
+            "{} -> {} grey pixels",
+            before,
+            grey(&buf)
+        );
+        for end in [viridis(0.0), viridis(1.0)] {
+            assert!(
+                buf.chunks(3)
+                    .any(|p| (p[0], p[1], p[2]) == (end.0, end.1, end.2)),
+                "{end:?} missing"
+            );
+        }
+    }
+}

@@ -1,0 +1,181 @@
+//! Errors, fonts, the super-sampled canvas and atomic PNG writing.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::register_font;
+
+use crate::PlotError;
+
+/// Internal error, turned into a [`PlotError`] once the path is known.
+#[derive(Debug)]
+pub(crate) enum Fail {
+    Empty(String),
+    Draw(String),
+}
+
+impl Fail {
+    pub(crate) fn at(self, path: &Path) -> PlotError {
+        match self {
+            Fail::Empty(why) => PlotError::Empty {
+                path: path.to_path_buf(),
+                why,
+            },
+            Fail::Draw(message) => PlotError::Draw {
+                path: path.to_path_buf(),
+                message,
+            },
+        }
+    }
+}
+
+pub(crate) type Res<T> = Result<T, Fail>;
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+
+pub(crate) fn de<E: std::fmt::Display>(e: E) -> Fail {
+    Fail::Draw(e.to_string())
+}
+
+pub(crate) const FONT_FAMILY: &str = "DejaVu Sans";
+static FONT_INIT: Once = Once::new();
+static FONT_OK: AtomicBool = AtomicBool::new(false);
+
+/// Registers the embedded DejaVu Sans font with plotters (once per process).
+fn ensure_fonts() -> Res<()> {
+    FONT_INIT.call_once(|| {
+        let ok = register_font(FONT_FAMILY, FontStyle::Normal, dejavu::sans::regular()).is_ok()
+            && register_font(FONT_FAMILY, FontStyle::Bold, dejavu::sans::bold()).is_ok();
+        FONT_OK.store(ok, Ordering::Release);
+    });
+    if FONT_OK.load(Ordering::Acquire) {
+        Ok(())
+    } else {
+        Err(Fail::Draw(
+            "cannot register the embedded DejaVu Sans font".into(),
+        ))
+    }
+}
+
+/// Figure geometry in super-sampled pixels.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Fig {
+    /// Super-sampling factor.
+    pub(crate) k: f64,
+    /// Output size in output pixels.
+    pub(crate) out: (f64, f64),
+    /// Canvas size in super-sampled pixels.
+    pub(crate) w: f64,
+    pub(crate) h: f64,
+}
+
+const MIN_SIZE: (u32, u32) = (120, 90);
+const MAX_PIXELS: u64 = 100_000_000;
+
+/// Renders with `draw` on a white, super-sampled canvas and returns the
+/// down-sampled RGB buffer of `size`.
+pub(crate) fn render<F>(size: (u32, u32), draw: F) -> Res<Vec<u8>>
+where
+    F: FnOnce(&Area, &Fig) -> Res<()>,
+{
+    ensure_fonts()?;
+    let (w, h) = size;
+    if w < MIN_SIZE.0 || h < MIN_SIZE.1 {
+        return Err(Fail::Draw(format!(
+            "image size {w}x{h} is too small (minimum {}x{})",
+            MIN_SIZE.0, MIN_SIZE.1
+        )));
+    }
+    if u64::from(w) * u64::from(h) > MAX_PIXELS {
+        return Err(Fail::Draw(format!("image size {w}x{h} is too large")));
+    }
+    let k: u32 = if u64::from(w) * u64::from(h) <= 4_000_000 {
+        2
+    } else {
+        1
+    };
+    let (sw, sh) = (w * k, h * k);
+    let mut big = vec![255u8; sw as usize * sh as usize * 3];
+    {
+        let area = BitMapBackend::with_buffer(&mut big, (sw, sh)).into_drawing_area();
+        let fig = Fig {
+            k: f64::from(k),
+            out: (f64::from(w), f64::from(h)),
+            w: f64::from(sw),
+            h: f64::from(sh),
+        };
+        // Last line of defence: plotting must never bring the solver down.
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| draw(&area, &fig)));
+        match result {
+            Ok(r) => r?,
+            Err(_) => return Err(Fail::Draw("internal error while drawing".into())),
+        }
+        area.present().map_err(de)?;
+    }
+    Ok(downsample(&big, (w, h), k))
+}
+
+/// Box-filter down-sampling of an RGB buffer by the integer factor `k`.
+fn downsample(big: &[u8], (w, h): (u32, u32), k: u32) -> Vec<u8> {
+    if k == 1 {
+        return big.to_vec();
+    }
+    let (w, h, k) = (w as usize, h as usize, k as usize);
+    let sw = w * k;
+    let n = (k * k) as u32;
+    let mut out = vec![0u8; w * h * 3];
+    for y in 0..h {
+        for x in 0..w {
+            for c in 0..3 {
+                let mut s = 0u32;
+                for dy in 0..k {
+                    let row = (y * k + dy) * sw;
+                    for dx in 0..k {
+                        s += u32::from(big[(row + x * k + dx) * 3 + c]);
+                    }
+                }
+                out[(y * w + x) * 3 + c] = ((s + n / 2) / n) as u8;
+            }
+        }
+    }
+    out
+}
+
+/// Writes the RGB buffer as PNG to `<path>.tmp.png`, then renames it to
+/// `path`.
+pub(crate) fn save_png(path: &Path, size: (u32, u32), rgb: &[u8]) -> Result<(), PlotError> {
+    let fail = |message: String| PlotError::Draw {
+        path: path.to_path_buf(),
+        message,
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| fail("the path has no file name".into()))?;
+    if let Some(parent) = path.parent() {
+        if !parent.as_os_str().is_empty() {
+            std::fs::create_dir_all(parent)
+                .map_err(|e| fail(format!("cannot create {}: {e}", parent.display())))?;
+        }
+    }
+    let mut tmp_name = name.to_os_string();
+    tmp_name.push(".tmp.png");
+    let tmp = path.with_file_name(tmp_name);
+    let written = (|| -> Result<(), String> {
+        let mut backend = BitMapBackend::new(&tmp, size);
+        backend
+            .blit_bitmap((0, 0), size, rgb)
+            .map_err(|e| e.to_string())?;
+        backend.present().map_err(|e| e.to_string())?;
+        Ok(())
+    })();
+    let result = written.and_then(|()| {
+        std::fs::rename(&tmp, path).map_err(|e| format!("cannot rename {}: {e}", tmp.display()))
+    });
+    if let Err(message) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(fail(message));
+    }
+    Ok(())
+}
