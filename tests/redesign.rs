@@ -5,7 +5,7 @@
 //! that existed before the redesign (the soft-way driver and the contact laboratory, commit
 //! efdfa0b), by running this test with `SOFTWAY_RECORD_GOLDEN=1`. This is a refactoring guard
 //! only: the physics of these runs is asserted against the exact answers in `bar_impact.rs`,
-//! `lab.rs`, `compare.rs` and `wheel.rs`. A change of algorithm that moves one of these values
+//! `treatments.rs`, `compare.rs` and `wheel.rs`. A change of algorithm that moves one of these values
 //! must say so in this file and assert the new value against an exact answer there instead.
 //!
 //! Measured after the redesign: every figure agrees to 1e-10 except in the four runs that
