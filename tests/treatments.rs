@@ -23,7 +23,7 @@ use std::sync::atomic::AtomicBool;
 /// Run length, s: impact at 0.5 s, release at 2.5 s, then 1.5 s of free flight.
 const T_END: f64 = 4.0;
 
-/// What one laboratory run measured (the metrics of `examples/lab_probe.rs`).
+/// What one run measured.
 #[derive(Debug, Clone)]
 struct Metrics {
     /// Last active step end minus first active step end plus one step, s.
@@ -57,7 +57,7 @@ impl Metrics {
 
 /// Runs a problem and measures it. `split`: the first dof of bar B (two bars). The mass rows come from the model
 /// actually integrated (mass redistribution changes `M`).
-fn run_lab(pb: Problem, split: Option<usize>) -> Metrics {
+fn measure(pb: Problem, split: Option<usize>) -> Metrics {
     let n = pb.model.n();
     let h = pb.h;
     let mut sim = Simulation::new(pb).expect("set up");
@@ -142,12 +142,12 @@ fn two_bars(elements: usize, lumped: bool) -> TwoBars {
 
 fn run_bar(b: BarImpact, i: Integrator, t: Treatment, h: f64) -> Metrics {
     let (_, pb) = b.problem(i, t, h, T_END);
-    run_lab(pb, None)
+    measure(pb, None)
 }
 
 fn run_two(b: TwoBars, i: Integrator, t: Treatment, h: f64) -> Metrics {
     let (_, pb) = b.problem(i, t, h, T_END);
-    run_lab(pb, Some(b.elements + 1))
+    measure(pb, Some(b.elements + 1))
 }
 
 /// The paper's space-time scheme.
