@@ -2,10 +2,124 @@
 //! map from every element-matrix entry to its slot in the value array; matrices sharing the
 //! pattern (`M`, `K`, `C`, `A`) are then filled by scattering element matrices
 //! (fenris `CsrAssembler::assemble_pattern` / `assemble_into_csr`).
+//!
+//! # The element loop
+//!
+//! A global matrix is the sum over the elements of their matrices scattered into the
+//! pattern, `A = sum_e P_e^T A_e P_e` (`P_e` picks element `e`'s dofs). The element matrix
+//! comes from an [`ElementMatrix`] operator, which fills a buffer the loop owns
+//! (fenris `assemble_element_matrix_into(element_index, output)`); the loop
+//! ([`Assembler::assemble`], [`Assembler::add_assembled`]) evaluates the elements in
+//! parallel and scatters them in element order, so the result does not depend on the
+//! number of threads.
+//!
+//! The operators of the 3-node triangle ([`crate::element::tri3`]) over a whole mesh:
+//!
+//! | operator | element matrix | global matrix |
+//! |---|---|---|
+//! | [`Tri3Mass`] | `rho t A / 12 (1 + delta_ij) delta_ab` (or lumped `rho t A / 3 I`) | `M` (also the damping `eta_z N^T N` of Eq. 22, with `eta_z` for `rho`) |
+//! | [`Tri3Stiffness`] | `t A B^T D B` | `K` |
+//! | [`Tri3GeometricStiffness`] | `delta_ab t A grad N_i . S_e grad N_j` | `K_sigma` of the element stresses `S_e` |
 
+use crate::element::tri3::{self, Tri3Geometry};
 use crate::linalg::Pattern;
+use crate::material::Elastic;
 use crate::mesh::Mesh;
 use rayon::prelude::*;
+
+/// An element operator: the `N x N` matrix of element `e`, written into the caller's buffer.
+///
+/// `N` is the number of dofs of an element (`dim * nodes per element`), the
+/// [`Assembler::ndof_e`] of the mesh it is assembled on. The buffer is zero on entry;
+/// the operator may overwrite it completely.
+pub trait ElementMatrix<const N: usize>: Sync {
+    /// Fills `out` with the matrix of element `e`.
+    fn element_matrix_into(&self, e: usize, out: &mut [[f64; N]; N]);
+}
+
+/// Mass matrix of a triangle mesh, consistent or lumped ([`tri3::mass_into`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Tri3Mass<'a> {
+    /// Element geometry, one per triangle.
+    pub geometry: &'a [Tri3Geometry],
+    /// Mass per unit volume, kg/m^3 (or the damping `eta_z`, N s/m^4, Eq. 22).
+    pub density: f64,
+    /// Thickness, m.
+    pub thickness: f64,
+    /// Lumped (`true`) or consistent mass.
+    pub lumped: bool,
+}
+
+impl ElementMatrix<6> for Tri3Mass<'_> {
+    fn element_matrix_into(&self, e: usize, out: &mut [[f64; 6]; 6]) {
+        tri3::mass_into(
+            &self.geometry[e],
+            self.density,
+            self.thickness,
+            self.lumped,
+            out,
+        );
+    }
+}
+
+/// Elastic stiffness of a triangle mesh ([`tri3::stiffness_into`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Tri3Stiffness<'a> {
+    /// Element geometry, one per triangle.
+    pub geometry: &'a [Tri3Geometry],
+    /// Voigt elasticity matrix `D`, Pa.
+    pub d: &'a [[f64; 3]; 3],
+    /// Thickness, m.
+    pub thickness: f64,
+}
+
+impl ElementMatrix<6> for Tri3Stiffness<'_> {
+    fn element_matrix_into(&self, e: usize, out: &mut [[f64; 6]; 6]) {
+        tri3::stiffness_into(&self.geometry[e], self.d, self.thickness, out);
+    }
+}
+
+/// Geometric (initial-stress) stiffness of a triangle mesh under the element stresses
+/// `stress[e] = [sxx, syy, txy]` (Pa), [`tri3::geometric_stiffness_into`].
+#[derive(Debug, Clone, Copy)]
+pub struct Tri3GeometricStiffness<'a> {
+    /// Element geometry, one per triangle.
+    pub geometry: &'a [Tri3Geometry],
+    /// The prestress of each element, `[sxx, syy, txy]`, Pa.
+    pub stress: &'a [[f64; 3]],
+    /// Thickness, m.
+    pub thickness: f64,
+}
+
+impl ElementMatrix<6> for Tri3GeometricStiffness<'_> {
+    fn element_matrix_into(&self, e: usize, out: &mut [[f64; 6]; 6]) {
+        tri3::geometric_stiffness_into(&self.geometry[e], self.stress[e], self.thickness, out);
+    }
+}
+
+/// Assembles `M` (consistent or lumped) and `K` of a triangle mesh with the elasticity
+/// matrix `d` and thickness `thickness` (m).
+pub fn assemble_mass_stiffness(
+    asm: &Assembler,
+    geom: &[Tri3Geometry],
+    d: &[[f64; 3]; 3],
+    material: &Elastic,
+    thickness: f64,
+    lumped: bool,
+) -> (Vec<f64>, Vec<f64>) {
+    let m = asm.assemble(&Tri3Mass {
+        geometry: geom,
+        density: material.density,
+        thickness,
+        lumped,
+    });
+    let k = asm.assemble(&Tri3Stiffness {
+        geometry: geom,
+        d,
+        thickness,
+    });
+    (m, k)
+}
 
 /// The sparsity pattern of a mesh and the element-to-value map.
 #[derive(Debug, Clone)]
@@ -151,6 +265,33 @@ impl Assembler {
         }
     }
 
+    /// The global matrix of the operator `op` (values on this pattern).
+    ///
+    /// # Panics
+    /// If `N` is not this mesh's [`Assembler::ndof_e`].
+    pub fn assemble<const N: usize>(&self, op: &impl ElementMatrix<N>) -> Vec<f64> {
+        let mut values = self.zeros();
+        self.add_assembled(op, &mut values);
+        values
+    }
+
+    /// Adds the global matrix of the operator `op` into `values`: the element loop of the
+    /// module docs, in parallel, scattered in element order (bitwise the serial sum).
+    ///
+    /// # Panics
+    /// If `N` is not this mesh's [`Assembler::ndof_e`].
+    pub fn add_assembled<const N: usize>(&self, op: &impl ElementMatrix<N>, values: &mut [f64]) {
+        if self.elem_dofs.is_empty() {
+            return;
+        }
+        assert_eq!(N, self.ndof_e, "element operator of the wrong size");
+        self.assemble_par_into(values, |e, out| {
+            let mut b = [[0.0; N]; N];
+            op.element_matrix_into(e, &mut b);
+            out.copy_from_slice(b.as_flattened());
+        });
+    }
+
     /// Dense copy (tests, small eigenproblems).
     pub fn to_dense(&self, values: &[f64]) -> faer::Mat<f64> {
         let n = self.pattern.nrows();
@@ -163,5 +304,59 @@ impl Assembler {
             }
         }
         a
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generators::disk_rings;
+
+    #[test]
+    fn operator_loop_is_bitwise_the_serial_sum_and_mass_sums_to_the_mass() {
+        let mesh = disk_rings(0.1, 6).unwrap();
+        let crate::mesh::Cells::Tri3(tris) = &mesh.cells else {
+            panic!("disk of triangles")
+        };
+        let geom: Vec<Tri3Geometry> = tris
+            .iter()
+            .map(|t| {
+                tri3::geometry(&[mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]]).unwrap()
+            })
+            .collect();
+        let asm = Assembler::new(&mesh);
+        let mat = Elastic {
+            young: 2.05e11,
+            poisson: 0.3,
+            density: 7830.0,
+        };
+        let d = crate::material::PlaneModel::Stress.elasticity_matrix(&mat);
+        let (m, k) = assemble_mass_stiffness(&asm, &geom, &d, &mat, 0.01, false);
+        let mut k_ser = asm.zeros();
+        asm.assemble_serial_into(&mut k_ser, |e, out| {
+            let mut b = [[0.0; 6]; 6];
+            tri3::stiffness_into(&geom[e], &d, 0.01, &mut b);
+            out.copy_from_slice(b.as_flattened());
+        });
+        assert_eq!(k, k_ser);
+        // Mass: 1^T M 1 over both components is twice the mass rho t A.
+        let area: f64 = geom.iter().map(|g| g.area).sum();
+        let total: f64 = m.iter().sum::<f64>() / 2.0;
+        let exact = 7830.0 * 0.01 * area;
+        assert!((total - exact).abs() < 1e-12 * exact, "{total} vs {exact}");
+        // Geometric stiffness of a uniform hydrostatic stress p: u^T K_sigma u = p t
+        // sum_a int |grad u_a|^2, which is p t |Omega| for u = (x, 0).
+        let p = 3.0e6;
+        let stress = vec![[p, p, 0.0]; geom.len()];
+        let ks = asm.assemble(&Tri3GeometricStiffness {
+            geometry: &geom,
+            stress: &stress,
+            thickness: 0.01,
+        });
+        let u: Vec<f64> = mesh.points.iter().flat_map(|q| [q[0], 0.0]).collect();
+        let mut ku = vec![0.0; u.len()];
+        crate::linalg::spmv_into(&asm.pattern, &ks, &u, &mut ku);
+        let q: f64 = ku.iter().zip(&u).map(|(a, b)| a * b).sum();
+        assert!((q - p * 0.01 * area).abs() < 1e-10 * p * 0.01 * area, "{q}");
     }
 }

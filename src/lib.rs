@@ -59,7 +59,9 @@
 //! | where are the other treatments? | `src/contact/complementarity.rs`, `mass_redistribution.rs`, `subdivision.rs` |
 //! | where are constraint rows solved? | `src/contact/rows.rs` |
 //! | where is the step loop? | `src/simulation.rs` |
-//! | where are the rotating-frame terms? | `src/frame.rs`, `src/wheel.rs` |
+//! | where are the rotating-frame terms? | `src/frame.rs` |
+//! | where are stresses and J2? | `src/element/tri3.rs`, `src/material.rs` |
+//! | where are the wheel job's observers? | `src/run/wheel/observers.rs` |
 //!
 //! ## Module map
 //! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.

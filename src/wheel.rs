@@ -3,7 +3,10 @@
 //! The wheel (a disk of plane-stress triangles) does not turn; the base line turns about
 //! its centre at `omega` and presses it to the flattening `d(t)`
 //! ([`Flattening`]); the forces of the circular motion
-//! are those of [`crate::frame`].
+//! are those of [`crate::frame`]. This module puts the pieces together: the mesh's element
+//! geometry, `M`, `K` and the damping through [`crate::assembly`], the supports and the rim,
+//! the spinning equilibrium and the rotating-frame terms of [`crate::frame`], and the
+//! [`Problem`] of the driver ([`WheelModel::problem`]).
 //!
 //! **Support at the axle.** The paper does not state it. [`Support::CentrePinned`] (the
 //! default) fixes the centre node: the wheel may then turn rigidly about the axle, the
@@ -23,10 +26,11 @@
 //! The pin stays the default because it leaves the rigid rotation of the paper's results;
 //! the contact dynamics are carried by the `n >= 2` modes, which it does not disturb.
 
-use crate::assembly::Assembler;
+use crate::assembly::{Assembler, Tri3Mass};
 use crate::contact::obstacle::{Flattening, RotatingLine};
 use crate::contact::{Obstacle, Pair, Treatment};
 use crate::element::tri3::{self, Tri3Geometry};
+use crate::frame;
 use crate::linalg::{LinalgError, SparseLu};
 use crate::material::{Elastic, PlaneModel};
 use crate::mesh::{Cells, Mesh};
@@ -127,17 +131,7 @@ impl WheelSpec {
     }
 }
 
-/// The six displacements of triangle `t` from the global vector `u`.
-pub fn element_displacements(u: &[f64], t: &[usize; 3]) -> [f64; 6] {
-    [
-        u[2 * t[0]],
-        u[2 * t[0] + 1],
-        u[2 * t[1]],
-        u[2 * t[1] + 1],
-        u[2 * t[2]],
-        u[2 * t[2] + 1],
-    ]
-}
+pub use crate::assembly::assemble_mass_stiffness;
 
 /// The assembled wheel: mesh, element geometry, matrices and the spinning equilibrium.
 #[derive(Debug)]
@@ -184,30 +178,6 @@ pub fn triangle_geometry(mesh: &Mesh) -> Result<(Vec<[usize; 3]>, Vec<Tri3Geomet
         })?);
     }
     Ok((tris.clone(), g))
-}
-
-/// Assembles `M` (consistent or lumped) and `K` of a triangle mesh.
-pub fn assemble_mass_stiffness(
-    asm: &Assembler,
-    geom: &[Tri3Geometry],
-    d: &[[f64; 3]; 3],
-    material: &Elastic,
-    thickness: f64,
-    lumped: bool,
-) -> (Vec<f64>, Vec<f64>) {
-    let mut m = asm.zeros();
-    let mut k = asm.zeros();
-    asm.assemble_par_into(&mut m, |e, out| {
-        let mut b = [[0.0; 6]; 6];
-        tri3::mass_into(&geom[e], material.density, thickness, lumped, &mut b);
-        out.copy_from_slice(b.as_flattened());
-    });
-    asm.assemble_par_into(&mut k, |e, out| {
-        let mut b = [[0.0; 6]; 6];
-        tri3::stiffness_into(&geom[e], d, thickness, &mut b);
-        out.copy_from_slice(b.as_flattened());
-    });
-    (m, k)
 }
 
 /// Solves `K u = f` with the given fixed dofs (and, when `pin_rotation`, the tangential
@@ -257,96 +227,41 @@ impl WheelModel {
             spec.lumped,
         );
         let n = mesh.n_dofs();
-        // Supports.
-        let held: Vec<usize> = match spec.support {
-            Support::CentrePinned => {
-                let c = (0..mesh.n_nodes())
-                    .min_by(|&a, &b| norm(mesh.points[a]).total_cmp(&norm(mesh.points[b])))
-                    .ok_or_else(|| WheelError::Support("empty mesh".into()))?;
-                if norm(mesh.points[c]) > 1e-6 * spec.radius {
-                    return Err(WheelError::Support(format!(
-                        "no node at the centre (the nearest is {:.3e} m away)",
-                        norm(mesh.points[c])
-                    )));
-                }
-                vec![c]
-            }
-            Support::Hub { radius } => {
-                let v = crate::mesh::generators::nodes_within(&mesh, [0.0, 0.0], radius);
-                if v.is_empty() {
-                    return Err(WheelError::Support(format!(
-                        "no node within the hub radius {radius} m"
-                    )));
-                }
-                v
-            }
-        };
+        let held = held_nodes(&mesh, &spec)?;
         let fixed_dofs: Vec<usize> = held.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
-        // Rim: the node set "rim" (a Gmsh physical group, or the generator's), else the
-        // nodes at the outer radius.
-        let rmax = mesh.points.iter().map(|&p| norm(p)).fold(0.0, f64::max);
-        let mut rim: Vec<usize> = match mesh.node_set("rim") {
-            Some(r) if !r.is_empty() => r.to_vec(),
-            _ => (0..mesh.n_nodes())
-                .filter(|&i| norm(mesh.points[i]) > rmax * (1.0 - 1e-6))
-                .collect(),
-        };
-        rim.sort_by(|&a, &b| angle(mesh.points[a]).total_cmp(&angle(mesh.points[b])));
+        let rim = rim_nodes(&mesh);
+        // External damping eta_z N^T N: the mass shape with eta_z in place of rho (Eq. 22).
         let mut c = asm.zeros();
         if spec.damping > 0.0 {
-            // eta_z N^T N: the mass shape with eta_z in place of rho (Eq. 22).
-            asm.assemble_par_into(&mut c, |e, out| {
-                let mut b = [[0.0; 6]; 6];
-                tri3::mass_into(
-                    &geometry[e],
-                    spec.damping,
-                    spec.thickness,
-                    spec.lumped,
-                    &mut b,
-                );
-                out.copy_from_slice(b.as_flattened());
-            });
+            asm.add_assembled(
+                &Tri3Mass {
+                    geometry: &geometry,
+                    density: spec.damping,
+                    thickness: spec.thickness,
+                    lumped: spec.lumped,
+                },
+                &mut c,
+            );
         }
         let mut k_eff = k.clone();
         let mut u_spin = vec![0.0; n];
         let mut load = vec![0.0; n];
         if spec.rotating_frame && spec.omega != 0.0 {
+            // The rotating-frame terms of crate::frame, about the spinning equilibrium.
             let om = -spec.omega;
-            let x = mesh.reference_positions();
-            let mut fc = vec![0.0; n];
-            crate::linalg::spmv_add(&asm.pattern, &m, om * om, &x, &mut fc);
-            // Static centrifugal equilibrium; a pinned wheel also gets the tangential dof of
-            // one rim node fixed (no reaction: the load is radial).
-            let mut fixed_static = fixed_dofs.clone();
-            if matches!(spec.support, Support::CentrePinned) {
-                if let Some(&r) = rim.first() {
-                    let p = mesh.points[r];
-                    fixed_static.push(if p[0].abs() > p[1].abs() {
-                        2 * r + 1
-                    } else {
-                        2 * r
-                    });
-                }
-            }
-            u_spin = static_solve(&asm, &k, &fc, &fixed_static)?;
-            if spec.stress_stiffening {
-                let mut ks = asm.zeros();
-                asm.assemble_par_into(&mut ks, |e, out| {
-                    let t = triangles[e];
-                    let ue = element_displacements(&u_spin, &t);
-                    let s = tri3::stress(&geometry[e], &d, &ue);
-                    let mut b = [[0.0; 6]; 6];
-                    tri3::geometric_stiffness_into(&geometry[e], s, spec.thickness, &mut b);
-                    out.copy_from_slice(b.as_flattened());
-                });
-                for (a, b) in k_eff.iter_mut().zip(&ks) {
-                    *a += b;
-                }
-            }
-            for (a, b) in k_eff.iter_mut().zip(&m) {
-                *a -= om * om * b;
-            }
-            crate::frame::add_coriolis(&asm, &m, om, &mut c);
+            let fc = frame::centrifugal_load(&asm.pattern, &m, om, &mesh.reference_positions());
+            u_spin = static_solve(
+                &asm,
+                &k,
+                &fc,
+                &static_fixed_dofs(&mesh, &spec, &fixed_dofs, &rim),
+            )?;
+            let k_sigma = spec.stress_stiffening.then(|| {
+                frame::stress_stiffening(&asm, &geometry, &triangles, &d, spec.thickness, &u_spin)
+            });
+            k_eff = frame::effective_stiffness(&k, k_sigma.as_deref(), &m, om);
+            frame::add_coriolis(&asm, &m, om, &mut c);
+            // The constant load K_eff u_c of the linearisation (frame module docs).
             crate::linalg::spmv_add(&asm.pattern, &k_eff, 1.0, &u_spin, &mut load);
             for &dof in &fixed_dofs {
                 load[dof] = 0.0;
@@ -432,22 +347,70 @@ impl WheelModel {
         }
     }
 
-    /// Element stresses `[sxx, syy, txy]` (Pa) of the displacement `u`, into `out`.
+    /// Element stresses `[sxx, syy, txy]` (Pa) of the displacement `u`, into `out`
+    /// ([`tri3::stresses_into`]; their `J2` and von Mises:
+    /// [`PlaneModel::stress_invariants`]).
     pub fn stresses_into(&self, u: &[f64], out: &mut [[f64; 3]]) {
-        for (e, t) in self.triangles.iter().enumerate() {
-            let ue = element_displacements(u, t);
-            out[e] = tri3::stress(&self.geometry[e], &self.d, &ue);
+        tri3::stresses_into(&self.geometry, &self.triangles, &self.d, u, out);
+    }
+}
+
+/// The nodes held by the support: the centre node, or every node within the hub radius.
+fn held_nodes(mesh: &Mesh, spec: &WheelSpec) -> Result<Vec<usize>, WheelError> {
+    match spec.support {
+        Support::CentrePinned => {
+            let c = (0..mesh.n_nodes())
+                .min_by(|&a, &b| norm(mesh.points[a]).total_cmp(&norm(mesh.points[b])))
+                .ok_or_else(|| WheelError::Support("empty mesh".into()))?;
+            if norm(mesh.points[c]) > 1e-6 * spec.radius {
+                return Err(WheelError::Support(format!(
+                    "no node at the centre (the nearest is {:.3e} m away)",
+                    norm(mesh.points[c])
+                )));
+            }
+            Ok(vec![c])
+        }
+        Support::Hub { radius } => {
+            let v = crate::mesh::generators::nodes_within(mesh, [0.0, 0.0], radius);
+            if v.is_empty() {
+                return Err(WheelError::Support(format!(
+                    "no node within the hub radius {radius} m"
+                )));
+            }
+            Ok(v)
         }
     }
+}
 
-    /// `J2` (Pa^2) and von Mises stress (Pa) of one element stress.
-    pub fn j2_vm(&self, s: [f64; 3]) -> (f64, f64) {
-        let szz = self.spec.plane.sigma_zz(&self.spec.material, s[0], s[1]);
-        (
-            tri3::j2(s[0], s[1], s[2], szz),
-            tri3::von_mises(s[0], s[1], s[2], szz),
-        )
+/// The rim, sorted by angle: the node set "rim" (a Gmsh physical group, or the
+/// generator's), else the nodes at the outer radius.
+fn rim_nodes(mesh: &Mesh) -> Vec<usize> {
+    let rmax = mesh.points.iter().map(|&p| norm(p)).fold(0.0, f64::max);
+    let mut rim: Vec<usize> = match mesh.node_set("rim") {
+        Some(r) if !r.is_empty() => r.to_vec(),
+        _ => (0..mesh.n_nodes())
+            .filter(|&i| norm(mesh.points[i]) > rmax * (1.0 - 1e-6))
+            .collect(),
+    };
+    rim.sort_by(|&a, &b| angle(mesh.points[a]).total_cmp(&angle(mesh.points[b])));
+    rim
+}
+
+/// The dofs held in the static centrifugal equilibrium: the support's, and for a pinned
+/// wheel the tangential dof of one rim node (no reaction: the load is radial).
+fn static_fixed_dofs(mesh: &Mesh, spec: &WheelSpec, fixed: &[usize], rim: &[usize]) -> Vec<usize> {
+    let mut fixed_static = fixed.to_vec();
+    if matches!(spec.support, Support::CentrePinned) {
+        if let Some(&r) = rim.first() {
+            let p = mesh.points[r];
+            fixed_static.push(if p[0].abs() > p[1].abs() {
+                2 * r + 1
+            } else {
+                2 * r
+            });
+        }
     }
+    fixed_static
 }
 
 fn norm(p: [f64; 2]) -> f64 {

@@ -47,16 +47,13 @@
 //!
 //! so that $u^T K_\sigma u = t A \sum_a \nabla u_a \cdot S\, \nabla u_a$.
 //!
-//! # Stress invariants
+//! # Stress recovery
 //!
-//! With the out-of-plane stress $\sigma_{zz}$ (see
-//! [`crate::material::PlaneModel::sigma_zz`]) the second invariant of the deviatoric stress
-//! $s = \sigma - \tfrac13 \operatorname{tr}\sigma\, I$ and the von Mises stress are
-//!
-//! $$J_2 = \tfrac12 s : s
-//!   = \tfrac16\left[(\sigma_{xx} - \sigma_{yy})^2 + (\sigma_{yy} - \sigma_{zz})^2 +
-//!   (\sigma_{zz} - \sigma_{xx})^2\right] + \tau_{xy}^2,\qquad
-//!   \sigma_{\text{vM}} = \sqrt{3 J_2}.$$
+//! The stress of an element is constant, $\sigma_e = D B u_e$ ([`stress`]), with $u_e$
+//! gathered from the global vector ([`element_displacements`]); [`stresses_into`] does it
+//! for every triangle of a mesh. Its invariants ($J_2$, von Mises), with the out-of-plane
+//! stress $\sigma_{zz}$ of plane strain, are those of
+//! [`crate::material::PlaneModel::stress_invariants`].
 //!
 //! All kernels overwrite the caller's buffer completely; they never allocate.
 
@@ -234,16 +231,36 @@ pub fn stress(g: &Tri3Geometry, d: &[[f64; 3]; 3], u: &[f64; 6]) -> [f64; 3] {
     s
 }
 
-/// Second invariant of the deviatoric stress, `J2 = 1/2 s:s`, of the stress state with the
-/// in-plane components `sxx, syy, txy` and the out-of-plane normal stress `szz` (no
-/// out-of-plane shear).
-pub fn j2(sxx: f64, syy: f64, txy: f64, szz: f64) -> f64 {
-    ((sxx - syy).powi(2) + (syy - szz).powi(2) + (szz - sxx).powi(2)) / 6.0 + txy * txy
+/// The six displacements `[u0x, u0y, u1x, u1y, u2x, u2y]` of the triangle with nodes `t`,
+/// gathered from the global vector `u` (two dofs per node, interleaved).
+pub fn element_displacements(u: &[f64], t: &[usize; 3]) -> [f64; 6] {
+    [
+        u[2 * t[0]],
+        u[2 * t[0] + 1],
+        u[2 * t[1]],
+        u[2 * t[1] + 1],
+        u[2 * t[2]],
+        u[2 * t[2] + 1],
+    ]
 }
 
-/// Von Mises equivalent stress `sqrt(3 J2)` (see [`j2`]).
-pub fn von_mises(sxx: f64, syy: f64, txy: f64, szz: f64) -> f64 {
-    (3.0 * j2(sxx, syy, txy, szz)).sqrt()
+/// The stress `[sxx, syy, txy]` (Pa) of every triangle (nodes `triangles[e]`, geometry
+/// `geometry[e]`) under the global displacement `u`, into `out` (one per triangle).
+/// No allocation.
+///
+/// # Panics
+/// If `out`, `geometry` and `triangles` differ in length.
+pub fn stresses_into(
+    geometry: &[Tri3Geometry],
+    triangles: &[[usize; 3]],
+    d: &[[f64; 3]; 3],
+    u: &[f64],
+    out: &mut [[f64; 3]],
+) {
+    assert!(geometry.len() == triangles.len() && out.len() == triangles.len());
+    for ((s, g), t) in out.iter_mut().zip(geometry).zip(triangles) {
+        *s = stress(g, d, &element_displacements(u, t));
+    }
 }
 
 #[cfg(test)]
@@ -645,27 +662,60 @@ mod tests {
     }
 
     #[test]
-    fn j2_and_von_mises_of_simple_states() {
-        let s = -123.0e6;
-        assert!(close(j2(s, 0.0, 0.0, 0.0), s * s / 3.0, 1e-15));
-        assert!(close(j2(0.0, s, 0.0, 0.0), s * s / 3.0, 1e-15));
-        assert!(close(j2(0.0, 0.0, 0.0, s), s * s / 3.0, 1e-15));
-        assert!(close(von_mises(s, 0.0, 0.0, 0.0), s.abs(), 1e-15));
-        // Pure shear: J2 = tau^2, von Mises = sqrt(3) tau.
-        let tau = 40.0e6;
-        assert!(close(j2(0.0, 0.0, tau, 0.0), tau * tau, 1e-15));
-        assert!(close(
-            von_mises(tau, -tau, 0.0, 0.0),
-            3f64.sqrt() * tau,
-            1e-15
-        ));
-        // Hydrostatic: zero.
-        assert_eq!(j2(5.0e6, 5.0e6, 0.0, 5.0e6), 0.0);
-        // Against 1/2 s:s computed from the deviator.
-        let (sxx, syy, txy, szz): (f64, f64, f64, f64) = (3.0, -1.5, 0.7, 0.4);
-        let p = (sxx + syy + szz) / 3.0;
-        let ss = (sxx - p).powi(2) + (syy - p).powi(2) + (szz - p).powi(2) + 2.0 * txy * txy;
-        assert!(close(j2(sxx, syy, txy, szz), 0.5 * ss, 1e-14));
+    fn recovered_stresses_and_invariants_of_hand_computed_states() {
+        // Two triangles of the unit square; the displacement fields below give uniform
+        // strains whose stresses and J2 are computed by hand.
+        let points = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let triangles = [[0, 1, 2], [0, 2, 3]];
+        let geom: Vec<Tri3Geometry> = triangles
+            .iter()
+            .map(|t| geometry(&[points[t[0]], points[t[1]], points[t[2]]]).unwrap())
+            .collect();
+        let field = |f: &dyn Fn(f64, f64) -> [f64; 2]| -> Vec<f64> {
+            points.iter().flat_map(|p| f(p[0], p[1])).collect()
+        };
+        let (e, nu) = (STEEL.young, STEEL.poisson);
+        let mut s = [[f64::NAN; 3]; 2];
+        // Plane stress, uniaxial stress sigma: eps_xx = sigma/E, eps_yy = -nu sigma/E, so
+        // sigma_xx = sigma, sigma_yy = tau_xy = sigma_zz = 0 and J2 = sigma^2/3.
+        let sigma = 150.0e6;
+        let u = field(&|x, y| [sigma / e * x, -nu * sigma / e * y]);
+        let ps = PlaneModel::Stress;
+        stresses_into(&geom, &triangles, &ps.elasticity_matrix(&STEEL), &u, &mut s);
+        for se in s {
+            assert!(close(se[0], sigma, 1e-12) && se[1].abs() < 1e-6 && se[2].abs() < 1e-6);
+            let (j2, vm) = ps.stress_invariants(&STEEL, se);
+            assert!(close(j2, sigma * sigma / 3.0, 1e-12), "{j2}");
+            assert!(close(vm, sigma, 1e-12), "{vm}");
+        }
+        // Simple shear gamma in either model: tau = G gamma, G = E / (2 (1 + nu)),
+        // sigma_zz = 0 (plane strain: nu (0 + 0)), J2 = tau^2, von Mises = sqrt(3) tau.
+        let gamma = 1e-3;
+        let tau = e / (2.0 * (1.0 + nu)) * gamma;
+        let u = field(&|_, y| [gamma * y, 0.0]);
+        for pm in [PlaneModel::Stress, PlaneModel::Strain] {
+            stresses_into(&geom, &triangles, &pm.elasticity_matrix(&STEEL), &u, &mut s);
+            for se in s {
+                assert!(se[0].abs() < 1e-6 && se[1].abs() < 1e-6 && close(se[2], tau, 1e-12));
+                let (j2, vm) = pm.stress_invariants(&STEEL, se);
+                assert!(close(j2, tau * tau, 1e-12), "{pm:?}: {j2} vs {}", tau * tau);
+                assert!(close(vm, 3f64.sqrt() * tau, 1e-12));
+            }
+        }
+        // Plane strain, eps_xx = eps only: sigma_xx = E (1 - nu) eps / ((1 + nu)(1 - 2 nu)),
+        // sigma_yy = sigma_zz = E nu eps / ((1 + nu)(1 - 2 nu)); J2 = (sxx - syy)^2 / 3.
+        let eps = 1e-3;
+        let c = e * eps / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let (sxx, syy) = (c * (1.0 - nu), c * nu);
+        let u = field(&|x, _| [eps * x, 0.0]);
+        let pe = PlaneModel::Strain;
+        stresses_into(&geom, &triangles, &pe.elasticity_matrix(&STEEL), &u, &mut s);
+        for se in s {
+            assert!(close(se[0], sxx, 1e-12) && close(se[1], syy, 1e-12));
+            assert!(close(pe.sigma_zz(&STEEL, se[0], se[1]), syy, 1e-12));
+            let (j2, _) = pe.stress_invariants(&STEEL, se);
+            assert!(close(j2, (sxx - syy).powi(2) / 3.0, 1e-12), "{j2}");
+        }
     }
 
     #[test]

@@ -7,27 +7,33 @@
 //! period `2 pi / (omega N_rim)` (the base passes one rim node in that time: a ripple of the
 //! mesh, not of the wheel), then every local maximum whose prominence is at least 10% of the
 //! turn's force range counts as one oscillation
-//! ([`count_oscillations`]).
+//! ([`crate::analysis::signal::count_oscillations`]).
+//!
+//! **Shape of the job.** [`simulate`] builds the observers of [`observers`] (history rows,
+//! contact-force statistics, energy, the turn-averaged `J2` / von Mises, the velocity
+//! snapshots, the progress bar), attaches them to the step loop in [`drive`], the one
+//! place that speaks to the driver ([`crate::simulation`]), then collects their results
+//! into the [`WheelSummary`], the VTK fields and the figures ([`figures`]).
 
-use super::{progress_bar, RunError, RunOptions, RunReport, INTERRUPT};
-use crate::analysis::signal::{
-    amplitude_spectrum, count_oscillations, dominant_peak, moving_average, resample_uniform,
-};
+pub mod figures;
+pub mod observers;
+
+use super::{RunError, RunOptions, RunReport, INTERRUPT};
 use crate::mesh::generators::disk_rings;
 use crate::mesh::gmsh::read_msh;
 use crate::mesh::Mesh;
-use crate::output::files::{write_json, CsvWriter};
-use crate::output::plot::{
-    line_plot, mesh_color_map_with, mesh_vector_fields, MeshColorMap, MeshOptions, MeshVectorField,
-    Panel, Series, SeriesStyle,
-};
+use crate::output::files::write_json;
 use crate::output::vtk::{write_vtu, Field, PvdWriter};
 use crate::scenario::{MeshSource, Model, Run, Scenario, WheelScenario};
-use crate::simulation::Simulation;
 use crate::wheel::WheelModel;
+use observers::{
+    ContactForceStats, ContactForceSummary, ContactNodesWriter, EnergyWatch, HistoryWriter,
+    Observer, Progress, Snapshots, Timeline, TurnAverage, TurnAverageFields, VelocitySnapshots,
+    WheelStep,
+};
 use serde::Serialize;
 use std::f64::consts::PI;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Key figures of a wheel run (`summary.json`).
@@ -168,7 +174,8 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
     ]
 }
 
-/// Runs one wheel run and writes its files (history, plots, fields) into `out`.
+/// Runs one wheel run and writes its files (history, fields, plots) into `out`: build the
+/// observers, attach them to the step loop ([`drive`]), collect.
 ///
 /// # Errors
 /// [`RunError`].
@@ -179,218 +186,192 @@ pub fn simulate(
     sc: &Scenario,
     out: &Path,
     show_progress: bool,
-) -> Result<(WheelSummary, Vec<std::path::PathBuf>), RunError> {
+) -> Result<(WheelSummary, Vec<PathBuf>), RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     let h = run.params.h;
-    let omega = ws.spec.omega;
-    let t_settle = ws.spec.flattening.settle_time;
-    let turn_time = 2.0 * PI / omega;
+    let timeline = Timeline {
+        h,
+        t_settle: ws.spec.flattening.settle_time,
+        turn_time: 2.0 * PI / ws.spec.omega,
+        turns: ws.turns,
+    };
     let steps = (ws.duration() / h).round() as usize;
+    let last_turn = timeline.last_full_turn();
+    let history_path = out.join("history.csv");
+    let mut history = HistoryWriter::create(&history_path, sc.history_stride, wm.base())?;
+    let nodes_path = out.join("contact_nodes.csv");
+    let mut nodes = ContactNodesWriter::create(&nodes_path, sc.history_stride, &wm.rim)?;
+    let mut forces = ContactForceStats::new(timeline, steps);
+    let mut energy = EnergyWatch::new(timeline);
+    let mut average = TurnAverage::new(wm, timeline, last_turn);
+    let mut snapshots =
+        VelocitySnapshots::new(timeline, last_turn.0, ws.fields_per_turn, wm.mesh.n_dofs());
+    let mut progress = Progress::new(steps, &run.label, show_progress);
+    let outcome = drive(
+        wm,
+        ws,
+        run,
+        steps,
+        &mut [
+            &mut history,
+            &mut nodes,
+            &mut forces,
+            &mut energy,
+            &mut average,
+            &mut snapshots,
+            &mut progress,
+        ],
+    )?;
+    progress.finish();
+    let results = WheelResults {
+        timeline,
+        outcome,
+        forces: forces.finish(ws.spec.omega, wm.rim.len()),
+        energy: energy.finish(),
+        fields: average.finish(),
+        snapshots: snapshots.finish(),
+    };
+    let summary = summarise(wm, ws, run, &results);
+    let mut files = vec![history.finish()?, nodes.finish()?];
+    files.extend(write_fields(out, wm, &results)?);
+    if sc.plots {
+        files.extend(figures::write(out, wm, &summary, &results)?);
+    }
+    Ok((summary, files))
+}
+
+/// What the step loop reports back, in the job's terms.
+#[derive(Debug, Clone, Copy)]
+pub struct LoopOutcome {
+    /// Steps taken.
+    pub steps: usize,
+    /// Brakings (steps stepped back).
+    pub brakings: usize,
+    /// Releases.
+    pub releases: usize,
+    /// Stopped by Ctrl-C.
+    pub interrupted: bool,
+    /// Wall-clock time of the loop, s.
+    pub wall_time_s: f64,
+}
+
+/// Runs the wheel's step loop with the observers attached: the one place that speaks to
+/// the driver (the [`crate::simulation::Problem`] of [`WheelModel::problem`],
+/// [`crate::simulation::Simulation`], its step view and counters).
+///
+/// # Errors
+/// [`RunError::Simulation`] (an observer's I/O error included).
+pub fn drive(
+    wm: &WheelModel,
+    ws: &WheelScenario,
+    run: &Run,
+    steps: usize,
+    observers: &mut [&mut dyn Observer],
+) -> Result<LoopOutcome, RunError> {
+    use crate::simulation::Simulation;
+    let sim_error = |source| RunError::Simulation {
+        run: run.label.clone(),
+        source,
+    };
+    let t_settle = ws.spec.flattening.settle_time;
     let gamma_schedule = match ws.settle_gamma {
         Some(g) if t_settle > 0.0 => vec![(0.0, g), (t_settle, run.params.gamma)],
         _ => vec![],
     };
-    let problem = wm.problem(run.integrator, h, gamma_schedule, run.contact, steps);
-    let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation {
-        run: run.label.clone(),
-        source,
-    })?;
-    let base = wm.base();
-    let hist = out.join("history.csv");
-    let mut csv = CsvWriter::create(
-        &hist,
-        &[
-            "t_s",
-            "base_angle_deg",
-            "contact_force_N",
-            "nodes_in_contact",
-            "kinetic_J",
-            "strain_J",
-            "total_J",
-            "min_gap_m",
-        ],
-    )
-    .map_err(|e| RunError::output(&hist, e))?;
-    // Per contact node, long format: one row per node carrying a reaction, per stride.
-    let nodes_path = out.join("contact_nodes.csv");
-    let mut nodes_csv =
-        CsvWriter::create(&nodes_path, &["node", "t_s", "force_N", "gap_m", "held"])
-            .map_err(|e| RunError::output(&nodes_path, e))?;
-    let node_ids: Vec<String> = wm.rim.iter().map(|n| n.to_string()).collect();
-    let n_el = wm.triangles.len();
-    let n = wm.mesh.n_dofs();
-    // Last full turn: averaging window and snapshots.
-    let full_turns = ws.turns.floor().max(1.0);
-    let avg_start = t_settle + (full_turns - 1.0) * turn_time;
-    let avg_end = t_settle + full_turns * turn_time;
-    let n_snap = ws.fields_per_turn;
-    let snap_times: Vec<f64> = (0..n_snap)
-        .map(|i| avg_start + (i as f64 + 0.5) * turn_time / n_snap as f64)
-        .collect();
-    let mut snaps_v: Vec<Vec<f64>> = Vec::with_capacity(n_snap);
-    let mut snaps_u: Vec<Vec<f64>> = Vec::with_capacity(n_snap);
-    let mut snaps_t: Vec<f64> = Vec::with_capacity(n_snap);
-    let mut stress = vec![[0.0; 3]; n_el];
-    let mut j2_sum = vec![0.0; n_el];
-    let mut vm_sum = vec![0.0; n_el];
-    let mut n_avg = 0usize;
-    let mut force_t = Vec::with_capacity(steps + 1);
-    let mut force_y = Vec::with_capacity(steps + 1);
-    let mut all_t = Vec::with_capacity(steps + 1);
-    let mut all_f = Vec::with_capacity(steps + 1);
-    let (mut held_sum, mut max_pen, mut e_settled, mut e_final) = (0.0, 0.0f64, None, 0.0);
-    let pb = progress_bar(steps as u64, &run.label, show_progress);
-    let stride = sc.history_stride;
+    let problem = wm.problem(
+        run.integrator,
+        run.params.h,
+        gamma_schedule,
+        run.contact,
+        steps,
+    );
+    let mut sim = Simulation::new(problem).map_err(sim_error)?;
     let start = Instant::now();
     let stats = sim
         .run(&INTERRUPT, |s| {
             let st = s.state;
-            let t = st.t;
-            let min_gap = st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
-            max_pen = max_pen.max(-min_gap);
-            let e = s.kinetic + s.strain;
-            e_final = e;
-            all_t.push(t);
-            all_f.push(s.contact_force);
-            if t >= t_settle - 0.5 * h {
-                if e_settled.is_none() {
-                    e_settled = Some(e);
-                }
-                force_t.push(t);
-                force_y.push(s.contact_force);
-                held_sum += s.held as f64;
-            }
-            if t >= avg_start - 0.5 * h && t < avg_end - 0.5 * h {
-                wm.stresses_into(&st.u, &mut stress);
-                for (e, sg) in stress.iter().enumerate() {
-                    let (j2, vm) = wm.j2_vm(*sg);
-                    j2_sum[e] += j2;
-                    vm_sum[e] += vm;
-                }
-                n_avg += 1;
-            }
-            if snaps_t.len() < n_snap && t >= snap_times[snaps_t.len()] - 0.5 * h {
-                snaps_t.push(t);
-                snaps_v.push(st.v.clone());
-                snaps_u.push(st.u.clone());
-            }
-            if st.k % stride == 0 {
-                for (p, ps) in st.pairs.iter().enumerate() {
-                    if ps.held || ps.force != 0.0 {
-                        let held = if ps.held { 1.0 } else { 0.0 };
-                        nodes_csv.row(Some(&node_ids[p]), &[t, ps.force, ps.gap, held])?;
-                    }
-                }
-                csv.row(
-                    None,
-                    &[
-                        t,
-                        base.angle(t).to_degrees(),
-                        s.contact_force,
-                        s.held as f64,
-                        s.kinetic,
-                        s.strain,
-                        e,
-                        min_gap,
-                    ],
-                )?;
-            }
-            if st.k % 256 == 0 {
-                pb.set_position(st.k as u64);
-            }
-            Ok(())
+            let step = WheelStep {
+                k: st.k,
+                t: st.t,
+                u: &st.u,
+                v: &st.v,
+                kinetic: s.kinetic,
+                strain: s.strain,
+                penalty: s.penalty,
+                contact_force: s.contact_force,
+                held: s.held,
+                min_gap: st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min),
+                pairs: &st.pairs,
+            };
+            observers.iter_mut().try_for_each(|o| o.observe(&step))
         })
-        .map_err(|source| RunError::Simulation {
-            run: run.label.clone(),
-            source,
-        })?;
-    pb.finish_and_clear();
-    let wall = start.elapsed().as_secs_f64();
-    csv.finish().map_err(|e| RunError::output(&hist, e))?;
-    nodes_csv
-        .finish()
-        .map_err(|e| RunError::output(&nodes_path, e))?;
-    let mut files = vec![hist, nodes_path];
+        .map_err(sim_error)?;
+    Ok(LoopOutcome {
+        steps: stats.steps,
+        brakings: stats.brakings,
+        releases: stats.releases,
+        interrupted: stats.interrupted,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    })
+}
 
-    // Contact force statistics over the rolling phase.
-    let nf = force_y.len().max(1) as f64;
-    let mean = force_y.iter().sum::<f64>() / nf;
-    let fmax = force_y.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-    let fmin = force_y.iter().cloned().fold(f64::INFINITY, f64::min);
-    let n_rim = wm.rim.len().max(1);
-    let node_pass_hz = omega * n_rim as f64 / (2.0 * PI);
-    let smooth_w = ((1.0 / node_pass_hz) / h).round().max(1.0) as usize;
-    let mut osc = Vec::new();
-    for k in 0..(ws.turns.floor() as usize) {
-        let (a, b) = (
-            t_settle + k as f64 * turn_time,
-            t_settle + (k + 1) as f64 * turn_time,
-        );
-        let seg: Vec<f64> = force_t
-            .iter()
-            .zip(&force_y)
-            .filter(|(t, _)| **t >= a - 0.5 * h && **t < b - 0.5 * h)
-            .map(|(_, f)| *f)
-            .collect();
-        if seg.len() > 3 {
-            osc.push(count_oscillations(&moving_average(&seg, smooth_w), 0.1));
-        }
-    }
-    let (_, ry) = resample_uniform(&force_t, &force_y, h);
-    let spec = amplitude_spectrum(&ry, h);
-    let rot_hz = omega / (2.0 * PI);
-    // The wheel's own oscillation: the largest peak above the rotation frequency away from
-    // the node-passing ripple and its harmonics (+-10%).
-    let mut wheel_spec = spec.clone();
-    for (f, a) in wheel_spec
-        .frequency_hz
-        .iter()
-        .zip(wheel_spec.amplitude.iter_mut())
-    {
-        let harmonic = (f / node_pass_hz).round();
-        if harmonic >= 1.0 && (f - harmonic * node_pass_hz).abs() < 0.1 * node_pass_hz {
-            *a = 0.0;
-        }
-    }
-    let dom = dominant_peak(&wheel_spec, rot_hz);
+/// The observers' results of a run.
+#[derive(Debug, Clone)]
+pub struct WheelResults {
+    /// The run's phases.
+    pub timeline: Timeline,
+    /// The loop's counters.
+    pub outcome: LoopOutcome,
+    /// Contact-force figures and the force over time.
+    pub forces: ContactForceSummary,
+    /// Energy after settling and at the end, J.
+    pub energy: (f64, f64),
+    /// Turn-averaged `J2` and von Mises.
+    pub fields: TurnAverageFields,
+    /// Velocity snapshots of the last full turn.
+    pub snapshots: Snapshots,
+}
 
-    // Turn averages.
-    let cnt = n_avg.max(1) as f64;
-    let j2_avg: Vec<f64> = j2_sum.iter().map(|v| v / cnt / 1e12).collect();
-    let vm_avg: Vec<f64> = vm_sum.iter().map(|v| v / cnt / 1e6).collect();
-    let summary = WheelSummary {
+/// The key figures of a run.
+fn summarise(wm: &WheelModel, ws: &WheelScenario, run: &Run, r: &WheelResults) -> WheelSummary {
+    let omega = ws.spec.omega;
+    let (f, o) = (&r.forces, &r.outcome);
+    WheelSummary {
         label: run.label.clone(),
         omega,
         speed_km_h: omega * ws.spec.radius * 3.6,
-        h,
+        h: run.params.h,
         alpha: run.params.alpha,
         gamma: run.params.gamma,
-        dofs: n,
+        dofs: wm.mesh.n_dofs(),
         nodes: wm.mesh.n_nodes(),
-        triangles: n_el,
+        triangles: wm.triangles.len(),
         turns: ws.turns,
-        steps: stats.steps,
-        mean_contact_force: mean,
-        max_contact_force: fmax,
-        min_contact_force: fmin,
-        mean_nodes_in_contact: held_sum / nf,
-        oscillations_per_turn: osc,
-        dominant_frequency_hz: dom.map(|d| d.0),
-        dominant_cycles_per_turn: dom.map(|d| d.0 / rot_hz),
-        node_passing_frequency_hz: node_pass_hz,
-        max_penetration: max_pen.max(0.0),
-        max_j2_turn_average_mpa2: j2_avg.iter().cloned().fold(0.0, f64::max),
-        max_von_mises_turn_average_mpa: vm_avg.iter().cloned().fold(0.0, f64::max),
-        energy_after_settling: e_settled.unwrap_or(0.0),
-        energy_final: e_final,
-        brakings: stats.brakings,
-        releases: stats.releases,
-        wall_time_s: wall,
-        time_per_step_us: wall / stats.steps.max(1) as f64 * 1e6,
-        interrupted: stats.interrupted,
-    };
+        steps: o.steps,
+        mean_contact_force: f.mean,
+        max_contact_force: f.max,
+        min_contact_force: f.min,
+        mean_nodes_in_contact: f.mean_nodes_held,
+        oscillations_per_turn: f.oscillations_per_turn.clone(),
+        dominant_frequency_hz: f.dominant.map(|d| d.0),
+        dominant_cycles_per_turn: f.dominant.map(|d| d.0 / f.rotation_hz),
+        node_passing_frequency_hz: f.node_passing_hz,
+        max_penetration: f.max_penetration,
+        max_j2_turn_average_mpa2: r.fields.j2_mpa2.iter().cloned().fold(0.0, f64::max),
+        max_von_mises_turn_average_mpa: r.fields.von_mises_mpa.iter().cloned().fold(0.0, f64::max),
+        energy_after_settling: r.energy.0,
+        energy_final: r.energy.1,
+        brakings: o.brakings,
+        releases: o.releases,
+        wall_time_s: o.wall_time_s,
+        time_per_step_us: o.wall_time_s / o.steps.max(1) as f64 * 1e6,
+        interrupted: o.interrupted,
+    }
+}
 
-    // Fields for ParaView.
+/// Fields for ParaView: the turn averages (`j2_turn_average.vtu`) and the velocity
+/// snapshots (`velocity_NNN.vtu`, `velocity.pvd`).
+fn write_fields(out: &Path, wm: &WheelModel, r: &WheelResults) -> Result<Vec<PathBuf>, RunError> {
     let vtu = out.join("j2_turn_average.vtu");
     write_vtu(
         &vtu,
@@ -401,19 +382,20 @@ pub fn simulate(
             Field {
                 name: "J2_turn_average_MPa2",
                 components: 1,
-                values: &j2_avg,
+                values: &r.fields.j2_mpa2,
             },
             Field {
                 name: "von_mises_turn_average_MPa",
                 components: 1,
-                values: &vm_avg,
+                values: &r.fields.von_mises_mpa,
             },
         ],
     )
     .map_err(|e| RunError::output(&vtu, e))?;
-    files.push(vtu);
+    let mut files = vec![vtu];
     let mut pvd = PvdWriter::new();
-    for (i, ((t, v), u)) in snaps_t.iter().zip(&snaps_v).zip(&snaps_u).enumerate() {
+    let sn = &r.snapshots;
+    for (i, ((t, v), u)) in sn.t.iter().zip(&sn.v).zip(&sn.u).enumerate() {
         let name = format!("velocity_{i:03}.vtu");
         let p = out.join(&name);
         let speed: Vec<f64> = v
@@ -447,175 +429,5 @@ pub fn simulate(
         pvd.write(&p).map_err(|e| RunError::output(&p, e))?;
         files.push(p);
     }
-
-    if sc.plots {
-        // Fig. 12: force over the turns.
-        let turns_axis: Vec<f64> = all_t.iter().map(|t| (t - t_settle) / turn_time).collect();
-        let mut p = Panel::new(
-            format!(
-                "Contact force, omega = {omega} rad/s ({:.0} km/h)",
-                summary.speed_km_h
-            ),
-            "turns after settling",
-            "contact force [N]",
-        );
-        p.series.push(Series::new(
-            "contact force",
-            turns_axis.clone(),
-            all_f.clone(),
-            SeriesStyle::Line,
-        ));
-        p.hlines
-            .push((mean, format!("mean over the turns {mean:.3e} N")));
-        let png = out.join("contact_force.png");
-        line_plot(&png, &p, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
-        files.push(png);
-        // Fig. 13: a zoom on a quarter of the last turn.
-        let z0 = full_turns - 1.0;
-        let mut pz = Panel::new(
-            "Contact force (zoom on a quarter turn)",
-            "turns after settling",
-            "contact force [N]",
-        );
-        pz.series.push(Series::new(
-            "contact force",
-            turns_axis,
-            all_f,
-            SeriesStyle::Line,
-        ));
-        pz.x_range = Some((z0, z0 + 0.25));
-        let png = out.join("contact_force_zoom.png");
-        line_plot(&png, &pz, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
-        files.push(png);
-        // Spectrum.
-        if !spec.frequency_hz.is_empty() {
-            let (lo, hi) = (0.5 * rot_hz, (20.0 * node_pass_hz).min(0.5 / h));
-            let mut ps = Panel::new(
-                "Amplitude spectrum of the contact force (rolling phase; largest peak per log bin)",
-                "frequency [Hz]",
-                "amplitude [N]",
-            );
-            ps.x_log = true;
-            ps.y_log = true;
-            ps.x_range = Some((lo, hi));
-            let (f, a) = peak_envelope(&spec.frequency_hz, &spec.amplitude, lo, hi, 1200);
-            // Five decades below the largest peak.
-            let amax = a.iter().cloned().fold(0.0, f64::max);
-            let (f, a): (Vec<f64>, Vec<f64>) = f
-                .into_iter()
-                .zip(a)
-                .filter(|(_, x)| *x >= amax * 1e-5)
-                .unzip();
-            ps.y_range = Some((amax * 1e-5, amax * 2.0));
-            ps.series
-                .push(Series::new("amplitude", f, a, SeriesStyle::Line));
-            let png = out.join("spectrum.png");
-            line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
-            files.push(png);
-        }
-        // Figs. 14/16: J2 turn average.
-        for (name, vals, label, title) in [
-            (
-                "j2_turn_average.png",
-                &j2_avg,
-                "J2 [MPa²]",
-                "J2 averaged over one full turn",
-            ),
-            (
-                "von_mises_turn_average.png",
-                &vm_avg,
-                "von Mises [MPa]",
-                "von Mises stress averaged over one full turn",
-            ),
-        ] {
-            let png = out.join(name);
-            // The point support at the axle concentrates the reaction in its few elements;
-            // the colour scale stops at the 97th percentile so that the rim shows.
-            let top = percentile(vals, 0.97);
-            let vmax = vals.iter().cloned().fold(0.0, f64::max);
-            let clipped = vmax > 1.5 * top;
-            let opts = MeshOptions {
-                value_range: clipped.then_some((0.0, top)),
-                ..Default::default()
-            };
-            let title = format!("{title}, {omega} rad/s");
-            let label = if clipped {
-                format!("{label}, clipped at {top:.0} (max {vmax:.0})")
-            } else {
-                label.to_string()
-            };
-            mesh_color_map_with(
-                &png,
-                &MeshColorMap {
-                    points: &wm.mesh.points,
-                    triangles: &wm.triangles,
-                    cell_values: vals,
-                    title,
-                    colorbar_label: label,
-                    length_unit_scale: 100.0,
-                    length_unit: "cm".into(),
-                },
-                (1100, 1000),
-                &opts,
-            )
-            .map_err(|e| RunError::output(&png, e))?;
-            files.push(png);
-        }
-        // Fig. 17: velocity fields.
-        if !snaps_v.is_empty() {
-            let vecs: Vec<Vec<[f64; 2]>> = snaps_v
-                .iter()
-                .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
-                .collect();
-            let frames: Vec<MeshVectorField> = vecs
-                .iter()
-                .zip(&snaps_t)
-                .map(|(v, t)| MeshVectorField {
-                    points: &wm.mesh.points,
-                    triangles: &wm.triangles,
-                    vectors: v,
-                    title: format!(
-                        "base at {:.0} deg",
-                        base.angle(*t).to_degrees().rem_euclid(360.0)
-                    ),
-                    colorbar_label: "velocity in the wheel's frame [m/s]".into(),
-                    length_unit_scale: 100.0,
-                    length_unit: "cm".into(),
-                })
-                .collect();
-            let png = out.join("velocity_fields.png");
-            mesh_vector_fields(&png, &frames, 4, (1800, 1000))
-                .map_err(|e| RunError::output(&png, e))?;
-            files.push(png);
-        }
-    }
-    Ok((summary, files))
-}
-
-fn percentile(v: &[f64], q: f64) -> f64 {
-    let mut s: Vec<f64> = v.iter().cloned().filter(|x| x.is_finite()).collect();
-    if s.is_empty() {
-        return 0.0;
-    }
-    s.sort_by(f64::total_cmp);
-    s[((s.len() - 1) as f64 * q).round() as usize]
-}
-
-/// The largest amplitude in each of `bins` log-spaced frequency bins over `[lo, hi]` (a
-/// peak envelope that keeps every peak of a dense spectrum drawable).
-fn peak_envelope(f: &[f64], a: &[f64], lo: f64, hi: f64, bins: usize) -> (Vec<f64>, Vec<f64>) {
-    let (llo, lhi) = (lo.max(f64::MIN_POSITIVE).ln(), hi.ln());
-    let mut best: Vec<Option<(f64, f64)>> = vec![None; bins];
-    for (&fi, &ai) in f.iter().zip(a) {
-        if fi < lo || fi > hi || ai.is_nan() || ai <= 0.0 {
-            continue;
-        }
-        let k = (((fi.ln() - llo) / (lhi - llo)) * bins as f64)
-            .floor()
-            .clamp(0.0, (bins - 1) as f64) as usize;
-        if best[k].is_none_or(|(_, b)| ai > b) {
-            best[k] = Some((fi, ai));
-        }
-    }
-    best.into_iter().flatten().unzip()
+    Ok(files)
 }

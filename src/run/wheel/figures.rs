@@ -1,0 +1,212 @@
+//! The figures of a wheel run (PNG): the contact force over the turns (Fig. 12) and a zoom
+//! (Fig. 13), its amplitude spectrum, the turn-averaged `J2` and von Mises maps
+//! (Figs. 14, 16), and the velocity fields of the last turn (Fig. 17).
+
+use super::{WheelResults, WheelSummary};
+use crate::output::plot::{
+    line_plot, mesh_color_map_with, mesh_vector_fields, MeshColorMap, MeshOptions, MeshVectorField,
+    Panel, Series, SeriesStyle,
+};
+use crate::run::RunError;
+use crate::wheel::WheelModel;
+use std::path::{Path, PathBuf};
+
+/// Writes the figures into `out`; returns their paths.
+///
+/// # Errors
+/// [`RunError::Output`].
+pub fn write(
+    out: &Path,
+    wm: &WheelModel,
+    summary: &WheelSummary,
+    r: &WheelResults,
+) -> Result<Vec<PathBuf>, RunError> {
+    let mut files = Vec::new();
+    let omega = summary.omega;
+    let (t_settle, turn_time, h) = (r.timeline.t_settle, r.timeline.turn_time, r.timeline.h);
+    let full_turns = r.timeline.full_turns();
+    let mean = r.forces.mean;
+    let (rot_hz, node_pass_hz) = (r.forces.rotation_hz, r.forces.node_passing_hz);
+    let base = wm.base();
+    // Fig. 12: force over the turns.
+    let turns_axis: Vec<f64> = r
+        .forces
+        .t
+        .iter()
+        .map(|t| (t - t_settle) / turn_time)
+        .collect();
+    let mut p = Panel::new(
+        format!(
+            "Contact force, omega = {omega} rad/s ({:.0} km/h)",
+            summary.speed_km_h
+        ),
+        "turns after settling",
+        "contact force [N]",
+    );
+    p.series.push(Series::new(
+        "contact force",
+        turns_axis.clone(),
+        r.forces.force.clone(),
+        SeriesStyle::Line,
+    ));
+    p.hlines
+        .push((mean, format!("mean over the turns {mean:.3e} N")));
+    let png = out.join("contact_force.png");
+    line_plot(&png, &p, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+    files.push(png);
+    // Fig. 13: a zoom on a quarter of the last turn.
+    let z0 = full_turns - 1.0;
+    let mut pz = Panel::new(
+        "Contact force (zoom on a quarter turn)",
+        "turns after settling",
+        "contact force [N]",
+    );
+    pz.series.push(Series::new(
+        "contact force",
+        turns_axis,
+        r.forces.force.clone(),
+        SeriesStyle::Line,
+    ));
+    pz.x_range = Some((z0, z0 + 0.25));
+    let png = out.join("contact_force_zoom.png");
+    line_plot(&png, &pz, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+    files.push(png);
+    // Spectrum.
+    if !r.forces.spectrum.frequency_hz.is_empty() {
+        let (lo, hi) = (0.5 * rot_hz, (20.0 * node_pass_hz).min(0.5 / h));
+        let mut ps = Panel::new(
+            "Amplitude spectrum of the contact force (rolling phase; largest peak per log bin)",
+            "frequency [Hz]",
+            "amplitude [N]",
+        );
+        ps.x_log = true;
+        ps.y_log = true;
+        ps.x_range = Some((lo, hi));
+        let (f, a) = peak_envelope(
+            &r.forces.spectrum.frequency_hz,
+            &r.forces.spectrum.amplitude,
+            lo,
+            hi,
+            1200,
+        );
+        // Five decades below the largest peak.
+        let amax = a.iter().cloned().fold(0.0, f64::max);
+        let (f, a): (Vec<f64>, Vec<f64>) = f
+            .into_iter()
+            .zip(a)
+            .filter(|(_, x)| *x >= amax * 1e-5)
+            .unzip();
+        ps.y_range = Some((amax * 1e-5, amax * 2.0));
+        ps.series
+            .push(Series::new("amplitude", f, a, SeriesStyle::Line));
+        let png = out.join("spectrum.png");
+        line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    // Figs. 14/16: J2 turn average.
+    for (name, vals, label, title) in [
+        (
+            "j2_turn_average.png",
+            &r.fields.j2_mpa2,
+            "J2 [MPa²]",
+            "J2 averaged over one full turn",
+        ),
+        (
+            "von_mises_turn_average.png",
+            &r.fields.von_mises_mpa,
+            "von Mises [MPa]",
+            "von Mises stress averaged over one full turn",
+        ),
+    ] {
+        let png = out.join(name);
+        // The point support at the axle concentrates the reaction in its few elements;
+        // the colour scale stops at the 97th percentile so that the rim shows.
+        let top = percentile(vals, 0.97);
+        let vmax = vals.iter().cloned().fold(0.0, f64::max);
+        let clipped = vmax > 1.5 * top;
+        let opts = MeshOptions {
+            value_range: clipped.then_some((0.0, top)),
+            ..Default::default()
+        };
+        let title = format!("{title}, {omega} rad/s");
+        let label = if clipped {
+            format!("{label}, clipped at {top:.0} (max {vmax:.0})")
+        } else {
+            label.to_string()
+        };
+        mesh_color_map_with(
+            &png,
+            &MeshColorMap {
+                points: &wm.mesh.points,
+                triangles: &wm.triangles,
+                cell_values: vals,
+                title,
+                colorbar_label: label,
+                length_unit_scale: 100.0,
+                length_unit: "cm".into(),
+            },
+            (1100, 1000),
+            &opts,
+        )
+        .map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    // Fig. 17: velocity fields.
+    if !r.snapshots.v.is_empty() {
+        let vecs: Vec<Vec<[f64; 2]>> = r
+            .snapshots
+            .v
+            .iter()
+            .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
+            .collect();
+        let frames: Vec<MeshVectorField> = vecs
+            .iter()
+            .zip(&r.snapshots.t)
+            .map(|(v, t)| MeshVectorField {
+                points: &wm.mesh.points,
+                triangles: &wm.triangles,
+                vectors: v,
+                title: format!(
+                    "base at {:.0} deg",
+                    base.angle(*t).to_degrees().rem_euclid(360.0)
+                ),
+                colorbar_label: "velocity in the wheel's frame [m/s]".into(),
+                length_unit_scale: 100.0,
+                length_unit: "cm".into(),
+            })
+            .collect();
+        let png = out.join("velocity_fields.png");
+        mesh_vector_fields(&png, &frames, 4, (1800, 1000))
+            .map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    Ok(files)
+}
+
+fn percentile(v: &[f64], q: f64) -> f64 {
+    let mut s: Vec<f64> = v.iter().cloned().filter(|x| x.is_finite()).collect();
+    if s.is_empty() {
+        return 0.0;
+    }
+    s.sort_by(f64::total_cmp);
+    s[((s.len() - 1) as f64 * q).round() as usize]
+}
+
+/// The largest amplitude in each of `bins` log-spaced frequency bins over `[lo, hi]` (a
+/// peak envelope that keeps every peak of a dense spectrum drawable).
+fn peak_envelope(f: &[f64], a: &[f64], lo: f64, hi: f64, bins: usize) -> (Vec<f64>, Vec<f64>) {
+    let (llo, lhi) = (lo.max(f64::MIN_POSITIVE).ln(), hi.ln());
+    let mut best: Vec<Option<(f64, f64)>> = vec![None; bins];
+    for (&fi, &ai) in f.iter().zip(a) {
+        if fi < lo || fi > hi || ai.is_nan() || ai <= 0.0 {
+            continue;
+        }
+        let k = (((fi.ln() - llo) / (lhi - llo)) * bins as f64)
+            .floor()
+            .clamp(0.0, (bins - 1) as f64) as usize;
+        if best[k].is_none_or(|(_, b)| ai > b) {
+            best[k] = Some((fi, ai));
+        }
+    }
+    best.into_iter().flatten().unzip()
+}

@@ -1,0 +1,620 @@
+//! The observers of a wheel run: each watches the final steps of the step loop and keeps
+//! what one output needs. The job attaches them to the loop ([`super::simulate`]); each has
+//! `observe` (per step, no allocation: every buffer is sized in its constructor) and
+//! `finish` (after the loop: its result).
+//!
+//! | observer | keeps | gives |
+//! |---|---|---|
+//! | [`HistoryWriter`] | `history.csv`, one row per `stride` steps | the file |
+//! | [`ContactForceStats`] | the contact force over time, nodes held, penetration | [`ContactForceSummary`]: mean / min / max over the rolling phase, oscillations per turn, spectrum |
+//! | [`EnergyWatch`] | the energy after settling and at the end | the two values |
+//! | [`TurnAverage`] | sums of the element `J2` and von Mises over the last full turn | [`TurnAverageFields`] |
+//! | [`VelocitySnapshots`] | `u`, `v` at evenly spaced instants of the last full turn | [`Snapshots`] |
+//! | [`Progress`] | the progress bar | - |
+
+use crate::analysis::signal::{
+    amplitude_spectrum, count_oscillations, dominant_peak, moving_average, resample_uniform,
+    Spectrum,
+};
+use crate::contact::{PairState, RotatingLine};
+use crate::output::files::CsvWriter;
+use crate::run::{progress_bar, RunError};
+use crate::wheel::WheelModel;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// What an observer sees of one final step (made from the driver's view in one place,
+/// [`super::drive`]).
+#[derive(Debug, Clone, Copy)]
+pub struct WheelStep<'a> {
+    /// Step index (0: the initial state).
+    pub k: usize,
+    /// Time, s.
+    pub t: f64,
+    /// Displacements, m.
+    pub u: &'a [f64],
+    /// Velocities, m/s.
+    pub v: &'a [f64],
+    /// Kinetic energy, J.
+    pub kinetic: f64,
+    /// Strain energy of the elastic stiffness, J.
+    pub strain: f64,
+    /// Energy stored in penalty springs, J (0 for the other treatments).
+    pub penalty: f64,
+    /// Total contact force, N.
+    pub contact_force: f64,
+    /// Rim nodes held on the base.
+    pub held: usize,
+    /// Smallest gap over the rim nodes, m (negative: penetration).
+    pub min_gap: f64,
+    /// The rim nodes' contact states, in the order of [`WheelModel::rim`].
+    pub pairs: &'a [PairState],
+}
+
+/// A per-step observer of the wheel run.
+pub trait Observer {
+    /// Takes note of one final step.
+    ///
+    /// # Errors
+    /// I/O errors of an observer that writes as it goes.
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()>;
+}
+
+/// The phases of a wheel run: settling until `t_settle`, then `turns` turns of
+/// `turn_time` each. An instant `t` of the step grid belongs to `[a, b)` when
+/// `a - h/2 <= t < b - h/2`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Timeline {
+    /// Time step, s.
+    pub h: f64,
+    /// End of settling, s.
+    pub t_settle: f64,
+    /// One turn, `2 pi / omega`, s.
+    pub turn_time: f64,
+    /// Turns after settling.
+    pub turns: f64,
+}
+
+impl Timeline {
+    /// True from the end of settling on.
+    pub fn rolling(&self, t: f64) -> bool {
+        t >= self.t_settle - 0.5 * self.h
+    }
+
+    /// True when `t` is in `[a, b)` (type docs).
+    pub fn within(&self, t: f64, a: f64, b: f64) -> bool {
+        t >= a - 0.5 * self.h && t < b - 0.5 * self.h
+    }
+
+    /// The last full turn (the first one if fewer than one), `(start, end)`, s.
+    pub fn last_full_turn(&self) -> (f64, f64) {
+        let full_turns = self.full_turns();
+        (
+            self.t_settle + (full_turns - 1.0) * self.turn_time,
+            self.t_settle + full_turns * self.turn_time,
+        )
+    }
+
+    /// Number of full turns, at least 1.
+    pub fn full_turns(&self) -> f64 {
+        self.turns.floor().max(1.0)
+    }
+}
+
+/// `history.csv`: one row every `stride` steps.
+#[derive(Debug)]
+pub struct HistoryWriter {
+    csv: CsvWriter,
+    path: PathBuf,
+    stride: usize,
+    base: RotatingLine,
+}
+
+impl HistoryWriter {
+    /// The columns.
+    pub const HEADER: [&'static str; 8] = [
+        "t_s",
+        "base_angle_deg",
+        "contact_force_N",
+        "nodes_in_contact",
+        "kinetic_J",
+        "strain_J",
+        "total_J",
+        "min_gap_m",
+    ];
+
+    /// Creates `path` and writes the header; `base` gives the base angle column.
+    ///
+    /// # Errors
+    /// [`RunError::Output`].
+    pub fn create(path: &Path, stride: usize, base: RotatingLine) -> Result<Self, RunError> {
+        let csv = CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
+        Ok(Self {
+            csv,
+            path: path.to_path_buf(),
+            stride: stride.max(1),
+            base,
+        })
+    }
+
+    /// Closes the file.
+    ///
+    /// # Errors
+    /// [`RunError::Output`].
+    pub fn finish(self) -> Result<PathBuf, RunError> {
+        self.csv
+            .finish()
+            .map_err(|e| RunError::output(&self.path, e))?;
+        Ok(self.path)
+    }
+}
+
+impl Observer for HistoryWriter {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        if s.k % self.stride == 0 {
+            self.csv.row(
+                None,
+                &[
+                    s.t,
+                    self.base.angle(s.t).to_degrees(),
+                    s.contact_force,
+                    s.held as f64,
+                    s.kinetic,
+                    s.strain,
+                    s.kinetic + s.strain + s.penalty,
+                    s.min_gap,
+                ],
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// `contact_nodes.csv`: the contact force per contact node, long format: one row per rim
+/// node carrying a reaction (or held) every `stride` steps, `node, t_s, force_N, gap_m,
+/// held` (node: the mesh's node index).
+#[derive(Debug)]
+pub struct ContactNodesWriter {
+    csv: CsvWriter,
+    path: PathBuf,
+    stride: usize,
+    /// The rim nodes' indices as text, made once (no formatting of integers per row).
+    ids: Vec<String>,
+}
+
+impl ContactNodesWriter {
+    /// The columns.
+    pub const HEADER: [&'static str; 5] = ["node", "t_s", "force_N", "gap_m", "held"];
+
+    /// Creates `path` and writes the header; `rim` are the pairs' nodes, in their order.
+    ///
+    /// # Errors
+    /// [`RunError::Output`].
+    pub fn create(path: &Path, stride: usize, rim: &[usize]) -> Result<Self, RunError> {
+        let csv = CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
+        Ok(Self {
+            csv,
+            path: path.to_path_buf(),
+            stride: stride.max(1),
+            ids: rim.iter().map(|n| n.to_string()).collect(),
+        })
+    }
+
+    /// Closes the file.
+    ///
+    /// # Errors
+    /// [`RunError::Output`].
+    pub fn finish(self) -> Result<PathBuf, RunError> {
+        self.csv
+            .finish()
+            .map_err(|e| RunError::output(&self.path, e))?;
+        Ok(self.path)
+    }
+}
+
+impl Observer for ContactNodesWriter {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        if s.k % self.stride == 0 {
+            for (p, ps) in s.pairs.iter().enumerate() {
+                if ps.held || ps.force != 0.0 {
+                    let held = if ps.held { 1.0 } else { 0.0 };
+                    self.csv
+                        .row(Some(&self.ids[p]), &[s.t, ps.force, ps.gap, held])?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The contact force over the run, the nodes held and the largest penetration.
+#[derive(Debug)]
+pub struct ContactForceStats {
+    timeline: Timeline,
+    all_t: Vec<f64>,
+    all_f: Vec<f64>,
+    rolling_t: Vec<f64>,
+    rolling_f: Vec<f64>,
+    held_sum: f64,
+    max_penetration: f64,
+}
+
+/// The contact-force figures of a run (module docs of [`crate::run::wheel`]: counting rule).
+#[derive(Debug, Clone)]
+pub struct ContactForceSummary {
+    /// Mean force over the rolling phase, N.
+    pub mean: f64,
+    /// Largest force over the rolling phase, N.
+    pub max: f64,
+    /// Smallest force over the rolling phase, N.
+    pub min: f64,
+    /// Mean number of rim nodes held over the rolling phase.
+    pub mean_nodes_held: f64,
+    /// Oscillations in each full turn.
+    pub oscillations_per_turn: Vec<usize>,
+    /// Amplitude spectrum of the rolling phase's force.
+    pub spectrum: Spectrum,
+    /// The largest peak of the spectrum above the rotation frequency, away from the
+    /// node-passing harmonics: `(frequency Hz, amplitude N)`.
+    pub dominant: Option<(f64, f64)>,
+    /// Rotation frequency `omega / (2 pi)`, Hz.
+    pub rotation_hz: f64,
+    /// Node-passing frequency `omega N_rim / (2 pi)`, Hz.
+    pub node_passing_hz: f64,
+    /// Largest penetration, m (0 if none).
+    pub max_penetration: f64,
+    /// Every observed time, s.
+    pub t: Vec<f64>,
+    /// The force at those times, N.
+    pub force: Vec<f64>,
+}
+
+impl ContactForceStats {
+    /// Room for `steps + 1` observations.
+    pub fn new(timeline: Timeline, steps: usize) -> Self {
+        Self {
+            timeline,
+            all_t: Vec::with_capacity(steps + 1),
+            all_f: Vec::with_capacity(steps + 1),
+            rolling_t: Vec::with_capacity(steps + 1),
+            rolling_f: Vec::with_capacity(steps + 1),
+            held_sum: 0.0,
+            max_penetration: 0.0,
+        }
+    }
+
+    /// The figures, for the spin `omega` (rad/s) and `n_rim` rim nodes.
+    ///
+    /// Oscillations per turn: within each full turn, the force smoothed by a centred moving
+    /// average over the node-passage period, local maxima of prominence >= 10% of the
+    /// turn's range ([`count_oscillations`]).
+    pub fn finish(self, omega: f64, n_rim: usize) -> ContactForceSummary {
+        let tl = self.timeline;
+        let h = tl.h;
+        let (force_t, force_y) = (&self.rolling_t, &self.rolling_f);
+        let nf = force_y.len().max(1) as f64;
+        let mean = force_y.iter().sum::<f64>() / nf;
+        let fmax = force_y.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let fmin = force_y.iter().cloned().fold(f64::INFINITY, f64::min);
+        let n_rim = n_rim.max(1);
+        let node_pass_hz = omega * n_rim as f64 / (2.0 * PI);
+        let smooth_w = ((1.0 / node_pass_hz) / h).round().max(1.0) as usize;
+        let mut osc = Vec::new();
+        for k in 0..(tl.turns.floor() as usize) {
+            let (a, b) = (
+                tl.t_settle + k as f64 * tl.turn_time,
+                tl.t_settle + (k + 1) as f64 * tl.turn_time,
+            );
+            let seg: Vec<f64> = force_t
+                .iter()
+                .zip(force_y)
+                .filter(|(t, _)| tl.within(**t, a, b))
+                .map(|(_, f)| *f)
+                .collect();
+            if seg.len() > 3 {
+                osc.push(count_oscillations(&moving_average(&seg, smooth_w), 0.1));
+            }
+        }
+        let (_, ry) = resample_uniform(force_t, force_y, h);
+        let spectrum = amplitude_spectrum(&ry, h);
+        let rot_hz = omega / (2.0 * PI);
+        // The wheel's own oscillation: the largest peak above the rotation frequency away
+        // from the node-passing ripple and its harmonics (+-10%).
+        let mut wheel_spec = spectrum.clone();
+        for (f, a) in wheel_spec
+            .frequency_hz
+            .iter()
+            .zip(wheel_spec.amplitude.iter_mut())
+        {
+            let harmonic = (f / node_pass_hz).round();
+            if harmonic >= 1.0 && (f - harmonic * node_pass_hz).abs() < 0.1 * node_pass_hz {
+                *a = 0.0;
+            }
+        }
+        let dominant = dominant_peak(&wheel_spec, rot_hz);
+        ContactForceSummary {
+            mean,
+            max: fmax,
+            min: fmin,
+            mean_nodes_held: self.held_sum / nf,
+            oscillations_per_turn: osc,
+            spectrum,
+            dominant,
+            rotation_hz: rot_hz,
+            node_passing_hz: node_pass_hz,
+            max_penetration: self.max_penetration.max(0.0),
+            t: self.all_t,
+            force: self.all_f,
+        }
+    }
+}
+
+impl Observer for ContactForceStats {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        self.max_penetration = self.max_penetration.max(-s.min_gap);
+        self.all_t.push(s.t);
+        self.all_f.push(s.contact_force);
+        if self.timeline.rolling(s.t) {
+            self.rolling_t.push(s.t);
+            self.rolling_f.push(s.contact_force);
+            self.held_sum += s.held as f64;
+        }
+        Ok(())
+    }
+}
+
+/// The energy (kinetic + strain + penalty springs, J) at the first step of the rolling phase and at the end.
+#[derive(Debug, Clone, Copy)]
+pub struct EnergyWatch {
+    timeline: Timeline,
+    after_settling: Option<f64>,
+    last: f64,
+}
+
+impl EnergyWatch {
+    /// Nothing seen yet.
+    pub fn new(timeline: Timeline) -> Self {
+        Self {
+            timeline,
+            after_settling: None,
+            last: 0.0,
+        }
+    }
+
+    /// `(after settling, at the end)`, J (0 for what was not reached).
+    pub fn finish(self) -> (f64, f64) {
+        (self.after_settling.unwrap_or(0.0), self.last)
+    }
+}
+
+impl Observer for EnergyWatch {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        let e = s.kinetic + s.strain + s.penalty;
+        self.last = e;
+        if self.after_settling.is_none() && self.timeline.rolling(s.t) {
+            self.after_settling = Some(e);
+        }
+        Ok(())
+    }
+}
+
+/// Sums of the element `J2` and von Mises stress over the steps of a window (the last
+/// full turn): the turn average of Figs. 14 and 16. Stresses by
+/// [`crate::element::tri3::stresses_into`], invariants by
+/// [`crate::material::PlaneModel::stress_invariants`].
+#[derive(Debug)]
+pub struct TurnAverage<'a> {
+    model: &'a WheelModel,
+    timeline: Timeline,
+    window: (f64, f64),
+    stress: Vec<[f64; 3]>,
+    j2_sum: Vec<f64>,
+    von_mises_sum: Vec<f64>,
+    count: usize,
+}
+
+/// The turn-averaged element fields.
+#[derive(Debug, Clone)]
+pub struct TurnAverageFields {
+    /// `J2` per element, MPa^2.
+    pub j2_mpa2: Vec<f64>,
+    /// Von Mises stress per element, MPa (the average of `sqrt(3 J2)`).
+    pub von_mises_mpa: Vec<f64>,
+}
+
+impl<'a> TurnAverage<'a> {
+    /// Averages over `[window.0, window.1)` (s) on the elements of `model`.
+    pub fn new(model: &'a WheelModel, timeline: Timeline, window: (f64, f64)) -> Self {
+        let n_el = model.triangles.len();
+        Self {
+            model,
+            timeline,
+            window,
+            stress: vec![[0.0; 3]; n_el],
+            j2_sum: vec![0.0; n_el],
+            von_mises_sum: vec![0.0; n_el],
+            count: 0,
+        }
+    }
+
+    /// The averages (zero fields when the window was not reached).
+    pub fn finish(self) -> TurnAverageFields {
+        let cnt = self.count.max(1) as f64;
+        TurnAverageFields {
+            j2_mpa2: self.j2_sum.iter().map(|v| v / cnt / 1e12).collect(),
+            von_mises_mpa: self.von_mises_sum.iter().map(|v| v / cnt / 1e6).collect(),
+        }
+    }
+}
+
+impl Observer for TurnAverage<'_> {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        if !self.timeline.within(s.t, self.window.0, self.window.1) {
+            return Ok(());
+        }
+        let wm = self.model;
+        wm.stresses_into(s.u, &mut self.stress);
+        for ((sg, j2s), vms) in self
+            .stress
+            .iter()
+            .zip(&mut self.j2_sum)
+            .zip(&mut self.von_mises_sum)
+        {
+            let (j2, vm) = wm.spec.plane.stress_invariants(&wm.spec.material, *sg);
+            *j2s += j2;
+            *vms += vm;
+        }
+        self.count += 1;
+        Ok(())
+    }
+}
+
+/// Displacement and velocity at `count` instants evenly spaced over a window (the last
+/// full turn), at the middles of its `count` equal parts (Fig. 17).
+#[derive(Debug)]
+pub struct VelocitySnapshots {
+    timeline: Timeline,
+    targets: Vec<f64>,
+    taken: usize,
+    snaps: Snapshots,
+}
+
+/// The snapshots taken.
+#[derive(Debug, Clone, Default)]
+pub struct Snapshots {
+    /// Times, s.
+    pub t: Vec<f64>,
+    /// Displacements, m.
+    pub u: Vec<Vec<f64>>,
+    /// Velocities, m/s.
+    pub v: Vec<Vec<f64>>,
+}
+
+impl VelocitySnapshots {
+    /// `count` snapshots of `n_dofs` values over `[window.0, window.0 + turn_time)`.
+    pub fn new(timeline: Timeline, window_start: f64, count: usize, n_dofs: usize) -> Self {
+        let targets = (0..count)
+            .map(|i| window_start + (i as f64 + 0.5) * timeline.turn_time / count as f64)
+            .collect();
+        Self {
+            timeline,
+            targets,
+            taken: 0,
+            snaps: Snapshots {
+                t: vec![0.0; count],
+                u: vec![vec![0.0; n_dofs]; count],
+                v: vec![vec![0.0; n_dofs]; count],
+            },
+        }
+    }
+
+    /// The snapshots reached.
+    pub fn finish(mut self) -> Snapshots {
+        self.snaps.t.truncate(self.taken);
+        self.snaps.u.truncate(self.taken);
+        self.snaps.v.truncate(self.taken);
+        self.snaps
+    }
+}
+
+impl Observer for VelocitySnapshots {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        let i = self.taken;
+        if i < self.targets.len() && s.t >= self.targets[i] - 0.5 * self.timeline.h {
+            self.snaps.t[i] = s.t;
+            self.snaps.u[i].copy_from_slice(s.u);
+            self.snaps.v[i].copy_from_slice(s.v);
+            self.taken += 1;
+        }
+        Ok(())
+    }
+}
+
+/// The progress bar (hidden off a terminal).
+#[derive(Debug)]
+pub struct Progress(indicatif::ProgressBar);
+
+impl Progress {
+    /// A bar over `steps` steps labelled `label`, shown when `show`.
+    pub fn new(steps: usize, label: &str, show: bool) -> Self {
+        Self(progress_bar(steps as u64, label, show))
+    }
+
+    /// Clears the bar.
+    pub fn finish(self) {
+        self.0.finish_and_clear();
+    }
+}
+
+impl Observer for Progress {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        if s.k % 256 == 0 {
+            self.0.set_position(s.k as u64);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(k: usize, t: f64, f: f64, gap: f64) -> WheelStep<'static> {
+        WheelStep {
+            k,
+            t,
+            u: &[1.0, 2.0],
+            v: &[3.0, 4.0],
+            kinetic: 1.0,
+            strain: 2.0,
+            penalty: 0.0,
+            contact_force: f,
+            held: 1,
+            min_gap: gap,
+            pairs: &[],
+        }
+    }
+
+    const TL: Timeline = Timeline {
+        h: 0.1,
+        t_settle: 1.0,
+        turn_time: 1.0,
+        turns: 2.0,
+    };
+
+    #[test]
+    fn force_energy_and_snapshots_follow_the_timeline() {
+        let mut f = ContactForceStats::new(TL, 30);
+        let cap = [f.all_t.capacity(), f.rolling_t.capacity()];
+        let mut e = EnergyWatch::new(TL);
+        let mut snaps = VelocitySnapshots::new(TL, TL.last_full_turn().0, 4, 2);
+        for k in 0..=30 {
+            let t = k as f64 * TL.h;
+            let s = step(
+                k,
+                t,
+                if t < 0.95 { 0.0 } else { 10.0 + k as f64 },
+                -1e-3 * t,
+            );
+            f.observe(&s).unwrap();
+            e.observe(&s).unwrap();
+            snaps.observe(&s).unwrap();
+        }
+        // No reallocation in the loop.
+        assert_eq!(cap, [f.all_t.capacity(), f.rolling_t.capacity()]);
+        let r = f.finish(2.0 * PI, 4);
+        assert_eq!(r.t.len(), 31);
+        // Rolling phase: k = 10..=30, forces 20..=40.
+        assert!((r.mean - 30.0).abs() < 1e-12 && r.min == 20.0 && r.max == 40.0);
+        assert!((r.max_penetration - 3e-3).abs() < 1e-15);
+        assert_eq!(e.finish(), (3.0, 3.0));
+        // Last full turn [2, 3): middles of the quarters at 2.125, 2.375, 2.625, 2.875; the
+        // first grid time >= target - h/2 is 2.1, 2.4, 2.6, 2.9.
+        let sn = snaps.finish();
+        for (t, want) in sn.t.iter().zip([2.1, 2.4, 2.6, 2.9]) {
+            assert!((t - want).abs() < 1e-12, "{:?}", sn.t);
+        }
+        assert_eq!(sn.t.len(), 4);
+        assert_eq!(sn.v[3], vec![3.0, 4.0]);
+    }
+}
