@@ -47,6 +47,22 @@ enum Command {
         #[arg(long)]
         jobs: Option<usize>,
     },
+    /// Run a scenario over a refinement ladder of one key (mesh or step) and report the
+    /// observed order of every key figure: converge.csv, converge.md, converge.png.
+    Converge {
+        /// The scenario file (TOML, one run).
+        scenario: PathBuf,
+        /// KEY=V1,V2,V3,... a geometric ladder of at least three rungs, e.g.
+        /// wheel.rings=6,12,24 or time.h=0.1,0.05,0.025.
+        #[arg(long)]
+        set: String,
+        /// Output folder [default: out/<scenario name>-converge].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Runs at once [default: the number of cores].
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
     /// Run the combinations (integrator, contact treatment, time step, mesh) of a bar
     /// scenario side by side against the exact answer: compare.csv, compare.md, force and
     /// energy plots.
@@ -141,20 +157,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
             let sc = Scenario::from_file(&scenario)?;
             let (key, values) = match set {
-                Some(s) => {
-                    let (k, v) = s.split_once('=').ok_or_else(|| {
-                        format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)")
-                    })?;
-                    let vals: Vec<String> = v
-                        .split(',')
-                        .map(|x| x.trim().to_string())
-                        .filter(|x| !x.is_empty())
-                        .collect();
-                    if vals.is_empty() {
-                        return Err(format!("--set {s}: no values").into());
-                    }
-                    (k.trim().to_string(), vals)
-                }
+                Some(s) => parse_set(&s)?,
                 None => sc.sweep.clone().ok_or_else(|| {
                     format!(
                         "{}: no [sweep] table and no --set KEY=V1,V2,...",
@@ -183,6 +186,44 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             for p in points {
                 println!("    {}/", p.dir.display());
+            }
+            if INTERRUPT.load(Ordering::Relaxed) {
+                return Ok(ExitCode::from(130));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Converge {
+            scenario,
+            set,
+            out,
+            jobs,
+        } => {
+            let text = std::fs::read_to_string(&scenario)
+                .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+            let sc = Scenario::from_file(&scenario)?;
+            let (key, values) = parse_set(&set)?;
+            let out =
+                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
+            if let Some(j) = jobs {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(j.max(1))
+                    .build_global()
+                    .ok();
+            }
+            println!(
+                "{}: convergence of {key} over {} rungs",
+                sc.name,
+                values.len()
+            );
+            let (_, files) =
+                softway::run::converge::converge(&scenario, &text, &key, &values, &out)?;
+            print!(
+                "{}",
+                std::fs::read_to_string(out.join("converge.md")).unwrap_or_default()
+            );
+            println!("  wrote:");
+            for f in files {
+                println!("    {}", f.display());
             }
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
@@ -314,4 +355,20 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// `KEY=V1,V2,...` of `--set` into the key and its values.
+fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)"))?;
+    let vals: Vec<String> = v
+        .split(',')
+        .map(|x| x.trim().to_string())
+        .filter(|x| !x.is_empty())
+        .collect();
+    if vals.is_empty() {
+        return Err(format!("--set {s}: no values"));
+    }
+    Ok((k.trim().to_string(), vals))
 }

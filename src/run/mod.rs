@@ -4,6 +4,7 @@
 
 pub mod bar;
 pub mod compare;
+pub mod converge;
 pub mod sdof;
 pub mod sweep;
 pub mod wheel;

@@ -40,18 +40,19 @@ pub enum SweepError {
     Run(#[from] RunError),
 }
 
-/// Runs the scenario text at `path` for every value of `key`, in parallel (rayon), into
-/// `out/<key>=<value>/`; writes the table and plot into `out`.
+/// Validates and builds the scenario text at `path` for every value of `key` (all before any
+/// run starts), then runs them in parallel (rayon) into `out/<key>=<value>/`; returns the
+/// points in the order of `values`.
 ///
 /// # Errors
-/// [`SweepError`]; every value is validated and built before any run starts.
-pub fn sweep(
+/// [`SweepError`].
+pub fn run_ladder(
     path: &Path,
     text: &str,
     key: &str,
     values: &[String],
     out: &Path,
-) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
+) -> Result<Vec<SweepPoint>, SweepError> {
     let mut scs = Vec::new();
     for v in values {
         let t = set_key(text, key, v).map_err(|m| SweepError::Value {
@@ -94,7 +95,22 @@ pub fn sweep(
             })
         })
         .collect();
-    let points: Vec<SweepPoint> = results.into_iter().collect::<Result<_, _>>()?;
+    results.into_iter().collect()
+}
+
+/// Runs the scenario text at `path` for every value of `key`, in parallel (rayon), into
+/// `out/<key>=<value>/`; writes the table and plot into `out`.
+///
+/// # Errors
+/// [`SweepError`]; every value is validated and built before any run starts.
+pub fn sweep(
+    path: &Path,
+    text: &str,
+    key: &str,
+    values: &[String],
+    out: &Path,
+) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
+    let points = run_ladder(path, text, key, values, out)?;
     let mut files = Vec::new();
     // Table: the key figures (wheel), or every scalar number of the summaries.
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");

@@ -1,0 +1,302 @@
+//! Convergence studies: one scenario over a refinement ladder of one key (the mesh, e.g.
+//! `wheel.rings` or `bar.elements`, or the step `time.h`), with the observed order of every
+//! key figure (`converge.csv`, `converge.md`, `converge.png`).
+//!
+//! For a figure `F` computed at the rungs `x_0, x_1, ...` of a geometric ladder (constant
+//! ratio `r = x_{i+1} / x_i`, refining or coarsening), the successive differences
+//! `d_i = F_{i+1} - F_i` of a quantity converging as `F(x) = F* + C e(x)^p` (`e` the mesh
+//! size or the step) fall by `r^p` from one pair of rungs to the next, so the observed order
+//! at rung `i + 1` is
+//! $$p_i = \frac{\ln |d_{i-1} / d_i|}{|\ln r_i|},\qquad r_i = x_{i+1}/x_i,$$
+//! and, once `p > 0`, the Richardson estimate of the limit is
+//! `F* ~ F_{n} + d_{n-1} / (r^p - 1)` (reported as `extrapolated`). A figure whose
+//! differences do not shrink has no order (`-`): it is not converging on this ladder (or
+//! sits at round-off). The figures are the summary's numbers: for the wheel the contact force
+//! (mean, min, max), nodes in contact, energy, spectral figures, cost; for one-run bar and
+//! oscillator scenarios every number of the run.
+
+use super::sweep::{run_ladder, SweepError, SweepPoint};
+use super::RunError;
+use crate::output::files::write_atomic;
+use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The figures of a wheel run that a convergence study reports.
+const WHEEL_FIGURES: [&str; 9] = [
+    "mean_contact_force",
+    "min_contact_force",
+    "max_contact_force",
+    "mean_nodes_in_contact",
+    "dominant_frequency_hz",
+    "energy_after_settling",
+    "energy_final",
+    "time_per_step_us",
+    "dofs",
+];
+
+/// Figures kept in the tables but not plotted: inputs and costs, not results.
+const NOT_PLOTTED: [&str; 10] = [
+    "alpha",
+    "gamma",
+    "h",
+    "omega_h",
+    "steps",
+    "dofs",
+    "nodes",
+    "triangles",
+    "wall_time_s",
+    "time_per_step_us",
+];
+
+/// One figure along the ladder.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FigureLadder {
+    /// The summary key.
+    pub name: String,
+    /// Its value at each rung (NaN where missing).
+    pub values: Vec<f64>,
+    /// The observed order at each rung from the third on (`None`: the differences do not
+    /// shrink, or a difference is zero).
+    pub orders: Vec<Option<f64>>,
+    /// The Richardson estimate of the limit from the last three rungs, when the last order
+    /// is positive.
+    pub extrapolated: Option<f64>,
+}
+
+/// The observed orders of `values` along the rungs `xs` (module docs).
+pub fn observed_orders(xs: &[f64], values: &[f64]) -> Vec<Option<f64>> {
+    (2..values.len())
+        .map(|i| {
+            let d0 = values[i - 1] - values[i - 2];
+            let d1 = values[i] - values[i - 1];
+            let r = (xs[i] / xs[i - 1]).ln().abs();
+            let q = (d0 / d1).abs();
+            (d0 != 0.0 && d1 != 0.0 && q.is_finite() && q > 1.0 && r > 0.0).then(|| q.ln() / r)
+        })
+        .collect()
+}
+
+/// The Richardson estimate of the limit from the last three rungs.
+pub fn extrapolate(xs: &[f64], values: &[f64], orders: &[Option<f64>]) -> Option<f64> {
+    let n = values.len();
+    let p = (*orders.last()?)?;
+    let r = (xs[n - 1] / xs[n - 2]).ln().abs().exp();
+    let d = values[n - 1] - values[n - 2];
+    Some(values[n - 1] + d / (r.powf(p) - 1.0))
+}
+
+/// The numeric figures of one summary: the wheel's key figures, or every number of the only
+/// run of a bar or oscillator scenario.
+fn figures(summary: &serde_json::Value) -> Vec<(String, f64)> {
+    if summary["kind"] == "wheel" {
+        return WHEEL_FIGURES
+            .iter()
+            .map(|k| (k.to_string(), summary[*k].as_f64().unwrap_or(f64::NAN)))
+            .collect();
+    }
+    let run = summary["runs"].get(0).unwrap_or(summary);
+    let mut out = Vec::new();
+    let mut visit = |prefix: &str, o: &serde_json::Map<String, serde_json::Value>| {
+        for (k, v) in o {
+            if let Some(x) = v.as_f64() {
+                out.push((format!("{prefix}{k}"), x));
+            }
+        }
+    };
+    if let Some(o) = run.as_object() {
+        visit("", o);
+        if let Some(e) = run["errors"].as_object() {
+            visit("errors.", e);
+        }
+    }
+    out
+}
+
+/// Runs the ladder and writes `converge.csv`, `converge.md` and `converge.png` into `out`.
+///
+/// # Errors
+/// [`SweepError`]; a scenario with several runs (each rung must be one run), a ladder of
+/// fewer than three rungs or non-numeric values are refused before anything runs.
+pub fn converge(
+    path: &Path,
+    text: &str,
+    key: &str,
+    values: &[String],
+    out: &Path,
+) -> Result<(Vec<FigureLadder>, Vec<PathBuf>), SweepError> {
+    let bad = |message: String| SweepError::Value {
+        key: key.into(),
+        value: values.join(","),
+        message,
+    };
+    let xs: Vec<f64> = values
+        .iter()
+        .map(|v| v.trim_matches('"').parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad("a convergence ladder needs numbers".into()))?;
+    if xs.len() < 3 {
+        return Err(bad(
+            "a convergence ladder needs at least three rungs (an order needs two differences)"
+                .into(),
+        ));
+    }
+    if xs.iter().any(|&x| !(x.is_finite() && x > 0.0)) {
+        return Err(bad("the rungs must be positive".into()));
+    }
+    let points = run_ladder(path, text, key, values, out)?;
+    for p in &points {
+        if p.summary["runs"].as_array().is_some_and(|r| r.len() > 1) {
+            return Err(bad(format!(
+                "{} has several [[runs]]: a convergence study needs one run per rung",
+                path.display()
+            )));
+        }
+    }
+    let per_rung: Vec<Vec<(String, f64)>> = points.iter().map(|p| figures(&p.summary)).collect();
+    let names: Vec<String> = per_rung
+        .first()
+        .map(|f| f.iter().map(|(k, _)| k.clone()).collect())
+        .unwrap_or_default();
+    let ladders: Vec<FigureLadder> = names
+        .iter()
+        .map(|name| {
+            let vals: Vec<f64> = per_rung
+                .iter()
+                .map(|f| {
+                    f.iter()
+                        .find(|(k, _)| k == name)
+                        .map_or(f64::NAN, |(_, v)| *v)
+                })
+                .collect();
+            let orders = observed_orders(&xs, &vals);
+            FigureLadder {
+                name: name.clone(),
+                extrapolated: extrapolate(&xs, &vals, &orders),
+                values: vals,
+                orders,
+            }
+        })
+        .collect();
+    let files = write_tables(out, key, values, &xs, &ladders, &points)?;
+    Ok((ladders, files))
+}
+
+fn write_tables(
+    out: &Path,
+    key: &str,
+    values: &[String],
+    xs: &[f64],
+    ladders: &[FigureLadder],
+    points: &[SweepPoint],
+) -> Result<Vec<PathBuf>, RunError> {
+    let fmt = |x: f64| {
+        if x.is_nan() {
+            "-".to_string()
+        } else {
+            format!("{x:.6e}")
+        }
+    };
+    let order = |o: Option<f64>| o.map_or("-".to_string(), |p| format!("{p:.2}"));
+    let mut head = vec!["figure".to_string()];
+    head.extend(values.iter().map(|v| format!("{key}={v}")));
+    head.extend((2..values.len()).map(|i| format!("order@{}", values[i])));
+    head.push("extrapolated".into());
+    let mut csv = format!("{}\n", head.join(","));
+    let mut md = format!(
+        "| {} |\n|{}|\n",
+        head.join(" | "),
+        vec!["---"; head.len()].join("|")
+    );
+    for l in ladders {
+        let mut row = vec![l.name.clone()];
+        row.extend(l.values.iter().map(|&x| fmt(x)));
+        row.extend(l.orders.iter().map(|&o| order(o)));
+        row.push(l.extrapolated.map_or("-".into(), fmt));
+        let _ = writeln!(csv, "{}", row.join(","));
+        let _ = writeln!(md, "| {} |", row.join(" | "));
+    }
+    let mut files = Vec::new();
+    for (name, body) in [("converge.csv", csv), ("converge.md", md)] {
+        let f = out.join(name);
+        write_atomic(&f, body.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+        files.push(f);
+    }
+    // One panel per figure that varies along the ladder (those with an observed order
+    // first): its value against the rung (log axis), and the extrapolated limit.
+    let varies = |l: &&FigureLadder| {
+        let (lo, hi) = l
+            .values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        l.values.iter().all(|v| v.is_finite()) && hi - lo > 1e-12 * hi.abs().max(lo.abs())
+    };
+    let mut shown: Vec<&FigureLadder> = ladders
+        .iter()
+        .filter(varies)
+        .filter(|l| !NOT_PLOTTED.contains(&l.name.as_str()))
+        .collect();
+    shown.sort_by_key(|l| l.extrapolated.is_none());
+    shown.truncate(9);
+    if !shown.is_empty() && points.len() == xs.len() {
+        let mut ps = Vec::new();
+        for l in &shown {
+            let mut p = Panel::new(l.name.clone(), key.to_string(), l.name.clone());
+            p.x_log = true;
+            p.series.push(Series::new(
+                "computed",
+                xs.to_vec(),
+                l.values.clone(),
+                SeriesStyle::LineMarkers,
+            ));
+            if let Some(e) = l.extrapolated {
+                let p_last = order(*l.orders.last().unwrap_or(&None));
+                p.hlines
+                    .push((e, format!("extrapolated (observed order {p_last})")));
+            }
+            ps.push(p);
+        }
+        let cols = 3.min(ps.len());
+        let rows = ps.len().div_ceil(cols);
+        let png = out.join("converge.png");
+        panels(
+            &png,
+            &ps,
+            rows,
+            cols,
+            (500 * cols as u32, 380 * rows as u32 + 60),
+        )
+        .map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn observed_order_of_a_second_order_sequence() {
+        // F(h) = 1 + 3 h^2 on h = 0.4, 0.2, 0.1, 0.05.
+        let xs = [0.4, 0.2, 0.1, 0.05];
+        let f: Vec<f64> = xs.iter().map(|h| 1.0 + 3.0 * h * h).collect();
+        let o = observed_orders(&xs, &f);
+        assert_eq!(o.len(), 2);
+        for p in &o {
+            assert!((p.unwrap() - 2.0).abs() < 1e-10, "{o:?}");
+        }
+        let e = extrapolate(&xs, &f, &o).unwrap();
+        assert!((e - 1.0).abs() < 1e-12, "{e}");
+        // Refining by rung count (elements 10, 20, 40): F = 2 - 5/N.
+        let ns = [10.0, 20.0, 40.0];
+        let g: Vec<f64> = ns.iter().map(|n| 2.0 - 5.0 / n).collect();
+        let o = observed_orders(&ns, &g);
+        assert!((o[0].unwrap() - 1.0).abs() < 1e-10);
+        assert!((extrapolate(&ns, &g, &o).unwrap() - 2.0).abs() < 1e-12);
+        // Differences that grow: no order.
+        assert_eq!(observed_orders(&ns, &[1.0, 1.1, 1.5]), vec![None]);
+    }
+}
