@@ -1,3 +1,9 @@
-//! Analysis of results: signals (spectra, oscillation counts) and derived quantities.
+//! Analysis of results: signals (spectra, oscillation counts), their spectral components
+//! and derived quantities.
 
+pub mod components;
 pub mod signal;
+
+pub use components::{
+    fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
+};
