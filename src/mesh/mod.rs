@@ -4,12 +4,17 @@
 //! kind ([`Cells::Bar2`] in 1D, [`Cells::Tri3`] in 2D) and named node sets that scenarios
 //! refer to (`"head"`, `"rim"`, `"centre"`, Gmsh physical groups, ...).
 //!
-//! Generators build the paper's meshes ([`generators`]); [`gmsh`] imports Gmsh `.msh` files.
+//! Generators build the paper's meshes and graded disks ([`generators`]); [`gmsh`] imports
+//! Gmsh `.msh` files; [`quality`](mod@quality) reports a mesh's angles, aspect ratios, boundary and
+//! rotational symmetry.
 
 use std::collections::BTreeMap;
 
 pub mod generators;
 pub mod gmsh;
+pub mod quality;
+
+pub use quality::{quality, MeshQuality};
 
 /// The cells of a mesh: one kind of element for the whole mesh.
 #[derive(Debug, Clone, PartialEq)]

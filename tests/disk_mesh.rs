@@ -1,0 +1,332 @@
+//! The graded disk (`disk_graded`) and the mesh quality report (`quality`): rim, validity,
+//! area, watertightness, angles, symmetry, size and grading, for 72 to 1,440 rim nodes.
+
+use std::collections::HashMap;
+use std::f64::consts::{PI, TAU};
+
+use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions, MeshError};
+use softway::mesh::{quality, Cells, Mesh};
+
+/// Wheel radius of the paper, m.
+const R: f64 = 0.1;
+/// The rim node counts a user asks for.
+const RIMS: [usize; 5] = [72, 144, 288, 576, 1440];
+
+fn graded(rim_nodes: usize) -> Mesh {
+    disk_graded(R, rim_nodes, DiskOptions::default()).unwrap()
+}
+
+fn tris(mesh: &Mesh) -> &[[usize; 3]] {
+    match &mesh.cells {
+        Cells::Tri3(t) => t,
+        Cells::Bar2(_) => panic!("expected triangles"),
+    }
+}
+
+fn signed_area(p: &[[f64; 2]], t: [usize; 3]) -> f64 {
+    let [a, b, c] = [p[t[0]], p[t[1]], p[t[2]]];
+    0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+}
+
+fn norm(p: [f64; 2]) -> f64 {
+    p[0].hypot(p[1])
+}
+
+/// The distinct node radii, increasing (radii within 1e-9 R merged).
+fn ring_radii(mesh: &Mesh) -> Vec<f64> {
+    let mut r: Vec<f64> = mesh.points.iter().map(|&p| norm(p)).collect();
+    r.sort_by(f64::total_cmp);
+    r.dedup_by(|a, b| (*a - *b).abs() < 1e-9 * R);
+    r
+}
+
+/// Checks that `mesh` is a watertight, consistently oriented disk whose boundary is the rim
+/// polygon: every edge in at most two triangles (once in each direction), the edges of one
+/// triangle exactly the rim's consecutive pairs, counter-clockwise, every node used.
+fn check_watertight(mesh: &Mesh, label: &str) {
+    let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut used = vec![false; mesh.n_nodes()];
+    for t in tris(mesh) {
+        for v in 0..3 {
+            let (a, b) = (t[v], t[(v + 1) % 3]);
+            used[a] = true;
+            *directed.entry((a, b)).or_insert(0) += 1;
+        }
+    }
+    assert!(used.iter().all(|&u| u), "{label}: a node in no triangle");
+    let mut boundary = Vec::new();
+    for (&(a, b), &count) in &directed {
+        assert_eq!(
+            count, 1,
+            "{label}: directed edge {a}->{b} in {count} triangles"
+        );
+        if !directed.contains_key(&(b, a)) {
+            boundary.push((a, b));
+        }
+    }
+    boundary.sort_unstable();
+    let rim = mesh.node_set("rim").unwrap();
+    let mut polygon: Vec<(usize, usize)> = (0..rim.len())
+        .map(|i| (rim[i], rim[(i + 1) % rim.len()]))
+        .collect();
+    polygon.sort_unstable();
+    assert_eq!(
+        boundary, polygon,
+        "{label}: boundary is not the rim polygon"
+    );
+    let q = quality(mesh);
+    assert_eq!(q.boundary_edges, rim.len(), "{label}");
+    assert_eq!(q.non_manifold_edges, 0, "{label}");
+}
+
+#[test]
+fn default_grading_is_1_15() {
+    assert_eq!(DiskOptions::default().grading, 1.15);
+    assert_eq!(DiskOptions::DEFAULT_GRADING, 1.15);
+    assert_eq!(DiskOptions::MAX_GRADING, 2.0);
+}
+
+#[test]
+fn rim_has_exactly_the_requested_nodes_on_the_circle() {
+    for n in RIMS {
+        let m = graded(n);
+        let rim = m.node_set("rim").unwrap();
+        assert_eq!(rim.len(), n);
+        assert_eq!(quality(&m).rim_nodes, n);
+        // Counter-clockwise from the positive x axis, at the rim pitch.
+        for (i, &node) in rim.iter().enumerate() {
+            let p = m.points[node];
+            assert!(
+                (norm(p) - R).abs() < 1e-12 * R,
+                "n = {n}: rim node {i} off the circle"
+            );
+            let angle = p[1].atan2(p[0]).rem_euclid(TAU);
+            let expect = TAU * i as f64 / n as f64;
+            assert!(
+                (angle - expect).abs() < 1e-12,
+                "n = {n}: rim node {i} at {angle}"
+            );
+        }
+        // No other node on the circle; the centre node at the origin.
+        let on_circle = m
+            .points
+            .iter()
+            .filter(|&&p| norm(p) > R * (1.0 - 1e-9))
+            .count();
+        assert_eq!(on_circle, n);
+        assert_eq!(m.node_set("centre"), Some(&[0][..]));
+        assert_eq!(m.points[0], [0.0, 0.0]);
+        assert_eq!(m.node_set("all").unwrap().len(), m.n_nodes());
+    }
+}
+
+#[test]
+fn no_inverted_or_degenerate_triangle_and_area_of_the_rim_polygon() {
+    for n in RIMS {
+        let m = graded(n);
+        let mut total = 0.0;
+        for &t in tris(&m) {
+            let a = signed_area(&m.points, t);
+            assert!(a > 0.0, "n = {n}: triangle {t:?} has area {a}");
+            total += a;
+        }
+        let q = quality(&m);
+        assert_eq!((q.inverted, q.degenerate), (0, 0), "n = {n}");
+        // The inscribed n-gon: pi R^2 sin(2 pi / n) n / (2 pi).
+        let polygon = PI * R * R * (TAU / n as f64).sin() * n as f64 / TAU;
+        assert!(
+            ((total - polygon) / polygon).abs() < 1e-12,
+            "n = {n}: area {total} vs {polygon}"
+        );
+        assert!(((q.area - polygon) / polygon).abs() < 1e-12, "n = {n}");
+    }
+}
+
+#[test]
+fn watertight_disk_bounded_by_the_rim_polygon() {
+    for n in RIMS {
+        let m = graded(n);
+        check_watertight(&m, &format!("graded n = {n}"));
+        // Euler: a disk of N nodes, n of them on the boundary, has 2N - 2 - n triangles.
+        assert_eq!(m.cells.len(), 2 * m.n_nodes() - 2 - n, "n = {n}");
+    }
+    check_watertight(&disk_rings(R, 8).unwrap(), "disk_rings(8)");
+}
+
+/// Measured with the default grading (1.15): smallest angle 39.0-41.0 degrees, largest
+/// 93.8-94.6, largest aspect ratio R_c / (2 r_i) 1.271-1.287.
+#[test]
+fn angles_and_aspect_ratios_are_bounded() {
+    for n in RIMS {
+        let q = quality(&graded(n));
+        eprintln!(
+            "rim {n}: {} nodes, {} triangles, angles {:.1}-{:.1} deg, aspect max {:.3} \
+             mean {:.3}, symmetry {}",
+            q.nodes,
+            q.triangles,
+            q.min_angle_deg,
+            q.max_angle_deg,
+            q.max_aspect,
+            q.mean_aspect,
+            q.symmetry_order
+        );
+        assert!(q.min_angle_deg > 38.0, "n = {n}: {}", q.min_angle_deg);
+        assert!(q.max_angle_deg < 96.0, "n = {n}: {}", q.max_angle_deg);
+        assert!(q.max_aspect < 1.3, "n = {n}: {}", q.max_aspect);
+    }
+}
+
+#[test]
+fn graded_disks_have_no_rotational_symmetry_hexagonal_ones_six() {
+    for n in RIMS {
+        assert_eq!(quality(&graded(n)).symmetry_order, 1, "n = {n}");
+    }
+    assert_eq!(quality(&disk_rings(0.1, 8).unwrap()).symmetry_order, 6);
+    assert_eq!(quality(&disk_rings(0.1, 12).unwrap()).symmetry_order, 6);
+}
+
+/// Observed law (default grading): N / n = 3.6, 5.0, 6.0, 6.6, 7.5 for n = 72 ... 1,440
+/// rim nodes, growing by about 0.9 per doubling of n (logarithmically), where a uniform
+/// mesh would grow like n / (4 pi): fewer than 8 nodes per rim node up to 1,440.
+#[test]
+fn node_count_grows_like_the_rim_count() {
+    let mut last_ratio = 0.0;
+    let mut counts = Vec::new();
+    for n in RIMS {
+        let nodes = graded(n).n_nodes();
+        let ratio = nodes as f64 / n as f64;
+        assert!(ratio > 3.0 && ratio < 8.0, "n = {n}: {nodes} nodes");
+        assert!(
+            ratio > last_ratio,
+            "n = {n}: N / n = {ratio} after {last_ratio}"
+        );
+        last_ratio = ratio;
+        counts.push(nodes);
+    }
+    // 20 times the rim, at most 50 times the nodes (a uniform disk: 400 times).
+    assert!(counts[4] < 50 * counts[0], "{counts:?}");
+    // Uniform spacing (grading 1) costs about n^2 / (4 pi) nodes.
+    let uniform = disk_graded(R, 288, DiskOptions { grading: 1.0 }).unwrap();
+    let expect = 288.0 * 288.0 / (4.0 * PI);
+    assert!((uniform.n_nodes() as f64 / expect - 1.0).abs() < 0.05);
+}
+
+#[test]
+fn rim_pitch_equals_the_radial_spacing_at_the_rim_and_grading_is_geometric() {
+    for n in RIMS {
+        let m = graded(n);
+        let r = ring_radii(&m);
+        let pitch = TAU * R / n as f64;
+        let rim_gap = r[r.len() - 1] - r[r.len() - 2];
+        assert!(
+            (rim_gap / pitch - 1.0).abs() < 0.2,
+            "n = {n}: gap {rim_gap} pitch {pitch}"
+        );
+        // Gaps grow inwards by one ratio, close to the requested 1.15.
+        let gaps: Vec<f64> = r.windows(2).map(|w| w[1] - w[0]).collect();
+        let ratio = gaps[gaps.len() - 2] / gaps[gaps.len() - 1];
+        assert!((ratio - 1.15).abs() < 0.03, "n = {n}: ratio {ratio}");
+        for w in gaps.windows(2) {
+            assert!(
+                (w[0] / w[1] - ratio).abs() < 1e-9 * ratio,
+                "n = {n}: {gaps:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn grading_trades_nodes_for_uniformity() {
+    let mut last = usize::MAX;
+    for g in [1.0, 1.1, 1.15, 1.3, 1.5, 2.0] {
+        let m = disk_graded(R, 144, DiskOptions { grading: g }).unwrap();
+        let q = quality(&m);
+        assert_eq!((q.inverted, q.degenerate), (0, 0), "grading {g}");
+        assert!(q.min_angle_deg > 20.0, "grading {g}: {}", q.min_angle_deg);
+        assert_eq!(q.symmetry_order, 1, "grading {g}");
+        check_watertight(&m, &format!("grading {g}"));
+        assert!(m.n_nodes() < last, "grading {g}: {} nodes", m.n_nodes());
+        last = m.n_nodes();
+    }
+}
+
+#[test]
+fn every_rim_count_from_3_to_300_gives_a_valid_disk() {
+    for n in 3..=300 {
+        let m = graded(n);
+        let q = quality(&m);
+        assert_eq!(
+            (q.inverted, q.degenerate, q.rim_nodes),
+            (0, 0, n),
+            "n = {n}"
+        );
+        let polygon = 0.5 * n as f64 * R * R * (TAU / n as f64).sin();
+        assert!(((q.area - polygon) / polygon).abs() < 1e-12, "n = {n}");
+        check_watertight(&m, &format!("n = {n}"));
+        // Below 10 rim nodes the disk is a fan of the centre and the rim (order n).
+        let order = if n < 10 { n } else { 1 };
+        assert_eq!(q.symmetry_order, order, "n = {n}");
+        // Measured from 3 to 2,000 rim nodes: 24.4 degrees at n = 10 (one ring of 7 nodes,
+        // 5 sharing a factor with the rim), 30 at n = 3 (the fan), at least 35.2 from 11 on.
+        let bound = if n >= 11 { 35.0 } else { 24.0 };
+        assert!(q.min_angle_deg > bound, "n = {n}: {}", q.min_angle_deg);
+    }
+}
+
+#[test]
+fn deterministic_and_scaled_with_the_radius() {
+    assert_eq!(graded(288), graded(288));
+    let a = graded(144);
+    let b = disk_graded(2.0 * R, 144, DiskOptions::default()).unwrap();
+    assert_eq!(a.cells, b.cells);
+    for (p, q) in a.points.iter().zip(&b.points) {
+        assert!((2.0 * p[0] - q[0]).abs() < 1e-12 && (2.0 * p[1] - q[1]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn bad_arguments_are_named() {
+    let d = DiskOptions::default();
+    for r in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            disk_graded(r, 72, d),
+            Err(MeshError::InvalidLength { name: "radius", .. })
+        ));
+    }
+    let e = disk_graded(R, 2, d).unwrap_err();
+    assert_eq!(
+        e,
+        MeshError::CountBelow {
+            name: "rim_nodes",
+            value: 2,
+            min: 3
+        }
+    );
+    assert!(e.to_string().contains(">= 3"), "{e}");
+    for g in [0.99, 2.01, f64::NAN, f64::INFINITY, -1.15] {
+        let e = disk_graded(R, 72, DiskOptions { grading: g }).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                MeshError::OutOfRange {
+                    name: "grading",
+                    ..
+                }
+            ),
+            "{g}: {e}"
+        );
+        assert!(e.to_string().contains("[1, 2]"), "{e}");
+    }
+    for n in [usize::MAX, 49_999_999, 10_000_000] {
+        assert!(
+            matches!(
+                disk_graded(R, n, d),
+                Err(MeshError::TooLarge {
+                    name: "rim_nodes",
+                    ..
+                })
+            ),
+            "n = {n}"
+        );
+    }
+}
