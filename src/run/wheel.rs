@@ -19,8 +19,12 @@ pub mod figures;
 pub mod observers;
 
 use super::{RunError, RunOptions, RunReport, INTERRUPT};
-use crate::mesh::generators::disk_rings;
+use crate::analysis::components::{
+    fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
+};
+use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use crate::mesh::gmsh::read_msh;
+use crate::mesh::quality as mesh_quality;
 use crate::mesh::Mesh;
 use crate::output::files::write_json;
 use crate::output::vtk::{write_vtu, Field, PvdWriter};
@@ -78,6 +82,20 @@ pub struct WheelSummary {
     pub dominant_cycles_per_turn: Option<f64>,
     /// Frequency at which the base passes rim nodes, Hz (a mesh ripple).
     pub node_passing_frequency_hz: f64,
+    /// The contact force's spectral components over the rolling phase, strongest first,
+    /// each with its amplitude (N, half peak-to-peak) and kind: locked to the rotation
+    /// (whole cycles per turn: the mesh's or the geometry's), node passing, or at a fixed
+    /// frequency (a mode of the wheel on its support and contact)
+    /// ([`crate::analysis::components`]).
+    pub spectral_components: Vec<Component>,
+    /// Cycles per turn of the largest fixed-frequency component (neither locked to the
+    /// rotation nor node passing): a per-turn count that does not depend on which component
+    /// happens to dominate ([`crate::analysis::components::fixed_frequency_per_turn`]).
+    pub fixed_frequency_cycles_per_turn: Option<f64>,
+    /// Smallest angle of the mesh's triangles, degrees.
+    pub mesh_min_angle_deg: f64,
+    /// The mesh's rotational symmetry order (6 for the hexagonal disk, 1 for the graded one).
+    pub mesh_symmetry_order: usize,
     /// Largest penetration seen, m.
     pub max_penetration: f64,
     /// Largest `J2` of the turn average, MPa^2.
@@ -109,6 +127,12 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
         MeshSource::Rings(n) => {
             disk_rings(ws.spec.radius, *n).map_err(|e| RunError::input(sc_path, e))?
         }
+        MeshSource::Graded { rim_nodes, grading } => disk_graded(
+            ws.spec.radius,
+            *rim_nodes,
+            DiskOptions { grading: *grading },
+        )
+        .map_err(|e| RunError::input(sc_path, e))?,
         MeshSource::Gmsh(p) => read_msh(p).map_err(|e| RunError::Input {
             path: sc_path.to_path_buf(),
             message: e.to_string(),
@@ -171,7 +195,34 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
             "turn-averaged J2 max {:.4e} MPa^2, von Mises max {:.2} MPa; max penetration {:.2e} m; energy {:.4e} -> {:.4e} J",
             s.max_j2_turn_average_mpa2, s.max_von_mises_turn_average_mpa, s.max_penetration, s.energy_after_settling, s.energy_final
         ),
+        format!(
+            "spectral components (Hz, per turn, amplitude, kind): {}",
+            s.spectral_components
+                .iter()
+                .take(5)
+                .map(describe)
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
+        format!(
+            "mesh: smallest angle {:.1} deg, rotational symmetry order {}",
+            s.mesh_min_angle_deg, s.mesh_symmetry_order
+        ),
     ]
+}
+
+/// One spectral component in a few words.
+fn describe(c: &Component) -> String {
+    let kind = match c.kind {
+        ComponentKind::NodePassing { harmonic } => format!("node passing x{harmonic}"),
+        ComponentKind::Mode { index, .. } => format!("mode {index}"),
+        ComponentKind::Locked { cycles_per_turn } => format!("locked, {cycles_per_turn} per turn"),
+        ComponentKind::Unclassified => "fixed frequency".into(),
+    };
+    format!(
+        "{:.1} Hz, {:.2}, {:.3e} N, {kind}",
+        c.hz, c.cycles_per_turn, c.amplitude
+    )
 }
 
 /// Runs one wheel run and writes its files (history, fields, plots) into `out`: build the
@@ -336,6 +387,21 @@ pub struct WheelResults {
 fn summarise(wm: &WheelModel, ws: &WheelScenario, run: &Run, r: &WheelResults) -> WheelSummary {
     let omega = ws.spec.omega;
     let (f, o) = (&r.forces, &r.outcome);
+    let (tr, fr): (Vec<f64>, Vec<f64>) =
+        f.t.iter()
+            .zip(&f.force)
+            .filter(|(t, _)| r.timeline.rolling(**t))
+            .map(|(t, y)| (*t, *y))
+            .unzip();
+    let components = spectral_components(
+        &tr,
+        &fr,
+        omega,
+        wm.rim.len(),
+        &[],
+        &ComponentOptions::default(),
+    );
+    let q = mesh_quality(&wm.mesh);
     WheelSummary {
         label: run.label.clone(),
         omega,
@@ -356,6 +422,10 @@ fn summarise(wm: &WheelModel, ws: &WheelScenario, run: &Run, r: &WheelResults) -
         dominant_frequency_hz: f.dominant.map(|d| d.0),
         dominant_cycles_per_turn: f.dominant.map(|d| d.0 / f.rotation_hz),
         node_passing_frequency_hz: f.node_passing_hz,
+        fixed_frequency_cycles_per_turn: fixed_frequency_per_turn(&components),
+        spectral_components: components,
+        mesh_min_angle_deg: q.min_angle_deg,
+        mesh_symmetry_order: q.symmetry_order,
         max_penetration: f.max_penetration,
         max_j2_turn_average_mpa2: r.fields.j2_mpa2.iter().cloned().fold(0.0, f64::max),
         max_von_mises_turn_average_mpa: r.fields.von_mises_mpa.iter().cloned().fold(0.0, f64::max),

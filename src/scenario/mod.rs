@@ -126,6 +126,14 @@ pub struct Sdof {
 pub enum MeshSource {
     /// The hexagonal-pattern disk of `n` rings (12: the paper's 469 nodes, 864 triangles).
     Rings(usize),
+    /// The disk graded towards a rim of `rim_nodes` nodes, without low-order rotational
+    /// symmetry ([`crate::mesh::generators::disk_graded`]).
+    Graded {
+        /// Nodes on the rim.
+        rim_nodes: usize,
+        /// Ratio of successive radial spacings from the rim inwards, in [1, 2].
+        grading: f64,
+    },
     /// A Gmsh `.msh` file (4.1, ASCII or binary), centred at the axle.
     Gmsh(PathBuf),
 }

@@ -85,6 +85,8 @@ pub(super) struct RawWheel {
     pub radius: f64,
     pub thickness: f64,
     pub rings: Option<i64>,
+    pub rim_nodes: Option<i64>,
+    pub grading: Option<f64>,
     pub mesh: Option<String>,
     pub plane: Option<String>,
     pub mass: Option<String>,

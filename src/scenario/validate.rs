@@ -587,15 +587,44 @@ fn wheel_model(
         ));
     }
     let density = cx.positive("material.density", m.density)?;
+    let given = [
+        ("wheel.rings", w.rings.is_some()),
+        ("wheel.rim_nodes", w.rim_nodes.is_some()),
+        ("wheel.mesh", w.mesh.is_some()),
+    ];
+    if given.iter().filter(|g| g.1).count() > 1 {
+        let names: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
+        return Err(cx.invalid(
+            names[1],
+            format!("given with {}", names[0]),
+            "give one of wheel.rings, wheel.rim_nodes or wheel.mesh",
+        ));
+    }
+    if w.grading.is_some() && w.rim_nodes.is_none() {
+        return Err(cx.invalid(
+            "wheel.grading",
+            w.grading.unwrap_or_default(),
+            "the grading of the disk of wheel.rim_nodes; give wheel.rim_nodes",
+        ));
+    }
     let mesh = match (w.rings, &w.mesh) {
-        (Some(_), Some(_)) => {
-            return Err(cx.invalid(
-                "wheel.mesh",
-                "given with wheel.rings",
-                "give either wheel.rings or wheel.mesh, not both",
-            ))
+        (None, None) if w.rim_nodes.is_some() => {
+            let n = cx.count("wheel.rim_nodes", w.rim_nodes.unwrap_or(0), 100_000)?;
+            if n < 12 {
+                return Err(cx.invalid("wheel.rim_nodes", n, "at least 12 rim nodes"));
+            }
+            let grading = w
+                .grading
+                .unwrap_or(crate::mesh::generators::DiskOptions::DEFAULT_GRADING);
+            if !(1.0..=2.0).contains(&grading) {
+                return Err(cx.invalid("wheel.grading", grading, "in [1, 2]"));
+            }
+            MeshSource::Graded {
+                rim_nodes: n,
+                grading,
+            }
         }
-        (Some(n), None) => MeshSource::Rings(cx.count("wheel.rings", n, 400)?),
+        (Some(n), _) => MeshSource::Rings(cx.count("wheel.rings", n, 400)?),
         (None, Some(f)) => {
             let p = Path::new(f);
             let p = if p.is_relative() {
