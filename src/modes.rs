@@ -1062,3 +1062,92 @@ fn angular_momentum(asm: &Assembler, m: &[f64], a: &[f64], b: &[f64], dim: usize
         0.0
     }
 }
+
+/// The bounce of the wheel: the lowest mode with vertical translation, the disk moving
+/// between its support (pin or hub) and the contact held on the base.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Bounce {
+    /// Frequency, Hz.
+    pub frequency_hz: f64,
+    /// The mode's effective mass in vertical translation over the total mass (1: a rigid
+    /// disk on two springs).
+    pub vertical_mass_fraction: f64,
+    /// Rim nodes held (their vertical dof) as the static contact patch.
+    pub held_nodes: usize,
+}
+
+/// The bounce mode of the wheel pressed to the flattening `d` (m) on a base below it: the
+/// rim nodes whose undeformed position lies beyond the base line `y = -(R - d)` (at least
+/// the lowest one) are held vertically, the support as in the model, and the elastic
+/// stiffness `K` ([`WheelModel::k_elastic`]) with the mass `M` give, by inverse iteration
+/// from the vertical load `M e_y` (four solves with one sparse factorization),
+/// $$u_{k+1} = K^{-1} M u_k,\qquad \omega^2 = \frac{u^T K u}{u^T M u},$$
+/// the lowest mode that a vertical load excites; its vertical effective-mass fraction is
+/// `(u^T M e_y)^2 / (u^T M u  e_y^T M e_y)`. Sparse: any mesh size.
+///
+/// # Errors
+/// [`ModesError::NotFinite`] when `K` with the held dofs is singular.
+pub fn bounce_mode(model: &WheelModel, d: f64) -> Result<Bounce, ModesError> {
+    use crate::linalg::{spmv_into, SparseLu};
+    let n = model.mesh.n_dofs();
+    let r = model.spec.radius;
+    let lowest = model
+        .rim
+        .iter()
+        .copied()
+        .min_by(|&a, &b| model.mesh.points[a][1].total_cmp(&model.mesh.points[b][1]));
+    let mut held: Vec<usize> = model
+        .rim
+        .iter()
+        .copied()
+        .filter(|&i| model.mesh.points[i][1] <= -(r - d))
+        .collect();
+    if held.is_empty() {
+        held.extend(lowest);
+    }
+    let mut fixed = vec![false; n];
+    for &dof in &model.fixed_dofs {
+        fixed[dof] = true;
+    }
+    for &i in &held {
+        fixed[2 * i + 1] = true;
+    }
+    let pattern = model.model.pattern();
+    let mut k = model.k_elastic.clone();
+    crate::linalg::set_identity_rows(pattern, &mut k, &fixed);
+    let mut lu = SparseLu::new(pattern, &k).map_err(|_| ModesError::NotFinite {
+        matrix: "stiffness",
+    })?;
+    let ey: Vec<f64> = (0..n).map(|i| if i % 2 == 1 { 1.0 } else { 0.0 }).collect();
+    let mut u = ey.clone();
+    let mut mu = vec![0.0; n];
+    for _ in 0..4 {
+        spmv_into(pattern, &model.model.m, &u, &mut mu);
+        for (ui, (&mi, &fx)) in u.iter_mut().zip(mu.iter().zip(&fixed)) {
+            *ui = if fx { 0.0 } else { mi };
+        }
+        lu.solve_in_place(&mut u);
+        let norm = u.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(ModesError::NotFinite {
+                matrix: "stiffness",
+            });
+        }
+        u.iter_mut().for_each(|x| *x /= norm);
+    }
+    let quad = |a: &[f64], x: &[f64], y: &[f64]| -> f64 {
+        let mut ax = vec![0.0; n];
+        spmv_into(pattern, a, x, &mut ax);
+        ax.iter().zip(y).map(|(p, q)| p * q).sum()
+    };
+    let (kuu, muu) = (quad(&model.k_elastic, &u, &u), quad(&model.model.m, &u, &u));
+    let (mue, mee) = (
+        quad(&model.model.m, &u, &ey),
+        quad(&model.model.m, &ey, &ey),
+    );
+    Ok(Bounce {
+        frequency_hz: (kuu / muu).max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
+        vertical_mass_fraction: mue * mue / (muu * mee),
+        held_nodes: held.len(),
+    })
+}

@@ -26,6 +26,7 @@ use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use crate::mesh::gmsh::read_msh;
 use crate::mesh::quality as mesh_quality;
 use crate::mesh::Mesh;
+use crate::modes::{bounce_mode, Bounce};
 use crate::output::files::write_json;
 use crate::output::vtk::{write_vtu, Field, PvdWriter};
 use crate::scenario::{MeshSource, Model, Run, Scenario, WheelScenario};
@@ -92,6 +93,11 @@ pub struct WheelSummary {
     /// rotation nor node passing): a per-turn count that does not depend on which component
     /// happens to dominate ([`crate::analysis::components::fixed_frequency_per_turn`]).
     pub fixed_frequency_cycles_per_turn: Option<f64>,
+    /// The bounce of the disk between its support and the contact held on the base
+    /// ([`crate::modes::bounce_mode`]), Hz: the spectral component near it is `mode 0`.
+    pub bounce_frequency_hz: Option<f64>,
+    /// The bounce mode's effective mass in vertical translation over the total mass.
+    pub bounce_vertical_mass_fraction: Option<f64>,
     /// Smallest angle of the mesh's triangles, degrees.
     pub mesh_min_angle_deg: f64,
     /// The mesh's rotational symmetry order (6 for the hexagonal disk, 1 for the graded one).
@@ -205,8 +211,12 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
                 .join("; ")
         ),
         format!(
-            "mesh: smallest angle {:.1} deg, rotational symmetry order {}",
-            s.mesh_min_angle_deg, s.mesh_symmetry_order
+            "bounce of the wheel on its support and contact {}; mesh: smallest angle {:.1} deg, rotational symmetry order {}",
+            s.bounce_frequency_hz
+                .map(|f| format!("{f:.1} Hz"))
+                .unwrap_or_else(|| "-".into()),
+            s.mesh_min_angle_deg,
+            s.mesh_symmetry_order
         ),
     ]
 }
@@ -215,7 +225,7 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
 fn describe(c: &Component) -> String {
     let kind = match c.kind {
         ComponentKind::NodePassing { harmonic } => format!("node passing x{harmonic}"),
-        ComponentKind::Mode { index, .. } => format!("mode {index}"),
+        ComponentKind::Mode { .. } => "bounce mode".into(),
         ComponentKind::Locked { cycles_per_turn } => format!("locked, {cycles_per_turn} per turn"),
         ComponentKind::Unclassified => "fixed frequency".into(),
     };
@@ -248,6 +258,21 @@ pub fn simulate(
     };
     let steps = (ws.duration() / h).round() as usize;
     let last_turn = timeline.last_full_turn();
+    // The bounce of the disk between its support and the contact, and the node-passing
+    // harmonics that would drive it (a resonance warning before the run).
+    let bounce = bounce_mode(wm, ws.spec.flattening.depth).ok();
+    if let Some(b) = bounce {
+        let passing = ws.spec.omega * wm.rim.len() as f64 / (2.0 * PI);
+        for k in 1..=4 {
+            let f = k as f64 * passing;
+            if (f / b.frequency_hz - 1.0).abs() < 0.05 {
+                eprintln!(
+                    "softway: warning: {}: the node passing ({k} x {passing:.1} Hz = {f:.1} Hz) is within 5% of the bounce of the wheel on its support and contact ({:.1} Hz): expect a resonance (change omega, the rim nodes or the support)",
+                    run.label, b.frequency_hz
+                );
+            }
+        }
+    }
     let history_path = out.join("history.csv");
     let mut history = HistoryWriter::create(&history_path, sc.history_stride, wm.base())?;
     let nodes_path = out.join("contact_nodes.csv");
@@ -282,7 +307,7 @@ pub fn simulate(
         fields: average.finish(),
         snapshots: snapshots.finish(),
     };
-    let summary = summarise(wm, ws, run, &results);
+    let summary = summarise(wm, ws, run, &results, bounce);
     let mut files = vec![history.finish()?, nodes.finish()?];
     files.extend(write_fields(out, wm, &results)?);
     if sc.plots {
@@ -384,7 +409,13 @@ pub struct WheelResults {
 }
 
 /// The key figures of a run.
-fn summarise(wm: &WheelModel, ws: &WheelScenario, run: &Run, r: &WheelResults) -> WheelSummary {
+fn summarise(
+    wm: &WheelModel,
+    ws: &WheelScenario,
+    run: &Run,
+    r: &WheelResults,
+    bounce: Option<Bounce>,
+) -> WheelSummary {
     let omega = ws.spec.omega;
     let (f, o) = (&r.forces, &r.outcome);
     let (tr, fr): (Vec<f64>, Vec<f64>) =
@@ -393,12 +424,13 @@ fn summarise(wm: &WheelModel, ws: &WheelScenario, run: &Run, r: &WheelResults) -
             .filter(|(t, _)| r.timeline.rolling(**t))
             .map(|(t, y)| (*t, *y))
             .unzip();
+    let modes: Vec<f64> = bounce.iter().map(|b| b.frequency_hz).collect();
     let components = spectral_components(
         &tr,
         &fr,
         omega,
         wm.rim.len(),
-        &[],
+        &modes,
         &ComponentOptions::default(),
     );
     let q = mesh_quality(&wm.mesh);
@@ -424,6 +456,8 @@ fn summarise(wm: &WheelModel, ws: &WheelScenario, run: &Run, r: &WheelResults) -
         node_passing_frequency_hz: f.node_passing_hz,
         fixed_frequency_cycles_per_turn: fixed_frequency_per_turn(&components),
         spectral_components: components,
+        bounce_frequency_hz: bounce.map(|b| b.frequency_hz),
+        bounce_vertical_mass_fraction: bounce.map(|b| b.vertical_mass_fraction),
         mesh_min_angle_deg: q.min_angle_deg,
         mesh_symmetry_order: q.symmetry_order,
         max_penetration: f.max_penetration,
