@@ -77,13 +77,15 @@ fn wheel_from_a_gmsh_file_rolls_like_the_generated_one() {
     let dir = std::env::temp_dir().join(format!("softway-gmsh-wheel-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     write_msh(&dir.join("disk.msh"), 6);
-    let base =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"))
-            .unwrap()
-            .replace("turns = 5", "turns = 0.1")
-            .replace("settle_time = 5e-3", "settle_time = 1e-3")
-            .replace("h = 2e-6", "h = 4e-6")
-            .replace("plots = true", "plots = false");
+    let base = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-paper-mesh.toml"
+    ))
+    .unwrap()
+    .replace("turns = 5", "turns = 0.1")
+    .replace("settle_time = 5e-3", "settle_time = 1e-3")
+    .replace("h = 2e-6", "h = 4e-6")
+    .replace("plots = true", "plots = false");
     let mut results = Vec::new();
     for (name, text) in [
         ("gmsh", base.replace("rings = 12", "mesh = \"disk.msh\"")),

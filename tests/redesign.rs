@@ -97,7 +97,12 @@ fn wheel_figures() -> Value {
     let dir = std::env::temp_dir().join(format!("softway-redesign-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let st = Command::new(env!("CARGO_BIN_EXE_softway"))
-        .args(["run", manifest("scenarios/wheel.toml").to_str().unwrap()])
+        .args([
+            "run",
+            manifest("scenarios/wheel-paper-mesh.toml")
+                .to_str()
+                .unwrap(),
+        ])
         .arg("--quiet")
         .arg("--out")
         .arg(&dir)

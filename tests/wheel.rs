@@ -195,7 +195,11 @@ fn short_rolling_run_is_stable_without_penetration() {
 }
 
 fn wheel_text() -> String {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml")).unwrap()
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-paper-mesh.toml"
+    ))
+    .unwrap()
 }
 
 fn cli_error(name: &str, text: &str) -> String {
@@ -226,6 +230,22 @@ fn bad_wheel_inputs_give_clear_errors() {
     let e = cli_error("flat", &t.replace("flattening = 1e-3", "flattening = 0.2"));
     assert!(
         e.contains("rolling.flattening") && e.contains("smaller than wheel.radius"),
+        "{e}"
+    );
+    let e = cli_error(
+        "two",
+        &t.replace("rings = 12", "rings = 12\nrim_nodes = 144"),
+    );
+    assert!(
+        e.contains("wheel.rim_nodes") && e.contains("give one of"),
+        "{e}"
+    );
+    let e = cli_error(
+        "grading",
+        &t.replace("rings = 12", "rings = 12\ngrading = 1.2"),
+    );
+    assert!(
+        e.contains("wheel.grading") && e.contains("wheel.rim_nodes"),
         "{e}"
     );
     let e = cli_error("omega", &t.replace("omega = 300.0", "omega = -300.0"));
@@ -278,11 +298,13 @@ fn the_rolling_force_carries_the_bounce_mode() {
     let dir = std::env::temp_dir().join(format!("softway-bounce-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let text =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"))
-            .unwrap()
-            .replace("turns = 5", "turns = 1")
-            .replace("history_stride = 5", "history_stride = 50\nplots = false");
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-paper-mesh.toml"
+    ))
+    .unwrap()
+    .replace("turns = 5", "turns = 1")
+    .replace("history_stride = 5", "history_stride = 50\nplots = false");
     let sc = dir.join("wheel1.toml");
     std::fs::write(&sc, text).unwrap();
     let out = dir.join("out");

@@ -12,7 +12,8 @@
 //! `F* ~ F_{n} + d_{n-1} / (r^p - 1)` (reported as `extrapolated`). A figure whose
 //! differences do not shrink has no order (`-`): it is not converging on this ladder (or
 //! sits at round-off). The figures are the summary's numbers: for the wheel the contact force
-//! (mean, min, max), nodes in contact, energy, spectral figures, cost; for one-run bar and
+//! (mean, min, max, ripple max - min), nodes in contact, the bounce frequency and the
+//! fixed-frequency cycles per turn, the turn-averaged von Mises maximum, energy, cost; for one-run bar and
 //! oscillator scenarios every number of the run.
 
 use super::sweep::{run_ladder, SweepError, SweepPoint};
@@ -23,12 +24,14 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The figures of a wheel run that a convergence study reports.
-const WHEEL_FIGURES: [&str; 9] = [
+const WHEEL_FIGURES: [&str; 11] = [
     "mean_contact_force",
     "min_contact_force",
     "max_contact_force",
     "mean_nodes_in_contact",
-    "dominant_frequency_hz",
+    "bounce_frequency_hz",
+    "fixed_frequency_cycles_per_turn",
+    "max_von_mises_turn_average_mpa",
     "energy_after_settling",
     "energy_final",
     "time_per_step_us",
@@ -90,10 +93,20 @@ pub fn extrapolate(xs: &[f64], values: &[f64], orders: &[Option<f64>]) -> Option
 /// run of a bar or oscillator scenario.
 fn figures(summary: &serde_json::Value) -> Vec<(String, f64)> {
     if summary["kind"] == "wheel" {
-        return WHEEL_FIGURES
+        let get = |k: &str| summary[k].as_f64().unwrap_or(f64::NAN);
+        let mut f: Vec<(String, f64)> = WHEEL_FIGURES
             .iter()
-            .map(|k| (k.to_string(), summary[*k].as_f64().unwrap_or(f64::NAN)))
+            .map(|k| (k.to_string(), get(k)))
             .collect();
+        // The ripple of the force over the rolling phase (max - min), N.
+        f.insert(
+            3,
+            (
+                "contact_force_ripple".into(),
+                get("max_contact_force") - get("min_contact_force"),
+            ),
+        );
+        return f;
     }
     let run = summary["runs"].get(0).unwrap_or(summary);
     let mut out = Vec::new();
