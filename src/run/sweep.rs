@@ -121,8 +121,8 @@ pub fn sweep(
             "min_contact_force",
             "max_contact_force",
             "oscillations_per_turn",
-            "dominant_frequency_hz",
-            "dominant_cycles_per_turn",
+            "fixed_frequency_cycles_per_turn",
+            "bounce_frequency_hz",
             "max_von_mises_turn_average_mpa",
             "energy_after_settling",
             "energy_final",
@@ -194,11 +194,26 @@ pub fn sweep(
                 }
             })
             .collect();
-        let cyc: Vec<f64> = points
+        let num = |p: &SweepPoint, k: &str| p.summary[k].as_f64().unwrap_or(f64::NAN);
+        // The fixed-frequency component (the bounce), counted per turn.
+        let fixed: Vec<f64> = points
+            .iter()
+            .map(|p| num(p, "fixed_frequency_cycles_per_turn"))
+            .collect();
+        // The bounce computed with the contact held, as cycles per turn: f_b 2 pi / omega.
+        let held: Vec<f64> = points
+            .iter()
+            .zip(&xs)
+            .map(|(p, &w)| num(p, "bounce_frequency_hz") * 2.0 * std::f64::consts::PI / w)
+            .collect();
+        // The strongest component locked to the rotation.
+        let locked: Vec<f64> = points
             .iter()
             .map(|p| {
-                p.summary["dominant_cycles_per_turn"]
-                    .as_f64()
+                p.summary["spectral_components"]
+                    .as_array()
+                    .and_then(|cs| cs.iter().find(|c| c["kind"]["type"] == "locked"))
+                    .and_then(|c| c["kind"]["cycles_per_turn"].as_f64())
                     .unwrap_or(f64::NAN)
             })
             .collect();
@@ -212,15 +227,27 @@ pub fn sweep(
             "cycles per turn",
         );
         p1.series.push(Series::new(
-            "counted (mean of turns 2..)",
+            "peaks counted (the paper's rule, mean of turns 2..)",
             xs.clone(),
             osc,
             SeriesStyle::LineMarkers,
         ));
         p1.series.push(Series::new(
-            "dominant spectral peak / rotation frequency",
+            "fixed-frequency component (bounce), rolling",
             xs.clone(),
-            cyc,
+            fixed,
+            SeriesStyle::LineMarkers,
+        ));
+        p1.series.push(Series::new(
+            "bounce with the contact held, f_b 2 pi / omega",
+            xs.clone(),
+            held,
+            SeriesStyle::Line,
+        ));
+        p1.series.push(Series::new(
+            "strongest component locked to the rotation",
+            xs.clone(),
+            locked,
             SeriesStyle::LineMarkers,
         ));
         let mut p2 = Panel::new(
