@@ -334,3 +334,29 @@ fn the_rolling_force_carries_the_bounce_mode() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The documented default support of a wheel scenario: a hub clamped over a tenth of the
+/// radius (`softway::scenario::DEFAULT_HUB_FRACTION`); `support = "centre"` pins the centre
+/// node and refuses a hub radius.
+#[test]
+fn the_default_support_is_a_clamped_hub() {
+    use softway::scenario::{Model, Scenario, DEFAULT_HUB_FRACTION};
+    assert_eq!(DEFAULT_HUB_FRACTION, 0.1);
+    let t = wheel_text().replace("support = \"centre\"", "");
+    let sc = Scenario::from_str(&t, std::path::Path::new("hub.toml")).unwrap();
+    let Model::Wheel(ws) = &sc.runs[0].model else {
+        panic!("a wheel")
+    };
+    match ws.spec.support {
+        Support::Hub { radius } => assert!((radius - 0.01).abs() < 1e-15, "{radius}"),
+        other => panic!("{other:?}"),
+    }
+    let e = cli_error(
+        "pinhub",
+        &wheel_text().replace(
+            "support = \"centre\"",
+            "support = \"centre\"\nhub_radius = 0.01",
+        ),
+    );
+    assert!(e.contains("wheel.hub_radius"), "{e}");
+}

@@ -63,6 +63,8 @@ pub mod combinations;
 mod raw;
 mod validate;
 
+pub use validate::DEFAULT_HUB_FRACTION;
+
 pub use raw::set_key;
 
 /// A scenario error: the file, the key at fault and what is allowed.

@@ -12,6 +12,10 @@ use super::{
     Contact, MeshSource, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep, WheelScenario,
 };
 use crate::contact::{Restore, Treatment};
+
+/// Default hub radius of `support = "hub"`, as a fraction of the wheel's radius (1 cm for
+/// the paper's 10 cm wheel).
+pub const DEFAULT_HUB_FRACTION: f64 = 0.1;
 use crate::problems::{BarImpact, TwoBars};
 use crate::time::classic::ClassicParams;
 use crate::time::sdof::analyse;
@@ -658,15 +662,21 @@ fn wheel_model(
             ))
         }
     };
-    let support = match w.support.as_deref().unwrap_or("centre") {
-        "centre" | "center" => Support::CentrePinned,
-        "hub" => {
-            let hr = w.hub_radius.ok_or_else(|| {
-                cx.missing(
+    // Default: a hub clamped over a tenth of the radius (the pinned centre is a point
+    // support whose stiffness vanishes as the mesh is refined; `softway::wheel`).
+    let support = match w.support.as_deref().unwrap_or("hub") {
+        "centre" | "center" => {
+            if let Some(hr) = w.hub_radius {
+                return Err(cx.invalid(
                     "wheel.hub_radius",
-                    "support = \"hub\" needs the hub radius, m",
-                )
-            })?;
+                    hr,
+                    "only with support = \"hub\" (the centre node is pinned)",
+                ));
+            }
+            Support::CentrePinned
+        }
+        "hub" => {
+            let hr = w.hub_radius.unwrap_or(DEFAULT_HUB_FRACTION * radius);
             let hr = cx.positive("wheel.hub_radius", hr)?;
             if hr >= radius {
                 return Err(cx.invalid(
