@@ -360,3 +360,39 @@ fn the_default_support_is_a_clamped_hub() {
     );
     assert!(e.contains("wheel.hub_radius"), "{e}");
 }
+
+/// A resonance is announced before the run: on the paper's mesh (72 rim nodes, bounce
+/// 5842 Hz on the pin) at 510 rad/s the node passing (5844 Hz) falls on the bounce, and the
+/// run prints a warning naming both; at 300 rad/s (3438 Hz, twice 6875 Hz) it does not.
+#[test]
+fn a_node_passing_resonance_is_announced() {
+    let dir = std::env::temp_dir().join(format!("softway-resonance-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut stderr = Vec::new();
+    for omega in ["510.0", "300.0"] {
+        let text = wheel_text()
+            .replace("omega = 300.0", &format!("omega = {omega}"))
+            .replace("turns = 5", "turns = 0.05")
+            .replace("settle_time = 5e-3", "settle_time = 1e-4")
+            .replace("history_stride = 5", "history_stride = 50\nplots = false");
+        let sc = dir.join(format!("w{omega}.toml"));
+        std::fs::write(&sc, text).unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_softway"))
+            .args(["run", sc.to_str().unwrap(), "--quiet", "--out"])
+            .arg(dir.join(omega))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        stderr.push(String::from_utf8_lossy(&o.stderr).to_string());
+    }
+    assert!(
+        stderr[0].contains("warning")
+            && stderr[0].contains("bounce")
+            && stderr[0].contains("node passing"),
+        "{}",
+        stderr[0]
+    );
+    assert!(!stderr[1].contains("bounce"), "{}", stderr[1]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
