@@ -397,3 +397,47 @@ fn friction_is_refused_for_1d_models() {
     pb.friction = Some(0.0);
     assert!(Simulation::new(pb).is_ok());
 }
+
+/// The scenario key: `contact.friction` on a bar is refused with one line naming the key; a
+/// negative coefficient too.
+#[test]
+fn scenario_key_is_refused_for_bars_and_negative_values() {
+    const BAR: &str = "kind = \"bar_impact\"\n[time]\nalpha = 0.8\nh = 0.1\nt_end = 1.0\n[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n[contact]\nmethod = \"exact\"\n";
+    let dir = std::env::temp_dir().join(format!("softway-friction-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, value, must) in [
+        ("bar_mu", "0.3", "2D model"),
+        ("bar_negative", "-0.1", ">= 0"),
+    ] {
+        let p = dir.join(format!("{name}.toml"));
+        std::fs::write(&p, format!("{BAR}friction = {value}\n")).unwrap();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+            .arg("run")
+            .arg(&p)
+            .arg("--out")
+            .arg(dir.join(name))
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+        assert!(!o.status.success(), "{err}");
+        assert_eq!(lines.len(), 1, "{err}");
+        assert!(
+            err.contains("contact.friction") && err.contains(must),
+            "{err}"
+        );
+    }
+    // 0 is frictionless and accepted on a bar.
+    let p = dir.join("bar_zero.toml");
+    std::fs::write(&p, format!("{BAR}friction = 0.0\n")).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+        .arg("run")
+        .arg(&p)
+        .arg("--out")
+        .arg(dir.join("bar_zero"))
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
