@@ -36,6 +36,7 @@ pub fn resolve(sc: &Scenario<RunSpec>) -> Result<Scenario, ScenarioError> {
             model: spec.model.clone(),
             integrator: spec.integrator,
             contact: spec.contact,
+            friction: spec.friction,
             t_end: spec.t_end,
         });
     }

@@ -51,6 +51,16 @@
 //! refactorization on a change of the active set); it judges the solution (accept, solve
 //! again, step back) and records the pairs' forces (always in N).
 //!
+//! **Friction** (first slice; `Problem::friction`, scenario key `contact.friction`). The
+//! Coulomb coefficient `mu` is carried by the treatment (given when it is built). With
+//! `mu > 0` (2D models) a pair also presents a tangent ([`contact::Pair::tangent`]: the
+//! normal turned by +90 degrees, with the surface's tangential velocity `w_t`), and every
+//! normal row gets a bounded row `|lambda_t| <= mu lambda_n` on the slip velocity at the step
+//! end, `y = (c_t.V - w_t) + mu_v c_t.x`: stick or slip, decided by the rows' active set
+//! without refactorization. The soft way brakes the normal velocity only (the tangential
+//! motion is no impact); friction acts on held pairs. The pairs report the tangential force,
+//! slip power and dissipated energy; `RunStats::stick_slip_changes` counts the changes.
+//!
 //! | question | file |
 //! |---|---|
 //! | where is the step equation? | `src/time/step.rs` (space-time), `src/time/classic.rs` |

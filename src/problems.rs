@@ -107,6 +107,7 @@ impl BarImpact {
             steps: (t_end / h).round() as usize,
             gap_tol: 1e-12 * self.length,
             energy_stiffness: None,
+            friction: None,
         };
         (mesh, problem)
     }
@@ -267,6 +268,7 @@ impl TwoBars {
             steps: (t_end / h).round() as usize,
             gap_tol: 1e-12 * self.length,
             energy_stiffness: None,
+            friction: None,
         };
         (mesh, pb)
     }

@@ -69,6 +69,10 @@ pub struct Problem {
     /// `None`: the model's `K` (in a rotating frame `K` holds spin terms: pass the elastic
     /// stiffness here).
     pub energy_stiffness: Option<Vec<f64>>,
+    /// Coulomb friction coefficient `mu` of every pair (scenario key `contact.friction`);
+    /// `None` or `Some(0)`: frictionless, exactly the rows without friction. Needs a 2D
+    /// model and a treatment that carries it ([`Treatment::check_friction`]).
+    pub friction: Option<f64>,
 }
 
 impl std::fmt::Debug for Problem {
@@ -120,6 +124,12 @@ pub struct StepView<'a> {
     pub contact_force: f64,
     /// Pairs held on their obstacle (carrying a reaction).
     pub held: usize,
+    /// Frictional dissipation of the step that ended here, summed over the pairs, W
+    /// ([`PairState::slip_power`]).
+    pub slip_power: f64,
+    /// Energy dissipated by friction since the start, summed over the pairs, J
+    /// ([`PairState::dissipated`]).
+    pub friction_dissipated: f64,
 }
 
 /// Counters of a run.
@@ -137,6 +147,9 @@ pub struct RunStats {
     pub entries: usize,
     /// Releases.
     pub releases: usize,
+    /// Stick/slip changes of friction rows, in all solves (each a dense re-solve of the
+    /// active rows, no factorization; [`RowSolver::stick_slip_changes`]).
+    pub stick_slip_changes: usize,
     /// Numeric factorizations of a system matrix.
     pub factorizations: usize,
     /// Symbolic analyses of a system matrix.
@@ -229,6 +242,12 @@ impl Engine {
     /// The geometry of pair `p` at time `t` in the configuration `u`.
     pub fn geometry(&self, p: usize, t: f64, u: &[f64]) -> Geometry {
         self.pairs[p].geometry(&self.obstacles, self.dim, &self.reference, u, t)
+    }
+
+    /// The tangential row of pair `p` at time `t` in the configuration `u` (`None` unless
+    /// the model is 2D; [`Pair::tangent`]).
+    pub fn tangent(&self, p: usize, t: f64, u: &[f64]) -> Option<Geometry> {
+        self.pairs[p].tangent(&self.obstacles, self.dim, &self.reference, u, t)
     }
 
     /// The gap of pair `p` at time `t` in the configuration `u`, m.
@@ -352,10 +371,15 @@ impl Simulation {
             steps,
             gap_tol,
             energy_stiffness,
+            friction,
         } = problem;
         treatment
             .check(&integrator)
             .map_err(SimError::Unsupported)?;
+        treatment
+            .check_friction(friction, dim)
+            .map_err(SimError::Unsupported)?;
+        let friction = friction.filter(|&mu| mu > 0.0);
         let n = model.n();
         let np = pairs.len();
         let mut contact_nodes: Vec<usize> = pairs
@@ -367,7 +391,7 @@ impl Simulation {
             .collect();
         contact_nodes.sort_unstable();
         contact_nodes.dedup();
-        let mut treat = build_treatment(treatment, &integrator, np);
+        let mut treat = build_treatment(treatment, &integrator, np, friction);
         let massless = treat.adjust_model(&mut model, dim, &contact_nodes);
         let integ = build_integrator(integrator, &model, h, gamma_schedule, &dirichlet)?;
         // Cache all contact dofs' columns when that fits in 256 MiB, else 128 of them.
@@ -390,7 +414,7 @@ impl Simulation {
             obstacles,
             pairs,
             gap_tol,
-            rows: RowSolver::new(n, np, cache),
+            rows: RowSolver::new(n, np * if friction.is_some() { 2 } else { 1 }, cache),
             extra: vec![0.0; n],
             f: vec![0.0; n],
             pred: State::zeros(n),
@@ -474,6 +498,7 @@ impl Simulation {
         let mut stats = self.engine.stats;
         stats.factorizations = self.engine.integ.factorizations();
         stats.symbolic_analyses = self.engine.integ.symbolic_analyses();
+        stats.stick_slip_changes = self.engine.rows.stick_slip_changes();
         Ok(stats)
     }
 
@@ -488,6 +513,8 @@ impl Simulation {
         let strain = 0.5 * quadratic_form(m.pattern(), k, &s.u);
         let contact_force = s.pairs.iter().map(|p| p.force).sum();
         let held = s.pairs.iter().filter(|p| p.held).count();
+        let slip_power = s.pairs.iter().map(|p| p.slip_power).sum();
+        let friction_dissipated = s.pairs.iter().map(|p| p.dissipated).sum();
         observer(&StepView {
             state: s,
             kinetic,
@@ -495,6 +522,8 @@ impl Simulation {
             penalty: self.treatment.stored_energy(s),
             contact_force,
             held,
+            slip_power,
+            friction_dissipated,
         })
     }
 }

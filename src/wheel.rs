@@ -348,6 +348,7 @@ impl WheelModel {
             steps,
             gap_tol: 1e-9 * self.spec.radius,
             energy_stiffness: Some(self.k_elastic.clone()),
+            friction: None,
         }
     }
 

@@ -25,6 +25,7 @@ fn run(bar: BarImpact, h: f64, restore: Restore) -> BarSummary {
             gamma: 0.0,
         },
         contact: Treatment::SoftWay { restore },
+        friction: None,
         t_end,
     };
     simulate(&r, None, 1, false).unwrap().0

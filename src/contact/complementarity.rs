@@ -21,10 +21,17 @@
 //!   predicted half a step ahead, `g(u0) + h/2 (c.v0 - w)`, is <= 0; a candidate obeys
 //!   Newton's law at the velocity level, `y = (c.v1 - w) + e (c.v0 - w) >= 0` with the
 //!   restitution `e`. Positions are not enforced: a drift of order `h |v|` remains.
+//!
+//! **Friction** (coefficient `mu > 0`, 2D): beside each pair's normal row, a bounded row on
+//! the pair's tangent `c_t` with `y = (c_t.V - w_t) + mu_v c_t.x`, the slip velocity at the
+//! step end, and `|lambda_t| <= mu lambda_n` ([`crate::contact::rows`]): stick (the slip
+//! velocity at `t1` is zero) or slip (the force `mu lambda_n` opposes it). The multipliers of
+//! the two rows have the same unit, so the bound is the same with forces (exact, penalty) and
+//! impulses (Moreau-Jean with the space-time scheme).
 
 use super::mass_redistribution::redistribute_mass;
 use super::rows::{Row, RowKind};
-use super::treatment::{plain_state, ContactTreatment};
+use super::treatment::{plain_state, record_friction, ContactTreatment};
 use crate::simulation::{Engine, SimError, Snapshot};
 use crate::time::step::LinearModel;
 
@@ -53,6 +60,9 @@ pub struct Complementarity {
     held: Vec<bool>,
     point: Vec<f64>,
     vel_tol: Option<f64>,
+    friction: Option<f64>,
+    /// The tangential surface velocity of each pair in the last solve, m/s.
+    wt: Vec<f64>,
 }
 
 impl Complementarity {
@@ -64,7 +74,15 @@ impl Complementarity {
             held: vec![false; pairs],
             point: Vec::new(),
             vel_tol: None,
+            friction: None,
+            wt: vec![0.0; pairs],
         }
+    }
+
+    /// With Coulomb friction of coefficient `mu` (`None` or 0: frictionless).
+    pub fn with_friction(mut self, mu: Option<f64>) -> Self {
+        self.friction = mu.filter(|&m| m > 0.0);
+        self
     }
 
     /// With the contact nodes made massless first.
@@ -151,7 +169,7 @@ impl ContactTreatment for Complementarity {
                 }
                 Law::Exact => (geo.gap(&eng.reference, &eng.pred.u), maps.mu_u, 0.0),
             };
-            eng.rows.push(Row {
+            let normal = eng.rows.push(Row {
                 pair: p,
                 terms: geo.terms,
                 kind: RowKind::Unilateral,
@@ -159,6 +177,19 @@ impl ContactTreatment for Complementarity {
                 mu,
                 reg,
             });
+            if let Some(mu_f) = self.friction {
+                if let Some(tg) = eng.tangent(p, t1, &eng.pred.u) {
+                    self.wt[p] = tg.w;
+                    eng.rows.push(Row {
+                        pair: p,
+                        terms: tg.terms,
+                        kind: RowKind::Bounded { normal, mu_f },
+                        y0: tg.terms.dot(&eng.pred.v) - tg.w,
+                        mu: maps.mu_v,
+                        reg: 0.0,
+                    });
+                }
+            }
         }
         let changes = eng.solve(tol);
         eng.stats.resolves += changes;
@@ -167,9 +198,16 @@ impl ContactTreatment for Complementarity {
         ts.k = fs.k + 1;
         for p in 0..self.held.len() {
             ts.pairs[p] = plain_state(0.0, false, eng.gap(p, t1, &ts.u));
+            ts.pairs[p].dissipated = fs.pairs[p].dissipated;
         }
         for (i, row) in eng.rows.rows().iter().enumerate() {
             let lam = eng.rows.lambda()[i];
+            if let RowKind::Bounded { .. } = row.kind {
+                let slip = (row.terms.dot(&ts.u) - row.terms.dot(&fs.u)) / h - self.wt[row.pair];
+                let sliding = eng.rows.is_sliding(i);
+                record_friction(&mut ts.pairs[row.pair], lam * maps.force, sliding, slip, h);
+                continue;
+            }
             ts.pairs[row.pair].force = lam * maps.force * h / h;
             ts.pairs[row.pair].held = lam > 0.0;
         }

@@ -58,6 +58,23 @@ pub trait Obstacle: Send + Sync + std::fmt::Debug {
     fn time_scale(&self) -> f64 {
         1.0
     }
+
+    /// Tangential velocity of the surface's material points at `x` and time `t`, m/s,
+    /// along the 2D tangent `t = (-n_y, n_x)` (the normal turned by +90 degrees; see
+    /// [`tangent_2d`]). Friction acts on the slip `t . v - w_t`. The half-space alone does
+    /// not show a sliding of the surface along itself, so the default is 0 (fixed planes and
+    /// walls); an obstacle whose surface moves along itself overrides it
+    /// ([`RotatingLine`]).
+    fn surface_tangential_velocity(&self, _t: f64, _x: Vector) -> f64 {
+        0.0
+    }
+}
+
+/// The 2D tangent of a unit normal: `n` turned by +90 degrees (counter-clockwise),
+/// `t = (-n_y, n_x)`. For a floor (`n = (0, 1)`) it is `(-1, 0)`: a tangential force or
+/// velocity reported along it is positive towards `-x`.
+pub fn tangent_2d(n: Vector) -> Vector {
+    [-n[1], n[0], 0.0]
 }
 
 /// A fixed plane (a wall in 1D: `normal = [-1, 0]` for a wall on the right of the body).
@@ -179,6 +196,17 @@ impl Obstacle for RotatingLine {
         let ed = [self.omega * th.cos(), self.omega * th.sin()];
         self.flattening.rate(t) + ed[0] * (x[0] - self.centre[0]) + ed[1] * (x[1] - self.centre[1])
     }
+
+    /// The base turns about the centre at `omega` (its flattening moves it along its normal
+    /// only), so its material point at `x` moves with `omega e_z x (x - centre) = omega
+    /// (-(y - y_c), x - x_c)`. Along the tangent `t = (-n_y, n_x)` with `n = -e`, `t = (-cos
+    /// th, -sin th)`, which gives `w_t = -omega e . (x - centre)`: on the base (`e . (x -
+    /// centre) = rho`) the rolling speed `-omega rho`. A driven or braked wheel would add its
+    /// creepage here (`w_t (1 + xi)`): future work, the hook is this method.
+    fn surface_tangential_velocity(&self, t: f64, x: Vector) -> f64 {
+        let e = self.direction(t);
+        -self.omega * (e[0] * (x[0] - self.centre[0]) + e[1] * (x[1] - self.centre[1]))
+    }
 }
 
 #[cfg(test)]
@@ -213,6 +241,42 @@ mod tests {
             let b = Numeric(line).surface_normal_velocity(t, x);
             assert!((a - b).abs() < 1e-6 * (1.0 + a.abs()), "{a} vs {b}");
         }
+    }
+
+    /// The tangential velocity of the rotating base is the rigid rotation's velocity field
+    /// projected on the tangent (the normal turned by +90 degrees).
+    #[test]
+    fn rotating_line_tangential_velocity_is_the_rotation_field() {
+        let line = RotatingLine {
+            centre: [0.01, -0.02, 0.0],
+            radius: 0.1,
+            omega: 300.0,
+            theta0: 0.3,
+            flattening: Flattening {
+                depth: 1e-3,
+                settle_time: 2e-3,
+            },
+        };
+        let x = [0.03, -0.09, 0.0];
+        for t in [0.0005, 0.003] {
+            let n = line.half_space(t, x).normal;
+            let tg = tangent_2d(n);
+            let r = [x[0] - line.centre[0], x[1] - line.centre[1]];
+            let vel = [-line.omega * r[1], line.omega * r[0], 0.0];
+            let expect = dot(tg, vel);
+            let got = line.surface_tangential_velocity(t, x);
+            assert!(
+                (got - expect).abs() < 1e-12 * expect.abs(),
+                "{got} vs {expect}"
+            );
+        }
+        // Below the wheel at theta = 0: the base moves towards +x, the tangent is -x.
+        let line0 = RotatingLine {
+            theta0: 0.0,
+            ..line
+        };
+        let w = line0.surface_tangential_velocity(0.0, [0.01, -0.1, 0.0]);
+        assert!((w + 300.0 * 0.08).abs() < 1e-12, "{w}");
     }
 
     #[test]

@@ -10,8 +10,16 @@
 //! `a` and `+n` on `b`, `o = 0` and `w = 0`. Every treatment works on `c`, `o`, `w` alone, so
 //! the soft way brakes the relative normal velocity of two bodies exactly as it brakes a node
 //! against a wall.
+//!
+//! **Tangent (friction, 2D).** [`Pair::tangent`] presents the tangential direction as a
+//! [`Geometry`] of its own: `c_t` is the normal turned by +90 degrees,
+//! `t = (-n_y, n_x)` ([`super::obstacle::tangent_2d`]), on the node's dofs (`-t` on `a`, `+t`
+//! on `b` for two nodes), with `offset = 0` and `w` the surface's tangential velocity
+//! ([`Obstacle::surface_tangential_velocity`]: 0 for fixed planes, the rolling speed for the
+//! rotating base; 0 between two nodes). The slip velocity is `c_t . v - w`. A 1D model has
+//! no tangent (`None`); a 3D model needs two tangents and a friction cone (future work).
 
-use super::obstacle::{Obstacle, Vector};
+use super::obstacle::{tangent_2d, Obstacle, Vector};
 use super::rows::Terms;
 
 /// A contact pair.
@@ -112,6 +120,53 @@ impl Pair {
                     offset: 0.0,
                     w: 0.0,
                 }
+            }
+        }
+    }
+
+    /// The tangential row at time `t` in the configuration `u` (module docs, Tangent): `c_t`
+    /// the normal turned by +90 degrees, `offset = 0`, `w` the surface's tangential velocity.
+    /// `None` unless `dim == 2`.
+    pub fn tangent(
+        &self,
+        obstacles: &[Box<dyn Obstacle>],
+        dim: usize,
+        reference: &[f64],
+        u: &[f64],
+        t: f64,
+    ) -> Option<Geometry> {
+        if dim != 2 {
+            return None;
+        }
+        let mut terms = Terms::default();
+        match *self {
+            Pair::Obstacle { node, obstacle } => {
+                let x = [
+                    reference[2 * node] + u[2 * node],
+                    reference[2 * node + 1] + u[2 * node + 1],
+                    0.0,
+                ];
+                let obst = &obstacles[obstacle];
+                let tg = tangent_2d(obst.half_space(t, x).normal);
+                terms.push(2 * node, tg[0]);
+                terms.push(2 * node + 1, tg[1]);
+                Some(Geometry {
+                    terms,
+                    offset: 0.0,
+                    w: obst.surface_tangential_velocity(t, x),
+                })
+            }
+            Pair::Nodes { a, b, normal } => {
+                let tg = tangent_2d(normal);
+                terms.push(2 * a, -tg[0]);
+                terms.push(2 * a + 1, -tg[1]);
+                terms.push(2 * b, tg[0]);
+                terms.push(2 * b + 1, tg[1]);
+                Some(Geometry {
+                    terms,
+                    offset: 0.0,
+                    w: 0.0,
+                })
             }
         }
     }

@@ -30,6 +30,19 @@
 //! cached (least recently used slot replaced) while `A` does not change, so a change of the
 //! active set, a new pair or a turned normal costs no factorization, only column solves the
 //! first time a dof is constrained. All memory is allocated in [`RowSolver::new`].
+//!
+//! **Stick/slip (Coulomb friction).** A bounded row starts a solve sticking (`y_p = 0`) when
+//! its normal row starts active, else off (`lambda_p = 0`), and follows the normal row in and
+//! out of the active set. After each dense solve, first (before a unilateral row leaves or
+//! enters: a sticking row's large multiplier may pull its normal row into tension), all
+//! sticking rows with `|lambda_p| > mu_f max(lambda_q, 0) (1 + 1e-12)` slide with `s = sign(lambda_p)` (the
+//! equation `lambda_p - s mu_f lambda_q = 0` replaces `y_p = 0`), and all sliding rows whose
+//! slip reversed beyond the tolerance, `-s y_p < -tol` (`tol` the solve's tolerance, in the
+//! units of `y`: m/s for a velocity row), stick again; the set is then solved again. The
+//! relative `1e-12` on the bound and `tol` on the slip keep round-off from flipping a row
+//! at the cone's edge. Such a change is a dense re-solve of the active rows on the cached
+//! columns, never a factorization; they are counted ([`RowSolver::stick_slip_changes`]).
+//! The loop stops after `10 + 4k` changes (k rows) in any case.
 
 use crate::time::integrator::TimeIntegrator;
 use crate::time::step::dense_solve_in_place;
@@ -139,6 +152,7 @@ pub struct RowSolver {
     cols: Vec<f64>,
     clock: u64,
     solves: usize,
+    stick_slip: usize,
     y0: Vec<f64>,
     w: Vec<f64>,
     state: Vec<Activity>,
@@ -171,6 +185,7 @@ impl RowSolver {
             cols: vec![0.0; slots * n],
             clock: 0,
             solves: 0,
+            stick_slip: 0,
             y0: vec![0.0; mr],
             w: vec![0.0; mr * mr],
             state: vec![Activity::Off; mr],
@@ -218,6 +233,17 @@ impl RowSolver {
     /// Column solves done so far (`A^{-1} e_d` for a newly constrained dof).
     pub fn column_solves(&self) -> usize {
         self.solves
+    }
+
+    /// Stick/slip changes of bounded rows so far (each one a dense re-solve of the active
+    /// rows, never a factorization).
+    pub fn stick_slip_changes(&self) -> usize {
+        self.stick_slip
+    }
+
+    /// True when row `p` of the last solve is a bounded row on its bound (sliding).
+    pub fn is_sliding(&self, p: usize) -> bool {
+        p < self.rows.len() && matches!(self.state[p], Activity::Slip(_))
     }
 
     /// Solves the rows: `x` holds `x_free` on entry and `x_free + sum z_q lambda_q` on exit;
@@ -289,9 +315,53 @@ impl RowSolver {
                 RowKind::Unilateral => Activity::Off,
             };
         }
+        // A friction row starts sticking when its normal row starts active, else off.
+        for p in 0..k {
+            if let RowKind::Bounded { normal, .. } = self.rows[p].kind {
+                if self.state[normal] == Activity::Off {
+                    self.state[p] = Activity::Off;
+                }
+            }
+        }
         let mut changes = 0;
         for _ in 0..(10 + 4 * k) {
             self.solve_set(k);
+            // Friction first (module docs): a friction row follows its normal row in and out
+            // of the active set (off while the pair carries no normal reaction, sticking when
+            // it enters); a sticking row beyond its bound slides; a sliding row whose `y` no
+            // longer has the sign its force opposes sticks.
+            let mut moved = false;
+            for p in 0..k {
+                if let RowKind::Bounded { normal, mu_f } = self.rows[p].kind {
+                    let bound = mu_f * self.lambda[normal].max(0.0);
+                    let normal_on = self.state[normal] != Activity::Off;
+                    match self.state[p] {
+                        Activity::Off if normal_on => {
+                            self.state[p] = Activity::On;
+                            moved = true;
+                        }
+                        Activity::On | Activity::Slip(_) if !normal_on => {
+                            self.state[p] = Activity::Off;
+                            moved = true;
+                        }
+                        Activity::On if self.lambda[p].abs() > bound * (1.0 + 1e-12) => {
+                            self.state[p] = Activity::Slip(self.lambda[p].signum());
+                            self.stick_slip += 1;
+                            moved = true;
+                        }
+                        Activity::Slip(s) if -s * self.y(p, k) < -tol => {
+                            self.state[p] = Activity::On;
+                            self.stick_slip += 1;
+                            moved = true;
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            if moved {
+                changes += 1;
+                continue;
+            }
             // Leave: the most negative unilateral multiplier.
             let mut worst: Option<(usize, f64)> = None;
             for &p in &self.idx {
@@ -305,29 +375,6 @@ impl RowSolver {
             }
             if let Some((p, _)) = worst {
                 self.state[p] = Activity::Off;
-                changes += 1;
-                continue;
-            }
-            // Friction: a sticking row beyond its bound slides; a sliding row whose `y` no
-            // longer has the sign its force opposes sticks.
-            let mut moved = false;
-            for p in 0..k {
-                if let RowKind::Bounded { normal, mu_f } = self.rows[p].kind {
-                    let bound = mu_f * self.lambda[normal].max(0.0);
-                    match self.state[p] {
-                        Activity::On if self.lambda[p].abs() > bound * (1.0 + 1e-12) => {
-                            self.state[p] = Activity::Slip(self.lambda[p].signum());
-                            moved = true;
-                        }
-                        Activity::Slip(s) if -s * self.y(p, k) < -tol => {
-                            self.state[p] = Activity::On;
-                            moved = true;
-                        }
-                        _ => {}
-                    }
-                }
-            }
-            if moved {
                 changes += 1;
                 continue;
             }

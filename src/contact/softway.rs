@@ -40,10 +40,19 @@
 //! `lambda_s` the restored momentum does not depend on that phase, and for `h -> 0` it is
 //! the node's effective mass times its approach speed, so the impact gives back the energy
 //! it took (an elastic impact of the node).
+//!
+//! **Friction.** With a Coulomb coefficient `mu > 0` (2D) a held pair gets, beside its
+//! equality normal row, a bounded row on its tangent: the slip velocity at `t1`,
+//! `c_t . v1 - w_t`, is zero (stick) while the tangential impulse stays within `mu` times the
+//! normal impulse, else that impulse bounds it against the slip. Braking is not extended to
+//! the tangential direction: only the relative normal velocity jumps at an impact (the
+//! tangential velocity is continuous, nothing to brake or to give back), so a braked pair
+//! carries no friction row and friction starts with the first held step. A released pair
+//! loses its friction row with its normal row.
 
 use super::mass_redistribution::redistribute_mass;
 use super::rows::{Row, RowKind, Terms};
-use super::treatment::{ContactTreatment, Treatment};
+use super::treatment::{record_friction, ContactTreatment, Treatment};
 use crate::simulation::{Engine, SimError, Snapshot};
 use crate::time::step::LinearModel;
 use serde::Serialize;
@@ -90,6 +99,20 @@ pub struct PairState {
     pub released: bool,
     /// Gap at the end of the step, m (negative: penetration).
     pub gap: f64,
+    /// Friction force of the step that ended here along the pair's tangent
+    /// ([`crate::contact::Pair::tangent`]: the normal turned by +90 degrees), N; 0 without
+    /// friction.
+    pub tangential_force: f64,
+    /// Sliding (the friction force on the Coulomb bound) in the step that ended here.
+    pub sliding: bool,
+    /// Frictional dissipation in the step that ended here, W: `-F_t s` with `F_t` the
+    /// tangential force and `s` the mean slip velocity of the step, `(c_t.(u1 - u0))/h - w_t`
+    /// (>= 0).
+    pub slip_power: f64,
+    /// Energy dissipated by friction at this pair since the start, J (the sum of
+    /// `slip_power h` over the final steps; it is part of the state, so a repeated step
+    /// does not count twice).
+    pub dissipated: f64,
 }
 
 impl Default for PairState {
@@ -104,6 +127,10 @@ impl Default for PairState {
             braked: false,
             released: false,
             gap: f64::INFINITY,
+            tangential_force: 0.0,
+            sliding: false,
+            slip_power: 0.0,
+            dissipated: 0.0,
         }
     }
 }
@@ -163,6 +190,12 @@ pub struct SoftWay {
     row_pair: Vec<usize>,
     lambda: Vec<f64>,
     lambda_stop: Vec<f64>,
+    friction: Option<f64>,
+    /// Per pair, the friction row of the last solve: its row, surface velocity, multiplier
+    /// and whether it slid.
+    friction_row: Vec<Option<(Terms, f64)>>,
+    lambda_t: Vec<f64>,
+    sliding: Vec<bool>,
 }
 
 impl SoftWay {
@@ -180,7 +213,18 @@ impl SoftWay {
             row_pair: Vec::with_capacity(pairs),
             lambda: vec![0.0; pairs],
             lambda_stop: vec![0.0; pairs],
+            friction: None,
+            friction_row: vec![None; pairs],
+            lambda_t: vec![0.0; pairs],
+            sliding: vec![false; pairs],
         }
+    }
+
+    /// With Coulomb friction of coefficient `mu` on held pairs (`None` or 0: frictionless;
+    /// module docs, Friction).
+    pub fn with_friction(mut self, mu: Option<f64>) -> Self {
+        self.friction = mu.filter(|&m| m > 0.0);
+        self
     }
 
     /// With the contact nodes made massless first (mass redistribution).
@@ -221,6 +265,27 @@ impl SoftWay {
                 reg: 0.0,
             });
             self.row_pair.push(p);
+        }
+        // Friction rows of the held pairs, after all normal rows (module docs, Friction).
+        self.friction_row.fill(None);
+        let Some(mu_f) = self.friction else { return };
+        let maps = eng.integ.maps();
+        for normal in 0..self.row_pair.len() {
+            let p = self.row_pair[normal];
+            if self.modes[p] != PairMode::Hold {
+                continue;
+            }
+            if let Some(tg) = eng.tangent(p, t1, &fs.u) {
+                self.friction_row[p] = Some((tg.terms, tg.w));
+                eng.rows.push(Row {
+                    pair: p,
+                    terms: tg.terms,
+                    kind: RowKind::Bounded { normal, mu_f },
+                    y0: tg.terms.dot(&eng.pred.v) - tg.w,
+                    mu: maps.mu_v,
+                    reg: 0.0,
+                });
+            }
         }
     }
 }
@@ -286,12 +351,16 @@ impl ContactTreatment for SoftWay {
                 self.push_rows(eng, fs, t1, bt, true);
                 eng.solve(0.0);
                 let k = self.row_pair.len();
-                self.lambda_stop[..k].copy_from_slice(eng.rows.lambda());
+                self.lambda_stop[..k].copy_from_slice(&eng.rows.lambda()[..k]);
             }
             self.push_rows(eng, fs, t1, bt, false);
             eng.solve(0.0);
             let k = self.row_pair.len();
-            self.lambda[..k].copy_from_slice(eng.rows.lambda());
+            self.lambda[..k].copy_from_slice(&eng.rows.lambda()[..k]);
+            for (i, row) in eng.rows.rows().iter().enumerate().skip(k) {
+                self.lambda_t[row.pair] = eng.rows.lambda()[i];
+                self.sliding[row.pair] = eng.rows.is_sliding(i);
+            }
             eng.finish(&fs.state, &mut ts.state);
             ts.t = t1;
             ts.k = fs.k + 1;
@@ -354,7 +423,16 @@ impl ContactTreatment for SoftWay {
                 braked: false,
                 released: self.released[p],
                 gap,
+                tangential_force: 0.0,
+                sliding: false,
+                slip_power: 0.0,
+                dissipated: prev.dissipated,
             };
+            if let Some((terms, wt)) = self.friction_row[p] {
+                let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
+                let force = self.lambda_t[p] * eng.integ.maps().force;
+                record_friction(&mut st, force, self.sliding[p], slip, h);
+            }
             match self.modes[p] {
                 PairMode::Brake { terms, .. } => {
                     st.braked = true;

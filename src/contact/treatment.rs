@@ -14,6 +14,23 @@
 //! | subdivision (Fig. 5) | [`super::subdivision`] | equalities on sub-steps | cut the step at entries and releases |
 //!
 //! The combinations that do not exist are refused by [`Treatment::check`], in one place.
+//!
+//! **Friction.** The Coulomb coefficient `mu` ([`crate::simulation::Problem::friction`],
+//! scenario key `contact.friction`) is carried by the treatment, given at [`build`]; `None`
+//! (or 0) builds exactly the frictionless rows. With `mu > 0` (2D models,
+//! [`Treatment::check_friction`]) every pair that carries a normal row also gets a bounded
+//! row ([`crate::contact::rows::RowKind::Bounded`], `|lambda_t| <= mu lambda_n`) on its
+//! tangent ([`crate::contact::Pair::tangent`]) whose `y` is the slip velocity at the step
+//! end written through the integrator's maps, `y = (c_t.V - w_t) + mu_v c_t.x`: stick
+//! (`y = 0`) inside the bound, slip opposed by `mu lambda_n` on it, solved by the rows'
+//! active set without refactorization. The exact (generalized-alpha family), penalty and
+//! Moreau-Jean rows get it beside their unilateral normal row; the soft way and the
+//! space-time exact hold beside the equality row of a held pair (the bound is then `mu`
+//! times the normal impulse). The soft way's braking stays normal only: a braked pair gets
+//! no friction row, and nothing tangential is braked or given back (the tangential motion is
+//! no impact: it is continuous through the arrival, and friction acts from the first held
+//! step on). A treatment records the tangential force, sliding flag, slip power and
+//! dissipated energy of each pair ([`PairState`], [`record_friction`]).
 
 use super::{PairState, Restore};
 use crate::simulation::{Engine, SimError, Snapshot};
@@ -117,6 +134,40 @@ impl Treatment {
     }
 }
 
+impl Treatment {
+    /// Refuses a friction coefficient `friction` (`contact.friction`) that is not finite and
+    /// `>= 0`, friction on a model of dimension other than 2 (a 1D model has no tangent; 3D
+    /// needs two tangents and a cone: future work), and friction with the treatments that do
+    /// not carry it yet (the subdivision and mass redistribution). `None` and `Some(0)` are
+    /// always accepted (frictionless).
+    ///
+    /// # Errors
+    /// The reason, one line.
+    pub fn check_friction(&self, friction: Option<f64>, dim: usize) -> Result<(), String> {
+        let Some(mu) = friction else { return Ok(()) };
+        if !(mu.is_finite() && mu >= 0.0) {
+            return Err(format!(
+                "contact.friction must be a finite coefficient >= 0, got {mu}"
+            ));
+        }
+        if mu == 0.0 {
+            return Ok(());
+        }
+        if dim != 2 {
+            return Err(format!(
+                "contact.friction needs a 2D model (a {dim}D model has no tangential direction); remove the key or set it to 0"
+            ));
+        }
+        match self {
+            Treatment::Subdivision | Treatment::MassRedistribution => Err(format!(
+                "contact.friction is not available with {} yet; use soft_way, exact, penalty or moreau_jean",
+                self.name()
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
 /// The contract of a contact treatment (module docs).
 pub trait ContactTreatment: Send {
     /// The name used in tables.
@@ -166,33 +217,52 @@ pub trait ContactTreatment: Send {
     }
 }
 
-/// Builds the treatment of `choice` for `integrator` and `pairs` contact pairs.
+/// Builds the treatment of `choice` for `integrator` and `pairs` contact pairs, with the
+/// Coulomb coefficient `friction` (`None`: frictionless; checked by
+/// [`Treatment::check_friction`] first).
 pub fn build(
     choice: Treatment,
     integrator: &Integrator,
     pairs: usize,
+    friction: Option<f64>,
 ) -> Box<dyn ContactTreatment> {
     use super::complementarity::{Complementarity, Law};
     use super::softway::SoftWay;
     let st = integrator.is_space_time();
+    let mu = friction.filter(|&m| m > 0.0);
     match choice {
-        Treatment::SoftWay { restore } => Box::new(SoftWay::new(true, restore, pairs)),
-        Treatment::Exact if st => Box::new(SoftWay::new(false, Restore::Nothing, pairs)),
+        Treatment::SoftWay { restore } => {
+            Box::new(SoftWay::new(true, restore, pairs).with_friction(mu))
+        }
+        Treatment::Exact if st => {
+            Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_friction(mu))
+        }
         Treatment::MassRedistribution if st => {
             Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_mass_redistribution())
         }
-        Treatment::Exact => Box::new(Complementarity::new(Law::Exact, pairs)),
+        Treatment::Exact => Box::new(Complementarity::new(Law::Exact, pairs).with_friction(mu)),
         Treatment::MassRedistribution => {
             Box::new(Complementarity::new(Law::Exact, pairs).with_mass_redistribution())
         }
         Treatment::Penalty { stiffness } => {
-            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs))
+            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs).with_friction(mu))
         }
         Treatment::MoreauJean { restitution } => {
-            Box::new(Complementarity::new(Law::MoreauJean { restitution }, pairs))
+            Box::new(Complementarity::new(Law::MoreauJean { restitution }, pairs).with_friction(mu))
         }
         Treatment::Subdivision => Box::new(super::subdivision::Subdivision::new(pairs)),
     }
+}
+
+/// Records the friction of pair state `st` for a step of length `h`: the tangential force
+/// `force` (N), whether it slides, and the dissipation `-force s` (W) with `s` the mean slip
+/// velocity of the step (`(c_t.(u1 - u0))/h - w_t`, m/s), added to the dissipated energy
+/// (`st.dissipated` holds the value at the start of the step on entry).
+pub fn record_friction(st: &mut PairState, force: f64, sliding: bool, slip: f64, h: f64) {
+    st.tangential_force = force;
+    st.sliding = sliding;
+    st.slip_power = -force * slip;
+    st.dissipated += h * st.slip_power;
 }
 
 /// Records a pair's state from its mode at the end of an interval (shared by the

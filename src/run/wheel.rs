@@ -354,13 +354,14 @@ pub fn drive(
         Some(g) if t_settle > 0.0 => vec![(0.0, g), (t_settle, run.params.gamma)],
         _ => vec![],
     };
-    let problem = wm.problem(
+    let mut problem = wm.problem(
         run.integrator,
         run.params.h,
         gamma_schedule,
         run.contact,
         steps,
     );
+    problem.friction = run.friction;
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
     let start = Instant::now();
     let stats = sim

@@ -47,6 +47,8 @@
 //!                              # "soft_way_no_restore" | "exact" | "penalty" (penalty,
 //!                              # N/m) | "mass_redistribution" | "moreau_jean"
 //!                              # (restitution) | "subdivision" (see crate::contact)
+//! friction = 0.3               # Coulomb coefficient mu, >= 0 (default 0: frictionless);
+//!                              # 2D models only (the wheel), refused for bars
 //!
 //! [[runs]]                     # optional: several runs of one scenario
 //! label = "h = 0.4"
@@ -188,6 +190,9 @@ pub struct Run {
     pub integrator: Integrator,
     /// The contact treatment.
     pub contact: Contact,
+    /// Coulomb friction coefficient of the contact pairs (`contact.friction`; `None`:
+    /// frictionless).
+    pub friction: Option<f64>,
     /// End time, s.
     pub t_end: f64,
 }
@@ -230,6 +235,8 @@ pub struct RunSpec {
     pub integrator: Integrator,
     /// The contact treatment.
     pub contact: Contact,
+    /// Coulomb friction coefficient (`contact.friction`, >= 0; `None`: frictionless).
+    pub friction: Option<f64>,
     /// End time, s.
     pub t_end: f64,
 }

@@ -125,6 +125,7 @@ pub(super) struct RawContact {
     pub method: Option<String>,
     pub penalty: Option<f64>,
     pub restitution: Option<f64>,
+    pub friction: Option<f64>,
 }
 
 /// One `[[runs]]` entry: overrides of `[time]`, `[contact]` and the bar's `elements`.

@@ -299,6 +299,19 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
         };
         cx.invalid(k, format!("\"{v}\""), &refusal.why)
     })?;
+    // Friction: a finite coefficient >= 0, on a 2D model (the wheel), with a treatment that
+    // carries it (crate::contact::Treatment::check_friction).
+    let friction = contact.friction;
+    if let Some(mu) = friction {
+        let dim = if matches!(model, Model::Wheel(_)) {
+            2
+        } else {
+            1
+        };
+        run_contact
+            .check_friction(Some(mu), dim)
+            .map_err(|why| cx.invalid("contact.friction", mu, &why))?;
+    }
     // The central difference runs explicit: lumped mass, step from cfl if given.
     if integrator.is_explicit() {
         match &mut model {
@@ -329,6 +342,7 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
         model,
         integrator,
         contact: run_contact,
+        friction,
         t_end: base.t_end,
     })
 }

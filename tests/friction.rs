@@ -1,0 +1,443 @@
+//! Coulomb friction against exact rigid-body answers: a stiff elastic block (plane-stress
+//! triangles, lumped mass) on a rigid plane under gravity, its bottom nodes as contact pairs,
+//! with the space-time scheme (exact hold, the soft way) and the generalized-alpha family
+//! (exact enforcement).
+//!
+//! The block is 1 m x 0.25 m x 1 m of density 1000 kg/m^3 (m = 250 kg), E = 1 GPa and
+//! Poisson's ratio 0 (no lateral expansion under its weight, so the static state has no
+//! tangential reaction), g = 10 m/s^2, mu = 0.3: `mu m g = 750 N`. Loads are body forces
+//! (`m_i a(t)` per node), so the block's centre of mass obeys `m a_x = F - friction`
+//! whatever its (tiny) deformation. The tangent of the floor (normal `+y` turned by +90
+//! degrees) is `-x`.
+
+use softway::assembly::{assemble_mass_stiffness, Assembler};
+use softway::contact::{HalfSpace, Obstacle, Pair, Plane, Restore, Treatment};
+use softway::linalg::spmv_add;
+use softway::material::{Elastic, PlaneModel};
+use softway::mesh::generators::rectangle;
+use softway::simulation::{Problem, RunStats, SimError, Simulation};
+use softway::time::classic::ClassicParams;
+use softway::time::step::LinearModel;
+use softway::time::{ClassicKind, Integrator};
+use softway::wheel::{static_solve, triangle_geometry};
+use std::sync::atomic::AtomicBool;
+
+const G: f64 = 10.0;
+const MU: f64 = 0.3;
+const MASS: f64 = 250.0;
+
+/// One recorded step.
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    t: f64,
+    x: f64,
+    v: f64,
+    friction: f64,
+    all_sliding: bool,
+    dissipated: f64,
+    kinetic: f64,
+    strain: f64,
+}
+
+struct Trace {
+    samples: Vec<Sample>,
+    stats: RunStats,
+}
+
+fn space_time() -> Integrator {
+    Integrator::SpaceTime {
+        alpha: 0.8,
+        gamma: 0.0,
+    }
+}
+
+fn gen_alpha() -> Integrator {
+    Integrator::Classic {
+        kind: ClassicKind::GeneralizedAlpha,
+        params: ClassicParams::generalized_alpha(0.8).unwrap(),
+    }
+}
+
+/// The block: `ax(t)` the horizontal body acceleration of the load (m/s^2), `v0` the initial
+/// horizontal velocity, `lift` the initial height above the plane (0: resting in its static
+/// equilibrium on it).
+#[allow(clippy::too_many_arguments)]
+fn block(
+    integrator: Integrator,
+    treatment: Treatment,
+    friction: Option<f64>,
+    h: f64,
+    t_end: f64,
+    ax: fn(f64) -> f64,
+    v0: f64,
+    lift: f64,
+) -> Problem {
+    let mesh = rectangle(1.0, 0.25, 4, 1).unwrap();
+    let (_, geom) = triangle_geometry(&mesh).unwrap();
+    let mat = Elastic {
+        young: 1e9,
+        poisson: 0.0,
+        density: 1000.0,
+    };
+    let d = PlaneModel::Stress.elasticity_matrix(&mat);
+    let asm = Assembler::new(&mesh);
+    let (m, k) = assemble_mass_stiffness(&asm, &geom, &d, &mat, 1.0, true);
+    let n = mesh.n_dofs();
+    let mut nodal = vec![0.0; n];
+    spmv_add(&asm.pattern, &m, 1.0, &vec![1.0; n], &mut nodal);
+    let total: f64 = nodal.iter().step_by(2).sum();
+    assert!((total - MASS).abs() < 1e-9, "{total}");
+    let bottom = mesh.node_sets["bottom"].clone();
+    let mut gravity = vec![0.0; n];
+    for i in 0..n / 2 {
+        gravity[2 * i + 1] = -G * nodal[2 * i + 1];
+    }
+    let u0 = if lift == 0.0 {
+        let fixed: Vec<usize> = bottom.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
+        static_solve(&asm, &k, &gravity, &fixed).unwrap()
+    } else {
+        (0..n)
+            .map(|d| if d % 2 == 1 { lift } else { 0.0 })
+            .collect()
+    };
+    let mut v = vec![0.0; n];
+    for i in 0..n / 2 {
+        v[2 * i] = v0;
+    }
+    let model = LinearModel {
+        c: asm.zeros(),
+        assembler: asm,
+        m,
+        k,
+    };
+    let floor: Box<dyn Obstacle> = Box::new(Plane {
+        half_space: HalfSpace {
+            normal: [0.0, 1.0, 0.0],
+            offset: 0.0,
+        },
+    });
+    Problem {
+        dim: 2,
+        reference: mesh.reference_positions(),
+        model,
+        integrator,
+        h,
+        gamma_schedule: vec![],
+        dirichlet: vec![],
+        load: Box::new(move |t, f| {
+            let a = ax(t);
+            for i in 0..f.len() / 2 {
+                f[2 * i] = nodal[2 * i] * a;
+                f[2 * i + 1] = gravity[2 * i + 1];
+            }
+        }),
+        obstacles: vec![floor],
+        pairs: bottom
+            .iter()
+            .map(|&node| Pair::Obstacle { node, obstacle: 0 })
+            .collect(),
+        treatment,
+        u0,
+        v0: v,
+        t0: 0.0,
+        steps: (t_end / h).round() as usize,
+        gap_tol: 1e-12,
+        energy_stiffness: None,
+        friction,
+    }
+}
+
+fn run(pb: Problem) -> Result<Trace, SimError> {
+    let n = pb.model.n();
+    let mut nodal = vec![0.0; n];
+    spmv_add(
+        pb.model.pattern(),
+        &pb.model.m,
+        1.0,
+        &vec![1.0; n],
+        &mut nodal,
+    );
+    let mut sim = Simulation::new(pb)?;
+    let mut samples = Vec::new();
+    let stats = sim.run(&AtomicBool::new(false), |view| {
+        let s = view.state;
+        let (mut x, mut v) = (0.0, 0.0);
+        for i in 0..n / 2 {
+            x += nodal[2 * i] * s.u[2 * i];
+            v += nodal[2 * i] * s.v[2 * i];
+        }
+        samples.push(Sample {
+            t: s.t,
+            x: x / MASS,
+            v: v / MASS,
+            friction: s.pairs.iter().map(|p| p.tangential_force).sum(),
+            all_sliding: s.pairs.iter().all(|p| p.sliding),
+            dissipated: view.friction_dissipated,
+            kinetic: view.kinetic,
+            strain: view.strain,
+        });
+        Ok(())
+    })?;
+    Ok(Trace { samples, stats })
+}
+
+fn ramp(t: f64) -> f64 {
+    // F(t) = min(1500 t, 1125) N on 250 kg: mu m g = 750 N is reached at t = 0.5 s.
+    (1500.0 * t).min(1125.0) / MASS
+}
+
+fn no_push(_t: f64) -> f64 {
+    0.0
+}
+
+fn at(tr: &Trace, t: f64) -> Sample {
+    *tr.samples
+        .iter()
+        .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
+        .unwrap()
+}
+
+/// The two exact enforcements: the space-time exact hold and generalized-alpha (0.8) with
+/// Signorini at the step end (the undamped Newmark rule keeps the contact forces of a held
+/// node alternating from step to step, a known defect of displacement-level Signorini with
+/// the trapezoidal rule, so friction's bound alternates with them; see the module docs of
+/// `softway::contact::complementarity`).
+fn exact_runs() -> [(&'static str, Integrator); 2] {
+    [("space_time", space_time()), ("gen_alpha", gen_alpha())]
+}
+
+/// A body force rising as 1500 t N (held at 1125 N from 0.75 s): the block sticks while it
+/// is below `mu m g = 750 N` (t < 0.5 s), then slides with `(F - mu m g)/m`: 1.5 m/s^2
+/// after 0.75 s, and `v(1 s) = 1500 (0.25)^2 / (2 m) + 1.5 * 0.25 = 0.5625 m/s`.
+#[test]
+fn ramp_sticks_below_mu_n_and_slides_with_the_exact_acceleration() {
+    let h = 1e-3;
+    for (name, integ) in exact_runs() {
+        let tr = run(block(
+            integ,
+            Treatment::Exact,
+            Some(MU),
+            h,
+            1.0,
+            ramp,
+            0.0,
+            0.0,
+        ))
+        .unwrap();
+        let switch = tr.samples.iter().find(|s| s.all_sliding).unwrap().t;
+        let stick = tr
+            .samples
+            .iter()
+            .filter(|s| s.t < 0.5 - 2.0 * h)
+            .map(|s| s.x.abs())
+            .fold(0.0, f64::max);
+        let a = (at(&tr, 1.0).v - at(&tr, 0.8).v) / (at(&tr, 1.0).t - at(&tr, 0.8).t);
+        let v1 = at(&tr, 1.0).v;
+        // In stick the friction balances the push; sliding it is mu m g against the motion
+        // (along the tangent -x: positive).
+        let f_stick = at(&tr, 0.3).friction;
+        let f_slide = at(&tr, 0.9).friction;
+        eprintln!(
+            "{name}: switch {switch:.4} s (exact 0.5), stick |x| <= {stick:.2e} m, a {a:.6} (exact 1.5), v(1) {v1:.6} (exact 0.5625), friction {f_stick:.3} N at 0.3 s (exact 450), {f_slide:.3} N sliding (exact 750), {:?}",
+            tr.stats
+        );
+        assert!((switch - 0.5).abs() <= 2.0 * h + 1e-9, "{name}: {switch}");
+        assert!(stick < 1e-6, "{name}: {stick}");
+        assert!((a - 1.5).abs() < 0.01 * 1.5, "{name}: {a}");
+        assert!((v1 - 0.5625).abs() < 0.01 * 0.5625, "{name}: {v1}");
+        assert!((f_stick - 450.0).abs() < 0.01 * 450.0, "{name}: {f_stick}");
+        assert!((f_slide - 750.0).abs() < 0.01 * 750.0, "{name}: {f_slide}");
+        assert_eq!(tr.stats.factorizations, 1, "{name}");
+        assert!(tr.stats.stick_slip_changes > 0, "{name}");
+    }
+}
+
+/// Launched at 2 m/s along the plane, the block stops after `v0^2 / (2 mu g) = 2/3 m`, and
+/// friction dissipates the kinetic energy lost (500 J) less the small elastic energy left.
+#[test]
+fn launched_block_stops_after_v0_squared_over_2_mu_g_and_friction_dissipates_its_energy() {
+    let exact = 4.0 / (2.0 * MU * G);
+    for (name, integ) in exact_runs() {
+        for h in [4e-3, 1e-3] {
+            let tr = run(block(
+                integ,
+                Treatment::Exact,
+                Some(MU),
+                h,
+                1.0,
+                no_push,
+                2.0,
+                0.0,
+            ))
+            .unwrap();
+            let (f, l) = (tr.samples[0], *tr.samples.last().unwrap());
+            let err = (l.x - exact) / exact;
+            let lost = f.kinetic - l.kinetic - (l.strain - f.strain);
+            let balance = (l.dissipated - lost) / f.kinetic;
+            eprintln!(
+                "{name} h {h:e}: stop {:.6} m (exact {exact:.6}, {:+.2e}), v end {:.1e}, dissipated {:.3} J, energy lost {lost:.3} J ({balance:+.2e} of KE0), {:?}",
+                l.x, err, l.v, l.dissipated, tr.stats
+            );
+            assert!(err.abs() < 0.01, "{name} {h}: {err}");
+            assert!(l.v.abs() < 1e-3, "{name} {h}: {}", l.v);
+            assert!(balance.abs() < 0.005, "{name} {h}: {balance}");
+            assert_eq!(tr.stats.factorizations, 1);
+        }
+    }
+}
+
+/// Without friction (`Some(0)` or `None`: the same rows) the block slides forever at `v0`.
+#[test]
+fn frictionless_block_slides_forever() {
+    for (name, integ) in exact_runs() {
+        let a = run(block(
+            integ,
+            Treatment::Exact,
+            Some(0.0),
+            1e-3,
+            1.0,
+            no_push,
+            2.0,
+            0.0,
+        ))
+        .unwrap();
+        let b = run(block(
+            integ,
+            Treatment::Exact,
+            None,
+            1e-3,
+            1.0,
+            no_push,
+            2.0,
+            0.0,
+        ))
+        .unwrap();
+        let dv = a
+            .samples
+            .iter()
+            .map(|s| (s.v - 2.0).abs())
+            .fold(0.0, f64::max);
+        let l = a.samples.last().unwrap();
+        eprintln!(
+            "{name}: max |v - v0| {dv:.1e}, x(1) - 2 = {:.1e}",
+            l.x - 2.0
+        );
+        assert!(dv < 1e-9, "{name}: {dv}");
+        assert!((l.x - 2.0).abs() < 1e-9, "{name}: {}", l.x);
+        assert_eq!(l.dissipated, 0.0);
+        for (p, q) in a.samples.iter().zip(&b.samples) {
+            assert_eq!((p.x, p.v), (q.x, q.v), "{name}");
+        }
+    }
+}
+
+/// The soft way: the block, launched at 2 m/s, starts 20 um above the plane and lands after
+/// `t_f = sqrt(2 lift / g) = 2 ms` at `v_n = g t_f = 0.02 m/s`, braked in the step before
+/// (normal only). Rigid-body answer with a Coulomb impulse at the landing: it stops at
+/// `v0 t_f + (v0 - mu v_n)^2 / (2 mu g)`; without friction in the landing,
+/// `v0 t_f + v0^2 / (2 mu g)`. The space-time scheme with `gamma = 0.1` (Eq. 24) damps the
+/// stiff block's ringing, which with `gamma = 0` keeps releasing and re-landing its nodes.
+#[test]
+fn soft_way_landing_block_stops_at_the_rigid_body_distance() {
+    let h = 1e-3;
+    let lift = 2e-5;
+    let integ = Integrator::SpaceTime {
+        alpha: 0.8,
+        gamma: 0.1,
+    };
+    let tf = (2.0 * lift / G).sqrt();
+    let vn = G * tf;
+    let exact = 2.0 * tf + (2.0 - MU * vn).powi(2) / (2.0 * MU * G);
+    let no_impact = 2.0 * tf + 4.0 / (2.0 * MU * G);
+    for treat in [
+        Treatment::SOFT_WAY,
+        Treatment::SoftWay {
+            restore: Restore::Nothing,
+        },
+    ] {
+        let tr = run(block(integ, treat, Some(MU), h, 1.0, no_push, 2.0, lift)).unwrap();
+        let l = tr.samples.last().unwrap();
+        let err = (l.x - exact) / exact;
+        eprintln!(
+            "{}: stop {:.6} m (exact {exact:.6}: {err:+.2e}; without landing friction {no_impact:.6}), v end {:.1e}, {:?}",
+            treat.name(),
+            l.x,
+            l.v,
+            tr.stats
+        );
+        assert!(err.abs() < 0.01, "{err}");
+        assert!(l.v.abs() < 1e-3);
+        assert!(tr.stats.brakings > 0 && tr.stats.step_backs > 0);
+        assert_eq!(tr.stats.factorizations, 1);
+    }
+}
+
+/// Friction on a 1D model (a bar) is refused with the key named.
+#[test]
+fn friction_is_refused_for_1d_models() {
+    let bar = softway::problems::BarImpact {
+        length: 1.0,
+        ea: 1.0,
+        rho_a: 1.0,
+        speed: 1.0,
+        gap: 0.5,
+        elements: 10,
+        lumped: true,
+        damping: 0.0,
+    };
+    let (_, mut pb) = bar.problem(space_time(), Treatment::Exact, 0.01, 1.0);
+    pb.friction = Some(0.3);
+    match Simulation::new(pb) {
+        Err(SimError::Unsupported(m)) => {
+            assert!(m.contains("contact.friction") && m.contains("2D"), "{m}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let (_, mut pb) = bar.problem(space_time(), Treatment::Exact, 0.01, 1.0);
+    pb.friction = Some(0.0);
+    assert!(Simulation::new(pb).is_ok());
+}
+
+/// The scenario key: `contact.friction` on a bar is refused with one line naming the key; a
+/// negative coefficient too.
+#[test]
+fn scenario_key_is_refused_for_bars_and_negative_values() {
+    const BAR: &str = "kind = \"bar_impact\"\n[time]\nalpha = 0.8\nh = 0.1\nt_end = 1.0\n[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n[contact]\nmethod = \"exact\"\n";
+    let dir = std::env::temp_dir().join(format!("softway-friction-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, value, must) in [
+        ("bar_mu", "0.3", "2D model"),
+        ("bar_negative", "-0.1", ">= 0"),
+    ] {
+        let p = dir.join(format!("{name}.toml"));
+        std::fs::write(&p, format!("{BAR}friction = {value}\n")).unwrap();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+            .arg("run")
+            .arg(&p)
+            .arg("--out")
+            .arg(dir.join(name))
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+        assert!(!o.status.success(), "{err}");
+        assert_eq!(lines.len(), 1, "{err}");
+        assert!(
+            err.contains("contact.friction") && err.contains(must),
+            "{err}"
+        );
+    }
+    // 0 is frictionless and accepted on a bar.
+    let p = dir.join("bar_zero.toml");
+    std::fs::write(&p, format!("{BAR}friction = 0.0\n")).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+        .arg("run")
+        .arg(&p)
+        .arg("--out")
+        .arg(dir.join("bar_zero"))
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
