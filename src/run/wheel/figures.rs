@@ -1,6 +1,7 @@
 //! The figures of a wheel run (PNG): the contact force over the turns (Fig. 12) and a zoom
 //! (Fig. 13), its amplitude spectrum, the turn-averaged `J2` and von Mises maps
-//! (Figs. 14, 16), and the velocity fields of the last turn (Fig. 17).
+//! (Figs. 14, 16) with the rim profile of the turn-averaged `J2` against the angle, and the
+//! velocity fields of the last turn (Fig. 17).
 
 use super::{WheelResults, WheelSummary};
 use crate::output::plot::{
@@ -103,6 +104,36 @@ pub fn write(
         line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
     }
+    // The rim profile of the turn-averaged J2 and von Mises: the elements with an edge on
+    // the rim, against the angle of their centroid (where a corrugation pattern would show).
+    let (angles, j2_rim, vm_rim) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
+    if !angles.is_empty() {
+        let mut pr = Panel::new(
+            format!("Turn-averaged J2 of the rim elements, omega = {omega} rad/s"),
+            "angle of the element centroid [deg]",
+            "J2 [MPa²]",
+        );
+        pr.series.push(Series::new(
+            "J2, turn average",
+            angles.clone(),
+            j2_rim.clone(),
+            SeriesStyle::Line,
+        ));
+        let m = j2_rim.iter().sum::<f64>() / j2_rim.len() as f64;
+        pr.hlines.push((m, format!("mean {m:.4e} MPa²")));
+        pr.x_range = Some((-180.0, 180.0));
+        let png = out.join("j2_rim_profile.png");
+        line_plot(&png, &pr, (1400, 600)).map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+        let csv = out.join("j2_rim_profile.csv");
+        let mut body = String::from("angle_deg,j2_mpa2,von_mises_mpa\n");
+        for ((a, j), v) in angles.iter().zip(&j2_rim).zip(&vm_rim) {
+            body.push_str(&format!("{a:e},{j:e},{v:e}\n"));
+        }
+        crate::output::files::write_atomic(&csv, body.as_bytes())
+            .map_err(|e| RunError::output(&csv, e))?;
+        files.push(csv);
+    }
     // Figs. 14/16: J2 turn average.
     for (name, vals, label, title) in [
         (
@@ -181,6 +212,37 @@ pub fn write(
         files.push(png);
     }
     Ok(files)
+}
+
+/// The elements with an edge on the rim (two rim nodes), sorted by the angle of their
+/// centroid (degrees, in (-180, 180]), with their values of `j2` and `vm`.
+fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut on_rim = vec![false; wm.mesh.n_nodes()];
+    for &n in &wm.rim {
+        on_rim[n] = true;
+    }
+    let mut rows: Vec<(f64, f64, f64)> = wm
+        .triangles
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| t.iter().filter(|&&n| on_rim[n]).count() >= 2)
+        .map(|(e, t)| {
+            let (mut cx, mut cy) = (0.0, 0.0);
+            for &n in t {
+                cx += wm.mesh.points[n][0] / 3.0;
+                cy += wm.mesh.points[n][1] / 3.0;
+            }
+            (cy.atan2(cx).to_degrees(), j2[e], vm[e])
+        })
+        .collect();
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = (Vec::new(), Vec::new(), Vec::new());
+    for (a, j, v) in rows {
+        out.0.push(a);
+        out.1.push(j);
+        out.2.push(v);
+    }
+    out
 }
 
 fn percentile(v: &[f64], q: f64) -> f64 {
