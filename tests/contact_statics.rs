@@ -182,3 +182,39 @@ fn static_force_with_the_hub_converges_on_the_rim_ladder() {
     }
     assert!((forces[3] / limit - 1.0).abs() < 0.01, "{forces:?} {limit}");
 }
+
+/// The contact patch of the graded disk on its hub against Hertz (a cylinder on a rigid
+/// plane, plane stress: b = sqrt(4 P R / (pi E)), P the force per thickness) at the rolling
+/// flattening d = 0.1 cm (b = 6.6 mm: 7, 13, 31 rim nodes in the patch on 288, 576, 1,440
+/// rim nodes). The half-width (the extreme nodes in contact plus half a pitch) is within one
+/// rim pitch of Hertz's on every mesh, and its error shrinks at about first order in the
+/// pitch: 15.2%, 7.3%, 2.8% measured (asserted decreasing, and below 4% on the finest).
+#[test]
+fn contact_half_width_of_the_graded_disk_approaches_hertz() {
+    use softway::mesh::generators::{disk_graded, DiskOptions};
+    let mut rel = Vec::new();
+    for n in [288usize, 576, 1440] {
+        let wm = WheelModel::new(
+            disk_graded(0.1, n, DiskOptions::default()).unwrap(),
+            spec(1.0, 1e-3, 0.0, false, Support::Hub { radius: 0.01 }),
+        )
+        .unwrap();
+        let (force, active) = static_force(&wm, 0.0);
+        let pitch = 2.0 * std::f64::consts::PI * 0.1 / n as f64;
+        let xs: Vec<f64> = active
+            .iter()
+            .filter(|a| a.1 > 0.0)
+            .map(|a| wm.mesh.points[a.0][0])
+            .collect();
+        let half = (xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - xs.iter().cloned().fold(f64::INFINITY, f64::min))
+            / 2.0
+            + pitch / 2.0;
+        let b = (4.0 * force / 0.01 * 0.1 / (std::f64::consts::PI * 2.05e11)).sqrt();
+        println!("{n} rim nodes: force {force:.4e} N, half-width {half:.4e} m, Hertz {b:.4e} m, pitch {pitch:.2e} m, {} nodes", xs.len());
+        assert!((half - b).abs() < pitch, "{n}: {half:e} vs Hertz {b:e}");
+        rel.push((half - b).abs() / b);
+    }
+    assert!(rel[1] < rel[0] && rel[2] < rel[1], "{rel:?}");
+    assert!(rel[2] < 0.04, "{rel:?}");
+}
