@@ -109,15 +109,19 @@ impl std::ops::Deref for Snapshot {
     }
 }
 
-/// What an observer sees of a final step.
+/// What an observer sees of a final step. The energies are computed when asked
+/// ([`StepView::kinetic`], [`StepView::strain`]: one sparse quadratic form each), so an
+/// observer that writes them every n-th step does not pay for them at every step.
 #[derive(Debug)]
 pub struct StepView<'a> {
     /// The state.
     pub state: &'a Snapshot,
-    /// Kinetic energy `v^T M v / 2`, J.
-    pub kinetic: f64,
-    /// Strain energy `u^T K u / 2`, J.
-    pub strain: f64,
+    /// The model integrated (its `M`).
+    pub model: &'a LinearModel,
+    /// The stiffness of the reported strain energy.
+    pub energy_stiffness: &'a [f64],
+    /// True for the last step of the run (the one reported after the loop).
+    pub last: bool,
     /// Energy stored in penalty springs, J.
     pub penalty: f64,
     /// Sum of the pairs' constraint forces (braking included), N.
@@ -130,6 +134,18 @@ pub struct StepView<'a> {
     /// Energy dissipated by friction since the start, summed over the pairs, J
     /// ([`PairState::dissipated`]).
     pub friction_dissipated: f64,
+}
+
+impl StepView<'_> {
+    /// Kinetic energy `v^T M v / 2`, J.
+    pub fn kinetic(&self) -> f64 {
+        0.5 * quadratic_form(self.model.pattern(), &self.model.m, &self.state.v)
+    }
+
+    /// Strain energy `u^T K u / 2`, J (`K`: the energy stiffness of the problem).
+    pub fn strain(&self) -> f64 {
+        0.5 * quadratic_form(self.model.pattern(), self.energy_stiffness, &self.state.u)
+    }
 }
 
 /// Counters of a run.
@@ -489,12 +505,12 @@ impl Simulation {
                     t: self.snaps[2].t,
                 });
             }
-            self.emit(1, &mut observer)?;
+            self.emit(1, false, &mut observer)?;
             self.snaps.rotate_left(1);
             have_prev = true;
             self.engine.stats.steps += 1;
         }
-        self.emit(1, &mut observer)?;
+        self.emit(1, true, &mut observer)?;
         let mut stats = self.engine.stats;
         stats.factorizations = self.engine.integ.factorizations();
         stats.symbolic_analyses = self.engine.integ.symbolic_analyses();
@@ -502,23 +518,22 @@ impl Simulation {
         Ok(stats)
     }
 
-    fn emit<F>(&self, i: usize, observer: &mut F) -> Result<(), std::io::Error>
+    fn emit<F>(&self, i: usize, last: bool, observer: &mut F) -> Result<(), std::io::Error>
     where
         F: FnMut(&StepView) -> Result<(), std::io::Error>,
     {
         let s = &self.snaps[i];
         let m = &self.engine.model;
-        let kinetic = 0.5 * quadratic_form(m.pattern(), &m.m, &s.v);
         let k = self.energy_stiffness.as_deref().unwrap_or(&m.k);
-        let strain = 0.5 * quadratic_form(m.pattern(), k, &s.u);
         let contact_force = s.pairs.iter().map(|p| p.force).sum();
         let held = s.pairs.iter().filter(|p| p.held).count();
         let slip_power = s.pairs.iter().map(|p| p.slip_power).sum();
         let friction_dissipated = s.pairs.iter().map(|p| p.dissipated).sum();
         observer(&StepView {
             state: s,
-            kinetic,
-            strain,
+            model: m,
+            energy_stiffness: k,
+            last,
             penalty: self.treatment.stored_energy(s),
             contact_force,
             held,

@@ -62,7 +62,7 @@ fn roll(integrator: Integrator, treatment: Treatment) -> Rolling {
                 }
             }
             r.finite &= s.state.u.iter().chain(&s.state.v).all(|x| x.is_finite());
-            let e = s.kinetic + s.strain + s.penalty;
+            let e = s.kinetic() + s.strain() + s.penalty;
             if s.state.t > 3e-3 {
                 r.e_max = r.e_max.max(e);
                 fsum += s.contact_force;

@@ -173,8 +173,8 @@ fn run(pb: Problem) -> Result<Trace, SimError> {
             friction: s.pairs.iter().map(|p| p.tangential_force).sum(),
             all_sliding: s.pairs.iter().all(|p| p.sliding),
             dissipated: view.friction_dissipated,
-            kinetic: view.kinetic,
-            strain: view.strain,
+            kinetic: view.kinetic(),
+            strain: view.strain(),
         });
         Ok(())
     })?;

@@ -75,7 +75,7 @@ fn measure(pb: Problem, split: Option<usize>) -> Metrics {
         .run(&AtomicBool::new(false), |view| {
             let s = view.state;
             assert_eq!(s.k, energy.len(), "steps are reported in order");
-            energy.push(view.kinetic + view.strain + view.penalty);
+            energy.push(view.kinetic() + view.strain() + view.penalty);
             max_pen = max_pen.max(-s.pairs[0].gap);
             if s.pairs[0].held || s.pairs[0].force != 0.0 {
                 first.get_or_insert(s.t);

@@ -177,7 +177,7 @@ fn short_rolling_run_is_stable_without_penetration() {
             }
         }
         finite &= s.state.u.iter().chain(&s.state.v).all(|x| x.is_finite());
-        emax = emax.max(s.kinetic + s.strain);
+        emax = emax.max(s.kinetic() + s.strain());
         fmax = fmax.max(s.contact_force);
         held_end = s.held;
         Ok(())

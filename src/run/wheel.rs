@@ -287,7 +287,7 @@ pub fn simulate(
         wm,
         ws,
         run,
-        steps,
+        (steps, timeline, sc.history_stride),
         &mut [
             &mut history,
             &mut nodes,
@@ -341,7 +341,7 @@ pub fn drive(
     wm: &WheelModel,
     ws: &WheelScenario,
     run: &Run,
-    steps: usize,
+    (steps, timeline, stride): (usize, Timeline, usize),
     observers: &mut [&mut dyn Observer],
 ) -> Result<LoopOutcome, RunError> {
     use crate::simulation::Simulation;
@@ -364,16 +364,23 @@ pub fn drive(
     problem.friction = run.friction;
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
     let start = Instant::now();
+    // The energies (two sparse quadratic forms) only where they are written: every
+    // `stride`-th step, the first step of the rolling phase and the last one.
+    let stride = stride.max(1);
+    let mut rolling_seen = false;
     let stats = sim
         .run(&INTERRUPT, |s| {
             let st = s.state;
+            let first_rolling = !rolling_seen && timeline.rolling(st.t);
+            rolling_seen |= first_rolling;
+            let energy =
+                (st.k % stride == 0 || s.last || first_rolling).then(|| (s.kinetic(), s.strain()));
             let step = WheelStep {
                 k: st.k,
                 t: st.t,
                 u: &st.u,
                 v: &st.v,
-                kinetic: s.kinetic,
-                strain: s.strain,
+                energy,
                 penalty: s.penalty,
                 contact_force: s.contact_force,
                 held: s.held,
