@@ -410,12 +410,14 @@ impl Simulation {
         let mut treat = build_treatment(treatment, &integrator, np, friction);
         let massless = treat.adjust_model(&mut model, dim, &contact_nodes);
         let integ = build_integrator(integrator, &model, h, gamma_schedule, &dirichlet)?;
-        // Cache all contact dofs' columns when that fits in 256 MiB, else 128 of them.
+        // Cache the columns of every contact dof (a treatment that poses one row per pair,
+        // as the complementarity treatments do, needs them all in one solve) when that fits
+        // in 1 GiB, else 256 of them (enough for the held pairs of the soft way).
         let contact_dofs = contact_nodes.len() * dim;
-        let cache = if contact_dofs * n * 8 <= 256 << 20 {
+        let cache = if contact_dofs * n * 8 <= 1 << 30 {
             contact_dofs
         } else {
-            128
+            256
         };
         let mut state = State::zeros(n);
         state.u.copy_from_slice(&u0);

@@ -171,10 +171,12 @@ enum Activity {
 
 impl RowSolver {
     /// Room for `max_rows` rows at once and the columns of `cache_dofs` dofs (at least
-    /// `MAX_TERMS * max_rows`), for `n` dofs.
+    /// [`MAX_TERMS`], at most `n`), for `n` dofs. The cache must hold the distinct dofs of
+    /// the rows of one solve (a panic says so otherwise): the caller sizes it, e.g. every
+    /// contact dof.
     pub fn new(n: usize, max_rows: usize, cache_dofs: usize) -> Self {
         let mr = max_rows.max(1);
-        let slots = cache_dofs.max(MAX_TERMS * mr).min(n.max(1));
+        let slots = cache_dofs.max(MAX_TERMS).min(n.max(1));
         Self {
             n,
             rows: Vec::with_capacity(mr),
