@@ -167,23 +167,11 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             };
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
-            if let Some(j) = jobs {
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(j.max(1))
-                    .build_global()
-                    .ok();
-            }
+            set_jobs(jobs);
             println!("{}: sweeping {key} over {} values", sc.name, values.len());
             let (points, files) =
                 softway::run::sweep::sweep(&scenario, &text, &key, &values, &out)?;
-            print!(
-                "{}",
-                std::fs::read_to_string(out.join("sweep.md")).unwrap_or_default()
-            );
-            println!("  wrote:");
-            for f in files {
-                println!("    {}", f.display());
-            }
+            print_table(&out.join("sweep.md"), &files);
             for p in points {
                 println!("    {}/", p.dir.display());
             }
@@ -204,12 +192,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             let (key, values) = parse_set(&set)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
-            if let Some(j) = jobs {
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(j.max(1))
-                    .build_global()
-                    .ok();
-            }
+            set_jobs(jobs);
             println!(
                 "{}: convergence of {key} over {} rungs",
                 sc.name,
@@ -217,14 +200,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             );
             let (_, files) =
                 softway::run::converge::converge(&scenario, &text, &key, &values, &out)?;
-            print!(
-                "{}",
-                std::fs::read_to_string(out.join("converge.md")).unwrap_or_default()
-            );
-            println!("  wrote:");
-            for f in files {
-                println!("    {}", f.display());
-            }
+            print_table(&out.join("converge.md"), &files);
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
             }
@@ -371,4 +347,23 @@ fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
         return Err(format!("--set {s}: no values"));
     }
     Ok((k.trim().to_string(), vals))
+}
+
+/// Runs at once for `sweep` and `converge` (default: the number of cores).
+fn set_jobs(jobs: Option<usize>) {
+    if let Some(j) = jobs {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(j.max(1))
+            .build_global()
+            .ok();
+    }
+}
+
+/// Prints a markdown table written by a study and the files it wrote.
+fn print_table(md: &std::path::Path, files: &[PathBuf]) {
+    print!("{}", std::fs::read_to_string(md).unwrap_or_default());
+    println!("  wrote:");
+    for f in files {
+        println!("    {}", f.display());
+    }
 }
