@@ -1,25 +1,48 @@
-//! The space-time step of the wheel (free step: right-hand side, solve, update) on disks
-//! of 12 (the paper's), 48 and 192 rings; the structure and the factorization are built
-//! outside the timed loop. Also the step with four nodes held on the base (multipliers
+//! The space-time step of the wheel (free step: right-hand side, solve, update) on the
+//! hexagonal disks of 12 (the paper's), 48 and 192 rings and on the graded disks of the
+//! converged wheel (288 and 576 rim nodes, clamped hub); the structure and the
+//! factorization are built outside the timed loop. Also the step with four nodes held on the base (multipliers
 //! through the factored matrix). Compare the sizes as ratios within one run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
-use softway::mesh::generators::disk_rings;
+use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
+use softway::mesh::Mesh;
 use softway::time::step::Stepper;
 use softway::time::SpaceTimeParams;
-use softway::wheel::{WheelModel, WheelSpec};
+use softway::wheel::{Support, WheelModel, WheelSpec};
 
-fn wheel(rings: usize) -> WheelModel {
-    let spec = WheelSpec::paper();
-    WheelModel::new(disk_rings(0.1, rings).unwrap(), spec).unwrap()
+/// The ladder: (label, mesh, support) of the paper's family and of the converged wheel.
+fn ladder() -> Vec<(String, Mesh, Support)> {
+    let mut l: Vec<(String, Mesh, Support)> = [12usize, 48, 192]
+        .iter()
+        .map(|&r| {
+            (
+                format!("{r} rings"),
+                disk_rings(0.1, r).unwrap(),
+                Support::CentrePinned,
+            )
+        })
+        .collect();
+    for n in [288usize, 576] {
+        l.push((
+            format!("graded {n} rim nodes"),
+            disk_graded(0.1, n, DiskOptions::default()).unwrap(),
+            Support::Hub { radius: 0.01 },
+        ));
+    }
+    l
 }
 
 fn bench_step(c: &mut Criterion) {
     let mut g = c.benchmark_group("wheel_step");
     g.sample_size(10);
-    for rings in [12usize, 48, 192] {
-        let w = wheel(rings);
+    for (label, mesh, support) in ladder() {
+        let spec = WheelSpec {
+            support,
+            ..WheelSpec::paper()
+        };
+        let w = WheelModel::new(mesh, spec).unwrap();
         let n = w.model.n();
         let p = SpaceTimeParams {
             alpha: 0.8,
@@ -48,8 +71,8 @@ fn bench_step(c: &mut Criterion) {
             });
         }
         g.bench_with_input(
-            BenchmarkId::new("free", format!("{rings} rings, {n} dofs")),
-            &rings,
+            BenchmarkId::new("free", format!("{label}, {n} dofs")),
+            &n,
             |bch, _| {
                 bch.iter(|| {
                     st.rhs_into(&u, &v, &w.load, &mut b);
@@ -60,8 +83,8 @@ fn bench_step(c: &mut Criterion) {
             },
         );
         g.bench_with_input(
-            BenchmarkId::new("four_held", format!("{rings} rings, {n} dofs")),
-            &rings,
+            BenchmarkId::new("four_held", format!("{label}, {n} dofs")),
+            &n,
             |bch, _| {
                 bch.iter(|| {
                     st.rhs_into(&u, &v, &w.load, &mut b);
