@@ -16,6 +16,7 @@
 //! The [`Engine`] is what a treatment works with: the integrator, the pairs' geometry, the
 //! constraint rows and their solution ([`RowSolver`]), the loads and the work vectors.
 
+use crate::contact::mass_redistribution::redistribute_mass;
 use crate::contact::pair::{Geometry, Pair};
 use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{build as build_treatment, ContactTreatment, Treatment};
@@ -268,7 +269,7 @@ impl Engine {
 
     /// The gap of pair `p` at time `t` in the configuration `u`, m.
     pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
-        self.geometry(p, t, u).gap(&self.reference, u)
+        self.pairs[p].gap(&self.obstacles, self.dim, &self.reference, u, t)
     }
 
     /// Predicts the step from `(t0, s0)` (loads plus [`Engine::extra`]): `pred` and `xfree`.
@@ -314,6 +315,7 @@ impl Engine {
 pub struct Simulation {
     engine: Engine,
     treatment: Box<dyn ContactTreatment>,
+    choice: Treatment,
     energy_stiffness: Option<Vec<f64>>,
     steps: usize,
     snaps: [Snapshot; 3],
@@ -407,8 +409,13 @@ impl Simulation {
             .collect();
         contact_nodes.sort_unstable();
         contact_nodes.dedup();
-        let mut treat = build_treatment(treatment, &integrator, np, friction);
-        let massless = treat.adjust_model(&mut model, dim, &contact_nodes);
+        // Mass redistribution: the contact nodes massless before the integrator is built.
+        let massless = if treatment.massless_contact() {
+            redistribute_mass(&mut model, dim, &contact_nodes)
+        } else {
+            Vec::new()
+        };
+        let treat = build_treatment(treatment, &integrator, np, n, friction);
         let integ = build_integrator(integrator, &model, h, gamma_schedule, &dirichlet)?;
         // Cache the columns of every contact dof (a treatment that poses one row per pair,
         // as the complementarity treatments do, needs them all in one solve) when that fits
@@ -460,6 +467,7 @@ impl Simulation {
         Ok(Self {
             engine,
             treatment: treat,
+            choice: treatment,
             energy_stiffness,
             steps,
             snaps: [snap.clone(), snap.clone(), snap],
@@ -479,7 +487,7 @@ impl Simulation {
 
     /// The treatment's name.
     pub fn treatment_name(&self) -> String {
-        self.treatment.name()
+        self.choice.name()
     }
 
     /// Runs all steps, calling `observer` once per final step (the initial state included).

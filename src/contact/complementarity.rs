@@ -29,11 +29,9 @@
 //! the two rows have the same unit, so the bound is the same with forces (exact, penalty) and
 //! impulses (Moreau-Jean with the space-time scheme).
 
-use super::mass_redistribution::redistribute_mass;
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, record_friction, ContactTreatment};
 use crate::simulation::{Engine, SimError, Snapshot};
-use crate::time::step::LinearModel;
 
 /// The contact law of a [`Complementarity`] treatment.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,7 +54,6 @@ pub enum Law {
 #[derive(Debug, Clone)]
 pub struct Complementarity {
     law: Law,
-    mass_redistribution: bool,
     held: Vec<bool>,
     point: Vec<f64>,
     vel_tol: Option<f64>,
@@ -66,13 +63,12 @@ pub struct Complementarity {
 }
 
 impl Complementarity {
-    /// For `pairs` contact pairs.
-    pub fn new(law: Law, pairs: usize) -> Self {
+    /// For `pairs` contact pairs of a model of `n` dofs.
+    pub fn new(law: Law, pairs: usize, n: usize) -> Self {
         Self {
             law,
-            mass_redistribution: false,
             held: vec![false; pairs],
-            point: Vec::new(),
+            point: vec![0.0; n],
             vel_tol: None,
             friction: None,
             wt: vec![0.0; pairs],
@@ -84,35 +80,14 @@ impl Complementarity {
         self.friction = mu.filter(|&m| m > 0.0);
         self
     }
-
-    /// With the contact nodes made massless first.
-    pub fn with_mass_redistribution(mut self) -> Self {
-        self.mass_redistribution = true;
-        self
-    }
 }
 
 impl ContactTreatment for Complementarity {
     fn name(&self) -> String {
         match self.law {
-            Law::Exact if self.mass_redistribution => "mass_redistribution".into(),
             Law::Exact => "exact".into(),
             Law::Penalty { stiffness } => format!("penalty({stiffness:e})"),
             Law::MoreauJean { restitution } => format!("moreau_jean({restitution})"),
-        }
-    }
-
-    fn adjust_model(
-        &mut self,
-        model: &mut LinearModel,
-        dim: usize,
-        contact_nodes: &[usize],
-    ) -> Vec<usize> {
-        self.point = vec![0.0; model.n()];
-        if self.mass_redistribution {
-            redistribute_mass(model, dim, contact_nodes)
-        } else {
-            Vec::new()
         }
     }
 

@@ -213,9 +213,9 @@ impl Obstacle for RotatingLine {
 mod tests {
     use super::*;
 
-    #[test]
-    fn rotating_line_rate_matches_numerical_derivative() {
-        let line = RotatingLine {
+    /// A base turning at 300 rad/s about an off-origin centre, still settling.
+    fn settling_base() -> RotatingLine {
+        RotatingLine {
             centre: [0.01, -0.02, 0.0],
             radius: 0.1,
             omega: 300.0,
@@ -224,7 +224,12 @@ mod tests {
                 depth: 1e-3,
                 settle_time: 2e-3,
             },
-        };
+        }
+    }
+
+    #[test]
+    fn rotating_line_rate_matches_numerical_derivative() {
+        let line = settling_base();
         #[derive(Debug)]
         struct Numeric(RotatingLine);
         impl Obstacle for Numeric {
@@ -247,16 +252,7 @@ mod tests {
     /// projected on the tangent (the normal turned by +90 degrees).
     #[test]
     fn rotating_line_tangential_velocity_is_the_rotation_field() {
-        let line = RotatingLine {
-            centre: [0.01, -0.02, 0.0],
-            radius: 0.1,
-            omega: 300.0,
-            theta0: 0.3,
-            flattening: Flattening {
-                depth: 1e-3,
-                settle_time: 2e-3,
-            },
-        };
+        let line = settling_base();
         let x = [0.03, -0.09, 0.0];
         for t in [0.0005, 0.003] {
             let n = line.half_space(t, x).normal;

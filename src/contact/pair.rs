@@ -90,13 +90,37 @@ impl Pair {
         u: &[f64],
         t: f64,
     ) -> Geometry {
+        self.row(obstacles, dim, reference, u, t, true)
+    }
+
+    /// The gap `c . (X + u) - o` at time `t` in the configuration `u`, m (the row without the
+    /// boundary velocity, which a gap does not need).
+    pub fn gap(
+        &self,
+        obstacles: &[Box<dyn Obstacle>],
+        dim: usize,
+        reference: &[f64],
+        u: &[f64],
+        t: f64,
+    ) -> f64 {
+        self.row(obstacles, dim, reference, u, t, false)
+            .gap(reference, u)
+    }
+
+    /// The geometry, with the boundary velocity `w` when `velocity` (else `w = 0`).
+    fn row(
+        &self,
+        obstacles: &[Box<dyn Obstacle>],
+        dim: usize,
+        reference: &[f64],
+        u: &[f64],
+        t: f64,
+        velocity: bool,
+    ) -> Geometry {
         let mut terms = Terms::default();
         match *self {
             Pair::Obstacle { node, obstacle } => {
-                let mut x = [0.0; 3];
-                for c in 0..dim {
-                    x[c] = reference[dim * node + c] + u[dim * node + c];
-                }
+                let x = position(dim, reference, u, node);
                 let obst = &obstacles[obstacle];
                 let hs = obst.half_space(t, x);
                 for c in 0..dim {
@@ -105,7 +129,11 @@ impl Pair {
                 Geometry {
                     terms,
                     offset: hs.offset,
-                    w: obst.surface_normal_velocity(t, x),
+                    w: if velocity {
+                        obst.surface_normal_velocity(t, x)
+                    } else {
+                        0.0
+                    },
                 }
             }
             Pair::Nodes { a, b, normal } => {
@@ -141,11 +169,7 @@ impl Pair {
         let mut terms = Terms::default();
         match *self {
             Pair::Obstacle { node, obstacle } => {
-                let x = [
-                    reference[2 * node] + u[2 * node],
-                    reference[2 * node + 1] + u[2 * node + 1],
-                    0.0,
-                ];
+                let x = position(dim, reference, u, node);
                 let obst = &obstacles[obstacle];
                 let tg = tangent_2d(obst.half_space(t, x).normal);
                 terms.push(2 * node, tg[0]);
@@ -170,4 +194,13 @@ impl Pair {
             }
         }
     }
+}
+
+/// The current position `X + u` of `node`, padded to three components.
+fn position(dim: usize, reference: &[f64], u: &[f64], node: usize) -> Vector {
+    let mut x = [0.0; 3];
+    for c in 0..dim {
+        x[c] = reference[dim * node + c] + u[dim * node + c];
+    }
+    x
 }

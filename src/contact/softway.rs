@@ -50,11 +50,9 @@
 //! carries no friction row and friction starts with the first held step. A released pair
 //! loses its friction row with its normal row.
 
-use super::mass_redistribution::redistribute_mass;
 use super::rows::{Row, RowKind, Terms};
 use super::treatment::{record_friction, ContactTreatment, Treatment};
 use crate::simulation::{Engine, SimError, Snapshot};
-use crate::time::step::LinearModel;
 use serde::Serialize;
 
 /// The constraint a contact pair gets in the next step.
@@ -180,7 +178,6 @@ const MAX_RESOLVES: usize = 32;
 pub struct SoftWay {
     brakes: bool,
     restore_mode: Restore,
-    mass_redistribution: bool,
     modes: Vec<PairMode>,
     restore: Vec<Option<f64>>,
     released: Vec<bool>,
@@ -204,7 +201,6 @@ impl SoftWay {
         Self {
             brakes,
             restore_mode: restore,
-            mass_redistribution: false,
             modes: vec![PairMode::Free; pairs],
             restore: vec![None; pairs],
             released: vec![false; pairs],
@@ -224,12 +220,6 @@ impl SoftWay {
     /// module docs, Friction).
     pub fn with_friction(mut self, mu: Option<f64>) -> Self {
         self.friction = mu.filter(|&m| m > 0.0);
-        self
-    }
-
-    /// With the contact nodes made massless first (mass redistribution).
-    pub fn with_mass_redistribution(mut self) -> Self {
-        self.mass_redistribution = true;
         self
     }
 
@@ -297,23 +287,8 @@ impl ContactTreatment for SoftWay {
                 restore: self.restore_mode,
             }
             .name()
-        } else if self.mass_redistribution {
-            "mass_redistribution".into()
         } else {
             "exact".into()
-        }
-    }
-
-    fn adjust_model(
-        &mut self,
-        model: &mut LinearModel,
-        dim: usize,
-        contact_nodes: &[usize],
-    ) -> Vec<usize> {
-        if self.mass_redistribution {
-            redistribute_mass(model, dim, contact_nodes)
-        } else {
-            Vec::new()
         }
     }
 

@@ -35,7 +35,6 @@
 use super::{PairState, Restore};
 use crate::simulation::{Engine, SimError, Snapshot};
 use crate::time::integrator::Integrator;
-use crate::time::step::LinearModel;
 use serde::Serialize;
 
 /// The choice of a contact treatment (scenario key `contact.method`), with its parameters.
@@ -89,6 +88,12 @@ impl Treatment {
             Treatment::MoreauJean { restitution } => format!("moreau_jean({restitution})"),
             Treatment::Subdivision => "subdivision".into(),
         }
+    }
+
+    /// True when the contact nodes are made massless before the integrator is built (mass
+    /// redistribution, [`super::mass_redistribution`]).
+    pub fn massless_contact(&self) -> bool {
+        matches!(self, Treatment::MassRedistribution)
     }
 
     /// True for the soft way family.
@@ -173,17 +178,6 @@ pub trait ContactTreatment: Send {
     /// The name used in tables.
     fn name(&self) -> String;
 
-    /// Adjusts the model before the integrator is built (mass redistribution); returns the
-    /// dofs made massless. `contact_nodes` are the nodes of the pairs.
-    fn adjust_model(
-        &mut self,
-        _model: &mut LinearModel,
-        _dim: usize,
-        _contact_nodes: &[usize],
-    ) -> Vec<usize> {
-        Vec::new()
-    }
-
     /// Solves the interval from `from` into `to`: builds the rows, solves, judges (solving
     /// again while the active set changes), and records the pairs' states at the end.
     ///
@@ -217,13 +211,15 @@ pub trait ContactTreatment: Send {
     }
 }
 
-/// Builds the treatment of `choice` for `integrator` and `pairs` contact pairs, with the
-/// Coulomb coefficient `friction` (`None`: frictionless; checked by
-/// [`Treatment::check_friction`] first).
+/// Builds the treatment of `choice` for `integrator`, `pairs` contact pairs and `n` dofs,
+/// with the Coulomb coefficient `friction` (`None`: frictionless; checked by
+/// [`Treatment::check_friction`] first). Mass redistribution is exact enforcement on a model
+/// whose contact nodes the driver made massless ([`Treatment::massless_contact`]).
 pub fn build(
     choice: Treatment,
     integrator: &Integrator,
     pairs: usize,
+    n: usize,
     friction: Option<f64>,
 ) -> Box<dyn ContactTreatment> {
     use super::complementarity::{Complementarity, Law};
@@ -234,22 +230,18 @@ pub fn build(
         Treatment::SoftWay { restore } => {
             Box::new(SoftWay::new(true, restore, pairs).with_friction(mu))
         }
-        Treatment::Exact if st => {
+        Treatment::Exact | Treatment::MassRedistribution if st => {
             Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_friction(mu))
         }
-        Treatment::MassRedistribution if st => {
-            Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_mass_redistribution())
-        }
-        Treatment::Exact => Box::new(Complementarity::new(Law::Exact, pairs).with_friction(mu)),
-        Treatment::MassRedistribution => {
-            Box::new(Complementarity::new(Law::Exact, pairs).with_mass_redistribution())
+        Treatment::Exact | Treatment::MassRedistribution => {
+            Box::new(Complementarity::new(Law::Exact, pairs, n).with_friction(mu))
         }
         Treatment::Penalty { stiffness } => {
-            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs).with_friction(mu))
+            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs, n).with_friction(mu))
         }
-        Treatment::MoreauJean { restitution } => {
-            Box::new(Complementarity::new(Law::MoreauJean { restitution }, pairs).with_friction(mu))
-        }
+        Treatment::MoreauJean { restitution } => Box::new(
+            Complementarity::new(Law::MoreauJean { restitution }, pairs, n).with_friction(mu),
+        ),
         Treatment::Subdivision => Box::new(super::subdivision::Subdivision::new(pairs)),
     }
 }
