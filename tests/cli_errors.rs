@@ -60,21 +60,27 @@ fn assert_one_line_error(code: i32, err: &str, must: &[&str]) {
     }
 }
 
-#[test]
-fn valid_bar_scenario_runs() {
-    let p = scenario("ok", BAR);
+/// Runs a valid scenario into `<file>.out`: the folder and its summary.
+fn run_ok(p: &std::path::Path) -> (std::path::PathBuf, serde_json::Value) {
     let out = p.with_extension("out");
     let o = softway()
         .arg("run")
-        .arg(&p)
+        .arg(p)
         .arg("--out")
         .arg(&out)
         .arg("--quiet")
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value =
+    let s =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    (out, s)
+}
+
+#[test]
+fn valid_bar_scenario_runs() {
+    let p = scenario("ok", BAR);
+    let (out, s) = run_ok(&p);
     assert_eq!(s["runs"].as_array().unwrap().len(), 1);
     assert!(out.join("history.csv").exists());
     assert!(out.join("bar_head.png").exists());
@@ -304,18 +310,7 @@ fn cfl_is_resolved_before_the_run() {
             "elements = 8\n[contact]\nmethod = \"exact\"",
         ),
     );
-    let out = p.with_extension("out");
-    let o = softway()
-        .arg("run")
-        .arg(&p)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let (_, s) = run_ok(&p);
     let h = s["runs"][0]["h"].as_f64().unwrap();
     assert!((h - 0.5 * 0.125).abs() < 1e-9 * 0.0625, "h = {h}");
 }
