@@ -67,6 +67,26 @@ fn static_force(wm: &WheelModel, t: f64) -> (f64, Vec<(usize, f64)>) {
     (sol.active.iter().map(|a| a.1).sum(), sol.active)
 }
 
+/// The static patch of a wheel (R = 10 cm, 1 cm thick) pressed at angle 0: `(force N,
+/// half-width m, Hertz's half-width m, rim pitch m, nodes in contact)`. The half-width is
+/// that of the extreme nodes in contact plus half a pitch; Hertz for a cylinder on a rigid
+/// plane in plane stress (E* = E): `b = sqrt(4 P R / (pi E))`, `P` the force per thickness.
+fn patch_against_hertz(wm: &WheelModel) -> (f64, f64, f64, f64, usize) {
+    let (force, active) = static_force(wm, 0.0);
+    let pitch = 2.0 * std::f64::consts::PI * 0.1 / wm.rim.len() as f64;
+    let xs: Vec<f64> = active
+        .iter()
+        .filter(|a| a.1 > 0.0)
+        .map(|a| wm.mesh.points[a.0][0])
+        .collect();
+    let half = (xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+        - xs.iter().cloned().fold(f64::INFINITY, f64::min))
+        / 2.0
+        + pitch / 2.0;
+    let b = (4.0 * force / 0.01 * 0.1 / (std::f64::consts::PI * 2.05e11)).sqrt();
+    (force, half, b, pitch, xs.len())
+}
+
 #[test]
 fn slow_damped_roll_carries_the_static_contact_force() {
     // Slow roll (5 rad/s), strong numerical damping, no rotating-frame forces, the wheel
@@ -123,20 +143,7 @@ fn contact_half_width_approaches_hertz_on_fine_disks() {
             spec(1.0, 2e-5, 0.0, false, Support::CentrePinned),
         )
         .unwrap();
-        let (force, active) = static_force(&wm, 0.0);
-        let spacing = 2.0 * std::f64::consts::PI * 0.1 / wm.rim.len() as f64;
-        let xs: Vec<f64> = active
-            .iter()
-            .filter(|a| a.1 > 0.0)
-            .map(|a| wm.mesh.points[a.0][0])
-            .collect();
-        let half = (xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-            - xs.iter().cloned().fold(f64::INFINITY, f64::min))
-            / 2.0
-            + spacing / 2.0;
-        // Hertz, cylinder on a rigid plane, plane stress (E* = E): b = sqrt(4 P R / (pi E)).
-        let p = force / 0.01;
-        let b = (4.0 * p * 0.1 / (std::f64::consts::PI * 2.05e11)).sqrt();
+        let (force, half, b, spacing, _) = patch_against_hertz(&wm);
         println!("{rings} rings: force {force:.4e} N, half-width {half:.4e} m, Hertz {b:.4e} m, spacing {spacing:.2e} m");
         assert!(
             (half - b).abs() < spacing,
@@ -199,19 +206,8 @@ fn contact_half_width_of_the_graded_disk_approaches_hertz() {
             spec(1.0, 1e-3, 0.0, false, Support::Hub { radius: 0.01 }),
         )
         .unwrap();
-        let (force, active) = static_force(&wm, 0.0);
-        let pitch = 2.0 * std::f64::consts::PI * 0.1 / n as f64;
-        let xs: Vec<f64> = active
-            .iter()
-            .filter(|a| a.1 > 0.0)
-            .map(|a| wm.mesh.points[a.0][0])
-            .collect();
-        let half = (xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-            - xs.iter().cloned().fold(f64::INFINITY, f64::min))
-            / 2.0
-            + pitch / 2.0;
-        let b = (4.0 * force / 0.01 * 0.1 / (std::f64::consts::PI * 2.05e11)).sqrt();
-        println!("{n} rim nodes: force {force:.4e} N, half-width {half:.4e} m, Hertz {b:.4e} m, pitch {pitch:.2e} m, {} nodes", xs.len());
+        let (force, half, b, pitch, nodes) = patch_against_hertz(&wm);
+        println!("{n} rim nodes: force {force:.4e} N, half-width {half:.4e} m, Hertz {b:.4e} m, pitch {pitch:.2e} m, {nodes} nodes");
         assert!((half - b).abs() < pitch, "{n}: {half:e} vs Hertz {b:e}");
         rel.push((half - b).abs() / b);
     }
