@@ -71,7 +71,7 @@ fn the_period_converges_at_second_order_to_the_exact_period() {
 }
 
 #[test]
-fn a_ladder_of_two_rungs_is_refused() {
+fn a_short_ladder_or_several_runs_are_refused_before_anything_runs() {
     let d = dir("short");
     let sc = d.join("sdof.toml");
     std::fs::write(&sc, SDOF).unwrap();
@@ -89,5 +89,20 @@ fn a_ladder_of_two_rungs_is_refused() {
     );
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(!d.join("out").exists(), "nothing written");
+    // A scenario of several runs is refused before anything runs.
+    let o = Command::new(env!("CARGO_BIN_EXE_softway"))
+        .args([
+            "converge",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/sdof.toml"),
+            "--set",
+            "time.h=0.1,0.05,0.025",
+        ])
+        .arg("--out")
+        .arg(d.join("multi"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("[[runs]]"), "{err}");
+    assert!(!d.join("multi").exists(), "nothing written");
     let _ = std::fs::remove_dir_all(&d);
 }

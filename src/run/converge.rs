@@ -157,15 +157,16 @@ pub fn converge(
     if xs.iter().any(|&x| !(x.is_finite() && x > 0.0)) {
         return Err(bad("the rungs must be positive".into()));
     }
-    let points = run_ladder(path, text, key, values, out)?;
-    for p in &points {
-        if p.summary["runs"].as_array().is_some_and(|r| r.len() > 1) {
-            return Err(bad(format!(
-                "{} has several [[runs]]: a convergence study needs one run per rung",
-                path.display()
-            )));
-        }
+    let runs = crate::scenario::Scenario::from_str(text, path)
+        .map(|sc| sc.runs.len())
+        .unwrap_or(1);
+    if runs > 1 {
+        return Err(bad(format!(
+            "{} has {runs} [[runs]]: a convergence study needs one run per rung",
+            path.display()
+        )));
     }
+    let points = run_ladder(path, text, key, values, out)?;
     let per_rung: Vec<Vec<(String, f64)>> = points.iter().map(|p| figures(&p.summary)).collect();
     let names: Vec<String> = per_rung
         .first()
