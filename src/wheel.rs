@@ -105,6 +105,10 @@ pub struct WheelSpec {
     /// Include the rotating-frame terms at all (false: a disk pressed by a turning line
     /// without inertial forces of the rotation).
     pub rotating_frame: bool,
+    /// Longitudinal creepage of the rail against the rim (`rolling.creepage`;
+    /// [`RotatingLine::creepage`]): 0 in free rolling; it transmits a tangential force only
+    /// with friction.
+    pub creepage: f64,
 }
 
 impl WheelSpec {
@@ -131,6 +135,7 @@ impl WheelSpec {
             },
             stress_stiffening: true,
             rotating_frame: true,
+            creepage: 0.0,
         }
     }
 }
@@ -311,6 +316,7 @@ impl WheelModel {
             omega: self.spec.omega,
             theta0: 0.0,
             flattening: self.spec.flattening,
+            creepage: self.spec.creepage,
         }
     }
 

@@ -19,6 +19,7 @@ fn spec(omega: f64, depth: f64, settle: f64, frame: bool, support: Support) -> W
             settle_time: settle,
         },
         rotating_frame: frame,
+        creepage: 0.0,
         ..WheelSpec::paper()
     }
 }

@@ -153,6 +153,14 @@ impl Flattening {
 /// (counter-clockwise positive). At angle `theta = theta0 + omega t` the outward direction
 /// from the centre to the base is `e = (sin theta, -cos theta)` (`theta = 0`: base below the
 /// wheel), the admissible side is `e . (x - centre) <= radius - d(t)`.
+///
+/// **The base's material.** The line is the rail's surface, which in the laboratory
+/// translates along itself under the axle at the speed `V = omega rho (1 - xi)`
+/// (`rho = radius - d(t)` the rolling radius, `xi` the creepage). Seen in the wheel's frame,
+/// which turns at `-omega` (the wheel spins clockwise so that the base turns at `+omega`),
+/// its material point at `x` moves with `V t_b + omega e_z x (x - centre)`, `t_b` the unit
+/// vector along the line in the direction of the rail's travel. At `xi = 0` the rail's
+/// material under the axle is at rest in the wheel's frame: rolling without slip.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotatingLine {
     /// Centre of rotation (the wheel's axle), m.
@@ -165,6 +173,11 @@ pub struct RotatingLine {
     pub theta0: f64,
     /// Flattening program.
     pub flattening: Flattening,
+    /// Longitudinal creepage `xi = (omega rho - V) / (omega rho)`, dimensionless: the
+    /// rim's rolling speed `omega rho` against the rail's speed `V` under the axle. `xi > 0`:
+    /// the rim runs faster than the rail (a driven wheel, traction forward on the wheel);
+    /// `xi < 0`: braked; 0: free rolling.
+    pub creepage: f64,
 }
 
 impl RotatingLine {
@@ -197,15 +210,19 @@ impl Obstacle for RotatingLine {
         self.flattening.rate(t) + ed[0] * (x[0] - self.centre[0]) + ed[1] * (x[1] - self.centre[1])
     }
 
-    /// The base turns about the centre at `omega` (its flattening moves it along its normal
-    /// only), so its material point at `x` moves with `omega e_z x (x - centre) = omega
-    /// (-(y - y_c), x - x_c)`. Along the tangent `t = (-n_y, n_x)` with `n = -e`, `t = (-cos
-    /// th, -sin th)`, which gives `w_t = -omega e . (x - centre)`: on the base (`e . (x -
-    /// centre) = rho`) the rolling speed `-omega rho`. A driven or braked wheel would add its
-    /// creepage here (`w_t (1 + xi)`): future work, the hook is this method.
+    /// The rail's material velocity (type docs) along the tangent `t = (-n_y, n_x)`. With
+    /// `n = -e`, `t = (-cos th, -sin th)`, which is the direction of the rail's travel
+    /// (at `th = 0`, below the wheel, the base turns towards `+x` in the wheel's frame, so the
+    /// rail travels towards `-x` in the axle's frame). The rotation field contributes
+    /// `t . (omega e_z x (x - centre)) = -omega e . (x - centre)`, the translation
+    /// `V = omega rho (1 - xi)`:
+    /// `w_t = omega rho (1 - xi) - omega e . (x - centre)`,
+    /// which on the base (`e . (x - centre) = rho`) is `-xi omega rho`: zero in free rolling.
     fn surface_tangential_velocity(&self, t: f64, x: Vector) -> f64 {
         let e = self.direction(t);
-        -self.omega * (e[0] * (x[0] - self.centre[0]) + e[1] * (x[1] - self.centre[1]))
+        let rho = self.radius - self.flattening.at(t);
+        self.omega * rho * (1.0 - self.creepage)
+            - self.omega * (e[0] * (x[0] - self.centre[0]) + e[1] * (x[1] - self.centre[1]))
     }
 }
 
@@ -224,6 +241,7 @@ mod tests {
                 depth: 1e-3,
                 settle_time: 2e-3,
             },
+            creepage: 0.0,
         }
     }
 
@@ -248,31 +266,56 @@ mod tests {
         }
     }
 
-    /// The tangential velocity of the rotating base is the rigid rotation's velocity field
-    /// projected on the tangent (the normal turned by +90 degrees).
+    /// The tangential velocity of the base is the rail's: in the axle's (non-rotating)
+    /// frame the rail translates at `V = omega rho (1 - xi)` along itself; transformed into
+    /// the wheel's frame (turning at `-omega`) by `v_w = R(omega t) (v_lab - (-omega) e_z x
+    /// r_lab)`, computed here in the laboratory and rotated, independently of the method.
     #[test]
-    fn rotating_line_tangential_velocity_is_the_rotation_field() {
-        let line = settling_base();
-        let x = [0.03, -0.09, 0.0];
-        for t in [0.0005, 0.003] {
-            let n = line.half_space(t, x).normal;
-            let tg = tangent_2d(n);
-            let r = [x[0] - line.centre[0], x[1] - line.centre[1]];
-            let vel = [-line.omega * r[1], line.omega * r[0], 0.0];
-            let expect = dot(tg, vel);
-            let got = line.surface_tangential_velocity(t, x);
-            assert!(
-                (got - expect).abs() < 1e-12 * expect.abs(),
-                "{got} vs {expect}"
-            );
+    fn rotating_line_tangential_velocity_is_the_rails() {
+        for xi in [0.0, 0.01, -0.003] {
+            let line = RotatingLine {
+                creepage: xi,
+                ..settling_base()
+            };
+            for t in [0.0005, 0.003] {
+                let th = line.angle(t);
+                let rho = line.radius - line.flattening.at(t);
+                // A point of the wheel's frame, seen in the lab: rotate by -th (the frame
+                // has turned by -th since t = 0 relative to the lab, where the base is fixed
+                // below the axle).
+                let x = [0.03, -0.09, 0.0];
+                let r = [x[0] - line.centre[0], x[1] - line.centre[1]];
+                let (s, c) = (-th).sin_cos();
+                let r_lab = [c * r[0] - s * r[1], s * r[0] + c * r[1]];
+                // Lab: the rail below the axle travels towards -x at V; the frame spins at
+                // -omega, so a point fixed in the lab moves in the frame with +omega e_z x r.
+                let v = rho * line.omega * (1.0 - xi);
+                let v_lab_rel = [-v + line.omega * -r_lab[1], line.omega * r_lab[0]];
+                // Back to the wheel's frame (rotate by +th).
+                let (s, c) = th.sin_cos();
+                let v_w = [
+                    c * v_lab_rel[0] - s * v_lab_rel[1],
+                    s * v_lab_rel[0] + c * v_lab_rel[1],
+                    0.0,
+                ];
+                let tg = tangent_2d(line.half_space(t, x).normal);
+                let expect = dot(tg, v_w);
+                let got = line.surface_tangential_velocity(t, x);
+                assert!(
+                    (got - expect).abs() < 1e-12 * (1.0 + expect.abs()),
+                    "xi {xi} t {t}: {got} vs {expect}"
+                );
+                // On the base itself: -xi omega rho (free rolling: no slip).
+                let e = line.direction(t);
+                let on = [
+                    line.centre[0] + rho * e[0] + 0.004 * e[1],
+                    line.centre[1] + rho * e[1] - 0.004 * e[0],
+                    0.0,
+                ];
+                let w = line.surface_tangential_velocity(t, on);
+                assert!((w + xi * line.omega * rho).abs() < 1e-12, "{w}");
+            }
         }
-        // Below the wheel at theta = 0: the base moves towards +x, the tangent is -x.
-        let line0 = RotatingLine {
-            theta0: 0.0,
-            ..line
-        };
-        let w = line0.surface_tangential_velocity(0.0, [0.01, -0.1, 0.0]);
-        assert!((w + 300.0 * 0.08).abs() < 1e-12, "{w}");
     }
 
     #[test]
@@ -286,6 +329,7 @@ mod tests {
                 depth: 0.001,
                 settle_time: 0.0,
             },
+            creepage: 0.0,
         };
         let hs = line.half_space(0.0, [0.0; 3]);
         assert!((hs.gap([0.0, -0.099, 0.0]) - 0.0).abs() < 1e-15);

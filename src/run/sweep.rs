@@ -135,6 +135,24 @@ pub fn sweep(
     } else {
         Vec::new()
     };
+    // With friction: the traction figures (nested in the summary's `traction`).
+    let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
+    if with_traction {
+        for c in [
+            "traction/creepage",
+            "traction/normal",
+            "traction/traction",
+            "traction/traction_ratio",
+            "traction/carter_traction_ratio",
+            "traction/mean_stick_nodes",
+            "traction/mean_slip_nodes",
+            "traction/measured_stick_half_width",
+            "traction/hertz_half_width",
+            "traction/friction_energy",
+        ] {
+            cols.push(c.to_string());
+        }
+    }
     for p in points.iter().filter(|_| !is_wheel) {
         if let Some(o) = p.summary.as_object() {
             for (k, v) in o {
@@ -145,7 +163,14 @@ pub fn sweep(
         }
     }
     let cell = |p: &SweepPoint, c: &str| -> String {
-        match &p.summary[c] {
+        let v = if c.contains('/') {
+            p.summary
+                .pointer(&format!("/{c}"))
+                .unwrap_or(&serde_json::Value::Null)
+        } else {
+            &p.summary[c]
+        };
+        match v {
             serde_json::Value::Number(n) => match n.as_f64() {
                 Some(x) if n.is_f64() => format!("{x:.5}"),
                 _ => n.to_string(),
@@ -179,7 +204,9 @@ pub fn sweep(
         .iter()
         .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
         .collect();
-    if is_wheel && xs.len() == points.len() {
+    if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
+        files.extend(creep_curve(out, &points, &xs)?);
+    } else if is_wheel && xs.len() == points.len() {
         let osc: Vec<f64> = points
             .iter()
             .map(|p| {
@@ -266,4 +293,108 @@ pub fn sweep(
         files.push(png);
     }
     Ok((points, files))
+}
+
+/// The creep curve of a creepage sweep (`creep_curve.png`, `creep_curve.csv`): the traction
+/// ratio `Q / (mu P)` against the creepage, with Carter's curve
+/// ([`crate::run::wheel::traction::carter_traction_ratio`], the Hertz half-width of the mean
+/// normal force) twice: as it stands, and shifted to the measured free-rolling creepage
+/// `xi0` (where `Q` crosses zero, linearly interpolated), which an elastic wheel on a rigid
+/// base has and Carter's elastically similar bodies do not.
+fn creep_curve(out: &Path, points: &[SweepPoint], xs: &[f64]) -> Result<Vec<PathBuf>, SweepError> {
+    use crate::run::wheel::traction::carter_traction_ratio;
+    let num = |p: &SweepPoint, k: &str| {
+        p.summary
+            .pointer(&format!("/traction/{k}"))
+            .and_then(|v| v.as_f64())
+            .unwrap_or(f64::NAN)
+    };
+    let mut pts: Vec<(f64, f64, f64, f64)> = points
+        .iter()
+        .zip(xs)
+        .map(|(p, &x)| {
+            (
+                x,
+                num(p, "traction_ratio"),
+                num(p, "friction"),
+                num(p, "hertz_half_width"),
+            )
+        })
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let radius = points.first().map_or(f64::NAN, |p| num(p, "radius"));
+    let xi0 = free_rolling_creepage(&pts.iter().map(|p| (p.0, p.1)).collect::<Vec<_>>());
+    // Carter with the mean half-width of the sweep (it changes little with the creepage).
+    let n = pts.len().max(1) as f64;
+    let (mu, a) = (
+        pts.iter().map(|p| p.2).sum::<f64>() / n,
+        pts.iter().map(|p| p.3).sum::<f64>() / n,
+    );
+    let (lo, hi) = (pts[0].0, pts[pts.len() - 1].0);
+    let fine: Vec<f64> = (0..=400)
+        .map(|i| lo + (hi - lo) * i as f64 / 400.0)
+        .collect();
+    let mut panel = Panel::new(
+        format!(
+            "Creep curve: mu = {mu:.3}, Hertz half-width a = {:.2} mm, R = {radius} m",
+            a * 1e3
+        ),
+        "creepage xi = (omega rho - V) / (omega rho)",
+        "Q / (mu P)",
+    );
+    panel.series.push(Series::new(
+        "softway (steady rolling)",
+        pts.iter().map(|p| p.0).collect(),
+        pts.iter().map(|p| p.1).collect(),
+        SeriesStyle::LineMarkers,
+    ));
+    panel.series.push(Series::new(
+        "Carter (elastically similar bodies)",
+        fine.clone(),
+        fine.iter()
+            .map(|&x| carter_traction_ratio(x, mu, a, radius))
+            .collect(),
+        SeriesStyle::Dashed,
+    ));
+    if let Some(x0) = xi0 {
+        panel.series.push(Series::new(
+            format!("Carter shifted to the free-rolling creepage xi0 = {x0:.2e}"),
+            fine.clone(),
+            fine.iter()
+                .map(|&x| carter_traction_ratio(x - x0, mu, a, radius))
+                .collect(),
+            SeriesStyle::Line,
+        ));
+    }
+    panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
+    panel.y_range = Some((-1.15, 1.15));
+    let png = out.join("creep_curve.png");
+    panels(&png, &[panel], 1, 1, (1100, 700)).map_err(|e| RunError::output(&png, e))?;
+    let mut csv = String::from("creepage,traction_ratio,carter,carter_shifted\n");
+    for p in &pts {
+        let shifted = xi0.map_or(f64::NAN, |x0| {
+            carter_traction_ratio(p.0 - x0, mu, a, radius)
+        });
+        let _ = writeln!(
+            csv,
+            "{:e},{:e},{:e},{:e}",
+            p.0,
+            p.1,
+            carter_traction_ratio(p.0, mu, a, radius),
+            shifted
+        );
+    }
+    let f = out.join("creep_curve.csv");
+    write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+    Ok(vec![png, f])
+}
+
+/// The creepage where the traction ratio crosses zero, by linear interpolation between the
+/// two neighbouring points of `(creepage, ratio)` sorted by creepage; `None` without a sign
+/// change.
+pub fn free_rolling_creepage(pts: &[(f64, f64)]) -> Option<f64> {
+    pts.windows(2).find_map(|w| {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        (y0 <= 0.0 && y1 > 0.0).then(|| x0 - y0 * (x1 - x0) / (y1 - y0))
+    })
 }

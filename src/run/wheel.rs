@@ -17,11 +17,13 @@
 
 pub mod figures;
 pub mod observers;
+pub mod traction;
 
 use super::{RunError, RunOptions, RunReport, INTERRUPT};
 use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
+use crate::material::PlaneModel;
 use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use crate::mesh::gmsh::read_msh;
 use crate::mesh::quality as mesh_quality;
@@ -40,6 +42,7 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use traction::{TractionSummary, TractionWatch};
 
 /// Key figures of a wheel run (`summary.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -122,6 +125,9 @@ pub struct WheelSummary {
     pub time_per_step_us: f64,
     /// True when interrupted.
     pub interrupted: bool,
+    /// Traction with friction (`contact.friction > 0`): creep force, stick and slip, Carter.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub traction: Option<TractionSummary>,
 }
 
 /// Builds the wheel model of a scenario.
@@ -181,6 +187,28 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
 
 /// Screen lines of a summary.
 pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
+    let mut lines = base_lines(s);
+    if let Some(t) = &s.traction {
+        lines.push(format!(
+            "traction (mu = {}, creepage {:.3e}): Q = {:.4e} N, P = {:.4e} N, Q/(mu P) = {:.4} (Carter {:.4}); {:.2} nodes in stick, {:.2} in slip; stick half-width {:.3} mm (Hertz a = {:.3} mm); friction energy {:.3e} J",
+            t.friction,
+            t.creepage,
+            t.traction,
+            t.normal,
+            t.traction_ratio,
+            t.carter_traction_ratio,
+            t.mean_stick_nodes,
+            t.mean_slip_nodes,
+            t.measured_stick_half_width * 1e3,
+            t.hertz_half_width * 1e3,
+            t.friction_energy
+        ));
+    }
+    lines
+}
+
+/// The lines every wheel run prints.
+fn base_lines(s: &WheelSummary) -> Vec<String> {
     vec![
         format!(
             "omega = {} rad/s ({:.0} km/h), {} dofs, {} steps of {:.3e} s in {:.2} s ({:.1} us/step)",
@@ -283,22 +311,52 @@ pub fn simulate(
     let mut snapshots =
         VelocitySnapshots::new(timeline, last_turn.0, ws.fields_per_turn, wm.mesh.n_dofs());
     let mut progress = Progress::new(steps, &run.label, show_progress);
+    let mu = run.friction.filter(|&mu| mu > 0.0);
+    let mut traction = match mu {
+        Some(_) => Some(TractionWatch::create(
+            wm,
+            timeline,
+            &out.join("traction_history.csv"),
+            sc.history_stride,
+        )?),
+        None => None,
+    };
+    let mut watchers: Vec<&mut dyn Observer> = vec![
+        &mut history,
+        &mut nodes,
+        &mut forces,
+        &mut energy,
+        &mut average,
+        &mut snapshots,
+        &mut progress,
+    ];
+    if let Some(t) = traction.as_mut() {
+        watchers.push(t);
+    }
     let outcome = drive(
         wm,
         ws,
         run,
         (steps, timeline, sc.history_stride),
-        &mut [
-            &mut history,
-            &mut nodes,
-            &mut forces,
-            &mut energy,
-            &mut average,
-            &mut snapshots,
-            &mut progress,
-        ],
+        &mut watchers,
     )?;
+    drop(watchers);
     progress.finish();
+    let traction = match (traction, mu) {
+        (Some(t), Some(mu)) => {
+            let e = &ws.spec.material;
+            let e_star = match ws.spec.plane {
+                PlaneModel::Stress => e.young,
+                PlaneModel::Strain => e.young / (1.0 - e.poisson * e.poisson),
+            };
+            Some(t.finish(
+                mu,
+                ws.spec.creepage,
+                (ws.spec.radius, ws.spec.thickness, e_star),
+            )?)
+        }
+        _ => None,
+    };
     let results = WheelResults {
         timeline,
         outcome,
@@ -307,8 +365,16 @@ pub fn simulate(
         fields: average.finish(),
         snapshots: snapshots.finish(),
     };
-    let summary = summarise(wm, ws, run, &results, bounce);
+    let mut summary = summarise(wm, ws, run, &results, bounce);
     let mut files = vec![history.finish()?, nodes.finish()?];
+    if let Some((ts, profile, path)) = traction {
+        files.push(path);
+        files.push(traction::write_profile(out, &ts, &profile)?);
+        if sc.plots {
+            files.extend(traction::figures(out, &ts, &profile)?);
+        }
+        summary.traction = Some(ts);
+    }
     files.extend(write_fields(out, wm, &results)?);
     if sc.plots {
         files.extend(figures::write(out, wm, &summary, &results)?);
@@ -386,6 +452,8 @@ pub fn drive(
                 held: s.held,
                 min_gap: st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min),
                 pairs: &st.pairs,
+                slip_power: s.slip_power,
+                friction_dissipated: s.friction_dissipated,
             };
             observers.iter_mut().try_for_each(|o| o.observe(&step))
         })
@@ -478,6 +546,7 @@ fn summarise(
         wall_time_s: o.wall_time_s,
         time_per_step_us: o.wall_time_s / o.steps.max(1) as f64 * 1e6,
         interrupted: o.interrupted,
+        traction: None,
     }
 }
 

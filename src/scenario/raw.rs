@@ -116,6 +116,7 @@ pub(super) struct RawRolling {
     pub turns: f64,
     pub settle_gamma: Option<f64>,
     pub fields_per_turn: Option<i64>,
+    pub creepage: Option<f64>,
 }
 
 /// `[contact]`.

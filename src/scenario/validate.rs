@@ -312,6 +312,16 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
             .check_friction(Some(mu), dim)
             .map_err(|why| cx.invalid("contact.friction", mu, &why))?;
     }
+    if let Model::Wheel(w) = &model {
+        if w.spec.creepage != 0.0 && friction.is_none_or(|mu| mu <= 0.0) {
+            return Err(cx.invalid(
+                "rolling.creepage",
+                w.spec.creepage,
+                "a creepage transmits a force only through friction: set contact.friction > 0 \
+                 (or remove rolling.creepage)",
+            ));
+        }
+    }
     // The central difference runs explicit: lumped mass, step from cfl if given.
     if integrator.is_explicit() {
         match &mut model {
@@ -731,6 +741,15 @@ fn wheel_model(
         Some(g) => Some(cx.gamma("rolling.settle_gamma", g)?),
         None => None,
     };
+    let creepage = r.creepage.unwrap_or(0.0);
+    if !(creepage.is_finite() && creepage.abs() < 1.0) {
+        return Err(cx.invalid(
+            "rolling.creepage",
+            creepage,
+            "the creepage (omega rho - V)/(omega rho) must be a finite number between -1 and 1 \
+             (railway creepages are below 0.01)",
+        ));
+    }
     Ok(WheelScenario {
         spec: WheelSpec {
             radius,
@@ -748,6 +767,7 @@ fn wheel_model(
             flattening: Flattening { depth, settle_time },
             stress_stiffening: w.stress_stiffening.unwrap_or(true),
             rotating_frame: w.rotating_frame.unwrap_or(true),
+            creepage,
         },
         mesh,
         turns,

@@ -48,6 +48,10 @@ pub struct WheelStep<'a> {
     pub min_gap: f64,
     /// The rim nodes' contact states, in the order of [`WheelModel::rim`].
     pub pairs: &'a [PairState],
+    /// Frictional dissipation of the step, W (0 without friction).
+    pub slip_power: f64,
+    /// Energy dissipated by friction since the start, J.
+    pub friction_dissipated: f64,
 }
 
 /// A per-step observer of the wheel run.
@@ -573,6 +577,8 @@ mod tests {
             held: 1,
             min_gap: gap,
             pairs: &[],
+            slip_power: 0.0,
+            friction_dissipated: 0.0,
         }
     }
 

@@ -1,0 +1,605 @@
+//! Traction of a wheel rolling with friction (`contact.friction`, `rolling.creepage`): the
+//! creep force over time, stick and slip in the patch, the frictional dissipation, and the
+//! steady traction profile `p(s)`, `q(s)` across the patch, with Carter's 2D solution
+//! beside it.
+//!
+//! **Signs and coordinates.** `s` is the position of a rim node along the base, measured
+//! from the foot of the perpendicular from the axle, positive in the direction in which the
+//! contact travels round the rim (the base turns at `+omega` in the wheel's frame): material
+//! enters the patch at `s = +a` (the leading edge) and leaves at `s = -a`. The pairs'
+//! tangential force is reported along the tangent `t` (the direction of the rail's travel,
+//! [`crate::contact::RotatingLine`]), which is `-s`; the traction on the wheel `q` and the
+//! creep force `Q` are counted along `+s`, the direction of the vehicle's travel: `Q > 0`
+//! drives the wheel forward (creepage `xi > 0`), `Q < 0` brakes it.
+//!
+//! **Nodal forces to tractions.** A rim node's force over its tributary length (half the
+//! arcs to its two neighbours, on the undeformed rim) times the thickness: `p = F_n / (b l)`,
+//! `q = F_t / (b l)`, Pa.
+//!
+//! **The steady profile.** In steady rolling every rim node passes through the patch, so
+//! the profile is averaged in the patch's frame: over the averaging window (the last half of
+//! the rolling phase), each node's `(s, p, q, stick)` is dropped into bins of a quarter rim
+//! pitch; the mean per bin is a profile four times finer than the mesh, free of the
+//! node-passing jitter of any single instant.
+//!
+//! **Carter (1926; Johnson, Contact Mechanics, §8.4), 2D.** For a cylinder of radius `R` on
+//! a flat, normal load `P` per unit length, the Hertz half-width is `a = sqrt(4 P R / (pi
+//! E*))` and the peak pressure `p0 = 2 P / (pi a)`; with `E* = E / (1 - nu^2)` in plane strain
+//! and `E` in plane stress for an elastic wheel on a rigid base. With traction `Q < mu P` the
+//! stick zone is at the leading edge with half-width `c = a sqrt(1 - Q / (mu P))`, the
+//! traction `q(s) = mu p0 sqrt(1 - s^2/a^2) - (c/a) mu p0 sqrt(1 - (s - a + c)^2 / c^2)` in
+//! it (`mu p` in the slip zone), and the creepage `xi = (mu a / R) (1 - sqrt(1 - Q/(mu P)))`
+//! (full slip from `xi = mu a / R`). Carter's bodies are elastically similar; on a rigid
+//! base the normal and tangential problems couple through Dundurs' `beta = (1 - 2 nu) / (2 (1
+//! - nu))` (0.29 for steel in plane strain): the stick zone shifts and the creep curve
+//! changes by a few per cent (Johnson §8.4; Bufler 1959). [`carter_traction_ratio`] and
+//! [`carter_q`] are the uncoupled solution.
+
+use super::observers::{Observer, Timeline, WheelStep};
+use crate::contact::RotatingLine;
+use crate::output::files::CsvWriter;
+use crate::run::RunError;
+use crate::wheel::WheelModel;
+use serde::Serialize;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// Carter's creep curve: the traction ratio `Q / (mu P)` at creepage `xi` for a cylinder of
+/// radius `radius` with Hertz half-width `a` and friction `mu` (module docs; odd in `xi`,
+/// saturated at `+-1` from `|xi| = mu a / R`).
+pub fn carter_traction_ratio(xi: f64, mu: f64, a: f64, radius: f64) -> f64 {
+    let x = (xi.abs() * radius / (mu * a)).min(1.0);
+    xi.signum() * (1.0 - (1.0 - x) * (1.0 - x))
+}
+
+/// Carter's tangential traction at `s` (module docs) for peak pressure `p0`, half-width `a`,
+/// stick half-width `c` (`0 <= c <= a`) and friction `mu`, Pa, for a driving traction (the
+/// braking one is its negative).
+pub fn carter_q(s: f64, mu: f64, p0: f64, a: f64, c: f64) -> f64 {
+    if s.abs() >= a {
+        return 0.0;
+    }
+    let full = mu * p0 * (1.0 - s * s / (a * a)).sqrt();
+    let d = s - (a - c);
+    if c > 0.0 && d.abs() < c {
+        full - (c / a) * mu * p0 * (1.0 - d * d / (c * c)).sqrt()
+    } else {
+        full
+    }
+}
+
+/// Hertz's 2D half-width and peak pressure for a load `p_per_length` (N/m) on a cylinder
+/// of radius `radius` with plane modulus `e_star` (Pa): `(a, p0)`.
+pub fn hertz_2d(p_per_length: f64, radius: f64, e_star: f64) -> (f64, f64) {
+    let a = (4.0 * p_per_length * radius / (PI * e_star)).sqrt();
+    (a, 2.0 * p_per_length / (PI * a))
+}
+
+/// Watches the traction of a rolling wheel with friction (module docs).
+#[derive(Debug)]
+pub struct TractionWatch {
+    timeline: Timeline,
+    base: RotatingLine,
+    /// Reference positions of the rim nodes (flat x, y per rim pair).
+    rim_x: Vec<[f64; 2]>,
+    rim_dofs: Vec<usize>,
+    /// Tributary length times thickness per rim pair, m^2.
+    area: Vec<f64>,
+    /// Averaging window start, s.
+    window_start: f64,
+    bin: f64,
+    half_bins: usize,
+    // Per-bin sums over the window.
+    bin_p: Vec<f64>,
+    bin_q: Vec<f64>,
+    bin_stick: Vec<f64>,
+    bin_n: Vec<f64>,
+    // Time series over the rolling phase.
+    sum_stick: f64,
+    sum_slip: f64,
+    samples: f64,
+    window_q: f64,
+    window_p: f64,
+    window_samples: f64,
+    friction_energy: f64,
+    history: CsvWriter,
+    path: PathBuf,
+    stride: usize,
+    /// The history rows kept for the figure: t, normal, traction, friction energy.
+    series: [Vec<f64>; 4],
+}
+
+/// The traction figures of a run with friction (`summary.json`, `traction`).
+#[derive(Debug, Clone, Serialize)]
+pub struct TractionSummary {
+    /// Coulomb coefficient.
+    pub friction: f64,
+    /// Creepage `xi`.
+    pub creepage: f64,
+    /// Wheel radius `R`, m.
+    pub radius: f64,
+    /// Mean creep force `Q` over the averaging window (last half of the rolling phase), N
+    /// (positive: driving).
+    pub traction: f64,
+    /// Mean normal force `P` over the same window, N.
+    pub normal: f64,
+    /// `Q / (mu P)`.
+    pub traction_ratio: f64,
+    /// Mean nodes in stick and in slip over the rolling phase.
+    pub mean_stick_nodes: f64,
+    /// Mean nodes in slip.
+    pub mean_slip_nodes: f64,
+    /// Energy dissipated by friction over the run, J.
+    pub friction_energy: f64,
+    /// Hertz half-width for the mean normal force, m.
+    pub hertz_half_width: f64,
+    /// Hertz peak pressure, Pa.
+    pub hertz_peak_pressure: f64,
+    /// The measured half-width of the steady profile (outermost bins carrying pressure), m.
+    pub measured_half_width: f64,
+    /// The measured stick zone: half-width `c`, m (bins in stick more than half the time).
+    pub measured_stick_half_width: f64,
+    /// Carter's `c = a sqrt(1 - |Q|/(mu P))` for the measured `Q`, m.
+    pub carter_stick_half_width: f64,
+    /// Carter's `Q / (mu P)` at this creepage (uncoupled, with the Hertz `a`).
+    pub carter_traction_ratio: f64,
+    /// Carter's saturation creepage `mu a / R`.
+    pub carter_saturation_creepage: f64,
+    /// Rim pitch over the Hertz half-width: the patch's resolution.
+    pub pitch_over_half_width: f64,
+}
+
+/// The steady traction profile (module docs).
+#[derive(Debug, Clone)]
+pub struct TractionProfile {
+    /// Bin centres, m.
+    pub s: Vec<f64>,
+    /// Mean pressure, Pa.
+    pub p: Vec<f64>,
+    /// Mean tangential traction on the wheel along `+s`, Pa.
+    pub q: Vec<f64>,
+    /// Fraction of the samples in stick (held and not sliding).
+    pub stick: Vec<f64>,
+    /// The history kept for the figure: time (s), normal force, creep force (N), friction
+    /// energy (J).
+    pub history: [Vec<f64>; 4],
+}
+
+impl TractionWatch {
+    /// The history columns.
+    pub const HEADER: [&'static str; 7] = [
+        "t_s",
+        "normal_N",
+        "traction_N",
+        "stick_nodes",
+        "slip_nodes",
+        "slip_power_W",
+        "friction_energy_J",
+    ];
+
+    /// A watch over the rim of `wm`, writing `traction_history.csv` at `path` every `stride`
+    /// steps.
+    ///
+    /// # Errors
+    /// [`RunError::Output`].
+    pub fn create(
+        wm: &WheelModel,
+        timeline: Timeline,
+        path: &Path,
+        stride: usize,
+    ) -> Result<Self, RunError> {
+        let rim_x: Vec<[f64; 2]> = wm.rim.iter().map(|&i| wm.mesh.points[i]).collect();
+        let n = rim_x.len();
+        let angle = |p: [f64; 2]| p[1].atan2(p[0]);
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| angle(rim_x[a]).total_cmp(&angle(rim_x[b])));
+        let radius = wm.spec.radius;
+        let mut area = vec![0.0; n];
+        for (k, &i) in order.iter().enumerate() {
+            let prev = order[(k + n - 1) % n];
+            let next = order[(k + 1) % n];
+            let arc = |a: usize, b: usize| {
+                let d = (angle(rim_x[b]) - angle(rim_x[a])).rem_euclid(2.0 * PI);
+                radius * d
+            };
+            area[i] = 0.5 * (arc(prev, i) + arc(i, next)) * wm.spec.thickness;
+        }
+        let pitch = 2.0 * PI * radius / n.max(1) as f64;
+        // Bins of a quarter pitch over +-radius/4 (the patch is a few per cent of R).
+        let bin = pitch / 4.0;
+        let half_bins = ((0.25 * radius / bin).ceil() as usize).max(1);
+        let (t_end, t_settle) = (
+            timeline.t_settle + timeline.turns * timeline.turn_time,
+            timeline.t_settle,
+        );
+        let rows = (timeline.t_settle + timeline.turns * timeline.turn_time)
+            / timeline.h
+            / stride.max(1) as f64;
+        let rows = rows.ceil() as usize + 2;
+        let history =
+            CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
+        Ok(Self {
+            timeline,
+            base: wm.base(),
+            rim_dofs: wm.rim.iter().map(|&i| 2 * i).collect(),
+            rim_x,
+            area,
+            window_start: 0.5 * (t_settle + t_end),
+            bin,
+            half_bins,
+            bin_p: vec![0.0; 2 * half_bins + 1],
+            bin_q: vec![0.0; 2 * half_bins + 1],
+            bin_stick: vec![0.0; 2 * half_bins + 1],
+            bin_n: vec![0.0; 2 * half_bins + 1],
+            sum_stick: 0.0,
+            sum_slip: 0.0,
+            samples: 0.0,
+            window_q: 0.0,
+            window_p: 0.0,
+            window_samples: 0.0,
+            friction_energy: 0.0,
+            history,
+            path: path.to_path_buf(),
+            stride: stride.max(1),
+            series: std::array::from_fn(|_| Vec::with_capacity(rows)),
+        })
+    }
+
+    /// Closes the history and gives the figures and the profile, for the friction `mu`, the
+    /// creepage `xi`, the wheel's `radius`, `thickness` and plane modulus `e_star`.
+    ///
+    /// # Errors
+    /// [`RunError::Output`].
+    pub fn finish(
+        self,
+        mu: f64,
+        xi: f64,
+        (radius, thickness, e_star): (f64, f64, f64),
+    ) -> Result<(TractionSummary, TractionProfile, PathBuf), RunError> {
+        self.history
+            .finish()
+            .map_err(|e| RunError::output(&self.path, e))?;
+        let nb = 2 * self.half_bins + 1;
+        let mut prof = TractionProfile {
+            s: Vec::with_capacity(nb),
+            p: Vec::with_capacity(nb),
+            q: Vec::with_capacity(nb),
+            stick: Vec::with_capacity(nb),
+            history: self.series,
+        };
+        for b in 0..nb {
+            let n = self.bin_n[b];
+            if n > 0.0 {
+                prof.s.push((b as f64 - self.half_bins as f64) * self.bin);
+                prof.p.push(self.bin_p[b] / n);
+                prof.q.push(self.bin_q[b] / n);
+                prof.stick.push(self.bin_stick[b] / n);
+            }
+        }
+        let ws = self.window_samples.max(1.0);
+        let (q, p) = (self.window_q / ws, self.window_p / ws);
+        let (a, p0) = hertz_2d(p / thickness, radius, e_star);
+        // The loaded extent: bins whose mean pressure exceeds 1% of the peak.
+        let pmax = prof.p.iter().cloned().fold(0.0, f64::max);
+        let loaded: Vec<f64> = prof
+            .s
+            .iter()
+            .zip(&prof.p)
+            .filter(|(_, &pp)| pp > 0.01 * pmax)
+            .map(|(&s, _)| s)
+            .collect();
+        let half = |v: &[f64]| {
+            let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            if v.is_empty() {
+                0.0
+            } else {
+                0.5 * (hi - lo + self.bin)
+            }
+        };
+        let stuck: Vec<f64> = prof
+            .s
+            .iter()
+            .zip(&prof.p)
+            .zip(&prof.stick)
+            .filter(|((_, &pp), &st)| pp > 0.01 * pmax && st > 0.5)
+            .map(|((&s, _), _)| s)
+            .collect();
+        let ratio = if mu > 0.0 && p > 0.0 {
+            q / (mu * p)
+        } else {
+            0.0
+        };
+        let summary = TractionSummary {
+            friction: mu,
+            creepage: xi,
+            radius,
+            traction: q,
+            normal: p,
+            traction_ratio: ratio,
+            mean_stick_nodes: self.sum_stick / self.samples.max(1.0),
+            mean_slip_nodes: self.sum_slip / self.samples.max(1.0),
+            friction_energy: self.friction_energy,
+            hertz_half_width: a,
+            hertz_peak_pressure: p0,
+            measured_half_width: half(&loaded),
+            measured_stick_half_width: half(&stuck),
+            carter_stick_half_width: a * (1.0 - ratio.abs().min(1.0)).sqrt(),
+            carter_traction_ratio: carter_traction_ratio(xi, mu, a, radius),
+            carter_saturation_creepage: mu * a / radius,
+            pitch_over_half_width: 4.0 * self.bin / a,
+        };
+        Ok((summary, prof, self.path))
+    }
+}
+
+impl Observer for TractionWatch {
+    fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
+        let (mut normal, mut traction, mut stick, mut slip) = (0.0, 0.0, 0usize, 0usize);
+        for ps in s.pairs {
+            normal += ps.force;
+            traction -= ps.tangential_force;
+            if ps.held {
+                if ps.sliding {
+                    slip += 1;
+                } else {
+                    stick += 1;
+                }
+            }
+        }
+        self.friction_energy = s.friction_dissipated;
+        if s.k % self.stride == 0 {
+            self.history.row(
+                None,
+                &[
+                    s.t,
+                    normal,
+                    traction,
+                    stick as f64,
+                    slip as f64,
+                    s.slip_power,
+                    s.friction_dissipated,
+                ],
+            )?;
+            for (v, x) in self
+                .series
+                .iter_mut()
+                .zip([s.t, normal, traction, s.friction_dissipated])
+            {
+                v.push(x);
+            }
+        }
+        if !self.timeline.rolling(s.t) {
+            return Ok(());
+        }
+        self.samples += 1.0;
+        self.sum_stick += stick as f64;
+        self.sum_slip += slip as f64;
+        if s.t < self.window_start {
+            return Ok(());
+        }
+        self.window_samples += 1.0;
+        self.window_q += traction;
+        self.window_p += normal;
+        // The profile in the patch's frame: s = -t . (x - centre), t the base's tangent.
+        let e = self.base.direction(s.t);
+        // t = (-n_y, n_x) with n = -e: t = (e_y, -e_x); the contact travels along -t.
+        let along = [-e[1], e[0]];
+        for (k, ps) in s.pairs.iter().enumerate() {
+            if !(ps.held || ps.force != 0.0) {
+                continue;
+            }
+            let d = self.rim_dofs[k];
+            let x = [
+                self.rim_x[k][0] + s.u[d] - self.base.centre[0],
+                self.rim_x[k][1] + s.u[d + 1] - self.base.centre[1],
+            ];
+            let pos = along[0] * x[0] + along[1] * x[1];
+            let b = (pos / self.bin).round() + self.half_bins as f64;
+            if b < 0.0 || b >= self.bin_n.len() as f64 {
+                continue;
+            }
+            let b = b as usize;
+            let area = self.area[k];
+            self.bin_p[b] += ps.force / area;
+            self.bin_q[b] -= ps.tangential_force / area;
+            self.bin_stick[b] += if ps.held && !ps.sliding { 1.0 } else { 0.0 };
+            self.bin_n[b] += 1.0;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `traction_profile.csv`: the steady profile with Hertz's pressure and Carter's
+/// traction (for the measured creep force) beside it.
+///
+/// # Errors
+/// [`RunError::Output`].
+pub fn write_profile(
+    out: &Path,
+    ts: &TractionSummary,
+    prof: &TractionProfile,
+) -> Result<PathBuf, RunError> {
+    let path = out.join("traction_profile.csv");
+    let mut csv = CsvWriter::create(
+        &path,
+        &[
+            "s_m",
+            "p_Pa",
+            "q_Pa",
+            "stick_fraction",
+            "hertz_p_Pa",
+            "carter_q_Pa",
+        ],
+    )
+    .map_err(|e| RunError::output(&path, e))?;
+    let (a, p0, mu) = (ts.hertz_half_width, ts.hertz_peak_pressure, ts.friction);
+    let sign = ts.traction.signum();
+    for i in 0..prof.s.len() {
+        let s = prof.s[i];
+        let hertz = if s.abs() < a {
+            p0 * (1.0 - s * s / (a * a)).sqrt()
+        } else {
+            0.0
+        };
+        csv.row(
+            None,
+            &[
+                s,
+                prof.p[i],
+                prof.q[i],
+                prof.stick[i],
+                hertz,
+                sign * carter_q(s, mu, p0, a, ts.carter_stick_half_width),
+            ],
+        )
+        .map_err(|e| RunError::output(&path, e))?;
+    }
+    csv.finish().map_err(|e| RunError::output(&path, e))?;
+    Ok(path)
+}
+
+/// The figures: `traction.png` (the steady profile against Hertz and Carter, the stick
+/// fraction) and `traction_history.png` (normal and creep force, friction energy).
+///
+/// # Errors
+/// [`RunError::Output`].
+pub fn figures(
+    out: &Path,
+    ts: &TractionSummary,
+    prof: &TractionProfile,
+) -> Result<Vec<PathBuf>, RunError> {
+    use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+    let (a, p0, mu) = (ts.hertz_half_width, ts.hertz_peak_pressure, ts.friction);
+    let sign = if ts.traction < 0.0 { -1.0 } else { 1.0 };
+    let x: Vec<f64> = prof.s.iter().map(|s| s / a).collect();
+    let fine: Vec<f64> = (0..=400).map(|i| -1.5 + 3.0 * i as f64 / 400.0).collect();
+    let mut p = Panel::new(
+        format!(
+            "Steady traction across the patch: mu = {mu}, creepage {:.2e}, Q/(mu P) = {:.3}",
+            ts.creepage, ts.traction_ratio
+        ),
+        "s / a  (s along the rolling direction; material enters at +1)",
+        "p / p0,  q / (mu p0),  stick fraction",
+    );
+    p.series.push(Series::new(
+        "p / p0, softway",
+        x.clone(),
+        prof.p.iter().map(|v| v / p0).collect(),
+        SeriesStyle::LineMarkers,
+    ));
+    p.series.push(Series::new(
+        "q / (mu p0), softway",
+        x.clone(),
+        prof.q.iter().map(|v| sign * v / (mu * p0)).collect(),
+        SeriesStyle::LineMarkers,
+    ));
+    p.series.push(Series::new(
+        "Hertz p / p0",
+        fine.clone(),
+        fine.iter()
+            .map(|&r| {
+                if r.abs() < 1.0 {
+                    (1.0 - r * r).sqrt()
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+        SeriesStyle::Dashed,
+    ));
+    p.series.push(Series::new(
+        format!(
+            "Carter q / (mu p0), c/a = {:.2}",
+            ts.carter_stick_half_width / a
+        ),
+        fine.clone(),
+        fine.iter()
+            .map(|&r| carter_q(r * a, mu, p0, a, ts.carter_stick_half_width) / (mu * p0))
+            .collect(),
+        SeriesStyle::Dashed,
+    ));
+    p.series.push(Series::new(
+        "stick fraction (softway)",
+        x,
+        prof.stick.clone(),
+        SeriesStyle::Line,
+    ));
+    p.x_range = Some((-1.5, 1.5));
+    p.y_range = Some((-0.05, 1.25));
+    let png = out.join("traction.png");
+    panels(&png, &[p], 1, 1, (1100, 650)).map_err(|e| RunError::output(&png, e))?;
+    let [t, normal, traction, energy] = &prof.history;
+    let ms: Vec<f64> = t.iter().map(|t| t * 1e3).collect();
+    let mut f = Panel::new("Normal and creep force", "t [ms]", "force [N]");
+    f.series.push(Series::new(
+        "mu P (normal force times mu)",
+        ms.clone(),
+        normal.iter().map(|v| mu * v).collect(),
+        SeriesStyle::Line,
+    ));
+    f.series.push(Series::new(
+        "Q (creep force on the wheel, + driving)",
+        ms.clone(),
+        traction.clone(),
+        SeriesStyle::Line,
+    ));
+    let mut e = Panel::new("Energy dissipated by friction", "t [ms]", "energy [J]");
+    e.series.push(Series::new(
+        "friction energy",
+        ms,
+        energy.clone(),
+        SeriesStyle::Line,
+    ));
+    let png2 = out.join("traction_history.png");
+    panels(&png2, &[f, e], 2, 1, (1100, 900)).map_err(|e| RunError::output(&png2, e))?;
+    Ok(vec![png, png2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Carter's traction integrates to `Q`: `int q ds = mu P (1 - c^2/a^2)` with `P = pi a
+    /// p0 / 2` (per unit length), so `Q/(mu P) = 1 - c^2/a^2`; and its creep curve has the
+    /// initial slope `2 R / (mu a)` and saturates at `mu a / R`.
+    #[test]
+    fn carter_traction_integrates_to_the_creep_force() {
+        let (mu, p0, a) = (0.3, 1.0e9, 6e-3);
+        for c_over_a in [0.0, 0.3, 0.7, 1.0] {
+            let c = c_over_a * a;
+            let n = 200_000;
+            let ds = 2.0 * a / n as f64;
+            let q: f64 = (0..n)
+                .map(|i| carter_q(-a + (i as f64 + 0.5) * ds, mu, p0, a, c) * ds)
+                .sum();
+            let p = PI * a * p0 / 2.0;
+            let expect = mu * p * (1.0 - c_over_a * c_over_a);
+            assert!(
+                (q - expect).abs() < 1e-4 * mu * p,
+                "c/a {c_over_a}: {q} vs {expect}"
+            );
+        }
+        let r = 0.1;
+        let xi_sat = mu * a / r;
+        assert_eq!(carter_traction_ratio(xi_sat, mu, a, r), 1.0);
+        assert_eq!(carter_traction_ratio(-2.0 * xi_sat, mu, a, r), -1.0);
+        let d = 1e-9;
+        let slope = carter_traction_ratio(d, mu, a, r) / d;
+        assert!((slope - 2.0 * r / (mu * a)).abs() < 1e-6 * slope);
+        // c/a = sqrt(1 - Q/(mu P)) at the creepage that gives Q.
+        let xi = 0.4 * xi_sat;
+        let ratio = carter_traction_ratio(xi, mu, a, r);
+        let c_over_a = (1.0 - ratio).sqrt();
+        assert!((xi - mu * a / r * (1.0 - c_over_a)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn hertz_2d_half_width_carries_the_load() {
+        let (a, p0) = hertz_2d(7e7, 0.1, 2.05e11);
+        // int p = pi a p0 / 2 = P.
+        assert!((PI * a * p0 / 2.0 - 7e7).abs() < 1e-6 * 7e7);
+        // p0 = a E* / (2 R).
+        assert!((p0 - a * 2.05e11 / 0.2).abs() < 1e-9 * p0);
+    }
+}
