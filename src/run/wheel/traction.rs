@@ -30,9 +30,13 @@
 //! traction `q(s) = mu p0 sqrt(1 - s^2/a^2) - (c/a) mu p0 sqrt(1 - (s - a + c)^2 / c^2)` in
 //! it (`mu p` in the slip zone), and the creepage `xi = (mu a / R) (1 - sqrt(1 - Q/(mu P)))`
 //! (full slip from `xi = mu a / R`). Carter's bodies are elastically similar; on a rigid
-//! base the normal and tangential problems couple through Dundurs' `beta = (1 - 2 nu) / (2 (1
-//! - nu))` (0.29 for steel in plane strain): the stick zone shifts and the creep curve
-//! changes by a few per cent (Johnson §8.4; Bufler 1959). [`carter_traction_ratio`] and
+//! base the normal and tangential problems couple through Dundurs' `beta = (kappa - 1) /
+//! (kappa + 1)`: `(1 - nu) / 2 = 0.35` in plane stress, `(1 - 2 nu) / (2 (1 - nu)) = 0.29` in
+//! plane strain for `nu = 0.3` (Johnson §5.4, §8.4; Bentall and Johnson 1967). The pressure
+//! strains the wheel's surface and not the base's, so the wheel has a free-rolling creepage
+//! of its own, tractions of both signs in free rolling and slip at both edges of the patch:
+//! with `beta / mu` of order one the coupled problem is not Carter's. [`carter_traction_ratio`]
+//! and
 //! [`carter_q`] are the uncoupled solution.
 
 use super::observers::{Observer, Timeline, WheelStep};
