@@ -20,7 +20,7 @@ use crate::contact::mass_redistribution::redistribute_mass;
 use crate::contact::pair::{Geometry, Pair};
 use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{build as build_treatment, ContactTreatment, Treatment};
-use crate::contact::{Obstacle, PairState};
+use crate::contact::{FrictionLaw, Obstacle, PairState};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::time::classic::{ClassicError, ClassicStepper, Dirichlet, Kinematic};
 use crate::time::integrator::{BuildError, Integrator, State, TimeIntegrator};
@@ -70,10 +70,11 @@ pub struct Problem {
     /// `None`: the model's `K` (in a rotating frame `K` holds spin terms: pass the elastic
     /// stiffness here).
     pub energy_stiffness: Option<Vec<f64>>,
-    /// Coulomb friction coefficient `mu` of every pair (scenario key `contact.friction`);
-    /// `None` or `Some(0)`: frictionless, exactly the rows without friction. Needs a 2D
+    /// The friction law of every pair (scenario keys `contact.friction`,
+    /// `contact.friction_kinetic`, `contact.friction_velocity`; `Some(mu.into())`: Coulomb);
+    /// `None` or a zero law: frictionless, exactly the rows without friction. Needs a 2D
     /// model and a treatment that carries it ([`Treatment::check_friction`]).
-    pub friction: Option<f64>,
+    pub friction: Option<FrictionLaw>,
 }
 
 impl std::fmt::Debug for Problem {
@@ -397,7 +398,7 @@ impl Simulation {
         treatment
             .check_friction(friction, dim)
             .map_err(SimError::Unsupported)?;
-        let friction = friction.filter(|&mu| mu > 0.0);
+        let friction = friction.filter(FrictionLaw::is_active);
         let n = model.n();
         let np = pairs.len();
         let mut contact_nodes: Vec<usize> = pairs

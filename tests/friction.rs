@@ -11,7 +11,7 @@
 //! degrees) is `-x`.
 
 use softway::assembly::{assemble_mass_stiffness, Assembler};
-use softway::contact::{HalfSpace, Obstacle, Pair, Plane, Restore, Treatment};
+use softway::contact::{FrictionLaw, HalfSpace, Obstacle, Pair, Plane, Restore, Treatment};
 use softway::linalg::spmv_add;
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::rectangle;
@@ -143,7 +143,7 @@ fn block(
         steps: (t_end / h).round() as usize,
         gap_tol: 1e-12,
         energy_stiffness: None,
-        friction,
+        friction: friction.map(Into::into),
     }
 }
 
@@ -386,7 +386,7 @@ fn friction_is_refused_for_1d_models() {
         damping: 0.0,
     };
     let (_, mut pb) = bar.problem(space_time(), Treatment::Exact, 0.01, 1.0);
-    pb.friction = Some(0.3);
+    pb.friction = Some(0.3.into());
     match Simulation::new(pb) {
         Err(SimError::Unsupported(m)) => {
             assert!(m.contains("contact.friction") && m.contains("2D"), "{m}")
@@ -394,7 +394,7 @@ fn friction_is_refused_for_1d_models() {
         other => panic!("{other:?}"),
     }
     let (_, mut pb) = bar.problem(space_time(), Treatment::Exact, 0.01, 1.0);
-    pb.friction = Some(0.0);
+    pb.friction = Some(0.0.into());
     assert!(Simulation::new(pb).is_ok());
 }
 
@@ -440,4 +440,86 @@ fn scenario_key_is_refused_for_bars_and_negative_values() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// A friction coefficient falling with the slip speed, `mu(v) = mu_k + (mu_s - mu_k)
+/// exp(-|v| / v_s)` (`contact.friction_kinetic`, `contact.friction_velocity`): the block
+/// launched at `v0` decelerates at `g mu(v)` and stops after `int_0^v0 v / (g mu(v)) dv`
+/// (Simpson's rule, 20,000 intervals, as the independent answer), further than with Coulomb
+/// at `mu_s` and shorter than at `mu_k`; friction dissipates the kinetic energy lost.
+#[test]
+fn falling_friction_stops_the_block_at_the_distance_of_its_law() {
+    let law = FrictionLaw {
+        static_mu: 0.4,
+        kinetic: 0.2,
+        velocity: 0.5,
+    };
+    let v0 = 2.0;
+    let n = 20_000;
+    let dv = v0 / n as f64;
+    let f = |v: f64| v / (G * law.coefficient(v));
+    let exact = dv / 3.0
+        * (0..=n)
+            .map(|i| {
+                let w = if i == 0 || i == n {
+                    1.0
+                } else if i % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                w * f(i as f64 * dv)
+            })
+            .sum::<f64>();
+    assert!(exact > v0 * v0 / (2.0 * 0.4 * G) && exact < v0 * v0 / (2.0 * 0.2 * G));
+    for (name, integ) in exact_runs() {
+        let mut pb = block(integ, Treatment::Exact, None, 1e-3, 1.5, no_push, v0, 0.0);
+        pb.friction = Some(law);
+        let tr = run(pb).unwrap();
+        let (f0, l) = (tr.samples[0], *tr.samples.last().unwrap());
+        let err = (l.x - exact) / exact;
+        let lost = f0.kinetic - l.kinetic - (l.strain - f0.strain);
+        let balance = (l.dissipated - lost) / f0.kinetic;
+        eprintln!(
+            "{name}: stop {:.6} m (exact {exact:.6}, {err:+.2e}), dissipated {:.3} J, lost {lost:.3} J",
+            l.x, l.dissipated
+        );
+        assert!(err.abs() < 0.003, "{name}: {err}");
+        assert!(l.v.abs() < 1e-3, "{name}: {}", l.v);
+        assert!(balance.abs() < 0.005, "{name}: {balance}");
+        assert_eq!(tr.stats.factorizations, 1, "{name}");
+    }
+}
+
+/// The falling law's keys: each refused alone with one line naming it, and with a bad value.
+#[test]
+fn falling_law_keys_are_checked() {
+    let base = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel-traction.toml"),
+    )
+    .unwrap();
+    let cases = [
+        ("friction_kinetic = 0.2", "contact.friction_kinetic"),
+        ("friction_velocity = 0.5", "contact.friction_velocity"),
+        (
+            "friction_kinetic = -0.2\nfriction_velocity = 0.5",
+            "contact.friction_kinetic",
+        ),
+        (
+            "friction_kinetic = 0.2\nfriction_velocity = 0.0",
+            "contact.friction_velocity",
+        ),
+    ];
+    for (extra, key) in cases {
+        let text = base.replace("friction = 0.3", &format!("friction = 0.3\n{extra}"));
+        let err = softway::scenario::Scenario::from_str(&text, std::path::Path::new("t.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(key) && !err.contains('\n'), "{extra}: {err}");
+    }
+    let ok = base.replace(
+        "friction = 0.3",
+        "friction = 0.3\nfriction_kinetic = 0.2\nfriction_velocity = 0.5",
+    );
+    assert!(softway::scenario::Scenario::from_str(&ok, std::path::Path::new("t.toml")).is_ok());
 }

@@ -112,7 +112,7 @@ fn stick_slip_changes_cost_no_factorization() {
     let steps = 2_800;
     // One gamma throughout (a gamma schedule refactors once when it changes).
     let mut pb = wm.problem(run.integrator, run.params.h, vec![], run.contact, steps);
-    pb.friction = Some(0.3);
+    pb.friction = Some(0.3.into());
     let mut sim = Simulation::new(pb).unwrap();
     let stats = sim.run(&AtomicBool::new(false), |_| Ok(())).unwrap();
     assert!(stats.stick_slip_changes > 10, "{stats:?}");

@@ -29,6 +29,7 @@
 //! the two rows have the same unit, so the bound is the same with forces (exact, penalty) and
 //! impulses (Moreau-Jean with the space-time scheme).
 
+use super::friction::FrictionLaw;
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, record_friction, ContactTreatment};
 use crate::simulation::{Engine, SimError, Snapshot};
@@ -57,7 +58,7 @@ pub struct Complementarity {
     held: Vec<bool>,
     point: Vec<f64>,
     vel_tol: Option<f64>,
-    friction: Option<f64>,
+    friction: Option<FrictionLaw>,
     /// The tangential surface velocity of each pair in the last solve, m/s.
     wt: Vec<f64>,
 }
@@ -75,9 +76,9 @@ impl Complementarity {
         }
     }
 
-    /// With Coulomb friction of coefficient `mu` (`None` or 0: frictionless).
-    pub fn with_friction(mut self, mu: Option<f64>) -> Self {
-        self.friction = mu.filter(|&m| m > 0.0);
+    /// With friction of law `law` (`None` or zero: frictionless).
+    pub fn with_friction(mut self, law: Option<FrictionLaw>) -> Self {
+        self.friction = law.filter(FrictionLaw::is_active);
         self
     }
 }
@@ -152,9 +153,10 @@ impl ContactTreatment for Complementarity {
                 mu,
                 reg,
             });
-            if let Some(mu_f) = self.friction {
+            if let Some(law) = self.friction {
                 if let Some(tg) = eng.tangent(p, t1, &eng.pred.u) {
                     self.wt[p] = tg.w;
+                    let mu_f = law.coefficient(tg.terms.dot(&fs.v) - tg.w);
                     eng.rows.push(Row {
                         pair: p,
                         terms: tg.terms,

@@ -6,6 +6,7 @@
 //!   geometry (row, offset, boundary velocity).
 //! - [`rows`]: constraint rows (equality, unilateral, bounded) solved through the factored
 //!   matrix of any integrator.
+//! - [`friction`]: the friction law (Coulomb, or falling with the slip speed).
 //! - [`treatment`]: the contract of a contact treatment and the choice of one.
 //! - [`softway`]: the soft way (Table 1, Eqs. 26-27) and the space-time exact hold.
 //! - [`complementarity`]: exact enforcement for the generalized-alpha family, penalty,
@@ -15,6 +16,7 @@
 //! - [`statics`]: static frictionless contact by an active set.
 
 pub mod complementarity;
+pub mod friction;
 pub mod mass_redistribution;
 pub mod obstacle;
 pub mod pair;
@@ -24,6 +26,7 @@ pub mod statics;
 pub mod subdivision;
 pub mod treatment;
 
+pub use friction::FrictionLaw;
 pub use obstacle::{HalfSpace, Obstacle, Plane, RotatingLine, Vector, Wall};
 pub use pair::{Geometry, Pair};
 pub use softway::{PairMode, PairState, Restore};

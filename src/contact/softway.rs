@@ -50,6 +50,7 @@
 //! carries no friction row and friction starts with the first held step. A released pair
 //! loses its friction row with its normal row.
 
+use super::friction::FrictionLaw;
 use super::rows::{Row, RowKind, Terms};
 use super::treatment::{record_friction, ContactTreatment, Treatment};
 use crate::simulation::{Engine, SimError, Snapshot};
@@ -187,7 +188,7 @@ pub struct SoftWay {
     row_pair: Vec<usize>,
     lambda: Vec<f64>,
     lambda_stop: Vec<f64>,
-    friction: Option<f64>,
+    friction: Option<FrictionLaw>,
     /// Per pair, the friction row of the last solve: its row, surface velocity, multiplier
     /// and whether it slid.
     friction_row: Vec<Option<(Terms, f64)>>,
@@ -216,10 +217,10 @@ impl SoftWay {
         }
     }
 
-    /// With Coulomb friction of coefficient `mu` on held pairs (`None` or 0: frictionless;
-    /// module docs, Friction).
-    pub fn with_friction(mut self, mu: Option<f64>) -> Self {
-        self.friction = mu.filter(|&m| m > 0.0);
+    /// With friction of law `law` on held pairs (`None` or zero: frictionless; module docs,
+    /// Friction).
+    pub fn with_friction(mut self, law: Option<FrictionLaw>) -> Self {
+        self.friction = law.filter(FrictionLaw::is_active);
         self
     }
 
@@ -258,7 +259,7 @@ impl SoftWay {
         }
         // Friction rows of the held pairs, after all normal rows (module docs, Friction).
         self.friction_row.fill(None);
-        let Some(mu_f) = self.friction else { return };
+        let Some(law) = self.friction else { return };
         let maps = eng.integ.maps();
         for normal in 0..self.row_pair.len() {
             let p = self.row_pair[normal];
@@ -267,6 +268,7 @@ impl SoftWay {
             }
             if let Some(tg) = eng.tangent(p, t1, &fs.u) {
                 self.friction_row[p] = Some((tg.terms, tg.w));
+                let mu_f = law.coefficient(tg.terms.dot(&fs.v) - tg.w);
                 eng.rows.push(Row {
                     pair: p,
                     terms: tg.terms,

@@ -32,7 +32,7 @@
 //! step on). A treatment records the tangential force, sliding flag, slip power and
 //! dissipated energy of each pair ([`PairState`], [`record_friction`]).
 
-use super::{PairState, Restore};
+use super::{FrictionLaw, PairState, Restore};
 use crate::simulation::{Engine, SimError, Snapshot};
 use crate::time::integrator::Integrator;
 use serde::Serialize;
@@ -148,14 +148,10 @@ impl Treatment {
     ///
     /// # Errors
     /// The reason, one line.
-    pub fn check_friction(&self, friction: Option<f64>, dim: usize) -> Result<(), String> {
-        let Some(mu) = friction else { return Ok(()) };
-        if !(mu.is_finite() && mu >= 0.0) {
-            return Err(format!(
-                "contact.friction must be a finite coefficient >= 0, got {mu}"
-            ));
-        }
-        if mu == 0.0 {
+    pub fn check_friction(&self, friction: Option<FrictionLaw>, dim: usize) -> Result<(), String> {
+        let Some(law) = friction else { return Ok(()) };
+        law.check()?;
+        if !law.is_active() {
             return Ok(());
         }
         if dim != 2 {
@@ -220,12 +216,12 @@ pub fn build(
     integrator: &Integrator,
     pairs: usize,
     n: usize,
-    friction: Option<f64>,
+    friction: Option<FrictionLaw>,
 ) -> Box<dyn ContactTreatment> {
     use super::complementarity::{Complementarity, Law};
     use super::softway::SoftWay;
     let st = integrator.is_space_time();
-    let mu = friction.filter(|&m| m > 0.0);
+    let mu = friction.filter(FrictionLaw::is_active);
     match choice {
         Treatment::SoftWay { restore } => {
             Box::new(SoftWay::new(true, restore, pairs).with_friction(mu))

@@ -311,7 +311,7 @@ pub fn simulate(
     let mut snapshots =
         VelocitySnapshots::new(timeline, last_turn.0, ws.fields_per_turn, wm.mesh.n_dofs());
     let mut progress = Progress::new(steps, &run.label, show_progress);
-    let mu = run.friction.filter(|&mu| mu > 0.0);
+    let mu = run.friction.filter(|l| l.is_active()).map(|l| l.static_mu);
     let mut traction = match mu {
         Some(_) => Some(TractionWatch::create(
             wm,

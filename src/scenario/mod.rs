@@ -55,7 +55,7 @@
 //! h = 0.4                      # any of h, alpha, gamma, elements, method
 //! ```
 
-use crate::contact::Treatment;
+use crate::contact::{FrictionLaw, Treatment};
 use crate::problems::{BarImpact, TwoBars};
 use crate::time::Integrator;
 use crate::time::SpaceTimeParams;
@@ -190,9 +190,9 @@ pub struct Run {
     pub integrator: Integrator,
     /// The contact treatment.
     pub contact: Contact,
-    /// Coulomb friction coefficient of the contact pairs (`contact.friction`; `None`:
-    /// frictionless).
-    pub friction: Option<f64>,
+    /// The friction law of the contact pairs (`contact.friction`, `friction_kinetic`,
+    /// `friction_velocity`; `None`: frictionless).
+    pub friction: Option<FrictionLaw>,
     /// End time, s.
     pub t_end: f64,
 }
@@ -235,8 +235,9 @@ pub struct RunSpec {
     pub integrator: Integrator,
     /// The contact treatment.
     pub contact: Contact,
-    /// Coulomb friction coefficient (`contact.friction`, >= 0; `None`: frictionless).
-    pub friction: Option<f64>,
+    /// The friction law (`contact.friction` >= 0 and the falling law's keys; `None`:
+    /// frictionless).
+    pub friction: Option<FrictionLaw>,
     /// End time, s.
     pub t_end: f64,
 }

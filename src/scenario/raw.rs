@@ -127,6 +127,8 @@ pub(super) struct RawContact {
     pub penalty: Option<f64>,
     pub restitution: Option<f64>,
     pub friction: Option<f64>,
+    pub friction_kinetic: Option<f64>,
+    pub friction_velocity: Option<f64>,
 }
 
 /// One `[[runs]]` entry: overrides of `[time]`, `[contact]` and the bar's `elements`.

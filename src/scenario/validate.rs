@@ -11,7 +11,7 @@ use super::raw::{
 use super::{
     Contact, MeshSource, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep, WheelScenario,
 };
-use crate::contact::{Restore, Treatment};
+use crate::contact::{FrictionLaw, Restore, Treatment};
 
 /// Default hub radius of `support = "hub"`, as a fraction of the wheel's radius (1 cm for
 /// the paper's 10 cm wheel).
@@ -299,21 +299,22 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
         };
         cx.invalid(k, format!("\"{v}\""), &refusal.why)
     })?;
-    // Friction: a finite coefficient >= 0, on a 2D model (the wheel), with a treatment that
-    // carries it (crate::contact::Treatment::check_friction).
-    let friction = contact.friction;
-    if let Some(mu) = friction {
+    // Friction: finite coefficients >= 0 (the falling law: kinetic coefficient and Stribeck
+    // velocity), on a 2D model (the wheel), with a treatment that carries it
+    // (crate::contact::Treatment::check_friction).
+    let friction = friction_law(cx, &base.contact)?;
+    if let Some(law) = friction {
         let dim = if matches!(model, Model::Wheel(_)) {
             2
         } else {
             1
         };
         run_contact
-            .check_friction(Some(mu), dim)
-            .map_err(|why| cx.invalid("contact.friction", mu, &why))?;
+            .check_friction(Some(law), dim)
+            .map_err(|why| cx.invalid("contact.friction", law.static_mu, &why))?;
     }
     if let Model::Wheel(w) = &model {
-        if w.spec.creepage != 0.0 && friction.is_none_or(|mu| mu <= 0.0) {
+        if w.spec.creepage != 0.0 && friction.is_none_or(|law| !law.is_active()) {
             return Err(cx.invalid(
                 "rolling.creepage",
                 w.spec.creepage,
@@ -572,6 +573,50 @@ fn mass_kind(cx: &Ctx, key: &str, v: Option<&str>) -> Result<bool, ScenarioError
             "allowed: \"consistent\", \"lumped\"",
         )),
     }
+}
+
+/// The friction law of `[contact]`: `friction` the static (Coulomb) coefficient,
+/// `friction_kinetic` and `friction_velocity` the falling law's
+/// ([`crate::contact::FrictionLaw`]).
+fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, ScenarioError> {
+    let Some(mu) = c.friction else {
+        for (key, v) in [
+            ("contact.friction_kinetic", c.friction_kinetic),
+            ("contact.friction_velocity", c.friction_velocity),
+        ] {
+            if let Some(v) = v {
+                return Err(cx.invalid(
+                    key,
+                    v,
+                    "needs contact.friction (the static coefficient) beside it",
+                ));
+            }
+        }
+        return Ok(None);
+    };
+    let static_mu = cx.non_negative("contact.friction", mu)?;
+    let law =
+        match (c.friction_kinetic, c.friction_velocity) {
+            (None, None) => FrictionLaw::coulomb(static_mu),
+            (Some(k), Some(v)) => FrictionLaw {
+                static_mu,
+                kinetic: cx.non_negative("contact.friction_kinetic", k)?,
+                velocity: cx.positive("contact.friction_velocity", v)?,
+            },
+            (Some(k), None) => return Err(cx.invalid(
+                "contact.friction_kinetic",
+                k,
+                "needs contact.friction_velocity (the Stribeck velocity v_s > 0, m/s) beside it",
+            )),
+            (None, Some(v)) => {
+                return Err(cx.invalid(
+                    "contact.friction_velocity",
+                    v,
+                    "needs contact.friction_kinetic (the coefficient at high slip speed) beside it",
+                ))
+            }
+        };
+    Ok(Some(law))
 }
 
 fn finite(cx: &Ctx, key: &str, v: f64) -> Result<f64, ScenarioError> {
