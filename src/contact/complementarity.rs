@@ -160,7 +160,11 @@ impl ContactTreatment for Complementarity {
                     eng.rows.push(Row {
                         pair: p,
                         terms: tg.terms,
-                        kind: RowKind::Bounded { normal, mu_f },
+                        kind: RowKind::Bounded {
+                            normal,
+                            mu_f,
+                            eta: law.viscosity / maps.force,
+                        },
                         y0: tg.terms.dot(&eng.pred.v) - tg.w,
                         mu: maps.mu_v,
                         reg: 0.0,

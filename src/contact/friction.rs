@@ -1,9 +1,16 @@
-//! The friction law of the contact pairs: Coulomb, or a coefficient that depends on the
-//! slip speed (the falling curve of squeal and corrugation studies).
+//! The friction law of the contact pairs: Coulomb, a coefficient that depends on the slip
+//! speed (the falling curve of squeal and corrugation studies), and a viscoplastic
+//! overstress (the paper's rheological law, §1).
 //!
 //! `mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s)`: the static coefficient `mu_s` at rest,
 //! tending to the kinetic `mu_k` as the slip speed `|v|` grows past the Stribeck velocity
 //! `v_s` (m/s). With `mu_k = mu_s` it is Coulomb's constant coefficient.
+//!
+//! **Viscoplastic (Perzyna) friction.** With a viscosity `eta` (N s/m per contact pair) a
+//! pair sticks while `|F_t| <= mu F_n` and slides with the overstress `|F_t| = mu F_n + eta
+//! |v|`: its slip rate is the excess over the bound divided by `eta`
+//! ([`super::rows::RowKind::Bounded`]); `eta = 0` is Coulomb's rigid-plastic limit. Like a
+//! penalty stiffness, `eta` is per pair, so it scales with the rim pitch.
 //!
 //! **In the step.** Each bounded tangential row ([`super::rows::RowKind::Bounded`]) takes
 //! `mu(|v|)` at the pair's tangential relative velocity at the start of the step,
@@ -21,6 +28,8 @@ pub struct FrictionLaw {
     pub kinetic: f64,
     /// The Stribeck velocity `v_s`, m/s (unused for Coulomb).
     pub velocity: f64,
+    /// The viscoplastic viscosity `eta`, N s/m per pair (0: none).
+    pub viscosity: f64,
 }
 
 impl FrictionLaw {
@@ -30,6 +39,7 @@ impl FrictionLaw {
             static_mu: mu,
             kinetic: mu,
             velocity: 1.0,
+            viscosity: 0.0,
         }
     }
 
@@ -62,6 +72,12 @@ impl FrictionLaw {
                 return Err(format!("{key} must be a finite coefficient >= 0, got {v}"));
             }
         }
+        if !(self.viscosity.is_finite() && self.viscosity >= 0.0) {
+            return Err(format!(
+                "contact.friction_viscosity must be a finite viscosity >= 0 (N s/m per contact pair), got {}",
+                self.viscosity
+            ));
+        }
         if !(self.velocity.is_finite() && self.velocity > 0.0) {
             return Err(format!(
                 "contact.friction_velocity must be a finite speed > 0 (m/s), got {}",
@@ -88,6 +104,7 @@ mod tests {
             static_mu: 0.4,
             kinetic: 0.2,
             velocity: 0.5,
+            viscosity: 0.0,
         };
         assert_eq!(law.coefficient(0.0), 0.4);
         assert!((law.coefficient(0.5) - (0.2 + 0.2 / std::f64::consts::E)).abs() < 1e-15);

@@ -14,7 +14,11 @@
 //!   normal contact);
 //! - [`RowKind::Bounded`]: `|lambda_p| <= mu_f lambda_q` with `q` a unilateral or equality
 //!   row of the same set: `y_p = 0` inside the bound (stick), and on it `lambda_p =
-//!   -sign(y_p) mu_f lambda_q` (slip opposed by the force): Coulomb friction.
+//!   -sign(y_p) mu_f lambda_q` (slip opposed by the force): Coulomb friction. With a
+//!   viscosity `eta > 0` the slip carries an overstress (a viscoplastic friction law of
+//!   Perzyna's type: no slip below the bound, a slip rate proportional to the excess over
+//!   it): `lambda_p = -sign(y_p) (mu_f lambda_q + eta |y_p|)`, the linear equation
+//!   `lambda_p - s mu_f lambda_q + eta y_p = 0` on the slip branch.
 //!
 //! # Solution
 //!
@@ -118,6 +122,9 @@ pub enum RowKind {
         normal: usize,
         /// Friction coefficient.
         mu_f: f64,
+        /// Viscoplastic overstress (module docs), in multiplier units per unit of `y`; 0:
+        /// Coulomb.
+        eta: f64,
     },
 }
 
@@ -334,7 +341,7 @@ impl RowSolver {
             // longer has the sign its force opposes sticks.
             let mut moved = false;
             for p in 0..k {
-                if let RowKind::Bounded { normal, mu_f } = self.rows[p].kind {
+                if let RowKind::Bounded { normal, mu_f, .. } = self.rows[p].kind {
                     let bound = mu_f * self.lambda[normal].max(0.0);
                     let normal_on = self.state[normal] != Activity::Off;
                     match self.state[p] {
@@ -415,17 +422,19 @@ impl RowSolver {
         for a in 0..m {
             let p = self.idx[a];
             match (self.state[p], self.rows[p].kind) {
-                (Activity::Slip(s), RowKind::Bounded { normal, mu_f }) => {
-                    self.r[a] = 0.0;
+                (Activity::Slip(s), RowKind::Bounded { normal, mu_f, eta }) => {
+                    // lambda_p - s mu_f lambda_q + eta (y0_p + sum_b W_pb lambda_b) = 0.
+                    self.r[a] = -eta * self.y0[p];
                     for b in 0..m {
                         let q = self.idx[b];
-                        self.m[a * m + b] = if q == p {
-                            1.0
-                        } else if q == normal {
-                            -s * mu_f
-                        } else {
-                            0.0
-                        };
+                        let mut v = eta * self.w[p * k + q];
+                        if q == p {
+                            v += 1.0;
+                        }
+                        if q == normal {
+                            v -= s * mu_f;
+                        }
+                        self.m[a * m + b] = v;
                     }
                 }
                 _ => {
@@ -572,6 +581,7 @@ mod tests {
                 RowKind::Bounded {
                     normal: n,
                     mu_f: 0.5,
+                    eta: 0.0,
                 },
             ));
             let mut x = vec![-1.0, vt];
@@ -583,6 +593,35 @@ mod tests {
                 x[0].abs() < 1e-14 && (x[1] - xt).abs() < 1e-14,
                 "{vt}: {x:?}"
             );
+        }
+    }
+
+    /// The viscoplastic slip: the node of the Coulomb test sliding at `vt = 2` with
+    /// `eta = 0.25` keeps the slip `y` with `|lambda_t| = mu_f lambda_n + eta |y|`: by hand,
+    /// `lambda_t = -0.5 - 0.25 (2 + lambda_t)`, so `lambda_t = -0.8`, `y = 1.2`; inside the
+    /// bound (`vt = 0.3`) it sticks as without viscosity.
+    #[test]
+    fn viscoplastic_rows_slide_with_the_overstress() {
+        for (vt, lt, xt) in [(2.0, -0.8, 1.2), (0.3, -0.3, 0.0), (-4.0, 1.2, -2.8)] {
+            let mut integ = Diagonal(vec![1.0, 1.0]);
+            let mut rows = RowSolver::new(2, 2, 2);
+            let n = rows.push(row(0, RowKind::Unilateral));
+            rows.push(row(
+                1,
+                RowKind::Bounded {
+                    normal: n,
+                    mu_f: 0.5,
+                    eta: 0.25,
+                },
+            ));
+            let mut x = vec![-1.0, vt];
+            rows.solve(&mut integ, &mut x, 1e-12);
+            let l = rows.lambda();
+            assert!((l[1] - lt).abs() < 1e-14, "{vt}: {l:?}");
+            assert!((x[1] - xt).abs() < 1e-14, "{vt}: {x:?}");
+            if vt.abs() > 0.5 {
+                assert!((l[1].abs() - (0.5 * l[0] + 0.25 * x[1].abs())).abs() < 1e-14);
+            }
         }
     }
 

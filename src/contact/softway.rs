@@ -272,7 +272,11 @@ impl SoftWay {
                 eng.rows.push(Row {
                     pair: p,
                     terms: tg.terms,
-                    kind: RowKind::Bounded { normal, mu_f },
+                    kind: RowKind::Bounded {
+                        normal,
+                        mu_f,
+                        eta: law.viscosity / maps.force,
+                    },
                     y0: tg.terms.dot(&eng.pred.v) - tg.w,
                     mu: maps.mu_v,
                     reg: 0.0,

@@ -583,6 +583,7 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
         for (key, v) in [
             ("contact.friction_kinetic", c.friction_kinetic),
             ("contact.friction_velocity", c.friction_velocity),
+            ("contact.friction_viscosity", c.friction_viscosity),
         ] {
             if let Some(v) = v {
                 return Err(cx.invalid(
@@ -595,13 +596,14 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
         return Ok(None);
     };
     let static_mu = cx.non_negative("contact.friction", mu)?;
-    let law =
+    let mut law =
         match (c.friction_kinetic, c.friction_velocity) {
             (None, None) => FrictionLaw::coulomb(static_mu),
             (Some(k), Some(v)) => FrictionLaw {
                 static_mu,
                 kinetic: cx.non_negative("contact.friction_kinetic", k)?,
                 velocity: cx.positive("contact.friction_velocity", v)?,
+                viscosity: 0.0,
             },
             (Some(k), None) => return Err(cx.invalid(
                 "contact.friction_kinetic",
@@ -616,6 +618,9 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
                 ))
             }
         };
+    if let Some(eta) = c.friction_viscosity {
+        law.viscosity = cx.non_negative("contact.friction_viscosity", eta)?;
+    }
     Ok(Some(law))
 }
 
