@@ -304,7 +304,9 @@ pub fn simulate(
     let history_path = out.join("history.csv");
     let mut history = HistoryWriter::create(&history_path, sc.history_stride, wm.base())?;
     let nodes_path = out.join("contact_nodes.csv");
-    let mut nodes = ContactNodesWriter::create(&nodes_path, sc.history_stride, &wm.rim)?;
+    let with_friction = run.friction.is_some_and(|l| l.is_active());
+    let mut nodes =
+        ContactNodesWriter::create(&nodes_path, sc.history_stride, &wm.rim, with_friction)?;
     let mut forces = ContactForceStats::new(timeline, steps);
     let mut energy = EnergyWatch::new(timeline);
     let mut average = TurnAverage::new(wm, timeline, last_turn);

@@ -176,7 +176,9 @@ impl Observer for HistoryWriter {
 
 /// `contact_nodes.csv`: the contact force per contact node, long format: one row per rim
 /// node carrying a reaction (or held) every `stride` steps, `node, t_s, force_N, gap_m,
-/// held` (node: the mesh's node index).
+/// held` (node: the mesh's node index); with friction also `tangential_N` (the friction
+/// force on the node along the pair's tangent, the direction of the rail's travel) and
+/// `sliding` (1 on the Coulomb bound, 0 in stick).
 #[derive(Debug)]
 pub struct ContactNodesWriter {
     csv: CsvWriter,
@@ -184,23 +186,47 @@ pub struct ContactNodesWriter {
     stride: usize,
     /// The rim nodes' indices as text, made once (no formatting of integers per row).
     ids: Vec<String>,
+    friction: bool,
 }
 
 impl ContactNodesWriter {
     /// The columns.
     pub const HEADER: [&'static str; 5] = ["node", "t_s", "force_N", "gap_m", "held"];
 
-    /// Creates `path` and writes the header; `rim` are the pairs' nodes, in their order.
+    /// The columns with friction.
+    pub const HEADER_FRICTION: [&'static str; 7] = [
+        "node",
+        "t_s",
+        "force_N",
+        "gap_m",
+        "held",
+        "tangential_N",
+        "sliding",
+    ];
+
+    /// Creates `path` and writes the header; `rim` are the pairs' nodes, in their order;
+    /// `friction` adds the tangential columns.
     ///
     /// # Errors
     /// [`RunError::Output`].
-    pub fn create(path: &Path, stride: usize, rim: &[usize]) -> Result<Self, RunError> {
-        let csv = CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
+    pub fn create(
+        path: &Path,
+        stride: usize,
+        rim: &[usize],
+        friction: bool,
+    ) -> Result<Self, RunError> {
+        let header: &[&str] = if friction {
+            &Self::HEADER_FRICTION
+        } else {
+            &Self::HEADER
+        };
+        let csv = CsvWriter::create(path, header).map_err(|e| RunError::output(path, e))?;
         Ok(Self {
             csv,
             path: path.to_path_buf(),
             stride: stride.max(1),
             ids: rim.iter().map(|n| n.to_string()).collect(),
+            friction,
         })
     }
 
@@ -222,8 +248,16 @@ impl Observer for ContactNodesWriter {
             for (p, ps) in s.pairs.iter().enumerate() {
                 if ps.held || ps.force != 0.0 {
                     let held = if ps.held { 1.0 } else { 0.0 };
-                    self.csv
-                        .row(Some(&self.ids[p]), &[s.t, ps.force, ps.gap, held])?;
+                    if self.friction {
+                        let sliding = if ps.sliding { 1.0 } else { 0.0 };
+                        self.csv.row(
+                            Some(&self.ids[p]),
+                            &[s.t, ps.force, ps.gap, held, ps.tangential_force, sliding],
+                        )?;
+                    } else {
+                        self.csv
+                            .row(Some(&self.ids[p]), &[s.t, ps.force, ps.gap, held])?;
+                    }
                 }
             }
         }
