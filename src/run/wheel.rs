@@ -119,6 +119,11 @@ pub struct WheelSummary {
     pub brakings: usize,
     /// Releases.
     pub releases: usize,
+    /// Numeric factorizations of the step matrix over the run.
+    pub factorizations: usize,
+    /// Stick/slip changes of the friction rows over the run (each a dense re-solve on cached
+    /// columns, never a factorization).
+    pub stick_slip_changes: usize,
     /// Wall-clock time of the time loop, s.
     pub wall_time_s: f64,
     /// Time per step, microseconds.
@@ -395,6 +400,10 @@ pub struct LoopOutcome {
     pub releases: usize,
     /// Stopped by Ctrl-C.
     pub interrupted: bool,
+    /// Numeric factorizations of the step matrix (a gamma schedule changes it once).
+    pub factorizations: usize,
+    /// Stick/slip changes of the friction rows (dense re-solves, no factorization).
+    pub stick_slip_changes: usize,
     /// Wall-clock time of the loop, s.
     pub wall_time_s: f64,
 }
@@ -465,6 +474,8 @@ pub fn drive(
         brakings: stats.brakings,
         releases: stats.releases,
         interrupted: stats.interrupted,
+        factorizations: stats.factorizations,
+        stick_slip_changes: stats.stick_slip_changes,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
 }
@@ -545,6 +556,8 @@ fn summarise(
         energy_final: r.energy.1,
         brakings: o.brakings,
         releases: o.releases,
+        factorizations: o.factorizations,
+        stick_slip_changes: o.stick_slip_changes,
         wall_time_s: o.wall_time_s,
         time_per_step_us: o.wall_time_s / o.steps.max(1) as f64 * 1e6,
         interrupted: o.interrupted,
