@@ -55,6 +55,18 @@ pub enum Support {
     },
 }
 
+/// How the rim meets the base ([`crate::contact::Pair`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactSurface {
+    /// One pair per rim node: the node's gap (the paper's).
+    #[default]
+    Nodes,
+    /// One mortar-weighted pair per rim node on the rim's segments
+    /// ([`crate::contact::Pair::Weighted`]).
+    Segments,
+}
+
 /// Errors building the wheel model.
 #[derive(Debug, thiserror::Error)]
 pub enum WheelError {
@@ -109,6 +121,8 @@ pub struct WheelSpec {
     /// [`RotatingLine::creepage`]): 0 in free rolling; it transmits a tangential force only
     /// with friction.
     pub creepage: f64,
+    /// Node or segment (mortar-weighted) contact (`wheel.contact_surface`).
+    pub surface: ContactSurface,
 }
 
 impl WheelSpec {
@@ -136,6 +150,7 @@ impl WheelSpec {
             stress_stiffening: true,
             rotating_frame: true,
             creepage: 0.0,
+            surface: ContactSurface::Nodes,
         }
     }
 }
@@ -320,6 +335,47 @@ impl WheelModel {
         }
     }
 
+    /// The contact pairs, one per rim node in the order of [`WheelModel::rim`]: the node's
+    /// own gap, or its mortar-weighted gap with its two neighbours round the rim
+    /// ([`ContactSurface`]).
+    pub fn contact_pairs(&self) -> Vec<Pair> {
+        match self.spec.surface {
+            ContactSurface::Nodes => self
+                .rim
+                .iter()
+                .map(|&node| Pair::Obstacle { node, obstacle: 0 })
+                .collect(),
+            ContactSurface::Segments => {
+                let p = |i: usize| self.mesh.points[i];
+                let angle = |i: usize| p(i)[1].atan2(p(i)[0]);
+                let n = self.rim.len();
+                let mut order: Vec<usize> = (0..n).collect();
+                order.sort_by(|&a, &b| angle(self.rim[a]).total_cmp(&angle(self.rim[b])));
+                let mut pos = vec![0; n];
+                for (k, &i) in order.iter().enumerate() {
+                    pos[i] = k;
+                }
+                let dist = |a: usize, b: usize| {
+                    let (x, y) = (p(a), p(b));
+                    ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2)).sqrt()
+                };
+                (0..n)
+                    .map(|i| {
+                        let k = pos[i];
+                        let node = self.rim[i];
+                        let prev = self.rim[order[(k + n - 1) % n]];
+                        let next = self.rim[order[(k + 1) % n]];
+                        Pair::Weighted {
+                            nodes: [node, prev, next],
+                            weights: Pair::mortar_weights(dist(prev, node), dist(node, next)),
+                            obstacle: 0,
+                        }
+                    })
+                    .collect()
+            }
+        }
+    }
+
     /// The simulation problem from `t = 0` for `steps` steps.
     pub fn problem(
         &self,
@@ -342,11 +398,7 @@ impl WheelModel {
             dirichlet: self.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
             load: Box::new(move |_, f| f.copy_from_slice(&load)),
             obstacles: vec![base],
-            pairs: self
-                .rim
-                .iter()
-                .map(|&node| Pair::Obstacle { node, obstacle: 0 })
-                .collect(),
+            pairs: self.contact_pairs(),
             treatment,
             u0: self.u_spin.clone(),
             v0: vec![0.0; n],

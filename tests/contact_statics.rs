@@ -20,6 +20,7 @@ fn spec(omega: f64, depth: f64, settle: f64, frame: bool, support: Support) -> W
         },
         rotating_frame: frame,
         creepage: 0.0,
+        surface: Default::default(),
         ..WheelSpec::paper()
     }
 }

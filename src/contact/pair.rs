@@ -11,6 +11,17 @@
 //! the soft way brakes the relative normal velocity of two bodies exactly as it brakes a node
 //! against a wall.
 //!
+//! **Segment (mortar-weighted) pairs.** [`Pair::Weighted`] poses the weighted gap of a
+//! surface node `j` against an obstacle, `g~_j = sum_k w_jk g_k`, with the weights of the
+//! standard mortar (Wohlmuth; Popp et al.) on the linear segments on either side of `j`:
+//! `w_jk = int N_j N_k ds / int N_j ds`, that is `2/3` for `j` and `l_k / (3 (l_prev +
+//! l_next))` for its neighbours (`1/6, 2/3, 1/6` on a uniform surface). The pair's
+//! multiplier is the nodal value of a pressure field `p = sum_j lambda_j N_j` integrated:
+//! its force reaches the three nodes in the proportions `w_jk`, and a pressure need not drop
+//! to zero at the node where the gap of the next one opens. `c` is `w_jk n` on the three
+//! nodes, `o` the obstacle's offset (the weights sum to 1) and `w` the weighted surface
+//! velocity.
+//!
 //! **Tangent (friction, 2D).** [`Pair::tangent`] presents the tangential direction as a
 //! [`Geometry`] of its own: `c_t` is the normal turned by +90 degrees,
 //! `t = (-n_y, n_x)` ([`super::obstacle::tangent_2d`]), on the node's dofs (`-t` on `a`, `+t`
@@ -29,6 +40,16 @@ pub enum Pair {
     Obstacle {
         /// The node.
         node: usize,
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// The mortar-weighted gap of a surface node (`nodes[0]`) and its two neighbours on
+    /// the surface against an obstacle (module docs, Segment).
+    Weighted {
+        /// The node and its neighbours.
+        nodes: [usize; 3],
+        /// Their weights (summing to 1).
+        weights: [f64; 3],
         /// The obstacle.
         obstacle: usize,
     },
@@ -73,11 +94,19 @@ impl Geometry {
 
 impl Pair {
     /// The nodes of the pair.
-    pub fn nodes(&self) -> ([usize; 2], usize) {
+    pub fn nodes(&self) -> ([usize; 3], usize) {
         match *self {
-            Pair::Obstacle { node, .. } => ([node, node], 1),
-            Pair::Nodes { a, b, .. } => ([a, b], 2),
+            Pair::Obstacle { node, .. } => ([node, node, node], 1),
+            Pair::Weighted { nodes, .. } => (nodes, 3),
+            Pair::Nodes { a, b, .. } => ([a, b, b], 2),
         }
+    }
+
+    /// Mortar weights of a surface node between neighbours at distances `l_prev` and
+    /// `l_next` (module docs, Segment): `[w_node, w_prev, w_next]`.
+    pub fn mortar_weights(l_prev: f64, l_next: f64) -> [f64; 3] {
+        let s = 3.0 * (l_prev + l_next);
+        [2.0 / 3.0, l_prev / s, l_next / s]
     }
 
     /// The geometry at time `t` (s) in the configuration `u` of a model of dimension `dim`
@@ -136,6 +165,29 @@ impl Pair {
                     },
                 }
             }
+            Pair::Weighted {
+                nodes,
+                weights,
+                obstacle,
+            } => {
+                let obst = &obstacles[obstacle];
+                let hs = obst.half_space(t, position(dim, reference, u, nodes[0]));
+                let mut w = 0.0;
+                for (&node, &wk) in nodes.iter().zip(&weights) {
+                    for c in 0..dim {
+                        terms.push(dim * node + c, wk * hs.normal[c]);
+                    }
+                    if velocity {
+                        w +=
+                            wk * obst.surface_normal_velocity(t, position(dim, reference, u, node));
+                    }
+                }
+                Geometry {
+                    terms,
+                    offset: hs.offset,
+                    w,
+                }
+            }
             Pair::Nodes { a, b, normal } => {
                 for c in 0..dim {
                     terms.push(dim * a + c, -normal[c]);
@@ -180,6 +232,29 @@ impl Pair {
                     w: obst.surface_tangential_velocity(t, x),
                 })
             }
+            Pair::Weighted {
+                nodes,
+                weights,
+                obstacle,
+            } => {
+                let obst = &obstacles[obstacle];
+                let tg = tangent_2d(
+                    obst.half_space(t, position(dim, reference, u, nodes[0]))
+                        .normal,
+                );
+                let mut w = 0.0;
+                for (&node, &wk) in nodes.iter().zip(&weights) {
+                    terms.push(2 * node, wk * tg[0]);
+                    terms.push(2 * node + 1, wk * tg[1]);
+                    w +=
+                        wk * obst.surface_tangential_velocity(t, position(dim, reference, u, node));
+                }
+                Some(Geometry {
+                    terms,
+                    offset: 0.0,
+                    w,
+                })
+            }
             Pair::Nodes { a, b, normal } => {
                 let tg = tangent_2d(normal);
                 terms.push(2 * a, -tg[0]);
@@ -203,4 +278,62 @@ fn position(dim: usize, reference: &[f64], u: &[f64], node: usize) -> Vector {
         x[c] = reference[dim * node + c] + u[dim * node + c];
     }
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::obstacle::{Flattening, RotatingLine};
+
+    /// The weighted pair's gap, row and velocities are the mortar-weighted sums of its three
+    /// nodes' (each computed as a node pair), and uniform weights are 1/6, 2/3, 1/6.
+    #[test]
+    fn weighted_pair_is_the_weighted_sum_of_its_node_pairs() {
+        assert_eq!(
+            Pair::mortar_weights(2.0, 2.0),
+            [2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0]
+        );
+        let w = Pair::mortar_weights(1.0, 3.0);
+        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        let base: Vec<Box<dyn Obstacle>> = vec![Box::new(RotatingLine {
+            centre: [0.0; 3],
+            radius: 0.1,
+            omega: 300.0,
+            theta0: 0.2,
+            flattening: Flattening {
+                depth: 1e-3,
+                settle_time: 2e-3,
+            },
+            creepage: 0.01,
+        })];
+        let reference = [0.02, -0.098, 0.0, -0.1, 0.04, -0.092];
+        let u = [1e-5, 2e-5, -3e-5, 1e-5, 0.0, -2e-5];
+        let v = [0.3, -0.1, 0.2, 0.5, -0.4, 0.1];
+        let t = 1e-3;
+        let pair = Pair::Weighted {
+            nodes: [0, 1, 2],
+            weights: w,
+            obstacle: 0,
+        };
+        let g = pair.geometry(&base, 2, &reference, &u, t);
+        let tg = pair.tangent(&base, 2, &reference, &u, t).unwrap();
+        let (mut gap, mut rate, mut w_n, mut slip, mut w_t) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (k, &wk) in w.iter().enumerate() {
+            let node = Pair::Obstacle {
+                node: k,
+                obstacle: 0,
+            };
+            let gk = node.geometry(&base, 2, &reference, &u, t);
+            let tk = node.tangent(&base, 2, &reference, &u, t).unwrap();
+            gap += wk * gk.gap(&reference, &u);
+            rate += wk * gk.terms.dot(&v);
+            w_n += wk * gk.w;
+            slip += wk * tk.terms.dot(&v);
+            w_t += wk * tk.w;
+        }
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-14 * (1.0 + b.abs());
+        assert!(close(g.gap(&reference, &u), gap));
+        assert!(close(g.terms.dot(&v), rate));
+        assert!(close(g.w, w_n) && close(tg.terms.dot(&v), slip) && close(tg.w, w_t));
+    }
 }

@@ -94,6 +94,7 @@ pub(super) struct RawWheel {
     pub hub_radius: Option<f64>,
     pub damping: Option<f64>,
     pub stress_stiffening: Option<bool>,
+    pub contact_surface: Option<String>,
     pub rotating_frame: Option<bool>,
 }
 

@@ -640,7 +640,7 @@ fn wheel_model(
 ) -> Result<WheelScenario, ScenarioError> {
     use crate::contact::obstacle::Flattening;
     use crate::material::{Elastic, PlaneModel};
-    use crate::wheel::{Support, WheelSpec};
+    use crate::wheel::{ContactSurface, Support, WheelSpec};
     let w = w.ok_or_else(|| cx.missing("wheel", "kind = \"wheel\" needs a [wheel] table"))?;
     let m = m.ok_or_else(|| {
         cx.missing(
@@ -818,6 +818,17 @@ fn wheel_model(
             stress_stiffening: w.stress_stiffening.unwrap_or(true),
             rotating_frame: w.rotating_frame.unwrap_or(true),
             creepage,
+            surface: match w.contact_surface.as_deref().unwrap_or("nodes") {
+                "nodes" => ContactSurface::Nodes,
+                "segments" => ContactSurface::Segments,
+                o => {
+                    return Err(cx.invalid(
+                        "wheel.contact_surface",
+                        format!("\"{o}\""),
+                        "allowed: \"nodes\" (a gap per rim node), \"segments\" (mortar-weighted gaps on the rim's segments)",
+                    ))
+                }
+            },
         },
         mesh,
         turns,
