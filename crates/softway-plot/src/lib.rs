@@ -176,6 +176,10 @@ pub struct Panel {
     /// Horizontal reference lines `(y, label)`, e.g. exact values: drawn thin,
     /// grey and dashed, and listed in the legend (unless the label is empty).
     pub hlines: Vec<(f64, String)>,
+    /// Shaded bands of x `(x0, x1, label)`, e.g. the stick zone of a contact patch: filled
+    /// in a light tint behind the data (one tint per distinct label, in order of first
+    /// appearance), each label listed once in the legend (unless empty).
+    pub vspans: Vec<(f64, f64, String)>,
 }
 
 impl Panel {

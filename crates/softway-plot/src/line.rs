@@ -86,6 +86,24 @@ enum EntryKind {
         shape: usize,
     },
     Reference,
+    Span(RGBAColor),
+}
+
+/// The tint of the `i`-th distinct span label: the series palette, light.
+fn span_color(i: usize) -> RGBAColor {
+    let c = series_color(i + 3);
+    RGBColor(c.0, c.1, c.2).mix(0.16)
+}
+
+/// The distinct labels of a panel's spans, in order of first appearance.
+fn span_labels(p: &Panel) -> Vec<&str> {
+    let mut labels: Vec<&str> = Vec::new();
+    for (_, _, l) in &p.vspans {
+        if !labels.contains(&l.as_str()) {
+            labels.push(l);
+        }
+    }
+    labels
 }
 
 #[derive(Debug, Clone)]
@@ -146,6 +164,15 @@ fn draw_legend(area: &Area, r: Rect, entries: &[Entry], g: &LegendGeom, st: &Sty
                         draw_marker(area, (0.5 * (a.0 + b.0), cy), *shape, 2.2 * st.lw, *color)?;
                     }
                 }
+            }
+            EntryKind::Span(c) => {
+                let r = Rect {
+                    x0: a.0,
+                    y0: cy - 0.35 * f,
+                    x1: b.0,
+                    y1: cy + 0.35 * f,
+                };
+                fill_rect(area, r, *c)?;
             }
             EntryKind::Reference => {
                 for d in dash_polyline(&[a, b], 4.0 * st.thin, 3.0 * st.thin) {
@@ -302,6 +329,14 @@ fn legend_entries(p: &Panel) -> Vec<Entry> {
             entries.push(Entry {
                 label: l.clone(),
                 kind: EntryKind::Reference,
+            });
+        }
+    }
+    for (i, l) in span_labels(p).into_iter().enumerate() {
+        if !l.is_empty() {
+            entries.push(Entry {
+                label: l.to_string(),
+                kind: EntryKind::Span(span_color(i)),
             });
         }
     }
@@ -530,6 +565,25 @@ pub(crate) fn paint_panel(
 ) -> Res<()> {
     let (fs, fl, ft, pad, tick) = (st.fs, st.fl, st.ft, st.pad, st.tick);
     let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
+
+    // Shaded x bands, behind the grid.
+    let labels = span_labels(p);
+    for (x0, x1, l) in &p.vspans {
+        if !(valid(*x0, p.x_log) && valid(*x1, p.x_log)) {
+            continue;
+        }
+        let (a, b) = (x0.min(*x1).max(xs.lo), x0.max(*x1).min(xs.hi));
+        if a < b {
+            let i = labels.iter().position(|s| s == l).unwrap_or(0);
+            let r = Rect {
+                x0: xs.px(a),
+                y0: plot.y0,
+                x1: xs.px(b),
+                y1: plot.y1,
+            };
+            fill_rect(area, r, span_color(i))?;
+        }
+    }
 
     // Grid.
     for &v in &xt.minor {
@@ -1156,6 +1210,50 @@ mod tests {
             line_plot(&f, panel, (400, 300)).unwrap();
             assert_eq!(decode_png(&f).width, 400);
         }
+    }
+
+    /// A shaded band tints the columns of its x range inside the plot: with x and y fixed to
+    /// 0..1 and the band 0.25..0.5, a row through the middle of the plot has one run of
+    /// tinted pixels over a quarter of the plot's width, and the band's label is in the
+    /// legend.
+    #[test]
+    fn vspan_tints_its_x_range() {
+        let mut p = Panel::new("", "x", "y");
+        p.series.push(Series::new(
+            "",
+            vec![0.0, 1.0],
+            vec![0.05, 0.05],
+            SeriesStyle::Line,
+        ));
+        p.x_range = Some((0.0, 1.0));
+        p.y_range = Some((0.0, 1.0));
+        let dir = out_dir("vspan");
+        let plain = dir.join("plain.png");
+        line_plot(&plain, &p, (600, 400)).unwrap();
+        p.vspans.push((0.25, 0.5, "stick".into()));
+        let shaded = dir.join("shaded.png");
+        line_plot(&shaded, &p, (600, 400)).unwrap();
+        let (a, b) = (decode_png(&plain), decode_png(&shaded));
+        // Rows through the plot differ only where the band lies.
+        let y = (a.height / 2) as usize;
+        let row = |img: &crate::test_util::Image| -> Vec<[u8; 3]> {
+            let w = img.width as usize;
+            (0..w)
+                .map(|x| {
+                    let k = 3 * (y * w + x);
+                    [img.rgb[k], img.rgb[k + 1], img.rgb[k + 2]]
+                })
+                .collect()
+        };
+        let (ra, rb) = (row(&a), row(&b));
+        let changed: Vec<usize> = (0..ra.len()).filter(|&x| ra[x] != rb[x]).collect();
+        // A quarter of the plot's width (the plot is most of the 600 px), in one run of
+        // columns (grid lines drawn over the tint may interrupt it by a pixel).
+        let tinted = changed.len() as f64 / 600.0;
+        assert!((0.15..0.25).contains(&tinted), "{changed:?}");
+        let span = (changed[changed.len() - 1] - changed[0] + 1) as f64;
+        assert!(span <= changed.len() as f64 + 4.0, "{changed:?}");
+        assert!(legend_entries(&p).iter().any(|e| e.label == "stick"));
     }
 
     /// The automatic linear range of the data extent `lo..hi`.

@@ -463,8 +463,8 @@ pub fn write_profile(
     Ok(path)
 }
 
-/// The figures: `traction.png` (the steady profile against Hertz and Carter, the stick
-/// fraction) and `traction_history.png` (normal and creep force, friction energy).
+/// The figures: `traction.png` (the steady profile against Hertz and Carter, the stick and
+/// slip zones shaded) and `traction_history.png` (normal and creep force, friction energy).
 ///
 /// # Errors
 /// [`RunError::Output`].
@@ -484,7 +484,7 @@ pub fn figures(
             ts.creepage, ts.traction_ratio
         ),
         "s / a  (s along the rolling direction; material enters at +1)",
-        "p / p0,  q / (mu p0),  stick fraction",
+        "p / p0,  q / (mu p0)",
     );
     p.series.push(Series::new(
         "p / p0, softway",
@@ -523,14 +523,19 @@ pub fn figures(
             .collect(),
         SeriesStyle::Dashed,
     ));
-    p.series.push(Series::new(
-        "stick fraction (softway)",
-        x,
-        prof.stick.clone(),
-        SeriesStyle::Line,
-    ));
+    // The zones, shaded: runs of loaded bins in stick (more than half of the samples) or in
+    // slip, each bin a quarter pitch wide.
+    let pmax = prof.p.iter().cloned().fold(0.0, f64::max);
+    let half_bin = 0.5 * (prof.s.get(1).copied().unwrap_or(0.0) - prof.s[0]).abs() / a;
+    for ((&s, &pp), &st) in x.iter().zip(&prof.p).zip(&prof.stick) {
+        if pp > 0.01 * pmax {
+            let label = if st > 0.5 { "stick zone" } else { "slip zone" };
+            p.vspans
+                .push((s - half_bin, s + half_bin, label.to_string()));
+        }
+    }
     p.x_range = Some((-1.5, 1.5));
-    p.y_range = Some((-0.05, 1.25));
+    p.y_range = Some((-0.25, 1.25));
     let png = out.join("traction.png");
     panels(&png, &[p], 1, 1, (1100, 650)).map_err(|e| RunError::output(&png, e))?;
     let [t, normal, traction, energy] = &prof.history;
