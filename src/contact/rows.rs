@@ -573,20 +573,7 @@ mod tests {
     #[test]
     fn coulomb_rows_stick_inside_the_cone_and_slide_on_it() {
         for (vt, lt, xt) in [(2.0, -0.5, 1.5), (0.3, -0.3, 0.0), (-4.0, 0.5, -3.5)] {
-            let mut integ = Diagonal(vec![1.0, 1.0]);
-            let mut rows = RowSolver::new(2, 2, 2);
-            let n = rows.push(row(0, RowKind::Unilateral));
-            rows.push(row(
-                1,
-                RowKind::Bounded {
-                    normal: n,
-                    mu_f: 0.5,
-                    eta: 0.0,
-                },
-            ));
-            let mut x = vec![-1.0, vt];
-            rows.solve(&mut integ, &mut x, 1e-12);
-            let l = rows.lambda();
+            let (l, x) = node_on_plane(vt, 0.0);
             assert!((l[0] - 1.0).abs() < 1e-14, "{vt}: {l:?}");
             assert!((l[1] - lt).abs() < 1e-14, "{vt}: {l:?}");
             assert!(
@@ -596,6 +583,25 @@ mod tests {
         }
     }
 
+    /// The node of the Coulomb and viscoplastic tests: unit mass, normal velocity -1,
+    /// tangential `vt`, friction 0.5 with the viscosity `eta`; its multipliers and velocity.
+    fn node_on_plane(vt: f64, eta: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut integ = Diagonal(vec![1.0, 1.0]);
+        let mut rows = RowSolver::new(2, 2, 2);
+        let n = rows.push(row(0, RowKind::Unilateral));
+        rows.push(row(
+            1,
+            RowKind::Bounded {
+                normal: n,
+                mu_f: 0.5,
+                eta,
+            },
+        ));
+        let mut x = vec![-1.0, vt];
+        rows.solve(&mut integ, &mut x, 1e-12);
+        (rows.lambda().to_vec(), x)
+    }
+
     /// The viscoplastic slip: the node of the Coulomb test sliding at `vt = 2` with
     /// `eta = 0.25` keeps the slip `y` with `|lambda_t| = mu_f lambda_n + eta |y|`: by hand,
     /// `lambda_t = -0.5 - 0.25 (2 + lambda_t)`, so `lambda_t = -0.8`, `y = 1.2`; inside the
@@ -603,20 +609,7 @@ mod tests {
     #[test]
     fn viscoplastic_rows_slide_with_the_overstress() {
         for (vt, lt, xt) in [(2.0, -0.8, 1.2), (0.3, -0.3, 0.0), (-4.0, 1.2, -2.8)] {
-            let mut integ = Diagonal(vec![1.0, 1.0]);
-            let mut rows = RowSolver::new(2, 2, 2);
-            let n = rows.push(row(0, RowKind::Unilateral));
-            rows.push(row(
-                1,
-                RowKind::Bounded {
-                    normal: n,
-                    mu_f: 0.5,
-                    eta: 0.25,
-                },
-            ));
-            let mut x = vec![-1.0, vt];
-            rows.solve(&mut integ, &mut x, 1e-12);
-            let l = rows.lambda();
+            let (l, x) = node_on_plane(vt, 0.25);
             assert!((l[1] - lt).abs() < 1e-14, "{vt}: {l:?}");
             assert!((x[1] - xt).abs() < 1e-14, "{vt}: {x:?}");
             if vt.abs() > 0.5 {
