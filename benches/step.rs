@@ -3,12 +3,19 @@
 //! converged wheel (288 and 576 rim nodes, clamped hub); the structure and the
 //! factorization are built outside the timed loop. Also the step with four nodes held on the base (multipliers
 //! through the factored matrix). Compare the sizes as ratios within one run.
+//!
+//! `factor/*`: the free step with each factorization of `A` on the same ladder, in one run:
+//! the LU with COLAMD (faer's default ordering, softway's factor before issue 11), the LU
+//! with AMD (the default for the wheel, whose Coriolis term makes `A` unsymmetric), and on
+//! the wheel without its Coriolis term (a symmetric `A`) the Cholesky factor (the default for
+//! symmetric matrices). The stored entries of each factor are printed on stderr.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
+use softway::linalg::{FactorKind, Ordering};
 use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use softway::mesh::Mesh;
-use softway::time::step::Stepper;
+use softway::time::step::{FactorChoice, Stepper};
 use softway::time::SpaceTimeParams;
 use softway::wheel::{Support, WheelModel, WheelSpec};
 
@@ -99,5 +106,62 @@ fn bench_step(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_step);
+fn bench_factor(c: &mut Criterion) {
+    let mut g = c.benchmark_group("factor");
+    g.sample_size(10);
+    g.warm_up_time(std::time::Duration::from_millis(500));
+    g.measurement_time(std::time::Duration::from_secs(2));
+    for (label, mesh, support) in ladder() {
+        let spec = WheelSpec {
+            support,
+            ..WheelSpec::paper()
+        };
+        let w = WheelModel::new(mesh, spec).unwrap();
+        let n = w.model.n();
+        let p = SpaceTimeParams {
+            alpha: 0.8,
+            gamma: 0.2,
+            h: 2e-6,
+        };
+        let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
+        let mut symmetric = w.model.clone();
+        symmetric.c.fill(0.0);
+        let u = w.u_spin.clone();
+        let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
+        let mut b = vec![0.0; n];
+        let cases = [
+            ("lu_colamd", &w.model, FactorKind::Lu(Ordering::Colamd)),
+            ("lu_amd", &w.model, FactorKind::Lu(Ordering::Amd)),
+            (
+                "no_coriolis_lu_colamd",
+                &symmetric,
+                FactorKind::Lu(Ordering::Colamd),
+            ),
+            (
+                "no_coriolis_lu_amd",
+                &symmetric,
+                FactorKind::Lu(Ordering::Amd),
+            ),
+            ("no_coriolis_llt", &symmetric, FactorKind::Llt),
+        ];
+        for (name, model, kind) in cases {
+            let mut st = Stepper::with_factor(model, p, &bcs, FactorChoice::Kind(kind)).unwrap();
+            eprintln!("factor nnz: {label}, {n} dofs, {name}: {}", st.factor_nnz());
+            g.bench_with_input(
+                BenchmarkId::new(name, format!("{label}, {n} dofs")),
+                &n,
+                |bch, _| {
+                    bch.iter(|| {
+                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.solve(&mut b);
+                        b[0]
+                    })
+                },
+            );
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_step, bench_factor);
 criterion_main!(benches);

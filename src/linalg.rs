@@ -3,10 +3,12 @@
 //! memory allocated once, so that the time loop does not allocate.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
 };
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
+use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
+use faer::sparse::linalg::{amd, colamd};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::Side;
 use faer::{Conj, MatMut, Par};
@@ -80,77 +82,158 @@ pub fn quadratic_form(pattern: &Pattern, values: &[f64], x: &[f64]) -> f64 {
     s
 }
 
-/// Sparse LU factorization `P A Q = L U` with the symbolic part computed once.
+/// The fill-reducing column ordering of a [`SparseLu`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ordering {
+    /// COLAMD on `A` (faer's default for LU: it bounds the fill of `A^T A`, for any
+    /// pivoting).
+    Colamd,
+    /// AMD on the pattern of `A + A^T` (the Cholesky ordering: the right one for a
+    /// structurally symmetric matrix whose partial pivoting stays on the diagonal).
+    Amd,
+}
+
+/// Sparse LU factorization `P A Q = L U` (faer's simplicial LU with partial pivoting) with
+/// the column ordering `Q` computed once.
 ///
-/// [`SparseLu::refactor`] reuses the symbolic analysis for new values on the same pattern;
+/// [`SparseLu::refactor`] reuses the ordering for new values on the same pattern;
 /// [`SparseLu::solve_in_place`] reuses scratch memory allocated at construction.
 pub struct SparseLu {
-    symbolic: SymbolicLu<usize>,
-    numeric: NumericLu<usize, f64>,
+    ordering: Ordering,
+    col_fwd: Vec<usize>,
+    col_inv: Vec<usize>,
+    row_fwd: Vec<usize>,
+    row_inv: Vec<usize>,
+    numeric: SimplicialLu<usize, f64>,
     solve_scratch: MemBuffer,
     n: usize,
 }
 
 impl std::fmt::Debug for SparseLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SparseLu").field("n", &self.n).finish()
+        f.debug_struct("SparseLu")
+            .field("n", &self.n)
+            .field("ordering", &self.ordering)
+            .finish()
     }
 }
 
+/// The column permutation of `ordering` for `pattern`: `(forward, inverse)`.
+fn column_ordering(
+    pattern: &Pattern,
+    ordering: Ordering,
+) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+    let n = pattern.ncols();
+    let nnz = pattern.compute_nnz();
+    let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+    let symbolic = |e: faer::sparse::FaerError| LinalgError::Symbolic(format!("{e:?}"));
+    match ordering {
+        Ordering::Colamd => {
+            let mut mem = MemBuffer::new(colamd::order_scratch::<usize>(n, n, nnz));
+            colamd::order(
+                &mut fwd,
+                &mut inv,
+                pattern.as_ref(),
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(symbolic)?;
+        }
+        Ordering::Amd => {
+            let mut mem = MemBuffer::new(amd::order_scratch::<usize>(n, nnz));
+            amd::order(
+                &mut fwd,
+                &mut inv,
+                pattern.as_ref(),
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(symbolic)?;
+        }
+    }
+    Ok((fwd, inv))
+}
+
 impl SparseLu {
-    /// Analyses the pattern and factors the matrix.
+    /// Analyses the pattern (COLAMD, faer's default) and factors the matrix.
     ///
     /// # Errors
     /// [`LinalgError`] when the analysis fails or the matrix is singular.
     pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
-        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
-            .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
-        let solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        Self::with_ordering(pattern, values, Ordering::Colamd)
+    }
+
+    /// Orders the columns with `ordering` and factors the matrix.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the analysis fails or the matrix is singular.
+    pub fn with_ordering(
+        pattern: &Pattern,
+        values: &[f64],
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
+        let n = pattern.nrows();
+        let (col_fwd, col_inv) = column_ordering(pattern, ordering)?;
         let mut lu = Self {
-            symbolic,
-            numeric: NumericLu::new(),
-            solve_scratch,
-            n: pattern.nrows(),
+            ordering,
+            col_fwd,
+            col_inv,
+            row_fwd: vec![0; n],
+            row_inv: vec![0; n],
+            numeric: SimplicialLu::new(),
+            solve_scratch: MemBuffer::new(faer::perm::permute_rows_in_place_scratch::<usize, f64>(
+                n, 1,
+            )),
+            n,
         };
         lu.refactor(pattern, values)?;
         Ok(lu)
     }
 
-    /// A second numeric factorization of `values` on this one's symbolic analysis (the same
-    /// pattern; no new ordering).
+    /// A second numeric factorization of `values` with this one's column ordering (the
+    /// same pattern; no new ordering).
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is singular.
     pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
         let mut lu = Self {
-            symbolic: self.symbolic.clone(),
-            numeric: NumericLu::new(),
-            solve_scratch: MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+            ordering: self.ordering,
+            col_fwd: self.col_fwd.clone(),
+            col_inv: self.col_inv.clone(),
+            row_fwd: vec![0; self.n],
+            row_inv: vec![0; self.n],
+            numeric: SimplicialLu::new(),
+            solve_scratch: MemBuffer::new(faer::perm::permute_rows_in_place_scratch::<usize, f64>(
+                self.n, 1,
+            )),
             n: self.n,
         };
         lu.refactor(pattern, values)?;
         Ok(lu)
     }
 
-    /// Numeric factorization of new values on the pattern analysed in [`SparseLu::new`].
+    /// Numeric factorization of new values on the pattern ordered in [`SparseLu::new`].
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is singular.
     pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        let n = self.n;
         let mat = SparseColMatRef::new(pattern.as_ref(), values);
-        let mut scratch = MemBuffer::new(
-            self.symbolic
-                .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
-        );
-        self.symbolic
-            .factorize_numeric_lu(
-                &mut self.numeric,
-                mat,
-                Par::Seq,
-                MemStack::new(&mut scratch),
-                Default::default(),
-            )
-            .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
+        let mut scratch = MemBuffer::new(simplicial::factorize_simplicial_numeric_lu_scratch::<
+            usize,
+            f64,
+        >(n, n));
+        let col_perm = PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
+        simplicial::factorize_simplicial_numeric_lu(
+            &mut self.row_fwd,
+            &mut self.row_inv,
+            &mut self.numeric,
+            mat,
+            col_perm,
+            MemStack::new(&mut scratch),
+        )
+        .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
         Ok(())
     }
 
@@ -159,11 +242,33 @@ impl SparseLu {
         self.n
     }
 
+    /// The column ordering.
+    pub fn ordering(&self) -> Ordering {
+        self.ordering
+    }
+
+    /// Stored entries of `L` (unit diagonal included) plus those of `U`.
+    pub fn factor_nnz(&self) -> usize {
+        self.numeric.l_factor_unsorted().compute_nnz()
+            + self.numeric.u_factor_unsorted().compute_nnz()
+    }
+
     /// Solves `A x = rhs` in place, without allocating.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        let lu = faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, &self.numeric);
-        let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
-        lu.solve_in_place_with_conj(
+        let n = self.n;
+        let m = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        // SAFETY: both pairs are inverse permutations of 0..n: the column ordering was
+        // checked by `PermRef::new_checked` in `refactor`, the row pivoting was written by
+        // faer's factorization, and neither changes in between.
+        let (row, col) = unsafe {
+            (
+                PermRef::new_unchecked(&self.row_fwd, &self.row_inv, n),
+                PermRef::new_unchecked(&self.col_fwd, &self.col_inv, n),
+            )
+        };
+        self.numeric.solve_in_place_with_conj(
+            row,
+            col,
             Conj::No,
             m,
             Par::Seq,
@@ -206,14 +311,38 @@ impl SparseLlt {
         )
         .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
         let solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        let mut numeric = vec![0.0; symbolic.len_val()];
+        let mut llt = Self {
+            numeric: vec![0.0; symbolic.len_val()],
+            symbolic,
+            solve_scratch,
+            n: pattern.nrows(),
+        };
+        llt.refactor(pattern, values)?;
+        Ok(llt)
+    }
+
+    /// A second factorization of `values` on the same pattern (faer's symbolic Cholesky
+    /// cannot be cloned: the analysis is made again, which is cheap beside the factor).
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Self::new(pattern, values)
+    }
+
+    /// Numeric factorization of new values on the same pattern.
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
         let mat = SparseColMatRef::new(pattern.as_ref(), values);
         let mut scratch = MemBuffer::new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
         );
-        symbolic
+        self.symbolic
             .factorize_numeric_llt::<f64>(
-                &mut numeric,
+                &mut self.numeric,
                 mat,
                 Side::Upper,
                 Default::default(),
@@ -222,15 +351,10 @@ impl SparseLlt {
                 Default::default(),
             )
             .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
-        Ok(Self {
-            symbolic,
-            numeric,
-            solve_scratch,
-            n: pattern.nrows(),
-        })
+        Ok(())
     }
 
-    /// Number of stored values of the factor.
+    /// Number of stored values of the factor `L` (diagonal included).
     pub fn factor_nnz(&self) -> usize {
         self.numeric.len()
     }
@@ -246,4 +370,144 @@ impl SparseLlt {
             MemStack::new(&mut self.solve_scratch),
         );
     }
+}
+
+/// Which factorization a step matrix gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FactorKind {
+    /// LU with partial pivoting and the given column ordering (the reference: any matrix).
+    Lu(Ordering),
+    /// Cholesky `L L^T` (AMD ordering): symmetric positive definite matrices only.
+    Llt,
+}
+
+/// A factored step matrix: LU (the reference) or Cholesky.
+#[derive(Debug)]
+pub enum Factor {
+    /// LU.
+    Lu(SparseLu),
+    /// Cholesky.
+    Llt(SparseLlt),
+}
+
+impl Factor {
+    /// Factors `values` on `pattern` as `kind` says.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the matrix is singular (or, for [`FactorKind::Llt`], not
+    /// positive definite).
+    pub fn new(pattern: &Pattern, values: &[f64], kind: FactorKind) -> Result<Self, LinalgError> {
+        Ok(match kind {
+            FactorKind::Lu(o) => Factor::Lu(SparseLu::with_ordering(pattern, values, o)?),
+            FactorKind::Llt => Factor::Llt(SparseLlt::new(pattern, values)?),
+        })
+    }
+
+    /// The kind.
+    pub fn kind(&self) -> FactorKind {
+        match self {
+            Factor::Lu(lu) => FactorKind::Lu(lu.ordering()),
+            Factor::Llt(_) => FactorKind::Llt,
+        }
+    }
+
+    /// A second numeric factorization on the same analysis.
+    ///
+    /// # Errors
+    /// As [`Factor::new`].
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Ok(match self {
+            Factor::Lu(lu) => Factor::Lu(lu.with_values(pattern, values)?),
+            Factor::Llt(llt) => Factor::Llt(llt.with_values(pattern, values)?),
+        })
+    }
+
+    /// New values on the same analysis.
+    ///
+    /// # Errors
+    /// As [`Factor::new`].
+    pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        match self {
+            Factor::Lu(lu) => lu.refactor(pattern, values),
+            Factor::Llt(llt) => llt.refactor(pattern, values),
+        }
+    }
+
+    /// Stored entries of the factors (`L + U`, or `L`).
+    pub fn factor_nnz(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.factor_nnz(),
+            Factor::Llt(llt) => llt.factor_nnz(),
+        }
+    }
+
+    /// Solves `A x = rhs` in place, without allocating.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        match self {
+            Factor::Lu(lu) => lu.solve_in_place(rhs),
+            Factor::Llt(llt) => llt.solve_in_place(rhs),
+        }
+    }
+}
+
+/// True when the values on `pattern` are symmetric to within `rel_tol` times the largest
+/// magnitude (the pattern itself must be structurally symmetric: an entry without its
+/// transposed partner makes the matrix unsymmetric).
+pub fn is_symmetric(pattern: &Pattern, values: &[f64], rel_tol: f64) -> bool {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    let scale = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let tol = rel_tol * scale;
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if i <= j {
+                continue;
+            }
+            // Entry (i, j) below the diagonal: find (j, i) in column i.
+            let col = &ri[cp[i]..cp[i + 1]];
+            match col.binary_search(&j) {
+                Ok(q) => {
+                    if (values[p] - values[cp[i] + q]).abs() > tol {
+                        return false;
+                    }
+                }
+                Err(_) => return false,
+            }
+        }
+    }
+    true
+}
+
+/// Writes the matrix `values` on `pattern` to `out` in Matrix Market coordinate format
+/// (`real general`, 1-based indices, every stored entry).
+///
+/// # Errors
+/// I/O errors of `out`.
+pub fn write_matrix_market<W: std::io::Write>(
+    out: &mut W,
+    pattern: &Pattern,
+    values: &[f64],
+    comment: &str,
+) -> std::io::Result<()> {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    writeln!(out, "%%MatrixMarket matrix coordinate real general")?;
+    for line in comment.lines() {
+        writeln!(out, "% {line}")?;
+    }
+    writeln!(
+        out,
+        "{} {} {}",
+        pattern.nrows(),
+        pattern.ncols(),
+        values.len()
+    )?;
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            writeln!(out, "{} {} {:e}", ri[p] + 1, j + 1, values[p])?;
+        }
+    }
+    Ok(())
 }
