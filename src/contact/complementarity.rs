@@ -112,15 +112,6 @@ impl Complementarity {
     }
 }
 
-impl Complementarity {
-    /// The same posing a row for every pair at every step (the reference of the candidate
-    /// search, module docs).
-    pub fn all_pairs(mut self) -> Self {
-        self.search = false;
-        self
-    }
-}
-
 impl ContactTreatment for Complementarity {
     fn name(&self) -> String {
         match self.law {

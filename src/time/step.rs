@@ -286,7 +286,9 @@ impl Stepper {
         // `b += B v0 - h K u0` in one pass over the pattern (B and K share it).
         let col_ptr = self.pattern.col_ptr();
         let row_idx = self.pattern.row_idx();
-        for j in 0..self.n {
+        let n = self.n;
+        assert!(b.len() == n && v0.len() == n && u0.len() == n);
+        for j in 0..n {
             let (vj, uj) = (v0[j], -h * u0[j]);
             if vj == 0.0 && uj == 0.0 {
                 continue;
@@ -297,7 +299,9 @@ impl Stepper {
                 .zip(&self.bv[range.clone()])
                 .zip(&self.k[range])
             {
-                b[i] += bp * vj + kp * uj;
+                // SAFETY: the pattern's row indices are < n (faer checks them when the
+                // pattern is built) and `b.len() == n` (asserted above).
+                unsafe { *b.get_unchecked_mut(i) += bp * vj + kp * uj };
             }
         }
     }
