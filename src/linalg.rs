@@ -186,12 +186,22 @@ impl Triangle {
         assert!(x.len() == self.diag_inv.len());
         for j in (0..self.diag_inv.len()).rev() {
             let r = self.ptr[j]..self.ptr[j + 1];
-            let mut s = x[j];
-            for (&i, &l) in self.idx[r.clone()].iter().zip(&self.val[r]) {
-                // SAFETY: as in `axpy_column`.
-                s -= l * unsafe { *x.get_unchecked(i as usize) };
+            let (idx, val) = (&self.idx[r.clone()], &self.val[r]);
+            // Four partial sums: the dot product is not one chain of dependent additions.
+            let mut acc = [0.0; 4];
+            let (idx4, val4) = (idx.chunks_exact(4), val.chunks_exact(4));
+            let (idx_rest, val_rest) = (idx4.remainder(), val4.remainder());
+            for (ic, vc) in idx4.zip(val4) {
+                for k in 0..4 {
+                    // SAFETY: as in `axpy_column`.
+                    acc[k] += vc[k] * unsafe { *x.get_unchecked(ic[k] as usize) };
+                }
             }
-            x[j] = s * self.diag_inv[j];
+            for (&i, &l) in idx_rest.iter().zip(val_rest) {
+                // SAFETY: as in `axpy_column`.
+                acc[0] += l * unsafe { *x.get_unchecked(i as usize) };
+            }
+            x[j] = (x[j] - ((acc[0] + acc[1]) + (acc[2] + acc[3]))) * self.diag_inv[j];
         }
     }
 }
