@@ -1,6 +1,7 @@
-//! Sparse linear algebra on one sparsity pattern: matrix-vector products and a sparse LU
-//! factorization (faer) whose symbolic analysis is done once and whose solve uses scratch
-//! memory allocated once, so that the time loop does not allocate.
+//! Sparse linear algebra on one sparsity pattern: matrix-vector products, a sparse LU and a
+//! sparse Cholesky factorization (faer's numeric factorizations, with a fill-reducing
+//! ordering computed once), whose solves run on compact copies of the factors with memory
+//! allocated once, so that the time loop does not allocate; a Matrix Market writer.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
@@ -271,12 +272,13 @@ fn column_ordering(
 }
 
 impl SparseLu {
-    /// Analyses the pattern (COLAMD, faer's default) and factors the matrix.
+    /// Orders the columns by AMD (the matrices of softway are structurally symmetric: mass,
+    /// stiffness, damping on one pattern) and factors the matrix.
     ///
     /// # Errors
     /// [`LinalgError`] when the analysis fails or the matrix is singular.
     pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
-        Self::with_ordering(pattern, values, Ordering::Colamd)
+        Self::with_ordering(pattern, values, Ordering::Amd)
     }
 
     /// Orders the columns with `ordering` and factors the matrix.
