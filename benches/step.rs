@@ -3,12 +3,27 @@
 //! converged wheel (288 and 576 rim nodes, clamped hub); the structure and the
 //! factorization are built outside the timed loop. Also the step with four nodes held on the base (multipliers
 //! through the factored matrix). Compare the sizes as ratios within one run.
+//!
+//! `wheel_step/free_before`: the free step as it was before issue 11 (faer's default sparse
+//! LU, COLAMD ordering and its generic solve; two sparse products for the right-hand side),
+//! beside `wheel_step/free` (softway's factor and solve now) in the same run.
+//!
+//! `factor/*`: the free step with each factorization of `A` on the same ladder, in one run:
+//! the LU with COLAMD (faer's default ordering, softway's factor before issue 11), the LU
+//! with AMD (the default for the wheel, whose Coriolis term makes `A` unsymmetric), and on
+//! the wheel without its Coriolis term (a symmetric `A`) the Cholesky factor (the default for
+//! symmetric matrices). The stored entries of each factor are printed on stderr.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu};
+use faer::sparse::SparseColMatRef;
+use faer::{Conj, MatMut, Par};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
+use softway::linalg::{spmv_add, FactorKind, Ordering};
 use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use softway::mesh::Mesh;
-use softway::time::step::Stepper;
+use softway::time::step::{FactorChoice, Stepper};
 use softway::time::SpaceTimeParams;
 use softway::wheel::{Support, WheelModel, WheelSpec};
 
@@ -82,6 +97,54 @@ fn bench_step(c: &mut Criterion) {
                 })
             },
         );
+        // The free step as softway did it before issue 11: faer's default sparse LU (COLAMD,
+        // its generic solve) and two sparse products for the right-hand side.
+        {
+            let (pattern, a, bv, k) = st.matrices();
+            let (pattern, a, bv, k) = (pattern.clone(), a.to_vec(), bv.to_vec(), k.to_vec());
+            let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default()).unwrap();
+            let mut numeric = NumericLu::new();
+            let mut scratch = MemBuffer::new(
+                symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
+            );
+            symbolic
+                .factorize_numeric_lu(
+                    &mut numeric,
+                    SparseColMatRef::new(pattern.as_ref(), &a),
+                    Par::Seq,
+                    MemStack::new(&mut scratch),
+                    Default::default(),
+                )
+                .unwrap();
+            let mut solve_scratch =
+                MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+            let h = p.h;
+            g.bench_with_input(
+                BenchmarkId::new("free_before", format!("{label}, {n} dofs")),
+                &n,
+                |bch, _| {
+                    bch.iter(|| {
+                        for (bi, fi) in b.iter_mut().zip(&w.load) {
+                            *bi = h * fi;
+                        }
+                        spmv_add(&pattern, &bv, 1.0, &v, &mut b);
+                        spmv_add(&pattern, &k, -h, &u, &mut b);
+                        for &d in &w.fixed_dofs {
+                            b[d] = 0.0;
+                        }
+                        let lu = LuRef::new_unchecked(&symbolic, &numeric);
+                        lu.solve_in_place_with_conj(
+                            Conj::No,
+                            MatMut::from_column_major_slice_mut(&mut b, n, 1),
+                            Par::Seq,
+                            MemStack::new(&mut solve_scratch),
+                        );
+                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
+                        b[0]
+                    })
+                },
+            );
+        }
         g.bench_with_input(
             BenchmarkId::new("four_held", format!("{label}, {n} dofs")),
             &n,
@@ -99,5 +162,62 @@ fn bench_step(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_step);
+fn bench_factor(c: &mut Criterion) {
+    let mut g = c.benchmark_group("factor");
+    g.sample_size(10);
+    g.warm_up_time(std::time::Duration::from_millis(500));
+    g.measurement_time(std::time::Duration::from_secs(2));
+    for (label, mesh, support) in ladder() {
+        let spec = WheelSpec {
+            support,
+            ..WheelSpec::paper()
+        };
+        let w = WheelModel::new(mesh, spec).unwrap();
+        let n = w.model.n();
+        let p = SpaceTimeParams {
+            alpha: 0.8,
+            gamma: 0.2,
+            h: 2e-6,
+        };
+        let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
+        let mut symmetric = w.model.clone();
+        symmetric.c.fill(0.0);
+        let u = w.u_spin.clone();
+        let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
+        let mut b = vec![0.0; n];
+        let cases = [
+            ("lu_colamd", &w.model, FactorKind::Lu(Ordering::Colamd)),
+            ("lu_amd", &w.model, FactorKind::Lu(Ordering::Amd)),
+            (
+                "no_coriolis_lu_colamd",
+                &symmetric,
+                FactorKind::Lu(Ordering::Colamd),
+            ),
+            (
+                "no_coriolis_lu_amd",
+                &symmetric,
+                FactorKind::Lu(Ordering::Amd),
+            ),
+            ("no_coriolis_llt", &symmetric, FactorKind::Llt),
+        ];
+        for (name, model, kind) in cases {
+            let mut st = Stepper::with_factor(model, p, &bcs, FactorChoice::Kind(kind)).unwrap();
+            eprintln!("factor nnz: {label}, {n} dofs, {name}: {}", st.factor_nnz());
+            g.bench_with_input(
+                BenchmarkId::new(name, format!("{label}, {n} dofs")),
+                &n,
+                |bch, _| {
+                    bch.iter(|| {
+                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.solve(&mut b);
+                        b[0]
+                    })
+                },
+            );
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_step, bench_factor);
 criterion_main!(benches);

@@ -1,15 +1,18 @@
-//! Sparse linear algebra on one sparsity pattern: matrix-vector products and a sparse LU
-//! factorization (faer) whose symbolic analysis is done once and whose solve uses scratch
-//! memory allocated once, so that the time loop does not allocate.
+//! Sparse linear algebra on one sparsity pattern: matrix-vector products, a sparse LU and a
+//! sparse Cholesky factorization (faer's numeric factorizations, with a fill-reducing
+//! ordering computed once), whose solves run on compact copies of the factors with memory
+//! allocated once, so that the time loop does not allocate; a Matrix Market writer.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
 };
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
+use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
+use faer::sparse::linalg::{amd, colamd};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::Par;
 use faer::Side;
-use faer::{Conj, MatMut, Par};
 
 /// Errors of the linear algebra layer.
 #[derive(Debug, thiserror::Error)]
@@ -80,77 +83,292 @@ pub fn quadratic_form(pattern: &Pattern, values: &[f64], x: &[f64]) -> f64 {
     s
 }
 
-/// Sparse LU factorization `P A Q = L U` with the symbolic part computed once.
+/// The fill-reducing column ordering of a [`SparseLu`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ordering {
+    /// COLAMD on `A` (faer's default for LU: it bounds the fill of `A^T A`, for any
+    /// pivoting).
+    Colamd,
+    /// AMD on the pattern of `A + A^T` (the Cholesky ordering: the right one for a
+    /// structurally symmetric matrix whose partial pivoting stays on the diagonal).
+    Amd,
+}
+
+/// A triangular factor stored for the solve: its off-diagonal entries by columns (32-bit
+/// row indices) and the reciprocals of its diagonal. faer's generic sparse triangular solves
+/// (any number of right-hand sides, conjugation) spend about 11 instructions per stored
+/// entry on one right-hand side; this loop spends a third of that, and the narrower indices
+/// read less memory (the solve is bound by reading the factor).
+#[derive(Debug, Clone, Default)]
+struct Triangle {
+    ptr: Vec<usize>,
+    idx: Vec<u32>,
+    val: Vec<f64>,
+    diag_inv: Vec<f64>,
+}
+
+impl Triangle {
+    /// From a CSC factor (row indices in any order, the diagonal stored somewhere in each
+    /// column); `unit`: the diagonal is 1 (not stored as such).
+    fn from_csc(col_ptr: &[usize], row_idx: &[usize], values: &[f64], unit: bool) -> Self {
+        let n = col_ptr.len() - 1;
+        let nnz = col_ptr[n];
+        let mut t = Triangle {
+            ptr: Vec::with_capacity(n + 1),
+            idx: Vec::with_capacity(nnz.saturating_sub(n)),
+            val: Vec::with_capacity(nnz.saturating_sub(n)),
+            diag_inv: vec![1.0; n],
+        };
+        t.ptr.push(0);
+        for j in 0..n {
+            for p in col_ptr[j]..col_ptr[j + 1] {
+                let i = row_idx[p];
+                assert!(
+                    i < n && n <= u32::MAX as usize,
+                    "a factor's row index out of range"
+                );
+                if i == j {
+                    if !unit {
+                        t.diag_inv[j] = values[p].recip();
+                    }
+                } else {
+                    t.idx.push(i as u32);
+                    t.val.push(values[p]);
+                }
+            }
+            t.ptr.push(t.idx.len());
+        }
+        t
+    }
+
+    /// Stored entries, diagonal included.
+    fn nnz(&self) -> usize {
+        self.val.len() + self.diag_inv.len()
+    }
+
+    /// `x -= s * column j` (off-diagonal entries).
+    #[inline(always)]
+    fn axpy_column(&self, j: usize, s: f64, x: &mut [f64]) {
+        let r = self.ptr[j]..self.ptr[j + 1];
+        let (idx, val) = (&self.idx[r.clone()], &self.val[r]);
+        assert!(x.len() == self.diag_inv.len());
+        for (&i, &v) in idx.iter().zip(val) {
+            // SAFETY: every row index is < n = x.len() (checked in `from_csc`, asserted
+            // above), and `x` is not aliased.
+            unsafe { *x.get_unchecked_mut(i as usize) -= v * s };
+        }
+    }
+
+    /// `x <- L^{-1} x` for a lower triangle (column oriented).
+    fn solve_lower(&self, x: &mut [f64]) {
+        for j in 0..self.diag_inv.len() {
+            let xj = x[j] * self.diag_inv[j];
+            x[j] = xj;
+            if xj != 0.0 {
+                self.axpy_column(j, xj, x);
+            }
+        }
+    }
+
+    /// `x <- U^{-1} x` for an upper triangle (column oriented).
+    fn solve_upper(&self, x: &mut [f64]) {
+        for j in (0..self.diag_inv.len()).rev() {
+            let xj = x[j] * self.diag_inv[j];
+            x[j] = xj;
+            if xj != 0.0 {
+                self.axpy_column(j, xj, x);
+            }
+        }
+    }
+
+    /// `x <- L^{-T} x` for a lower triangle `L` (row oriented on `L^T`: dot products).
+    fn solve_lower_transpose(&self, x: &mut [f64]) {
+        assert!(x.len() == self.diag_inv.len());
+        for j in (0..self.diag_inv.len()).rev() {
+            let r = self.ptr[j]..self.ptr[j + 1];
+            let (idx, val) = (&self.idx[r.clone()], &self.val[r]);
+            // Four partial sums: the dot product is not one chain of dependent additions.
+            let mut acc = [0.0; 4];
+            let (idx4, val4) = (idx.chunks_exact(4), val.chunks_exact(4));
+            let (idx_rest, val_rest) = (idx4.remainder(), val4.remainder());
+            for (ic, vc) in idx4.zip(val4) {
+                for k in 0..4 {
+                    // SAFETY: as in `axpy_column`.
+                    acc[k] += vc[k] * unsafe { *x.get_unchecked(ic[k] as usize) };
+                }
+            }
+            for (&i, &l) in idx_rest.iter().zip(val_rest) {
+                // SAFETY: as in `axpy_column`.
+                acc[0] += l * unsafe { *x.get_unchecked(i as usize) };
+            }
+            x[j] = (x[j] - ((acc[0] + acc[1]) + (acc[2] + acc[3]))) * self.diag_inv[j];
+        }
+    }
+}
+
+/// Sparse LU factorization `P A Q = L U` (faer's simplicial LU with partial pivoting) with
+/// the column ordering `Q` computed once.
 ///
-/// [`SparseLu::refactor`] reuses the symbolic analysis for new values on the same pattern;
+/// [`SparseLu::refactor`] reuses the ordering for new values on the same pattern;
 /// [`SparseLu::solve_in_place`] reuses scratch memory allocated at construction.
 pub struct SparseLu {
-    symbolic: SymbolicLu<usize>,
-    numeric: NumericLu<usize, f64>,
-    solve_scratch: MemBuffer,
+    ordering: Ordering,
+    col_fwd: Vec<usize>,
+    col_inv: Vec<usize>,
+    row_fwd: Vec<usize>,
+    row_inv: Vec<usize>,
+    /// faer's factors (emptied after each factorization: the solve uses `l`, `u`).
+    numeric: SimplicialLu<usize, f64>,
+    l: Triangle,
+    u: Triangle,
+    work: Vec<f64>,
     n: usize,
 }
 
 impl std::fmt::Debug for SparseLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SparseLu").field("n", &self.n).finish()
+        f.debug_struct("SparseLu")
+            .field("n", &self.n)
+            .field("ordering", &self.ordering)
+            .finish()
     }
 }
 
+/// The column permutation of `ordering` for `pattern`: `(forward, inverse)`.
+fn column_ordering(
+    pattern: &Pattern,
+    ordering: Ordering,
+) -> Result<(Vec<usize>, Vec<usize>), LinalgError> {
+    let n = pattern.ncols();
+    let nnz = pattern.compute_nnz();
+    let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);
+    let symbolic = |e: faer::sparse::FaerError| LinalgError::Symbolic(format!("{e:?}"));
+    match ordering {
+        Ordering::Colamd => {
+            let mut mem = MemBuffer::new(colamd::order_scratch::<usize>(n, n, nnz));
+            colamd::order(
+                &mut fwd,
+                &mut inv,
+                pattern.as_ref(),
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(symbolic)?;
+        }
+        Ordering::Amd => {
+            let mut mem = MemBuffer::new(amd::order_scratch::<usize>(n, nnz));
+            amd::order(
+                &mut fwd,
+                &mut inv,
+                pattern.as_ref(),
+                Default::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(symbolic)?;
+        }
+    }
+    Ok((fwd, inv))
+}
+
 impl SparseLu {
-    /// Analyses the pattern and factors the matrix.
+    /// Orders the columns by AMD (the matrices of softway are structurally symmetric: mass,
+    /// stiffness, damping on one pattern) and factors the matrix.
     ///
     /// # Errors
     /// [`LinalgError`] when the analysis fails or the matrix is singular.
     pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
-        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
-            .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
-        let solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        Self::with_ordering(pattern, values, Ordering::Amd)
+    }
+
+    /// Orders the columns with `ordering` and factors the matrix.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the analysis fails or the matrix is singular.
+    pub fn with_ordering(
+        pattern: &Pattern,
+        values: &[f64],
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
+        let n = pattern.nrows();
+        let (col_fwd, col_inv) = column_ordering(pattern, ordering)?;
         let mut lu = Self {
-            symbolic,
-            numeric: NumericLu::new(),
-            solve_scratch,
-            n: pattern.nrows(),
+            ordering,
+            col_fwd,
+            col_inv,
+            row_fwd: vec![0; n],
+            row_inv: vec![0; n],
+            numeric: SimplicialLu::new(),
+            l: Triangle::default(),
+            u: Triangle::default(),
+            work: vec![0.0; n],
+            n,
         };
         lu.refactor(pattern, values)?;
         Ok(lu)
     }
 
-    /// A second numeric factorization of `values` on this one's symbolic analysis (the same
-    /// pattern; no new ordering).
+    /// A second numeric factorization of `values` with this one's column ordering (the
+    /// same pattern; no new ordering).
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is singular.
     pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
         let mut lu = Self {
-            symbolic: self.symbolic.clone(),
-            numeric: NumericLu::new(),
-            solve_scratch: MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+            ordering: self.ordering,
+            col_fwd: self.col_fwd.clone(),
+            col_inv: self.col_inv.clone(),
+            row_fwd: vec![0; self.n],
+            row_inv: vec![0; self.n],
+            numeric: SimplicialLu::new(),
+            l: Triangle::default(),
+            u: Triangle::default(),
+            work: vec![0.0; self.n],
             n: self.n,
         };
         lu.refactor(pattern, values)?;
         Ok(lu)
     }
 
-    /// Numeric factorization of new values on the pattern analysed in [`SparseLu::new`].
+    /// Numeric factorization of new values on the pattern ordered in [`SparseLu::new`].
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is singular.
     pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        let n = self.n;
         let mat = SparseColMatRef::new(pattern.as_ref(), values);
-        let mut scratch = MemBuffer::new(
-            self.symbolic
-                .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
+        let mut scratch = MemBuffer::new(simplicial::factorize_simplicial_numeric_lu_scratch::<
+            usize,
+            f64,
+        >(n, n));
+        let col_perm = PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
+        simplicial::factorize_simplicial_numeric_lu(
+            &mut self.row_fwd,
+            &mut self.row_inv,
+            &mut self.numeric,
+            mat,
+            col_perm,
+            MemStack::new(&mut scratch),
+        )
+        .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
+        // The factors for the solve ([`Triangle`]); faer's copy is let go.
+        let (l, u) = (
+            self.numeric.l_factor_unsorted(),
+            self.numeric.u_factor_unsorted(),
         );
-        self.symbolic
-            .factorize_numeric_lu(
-                &mut self.numeric,
-                mat,
-                Par::Seq,
-                MemStack::new(&mut scratch),
-                Default::default(),
-            )
-            .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
+        self.l = Triangle::from_csc(
+            l.symbolic().col_ptr(),
+            l.symbolic().row_idx(),
+            l.val(),
+            true,
+        );
+        self.u = Triangle::from_csc(
+            u.symbolic().col_ptr(),
+            u.symbolic().row_idx(),
+            u.val(),
+            false,
+        );
+        self.numeric = SimplicialLu::new();
         Ok(())
     }
 
@@ -159,16 +377,28 @@ impl SparseLu {
         self.n
     }
 
-    /// Solves `A x = rhs` in place, without allocating.
+    /// The column ordering.
+    pub fn ordering(&self) -> Ordering {
+        self.ordering
+    }
+
+    /// Stored entries of `L` (unit diagonal included) plus those of `U`.
+    pub fn factor_nnz(&self) -> usize {
+        self.l.nnz() + self.u.nnz()
+    }
+
+    /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
+    /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        let lu = faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, &self.numeric);
-        let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
-        lu.solve_in_place_with_conj(
-            Conj::No,
-            m,
-            Par::Seq,
-            MemStack::new(&mut self.solve_scratch),
-        );
+        let w = &mut self.work;
+        for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {
+            *wi = rhs[r];
+        }
+        self.l.solve_lower(w);
+        self.u.solve_upper(w);
+        for (xi, &c) in rhs.iter_mut().zip(&self.col_inv) {
+            *xi = w[c];
+        }
     }
 }
 
@@ -177,8 +407,12 @@ impl SparseLu {
 /// allocation.
 pub struct SparseLlt {
     symbolic: SymbolicCholesky<usize>,
+    /// faer's factor (emptied after each factorization: the solve uses `l`).
     numeric: Vec<f64>,
-    solve_scratch: MemBuffer,
+    l: Triangle,
+    perm_fwd: Vec<usize>,
+    perm_inv: Vec<usize>,
+    work: Vec<f64>,
     n: usize,
 }
 
@@ -205,15 +439,50 @@ impl SparseLlt {
             },
         )
         .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
-        let solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        let mut numeric = vec![0.0; symbolic.len_val()];
+        let n = pattern.nrows();
+        let (perm_fwd, perm_inv) = match symbolic.perm() {
+            Some(p) => {
+                let (f, i) = p.arrays();
+                (f.to_vec(), i.to_vec())
+            }
+            None => ((0..n).collect(), (0..n).collect()),
+        };
+        let mut llt = Self {
+            numeric: Vec::new(),
+            symbolic,
+            l: Triangle::default(),
+            perm_fwd,
+            perm_inv,
+            work: vec![0.0; n],
+            n,
+        };
+        llt.refactor(pattern, values)?;
+        Ok(llt)
+    }
+
+    /// A second factorization of `values` on the same pattern (faer's symbolic Cholesky
+    /// cannot be cloned: the analysis is made again, which is cheap beside the factor).
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Self::new(pattern, values)
+    }
+
+    /// Numeric factorization of new values on the same pattern.
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
         let mat = SparseColMatRef::new(pattern.as_ref(), values);
         let mut scratch = MemBuffer::new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
         );
-        symbolic
+        self.numeric.resize(self.symbolic.len_val(), 0.0);
+        self.symbolic
             .factorize_numeric_llt::<f64>(
-                &mut numeric,
+                &mut self.numeric,
                 mat,
                 Side::Upper,
                 Default::default(),
@@ -222,28 +491,172 @@ impl SparseLlt {
                 Default::default(),
             )
             .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
-        Ok(Self {
-            symbolic,
-            numeric,
-            solve_scratch,
-            n: pattern.nrows(),
+        let SymbolicCholeskyRaw::Simplicial(simp) = self.symbolic.raw() else {
+            return Err(LinalgError::Symbolic(
+                "a simplicial Cholesky analysis was asked for".into(),
+            ));
+        };
+        self.l = Triangle::from_csc(simp.col_ptr(), simp.row_idx(), &self.numeric, false);
+        self.numeric = Vec::new();
+        Ok(())
+    }
+
+    /// Number of stored values of the factor `L` (diagonal included).
+    pub fn factor_nnz(&self) -> usize {
+        self.l.nnz()
+    }
+
+    /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
+    /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`).
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        let w = &mut self.work;
+        for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
+            *wi = rhs[r];
+        }
+        self.l.solve_lower(w);
+        self.l.solve_lower_transpose(w);
+        for (xi, &c) in rhs.iter_mut().zip(&self.perm_inv) {
+            *xi = w[c];
+        }
+    }
+}
+
+/// Which factorization a step matrix gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FactorKind {
+    /// LU with partial pivoting and the given column ordering (the reference: any matrix).
+    Lu(Ordering),
+    /// Cholesky `L L^T` (AMD ordering): symmetric positive definite matrices only.
+    Llt,
+}
+
+/// A factored step matrix: LU (the reference) or Cholesky.
+#[derive(Debug)]
+pub enum Factor {
+    /// LU.
+    Lu(SparseLu),
+    /// Cholesky.
+    Llt(SparseLlt),
+}
+
+impl Factor {
+    /// Factors `values` on `pattern` as `kind` says.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the matrix is singular (or, for [`FactorKind::Llt`], not
+    /// positive definite).
+    pub fn new(pattern: &Pattern, values: &[f64], kind: FactorKind) -> Result<Self, LinalgError> {
+        Ok(match kind {
+            FactorKind::Lu(o) => Factor::Lu(SparseLu::with_ordering(pattern, values, o)?),
+            FactorKind::Llt => Factor::Llt(SparseLlt::new(pattern, values)?),
         })
     }
 
-    /// Number of stored values of the factor.
+    /// The kind.
+    pub fn kind(&self) -> FactorKind {
+        match self {
+            Factor::Lu(lu) => FactorKind::Lu(lu.ordering()),
+            Factor::Llt(_) => FactorKind::Llt,
+        }
+    }
+
+    /// A second numeric factorization on the same analysis.
+    ///
+    /// # Errors
+    /// As [`Factor::new`].
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Ok(match self {
+            Factor::Lu(lu) => Factor::Lu(lu.with_values(pattern, values)?),
+            Factor::Llt(llt) => Factor::Llt(llt.with_values(pattern, values)?),
+        })
+    }
+
+    /// New values on the same analysis.
+    ///
+    /// # Errors
+    /// As [`Factor::new`].
+    pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        match self {
+            Factor::Lu(lu) => lu.refactor(pattern, values),
+            Factor::Llt(llt) => llt.refactor(pattern, values),
+        }
+    }
+
+    /// Stored entries of the factors (`L + U`, or `L`).
     pub fn factor_nnz(&self) -> usize {
-        self.numeric.len()
+        match self {
+            Factor::Lu(lu) => lu.factor_nnz(),
+            Factor::Llt(llt) => llt.factor_nnz(),
+        }
     }
 
     /// Solves `A x = rhs` in place, without allocating.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.numeric);
-        let m = MatMut::from_column_major_slice_mut(rhs, self.n, 1);
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            m,
-            Par::Seq,
-            MemStack::new(&mut self.solve_scratch),
-        );
+        match self {
+            Factor::Lu(lu) => lu.solve_in_place(rhs),
+            Factor::Llt(llt) => llt.solve_in_place(rhs),
+        }
     }
+}
+
+/// True when the values on `pattern` are symmetric to within `rel_tol` times the largest
+/// magnitude (the pattern itself must be structurally symmetric: an entry without its
+/// transposed partner makes the matrix unsymmetric).
+pub fn is_symmetric(pattern: &Pattern, values: &[f64], rel_tol: f64) -> bool {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    let scale = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let tol = rel_tol * scale;
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if i <= j {
+                continue;
+            }
+            // Entry (i, j) below the diagonal: find (j, i) in column i.
+            let col = &ri[cp[i]..cp[i + 1]];
+            match col.binary_search(&j) {
+                Ok(q) => {
+                    if (values[p] - values[cp[i] + q]).abs() > tol {
+                        return false;
+                    }
+                }
+                Err(_) => return false,
+            }
+        }
+    }
+    true
+}
+
+/// Writes the matrix `values` on `pattern` to `out` in Matrix Market coordinate format
+/// (`real general`, 1-based indices, every stored entry).
+///
+/// # Errors
+/// I/O errors of `out`.
+pub fn write_matrix_market<W: std::io::Write>(
+    out: &mut W,
+    pattern: &Pattern,
+    values: &[f64],
+    comment: &str,
+) -> std::io::Result<()> {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    writeln!(out, "%%MatrixMarket matrix coordinate real general")?;
+    for line in comment.lines() {
+        writeln!(out, "% {line}")?;
+    }
+    writeln!(
+        out,
+        "{} {} {}",
+        pattern.nrows(),
+        pattern.ncols(),
+        values.len()
+    )?;
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            writeln!(out, "{} {} {:e}", ri[p] + 1, j + 1, values[p])?;
+        }
+    }
+    Ok(())
 }

@@ -86,6 +86,16 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Write the space-time step's matrices of a wheel or bar scenario (Matrix Market) for
+    /// other solvers, with the size of each factor and softway's time for one free step:
+    /// A.mtx, B.mtx, K.mtx, u0/v0/f.mtx, fixed.txt, matrix.json (bench/peers/ reads them).
+    Matrix {
+        /// The scenario file (TOML, kind = "wheel" or "bar_impact"; its first run).
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>-matrix].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
         /// alpha of Eq. (8), in (0, 1].
@@ -293,6 +303,25 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
             let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, &out)?;
             println!("wrote {} files into {}", files.len(), out.display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Matrix { scenario, out } => {
+            let sc = resolve(&Scenario::from_file(&scenario)?)?;
+            let out =
+                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
+            let (rep, files) = softway::run::matrix::dump(&sc, &out)?;
+            println!(
+                "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
+                sc.name, rep.n, rep.nnz_a, rep.symmetric, rep.factor
+            );
+            for (name, nnz) in &rep.factor_nnz {
+                println!("  nnz of the factors, {name}: {nnz}");
+            }
+            println!("  softway free step: {:.1} us", rep.softway_step_us);
+            println!("  wrote:");
+            for f in &files {
+                println!("    {}", f.display());
+            }
             Ok(ExitCode::SUCCESS)
         }
         Command::Stability {

@@ -244,6 +244,8 @@ pub struct Engine {
     pub x: Vec<f64>,
     /// Counters.
     pub stats: RunStats,
+    /// The obstacles' uniform half-spaces of one instant ([`Engine::gaps_into`]).
+    half_spaces: Vec<Option<crate::contact::obstacle::HalfSpace>>,
 }
 
 impl std::fmt::Debug for Engine {
@@ -271,6 +273,21 @@ impl Engine {
     /// The gap of pair `p` at time `t` in the configuration `u`, m.
     pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
         self.pairs[p].gap(&self.obstacles, self.dim, &self.reference, u, t)
+    }
+
+    /// The gaps of every pair at time `t` in the configuration `u` into `out` (m): the same
+    /// values as [`Engine::gap`] pair by pair, each obstacle's half-space evaluated once.
+    pub fn gaps_into(&mut self, t: f64, u: &[f64], out: &mut [f64]) {
+        crate::contact::pair::gaps_into(
+            &self.pairs,
+            &self.obstacles,
+            self.dim,
+            &self.reference,
+            u,
+            t,
+            &mut self.half_spaces,
+            out,
+        );
     }
 
     /// Predicts the step from `(t0, s0)` (loads plus [`Engine::extra`]): `pred` and `xfree`.
@@ -418,9 +435,10 @@ impl Simulation {
         };
         let treat = build_treatment(treatment, &integrator, np, n, friction);
         let integ = build_integrator(integrator, &model, h, gamma_schedule, &dirichlet)?;
-        // Cache the columns of every contact dof (a treatment that poses one row per pair,
-        // as the complementarity treatments do, needs them all in one solve) when that fits
-        // in 1 GiB, else 256 of them (enough for the held pairs of the soft way).
+        // The column cache may hold every contact dof (the reference of the complementarity
+        // treatments' candidate search poses one row per pair, and needs them all in one
+        // solve) when that fits in 1 GiB, else 256 of them; it grows only as far as the
+        // rows of one solve need ([`RowSolver`]).
         let contact_dofs = contact_nodes.len() * dim;
         let cache = if contact_dofs * n * 8 <= 1 << 30 {
             contact_dofs
@@ -447,7 +465,9 @@ impl Simulation {
             xfree: vec![0.0; n],
             x: vec![0.0; n],
             stats: RunStats::default(),
+            half_spaces: Vec::with_capacity(0),
         };
+        engine.half_spaces.reserve(engine.obstacles.len());
         if !integrator.is_space_time() {
             for &(d, _) in &dirichlet {
                 state.v[d] = 0.0;
@@ -484,6 +504,17 @@ impl Simulation {
     /// The dofs made massless by mass redistribution.
     pub fn massless_dofs(&self) -> &[usize] {
         &self.massless
+    }
+
+    /// Poses contact rows for the candidate pairs only (`true`, the default) or for every
+    /// pair at every step (`false`, the reference: [`crate::contact::complementarity`]).
+    pub fn set_candidate_search(&mut self, on: bool) {
+        self.treatment.set_candidate_search(on);
+    }
+
+    /// The constraint rows' solver (its column cache: [`RowSolver::cached_columns`]).
+    pub fn rows(&self) -> &RowSolver {
+        &self.engine.rows
     }
 
     /// The treatment's name.

@@ -22,6 +22,18 @@
 //!   Newton's law at the velocity level, `y = (c.v1 - w) + e (c.v0 - w) >= 0` with the
 //!   restitution `e`. Positions are not enforced: a drift of order `h |v|` remains.
 //!
+//! **Candidate search.** Only the pairs that can carry a reaction get a row: those held in
+//! the previous step, and those whose condition in the free step, `y_free = y0 + mu
+//! c.x_free`, is below the margin `max(0, -min_p y_free)` (the deepest predicted violation:
+//! the reactions of the violated pairs move their neighbours by amounts of that order).
+//! After the solve every other pair's condition is evaluated at the solution, `y0 + mu c.x`;
+//! a violated one joins the candidates and the interval is solved again. The solution then
+//! satisfies the rows of every pair (the others carry `lambda = 0` with `y >= -tol`), so it
+//! is the all-pairs solution (the same active set; the tests compare the two to 1e-12 on the
+//! wheel and the bar), while the dense system and the cached columns
+//! ([`crate::contact::rows`]) hold the few candidates instead of every contact pair: on the
+//! converged wheel (288 rim nodes) a handful of rows instead of a 288 x 288 system per step.
+//!
 //! **Friction** (coefficient `mu > 0`, 2D): beside each pair's normal row, a bounded row on
 //! the pair's tangent `c_t` with `y = (c_t.V - w_t) + mu_v c_t.x`, the slip velocity at the
 //! step end, and `|lambda_t| <= mu lambda_n` ([`crate::contact::rows`]): stick (the slip
@@ -61,6 +73,21 @@ pub struct Complementarity {
     friction: Option<FrictionLaw>,
     /// The tangential surface velocity of each pair in the last solve, m/s.
     wt: Vec<f64>,
+    /// Pose rows for the candidate pairs only (module docs); `false`: every pair.
+    search: bool,
+    /// Per pair: the row posed in this step (kind of law applied), `None` when the pair is
+    /// out of the problem (Moreau-Jean's non-candidates).
+    posed: Vec<Option<PairRow>>,
+    /// Per pair: a candidate of the current solve.
+    candidate: Vec<bool>,
+}
+
+/// A pair's normal row of one step, before the search decides whether it is posed.
+#[derive(Debug, Clone, Copy)]
+struct PairRow {
+    row: Row,
+    /// The tangential row (friction), with the surface's tangential velocity.
+    tangent: Option<(Row, f64)>,
 }
 
 impl Complementarity {
@@ -73,6 +100,9 @@ impl Complementarity {
             vel_tol: None,
             friction: None,
             wt: vec![0.0; pairs],
+            search: true,
+            posed: vec![None; pairs],
+            candidate: vec![false; pairs],
         }
     }
 
@@ -116,7 +146,7 @@ impl ContactTreatment for Complementarity {
                 .stiffness_point(&fs.state, &eng.pred, &mut self.point),
             _ => 0.0,
         };
-        eng.rows.clear();
+        let mut margin = 0.0_f64;
         for p in 0..self.held.len() {
             let geo = eng.geometry(p, t1, &eng.pred.u);
             let (y0, mu, reg) = match self.law {
@@ -128,6 +158,7 @@ impl ContactTreatment for Complementarity {
                     let g0 = eng.geometry(p, t0, &fs.u);
                     let gn = g0.terms.dot(&fs.v) - g0.w;
                     if g0.gap(&eng.reference, &fs.u) + 0.5 * h * gn > 0.0 {
+                        self.posed[p] = None;
                         continue;
                     }
                     tol = vel_tol;
@@ -145,34 +176,81 @@ impl ContactTreatment for Complementarity {
                 }
                 Law::Exact => (geo.gap(&eng.reference, &eng.pred.u), maps.mu_u, 0.0),
             };
-            let normal = eng.rows.push(Row {
+            let row = Row {
                 pair: p,
                 terms: geo.terms,
                 kind: RowKind::Unilateral,
                 y0,
                 mu,
                 reg,
-            });
-            if let Some(law) = self.friction {
-                if let Some(tg) = eng.tangent(p, t1, &eng.pred.u) {
-                    self.wt[p] = tg.w;
-                    let mu_f = law.coefficient(tg.terms.dot(&fs.v) - tg.w);
-                    eng.rows.push(Row {
-                        pair: p,
-                        terms: tg.terms,
-                        kind: RowKind::Bounded {
-                            normal,
-                            mu_f,
-                            eta: law.viscosity / maps.force,
+            };
+            let tangent = match self.friction {
+                Some(_) => eng.tangent(p, t1, &eng.pred.u).map(|tg| {
+                    (
+                        Row {
+                            pair: p,
+                            terms: tg.terms,
+                            kind: RowKind::Unilateral,
+                            y0: tg.terms.dot(&eng.pred.v) - tg.w,
+                            mu: maps.mu_v,
+                            reg: 0.0,
                         },
-                        y0: tg.terms.dot(&eng.pred.v) - tg.w,
-                        mu: maps.mu_v,
-                        reg: 0.0,
-                    });
+                        tg.w,
+                    )
+                }),
+                None => None,
+            };
+            self.posed[p] = Some(PairRow { row, tangent });
+            let y_free = y0 + mu * geo.terms.dot(&eng.xfree);
+            margin = margin.max(-y_free);
+            self.candidate[p] = !self.search || self.held[p] || y_free < -tol;
+        }
+        // Candidates: held, violated, or within the margin of the deepest violation.
+        if self.search {
+            for p in 0..self.held.len() {
+                if let Some(pr) = self.posed[p] {
+                    let y_free = pr.row.y0 + pr.row.mu * pr.row.terms.dot(&eng.xfree);
+                    if y_free < margin {
+                        self.candidate[p] = true;
+                    }
                 }
             }
         }
-        let changes = eng.solve(tol);
+        let mut changes = 0;
+        loop {
+            eng.rows.clear();
+            for p in 0..self.held.len() {
+                let Some(pr) = self.posed[p] else { continue };
+                if !self.candidate[p] {
+                    continue;
+                }
+                let normal = eng.rows.push(pr.row);
+                if let (Some(law), Some((trow, wt))) = (self.friction, pr.tangent) {
+                    self.wt[p] = wt;
+                    eng.rows.push(Row {
+                        kind: RowKind::Bounded {
+                            normal,
+                            mu_f: law.coefficient(trow.terms.dot(&fs.v) - wt),
+                            eta: law.viscosity / maps.force,
+                        },
+                        ..trow
+                    });
+                }
+            }
+            changes += eng.solve(tol);
+            // Every pair left out must hold at the solution (module docs).
+            let mut added = false;
+            for p in 0..self.held.len() {
+                let Some(pr) = self.posed[p] else { continue };
+                if !self.candidate[p] && pr.row.y0 + pr.row.mu * pr.row.terms.dot(&eng.x) < -tol {
+                    self.candidate[p] = true;
+                    added = true;
+                }
+            }
+            if !added {
+                break;
+            }
+        }
         eng.stats.resolves += changes;
         eng.finish(&fs.state, &mut ts.state);
         ts.t = t1;
@@ -203,6 +281,10 @@ impl ContactTreatment for Complementarity {
             self.held[p] = now;
         }
         Ok(())
+    }
+
+    fn set_candidate_search(&mut self, on: bool) {
+        self.search = on;
     }
 
     fn stored_energy(&self, s: &Snapshot) -> f64 {

@@ -54,6 +54,13 @@ pub trait Obstacle: Send + Sync + std::fmt::Debug {
         cdot - dot(ndot, x)
     }
 
+    /// The half-space at time `t` when it is the same near every point (a plane, a wall, the
+    /// rotating base: a straight boundary), so that the gaps of many nodes need it once
+    /// ([`crate::contact::pair::gaps_into`]); `None` (the default) for a curved obstacle.
+    fn uniform_half_space(&self, _t: f64) -> Option<HalfSpace> {
+        None
+    }
+
     /// A characteristic time of the obstacle's motion, s (for numerical differentiation).
     fn time_scale(&self) -> f64 {
         1.0
@@ -98,6 +105,9 @@ impl Obstacle for Plane {
     fn half_space(&self, _t: f64, _x: Vector) -> HalfSpace {
         self.half_space
     }
+    fn uniform_half_space(&self, _t: f64) -> Option<HalfSpace> {
+        Some(self.half_space)
+    }
     fn surface_normal_velocity(&self, _t: f64, _x: Vector) -> f64 {
         0.0
     }
@@ -109,6 +119,9 @@ impl Obstacle for Wall {
             normal: [self.side, 0.0, 0.0],
             offset: self.side * self.position,
         }
+    }
+    fn uniform_half_space(&self, t: f64) -> Option<HalfSpace> {
+        Some(self.half_space(t, [0.0; 3]))
     }
     fn surface_normal_velocity(&self, _t: f64, _x: Vector) -> f64 {
         0.0
@@ -201,6 +214,10 @@ impl Obstacle for RotatingLine {
             normal: [-e[0], -e[1], 0.0],
             offset: -rho - e[0] * self.centre[0] - e[1] * self.centre[1],
         }
+    }
+
+    fn uniform_half_space(&self, t: f64) -> Option<HalfSpace> {
+        Some(self.half_space(t, [0.0; 3]))
     }
 
     fn surface_normal_velocity(&self, t: f64, x: Vector) -> f64 {

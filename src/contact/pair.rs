@@ -280,6 +280,34 @@ fn position(dim: usize, reference: &[f64], u: &[f64], node: usize) -> Vector {
     x
 }
 
+/// The gaps of all `pairs` at time `t` in the configuration `u` into `out` (m), as
+/// [`Pair::gap`] gives them one by one, with the half-space of each obstacle that has a
+/// uniform one ([`Obstacle::uniform_half_space`]) evaluated once instead of once per pair
+/// (`scratch`: one slot per obstacle).
+#[allow(clippy::too_many_arguments)]
+pub fn gaps_into(
+    pairs: &[Pair],
+    obstacles: &[Box<dyn Obstacle>],
+    dim: usize,
+    reference: &[f64],
+    u: &[f64],
+    t: f64,
+    scratch: &mut Vec<Option<super::obstacle::HalfSpace>>,
+    out: &mut [f64],
+) {
+    scratch.clear();
+    scratch.extend(obstacles.iter().map(|o| o.uniform_half_space(t)));
+    for (p, g) in pairs.iter().zip(out.iter_mut()) {
+        *g = match *p {
+            Pair::Obstacle { node, obstacle } => match scratch[obstacle] {
+                Some(hs) => hs.gap(position(dim, reference, u, node)),
+                None => p.gap(obstacles, dim, reference, u, t),
+            },
+            Pair::Weighted { .. } | Pair::Nodes { .. } => p.gap(obstacles, dim, reference, u, t),
+        };
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -33,7 +33,14 @@
 //! is one dense solve of its size. The columns `A^{-1} e_d` of the constrained dofs are
 //! cached (least recently used slot replaced) while `A` does not change, so a change of the
 //! active set, a new pair or a turned normal costs no factorization, only column solves the
-//! first time a dof is constrained. All memory is allocated in [`RowSolver::new`].
+//! first time a dof is constrained.
+//!
+//! **Memory.** The rows' buffers are allocated in [`RowSolver::new`]. The column cache
+//! (`n` values per slot) starts with [`MAX_TERMS`] slots and grows, by doubling up to the
+//! `cache_dofs` given to [`RowSolver::new`], only when the rows of one solve need more
+//! distinct dofs than it holds: it follows the largest contact patch of the run (a few
+//! allocations over a run, none once the patch has been seen), not the number of contact
+//! dofs, which on a converged wheel would be hundreds of columns of thousands of values.
 //!
 //! **Stick/slip (Coulomb friction).** A bounded row starts a solve sticking (`y_p = 0`) when
 //! its normal row starts active, else off (`lambda_p = 0`), and follows the normal row in and
@@ -154,6 +161,8 @@ pub struct RowSolver {
     rows: Vec<Row>,
     lambda: Vec<f64>,
     slot_of_dof: Vec<usize>,
+    /// Most slots the cache may grow to.
+    max_slots: usize,
     dof_of_slot: Vec<usize>,
     last_used: Vec<u64>,
     cols: Vec<f64>,
@@ -177,18 +186,20 @@ enum Activity {
 }
 
 impl RowSolver {
-    /// Room for `max_rows` rows at once and the columns of `cache_dofs` dofs (at least
-    /// [`MAX_TERMS`], at most `n`), for `n` dofs. The cache must hold the distinct dofs of
-    /// the rows of one solve (a panic says so otherwise): the caller sizes it, e.g. every
-    /// contact dof.
+    /// Room for `max_rows` rows at once and the columns of at most `cache_dofs` dofs (at
+    /// least [`MAX_TERMS`], at most `n`), for `n` dofs. The cache must be able to hold the
+    /// distinct dofs of the rows of one solve (a panic says so otherwise): the caller sizes
+    /// it, e.g. every contact dof; it is filled only as far as needed (module docs, Memory).
     pub fn new(n: usize, max_rows: usize, cache_dofs: usize) -> Self {
         let mr = max_rows.max(1);
-        let slots = cache_dofs.max(MAX_TERMS).min(n.max(1));
+        let max_slots = cache_dofs.max(MAX_TERMS).min(n.max(1));
+        let slots = MAX_TERMS.min(max_slots);
         Self {
             n,
             rows: Vec::with_capacity(mr),
             lambda: vec![0.0; mr],
             slot_of_dof: vec![NO_SLOT; n],
+            max_slots,
             dof_of_slot: vec![NO_SLOT; slots],
             last_used: vec![0; slots],
             cols: vec![0.0; slots * n],
@@ -237,6 +248,11 @@ impl RowSolver {
     /// The multipliers of the last solve, one per row.
     pub fn lambda(&self) -> &[f64] {
         &self.lambda[..self.rows.len()]
+    }
+
+    /// Columns the cache holds room for now (it grows as the rows need, module docs).
+    pub fn cached_columns(&self) -> usize {
+        self.dof_of_slot.len()
     }
 
     /// Column solves done so far (`A^{-1} e_d` for a newly constrained dof).
@@ -464,6 +480,15 @@ impl RowSolver {
             if self.last_used[i] < self.last_used[s] {
                 s = i;
             }
+        }
+        // Every slot holds a column of this solve: grow (module docs, Memory).
+        let slots = self.dof_of_slot.len();
+        if self.last_used[s] == self.clock && slots < self.max_slots {
+            let grown = (2 * slots).min(self.max_slots);
+            self.dof_of_slot.resize(grown, NO_SLOT);
+            self.last_used.resize(grown, 0);
+            self.cols.resize(grown * self.n, 0.0);
+            s = slots;
         }
         assert!(
             self.last_used[s] < self.clock || self.dof_of_slot[s] == NO_SLOT,

@@ -194,6 +194,8 @@ pub struct SoftWay {
     friction_row: Vec<Option<(Terms, f64)>>,
     lambda_t: Vec<f64>,
     sliding: Vec<bool>,
+    /// The pairs' gaps at `t1` of the last solve.
+    gaps: Vec<f64>,
 }
 
 impl SoftWay {
@@ -214,6 +216,7 @@ impl SoftWay {
             friction_row: vec![None; pairs],
             lambda_t: vec![0.0; pairs],
             sliding: vec![false; pairs],
+            gaps: vec![0.0; pairs],
         }
     }
 
@@ -314,7 +317,9 @@ impl ContactTreatment for SoftWay {
             self.restore[p] = fs.pairs[p].restore;
             self.released[p] = false;
         }
+        let mut gaps_fresh = false;
         for _ in 0..MAX_RESOLVES {
+            gaps_fresh = false;
             eng.extra.fill(0.0);
             for p in 0..np {
                 if let Some(r) = self.restore[p] {
@@ -365,12 +370,14 @@ impl ContactTreatment for SoftWay {
                 continue;
             }
             // Penetration of free pairs at t1.
+            eng.gaps_into(t1, &ts.u, &mut self.gaps);
+            gaps_fresh = true;
             self.pen.clear();
             for p in 0..np {
                 if self.modes[p] != PairMode::Free {
                     continue;
                 }
-                if eng.gap(p, t1, &ts.u) < -eng.gap_tol {
+                if self.gaps[p] < -eng.gap_tol {
                     if self.released[p] {
                         // Released in this very step and penetrating again: hold it.
                         self.modes[p] = PairMode::Hold;
@@ -387,13 +394,16 @@ impl ContactTreatment for SoftWay {
             }
             break;
         }
+        if !gaps_fresh {
+            eng.gaps_into(t1, &ts.u, &mut self.gaps);
+        }
         // Record the pairs' states at t1 and their modes for the next step.
         let k = self.row_pair.len();
         for p in 0..np {
             let prev = fs.pairs[p];
             let i = self.row_pair[..k].iter().position(|&q| q == p);
             let lam = i.map(|i| self.lambda[i]).unwrap_or(0.0);
-            let gap = eng.gap(p, t1, &ts.u);
+            let gap = self.gaps[p];
             let mut st = PairState {
                 mode: self.modes[p],
                 restore: None,

@@ -201,6 +201,11 @@ pub trait ContactTreatment: Send {
         self.solve_interval(eng, &lo[1], &mut hi[0])
     }
 
+    /// Poses rows only for the candidate pairs (`true`, the default) or for every pair at
+    /// every step (`false`: the reference of the search). A no-op for the treatments that
+    /// pose rows for their held and braked pairs only (the soft way, subdivision).
+    fn set_candidate_search(&mut self, _on: bool) {}
+
     /// Energy stored by the treatment in the state (penalty springs), J.
     fn stored_energy(&self, _s: &Snapshot) -> f64 {
         0.0

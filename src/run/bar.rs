@@ -483,6 +483,9 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
         "interrupted": report.interrupted,
         "runs": summaries,
     });
+    if let (Some(obj), Some(mib)) = (json.as_object_mut(), super::peak_rss_mib()) {
+        obj.insert("peak_rss_mib".into(), mib.into());
+    }
     if summaries.len() == 1 {
         if let (Some(obj), Ok(serde_json::Value::Object(one))) =
             (json.as_object_mut(), serde_json::to_value(&summaries[0]))

@@ -5,6 +5,7 @@
 pub mod bar;
 pub mod compare;
 pub mod converge;
+pub mod matrix;
 pub mod sdof;
 pub mod sweep;
 pub mod wheel;
@@ -92,6 +93,28 @@ pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunR
     }
 }
 
+/// The peak resident set size of this process so far, MiB (`VmHWM` of `/proc/self/status`;
+/// `None` where that file does not exist, i.e. off Linux). Written into every
+/// `summary.json` as `peak_rss_mib`: the process's peak, so in a sweep or a convergence
+/// ladder, whose runs share one process, it bounds the runs that ran together up to then.
+pub fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_vm_hwm(&status)
+}
+
+/// `VmHWM` (kB) of a `/proc/<pid>/status` text, in MiB.
+fn parse_vm_hwm(status: &str) -> Option<f64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb / 1024.0)
+}
+
 /// A progress bar over `len` steps (hidden when not on a terminal or not asked for).
 pub(crate) fn progress_bar(len: u64, label: &str, show: bool) -> indicatif::ProgressBar {
     use std::io::IsTerminal;
@@ -108,4 +131,23 @@ pub(crate) fn progress_bar(len: u64, label: &str, show: bool) -> indicatif::Prog
     );
     pb.set_prefix(label.to_string());
     pb
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn peak_rss_is_read_from_the_status_text() {
+        let status = "Name:\tsoftway\nVmPeak:\t  20480 kB\nVmHWM:\t    5120 kB\nVmRSS:\t 4096 kB\n";
+        assert_eq!(parse_vm_hwm(status), Some(5.0));
+        assert_eq!(parse_vm_hwm("Name: x\n"), None);
+        // On Linux the process's own peak is at least the memory it holds now.
+        if let Some(mib) = peak_rss_mib() {
+            let big = vec![1u8; 64 << 20];
+            std::hint::black_box(&big);
+            let after = peak_rss_mib().unwrap();
+            assert!(after >= 64.0 && after >= mib, "{mib} -> {after}");
+        }
+    }
 }

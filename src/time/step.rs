@@ -8,8 +8,16 @@
 //!      + h f(t_0 + \alpha h) + h r,$$
 //! $$u_1 = u_0 + h[(1-\beta) v_0 + \beta v_1],\qquad \beta = 1 - \frac{\alpha}{1+\gamma}.$$
 //!
-//! `A` depends on `alpha` and `h` only, so it is factored once ([`SparseLu`]); `gamma`
+//! `A` depends on `alpha` and `h` only, so it is factored once ([`Factor`]); `gamma`
 //! (hence `beta`) may change between steps at no cost.
+//!
+//! **The factor** ([`FactorChoice`]). With the default, [`FactorChoice::Auto`], a symmetric
+//! `A` (no Coriolis term: the bars, a wheel without spin) gets a sparse Cholesky factor
+//! `L L^T` (AMD ordering), any other `A` (the wheel's Coriolis matrix is skew) an LU with
+//! partial pivoting whose columns are ordered by AMD on `A + A^T` (the matrix is structurally
+//! symmetric and its pivots stay on the diagonal, where COLAMD, faer's default for LU, orders
+//! for the fill of `A^T A`). The LU with COLAMD stays available as the reference
+//! ([`FactorChoice::Kind`]); the tests check that the fast paths reproduce it.
 //!
 //! **Dirichlet velocities** are imposed by replacing the rows and columns of `A` by the
 //! identity and lifting the prescribed values into `b`.
@@ -24,7 +32,7 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::assembly::Assembler;
-use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
+use crate::linalg::{is_symmetric, Factor, FactorKind, LinalgError, Ordering, Pattern};
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
 use crate::time::params::beta;
@@ -77,9 +85,9 @@ pub struct Stepper {
     a_orig: Vec<f64>,
     a_work: Vec<f64>,
     /// The factor of the run's step `params.h`.
-    lu: SparseLu,
+    lu: Factor,
     /// A second numeric factor on the same symbolic analysis, for another step length.
-    lu_other: Option<(f64, SparseLu)>,
+    lu_other: Option<(f64, Factor)>,
     /// The step length in force, s.
     h_now: f64,
     factorizations: usize,
@@ -108,6 +116,20 @@ impl Stepper {
         params: SpaceTimeParams,
         bcs: &[(usize, f64)],
     ) -> Result<Self, LinalgError> {
+        Self::with_factor(model, params, bcs, FactorChoice::Auto)
+    }
+
+    /// The same with the factorization of `A` chosen by `choice`.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when `A` is singular (or, for a Cholesky factor, not positive
+    /// definite).
+    pub fn with_factor(
+        model: &LinearModel,
+        params: SpaceTimeParams,
+        bcs: &[(usize, f64)],
+        choice: FactorChoice,
+    ) -> Result<Self, LinalgError> {
         let n = model.n();
         let pattern = model.pattern().clone();
         let mut is_bc = vec![false; n];
@@ -130,7 +152,15 @@ impl Stepper {
             is_bc: &is_bc,
         }
         .fill(params.alpha, params.h, &mut a_orig, &mut bv, &mut a_work);
-        let lu = SparseLu::new(&pattern, &a_work)?;
+        let lu = match choice {
+            FactorChoice::Kind(kind) => Factor::new(&pattern, &a_work, kind)?,
+            FactorChoice::Auto if is_symmetric(&pattern, &a_work, 1e-14) => {
+                // A symmetric matrix that is not positive definite keeps the LU.
+                Factor::new(&pattern, &a_work, FactorKind::Llt)
+                    .or_else(|_| Factor::new(&pattern, &a_work, FactorKind::Lu(Ordering::Amd)))?
+            }
+            FactorChoice::Auto => Factor::new(&pattern, &a_work, FactorKind::Lu(Ordering::Amd))?,
+        };
         Ok(Self {
             params,
             schedule: Vec::new(),
@@ -196,6 +226,17 @@ impl Stepper {
     }
 }
 
+/// How [`Stepper`] factors `A` (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FactorChoice {
+    /// Cholesky when `A` is symmetric (to 1e-14 of its largest entry) and positive definite,
+    /// else LU with AMD column ordering.
+    Auto,
+    /// This factorization (an LU works for every `A`; Cholesky fails on an unsymmetric or
+    /// indefinite one).
+    Kind(FactorKind),
+}
+
 /// The matrices the step's operators are made of.
 struct Operators<'a> {
     m: &'a [f64],
@@ -242,8 +283,27 @@ impl Stepper {
         for (bi, fi) in b.iter_mut().zip(f) {
             *bi = h * fi;
         }
-        spmv_add(&self.pattern, &self.bv, 1.0, v0, b);
-        spmv_add(&self.pattern, &self.k, -h, u0, b);
+        // `b += B v0 - h K u0` in one pass over the pattern (B and K share it).
+        let col_ptr = self.pattern.col_ptr();
+        let row_idx = self.pattern.row_idx();
+        let n = self.n;
+        assert!(b.len() == n && v0.len() == n && u0.len() == n);
+        for j in 0..n {
+            let (vj, uj) = (v0[j], -h * u0[j]);
+            if vj == 0.0 && uj == 0.0 {
+                continue;
+            }
+            let range = col_ptr[j]..col_ptr[j + 1];
+            for ((&i, &bp), &kp) in row_idx[range.clone()]
+                .iter()
+                .zip(&self.bv[range.clone()])
+                .zip(&self.k[range])
+            {
+                // SAFETY: the pattern's row indices are < n (faer checks them when the
+                // pattern is built) and `b.len() == n` (asserted above).
+                unsafe { *b.get_unchecked_mut(i) += bp * vj + kp * uj };
+            }
+        }
     }
 
     /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities.
@@ -252,7 +312,25 @@ impl Stepper {
         self.factor().solve_in_place(b);
     }
 
-    fn factor(&mut self) -> &mut SparseLu {
+    /// The factorization of `A` in use.
+    pub fn factor_kind(&self) -> FactorKind {
+        self.lu.kind()
+    }
+
+    /// Stored entries of the factors of `A` (`L + U`, or `L` for Cholesky).
+    pub fn factor_nnz(&self) -> usize {
+        self.lu.factor_nnz()
+    }
+
+    /// The step's matrices for the current `h` on their pattern: `A` with the Dirichlet
+    /// identity rows and columns (the matrix factored), the right-hand-side operator
+    /// `B = M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K` and `K` (module docs): `(pattern,
+    /// A, B, K)`.
+    pub fn matrices(&self) -> (&Pattern, &[f64], &[f64], &[f64]) {
+        (&self.pattern, &self.a_work, &self.bv, &self.k)
+    }
+
+    fn factor(&mut self) -> &mut Factor {
         match &mut self.lu_other {
             Some((h, lu)) if *h == self.h_now => lu,
             _ => &mut self.lu,

@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""Peer comparison of softway's space-time step (issue 11): one command, one ratio.
+
+    python bench/peers/peers.py scenarios/wheel-paper-mesh.toml [--softway target/release/softway]
+
+Runs `softway matrix SCENARIO --out DIR`, which writes the step's matrices (A, B, K in
+Matrix Market), the state and load of the step, the fixed dofs, the sizes of softway's
+factors and softway's own time for one free step (matrix.json), then times the same step
+with the peers, factor once and solve per step, each step being
+
+    b = B v0 - h K u0 + h f,  b[fixed] = 0,  v1 = A^-1 b
+
+- scipy's SuperLU (`scipy.sparse.linalg.splu`) on A, COLAMD and MMD(A^T + A) orderings:
+  the exact step (A is unsymmetric when the wheel spins: Coriolis);
+- CHOLMOD through cholespy (if installed) on A when A is symmetric; on an unsymmetric A on
+  its symmetric part (A + A^T)/2 instead, a bound for a Cholesky peer and not the same step
+  (marked so).
+
+Each time is the median over five rounds of many steps, in this process, single-threaded
+(OMP/MKL/OpenBLAS threads set to 1). Prints a table with the nnz of each factor and the
+ratio softway / peer. Needs numpy and scipy; cholespy optional
+(`pip install numpy scipy cholespy`). Not part of CI.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(var, "1")
+
+import numpy as np  # noqa: E402
+import scipy.io  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
+import scipy.sparse.linalg as spla  # noqa: E402
+
+
+def median_step_us(step, reps):
+    rounds = []
+    for _ in range(5):
+        t = time.perf_counter()
+        for _ in range(reps):
+            step()
+        rounds.append((time.perf_counter() - t) / reps * 1e6)
+    rounds.sort()
+    return rounds[2]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("scenario")
+    ap.add_argument("--softway", default=None,
+                    help="the softway binary [default: target/release/softway, else cargo run --release]")
+    ap.add_argument("--dir", default=None, help="where softway writes the matrices [default: a temporary folder]")
+    args = ap.parse_args()
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    root = os.path.dirname(os.path.dirname(here))
+    out = args.dir or tempfile.mkdtemp(prefix="softway-peers-")
+    exe = args.softway
+    if exe is None:
+        target = os.environ.get("CARGO_TARGET_DIR", os.path.join(root, "target"))
+        cand = os.path.join(target, "release", "softway")
+        exe = cand if os.path.exists(cand) else None
+    cmd = [exe] if exe else ["cargo", "run", "--quiet", "--release", "--"]
+    subprocess.run(cmd + ["matrix", args.scenario, "--out", out], check=True, cwd=root,
+                   stdout=subprocess.DEVNULL)
+
+    info = json.load(open(os.path.join(out, "matrix.json")))
+    A = sp.csc_matrix(scipy.io.mmread(os.path.join(out, "A.mtx")))
+    B = sp.csr_matrix(scipy.io.mmread(os.path.join(out, "B.mtx")))
+    K = sp.csr_matrix(scipy.io.mmread(os.path.join(out, "K.mtx")))
+    u0 = np.asarray(scipy.io.mmread(os.path.join(out, "u0.mtx"))).ravel()
+    v0 = np.asarray(scipy.io.mmread(os.path.join(out, "v0.mtx"))).ravel()
+    f = np.asarray(scipy.io.mmread(os.path.join(out, "f.mtx"))).ravel()
+    fixed_txt = open(os.path.join(out, "fixed.txt")).read().split()
+    fixed = np.array([int(d) for d in fixed_txt], dtype=np.int64)
+    h = info["h_s"]
+    n = A.shape[0]
+    hf = h * f
+    hK = (h * K).tocsr()
+
+    def rhs():
+        b = B @ v0 - hK @ u0 + hf
+        b[fixed] = 0.0
+        return b
+
+    reps = int(min(20000, max(20, 2_000_000 // (A.nnz + 1))))
+    rows = []  # (peer, nnz of factors, us per step, exact step?)
+    ref = None
+    for spec in ("COLAMD", "MMD_AT_PLUS_A"):
+        lu = spla.splu(A, permc_spec=spec)
+        x = lu.solve(rhs())
+        if ref is None:
+            ref = x
+        us = median_step_us(lambda: lu.solve(rhs()), reps)
+        rows.append((f"scipy splu (SuperLU, {spec})", lu.L.nnz + lu.U.nnz, us, True))
+    resid = np.abs(A @ ref - rhs()).max() / np.abs(rhs()).max()
+
+    try:
+        from cholespy import CholeskySolverD, MatrixType
+        sym = abs(A - A.T).max() <= 1e-14 * abs(A).max()
+        S = A if sym else ((A + A.T) * 0.5).tocsc()
+        S = S.tocoo()
+        solver = CholeskySolverD(n, S.row.astype(np.int32), S.col.astype(np.int32),
+                                 S.data.astype(np.float64), MatrixType.COO)
+        xb = np.empty(n)
+
+        def chol_step():
+            b = rhs()
+            solver.solve(b, xb)
+        us = median_step_us(chol_step, reps)
+        label = "CHOLMOD (cholespy)" + ("" if sym else " on (A+A^T)/2: no Coriolis, a bound")
+        rows.append((label, None, us, sym))
+    except ImportError:
+        print("cholespy not installed: no CHOLMOD row (pip install cholespy)", file=sys.stderr)
+
+    sw = info["softway_step_us"]
+    print(f"{info['n']} dofs, nnz(A) = {info['nnz_a']}, h = {h:g} s, A symmetric: {info['symmetric']}; "
+          f"SuperLU residual {resid:.1e}")
+    print(f"{'solver':58} {'nnz(factors)':>13} {'us/step':>9} {'softway/peer':>13}")
+    for name, nnz in info["factor_nnz"]:
+        mark = " (used)" if name == info["factor"] else ""
+        print(f"{'softway ' + name + mark:58} {nnz:>13}")
+    print(f"{'softway (its factor, matrix.json)':58} {'':>13} {sw:>9.1f} {1.0:>13.2f}")
+    best = None
+    for name, nnz, us, exact in rows:
+        nz = "" if nnz is None else str(nnz)
+        print(f"{name:58} {nz:>13} {us:>9.1f} {sw / us:>13.2f}")
+        if exact and (best is None or us < best[1]):
+            best = (name, us)
+    if best:
+        print(f"ratio softway / best exact peer ({best[0]}): {sw / best[1]:.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,187 @@
+//! `softway matrix`: the space-time step's matrices of a scenario's first run, written for
+//! other solvers (the peer comparison of `bench/peers/`), with the size of each factor of
+//! `A` and softway's own time for one free step.
+//!
+//! Files (Matrix Market, 1-based, every stored entry, `real general`):
+//! - `A.mtx`: `A = M + alpha h C + alpha^2 h^2/2 K` with the Dirichlet rows and columns
+//!   replaced by the identity (the matrix softway factors);
+//! - `B.mtx`: `B = M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K` and `K.mtx`: the step's
+//!   right-hand side is `b = B v0 - h K u0 + h f`, `b_d = 0` on the fixed dofs `d`
+//!   ([`crate::time::step`]);
+//! - `u0.mtx`, `v0.mtx`, `f.mtx` (Matrix Market arrays): the state and load of the step
+//!   timed (a wheel: its spun-up displacement, a velocity `1e-3 sin(i)` m/s, its
+//!   centrifugal load; a bar: its initial state, no load);
+//! - `fixed.txt`: the fixed dofs, 0-based, one a line;
+//! - `matrix.json`: `n`, `nnz_a`, `h_s`, `alpha`, `symmetric`, the stored entries of each
+//!   factor (`factor_nnz`: LU with COLAMD, LU with AMD, Cholesky when `A` is symmetric
+//!   positive definite), the factor softway uses, and `softway_step_us`: the median over
+//!   five rounds of the time of one free step (right-hand side and solve, as
+//!   `benches/step.rs` times it), measured here, single-threaded.
+
+use super::RunError;
+use crate::linalg::{write_matrix_market, FactorKind, Ordering};
+use crate::output::files::write_json;
+use crate::scenario::{Model, Scenario};
+use crate::time::step::{FactorChoice, LinearModel, Stepper};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What [`dump`] measured.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct MatrixReport {
+    /// Dofs.
+    pub n: usize,
+    /// Stored entries of `A`.
+    pub nnz_a: usize,
+    /// Time step, s.
+    pub h_s: f64,
+    /// `alpha`.
+    pub alpha: f64,
+    /// `A` symmetric (no Coriolis term).
+    pub symmetric: bool,
+    /// `(factorization, stored entries of its factors)`.
+    pub factor_nnz: Vec<(String, usize)>,
+    /// The factorization softway uses ([`FactorChoice::Auto`]).
+    pub factor: String,
+    /// One free step (right-hand side and solve), microseconds.
+    pub softway_step_us: f64,
+}
+
+fn kind_name(k: FactorKind) -> String {
+    match k {
+        FactorKind::Lu(Ordering::Colamd) => "lu_colamd".into(),
+        FactorKind::Lu(Ordering::Amd) => "lu_amd".into(),
+        FactorKind::Llt => "llt_amd".into(),
+    }
+}
+
+/// Writes the matrices of the first run of `sc` (a wheel or a bar, space-time scheme) into
+/// `out` (module docs) and times softway's free step.
+///
+/// # Errors
+/// [`RunError`] for another kind of scenario, a singular matrix or an output error.
+pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), RunError> {
+    let run = &sc.runs[0];
+    let (model, fixed, u0, v0, f): (LinearModel, Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) =
+        match &run.model {
+            Model::Wheel(ws) => {
+                let wm = super::wheel::build(ws, &sc.path)?;
+                let n = wm.model.n();
+                let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
+                (
+                    wm.model.clone(),
+                    wm.fixed_dofs.clone(),
+                    wm.u_spin.clone(),
+                    v,
+                    wm.load.clone(),
+                )
+            }
+            Model::BarImpact(b) => {
+                let (_, p) = b.problem(run.integrator, run.contact, run.params.h, run.t_end);
+                let n = p.model.n();
+                (p.model, vec![], p.u0, p.v0, vec![0.0; n])
+            }
+            _ => {
+                return Err(RunError::input(
+                    &sc.path,
+                    "`softway matrix` takes a wheel or a bar_impact scenario",
+                ))
+            }
+        };
+    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    let bcs: Vec<(usize, f64)> = fixed.iter().map(|&d| (d, 0.0)).collect();
+    let sim_err = |e| RunError::Simulation {
+        run: run.label.clone(),
+        source: crate::simulation::SimError::Linalg(e),
+    };
+    let mut st = Stepper::new(&model, run.params, &bcs).map_err(sim_err)?;
+    let mut factor_nnz = Vec::new();
+    for kind in [
+        FactorKind::Lu(Ordering::Colamd),
+        FactorKind::Lu(Ordering::Amd),
+        FactorKind::Llt,
+    ] {
+        if let Ok(s) = Stepper::with_factor(&model, run.params, &bcs, FactorChoice::Kind(kind)) {
+            // A Cholesky factor of an unsymmetric matrix is not a factor of it.
+            if kind != FactorKind::Llt || st.factor_kind() == FactorKind::Llt {
+                factor_nnz.push((kind_name(kind), s.factor_nnz()));
+            }
+        }
+    }
+    let (pattern, a, b, k) = st.matrices();
+    let symmetric = crate::linalg::is_symmetric(pattern, a, 1e-14);
+    let nnz_a = a.len();
+    let mut files = Vec::new();
+    let header = format!(
+        "softway: {} ({}), space-time step, alpha = {}, h = {:e} s",
+        sc.name, run.label, run.params.alpha, run.params.h
+    );
+    for (name, values, what) in [
+        (
+            "A.mtx",
+            a,
+            "A = M + alpha h C + alpha^2 h^2/2 K, Dirichlet rows and columns identity",
+        ),
+        (
+            "B.mtx",
+            b,
+            "B = M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K",
+        ),
+        ("K.mtx", k, "K"),
+    ] {
+        let path = out.join(name);
+        let mut w = std::io::BufWriter::new(
+            std::fs::File::create(&path).map_err(|e| RunError::output(&path, e))?,
+        );
+        write_matrix_market(&mut w, pattern, values, &format!("{header}\n{what}"))
+            .and_then(|_| w.flush())
+            .map_err(|e| RunError::output(&path, e))?;
+        files.push(path);
+    }
+    for (name, values) in [("u0.mtx", &u0), ("v0.mtx", &v0), ("f.mtx", &f)] {
+        let path = out.join(name);
+        let mut s = format!(
+            "%%MatrixMarket matrix array real general\n% {header}\n{} 1\n",
+            values.len()
+        );
+        for v in values.iter() {
+            s.push_str(&format!("{v:e}\n"));
+        }
+        std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
+        files.push(path);
+    }
+    let path = out.join("fixed.txt");
+    let s: String = fixed.iter().map(|d| format!("{d}\n")).collect();
+    std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
+    files.push(path);
+    // softway's free step, timed as benches/step.rs does: median of five rounds.
+    let n = model.n();
+    let mut rhs = vec![0.0; n];
+    let reps = (2_000_000 / (nnz_a + 1)).clamp(20, 20_000);
+    let mut rounds = Vec::with_capacity(5);
+    for _ in 0..5 {
+        let t = Instant::now();
+        for _ in 0..reps {
+            st.rhs_into(&u0, &v0, &f, &mut rhs);
+            st.solve(&mut rhs);
+        }
+        rounds.push(t.elapsed().as_secs_f64() / reps as f64 * 1e6);
+        std::hint::black_box(&rhs);
+    }
+    rounds.sort_by(f64::total_cmp);
+    let report = MatrixReport {
+        n,
+        nnz_a,
+        h_s: run.params.h,
+        alpha: run.params.alpha,
+        symmetric,
+        factor_nnz,
+        factor: kind_name(st.factor_kind()),
+        softway_step_us: rounds[2],
+    };
+    let path = out.join("matrix.json");
+    write_json(&path, &report).map_err(|e| RunError::output(&path, e))?;
+    files.push(path);
+    Ok((report, files))
+}
