@@ -7,9 +7,27 @@ use softway::build::resolve;
 use softway::run::{run_scenario, RunOptions, INTERRUPT};
 use softway::scenario::Scenario;
 use softway::time::sdof::analyse;
-use std::path::PathBuf;
+use softway::output::staging::StagedDir;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
+
+/// `println!` that never panics: a closed standard output (`softway run ... | head`) only
+/// silences the rest of the report; the run itself goes on and its files are written.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `eprintln!` that never panics (a closed standard error).
+macro_rules! errln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
 
 /// Dynamic contact by the space-time finite element method (Bajer's soft way).
 #[derive(Parser, Debug)]
@@ -31,6 +49,14 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Replace the output folder even if it holds files softway did not write (a
+        /// folder written by softway is always replaced whole, never mixed with new files).
+        #[arg(long)]
+        force: bool,
+        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
+        /// (4 h on one core, half the memory, 20 GB of per-step files).
+        #[arg(long)]
+        yes: bool,
     },
     /// Run a scenario over a list of values of one key, in parallel (e.g. the paper's Fig. 15).
     Sweep {
@@ -46,6 +72,14 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
+        /// Replace the output folder even if it holds files softway did not write (a
+        /// folder written by softway is always replaced whole, never mixed with new files).
+        #[arg(long)]
+        force: bool,
+        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
+        /// (4 h on one core, half the memory, 20 GB of per-step files).
+        #[arg(long)]
+        yes: bool,
     },
     /// Run a scenario over a refinement ladder of one key (mesh or step) and report the
     /// observed order of every key figure: converge.csv, converge.md, converge.png.
@@ -62,6 +96,14 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
+        /// Replace the output folder even if it holds files softway did not write (a
+        /// folder written by softway is always replaced whole, never mixed with new files).
+        #[arg(long)]
+        force: bool,
+        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
+        /// (4 h on one core, half the memory, 20 GB of per-step files).
+        #[arg(long)]
+        yes: bool,
     },
     /// Run the combinations (integrator, contact treatment, time step, mesh) of a bar
     /// scenario side by side against the exact answer: compare.csv, compare.md, force and
@@ -73,6 +115,14 @@ enum Command {
         /// Output folder [default: out/<scenario name>].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Replace the output folder even if it holds files softway did not write (a
+        /// folder written by softway is always replaced whole, never mixed with new files).
+        #[arg(long)]
+        force: bool,
+        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
+        /// (4 h on one core, half the memory, 20 GB of per-step files).
+        #[arg(long)]
+        yes: bool,
     },
     /// Natural frequencies (Hz) and periods (us) of a wheel scenario's model, at rest and
     /// spinning (rotating frame), with the mode shapes as VTU.
@@ -85,6 +135,10 @@ enum Command {
         /// Output folder [default: out/<scenario name>-modes].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Replace the output folder even if it holds files softway did not write (a
+        /// folder written by softway is always replaced whole, never mixed with new files).
+        #[arg(long)]
+        force: bool,
     },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
@@ -100,6 +154,10 @@ enum Command {
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
+        /// Replace the output folder even if it holds files softway did not write (a
+        /// folder written by softway is always replaced whole, never mixed with new files).
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -109,12 +167,12 @@ fn main() -> ExitCode {
         if INTERRUPT.swap(true, Ordering::SeqCst) {
             std::process::exit(130);
         }
-        eprintln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
+        errln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
     });
     match try_main(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("softway: error: {e}");
+            errln!("softway: error: {e}");
             ExitCode::from(2)
         }
     }
@@ -126,23 +184,29 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             out,
             quiet,
+            force,
+            yes,
         } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
+            check_estimate(&sc, yes)?;
             for w in &sc.warnings {
-                eprintln!("softway: warning: {w}");
+                errln!("softway: warning: {w}");
             }
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-            let report = run_scenario(&sc, &out, &RunOptions { progress: !quiet })?;
-            println!("{} ({})", sc.name, scenario.display());
+            let stage = StagedDir::begin(&out, force)?;
+            let report = run_scenario(&sc, stage.path(), &RunOptions { progress: !quiet })?;
+            let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
+            outln!("{} ({})", sc.name, scenario.display());
             for l in &report.lines {
-                println!("  {l}");
+                outln!("  {l}");
             }
-            println!("  wrote:");
-            for f in &report.files {
-                println!("    {}", f.display());
+            outln!("  wrote:");
+            for f in &files {
+                outln!("    {}", f.display());
             }
             if report.interrupted {
-                eprintln!("softway: interrupted; the files above hold the steps computed so far");
+                errln!("softway: interrupted; the files above hold the steps computed so far");
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
@@ -152,10 +216,12 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set,
             out,
             jobs,
+            force,
+            yes,
         } => {
+            let sc = Scenario::from_file(&scenario)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-            let sc = Scenario::from_file(&scenario)?;
             let (key, values) = match set {
                 Some(s) => parse_set(&s)?,
                 None => sc.sweep.clone().ok_or_else(|| {
@@ -165,15 +231,20 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     )
                 })?,
             };
+            check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
-            set_jobs(jobs);
-            println!("{}: sweeping {key} over {} values", sc.name, values.len());
+            set_jobs(jobs)?;
+            let stage = StagedDir::begin(&out, force)?;
+            outln!("{}: sweeping {key} over {} values", sc.name, values.len());
             let (points, files) =
-                softway::run::sweep::sweep(&scenario, &text, &key, &values, &out)?;
+                softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
+            stage.commit()?;
             print_table(&out.join("sweep.md"), &files);
-            for p in points {
-                println!("    {}/", p.dir.display());
+            for d in dirs {
+                outln!("    {}/", d.display());
             }
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
@@ -185,44 +256,59 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set,
             out,
             jobs,
+            force,
+            yes,
         } => {
+            let sc = Scenario::from_file(&scenario)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-            let sc = Scenario::from_file(&scenario)?;
             let (key, values) = parse_set(&set)?;
+            check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
-            set_jobs(jobs);
-            println!(
+            set_jobs(jobs)?;
+            let stage = StagedDir::begin(&out, force)?;
+            outln!(
                 "{}: convergence of {key} over {} rungs",
                 sc.name,
                 values.len()
             );
             let (_, files) =
-                softway::run::converge::converge(&scenario, &text, &key, &values, &out)?;
+                softway::run::converge::converge(&scenario, &text, &key, &values, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
             print_table(&out.join("converge.md"), &files);
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Compare { scenario, out } => {
+        Command::Compare {
+            scenario,
+            out,
+            force,
+            yes,
+        } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
+            check_estimate(&sc, yes)?;
             for w in &sc.warnings {
-                eprintln!("softway: warning: {w}");
+                errln!("softway: warning: {w}");
             }
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+            let stage = StagedDir::begin(&out, force)?;
             let report =
-                softway::run::compare::compare(&sc, &out, &RunOptions { progress: false })?;
+                softway::run::compare::compare(&sc, stage.path(), &RunOptions { progress: false })?;
+            let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
             for l in &report.lines {
-                println!("{l}");
+                outln!("{l}");
             }
-            println!("wrote:");
-            for f in &report.files {
-                println!("  {}", f.display());
+            outln!("wrote:");
+            for f in &files {
+                outln!("  {}", f.display());
             }
             if report.interrupted {
-                eprintln!("softway: interrupted: the table holds the runs finished before");
+                errln!("softway: interrupted: the table holds the runs finished before");
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
@@ -231,6 +317,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             count,
             out,
+            force,
         } => {
             let sc = Scenario::from_file(&scenario)?;
             let softway::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
@@ -245,17 +332,28 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             let wm = softway::run::wheel::build(ws, &sc.path)?;
             let rep = softway::modes::modes_report(&wm, count)?;
-            println!(
+            let out =
+                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
+            let stage = StagedDir::begin(&out, force)?;
+            let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+            stage.commit()?;
+            outln!(
                 "{}: {} dofs ({} free), support {:?}",
-                sc.name, rep.dofs, rep.free_dofs, wm.spec.support
+                sc.name,
+                rep.dofs,
+                rep.free_dofs,
+                wm.spec.support
             );
-            println!("at rest:");
-            println!(
+            outln!("at rest:");
+            outln!(
                 "{:>5} {:>14} {:>12} {:>5}  kind",
-                "mode", "frequency Hz", "period us", "n"
+                "mode",
+                "frequency Hz",
+                "period us",
+                "n"
             );
             for (i, m) in rep.at_rest.iter().enumerate() {
-                println!(
+                outln!(
                     "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
                     i + 1,
                     m.frequency_hz,
@@ -267,16 +365,19 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 );
             }
             if let Some(sp) = &rep.spinning {
-                println!(
+                outln!(
                     "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
                     ws.spec.omega
                 );
-                println!(
+                outln!(
                     "{:>5} {:>14} {:>14} {:>10}  kind",
-                    "mode", "frequency Hz", "at rest Hz", "whirl"
+                    "mode",
+                    "frequency Hz",
+                    "at rest Hz",
+                    "whirl"
                 );
                 for (i, m) in sp.iter().enumerate() {
-                    println!(
+                    outln!(
                         "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
                         i + 1,
                         m.frequency_hz,
@@ -287,12 +388,9 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 }
             }
             for n in &rep.notes {
-                println!("note: {n}");
+                outln!("note: {n}");
             }
-            let out =
-                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-            let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, &out)?;
-            println!("wrote {} files into {}", files.len(), out.display());
+            outln!("wrote {} files into {}", files.len(), out.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::Stability {
@@ -300,6 +398,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             gamma,
             out,
             json,
+            force,
         } => {
             if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
                 return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
@@ -308,6 +407,16 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
             }
             let rep = analyse(alpha, gamma, 5);
+            let files = match out {
+                Some(dir) => {
+                    let stage = StagedDir::begin(&dir, force)?;
+                    let files = softway::output::stability::write(&rep, stage.path())?;
+                    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+                    stage.commit()?;
+                    files
+                }
+                None => Vec::new(),
+            };
             if json {
                 let j = serde_json::json!({
                     "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
@@ -316,16 +425,18 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     "stability_limit_omega_h": rep.stability_limit_omega_h,
                     "table": rep.table,
                 });
-                println!("{}", serde_json::to_string_pretty(&j)?);
+                outln!("{}", serde_json::to_string_pretty(&j)?);
             } else {
-                print!("{}", softway::output::stability::table_text(&rep));
-            }
-            if let Some(dir) = out {
-                let files = softway::output::stability::write(&rep, &dir)?;
-                if !json {
-                    for f in files {
-                        println!("wrote {}", f.display());
-                    }
+                {
+                    use std::io::Write as _;
+                    let _ = write!(
+                        std::io::stdout(),
+                        "{}",
+                        softway::output::stability::table_text(&rep)
+                    );
+                }
+                for f in files {
+                    outln!("wrote {}", f.display());
                 }
             }
             Ok(ExitCode::SUCCESS)
@@ -333,10 +444,68 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
 }
 
+/// Refuses a built scenario whose estimated cost is beyond [`softway::build::Limits`]
+/// unless `yes`; a wheel's Gmsh mesh is read here (so that its errors come before any
+/// output folder is made).
+fn check_estimate(sc: &softway::scenario::Scenario, yes: bool) -> Result<(), String> {
+    let mut mesh_nodes = None;
+    for run in &sc.runs {
+        if let softway::scenario::Model::Wheel(ws) = &run.model {
+            if let softway::scenario::MeshSource::Gmsh(_) = ws.mesh {
+                let wm = softway::run::wheel::build(ws, &sc.path).map_err(|e| e.to_string())?;
+                mesh_nodes = Some(wm.mesh.n_nodes());
+            }
+        }
+    }
+    let est = softway::build::estimate(sc, mesh_nodes);
+    match est.check(&softway::build::Limits::default()) {
+        Some(why) if !yes => Err(format!("{}: {why}", sc.path.display())),
+        _ => Ok(()),
+    }
+}
+
+/// [`check_estimate`] over a sweep or a ladder: every value validated, the costs summed.
+fn check_ladder_estimate(
+    path: &Path,
+    text: &str,
+    key: &str,
+    values: &[String],
+    yes: bool,
+) -> Result<(), String> {
+    let mut total: Option<softway::build::Estimate> = None;
+    for v in values {
+        let t = softway::scenario::set_key(text, key, v).map_err(|m| format!("{key} = {v}: {m}"))?;
+        let sc = Scenario::from_str(&t, path)
+            .and_then(|sc| resolve(&sc))
+            .map_err(|e| format!("{key} = {v}: {e}"))?;
+        check_estimate(&sc, true)?;
+        let e = softway::build::estimate(&sc, None);
+        total = Some(match total {
+            None => e,
+            Some(mut t) => {
+                t.steps += e.steps;
+                t.seconds += e.seconds;
+                t.disk_bytes += e.disk_bytes;
+                t.memory_bytes = t.memory_bytes.max(e.memory_bytes);
+                if e.dofs > t.dofs {
+                    t.dofs = e.dofs;
+                    t.culprit = e.culprit;
+                }
+                t
+            }
+        });
+    }
+    match total.and_then(|t| t.check(&softway::build::Limits::default())) {
+        Some(why) if !yes => Err(format!("{}: {key}: {why}", path.display())),
+        _ => Ok(()),
+    }
+}
+
 /// `KEY=V1,V2,...` of `--set` into the key and its values.
 fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
     let (k, v) = s
         .split_once('=')
+        .filter(|(k, _)| !k.trim().is_empty())
         .ok_or_else(|| format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)"))?;
     let vals: Vec<String> = v
         .split(',')
@@ -350,20 +519,32 @@ fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
 }
 
 /// Runs at once for `sweep` and `converge` (default: the number of cores).
-fn set_jobs(jobs: Option<usize>) {
-    if let Some(j) = jobs {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(j.max(1))
-            .build_global()
-            .ok();
+fn set_jobs(jobs: Option<usize>) -> Result<(), String> {
+    match jobs {
+        Some(0) => Err("--jobs 0: give at least one job".into()),
+        Some(j) => {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(j)
+                .build_global()
+                .ok();
+            Ok(())
+        }
+        None => Ok(()),
     }
 }
 
 /// Prints a markdown table written by a study and the files it wrote.
 fn print_table(md: &std::path::Path, files: &[PathBuf]) {
-    print!("{}", std::fs::read_to_string(md).unwrap_or_default());
-    println!("  wrote:");
+    {
+        use std::io::Write as _;
+        let _ = write!(
+            std::io::stdout(),
+            "{}",
+            std::fs::read_to_string(md).unwrap_or_default()
+        );
+    }
+    outln!("  wrote:");
     for f in files {
-        println!("    {}", f.display());
+        outln!("    {}", f.display());
     }
 }

@@ -147,8 +147,12 @@ pub fn read_msh(path: &Path) -> Result<Mesh, GmshError> {
 /// Relative area below which a triangle counts as degenerate.
 const DEGENERATE_RELATIVE_AREA: f64 = 1e-12;
 
-/// Parses the bytes of a MSH 4.1 file; `path` only names the file in errors.
-fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
+/// Parses the bytes of a MSH 4.1 file (ASCII or binary) as [`read_msh`] does; `path` only
+/// names the file in errors.
+///
+/// # Errors
+/// The [`GmshError`]s of [`read_msh`] but [`GmshError::Io`].
+pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
     let parse_err = |message: String| GmshError::Parse {
         path: path.to_path_buf(),
         message,

@@ -4,6 +4,7 @@
 //! failed run never leaves a half-written result behind.
 
 pub mod files;
+pub mod staging;
 pub mod stability;
 pub mod vtk;
 

@@ -168,6 +168,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             serde_json::json!({"time": "s", "force": "N", "frequency": "Hz", "stress": "MPa", "energy": "J", "omega": "rad/s"}),
         );
     }
+    super::stamp_provenance(&mut json, sc);
     write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
     let mut report = RunReport {
         files,

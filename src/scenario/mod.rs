@@ -277,6 +277,9 @@ pub struct Scenario<R = Run> {
     pub warnings: Vec<String>,
     /// A default sweep for `softway sweep`: the dotted key and its values (TOML literals).
     pub sweep: Option<(String, Vec<String>)>,
+    /// SHA-256 of the scenario text as run (the file's bytes; a sweep's or a ladder's
+    /// value set into it for that run), lowercase hex: recorded in `summary.json`.
+    pub source_sha256: String,
 }
 
 impl Scenario<RunSpec> {
@@ -297,8 +300,22 @@ impl Scenario<RunSpec> {
     /// # Errors
     /// [`ScenarioError`].
     pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
-        validate::validate(raw::parse(text, path)?, path)
+        let mut sc = validate::validate(raw::parse(text, path)?, path)?;
+        sc.source_sha256 = sha256_hex(text.as_bytes());
+        Ok(sc)
     }
+}
+
+/// The SHA-256 digest of `bytes`, lowercase hex (64 characters).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest as _;
+    use std::fmt::Write as _;
+    let digest = sha2::Sha256::digest(bytes);
+    let mut s = String::with_capacity(64);
+    for b in digest {
+        let _ = write!(s, "{b:02x}");
+    }
+    s
 }
 
 #[cfg(test)]
@@ -326,6 +343,20 @@ method = "exact"
     /// Validation keeps `cfl` as it is: the step of a run is not known before the build
     /// stage assembles the bar. A million elements: building them (assembly and a power
     /// iteration of up to 1e5 sweeps) would take minutes, validating takes microseconds.
+    /// The digest of FIPS 180-2's "abc" example, and the scenario's digest is that of its
+    /// text.
+    #[test]
+    fn the_scenario_records_the_sha256_of_its_text() {
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        let sc = Scenario::from_str(BAR, Path::new("h.toml")).unwrap();
+        assert_eq!(sc.source_sha256, sha256_hex(BAR.as_bytes()));
+        let other = Scenario::from_str(&format!("{BAR}\n"), Path::new("h.toml")).unwrap();
+        assert_ne!(other.source_sha256, sc.source_sha256);
+    }
+
     #[test]
     fn parsing_a_cfl_scenario_builds_nothing() {
         let text = format!("{BAR}[[runs]]\n[[runs]]\ncfl = 0.25\n[[runs]]\nh = 0.05\n");

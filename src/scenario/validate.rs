@@ -139,6 +139,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         plots: out.plots.unwrap_or(true),
         warnings,
         sweep,
+        source_sha256: String::new(),
     })
 }
 
