@@ -162,7 +162,10 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
     let _ = ctrlc::set_handler(|| {
         if INTERRUPT.swap(true, Ordering::SeqCst) {
             std::process::exit(130);
@@ -499,6 +502,39 @@ fn check_ladder_estimate(
         Some(why) if !yes => Err(format!("{}: {key}: {why}", path.display())),
         _ => Ok(()),
     }
+}
+
+/// A command-line mistake on one line (clap's message, its tip and the usage), exit 2;
+/// `--help` and `--version` as clap prints them, exit 0.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            errln!("softway: error: no command given: softway run|sweep|converge|compare|modes|stability ... (see softway --help)");
+            return ExitCode::from(2);
+        }
+        _ => {}
+    }
+    let text = e.render().to_string();
+    let mut parts = Vec::new();
+    let mut usage = None;
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(u) = line.strip_prefix("Usage:") {
+            usage = Some(u.trim().to_string());
+        } else if !line.starts_with("For more information") {
+            parts.push(line.to_string());
+        }
+    }
+    let mut msg = parts.join(" ");
+    if let Some(u) = usage {
+        msg.push_str(&format!("; usage: {u}"));
+    }
+    errln!("softway: {msg}");
+    ExitCode::from(2)
 }
 
 /// `KEY=V1,V2,...` of `--set` into the key and its values.

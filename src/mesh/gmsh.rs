@@ -93,6 +93,64 @@ pub enum GmshError {
         /// The missing Gmsh node tag.
         node: u64,
     },
+    /// A node tag appears twice in `$Nodes`.
+    #[error("{}: node {node} appears twice in $Nodes; node tags must be unique", .path.display())]
+    DuplicateNode {
+        /// The file.
+        path: PathBuf,
+        /// The Gmsh node tag.
+        node: u64,
+    },
+    /// A node block repeats a node tag.
+    #[error(
+        "{}: the $Nodes block of entity (dim {dim}, tag {entity}) repeats a node tag: \
+         {nodes} nodes, {tags} distinct tags; node tags must be unique",
+        .path.display()
+    )]
+    DuplicateNodeInBlock {
+        /// The file.
+        path: PathBuf,
+        /// The entity's dimension.
+        dim: i32,
+        /// The entity's tag.
+        entity: i32,
+        /// Nodes in the block.
+        nodes: usize,
+        /// Distinct tags among them.
+        tags: usize,
+    },
+    /// Two nodes of different tags at the same position (an unmerged seam).
+    #[error(
+        "{}: nodes {first} and {second} are both at ({x}, {y}): the mesh is cut along a seam; \
+         merge duplicate nodes (Gmsh: Coherence Mesh)",
+        .path.display()
+    )]
+    CoincidentNodes {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of one node.
+        first: u64,
+        /// Gmsh tag of the other.
+        second: u64,
+        /// Their position, x.
+        x: f64,
+        /// Their position, y.
+        y: f64,
+    },
+    /// A node used by no triangle (it would carry no stiffness and no mass).
+    #[error(
+        "{}: node {node}{group} belongs to no triangle; every node of the mesh must be a \
+         triangle's vertex (remove it, or embed the point in the surface)",
+        .path.display()
+    )]
+    UnusedNode {
+        /// The file.
+        path: PathBuf,
+        /// Its Gmsh tag.
+        node: u64,
+        /// ` (group "name")` when a named group holds it, else empty.
+        group: String,
+    },
     /// A triangle has zero (or near-zero, relative to the mean triangle area) area.
     #[error(
         "{}: triangle {element} is degenerate: area {area:e} (mean triangle area {mean_area:e})",
@@ -137,11 +195,20 @@ pub enum GmshError {
 /// [`GmshError::MissingNode`], [`GmshError::DegenerateElement`] and
 /// [`GmshError::InvertedElement`] for unusable meshes.
 pub fn read_msh(path: &Path) -> Result<Mesh, GmshError> {
+    read_msh_tagged(path).map(|(mesh, _)| mesh)
+}
+
+/// [`read_msh`], with the Gmsh tag of every node (`tags[i]` is node `i`'s), for messages
+/// that name a node as the user's file does.
+///
+/// # Errors
+/// As [`read_msh`].
+pub fn read_msh_tagged(path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
     let bytes = std::fs::read(path).map_err(|source| GmshError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    parse_msh(&bytes, path)
+    parse_msh_tagged(&bytes, path)
 }
 
 /// Relative area below which a triangle counts as degenerate.
@@ -153,6 +220,14 @@ const DEGENERATE_RELATIVE_AREA: f64 = 1e-12;
 /// # Errors
 /// The [`GmshError`]s of [`read_msh`] but [`GmshError::Io`].
 pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
+    parse_msh_tagged(bytes, path).map(|(mesh, _)| mesh)
+}
+
+/// [`parse_msh`] with the node tags, as [`read_msh_tagged`].
+///
+/// # Errors
+/// As [`parse_msh`].
+pub fn parse_msh_tagged(bytes: &[u8], path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
     let parse_err = |message: String| GmshError::Parse {
         path: path.to_path_buf(),
         message,
@@ -215,7 +290,7 @@ fn build_mesh(
     msh: &MshFile<u64, i32, f64>,
     names: &BTreeMap<(i32, i32), String>,
     path: &Path,
-) -> Result<Mesh, GmshError> {
+) -> Result<(Mesh, Vec<u64>), GmshError> {
     let missing = |element: u64, node: u64| GmshError::MissingNode {
         path: path.to_path_buf(),
         element,
@@ -233,9 +308,24 @@ fn build_mesh(
                 .or_default();
             match &block.node_tags {
                 Some(tags) => {
+                    if tags.len() < block.nodes.len() {
+                        // mshio keeps the tags in a map: a repeated tag shrinks it.
+                        return Err(GmshError::DuplicateNodeInBlock {
+                            path: path.to_path_buf(),
+                            dim: block.entity_dim,
+                            entity: block.entity_tag,
+                            nodes: block.nodes.len(),
+                            tags: tags.len(),
+                        });
+                    }
                     for (&tag, &i) in tags {
                         if let Some(n) = block.nodes.get(i) {
-                            coords.insert(tag, [n.x, n.y]);
+                            if coords.insert(tag, [n.x, n.y]).is_some() {
+                                return Err(GmshError::DuplicateNode {
+                                    path: path.to_path_buf(),
+                                    node: tag,
+                                });
+                            }
                             list.push(tag);
                         }
                     }
@@ -243,7 +333,12 @@ fn build_mesh(
                 None => {
                     // Contiguous tags, in file order.
                     for n in &block.nodes {
-                        coords.insert(next_tag, [n.x, n.y]);
+                        if coords.insert(next_tag, [n.x, n.y]).is_some() {
+                            return Err(GmshError::DuplicateNode {
+                                path: path.to_path_buf(),
+                                node: next_tag,
+                            });
+                        }
                         list.push(next_tag);
                         next_tag = next_tag.saturating_add(1);
                     }
@@ -335,11 +430,37 @@ fn build_mesh(
         }
     }
 
-    // Compact renumbering in increasing tag order.
-    let mut used: BTreeSet<u64> = triangles.iter().flat_map(|(_, t)| *t).collect();
-    for set in groups.values() {
-        used.extend(set);
+    // Every node a triangle's vertex; no two at one position.
+    let used: BTreeSet<u64> = triangles.iter().flat_map(|(_, t)| *t).collect();
+    if let Some(&node) = coords.keys().filter(|t| !used.contains(t)).min() {
+        let group = groups
+            .iter()
+            .find(|(_, set)| set.contains(&node))
+            .map(|(name, _)| format!(" (group \"{name}\")"))
+            .unwrap_or_default();
+        return Err(GmshError::UnusedNode {
+            path: path.to_path_buf(),
+            node,
+            group,
+        });
     }
+    let mut by_position: Vec<(u64, [f64; 2])> = used
+        .iter()
+        .map(|t| (*t, coords.get(t).copied().unwrap_or([f64::NAN; 2])))
+        .collect();
+    by_position.sort_by(|a, b| a.1[0].total_cmp(&b.1[0]).then(a.1[1].total_cmp(&b.1[1])));
+    if let Some(w) = by_position.windows(2).find(|w| w[0].1 == w[1].1) {
+        let (a, b) = (w[0].0.min(w[1].0), w[0].0.max(w[1].0));
+        return Err(GmshError::CoincidentNodes {
+            path: path.to_path_buf(),
+            first: a,
+            second: b,
+            x: w[0].1[0],
+            y: w[0].1[1],
+        });
+    }
+
+    // Compact renumbering in increasing tag order.
     let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
     let points: Vec<[f64; 2]> = used
         .iter()
@@ -363,13 +484,17 @@ fn build_mesh(
         })
         .collect();
 
-    Ok(Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(cells),
-        node_sets,
-    })
+    Ok((
+        Mesh {
+            dim: 2,
+            points,
+            cells: Cells::Tri3(cells),
+            node_sets,
+        },
+        used.into_iter().collect(),
+    ))
 }
+
 
 /// Checks the triangle areas and makes all triangles counter-clockwise (see the module
 /// documentation). `triangles` gives the Gmsh tag of each cell, for errors.
