@@ -239,12 +239,12 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
             set_jobs(jobs)?;
             let stage = StagedDir::begin(&out, force)?;
-            outln!("{}: sweeping {key} over {} values", sc.name, values.len());
             let (points, files) =
                 softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path())?;
             let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
             let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
             stage.commit()?;
+            outln!("{}: {key} swept over {} values", sc.name, values.len());
             print_table(&out.join("sweep.md"), &files);
             for d in dirs {
                 outln!("    {}/", d.display());
@@ -271,15 +271,15 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
             set_jobs(jobs)?;
             let stage = StagedDir::begin(&out, force)?;
+            let (_, files) =
+                softway::run::converge::converge(&scenario, &text, &key, &values, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
             outln!(
                 "{}: convergence of {key} over {} rungs",
                 sc.name,
                 values.len()
             );
-            let (_, files) =
-                softway::run::converge::converge(&scenario, &text, &key, &values, stage.path())?;
-            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-            stage.commit()?;
             print_table(&out.join("converge.md"), &files);
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));

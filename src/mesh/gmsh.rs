@@ -93,6 +93,23 @@ pub enum GmshError {
         /// The missing Gmsh node tag.
         node: u64,
     },
+    /// A section header announces more (or fewer) nodes or elements than its blocks hold.
+    #[error(
+        "{}: the {section} header announces {announced} {what}, its blocks hold {found}",
+        .path.display()
+    )]
+    CountMismatch {
+        /// The file.
+        path: PathBuf,
+        /// `$Nodes` or `$Elements`.
+        section: &'static str,
+        /// `nodes` or `elements`.
+        what: &'static str,
+        /// The count in the header.
+        announced: u64,
+        /// The count in the blocks.
+        found: u64,
+    },
     /// A node tag appears twice in `$Nodes`.
     #[error("{}: node {node} appears twice in $Nodes; node tags must be unique", .path.display())]
     DuplicateNode {
@@ -296,6 +313,30 @@ fn build_mesh(
         element,
         node,
     };
+
+    // The headers' counts against the blocks'.
+    let mismatch = |section, what, announced: u64, found: usize| {
+        let found = found as u64;
+        (announced != found).then(|| GmshError::CountMismatch {
+            path: path.to_path_buf(),
+            section,
+            what,
+            announced,
+            found,
+        })
+    };
+    if let Some(nodes) = &msh.data.nodes {
+        let found = nodes.node_blocks.iter().map(|b| b.nodes.len()).sum();
+        if let Some(e) = mismatch("$Nodes", "nodes", nodes.num_nodes, found) {
+            return Err(e);
+        }
+    }
+    if let Some(elements) = &msh.data.elements {
+        let found = elements.element_blocks.iter().map(|b| b.elements.len()).sum();
+        if let Some(e) = mismatch("$Elements", "elements", elements.num_elements, found) {
+            return Err(e);
+        }
+    }
 
     // Node coordinates by tag, and the nodes of each entity's node block.
     let mut coords: HashMap<u64, [f64; 2]> = HashMap::new();
