@@ -646,6 +646,36 @@ fn sweep_bad_value() {
 }
 
 #[test]
+fn sweep_value_given_twice() {
+    let p = scenario("sweep_twice", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &["sweep", p.to_str().unwrap(), "--set", "bar.speed=1,2,1", "--out", out.to_str().unwrap()],
+        &["bar.speed = 1", "given twice"],
+    );
+    assert_nothing_written(&out);
+}
+
+/// A value holding path separators cannot lead a point's folder out of the sweep's.
+#[test]
+fn sweep_value_with_slashes_stays_inside_the_sweep_folder() {
+    let p = scenario("sweep_slash", BAR);
+    let out = p.with_extension("out");
+    let o = cli([
+        "sweep",
+        p.to_str().unwrap(),
+        "--set",
+        "description=a/../../../escaped,b",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(out.join("description=a_.._.._.._escaped").join("summary.json").exists());
+    let parent = p.parent().unwrap();
+    assert!(!parent.join("escaped").exists() && !parent.parent().unwrap().join("escaped").exists());
+}
+
+#[test]
 fn converge_with_two_rungs() {
     let p = scenario("converge_two", BAR);
     let out = p.with_extension("out");
