@@ -232,7 +232,7 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
             } else {
                 "time.h".to_string()
             };
-            e.culprit = format!("`{h_key}` = {h} s over {duration} s");
+            e.culprit = format!("`{h_key}` = {h:e} s over {duration:e} s");
             if let Some(k) = size_key {
                 e.culprit.push_str(&format!(", `{k}` ({dofs} dofs)"));
             }
@@ -361,7 +361,7 @@ mod tests {
         let e = estimate(&sc, None);
         assert!(e.steps > 1e12, "{e:?}");
         let why = e.check(&limits).unwrap();
-        assert!(why.contains("`time.h` = 0.000000000001") && why.contains("--yes"), "{why}");
+        assert!(why.contains("`time.h` = 1e-12 s") && why.contains("--yes"), "{why}");
     }
     use super::*;
     use std::path::Path;

@@ -63,6 +63,7 @@ bar_refused!(infinite_end_time, "t_end = 1.0", "t_end = inf", ["`time.t_end` = i
 bar_refused!(minus_infinite_speed, "speed = 1.0", "speed = -inf", ["`bar.speed` = -inf", "> 0"]);
 bar_refused!(zero_stiffness, "ea = 1.0", "ea = 0.0", ["`bar.ea` = 0", "> 0"]);
 bar_refused!(negative_density, "rho_a = 1.0", "rho_a = -1.0", ["`bar.rho_a` = -1", "> 0"]);
+bar_refused!(tiny_length_shown_compactly, "length = 1.0", "length = -1e-300", ["`bar.length` = -1e-300", "> 0"]);
 bar_refused!(negative_gap, "gap = 0.5", "gap = -0.5", ["`bar.gap` = -0.5", ">= 0"]);
 bar_refused!(absurd_elements, "elements = 8", "elements = 10000000", ["`bar.elements` = 10000000", "1 to 1000000"]);
 bar_refused!(negative_elements, "elements = 8", "elements = -3", ["`bar.elements` = -3", "whole number"]);

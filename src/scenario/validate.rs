@@ -366,6 +366,22 @@ fn stability_warning(run: &RunSpec, runs: usize) -> Option<String> {
     ))
 }
 
+/// A number as written by `Display` (`1e-300` as 300 digits) in exponent form when that is
+/// shorter; anything else as it is.
+fn compact_number(text: String) -> String {
+    match text.parse::<f64>() {
+        Ok(v) if text.len() > 12 && v.is_finite() => {
+            let e = format!("{v:e}");
+            if e.len() < text.len() {
+                e
+            } else {
+                text
+            }
+        }
+        _ => text,
+    }
+}
+
 struct Ctx<'a> {
     path: &'a Path,
 }
@@ -375,7 +391,7 @@ impl Ctx<'_> {
         ScenarioError::Invalid {
             path: self.path.to_path_buf(),
             key: key.to_string(),
-            value: value.to_string(),
+            value: compact_number(value.to_string()),
             allowed: allowed.to_string(),
         }
     }
