@@ -361,7 +361,10 @@ mod tests {
         let e = estimate(&sc, None);
         assert!(e.steps > 1e12, "{e:?}");
         let why = e.check(&limits).unwrap();
-        assert!(why.contains("`time.h` = 1e-12 s") && why.contains("--yes"), "{why}");
+        assert!(
+            why.contains("`time.h` = 1e-12 s") && why.contains("--yes"),
+            "{why}"
+        );
     }
     use super::*;
     use std::path::Path;

@@ -4,10 +4,10 @@
 
 use clap::{Parser, Subcommand};
 use softway::build::resolve;
+use softway::output::staging::StagedDir;
 use softway::run::{run_scenario, RunOptions, INTERRUPT};
 use softway::scenario::Scenario;
 use softway::time::sdof::analyse;
-use softway::output::staging::StagedDir;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
@@ -477,7 +477,8 @@ fn check_ladder_estimate(
 ) -> Result<(), String> {
     let mut total: Option<softway::build::Estimate> = None;
     for v in values {
-        let t = softway::scenario::set_key(text, key, v).map_err(|m| format!("{key} = {v}: {m}"))?;
+        let t =
+            softway::scenario::set_key(text, key, v).map_err(|m| format!("{key} = {v}: {m}"))?;
         let sc = Scenario::from_str(&t, path)
             .and_then(|sc| resolve(&sc))
             .map_err(|e| format!("{key} = {v}: {e}"))?;

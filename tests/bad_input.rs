@@ -7,8 +7,8 @@
 mod common;
 
 use common::{
-    assert_nothing_written, assert_one_line_error, cli, fresh_dir, run_err, run_file_err,
-    scenario, scenario_bytes, BAR,
+    assert_nothing_written, assert_one_line_error, cli, fresh_dir, run_err, run_file_err, scenario,
+    scenario_bytes, BAR,
 };
 use softway::mesh::generators::disk_rings;
 use softway::mesh::Cells;
@@ -42,36 +42,151 @@ macro_rules! refused {
 
 // ---------------------------------------------------------------- scenario: keys, types
 
-bar_refused!(unknown_top_level_key, "kind =", "nmae = \"x\"\nkind =", ["nmae", "expected one of"]);
+bar_refused!(
+    unknown_top_level_key,
+    "kind =",
+    "nmae = \"x\"\nkind =",
+    ["nmae", "expected one of"]
+);
 bar_refused!(unknown_table, "[bar]", "[solver]\nx = 1\n[bar]", ["solver"]);
-bar_refused!(misspelt_key_in_time, "t_end = 1.0", "t_end = 1.0\ntend = 2.0", ["tend", "t_end"]);
-bar_refused!(step_as_a_string, "h = 0.1", "h = \"0.1\"", ["h", "\"0.1\"", "expected f64"]);
-bar_refused!(elements_as_a_float, "elements = 8", "elements = 8.5", ["elements", "8.5", "expected i64"]);
-bar_refused!(plots_as_a_string, "elements = 8", "elements = 8\n[output]\nplots = \"yes\"", ["plots", "bool"]);
-bar_refused!(table_given_as_a_number, "kind = \"bar_impact\"", "kind = \"bar_impact\"\ncontact = 3", ["contact"]);
-bar_refused!(duplicate_key, "h = 0.1", "h = 0.1\nh = 0.2", ["duplicate key", "h"]);
+bar_refused!(
+    misspelt_key_in_time,
+    "t_end = 1.0",
+    "t_end = 1.0\ntend = 2.0",
+    ["tend", "t_end"]
+);
+bar_refused!(
+    step_as_a_string,
+    "h = 0.1",
+    "h = \"0.1\"",
+    ["h", "\"0.1\"", "expected f64"]
+);
+bar_refused!(
+    elements_as_a_float,
+    "elements = 8",
+    "elements = 8.5",
+    ["elements", "8.5", "expected i64"]
+);
+bar_refused!(
+    plots_as_a_string,
+    "elements = 8",
+    "elements = 8\n[output]\nplots = \"yes\"",
+    ["plots", "bool"]
+);
+bar_refused!(
+    table_given_as_a_number,
+    "kind = \"bar_impact\"",
+    "kind = \"bar_impact\"\ncontact = 3",
+    ["contact"]
+);
+bar_refused!(
+    duplicate_key,
+    "h = 0.1",
+    "h = 0.1\nh = 0.2",
+    ["duplicate key", "h"]
+);
 bar_refused!(missing_kind, "kind = \"bar_impact\"", "", ["kind"]);
-bar_refused!(unknown_kind, "\"bar_impact\"", "\"plate\"", ["`kind`", "\"plate\"", "\"wheel\""]);
+bar_refused!(
+    unknown_kind,
+    "\"bar_impact\"",
+    "\"plate\"",
+    ["`kind`", "\"plate\"", "\"wheel\""]
+);
 bar_refused!(missing_bar_table, "[bar]", "[bars]", ["bars"]);
 bar_refused!(missing_t_end, "t_end = 1.0", "", ["time.t_end", "end time"]);
-bar_refused!(name_with_a_slash, "kind =", "name = \"../x\"\nkind =", ["`name`", "without slashes"]);
+bar_refused!(
+    name_with_a_slash,
+    "kind =",
+    "name = \"../x\"\nkind =",
+    ["`name`", "without slashes"]
+);
 
 // ---------------------------------------------------------------- scenario: values
 
-bar_refused!(nan_step, "h = 0.1", "h = nan", ["`time.h` = NaN", "finite number > 0"]);
-bar_refused!(infinite_end_time, "t_end = 1.0", "t_end = inf", ["`time.t_end` = inf", "finite"]);
-bar_refused!(minus_infinite_speed, "speed = 1.0", "speed = -inf", ["`bar.speed` = -inf", "> 0"]);
-bar_refused!(zero_stiffness, "ea = 1.0", "ea = 0.0", ["`bar.ea` = 0", "> 0"]);
-bar_refused!(negative_density, "rho_a = 1.0", "rho_a = -1.0", ["`bar.rho_a` = -1", "> 0"]);
-bar_refused!(tiny_length_shown_compactly, "length = 1.0", "length = -1e-300", ["`bar.length` = -1e-300", "> 0"]);
-bar_refused!(negative_gap, "gap = 0.5", "gap = -0.5", ["`bar.gap` = -0.5", ">= 0"]);
-bar_refused!(absurd_elements, "elements = 8", "elements = 10000000", ["`bar.elements` = 10000000", "1 to 1000000"]);
-bar_refused!(negative_elements, "elements = 8", "elements = -3", ["`bar.elements` = -3", "whole number"]);
-bar_refused!(step_longer_than_the_run, "h = 0.1", "h = 2.0", ["`runs[0].h` = 2", "must not exceed time.t_end"]);
-bar_refused!(zero_history_stride, "elements = 8", "elements = 8\n[output]\nhistory_stride = 0", ["`output.history_stride` = 0", "1 to"]);
-bar_refused!(restitution_above_one, "elements = 8", "elements = 8\n[contact]\nmethod = \"moreau_jean\"\nrestitution = 2.0", ["`contact.restitution` = 2", "[0, 1]"]);
-bar_refused!(friction_on_a_bar, "elements = 8", "elements = 8\n[contact]\nmethod = \"exact\"\nfriction = 0.3", ["`contact.friction` = 0.3"]);
-bar_refused!(empty_sweep_values, "elements = 8", "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = []", ["`sweep.values`", "at least one value"]);
+bar_refused!(
+    nan_step,
+    "h = 0.1",
+    "h = nan",
+    ["`time.h` = NaN", "finite number > 0"]
+);
+bar_refused!(
+    infinite_end_time,
+    "t_end = 1.0",
+    "t_end = inf",
+    ["`time.t_end` = inf", "finite"]
+);
+bar_refused!(
+    minus_infinite_speed,
+    "speed = 1.0",
+    "speed = -inf",
+    ["`bar.speed` = -inf", "> 0"]
+);
+bar_refused!(
+    zero_stiffness,
+    "ea = 1.0",
+    "ea = 0.0",
+    ["`bar.ea` = 0", "> 0"]
+);
+bar_refused!(
+    negative_density,
+    "rho_a = 1.0",
+    "rho_a = -1.0",
+    ["`bar.rho_a` = -1", "> 0"]
+);
+bar_refused!(
+    tiny_length_shown_compactly,
+    "length = 1.0",
+    "length = -1e-300",
+    ["`bar.length` = -1e-300", "> 0"]
+);
+bar_refused!(
+    negative_gap,
+    "gap = 0.5",
+    "gap = -0.5",
+    ["`bar.gap` = -0.5", ">= 0"]
+);
+bar_refused!(
+    absurd_elements,
+    "elements = 8",
+    "elements = 10000000",
+    ["`bar.elements` = 10000000", "1 to 1000000"]
+);
+bar_refused!(
+    negative_elements,
+    "elements = 8",
+    "elements = -3",
+    ["`bar.elements` = -3", "whole number"]
+);
+bar_refused!(
+    step_longer_than_the_run,
+    "h = 0.1",
+    "h = 2.0",
+    ["`runs[0].h` = 2", "must not exceed time.t_end"]
+);
+bar_refused!(
+    zero_history_stride,
+    "elements = 8",
+    "elements = 8\n[output]\nhistory_stride = 0",
+    ["`output.history_stride` = 0", "1 to"]
+);
+bar_refused!(
+    restitution_above_one,
+    "elements = 8",
+    "elements = 8\n[contact]\nmethod = \"moreau_jean\"\nrestitution = 2.0",
+    ["`contact.restitution` = 2", "[0, 1]"]
+);
+bar_refused!(
+    friction_on_a_bar,
+    "elements = 8",
+    "elements = 8\n[contact]\nmethod = \"exact\"\nfriction = 0.3",
+    ["`contact.friction` = 0.3"]
+);
+bar_refused!(
+    empty_sweep_values,
+    "elements = 8",
+    "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = []",
+    ["`sweep.values`", "at least one value"]
+);
 
 /// A step of 1e-12 s: 1e12 steps, refused with the estimate (steps, time, memory, disk)
 /// and the key, unless `--yes`.
@@ -96,14 +211,16 @@ fn a_run_of_days_is_refused_with_its_estimate() {
 /// The largest graded wheel allowed (100,000 rim nodes): refused for its memory and time.
 #[test]
 fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenarios/wheel.toml"
-    ))
-    .unwrap();
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"))
+            .unwrap();
     let text = text.replace("rim_nodes = 288", "rim_nodes = 100000");
     let (c, e) = run_err("huge_wheel", &text);
-    assert_one_line_error(c, &e, &["huge_wheel.toml", "`wheel.rim_nodes`", "dofs", "--yes"]);
+    assert_one_line_error(
+        c,
+        &e,
+        &["huge_wheel.toml", "`wheel.rim_nodes`", "dofs", "--yes"],
+    );
 }
 
 // ---------------------------------------------------------------- scenario: wheels
@@ -116,27 +233,101 @@ fn wheel_text() -> String {
     .unwrap()
 }
 
-refused!(wheel_rings_absurd, wheel_text().replace("rings = 12", "rings = 100000"), ["`wheel.rings` = 100000", "1 to 400"]);
-refused!(wheel_too_few_rim_nodes, wheel_text().replace("rings = 12", "rim_nodes = 5"), ["`wheel.rim_nodes` = 5", "at least 12"]);
-refused!(wheel_two_meshes, wheel_text().replace("rings = 12", "rings = 12\nmesh = \"a.msh\""), ["`wheel.mesh`", "give one of"]);
-refused!(wheel_grading_out_of_range, wheel_text().replace("rings = 12", "rim_nodes = 72\ngrading = 3.0"), ["`wheel.grading` = 3", "[1, 2]"]);
-refused!(wheel_poisson_half, wheel_text().replace("poisson = 0.3", "poisson = 0.5"), ["`material.poisson` = 0.5", "(-1, 0.5)"]);
-refused!(wheel_young_nan, wheel_text().replace("young = 2.05e11", "young = nan"), ["`material.young` = NaN", "> 0"]);
-refused!(wheel_flattening_beyond_radius, wheel_text().replace("flattening = 1e-3", "flattening = 0.2"), ["`rolling.flattening` = 0.2", "smaller than wheel.radius"]);
-refused!(wheel_hub_beyond_radius, wheel_text().replace("support = \"centre\"", "support = \"hub\"\nhub_radius = 0.5"), ["`wheel.hub_radius` = 0.5", "smaller than wheel.radius"]);
-refused!(wheel_zero_speed, wheel_text().replace("omega = 300.0", "omega = 0.0"), ["`rolling.omega` = 0", "> 0"]);
-refused!(wheel_with_an_end_time, wheel_text().replace("h = 2e-6", "h = 2e-6\nt_end = 1.0"), ["`time.t_end`", "remove time.t_end"]);
-refused!(wheel_zero_fields_per_turn, wheel_text().replace("fields_per_turn = 8", "fields_per_turn = 0"), ["`rolling.fields_per_turn` = 0", "1 to 1000"]);
-refused!(wheel_negative_friction, wheel_text().replace("method = \"soft_way\"", "method = \"soft_way\"\nfriction = -0.2"), ["`contact.friction` = -0.2"]);
-refused!(wheel_a_billion_turns, wheel_text().replace("turns = 5", "turns = 1e9"), ["`time.h`", "days", "--yes"]);
+refused!(
+    wheel_rings_absurd,
+    wheel_text().replace("rings = 12", "rings = 100000"),
+    ["`wheel.rings` = 100000", "1 to 400"]
+);
+refused!(
+    wheel_too_few_rim_nodes,
+    wheel_text().replace("rings = 12", "rim_nodes = 5"),
+    ["`wheel.rim_nodes` = 5", "at least 12"]
+);
+refused!(
+    wheel_two_meshes,
+    wheel_text().replace("rings = 12", "rings = 12\nmesh = \"a.msh\""),
+    ["`wheel.mesh`", "give one of"]
+);
+refused!(
+    wheel_grading_out_of_range,
+    wheel_text().replace("rings = 12", "rim_nodes = 72\ngrading = 3.0"),
+    ["`wheel.grading` = 3", "[1, 2]"]
+);
+refused!(
+    wheel_poisson_half,
+    wheel_text().replace("poisson = 0.3", "poisson = 0.5"),
+    ["`material.poisson` = 0.5", "(-1, 0.5)"]
+);
+refused!(
+    wheel_young_nan,
+    wheel_text().replace("young = 2.05e11", "young = nan"),
+    ["`material.young` = NaN", "> 0"]
+);
+refused!(
+    wheel_flattening_beyond_radius,
+    wheel_text().replace("flattening = 1e-3", "flattening = 0.2"),
+    ["`rolling.flattening` = 0.2", "smaller than wheel.radius"]
+);
+refused!(
+    wheel_hub_beyond_radius,
+    wheel_text().replace(
+        "support = \"centre\"",
+        "support = \"hub\"\nhub_radius = 0.5"
+    ),
+    ["`wheel.hub_radius` = 0.5", "smaller than wheel.radius"]
+);
+refused!(
+    wheel_zero_speed,
+    wheel_text().replace("omega = 300.0", "omega = 0.0"),
+    ["`rolling.omega` = 0", "> 0"]
+);
+refused!(
+    wheel_with_an_end_time,
+    wheel_text().replace("h = 2e-6", "h = 2e-6\nt_end = 1.0"),
+    ["`time.t_end`", "remove time.t_end"]
+);
+refused!(
+    wheel_zero_fields_per_turn,
+    wheel_text().replace("fields_per_turn = 8", "fields_per_turn = 0"),
+    ["`rolling.fields_per_turn` = 0", "1 to 1000"]
+);
+refused!(
+    wheel_negative_friction,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\nfriction = -0.2"
+    ),
+    ["`contact.friction` = -0.2"]
+);
+refused!(
+    wheel_a_billion_turns,
+    wheel_text().replace("turns = 5", "turns = 1e9"),
+    ["`time.h`", "days", "--yes"]
+);
 
 // ---------------------------------------------------------------- scenario: [[runs]]
 
-refused!(runs_unknown_key, format!("{BAR}\n[[runs]]\nstep = 0.05\n"), ["step", "runs"]);
-refused!(runs_negative_step, format!("{BAR}\n[[runs]]\nh = 0.05\n[[runs]]\nh = -1.0\n"), ["`runs[1].h` = -1", "> 0"]);
-refused!(runs_unknown_method, format!("{BAR}\n[[runs]]\nmethod = \"glue\"\n"), ["`runs[0].method` = \"glue\"", "allowed"]);
+refused!(
+    runs_unknown_key,
+    format!("{BAR}\n[[runs]]\nstep = 0.05\n"),
+    ["step", "runs"]
+);
+refused!(
+    runs_negative_step,
+    format!("{BAR}\n[[runs]]\nh = 0.05\n[[runs]]\nh = -1.0\n"),
+    ["`runs[1].h` = -1", "> 0"]
+);
+refused!(
+    runs_unknown_method,
+    format!("{BAR}\n[[runs]]\nmethod = \"glue\"\n"),
+    ["`runs[0].method` = \"glue\"", "allowed"]
+);
 refused!(runs_not_tables, format!("{BAR}\nruns = 3\n"), ["runs"]);
-refused!(runs_elements_on_a_wheel, format!("{}\n[[runs]]\nelements = 4\n", wheel_text()), ["`runs[0].elements` = 4", "only bar scenarios"]);
+refused!(
+    runs_elements_on_a_wheel,
+    format!("{}\n[[runs]]\nelements = 4\n", wheel_text()),
+    ["`runs[0].elements` = 4", "only bar scenarios"]
+);
 
 // ---------------------------------------------------------------- scenario: files
 
@@ -167,7 +358,15 @@ fn a_directory_in_place_of_the_scenario() {
     let dir = fresh_dir("cli", "dir_scenario").join("scenario.toml");
     std::fs::create_dir_all(&dir).unwrap();
     let (c, e) = run_file_err(&dir);
-    assert_one_line_error(c, &e, &["scenario.toml", "cannot read the scenario", "Is a directory"]);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "scenario.toml",
+            "cannot read the scenario",
+            "Is a directory",
+        ],
+    );
 }
 
 // ---------------------------------------------------------------- meshes
@@ -215,7 +414,9 @@ impl Disk {
     /// holding every node but the centre.
     fn ascii(&self, version: &str) -> String {
         let mut s = format!("$MeshFormat\n{version} 0 8\n$EndMeshFormat\n");
-        s.push_str("$PhysicalNames\n3\n0 1 \"centre\"\n1 2 \"rim\"\n2 3 \"body\"\n$EndPhysicalNames\n");
+        s.push_str(
+            "$PhysicalNames\n3\n0 1 \"centre\"\n1 2 \"rim\"\n2 3 \"body\"\n$EndPhysicalNames\n",
+        );
         s.push_str("$Entities\n1 1 1 0\n1 0 0 0 1 1\n1 -0.1 -0.1 0 0.1 0.1 0 1 2 0\n1 -0.1 -0.1 0 0.1 0.1 0 1 3 0\n$EndEntities\n");
         let (min, max) = (
             self.nodes.iter().map(|n| n.0).min().unwrap(),
@@ -369,7 +570,12 @@ fn mesh_file_missing() {
     assert_one_line_error(
         c,
         &e,
-        &["mesh_file_missing.toml", "`wheel.mesh`", "mesh.msh", "No such file"],
+        &[
+            "mesh_file_missing.toml",
+            "`wheel.mesh`",
+            "mesh.msh",
+            "No such file",
+        ],
     );
 }
 
@@ -382,16 +588,47 @@ fn mesh_is_a_directory() {
     assert_one_line_error(
         c,
         &e,
-        &["mesh_is_a_directory.toml", "`wheel.mesh`", "mesh.msh", "directory"],
+        &[
+            "mesh_is_a_directory.toml",
+            "`wheel.mesh`",
+            "mesh.msh",
+            "directory",
+        ],
     );
 }
 
-mesh_refused!(mesh_not_gmsh, BAR.as_bytes().to_vec(), ["not a Gmsh mesh file"]);
+mesh_refused!(
+    mesh_not_gmsh,
+    BAR.as_bytes().to_vec(),
+    ["not a Gmsh mesh file"]
+);
 mesh_refused!(mesh_empty, Vec::new(), ["not a Gmsh mesh file"]);
-mesh_refused!(mesh_truncated_ascii, { let a = ascii(&disk()); a[..a.len() * 6 / 10].to_vec() }, ["invalid Gmsh MSH 4.1 file"]);
-mesh_refused!(mesh_truncated_binary, { let b = disk().binary(); b[..b.len() * 6 / 10].to_vec() }, ["invalid Gmsh MSH 4.1 file", "at byte"]);
-mesh_refused!(mesh_msh_2_2, disk().ascii("2.2").into_bytes(), ["version 2.2", "only 4.1"]);
-mesh_refused!(mesh_msh_4_0, disk().ascii("4.0").into_bytes(), ["version 4.0", "only 4.1"]);
+mesh_refused!(
+    mesh_truncated_ascii,
+    {
+        let a = ascii(&disk());
+        a[..a.len() * 6 / 10].to_vec()
+    },
+    ["invalid Gmsh MSH 4.1 file"]
+);
+mesh_refused!(
+    mesh_truncated_binary,
+    {
+        let b = disk().binary();
+        b[..b.len() * 6 / 10].to_vec()
+    },
+    ["invalid Gmsh MSH 4.1 file", "at byte"]
+);
+mesh_refused!(
+    mesh_msh_2_2,
+    disk().ascii("2.2").into_bytes(),
+    ["version 2.2", "only 4.1"]
+);
+mesh_refused!(
+    mesh_msh_4_0,
+    disk().ascii("4.0").into_bytes(),
+    ["version 4.0", "only 4.1"]
+);
 mesh_refused!(
     mesh_3d_only,
     b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n".to_vec(),
@@ -402,8 +639,16 @@ mesh_refused!(
     b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n$Elements\n1 1 7 7\n2 1 3 1\n7 1 2 3 4\n$EndElements\n".to_vec(),
     ["element 7", "type 3 (Qua4)", "only 3-node triangles"]
 );
-mesh_refused!(mesh_inverted_triangle, ascii(&disk_with(|d| d.tris[10].swap(1, 2))), ["triangle 30 is inverted", "1 of 54"]);
-mesh_refused!(mesh_zero_area_triangle, ascii(&disk_with(|d| d.tris[4][2] = d.tris[4][1])), ["triangle 24 is degenerate", "area 0"]);
+mesh_refused!(
+    mesh_inverted_triangle,
+    ascii(&disk_with(|d| d.tris[10].swap(1, 2))),
+    ["triangle 30 is inverted", "1 of 54"]
+);
+mesh_refused!(
+    mesh_zero_area_triangle,
+    ascii(&disk_with(|d| d.tris[4][2] = d.tris[4][1])),
+    ["triangle 24 is degenerate", "area 0"]
+);
 mesh_refused!(
     mesh_duplicate_node_tag,
     ascii(&disk_with(|d| {
@@ -441,7 +686,10 @@ mesh_refused!(
 );
 mesh_refused!(
     mesh_off_centre,
-    ascii(&disk_with(|d| d.nodes.iter_mut().for_each(|n| n.1[0] += 0.01))),
+    ascii(&disk_with(|d| d
+        .nodes
+        .iter_mut()
+        .for_each(|n| n.1[0] += 0.01))),
     ["radius", "about the axle (0, 0)", "wheel.radius = 0.1"]
 );
 mesh_refused!(
@@ -473,7 +721,10 @@ mesh_refused!(
 );
 mesh_refused!(
     mesh_header_claims_absurd_elements,
-    ascii(&disk()).replace_first(b"$Elements\n3 73 1 73", b"$Elements\n3 18446744073709551615 1 73"),
+    ascii(&disk()).replace_first(
+        b"$Elements\n3 73 1 73",
+        b"$Elements\n3 18446744073709551615 1 73"
+    ),
     ["the $Elements header announces 18446744073709551615 elements, its blocks hold 73"]
 );
 mesh_refused!(
@@ -494,7 +745,13 @@ fn mesh_with_non_contiguous_tags_runs() {
     });
     let (_dir, p) = wheel_on_mesh("sparse_tags", &ascii(&d));
     let out = p.with_extension("out");
-    let o = cli(["run".as_ref(), p.as_os_str(), "--quiet".as_ref(), "--out".as_ref(), out.as_os_str()]);
+    let o = cli([
+        "run".as_ref(),
+        p.as_os_str(),
+        "--quiet".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -534,7 +791,10 @@ fn no_command() {
 
 #[test]
 fn run_without_its_scenario() {
-    cli_refused(&["run"], &["required arguments", "<SCENARIO>", "usage: softway run"]);
+    cli_refused(
+        &["run"],
+        &["required arguments", "<SCENARIO>", "usage: softway run"],
+    );
 }
 
 #[test]
@@ -562,7 +822,10 @@ fn out_is_a_file() {
 fn out_in_an_unwritable_place() {
     let p = scenario("out_unwritable", BAR);
     for place in ["/proc/softway-out/x", "/dev/null/x"] {
-        cli_refused(&["run", p.to_str().unwrap(), "--out", place], &[place, "cannot create"]);
+        cli_refused(
+            &["run", p.to_str().unwrap(), "--out", place],
+            &[place, "cannot create"],
+        );
     }
 }
 
@@ -578,7 +841,14 @@ fn out_a_folder_of_other_files() {
     );
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
     // --force replaces it whole.
-    let o = cli(["run", p.to_str().unwrap(), "--out", d.to_str().unwrap(), "--force", "--quiet"]);
+    let o = cli([
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+        "--force",
+        "--quiet",
+    ]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(!d.join("thesis.tex").exists() && d.join("summary.json").exists());
 }
@@ -591,7 +861,13 @@ fn older_results_are_never_mixed_with_new_ones() {
     let d = p.with_file_name("out");
     let run = |text: &str| {
         std::fs::write(&p, text).unwrap();
-        let o = cli(["run", p.to_str().unwrap(), "--out", d.to_str().unwrap(), "--quiet"]);
+        let o = cli([
+            "run",
+            p.to_str().unwrap(),
+            "--out",
+            d.to_str().unwrap(),
+            "--quiet",
+        ]);
         assert_eq!(o.code, 0, "{}", o.stderr);
     };
     run(BAR);
@@ -603,7 +879,13 @@ fn older_results_are_never_mixed_with_new_ones() {
     assert_eq!(s["exact"]["rebound_velocity"], 2.0);
     // A failed run leaves the older results as they were.
     std::fs::write(&p, BAR.replace("speed = 1.0", "speed = -2.0")).unwrap();
-    let o = cli(["run", p.to_str().unwrap(), "--out", d.to_str().unwrap(), "--quiet"]);
+    let o = cli([
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert_ne!(o.code, 0);
     assert!(d.join("summary.json").exists() && d.join("history.csv").exists());
     let names: Vec<String> = std::fs::read_dir(p.parent().unwrap())
@@ -618,7 +900,14 @@ fn sweep_set_without_values() {
     let p = scenario("sweep_noeq", BAR);
     let out = p.with_extension("out");
     cli_refused(
-        &["sweep", p.to_str().unwrap(), "--set", "bar.speed", "--out", out.to_str().unwrap()],
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed",
+            "--out",
+            out.to_str().unwrap(),
+        ],
         &["--set bar.speed", "KEY=V1,V2"],
     );
     assert_nothing_written(&out);
@@ -629,7 +918,16 @@ fn sweep_with_zero_jobs() {
     let p = scenario("sweep_jobs0", BAR);
     let out = p.with_extension("out");
     cli_refused(
-        &["sweep", p.to_str().unwrap(), "--set", "bar.speed=1,2", "--jobs", "0", "--out", out.to_str().unwrap()],
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed=1,2",
+            "--jobs",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ],
         &["--jobs 0", "at least one"],
     );
     assert_nothing_written(&out);
@@ -640,8 +938,20 @@ fn sweep_bad_value() {
     let p = scenario("sweep_badvalue", BAR);
     let out = p.with_extension("out");
     cli_refused(
-        &["sweep", p.to_str().unwrap(), "--set", "bar.speed=1,-2", "--out", out.to_str().unwrap()],
-        &["sweep_badvalue.toml", "bar.speed = -2", "`bar.speed` = -2", "> 0"],
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed=1,-2",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[
+            "sweep_badvalue.toml",
+            "bar.speed = -2",
+            "`bar.speed` = -2",
+            "> 0",
+        ],
     );
     assert_nothing_written(&out);
 }
@@ -651,7 +961,14 @@ fn sweep_value_given_twice() {
     let p = scenario("sweep_twice", BAR);
     let out = p.with_extension("out");
     cli_refused(
-        &["sweep", p.to_str().unwrap(), "--set", "bar.speed=1,2,1", "--out", out.to_str().unwrap()],
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed=1,2,1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
         &["bar.speed = 1", "given twice"],
     );
     assert_nothing_written(&out);
@@ -671,7 +988,10 @@ fn sweep_value_with_slashes_stays_inside_the_sweep_folder() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.code, 0, "{}", o.stderr);
-    assert!(out.join("description=a_.._.._.._escaped").join("summary.json").exists());
+    assert!(out
+        .join("description=a_.._.._.._escaped")
+        .join("summary.json")
+        .exists());
     let parent = p.parent().unwrap();
     assert!(!parent.join("escaped").exists() && !parent.parent().unwrap().join("escaped").exists());
 }
@@ -681,7 +1001,14 @@ fn converge_with_two_rungs() {
     let p = scenario("converge_two", BAR);
     let out = p.with_extension("out");
     cli_refused(
-        &["converge", p.to_str().unwrap(), "--set", "bar.elements=8,16", "--out", out.to_str().unwrap()],
+        &[
+            "converge",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.elements=8,16",
+            "--out",
+            out.to_str().unwrap(),
+        ],
         &["bar.elements", "three"],
     );
     assert_nothing_written(&out);

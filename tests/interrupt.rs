@@ -49,8 +49,7 @@ fn assert_no_temporaries(dir: &Path) {
 /// Asserts that every result in `dir` is complete and readable.
 fn assert_complete_outputs(dir: &Path) {
     let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert!(s["interrupted"].is_boolean(), "{s}");
     let mut kinds = 0;
     for e in std::fs::read_dir(dir).unwrap() {
@@ -76,8 +75,7 @@ fn assert_complete_outputs(dir: &Path) {
                 kinds |= 2;
             }
             Some("vtu") => {
-                vtkio::Vtk::import(&p)
-                    .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                vtkio::Vtk::import(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
                 kinds |= 4;
             }
             _ => {}
@@ -198,7 +196,11 @@ fn sigkill_leaves_only_temporary_names_and_the_next_run_cleans_them() {
         std::thread::sleep(Duration::from_millis(delay_ms));
         signal(child.id(), "-KILL");
         let _ = child.wait().unwrap();
-        assert!(!out.exists(), "SIGKILL after {delay_ms} ms left {}", out.display());
+        assert!(
+            !out.exists(),
+            "SIGKILL after {delay_ms} ms left {}",
+            out.display()
+        );
         for e in std::fs::read_dir(&dir).unwrap() {
             let name = e.unwrap().file_name().to_string_lossy().into_owned();
             assert!(
@@ -241,10 +243,7 @@ fn a_full_disk_is_an_error_not_a_panic() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(!err.contains("panicked"), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(
-        err.contains("history.csv: File too large"),
-        "{err}"
-    );
+    assert!(err.contains("history.csv: File too large"), "{err}");
     assert!(!out.exists());
     assert_no_temporaries(&dir);
 }

@@ -17,7 +17,11 @@ fn without_wall_clock(p: &Path) -> Vec<u8> {
     let text = std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     let kept: Vec<&str> = text
         .lines()
-        .filter(|l| !WALL_CLOCK_FIELDS.iter().any(|f| l.trim_start().starts_with(f)))
+        .filter(|l| {
+            !WALL_CLOCK_FIELDS
+                .iter()
+                .any(|f| l.trim_start().starts_with(f))
+        })
         .collect();
     assert!(kept.len() > 10, "{}", p.display());
     kept.join("\n").into_bytes()
@@ -36,7 +40,12 @@ fn assert_same_results(a: &Path, b: &Path) {
         std::fs::read(b.join("history.csv")).unwrap(),
     );
     assert!(ha.len() > 100);
-    assert!(ha == hb, "history.csv differs: {} vs {}", a.display(), b.display());
+    assert!(
+        ha == hb,
+        "history.csv differs: {} vs {}",
+        a.display(),
+        b.display()
+    );
 }
 
 /// A small wheel (3 rings, 37 nodes) rolling a twentieth of a turn.
@@ -56,12 +65,21 @@ fn small_wheel() -> String {
 #[test]
 fn sweeps_with_one_and_two_jobs_give_bit_identical_results() {
     for (name, text, set, values) in [
-        ("bar", BAR.to_string(), "bar.speed=1,2,3", ["bar.speed=1", "bar.speed=2", "bar.speed=3"]),
+        (
+            "bar",
+            BAR.to_string(),
+            "bar.speed=1,2,3",
+            ["bar.speed=1", "bar.speed=2", "bar.speed=3"],
+        ),
         (
             "wheel",
             small_wheel(),
             "rolling.omega=300,350,400",
-            ["rolling.omega=300", "rolling.omega=350", "rolling.omega=400"],
+            [
+                "rolling.omega=300",
+                "rolling.omega=350",
+                "rolling.omega=400",
+            ],
         ),
     ] {
         let dir = fresh_dir("repro", name);

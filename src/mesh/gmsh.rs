@@ -332,7 +332,11 @@ fn build_mesh(
         }
     }
     if let Some(elements) = &msh.data.elements {
-        let found = elements.element_blocks.iter().map(|b| b.elements.len()).sum();
+        let found = elements
+            .element_blocks
+            .iter()
+            .map(|b| b.elements.len())
+            .sum();
         if let Some(e) = mismatch("$Elements", "elements", elements.num_elements, found) {
             return Err(e);
         }
@@ -535,7 +539,6 @@ fn build_mesh(
         used.into_iter().collect(),
     ))
 }
-
 
 /// Checks the triangle areas and makes all triangles counter-clockwise (see the module
 /// documentation). `triangles` gives the Gmsh tag of each cell, for errors.

@@ -4,8 +4,8 @@
 //! failed run never leaves a half-written result behind.
 
 pub mod files;
-pub mod staging;
 pub mod stability;
+pub mod staging;
 pub mod vtk;
 
 /// PNG figures: the `softway-plot` workspace crate (crates/softway-plot),

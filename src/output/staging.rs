@@ -153,7 +153,10 @@ impl StagedDir {
         let aside = self.staging.with_file_name(
             self.staging
                 .file_name()
-                .map(|n| n.to_string_lossy().replace(".softway-tmp-", ".softway-old-"))
+                .map(|n| {
+                    n.to_string_lossy()
+                        .replace(".softway-tmp-", ".softway-old-")
+                })
                 .unwrap_or_default(),
         );
         let had_old = match std::fs::symlink_metadata(&self.target) {

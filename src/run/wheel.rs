@@ -200,7 +200,12 @@ pub fn check_disk(mesh: &Mesh, tags: &[u64], radius: f64) -> Result<(), String> 
             return Err(describe(i, "on the outer boundary"));
         }
     }
-    if let Some(&i) = mesh.node_set("rim").unwrap_or(&[]).iter().find(|&&i| off(i)) {
+    if let Some(&i) = mesh
+        .node_set("rim")
+        .unwrap_or(&[])
+        .iter()
+        .find(|&&i| off(i))
+    {
         return Err(describe(i, "in the group \"rim\""));
     }
     Ok(())

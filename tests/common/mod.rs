@@ -76,11 +76,7 @@ where
 /// Asserts that `dir` holds no entry for the output folder `out` and no temporary folder or
 /// file (nothing written for bad input).
 pub fn assert_nothing_written(out: &Path) {
-    assert!(
-        !out.exists(),
-        "{} was written for bad input",
-        out.display()
-    );
+    assert!(!out.exists(), "{} was written for bad input", out.display());
     if let Some(parent) = out.parent().filter(|p| p.exists()) {
         for e in std::fs::read_dir(parent).unwrap() {
             let name = e.unwrap().file_name().to_string_lossy().into_owned();
