@@ -92,7 +92,13 @@ bar_refused!(
     "\"plate\"",
     ["`kind`", "\"plate\"", "\"wheel\""]
 );
-bar_refused!(missing_bar_table, "[bar]", "[bars]", ["bars"]);
+bar_refused!(misspelt_table, "[bar]", "[bars]", ["bars"]);
+bar_refused!(
+    missing_bar_table,
+    "[bar]",
+    "[two_bars]",
+    ["missing `bar`", "needs a [bar] table"]
+);
 bar_refused!(missing_t_end, "t_end = 1.0", "", ["time.t_end", "end time"]);
 bar_refused!(
     name_with_a_slash,
@@ -322,7 +328,11 @@ refused!(
     format!("{BAR}\n[[runs]]\nmethod = \"glue\"\n"),
     ["`runs[0].method` = \"glue\"", "allowed"]
 );
-refused!(runs_not_tables, format!("{BAR}\nruns = 3\n"), ["runs"]);
+refused!(
+    runs_not_tables,
+    BAR.replace("kind =", "runs = 3\nkind ="),
+    ["runs", "expected a sequence"]
+);
 refused!(
     runs_elements_on_a_wheel,
     format!("{}\n[[runs]]\nelements = 4\n", wheel_text()),
@@ -822,6 +832,14 @@ fn out_is_a_file() {
 fn out_in_an_unwritable_place() {
     let p = scenario("out_unwritable", BAR);
     for place in ["/proc/softway-out/x", "/dev/null/x"] {
+        if place.starts_with("/dev") {
+            let o = cli(["run", p.to_str().unwrap(), "--out", place]);
+            assert!(
+                o.stderr.contains("/dev/null is not a folder"),
+                "{}",
+                o.stderr
+            );
+        }
         cli_refused(
             &["run", p.to_str().unwrap(), "--out", place],
             &[place, "cannot create"],

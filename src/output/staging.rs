@@ -100,7 +100,23 @@ impl StagedDir {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        std::fs::create_dir_all(&parent).map_err(|e| io("cannot create its parent folder", e))?;
+        std::fs::create_dir_all(&parent).map_err(|e| {
+            // Name the ancestor that is in the way when it is a file (e.g. /dev/null/x).
+            match parent
+                .ancestors()
+                .find(|a| a.exists())
+                .filter(|a| !a.is_dir())
+            {
+                Some(a) => io(
+                    &format!(
+                        "cannot create its parent folder: {} is not a folder",
+                        a.display()
+                    ),
+                    e,
+                ),
+                None => io("cannot create its parent folder", e),
+            }
+        })?;
         remove_stale(&parent, &name);
         static SERIAL: AtomicU64 = AtomicU64::new(0);
         let staging = parent.join(format!(
