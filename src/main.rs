@@ -454,9 +454,10 @@ fn check_estimate(sc: &softway::scenario::Scenario, yes: bool) -> Result<(), Str
     let mut mesh_nodes = None;
     for run in &sc.runs {
         if let softway::scenario::Model::Wheel(ws) = &run.model {
-            if let softway::scenario::MeshSource::Gmsh(_) = ws.mesh {
-                let wm = softway::run::wheel::build(ws, &sc.path).map_err(|e| e.to_string())?;
-                mesh_nodes = Some(wm.mesh.n_nodes());
+            if let softway::scenario::MeshSource::Gmsh(p) = &ws.mesh {
+                let mesh = softway::run::wheel::read_mesh_file(p, ws.spec.radius, &sc.path)
+                    .map_err(|e| e.to_string())?;
+                mesh_nodes = Some(mesh.n_nodes());
             }
         }
     }

@@ -139,17 +139,25 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
             DiskOptions { grading: *grading },
         )
         .map_err(|e| RunError::input(sc_path, e))?,
-        MeshSource::Gmsh(p) => {
-            let at_fault = |e: String| RunError::Input {
-                path: sc_path.to_path_buf(),
-                message: format!("`wheel.mesh` = \"{}\": {e}", p.display()),
-            };
-            let (mesh, tags) = read_msh_tagged(p).map_err(|e| at_fault(e.to_string()))?;
-            check_disk(&mesh, &tags, ws.spec.radius).map_err(at_fault)?;
-            mesh
-        }
+        MeshSource::Gmsh(p) => read_mesh_file(p, ws.spec.radius, sc_path)?,
     };
     WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::input(sc_path, e))
+}
+
+/// Reads the wheel's Gmsh mesh `p` (the scenario's `wheel.mesh`) and checks it is a disk
+/// of `radius` about the axle ([`check_disk`]).
+///
+/// # Errors
+/// [`RunError::Input`] naming the scenario `sc_path`, the key `wheel.mesh`, the mesh file
+/// and what is wrong.
+pub fn read_mesh_file(p: &Path, radius: f64, sc_path: &Path) -> Result<Mesh, RunError> {
+    let at_fault = |e: String| RunError::Input {
+        path: sc_path.to_path_buf(),
+        message: format!("`wheel.mesh` = \"{}\": {e}", p.display()),
+    };
+    let (mesh, tags) = read_msh_tagged(p).map_err(|e| at_fault(e.to_string()))?;
+    check_disk(&mesh, &tags, radius).map_err(at_fault)?;
+    Ok(mesh)
 }
 
 /// Relative tolerance on the radius of the rim of a mesh read from a file.
