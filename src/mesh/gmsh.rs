@@ -6,8 +6,11 @@
 //! tagged with it, whatever their dimension (points at the centre, curves on the rim,
 //! surfaces). Points and lines are used only for these groups, never as cells.
 //!
-//! Nodes are renumbered compactly (`0..n`, in increasing Gmsh node tag order), keeping only
-//! the nodes used by triangles or by named groups, so sparse Gmsh node tags are fine.
+//! Nodes are renumbered compactly (`0..n`, in increasing Gmsh node tag order), so sparse
+//! Gmsh node tags are fine. Every node must be a vertex of a triangle (a node of no triangle
+//! would carry neither mass nor stiffness), node tags must be unique, no two nodes may share
+//! a position (an unmerged seam), and the `$Nodes` and `$Elements` headers must announce
+//! as many nodes and elements as their blocks hold: each is an error naming the node.
 //!
 //! Orientation: if all triangles are clockwise they are all reversed; a triangle of (near)
 //! zero area, or a mesh with triangles of both orientations, is an error naming the Gmsh
@@ -1115,13 +1118,12 @@ mod tests {
     #[test]
     fn two_triangles_and_eight_triangles() {
         let dir = TempDir::new("two-eight");
-        // Two triangles: the centre node is used only by the "body" group's node block.
+        // Two triangles: the centre node is used only by the "body" group's node block; a
+        // node of no triangle carries no mass nor stiffness: an error naming it.
         let two = [[0, 1, 2], [0, 2, 3]];
         let p = dir.write("two.msh", square_ascii(TAGS, &two).as_bytes());
-        let m = read_msh(&p).unwrap();
-        assert_eq!(m.cells.len(), 2);
-        assert_eq!(m.n_nodes(), 5, "group nodes are kept");
-        assert_eq!(m.node_set("body").unwrap().len(), 5);
+        let e = read_msh(&p).unwrap_err();
+        assert!(matches!(e, GmshError::UnusedNode { .. }), "{e}");
 
         // Eight triangles on a 3 x 3 node grid, one node block, no named boundary groups.
         let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
@@ -1184,6 +1186,51 @@ mod tests {
         assert_eq!(
             m.points,
             vec![[0.5, 0.5], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]
+        );
+    }
+
+    /// Regression (issue 12): a repeated node tag, a node of no triangle, two nodes at one
+    /// place and a header announcing more nodes than its blocks hold were read silently
+    /// (the later node won, the lone node made a singular model, the seam cut the mesh).
+    #[test]
+    fn duplicate_unused_coincident_nodes_and_false_counts_are_errors() {
+        let bytes = square_ascii([1, 2, 3, 4, 1], &CCW);
+        let e = parse_msh(bytes.as_bytes(), Path::new("dup.msh")).unwrap_err();
+        assert!(matches!(e, GmshError::DuplicateNode { node: 1, .. }), "{e}");
+        let two = [[0, 1, 2], [0, 2, 3]];
+        let e = parse_msh(
+            square_ascii([1, 2, 3, 4, 5], &two).as_bytes(),
+            Path::new("u.msh"),
+        )
+        .unwrap_err();
+        assert!(matches!(e, GmshError::UnusedNode { node: 5, .. }), "{e}");
+        assert!(e.to_string().contains("node 5 (group \"body\")"), "{e}");
+        let moved = square_ascii([1, 2, 3, 4, 5], &CCW).replace("0.5 0.5 0\n", "1 1 0\n");
+        let e = parse_msh(moved.as_bytes(), Path::new("c.msh")).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GmshError::CoincidentNodes {
+                    first: 3,
+                    second: 5,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let claims =
+            square_ascii([1, 2, 3, 4, 5], &CCW).replace("$Nodes\n9 5 1 5", "$Nodes\n9 6 1 5");
+        let e = parse_msh(claims.as_bytes(), Path::new("n.msh")).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GmshError::CountMismatch {
+                    announced: 6,
+                    found: 5,
+                    ..
+                }
+            ),
+            "{e}"
         );
     }
 
