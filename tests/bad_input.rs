@@ -101,6 +101,12 @@ bar_refused!(
 );
 bar_refused!(missing_t_end, "t_end = 1.0", "", ["time.t_end", "end time"]);
 bar_refused!(
+    kind_with_a_line_break,
+    "\"bar_impact\"",
+    "\"bar\\nimpact\"",
+    ["`kind` = \"bar\\nimpact\"", "allowed"]
+);
+bar_refused!(
     name_with_a_slash,
     "kind =",
     "name = \"../x\"\nkind =",

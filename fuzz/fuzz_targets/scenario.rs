@@ -13,8 +13,8 @@ fuzz_target!(|data: &[u8]| {
         Ok(sc) => {
             // The build stage too (cfl resolution assembles the bar), when it is cheap.
             let small = sc.runs.iter().all(|r| match &r.model {
-                softway::scenario::Model::BarImpact(b) => b.elements <= 2000,
-                softway::scenario::Model::TwoBars(b) => b.elements <= 2000,
+                softway::scenario::Model::BarImpact(b) => b.elements <= 200,
+                softway::scenario::Model::TwoBars(b) => b.elements <= 200,
                 _ => true,
             });
             if small {

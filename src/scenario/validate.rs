@@ -382,6 +382,20 @@ fn compact_number(text: String) -> String {
     }
 }
 
+/// `text` with its control characters (a line break in a TOML string) escaped, so that a
+/// message stays on one line.
+fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
 struct Ctx<'a> {
     path: &'a Path,
 }
@@ -391,7 +405,7 @@ impl Ctx<'_> {
         ScenarioError::Invalid {
             path: self.path.to_path_buf(),
             key: key.to_string(),
-            value: compact_number(value.to_string()),
+            value: one_line(&compact_number(value.to_string())),
             allowed: allowed.to_string(),
         }
     }
