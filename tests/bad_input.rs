@@ -220,6 +220,36 @@ fn a_run_of_days_is_refused_with_its_estimate() {
     );
 }
 
+/// `--yes` confirms a run beyond the limits: it starts (and is stopped here by SIGINT,
+/// keeping what it computed).
+#[test]
+fn yes_runs_what_the_estimate_refuses() {
+    let p = scenario("yes_tiny_step", &BAR.replace("h = 0.1", "h = 1e-9"));
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(c, &e, &["yes_tiny_step.toml", "--yes"]);
+    let out = p.with_extension("out");
+    let mut child = common::softway()
+        .arg("run")
+        .arg(&p)
+        .args(["--yes", "--quiet", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(400));
+    let killed = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["interrupted"], true);
+    assert!(s["steps"].as_u64().unwrap() > 0);
+}
+
 /// The largest graded wheel allowed (100,000 rim nodes): refused for its memory and time.
 #[test]
 fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
