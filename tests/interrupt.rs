@@ -171,7 +171,9 @@ fn sigint_stops_the_wheel_run_and_keeps_its_results() {
     let steps = s["steps"].as_u64().unwrap();
     assert!(steps > 0 && steps < 54_860, "steps {steps}");
     assert_complete_outputs(&out);
-    assert!(out.join("j2_turn_average.vtu").exists() || steps < 50_000);
+    // The turn-averaged field is written however early the run stopped (and imported above).
+    assert!(out.join("j2_turn_average.vtu").exists());
+    assert!(out.join("contact_force.png").exists());
     assert_no_temporaries(&dir);
 }
 
