@@ -335,6 +335,17 @@ fn explicit_contact_mass(model: &Model) -> f64 {
 #[cfg(test)]
 mod tests {
 
+    /// The documented defaults: 4 h, 20 GB, at most half the machine's memory.
+    #[test]
+    fn the_default_limits_are_the_documented_ones() {
+        let l = Limits::default();
+        assert_eq!(l.seconds, 4.0 * 3600.0);
+        assert_eq!(l.disk_bytes, 20e9);
+        let half = 0.5 * physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
+        assert_eq!(l.memory_bytes, half);
+        assert!(l.memory_bytes > 1e8);
+    }
+
     /// Every scenario shipped is within the default limits (none needs --yes); a step of
     /// 1e-12 s on the paper's bar is refused with the step count and the key.
     #[test]
