@@ -37,6 +37,29 @@ struct Cli {
     command: Command,
 }
 
+/// What may be replaced: an output folder of other files.
+#[derive(clap::Args, Debug)]
+struct Replace {
+    /// Replace the output folder even if it holds files softway did not write (a folder
+    /// written by softway is always replaced whole, never mixed with new files).
+    #[arg(long)]
+    force: bool,
+}
+
+/// What a run may do beyond the defaults: replace a folder of other files, exceed the
+/// size limits.
+#[derive(clap::Args, Debug)]
+struct Guard {
+    /// Replace the output folder even if it holds files softway did not write (a folder
+    /// written by softway is always replaced whole, never mixed with new files).
+    #[arg(long)]
+    force: bool,
+    /// Run even if the estimate of steps, time, memory or disk is beyond the limits (4 h on
+    /// one core, half the memory, 20 GB of per-step files).
+    #[arg(long)]
+    yes: bool,
+}
+
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Run a scenario and write history.csv, summary.json, plots and fields into a folder.
@@ -49,14 +72,8 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
-        /// Replace the output folder even if it holds files softway did not write (a
-        /// folder written by softway is always replaced whole, never mixed with new files).
-        #[arg(long)]
-        force: bool,
-        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
-        /// (4 h on one core, half the memory, 20 GB of per-step files).
-        #[arg(long)]
-        yes: bool,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run a scenario over a list of values of one key, in parallel (e.g. the paper's Fig. 15).
     Sweep {
@@ -72,14 +89,8 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
-        /// Replace the output folder even if it holds files softway did not write (a
-        /// folder written by softway is always replaced whole, never mixed with new files).
-        #[arg(long)]
-        force: bool,
-        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
-        /// (4 h on one core, half the memory, 20 GB of per-step files).
-        #[arg(long)]
-        yes: bool,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run a scenario over a refinement ladder of one key (mesh or step) and report the
     /// observed order of every key figure: converge.csv, converge.md, converge.png.
@@ -96,14 +107,8 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
-        /// Replace the output folder even if it holds files softway did not write (a
-        /// folder written by softway is always replaced whole, never mixed with new files).
-        #[arg(long)]
-        force: bool,
-        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
-        /// (4 h on one core, half the memory, 20 GB of per-step files).
-        #[arg(long)]
-        yes: bool,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run the combinations (integrator, contact treatment, time step, mesh) of a bar
     /// scenario side by side against the exact answer: compare.csv, compare.md, force and
@@ -115,14 +120,8 @@ enum Command {
         /// Output folder [default: out/<scenario name>].
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Replace the output folder even if it holds files softway did not write (a
-        /// folder written by softway is always replaced whole, never mixed with new files).
-        #[arg(long)]
-        force: bool,
-        /// Run even if the estimate of steps, time, memory or disk is beyond the limits
-        /// (4 h on one core, half the memory, 20 GB of per-step files).
-        #[arg(long)]
-        yes: bool,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Natural frequencies (Hz) and periods (us) of a wheel scenario's model, at rest and
     /// spinning (rotating frame), with the mode shapes as VTU.
@@ -135,10 +134,8 @@ enum Command {
         /// Output folder [default: out/<scenario name>-modes].
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Replace the output folder even if it holds files softway did not write (a
-        /// folder written by softway is always replaced whole, never mixed with new files).
-        #[arg(long)]
-        force: bool,
+        #[command(flatten)]
+        replace: Replace,
     },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
@@ -154,10 +151,8 @@ enum Command {
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
-        /// Replace the output folder even if it holds files softway did not write (a
-        /// folder written by softway is always replaced whole, never mixed with new files).
-        #[arg(long)]
-        force: bool,
+        #[command(flatten)]
+        replace: Replace,
     },
 }
 
@@ -187,8 +182,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             out,
             quiet,
-            force,
-            yes,
+            guard: Guard { force, yes },
         } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
             check_estimate(&sc, yes)?;
@@ -219,8 +213,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set,
             out,
             jobs,
-            force,
-            yes,
+            guard: Guard { force, yes },
         } => {
             let sc = Scenario::from_file(&scenario)?;
             let text = std::fs::read_to_string(&scenario)
@@ -259,8 +252,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set,
             out,
             jobs,
-            force,
-            yes,
+            guard: Guard { force, yes },
         } => {
             let sc = Scenario::from_file(&scenario)?;
             let text = std::fs::read_to_string(&scenario)
@@ -289,8 +281,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
         Command::Compare {
             scenario,
             out,
-            force,
-            yes,
+            guard: Guard { force, yes },
         } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
             check_estimate(&sc, yes)?;
@@ -320,7 +311,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             count,
             out,
-            force,
+            replace: Replace { force },
         } => {
             let sc = Scenario::from_file(&scenario)?;
             let softway::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
@@ -401,7 +392,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             gamma,
             out,
             json,
-            force,
+            replace: Replace { force },
         } => {
             if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
                 return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
