@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{fresh_dir, softway};
+use common::{softway, TestDir};
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -98,7 +98,7 @@ fn signal(pid: u32, sig: &str) {
 /// (killed, nothing written). Never a half result, never a temporary file.
 #[test]
 fn sigint_and_sigterm_at_any_moment_leave_complete_results() {
-    let dir = fresh_dir("int", "anytime");
+    let dir = TestDir::new("int", "anytime");
     let sc = dir.join("long.toml");
     std::fs::write(&sc, LONG_BAR).unwrap();
     let mut interrupted = 0;
@@ -148,7 +148,7 @@ fn sigint_and_sigterm_at_any_moment_leave_complete_results() {
 /// The wheel interrupted: its VTU, PNGs, CSVs and summary are complete.
 #[test]
 fn sigint_stops_the_wheel_run_and_keeps_its_results() {
-    let dir = fresh_dir("int", "wheel");
+    let dir = TestDir::new("int", "wheel");
     let mut child = softway()
         .args([
             "run",
@@ -181,7 +181,7 @@ fn sigint_stops_the_wheel_run_and_keeps_its_results() {
 /// results; anything else has a temporary name; the next run removes those.
 #[test]
 fn sigkill_leaves_only_temporary_names_and_the_next_run_cleans_them() {
-    let dir = fresh_dir("int", "kill");
+    let dir = TestDir::new("int", "kill");
     let sc = dir.join("long.toml");
     std::fs::write(&sc, LONG_BAR).unwrap();
     let out = dir.join("out");
@@ -229,7 +229,7 @@ fn sigkill_leaves_only_temporary_names_and_the_next_run_cleans_them() {
 /// with EFBIG as on a full tmpfs): one line naming the file, exit 2, nothing left behind.
 #[test]
 fn a_full_disk_is_an_error_not_a_panic() {
-    let dir = fresh_dir("int", "full");
+    let dir = TestDir::new("int", "full");
     let sc = dir.join("long.toml");
     std::fs::write(&sc, LONG_BAR.replace("t_end = 3.0", "t_end = 0.5")).unwrap();
     let out = dir.join("out");
@@ -253,7 +253,7 @@ fn a_full_disk_is_an_error_not_a_panic() {
 /// `softway run ... | head`: a closed standard output does not panic; the run completes.
 #[test]
 fn a_closed_stdout_is_not_a_panic() {
-    let dir = fresh_dir("int", "pipe");
+    let dir = TestDir::new("int", "pipe");
     let sc = dir.join("bar.toml");
     std::fs::write(&sc, LONG_BAR.replace("elements = 2000", "elements = 20")).unwrap();
     let out = dir.join("out");

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{cli, fresh_dir, BAR};
+use common::{cli, TestDir, BAR};
 use std::path::Path;
 
 /// The fields that measure the machine, not the computation.
@@ -82,7 +82,7 @@ fn sweeps_with_one_and_two_jobs_give_bit_identical_results() {
             ],
         ),
     ] {
-        let dir = fresh_dir("repro", name);
+        let dir = TestDir::new("repro", name);
         let sc = dir.join(format!("{name}.toml"));
         std::fs::write(&sc, &text).unwrap();
         for jobs in ["1", "2"] {
@@ -112,7 +112,7 @@ fn sweeps_with_one_and_two_jobs_give_bit_identical_results() {
 
 #[test]
 fn a_run_repeated_gives_bit_identical_results_and_records_its_provenance() {
-    let dir = fresh_dir("repro", "repeat");
+    let dir = TestDir::new("repro", "repeat");
     let sc = dir.join("wheel.toml");
     let text = small_wheel();
     std::fs::write(&sc, &text).unwrap();

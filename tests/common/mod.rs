@@ -156,3 +156,35 @@ pub fn run_ok(p: &Path) -> (PathBuf, serde_json::Value) {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     (out, s)
 }
+
+/// A fresh folder ([`fresh_dir`]) removed when dropped, unless the test is failing (then it
+/// is kept for inspection).
+pub struct TestDir(PathBuf);
+
+impl TestDir {
+    /// Creates the folder.
+    pub fn new(tag: &str, name: &str) -> Self {
+        TestDir(fresh_dir(tag, name))
+    }
+}
+
+impl std::ops::Deref for TestDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TestDir {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+impl AsRef<Path> for TestDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
