@@ -804,6 +804,36 @@ fn mesh_with_non_contiguous_tags_runs() {
     assert_eq!(s["nodes"], 37);
 }
 
+/// A mesh without a "rim" group is fine: the rim is the nodes at the outer radius, the same
+/// nodes as the group's, so the run is the same.
+#[test]
+fn mesh_without_a_rim_group_runs_as_with_it() {
+    let with = ascii(&disk());
+    let without = with.replace_first(
+        b"$PhysicalNames\n3\n0 1 \"centre\"\n1 2 \"rim\"\n",
+        b"$PhysicalNames\n2\n0 1 \"centre\"\n",
+    );
+    let mut forces = Vec::new();
+    for (name, bytes) in [("rim_group", with), ("no_rim_group", without)] {
+        let (_dir, p) = wheel_on_mesh(name, &bytes);
+        let out = p.with_extension("out");
+        let o = cli([
+            "run".as_ref(),
+            p.as_os_str(),
+            "--quiet".as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert_eq!(o.code, 0, "{name}: {}", o.stderr);
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        forces.push(s["mean_contact_force"].as_f64().unwrap());
+    }
+    assert!(forces[0] > 0.0, "{forces:?}");
+    assert_eq!(forces[0], forces[1]);
+}
+
 trait ReplaceFirst {
     fn replace_first(&self, from: &[u8], to: &[u8]) -> Vec<u8>;
 }
