@@ -410,9 +410,32 @@ fn a_directory_in_place_of_the_scenario() {
         &[
             "scenario.toml",
             "cannot read the scenario",
-            "Is a directory",
+            "is a directory, not a scenario file",
         ],
     );
+}
+
+/// A device that never ends (`/dev/zero`) is refused before it is read.
+#[test]
+fn a_device_in_place_of_the_scenario() {
+    let out = fresh_dir("cli", "dev_zero").join("out");
+    let o = cli(["run", "/dev/zero", "--out", out.to_str().unwrap()]);
+    assert_one_line_error(o.code, &o.stderr, &["/dev/zero", "not a regular file"]);
+    assert_nothing_written(&out);
+}
+
+/// A scenario of 17 MiB (a sparse file of zeros) is refused without being parsed.
+#[test]
+fn an_absurdly_large_scenario() {
+    let p = scenario("huge_file", "");
+    std::fs::File::options()
+        .write(true)
+        .open(&p)
+        .unwrap()
+        .set_len(17 << 20)
+        .unwrap();
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(c, &e, &["huge_file.toml", "larger than 16 MiB"]);
 }
 
 // ---------------------------------------------------------------- meshes
@@ -639,6 +662,25 @@ fn mesh_is_a_directory() {
             "`wheel.mesh`",
             "mesh.msh",
             "directory",
+        ],
+    );
+}
+
+#[test]
+fn mesh_is_a_device() {
+    let dir = fresh_dir("mesh", "mesh_is_a_device");
+    let text = wheel_text().replace("rings = 12", "mesh = \"/dev/zero\"");
+    let p = dir.join("mesh_is_a_device.toml");
+    std::fs::write(&p, text).unwrap();
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "mesh_is_a_device.toml",
+            "`wheel.mesh`",
+            "/dev/zero",
+            "not a regular file",
         ],
     );
 }

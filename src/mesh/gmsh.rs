@@ -224,10 +224,18 @@ pub fn read_msh(path: &Path) -> Result<Mesh, GmshError> {
 /// # Errors
 /// As [`read_msh`].
 pub fn read_msh_tagged(path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
-    let bytes = std::fs::read(path).map_err(|source| GmshError::Io {
+    let io = |source| GmshError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
+    };
+    // A device (/dev/zero) or a pipe could be read forever.
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() && !meta.is_dir() {
+        return Err(io(std::io::Error::other(
+            "not a regular file (a device or a pipe)",
+        )));
+    }
+    let bytes = std::fs::read(path).map_err(io)?;
     parse_msh_tagged(&bytes, path)
 }
 

@@ -288,7 +288,7 @@ impl Scenario<RunSpec> {
     /// # Errors
     /// [`ScenarioError`] naming the file, the key and what is allowed.
     pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+        let text = read_text(path).map_err(|source| ScenarioError::Io {
             path: path.to_path_buf(),
             source,
         })?;
@@ -304,6 +304,42 @@ impl Scenario<RunSpec> {
         sc.source_sha256 = sha256_hex(text.as_bytes());
         Ok(sc)
     }
+}
+
+/// Largest scenario file read, bytes (16 MiB; the shipped ones are a few kB).
+pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
+
+/// The text of a scenario file: a regular file (not a folder, a device such as `/dev/zero`
+/// or a pipe, which could be read forever) of at most [`MAX_SCENARIO_BYTES`], in UTF-8.
+fn read_text(path: &Path) -> std::io::Result<String> {
+    use std::io::Read as _;
+    let file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    if meta.is_dir() {
+        return Err(std::io::Error::other("is a directory, not a scenario file"));
+    }
+    if !meta.is_file() {
+        return Err(std::io::Error::other(
+            "not a regular file (a device or a pipe); give a TOML file",
+        ));
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENARIO_BYTES + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_SCENARIO_BYTES {
+        return Err(std::io::Error::other(format!(
+            "larger than {} MiB: a scenario is a small TOML file",
+            MAX_SCENARIO_BYTES >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "not UTF-8 text (byte {} is not valid UTF-8); save the file as UTF-8",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
 }
 
 /// The SHA-256 digest of `bytes`, lowercase hex (64 characters).
