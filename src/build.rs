@@ -272,6 +272,8 @@ fn human_seconds(s: f64) -> String {
         format!("{:.0} min", s / 60.0)
     } else if s < 3.0 * 86400.0 {
         format!("{:.1} h", s / 3600.0)
+    } else if s < 1e4 * 86400.0 {
+        format!("{:.0} days", s / 86400.0)
     } else {
         format!("{:.3e} days", s / 86400.0)
     }

@@ -77,7 +77,7 @@ bar_refused!(
     table_given_as_a_number,
     "kind = \"bar_impact\"",
     "kind = \"bar_impact\"\ncontact = 3",
-    ["contact"]
+    ["`contact = 3`", "expected a table"]
 );
 bar_refused!(
     duplicate_key,

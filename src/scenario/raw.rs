@@ -171,7 +171,15 @@ pub(super) fn parse(text: &str, path: &Path) -> Result<RawScenario, ScenarioErro
 /// where the parser stopped (the line shortened to 60 characters, its control characters
 /// escaped).
 fn one_line_message(text: &str, message: &str, span: Option<std::ops::Range<usize>>) -> String {
-    let message = message.split_whitespace().collect::<Vec<_>>().join(" ");
+    let mut message = message.split_whitespace().collect::<Vec<_>>().join(" ");
+    // serde names the structs of this module ("expected struct RawContact"): a table.
+    while let Some(at) = message.find("struct Raw") {
+        let name = at + "struct ".len();
+        let end = message[name..]
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .map_or(message.len(), |k| name + k);
+        message.replace_range(at..end, "a table");
+    }
     let Some(before) = span.and_then(|s| text.get(..s.start)) else {
         return message;
     };
@@ -242,6 +250,14 @@ mod tests {
             "a.toml: line 3, column 5 (`h = \"0.1\"`): invalid type: string \"0.1\", expected f64"
         );
         assert_eq!(one_line_message("x", "two\n  lines", None), "two lines");
+        assert_eq!(
+            one_line_message(
+                "x",
+                "invalid type: integer `3`, expected struct RawContact",
+                None
+            ),
+            "invalid type: integer `3`, expected a table"
+        );
         let text = "é = \u{1}\n";
         assert_eq!(
             one_line_message(text, "m", Some(2..3)),
