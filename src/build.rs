@@ -49,6 +49,7 @@ pub fn resolve(sc: &Scenario<RunSpec>) -> Result<Scenario, ScenarioError> {
         plots: sc.plots,
         warnings,
         sweep: sc.sweep.clone(),
+        source_sha256: sc.source_sha256.clone(),
     })
 }
 
@@ -113,6 +114,183 @@ pub fn resolve_time_step(
     Ok(h)
 }
 
+/// What a built scenario will cost, estimated before it runs (rough: within a factor of a
+/// few on the machines softway was measured on).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimate {
+    /// Time steps over all runs.
+    pub steps: f64,
+    /// Degrees of freedom of the largest run's model.
+    pub dofs: f64,
+    /// Run time on one core, s: `steps (2e-7 s dofs + 2e-6 s)` summed over the runs (the
+    /// measured cost is about 1.3e-7 s per dof and step on the wheel).
+    pub seconds: f64,
+    /// Peak memory, bytes: 4 kB per dof (matrices and factors) and 64 bytes per step (the
+    /// traces kept for plots and spectra) of the largest run.
+    pub memory_bytes: f64,
+    /// Bytes of `history.csv` and the other per-step files (300 bytes per written row).
+    pub disk_bytes: f64,
+    /// The key that sets the step count of the costliest run (`time.h` or `runs[i].h`)
+    /// and its value, and the key that sets its model size, for the message.
+    pub culprit: String,
+}
+
+/// Above these an estimate is refused unless confirmed (`softway run --yes`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Run time on one core, s (default 4 h).
+    pub seconds: f64,
+    /// Memory, bytes (default half the machine's memory, or 4 GiB when unknown).
+    pub memory_bytes: f64,
+    /// Disk, bytes (default 20 GB).
+    pub disk_bytes: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            seconds: 4.0 * 3600.0,
+            memory_bytes: 0.5 * physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64),
+            disk_bytes: 20e9,
+        }
+    }
+}
+
+/// The machine's memory (`MemTotal` of `/proc/meminfo`), bytes, where known.
+fn physical_memory_bytes() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+/// Nodes of a wheel mesh known without building it (`None` for a Gmsh file): the
+/// hexagonal disk's `1 + 3 n (n + 1)`, the graded disk's `rim^2 / (4 pi)` when uniform
+/// (grading below 1.05), else `1.2 rim ln(rim)` (above the measured 1,715 nodes at 288 rim
+/// nodes and 10,811 at 1,440; [`crate::mesh::generators::disk_graded`]).
+pub fn wheel_nodes(mesh: &crate::scenario::MeshSource) -> Option<f64> {
+    use crate::scenario::MeshSource;
+    match *mesh {
+        MeshSource::Rings(n) => Some(1.0 + 3.0 * n as f64 * (n as f64 + 1.0)),
+        MeshSource::Graded { rim_nodes, grading } => {
+            let r = rim_nodes as f64;
+            Some(if grading < 1.05 {
+                r * r / (4.0 * std::f64::consts::PI)
+            } else {
+                1.2 * r * r.ln()
+            })
+        }
+        MeshSource::Gmsh(_) => None,
+    }
+}
+
+/// Estimates the cost of a built scenario; `mesh_nodes` gives the nodes of a wheel whose
+/// mesh is a file (read by the caller).
+pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
+    let mut e = Estimate {
+        steps: 0.0,
+        dofs: 0.0,
+        seconds: 0.0,
+        memory_bytes: 0.0,
+        disk_bytes: 0.0,
+        culprit: String::new(),
+    };
+    let mut worst = -1.0;
+    for (i, run) in sc.runs.iter().enumerate() {
+        let h = run.params.h;
+        let (dofs, duration, size_key) = match &run.model {
+            Model::Sdof(_) => (1.0, run.t_end, None),
+            Model::BarImpact(b) => (b.elements as f64 + 1.0, run.t_end, Some("bar.elements")),
+            Model::TwoBars(b) => (
+                2.0 * (b.elements as f64 + 1.0),
+                run.t_end,
+                Some("two_bars.elements"),
+            ),
+            Model::Wheel(w) => {
+                let nodes = wheel_nodes(&w.mesh)
+                    .or(mesh_nodes.map(|n| n as f64))
+                    .unwrap_or(0.0);
+                let key = match w.mesh {
+                    crate::scenario::MeshSource::Rings(_) => "wheel.rings",
+                    crate::scenario::MeshSource::Graded { .. } => "wheel.rim_nodes",
+                    crate::scenario::MeshSource::Gmsh(_) => "wheel.mesh",
+                };
+                (2.0 * nodes, w.duration(), Some(key))
+            }
+        };
+        let steps = (duration / h).ceil().max(1.0);
+        let seconds = steps * (2e-7 * dofs + 2e-6);
+        e.steps += steps;
+        e.seconds += seconds;
+        e.dofs = e.dofs.max(dofs);
+        e.memory_bytes = e.memory_bytes.max(4096.0 * dofs + 64.0 * steps);
+        e.disk_bytes += 300.0 * steps / sc.history_stride as f64;
+        if seconds > worst {
+            worst = seconds;
+            let h_key = if sc.runs.len() > 1 {
+                format!("runs[{i}].h")
+            } else {
+                "time.h".to_string()
+            };
+            e.culprit = format!("`{h_key}` = {h:e} s over {duration:e} s");
+            if let Some(k) = size_key {
+                e.culprit.push_str(&format!(", `{k}` ({dofs} dofs)"));
+            }
+        }
+    }
+    e
+}
+
+impl Estimate {
+    /// `None` within `limits`, else the one-line reason (what would be exceeded, by how
+    /// much, and the keys that set it).
+    pub fn check(&self, limits: &Limits) -> Option<String> {
+        let over = self.seconds > limits.seconds
+            || self.memory_bytes > limits.memory_bytes
+            || self.disk_bytes > limits.disk_bytes;
+        over.then(|| {
+            format!(
+                "this run would take about {:.3e} steps of {:.0} dofs: {} on one core, {} of memory and {} of per-step files (limits {}, {}, {}); check {}, or pass --yes to run it anyway",
+                self.steps,
+                self.dofs,
+                human_seconds(self.seconds),
+                human_bytes(self.memory_bytes),
+                human_bytes(self.disk_bytes),
+                human_seconds(limits.seconds),
+                human_bytes(limits.memory_bytes),
+                human_bytes(limits.disk_bytes),
+                self.culprit
+            )
+        })
+    }
+}
+
+fn human_seconds(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.0} s")
+    } else if s < 7200.0 {
+        format!("{:.0} min", s / 60.0)
+    } else if s < 3.0 * 86400.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else if s < 1e4 * 86400.0 {
+        format!("{:.0} days", s / 86400.0)
+    } else {
+        format!("{:.3e} days", s / 86400.0)
+    }
+}
+
+fn human_bytes(b: f64) -> String {
+    const UNITS: [&str; 5] = ["B", "kB", "MB", "GB", "TB"];
+    let mut x = b;
+    for u in UNITS {
+        if x < 1000.0 {
+            return format!("{x:.0} {u}");
+        }
+        x /= 1000.0;
+    }
+    format!("{:.3e} TB", b / 1e12)
+}
+
 /// The bar carrying the contact node: the bar itself, or bar A of two bars.
 fn contact_bar(model: &Model) -> Option<BarImpact> {
     match model {
@@ -158,6 +336,49 @@ fn explicit_contact_mass(model: &Model) -> f64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// The documented defaults: 4 h, 20 GB, at most half the machine's memory.
+    #[test]
+    fn the_default_limits_are_the_documented_ones() {
+        let l = Limits::default();
+        assert_eq!(l.seconds, 4.0 * 3600.0);
+        assert_eq!(l.disk_bytes, 20e9);
+        let half = 0.5 * physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
+        assert_eq!(l.memory_bytes, half);
+        assert!(l.memory_bytes > 1e8);
+    }
+
+    /// Every scenario shipped is within the default limits (none needs --yes); a step of
+    /// 1e-12 s on the paper's bar is refused with the step count and the key.
+    #[test]
+    fn the_estimate_passes_the_shipped_scenarios_and_refuses_a_tiny_step() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+        let limits = Limits {
+            memory_bytes: 4e9,
+            ..Limits::default()
+        };
+        let mut n = 0;
+        for f in std::fs::read_dir(&dir).unwrap() {
+            let p = f.unwrap().path();
+            let sc = resolve(&Scenario::from_file(&p).unwrap()).unwrap();
+            let e = estimate(&sc, None);
+            assert!(e.check(&limits).is_none(), "{}: {e:?}", p.display());
+            n += 1;
+        }
+        assert!(n >= 9);
+        let text = std::fs::read_to_string(dir.join("bar-impact.toml")).unwrap();
+        let sc = Scenario::from_str(&text, Path::new("bar.toml")).unwrap();
+        let mut sc = resolve(&sc).unwrap();
+        sc.runs.truncate(1);
+        sc.runs[0].params.h = 1e-12;
+        let e = estimate(&sc, None);
+        assert!(e.steps > 1e12, "{e:?}");
+        let why = e.check(&limits).unwrap();
+        assert!(
+            why.contains("`time.h` = 1e-12 s") && why.contains("--yes"),
+            "{why}"
+        );
+    }
     use super::*;
     use std::path::Path;
 

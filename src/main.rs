@@ -4,12 +4,30 @@
 
 use clap::{Parser, Subcommand};
 use softway::build::resolve;
+use softway::output::staging::StagedDir;
 use softway::run::{run_scenario, RunOptions, INTERRUPT};
 use softway::scenario::Scenario;
 use softway::time::sdof::analyse;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
+
+/// `println!` that never panics: a closed standard output (`softway run ... | head`) only
+/// silences the rest of the report; the run itself goes on and its files are written.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `eprintln!` that never panics (a closed standard error).
+macro_rules! errln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
 
 /// Dynamic contact by the space-time finite element method (Bajer's soft way).
 #[derive(Parser, Debug)]
@@ -17,6 +35,29 @@ use std::sync::atomic::Ordering;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+}
+
+/// What may be replaced: an output folder of other files.
+#[derive(clap::Args, Debug)]
+struct Replace {
+    /// Replace the output folder even if it holds files softway did not write (a folder
+    /// written by softway is always replaced whole, never mixed with new files).
+    #[arg(long)]
+    force: bool,
+}
+
+/// What a run may do beyond the defaults: replace a folder of other files, exceed the
+/// size limits.
+#[derive(clap::Args, Debug)]
+struct Guard {
+    /// Replace the output folder even if it holds files softway did not write (a folder
+    /// written by softway is always replaced whole, never mixed with new files).
+    #[arg(long)]
+    force: bool,
+    /// Run even if the estimate of steps, time, memory or disk is beyond the limits (4 h on
+    /// one core, half the memory, 20 GB of per-step files).
+    #[arg(long)]
+    yes: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -31,6 +72,8 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run a scenario over a list of values of one key, in parallel (e.g. the paper's Fig. 15).
     Sweep {
@@ -46,6 +89,8 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run a scenario over a refinement ladder of one key (mesh or step) and report the
     /// observed order of every key figure: converge.csv, converge.md, converge.png.
@@ -62,6 +107,8 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run the combinations (integrator, contact treatment, time step, mesh) of a bar
     /// scenario side by side against the exact answer: compare.csv, compare.md, force and
@@ -73,6 +120,8 @@ enum Command {
         /// Output folder [default: out/<scenario name>].
         #[arg(long)]
         out: Option<PathBuf>,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Natural frequencies (Hz) and periods (us) of a wheel scenario's model, at rest and
     /// spinning (rotating frame), with the mode shapes as VTU.
@@ -85,6 +134,8 @@ enum Command {
         /// Output folder [default: out/<scenario name>-modes].
         #[arg(long)]
         out: Option<PathBuf>,
+        #[command(flatten)]
+        replace: Replace,
     },
     /// Write the space-time step's matrices of a wheel or bar scenario (Matrix Market) for
     /// other solvers, with the size of each factor and softway's time for one free step:
@@ -110,21 +161,26 @@ enum Command {
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        replace: Replace,
     },
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
     let _ = ctrlc::set_handler(|| {
         if INTERRUPT.swap(true, Ordering::SeqCst) {
             std::process::exit(130);
         }
-        eprintln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
+        errln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
     });
     match try_main(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("softway: error: {e}");
+            errln!("softway: error: {e}");
             ExitCode::from(2)
         }
     }
@@ -136,23 +192,28 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             out,
             quiet,
+            guard: Guard { force, yes },
         } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
+            check_estimate(&sc, yes)?;
             for w in &sc.warnings {
-                eprintln!("softway: warning: {w}");
+                errln!("softway: warning: {w}");
             }
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-            let report = run_scenario(&sc, &out, &RunOptions { progress: !quiet })?;
-            println!("{} ({})", sc.name, scenario.display());
+            let stage = StagedDir::begin(&out, force)?;
+            let report = run_scenario(&sc, stage.path(), &RunOptions { progress: !quiet })?;
+            let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
+            outln!("{} ({})", sc.name, scenario.display());
             for l in &report.lines {
-                println!("  {l}");
+                outln!("  {l}");
             }
-            println!("  wrote:");
-            for f in &report.files {
-                println!("    {}", f.display());
+            outln!("  wrote:");
+            for f in &files {
+                outln!("    {}", f.display());
             }
             if report.interrupted {
-                eprintln!("softway: interrupted; the files above hold the steps computed so far");
+                errln!("softway: interrupted; the files above hold the steps computed so far");
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
@@ -162,10 +223,11 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set,
             out,
             jobs,
+            guard: Guard { force, yes },
         } => {
+            let sc = Scenario::from_file(&scenario)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-            let sc = Scenario::from_file(&scenario)?;
             let (key, values) = match set {
                 Some(s) => parse_set(&s)?,
                 None => sc.sweep.clone().ok_or_else(|| {
@@ -175,15 +237,20 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     )
                 })?,
             };
+            check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
-            set_jobs(jobs);
-            println!("{}: sweeping {key} over {} values", sc.name, values.len());
+            set_jobs(jobs)?;
+            let stage = StagedDir::begin(&out, force)?;
             let (points, files) =
-                softway::run::sweep::sweep(&scenario, &text, &key, &values, &out)?;
+                softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
+            stage.commit()?;
+            outln!("{}: {key} swept over {} values", sc.name, values.len());
             print_table(&out.join("sweep.md"), &files);
-            for p in points {
-                println!("    {}/", p.dir.display());
+            for d in dirs {
+                outln!("    {}/", d.display());
             }
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
@@ -195,44 +262,57 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set,
             out,
             jobs,
+            guard: Guard { force, yes },
         } => {
+            let sc = Scenario::from_file(&scenario)?;
             let text = std::fs::read_to_string(&scenario)
                 .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-            let sc = Scenario::from_file(&scenario)?;
             let (key, values) = parse_set(&set)?;
+            check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
-            set_jobs(jobs);
-            println!(
+            set_jobs(jobs)?;
+            let stage = StagedDir::begin(&out, force)?;
+            let (_, files) =
+                softway::run::converge::converge(&scenario, &text, &key, &values, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
+            outln!(
                 "{}: convergence of {key} over {} rungs",
                 sc.name,
                 values.len()
             );
-            let (_, files) =
-                softway::run::converge::converge(&scenario, &text, &key, &values, &out)?;
             print_table(&out.join("converge.md"), &files);
             if INTERRUPT.load(Ordering::Relaxed) {
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Compare { scenario, out } => {
+        Command::Compare {
+            scenario,
+            out,
+            guard: Guard { force, yes },
+        } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
+            check_estimate(&sc, yes)?;
             for w in &sc.warnings {
-                eprintln!("softway: warning: {w}");
+                errln!("softway: warning: {w}");
             }
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+            let stage = StagedDir::begin(&out, force)?;
             let report =
-                softway::run::compare::compare(&sc, &out, &RunOptions { progress: false })?;
+                softway::run::compare::compare(&sc, stage.path(), &RunOptions { progress: false })?;
+            let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
             for l in &report.lines {
-                println!("{l}");
+                outln!("{l}");
             }
-            println!("wrote:");
-            for f in &report.files {
-                println!("  {}", f.display());
+            outln!("wrote:");
+            for f in &files {
+                outln!("  {}", f.display());
             }
             if report.interrupted {
-                eprintln!("softway: interrupted: the table holds the runs finished before");
+                errln!("softway: interrupted: the table holds the runs finished before");
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
@@ -241,6 +321,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             count,
             out,
+            replace: Replace { force },
         } => {
             let sc = Scenario::from_file(&scenario)?;
             let softway::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
@@ -255,17 +336,28 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             let wm = softway::run::wheel::build(ws, &sc.path)?;
             let rep = softway::modes::modes_report(&wm, count)?;
-            println!(
+            let out =
+                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
+            let stage = StagedDir::begin(&out, force)?;
+            let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+            stage.commit()?;
+            outln!(
                 "{}: {} dofs ({} free), support {:?}",
-                sc.name, rep.dofs, rep.free_dofs, wm.spec.support
+                sc.name,
+                rep.dofs,
+                rep.free_dofs,
+                wm.spec.support
             );
-            println!("at rest:");
-            println!(
+            outln!("at rest:");
+            outln!(
                 "{:>5} {:>14} {:>12} {:>5}  kind",
-                "mode", "frequency Hz", "period us", "n"
+                "mode",
+                "frequency Hz",
+                "period us",
+                "n"
             );
             for (i, m) in rep.at_rest.iter().enumerate() {
-                println!(
+                outln!(
                     "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
                     i + 1,
                     m.frequency_hz,
@@ -277,16 +369,19 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 );
             }
             if let Some(sp) = &rep.spinning {
-                println!(
+                outln!(
                     "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
                     ws.spec.omega
                 );
-                println!(
+                outln!(
                     "{:>5} {:>14} {:>14} {:>10}  kind",
-                    "mode", "frequency Hz", "at rest Hz", "whirl"
+                    "mode",
+                    "frequency Hz",
+                    "at rest Hz",
+                    "whirl"
                 );
                 for (i, m) in sp.iter().enumerate() {
-                    println!(
+                    outln!(
                         "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
                         i + 1,
                         m.frequency_hz,
@@ -297,12 +392,9 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 }
             }
             for n in &rep.notes {
-                println!("note: {n}");
+                outln!("note: {n}");
             }
-            let out =
-                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-            let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, &out)?;
-            println!("wrote {} files into {}", files.len(), out.display());
+            outln!("wrote {} files into {}", files.len(), out.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::Matrix { scenario, out } => {
@@ -329,6 +421,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             gamma,
             out,
             json,
+            replace: Replace { force },
         } => {
             if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
                 return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
@@ -337,6 +430,16 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
             }
             let rep = analyse(alpha, gamma, 5);
+            let files = match out {
+                Some(dir) => {
+                    let stage = StagedDir::begin(&dir, force)?;
+                    let files = softway::output::stability::write(&rep, stage.path())?;
+                    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+                    stage.commit()?;
+                    files
+                }
+                None => Vec::new(),
+            };
             if json {
                 let j = serde_json::json!({
                     "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
@@ -345,16 +448,18 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     "stability_limit_omega_h": rep.stability_limit_omega_h,
                     "table": rep.table,
                 });
-                println!("{}", serde_json::to_string_pretty(&j)?);
+                outln!("{}", serde_json::to_string_pretty(&j)?);
             } else {
-                print!("{}", softway::output::stability::table_text(&rep));
-            }
-            if let Some(dir) = out {
-                let files = softway::output::stability::write(&rep, &dir)?;
-                if !json {
-                    for f in files {
-                        println!("wrote {}", f.display());
-                    }
+                {
+                    use std::io::Write as _;
+                    let _ = write!(
+                        std::io::stdout(),
+                        "{}",
+                        softway::output::stability::table_text(&rep)
+                    );
+                }
+                for f in files {
+                    outln!("wrote {}", f.display());
                 }
             }
             Ok(ExitCode::SUCCESS)
@@ -362,10 +467,103 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
 }
 
+/// Refuses a built scenario whose estimated cost is beyond [`softway::build::Limits`]
+/// unless `yes`; a wheel's Gmsh mesh is read here (so that its errors come before any
+/// output folder is made).
+fn check_estimate(sc: &softway::scenario::Scenario, yes: bool) -> Result<(), String> {
+    let mut mesh_nodes = None;
+    for run in &sc.runs {
+        if let softway::scenario::Model::Wheel(ws) = &run.model {
+            if let softway::scenario::MeshSource::Gmsh(p) = &ws.mesh {
+                let mesh = softway::run::wheel::read_mesh_file(p, ws.spec.radius, &sc.path)
+                    .map_err(|e| e.to_string())?;
+                mesh_nodes = Some(mesh.n_nodes());
+            }
+        }
+    }
+    let est = softway::build::estimate(sc, mesh_nodes);
+    match est.check(&softway::build::Limits::default()) {
+        Some(why) if !yes => Err(format!("{}: {why}", sc.path.display())),
+        _ => Ok(()),
+    }
+}
+
+/// [`check_estimate`] over a sweep or a ladder: every value validated, the costs summed.
+fn check_ladder_estimate(
+    path: &Path,
+    text: &str,
+    key: &str,
+    values: &[String],
+    yes: bool,
+) -> Result<(), String> {
+    let mut total: Option<softway::build::Estimate> = None;
+    for v in values {
+        let t =
+            softway::scenario::set_key(text, key, v).map_err(|m| format!("{key} = {v}: {m}"))?;
+        let sc = Scenario::from_str(&t, path)
+            .and_then(|sc| resolve(&sc))
+            .map_err(|e| format!("{key} = {v}: {e}"))?;
+        check_estimate(&sc, true)?;
+        let e = softway::build::estimate(&sc, None);
+        total = Some(match total {
+            None => e,
+            Some(mut t) => {
+                t.steps += e.steps;
+                t.seconds += e.seconds;
+                t.disk_bytes += e.disk_bytes;
+                t.memory_bytes = t.memory_bytes.max(e.memory_bytes);
+                if e.dofs > t.dofs {
+                    t.dofs = e.dofs;
+                    t.culprit = e.culprit;
+                }
+                t
+            }
+        });
+    }
+    match total.and_then(|t| t.check(&softway::build::Limits::default())) {
+        Some(why) if !yes => Err(format!("{}: {key}: {why}", path.display())),
+        _ => Ok(()),
+    }
+}
+
+/// A command-line mistake on one line (clap's message, its tip and the usage), exit 2;
+/// `--help` and `--version` as clap prints them, exit 0.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            errln!("softway: error: no command given: softway run|sweep|converge|compare|modes|stability ... (see softway --help)");
+            return ExitCode::from(2);
+        }
+        _ => {}
+    }
+    let text = e.render().to_string();
+    let mut parts = Vec::new();
+    let mut usage = None;
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(u) = line.strip_prefix("Usage:") {
+            usage = Some(u.trim().to_string());
+        } else if !line.starts_with("For more information") {
+            parts.push(line.to_string());
+        }
+    }
+    let mut msg = parts.join(" ");
+    if let Some(u) = usage {
+        msg.push_str(&format!("; usage: {u}"));
+    }
+    errln!("softway: {msg}");
+    ExitCode::from(2)
+}
+
 /// `KEY=V1,V2,...` of `--set` into the key and its values.
 fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
     let (k, v) = s
         .split_once('=')
+        .filter(|(k, _)| !k.trim().is_empty())
         .ok_or_else(|| format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)"))?;
     let vals: Vec<String> = v
         .split(',')
@@ -379,20 +577,32 @@ fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
 }
 
 /// Runs at once for `sweep` and `converge` (default: the number of cores).
-fn set_jobs(jobs: Option<usize>) {
-    if let Some(j) = jobs {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(j.max(1))
-            .build_global()
-            .ok();
+fn set_jobs(jobs: Option<usize>) -> Result<(), String> {
+    match jobs {
+        Some(0) => Err("--jobs 0: give at least one job".into()),
+        Some(j) => {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(j)
+                .build_global()
+                .ok();
+            Ok(())
+        }
+        None => Ok(()),
     }
 }
 
 /// Prints a markdown table written by a study and the files it wrote.
 fn print_table(md: &std::path::Path, files: &[PathBuf]) {
-    print!("{}", std::fs::read_to_string(md).unwrap_or_default());
-    println!("  wrote:");
+    {
+        use std::io::Write as _;
+        let _ = write!(
+            std::io::stdout(),
+            "{}",
+            std::fs::read_to_string(md).unwrap_or_default()
+        );
+    }
+    outln!("  wrote:");
     for f in files {
-        println!("    {}", f.display());
+        outln!("    {}", f.display());
     }
 }

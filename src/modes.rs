@@ -721,9 +721,11 @@ pub fn write_mode_shapes_of(
     pvd.write(&pvd_path)?;
     written.push(pvd_path);
     let csv_path = dir.join("modes.csv");
-    std::fs::write(&csv_path, csv).map_err(|source| ModesError::Io {
-        path: csv_path.clone(),
-        source,
+    crate::output::files::write_atomic(&csv_path, csv.as_bytes()).map_err(|source| {
+        ModesError::Io {
+            path: csv_path.clone(),
+            source,
+        }
     })?;
     written.push(csv_path);
     Ok(written)

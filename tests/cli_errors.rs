@@ -1,81 +1,8 @@
 //! Bad input gives a one-line error naming the file and the key, a non-zero exit, no panic.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-fn softway() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_softway"))
-}
-
-fn scenario(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("softway-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(format!("{name}.toml"));
-    std::fs::write(&p, text).unwrap();
-    p
-}
-
-const BAR: &str = r#"
-kind = "bar_impact"
-[time]
-alpha = 0.8
-h = 0.1
-t_end = 1.0
-[bar]
-length = 1.0
-ea = 1.0
-rho_a = 1.0
-speed = 1.0
-gap = 0.5
-elements = 8
-"#;
-
-/// Runs `softway run` on the text; returns (exit code, stderr).
-fn run_err(name: &str, text: &str) -> (i32, String) {
-    let p = scenario(name, text);
-    let out_dir = p.with_extension("out");
-    let o = softway()
-        .arg("run")
-        .arg(&p)
-        .arg("--out")
-        .arg(&out_dir)
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert!(
-        !out_dir.join("summary.json").exists(),
-        "a result was written for bad input"
-    );
-    (o.status.code().unwrap_or(-1), err)
-}
-
-fn assert_one_line_error(code: i32, err: &str, must: &[&str]) {
-    assert_ne!(code, 0);
-    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "expected one line, got: {err}");
-    for m in must {
-        assert!(err.contains(m), "`{m}` missing from: {err}");
-    }
-}
-
-/// Runs a valid scenario into `<file>.out`: the folder and its summary.
-fn run_ok(p: &std::path::Path) -> (std::path::PathBuf, serde_json::Value) {
-    let out = p.with_extension("out");
-    let o = softway()
-        .arg("run")
-        .arg(p)
-        .arg("--out")
-        .arg(&out)
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    (out, s)
-}
+use common::{assert_one_line_error, run_err, run_ok, scenario, softway, BAR};
 
 #[test]
 fn valid_bar_scenario_runs() {

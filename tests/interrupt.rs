@@ -1,41 +1,275 @@
-//! Ctrl-C (SIGINT) stops a long run at the next step and still writes valid results.
+//! Interruption and faults: SIGINT and SIGTERM at any moment leave complete, readable
+//! outputs (summary.json parses, CSV rows complete, VTU well-formed, PNGs decode) and no
+//! temporary files; SIGKILL leaves at most files under temporary names (removed by the next
+//! run), never a truncated file under its final name; a full disk is an error, not a panic.
 
-use std::process::Command;
+mod common;
+
+use common::{softway, TestDir};
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
+/// A bar run of about a second (15,000 steps of 2,001 dofs).
+const LONG_BAR: &str = r#"
+kind = "bar_impact"
+[time]
+alpha = 0.8
+h = 2e-4
+t_end = 3.0
+[bar]
+length = 1.0
+ea = 1.0
+rho_a = 1.0
+speed = 1.0
+gap = 0.5
+elements = 2000
+"#;
+
+/// Asserts that no file or folder under `dir` (recursively) has a temporary name.
+fn assert_no_temporaries(dir: &Path) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let e = e.unwrap();
+        let name = e.file_name().to_string_lossy().into_owned();
+        assert!(
+            !(name.contains("softway-tmp")
+                || name.contains("softway-old")
+                || name.ends_with(".part")
+                || name.ends_with(".tmp")
+                || name.ends_with(".tmp.png")),
+            "temporary left: {}",
+            e.path().display()
+        );
+        if e.file_type().unwrap().is_dir() {
+            assert_no_temporaries(&e.path());
+        }
+    }
+}
+
+/// Asserts that every result in `dir` is complete and readable.
+fn assert_complete_outputs(dir: &Path) {
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert!(s["interrupted"].is_boolean(), "{s}");
+    let mut kinds = 0;
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        match p.extension().and_then(|x| x.to_str()) {
+            Some("csv") => {
+                let text = std::fs::read_to_string(&p).unwrap();
+                assert!(text.ends_with('\n'), "{}: last row cut", p.display());
+                let rows: Vec<&str> = text.lines().collect();
+                let n = rows[0].split(',').count();
+                assert!(
+                    rows.iter().all(|r| r.split(',').count() == n),
+                    "{}: a row of another length",
+                    p.display()
+                );
+                kinds |= 1;
+            }
+            Some("png") => {
+                let decoder = png::Decoder::new(std::fs::File::open(&p).unwrap());
+                let mut reader = decoder.read_info().unwrap();
+                let mut buf = vec![0; reader.output_buffer_size()];
+                reader.next_frame(&mut buf).unwrap();
+                kinds |= 2;
+            }
+            Some("vtu") => {
+                vtkio::Vtk::import(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+                kinds |= 4;
+            }
+            _ => {}
+        }
+    }
+    assert!(kinds & 1 != 0, "no CSV in {}", dir.display());
+}
+
+fn signal(pid: u32, sig: &str) {
+    let ok = Command::new("kill")
+        .args([sig, &pid.to_string()])
+        .status()
+        .unwrap()
+        .success();
+    assert!(ok || sig == "-KILL");
+}
+
+/// SIGINT and SIGTERM, early and late: the run stops at the next step, writes what it has
+/// and exits 130; or it finished first (0); or the signal came before the handler was set
+/// (killed, nothing written). Never a half result, never a temporary file.
+#[test]
+fn sigint_and_sigterm_at_any_moment_leave_complete_results() {
+    let dir = TestDir::new("int", "anytime");
+    let sc = dir.join("long.toml");
+    std::fs::write(&sc, LONG_BAR).unwrap();
+    let mut interrupted = 0;
+    for (k, (sig, delay_ms)) in [
+        ("-INT", 0),
+        ("-TERM", 30),
+        ("-INT", 150),
+        ("-TERM", 400),
+        ("-TERM", 700),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = dir.join(format!("out{k}"));
+        let mut child = softway()
+            .arg("run")
+            .arg(&sc)
+            .arg("--quiet")
+            .arg("--out")
+            .arg(&out)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(delay_ms));
+        signal(child.id(), sig);
+        let status = child.wait().unwrap();
+        match status.code() {
+            Some(130) => {
+                interrupted += 1;
+                assert_complete_outputs(&out);
+                let s: serde_json::Value = serde_json::from_str(
+                    &std::fs::read_to_string(out.join("summary.json")).unwrap(),
+                )
+                .unwrap();
+                assert_eq!(s["interrupted"], true, "{sig} after {delay_ms} ms");
+            }
+            Some(0) => assert_complete_outputs(&out),
+            None => assert!(!out.exists(), "{sig} after {delay_ms} ms: {status:?}"),
+            Some(c) => panic!("{sig} after {delay_ms} ms: exit {c}"),
+        }
+        assert_no_temporaries(&dir);
+    }
+    assert!(interrupted >= 2, "only {interrupted} runs interrupted");
+}
+
+/// The wheel interrupted: its VTU, PNGs, CSVs and summary are complete.
 #[test]
 fn sigint_stops_the_wheel_run_and_keeps_its_results() {
-    let dir = std::env::temp_dir().join(format!("softway-int-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_softway"))
+    let dir = TestDir::new("int", "wheel");
+    let mut child = softway()
         .args([
             "run",
             concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"),
             "--quiet",
             "--out",
         ])
-        .arg(&dir)
+        .arg(dir.join("out"))
+        .stdout(Stdio::null())
         .spawn()
         .unwrap();
     std::thread::sleep(Duration::from_millis(1500));
-    let ok = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap()
-        .success();
-    assert!(ok);
+    signal(child.id(), "-INT");
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130), "exit status {status:?}");
+    let out = dir.join("out");
     let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(s["interrupted"], true);
     let steps = s["steps"].as_u64().unwrap();
     assert!(steps > 0 && steps < 54_860, "steps {steps}");
-    // history.csv holds complete rows only, up to the last step.
-    let h = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-    let rows: Vec<&str> = h.lines().collect();
-    assert!(rows.len() > 2);
-    let n_cols = rows[0].split(',').count();
-    assert!(rows.iter().all(|r| r.split(',').count() == n_cols));
-    assert!(!dir.join("history.csv.part").exists());
+    assert_complete_outputs(&out);
+    // The turn-averaged field is written however early the run stopped (and imported above).
+    assert!(out.join("j2_turn_average.vtu").exists());
+    assert!(out.join("contact_force.png").exists());
+    assert_no_temporaries(&dir);
+}
+
+/// SIGKILL at several moments: the output folder is either absent or the older complete
+/// results; anything else has a temporary name; the next run removes those.
+#[test]
+fn sigkill_leaves_only_temporary_names_and_the_next_run_cleans_them() {
+    let dir = TestDir::new("int", "kill");
+    let sc = dir.join("long.toml");
+    std::fs::write(&sc, LONG_BAR).unwrap();
+    let out = dir.join("out");
+    for delay_ms in [20, 200, 500] {
+        let mut child = softway()
+            .arg("run")
+            .arg(&sc)
+            .arg("--quiet")
+            .arg("--out")
+            .arg(&out)
+            .stdout(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(delay_ms));
+        signal(child.id(), "-KILL");
+        let _ = child.wait().unwrap();
+        assert!(
+            !out.exists(),
+            "SIGKILL after {delay_ms} ms left {}",
+            out.display()
+        );
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(
+                name == "long.toml" || name.starts_with(".out.softway-tmp-"),
+                "{name}"
+            );
+        }
+    }
+    // The next run cleans the folders of the killed runs and writes complete results.
+    let o = softway()
+        .arg("run")
+        .arg(&sc)
+        .arg("--quiet")
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_complete_outputs(&out);
+    assert_no_temporaries(&dir);
+}
+
+/// A full disk (a file size limit of 20 kB, RLIMIT_FSIZE with SIGXFSZ ignored: writes fail
+/// with EFBIG as on a full tmpfs): one line naming the file, exit 2, nothing left behind.
+#[test]
+fn a_full_disk_is_an_error_not_a_panic() {
+    let dir = TestDir::new("int", "full");
+    let sc = dir.join("long.toml");
+    std::fs::write(&sc, LONG_BAR.replace("t_end = 3.0", "t_end = 0.5")).unwrap();
+    let out = dir.join("out");
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 40; exec \"$0\" run \"$1\" --quiet --out \"$2\"")
+        .arg(env!("CARGO_BIN_EXE_softway"))
+        .arg(&sc)
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("history.csv: File too large"), "{err}");
+    assert!(!out.exists());
+    assert_no_temporaries(&dir);
+}
+
+/// `softway run ... | head`: a closed standard output does not panic; the run completes.
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    let dir = TestDir::new("int", "pipe");
+    let sc = dir.join("bar.toml");
+    std::fs::write(&sc, LONG_BAR.replace("elements = 2000", "elements = 20")).unwrap();
+    let out = dir.join("out");
+    let mut child = softway()
+        .arg("run")
+        .arg(&sc)
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+    assert_complete_outputs(&out);
 }

@@ -40,9 +40,10 @@ fn out_dir(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("softway-traction-{}-{name}", std::process::id()))
 }
 
-/// `(Q / (mu P), mean stick nodes, mean slip nodes, Hertz a)` of a run at creepage `xi`.
-fn traction(xi: f64) -> (f64, f64, f64, f64) {
-    let dir = out_dir(&format!("xi{xi}"));
+/// `(Q / (mu P), mean stick nodes, mean slip nodes, Hertz a)` of a run at creepage `xi`,
+/// written in a folder of its own for the test `tag` (tests run in parallel).
+fn traction(tag: &str, xi: f64) -> (f64, f64, f64, f64) {
+    let dir = out_dir(&format!("{tag}-xi{xi}"));
     run_scenario(&scenario(xi), &dir, &RunOptions { progress: false }).unwrap();
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
@@ -61,7 +62,7 @@ fn traction(xi: f64) -> (f64, f64, f64, f64) {
 fn full_slip_carries_mu_p_with_the_sign_of_the_creepage() {
     // Carter's saturation creepage is mu a / R = 0.024: 0.04 slides the whole patch.
     for xi in [0.04, -0.04] {
-        let (ratio, stick, slip, _) = traction(xi);
+        let (ratio, stick, slip, _) = traction("full-slip", xi);
         assert!(
             (ratio - xi.signum()).abs() < 1e-3,
             "xi {xi}: Q/(mu P) = {ratio}"
@@ -73,7 +74,7 @@ fn full_slip_carries_mu_p_with_the_sign_of_the_creepage() {
 #[test]
 fn creep_curve_rises_through_free_rolling_with_carters_slope() {
     let xis = [-0.01, 0.0, 0.005, 0.01, 0.02];
-    let runs: Vec<(f64, f64, f64, f64)> = xis.iter().map(|&x| traction(x)).collect();
+    let runs: Vec<(f64, f64, f64, f64)> = xis.iter().map(|&x| traction("curve", x)).collect();
     for w in runs.windows(2) {
         assert!(w[1].0 > w[0].0, "not increasing: {runs:?}");
     }
@@ -96,7 +97,7 @@ fn creep_curve_rises_through_free_rolling_with_carters_slope() {
 /// free-rolling offset), not the full slip of a base sliding at omega rho.
 #[test]
 fn free_rolling_with_friction_does_not_slide_at_the_rolling_speed() {
-    let (ratio, stick, slip, _) = traction(0.0);
+    let (ratio, stick, slip, _) = traction("free", 0.0);
     assert!(ratio.abs() < 0.4, "{ratio}");
     assert!(stick > 2.0 * slip, "stick {stick}, slip {slip}");
 }

@@ -6,8 +6,11 @@
 //! tagged with it, whatever their dimension (points at the centre, curves on the rim,
 //! surfaces). Points and lines are used only for these groups, never as cells.
 //!
-//! Nodes are renumbered compactly (`0..n`, in increasing Gmsh node tag order), keeping only
-//! the nodes used by triangles or by named groups, so sparse Gmsh node tags are fine.
+//! Nodes are renumbered compactly (`0..n`, in increasing Gmsh node tag order), so sparse
+//! Gmsh node tags are fine. Every node must be a vertex of a triangle (a node of no triangle
+//! would carry neither mass nor stiffness), node tags must be unique, no two nodes may share
+//! a position (an unmerged seam), and the `$Nodes` and `$Elements` headers must announce
+//! as many nodes and elements as their blocks hold: each is an error naming the node.
 //!
 //! Orientation: if all triangles are clockwise they are all reversed; a triangle of (near)
 //! zero area, or a mesh with triangles of both orientations, is an error naming the Gmsh
@@ -93,6 +96,81 @@ pub enum GmshError {
         /// The missing Gmsh node tag.
         node: u64,
     },
+    /// A section header announces more (or fewer) nodes or elements than its blocks hold.
+    #[error(
+        "{}: the {section} header announces {announced} {what}, its blocks hold {found}",
+        .path.display()
+    )]
+    CountMismatch {
+        /// The file.
+        path: PathBuf,
+        /// `$Nodes` or `$Elements`.
+        section: &'static str,
+        /// `nodes` or `elements`.
+        what: &'static str,
+        /// The count in the header.
+        announced: u64,
+        /// The count in the blocks.
+        found: u64,
+    },
+    /// A node tag appears twice in `$Nodes`.
+    #[error("{}: node {node} appears twice in $Nodes; node tags must be unique", .path.display())]
+    DuplicateNode {
+        /// The file.
+        path: PathBuf,
+        /// The Gmsh node tag.
+        node: u64,
+    },
+    /// A node block repeats a node tag.
+    #[error(
+        "{}: the $Nodes block of entity (dim {dim}, tag {entity}) repeats a node tag: \
+         {nodes} nodes, {tags} distinct tags; node tags must be unique",
+        .path.display()
+    )]
+    DuplicateNodeInBlock {
+        /// The file.
+        path: PathBuf,
+        /// The entity's dimension.
+        dim: i32,
+        /// The entity's tag.
+        entity: i32,
+        /// Nodes in the block.
+        nodes: usize,
+        /// Distinct tags among them.
+        tags: usize,
+    },
+    /// Two nodes of different tags at the same position (an unmerged seam).
+    #[error(
+        "{}: nodes {first} and {second} are both at ({x}, {y}): the mesh is cut along a seam; \
+         merge duplicate nodes (Gmsh: Coherence Mesh)",
+        .path.display()
+    )]
+    CoincidentNodes {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of one node.
+        first: u64,
+        /// Gmsh tag of the other.
+        second: u64,
+        /// Their position, x.
+        x: f64,
+        /// Their position, y.
+        y: f64,
+    },
+    /// A node used by no triangle (it would carry no stiffness and no mass).
+    #[error(
+        "{}: node {node}{group} belongs to no triangle; every node of the mesh must be a \
+         triangle's vertex (remove it, or embed the point in the surface)",
+        .path.display()
+    )]
+    UnusedNode {
+        /// The file.
+        path: PathBuf,
+        /// Its Gmsh tag.
+        node: u64,
+        /// ` (group "name")` when a named group holds it, else empty.
+        group: String,
+    },
     /// A triangle has zero (or near-zero, relative to the mean triangle area) area.
     #[error(
         "{}: triangle {element} is degenerate: area {area:e} (mean triangle area {mean_area:e})",
@@ -137,18 +215,47 @@ pub enum GmshError {
 /// [`GmshError::MissingNode`], [`GmshError::DegenerateElement`] and
 /// [`GmshError::InvertedElement`] for unusable meshes.
 pub fn read_msh(path: &Path) -> Result<Mesh, GmshError> {
-    let bytes = std::fs::read(path).map_err(|source| GmshError::Io {
+    read_msh_tagged(path).map(|(mesh, _)| mesh)
+}
+
+/// [`read_msh`], with the Gmsh tag of every node (`tags[i]` is node `i`'s), for messages
+/// that name a node as the user's file does.
+///
+/// # Errors
+/// As [`read_msh`].
+pub fn read_msh_tagged(path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
+    let io = |source| GmshError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    parse_msh(&bytes, path)
+    };
+    // A device (/dev/zero) or a pipe could be read forever.
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if !meta.is_file() && !meta.is_dir() {
+        return Err(io(std::io::Error::other(
+            "not a regular file (a device or a pipe)",
+        )));
+    }
+    let bytes = std::fs::read(path).map_err(io)?;
+    parse_msh_tagged(&bytes, path)
 }
 
 /// Relative area below which a triangle counts as degenerate.
 const DEGENERATE_RELATIVE_AREA: f64 = 1e-12;
 
-/// Parses the bytes of a MSH 4.1 file; `path` only names the file in errors.
-fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
+/// Parses the bytes of a MSH 4.1 file (ASCII or binary) as [`read_msh`] does; `path` only
+/// names the file in errors.
+///
+/// # Errors
+/// The [`GmshError`]s of [`read_msh`] but [`GmshError::Io`].
+pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
+    parse_msh_tagged(bytes, path).map(|(mesh, _)| mesh)
+}
+
+/// [`parse_msh`] with the node tags, as [`read_msh_tagged`].
+///
+/// # Errors
+/// As [`parse_msh`].
+pub fn parse_msh_tagged(bytes: &[u8], path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
     let parse_err = |message: String| GmshError::Parse {
         path: path.to_path_buf(),
         message,
@@ -211,12 +318,40 @@ fn build_mesh(
     msh: &MshFile<u64, i32, f64>,
     names: &BTreeMap<(i32, i32), String>,
     path: &Path,
-) -> Result<Mesh, GmshError> {
+) -> Result<(Mesh, Vec<u64>), GmshError> {
     let missing = |element: u64, node: u64| GmshError::MissingNode {
         path: path.to_path_buf(),
         element,
         node,
     };
+
+    // The headers' counts against the blocks'.
+    let mismatch = |section, what, announced: u64, found: usize| {
+        let found = found as u64;
+        (announced != found).then(|| GmshError::CountMismatch {
+            path: path.to_path_buf(),
+            section,
+            what,
+            announced,
+            found,
+        })
+    };
+    if let Some(nodes) = &msh.data.nodes {
+        let found = nodes.node_blocks.iter().map(|b| b.nodes.len()).sum();
+        if let Some(e) = mismatch("$Nodes", "nodes", nodes.num_nodes, found) {
+            return Err(e);
+        }
+    }
+    if let Some(elements) = &msh.data.elements {
+        let found = elements
+            .element_blocks
+            .iter()
+            .map(|b| b.elements.len())
+            .sum();
+        if let Some(e) = mismatch("$Elements", "elements", elements.num_elements, found) {
+            return Err(e);
+        }
+    }
 
     // Node coordinates by tag, and the nodes of each entity's node block.
     let mut coords: HashMap<u64, [f64; 2]> = HashMap::new();
@@ -229,9 +364,24 @@ fn build_mesh(
                 .or_default();
             match &block.node_tags {
                 Some(tags) => {
+                    if tags.len() < block.nodes.len() {
+                        // mshio keeps the tags in a map: a repeated tag shrinks it.
+                        return Err(GmshError::DuplicateNodeInBlock {
+                            path: path.to_path_buf(),
+                            dim: block.entity_dim,
+                            entity: block.entity_tag,
+                            nodes: block.nodes.len(),
+                            tags: tags.len(),
+                        });
+                    }
                     for (&tag, &i) in tags {
                         if let Some(n) = block.nodes.get(i) {
-                            coords.insert(tag, [n.x, n.y]);
+                            if coords.insert(tag, [n.x, n.y]).is_some() {
+                                return Err(GmshError::DuplicateNode {
+                                    path: path.to_path_buf(),
+                                    node: tag,
+                                });
+                            }
                             list.push(tag);
                         }
                     }
@@ -239,7 +389,12 @@ fn build_mesh(
                 None => {
                     // Contiguous tags, in file order.
                     for n in &block.nodes {
-                        coords.insert(next_tag, [n.x, n.y]);
+                        if coords.insert(next_tag, [n.x, n.y]).is_some() {
+                            return Err(GmshError::DuplicateNode {
+                                path: path.to_path_buf(),
+                                node: next_tag,
+                            });
+                        }
                         list.push(next_tag);
                         next_tag = next_tag.saturating_add(1);
                     }
@@ -331,11 +486,37 @@ fn build_mesh(
         }
     }
 
-    // Compact renumbering in increasing tag order.
-    let mut used: BTreeSet<u64> = triangles.iter().flat_map(|(_, t)| *t).collect();
-    for set in groups.values() {
-        used.extend(set);
+    // Every node a triangle's vertex; no two at one position.
+    let used: BTreeSet<u64> = triangles.iter().flat_map(|(_, t)| *t).collect();
+    if let Some(&node) = coords.keys().filter(|t| !used.contains(t)).min() {
+        let group = groups
+            .iter()
+            .find(|(_, set)| set.contains(&node))
+            .map(|(name, _)| format!(" (group \"{name}\")"))
+            .unwrap_or_default();
+        return Err(GmshError::UnusedNode {
+            path: path.to_path_buf(),
+            node,
+            group,
+        });
     }
+    let mut by_position: Vec<(u64, [f64; 2])> = used
+        .iter()
+        .map(|t| (*t, coords.get(t).copied().unwrap_or([f64::NAN; 2])))
+        .collect();
+    by_position.sort_by(|a, b| a.1[0].total_cmp(&b.1[0]).then(a.1[1].total_cmp(&b.1[1])));
+    if let Some(w) = by_position.windows(2).find(|w| w[0].1 == w[1].1) {
+        let (a, b) = (w[0].0.min(w[1].0), w[0].0.max(w[1].0));
+        return Err(GmshError::CoincidentNodes {
+            path: path.to_path_buf(),
+            first: a,
+            second: b,
+            x: w[0].1[0],
+            y: w[0].1[1],
+        });
+    }
+
+    // Compact renumbering in increasing tag order.
     let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
     let points: Vec<[f64; 2]> = used
         .iter()
@@ -359,12 +540,15 @@ fn build_mesh(
         })
         .collect();
 
-    Ok(Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(cells),
-        node_sets,
-    })
+    Ok((
+        Mesh {
+            dim: 2,
+            points,
+            cells: Cells::Tri3(cells),
+            node_sets,
+        },
+        used.into_iter().collect(),
+    ))
 }
 
 /// Checks the triangle areas and makes all triangles counter-clockwise (see the module
@@ -942,13 +1126,12 @@ mod tests {
     #[test]
     fn two_triangles_and_eight_triangles() {
         let dir = TempDir::new("two-eight");
-        // Two triangles: the centre node is used only by the "body" group's node block.
+        // Two triangles: the centre node is used only by the "body" group's node block; a
+        // node of no triangle carries no mass nor stiffness: an error naming it.
         let two = [[0, 1, 2], [0, 2, 3]];
         let p = dir.write("two.msh", square_ascii(TAGS, &two).as_bytes());
-        let m = read_msh(&p).unwrap();
-        assert_eq!(m.cells.len(), 2);
-        assert_eq!(m.n_nodes(), 5, "group nodes are kept");
-        assert_eq!(m.node_set("body").unwrap().len(), 5);
+        let e = read_msh(&p).unwrap_err();
+        assert!(matches!(e, GmshError::UnusedNode { .. }), "{e}");
 
         // Eight triangles on a 3 x 3 node grid, one node block, no named boundary groups.
         let mut s = String::from("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
@@ -1011,6 +1194,51 @@ mod tests {
         assert_eq!(
             m.points,
             vec![[0.5, 0.5], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]
+        );
+    }
+
+    /// Regression (issue 12): a repeated node tag, a node of no triangle, two nodes at one
+    /// place and a header announcing more nodes than its blocks hold were read silently
+    /// (the later node won, the lone node made a singular model, the seam cut the mesh).
+    #[test]
+    fn duplicate_unused_coincident_nodes_and_false_counts_are_errors() {
+        let bytes = square_ascii([1, 2, 3, 4, 1], &CCW);
+        let e = parse_msh(bytes.as_bytes(), Path::new("dup.msh")).unwrap_err();
+        assert!(matches!(e, GmshError::DuplicateNode { node: 1, .. }), "{e}");
+        let two = [[0, 1, 2], [0, 2, 3]];
+        let e = parse_msh(
+            square_ascii([1, 2, 3, 4, 5], &two).as_bytes(),
+            Path::new("u.msh"),
+        )
+        .unwrap_err();
+        assert!(matches!(e, GmshError::UnusedNode { node: 5, .. }), "{e}");
+        assert!(e.to_string().contains("node 5 (group \"body\")"), "{e}");
+        let moved = square_ascii([1, 2, 3, 4, 5], &CCW).replace("0.5 0.5 0\n", "1 1 0\n");
+        let e = parse_msh(moved.as_bytes(), Path::new("c.msh")).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GmshError::CoincidentNodes {
+                    first: 3,
+                    second: 5,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let claims =
+            square_ascii([1, 2, 3, 4, 5], &CCW).replace("$Nodes\n9 5 1 5", "$Nodes\n9 6 1 5");
+        let e = parse_msh(claims.as_bytes(), Path::new("n.msh")).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GmshError::CountMismatch {
+                    announced: 6,
+                    found: 5,
+                    ..
+                }
+            ),
+            "{e}"
         );
     }
 

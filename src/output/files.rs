@@ -63,7 +63,8 @@ impl CsvWriter {
         let f = File::create(&tmp)
             .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", tmp.display())))?;
         let mut out = BufWriter::with_capacity(1 << 16, f);
-        writeln!(out, "{}", header.join(","))?;
+        writeln!(out, "{}", header.join(","))
+            .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))?;
         Ok(Self {
             out,
             path: path.to_path_buf(),
@@ -90,9 +91,16 @@ impl CsvWriter {
             let _ = write!(self.line, "{v:e}");
         }
         self.line.push('\n');
-        self.out.write_all(self.line.as_bytes())?;
+        self.out
+            .write_all(self.line.as_bytes())
+            .map_err(|e| self.named(e))?;
         self.rows += 1;
         Ok(())
+    }
+
+    /// `e` with the file's (final) name in its message.
+    fn named(&self, e: std::io::Error) -> std::io::Error {
+        std::io::Error::new(e.kind(), format!("{}: {e}", self.path.display()))
     }
 
     /// Flushes and renames the file into place.
@@ -100,9 +108,9 @@ impl CsvWriter {
     /// # Errors
     /// I/O errors.
     pub fn finish(mut self) -> std::io::Result<usize> {
-        self.out.flush()?;
-        self.out.get_ref().sync_all()?;
-        std::fs::rename(&self.tmp, &self.path)?;
+        self.out.flush().map_err(|e| self.named(e))?;
+        self.out.get_ref().sync_all().map_err(|e| self.named(e))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| self.named(e))?;
         Ok(self.rows)
     }
 }

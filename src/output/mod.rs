@@ -5,6 +5,7 @@
 
 pub mod files;
 pub mod stability;
+pub mod staging;
 pub mod vtk;
 
 /// PNG figures: the `softway-plot` workspace crate (crates/softway-plot),

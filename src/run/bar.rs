@@ -496,6 +496,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
         }
     }
     let sj = out.join("summary.json");
+    super::stamp_provenance(&mut json, sc);
     write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
     report.files.push(sj);
     if sc.plots && !traces.is_empty() {

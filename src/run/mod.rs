@@ -115,6 +115,19 @@ fn parse_vm_hwm(status: &str) -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// Adds what makes a `summary.json` traceable to a JSON object: `softway_version` (the
+/// crate's version) and `scenario_sha256` ([`Scenario::source_sha256`], the digest of the
+/// scenario text as run).
+pub(crate) fn stamp_provenance(json: &mut serde_json::Value, sc: &Scenario) {
+    if let Some(o) = json.as_object_mut() {
+        o.insert(
+            "softway_version".into(),
+            env!("CARGO_PKG_VERSION").to_string().into(),
+        );
+        o.insert("scenario_sha256".into(), sc.source_sha256.clone().into());
+    }
+}
+
 /// A progress bar over `len` steps (hidden when not on a terminal or not asked for).
 pub(crate) fn progress_bar(len: u64, label: &str, show: bool) -> indicatif::ProgressBar {
     use std::io::IsTerminal;

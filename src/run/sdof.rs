@@ -147,10 +147,11 @@ pub fn run(sc: &Scenario, out: &Path, _opts: &RunOptions) -> Result<RunReport, R
     csv.finish().map_err(|e| RunError::output(&hist, e))?;
     report.files.push(hist);
     let sj = out.join("summary.json");
-    let json = serde_json::json!({
+    let mut json = serde_json::json!({
         "scenario": sc.name, "kind": "sdof", "interrupted": report.interrupted,
         "units": {"time": "s", "length": "m", "energy": "J"}, "runs": sums,
     });
+    super::stamp_provenance(&mut json, sc);
     write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
     report.files.push(sj);
     if sc.plots {

@@ -54,7 +54,15 @@ pub fn run_ladder(
     out: &Path,
 ) -> Result<Vec<SweepPoint>, SweepError> {
     let mut scs = Vec::new();
+    let mut dirs = std::collections::BTreeSet::new();
     for v in values {
+        if !dirs.insert(point_dir_name(key, v)) {
+            return Err(SweepError::Value {
+                key: key.into(),
+                value: v.clone(),
+                message: "given twice: give every value once".into(),
+            });
+        }
         let t = set_key(text, key, v).map_err(|m| SweepError::Value {
             key: key.into(),
             value: v.clone(),
@@ -73,7 +81,7 @@ pub fn run_ladder(
     let results: Vec<Result<SweepPoint, SweepError>> = scs
         .par_iter()
         .map(|(v, sc)| {
-            let dir = out.join(format!("{key}={}", v.trim_matches('"')));
+            let dir = out.join(point_dir_name(key, v));
             let rep = run_scenario(sc, &dir, &RunOptions { progress: false })?;
             let sj = dir.join("summary.json");
             let summary = std::fs::read_to_string(&sj)
@@ -96,6 +104,12 @@ pub fn run_ladder(
         })
         .collect();
     results.into_iter().collect()
+}
+
+/// The folder of one point, `<key>=<value>` (quotes trimmed, path separators replaced by
+/// `_` so that a value never leads out of the sweep's folder).
+fn point_dir_name(key: &str, value: &str) -> String {
+    format!("{key}={}", value.trim_matches('"')).replace(['/', '\\'], "_")
 }
 
 /// Runs the scenario text at `path` for every value of `key`, in parallel (rayon), into

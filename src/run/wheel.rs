@@ -25,7 +25,7 @@ use crate::analysis::components::{
 };
 use crate::material::PlaneModel;
 use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
-use crate::mesh::gmsh::read_msh;
+use crate::mesh::gmsh::read_msh_tagged;
 use crate::mesh::quality as mesh_quality;
 use crate::mesh::Mesh;
 use crate::modes::{bounce_mode, Bounce};
@@ -150,12 +150,84 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
             DiskOptions { grading: *grading },
         )
         .map_err(|e| RunError::input(sc_path, e))?,
-        MeshSource::Gmsh(p) => read_msh(p).map_err(|e| RunError::Input {
-            path: sc_path.to_path_buf(),
-            message: e.to_string(),
-        })?,
+        MeshSource::Gmsh(p) => read_mesh_file(p, ws.spec.radius, sc_path)?,
     };
     WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::input(sc_path, e))
+}
+
+/// Reads the wheel's Gmsh mesh `p` (the scenario's `wheel.mesh`) and checks it is a disk
+/// of `radius` about the axle ([`check_disk`]).
+///
+/// # Errors
+/// [`RunError::Input`] naming the scenario `sc_path`, the key `wheel.mesh`, the mesh file
+/// and what is wrong.
+pub fn read_mesh_file(p: &Path, radius: f64, sc_path: &Path) -> Result<Mesh, RunError> {
+    let at_fault = |e: String| RunError::Input {
+        path: sc_path.to_path_buf(),
+        message: format!("`wheel.mesh` = \"{}\": {e}", p.display()),
+    };
+    let (mesh, tags) = read_msh_tagged(p).map_err(|e| at_fault(e.to_string()))?;
+    check_disk(&mesh, &tags, radius).map_err(at_fault)?;
+    Ok(mesh)
+}
+
+/// Relative tolerance on the radius of the rim of a mesh read from a file.
+const RIM_TOLERANCE: f64 = 1e-3;
+
+/// Checks that a mesh read from a file is a disk of `radius` (m) centred at the axle: its
+/// largest radius is `radius`, every node of its outer boundary (boundary nodes beyond half
+/// the radius) is on that circle, and so is every node of a `"rim"` group. `tags` are the
+/// nodes' Gmsh tags, for the message.
+///
+/// # Errors
+/// A message naming the node (Gmsh tag), its position and what is allowed.
+pub fn check_disk(mesh: &Mesh, tags: &[u64], radius: f64) -> Result<(), String> {
+    let r = |i: usize| mesh.points[i][0].hypot(mesh.points[i][1]);
+    let tag = |i: usize| tags.get(i).copied().unwrap_or(i as u64);
+    let off = |i: usize| (r(i) / radius - 1.0).abs() > RIM_TOLERANCE;
+    let describe = |i: usize, what: &str| {
+        format!(
+            "node {} at ({:.6e}, {:.6e}) m, {what}, is at radius {:.6e} m: the wheel's rim must be the circle of wheel.radius = {radius} m about the axle (0, 0), within {RIM_TOLERANCE:e} (an off-centre, out-of-round or wrongly scaled mesh)",
+            tag(i),
+            mesh.points[i][0],
+            mesh.points[i][1],
+            r(i)
+        )
+    };
+    let Some(far) = (0..mesh.n_nodes()).max_by(|&a, &b| r(a).total_cmp(&r(b))) else {
+        return Err("the mesh has no nodes".into());
+    };
+    if off(far) {
+        return Err(describe(far, "the farthest from the axle"));
+    }
+    if let crate::mesh::Cells::Tri3(tris) = &mesh.cells {
+        let mut edges: std::collections::HashMap<(usize, usize), u32> =
+            std::collections::HashMap::new();
+        for t in tris {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let mut boundary: Vec<usize> = edges
+            .iter()
+            .filter(|(_, &n)| n == 1)
+            .flat_map(|(&(a, b), _)| [a, b])
+            .filter(|&i| r(i) > 0.5 * radius)
+            .collect();
+        boundary.sort_unstable();
+        if let Some(&i) = boundary.iter().find(|&&i| off(i)) {
+            return Err(describe(i, "on the outer boundary"));
+        }
+    }
+    if let Some(&i) = mesh
+        .node_set("rim")
+        .unwrap_or(&[])
+        .iter()
+        .find(|&&i| off(i))
+    {
+        return Err(describe(i, "in the group \"rim\""));
+    }
+    Ok(())
 }
 
 /// Runs a wheel scenario (its first run; a sweep calls [`simulate`] per value).
@@ -182,6 +254,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             serde_json::json!({"time": "s", "force": "N", "frequency": "Hz", "stress": "MPa", "energy": "J", "omega": "rad/s"}),
         );
     }
+    super::stamp_provenance(&mut json, sc);
     write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
     let mut report = RunReport {
         files,

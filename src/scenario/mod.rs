@@ -278,6 +278,9 @@ pub struct Scenario<R = Run> {
     pub warnings: Vec<String>,
     /// A default sweep for `softway sweep`: the dotted key and its values (TOML literals).
     pub sweep: Option<(String, Vec<String>)>,
+    /// SHA-256 of the scenario text as run (the file's bytes; a sweep's or a ladder's
+    /// value set into it for that run), lowercase hex: recorded in `summary.json`.
+    pub source_sha256: String,
 }
 
 impl Scenario<RunSpec> {
@@ -286,7 +289,7 @@ impl Scenario<RunSpec> {
     /// # Errors
     /// [`ScenarioError`] naming the file, the key and what is allowed.
     pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io {
+        let text = read_text(path).map_err(|source| ScenarioError::Io {
             path: path.to_path_buf(),
             source,
         })?;
@@ -298,8 +301,58 @@ impl Scenario<RunSpec> {
     /// # Errors
     /// [`ScenarioError`].
     pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
-        validate::validate(raw::parse(text, path)?, path)
+        let mut sc = validate::validate(raw::parse(text, path)?, path)?;
+        sc.source_sha256 = sha256_hex(text.as_bytes());
+        Ok(sc)
     }
+}
+
+/// Largest scenario file read, bytes (16 MiB; the shipped ones are a few kB).
+pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
+
+/// The text of a scenario file: a regular file (not a folder, a device such as `/dev/zero`
+/// or a pipe, which could be read forever) of at most [`MAX_SCENARIO_BYTES`], in UTF-8.
+fn read_text(path: &Path) -> std::io::Result<String> {
+    use std::io::Read as _;
+    let file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    if meta.is_dir() {
+        return Err(std::io::Error::other("is a directory, not a scenario file"));
+    }
+    if !meta.is_file() {
+        return Err(std::io::Error::other(
+            "not a regular file (a device or a pipe); give a TOML file",
+        ));
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENARIO_BYTES + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_SCENARIO_BYTES {
+        return Err(std::io::Error::other(format!(
+            "larger than {} MiB: a scenario is a small TOML file",
+            MAX_SCENARIO_BYTES >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "not UTF-8 text (byte {} is not valid UTF-8); save the file as UTF-8",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+/// The SHA-256 digest of `bytes`, lowercase hex (64 characters).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest as _;
+    use std::fmt::Write as _;
+    let digest = sha2::Sha256::digest(bytes);
+    let mut s = String::with_capacity(64);
+    for b in digest {
+        let _ = write!(s, "{b:02x}");
+    }
+    s
 }
 
 #[cfg(test)]
@@ -327,6 +380,20 @@ method = "exact"
     /// Validation keeps `cfl` as it is: the step of a run is not known before the build
     /// stage assembles the bar. A million elements: building them (assembly and a power
     /// iteration of up to 1e5 sweeps) would take minutes, validating takes microseconds.
+    /// The digest of FIPS 180-2's "abc" example, and the scenario's digest is that of its
+    /// text.
+    #[test]
+    fn the_scenario_records_the_sha256_of_its_text() {
+        assert_eq!(
+            sha256_hex(b"abc"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad"
+        );
+        let sc = Scenario::from_str(BAR, Path::new("h.toml")).unwrap();
+        assert_eq!(sc.source_sha256, sha256_hex(BAR.as_bytes()));
+        let other = Scenario::from_str(&format!("{BAR}\n"), Path::new("h.toml")).unwrap();
+        assert_ne!(other.source_sha256, sc.source_sha256);
+    }
+
     #[test]
     fn parsing_a_cfl_scenario_builds_nothing() {
         let text = format!("{BAR}[[runs]]\n[[runs]]\ncfl = 0.25\n[[runs]]\nh = 0.05\n");

@@ -168,12 +168,48 @@ pub(super) struct RawOutput {
 pub(super) fn parse(text: &str, path: &Path) -> Result<RawScenario, ScenarioError> {
     toml::from_str(text).map_err(|e| ScenarioError::Parse {
         path: path.to_path_buf(),
-        message: e
-            .to_string()
-            .trim_end()
-            .replace('\n', " ")
-            .replace("  ", " "),
+        message: one_line_message(text, e.message(), e.span()),
     })
+}
+
+/// The parser's message on one line, after `line L, column C (`the line`)` of the byte span
+/// where the parser stopped (the line shortened to 60 characters, its control characters
+/// escaped).
+fn one_line_message(text: &str, message: &str, span: Option<std::ops::Range<usize>>) -> String {
+    let mut message = message.split_whitespace().collect::<Vec<_>>().join(" ");
+    // serde names the structs of this module ("expected struct RawContact"): a table.
+    while let Some(at) = message.find("struct Raw") {
+        let name = at + "struct ".len();
+        let end = message[name..]
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .map_or(message.len(), |k| name + k);
+        message.replace_range(at..end, "a table");
+    }
+    let Some(before) = span.and_then(|s| text.get(..s.start)) else {
+        return message;
+    };
+    let line = before.matches('\n').count() + 1;
+    let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+    let source: String = text
+        .lines()
+        .nth(line - 1)
+        .unwrap_or("")
+        .trim()
+        .chars()
+        .take(60)
+        .flat_map(|c| {
+            if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            }
+        })
+        .collect();
+    if source.is_empty() {
+        format!("line {line}: {message}")
+    } else {
+        format!("line {line}, column {column} (`{source}`): {message}")
+    }
 }
 
 /// Sets a dotted key (e.g. `rolling.omega`) in TOML text to a value, for sweeps and
@@ -201,4 +237,38 @@ pub fn set_key(text: &str, key: &str, value: &str) -> Result<String, String> {
         }
     }
     toml::to_string(&doc).map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The line, column and text of the parser's stop, on one line; no span, no prefix; a
+    /// span past a multi-byte character or the end of the text is no panic.
+    #[test]
+    fn parse_errors_name_the_line_and_column_on_one_line() {
+        let e = parse("kind = \"x\"\n[time]\nh = \"0.1\"\n", Path::new("a.toml"))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "a.toml: line 3, column 5 (`h = \"0.1\"`): invalid type: string \"0.1\", expected f64"
+        );
+        assert_eq!(one_line_message("x", "two\n  lines", None), "two lines");
+        assert_eq!(
+            one_line_message(
+                "x",
+                "invalid type: integer `3`, expected struct RawContact",
+                None
+            ),
+            "invalid type: integer `3`, expected a table"
+        );
+        let text = "é = \u{1}\n";
+        assert_eq!(
+            one_line_message(text, "m", Some(2..3)),
+            "line 1, column 3 (`é = \\u{1}`): m"
+        );
+        assert_eq!(one_line_message(text, "m", Some(1..2)), "m");
+        assert_eq!(one_line_message(text, "m", Some(99..100)), "m");
+    }
 }

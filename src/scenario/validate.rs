@@ -139,6 +139,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         plots: out.plots.unwrap_or(true),
         warnings,
         sweep,
+        source_sha256: String::new(),
     })
 }
 
@@ -376,6 +377,36 @@ fn stability_warning(run: &RunSpec, runs: usize) -> Option<String> {
     ))
 }
 
+/// A number as written by `Display` (`1e-300` as 300 digits) in exponent form when that is
+/// shorter; anything else as it is.
+fn compact_number(text: String) -> String {
+    match text.parse::<f64>() {
+        Ok(v) if text.len() > 12 && v.is_finite() => {
+            let e = format!("{v:e}");
+            if e.len() < text.len() {
+                e
+            } else {
+                text
+            }
+        }
+        _ => text,
+    }
+}
+
+/// `text` with its control characters (a line break in a TOML string) escaped, so that a
+/// message stays on one line.
+fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_default().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
 struct Ctx<'a> {
     path: &'a Path,
 }
@@ -385,7 +416,7 @@ impl Ctx<'_> {
         ScenarioError::Invalid {
             path: self.path.to_path_buf(),
             key: key.to_string(),
-            value: value.to_string(),
+            value: one_line(&compact_number(value.to_string())),
             allowed: allowed.to_string(),
         }
     }

@@ -1,0 +1,328 @@
+//! Output folders written whole or not at all.
+//!
+//! A command never writes into its output folder directly: it writes into a fresh staging
+//! folder beside it (`.<name>.softway-tmp-<pid>-<n>`), and [`StagedDir::commit`] swaps it
+//! in at the end (the older folder, if any, is renamed aside and removed). So an output
+//! folder never mixes the files of an older run with those of a newer one, a failed run
+//! leaves the older results as they were, and a killed process leaves at most a folder
+//! under a temporary name (removed by the next command writing beside it).
+//!
+//! Every folder written this way holds a marker file [`MARKER`]. An existing folder is
+//! replaced only if it holds the marker (or is empty): a folder of other files is refused
+//! unless the caller passes `force` (the command line's `--force`), so that a mistyped
+//! `--out` cannot wipe a folder of the user's own.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The marker file of a folder written by softway (holds the version that wrote it).
+pub const MARKER: &str = ".softway";
+
+/// Files of older softway versions (before the marker) that mark a folder as softway's.
+const KNOWN_OUTPUTS: [&str; 6] = [
+    "summary.json",
+    "stability.csv",
+    "sweep.csv",
+    "converge.csv",
+    "compare.csv",
+    "modes.pvd",
+];
+
+/// Why an output folder cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum StagingError {
+    /// The target exists and is not a folder.
+    #[error("--out {}: is a file, not a folder; give a folder to write into", .0.display())]
+    NotAFolder(PathBuf),
+    /// The target holds files that softway did not write.
+    #[error(
+        "--out {}: the folder exists and holds files not written by softway; \
+         give another --out, or --force to replace the folder and everything in it",
+        .0.display()
+    )]
+    Foreign(PathBuf),
+    /// A folder cannot be created, read, renamed or removed.
+    #[error("--out {}: {what}: {source}", .path.display())]
+    Io {
+        /// The output folder asked for.
+        path: PathBuf,
+        /// What was being done.
+        what: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+}
+
+/// A staging folder for an output folder; removed on drop unless committed.
+#[derive(Debug)]
+pub struct StagedDir {
+    target: PathBuf,
+    staging: PathBuf,
+    committed: bool,
+}
+
+impl StagedDir {
+    /// Checks `target` and creates a fresh staging folder beside it (its parent folders
+    /// are created as needed), with the [`MARKER`] file. Stale staging folders of dead
+    /// processes beside `target` are removed.
+    ///
+    /// # Errors
+    /// [`StagingError::NotAFolder`], [`StagingError::Foreign`] (unless `force`),
+    /// [`StagingError::Io`] when the folders cannot be created.
+    pub fn begin(target: &Path, force: bool) -> Result<Self, StagingError> {
+        let io = |what: &str, source: std::io::Error| StagingError::Io {
+            path: target.to_path_buf(),
+            what: what.to_string(),
+            source,
+        };
+        let name = target
+            .file_name()
+            .filter(|n| !n.is_empty() && *n != "." && *n != "..")
+            .ok_or_else(|| {
+                io(
+                    "not a folder name",
+                    std::io::Error::new(
+                        std::io::ErrorKind::InvalidInput,
+                        "give a folder path that ends in a name",
+                    ),
+                )
+            })?
+            .to_string_lossy()
+            .into_owned();
+        match std::fs::metadata(target) {
+            Ok(m) if !m.is_dir() => return Err(StagingError::NotAFolder(target.to_path_buf())),
+            Ok(_) if !force && !replaceable(target).map_err(|e| io("cannot read it", e))? => {
+                return Err(StagingError::Foreign(target.to_path_buf()))
+            }
+            _ => {}
+        }
+        let parent = match target.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        std::fs::create_dir_all(&parent).map_err(|e| {
+            // Name the ancestor that is in the way when it is a file (e.g. /dev/null/x).
+            match parent
+                .ancestors()
+                .find(|a| a.exists())
+                .filter(|a| !a.is_dir())
+            {
+                Some(a) => io(
+                    &format!(
+                        "cannot create its parent folder: {} is not a folder",
+                        a.display()
+                    ),
+                    e,
+                ),
+                None => io("cannot create its parent folder", e),
+            }
+        })?;
+        remove_stale(&parent, &name);
+        static SERIAL: AtomicU64 = AtomicU64::new(0);
+        let staging = parent.join(format!(
+            ".{name}.softway-tmp-{}-{}",
+            std::process::id(),
+            SERIAL.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir(&staging).map_err(|e| io("cannot create a folder beside it", e))?;
+        let dir = StagedDir {
+            target: target.to_path_buf(),
+            staging,
+            committed: false,
+        };
+        std::fs::write(
+            dir.staging.join(MARKER),
+            format!("softway {}\n", env!("CARGO_PKG_VERSION")),
+        )
+        .map_err(|e| io("cannot write into a folder beside it", e))?;
+        Ok(dir)
+    }
+
+    /// The folder to write into.
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// The output folder it will become.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// `p` (a path inside the staging folder) as it will be once committed.
+    pub fn final_path(&self, p: &Path) -> PathBuf {
+        p.strip_prefix(&self.staging)
+            .map(|rel| self.target.join(rel))
+            .unwrap_or_else(|_| p.to_path_buf())
+    }
+
+    /// Swaps the staging folder in as the output folder: the older folder, if any, is
+    /// renamed aside, the staging folder renamed into place, the older one removed.
+    ///
+    /// # Errors
+    /// [`StagingError::Io`] when a rename fails (the older folder is then put back).
+    pub fn commit(mut self) -> Result<PathBuf, StagingError> {
+        let io = |what: &str, source: std::io::Error| StagingError::Io {
+            path: self.target.clone(),
+            what: what.to_string(),
+            source,
+        };
+        let aside = self.staging.with_file_name(
+            self.staging
+                .file_name()
+                .map(|n| {
+                    n.to_string_lossy()
+                        .replace(".softway-tmp-", ".softway-old-")
+                })
+                .unwrap_or_default(),
+        );
+        let had_old = match std::fs::symlink_metadata(&self.target) {
+            Ok(_) => {
+                std::fs::rename(&self.target, &aside)
+                    .map_err(|e| io("cannot move the older results aside", e))?;
+                true
+            }
+            Err(_) => false,
+        };
+        if let Err(e) = std::fs::rename(&self.staging, &self.target) {
+            if had_old {
+                let _ = std::fs::rename(&aside, &self.target);
+            }
+            return Err(io("cannot move the new results into place", e));
+        }
+        self.committed = true;
+        if had_old {
+            let _ = std::fs::remove_dir_all(&aside);
+        }
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+/// True when `dir` may be replaced without `--force`: empty, or written by softway.
+fn replaceable(dir: &Path) -> std::io::Result<bool> {
+    let mut empty = true;
+    for entry in std::fs::read_dir(dir)? {
+        let name = entry?.file_name();
+        if name == MARKER || KNOWN_OUTPUTS.iter().any(|k| name == *k) {
+            return Ok(true);
+        }
+        empty = false;
+    }
+    Ok(empty)
+}
+
+/// Removes staging and set-aside folders of `name` in `parent` left by processes that no
+/// longer run (killed, e.g. by SIGKILL). Only where `/proc` tells which processes run.
+fn remove_stale(parent: &Path, name: &str) {
+    let proc = Path::new("/proc/self");
+    if !proc.exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let rest = [".softway-tmp-", ".softway-old-"]
+            .iter()
+            .find_map(|k| file.strip_prefix(&format!(".{name}{k}")));
+        let Some(pid) = rest.and_then(|r| r.split('-').next()?.parse::<u32>().ok()) else {
+            continue;
+        };
+        if pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists() {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("softway-staging-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn entries(d: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_commit_replaces_the_older_results_whole() {
+        let d = tmp("swap");
+        let out = d.join("out");
+        let s = StagedDir::begin(&out, false).unwrap();
+        std::fs::write(s.path().join("old.txt"), "old").unwrap();
+        s.commit().unwrap();
+        assert_eq!(entries(&out), [MARKER, "old.txt"]);
+        let s = StagedDir::begin(&out, false).unwrap();
+        std::fs::write(s.path().join("new.txt"), "new").unwrap();
+        // Nothing visible before the commit.
+        assert_eq!(entries(&out), [MARKER, "old.txt"]);
+        assert_eq!(s.final_path(&s.path().join("new.txt")), out.join("new.txt"));
+        s.commit().unwrap();
+        assert_eq!(entries(&out), [MARKER, "new.txt"]);
+        assert_eq!(entries(&d), ["out"]);
+    }
+
+    #[test]
+    fn a_dropped_stage_leaves_nothing_and_the_older_results_stand() {
+        let d = tmp("drop");
+        let out = d.join("out");
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::write(out.join("summary.json"), "{}").unwrap();
+        {
+            let s = StagedDir::begin(&out, false).unwrap();
+            std::fs::write(s.path().join("half.csv"), "1,2").unwrap();
+        }
+        assert_eq!(entries(&d), ["out"]);
+        assert_eq!(entries(&out), ["summary.json"]);
+    }
+
+    #[test]
+    fn a_foreign_folder_or_a_file_is_refused() {
+        let d = tmp("foreign");
+        let out = d.join("mine");
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::write(out.join("thesis.tex"), "x").unwrap();
+        let e = StagedDir::begin(&out, false).unwrap_err();
+        assert!(matches!(e, StagingError::Foreign(_)), "{e}");
+        assert!(e.to_string().contains("--force"), "{e}");
+        assert_eq!(entries(&d), ["mine"]);
+        // With force it is replaced.
+        StagedDir::begin(&out, true).unwrap().commit().unwrap();
+        assert_eq!(entries(&out), [MARKER]);
+        let f = d.join("file");
+        std::fs::write(&f, "x").unwrap();
+        let e = StagedDir::begin(&f, true).unwrap_err();
+        assert!(matches!(e, StagingError::NotAFolder(_)), "{e}");
+    }
+
+    #[test]
+    fn stale_folders_of_dead_processes_are_removed() {
+        let d = tmp("stale");
+        // No process has pid 4294967295 (above pid_max).
+        let stale = d.join(".out.softway-tmp-4294967295-0");
+        std::fs::create_dir_all(&stale).unwrap();
+        let s = StagedDir::begin(&d.join("out"), false).unwrap();
+        if Path::new("/proc/self").exists() {
+            assert!(!stale.exists());
+        }
+        s.commit().unwrap();
+    }
+}

@@ -1,0 +1,1168 @@
+//! The bad-input catalogue (issue 12): every case is refused by the command line with one
+//! line naming the file, the key (or the mesh entity and its tag) and what is allowed, a
+//! non-zero exit, no panic and nothing written in the output folder.
+//!
+//! `SOFTWAY_CATALOGUE=/tmp/c.tsv cargo test --test bad_input` lists the messages.
+
+mod common;
+
+use common::{
+    assert_nothing_written, assert_one_line_error, cli, fresh_dir, run_err, run_file_err, scenario,
+    scenario_bytes, BAR,
+};
+use softway::mesh::generators::disk_rings;
+use softway::mesh::Cells;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A refused bar scenario: `$name.toml` is the bar with `$from` replaced by `$to`; the
+/// message holds the file name and every string of `$must`.
+macro_rules! bar_refused {
+    ($name:ident, $from:expr, $to:expr, [$($must:expr),*]) => {
+        #[test]
+        fn $name() {
+            let text = BAR.replace($from, $to);
+            assert_ne!(text, BAR, "the replacement did nothing");
+            let (c, e) = run_err(stringify!($name), &text);
+            assert_one_line_error(c, &e, &[concat!(stringify!($name), ".toml"), $($must),*]);
+        }
+    };
+}
+
+/// A refused scenario given whole.
+macro_rules! refused {
+    ($name:ident, $text:expr, [$($must:expr),*]) => {
+        #[test]
+        fn $name() {
+            let (c, e) = run_err(stringify!($name), &$text);
+            assert_one_line_error(c, &e, &[concat!(stringify!($name), ".toml"), $($must),*]);
+        }
+    };
+}
+
+// ---------------------------------------------------------------- scenario: keys, types
+
+bar_refused!(
+    unknown_top_level_key,
+    "kind =",
+    "nmae = \"x\"\nkind =",
+    ["nmae", "expected one of"]
+);
+bar_refused!(unknown_table, "[bar]", "[solver]\nx = 1\n[bar]", ["solver"]);
+bar_refused!(
+    misspelt_key_in_time,
+    "t_end = 1.0",
+    "t_end = 1.0\ntend = 2.0",
+    ["tend", "t_end"]
+);
+bar_refused!(
+    step_as_a_string,
+    "h = 0.1",
+    "h = \"0.1\"",
+    ["h", "\"0.1\"", "expected f64"]
+);
+bar_refused!(
+    elements_as_a_float,
+    "elements = 8",
+    "elements = 8.5",
+    ["elements", "8.5", "expected i64"]
+);
+bar_refused!(
+    plots_as_a_string,
+    "elements = 8",
+    "elements = 8\n[output]\nplots = \"yes\"",
+    ["plots", "bool"]
+);
+bar_refused!(
+    table_given_as_a_number,
+    "kind = \"bar_impact\"",
+    "kind = \"bar_impact\"\ncontact = 3",
+    ["`contact = 3`", "expected a table"]
+);
+bar_refused!(
+    duplicate_key,
+    "h = 0.1",
+    "h = 0.1\nh = 0.2",
+    ["duplicate key", "h"]
+);
+bar_refused!(missing_kind, "kind = \"bar_impact\"", "", ["kind"]);
+bar_refused!(
+    unknown_kind,
+    "\"bar_impact\"",
+    "\"plate\"",
+    ["`kind`", "\"plate\"", "\"wheel\""]
+);
+bar_refused!(misspelt_table, "[bar]", "[bars]", ["bars"]);
+bar_refused!(
+    missing_bar_table,
+    "[bar]",
+    "[two_bars]",
+    ["missing `bar`", "needs a [bar] table"]
+);
+bar_refused!(missing_t_end, "t_end = 1.0", "", ["time.t_end", "end time"]);
+bar_refused!(
+    kind_with_a_line_break,
+    "\"bar_impact\"",
+    "\"bar\\nimpact\"",
+    ["`kind` = \"bar\\nimpact\"", "allowed"]
+);
+bar_refused!(
+    name_with_a_slash,
+    "kind =",
+    "name = \"../x\"\nkind =",
+    ["`name`", "without slashes"]
+);
+
+// ---------------------------------------------------------------- scenario: values
+
+bar_refused!(
+    nan_step,
+    "h = 0.1",
+    "h = nan",
+    ["`time.h` = NaN", "finite number > 0"]
+);
+bar_refused!(
+    infinite_end_time,
+    "t_end = 1.0",
+    "t_end = inf",
+    ["`time.t_end` = inf", "finite"]
+);
+bar_refused!(
+    minus_infinite_speed,
+    "speed = 1.0",
+    "speed = -inf",
+    ["`bar.speed` = -inf", "> 0"]
+);
+bar_refused!(
+    zero_stiffness,
+    "ea = 1.0",
+    "ea = 0.0",
+    ["`bar.ea` = 0", "> 0"]
+);
+bar_refused!(
+    negative_density,
+    "rho_a = 1.0",
+    "rho_a = -1.0",
+    ["`bar.rho_a` = -1", "> 0"]
+);
+bar_refused!(
+    tiny_length_shown_compactly,
+    "length = 1.0",
+    "length = -1e-300",
+    ["`bar.length` = -1e-300", "> 0"]
+);
+bar_refused!(
+    negative_gap,
+    "gap = 0.5",
+    "gap = -0.5",
+    ["`bar.gap` = -0.5", ">= 0"]
+);
+bar_refused!(
+    absurd_elements,
+    "elements = 8",
+    "elements = 10000000",
+    ["`bar.elements` = 10000000", "1 to 1000000"]
+);
+bar_refused!(
+    negative_elements,
+    "elements = 8",
+    "elements = -3",
+    ["`bar.elements` = -3", "whole number"]
+);
+bar_refused!(
+    step_longer_than_the_run,
+    "h = 0.1",
+    "h = 2.0",
+    ["`runs[0].h` = 2", "must not exceed time.t_end"]
+);
+bar_refused!(
+    zero_history_stride,
+    "elements = 8",
+    "elements = 8\n[output]\nhistory_stride = 0",
+    ["`output.history_stride` = 0", "1 to"]
+);
+bar_refused!(
+    restitution_above_one,
+    "elements = 8",
+    "elements = 8\n[contact]\nmethod = \"moreau_jean\"\nrestitution = 2.0",
+    ["`contact.restitution` = 2", "[0, 1]"]
+);
+bar_refused!(
+    friction_on_a_bar,
+    "elements = 8",
+    "elements = 8\n[contact]\nmethod = \"exact\"\nfriction = 0.3",
+    ["`contact.friction` = 0.3"]
+);
+bar_refused!(
+    empty_sweep_values,
+    "elements = 8",
+    "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = []",
+    ["`sweep.values`", "at least one value"]
+);
+
+/// A step of 1e-12 s: 1e12 steps, refused with the estimate (steps, time, memory, disk)
+/// and the key, unless `--yes`.
+#[test]
+fn a_run_of_days_is_refused_with_its_estimate() {
+    let p = scenario("tiny_step", &BAR.replace("h = 0.1", "h = 1e-12"));
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "tiny_step.toml",
+            "steps",
+            "days",
+            "of memory",
+            "`time.h`",
+            "--yes",
+        ],
+    );
+}
+
+/// `--yes` confirms a run beyond the limits: it starts (and is stopped here by SIGINT,
+/// keeping what it computed).
+#[test]
+fn yes_runs_what_the_estimate_refuses() {
+    let p = scenario("yes_tiny_step", &BAR.replace("h = 0.1", "h = 1e-9"));
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(c, &e, &["yes_tiny_step.toml", "--yes"]);
+    let out = p.with_extension("out");
+    let mut child = common::softway()
+        .arg("run")
+        .arg(&p)
+        .args(["--yes", "--quiet", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(400));
+    let killed = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["interrupted"], true);
+    assert!(s["steps"].as_u64().unwrap() > 0);
+}
+
+/// The largest graded wheel allowed (100,000 rim nodes): refused for its memory and time.
+#[test]
+fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"))
+            .unwrap();
+    let text = text.replace("rim_nodes = 288", "rim_nodes = 100000");
+    let (c, e) = run_err("huge_wheel", &text);
+    assert_one_line_error(
+        c,
+        &e,
+        &["huge_wheel.toml", "`wheel.rim_nodes`", "dofs", "--yes"],
+    );
+}
+
+// ---------------------------------------------------------------- scenario: wheels
+
+fn wheel_text() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-paper-mesh.toml"
+    ))
+    .unwrap()
+}
+
+refused!(
+    wheel_rings_absurd,
+    wheel_text().replace("rings = 12", "rings = 100000"),
+    ["`wheel.rings` = 100000", "1 to 400"]
+);
+refused!(
+    wheel_too_few_rim_nodes,
+    wheel_text().replace("rings = 12", "rim_nodes = 5"),
+    ["`wheel.rim_nodes` = 5", "at least 12"]
+);
+refused!(
+    wheel_two_meshes,
+    wheel_text().replace("rings = 12", "rings = 12\nmesh = \"a.msh\""),
+    ["`wheel.mesh`", "give one of"]
+);
+refused!(
+    wheel_grading_out_of_range,
+    wheel_text().replace("rings = 12", "rim_nodes = 72\ngrading = 3.0"),
+    ["`wheel.grading` = 3", "[1, 2]"]
+);
+refused!(
+    wheel_poisson_half,
+    wheel_text().replace("poisson = 0.3", "poisson = 0.5"),
+    ["`material.poisson` = 0.5", "(-1, 0.5)"]
+);
+refused!(
+    wheel_young_nan,
+    wheel_text().replace("young = 2.05e11", "young = nan"),
+    ["`material.young` = NaN", "> 0"]
+);
+refused!(
+    wheel_flattening_beyond_radius,
+    wheel_text().replace("flattening = 1e-3", "flattening = 0.2"),
+    ["`rolling.flattening` = 0.2", "smaller than wheel.radius"]
+);
+refused!(
+    wheel_hub_beyond_radius,
+    wheel_text().replace(
+        "support = \"centre\"",
+        "support = \"hub\"\nhub_radius = 0.5"
+    ),
+    ["`wheel.hub_radius` = 0.5", "smaller than wheel.radius"]
+);
+refused!(
+    wheel_zero_speed,
+    wheel_text().replace("omega = 300.0", "omega = 0.0"),
+    ["`rolling.omega` = 0", "> 0"]
+);
+refused!(
+    wheel_with_an_end_time,
+    wheel_text().replace("h = 2e-6", "h = 2e-6\nt_end = 1.0"),
+    ["`time.t_end`", "remove time.t_end"]
+);
+refused!(
+    wheel_zero_fields_per_turn,
+    wheel_text().replace("fields_per_turn = 8", "fields_per_turn = 0"),
+    ["`rolling.fields_per_turn` = 0", "1 to 1000"]
+);
+refused!(
+    wheel_negative_friction,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\nfriction = -0.2"
+    ),
+    ["`contact.friction` = -0.2"]
+);
+refused!(
+    wheel_a_billion_turns,
+    wheel_text().replace("turns = 5", "turns = 1e9"),
+    ["`time.h`", "days", "--yes"]
+);
+
+// ---------------------------------------------------------------- scenario: [[runs]]
+
+refused!(
+    runs_unknown_key,
+    format!("{BAR}\n[[runs]]\nstep = 0.05\n"),
+    ["step", "runs"]
+);
+refused!(
+    runs_negative_step,
+    format!("{BAR}\n[[runs]]\nh = 0.05\n[[runs]]\nh = -1.0\n"),
+    ["`runs[1].h` = -1", "> 0"]
+);
+refused!(
+    runs_unknown_method,
+    format!("{BAR}\n[[runs]]\nmethod = \"glue\"\n"),
+    ["`runs[0].method` = \"glue\"", "allowed"]
+);
+refused!(
+    runs_not_tables,
+    BAR.replace("kind =", "runs = 3\nkind ="),
+    ["runs", "expected a sequence"]
+);
+refused!(
+    runs_elements_on_a_wheel,
+    format!("{}\n[[runs]]\nelements = 4\n", wheel_text()),
+    ["`runs[0].elements` = 4", "only bar scenarios"]
+);
+
+// ---------------------------------------------------------------- scenario: files
+
+#[test]
+fn empty_file() {
+    let (c, e) = run_file_err(&scenario("empty_file", ""));
+    assert_one_line_error(c, &e, &["empty_file.toml", "kind"]);
+}
+
+#[test]
+fn binary_file() {
+    let bytes: Vec<u8> = (0..=255u8).cycle().take(2048).collect();
+    let (c, e) = run_file_err(&scenario_bytes("binary_file", &bytes));
+    assert_one_line_error(c, &e, &["binary_file.toml", "UTF-8"]);
+}
+
+#[test]
+fn non_utf8_file() {
+    // "name = \"r\xe9sultat\"" in Latin-1.
+    let mut bytes = BAR.as_bytes().to_vec();
+    bytes.extend(b"\nname = \"r\xe9sultat\"\n");
+    let (c, e) = run_file_err(&scenario_bytes("latin1", &bytes));
+    assert_one_line_error(c, &e, &["latin1.toml", "UTF-8"]);
+}
+
+#[test]
+fn a_directory_in_place_of_the_scenario() {
+    let dir = fresh_dir("cli", "dir_scenario").join("scenario.toml");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (c, e) = run_file_err(&dir);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "scenario.toml",
+            "cannot read the scenario",
+            "is a directory, not a scenario file",
+        ],
+    );
+}
+
+/// A device that never ends (`/dev/zero`) is refused before it is read.
+#[test]
+fn a_device_in_place_of_the_scenario() {
+    let out = fresh_dir("cli", "dev_zero").join("out");
+    let o = cli(["run", "/dev/zero", "--out", out.to_str().unwrap()]);
+    assert_one_line_error(o.code, &o.stderr, &["/dev/zero", "not a regular file"]);
+    assert_nothing_written(&out);
+}
+
+/// A scenario of 17 MiB (a sparse file of zeros) is refused without being parsed.
+#[test]
+fn an_absurdly_large_scenario() {
+    let p = scenario("huge_file", "");
+    std::fs::File::options()
+        .write(true)
+        .open(&p)
+        .unwrap()
+        .set_len(17 << 20)
+        .unwrap();
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(c, &e, &["huge_file.toml", "larger than 16 MiB"]);
+}
+
+// ---------------------------------------------------------------- meshes
+
+/// A disk of `rings` hexagonal rings (radius 0.1 m) in Gmsh terms: nodes (tag, x, y), the
+/// rim's node tags in order, the centre's tag and the triangles' node tags.
+#[derive(Clone)]
+struct Disk {
+    nodes: Vec<(u64, [f64; 2])>,
+    rim: Vec<u64>,
+    centre: u64,
+    tris: Vec<[u64; 3]>,
+}
+
+fn disk() -> Disk {
+    let mesh = disk_rings(0.1, 3).unwrap();
+    let Cells::Tri3(tris) = &mesh.cells else {
+        unreachable!()
+    };
+    Disk {
+        nodes: (0..mesh.n_nodes())
+            .map(|i| (i as u64 + 1, mesh.points[i]))
+            .collect(),
+        rim: mesh
+            .node_set("rim")
+            .unwrap()
+            .iter()
+            .map(|&i| i as u64 + 1)
+            .collect(),
+        centre: mesh.node_set("centre").unwrap()[0] as u64 + 1,
+        tris: tris
+            .iter()
+            .map(|t| [t[0] as u64 + 1, t[1] as u64 + 1, t[2] as u64 + 1])
+            .collect(),
+    }
+}
+
+impl Disk {
+    fn xy(&self, tag: u64) -> [f64; 2] {
+        self.nodes.iter().find(|n| n.0 == tag).unwrap().1
+    }
+
+    /// ASCII MSH 4.1 (version `version` in the header): a point entity (the centre,
+    /// physical "centre"), a curve (the rim's line elements, physical "rim") and a surface
+    /// holding every node but the centre.
+    fn ascii(&self, version: &str) -> String {
+        let mut s = format!("$MeshFormat\n{version} 0 8\n$EndMeshFormat\n");
+        s.push_str(
+            "$PhysicalNames\n3\n0 1 \"centre\"\n1 2 \"rim\"\n2 3 \"body\"\n$EndPhysicalNames\n",
+        );
+        s.push_str("$Entities\n1 1 1 0\n1 0 0 0 1 1\n1 -0.1 -0.1 0 0.1 0.1 0 1 2 0\n1 -0.1 -0.1 0 0.1 0.1 0 1 3 0\n$EndEntities\n");
+        let (min, max) = (
+            self.nodes.iter().map(|n| n.0).min().unwrap(),
+            self.nodes.iter().map(|n| n.0).max().unwrap(),
+        );
+        let c_at = self.nodes.iter().position(|n| n.0 == self.centre).unwrap();
+        let others: Vec<&(u64, [f64; 2])> = (0..self.nodes.len())
+            .filter(|&i| i != c_at)
+            .map(|i| &self.nodes[i])
+            .collect();
+        let _ = writeln!(s, "$Nodes\n2 {} {min} {max}", self.nodes.len());
+        let c = self.nodes[c_at].1;
+        let _ = writeln!(s, "0 1 0 1\n{}\n{} {} 0", self.centre, c[0], c[1]);
+        let _ = writeln!(s, "2 1 0 {}", others.len());
+        for n in &others {
+            let _ = writeln!(s, "{}", n.0);
+        }
+        for n in &others {
+            let _ = writeln!(s, "{} {} 0", n.1[0], n.1[1]);
+        }
+        s.push_str("$EndNodes\n");
+        let (r, m) = (self.rim.len(), self.tris.len());
+        let total = 1 + r + m;
+        let _ = writeln!(s, "$Elements\n3 {total} 1 {total}");
+        let _ = writeln!(s, "0 1 15 1\n1 {}", self.centre);
+        let _ = writeln!(s, "1 1 1 {r}");
+        for k in 0..r {
+            let _ = writeln!(s, "{} {} {}", 2 + k, self.rim[k], self.rim[(k + 1) % r]);
+        }
+        let _ = writeln!(s, "2 1 2 {m}");
+        for (e, t) in self.tris.iter().enumerate() {
+            let _ = writeln!(s, "{} {} {} {}", 2 + r + e, t[0], t[1], t[2]);
+        }
+        s.push_str("$EndElements\n");
+        s
+    }
+
+    /// Binary MSH 4.1 (little endian): one surface entity holding every node and triangle.
+    fn binary(&self) -> Vec<u8> {
+        let mut b: Vec<u8> = b"$MeshFormat\n4.1 1 8\n".to_vec();
+        b.extend(1i32.to_le_bytes());
+        b.extend(b"\n$EndMeshFormat\n$Entities\n");
+        for n in [0u64, 0, 1, 0] {
+            b.extend(n.to_le_bytes());
+        }
+        b.extend(1i32.to_le_bytes());
+        for v in [-0.1f64, -0.1, 0.0, 0.1, 0.1, 0.0] {
+            b.extend(v.to_le_bytes());
+        }
+        b.extend(0u64.to_le_bytes());
+        b.extend(0u64.to_le_bytes());
+        b.extend(b"\n$EndEntities\n$Nodes\n");
+        let n = self.nodes.len() as u64;
+        for v in [1u64, n, 1, n] {
+            b.extend(v.to_le_bytes());
+        }
+        for v in [2i32, 1, 0] {
+            b.extend(v.to_le_bytes());
+        }
+        b.extend(n.to_le_bytes());
+        for node in &self.nodes {
+            b.extend(node.0.to_le_bytes());
+        }
+        for node in &self.nodes {
+            for v in [node.1[0], node.1[1], 0.0] {
+                b.extend(v.to_le_bytes());
+            }
+        }
+        b.extend(b"\n$EndNodes\n$Elements\n");
+        let m = self.tris.len() as u64;
+        for v in [1u64, m, 1, m] {
+            b.extend(v.to_le_bytes());
+        }
+        for v in [2i32, 1, 2] {
+            b.extend(v.to_le_bytes());
+        }
+        b.extend(m.to_le_bytes());
+        for (e, t) in self.tris.iter().enumerate() {
+            for v in [e as u64 + 1, t[0], t[1], t[2]] {
+                b.extend(v.to_le_bytes());
+            }
+        }
+        b.extend(b"\n$EndElements\n");
+        b
+    }
+}
+
+/// A short wheel run (centre pinned) on the mesh file `mesh.msh` holding `bytes`; the
+/// folder, the scenario and its output folder.
+fn wheel_on_mesh(name: &str, bytes: &[u8]) -> (PathBuf, PathBuf) {
+    let dir = fresh_dir("mesh", name);
+    std::fs::write(dir.join("mesh.msh"), bytes).unwrap();
+    let text = wheel_text()
+        .replace("rings = 12", "mesh = \"mesh.msh\"")
+        .replace("turns = 5", "turns = 0.02")
+        .replace("settle_time = 5e-3", "settle_time = 2e-4")
+        .replace("h = 2e-6", "h = 1e-5")
+        .replace("history_stride = 5", "history_stride = 5\nplots = false");
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    (dir, p)
+}
+
+/// A mesh case: the scenario `$name.toml` names `mesh.msh` (holding `$bytes`) as its
+/// `wheel.mesh`; the message names the scenario, the key, the mesh file and `$must`.
+macro_rules! mesh_refused {
+    ($name:ident, $bytes:expr, [$($must:expr),*]) => {
+        #[test]
+        fn $name() {
+            let bytes: Vec<u8> = $bytes;
+            let (_dir, p) = wheel_on_mesh(stringify!($name), &bytes);
+            let (c, e) = run_file_err(&p);
+            assert_one_line_error(
+                c,
+                &e,
+                &[concat!(stringify!($name), ".toml"), "`wheel.mesh`", "mesh.msh", $($must),*],
+            );
+        }
+    };
+}
+
+fn ascii(d: &Disk) -> Vec<u8> {
+    d.ascii("4.1").into_bytes()
+}
+
+/// The disk with `f` applied.
+fn disk_with(f: impl FnOnce(&mut Disk)) -> Disk {
+    let mut d = disk();
+    f(&mut d);
+    d
+}
+
+#[test]
+fn the_disk_files_of_these_tests_are_valid_meshes() {
+    // The unmodified ASCII and binary disks read as the generator's disk (37 nodes, 54
+    // triangles), so every refusal below is due to its one change.
+    for (name, bytes) in [("a", ascii(&disk())), ("b", disk().binary())] {
+        let p = fresh_dir("mesh", &format!("valid-{name}")).join("d.msh");
+        std::fs::write(&p, bytes).unwrap();
+        let m = softway::mesh::gmsh::read_msh(&p).unwrap();
+        assert_eq!((m.n_nodes(), m.cells.len()), (37, 54));
+        assert_eq!(m.node_set("rim").map(|r| r.len()).unwrap_or(18), 18);
+    }
+}
+
+#[test]
+fn mesh_file_missing() {
+    let (dir, p) = wheel_on_mesh("mesh_file_missing", b"");
+    std::fs::remove_file(dir.join("mesh.msh")).unwrap();
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "mesh_file_missing.toml",
+            "`wheel.mesh`",
+            "mesh.msh",
+            "No such file",
+        ],
+    );
+}
+
+#[test]
+fn mesh_is_a_directory() {
+    let (dir, p) = wheel_on_mesh("mesh_is_a_directory", b"");
+    std::fs::remove_file(dir.join("mesh.msh")).unwrap();
+    std::fs::create_dir(dir.join("mesh.msh")).unwrap();
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "mesh_is_a_directory.toml",
+            "`wheel.mesh`",
+            "mesh.msh",
+            "directory",
+        ],
+    );
+}
+
+#[test]
+fn mesh_is_a_device() {
+    let dir = fresh_dir("mesh", "mesh_is_a_device");
+    let text = wheel_text().replace("rings = 12", "mesh = \"/dev/zero\"");
+    let p = dir.join("mesh_is_a_device.toml");
+    std::fs::write(&p, text).unwrap();
+    let (c, e) = run_file_err(&p);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "mesh_is_a_device.toml",
+            "`wheel.mesh`",
+            "/dev/zero",
+            "not a regular file",
+        ],
+    );
+}
+
+mesh_refused!(
+    mesh_not_gmsh,
+    BAR.as_bytes().to_vec(),
+    ["not a Gmsh mesh file"]
+);
+mesh_refused!(mesh_empty, Vec::new(), ["not a Gmsh mesh file"]);
+mesh_refused!(
+    mesh_truncated_ascii,
+    {
+        let a = ascii(&disk());
+        a[..a.len() * 6 / 10].to_vec()
+    },
+    ["invalid Gmsh MSH 4.1 file"]
+);
+mesh_refused!(
+    mesh_truncated_binary,
+    {
+        let b = disk().binary();
+        b[..b.len() * 6 / 10].to_vec()
+    },
+    ["invalid Gmsh MSH 4.1 file", "at byte"]
+);
+mesh_refused!(
+    mesh_msh_2_2,
+    disk().ascii("2.2").into_bytes(),
+    ["version 2.2", "only 4.1"]
+);
+mesh_refused!(
+    mesh_msh_4_0,
+    disk().ascii("4.0").into_bytes(),
+    ["version 4.0", "only 4.1"]
+);
+mesh_refused!(
+    mesh_3d_only,
+    b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n".to_vec(),
+    ["element 1", "type 4 (Tet4)", "3D", "only 3-node triangles"]
+);
+mesh_refused!(
+    mesh_of_quads,
+    b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n$Elements\n1 1 7 7\n2 1 3 1\n7 1 2 3 4\n$EndElements\n".to_vec(),
+    ["element 7", "type 3 (Qua4)", "only 3-node triangles"]
+);
+mesh_refused!(
+    mesh_inverted_triangle,
+    ascii(&disk_with(|d| d.tris[10].swap(1, 2))),
+    ["triangle 30 is inverted", "1 of 54"]
+);
+mesh_refused!(
+    mesh_zero_area_triangle,
+    ascii(&disk_with(|d| d.tris[4][2] = d.tris[4][1])),
+    ["triangle 24 is degenerate", "area 0"]
+);
+mesh_refused!(
+    mesh_duplicate_node_tag,
+    ascii(&disk_with(|d| {
+        let c = d.centre;
+        let other = d.nodes.iter_mut().find(|n| n.0 == 37).unwrap();
+        other.0 = c;
+    })),
+    ["node 1 appears twice", "unique"]
+);
+mesh_refused!(
+    mesh_coincident_nodes,
+    ascii(&disk_with(|d| {
+        let p = d.xy(2);
+        d.nodes.iter_mut().find(|n| n.0 == 3).unwrap().1 = p;
+    })),
+    ["nodes 2 and 3 are both at", "merge duplicate nodes"]
+);
+mesh_refused!(
+    mesh_unreferenced_node,
+    ascii(&disk_with(|d| d.nodes.push((100, [0.05, 0.0101])))),
+    ["node 100 (group \"body\") belongs to no triangle"]
+);
+mesh_refused!(
+    mesh_group_node_outside_the_triangles,
+    ascii(&disk_with(|d| {
+        // The centre is in the group "centre" but in no triangle any more.
+        let c = d.centre;
+        d.tris.retain(|t| !t.contains(&c));
+        let ring: Vec<u64> = (2..=7).collect();
+        for k in 0..4 {
+            d.tris.push([ring[0], ring[k + 1], ring[k + 2]]);
+        }
+    })),
+    ["node 1 (group \"centre\") belongs to no triangle"]
+);
+mesh_refused!(
+    mesh_off_centre,
+    ascii(&disk_with(|d| d
+        .nodes
+        .iter_mut()
+        .for_each(|n| n.1[0] += 0.01))),
+    ["radius", "about the axle (0, 0)", "wheel.radius = 0.1"]
+);
+mesh_refused!(
+    mesh_in_millimetres,
+    ascii(&disk_with(|d| d.nodes.iter_mut().for_each(|n| {
+        n.1[0] *= 1000.0;
+        n.1[1] *= 1000.0;
+    }))),
+    ["the farthest from the axle", "wheel.radius = 0.1"]
+);
+mesh_refused!(
+    mesh_out_of_round,
+    ascii(&disk_with(|d| {
+        let t = d.rim[3];
+        let n = d.nodes.iter_mut().find(|n| n.0 == t).unwrap();
+        n.1 = [n.1[0] * 0.97, n.1[1] * 0.97];
+    })),
+    ["on the outer boundary", "wheel.radius = 0.1"]
+);
+mesh_refused!(
+    mesh_rim_group_off_the_rim,
+    ascii(&disk_with(|d| d.rim[5] = d.centre)),
+    ["node 1", "in the group \"rim\""]
+);
+mesh_refused!(
+    mesh_header_claims_more_nodes,
+    ascii(&disk()).replace_first(b"$Nodes\n2 37 1 37", b"$Nodes\n2 370000 1 370000"),
+    ["the $Nodes header announces 370000 nodes, its blocks hold 37"]
+);
+mesh_refused!(
+    mesh_header_claims_absurd_elements,
+    ascii(&disk()).replace_first(
+        b"$Elements\n3 73 1 73",
+        b"$Elements\n3 18446744073709551615 1 73"
+    ),
+    ["the $Elements header announces 18446744073709551615 elements, its blocks hold 73"]
+);
+mesh_refused!(
+    mesh_block_claims_more_nodes,
+    ascii(&disk()).replace_first(b"\n2 1 0 36\n", b"\n2 1 0 3600000000\n"),
+    ["invalid Gmsh MSH 4.1 file"]
+);
+
+/// Non-contiguous node tags (every tag times 7, plus 3) are fine: the run goes through.
+#[test]
+fn mesh_with_non_contiguous_tags_runs() {
+    let d = disk_with(|d| {
+        let f = |t: u64| 7 * t + 3;
+        d.nodes.iter_mut().for_each(|n| n.0 = f(n.0));
+        d.rim.iter_mut().for_each(|t| *t = f(*t));
+        d.centre = f(d.centre);
+        d.tris.iter_mut().flatten().for_each(|t| *t = f(*t));
+    });
+    let (_dir, p) = wheel_on_mesh("sparse_tags", &ascii(&d));
+    let out = p.with_extension("out");
+    let o = cli([
+        "run".as_ref(),
+        p.as_os_str(),
+        "--quiet".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["nodes"], 37);
+}
+
+/// A mesh without a "rim" group is fine: the rim is the nodes at the outer radius, the same
+/// nodes as the group's, so the run is the same.
+#[test]
+fn mesh_without_a_rim_group_runs_as_with_it() {
+    let with = ascii(&disk());
+    let without = with.replace_first(
+        b"$PhysicalNames\n3\n0 1 \"centre\"\n1 2 \"rim\"\n",
+        b"$PhysicalNames\n2\n0 1 \"centre\"\n",
+    );
+    let mut forces = Vec::new();
+    for (name, bytes) in [("rim_group", with), ("no_rim_group", without)] {
+        let (_dir, p) = wheel_on_mesh(name, &bytes);
+        let out = p.with_extension("out");
+        let o = cli([
+            "run".as_ref(),
+            p.as_os_str(),
+            "--quiet".as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert_eq!(o.code, 0, "{name}: {}", o.stderr);
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        forces.push(s["mean_contact_force"].as_f64().unwrap());
+    }
+    assert!(forces[0] > 0.0, "{forces:?}");
+    assert_eq!(forces[0], forces[1]);
+}
+
+trait ReplaceFirst {
+    fn replace_first(&self, from: &[u8], to: &[u8]) -> Vec<u8>;
+}
+
+impl ReplaceFirst for Vec<u8> {
+    fn replace_first(&self, from: &[u8], to: &[u8]) -> Vec<u8> {
+        let at = self
+            .windows(from.len())
+            .position(|w| w == from)
+            .unwrap_or_else(|| panic!("{:?} not found", String::from_utf8_lossy(from)));
+        let mut v = self[..at].to_vec();
+        v.extend_from_slice(to);
+        v.extend_from_slice(&self[at + from.len()..]);
+        v
+    }
+}
+
+// ---------------------------------------------------------------- command line
+
+fn cli_refused(args: &[&str], must: &[&str]) -> String {
+    let o = cli(args);
+    assert_one_line_error(o.code, &o.stderr, must);
+    assert!(o.stdout.is_empty(), "{}", o.stdout);
+    o.stderr
+}
+
+#[test]
+fn no_command() {
+    cli_refused(&[], &["no command given", "run|sweep"]);
+}
+
+#[test]
+fn run_without_its_scenario() {
+    cli_refused(
+        &["run"],
+        &["required arguments", "<SCENARIO>", "usage: softway run"],
+    );
+}
+
+#[test]
+fn unknown_command() {
+    cli_refused(&["frobnicate"], &["unrecognized subcommand 'frobnicate'"]);
+}
+
+#[test]
+fn misspelt_flag() {
+    cli_refused(&["run", "x.toml", "--outt", "y"], &["'--outt'", "--out"]);
+}
+
+#[test]
+fn out_is_a_file() {
+    let p = scenario("out_file", BAR);
+    let f = p.with_file_name("a-file");
+    std::fs::write(&f, "keep me").unwrap();
+    let args = ["run", p.to_str().unwrap(), "--out", f.to_str().unwrap()];
+    cli_refused(&args, &["a-file", "is a file, not a folder"]);
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "keep me");
+    cli_refused(&[&args[..], &["--force"]].concat(), &["is a file"]);
+}
+
+#[test]
+fn out_in_an_unwritable_place() {
+    let p = scenario("out_unwritable", BAR);
+    for place in ["/proc/softway-out/x", "/dev/null/x"] {
+        if place.starts_with("/dev") {
+            let o = cli(["run", p.to_str().unwrap(), "--out", place]);
+            assert!(
+                o.stderr.contains("/dev/null is not a folder"),
+                "{}",
+                o.stderr
+            );
+        }
+        cli_refused(
+            &["run", p.to_str().unwrap(), "--out", place],
+            &[place, "cannot create"],
+        );
+    }
+}
+
+#[test]
+fn out_a_folder_of_other_files() {
+    let p = scenario("out_foreign", BAR);
+    let d = p.with_file_name("mine");
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("thesis.tex"), "x").unwrap();
+    cli_refused(
+        &["run", p.to_str().unwrap(), "--out", d.to_str().unwrap()],
+        &["mine", "not written by softway", "--force"],
+    );
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
+    // --force replaces it whole.
+    let o = cli([
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+        "--force",
+        "--quiet",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(!d.join("thesis.tex").exists() && d.join("summary.json").exists());
+}
+
+/// An output folder of an older run is replaced whole: no stale file survives next to the
+/// new ones, and no temporary folder is left beside it.
+#[test]
+fn older_results_are_never_mixed_with_new_ones() {
+    let p = scenario("out_stale", BAR);
+    let d = p.with_file_name("out");
+    let run = |text: &str| {
+        std::fs::write(&p, text).unwrap();
+        let o = cli([
+            "run",
+            p.to_str().unwrap(),
+            "--out",
+            d.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert_eq!(o.code, 0, "{}", o.stderr);
+    };
+    run(BAR);
+    std::fs::write(d.join("stale_field.vtu"), "old").unwrap();
+    run(&BAR.replace("speed = 1.0", "speed = 2.0"));
+    assert!(!d.join("stale_field.vtu").exists());
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["exact"]["rebound_velocity"], 2.0);
+    // A failed run leaves the older results as they were.
+    std::fs::write(&p, BAR.replace("speed = 1.0", "speed = -2.0")).unwrap();
+    let o = cli([
+        "run",
+        p.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_ne!(o.code, 0);
+    assert!(d.join("summary.json").exists() && d.join("history.csv").exists());
+    let names: Vec<String> = std::fs::read_dir(p.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.contains("softway-")), "{names:?}");
+}
+
+#[test]
+fn sweep_set_without_values() {
+    let p = scenario("sweep_noeq", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["--set bar.speed", "KEY=V1,V2"],
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn sweep_with_zero_jobs() {
+    let p = scenario("sweep_jobs0", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed=1,2",
+            "--jobs",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["--jobs 0", "at least one"],
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn sweep_bad_value() {
+    let p = scenario("sweep_badvalue", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed=1,-2",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[
+            "sweep_badvalue.toml",
+            "bar.speed = -2",
+            "`bar.speed` = -2",
+            "> 0",
+        ],
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn sweep_value_given_twice() {
+    let p = scenario("sweep_twice", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &[
+            "sweep",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.speed=1,2,1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["bar.speed = 1", "given twice"],
+    );
+    assert_nothing_written(&out);
+}
+
+/// A value holding path separators cannot lead a point's folder out of the sweep's.
+#[test]
+fn sweep_value_with_slashes_stays_inside_the_sweep_folder() {
+    let p = scenario("sweep_slash", BAR);
+    let out = p.with_extension("out");
+    let o = cli([
+        "sweep",
+        p.to_str().unwrap(),
+        "--set",
+        "description=a/../../../escaped,b",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(out
+        .join("description=a_.._.._.._escaped")
+        .join("summary.json")
+        .exists());
+    let parent = p.parent().unwrap();
+    assert!(!parent.join("escaped").exists() && !parent.parent().unwrap().join("escaped").exists());
+}
+
+#[test]
+fn converge_with_two_rungs() {
+    let p = scenario("converge_two", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &[
+            "converge",
+            p.to_str().unwrap(),
+            "--set",
+            "bar.elements=8,16",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &["bar.elements", "three"],
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn modes_of_a_bar() {
+    let p = scenario("modes_bar", BAR);
+    let out = p.with_extension("out");
+    cli_refused(
+        &["modes", p.to_str().unwrap(), "--out", out.to_str().unwrap()],
+        &["modes_bar.toml", "needs a wheel scenario"],
+    );
+    assert_nothing_written(&out);
+}
+
+#[test]
+fn stability_gamma_out_of_range() {
+    cli_refused(&["stability", "--gamma", "2"], &["--gamma 2", "[0, 1]"]);
+}
+
+#[test]
+fn a_missing_scenario_path_is_named() {
+    let dir = fresh_dir("cli", "missing_path");
+    let p: PathBuf = dir.join("nothing.toml");
+    let out = dir.join("out");
+    let o = cli(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_one_line_error(o.code, &o.stderr, &["nothing.toml", "No such file"]);
+    assert_nothing_written(&out);
+    assert!(Path::new(&dir).exists());
+}

@@ -1,0 +1,190 @@
+//! Helpers shared by the command-line tests: run the `softway` binary on scenario text and
+//! check that bad input is refused on one line, with a non-zero exit, and nothing written.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The `softway` binary under test.
+pub fn softway() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_softway"))
+}
+
+/// A fresh, empty folder for one test (`<tmp>/softway-<tag>-<pid>-<name>`).
+pub fn fresh_dir(tag: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("softway-{tag}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Writes `text` as `<name>.toml` into a fresh folder of its own.
+pub fn scenario(name: &str, text: &str) -> PathBuf {
+    scenario_bytes(name, text.as_bytes())
+}
+
+/// Writes `bytes` as `<name>.toml` into a fresh folder of its own.
+pub fn scenario_bytes(name: &str, bytes: &[u8]) -> PathBuf {
+    let p = fresh_dir("cli", name).join(format!("{name}.toml"));
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+/// The paper's bar (Fig. 8) at a coarse step: a valid scenario that runs in milliseconds.
+pub const BAR: &str = r#"
+kind = "bar_impact"
+[time]
+alpha = 0.8
+h = 0.1
+t_end = 1.0
+[bar]
+length = 1.0
+ea = 1.0
+rho_a = 1.0
+speed = 1.0
+gap = 0.5
+elements = 8
+"#;
+
+/// What a command did.
+#[derive(Debug)]
+pub struct Outcome {
+    /// Exit code (-1: killed by a signal).
+    pub code: i32,
+    /// Standard output.
+    pub stdout: String,
+    /// Standard error.
+    pub stderr: String,
+}
+
+/// Runs `softway` with `args`.
+pub fn cli<I, S>(args: I) -> Outcome
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    let o = softway().args(args).output().unwrap();
+    let out = Outcome {
+        code: o.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&o.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&o.stderr).into_owned(),
+    };
+    assert!(!out.stderr.contains("panicked"), "panic: {}", out.stderr);
+    out
+}
+
+/// Asserts that `dir` holds no entry for the output folder `out` and no temporary folder or
+/// file (nothing written for bad input).
+pub fn assert_nothing_written(out: &Path) {
+    assert!(!out.exists(), "{} was written for bad input", out.display());
+    if let Some(parent) = out.parent().filter(|p| p.exists()) {
+        for e in std::fs::read_dir(parent).unwrap() {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(
+                !name.contains("softway-tmp") && !name.ends_with(".part"),
+                "left behind: {name}"
+            );
+        }
+    }
+}
+
+/// Runs `softway run` on the scenario file `p` into `<p>.out`; returns (exit code, stderr)
+/// after checking that no panic happened and nothing was written.
+pub fn run_file_err(p: &Path) -> (i32, String) {
+    let out_dir = p.with_extension("out");
+    let o = cli([
+        "run".as_ref(),
+        p.as_os_str(),
+        "--out".as_ref(),
+        out_dir.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert_nothing_written(&out_dir);
+    (o.code, o.stderr)
+}
+
+/// Runs `softway run` on the text; returns (exit code, stderr).
+pub fn run_err(name: &str, text: &str) -> (i32, String) {
+    run_file_err(&scenario(name, text))
+}
+
+/// Asserts a non-zero exit and exactly one line holding every string of `must`.
+pub fn assert_one_line_error(code: i32, err: &str, must: &[&str]) {
+    assert_ne!(code, 0, "{err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "expected one line, got: {err}");
+    for m in must {
+        assert!(err.contains(m), "`{m}` missing from: {err}");
+    }
+    record(err, code);
+}
+
+/// With `SOFTWAY_CATALOGUE=<file>` set, appends `code<TAB>message` to that file (the
+/// bad-input catalogue of the docs is made from it).
+fn record(err: &str, code: i32) {
+    if let Ok(f) = std::env::var("SOFTWAY_CATALOGUE") {
+        use std::io::Write as _;
+        let case = std::thread::current()
+            .name()
+            .unwrap_or("?")
+            .rsplit("::")
+            .next()
+            .unwrap_or("?")
+            .to_string();
+        if let Ok(mut file) = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(f)
+        {
+            let _ = writeln!(file, "{case}\t{code}\t{}", err.trim());
+        }
+    }
+}
+
+/// Runs a valid scenario into `<file>.out`: the folder and its summary.
+pub fn run_ok(p: &Path) -> (PathBuf, serde_json::Value) {
+    let out = p.with_extension("out");
+    let o = cli([
+        "run".as_ref(),
+        p.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let s =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    (out, s)
+}
+
+/// A fresh folder ([`fresh_dir`]) removed when dropped, unless the test is failing (then it
+/// is kept for inspection).
+pub struct TestDir(PathBuf);
+
+impl TestDir {
+    /// Creates the folder.
+    pub fn new(tag: &str, name: &str) -> Self {
+        TestDir(fresh_dir(tag, name))
+    }
+}
+
+impl std::ops::Deref for TestDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TestDir {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+impl AsRef<Path> for TestDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
