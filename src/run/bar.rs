@@ -114,7 +114,12 @@ pub struct BarErrors {
     pub energy: f64,
 }
 
-/// The per-step trace kept for plots.
+/// Most samples a [`BarTrace`] keeps: beyond, it keeps every other one and samples half as
+/// often from then on, so a long run's memory stays flat (the plots have far fewer pixels).
+pub const TRACE_CAP: usize = 1 << 17;
+
+/// The per-step trace kept for plots: every step up to [`TRACE_CAP`] samples, then every
+/// `2^k`-th step (the summary's figures are accumulated over every step, not from here).
 #[derive(Debug, Clone, Default)]
 pub struct BarTrace {
     /// Times, s.
@@ -127,6 +132,54 @@ pub struct BarTrace {
     pub force: Vec<f64>,
     /// Total energy, J.
     pub energy: Vec<f64>,
+    /// Steps between kept samples (1 until the trace first fills).
+    every: usize,
+    /// Steps seen.
+    seen: usize,
+}
+
+impl BarTrace {
+    /// Keeps the sample `(t, u, v, force, energy)` of the next step if it falls on the
+    /// current sampling, halving the kept samples when the trace is full.
+    fn record(&mut self, sample: [f64; 5]) {
+        let every = self.every.max(1);
+        let keep = self.seen % every == 0;
+        self.seen += 1;
+        if !keep {
+            return;
+        }
+        if self.t.len() == TRACE_CAP {
+            for v in [
+                &mut self.t,
+                &mut self.u,
+                &mut self.v,
+                &mut self.force,
+                &mut self.energy,
+            ] {
+                let n = v.len().div_ceil(2);
+                for i in 0..n {
+                    v[i] = v[2 * i];
+                }
+                v.truncate(n);
+            }
+            self.every = every * 2;
+            if (self.seen - 1) % self.every != 0 {
+                return;
+            }
+        }
+        for (v, x) in [
+            &mut self.t,
+            &mut self.u,
+            &mut self.v,
+            &mut self.force,
+            &mut self.energy,
+        ]
+        .into_iter()
+        .zip(sample)
+        {
+            v.push(x);
+        }
+    }
 }
 
 /// What one step end gives the recorder.
@@ -244,11 +297,8 @@ impl<'a> Recorder<'a> {
         if s.braked {
             self.bpeak = self.bpeak.max(s.force);
         }
-        self.trace.t.push(s.t);
-        self.trace.u.push(s.u[self.head]);
-        self.trace.v.push(s.v[self.head]);
-        self.trace.force.push(s.force);
-        self.trace.energy.push(e);
+        self.trace
+            .record([s.t, s.u[self.head], s.v[self.head], s.force, e]);
         if s.k % 64 == 0 {
             self.pb.set_position(s.k as u64);
         }
@@ -581,4 +631,29 @@ fn plot_traces(
     }
     pf.hlines.push((exact.contact_force, "exact force".into()));
     panels(png, &[pu, pv, pf], 3, 1, (1200, 1500)).map_err(|e| RunError::output(png, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past the cap the trace keeps every other sample and samples half as often: after
+    /// `3 CAP` steps it holds the steps `0, 4, 8, ...` (every 4th), at most `CAP` of them,
+    /// each sample still the one of its step.
+    #[test]
+    fn trace_memory_stays_flat_and_keeps_evenly_spaced_steps() {
+        let mut tr = BarTrace::default();
+        let steps = 3 * TRACE_CAP;
+        for k in 0..steps {
+            let x = k as f64;
+            tr.record([x, 2.0 * x, 3.0 * x, 4.0 * x, 5.0 * x]);
+        }
+        assert!(tr.t.len() <= TRACE_CAP);
+        assert_eq!(tr.every, 4);
+        for (i, &t) in tr.t.iter().enumerate() {
+            assert_eq!(t, (4 * i) as f64);
+            assert_eq!(tr.energy[i], 5.0 * t);
+        }
+        assert_eq!(tr.t.len(), steps / 4);
+    }
 }
