@@ -4,25 +4,14 @@
 
 mod common;
 
-use common::{cli, scenario, TestDir};
+use common::{run_ok, scenario};
 use softway::scenario::set_key;
 use std::path::Path;
 
-/// Runs `text` (named `name`) and returns its summary; the folders are removed after.
+/// Runs `text` (named `name`) and returns its summary; its folder is removed after.
 fn run(name: &str, text: &str) -> serde_json::Value {
     let p = scenario(name, text);
-    let dir = TestDir::new("long", name);
-    let out = dir.join("out");
-    let o = cli([
-        "run".as_ref(),
-        p.as_os_str(),
-        "--out".as_ref(),
-        out.as_os_str(),
-        "--quiet".as_ref(),
-    ]);
-    assert_eq!(o.code, 0, "{}", o.stderr);
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let (_, s) = run_ok(&p);
     if let Some(folder) = p.parent() {
         let _ = std::fs::remove_dir_all(folder);
     }
