@@ -3,6 +3,7 @@
 
 pub mod components;
 pub mod signal;
+pub mod trace;
 
 pub use components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,

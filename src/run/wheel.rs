@@ -92,6 +92,11 @@ pub struct WheelSummary {
     /// frequency (a mode of the wheel on its support and contact)
     /// ([`crate::analysis::components`]).
     pub spectral_components: Vec<Component>,
+    /// Length of the rolling record the spectrum, the spectral components and the per-turn
+    /// counts were taken from, s: the whole rolling phase, or its latest
+    /// [`crate::analysis::trace::SPECTRUM_WINDOW_CAP`] steps on a longer run (memory stays
+    /// bounded).
+    pub spectrum_window_s: f64,
     /// Cycles per turn of the largest fixed-frequency component (neither locked to the
     /// rotation nor node passing): a per-turn count that does not depend on which component
     /// happens to dominate ([`crate::analysis::components::fixed_frequency_per_turn`]).
@@ -583,16 +588,11 @@ fn summarise(
 ) -> WheelSummary {
     let omega = ws.spec.omega;
     let (f, o) = (&r.forces, &r.outcome);
-    let (tr, fr): (Vec<f64>, Vec<f64>) =
-        f.t.iter()
-            .zip(&f.force)
-            .filter(|(t, _)| r.timeline.rolling(**t))
-            .map(|(t, y)| (*t, *y))
-            .unzip();
+    let (tr, fr) = (&f.window.0, &f.window.1);
     let modes: Vec<f64> = bounce.iter().map(|b| b.frequency_hz).collect();
     let components = spectral_components(
-        &tr,
-        &fr,
+        tr,
+        fr,
         omega,
         wm.rim.len(),
         &modes,
@@ -621,6 +621,7 @@ fn summarise(
         node_passing_frequency_hz: f.node_passing_hz,
         fixed_frequency_cycles_per_turn: fixed_frequency_per_turn(&components),
         spectral_components: components,
+        spectrum_window_s: f.window.0.len() as f64 * run.params.h,
         bounce_frequency_hz: bounce.map(|b| b.frequency_hz),
         bounce_vertical_mass_fraction: bounce.map(|b| b.vertical_mass_fraction),
         mesh_min_angle_deg: q.min_angle_deg,

@@ -30,12 +30,8 @@ pub fn write(
     let (rot_hz, node_pass_hz) = (r.forces.rotation_hz, r.forces.node_passing_hz);
     let base = wm.base();
     // Fig. 12: force over the turns.
-    let turns_axis: Vec<f64> = r
-        .forces
-        .t
-        .iter()
-        .map(|t| (t - t_settle) / turn_time)
-        .collect();
+    let (plot_t, plot_f) = &r.forces.plot;
+    let turns_axis: Vec<f64> = plot_t.iter().map(|t| (t - t_settle) / turn_time).collect();
     let mut p = Panel::new(
         format!(
             "Contact force, omega = {omega} rad/s ({:.0} km/h)",
@@ -47,7 +43,7 @@ pub fn write(
     p.series.push(Series::new(
         "contact force",
         turns_axis.clone(),
-        r.forces.force.clone(),
+        plot_f.clone(),
         SeriesStyle::Line,
     ));
     p.hlines
@@ -65,7 +61,7 @@ pub fn write(
     pz.series.push(Series::new(
         "contact force",
         turns_axis,
-        r.forces.force.clone(),
+        plot_f.clone(),
         SeriesStyle::Line,
     ));
     pz.x_range = Some((z0, z0 + 0.25));

@@ -16,6 +16,7 @@ use crate::analysis::signal::{
     amplitude_spectrum, count_oscillations, dominant_peak, moving_average, resample_uniform,
     Spectrum,
 };
+use crate::analysis::trace::{Envelope, LatestWindow, ENVELOPE_CAP, SPECTRUM_WINDOW_CAP};
 use crate::contact::{PairState, RotatingLine};
 use crate::output::files::CsvWriter;
 use crate::run::{progress_bar, RunError};
@@ -265,14 +266,18 @@ impl Observer for ContactNodesWriter {
     }
 }
 
-/// The contact force over the run, the nodes held and the largest penetration.
+/// The contact force over the run, the nodes held and the largest penetration, in room that
+/// does not grow with the run ([`crate::analysis::trace`]): the mean, extremes and nodes held
+/// are summed over every rolling step, the plot keeps a min-max envelope of the whole run, and
+/// the spectrum and the per-turn counts use the latest [`SPECTRUM_WINDOW_CAP`] rolling steps.
 #[derive(Debug)]
 pub struct ContactForceStats {
     timeline: Timeline,
-    all_t: Vec<f64>,
-    all_f: Vec<f64>,
-    rolling_t: Vec<f64>,
-    rolling_f: Vec<f64>,
+    trace: Envelope,
+    window: LatestWindow,
+    rolling_sum: f64,
+    rolling_max: f64,
+    rolling_min: f64,
     held_sum: f64,
     max_penetration: f64,
 }
@@ -301,21 +306,26 @@ pub struct ContactForceSummary {
     pub node_passing_hz: f64,
     /// Largest penetration, m (0 if none).
     pub max_penetration: f64,
-    /// Every observed time, s.
-    pub t: Vec<f64>,
-    /// The force at those times, N.
-    pub force: Vec<f64>,
+    /// The force over the whole run to draw, `(t s, N)`: every step, or a min-max envelope
+    /// of at most [`ENVELOPE_CAP`] buckets on a longer run ([`Envelope::points`]).
+    pub plot: (Vec<f64>, Vec<f64>),
+    /// The rolling steps the spectrum and the per-turn counts were taken from (the latest
+    /// [`SPECTRUM_WINDOW_CAP`]), `(t s, N)`.
+    pub window: (Vec<f64>, Vec<f64>),
+    /// Rolling steps in all (kept in the window or not).
+    pub rolling_steps: usize,
 }
 
 impl ContactForceStats {
-    /// Room for `steps + 1` observations.
+    /// Room for `steps + 1` observations (at most the caps of the module docs).
     pub fn new(timeline: Timeline, steps: usize) -> Self {
         Self {
             timeline,
-            all_t: Vec::with_capacity(steps + 1),
-            all_f: Vec::with_capacity(steps + 1),
-            rolling_t: Vec::with_capacity(steps + 1),
-            rolling_f: Vec::with_capacity(steps + 1),
+            trace: Envelope::new(ENVELOPE_CAP, steps + 1),
+            window: LatestWindow::new(SPECTRUM_WINDOW_CAP, steps + 1),
+            rolling_sum: 0.0,
+            rolling_max: f64::NEG_INFINITY,
+            rolling_min: f64::INFINITY,
             held_sum: 0.0,
             max_penetration: 0.0,
         }
@@ -325,15 +335,16 @@ impl ContactForceStats {
     ///
     /// Oscillations per turn: within each full turn, the force smoothed by a centred moving
     /// average over the node-passage period, local maxima of prominence >= 10% of the
-    /// turn's range ([`count_oscillations`]).
+    /// turn's range ([`count_oscillations`]); only the turns within the window are counted.
     pub fn finish(self, omega: f64, n_rim: usize) -> ContactForceSummary {
         let tl = self.timeline;
         let h = tl.h;
-        let (force_t, force_y) = (&self.rolling_t, &self.rolling_f);
-        let nf = force_y.len().max(1) as f64;
-        let mean = force_y.iter().sum::<f64>() / nf;
-        let fmax = force_y.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-        let fmin = force_y.iter().cloned().fold(f64::INFINITY, f64::min);
+        let rolling_steps = self.window.seen();
+        let (window_t, window_f) = self.window.into_ordered();
+        let (force_t, force_y) = (&window_t, &window_f);
+        let nf = rolling_steps.max(1) as f64;
+        let mean = self.rolling_sum / nf;
+        let (fmax, fmin) = (self.rolling_max, self.rolling_min);
         let n_rim = n_rim.max(1);
         let node_pass_hz = omega * n_rim as f64 / (2.0 * PI);
         let smooth_w = ((1.0 / node_pass_hz) / h).round().max(1.0) as usize;
@@ -381,8 +392,9 @@ impl ContactForceStats {
             rotation_hz: rot_hz,
             node_passing_hz: node_pass_hz,
             max_penetration: self.max_penetration.max(0.0),
-            t: self.all_t,
-            force: self.all_f,
+            plot: self.trace.points(),
+            window: (window_t, window_f),
+            rolling_steps,
         }
     }
 }
@@ -390,11 +402,12 @@ impl ContactForceStats {
 impl Observer for ContactForceStats {
     fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
         self.max_penetration = self.max_penetration.max(-s.min_gap);
-        self.all_t.push(s.t);
-        self.all_f.push(s.contact_force);
+        self.trace.push(s.t, s.contact_force);
         if self.timeline.rolling(s.t) {
-            self.rolling_t.push(s.t);
-            self.rolling_f.push(s.contact_force);
+            self.window.push(s.t, s.contact_force);
+            self.rolling_sum += s.contact_force;
+            self.rolling_max = self.rolling_max.max(s.contact_force);
+            self.rolling_min = self.rolling_min.min(s.contact_force);
             self.held_sum += s.held as f64;
         }
         Ok(())
@@ -626,7 +639,7 @@ mod tests {
     #[test]
     fn force_energy_and_snapshots_follow_the_timeline() {
         let mut f = ContactForceStats::new(TL, 30);
-        let cap = [f.all_t.capacity(), f.rolling_t.capacity()];
+        let cap = [f.trace.capacity(), f.window.capacity()];
         let mut e = EnergyWatch::new(TL);
         let mut snaps = VelocitySnapshots::new(TL, TL.last_full_turn().0, 4, 2);
         for k in 0..=30 {
@@ -642,9 +655,10 @@ mod tests {
             snaps.observe(&s).unwrap();
         }
         // No reallocation in the loop.
-        assert_eq!(cap, [f.all_t.capacity(), f.rolling_t.capacity()]);
+        assert_eq!(cap, [f.trace.capacity(), f.window.capacity()]);
         let r = f.finish(2.0 * PI, 4);
-        assert_eq!(r.t.len(), 31);
+        assert_eq!(r.plot.0.len(), 31);
+        assert_eq!((r.window.0.len(), r.rolling_steps), (21, 21));
         // Rolling phase: k = 10..=30, forces 20..=40.
         assert!((r.mean - 30.0).abs() < 1e-12 && r.min == 20.0 && r.max == 40.0);
         assert!((r.max_penetration - 3e-3).abs() < 1e-15);

@@ -40,6 +40,7 @@
 //! [`carter_q`] are the uncoupled solution.
 
 use super::observers::{Observer, Timeline, WheelStep};
+use crate::analysis::trace::{Envelope, ENVELOPE_CAP};
 use crate::contact::RotatingLine;
 use crate::output::files::CsvWriter;
 use crate::run::RunError;
@@ -109,8 +110,9 @@ pub struct TractionWatch {
     history: CsvWriter,
     path: PathBuf,
     stride: usize,
-    /// The history rows kept for the figure: t, normal, traction, friction energy.
-    series: [Vec<f64>; 4],
+    /// The history rows kept for the figure, as envelopes of bounded size
+    /// ([`crate::analysis::trace`]): normal force, traction, friction energy.
+    series: [Envelope; 3],
 }
 
 /// The traction figures of a run with friction (`summary.json`, `traction`).
@@ -164,9 +166,9 @@ pub struct TractionProfile {
     pub q: Vec<f64>,
     /// Fraction of the samples in stick (held and not sliding).
     pub stick: Vec<f64>,
-    /// The history kept for the figure: time (s), normal force, creep force (N), friction
-    /// energy (J).
-    pub history: [Vec<f64>; 4],
+    /// The history kept for the figure, `(t s, value)` points of the normal force, the creep
+    /// force (N) and the friction energy (J) ([`Envelope::points`]).
+    pub history: [(Vec<f64>, Vec<f64>); 3],
 }
 
 impl TractionWatch {
@@ -245,7 +247,7 @@ impl TractionWatch {
             history,
             path: path.to_path_buf(),
             stride: stride.max(1),
-            series: std::array::from_fn(|_| Vec::with_capacity(rows)),
+            series: std::array::from_fn(|_| Envelope::new(ENVELOPE_CAP, rows)),
         })
     }
 
@@ -269,7 +271,7 @@ impl TractionWatch {
             p: Vec::with_capacity(nb),
             q: Vec::with_capacity(nb),
             stick: Vec::with_capacity(nb),
-            history: self.series,
+            history: self.series.map(|e| e.points()),
         };
         for b in 0..nb {
             let n = self.bin_n[b];
@@ -365,12 +367,12 @@ impl Observer for TractionWatch {
                     s.friction_dissipated,
                 ],
             )?;
-            for (v, x) in self
+            for (e, x) in self
                 .series
                 .iter_mut()
-                .zip([s.t, normal, traction, s.friction_dissipated])
+                .zip([normal, traction, s.friction_dissipated])
             {
-                v.push(x);
+                e.push(s.t, x);
             }
         }
         if !self.timeline.rolling(s.t) {
@@ -538,26 +540,26 @@ pub fn figures(
     p.y_range = Some((-0.25, 1.25));
     let png = out.join("traction.png");
     panels(&png, &[p], 1, 1, (1100, 650)).map_err(|e| RunError::output(&png, e))?;
-    let [t, normal, traction, energy] = &prof.history;
-    let ms: Vec<f64> = t.iter().map(|t| t * 1e3).collect();
+    let [normal, traction, energy] = &prof.history;
+    let ms = |t: &[f64]| -> Vec<f64> { t.iter().map(|t| t * 1e3).collect() };
     let mut f = Panel::new("Normal and creep force", "t [ms]", "force [N]");
     f.series.push(Series::new(
         "mu P (normal force times mu)",
-        ms.clone(),
-        normal.iter().map(|v| mu * v).collect(),
+        ms(&normal.0),
+        normal.1.iter().map(|v| mu * v).collect(),
         SeriesStyle::Line,
     ));
     f.series.push(Series::new(
         "Q (creep force on the wheel, + driving)",
-        ms.clone(),
-        traction.clone(),
+        ms(&traction.0),
+        traction.1.clone(),
         SeriesStyle::Line,
     ));
     let mut e = Panel::new("Energy dissipated by friction", "t [ms]", "energy [J]");
     e.series.push(Series::new(
         "friction energy",
-        ms,
-        energy.clone(),
+        ms(&energy.0),
+        energy.1.clone(),
         SeriesStyle::Line,
     ));
     let png2 = out.join("traction_history.png");
