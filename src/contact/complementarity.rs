@@ -41,7 +41,7 @@
 //! the two rows have the same unit, so the bound is the same with forces (exact, penalty) and
 //! impulses (Moreau-Jean with the space-time scheme).
 
-use super::friction::FrictionLaw;
+use super::friction::{spring_energy, stick_spring, FrictionLaw};
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, record_friction, ContactTreatment};
 use crate::simulation::{Engine, SimError, Snapshot};
@@ -110,6 +110,17 @@ impl Complementarity {
     pub fn with_friction(mut self, law: Option<FrictionLaw>) -> Self {
         self.friction = law.filter(FrictionLaw::is_active);
         self
+    }
+
+    /// The stick's tangential stiffness, N/m per pair: the law's, else the normal penalty
+    /// stiffness for the penalty treatment, else 0 (a rigid stick;
+    /// [`super::friction`]: elastic stick).
+    pub fn stick_stiffness(&self) -> f64 {
+        match (self.friction, self.law) {
+            (Some(f), _) if f.tangential_stiffness > 0.0 => f.tangential_stiffness,
+            (Some(_), Law::Penalty { stiffness }) => stiffness,
+            _ => 0.0,
+        }
     }
 }
 
@@ -216,6 +227,7 @@ impl ContactTreatment for Complementarity {
                 }
             }
         }
+        let kt = self.stick_stiffness();
         let mut changes = 0;
         loop {
             eng.rows.clear();
@@ -227,12 +239,15 @@ impl ContactTreatment for Complementarity {
                 let normal = eng.rows.push(pr.row);
                 if let (Some(law), Some((trow, wt))) = (self.friction, pr.tangent) {
                     self.wt[p] = wt;
+                    let (reg, dy) = stick_spring(kt, fs.pairs[p].tangential_force, maps.force, h);
                     eng.rows.push(Row {
                         kind: RowKind::Bounded {
                             normal,
                             mu_f: law.coefficient(trow.terms.dot(&fs.v) - wt),
                             eta: law.viscosity / maps.force,
                         },
+                        y0: trow.y0 + dy,
+                        reg,
                         ..trow
                     });
                 }
@@ -264,7 +279,15 @@ impl ContactTreatment for Complementarity {
             if let RowKind::Bounded { .. } = row.kind {
                 let slip = (row.terms.dot(&ts.u) - row.terms.dot(&fs.u)) / h - self.wt[row.pair];
                 let sliding = eng.rows.is_sliding(i);
-                record_friction(&mut ts.pairs[row.pair], lam * maps.force, sliding, slip, h);
+                let spring = (kt, fs.pairs[row.pair].tangential_force);
+                record_friction(
+                    &mut ts.pairs[row.pair],
+                    lam * maps.force,
+                    sliding,
+                    slip,
+                    h,
+                    spring,
+                );
                 continue;
             }
             ts.pairs[row.pair].force = lam * maps.force * h / h;
@@ -288,13 +311,20 @@ impl ContactTreatment for Complementarity {
     }
 
     fn stored_energy(&self, s: &Snapshot) -> f64 {
-        match self.law {
-            Law::Penalty { stiffness } => s
-                .pairs
-                .iter()
-                .map(|p| 0.5 * stiffness * p.gap.min(0.0).powi(2))
-                .sum(),
-            _ => 0.0,
-        }
+        let kt = self.stick_stiffness();
+        let springs: f64 = s
+            .pairs
+            .iter()
+            .map(|p| spring_energy(kt, p.tangential_force))
+            .sum();
+        springs
+            + match self.law {
+                Law::Penalty { stiffness } => s
+                    .pairs
+                    .iter()
+                    .map(|p| 0.5 * stiffness * p.gap.min(0.0).powi(2))
+                    .sum(),
+                _ => 0.0,
+            }
     }
 }

@@ -12,6 +12,19 @@
 //! ([`super::rows::RowKind::Bounded`]); `eta = 0` is Coulomb's rigid-plastic limit. Like a
 //! penalty stiffness, `eta` is per pair, so it scales with the rim pitch.
 //!
+//! **Elastic stick (a tangential spring with return mapping).** With a tangential stiffness
+//! `k_t` (N/m per pair) a sticking pair is not rigid: it carries the force of a spring
+//! stretched by the pair's slip since it last stuck, `F_t = F_t0 - k_t h v_t` over a step
+//! (`v_t` the slip velocity at the step end, backward Euler), and slides when that trial
+//! force leaves the cone, `|F_t| = mu F_n` (the return mapping of elastoplasticity: the
+//! spring's elastic slip is given back, the rest is plastic). In a row it is a regularized
+//! stick, `y = v_t + (lambda_t - lambda_t0) f / (k_t h) = 0` ([`super::rows`], `reg`), so it
+//! costs no factorization. The spring stores `F_t^2 / (2 k_t)` per pair (counted with the
+//! stored contact energy); the energy dissipated by friction is the slip work less that
+//! store's growth. `k_t = 0` is the rigid stick (Coulomb's exact law). The penalty treatment
+//! takes the normal penalty stiffness for `k_t` unless it is given; the others take a rigid
+//! stick. Like a penalty stiffness, `k_t` is per pair.
+//!
 //! **In the step.** Each bounded tangential row ([`super::rows::RowKind::Bounded`]) takes
 //! `mu(|v|)` at the pair's tangential relative velocity at the start of the step,
 //! `c_t . v0 - w_t` (the slip speed of a sliding pair, about 0 for a sticking one, the
@@ -30,6 +43,9 @@ pub struct FrictionLaw {
     pub velocity: f64,
     /// The viscoplastic viscosity `eta`, N s/m per pair (0: none).
     pub viscosity: f64,
+    /// The tangential (stick) stiffness `k_t`, N/m per pair (0: a rigid stick, or the normal
+    /// stiffness with the penalty treatment; module docs).
+    pub tangential_stiffness: f64,
 }
 
 impl FrictionLaw {
@@ -40,6 +56,7 @@ impl FrictionLaw {
             kinetic: mu,
             velocity: 1.0,
             viscosity: 0.0,
+            tangential_stiffness: 0.0,
         }
     }
 
@@ -78,6 +95,12 @@ impl FrictionLaw {
                 self.viscosity
             ));
         }
+        if !(self.tangential_stiffness.is_finite() && self.tangential_stiffness >= 0.0) {
+            return Err(format!(
+                "contact.tangential_stiffness must be a finite stiffness >= 0 (N/m per contact pair), got {}",
+                self.tangential_stiffness
+            ));
+        }
         if !(self.velocity.is_finite() && self.velocity > 0.0) {
             return Err(format!(
                 "contact.friction_velocity must be a finite speed > 0 (m/s), got {}",
@@ -85,6 +108,29 @@ impl FrictionLaw {
             ));
         }
         Ok(())
+    }
+}
+
+/// The tangential spring of one step (module docs: elastic stick), for the tangential row of
+/// a pair: its regularization `reg = f / (k_t h)` and the offset `-reg lambda_t0` of its `y0`,
+/// from the pair's tangential force at the step start `f0` (N), the force per unit multiplier
+/// `f` and the step `h`; `(0, 0)` for a rigid stick (`k_t = 0`).
+pub fn stick_spring(kt: f64, f0: f64, force_per_multiplier: f64, h: f64) -> (f64, f64) {
+    if kt > 0.0 {
+        let reg = force_per_multiplier / (kt * h);
+        (reg, -reg * f0 / force_per_multiplier)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// The energy a tangential spring of stiffness `kt` holds at the force `f` (N): `f^2/(2 kt)`,
+/// 0 for a rigid stick.
+pub fn spring_energy(kt: f64, f: f64) -> f64 {
+    if kt > 0.0 {
+        0.5 * f * f / kt
+    } else {
+        0.0
     }
 }
 
@@ -105,6 +151,7 @@ mod tests {
             kinetic: 0.2,
             velocity: 0.5,
             viscosity: 0.0,
+            tangential_stiffness: 0.0,
         };
         assert_eq!(law.coefficient(0.0), 0.4);
         assert!((law.coefficient(0.5) - (0.2 + 0.2 / std::f64::consts::E)).abs() < 1e-15);

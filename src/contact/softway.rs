@@ -50,7 +50,7 @@
 //! carries no friction row and friction starts with the first held step. A released pair
 //! loses its friction row with its normal row.
 
-use super::friction::FrictionLaw;
+use super::friction::{spring_energy, stick_spring, FrictionLaw};
 use super::rows::{Row, RowKind, Terms};
 use super::treatment::{record_friction, ContactTreatment, Treatment};
 use crate::simulation::{Engine, SimError, Snapshot};
@@ -272,6 +272,12 @@ impl SoftWay {
             if let Some(tg) = eng.tangent(p, t1, &fs.u) {
                 self.friction_row[p] = Some((tg.terms, tg.w));
                 let mu_f = law.coefficient(tg.terms.dot(&fs.v) - tg.w);
+                let (reg, dy) = stick_spring(
+                    law.tangential_stiffness,
+                    fs.pairs[p].tangential_force,
+                    maps.force,
+                    eng.integ.h(),
+                );
                 eng.rows.push(Row {
                     pair: p,
                     terms: tg.terms,
@@ -280,9 +286,9 @@ impl SoftWay {
                         mu_f,
                         eta: law.viscosity / maps.force,
                     },
-                    y0: tg.terms.dot(&eng.pred.v) - tg.w,
+                    y0: tg.terms.dot(&eng.pred.v) - tg.w + dy,
                     mu: maps.mu_v,
-                    reg: 0.0,
+                    reg,
                 });
             }
         }
@@ -290,6 +296,14 @@ impl SoftWay {
 }
 
 impl ContactTreatment for SoftWay {
+    fn stored_energy(&self, s: &Snapshot) -> f64 {
+        let kt = self.friction.map_or(0.0, |l| l.tangential_stiffness);
+        s.pairs
+            .iter()
+            .map(|p| spring_energy(kt, p.tangential_force))
+            .sum()
+    }
+
     fn name(&self) -> String {
         if self.brakes {
             Treatment::SoftWay {
@@ -422,7 +436,9 @@ impl ContactTreatment for SoftWay {
             if let Some((terms, wt)) = self.friction_row[p] {
                 let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
                 let force = self.lambda_t[p] * eng.integ.maps().force;
-                record_friction(&mut st, force, self.sliding[p], slip, h);
+                let kt = self.friction.map_or(0.0, |l| l.tangential_stiffness);
+                let spring = (kt, prev.tangential_force);
+                record_friction(&mut st, force, self.sliding[p], slip, h, spring);
             }
             match self.modes[p] {
                 PairMode::Brake { terms, .. } => {

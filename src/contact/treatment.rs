@@ -32,6 +32,7 @@
 //! step on). A treatment records the tangential force, sliding flag, slip power and
 //! dissipated energy of each pair ([`PairState`], [`record_friction`]).
 
+use super::friction::spring_energy;
 use super::{FrictionLaw, PairState, Restore};
 use crate::simulation::{Engine, SimError, Snapshot};
 use crate::time::integrator::Integrator;
@@ -249,12 +250,22 @@ pub fn build(
 
 /// Records the friction of pair state `st` for a step of length `h`: the tangential force
 /// `force` (N), whether it slides, and the dissipation `-force s` (W) with `s` the mean slip
-/// velocity of the step (`(c_t.(u1 - u0))/h - w_t`, m/s), added to the dissipated energy
-/// (`st.dissipated` holds the value at the start of the step on entry).
-pub fn record_friction(st: &mut PairState, force: f64, sliding: bool, slip: f64, h: f64) {
+/// velocity of the step (`(c_t.(u1 - u0))/h - w_t`, m/s), less the growth over the step of
+/// the energy in the stick's spring of stiffness `kt` from its force `f0` at the step start
+/// (0: a rigid stick; [`super::friction`]), added to the dissipated energy (`st.dissipated`
+/// holds the value at the start of the step on entry).
+pub fn record_friction(
+    st: &mut PairState,
+    force: f64,
+    sliding: bool,
+    slip: f64,
+    h: f64,
+    (kt, f0): (f64, f64),
+) {
     st.tangential_force = force;
     st.sliding = sliding;
-    st.slip_power = -force * slip;
+    let stored = spring_energy(kt, force) - spring_energy(kt, f0);
+    st.slip_power = -force * slip - stored / h;
     st.dissipated += h * st.slip_power;
 }
 

@@ -131,6 +131,7 @@ pub(super) struct RawContact {
     pub friction_kinetic: Option<f64>,
     pub friction_velocity: Option<f64>,
     pub friction_viscosity: Option<f64>,
+    pub tangential_stiffness: Option<f64>,
 }
 
 /// One `[[runs]]` entry: overrides of `[time]`, `[contact]` and the bar's `elements`.

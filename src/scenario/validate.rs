@@ -607,7 +607,8 @@ fn mass_kind(cx: &Ctx, key: &str, v: Option<&str>) -> Result<bool, ScenarioError
 }
 
 /// The friction law of `[contact]`: `friction` the static (Coulomb) coefficient,
-/// `friction_kinetic` and `friction_velocity` the falling law's
+/// `friction_kinetic` and `friction_velocity` the falling law's, `friction_viscosity` the
+/// viscoplastic overstress, `tangential_stiffness` the stick's spring
 /// ([`crate::contact::FrictionLaw`]).
 fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, ScenarioError> {
     let Some(mu) = c.friction else {
@@ -615,6 +616,7 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
             ("contact.friction_kinetic", c.friction_kinetic),
             ("contact.friction_velocity", c.friction_velocity),
             ("contact.friction_viscosity", c.friction_viscosity),
+            ("contact.tangential_stiffness", c.tangential_stiffness),
         ] {
             if let Some(v) = v {
                 return Err(cx.invalid(
@@ -635,6 +637,7 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
                 kinetic: cx.non_negative("contact.friction_kinetic", k)?,
                 velocity: cx.positive("contact.friction_velocity", v)?,
                 viscosity: 0.0,
+                tangential_stiffness: 0.0,
             },
             (Some(k), None) => return Err(cx.invalid(
                 "contact.friction_kinetic",
@@ -651,6 +654,9 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
         };
     if let Some(eta) = c.friction_viscosity {
         law.viscosity = cx.non_negative("contact.friction_viscosity", eta)?;
+    }
+    if let Some(kt) = c.tangential_stiffness {
+        law.tangential_stiffness = cx.positive("contact.tangential_stiffness", kt)?;
     }
     Ok(Some(law))
 }
