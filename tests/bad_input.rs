@@ -342,6 +342,22 @@ refused!(
     ["`contact.friction` = -0.2"]
 );
 refused!(
+    wheel_negative_tangential_stiffness,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\nfriction = 0.3\ntangential_stiffness = -1e9"
+    ),
+    ["`contact.tangential_stiffness` = -1000000000", "> 0"]
+);
+refused!(
+    wheel_tangential_stiffness_without_friction,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\ntangential_stiffness = 1e9"
+    ),
+    ["`contact.tangential_stiffness`", "needs contact.friction"]
+);
+refused!(
     wheel_a_billion_turns,
     wheel_text().replace("turns = 5", "turns = 1e9"),
     ["`time.h`", "days", "--yes"]
