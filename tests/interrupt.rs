@@ -93,7 +93,7 @@ fn signal(pid: u32, sig: &str) {
     assert!(ok || sig == "-KILL");
 }
 
-/// SIGINT and SIGTERM, early and late: the run stops at the next step, writes what it has
+/// SIGINT, SIGTERM and SIGHUP, early and late: the run stops at the next step, writes what it has
 /// and exits 130; or it finished first (0); or the signal came before the handler was set
 /// (killed, nothing written). Never a half result, never a temporary file.
 #[test]
@@ -106,6 +106,7 @@ fn sigint_and_sigterm_at_any_moment_leave_complete_results() {
         ("-INT", 0),
         ("-TERM", 30),
         ("-INT", 150),
+        ("-HUP", 250),
         ("-TERM", 400),
         ("-TERM", 700),
     ]
@@ -145,6 +146,19 @@ fn sigint_and_sigterm_at_any_moment_leave_complete_results() {
     assert!(interrupted >= 2, "only {interrupted} runs interrupted");
 }
 
+/// True when a staged output folder in `dir` holds a history file in progress (under its
+/// temporary name) with rows in it.
+fn history_written(dir: &Path) -> bool {
+    let staged = std::fs::read_dir(dir).into_iter().flatten().flatten();
+    staged
+        .filter(|e| e.file_name().to_string_lossy().starts_with(".out."))
+        .flat_map(|e| std::fs::read_dir(e.path()).into_iter().flatten().flatten())
+        .any(|f| {
+            f.file_name().to_string_lossy().contains("history.csv")
+                && f.metadata().is_ok_and(|m| m.len() > 1024)
+        })
+}
+
 /// The wheel interrupted: its VTU, PNGs, CSVs and summary are complete.
 #[test]
 fn sigint_stops_the_wheel_run_and_keeps_its_results() {
@@ -160,7 +174,12 @@ fn sigint_stops_the_wheel_run_and_keeps_its_results() {
         .stdout(Stdio::null())
         .spawn()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(1500));
+    // Interrupt once the time loop has written history rows (on a loaded machine the set-up
+    // alone can take seconds), or after a minute in any case.
+    let started = std::time::Instant::now();
+    while started.elapsed() < Duration::from_secs(60) && !history_written(&dir) {
+        std::thread::sleep(Duration::from_millis(50));
+    }
     signal(child.id(), "-INT");
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130), "exit status {status:?}");
