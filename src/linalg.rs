@@ -125,19 +125,28 @@ pub enum Ordering {
 #[derive(Debug, Clone, Default)]
 struct Triangle {
     lower: bool,
-    /// Supernode boundaries: supernode `s` is rows `bounds[s]..bounds[s + 1]`.
-    bounds: Vec<usize>,
+    /// Supernode `s`'s first row in `val_ptr` and `tri_ptr` (each supernode's rows there are
+    /// followed by one end entry).
+    sn_first: Vec<usize>,
     /// The shared columns of each supernode: `cols[cols_ptr[s]..cols_ptr[s + 1]]`.
     cols_ptr: Vec<usize>,
     cols: Vec<u32>,
-    /// Row `r`'s values on its supernode's shared columns (`val[val_ptr[r]..]`, as many as
-    /// the shared columns), then on the run's own columns (`tri_ptr[r]..val_ptr[r + 1]`).
+    /// The `k`-th stored supernode row's values on its supernode's shared columns
+    /// (`val[val_ptr[k]..]`, as many as the shared columns), then on the run's own columns
+    /// (`tri_ptr[k]..val_ptr[k + 1]`).
     val_ptr: Vec<usize>,
     tri_ptr: Vec<usize>,
     val: Vec<f64>,
     diag_inv: Vec<f64>,
     /// The gathered unknowns of one supernode's shared columns.
     gathered: Vec<f64>,
+    /// Rows that are no supernode, by rows (CSR; empty for the rows of supernodes).
+    single_ptr: Vec<usize>,
+    single_idx: Vec<u32>,
+    single_val: Vec<f64>,
+    /// Consecutive rows solved the same way, in storage order: `(r0, r1, supernode)` with
+    /// `supernode = None` for rows solved one by one, else its index in `sn_first`.
+    segments: Vec<(usize, usize, Option<usize>)>,
     /// Stored off-diagonal entries.
     off_diagonal: usize,
 }
@@ -218,19 +227,48 @@ impl Triangle {
             }
         }
         bounds.push(n);
+        // Runs shorter than `MIN_SUPERNODE` rows are split into single rows: for them the
+        // gather into the buffer costs more than it saves.
+        let mut split = vec![0usize];
+        for w in bounds.windows(2) {
+            if w[1] - w[0] < MIN_SUPERNODE {
+                split.extend(w[0] + 1..=w[1]);
+            } else {
+                split.push(w[1]);
+            }
+        }
+        let bounds = split;
         let mut t = Triangle {
             lower,
             cols_ptr: vec![0],
             val_ptr: Vec::with_capacity(n + 1),
             tri_ptr: Vec::with_capacity(n),
-            val: Vec::with_capacity(ptr[n]),
             diag_inv,
             off_diagonal: ptr[n],
+            single_ptr: vec![0],
             ..Default::default()
         };
         let mut widest = 0;
         for w in bounds.windows(2) {
             let (r0, r1) = (w[0], w[1]);
+            if r1 - r0 == 1 {
+                // A single row: its entries by rows.
+                let entries = row(r0);
+                t.single_idx.extend(entries.iter().map(|e| e.0));
+                t.single_val.extend(entries.iter().map(|e| e.1));
+                t.single_ptr.push(t.single_idx.len());
+                match t.segments.last_mut() {
+                    Some((_, end, None)) if *end == r0 => *end = r1,
+                    _ => t.segments.push((r0, r1, None)),
+                }
+                continue;
+            }
+            for _ in r0..r1 {
+                t.single_ptr.push(t.single_idx.len());
+            }
+            let s = t.sn_first.len();
+            t.sn_first.push(t.val_ptr.len());
+            t.segments.push((r0, r1, Some(s)));
             // Shared columns: lower, those of row r0; upper, those of row r1 - 1.
             let shared = if lower { row(r0) } else { row(r1 - 1) };
             t.cols.extend(shared.iter().map(|e| e.0));
@@ -253,10 +291,14 @@ impl Triangle {
                     t.val.extend(entries[..own].iter().map(|e| e.1));
                 }
             }
+            // `val_ptr[r + 1]` of the supernode's last row.
+            t.val_ptr.push(t.val.len());
+            t.tri_ptr.push(t.val.len());
         }
-        t.val_ptr.push(t.val.len());
-        t.bounds = bounds;
         t.gathered = vec![0.0; widest];
+        if !lower {
+            t.segments.reverse();
+        }
         t
     }
 
@@ -268,19 +310,21 @@ impl Triangle {
     /// `x <- T^{-1} x`.
     fn solve(&mut self, x: &mut [f64]) {
         assert!(x.len() == self.diag_inv.len());
-        let ns = self.bounds.len() - 1;
-        for k in 0..ns {
-            let s = if self.lower { k } else { ns - 1 - k };
-            let (r0, r1) = (self.bounds[s], self.bounds[s + 1]);
+        for &(r0, r1, sn) in &self.segments {
+            let Some(s) = sn else {
+                if self.lower {
+                    for r in r0..r1 {
+                        self.solve_single(r, x);
+                    }
+                } else {
+                    for r in (r0..r1).rev() {
+                        self.solve_single(r, x);
+                    }
+                }
+                continue;
+            };
             let cols = &self.cols[self.cols_ptr[s]..self.cols_ptr[s + 1]];
             let nc = cols.len();
-            if r1 - r0 == 1 {
-                let r = r0;
-                let v = &self.val[self.val_ptr[r]..self.val_ptr[r] + nc];
-                let sum = dot_gather(cols, v, x);
-                x[r] = (x[r] - sum) * self.diag_inv[r];
-                continue;
-            }
             let g = &mut self.gathered[..nc];
             for (gk, &c) in g.iter_mut().zip(cols) {
                 debug_assert!((c as usize) < x.len());
@@ -289,24 +333,39 @@ impl Triangle {
                 *gk = unsafe { *x.get_unchecked(c as usize) };
             }
             let g = &self.gathered[..nc];
+            // The supernode's rows are numbered from its first value row.
+            let base = self.sn_first[s];
             if self.lower {
                 for r in r0..r1 {
-                    let (p, q) = (self.val_ptr[r], self.tri_ptr[r]);
-                    let sum = dot_dense(&self.val[p..p + nc], g)
-                        + dot_dense(&self.val[q..self.val_ptr[r + 1]], &x[r0..r]);
+                    let k = base + (r - r0);
+                    let (p, q, e) = (self.val_ptr[k], self.tri_ptr[k], self.val_ptr[k + 1]);
+                    let sum =
+                        dot_dense(&self.val[p..p + nc], g) + dot_dense(&self.val[q..e], &x[r0..r]);
                     x[r] = (x[r] - sum) * self.diag_inv[r];
                 }
             } else {
                 for r in (r0..r1).rev() {
-                    let (p, q) = (self.val_ptr[r], self.tri_ptr[r]);
+                    let k = base + (r - r0);
+                    let (p, q, e) = (self.val_ptr[k], self.tri_ptr[k], self.val_ptr[k + 1]);
                     let sum = dot_dense(&self.val[p..p + nc], g)
-                        + dot_dense(&self.val[q..self.val_ptr[r + 1]], &x[r + 1..r1]);
+                        + dot_dense(&self.val[q..e], &x[r + 1..r1]);
                     x[r] = (x[r] - sum) * self.diag_inv[r];
                 }
             }
         }
     }
+
+    /// `x[r] <- (x[r] - sum_c T[r, c] x[c]) / T[r, r]` for a row that is no supernode.
+    #[inline(always)]
+    fn solve_single(&self, r: usize, x: &mut [f64]) {
+        let range = self.single_ptr[r]..self.single_ptr[r + 1];
+        let s = dot_gather(&self.single_idx[range.clone()], &self.single_val[range], x);
+        x[r] = (x[r] - s) * self.diag_inv[r];
+    }
 }
+
+/// The fewest rows of a supernode of a [`Triangle`] (shorter runs are solved row by row).
+const MIN_SUPERNODE: usize = 4;
 
 /// `sum_k a[k] b[k]` over the shorter of the two, in four partial sums.
 #[inline(always)]
@@ -923,13 +982,25 @@ mod tests {
                 f.solve_in_place(&mut x);
                 let d = max_rel_diff(&x, &x_ref);
                 assert!(d < 1e-13, "{nodes} nodes, {kind:?}: {d:e}");
-                let triangles: Vec<&Triangle> = match &f {
-                    Factor::Lu(lu) => vec![&lu.l, &lu.u],
-                    Factor::Llt(llt) => vec![&llt.l, &llt.lt],
+                // The upper triangle (rows of `U`, columns of `L`) has the supernodes of the
+                // elimination: several rows that share their columns.
+                let upper = match &f {
+                    Factor::Lu(lu) => &lu.u,
+                    Factor::Llt(llt) => &llt.lt,
                 };
-                for t in triangles {
-                    let widest = t.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap();
-                    assert!(widest >= 2, "{nodes} nodes, {kind:?}: no supernode");
+                {
+                    let t = upper;
+                    let widest = t
+                        .segments
+                        .iter()
+                        .filter(|s| s.2.is_some())
+                        .map(|s| s.1 - s.0)
+                        .max()
+                        .unwrap_or(0);
+                    assert!(
+                        widest >= MIN_SUPERNODE,
+                        "{nodes} nodes, {kind:?}: no supernode"
+                    );
                 }
             }
         }
