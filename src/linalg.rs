@@ -4,6 +4,10 @@
 //! allocated once, so that the time loop does not allocate; a Matrix Market writer.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
@@ -11,8 +15,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
 use faer::sparse::linalg::{amd, colamd};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::Par;
 use faer::Side;
+use faer::{Accum, MatMut, MatRef, Par};
 
 /// Errors of the linear algebra layer.
 #[derive(Debug, thiserror::Error)]
@@ -364,6 +368,229 @@ impl Triangle {
     }
 }
 
+/// A lower triangular factor `Λ` in dense supernodes, for the forward solve `Λ x = b` and the
+/// backward solve `Λ^T x = b` (the supernodal layout of CHOLMOD and faer).
+///
+/// A supernode is a run of columns `j0..j1` of `Λ` whose rows below the run, `R`, are the
+/// same and that are full inside the run; its values are one dense column-major block of
+/// `(w + m) x w` entries (`w = j1 - j0`, `m = |R|`): the run's lower triangle, then the rows
+/// `R`. The forward solve of a supernode is a dense triangular solve on `x[j0..j1]`, a dense
+/// product `y = Λ[R, j0..j1] x[j0..j1]` and a scatter `x[R] -= y`; the backward solve a
+/// gather `y = x[R]`, a dense product `x[j0..j1] -= Λ[R, j0..j1]^T y` and a dense triangular
+/// solve. One row index is read per row of a supernode rather than per entry, and from
+/// `DENSE_KERNEL_MIN` columns on the dense parts run on faer's kernels (SIMD, chosen at run
+/// time); narrower supernodes run on contiguous scalar loops.
+#[derive(Debug, Clone, Default)]
+struct Supernodal {
+    /// Supernode `s` is the columns `bounds[s]..bounds[s + 1]`.
+    bounds: Vec<usize>,
+    rows_ptr: Vec<usize>,
+    rows: Vec<u32>,
+    blk_ptr: Vec<usize>,
+    blk: Vec<f64>,
+    /// Work for `y` (the widest `R`).
+    y: Vec<f64>,
+    /// Stored entries of `Λ`, diagonal included.
+    nnz: usize,
+}
+
+/// The narrowest supernode of a [`Supernodal`] factor whose dense parts run on faer's
+/// kernels (narrower ones run on scalar loops: faer's dispatch costs more than they do).
+const DENSE_KERNEL_MIN: usize = 16;
+
+impl Supernodal {
+    /// From the CSC arrays of a lower triangular `Λ` (row indices in any order, every
+    /// diagonal entry stored unless `unit`: a unit diagonal, stored or not).
+    fn from_lower_csc(col_ptr: &[usize], row_idx: &[usize], values: &[f64], unit: bool) -> Self {
+        let n = col_ptr.len() - 1;
+        assert!(
+            n <= u32::MAX as usize,
+            "a factor too large for 32-bit indices"
+        );
+        let mut cols: Vec<Vec<(usize, f64)>> = (0..n)
+            .map(|j| {
+                let mut c: Vec<(usize, f64)> = (col_ptr[j]..col_ptr[j + 1])
+                    .map(|p| (row_idx[p], values[p]))
+                    .collect();
+                c.sort_unstable_by_key(|e| e.0);
+                if unit {
+                    match c.first_mut() {
+                        Some(e) if e.0 == j => e.1 = 1.0,
+                        _ => c.insert(0, (j, 1.0)),
+                    }
+                }
+                assert!(
+                    c.first().map(|e| e.0) == Some(j),
+                    "a lower factor's column without its diagonal or with entries above it"
+                );
+                c
+            })
+            .collect();
+        // Column j + 1 joins column j's supernode when the rows of j below its diagonal are
+        // j + 1 and the rows of j + 1 below its diagonal.
+        let mut bounds = vec![0usize];
+        for j in 0..n.saturating_sub(1) {
+            let (a, b) = (&cols[j][1..], &cols[j + 1][1..]);
+            let joins = a.len() == b.len() + 1
+                && a[0].0 == j + 1
+                && a[1..].iter().zip(b).all(|(x, y)| x.0 == y.0);
+            if !joins {
+                bounds.push(j + 1);
+            }
+        }
+        bounds.push(n);
+        let mut t = Supernodal {
+            rows_ptr: vec![0],
+            blk_ptr: vec![0],
+            nnz: cols.iter().map(Vec::len).sum(),
+            ..Default::default()
+        };
+        let mut widest = 0;
+        for b in bounds.windows(2) {
+            let (j0, j1) = (b[0], b[1]);
+            let w = j1 - j0;
+            let below: Vec<usize> = cols[j1 - 1][1..].iter().map(|e| e.0).collect();
+            let m = below.len();
+            widest = widest.max(m);
+            t.rows.extend(below.iter().map(|&i| i as u32));
+            t.rows_ptr.push(t.rows.len());
+            let start = t.blk.len();
+            t.blk.resize(start + (w + m) * w, 0.0);
+            for k in 0..w {
+                let col = std::mem::take(&mut cols[j0 + k]);
+                debug_assert_eq!(col.len(), w - k + m);
+                for (q, &(i, v)) in col.iter().enumerate() {
+                    // Rows k..w of the run, then R in order.
+                    let pos = if i < j1 { i - j0 } else { w + (q - (w - k)) };
+                    t.blk[start + k * (w + m) + pos] = v;
+                }
+            }
+            t.blk_ptr.push(t.blk.len());
+        }
+        t.bounds = bounds;
+        t.y = vec![0.0; widest];
+        t
+    }
+
+    /// `x <- Λ^{-1} x`.
+    fn forward(&mut self, x: &mut [f64]) {
+        for s in 0..self.bounds.len() - 1 {
+            let (j0, j1) = (self.bounds[s], self.bounds[s + 1]);
+            let w = j1 - j0;
+            let rows = &self.rows[self.rows_ptr[s]..self.rows_ptr[s + 1]];
+            let m = rows.len();
+            let blk = &self.blk[self.blk_ptr[s]..self.blk_ptr[s + 1]];
+            let y = &mut self.y[..m];
+            let xs = &mut x[j0..j1];
+            if w >= DENSE_KERNEL_MIN {
+                let d = MatRef::from_column_major_slice(blk, w + m, w);
+                solve_lower_triangular_in_place(
+                    d.subrows(0, w),
+                    MatMut::from_column_major_slice_mut(xs, w, 1),
+                    Par::Seq,
+                );
+                matmul(
+                    MatMut::from_column_major_slice_mut(y, m, 1),
+                    Accum::Replace,
+                    d.subrows(w, m),
+                    MatRef::from_column_major_slice(xs, w, 1),
+                    1.0,
+                    Par::Seq,
+                );
+            } else {
+                y.fill(0.0);
+                for k in 0..w {
+                    let col = &blk[k * (w + m)..(k + 1) * (w + m)];
+                    let xk = xs[k] / col[k];
+                    xs[k] = xk;
+                    for i in k + 1..w {
+                        xs[i] -= col[i] * xk;
+                    }
+                    for (yq, &v) in y.iter_mut().zip(&col[w..]) {
+                        *yq += v * xk;
+                    }
+                }
+            }
+            for (&i, &yq) in rows.iter().zip(y.iter()) {
+                x[i as usize] -= yq;
+            }
+        }
+    }
+
+    /// `x <- Λ^{-T} x`.
+    fn backward(&mut self, x: &mut [f64]) {
+        for s in (0..self.bounds.len() - 1).rev() {
+            let (j0, j1) = (self.bounds[s], self.bounds[s + 1]);
+            let w = j1 - j0;
+            let rows = &self.rows[self.rows_ptr[s]..self.rows_ptr[s + 1]];
+            let m = rows.len();
+            let blk = &self.blk[self.blk_ptr[s]..self.blk_ptr[s + 1]];
+            let y = &mut self.y[..m];
+            for (yq, &i) in y.iter_mut().zip(rows) {
+                *yq = x[i as usize];
+            }
+            let xs = &mut x[j0..j1];
+            if w >= DENSE_KERNEL_MIN {
+                let d = MatRef::from_column_major_slice(blk, w + m, w);
+                matmul(
+                    MatMut::from_column_major_slice_mut(xs, w, 1),
+                    Accum::Add,
+                    d.subrows(w, m).transpose(),
+                    MatRef::from_column_major_slice(y, m, 1),
+                    -1.0,
+                    Par::Seq,
+                );
+                solve_upper_triangular_in_place(
+                    d.subrows(0, w).transpose(),
+                    MatMut::from_column_major_slice_mut(xs, w, 1),
+                    Par::Seq,
+                );
+            } else {
+                for k in (0..w).rev() {
+                    let col = &blk[k * (w + m)..(k + 1) * (w + m)];
+                    let mut acc = xs[k] - dot_dense(&col[w..], y);
+                    for i in k + 1..w {
+                        acc -= col[i] * xs[i];
+                    }
+                    xs[k] = acc / col[k];
+                }
+            }
+        }
+    }
+}
+
+/// The CSC arrays of the transpose of a square CSC matrix.
+fn transpose_csc(
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    values: &[f64],
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let n = col_ptr.len() - 1;
+    let nnz = col_ptr[n];
+    let mut ptr = vec![0usize; n + 1];
+    for &i in &row_idx[..nnz] {
+        ptr[i + 1] += 1;
+    }
+    for i in 0..n {
+        ptr[i + 1] += ptr[i];
+    }
+    let mut next = ptr[..n].to_vec();
+    let (mut ri, mut v) = (vec![0usize; nnz], vec![0.0; nnz]);
+    for j in 0..n {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let q = next[row_idx[p]];
+            ri[q] = j;
+            v[q] = values[p];
+            next[row_idx[p]] += 1;
+        }
+    }
+    (ptr, ri, v)
+}
+
+/// The smallest order from which the factors are solved in dense supernodes
+/// ([`Supernodal`]); smaller factors by rows ([`Triangle`]), whose supernodes are narrow.
+const DENSE_SUPERNODAL_MIN_ORDER: usize = 2000;
+
 /// The fewest rows of a supernode of a [`Triangle`] (shorter runs are solved row by row).
 const MIN_SUPERNODE: usize = 4;
 
@@ -424,6 +651,11 @@ pub struct SparseLu {
     numeric: SimplicialLu<usize, f64>,
     l: Triangle,
     u: Triangle,
+    /// For orders from `DENSE_SUPERNODAL_MIN_ORDER` on, `L` and `U^T` in dense supernodes
+    /// (then `l` and `u` stay empty).
+    dense: Option<(Supernodal, Supernodal)>,
+    /// The order from which `dense` is used (`DENSE_SUPERNODAL_MIN_ORDER`).
+    dense_from: usize,
     work: Vec<f64>,
     n: usize,
 }
@@ -474,6 +706,14 @@ fn column_ordering(
 }
 
 impl SparseLu {
+    /// The same factor solved in dense supernodes (`dense`) or by rows, whatever the order.
+    #[cfg(test)]
+    fn with_layout(mut self, pattern: &Pattern, values: &[f64], dense: bool) -> Self {
+        self.dense_from = if dense { 0 } else { usize::MAX };
+        self.refactor(pattern, values).unwrap();
+        self
+    }
+
     /// Orders the columns by AMD (the matrices of softway are structurally symmetric: mass,
     /// stiffness, damping on one pattern) and factors the matrix.
     ///
@@ -503,6 +743,8 @@ impl SparseLu {
             numeric: SimplicialLu::new(),
             l: Triangle::default(),
             u: Triangle::default(),
+            dense: None,
+            dense_from: DENSE_SUPERNODAL_MIN_ORDER,
             work: vec![0.0; n],
             n,
         };
@@ -525,6 +767,8 @@ impl SparseLu {
             numeric: SimplicialLu::new(),
             l: Triangle::default(),
             u: Triangle::default(),
+            dense: None,
+            dense_from: self.dense_from,
             work: vec![0.0; self.n],
             n: self.n,
         };
@@ -553,27 +797,30 @@ impl SparseLu {
             MemStack::new(&mut scratch),
         )
         .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
-        // The factors for the solve ([`Triangle`]); faer's copy is let go.
+        // The factors for the solve ([`Triangle`] or [`Supernodal`]); faer's copy is let go.
         let (l, u) = (
             self.numeric.l_factor_unsorted(),
             self.numeric.u_factor_unsorted(),
         );
-        self.l = Triangle::from_csc(
+        let (lc, lr, uc, ur) = (
             l.symbolic().col_ptr(),
             l.symbolic().row_idx(),
-            l.val(),
-            true,
-            false,
-            true,
-        );
-        self.u = Triangle::from_csc(
             u.symbolic().col_ptr(),
             u.symbolic().row_idx(),
-            u.val(),
-            false,
-            false,
-            false,
         );
+        if n >= self.dense_from {
+            let (tc, tr, tv) = transpose_csc(uc, ur, u.val());
+            self.dense = Some((
+                Supernodal::from_lower_csc(lc, lr, l.val(), true),
+                Supernodal::from_lower_csc(&tc, &tr, &tv, false),
+            ));
+            self.l = Triangle::default();
+            self.u = Triangle::default();
+        } else {
+            self.l = Triangle::from_csc(lc, lr, l.val(), true, false, true);
+            self.u = Triangle::from_csc(uc, ur, u.val(), false, false, false);
+            self.dense = None;
+        }
         self.numeric = SimplicialLu::new();
         Ok(())
     }
@@ -590,7 +837,10 @@ impl SparseLu {
 
     /// Stored entries of `L` (unit diagonal included) plus those of `U`.
     pub fn factor_nnz(&self) -> usize {
-        self.l.nnz() + self.u.nnz()
+        match &self.dense {
+            Some((l, ut)) => l.nnz + ut.nnz,
+            None => self.l.nnz() + self.u.nnz(),
+        }
     }
 
     /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
@@ -600,8 +850,16 @@ impl SparseLu {
         for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {
             *wi = rhs[r];
         }
-        self.l.solve(w);
-        self.u.solve(w);
+        match &mut self.dense {
+            Some((l, ut)) => {
+                l.forward(w);
+                ut.backward(w);
+            }
+            None => {
+                self.l.solve(w);
+                self.u.solve(w);
+            }
+        }
         for (xi, &c) in rhs.iter_mut().zip(&self.col_inv) {
             *xi = w[c];
         }
@@ -618,6 +876,11 @@ pub struct SparseLlt {
     l: Triangle,
     /// `L^T` by rows (the columns of `L`).
     lt: Triangle,
+    /// For orders from `DENSE_SUPERNODAL_MIN_ORDER` on, `L` in dense supernodes (then `l`
+    /// and `lt` stay empty).
+    dense: Option<Supernodal>,
+    /// The order from which `dense` is used (`DENSE_SUPERNODAL_MIN_ORDER`).
+    dense_from: usize,
     perm_fwd: Vec<usize>,
     perm_inv: Vec<usize>,
     work: Vec<f64>,
@@ -631,6 +894,14 @@ impl std::fmt::Debug for SparseLlt {
 }
 
 impl SparseLlt {
+    /// The same factor solved in dense supernodes (`dense`) or by rows, whatever the order.
+    #[cfg(test)]
+    fn with_layout(mut self, pattern: &Pattern, values: &[f64], dense: bool) -> Self {
+        self.dense_from = if dense { 0 } else { usize::MAX };
+        self.refactor(pattern, values).unwrap();
+        self
+    }
+
     /// Analyses and factors.
     ///
     /// # Errors
@@ -660,6 +931,8 @@ impl SparseLlt {
             symbolic,
             l: Triangle::default(),
             lt: Triangle::default(),
+            dense: None,
+            dense_from: DENSE_SUPERNODAL_MIN_ORDER,
             perm_fwd,
             perm_inv,
             work: vec![0.0; n],
@@ -706,15 +979,25 @@ impl SparseLlt {
             ));
         };
         let (cp, ri) = (simp.col_ptr(), simp.row_idx());
-        self.l = Triangle::from_csc(cp, ri, &self.numeric, false, false, true);
-        self.lt = Triangle::from_csc(cp, ri, &self.numeric, false, true, false);
+        if self.n >= self.dense_from {
+            self.dense = Some(Supernodal::from_lower_csc(cp, ri, &self.numeric, false));
+            self.l = Triangle::default();
+            self.lt = Triangle::default();
+        } else {
+            self.l = Triangle::from_csc(cp, ri, &self.numeric, false, false, true);
+            self.lt = Triangle::from_csc(cp, ri, &self.numeric, false, true, false);
+            self.dense = None;
+        }
         self.numeric = Vec::new();
         Ok(())
     }
 
     /// Number of stored values of the factor `L` (diagonal included).
     pub fn factor_nnz(&self) -> usize {
-        self.l.nnz()
+        match &self.dense {
+            Some(l) => l.nnz,
+            None => self.l.nnz(),
+        }
     }
 
     /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
@@ -724,8 +1007,16 @@ impl SparseLlt {
         for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
             *wi = rhs[r];
         }
-        self.l.solve(w);
-        self.lt.solve(w);
+        match &mut self.dense {
+            Some(l) => {
+                l.forward(w);
+                l.backward(w);
+            }
+            None => {
+                self.l.solve(w);
+                self.lt.solve(w);
+            }
+        }
         for (xi, &c) in rhs.iter_mut().zip(&self.perm_inv) {
             *xi = w[c];
         }
@@ -960,6 +1251,18 @@ mod tests {
         x
     }
 
+    use SparseLlt as LltLayout;
+    use SparseLu as LuLayout;
+
+    fn widest_rows(t: &Triangle) -> usize {
+        t.segments
+            .iter()
+            .filter(|s| s.2.is_some())
+            .map(|s| s.1 - s.0)
+            .max()
+            .unwrap_or(0)
+    }
+
     /// The supernodal row solves (LU with either ordering, Cholesky) reproduce faer's LU
     /// and its solve to 1e-13 relative, and their factors have supernodes of several rows.
     #[test]
@@ -977,26 +1280,29 @@ mod tests {
                 kinds.push(FactorKind::Llt);
             }
             for kind in kinds {
-                let mut f = Factor::new(&pattern, &values, kind).unwrap();
-                let mut x = b.clone();
-                f.solve_in_place(&mut x);
-                let d = max_rel_diff(&x, &x_ref);
-                assert!(d < 1e-13, "{nodes} nodes, {kind:?}: {d:e}");
-                // The upper triangle (rows of `U`, columns of `L`) has the supernodes of the
-                // elimination: several rows that share their columns.
-                let upper = match &f {
-                    Factor::Lu(lu) => &lu.u,
-                    Factor::Llt(llt) => &llt.lt,
-                };
-                {
-                    let t = upper;
-                    let widest = t
-                        .segments
-                        .iter()
-                        .filter(|s| s.2.is_some())
-                        .map(|s| s.1 - s.0)
-                        .max()
-                        .unwrap_or(0);
+                for dense in [false, true] {
+                    let f = Factor::new(&pattern, &values, kind).unwrap();
+                    let mut f = match f {
+                        Factor::Lu(lu) => Factor::Lu(lu.with_layout(&pattern, &values, dense)),
+                        Factor::Llt(l) => Factor::Llt(l.with_layout(&pattern, &values, dense)),
+                    };
+                    let mut x = b.clone();
+                    f.solve_in_place(&mut x);
+                    let d = max_rel_diff(&x, &x_ref);
+                    assert!(d < 1e-13, "{nodes} nodes, {kind:?}, dense {dense}: {d:e}");
+                    // The supernodes of the elimination: several columns of `L` (rows of
+                    // `U`) that share their rows.
+                    let widest = match &f {
+                        Factor::Lu(LuLayout {
+                            dense: Some((_, ut)),
+                            ..
+                        })
+                        | Factor::Llt(LltLayout {
+                            dense: Some(ut), ..
+                        }) => ut.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap(),
+                        Factor::Lu(lu) => widest_rows(&lu.u),
+                        Factor::Llt(llt) => widest_rows(&llt.lt),
+                    };
                     assert!(
                         widest >= MIN_SUPERNODE,
                         "{nodes} nodes, {kind:?}: no supernode"
