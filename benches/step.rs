@@ -12,12 +12,22 @@
 //! the LU with COLAMD (faer's default ordering, softway's factor before issue 11), the LU
 //! with AMD (the default for the wheel, whose Coriolis term makes `A` unsymmetric), and on
 //! the wheel without its Coriolis term (a symmetric `A`) the Cholesky factor (the default for
-//! symmetric matrices). The stored entries of each factor are printed on stderr.
+//! symmetric matrices), beside faer's supernodal Cholesky and its own solve
+//! (`no_coriolis_llt_faer_supernodal`). The stored entries of each factor are printed on
+//! stderr.
+//!
+//! `bandwidth/*`: a streaming read of 1, 16 and 256 MiB (the caches and the memory); with
+//! it, a floor for each free step is printed on stderr: the bytes the step must read (the
+//! factors' values and 32-bit indices once each, `B` and `K` with their indices, five
+//! vectors) over the read bandwidth of a block of that size.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu};
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMatRef;
+use faer::Side;
 use faer::{Conj, MatMut, Par};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
 use softway::linalg::{spmv_add, FactorKind, Ordering};
@@ -66,6 +76,16 @@ fn bench_step(c: &mut Criterion) {
         };
         let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
         let mut st = Stepper::new(&w.model, p, &bcs).unwrap();
+        {
+            let nnz_a = st.matrices().1.len();
+            let bytes = st.factor_nnz() * (8 + 4) + nnz_a * (8 + 8 + 4) + 5 * n * 8;
+            let bw = read_bandwidth_gb_s(bytes);
+            eprintln!(
+                "floor: {label}, {n} dofs: {:.2} MB per free step at {bw:.1} GB/s = {:.1} us",
+                bytes as f64 / 1e6,
+                bytes as f64 / (bw * 1e3)
+            );
+        }
         let u = w.u_spin.clone();
         let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
         let mut b = vec![0.0; n];
@@ -215,9 +235,117 @@ fn bench_factor(c: &mut Criterion) {
                 },
             );
         }
+        // faer's supernodal Cholesky (AMD) and its own solve, on the symmetric `A`.
+        let st =
+            Stepper::with_factor(&symmetric, p, &bcs, FactorChoice::Kind(FactorKind::Llt)).unwrap();
+        let (pattern, a, _, _) = st.matrices();
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.as_ref(),
+            Side::Upper,
+            Default::default(),
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut l_values = vec![0.0; symbolic.len_val()];
+        let mut scratch = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut l_values,
+                SparseColMatRef::new(pattern.as_ref(), a),
+                Side::Upper,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut scratch),
+                Default::default(),
+            )
+            .unwrap();
+        eprintln!(
+            "factor nnz: {label}, {n} dofs, no_coriolis_llt_faer_supernodal: {} (dense blocks)",
+            symbolic.len_val()
+        );
+        let mut solve_scratch = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let (fixed, load) = (&w.fixed_dofs, &w.load);
+        g.bench_with_input(
+            BenchmarkId::new(
+                "no_coriolis_llt_faer_supernodal",
+                format!("{label}, {n} dofs"),
+            ),
+            &n,
+            |bch, _| {
+                bch.iter(|| {
+                    st.rhs_into(&u, &v, load, &mut b);
+                    for &d in fixed {
+                        b[d] = 0.0;
+                    }
+                    LltRef::new(&symbolic, &l_values).solve_in_place_with_conj(
+                        Conj::No,
+                        MatMut::from_column_major_slice_mut(&mut b, n, 1),
+                        Par::Seq,
+                        MemStack::new(&mut solve_scratch),
+                    );
+                    b[0]
+                })
+            },
+        );
     }
     g.finish();
 }
 
-criterion_group!(benches, bench_step, bench_factor);
+/// Bytes of the blocks whose read bandwidth `bench_bandwidth` measures.
+const BANDWIDTH_BLOCKS: [usize; 3] = [1 << 20, 16 << 20, 256 << 20];
+
+/// The sum of a block of `f64` (a streaming read; four partial sums).
+fn read_sum(block: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    for c in block.chunks_exact(4) {
+        for k in 0..4 {
+            acc[k] += c[k];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
+/// Measured read bandwidth (GB/s, best of a few rounds) of the smallest block of
+/// `BANDWIDTH_BLOCKS` that holds `bytes` (the largest if none does): the bandwidth of the
+/// level of the memory a working set of that size lives in.
+fn read_bandwidth_gb_s(bytes: usize) -> f64 {
+    let size = BANDWIDTH_BLOCKS
+        .iter()
+        .copied()
+        .find(|&s| s >= bytes)
+        .unwrap_or(*BANDWIDTH_BLOCKS.last().unwrap());
+    let block: Vec<f64> = (0..size / 8).map(|i| i as f64).collect();
+    let reps = ((1usize << 30) / size).max(2);
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t = std::time::Instant::now();
+        for _ in 0..reps {
+            std::hint::black_box(read_sum(std::hint::black_box(&block)));
+        }
+        best = best.min(t.elapsed().as_secs_f64() / reps as f64);
+    }
+    size as f64 / best / 1e9
+}
+
+fn bench_bandwidth(c: &mut Criterion) {
+    let mut g = c.benchmark_group("bandwidth");
+    g.sample_size(10);
+    for size in BANDWIDTH_BLOCKS {
+        let block: Vec<f64> = (0..size / 8).map(|i| i as f64).collect();
+        g.throughput(criterion::Throughput::Bytes(size as u64));
+        g.bench_with_input(
+            BenchmarkId::new("read", format!("{} MiB", size >> 20)),
+            &size,
+            |bch, _| bch.iter(|| read_sum(std::hint::black_box(&block))),
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_step, bench_factor, bench_bandwidth);
 criterion_main!(benches);

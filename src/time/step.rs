@@ -80,6 +80,8 @@ pub struct Stepper {
     bv: Vec<f64>,
     /// Values of `K`.
     k: Vec<f64>,
+    /// `B` and `K` by rows, for the right-hand side ([`RhsRows`]).
+    rhs_rows: RhsRows,
     /// Values of `A` for the current `h` before the Dirichlet rows and columns were replaced
     /// (for lifting).
     a_orig: Vec<f64>,
@@ -161,8 +163,10 @@ impl Stepper {
             }
             FactorChoice::Auto => Factor::new(&pattern, &a_work, FactorKind::Lu(Ordering::Amd))?,
         };
+        let rhs_rows = RhsRows::new(&pattern, &bv, &model.k);
         Ok(Self {
             params,
+            rhs_rows,
             schedule: Vec::new(),
             beta_now: params.beta(),
             n,
@@ -222,6 +226,7 @@ impl Stepper {
             &mut self.bv,
             &mut self.a_work,
         );
+        self.rhs_rows.refill(&self.bv, &self.k);
         self.h_now = h;
     }
 }
@@ -235,6 +240,59 @@ pub enum FactorChoice {
     /// This factorization (an LU works for every `A`; Cholesky fails on an unsymmetric or
     /// indefinite one).
     Kind(FactorKind),
+}
+
+/// The right-hand side's operators `B` and `K` stored by rows (32-bit column indices, the
+/// two values of an entry side by side), so that `B v0 - h K u0` is one pass of dot
+/// products without stores in the inner loop; refilled when `B` changes with `h`.
+#[derive(Debug, Clone)]
+struct RhsRows {
+    ptr: Vec<usize>,
+    idx: Vec<u32>,
+    /// `[B_ij, K_ij]` per entry.
+    bk: Vec<[f64; 2]>,
+    /// For each entry by rows, its position in the pattern (by columns).
+    src: Vec<usize>,
+}
+
+impl RhsRows {
+    fn new(pattern: &Pattern, bv: &[f64], k: &[f64]) -> Self {
+        let n = pattern.nrows();
+        assert!(n <= u32::MAX as usize, "too many dofs for 32-bit indices");
+        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+        let nnz = cp[pattern.ncols()];
+        let mut ptr = vec![0usize; n + 1];
+        for &i in &ri[..nnz] {
+            ptr[i + 1] += 1;
+        }
+        for i in 0..n {
+            ptr[i + 1] += ptr[i];
+        }
+        let mut next = ptr[..n].to_vec();
+        let (mut idx, mut src) = (vec![0u32; nnz], vec![0usize; nnz]);
+        for j in 0..pattern.ncols() {
+            for p in cp[j]..cp[j + 1] {
+                let q = next[ri[p]];
+                idx[q] = j as u32;
+                src[q] = p;
+                next[ri[p]] += 1;
+            }
+        }
+        let mut rows = Self {
+            ptr,
+            idx,
+            bk: vec![[0.0; 2]; nnz],
+            src,
+        };
+        rows.refill(bv, k);
+        rows
+    }
+
+    fn refill(&mut self, bv: &[f64], k: &[f64]) {
+        for (e, &p) in self.bk.iter_mut().zip(&self.src) {
+            *e = [bv[p], k[p]];
+        }
+    }
 }
 
 /// The matrices the step's operators are made of.
@@ -283,26 +341,32 @@ impl Stepper {
         for (bi, fi) in b.iter_mut().zip(f) {
             *bi = h * fi;
         }
-        // `b += B v0 - h K u0` in one pass over the pattern (B and K share it).
-        let col_ptr = self.pattern.col_ptr();
-        let row_idx = self.pattern.row_idx();
+        // `b += B v0 - h K u0`, one row at a time.
+        let r = &self.rhs_rows;
         let n = self.n;
         assert!(b.len() == n && v0.len() == n && u0.len() == n);
-        for j in 0..n {
-            let (vj, uj) = (v0[j], -h * u0[j]);
-            if vj == 0.0 && uj == 0.0 {
-                continue;
+        for (i, bi) in b.iter_mut().enumerate() {
+            let range = r.ptr[i]..r.ptr[i + 1];
+            let (idx, bk) = (&r.idx[range.clone()], &r.bk[range]);
+            let (mut sb, mut sk) = ([0.0; 2], [0.0; 2]);
+            let (idx2, bk2) = (idx.chunks_exact(2), bk.chunks_exact(2));
+            let (idx_rest, bk_rest) = (idx2.remainder(), bk2.remainder());
+            for (ic, vc) in idx2.zip(bk2) {
+                for k in 0..2 {
+                    let j = ic[k] as usize;
+                    debug_assert!(j < n);
+                    // SAFETY: the column indices are < n (built from the pattern in
+                    // `RhsRows::new`) and `v0.len() == u0.len() == n` (asserted above).
+                    let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
+                    sb[k] += vc[k][0] * vj;
+                    sk[k] += vc[k][1] * uj;
+                }
             }
-            let range = col_ptr[j]..col_ptr[j + 1];
-            for ((&i, &bp), &kp) in row_idx[range.clone()]
-                .iter()
-                .zip(&self.bv[range.clone()])
-                .zip(&self.k[range])
-            {
-                // SAFETY: the pattern's row indices are < n (faer checks them when the
-                // pattern is built) and `b.len() == n` (asserted above).
-                unsafe { *b.get_unchecked_mut(i) += bp * vj + kp * uj };
+            for (&j, v) in idx_rest.iter().zip(bk_rest) {
+                sb[0] += v[0] * v0[j as usize];
+                sk[0] += v[1] * u0[j as usize];
             }
+            *bi += (sb[0] + sb[1]) - h * (sk[0] + sk[1]);
         }
     }
 

@@ -123,21 +123,26 @@ fn downsample(big: &[u8], (w, h): (u32, u32), k: u32) -> Vec<u8> {
         return big.to_vec();
     }
     let (w, h, k) = (w as usize, h as usize, k as usize);
-    let sw = w * k;
     let n = (k * k) as u32;
+    let row_len = w * k * 3;
     let mut out = vec![0u8; w * h * 3];
-    for y in 0..h {
-        for x in 0..w {
-            for c in 0..3 {
-                let mut s = 0u32;
-                for dy in 0..k {
-                    let row = (y * k + dy) * sw;
-                    for dx in 0..k {
-                        s += u32::from(big[(row + x * k + dx) * 3 + c]);
-                    }
+    // One output row at a time: the sums of its `k x k` blocks, channel by channel, in one
+    // pass over each of its `k` source rows.
+    let mut acc = vec![0u32; w * 3];
+    for (y, out_row) in out.chunks_exact_mut(w * 3).enumerate() {
+        acc.fill(0);
+        for dy in 0..k {
+            let src = &big[(y * k + dy) * row_len..][..row_len];
+            for (a, block) in acc.chunks_exact_mut(3).zip(src.chunks_exact(k * 3)) {
+                for px in block.chunks_exact(3) {
+                    a[0] += u32::from(px[0]);
+                    a[1] += u32::from(px[1]);
+                    a[2] += u32::from(px[2]);
                 }
-                out[(y * w + x) * 3 + c] = ((s + n / 2) / n) as u8;
             }
+        }
+        for (o, &s) in out_row.iter_mut().zip(&acc) {
+            *o = ((s + n / 2) / n) as u8;
         }
     }
     out
@@ -178,4 +183,38 @@ pub(crate) fn save_png(path: &Path, size: (u32, u32), rgb: &[u8]) -> Result<(), 
         return Err(fail(message));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod downsample_tests {
+    use super::downsample;
+
+    /// The box filter by rows equals the mean of each `k x k` block computed pixel by pixel
+    /// (rounded to nearest), on a buffer of varied bytes.
+    #[test]
+    fn downsample_is_the_rounded_block_mean() {
+        let (w, h) = (7u32, 5u32);
+        for k in [1u32, 2, 3] {
+            let (bw, bh) = ((w * k) as usize, (h * k) as usize);
+            let big: Vec<u8> = (0..bw * bh * 3)
+                .map(|i| ((i * 37 + i / 5) % 256) as u8)
+                .collect();
+            let out = downsample(&big, (w, h), k);
+            let k = k as usize;
+            for y in 0..h as usize {
+                for x in 0..w as usize {
+                    for c in 0..3 {
+                        let mut s = 0u32;
+                        for dy in 0..k {
+                            for dx in 0..k {
+                                s += u32::from(big[((y * k + dy) * bw + x * k + dx) * 3 + c]);
+                            }
+                        }
+                        let n = (k * k) as u32;
+                        assert_eq!(out[(y * w as usize + x) * 3 + c], ((s + n / 2) / n) as u8);
+                    }
+                }
+            }
+        }
+    }
 }
