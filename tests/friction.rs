@@ -193,6 +193,20 @@ fn no_push(_t: f64) -> f64 {
     0.0
 }
 
+/// The ramp's figures: the first time every pair slides (s), the largest `|x|` before
+/// `mu m g` is reached (m), and the acceleration over `[0.8, 1] s` (m/s^2).
+fn ramp_figures(tr: &Trace, h: f64) -> (f64, f64, f64) {
+    let switch = tr.samples.iter().find(|s| s.all_sliding).unwrap().t;
+    let stick = tr
+        .samples
+        .iter()
+        .filter(|s| s.t < 0.5 - 2.0 * h)
+        .map(|s| s.x.abs())
+        .fold(0.0, f64::max);
+    let a = (at(tr, 1.0).v - at(tr, 0.8).v) / (at(tr, 1.0).t - at(tr, 0.8).t);
+    (switch, stick, a)
+}
+
 fn at(tr: &Trace, t: f64) -> Sample {
     *tr.samples
         .iter()
@@ -227,14 +241,7 @@ fn ramp_sticks_below_mu_n_and_slides_with_the_exact_acceleration() {
             0.0,
         ))
         .unwrap();
-        let switch = tr.samples.iter().find(|s| s.all_sliding).unwrap().t;
-        let stick = tr
-            .samples
-            .iter()
-            .filter(|s| s.t < 0.5 - 2.0 * h)
-            .map(|s| s.x.abs())
-            .fold(0.0, f64::max);
-        let a = (at(&tr, 1.0).v - at(&tr, 0.8).v) / (at(&tr, 1.0).t - at(&tr, 0.8).t);
+        let (switch, stick, a) = ramp_figures(&tr, h);
         let v1 = at(&tr, 1.0).v;
         // In stick the friction balances the push; sliding it is mu m g against the motion
         // (along the tangent -x: positive).
@@ -635,14 +642,7 @@ fn penalty_friction_sticks_slips_and_stops_like_coulomb() {
     };
     for (name, integ) in [("space_time", damped), ("gen_alpha", gen_alpha())] {
         let tr = run(block(integ, treatment, Some(MU), h, 1.0, ramp, 0.0, 0.0)).unwrap();
-        let switch = tr.samples.iter().find(|s| s.all_sliding).unwrap().t;
-        let stick = tr
-            .samples
-            .iter()
-            .filter(|s| s.t < 0.5 - 2.0 * h)
-            .map(|s| s.x.abs())
-            .fold(0.0, f64::max);
-        let a = (at(&tr, 1.0).v - at(&tr, 0.8).v) / (at(&tr, 1.0).t - at(&tr, 0.8).t);
+        let (switch, stick, a) = ramp_figures(&tr, h);
         let f_slide = at(&tr, 0.9).friction;
         eprintln!(
             "{name} ramp: switch {switch:.4} s (exact 0.5), stick |x| <= {stick:.2e} m (springs {:.2e}), a {a:.6} (1.5), sliding force {f_slide:.3} N (750), {:?}",
