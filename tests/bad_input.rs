@@ -918,6 +918,18 @@ fn cli_refused(args: &[&str], must: &[&str]) -> String {
     o.stderr
 }
 
+/// `softway COMMAND BAR_SCENARIO EXTRA... --out OUT` (the bar scenario saved as `name`) is
+/// refused with one line holding `must`, and nothing is written.
+fn refused_on_bar(name: &str, command: &str, extra: &[&str], must: &[&str]) {
+    let p = scenario(name, BAR);
+    let out = p.with_extension("out");
+    let mut args = vec![command, p.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    args.extend(["--out", out.to_str().unwrap()]);
+    cli_refused(&args, must);
+    assert_nothing_written(&out);
+}
+
 #[test]
 fn no_command() {
     cli_refused(&[], &["no command given", "run|sweep"]);
@@ -1039,55 +1051,30 @@ fn older_results_are_never_mixed_with_new_ones() {
 
 #[test]
 fn sweep_set_without_values() {
-    let p = scenario("sweep_noeq", BAR);
-    let out = p.with_extension("out");
-    cli_refused(
-        &[
-            "sweep",
-            p.to_str().unwrap(),
-            "--set",
-            "bar.speed",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+    refused_on_bar(
+        "sweep_noeq",
+        "sweep",
+        &["--set", "bar.speed"],
         &["--set bar.speed", "KEY=V1,V2"],
     );
-    assert_nothing_written(&out);
 }
 
 #[test]
 fn sweep_with_zero_jobs() {
-    let p = scenario("sweep_jobs0", BAR);
-    let out = p.with_extension("out");
-    cli_refused(
-        &[
-            "sweep",
-            p.to_str().unwrap(),
-            "--set",
-            "bar.speed=1,2",
-            "--jobs",
-            "0",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+    refused_on_bar(
+        "sweep_jobs0",
+        "sweep",
+        &["--set", "bar.speed=1,2", "--jobs", "0"],
         &["--jobs 0", "at least one"],
     );
-    assert_nothing_written(&out);
 }
 
 #[test]
 fn sweep_bad_value() {
-    let p = scenario("sweep_badvalue", BAR);
-    let out = p.with_extension("out");
-    cli_refused(
-        &[
-            "sweep",
-            p.to_str().unwrap(),
-            "--set",
-            "bar.speed=1,-2",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+    refused_on_bar(
+        "sweep_badvalue",
+        "sweep",
+        &["--set", "bar.speed=1,-2"],
         &[
             "sweep_badvalue.toml",
             "bar.speed = -2",
@@ -1095,25 +1082,16 @@ fn sweep_bad_value() {
             "> 0",
         ],
     );
-    assert_nothing_written(&out);
 }
 
 #[test]
 fn sweep_value_given_twice() {
-    let p = scenario("sweep_twice", BAR);
-    let out = p.with_extension("out");
-    cli_refused(
-        &[
-            "sweep",
-            p.to_str().unwrap(),
-            "--set",
-            "bar.speed=1,2,1",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+    refused_on_bar(
+        "sweep_twice",
+        "sweep",
+        &["--set", "bar.speed=1,2,1"],
         &["bar.speed = 1", "given twice"],
     );
-    assert_nothing_written(&out);
 }
 
 /// A value holding path separators cannot lead a point's folder out of the sweep's.
@@ -1140,31 +1118,22 @@ fn sweep_value_with_slashes_stays_inside_the_sweep_folder() {
 
 #[test]
 fn converge_with_two_rungs() {
-    let p = scenario("converge_two", BAR);
-    let out = p.with_extension("out");
-    cli_refused(
-        &[
-            "converge",
-            p.to_str().unwrap(),
-            "--set",
-            "bar.elements=8,16",
-            "--out",
-            out.to_str().unwrap(),
-        ],
+    refused_on_bar(
+        "converge_two",
+        "converge",
+        &["--set", "bar.elements=8,16"],
         &["bar.elements", "three"],
     );
-    assert_nothing_written(&out);
 }
 
 #[test]
 fn modes_of_a_bar() {
-    let p = scenario("modes_bar", BAR);
-    let out = p.with_extension("out");
-    cli_refused(
-        &["modes", p.to_str().unwrap(), "--out", out.to_str().unwrap()],
+    refused_on_bar(
+        "modes_bar",
+        "modes",
+        &[],
         &["modes_bar.toml", "needs a wheel scenario"],
     );
-    assert_nothing_written(&out);
 }
 
 #[test]

@@ -295,9 +295,17 @@ impl SoftWay {
     }
 }
 
+impl SoftWay {
+    /// The stick's tangential stiffness, N/m per pair (0: a rigid stick;
+    /// [`super::friction`]: elastic stick).
+    fn stick_stiffness(&self) -> f64 {
+        self.friction.map_or(0.0, |l| l.tangential_stiffness)
+    }
+}
+
 impl ContactTreatment for SoftWay {
     fn stored_energy(&self, s: &Snapshot) -> f64 {
-        let kt = self.friction.map_or(0.0, |l| l.tangential_stiffness);
+        let kt = self.stick_stiffness();
         s.pairs
             .iter()
             .map(|p| spring_energy(kt, p.tangential_force))
@@ -436,7 +444,7 @@ impl ContactTreatment for SoftWay {
             if let Some((terms, wt)) = self.friction_row[p] {
                 let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
                 let force = self.lambda_t[p] * eng.integ.maps().force;
-                let kt = self.friction.map_or(0.0, |l| l.tangential_stiffness);
+                let kt = self.stick_stiffness();
                 let spring = (kt, prev.tangential_force);
                 record_friction(&mut st, force, self.sliding[p], slip, h, spring);
             }
