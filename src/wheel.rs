@@ -67,6 +67,24 @@ pub enum ContactSurface {
     Segments,
 }
 
+/// How the normal and tangential contact problems meet (`rolling.coupling`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Coupling {
+    /// The elastic wheel on its rigid base as it is: the normal pressure also strains the
+    /// rim tangentially and the tangential traction moves it normally (Dundurs' `beta`
+    /// between an elastic and a rigid body is `(1 - 2 nu)/(2 (1 - nu))` in plane strain,
+    /// `(1 - nu)/2` in plane stress).
+    #[default]
+    Coupled,
+    /// Carter's problem of elastically similar bodies, in which the two problems decouple: a
+    /// second copy of the disk (the twin) carries the tangential tractions alone, the first
+    /// the normal ones and the body loads; the gap reads the first, the slip the twin
+    /// ([`crate::contact::Pair::Split`]), and the wheel's state is their sum. A verification
+    /// of the friction against Carter's theory; twice the unknowns.
+    Uncoupled,
+}
+
 /// Errors building the wheel model.
 #[derive(Debug, thiserror::Error)]
 pub enum WheelError {
@@ -123,6 +141,9 @@ pub struct WheelSpec {
     pub creepage: f64,
     /// Node or segment (mortar-weighted) contact (`wheel.contact_surface`).
     pub surface: ContactSurface,
+    /// The normal and tangential problems coupled (the default) or not
+    /// (`rolling.coupling`, [`Coupling`]).
+    pub coupling: Coupling,
 }
 
 impl WheelSpec {
@@ -151,6 +172,7 @@ impl WheelSpec {
             rotating_frame: true,
             creepage: 0.0,
             surface: ContactSurface::Nodes,
+            coupling: Coupling::Coupled,
         }
     }
 }
@@ -182,6 +204,47 @@ pub struct WheelModel {
     pub load: Vec<f64>,
     /// The data.
     pub spec: WheelSpec,
+    /// The model of the disk and its twin (nodes `N..2N` the twin of nodes `0..N`) for
+    /// [`Coupling::Uncoupled`], built on [`doubled`] meshes; `None` when coupled.
+    pub twin: Option<Box<WheelModel>>,
+}
+
+/// The mesh twice over: nodes `N + i` at the places of nodes `i`, the cells of the second
+/// copy on them, every node set holding both copies; two bodies without a common node.
+pub fn doubled(mesh: &Mesh) -> Mesh {
+    let n = mesh.n_nodes();
+    let mut points = mesh.points.clone();
+    points.extend_from_slice(&mesh.points);
+    let cells = match &mesh.cells {
+        Cells::Bar2(c) => Cells::Bar2(
+            c.iter()
+                .copied()
+                .chain(c.iter().map(|e| e.map(|i| i + n)))
+                .collect(),
+        ),
+        Cells::Tri3(c) => Cells::Tri3(
+            c.iter()
+                .copied()
+                .chain(c.iter().map(|e| e.map(|i| i + n)))
+                .collect(),
+        ),
+    };
+    let node_sets = mesh
+        .node_sets
+        .iter()
+        .map(|(k, v)| {
+            (
+                k.clone(),
+                v.iter().copied().chain(v.iter().map(|i| i + n)).collect(),
+            )
+        })
+        .collect();
+    Mesh {
+        dim: mesh.dim,
+        points,
+        cells,
+        node_sets,
+    }
 }
 
 /// Element geometry of every triangle, with an error naming a bad element.
@@ -239,6 +302,16 @@ impl WheelModel {
     /// # Errors
     /// [`WheelError`].
     pub fn new(mesh: Mesh, spec: WheelSpec) -> Result<Self, WheelError> {
+        let twin = match spec.coupling {
+            Coupling::Coupled => None,
+            Coupling::Uncoupled => Some(Box::new(Self::new(
+                doubled(&mesh),
+                WheelSpec {
+                    coupling: Coupling::Coupled,
+                    ..spec.clone()
+                },
+            )?)),
+        };
         let (triangles, geometry) = triangle_geometry(&mesh)?;
         let d = spec.plane.elasticity_matrix(&spec.material);
         let asm = Assembler::new(&mesh);
@@ -308,6 +381,7 @@ impl WheelModel {
             u_spin,
             load,
             spec,
+            twin,
         })
     }
 
@@ -385,28 +459,62 @@ impl WheelModel {
         treatment: Treatment,
         steps: usize,
     ) -> Problem {
-        let load = self.load.clone();
         let base: Box<dyn Obstacle> = Box::new(self.base());
-        let n = self.mesh.n_dofs();
+        // Uncoupled (Coupling::Uncoupled): the disk and its twin, the loads and the
+        // spinning equilibrium on the disk alone, each rim node's tangential row on its twin.
+        let (on, pairs) = match self.twin.as_deref() {
+            None => (self, self.contact_pairs()),
+            Some(twin) => {
+                let nodes = self.mesh.n_nodes();
+                let pairs = self
+                    .rim
+                    .iter()
+                    .map(|&node| Pair::Split {
+                        node,
+                        shadow: node + nodes,
+                        obstacle: 0,
+                    })
+                    .collect();
+                (twin, pairs)
+            }
+        };
+        let n = on.mesh.n_dofs();
+        let own = self.mesh.n_dofs();
+        let mut load = vec![0.0; n];
+        load[..own].copy_from_slice(&self.load);
+        let mut u0 = vec![0.0; n];
+        u0[..own].copy_from_slice(&self.u_spin);
         Problem {
             dim: 2,
-            reference: self.mesh.reference_positions(),
-            model: self.model.clone(),
+            reference: on.mesh.reference_positions(),
+            model: on.model.clone(),
             integrator,
             h,
             gamma_schedule,
-            dirichlet: self.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
+            dirichlet: on.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
             load: Box::new(move |_, f| f.copy_from_slice(&load)),
             obstacles: vec![base],
-            pairs: self.contact_pairs(),
+            pairs,
             treatment,
-            u0: self.u_spin.clone(),
+            u0,
             v0: vec![0.0; n],
             t0: 0.0,
             steps,
             gap_tol: 1e-9 * self.spec.radius,
-            energy_stiffness: Some(self.k_elastic.clone()),
+            energy_stiffness: Some(on.k_elastic.clone()),
             friction: None,
+        }
+    }
+
+    /// The wheel's own state from the driver's into `out` (`n` dofs of [`Mesh::n_dofs`]): the
+    /// same values when coupled, the sum of the disk's and its twin's when uncoupled.
+    pub fn own_state(&self, x: &[f64], out: &mut [f64]) {
+        let n = out.len();
+        out.copy_from_slice(&x[..n]);
+        if x.len() == 2 * n {
+            for (o, t) in out.iter_mut().zip(&x[n..]) {
+                *o += t;
+            }
         }
     }
 

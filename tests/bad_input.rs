@@ -358,6 +358,31 @@ refused!(
     ["`contact.tangential_stiffness`", "needs contact.friction"]
 );
 refused!(
+    wheel_unknown_coupling,
+    wheel_text().replace("turns = 5", "turns = 5\ncoupling = \"loose\""),
+    [
+        "`rolling.coupling` = \"loose\"",
+        "\"coupled\"",
+        "\"uncoupled\""
+    ]
+);
+refused!(
+    wheel_uncoupled_without_friction,
+    wheel_text().replace("turns = 5", "turns = 5\ncoupling = \"uncoupled\""),
+    ["`rolling.coupling`", "contact.friction > 0"]
+);
+refused!(
+    wheel_uncoupled_on_segments,
+    wheel_text()
+        .replace("turns = 5", "turns = 5\ncoupling = \"uncoupled\"")
+        .replace(
+            "method = \"soft_way\"",
+            "method = \"soft_way\"\nfriction = 0.3"
+        )
+        .replace("[wheel]", "[wheel]\ncontact_surface = \"segments\""),
+    ["`rolling.coupling`", "wheel.contact_surface"]
+);
+refused!(
     wheel_a_billion_turns,
     wheel_text().replace("turns = 5", "turns = 1e9"),
     ["`time.h`", "days", "--yes"]

@@ -29,6 +29,16 @@
 //! ([`Obstacle::surface_tangential_velocity`]: 0 for fixed planes, the rolling speed for the
 //! rotating base; 0 between two nodes). The slip velocity is `c_t . v - w`. A 1D model has
 //! no tangent (`None`); a 3D model needs two tangents and a friction cone (future work).
+//!
+//! **Split pairs (the uncoupled rolling check).** [`Pair::Split`] is a node against an
+//! obstacle whose normal row sits on one node and whose tangential row on another: the
+//! node's twin in a second copy of the body that carries only the tangential tractions (the
+//! wheel's `rolling.coupling = "uncoupled"`, [`crate::wheel`]). The gap then sees only the
+//! response to the normal and body loads, the slip only the response to the tangential
+//! tractions: Carter's elastically similar bodies, for which the two problems decouple.
+//! The tangent and the surface's tangential velocity are taken at the normal row's node (the
+//! contact point), so the slip is `c_t . v_shadow - w_t` with `w_t` the rail's velocity where
+//! the node touches it: at zero creepage and no tangential traction, no slip.
 
 use super::obstacle::{tangent_2d, Obstacle, Vector};
 use super::rows::Terms;
@@ -50,6 +60,16 @@ pub enum Pair {
         nodes: [usize; 3],
         /// Their weights (summing to 1).
         weights: [f64; 3],
+        /// The obstacle.
+        obstacle: usize,
+    },
+    /// A node against an obstacle with its normal row on `node` and its tangential row on
+    /// `shadow` (module docs, Split).
+    Split {
+        /// The node of the normal row (gap, normal reaction).
+        node: usize,
+        /// The node of the tangential row (slip, tangential reaction).
+        shadow: usize,
         /// The obstacle.
         obstacle: usize,
     },
@@ -97,6 +117,7 @@ impl Pair {
     pub fn nodes(&self) -> ([usize; 3], usize) {
         match *self {
             Pair::Obstacle { node, .. } => ([node, node, node], 1),
+            Pair::Split { node, shadow, .. } => ([node, shadow, shadow], 2),
             Pair::Weighted { nodes, .. } => (nodes, 3),
             Pair::Nodes { a, b, .. } => ([a, b, b], 2),
         }
@@ -148,7 +169,7 @@ impl Pair {
     ) -> Geometry {
         let mut terms = Terms::default();
         match *self {
-            Pair::Obstacle { node, obstacle } => {
+            Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
                 let x = position(dim, reference, u, node);
                 let obst = &obstacles[obstacle];
                 let hs = obst.half_space(t, x);
@@ -220,12 +241,18 @@ impl Pair {
         }
         let mut terms = Terms::default();
         match *self {
-            Pair::Obstacle { node, obstacle } => {
+            Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
+                // A split pair's row acts on its shadow; its direction and the surface's
+                // velocity are those at the contact point, the node of the normal row.
+                let on = match *self {
+                    Pair::Split { shadow, .. } => shadow,
+                    _ => node,
+                };
                 let x = position(dim, reference, u, node);
                 let obst = &obstacles[obstacle];
                 let tg = tangent_2d(obst.half_space(t, x).normal);
-                terms.push(2 * node, tg[0]);
-                terms.push(2 * node + 1, tg[1]);
+                terms.push(2 * on, tg[0]);
+                terms.push(2 * on + 1, tg[1]);
                 Some(Geometry {
                     terms,
                     offset: 0.0,
@@ -299,10 +326,12 @@ pub fn gaps_into(
     scratch.extend(obstacles.iter().map(|o| o.uniform_half_space(t)));
     for (p, g) in pairs.iter().zip(out.iter_mut()) {
         *g = match *p {
-            Pair::Obstacle { node, obstacle } => match scratch[obstacle] {
-                Some(hs) => hs.gap(position(dim, reference, u, node)),
-                None => p.gap(obstacles, dim, reference, u, t),
-            },
+            Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
+                match scratch[obstacle] {
+                    Some(hs) => hs.gap(position(dim, reference, u, node)),
+                    None => p.gap(obstacles, dim, reference, u, t),
+                }
+            }
             Pair::Weighted { .. } | Pair::Nodes { .. } => p.gap(obstacles, dim, reference, u, t),
         };
     }

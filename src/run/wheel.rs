@@ -23,6 +23,7 @@ use super::{RunError, RunOptions, RunReport, INTERRUPT};
 use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
+use crate::linalg::quadratic_form;
 use crate::material::PlaneModel;
 use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use crate::mesh::gmsh::read_msh_tagged;
@@ -526,18 +527,38 @@ pub fn drive(
     // `stride`-th step, the first step of the rolling phase and the last one.
     let stride = stride.max(1);
     let mut rolling_seen = false;
+    // Uncoupled (a twin disk): the observers see the wheel's own state, the sum of the two.
+    let twin = wm.twin.is_some();
+    let own = if twin { wm.mesh.n_dofs() } else { 0 };
+    let (mut u_own, mut v_own) = (vec![0.0; own], vec![0.0; own]);
     let stats = sim
         .run(&INTERRUPT, |s| {
             let st = s.state;
             let first_rolling = !rolling_seen && timeline.rolling(st.t);
             rolling_seen |= first_rolling;
-            let energy =
-                (st.k % stride == 0 || s.last || first_rolling).then(|| (s.kinetic(), s.strain()));
+            let (u, v): (&[f64], &[f64]) = if twin {
+                wm.own_state(&st.u, &mut u_own);
+                wm.own_state(&st.v, &mut v_own);
+                (&u_own, &v_own)
+            } else {
+                (&st.u, &st.v)
+            };
+            let energy = (st.k % stride == 0 || s.last || first_rolling).then(|| {
+                if twin {
+                    let p = wm.model.pattern();
+                    (
+                        0.5 * quadratic_form(p, &wm.model.m, v),
+                        0.5 * quadratic_form(p, &wm.k_elastic, u),
+                    )
+                } else {
+                    (s.kinetic(), s.strain())
+                }
+            });
             let step = WheelStep {
                 k: st.k,
                 t: st.t,
-                u: &st.u,
-                v: &st.v,
+                u,
+                v,
                 energy,
                 penalty: s.penalty,
                 contact_force: s.contact_force,

@@ -118,6 +118,7 @@ pub(super) struct RawRolling {
     pub settle_gamma: Option<f64>,
     pub fields_per_turn: Option<i64>,
     pub creepage: Option<f64>,
+    pub coupling: Option<String>,
 }
 
 /// `[contact]`.

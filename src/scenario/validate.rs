@@ -12,6 +12,7 @@ use super::{
     Contact, MeshSource, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep, WheelScenario,
 };
 use crate::contact::{FrictionLaw, Restore, Treatment};
+use crate::wheel::{ContactSurface, Coupling};
 
 /// Default hub radius of `support = "hub"`, as a fraction of the wheel's radius (1 cm for
 /// the paper's 10 cm wheel).
@@ -315,6 +316,18 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
             .map_err(|why| cx.invalid("contact.friction", law.static_mu, &why))?;
     }
     if let Model::Wheel(w) = &model {
+        if w.spec.coupling == Coupling::Uncoupled {
+            let why = if friction.is_none_or(|law| !law.is_active()) {
+                Some("the uncoupled problem differs from the coupled one only through friction: set contact.friction > 0 (or remove rolling.coupling)")
+            } else if w.spec.surface != ContactSurface::Nodes {
+                Some("the uncoupled problem poses node pairs: remove wheel.contact_surface or set it to \"nodes\"")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                return Err(cx.invalid("rolling.coupling", "\"uncoupled\"", why));
+            }
+        }
         if w.spec.creepage != 0.0 && friction.is_none_or(|law| !law.is_active()) {
             return Err(cx.invalid(
                 "rolling.creepage",
@@ -677,7 +690,7 @@ fn wheel_model(
 ) -> Result<WheelScenario, ScenarioError> {
     use crate::contact::obstacle::Flattening;
     use crate::material::{Elastic, PlaneModel};
-    use crate::wheel::{ContactSurface, Support, WheelSpec};
+    use crate::wheel::{Support, WheelSpec};
     let w = w.ok_or_else(|| cx.missing("wheel", "kind = \"wheel\" needs a [wheel] table"))?;
     let m = m.ok_or_else(|| {
         cx.missing(
@@ -855,6 +868,17 @@ fn wheel_model(
             stress_stiffening: w.stress_stiffening.unwrap_or(true),
             rotating_frame: w.rotating_frame.unwrap_or(true),
             creepage,
+            coupling: match r.coupling.as_deref().unwrap_or("coupled") {
+                "coupled" => Coupling::Coupled,
+                "uncoupled" => Coupling::Uncoupled,
+                o => {
+                    return Err(cx.invalid(
+                        "rolling.coupling",
+                        format!("\"{o}\""),
+                        "allowed: \"coupled\" (the elastic wheel on its rigid base), \"uncoupled\" (Carter's elastically similar bodies: a twin disk carries the tangential tractions)",
+                    ))
+                }
+            },
             surface: match w.contact_surface.as_deref().unwrap_or("nodes") {
                 "nodes" => ContactSurface::Nodes,
                 "segments" => ContactSurface::Segments,
