@@ -383,6 +383,18 @@ refused!(
     ["`rolling.coupling`", "wheel.contact_surface"]
 );
 refused!(
+    wheel_friction_with_subdivision,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"subdivision\"\nfriction = 0.3"
+    ),
+    [
+        "`contact.friction` = 0.3",
+        "subdivision",
+        "mass_redistribution"
+    ]
+);
+refused!(
     wheel_a_billion_turns,
     wheel_text().replace("turns = 5", "turns = 1e9"),
     ["`time.h`", "days", "--yes"]

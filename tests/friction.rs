@@ -223,24 +223,32 @@ fn exact_runs() -> [(&'static str, Integrator); 2] {
     [("space_time", space_time()), ("gen_alpha", gen_alpha())]
 }
 
+/// [`exact_runs`] with exact enforcement and with mass redistribution (the contact nodes
+/// massless, then exact enforcement).
+fn exact_runs_mr() -> Vec<(String, Integrator, Treatment)> {
+    exact_runs()
+        .into_iter()
+        .flat_map(|(name, integ)| {
+            [
+                (name.to_string(), integ, Treatment::Exact),
+                (
+                    format!("{name} mass_redistribution"),
+                    integ,
+                    Treatment::MassRedistribution,
+                ),
+            ]
+        })
+        .collect()
+}
+
 /// A body force rising as 1500 t N (held at 1125 N from 0.75 s): the block sticks while it
 /// is below `mu m g = 750 N` (t < 0.5 s), then slides with `(F - mu m g)/m`: 1.5 m/s^2
 /// after 0.75 s, and `v(1 s) = 1500 (0.25)^2 / (2 m) + 1.5 * 0.25 = 0.5625 m/s`.
 #[test]
 fn ramp_sticks_below_mu_n_and_slides_with_the_exact_acceleration() {
     let h = 1e-3;
-    for (name, integ) in exact_runs() {
-        let tr = run(block(
-            integ,
-            Treatment::Exact,
-            Some(MU),
-            h,
-            1.0,
-            ramp,
-            0.0,
-            0.0,
-        ))
-        .unwrap();
+    for (name, integ, treatment) in exact_runs_mr() {
+        let tr = run(block(integ, treatment, Some(MU), h, 1.0, ramp, 0.0, 0.0)).unwrap();
         let (switch, stick, a) = ramp_figures(&tr, h);
         let v1 = at(&tr, 1.0).v;
         // In stick the friction balances the push; sliding it is mu m g against the motion
@@ -267,19 +275,9 @@ fn ramp_sticks_below_mu_n_and_slides_with_the_exact_acceleration() {
 #[test]
 fn launched_block_stops_after_v0_squared_over_2_mu_g_and_friction_dissipates_its_energy() {
     let exact = 4.0 / (2.0 * MU * G);
-    for (name, integ) in exact_runs() {
+    for (name, integ, treatment) in exact_runs_mr() {
         for h in [4e-3, 1e-3] {
-            let tr = run(block(
-                integ,
-                Treatment::Exact,
-                Some(MU),
-                h,
-                1.0,
-                no_push,
-                2.0,
-                0.0,
-            ))
-            .unwrap();
+            let tr = run(block(integ, treatment, Some(MU), h, 1.0, no_push, 2.0, 0.0)).unwrap();
             let (f, l) = (tr.samples[0], *tr.samples.last().unwrap());
             let err = (l.x - exact) / exact;
             let lost = f.kinetic - l.kinetic - (l.strain - f.strain);

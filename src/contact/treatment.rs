@@ -23,8 +23,8 @@
 //! tangent ([`crate::contact::Pair::tangent`]) whose `y` is the slip velocity at the step
 //! end written through the integrator's maps, `y = (c_t.V - w_t) + mu_v c_t.x`: stick
 //! (`y = 0`) inside the bound, slip opposed by `mu lambda_n` on it, solved by the rows'
-//! active set without refactorization. The exact (generalized-alpha family), penalty and
-//! Moreau-Jean rows get it beside their unilateral normal row; the soft way and the
+//! active set without refactorization. The exact (generalized-alpha family), penalty,
+//! mass-redistribution and Moreau-Jean rows get it beside their unilateral normal row; the soft way and the
 //! space-time exact hold beside the equality row of a held pair (the bound is then `mu`
 //! times the normal impulse). The soft way's braking stays normal only: a braked pair gets
 //! no friction row, and nothing tangential is braked or given back (the tangential motion is
@@ -143,9 +143,13 @@ impl Treatment {
 impl Treatment {
     /// Refuses a friction coefficient `friction` (`contact.friction`) that is not finite and
     /// `>= 0`, friction on a model of dimension other than 2 (a 1D model has no tangent; 3D
-    /// needs two tangents and a cone: future work), and friction with the treatments that do
-    /// not carry it yet (the subdivision and mass redistribution). `None` and `Some(0)` are
-    /// always accepted (frictionless).
+    /// needs two tangents and a cone: future work), and friction with the subdivision (the
+    /// paper's Fig. 5 cuts a step at the instants a node enters or leaves contact, found from
+    /// its normal motion; a stick/slip change would need sub-steps of its own, which it does
+    /// not have: the other treatments solve stick and slip within the step). Mass
+    /// redistribution carries friction as exact enforcement does, on its massless contact
+    /// nodes (`tests/friction.rs` runs the block with both). `None` and `Some(0)` are always
+    /// accepted (frictionless).
     ///
     /// # Errors
     /// The reason, one line.
@@ -161,8 +165,8 @@ impl Treatment {
             ));
         }
         match self {
-            Treatment::Subdivision | Treatment::MassRedistribution => Err(format!(
-                "contact.friction is not available with {} yet; use soft_way, exact, penalty or moreau_jean",
+            Treatment::Subdivision => Err(format!(
+                "contact.friction is not available with {} (its sub-steps are cut at entries and releases only); use soft_way, exact, penalty, mass_redistribution or moreau_jean",
                 self.name()
             )),
             _ => Ok(()),

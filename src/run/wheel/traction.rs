@@ -147,6 +147,14 @@ pub struct TractionSummary {
     pub measured_stick_half_width: f64,
     /// Carter's `c = a sqrt(1 - |Q|/(mu P))` for the measured `Q`, m.
     pub carter_stick_half_width: f64,
+    /// The measured stick zone's centre along the patch (`s`, the leading edge at `+a`), m.
+    pub measured_stick_centre: f64,
+    /// Carter's stick zone's centre, `a - c` (the stick zone at the leading edge), m.
+    pub carter_stick_centre: f64,
+    /// The RMS difference of the steady traction profile `q(s)` from Carter's over the
+    /// Hertz patch `|s| < a`, over `mu p0` (0: Carter's profile; 1: off by the full-slip
+    /// peak).
+    pub carter_traction_rms: f64,
     /// Carter's `Q / (mu P)` at this creepage (uncoupled, with the Hertz `a`).
     pub carter_traction_ratio: f64,
     /// Carter's saturation creepage `mu a / R`.
@@ -316,6 +324,29 @@ impl TractionWatch {
         } else {
             0.0
         };
+        let c = a * (1.0 - ratio.abs().min(1.0)).sqrt();
+        let centre = |v: &[f64]| {
+            let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            if v.is_empty() {
+                0.0
+            } else {
+                0.5 * (lo + hi)
+            }
+        };
+        let (mut sq, mut count) = (0.0, 0usize);
+        for (&si, &qi) in prof.s.iter().zip(&prof.q) {
+            if si.abs() < a {
+                let d = qi - q.signum() * carter_q(si, mu, p0, a, c);
+                sq += d * d;
+                count += 1;
+            }
+        }
+        let rms = if count > 0 && mu * p0 > 0.0 {
+            (sq / count as f64).sqrt() / (mu * p0)
+        } else {
+            0.0
+        };
         let summary = TractionSummary {
             friction: mu,
             creepage: xi,
@@ -330,7 +361,10 @@ impl TractionWatch {
             hertz_peak_pressure: p0,
             measured_half_width: half(&loaded),
             measured_stick_half_width: half(&stuck),
-            carter_stick_half_width: a * (1.0 - ratio.abs().min(1.0)).sqrt(),
+            carter_stick_half_width: c,
+            measured_stick_centre: centre(&stuck),
+            carter_stick_centre: a - c,
+            carter_traction_rms: rms,
             carter_traction_ratio: carter_traction_ratio(xi, mu, a, radius),
             carter_saturation_creepage: mu * a / radius,
             pitch_over_half_width: 4.0 * self.bin / a,
