@@ -402,17 +402,21 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
             let (rep, files) = softway::run::matrix::dump(&sc, &out)?;
-            println!(
+            outln!(
                 "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
-                sc.name, rep.n, rep.nnz_a, rep.symmetric, rep.factor
+                sc.name,
+                rep.n,
+                rep.nnz_a,
+                rep.symmetric,
+                rep.factor
             );
             for (name, nnz) in &rep.factor_nnz {
-                println!("  nnz of the factors, {name}: {nnz}");
+                outln!("  nnz of the factors, {name}: {nnz}");
             }
-            println!("  softway free step: {:.1} us", rep.softway_step_us);
-            println!("  wrote:");
+            outln!("  softway free step: {:.1} us", rep.softway_step_us);
+            outln!("  wrote:");
             for f in &files {
-                println!("    {}", f.display());
+                outln!("    {}", f.display());
             }
             Ok(ExitCode::SUCCESS)
         }

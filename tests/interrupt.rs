@@ -292,3 +292,34 @@ fn a_closed_stdout_is_not_a_panic() {
     assert!(err.is_empty(), "{err}");
     assert_complete_outputs(&out);
 }
+
+/// `softway sweep ... 2>&1 | head`: closed standard output and error (the progress lines of a
+/// sweep go to standard error) are not a panic; the sweep completes and its files are written.
+#[test]
+fn a_closed_stderr_is_not_a_panic() {
+    let dir = TestDir::new("int", "pipe-err");
+    let sc = dir.join("bar.toml");
+    std::fs::write(&sc, LONG_BAR.replace("elements = 2000", "elements = 20")).unwrap();
+    let out = dir.join("out");
+    let mut child = softway()
+        .args(["sweep", "--set", "bar.elements=10,20,40", "--jobs", "2"])
+        .arg(&sc)
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    drop(child.stderr.take());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(0));
+    assert!(out.join("sweep.csv").is_file());
+    assert_eq!(
+        std::fs::read_to_string(out.join("sweep.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        4
+    );
+}

@@ -11,3 +11,10 @@ pub mod vtk;
 /// PNG figures: the `softway-plot` workspace crate (crates/softway-plot),
 /// re-exported so that `output::plot::…` paths name it.
 pub use softway_plot as plot;
+
+/// Writes one line to standard error without panicking when it is closed (`softway ... 2>&1 |
+/// head`): a progress or warning line is dropped, the run goes on and its files are written.
+pub fn note(line: std::fmt::Arguments) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}

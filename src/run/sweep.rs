@@ -88,14 +88,14 @@ pub fn run_ladder(
                 .ok()
                 .and_then(|s| serde_json::from_str(&s).ok())
                 .unwrap_or(serde_json::Value::Null);
-            eprintln!(
+            crate::output::note(format_args!(
                 "  {key} = {v}: done{}",
                 if rep.interrupted {
                     " (interrupted)"
                 } else {
                     ""
                 }
-            );
+            ));
             Ok(SweepPoint {
                 value: v.clone(),
                 dir,
@@ -348,9 +348,20 @@ fn creep_curve(out: &Path, points: &[SweepPoint], xs: &[f64]) -> Result<Vec<Path
     let fine: Vec<f64> = (0..=400)
         .map(|i| lo + (hi - lo) * i as f64 / 400.0)
         .collect();
+    let uncoupled = points.iter().any(|p| {
+        p.summary
+            .pointer("/traction/coupling")
+            .and_then(|v| v.as_str())
+            == Some("uncoupled")
+    });
     let mut panel = Panel::new(
         format!(
-            "Creep curve: mu = {mu:.3}, Hertz half-width a = {:.2} mm, R = {radius} m",
+            "Creep curve{}: mu = {mu:.3}, Hertz half-width a = {:.2} mm, R = {radius} m",
+            if uncoupled {
+                " (normal and tangential problems uncoupled)"
+            } else {
+                ""
+            },
             a * 1e3
         ),
         "creepage xi = (omega rho - V) / (omega rho)",

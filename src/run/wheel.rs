@@ -381,10 +381,10 @@ pub fn simulate(
         for k in 1..=4 {
             let f = k as f64 * passing;
             if (f / b.frequency_hz - 1.0).abs() < 0.05 {
-                eprintln!(
+                crate::output::note(format_args!(
                     "softway: warning: {}: the node passing ({k} x {passing:.1} Hz = {f:.1} Hz) is within 5% of the bounce of the wheel on its support and contact ({:.1} Hz): expect a resonance (change omega, the rim nodes or the support)",
                     run.label, b.frequency_hz
-                );
+                ));
             }
         }
     }
@@ -462,7 +462,10 @@ pub fn simulate(
         if sc.plots {
             files.extend(traction::figures(out, &ts, &profile)?);
         }
-        summary.traction = Some(ts);
+        summary.traction = Some(TractionSummary {
+            coupling: ws.spec.coupling,
+            ..ts
+        });
     }
     files.extend(write_fields(out, wm, &results)?);
     if sc.plots {

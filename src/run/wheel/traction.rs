@@ -118,6 +118,8 @@ pub struct TractionWatch {
 /// The traction figures of a run with friction (`summary.json`, `traction`).
 #[derive(Debug, Clone, Serialize)]
 pub struct TractionSummary {
+    /// The normal and tangential problems coupled or not (`rolling.coupling`).
+    pub coupling: crate::wheel::Coupling,
     /// Coulomb coefficient.
     pub friction: f64,
     /// Creepage `xi`.
@@ -348,6 +350,7 @@ impl TractionWatch {
             0.0
         };
         let summary = TractionSummary {
+            coupling: crate::wheel::Coupling::Coupled,
             friction: mu,
             creepage: xi,
             radius,
