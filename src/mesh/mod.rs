@@ -13,6 +13,7 @@ use std::collections::BTreeMap;
 pub mod generators;
 pub mod gmsh;
 pub mod quality;
+pub mod zone;
 
 pub use quality::{quality, MeshQuality};
 
