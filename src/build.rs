@@ -172,9 +172,9 @@ fn physical_memory_bytes() -> Option<f64> {
 /// nodes and 10,811 at 1,440; [`crate::mesh::generators::disk_graded`]).
 pub fn wheel_nodes(mesh: &crate::scenario::MeshSource) -> Option<f64> {
     use crate::scenario::MeshSource;
-    match *mesh {
-        MeshSource::Rings(n) => Some(1.0 + 3.0 * n as f64 * (n as f64 + 1.0)),
-        MeshSource::Graded { rim_nodes, grading } => {
+    match mesh {
+        &MeshSource::Rings(n) => Some(1.0 + 3.0 * n as f64 * (n as f64 + 1.0)),
+        &MeshSource::Graded { rim_nodes, grading } => {
             let r = rim_nodes as f64;
             Some(if grading < 1.05 {
                 r * r / (4.0 * std::f64::consts::PI)
@@ -183,6 +183,13 @@ pub fn wheel_nodes(mesh: &crate::scenario::MeshSource) -> Option<f64> {
             })
         }
         MeshSource::Gmsh(_) => None,
+        // The coarse disk's nodes, plus the zone's square cells at the fine pitch down to
+        // its depth (about the zone's width).
+        MeshSource::Zone(z) => {
+            let r = z.rim_nodes as f64;
+            let zone = z.zone_rim_nodes as f64 * z.zone_width / (2.0 * std::f64::consts::PI);
+            Some(1.2 * r * r.ln() + zone * zone / 4.0)
+        }
     }
 }
 
@@ -216,6 +223,7 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
                     crate::scenario::MeshSource::Rings(_) => "wheel.rings",
                     crate::scenario::MeshSource::Graded { .. } => "wheel.rim_nodes",
                     crate::scenario::MeshSource::Gmsh(_) => "wheel.mesh",
+                    crate::scenario::MeshSource::Zone(_) => "wheel.zone_rim_nodes",
                 };
                 (2.0 * nodes, w.duration(), Some(key))
             }

@@ -22,6 +22,7 @@ use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{build as build_treatment, ContactTreatment, Treatment};
 use crate::contact::{FrictionLaw, Obstacle, PairState};
 use crate::linalg::{quadratic_form, LinalgError};
+use crate::mesh::zone::Source;
 use crate::time::classic::{ClassicError, ClassicStepper, Dirichlet, Kinematic};
 use crate::time::integrator::{BuildError, Integrator, State, TimeIntegrator};
 use crate::time::step::{LinearModel, Stepper};
@@ -172,8 +173,86 @@ pub struct RunStats {
     pub factorizations: usize,
     /// Symbolic analyses of a system matrix.
     pub symbolic_analyses: usize,
+    /// Relocations of a moving refined zone ([`Relocation`]).
+    pub relocations: usize,
     /// True when the run stopped on an interrupt.
     pub interrupted: bool,
+}
+
+/// A moving refined zone ([`crate::mesh::zone`]): each time the obstacle has turned half a
+/// sector past the zone's centre, the frame of the mesh turns by one sector `step` with it,
+/// and the state is relabelled: node `n` takes the state of its [`Source`] (a node, or the
+/// interpolation in a triangle) with its vectors turned by `-step`, pair `p` the state of the
+/// pair at that node (a fresh state if there is none), and the obstacles turn by `-step`
+/// ([`crate::contact::Obstacle::turn_frame`]). The matrices and their factors do not change.
+/// 2D models of node pairs only.
+#[derive(Debug, Clone)]
+pub struct Relocation {
+    /// Per node, the source of its state.
+    pub sources: Vec<Source>,
+    /// The angle of one relocation, rad.
+    pub step: f64,
+    /// The obstacle's angular speed in the frame, rad/s (> 0).
+    pub omega: f64,
+    /// The obstacle's angle past the zone's centre at `t = 0`, rad.
+    pub angle0: f64,
+}
+
+/// The relocation's work, built once ([`Simulation::set_relocation`]).
+#[derive(Debug)]
+struct Relocating {
+    spec: Relocation,
+    /// Pair `p` takes the state of pair `pairs[p]`.
+    pairs: Vec<Option<usize>>,
+    /// The new label of each old node (`None`: dropped).
+    node_map: Vec<Option<usize>>,
+    rot: [[f64; 2]; 2],
+    scratch: Vec<f64>,
+    pair_scratch: Vec<PairState>,
+}
+
+impl Relocating {
+    /// Relabels a state vector (2 per node) in place.
+    fn vector(&mut self, x: &mut [f64]) {
+        let r = self.rot;
+        for (n, src) in self.spec.sources.iter().enumerate() {
+            let (a, b) = match *src {
+                Source::Node(m) => (x[2 * m], x[2 * m + 1]),
+                Source::Triangle { nodes, weights } => (0..3).fold((0.0, 0.0), |(a, b), k| {
+                    (
+                        a + weights[k] * x[2 * nodes[k]],
+                        b + weights[k] * x[2 * nodes[k] + 1],
+                    )
+                }),
+            };
+            self.scratch[2 * n] = r[0][0] * a + r[0][1] * b;
+            self.scratch[2 * n + 1] = r[1][0] * a + r[1][1] * b;
+        }
+        x.copy_from_slice(&self.scratch);
+    }
+
+    /// Relabels the pairs' states.
+    fn pairs(&mut self, states: &mut [PairState]) {
+        use crate::contact::softway::PairMode;
+        let map = |m: usize| self.node_map.get(m).copied().flatten();
+        for (p, src) in self.pairs.iter().enumerate() {
+            self.pair_scratch[p] = match *src {
+                None => PairState::default(),
+                Some(q) => {
+                    let mut st = states[q];
+                    st.brake_row = st.brake_row.relabel_2d(map, self.rot).unwrap_or_default();
+                    if let PairMode::Brake { q, terms, w } = st.mode {
+                        st.mode = match terms.relabel_2d(map, self.rot) {
+                            Some(terms) => PairMode::Brake { q, terms, w },
+                            None => PairMode::Free,
+                        };
+                    }
+                    st
+                }
+            };
+        }
+        states.copy_from_slice(&self.pair_scratch);
+    }
 }
 
 /// Errors of a run.
@@ -338,6 +417,7 @@ pub struct Simulation {
     steps: usize,
     snaps: [Snapshot; 3],
     massless: Vec<usize>,
+    relocation: Option<Relocating>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -493,7 +573,85 @@ impl Simulation {
             steps,
             snaps: [snap.clone(), snap.clone(), snap],
             massless,
+            relocation: None,
         })
+    }
+
+    /// Moves a refined zone with the obstacle ([`Relocation`]).
+    ///
+    /// # Errors
+    /// [`SimError::Unsupported`] unless the model is 2D with one node per pair, the sources
+    /// cover its nodes, and every obstacle can turn with the frame.
+    pub fn set_relocation(&mut self, spec: Relocation) -> Result<(), SimError> {
+        let eng = &mut self.engine;
+        let nodes = eng.reference.len() / eng.dim.max(1);
+        if eng.dim != 2 || spec.sources.len() != nodes || spec.omega.is_nan() || spec.omega <= 0.0 {
+            return Err(SimError::Unsupported(
+                "a moving refined zone needs a 2D model, a source for every node and a turning obstacle".into(),
+            ));
+        }
+        if !eng.obstacles.iter_mut().all(|o| o.turn_frame(0.0)) {
+            return Err(SimError::Unsupported(
+                "a moving refined zone needs obstacles that turn about the origin (the wheel's base)".into(),
+            ));
+        }
+        let mut pair_of_node = vec![None; nodes];
+        for (p, pair) in eng.pairs.iter().enumerate() {
+            match pair.nodes() {
+                (n, 1) => pair_of_node[n[0]] = Some(p),
+                _ => return Err(SimError::Unsupported(
+                    "a moving refined zone carries node pairs only (not segments or split pairs)"
+                        .into(),
+                )),
+            }
+        }
+        let mut node_map = vec![None; nodes];
+        for (n, src) in spec.sources.iter().enumerate() {
+            if let Source::Node(m) = *src {
+                node_map[m] = Some(n);
+            }
+        }
+        let pairs = eng
+            .pairs
+            .iter()
+            .map(|pair| match spec.sources[pair.nodes().0[0]] {
+                Source::Node(m) => pair_of_node[m],
+                Source::Triangle { .. } => None,
+            })
+            .collect();
+        let (c, s) = (spec.step.cos(), spec.step.sin());
+        self.relocation = Some(Relocating {
+            pairs,
+            node_map,
+            rot: [[c, s], [-s, c]],
+            scratch: vec![0.0; 2 * nodes],
+            pair_scratch: vec![PairState::default(); eng.pairs.len()],
+            spec,
+        });
+        Ok(())
+    }
+
+    /// Relocates the zone when the obstacle at the newest state has turned half a sector
+    /// past the zone's centre.
+    fn relocate_if_due(&mut self) {
+        let Some(rel) = self.relocation.as_mut() else {
+            return;
+        };
+        let t = self.snaps[2].t;
+        if rel.spec.angle0 + rel.spec.omega * t < 0.5 * rel.spec.step {
+            return;
+        }
+        for snap in &mut self.snaps {
+            rel.vector(&mut snap.state.u);
+            rel.vector(&mut snap.state.v);
+            rel.vector(&mut snap.state.a);
+            rel.pairs(&mut snap.pairs);
+        }
+        for o in &mut self.engine.obstacles {
+            o.turn_frame(rel.spec.step);
+        }
+        rel.spec.angle0 -= rel.spec.step;
+        self.engine.stats.relocations += 1;
     }
 
     /// The engine (integrator, pairs, model).
@@ -548,6 +706,7 @@ impl Simulation {
                 });
             }
             self.emit(1, false, &mut observer)?;
+            self.relocate_if_due();
             self.snaps.rotate_left(1);
             have_prev = true;
             self.engine.stats.steps += 1;

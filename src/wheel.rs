@@ -207,6 +207,9 @@ pub struct WheelModel {
     /// The model of the disk and its twin (nodes `N..2N` the twin of nodes `0..N`) for
     /// [`Coupling::Uncoupled`], built on [`doubled`] meshes; `None` when coupled.
     pub twin: Option<Box<WheelModel>>,
+    /// The refined zone's relocation when the mesh has one ([`crate::mesh::zone`]): the
+    /// source of each node's state and the angle of one relocation, rad.
+    pub zone: Option<(Vec<crate::mesh::zone::Source>, f64)>,
 }
 
 /// The mesh twice over: nodes `N + i` at the places of nodes `i`, the cells of the second
@@ -382,7 +385,27 @@ impl WheelModel {
             load,
             spec,
             twin,
+            zone: None,
         })
+    }
+
+    /// The rim nodes a full rim would have at the pitch under the contact: the node-passing
+    /// frequency is `omega` times it over `2 pi`. The rim's count, or with a refined zone
+    /// the count at the zone's (finest) pitch.
+    pub fn passing_nodes(&self) -> usize {
+        if self.zone.is_none() {
+            return self.rim.len();
+        }
+        let angle = |i: usize| self.mesh.points[i][1].atan2(self.mesh.points[i][0]);
+        let n = self.rim.len();
+        let finest = (0..n)
+            .map(|k| {
+                let d = angle(self.rim[(k + 1) % n]) - angle(self.rim[k]);
+                d.rem_euclid(2.0 * std::f64::consts::PI)
+            })
+            .filter(|&d| d > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        (2.0 * std::f64::consts::PI / finest).round() as usize
     }
 
     /// The rim radius of the spinning wheel (undeformed radius plus the centrifugal

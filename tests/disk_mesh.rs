@@ -206,7 +206,15 @@ fn node_count_grows_like_the_rim_count() {
     // 20 times the rim, at most 50 times the nodes (a uniform disk: 400 times).
     assert!(counts[4] < 50 * counts[0], "{counts:?}");
     // Uniform spacing (grading 1) costs about n^2 / (4 pi) nodes.
-    let uniform = disk_graded(R, 288, DiskOptions { grading: 1.0 }).unwrap();
+    let uniform = disk_graded(
+        R,
+        288,
+        DiskOptions {
+            grading: 1.0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let expect = 288.0 * 288.0 / (4.0 * PI);
     assert!((uniform.n_nodes() as f64 / expect - 1.0).abs() < 0.05);
 }
@@ -239,7 +247,15 @@ fn rim_pitch_equals_the_radial_spacing_at_the_rim_and_grading_is_geometric() {
 fn grading_trades_nodes_for_uniformity() {
     let mut last = usize::MAX;
     for g in [1.0, 1.1, 1.15, 1.3, 1.5, 2.0] {
-        let m = disk_graded(R, 144, DiskOptions { grading: g }).unwrap();
+        let m = disk_graded(
+            R,
+            144,
+            DiskOptions {
+                grading: g,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let q = quality(&m);
         assert_eq!((q.inverted, q.degenerate), (0, 0), "grading {g}");
         assert!(q.min_angle_deg > 20.0, "grading {g}: {}", q.min_angle_deg);
@@ -304,7 +320,15 @@ fn bad_arguments_are_named() {
     );
     assert!(e.to_string().contains(">= 3"), "{e}");
     for g in [0.99, 2.01, f64::NAN, f64::INFINITY, -1.15] {
-        let e = disk_graded(R, 72, DiskOptions { grading: g }).unwrap_err();
+        let e = disk_graded(
+            R,
+            72,
+            DiskOptions {
+                grading: g,
+                ..Default::default()
+            },
+        )
+        .unwrap_err();
         assert!(
             matches!(
                 e,
@@ -329,4 +353,69 @@ fn bad_arguments_are_named() {
             "n = {n}"
         );
     }
+}
+
+/// With a hub (`DiskOptions::hub`, the wheel's clamped support) the graded disk is the
+/// annulus from a ring on the hub's circle to the rim: the rim keeps its count, no node lies
+/// inside the hub, the node set `"hub"` is exactly the circle of the hub's radius (so a clamp
+/// of the nodes within it holds that circle, not the centre alone), the triangles keep their
+/// angles (35.1 to 41.0 degrees at worst) and the mesh its symmetry order 1, and its area is
+/// the annulus's.
+#[test]
+fn a_hub_makes_the_graded_disk_an_annulus_clamped_on_its_circle() {
+    for (rim, hub) in [
+        (72, 0.01),
+        (144, 0.01),
+        (288, 0.01),
+        (576, 0.01),
+        (288, 0.04),
+    ] {
+        let m = disk_graded(
+            R,
+            rim,
+            DiskOptions {
+                hub: Some(hub),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let label = format!("{rim} rim nodes, hub {hub}");
+        let q = quality(&m);
+        assert_eq!(q.rim_nodes, rim, "{label}");
+        assert_eq!(q.inverted + q.degenerate, 0, "{label}");
+        eprintln!(
+            "{label}: {} nodes, min angle {:.1} deg",
+            q.nodes, q.min_angle_deg
+        );
+        assert!(q.min_angle_deg > 35.0, "{label}: {q:?}");
+        assert_eq!(q.symmetry_order, 1, "{label}");
+        let inner = m.node_set("hub").unwrap();
+        assert!(inner.len() >= 3, "{label}");
+        for &n in inner {
+            assert!((norm(m.points[n]) - hub).abs() < 1e-12 * R, "{label}");
+        }
+        assert!(
+            m.points.iter().all(|&p| norm(p) > hub * (1.0 - 1e-12)),
+            "{label}: a node inside the hub"
+        );
+        let area: f64 = tris(&m).iter().map(|&t| signed_area(&m.points, t)).sum();
+        // The polygons inscribed in the two circles.
+        let polygon = |r: f64, n: usize| 0.5 * n as f64 * r * r * (TAU / n as f64).sin();
+        let expect = polygon(R, rim) - polygon(hub, inner.len());
+        assert!(
+            (area / expect - 1.0).abs() < 1e-9,
+            "{label}: {area} vs {expect}"
+        );
+    }
+    // A hub that leaves no room for the graded band is refused, naming the parameter.
+    let e = disk_graded(
+        R,
+        72,
+        DiskOptions {
+            hub: Some(0.099),
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("hub"), "{e}");
 }

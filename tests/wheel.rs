@@ -359,6 +359,21 @@ fn the_default_support_is_a_clamped_hub() {
         ),
     );
     assert!(e.contains("wheel.hub_radius"), "{e}");
+    // The shipped wheel's graded disk is the annulus outside its hub: the clamp holds the
+    // circle of 1 cm (every held node on it), not a centre node alone.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml");
+    let sc = softway::build::resolve(&Scenario::from_file(&path).unwrap()).unwrap();
+    let Model::Wheel(ws) = &sc.runs[0].model else {
+        panic!("a wheel")
+    };
+    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let radii: Vec<f64> = wm
+        .fixed_dofs
+        .iter()
+        .map(|&d| wm.mesh.points[d / 2][0].hypot(wm.mesh.points[d / 2][1]))
+        .collect();
+    assert!(radii.len() >= 6, "{radii:?}");
+    assert!(radii.iter().all(|r| (r - 0.01).abs() < 1e-12), "{radii:?}");
 }
 
 /// A resonance is announced before the run: on the paper's mesh (72 rim nodes, bounce

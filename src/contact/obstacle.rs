@@ -75,6 +75,13 @@ pub trait Obstacle: Send + Sync + std::fmt::Debug {
     fn surface_tangential_velocity(&self, _t: f64, _x: Vector) -> f64 {
         0.0
     }
+
+    /// Seen from a frame turned by `angle` (rad, counter-clockwise) about the origin: the
+    /// obstacle turns by `-angle` ([`crate::simulation::Relocation`]). Returns `false` for an
+    /// obstacle that cannot (the default): only [`RotatingLine`] can.
+    fn turn_frame(&mut self, _angle: f64) -> bool {
+        false
+    }
 }
 
 /// The 2D tangent of a unit normal: `n` turned by +90 degrees (counter-clockwise),
@@ -235,6 +242,14 @@ impl Obstacle for RotatingLine {
     /// `V = omega rho (1 - xi)`:
     /// `w_t = omega rho (1 - xi) - omega e . (x - centre)`,
     /// which on the base (`e . (x - centre) = rho`) is `-xi omega rho`: zero in free rolling.
+    fn turn_frame(&mut self, angle: f64) -> bool {
+        if self.centre[0] != 0.0 || self.centre[1] != 0.0 {
+            return false;
+        }
+        self.theta0 -= angle;
+        true
+    }
+
     fn surface_tangential_velocity(&self, t: f64, x: Vector) -> f64 {
         let e = self.direction(t);
         let rho = self.radius - self.flattening.at(t);

@@ -108,6 +108,38 @@ impl Terms {
         s
     }
 
+    /// The same row on relabelled nodes of a 2D model: the terms of node `m` move to node
+    /// `node(m)` with their `(x, y)` coefficients turned by the rotation `rot` (row-major);
+    /// `None` when a node has no new label.
+    pub fn relabel_2d(
+        &self,
+        node: impl Fn(usize) -> Option<usize>,
+        rot: [[f64; 2]; 2],
+    ) -> Option<Terms> {
+        let mut out = Terms::default();
+        let mut seen = [usize::MAX; MAX_TERMS];
+        let mut k = 0;
+        for i in 0..self.len {
+            let m = self.dof[i] / 2;
+            if seen[..k].contains(&m) {
+                continue;
+            }
+            seen[k] = m;
+            k += 1;
+            let mut c = [0.0; 2];
+            for j in 0..self.len {
+                if self.dof[j] / 2 == m {
+                    c[self.dof[j] % 2] += self.coef[j];
+                }
+            }
+            let n = node(m)?;
+            for (comp, r) in rot.iter().enumerate() {
+                out.push(2 * n + comp, r[0] * c[0] + r[1] * c[1]);
+            }
+        }
+        Some(out)
+    }
+
     /// `y[dof] += s c` for every term.
     pub fn scatter(&self, s: f64, y: &mut [f64]) {
         for i in 0..self.len {

@@ -241,6 +241,11 @@ pub struct DiskOptions {
     /// smallest angle and fewer than 8 nodes per rim node up to 1,440 rim nodes. The
     /// generator adjusts it slightly so that a whole number of rings fills the radius.
     pub grading: f64,
+    /// A hub of this radius (m), clamped by the wheel's support: `Some(r_h)` makes the mesh
+    /// the annulus between a ring on the hub's circle and the rim (no node inside the hub,
+    /// whose material the clamp holds still), so that the clamp holds exactly the circle
+    /// of radius `r_h`; `None` (the default) meshes the whole disk down to its centre node.
+    pub hub: Option<f64>,
 }
 
 impl DiskOptions {
@@ -254,6 +259,7 @@ impl Default for DiskOptions {
     fn default() -> Self {
         DiskOptions {
             grading: Self::DEFAULT_GRADING,
+            hub: None,
         }
     }
 }
@@ -287,7 +293,12 @@ struct RingLayout {
     counts: Vec<usize>,
 }
 
-fn graded_rings(radius: f64, rim_nodes: usize, grading: f64) -> Result<RingLayout, MeshError> {
+fn graded_rings(
+    radius: f64,
+    rim_nodes: usize,
+    grading: f64,
+    hub: f64,
+) -> Result<RingLayout, MeshError> {
     let too_large = || MeshError::TooLarge {
         name: "rim_nodes",
         value: rim_nodes,
@@ -296,31 +307,34 @@ fn graded_rings(radius: f64, rim_nodes: usize, grading: f64) -> Result<RingLayou
     if rim_nodes >= MAX_NODES {
         return Err(too_large());
     }
-    // Radius in units of the rim pitch h = 2 pi R / n.
-    let q = rim_nodes as f64 / std::f64::consts::TAU;
+    // The graded band (the radius, or the annulus outside a hub) in units of the rim pitch
+    // h = 2 pi R / n. With a hub, ring 1 lies on the hub's circle and the band has one gap
+    // fewer than rings (ring 0, the centre, is then no node: RingLayout docs).
+    let q = rim_nodes as f64 / std::f64::consts::TAU * (1.0 - hub / radius);
     // Rings whose gaps h, h g, h g^2, ... add up to the radius: h (g^m - 1) / (g - 1) = R.
     let m_exact = if grading == 1.0 {
         q
     } else {
         (q * (grading - 1.0)).ln_1p() / (grading - 1.0).ln_1p()
     };
-    let m = if q <= 1.0 {
+    let gaps = if q <= 1.0 {
         1
     } else {
         (m_exact.round() as usize).max(1)
     };
+    let m = if hub > 0.0 { gaps + 1 } else { gaps };
     if m >= MAX_NODES {
         return Err(too_large());
     }
     // The ratio g' that makes m whole gaps, the first (at the rim) exactly h, fill the
     // radius: sum_{j<m} g'^j = q, on (0, q - 1] for m >= 2 (bisection: the sum grows with g').
-    let ratio = if m == 1 {
+    let ratio = if gaps == 1 {
         1.0
     } else {
         let (mut lo, mut hi) = (0.0_f64, q - 1.0);
         for _ in 0..200 {
             let mid = 0.5 * (lo + hi);
-            if geometric_sum(mid, m) > q {
+            if geometric_sum(mid, gaps) > q {
                 hi = mid;
             } else {
                 lo = mid;
@@ -337,8 +351,10 @@ fn graded_rings(radius: f64, rim_nodes: usize, grading: f64) -> Result<RingLayou
             0.0
         } else if k == m {
             radius
+        } else if hub > 0.0 && k == 1 {
+            hub
         } else {
-            radius * (1.0 - geometric_sum(ratio, m - k) / q)
+            radius - (radius - hub) * geometric_sum(ratio, m - k) / q
         }
     };
     // Node counts, from the rim inwards, with the total checked before anything is stored.
@@ -348,8 +364,13 @@ fn graded_rings(radius: f64, rim_nodes: usize, grading: f64) -> Result<RingLayou
     let mut total = 1 + rim_nodes;
     for k in (1..m).rev() {
         let (r_in, r_k, r_out) = (r(k - 1), r(k), r(k + 1));
-        // Tangential spacing: the geometric mean of the gaps on either side.
-        let spacing = ((r_k - r_in) * (r_out - r_k)).sqrt();
+        // Tangential spacing: the geometric mean of the gaps on either side (on the hub's
+        // circle, the gap outside it: inside is no mesh).
+        let spacing = if hub > 0.0 && k == 1 {
+            r_out - r_k
+        } else {
+            ((r_k - r_in) * (r_out - r_k)).sqrt()
+        };
         let c = (std::f64::consts::TAU * r_k / spacing).round();
         let c = if c.is_finite() && c >= 3.0 {
             c as usize
@@ -516,14 +537,36 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
             max: DiskOptions::MAX_GRADING,
         });
     }
-    let RingLayout { radii, counts } = graded_rings(radius, rim_nodes, g)?;
+    let hub = match opts.hub {
+        None => 0.0,
+        Some(h)
+            if h.is_finite()
+                && h > 0.0
+                && h < radius * (1.0 - 2.0 * std::f64::consts::TAU / rim_nodes as f64) =>
+        {
+            h
+        }
+        Some(h) => {
+            return Err(MeshError::OutOfRange {
+                name: "hub (m)",
+                value: h,
+                min: 0.0,
+                max: radius * (1.0 - 2.0 * std::f64::consts::TAU / rim_nodes as f64),
+            })
+        }
+    };
+    let RingLayout { radii, counts } = graded_rings(radius, rim_nodes, g, hub)?;
     let m = radii.len() - 1;
-    let n_nodes: usize = counts.iter().sum();
+    // With a hub there is no centre node: ring 1 is the first.
+    let centre = usize::from(hub == 0.0);
+    let n_nodes: usize = counts.iter().sum::<usize>() - (1 - centre);
 
     let mut points = Vec::with_capacity(n_nodes);
     let mut starts = Vec::with_capacity(m + 1);
     let mut first_angle = Vec::with_capacity(m + 1);
-    points.push([0.0, 0.0]);
+    if centre == 1 {
+        points.push([0.0, 0.0]);
+    }
     starts.push(0);
     first_angle.push(0.0);
     for k in 1..=m {
@@ -542,9 +585,11 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
         }
     }
 
-    let mut tris = Vec::with_capacity(2 * n_nodes - 2 - rim_nodes);
-    for j in 0..counts[1] {
-        tris.push([0, starts[1] + j, starts[1] + (j + 1) % counts[1]]);
+    let mut tris = Vec::with_capacity(2 * n_nodes);
+    if centre == 1 {
+        for j in 0..counts[1] {
+            tris.push([0, starts[1] + j, starts[1] + (j + 1) % counts[1]]);
+        }
     }
     for k in 2..=m {
         zip_rings(
@@ -556,7 +601,14 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
     }
 
     let mut node_sets = BTreeMap::new();
-    node_sets.insert("centre".to_string(), vec![0]);
+    if centre == 1 {
+        node_sets.insert("centre".to_string(), vec![0]);
+    } else {
+        node_sets.insert(
+            "hub".to_string(),
+            (starts[1]..starts[1] + counts[1]).collect(),
+        );
+    }
     node_sets.insert("rim".to_string(), (starts[m]..n_nodes).collect());
     node_sets.insert("all".to_string(), (0..n_nodes).collect());
 

@@ -281,9 +281,7 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
         }
         leaf_tris.push((first, tris.len()));
     }
-    let rim: Vec<usize> = (0..keys.len())
-        .filter(|&n| keys[n].0 == lat.nr())
-        .collect();
+    let rim: Vec<usize> = (0..keys.len()).filter(|&n| keys[n].0 == lat.nr()).collect();
     let hub: Vec<usize> = (0..keys.len()).filter(|&n| keys[n].0 == 0).collect();
     let mut node_sets = std::collections::BTreeMap::new();
     node_sets.insert("rim".to_string(), rim);
@@ -526,7 +524,10 @@ mod tests {
     fn bad_options_are_refused() {
         let o = options();
         for bad in [
-            ZoneOptions { rim_nodes: 100, ..o },
+            ZoneOptions {
+                rim_nodes: 100,
+                ..o
+            },
             ZoneOptions {
                 zone_rim_nodes: 1000,
                 ..o

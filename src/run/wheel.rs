@@ -28,12 +28,13 @@ use crate::material::PlaneModel;
 use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use crate::mesh::gmsh::read_msh_tagged;
 use crate::mesh::quality as mesh_quality;
+use crate::mesh::zone::disk_zone;
 use crate::mesh::Mesh;
 use crate::modes::{bounce_mode, Bounce};
 use crate::output::files::write_json;
 use crate::output::vtk::{write_vtu, Field, PvdWriter};
 use crate::scenario::{MeshSource, Model, Run, Scenario, WheelScenario};
-use crate::wheel::WheelModel;
+use crate::wheel::{Support, WheelModel};
 use observers::{
     ContactForceStats, ContactForceSummary, ContactNodesWriter, EnergyWatch, HistoryWriter,
     Observer, Progress, Snapshots, Timeline, TurnAverage, TurnAverageFields, VelocitySnapshots,
@@ -107,6 +108,10 @@ pub struct WheelSummary {
     pub bounce_frequency_hz: Option<f64>,
     /// The bounce mode's effective mass in vertical translation over the total mass.
     pub bounce_vertical_mass_fraction: Option<f64>,
+    /// The radius within which the support holds the nodes, m: the largest radius of a held
+    /// node (a hub clamps the nodes within `wheel.hub_radius`, so on a disk of rings it is
+    /// the radius of the last ring inside it; 0 for the pinned centre).
+    pub support_radius_m: f64,
     /// Smallest angle of the mesh's triangles, degrees.
     pub mesh_min_angle_deg: f64,
     /// The mesh's rotational symmetry order (6 for the hexagonal disk, 1 for the graded one).
@@ -130,6 +135,8 @@ pub struct WheelSummary {
     /// Stick/slip changes of the friction rows over the run (each a dense re-solve on cached
     /// columns, never a factorization).
     pub stick_slip_changes: usize,
+    /// Relocations of the refined zone (`wheel.zone_rim_nodes`; 0 without a zone).
+    pub relocations: usize,
     /// Wall-clock time of the time loop, s.
     pub wall_time_s: f64,
     /// Time per step, microseconds.
@@ -153,10 +160,24 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
         MeshSource::Graded { rim_nodes, grading } => disk_graded(
             ws.spec.radius,
             *rim_nodes,
-            DiskOptions { grading: *grading },
+            DiskOptions {
+                grading: *grading,
+                // A hub clamps the circle of its radius: the mesh is the annulus outside it.
+                hub: match ws.spec.support {
+                    Support::Hub { radius } => Some(radius),
+                    Support::CentrePinned => None,
+                },
+            },
         )
         .map_err(|e| RunError::input(sc_path, e))?,
         MeshSource::Gmsh(p) => read_mesh_file(p, ws.spec.radius, sc_path)?,
+        MeshSource::Zone(o) => {
+            let z = disk_zone(o).map_err(|e| RunError::input(sc_path, e))?;
+            let mut wm = WheelModel::new(z.mesh, ws.spec.clone())
+                .map_err(|e| RunError::input(sc_path, e))?;
+            wm.zone = Some((z.sources, z.step));
+            return Ok(wm);
+        }
     };
     WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::input(sc_path, e))
 }
@@ -313,8 +334,18 @@ fn base_lines(s: &WheelSummary) -> Vec<String> {
             s.node_passing_frequency_hz
         ),
         format!(
-            "turn-averaged J2 max {:.4e} MPa^2, von Mises max {:.2} MPa; max penetration {:.2e} m; energy {:.4e} -> {:.4e} J",
-            s.max_j2_turn_average_mpa2, s.max_von_mises_turn_average_mpa, s.max_penetration, s.energy_after_settling, s.energy_final
+            "{}; max penetration {:.2e} m; energy {:.4e} -> {:.4e} J",
+            if s.max_j2_turn_average_mpa2.is_nan() {
+                format!("no turn averages ({} relocations of the refined zone)", s.relocations)
+            } else {
+                format!(
+                    "turn-averaged J2 max {:.4e} MPa^2, von Mises max {:.2} MPa",
+                    s.max_j2_turn_average_mpa2, s.max_von_mises_turn_average_mpa
+                )
+            },
+            s.max_penetration,
+            s.energy_after_settling,
+            s.energy_final
         ),
         format!(
             "spectral components (Hz, per turn, amplitude, kind): {}",
@@ -377,7 +408,7 @@ pub fn simulate(
     // harmonics that would drive it (a resonance warning before the run).
     let bounce = bounce_mode(wm, ws.spec.flattening.depth).ok();
     if let Some(b) = bounce {
-        let passing = ws.spec.omega * wm.rim.len() as f64 / (2.0 * PI);
+        let passing = ws.spec.omega * wm.passing_nodes() as f64 / (2.0 * PI);
         for k in 1..=4 {
             let f = k as f64 * passing;
             if (f / b.frequency_hz - 1.0).abs() < 0.05 {
@@ -386,6 +417,21 @@ pub fn simulate(
                     run.label, b.frequency_hz
                 ));
             }
+        }
+    }
+    // A hub holds the nodes within its radius: say so when the mesh has none near its circle
+    // (a disk of rings, a Gmsh mesh), where the clamp is smaller than asked.
+    if let Support::Hub { radius } = ws.spec.support {
+        let held = wm
+            .fixed_dofs
+            .iter()
+            .map(|&d| wm.mesh.points[d / 2][0].hypot(wm.mesh.points[d / 2][1]))
+            .fold(0.0, f64::max);
+        if held < 0.95 * radius {
+            crate::output::note(format_args!(
+                "softway: warning: {}: the hub of radius {radius} m holds the nodes within it, the outermost at {held:.4e} m: the mesh has no node on the hub's circle (generated disks with rim_nodes mesh it; support_radius_m in summary.json)",
+                run.label
+            ));
         }
     }
     let history_path = out.join("history.csv");
@@ -449,9 +495,18 @@ pub fn simulate(
     let results = WheelResults {
         timeline,
         outcome,
-        forces: forces.finish(ws.spec.omega, wm.rim.len()),
+        forces: forces.finish(ws.spec.omega, wm.passing_nodes()),
         energy: energy.finish(),
-        fields: average.finish(),
+        // With a moving zone the nodes are relabelled as the zone follows the contact: a
+        // per-element average would mix material points, so there is none.
+        fields: if wm.zone.is_some() {
+            TurnAverageFields {
+                j2_mpa2: Vec::new(),
+                von_mises_mpa: Vec::new(),
+            }
+        } else {
+            average.finish()
+        },
         snapshots: snapshots.finish(),
     };
     let mut summary = summarise(wm, ws, run, &results, bounce);
@@ -489,6 +544,8 @@ pub struct LoopOutcome {
     pub factorizations: usize,
     /// Stick/slip changes of the friction rows (dense re-solves, no factorization).
     pub stick_slip_changes: usize,
+    /// Relocations of the refined zone.
+    pub relocations: usize,
     /// Wall-clock time of the loop, s.
     pub wall_time_s: f64,
 }
@@ -525,6 +582,15 @@ pub fn drive(
     );
     problem.friction = run.friction;
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
+    if let Some((sources, step)) = &wm.zone {
+        sim.set_relocation(crate::simulation::Relocation {
+            sources: sources.clone(),
+            step: *step,
+            omega: ws.spec.omega,
+            angle0: 0.0,
+        })
+        .map_err(sim_error)?;
+    }
     let start = Instant::now();
     // The energies (two sparse quadratic forms) only where they are written: every
     // `stride`-th step, the first step of the rolling phase and the last one.
@@ -581,6 +647,7 @@ pub fn drive(
         interrupted: stats.interrupted,
         factorizations: stats.factorizations,
         stick_slip_changes: stats.stick_slip_changes,
+        relocations: stats.relocations,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
 }
@@ -618,7 +685,7 @@ fn summarise(
         tr,
         fr,
         omega,
-        wm.rim.len(),
+        wm.passing_nodes(),
         &modes,
         &ComponentOptions::default(),
     );
@@ -647,18 +714,27 @@ fn summarise(
         spectral_components: components,
         spectrum_window_s: f.window.0.len() as f64 * run.params.h,
         bounce_frequency_hz: bounce.map(|b| b.frequency_hz),
+        support_radius_m: wm
+            .fixed_dofs
+            .iter()
+            .map(|&d| {
+                let p = wm.mesh.points[d / 2];
+                p[0].hypot(p[1])
+            })
+            .fold(0.0, f64::max),
         bounce_vertical_mass_fraction: bounce.map(|b| b.vertical_mass_fraction),
         mesh_min_angle_deg: q.min_angle_deg,
         mesh_symmetry_order: q.symmetry_order,
         max_penetration: f.max_penetration,
-        max_j2_turn_average_mpa2: r.fields.j2_mpa2.iter().cloned().fold(0.0, f64::max),
-        max_von_mises_turn_average_mpa: r.fields.von_mises_mpa.iter().cloned().fold(0.0, f64::max),
+        max_j2_turn_average_mpa2: max_or_nan(&r.fields.j2_mpa2),
+        max_von_mises_turn_average_mpa: max_or_nan(&r.fields.von_mises_mpa),
         energy_after_settling: r.energy.0,
         energy_final: r.energy.1,
         brakings: o.brakings,
         releases: o.releases,
         factorizations: o.factorizations,
         stick_slip_changes: o.stick_slip_changes,
+        relocations: o.relocations,
         wall_time_s: o.wall_time_s,
         time_per_step_us: o.wall_time_s / o.steps.max(1) as f64 * 1e6,
         interrupted: o.interrupted,
@@ -666,30 +742,43 @@ fn summarise(
     }
 }
 
+/// The largest value, NaN (null in JSON) when there is none (no turn average with a moving
+/// zone).
+fn max_or_nan(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v.iter().cloned().fold(0.0, f64::max)
+    }
+}
+
 /// Fields for ParaView: the turn averages (`j2_turn_average.vtu`) and the velocity
 /// snapshots (`velocity_NNN.vtu`, `velocity.pvd`).
 fn write_fields(out: &Path, wm: &WheelModel, r: &WheelResults) -> Result<Vec<PathBuf>, RunError> {
-    let vtu = out.join("j2_turn_average.vtu");
-    write_vtu(
-        &vtu,
-        &wm.mesh,
-        None,
-        &[],
-        &[
-            Field {
-                name: "J2_turn_average_MPa2",
-                components: 1,
-                values: &r.fields.j2_mpa2,
-            },
-            Field {
-                name: "von_mises_turn_average_MPa",
-                components: 1,
-                values: &r.fields.von_mises_mpa,
-            },
-        ],
-    )
-    .map_err(|e| RunError::output(&vtu, e))?;
-    let mut files = vec![vtu];
+    let mut files = Vec::new();
+    if !r.fields.j2_mpa2.is_empty() {
+        let vtu = out.join("j2_turn_average.vtu");
+        write_vtu(
+            &vtu,
+            &wm.mesh,
+            None,
+            &[],
+            &[
+                Field {
+                    name: "J2_turn_average_MPa2",
+                    components: 1,
+                    values: &r.fields.j2_mpa2,
+                },
+                Field {
+                    name: "von_mises_turn_average_MPa",
+                    components: 1,
+                    values: &r.fields.von_mises_mpa,
+                },
+            ],
+        )
+        .map_err(|e| RunError::output(&vtu, e))?;
+        files.push(vtu);
+    }
     let mut pvd = PvdWriter::new();
     let sn = &r.snapshots;
     for (i, ((t, v), u)) in sn.t.iter().zip(&sn.v).zip(&sn.u).enumerate() {

@@ -140,6 +140,9 @@ pub enum MeshSource {
     },
     /// A Gmsh `.msh` file (4.1, ASCII or binary), centred at the axle.
     Gmsh(PathBuf),
+    /// The hub's annulus refined in a zone of the rim that moves with the contact
+    /// ([`crate::mesh::zone`]).
+    Zone(crate::mesh::zone::ZoneOptions),
 }
 
 /// The rolling wheel scenario (paper §4).

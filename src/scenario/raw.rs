@@ -96,6 +96,9 @@ pub(super) struct RawWheel {
     pub stress_stiffening: Option<bool>,
     pub contact_surface: Option<String>,
     pub rotating_frame: Option<bool>,
+    pub zone_rim_nodes: Option<i64>,
+    pub zone_width: Option<f64>,
+    pub zone_sectors: Option<i64>,
 }
 
 /// `[material]`.

@@ -316,6 +316,28 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
             .map_err(|why| cx.invalid("contact.friction", law.static_mu, &why))?;
     }
     if let Model::Wheel(w) = &model {
+        if let MeshSource::Zone(_) = w.mesh {
+            let why = if friction.is_some_and(|law| law.is_active()) {
+                Some("contact.friction: the traction outputs follow rim nodes, which a moving zone relabels (not yet)")
+            } else if w.spec.coupling == Coupling::Uncoupled {
+                Some("rolling.coupling = \"uncoupled\": its twin disk is not relabelled (not yet)")
+            } else if w.spec.surface != ContactSurface::Nodes {
+                Some("wheel.contact_surface = \"segments\": a moving zone relabels node pairs only")
+            } else if !matches!(run_contact, Treatment::SoftWay { .. } | Treatment::Exact)
+                || !integrator.is_space_time()
+            {
+                Some("a moving zone runs with the space-time scheme and the soft way or exact enforcement")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                return Err(cx.invalid(
+                    "wheel.zone_rim_nodes",
+                    "(given)",
+                    &format!("a moving refined zone does not work with {why}"),
+                ));
+            }
+        }
         if w.spec.coupling == Coupling::Uncoupled {
             let why = if friction.is_none_or(|law| !law.is_active()) {
                 Some("the uncoupled problem differs from the coupled one only through friction: set contact.friction > 0 (or remove rolling.coupling)")
@@ -816,6 +838,77 @@ fn wheel_model(
                 "wheel.support",
                 format!("\"{o}\""),
                 "allowed: \"centre\", \"hub\"",
+            ))
+        }
+    };
+    let mesh = match (w.zone_rim_nodes, mesh) {
+        (None, mesh) => {
+            for (k, given) in [
+                ("wheel.zone_width", w.zone_width.is_some()),
+                ("wheel.zone_sectors", w.zone_sectors.is_some()),
+            ] {
+                if given {
+                    return Err(cx.invalid(
+                        k,
+                        "(given)",
+                        "a key of the moving refined zone: give wheel.zone_rim_nodes too",
+                    ));
+                }
+            }
+            mesh
+        }
+        (Some(z), MeshSource::Graded { rim_nodes, .. }) => {
+            let Support::Hub { radius: hub_radius } = support else {
+                return Err(cx.invalid(
+                    "wheel.zone_rim_nodes",
+                    z,
+                    "the refined zone's mesh is the annulus on the hub: needs support = \"hub\"",
+                ));
+            };
+            let sectors = cx.count("wheel.zone_sectors", w.zone_sectors.unwrap_or(72), 720)?;
+            if sectors < 8 {
+                return Err(cx.invalid("wheel.zone_sectors", sectors, "at least 8 sectors"));
+            }
+            let pow2 = |a: usize, b: usize| a % b == 0 && (a / b).is_power_of_two();
+            if !pow2(rim_nodes, sectors) {
+                return Err(cx.invalid(
+                    "wheel.rim_nodes",
+                    rim_nodes,
+                    &format!("with a refined zone: wheel.zone_sectors = {sectors} times a power of two (e.g. {}, {})", sectors, 2 * sectors),
+                ));
+            }
+            let zn = cx.count("wheel.zone_rim_nodes", z, 100_000)?;
+            if !pow2(zn, rim_nodes) {
+                return Err(cx.invalid(
+                    "wheel.zone_rim_nodes",
+                    zn,
+                    &format!("wheel.rim_nodes = {rim_nodes} times 1, 2, 4, 8, ... (the rim's pitch in the zone; times 1: the same mesh family without a zone)"),
+                ));
+            }
+            let width = w.zone_width.unwrap_or(30.0);
+            let min = 2.0 * 360.0 / sectors as f64;
+            if !(width.is_finite() && width >= min && width <= 180.0) {
+                return Err(cx.invalid(
+                    "wheel.zone_width",
+                    width,
+                    &format!("the zone's arc of the rim in degrees, from two sectors ({min}) to 180"),
+                ));
+            }
+            MeshSource::Zone(crate::mesh::zone::ZoneOptions {
+                radius,
+                hub_radius,
+                sectors,
+                rim_nodes,
+                zone_rim_nodes: zn,
+                zone_width: width.to_radians(),
+                grading: 0.3,
+            })
+        }
+        (Some(z), _) => {
+            return Err(cx.invalid(
+                "wheel.zone_rim_nodes",
+                z,
+                "the refined zone is a generated mesh: give wheel.rim_nodes (the rim's pitch outside the zone), not wheel.rings or wheel.mesh",
             ))
         }
     };

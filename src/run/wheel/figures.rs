@@ -130,21 +130,27 @@ pub fn write(
             .map_err(|e| RunError::output(&csv, e))?;
         files.push(csv);
     }
-    // Figs. 14/16: J2 turn average.
-    for (name, vals, label, title) in [
-        (
-            "j2_turn_average.png",
-            &r.fields.j2_mpa2,
-            "J2 [MPa²]",
-            "J2 averaged over one full turn",
-        ),
-        (
-            "von_mises_turn_average.png",
-            &r.fields.von_mises_mpa,
-            "von Mises [MPa]",
-            "von Mises stress averaged over one full turn",
-        ),
-    ] {
+    // Figs. 14/16: J2 turn average (none with a moving zone: module docs of
+    // crate::run::wheel).
+    let maps = if r.fields.j2_mpa2.is_empty() {
+        Vec::new()
+    } else {
+        vec![
+            (
+                "j2_turn_average.png",
+                &r.fields.j2_mpa2,
+                "J2 [MPa²]",
+                "J2 averaged over one full turn",
+            ),
+            (
+                "von_mises_turn_average.png",
+                &r.fields.von_mises_mpa,
+                "von Mises [MPa]",
+                "von Mises stress averaged over one full turn",
+            ),
+        ]
+    };
+    for (name, vals, label, title) in maps {
         let png = out.join(name);
         // The point support at the axle concentrates the reaction in its few elements;
         // the colour scale stops at the 97th percentile so that the rim shows.
@@ -221,7 +227,7 @@ fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, 
         .triangles
         .iter()
         .enumerate()
-        .filter(|(_, t)| t.iter().filter(|&&n| on_rim[n]).count() >= 2)
+        .filter(|(e, t)| *e < j2.len() && t.iter().filter(|&&n| on_rim[n]).count() >= 2)
         .map(|(e, t)| {
             let (mut cx, mut cy) = (0.0, 0.0);
             for &n in t {
