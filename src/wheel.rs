@@ -12,8 +12,11 @@
 //! paper's spec, [`WheelSpec::paper`]) fixes the centre node: the wheel may then turn rigidly about the axle, the
 //! motion the paper reports ("the material of the wheel rotates oscillatory"), which the
 //! stress stiffening of [`crate::frame`] keeps neutral. [`Support::Hub`] clamps every node
-//! within a hub radius (the clamped radius is that of the last ring inside it) and removes
-//! that rotation.
+//! within a hub radius and removes that rotation; the generated disk is then the annulus
+//! from a ring on the hub's circle to the rim
+//! ([`crate::mesh::generators::DiskOptions::hub`]), so the clamp holds that circle (on a mesh
+//! without nodes near the circle the clamped radius is that of the last nodes inside it: the
+//! run says so, and `support_radius_m` in its summary gives it).
 //!
 //! What the modes show (`softway modes`, `tests/modes.rs`): a single pinned node is a point
 //! constraint whose stiffness vanishes under refinement, and only the modes that push the
