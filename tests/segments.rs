@@ -1,7 +1,13 @@
 //! Segment contact on the rolling wheel (`wheel.contact_surface = "segments"`: the
 //! mortar-weighted gap of each rim node with its two neighbours): the same mean force as
-//! node contact, and a smaller fundamental node-passing component on the converged rim (288
-//! nodes; measured 2.3 kN with nodes, 0.46 kN with segments over a full turn, README).
+//! node contact on the converged rim (288 nodes).
+//!
+//! What it does not do, measured (one turn, README): lower the node-passing excitation on
+//! the wheel clamped on its hub's circle. Its fundamental is 4.8 kN with nodes and 5.5 kN with
+//! segments on 288 rim nodes, and the node-passing content 52.1 / 11.8 / 5.3 / 0.85 kN with
+//! nodes against 24.5 / 15.1 / 7.3 / 1.0 kN with segments on 72 / 144 / 288 / 576 rim nodes.
+//! (On the disk pinned at its centre of earlier stops it had halved the fundamental at 288.)
+//! The refined zone that follows the contact is what lowers it (`tests/zone.rs`).
 
 use softway::build::resolve;
 use softway::run::{run_scenario, RunOptions};
@@ -40,7 +46,7 @@ fn roll(surface: &str) -> (f64, f64) {
 }
 
 #[test]
-fn segment_contact_keeps_the_force_and_lowers_the_node_passing_fundamental() {
+fn segment_contact_keeps_the_mean_force() {
     let (f_nodes, x1_nodes) = roll("nodes");
     let (f_seg, x1_seg) = roll("segments");
     eprintln!(
@@ -50,10 +56,8 @@ fn segment_contact_keeps_the_force_and_lowers_the_node_passing_fundamental() {
         (f_seg / f_nodes - 1.0).abs() < 0.005,
         "{f_seg} vs {f_nodes}"
     );
-    assert!(
-        x1_nodes > 0.0 && x1_seg < 0.5 * x1_nodes,
-        "{x1_seg} vs {x1_nodes}"
-    );
+    // Both carry a node-passing fundamental: the base passing the rim nodes.
+    assert!(x1_nodes > 0.0 && x1_seg > 0.0, "{x1_seg} vs {x1_nodes}");
 }
 
 #[test]
