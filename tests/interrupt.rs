@@ -269,15 +269,20 @@ fn a_full_disk_is_an_error_not_a_panic() {
     assert_no_temporaries(&dir);
 }
 
-/// `softway run ... | head`: a closed standard output does not panic; the run completes.
-#[test]
-fn a_closed_stdout_is_not_a_panic() {
-    let dir = TestDir::new("int", "pipe");
+/// Runs `softway ARGS SCENARIO --out OUT` on a 20-element bar with piped standard output
+/// and error, closing those `closed` says (`(stdout, stderr)`) at once; returns the exit
+/// code, what reached standard error (if open) and the test's folder (`OUT` is its `out`).
+fn with_closed_pipes(
+    name: &str,
+    args: &[&str],
+    closed: (bool, bool),
+) -> (Option<i32>, String, TestDir) {
+    let dir = TestDir::new("int", name);
     let sc = dir.join("bar.toml");
     std::fs::write(&sc, LONG_BAR.replace("elements = 2000", "elements = 20")).unwrap();
     let out = dir.join("out");
     let mut child = softway()
-        .arg("run")
+        .args(args)
         .arg(&sc)
         .arg("--out")
         .arg(&out)
@@ -285,38 +290,41 @@ fn a_closed_stdout_is_not_a_panic() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    drop(child.stdout.take());
+    if closed.0 {
+        drop(child.stdout.take());
+    }
+    if closed.1 {
+        drop(child.stderr.take());
+    }
     let o = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{err}");
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        dir,
+    )
+}
+
+/// `softway run ... | head`: a closed standard output does not panic; the run completes.
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    let (code, err, dir) = with_closed_pipes("pipe", &["run"], (true, false));
+    assert_eq!(code, Some(0), "{err}");
     assert!(err.is_empty(), "{err}");
-    assert_complete_outputs(&out);
+    assert_complete_outputs(&dir.join("out"));
 }
 
 /// `softway sweep ... 2>&1 | head`: closed standard output and error (the progress lines of a
 /// sweep go to standard error) are not a panic; the sweep completes and its files are written.
 #[test]
 fn a_closed_stderr_is_not_a_panic() {
-    let dir = TestDir::new("int", "pipe-err");
-    let sc = dir.join("bar.toml");
-    std::fs::write(&sc, LONG_BAR.replace("elements = 2000", "elements = 20")).unwrap();
-    let out = dir.join("out");
-    let mut child = softway()
-        .args(["sweep", "--set", "bar.elements=10,20,40", "--jobs", "2"])
-        .arg(&sc)
-        .arg("--out")
-        .arg(&out)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    drop(child.stdout.take());
-    drop(child.stderr.take());
-    let status = child.wait().unwrap();
-    assert_eq!(status.code(), Some(0));
-    assert!(out.join("sweep.csv").is_file());
+    let (code, _, dir) = with_closed_pipes(
+        "pipe-err",
+        &["sweep", "--set", "bar.elements=10,20,40", "--jobs", "2"],
+        (true, true),
+    );
+    assert_eq!(code, Some(0));
     assert_eq!(
-        std::fs::read_to_string(out.join("sweep.csv"))
+        std::fs::read_to_string(dir.join("out").join("sweep.csv"))
             .unwrap()
             .lines()
             .count(),

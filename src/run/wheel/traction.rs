@@ -304,14 +304,20 @@ impl TractionWatch {
             .filter(|(_, &pp)| pp > 0.01 * pmax)
             .map(|(&s, _)| s)
             .collect();
-        let half = |v: &[f64]| {
-            let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
-            let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        // The extent `(lo, hi)` of a set of bin centres (none: `(0, -bin)`, half-width 0).
+        let extent = |v: &[f64]| -> (f64, f64) {
             if v.is_empty() {
-                0.0
+                (0.0, -self.bin)
             } else {
-                0.5 * (hi - lo + self.bin)
+                (
+                    v.iter().cloned().fold(f64::INFINITY, f64::min),
+                    v.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+                )
             }
+        };
+        let half = |v: &[f64]| {
+            let (lo, hi) = extent(v);
+            0.5 * (hi - lo + self.bin)
         };
         let stuck: Vec<f64> = prof
             .s
@@ -328,8 +334,7 @@ impl TractionWatch {
         };
         let c = a * (1.0 - ratio.abs().min(1.0)).sqrt();
         let centre = |v: &[f64]| {
-            let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
-            let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            let (lo, hi) = extent(v);
             if v.is_empty() {
                 0.0
             } else {
