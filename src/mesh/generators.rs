@@ -293,6 +293,98 @@ struct RingLayout {
     counts: Vec<usize>,
 }
 
+/// The ring radii of the whole disk (ring 0 the centre): `m` gaps from the rim inwards,
+/// the first the rim pitch `h`, each `g` times the one outside it, `g` adjusted so that they
+/// fill the radius ([`disk_graded`], Rings).
+fn disk_ring_radii(radius: f64, rim_nodes: usize, grading: f64) -> Vec<f64> {
+    // Radius in units of the rim pitch h = 2 pi R / n.
+    let q = rim_nodes as f64 / std::f64::consts::TAU;
+    // Rings whose gaps h, h g, h g^2, ... add up to the radius: h (g^m - 1) / (g - 1) = R.
+    let m_exact = if grading == 1.0 {
+        q
+    } else {
+        (q * (grading - 1.0)).ln_1p() / (grading - 1.0).ln_1p()
+    };
+    let m = if q <= 1.0 {
+        1
+    } else {
+        (m_exact.round() as usize).max(1)
+    };
+    // The ratio g' that makes m whole gaps, the first (at the rim) exactly h, fill the
+    // radius: sum_{j<m} g'^j = q, on (0, q - 1] for m >= 2 (bisection: the sum grows with g').
+    let ratio = if m == 1 {
+        1.0
+    } else {
+        let (mut lo, mut hi) = (0.0_f64, q - 1.0);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if geometric_sum(mid, m) > q {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+            if hi - lo <= 1e-15 * hi {
+                break;
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    // Ring k lies m - k gaps inside the rim.
+    (0..=m)
+        .map(|k| {
+            if k == 0 {
+                0.0
+            } else if k == m {
+                radius
+            } else {
+                radius * (1.0 - geometric_sum(ratio, m - k) / q)
+            }
+        })
+        .collect()
+}
+
+/// The ring radii of the annulus outside a hub of radius `hub` (ring 0 stands for the
+/// centre and is no node; ring 1 is the hub's circle): gaps from the rim inwards, the first
+/// the rim pitch `h`, each `g` times the one outside it, but graded down again towards the
+/// hub, at most `s_hub + (g - 1) (r - hub)` at radius `r` with `s_hub` a sixteenth of the
+/// hub's circumference (so that the hub's circle carries about 16 nodes and the clamp is a
+/// circle, not a polygon of a few sides); the inner gaps are scaled so that the last ends on
+/// the hub.
+fn hub_ring_radii(radius: f64, h: f64, grading: f64, hub: f64) -> Vec<f64> {
+    let band = radius - hub;
+    let s_hub = std::f64::consts::TAU * hub / 16.0;
+    let cap = |r: f64| (s_hub + (grading - 1.0) * (r - hub)).max(h.min(s_hub));
+    let mut gaps = vec![h.min(band)];
+    let mut outer = radius - gaps[0];
+    let mut g = h;
+    while outer > hub {
+        g = (g * grading).min(cap(outer));
+        if outer - 0.5 * g <= hub {
+            break;
+        }
+        gaps.push(g);
+        outer -= g;
+    }
+    // Scale the inner gaps so that the band ends exactly on the hub.
+    if gaps.len() > 1 {
+        let inner: f64 = gaps[1..].iter().sum();
+        let scale = (band - gaps[0]) / inner;
+        for x in &mut gaps[1..] {
+            *x *= scale;
+        }
+    }
+    let mut radii = vec![radius];
+    for x in &gaps {
+        let last = *radii.last().unwrap_or(&radius);
+        radii.push(last - x);
+    }
+    let n = radii.len();
+    radii[n - 1] = hub;
+    radii.push(0.0);
+    radii.reverse();
+    radii
+}
+
 fn graded_rings(
     radius: f64,
     rim_nodes: usize,
@@ -307,56 +399,17 @@ fn graded_rings(
     if rim_nodes >= MAX_NODES {
         return Err(too_large());
     }
-    // The graded band (the radius, or the annulus outside a hub) in units of the rim pitch
-    // h = 2 pi R / n. With a hub, ring 1 lies on the hub's circle and the band has one gap
-    // fewer than rings (ring 0, the centre, is then no node: RingLayout docs).
-    let q = rim_nodes as f64 / std::f64::consts::TAU * (1.0 - hub / radius);
-    // Rings whose gaps h, h g, h g^2, ... add up to the radius: h (g^m - 1) / (g - 1) = R.
-    let m_exact = if grading == 1.0 {
-        q
+    let h = std::f64::consts::TAU * radius / rim_nodes as f64;
+    let radii: Vec<f64> = if hub > 0.0 {
+        hub_ring_radii(radius, h, grading, hub)
     } else {
-        (q * (grading - 1.0)).ln_1p() / (grading - 1.0).ln_1p()
+        disk_ring_radii(radius, rim_nodes, grading)
     };
-    let gaps = if q <= 1.0 {
-        1
-    } else {
-        (m_exact.round() as usize).max(1)
-    };
-    let m = if hub > 0.0 { gaps + 1 } else { gaps };
+    let m = radii.len() - 1;
     if m >= MAX_NODES {
         return Err(too_large());
     }
-    // The ratio g' that makes m whole gaps, the first (at the rim) exactly h, fill the
-    // radius: sum_{j<m} g'^j = q, on (0, q - 1] for m >= 2 (bisection: the sum grows with g').
-    let ratio = if gaps == 1 {
-        1.0
-    } else {
-        let (mut lo, mut hi) = (0.0_f64, q - 1.0);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if geometric_sum(mid, gaps) > q {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-            if hi - lo <= 1e-15 * hi {
-                break;
-            }
-        }
-        0.5 * (lo + hi)
-    };
-    // Ring k lies m - k gaps inside the rim.
-    let r = |k: usize| -> f64 {
-        if k == 0 {
-            0.0
-        } else if k == m {
-            radius
-        } else if hub > 0.0 && k == 1 {
-            hub
-        } else {
-            radius - (radius - hub) * geometric_sum(ratio, m - k) / q
-        }
-    };
+    let r = |k: usize| radii[k];
     // Node counts, from the rim inwards, with the total checked before anything is stored.
     let mut counts = vec![0_usize; m + 1];
     counts[0] = 1;
