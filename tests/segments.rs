@@ -3,9 +3,9 @@
 //! node contact on the converged rim (288 nodes).
 //!
 //! What it does not do, measured (one turn, README): lower the node-passing excitation on
-//! the wheel clamped on its hub's circle. Its fundamental is 4.8 kN with nodes and 5.5 kN with
-//! segments on 288 rim nodes, and the node-passing content 52.1 / 11.8 / 5.3 / 0.85 kN with
-//! nodes against 24.5 / 15.1 / 7.3 / 1.0 kN with segments on 72 / 144 / 288 / 576 rim nodes.
+//! the wheel clamped on its hub's circle. Its fundamental is 4.6 kN with nodes and 5.3 kN with
+//! segments on 288 rim nodes, and the node-passing content 55.5 / 12.0 / 5.0 / 0.85 kN with
+//! nodes against 25.3 / 15.9 / 7.2 / 1.0 kN with segments on 72 / 144 / 288 / 576 rim nodes.
 //! (On the disk pinned at its centre of earlier stops it had halved the fundamental at 288.)
 //! The refined zone that follows the contact is what lowers it (`tests/zone.rs`).
 

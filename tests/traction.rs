@@ -87,7 +87,7 @@ fn traction_block(tag: &str, sc: &Scenario) -> serde_json::Value {
 /// a rim pitch, centred at Carter's `a - c` (the leading edge) within half a pitch, and the
 /// RMS difference of the traction profile from Carter's `q(s)` falls at every rung, below a
 /// tenth of `mu p0` on the finest. Measured: errors +8.9 %, +3.3 %, +1.0 % (1152 rim nodes:
-/// +0.2 %; README); profile 0.113, 0.085, 0.072 (1152: 0.062).
+/// +0.2 %; README); profile 0.113, 0.082, 0.072 (1152: 0.062).
 #[test]
 fn uncoupled_creep_force_converges_to_carter_on_a_rim_ladder() {
     let free = traction_block("unc-free", &scenario_on(144, 0.0, "uncoupled"));

@@ -199,10 +199,18 @@ pub fn write(
                 points: &wm.mesh.points,
                 triangles: &wm.triangles,
                 vectors: v,
-                title: format!(
-                    "base at {:.0} deg",
-                    base.angle(*t).to_degrees().rem_euclid(360.0)
-                ),
+                title: if wm.zone.is_some() {
+                    // The zone's frame turns with the base, sector by sector.
+                    format!(
+                        "base at {:.0} deg, drawn in the zone's frame",
+                        base.angle(*t).to_degrees().rem_euclid(360.0)
+                    )
+                } else {
+                    format!(
+                        "base at {:.0} deg",
+                        base.angle(*t).to_degrees().rem_euclid(360.0)
+                    )
+                },
                 colorbar_label: "velocity in the wheel's frame [m/s]".into(),
                 length_unit_scale: 100.0,
                 length_unit: "cm".into(),
