@@ -258,10 +258,12 @@ pub fn sweep(
                     .unwrap_or(f64::NAN)
             })
             .collect();
-        let fmax: Vec<f64> = points
-            .iter()
-            .map(|p| p.summary["max_contact_force"].as_f64().unwrap_or(f64::NAN))
-            .collect();
+        let force = |k: &str| -> Vec<f64> {
+            points
+                .iter()
+                .map(|p| p.summary[k].as_f64().unwrap_or(f64::NAN))
+                .collect()
+        };
         let mut p1 = Panel::new(
             "Oscillations of the contact force per turn (Fig. 15)",
             format!("{key} [rad/s]"),
@@ -291,17 +293,25 @@ pub fn sweep(
             locked,
             SeriesStyle::LineMarkers,
         ));
+        // The maximal force with the mean and the minimum beside it, so that its change with
+        // the speed reads against the force itself.
         let mut p2 = Panel::new(
-            "Maximal contact force",
+            "Contact force over the turns: maximum, mean and minimum",
             format!("{key} [rad/s]"),
-            "max contact force [N]",
+            "contact force [N]",
         );
-        p2.series.push(Series::new(
-            "max over the turns",
-            xs,
-            fmax,
-            SeriesStyle::LineMarkers,
-        ));
+        for (label, k) in [
+            ("max over the turns", "max_contact_force"),
+            ("mean", "mean_contact_force"),
+            ("min over the turns", "min_contact_force"),
+        ] {
+            p2.series.push(Series::new(
+                label,
+                xs.clone(),
+                force(k),
+                SeriesStyle::LineMarkers,
+            ));
+        }
         let png = out.join("sweep.png");
         panels(&png, &[p1, p2], 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
