@@ -24,13 +24,13 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef};
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu};
+
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMatRef;
 use faer::Side;
 use faer::{Conj, MatMut, Par};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
-use softway::linalg::{spmv_add, FactorKind, Ordering};
+use softway::linalg::{spmv_add, FactorKind, FaerLu, Ordering};
 use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use softway::mesh::Mesh;
 use softway::time::step::{FactorChoice, Stepper};
@@ -122,22 +122,7 @@ fn bench_step(c: &mut Criterion) {
         {
             let (pattern, a, bv, k) = st.matrices();
             let (pattern, a, bv, k) = (pattern.clone(), a.to_vec(), bv.to_vec(), k.to_vec());
-            let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default()).unwrap();
-            let mut numeric = NumericLu::new();
-            let mut scratch = MemBuffer::new(
-                symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
-            );
-            symbolic
-                .factorize_numeric_lu(
-                    &mut numeric,
-                    SparseColMatRef::new(pattern.as_ref(), &a),
-                    Par::Seq,
-                    MemStack::new(&mut scratch),
-                    Default::default(),
-                )
-                .unwrap();
-            let mut solve_scratch =
-                MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+            let mut reference = FaerLu::new(&pattern, &a).unwrap();
             let h = p.h;
             g.bench_with_input(
                 BenchmarkId::new("free_before", format!("{label}, {n} dofs")),
@@ -152,13 +137,7 @@ fn bench_step(c: &mut Criterion) {
                         for &d in &w.fixed_dofs {
                             b[d] = 0.0;
                         }
-                        let lu = LuRef::new_unchecked(&symbolic, &numeric);
-                        lu.solve_in_place_with_conj(
-                            Conj::No,
-                            MatMut::from_column_major_slice_mut(&mut b, n, 1),
-                            Par::Seq,
-                            MemStack::new(&mut solve_scratch),
-                        );
+                        reference.solve_in_place(&mut b);
                         st.update_displacement(0.333, &u, &v, &b, &mut u1);
                         b[0]
                     })

@@ -1103,6 +1103,66 @@ impl Factor {
     }
 }
 
+/// faer's own sparse LU (its COLAMD ordering and generic solves), with its solve scratch:
+/// the reference softway's factors ([`SparseLu`], [`SparseLlt`]) are checked and timed
+/// against (the unit tests here, `tests/factor.rs`, `benches/step.rs`). The solver does not
+/// use it.
+pub struct FaerLu {
+    n: usize,
+    symbolic: faer::sparse::linalg::lu::SymbolicLu<usize>,
+    numeric: faer::sparse::linalg::lu::NumericLu<usize, f64>,
+    mem: MemBuffer,
+}
+
+impl std::fmt::Debug for FaerLu {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FaerLu").field("n", &self.n).finish()
+    }
+}
+
+impl FaerLu {
+    /// Factors `values` on `pattern`.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when faer cannot factor the matrix.
+    pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu};
+        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
+            .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
+        let mut numeric = NumericLu::new();
+        let mut mem = MemBuffer::new(
+            symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        symbolic
+            .factorize_numeric_lu(
+                &mut numeric,
+                SparseColMatRef::new(pattern.as_ref(), values),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
+        let mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        Ok(Self {
+            n: pattern.nrows(),
+            symbolic,
+            numeric,
+            mem,
+        })
+    }
+
+    /// `rhs <- A^{-1} rhs`.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, &self.numeric)
+            .solve_in_place_with_conj(
+                faer::Conj::No,
+                MatMut::from_column_major_slice_mut(rhs, self.n, 1),
+                Par::Seq,
+                MemStack::new(&mut self.mem),
+            );
+    }
+}
+
 /// True when the values on `pattern` are symmetric to within `rel_tol` times the largest
 /// magnitude (the pattern itself must be structurally symmetric: an entry without its
 /// transposed partner makes the matrix unsymmetric).
@@ -1167,9 +1227,7 @@ pub fn write_matrix_market<W: std::io::Write>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu};
     use faer::sparse::Triplet;
-    use faer::{Conj, MatMut};
 
     /// A structurally symmetric, unsymmetric matrix with two unknowns per node (a ring of
     /// nodes, each coupled to its neighbours and to a hub), skew terms as a Coriolis matrix
@@ -1224,31 +1282,10 @@ mod tests {
             / scale
     }
 
-    /// faer's own LU and solve (COLAMD, its generic triangular solves): the reference.
+    /// faer's own LU and solve: the reference ([`FaerLu`]).
     fn faer_solve(pattern: &Pattern, values: &[f64], b: &[f64]) -> Vec<f64> {
-        let n = b.len();
-        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default()).unwrap();
-        let mut numeric = NumericLu::new();
-        let mut mem = MemBuffer::new(
-            symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
-        );
-        symbolic
-            .factorize_numeric_lu(
-                &mut numeric,
-                SparseColMatRef::new(pattern.as_ref(), values),
-                Par::Seq,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .unwrap();
         let mut x = b.to_vec();
-        let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        LuRef::new_unchecked(&symbolic, &numeric).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut x, n, 1),
-            Par::Seq,
-            MemStack::new(&mut mem),
-        );
+        FaerLu::new(pattern, values).unwrap().solve_in_place(&mut x);
         x
     }
 

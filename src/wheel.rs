@@ -392,6 +392,18 @@ impl WheelModel {
         })
     }
 
+    /// The radius within which the support holds the nodes, m: the largest radius of a held
+    /// node (0 for the pinned centre).
+    pub fn support_radius(&self) -> f64 {
+        self.fixed_dofs
+            .iter()
+            .map(|&d| {
+                let p = self.mesh.points[d / 2];
+                p[0].hypot(p[1])
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// The rim nodes a full rim would have at the pitch under the contact: the node-passing
     /// frequency is `omega` times it over `2 pi`. The rim's count, or with a refined zone
     /// the count at the zone's (finest) pitch.

@@ -7,12 +7,8 @@
 //! with faer's LU and its own solve and sparse products to 1e-10 (test docs). The Matrix
 //! Market file of a matrix reads back to the same entries.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu};
-use faer::sparse::SparseColMatRef;
-use faer::{Conj, MatMut, Par};
 use softway::linalg::{
-    is_symmetric, spmv_add, spmv_into, write_matrix_market, FactorKind, Ordering, Pattern,
+    is_symmetric, spmv_add, spmv_into, write_matrix_market, FactorKind, FaerLu, Ordering, Pattern,
 };
 use softway::mesh::generators::disk_rings;
 use softway::problems::bar_model;
@@ -149,20 +145,7 @@ fn three_hundred_steps_reproduce_faers_lu() {
     assert_eq!(st.factor_kind(), FactorKind::Lu(Ordering::Amd));
     let (pattern, a, bv, k) = st.matrices();
     let (pattern, a, bv, k) = (pattern.clone(), a.to_vec(), bv.to_vec(), k.to_vec());
-    let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default()).unwrap();
-    let mut numeric = NumericLu::new();
-    let mut mem =
-        MemBuffer::new(symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()));
-    symbolic
-        .factorize_numeric_lu(
-            &mut numeric,
-            SparseColMatRef::new(pattern.as_ref(), &a),
-            Par::Seq,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .unwrap();
-    let mut solve_mem = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+    let mut reference = FaerLu::new(&pattern, &a).unwrap();
     let beta = p.beta();
     let v0: Vec<f64> = (0..n).map(|i| 1e-3 * (0.7 * i as f64).sin()).collect();
     let (mut u, mut v) = (w.u_spin.clone(), v0.clone());
@@ -189,12 +172,7 @@ fn three_hundred_steps_reproduce_faers_lu() {
         for &(d, _) in &bcs {
             b[d] = 0.0;
         }
-        LuRef::new_unchecked(&symbolic, &numeric).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(&mut b, n, 1),
-            Par::Seq,
-            MemStack::new(&mut solve_mem),
-        );
+        reference.solve_in_place(&mut b);
         for i in 0..n {
             u_ref[i] += p.h * ((1.0 - beta) * v_ref[i] + beta * b[i]);
         }

@@ -422,11 +422,7 @@ pub fn simulate(
     // A hub holds the nodes within its radius: say so when the mesh has none near its circle
     // (a disk of rings, a Gmsh mesh), where the clamp is smaller than asked.
     if let Support::Hub { radius } = ws.spec.support {
-        let held = wm
-            .fixed_dofs
-            .iter()
-            .map(|&d| wm.mesh.points[d / 2][0].hypot(wm.mesh.points[d / 2][1]))
-            .fold(0.0, f64::max);
+        let held = wm.support_radius();
         if held < 0.95 * radius {
             crate::output::note(format_args!(
                 "softway: warning: {}: the hub of radius {radius} m holds the nodes within it, the outermost at {held:.4e} m: the mesh has no node on the hub's circle (generated disks with rim_nodes mesh it; support_radius_m in summary.json)",
@@ -461,10 +457,14 @@ pub fn simulate(
         &mut nodes,
         &mut forces,
         &mut energy,
-        &mut average,
         &mut snapshots,
         &mut progress,
     ];
+    // With a moving zone the nodes are relabelled as the zone follows the contact: a
+    // per-element turn average would mix material points, so none is taken.
+    if wm.zone.is_none() {
+        watchers.push(&mut average);
+    }
     if let Some(t) = traction.as_mut() {
         watchers.push(t);
     }
@@ -497,8 +497,6 @@ pub fn simulate(
         outcome,
         forces: forces.finish(ws.spec.omega, wm.passing_nodes()),
         energy: energy.finish(),
-        // With a moving zone the nodes are relabelled as the zone follows the contact: a
-        // per-element average would mix material points, so there is none.
         fields: if wm.zone.is_some() {
             TurnAverageFields {
                 j2_mpa2: Vec::new(),
@@ -517,10 +515,7 @@ pub fn simulate(
         if sc.plots {
             files.extend(traction::figures(out, &ts, &profile)?);
         }
-        summary.traction = Some(TractionSummary {
-            coupling: ws.spec.coupling,
-            ..ts
-        });
+        summary.traction = Some(ts);
     }
     files.extend(write_fields(out, wm, &results)?);
     if sc.plots {
@@ -714,14 +709,7 @@ fn summarise(
         spectral_components: components,
         spectrum_window_s: f.window.0.len() as f64 * run.params.h,
         bounce_frequency_hz: bounce.map(|b| b.frequency_hz),
-        support_radius_m: wm
-            .fixed_dofs
-            .iter()
-            .map(|&d| {
-                let p = wm.mesh.points[d / 2];
-                p[0].hypot(p[1])
-            })
-            .fold(0.0, f64::max),
+        support_radius_m: wm.support_radius(),
         bounce_vertical_mass_fraction: bounce.map(|b| b.vertical_mass_fraction),
         mesh_min_angle_deg: q.min_angle_deg,
         mesh_symmetry_order: q.symmetry_order,

@@ -227,6 +227,10 @@ pub fn write(
 /// The elements with an edge on the rim (two rim nodes), sorted by the angle of their
 /// centroid (degrees, in (-180, 180]), with their values of `j2` and `vm`.
 fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    // No turn average (a moving zone): no profile.
+    if j2.is_empty() {
+        return (Vec::new(), Vec::new(), Vec::new());
+    }
     let mut on_rim = vec![false; wm.mesh.n_nodes()];
     for &n in &wm.rim {
         on_rim[n] = true;
@@ -235,7 +239,7 @@ fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, 
         .triangles
         .iter()
         .enumerate()
-        .filter(|(e, t)| *e < j2.len() && t.iter().filter(|&&n| on_rim[n]).count() >= 2)
+        .filter(|(_, t)| t.iter().filter(|&&n| on_rim[n]).count() >= 2)
         .map(|(e, t)| {
             let (mut cx, mut cy) = (0.0, 0.0);
             for &n in t {

@@ -83,6 +83,8 @@ pub fn hertz_2d(p_per_length: f64, radius: f64, e_star: f64) -> (f64, f64) {
 /// Watches the traction of a rolling wheel with friction (module docs).
 #[derive(Debug)]
 pub struct TractionWatch {
+    /// The wheel's `rolling.coupling`, reported with the figures.
+    coupling: crate::wheel::Coupling,
     timeline: Timeline,
     base: RotatingLine,
     /// Reference positions of the rim nodes (flat x, y per rim pair).
@@ -235,6 +237,7 @@ impl TractionWatch {
         let history =
             CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
         Ok(Self {
+            coupling: wm.spec.coupling,
             timeline,
             base: wm.base(),
             rim_dofs: wm.rim.iter().map(|&i| 2 * i).collect(),
@@ -355,7 +358,7 @@ impl TractionWatch {
             0.0
         };
         let summary = TractionSummary {
-            coupling: crate::wheel::Coupling::Coupled,
+            coupling: self.coupling,
             friction: mu,
             creepage: xi,
             radius,
