@@ -100,13 +100,14 @@ pub fn write(
         line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
     }
-    // The rim profile of the turn-averaged J2 and von Mises: the elements with an edge on
-    // the rim, against the angle of their centroid (where a corrugation pattern would show).
+    // The rim profile of the turn-averaged J2 and von Mises: at the rim nodes (recovered
+    // from the elements round each), against the angle (where a corrugation pattern would
+    // show).
     let (angles, j2_rim, vm_rim) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
     if !angles.is_empty() {
         let mut pr = Panel::new(
-            format!("Turn-averaged J2 of the rim elements, omega = {omega} rad/s"),
-            "angle of the element centroid [deg]",
+            format!("Turn-averaged J2 at the rim nodes, omega = {omega} rad/s"),
+            "angle of the rim node [deg]",
             "J2 [MPa²]",
         );
         pr.series.push(Series::new(
@@ -224,30 +225,39 @@ pub fn write(
     Ok(files)
 }
 
-/// The elements with an edge on the rim (two rim nodes), sorted by the angle of their
-/// centroid (degrees, in (-180, 180]), with their values of `j2` and `vm`.
+/// The rim nodes, sorted by their angle (degrees, in (-180, 180]), with the area-weighted
+/// mean of `j2` and of `vm` over the elements round each (a nodal recovery: one element's
+/// value depends on its shape, and the rim's triangles alternate, outward and inward).
 fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     // No turn average (a moving zone): no profile.
     if j2.is_empty() {
         return (Vec::new(), Vec::new(), Vec::new());
     }
-    let mut on_rim = vec![false; wm.mesh.n_nodes()];
-    for &n in &wm.rim {
-        on_rim[n] = true;
+    let mut slot = vec![usize::MAX; wm.mesh.n_nodes()];
+    for (k, &n) in wm.rim.iter().enumerate() {
+        slot[n] = k;
+    }
+    // (sum of area, area * j2, area * vm) per rim node.
+    let mut acc = vec![(0.0, 0.0, 0.0); wm.rim.len()];
+    let p = |n: usize| wm.mesh.points[n];
+    for (e, t) in wm.triangles.iter().enumerate() {
+        let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+        let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs();
+        for &n in t {
+            if slot[n] != usize::MAX {
+                let s = &mut acc[slot[n]];
+                s.0 += area;
+                s.1 += area * j2[e];
+                s.2 += area * vm[e];
+            }
+        }
     }
     let mut rows: Vec<(f64, f64, f64)> = wm
-        .triangles
+        .rim
         .iter()
-        .enumerate()
-        .filter(|(_, t)| t.iter().filter(|&&n| on_rim[n]).count() >= 2)
-        .map(|(e, t)| {
-            let (mut cx, mut cy) = (0.0, 0.0);
-            for &n in t {
-                cx += wm.mesh.points[n][0] / 3.0;
-                cy += wm.mesh.points[n][1] / 3.0;
-            }
-            (cy.atan2(cx).to_degrees(), j2[e], vm[e])
-        })
+        .zip(&acc)
+        .filter(|(_, s)| s.0 > 0.0)
+        .map(|(&n, s)| (p(n)[1].atan2(p(n)[0]).to_degrees(), s.1 / s.0, s.2 / s.0))
         .collect();
     rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut out = (Vec::new(), Vec::new(), Vec::new());
@@ -285,4 +295,44 @@ fn peak_envelope(f: &[f64], a: &[f64], lo: f64, hi: f64, bins: usize) -> (Vec<f6
         }
     }
     best.into_iter().flatten().unzip()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generators::{disk_graded, DiskOptions};
+    use crate::wheel::WheelSpec;
+
+    /// The rim profile has one entry per rim node, sorted by angle; a field constant over
+    /// the mesh is recovered exactly, and a field that is `1` on the elements touching one
+    /// rim node and `0` elsewhere gives `1` at that node and `0` two rim nodes away.
+    #[test]
+    fn rim_profile_recovers_nodal_values() {
+        let wm = WheelModel::new(
+            disk_graded(0.1, 72, DiskOptions::default()).unwrap(),
+            WheelSpec::paper(),
+        )
+        .unwrap();
+        let ne = wm.triangles.len();
+        let (angles, j2, vm) = rim_profile(&wm, &vec![3.0; ne], &vec![2.0; ne]);
+        assert_eq!(angles.len(), wm.rim.len());
+        assert!(angles.windows(2).all(|w| w[0] < w[1]));
+        assert!(j2.iter().all(|&v| (v - 3.0).abs() < 1e-12));
+        assert!(vm.iter().all(|&v| (v - 2.0).abs() < 1e-12));
+        let node = wm.rim[5];
+        let touch: Vec<f64> = wm
+            .triangles
+            .iter()
+            .map(|t| if t.contains(&node) { 1.0 } else { 0.0 })
+            .collect();
+        let (angles, j2, _) = rim_profile(&wm, &touch, &touch);
+        let p = wm.mesh.points[node];
+        let a = p[1].atan2(p[0]).to_degrees();
+        let k = angles.iter().position(|&x| (x - a).abs() < 1e-9).unwrap();
+        assert!((j2[k] - 1.0).abs() < 1e-12);
+        let n = angles.len();
+        // Two rim nodes away, nothing of it is left.
+        assert_eq!(j2[(k + 2) % n], 0.0);
+        assert_eq!(j2[(k + n - 2) % n], 0.0);
+    }
 }
