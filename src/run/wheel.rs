@@ -518,6 +518,7 @@ pub fn simulate(
         summary.traction = Some(ts);
     }
     files.extend(write_fields(out, wm, &results)?);
+    files.extend(figures::write_rim_profile(out, wm, &results)?);
     if sc.plots {
         files.extend(figures::write(out, wm, &summary, &results)?);
     }

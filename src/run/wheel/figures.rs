@@ -103,7 +103,7 @@ pub fn write(
     // The rim profile of the turn-averaged J2 and von Mises: at the rim nodes (recovered
     // from the elements round each), against the angle (where a corrugation pattern would
     // show).
-    let (angles, j2_rim, vm_rim) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
+    let (angles, j2_rim, _) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
     if !angles.is_empty() {
         let mut pr = Panel::new(
             format!("Turn-averaged J2 at the rim nodes, omega = {omega} rad/s"),
@@ -122,14 +122,6 @@ pub fn write(
         let png = out.join("j2_rim_profile.png");
         line_plot(&png, &pr, (1400, 600)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
-        let csv = out.join("j2_rim_profile.csv");
-        let mut body = String::from("angle_deg,j2_mpa2,von_mises_mpa\n");
-        for ((a, j), v) in angles.iter().zip(&j2_rim).zip(&vm_rim) {
-            body.push_str(&format!("{a:e},{j:e},{v:e}\n"));
-        }
-        crate::output::files::write_atomic(&csv, body.as_bytes())
-            .map_err(|e| RunError::output(&csv, e))?;
-        files.push(csv);
     }
     // Figs. 14/16: J2 turn average (none with a moving zone: module docs of
     // crate::run::wheel).
@@ -223,6 +215,30 @@ pub fn write(
         files.push(png);
     }
     Ok(files)
+}
+
+/// Writes `j2_rim_profile.csv` (`angle_deg, j2_mpa2, von_mises_mpa` at the rim nodes, see
+/// [`rim_profile`]) into `out`, plots or not; none without a turn average (a moving zone).
+///
+/// # Errors
+/// [`RunError::Output`].
+pub fn write_rim_profile(
+    out: &Path,
+    wm: &WheelModel,
+    r: &WheelResults,
+) -> Result<Option<PathBuf>, RunError> {
+    let (angles, j2, vm) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
+    if angles.is_empty() {
+        return Ok(None);
+    }
+    let csv = out.join("j2_rim_profile.csv");
+    let mut body = String::from("angle_deg,j2_mpa2,von_mises_mpa\n");
+    for ((a, j), v) in angles.iter().zip(&j2).zip(&vm) {
+        body.push_str(&format!("{a:e},{j:e},{v:e}\n"));
+    }
+    crate::output::files::write_atomic(&csv, body.as_bytes())
+        .map_err(|e| RunError::output(&csv, e))?;
+    Ok(Some(csv))
 }
 
 /// The rim nodes, sorted by their angle (degrees, in (-180, 180]), with the area-weighted
