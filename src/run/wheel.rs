@@ -114,6 +114,9 @@ pub struct WheelSummary {
     pub support_radius_m: f64,
     /// Smallest angle of the mesh's triangles, degrees.
     pub mesh_min_angle_deg: f64,
+    /// Largest aspect ratio of the mesh's triangles (`R_c / (2 r_i)`, 1 = equilateral;
+    /// [`crate::mesh::quality`]).
+    pub mesh_max_aspect: f64,
     /// The mesh's rotational symmetry order (6 for the hexagonal disk, 1 for the graded one).
     pub mesh_symmetry_order: usize,
     /// Largest penetration seen, m.
@@ -357,11 +360,12 @@ fn base_lines(s: &WheelSummary) -> Vec<String> {
                 .join("; ")
         ),
         format!(
-            "bounce of the wheel on its support and contact {}; mesh: smallest angle {:.1} deg, rotational symmetry order {}",
+            "bounce of the wheel on its support and contact {}; mesh: smallest angle {:.1} deg, largest aspect {:.2}, rotational symmetry order {}",
             s.bounce_frequency_hz
                 .map(|f| format!("{f:.1} Hz"))
                 .unwrap_or_else(|| "-".into()),
             s.mesh_min_angle_deg,
+            s.mesh_max_aspect,
             s.mesh_symmetry_order
         ),
     ]
@@ -713,6 +717,7 @@ fn summarise(
         support_radius_m: wm.support_radius(),
         bounce_vertical_mass_fraction: bounce.map(|b| b.vertical_mass_fraction),
         mesh_min_angle_deg: q.min_angle_deg,
+        mesh_max_aspect: q.max_aspect,
         mesh_symmetry_order: q.symmetry_order,
         max_penetration: f.max_penetration,
         max_j2_turn_average_mpa2: max_or_nan(&r.fields.j2_mpa2),
