@@ -4,9 +4,10 @@
 //! tensile active node (`lambda_i < 0`) or add a penetrating free node, the one of least
 //! index among all of them (Murty's rule); repeat until the set does not change. One change
 //! at a time: changing every violated node at once can cycle (it did on a coarse graded
-//! disk, with an alternating 13 MN / -9 MN pair), and so can choosing the most violated
-//! (it did on a 576-node rim); the least-index rule terminates on a positive definite
-//! `S = C K^-1 C^T`.
+//! disk, with an alternating 13 MN / -9 MN pair); the least-index rule terminates on a
+//! positive definite `S = C K^-1 C^T`, where choosing the most violated row has no such
+//! guarantee. (`S` is positive definite when `K` with the fixed dofs is: a wheel held at
+//! its centre node alone, free to turn, is not, and there every rule may cycle.)
 
 use crate::contact::HalfSpace;
 use crate::linalg::{LinalgError, Pattern, SparseLu};
@@ -128,9 +129,8 @@ pub fn solve_rows(
         }
         lam = r;
         // One change at a time, the violator of least index (Murty's rule: it cannot cycle
-        // on the symmetric positive definite `S`; dropping the most tensile or adding the
-        // deepest, as this solve did first, cycled on a 576-node rim): a tensile active
-        // row is dropped, a penetrating free one added.
+        // on the symmetric positive definite `S`): a tensile active row is dropped, a
+        // penetrating free one added.
         let mut next = active.clone();
         let tol = -1e-12 * plane.offset.abs().max(1.0);
         let lam_tol = -1e-10 * lam.iter().fold(0.0f64, |m, l| m.max(l.abs()));
