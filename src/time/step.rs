@@ -245,14 +245,28 @@ pub enum FactorChoice {
 /// The right-hand side's operators `B` and `K` stored by rows (32-bit column indices, the
 /// two values of an entry side by side), so that `B v0 - h K u0` is one pass of dot
 /// products without stores in the inner loop; refilled when `B` changes with `h`.
+///
+/// Two consecutive rows with the same columns (a node's two dofs, always on the wheel) are
+/// a pair: their columns are stored once, the four values of an entry side by side, and one
+/// gather of `v0` and `u0` serves both rows. Other rows are stored alone.
 #[derive(Debug, Clone)]
 struct RhsRows {
+    /// Rows stored alone: `single[k]` is row `i`, its entries `ptr[k]..ptr[k + 1]`.
+    single: Vec<usize>,
     ptr: Vec<usize>,
     idx: Vec<u32>,
     /// `[B_ij, K_ij]` per entry.
     bk: Vec<[f64; 2]>,
-    /// For each entry by rows, its position in the pattern (by columns).
+    /// For each entry, its position in the pattern (by columns).
     src: Vec<usize>,
+    /// Pairs: `pair[k]` is the first row `i` (the second is `i + 1`), its entries
+    /// `pair_ptr[k]..pair_ptr[k + 1]`.
+    pair: Vec<usize>,
+    pair_ptr: Vec<usize>,
+    pair_idx: Vec<u32>,
+    /// `[B_ij, K_ij, B_(i+1)j, K_(i+1)j]` per entry.
+    pair_bk: Vec<[f64; 4]>,
+    pair_src: Vec<[usize; 2]>,
 }
 
 impl RhsRows {
@@ -261,6 +275,7 @@ impl RhsRows {
         assert!(n <= u32::MAX as usize, "too many dofs for 32-bit indices");
         let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
         let nnz = cp[pattern.ncols()];
+        // The pattern by rows: (column, position by columns).
         let mut ptr = vec![0usize; n + 1];
         for &i in &ri[..nnz] {
             ptr[i + 1] += 1;
@@ -269,21 +284,51 @@ impl RhsRows {
             ptr[i + 1] += ptr[i];
         }
         let mut next = ptr[..n].to_vec();
-        let (mut idx, mut src) = (vec![0u32; nnz], vec![0usize; nnz]);
+        let mut by_rows = vec![(0u32, 0usize); nnz];
         for j in 0..pattern.ncols() {
             for p in cp[j]..cp[j + 1] {
-                let q = next[ri[p]];
-                idx[q] = j as u32;
-                src[q] = p;
+                by_rows[next[ri[p]]] = (j as u32, p);
                 next[ri[p]] += 1;
             }
         }
+        let row = |i: usize| &by_rows[ptr[i]..ptr[i + 1]];
         let mut rows = Self {
-            ptr,
-            idx,
-            bk: vec![[0.0; 2]; nnz],
-            src,
+            single: Vec::new(),
+            ptr: vec![0],
+            idx: Vec::new(),
+            bk: Vec::new(),
+            src: Vec::new(),
+            pair: Vec::new(),
+            pair_ptr: vec![0],
+            pair_idx: Vec::new(),
+            pair_bk: Vec::new(),
+            pair_src: Vec::new(),
         };
+        let mut i = 0;
+        while i < n {
+            let same = i + 1 < n
+                && row(i).len() == row(i + 1).len()
+                && row(i).iter().zip(row(i + 1)).all(|(a, b)| a.0 == b.0);
+            if same {
+                rows.pair.push(i);
+                for (a, b) in row(i).iter().zip(row(i + 1)) {
+                    rows.pair_idx.push(a.0);
+                    rows.pair_src.push([a.1, b.1]);
+                }
+                rows.pair_ptr.push(rows.pair_idx.len());
+                i += 2;
+            } else {
+                rows.single.push(i);
+                for a in row(i) {
+                    rows.idx.push(a.0);
+                    rows.src.push(a.1);
+                }
+                rows.ptr.push(rows.idx.len());
+                i += 1;
+            }
+        }
+        rows.bk = vec![[0.0; 2]; rows.idx.len()];
+        rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
         rows.refill(bv, k);
         rows
     }
@@ -291,6 +336,9 @@ impl RhsRows {
     fn refill(&mut self, bv: &[f64], k: &[f64]) {
         for (e, &p) in self.bk.iter_mut().zip(&self.src) {
             *e = [bv[p], k[p]];
+        }
+        for (e, &[p, q]) in self.pair_bk.iter_mut().zip(&self.pair_src) {
+            *e = [bv[p], k[p], bv[q], k[q]];
         }
     }
 }
@@ -341,12 +389,31 @@ impl Stepper {
         for (bi, fi) in b.iter_mut().zip(f) {
             *bi = h * fi;
         }
-        // `b += B v0 - h K u0`, one row at a time.
+        // `b += B v0 - h K u0`, one row (or pair of rows) at a time.
         let r = &self.rhs_rows;
         let n = self.n;
         assert!(b.len() == n && v0.len() == n && u0.len() == n);
-        for (i, bi) in b.iter_mut().enumerate() {
-            let range = r.ptr[i]..r.ptr[i + 1];
+        for (k, &i) in r.pair.iter().enumerate() {
+            let range = r.pair_ptr[k]..r.pair_ptr[k + 1];
+            let (idx, bk) = (&r.pair_idx[range.clone()], &r.pair_bk[range]);
+            // [B v of row i, K u of row i, B v of row i + 1, K u of row i + 1].
+            let mut s = [0.0; 4];
+            for (&j, v) in idx.iter().zip(bk) {
+                let j = j as usize;
+                debug_assert!(j < n);
+                // SAFETY: the column indices are < n (built from the pattern in
+                // `RhsRows::new`) and `v0.len() == u0.len() == n` (asserted above).
+                let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
+                s[0] += v[0] * vj;
+                s[1] += v[1] * uj;
+                s[2] += v[2] * vj;
+                s[3] += v[3] * uj;
+            }
+            b[i] += s[0] - h * s[1];
+            b[i + 1] += s[2] - h * s[3];
+        }
+        for (k, &i) in r.single.iter().enumerate() {
+            let range = r.ptr[k]..r.ptr[k + 1];
             let (idx, bk) = (&r.idx[range.clone()], &r.bk[range]);
             let (mut sb, mut sk) = ([0.0; 2], [0.0; 2]);
             let (idx2, bk2) = (idx.chunks_exact(2), bk.chunks_exact(2));
@@ -355,8 +422,7 @@ impl Stepper {
                 for k in 0..2 {
                     let j = ic[k] as usize;
                     debug_assert!(j < n);
-                    // SAFETY: the column indices are < n (built from the pattern in
-                    // `RhsRows::new`) and `v0.len() == u0.len() == n` (asserted above).
+                    // SAFETY: as above.
                     let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
                     sb[k] += vc[k][0] * vj;
                     sk[k] += vc[k][1] * uj;
@@ -366,7 +432,7 @@ impl Stepper {
                 sb[0] += v[0] * v0[j as usize];
                 sk[0] += v[1] * u0[j as usize];
             }
-            *bi += (sb[0] + sb[1]) - h * (sk[0] + sk[1]);
+            b[i] += (sb[0] + sb[1]) - h * (sk[0] + sk[1]);
         }
     }
 
