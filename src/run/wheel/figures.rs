@@ -105,19 +105,25 @@ pub fn write(
     // show).
     let (angles, j2_rim, _) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
     if !angles.is_empty() {
+        // Drawn as the departure from the mean, in percent: in steady rolling every rim
+        // point passes through the same history, so a flat line is the wheel's answer and
+        // what departs from it reads against its size.
+        let m = j2_rim.iter().sum::<f64>() / j2_rim.len() as f64;
         let mut pr = Panel::new(
-            format!("Turn-averaged J2 at the rim nodes, omega = {omega} rad/s"),
+            format!(
+                "Turn-averaged J2 at the rim nodes, omega = {omega} rad/s ({} rim nodes; mean {m:.4e} MPa²)",
+                angles.len()
+            ),
             "angle of the rim node [deg]",
-            "J2 [MPa²]",
+            "J2 / mean - 1 [%]",
         );
         pr.series.push(Series::new(
             "J2, turn average",
             angles.clone(),
-            j2_rim.clone(),
+            j2_rim.iter().map(|j| 100.0 * (j / m - 1.0)).collect(),
             SeriesStyle::Line,
         ));
-        let m = j2_rim.iter().sum::<f64>() / j2_rim.len() as f64;
-        pr.hlines.push((m, format!("mean {m:.4e} MPa²")));
+        pr.hlines.push((0.0, "the mean".to_string()));
         pr.x_range = Some((-180.0, 180.0));
         let png = out.join("j2_rim_profile.png");
         line_plot(&png, &pr, (1400, 600)).map_err(|e| RunError::output(&png, e))?;
