@@ -120,7 +120,12 @@ pub fn write(
         pr.series.push(Series::new(
             "J2, turn average",
             angles.clone(),
-            j2_rim.iter().map(|j| 100.0 * (j / m - 1.0)).collect(),
+            // A run stopped before its turn average began has J2 = 0 everywhere: no
+            // departure to draw.
+            j2_rim
+                .iter()
+                .map(|j| if m > 0.0 { 100.0 * (j / m - 1.0) } else { 0.0 })
+                .collect(),
             SeriesStyle::Line,
         ));
         pr.hlines.push((0.0, "the mean".to_string()));
