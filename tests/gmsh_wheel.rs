@@ -1,6 +1,8 @@
 //! A wheel of the user's own mesh: a Gmsh 4.1 file (written here from the generator's disk,
 //! with physical groups "rim" and "centre"), rolled through the CLI.
 
+mod common;
+
 use softway::mesh::generators::disk_rings;
 use softway::mesh::Cells;
 use std::fmt::Write as _;
@@ -128,28 +130,14 @@ fn wheel_from_a_gmsh_file_rolls_like_the_generated_one() {
 /// One turn of `scenarios/<name>.toml` (plots off) through the library, with relative mesh
 /// paths anchored at the shipped scenario: its summary and its J2 rim profile.
 fn one_turn(name: &str) -> (serde_json::Value, Vec<f64>) {
-    use softway::build::resolve;
-    use softway::run::{run_scenario, RunOptions};
-    use softway::scenario::{set_key, Scenario};
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenarios")
-        .join(format!("{name}.toml"));
-    let mut text = std::fs::read_to_string(&path).unwrap();
-    for (k, v) in [("rolling.turns", "1"), ("output.plots", "false")] {
-        text = set_key(&text, k, v).unwrap();
-    }
-    let sc = resolve(&Scenario::from_str(&text, &path).unwrap()).unwrap();
-    let dir = std::env::temp_dir().join(format!("softway-mesher-{}-{name}", std::process::id()));
-    run_scenario(&sc, &dir, &RunOptions { progress: false }).unwrap();
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let (path, text) = common::shipped(name, &[("rolling.turns", "1"), ("output.plots", "false")]);
+    let (dir, s) = common::run_in_process(&path, &text, name);
     let j2: Vec<f64> = std::fs::read_to_string(dir.join("j2_rim_profile.csv"))
         .unwrap()
         .lines()
         .skip(1)
         .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
         .collect();
-    std::fs::remove_dir_all(&dir).ok();
     (s, j2)
 }
 

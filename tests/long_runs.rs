@@ -137,18 +137,14 @@ fn a_wheel_past_its_spectrum_window_keeps_flat_memory() {
 /// About a minute on two cores.
 #[test]
 fn the_shipped_sweep_keeps_its_energy_over_eight_turns() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel-sweep.toml"),
-    )
-    .unwrap();
-    let mut text = text;
-    for (k, v) in [
-        ("rolling.turns", "8"),
-        ("rolling.fields_per_turn", "1"),
-        ("output.plots", "false"),
-    ] {
-        text = set_key(&text, k, v).unwrap();
-    }
+    let (_, text) = common::shipped(
+        "wheel-sweep",
+        &[
+            ("rolling.turns", "8"),
+            ("rolling.fields_per_turn", "1"),
+            ("output.plots", "false"),
+        ],
+    );
     let p = scenario("sweep8", &text);
     let dir = p.parent().unwrap().to_path_buf();
     let out = dir.join("out");

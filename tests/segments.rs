@@ -16,36 +16,28 @@
 //! as the base turns; the weights smooth the gap, not the edge. Its change of force is a
 //! kinked function of the base's angle whatever the weights, O(pitch^2) in both.
 
-use softway::build::resolve;
+mod common;
+
 use softway::contact::obstacle::Flattening;
 use softway::contact::{statics, Obstacle, Pair};
 use softway::mesh::generators::{disk_graded, DiskOptions};
-use softway::run::{run_scenario, RunOptions};
-use softway::scenario::{set_key, Scenario};
+use softway::scenario::Scenario;
 use softway::wheel::{ContactSurface, Support, WheelModel, WheelSpec};
-use std::path::Path;
 
 /// `(mean force N, fundamental node-passing amplitude N)` of a quarter turn of the converged
 /// wheel with `surface`.
 fn roll(surface: &str) -> (f64, f64) {
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml"))
-            .unwrap();
-    let mut text = set_key(&text, "wheel.contact_surface", &format!("\"{surface}\"")).unwrap();
-    for (k, v) in [
-        ("rolling.turns", "0.25"),
-        ("rolling.settle_time", "2e-3"),
-        ("output.plots", "false"),
-    ] {
-        text = set_key(&text, k, v).unwrap();
-    }
-    let sc = resolve(&Scenario::from_str(&text, Path::new("segments-test.toml")).unwrap()).unwrap();
-    let dir =
-        std::env::temp_dir().join(format!("softway-segments-{}-{surface}", std::process::id()));
-    run_scenario(&sc, &dir, &RunOptions { progress: false }).unwrap();
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    std::fs::remove_dir_all(&dir).ok();
+    let literal = format!("\"{surface}\"");
+    let (path, text) = common::shipped(
+        "wheel",
+        &[
+            ("wheel.contact_surface", &literal),
+            ("rolling.turns", "0.25"),
+            ("rolling.settle_time", "2e-3"),
+            ("output.plots", "false"),
+        ],
+    );
+    let (_dir, s) = common::run_in_process(&path, &text, &format!("segments-{surface}"));
     let x1 = s["spectral_components"]
         .as_array()
         .unwrap()
@@ -73,13 +65,8 @@ fn segment_contact_keeps_the_mean_force() {
 
 #[test]
 fn unknown_contact_surface_is_refused_naming_the_key() {
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml"))
-            .unwrap();
-    let text = set_key(&text, "wheel.contact_surface", "\"mortar\"").unwrap();
-    let err = Scenario::from_str(&text, Path::new("t.toml"))
-        .unwrap_err()
-        .to_string();
+    let (path, text) = common::shipped("wheel", &[("wheel.contact_surface", "\"mortar\"")]);
+    let err = Scenario::from_str(&text, &path).unwrap_err().to_string();
     assert!(
         err.contains("wheel.contact_surface") && err.contains("segments"),
         "{err}"

@@ -13,27 +13,24 @@ mod common;
 
 use softway::build::resolve;
 use softway::run::{run_scenario, RunOptions};
-use softway::scenario::{set_key, Model, Scenario};
+use softway::scenario::{Model, Scenario};
 use softway::simulation::{Relocation, Simulation};
-use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 /// scenarios/wheel.toml on the zone family: `rim_nodes` outside the zone, `zone` inside,
 /// `turns` after settling.
 fn scenario(rim_nodes: usize, zone: usize, turns: f64) -> Scenario {
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml"))
-            .unwrap();
-    let mut text = text;
-    for (k, v) in [
-        ("wheel.rim_nodes", rim_nodes.to_string()),
-        ("wheel.zone_rim_nodes", zone.to_string()),
-        ("rolling.turns", turns.to_string()),
-        ("output.plots", "false".into()),
-    ] {
-        text = set_key(&text, k, &v).unwrap();
-    }
-    resolve(&Scenario::from_str(&text, Path::new("zone-test.toml")).unwrap()).unwrap()
+    let (rim_nodes, zone, turns) = (rim_nodes.to_string(), zone.to_string(), turns.to_string());
+    let (path, text) = common::shipped(
+        "wheel",
+        &[
+            ("wheel.rim_nodes", &rim_nodes),
+            ("wheel.zone_rim_nodes", &zone),
+            ("rolling.turns", &turns),
+            ("output.plots", "false"),
+        ],
+    );
+    resolve(&Scenario::from_str(&text, &path).unwrap()).unwrap()
 }
 
 /// On a mesh of the family without a zone (the same pitch everywhere) every node has a node
@@ -142,15 +139,9 @@ fn a_moving_zone_reaches_the_uniformly_refined_rim_with_fewer_unknowns() {
 /// pitch that is not the rim's times one, a zone with friction or a pinned centre.
 #[test]
 fn zone_keys_are_checked() {
-    let base =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml"))
-            .unwrap();
     let with = |pairs: &[(&str, &str)]| {
-        let mut t = base.clone();
-        for (k, v) in pairs {
-            t = set_key(&t, k, v).unwrap();
-        }
-        Scenario::from_str(&t, Path::new("z.toml"))
+        let (path, t) = common::shipped("wheel", pairs);
+        Scenario::from_str(&t, &path)
             .and_then(|s| resolve(&s))
             .map(|_| ())
             .unwrap_err()
@@ -184,18 +175,14 @@ fn zone_keys_are_checked() {
 /// `null` for their maxima, and its relocations in `summary.json`.
 #[test]
 fn a_zone_run_writes_its_outputs_without_turn_averages() {
-    let base = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel-zone.toml"),
-    )
-    .unwrap();
-    let mut text = base;
-    for (k, v) in [
-        ("wheel.zone_rim_nodes", "288"),
-        ("rolling.turns", "0.02"),
-        ("rolling.settle_time", "1e-3"),
-    ] {
-        text = set_key(&text, k, v).unwrap();
-    }
+    let (_, text) = common::shipped(
+        "wheel-zone",
+        &[
+            ("wheel.zone_rim_nodes", "288"),
+            ("rolling.turns", "0.02"),
+            ("rolling.settle_time", "1e-3"),
+        ],
+    );
     let sc = common::scenario("zone-cli", &text);
     let out = sc.with_extension("out");
     let o = common::cli([

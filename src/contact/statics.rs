@@ -42,7 +42,7 @@ pub fn solve(
     solve_rows(pattern, k, fixed, f, x, &rows, plane)
 }
 
-/// As [`solve`], with each candidate a weighted gap: `rows[c]` lists nodes and weights
+/// As [`solve`], with each candidate a weighted gap: `candidates[c]` lists nodes and weights
 /// (summing to 1), the gap is that of the weighted position `sum_k w_k (X_k + u_k)` and the
 /// multiplier reaches the nodes in the same proportions (the mortar-weighted gap of
 /// [`crate::contact::Pair::Weighted`]). The active list names each row by its first node.
@@ -55,10 +55,9 @@ pub fn solve_rows(
     fixed: &[usize],
     f: &[f64],
     x: &[f64],
-    rows: &[Vec<(usize, f64)>],
+    candidates: &[Vec<(usize, f64)>],
     plane: HalfSpace,
 ) -> Result<StaticContact, LinalgError> {
-    let candidates = rows;
     let n = pattern.nrows();
     let mut is_fixed = vec![false; n];
     for &d in fixed {

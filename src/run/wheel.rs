@@ -522,9 +522,10 @@ pub fn simulate(
         summary.traction = Some(ts);
     }
     files.extend(write_fields(out, wm, &results)?);
-    files.extend(figures::write_rim_profile(out, wm, &results)?);
+    let profile = figures::RimProfile::of(wm, &results);
+    files.extend(figures::write_rim_profile(out, &profile)?);
     if sc.plots {
-        files.extend(figures::write(out, wm, &summary, &results)?);
+        files.extend(figures::write(out, wm, &summary, &results, &profile)?);
     }
     Ok((summary, files))
 }

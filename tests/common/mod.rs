@@ -188,3 +188,28 @@ impl AsRef<Path> for TestDir {
         &self.0
     }
 }
+
+/// The shipped `scenarios/<name>.toml` with `keys` set (dotted keys, TOML literals): its
+/// path, which anchors the scenario's relative mesh paths, and its text.
+pub fn shipped(name: &str, keys: &[(&str, &str)]) -> (PathBuf, String) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios")
+        .join(format!("{name}.toml"));
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    for (k, v) in keys {
+        text = softway::scenario::set_key(&text, k, v).unwrap();
+    }
+    (path, text)
+}
+
+/// Runs scenario `text`, read as if it were the file `path`, in this process (the library,
+/// no progress) into a fresh folder: the folder (removed when dropped) and its summary.
+pub fn run_in_process(path: &Path, text: &str, name: &str) -> (TestDir, serde_json::Value) {
+    use softway::scenario::Scenario;
+    let sc = softway::build::resolve(&Scenario::from_str(text, path).unwrap()).unwrap();
+    let dir = TestDir::new("lib", name);
+    softway::run::run_scenario(&sc, &dir, &softway::run::RunOptions { progress: false }).unwrap();
+    let s =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    (dir, s)
+}

@@ -21,6 +21,7 @@ pub fn write(
     wm: &WheelModel,
     summary: &WheelSummary,
     r: &WheelResults,
+    profile: &RimProfile,
 ) -> Result<Vec<PathBuf>, RunError> {
     let mut files = Vec::new();
     let omega = summary.omega;
@@ -103,7 +104,7 @@ pub fn write(
     // The rim profile of the turn-averaged J2 and von Mises: at the rim nodes (recovered
     // from the elements round each), against the angle (where a corrugation pattern would
     // show).
-    let (angles, j2_rim, _) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
+    let (angles, j2_rim) = (&profile.angles_deg, &profile.j2_mpa2);
     if !angles.is_empty() {
         // Drawn as the departure from the mean, in percent: in steady rolling every rim
         // point passes through the same history, so a flat line is the wheel's answer and
@@ -228,23 +229,37 @@ pub fn write(
     Ok(files)
 }
 
+/// The turn-averaged J2 and von Mises at the rim nodes ([`rim_profile`]).
+#[derive(Debug, Clone, Default)]
+pub struct RimProfile {
+    /// The rim nodes' angles, degrees in (-180, 180], increasing.
+    pub angles_deg: Vec<f64>,
+    /// J2 at each, MPa^2.
+    pub j2_mpa2: Vec<f64>,
+    /// von Mises at each, MPa.
+    pub von_mises_mpa: Vec<f64>,
+}
+
+impl RimProfile {
+    /// The profile of the run's turn averages (empty without them: a moving zone).
+    pub fn of(wm: &WheelModel, r: &WheelResults) -> Self {
+        rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa)
+    }
+}
+
 /// Writes `j2_rim_profile.csv` (`angle_deg, j2_mpa2, von_mises_mpa` at the rim nodes, see
 /// [`rim_profile`]) into `out`, plots or not; none without a turn average (a moving zone).
 ///
 /// # Errors
 /// [`RunError::Output`].
-pub fn write_rim_profile(
-    out: &Path,
-    wm: &WheelModel,
-    r: &WheelResults,
-) -> Result<Option<PathBuf>, RunError> {
-    let (angles, j2, vm) = rim_profile(wm, &r.fields.j2_mpa2, &r.fields.von_mises_mpa);
+pub fn write_rim_profile(out: &Path, p: &RimProfile) -> Result<Option<PathBuf>, RunError> {
+    let (angles, j2, vm) = (&p.angles_deg, &p.j2_mpa2, &p.von_mises_mpa);
     if angles.is_empty() {
         return Ok(None);
     }
     let csv = out.join("j2_rim_profile.csv");
     let mut body = String::from("angle_deg,j2_mpa2,von_mises_mpa\n");
-    for ((a, j), v) in angles.iter().zip(&j2).zip(&vm) {
+    for ((a, j), v) in angles.iter().zip(j2).zip(vm) {
         body.push_str(&format!("{a:e},{j:e},{v:e}\n"));
     }
     crate::output::files::write_atomic(&csv, body.as_bytes())
@@ -255,10 +270,11 @@ pub fn write_rim_profile(
 /// The rim nodes, sorted by their angle (degrees, in (-180, 180]), with the area-weighted
 /// mean of `j2` and of `vm` over the elements round each (a nodal recovery: one element's
 /// value depends on its shape, and the rim's triangles alternate, outward and inward).
-fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> RimProfile {
+    let mut out = RimProfile::default();
     // No turn average (a moving zone): no profile.
     if j2.is_empty() {
-        return (Vec::new(), Vec::new(), Vec::new());
+        return out;
     }
     let mut slot = vec![usize::MAX; wm.mesh.n_nodes()];
     for (k, &n) in wm.rim.iter().enumerate() {
@@ -287,11 +303,10 @@ fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> (Vec<f64>, Vec<f64>, 
         .map(|(&n, s)| (p(n)[1].atan2(p(n)[0]).to_degrees(), s.1 / s.0, s.2 / s.0))
         .collect();
     rows.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut out = (Vec::new(), Vec::new(), Vec::new());
     for (a, j, v) in rows {
-        out.0.push(a);
-        out.1.push(j);
-        out.2.push(v);
+        out.angles_deg.push(a);
+        out.j2_mpa2.push(j);
+        out.von_mises_mpa.push(v);
     }
     out
 }
@@ -341,7 +356,8 @@ mod tests {
         )
         .unwrap();
         let ne = wm.triangles.len();
-        let (angles, j2, vm) = rim_profile(&wm, &vec![3.0; ne], &vec![2.0; ne]);
+        let p = rim_profile(&wm, &vec![3.0; ne], &vec![2.0; ne]);
+        let (angles, j2, vm) = (p.angles_deg, p.j2_mpa2, p.von_mises_mpa);
         assert_eq!(angles.len(), wm.rim.len());
         assert!(angles.windows(2).all(|w| w[0] < w[1]));
         assert!(j2.iter().all(|&v| (v - 3.0).abs() < 1e-12));
@@ -352,7 +368,8 @@ mod tests {
             .iter()
             .map(|t| if t.contains(&node) { 1.0 } else { 0.0 })
             .collect();
-        let (angles, j2, _) = rim_profile(&wm, &touch, &touch);
+        let p = rim_profile(&wm, &touch, &touch);
+        let (angles, j2) = (p.angles_deg, p.j2_mpa2);
         let p = wm.mesh.points[node];
         let a = p[1].atan2(p[0]).to_degrees();
         let k = angles.iter().position(|&x| (x - a).abs() < 1e-9).unwrap();
