@@ -85,6 +85,9 @@ fn bench_step(c: &mut Criterion) {
                 bytes as f64 / 1e6,
                 bytes as f64 / (bw * 1e3)
             );
+            if let Some((p0, p1, top)) = st.factor_parts() {
+                eprintln!("parts: {label}: {p0} and {p1} unknowns side by side, then {top}");
+            }
         }
         let u = w.u_spin.clone();
         let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
@@ -275,6 +278,57 @@ fn bench_factor(c: &mut Criterion) {
     g.finish();
 }
 
+/// The free step on one thread and on two, for the meshes whose factor is split into two
+/// parts solved side by side (`Stepper::factor_parts`): the speed-up is the ratio of the
+/// two in one run. The results are the same bit for bit (asserted in `linalg`'s tests).
+fn bench_threads(c: &mut Criterion) {
+    let mut g = c.benchmark_group("threads");
+    g.sample_size(10);
+    for (label, mesh, support) in ladder() {
+        let spec = WheelSpec {
+            support,
+            ..WheelSpec::paper()
+        };
+        let w = WheelModel::new(mesh, spec).unwrap();
+        let n = w.model.n();
+        let p = SpaceTimeParams {
+            alpha: 0.8,
+            gamma: 0.2,
+            h: 2e-6,
+        };
+        let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
+        let mut st = Stepper::new(&w.model, p, &bcs).unwrap();
+        if st.factor_parts().is_none() {
+            continue;
+        }
+        let u = w.u_spin.clone();
+        let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
+        let mut b = vec![0.0; n];
+        let mut u1 = vec![0.0; n];
+        for threads in [1usize, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            g.bench_with_input(
+                BenchmarkId::new(format!("{threads}"), format!("{label}, {n} dofs")),
+                &n,
+                |bch, _| {
+                    pool.install(|| {
+                        bch.iter(|| {
+                            st.rhs_into(&u, &v, &w.load, &mut b);
+                            st.solve(&mut b);
+                            st.update_displacement(0.333, &u, &v, &b, &mut u1);
+                            b[0]
+                        })
+                    })
+                },
+            );
+        }
+    }
+    g.finish();
+}
+
 /// Bytes of the blocks whose read bandwidth `bench_bandwidth` measures.
 const BANDWIDTH_BLOCKS: [usize; 3] = [1 << 20, 16 << 20, 256 << 20];
 
@@ -326,5 +380,11 @@ fn bench_bandwidth(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_step, bench_factor, bench_bandwidth);
+criterion_group!(
+    benches,
+    bench_step,
+    bench_factor,
+    bench_threads,
+    bench_bandwidth
+);
 criterion_main!(benches);

@@ -126,14 +126,48 @@ fn fast_factors_reproduce_the_reference_lu() {
     }
 }
 
-/// Three hundred free steps of the spinning wheel (its spin load, a varying initial
+/// Three hundred free steps of the paper's spinning wheel reproduce faer's LU
+/// ([`steps_against_faers_lu`]).
+#[test]
+fn three_hundred_steps_reproduce_faers_lu() {
+    let (v, u, parts) = steps_against_faers_lu(12, 300);
+    assert!(parts.is_none(), "the paper's wheel is solved on one thread");
+    assert!(v.iter().chain(&u).all(|x| x.is_finite()));
+}
+
+/// The 48-ring disk (14,114 dofs): its factor is split into two parts solved side by side
+/// and its right-hand side formed in two halves (issue 11). Twenty free steps on a pool of
+/// two threads reproduce faer's LU as above, and give the same velocities and displacements,
+/// bit for bit, as on a pool of one thread.
+#[test]
+fn split_steps_reproduce_faers_lu_on_any_number_of_threads() {
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| steps_against_faers_lu(48, 20))
+    };
+    let (v2, u2, parts) = on(2);
+    let (p0, p1, top) = parts.expect("the 48-ring factor is split");
+    assert!(p0.min(p1) * 2 > p0.max(p1) && top * 10 < p0 + p1 + top);
+    let (v1, u1, _) = on(1);
+    let same = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
+    assert!(same(&v1, &v2) && same(&u1, &u2), "one thread against two");
+}
+
+/// `steps` free steps of the wheel on `rings` rings (its spin load, a varying initial
 /// velocity): softway's step (`rhs_into`, `solve`, `update_displacement`) against the same
 /// scheme made with faer's LU (COLAMD) and its generic solve, the right-hand side by two
 /// column-oriented sparse products. At every step the velocities agree to 1e-10 of the
-/// largest initial velocity and the displacements to 1e-10 of their largest entry.
-#[test]
-fn three_hundred_steps_reproduce_faers_lu() {
-    let w = WheelModel::new(disk_rings(0.1, 12).unwrap(), WheelSpec::paper()).unwrap();
+/// largest initial velocity and the displacements to 1e-10 of their largest entry. Returns
+/// softway's last velocities and displacements and its factor's parts.
+#[allow(clippy::type_complexity)]
+fn steps_against_faers_lu(
+    rings: usize,
+    steps: usize,
+) -> (Vec<f64>, Vec<f64>, Option<(usize, usize, usize)>) {
+    let w = WheelModel::new(disk_rings(0.1, rings).unwrap(), WheelSpec::paper()).unwrap();
     let n = w.model.n();
     let p = SpaceTimeParams {
         alpha: 0.8,
@@ -157,7 +191,7 @@ fn three_hundred_steps_reproduce_faers_lu() {
     let v_scale = v0.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     let (mut u_ref, mut v_ref) = (w.u_spin.clone(), v0);
     let (mut b, mut u1) = (vec![0.0; n], vec![0.0; n]);
-    for step in 0..300 {
+    for step in 0..steps {
         st.rhs_into(&u, &v, &w.load, &mut b);
         st.solve(&mut b);
         st.update_displacement(beta, &u, &v, &b, &mut u1);
@@ -188,6 +222,8 @@ fn three_hundred_steps_reproduce_faers_lu() {
             "step {step}: velocities {dv:e}, displacements {du:e}"
         );
     }
+    let parts = st.factor_parts();
+    (v, u, parts)
 }
 
 /// The symmetry test sees the skew Coriolis term and nothing else.

@@ -32,7 +32,7 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::assembly::Assembler;
-use crate::linalg::{is_symmetric, Factor, FactorKind, LinalgError, Ordering, Pattern};
+use crate::linalg::{is_symmetric, with_avx2, Factor, FactorKind, LinalgError, Ordering, Pattern};
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
 use crate::time::params::beta;
@@ -267,7 +267,15 @@ struct RhsRows {
     /// `[B_ij, K_ij, B_(i+1)j, K_(i+1)j]` per entry.
     pair_bk: Vec<[f64; 4]>,
     pair_src: Vec<[usize; 2]>,
+    /// For orders from `RHS_SPLIT_MIN_ORDER` on, the first pair of the second half of the
+    /// entries: the pairs before it and those from it on are formed on two threads.
+    pair_mid: Option<usize>,
 }
+
+/// The order from which the right-hand side's pairs of rows are formed in two halves side
+/// by side (`rayon::join`; one thread runs both when the pool has one): the orders whose
+/// factor is split for two threads (`linalg::Factor::parts`).
+const RHS_SPLIT_MIN_ORDER: usize = 10_000;
 
 impl RhsRows {
     fn new(pattern: &Pattern, bv: &[f64], k: &[f64]) -> Self {
@@ -303,6 +311,7 @@ impl RhsRows {
             pair_idx: Vec::new(),
             pair_bk: Vec::new(),
             pair_src: Vec::new(),
+            pair_mid: None,
         };
         let mut i = 0;
         while i < n {
@@ -327,10 +336,135 @@ impl RhsRows {
                 i += 1;
             }
         }
+        if n >= RHS_SPLIT_MIN_ORDER && rows.pair.len() >= 2 {
+            let half = rows.pair_idx.len() / 2;
+            rows.pair_mid = Some(
+                rows.pair_ptr
+                    .partition_point(|&e| e < half)
+                    .clamp(1, rows.pair.len() - 1),
+            );
+        }
         rows.bk = vec![[0.0; 2]; rows.idx.len()];
         rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
         rows.refill(bv, k);
         rows
+    }
+
+    /// `b[i] += (B v0 - h K u0)[i]` for the rows `i` stored alone, on AVX2's instructions
+    /// where the processor has them (`linalg::with_avx2`).
+    fn singles_into(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64]) {
+        with_avx2!(
+            self.singles_here(h, u0, v0, b),
+            self.singles_avx2(h, u0, v0, b)
+        );
+    }
+
+    /// [`RhsRows::singles_here`] compiled for AVX2.
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn singles_avx2(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64]) {
+        self.singles_here(h, u0, v0, b);
+    }
+
+    #[inline(always)]
+    fn singles_here(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64]) {
+        let n = v0.len();
+        assert!(u0.len() == n);
+        for (k, &i) in self.single.iter().enumerate() {
+            let range = self.ptr[k]..self.ptr[k + 1];
+            let (idx, bk) = (&self.idx[range.clone()], &self.bk[range]);
+            let (mut sb, mut sk) = ([0.0; 2], [0.0; 2]);
+            let (idx2, bk2) = (idx.chunks_exact(2), bk.chunks_exact(2));
+            let (idx_rest, bk_rest) = (idx2.remainder(), bk2.remainder());
+            for (ic, vc) in idx2.zip(bk2) {
+                for k in 0..2 {
+                    let j = ic[k] as usize;
+                    debug_assert!(j < n);
+                    // SAFETY: the column indices are < n (built from the pattern in
+                    // `RhsRows::new`) and `v0.len() == u0.len() == n` (asserted above).
+                    let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
+                    sb[k] += vc[k][0] * vj;
+                    sk[k] += vc[k][1] * uj;
+                }
+            }
+            for (&j, v) in idx_rest.iter().zip(bk_rest) {
+                sb[0] += v[0] * v0[j as usize];
+                sk[0] += v[1] * u0[j as usize];
+            }
+            b[i] += (sb[0] + sb[1]) - h * (sk[0] + sk[1]);
+        }
+    }
+
+    /// `b[i - offset] += (B v0 - h K u0)[i]` for the rows `i` of the pairs `pairs`, on
+    /// AVX2's instructions where the processor has them (`linalg::with_avx2`).
+    fn pairs_into(
+        &self,
+        pairs: std::ops::Range<usize>,
+        offset: usize,
+        h: f64,
+        u0: &[f64],
+        v0: &[f64],
+        b: &mut [f64],
+    ) {
+        with_avx2!(
+            self.pairs_here(pairs.clone(), offset, h, u0, v0, b),
+            self.pairs_avx2(pairs, offset, h, u0, v0, b)
+        );
+    }
+
+    /// [`RhsRows::pairs_here`] compiled for AVX2.
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn pairs_avx2(
+        &self,
+        pairs: std::ops::Range<usize>,
+        offset: usize,
+        h: f64,
+        u0: &[f64],
+        v0: &[f64],
+        b: &mut [f64],
+    ) {
+        self.pairs_here(pairs, offset, h, u0, v0, b);
+    }
+
+    #[inline(always)]
+    fn pairs_here(
+        &self,
+        pairs: std::ops::Range<usize>,
+        offset: usize,
+        h: f64,
+        u0: &[f64],
+        v0: &[f64],
+        b: &mut [f64],
+    ) {
+        let n = v0.len();
+        assert!(u0.len() == n);
+        for k in pairs {
+            let i = self.pair[k] - offset;
+            let range = self.pair_ptr[k]..self.pair_ptr[k + 1];
+            let (idx, bk) = (&self.pair_idx[range.clone()], &self.pair_bk[range]);
+            // [B v of row i, K u of row i, B v of row i + 1, K u of row i + 1].
+            let mut s = [0.0; 4];
+            for (&j, v) in idx.iter().zip(bk) {
+                let j = j as usize;
+                debug_assert!(j < n);
+                // SAFETY: the column indices are < n (built from the pattern in
+                // `RhsRows::new`) and `v0.len() == u0.len() == n` (asserted above).
+                let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
+                s[0] += v[0] * vj;
+                s[1] += v[1] * uj;
+                s[2] += v[2] * vj;
+                s[3] += v[3] * uj;
+            }
+            b[i] += s[0] - h * s[1];
+            b[i + 1] += s[2] - h * s[3];
+        }
     }
 
     fn refill(&mut self, bv: &[f64], k: &[f64]) {
@@ -393,47 +527,20 @@ impl Stepper {
         let r = &self.rhs_rows;
         let n = self.n;
         assert!(b.len() == n && v0.len() == n && u0.len() == n);
-        for (k, &i) in r.pair.iter().enumerate() {
-            let range = r.pair_ptr[k]..r.pair_ptr[k + 1];
-            let (idx, bk) = (&r.pair_idx[range.clone()], &r.pair_bk[range]);
-            // [B v of row i, K u of row i, B v of row i + 1, K u of row i + 1].
-            let mut s = [0.0; 4];
-            for (&j, v) in idx.iter().zip(bk) {
-                let j = j as usize;
-                debug_assert!(j < n);
-                // SAFETY: the column indices are < n (built from the pattern in
-                // `RhsRows::new`) and `v0.len() == u0.len() == n` (asserted above).
-                let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
-                s[0] += v[0] * vj;
-                s[1] += v[1] * uj;
-                s[2] += v[2] * vj;
-                s[3] += v[3] * uj;
+        let pairs = r.pair.len();
+        match r.pair_mid {
+            Some(mid) => {
+                // The second half's rows start at its first pair's row.
+                let cut = r.pair[mid];
+                let (lo, hi) = b.split_at_mut(cut);
+                rayon::join(
+                    || r.pairs_into(0..mid, 0, h, u0, v0, lo),
+                    || r.pairs_into(mid..pairs, cut, h, u0, v0, hi),
+                );
             }
-            b[i] += s[0] - h * s[1];
-            b[i + 1] += s[2] - h * s[3];
+            None => r.pairs_into(0..pairs, 0, h, u0, v0, b),
         }
-        for (k, &i) in r.single.iter().enumerate() {
-            let range = r.ptr[k]..r.ptr[k + 1];
-            let (idx, bk) = (&r.idx[range.clone()], &r.bk[range]);
-            let (mut sb, mut sk) = ([0.0; 2], [0.0; 2]);
-            let (idx2, bk2) = (idx.chunks_exact(2), bk.chunks_exact(2));
-            let (idx_rest, bk_rest) = (idx2.remainder(), bk2.remainder());
-            for (ic, vc) in idx2.zip(bk2) {
-                for k in 0..2 {
-                    let j = ic[k] as usize;
-                    debug_assert!(j < n);
-                    // SAFETY: as above.
-                    let (vj, uj) = unsafe { (*v0.get_unchecked(j), *u0.get_unchecked(j)) };
-                    sb[k] += vc[k][0] * vj;
-                    sk[k] += vc[k][1] * uj;
-                }
-            }
-            for (&j, v) in idx_rest.iter().zip(bk_rest) {
-                sb[0] += v[0] * v0[j as usize];
-                sk[0] += v[1] * u0[j as usize];
-            }
-            b[i] += (sb[0] + sb[1]) - h * (sk[0] + sk[1]);
-        }
+        r.singles_into(h, u0, v0, b);
     }
 
     /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities.
@@ -450,6 +557,12 @@ impl Stepper {
     /// Stored entries of the factors of `A` (`L + U`, or `L` for Cholesky).
     pub fn factor_nnz(&self) -> usize {
         self.lu.factor_nnz()
+    }
+
+    /// The orders of the factor's two parts solved side by side and of the top after them,
+    /// when the factor is split for two threads ([`crate::linalg::Factor::parts`]).
+    pub fn factor_parts(&self) -> Option<(usize, usize, usize)> {
+        self.lu.parts()
     }
 
     /// The step's matrices for the current `h` on their pattern: `A` with the Dirichlet

@@ -1,0 +1,343 @@
+//! Two independent parts of a factor for two threads.
+//!
+//! In the elimination tree of a structurally symmetric matrix, two disjoint sets of subtrees
+//! do not touch each other: the columns of `L` in one set have their rows in that set or in
+//! the remaining columns (their ancestors, the "top"), never in the other set. Numbered as
+//! `[part 0 | part 1 | top]` (a reordering that keeps every column after its descendants,
+//! so the fill is that of the ordering it came from), the factors are
+//!
+//! ```text
+//! L = [L00  0    0  ]      U = [U00  0    U02]
+//!     [0    L11  0  ]          [0    U11  U12]
+//!     [L20  L21  L22]          [0    0    U22]
+//! ```
+//!
+//! and the two sweeps of a solve each run their two parts side by side: forward, part 0 and
+//! part 1 on two threads (each keeping its contributions to the top in a vector of its own,
+//! added after, part 0's first), then the top; backward, the top, then parts 0 and 1 on two
+//! threads. Every sum is made in the same order whatever the number of threads, so the
+//! result does not depend on it (`rayon::join` runs both halves on one thread when the pool
+//! has one).
+//!
+//! [`two_subtrees`] finds the parts (the pair of subtree sets with the least critical path,
+//! the top plus the heavier part, weighing each column by its count of entries in `L`);
+//! [`SplitLower`] holds a lower factor in the three parts, each in dense supernodes
+//! ([`Supernodal`]).
+
+use super::{Pattern, Supernodal};
+
+/// Most subtrees expanded into the top while looking for the best split.
+const MAX_EXPANSIONS: usize = 4096;
+
+/// A split is kept when its critical path (top plus the heavier part) is at most this
+/// fraction of the whole factor's work; otherwise two threads would gain too little.
+const MAX_CRITICAL_FRACTION: f64 = 0.8;
+
+const NONE: usize = usize::MAX;
+
+/// The ordering `fwd` (`fwd[p]` is the original index of position `p`; `inv` its inverse)
+/// renumbered as `[part 0 | part 1 | top]`: `(fwd, inv, a, b)` with part 0 the positions
+/// `0..a`, part 1 `a..b` and the top `b..n`, or `None` when no split pays off.
+pub(super) fn two_subtrees(
+    pattern: &Pattern,
+    fwd: &[usize],
+    inv: &[usize],
+) -> Option<(Vec<usize>, Vec<usize>, usize, usize)> {
+    let n = fwd.len();
+    if n < 4 {
+        return None;
+    }
+    // The graph of A + A^T in the ordering: for each position k, the positions i < k it
+    // touches.
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut deg = vec![0usize; n + 1];
+    for j in 0..n {
+        for &i in &ri[cp[j]..cp[j + 1]] {
+            let (pi, pj) = (inv[i], inv[j]);
+            if pi != pj {
+                deg[pi.max(pj) + 1] += 1;
+            }
+        }
+    }
+    for k in 0..n {
+        deg[k + 1] += deg[k];
+    }
+    let mut adj = vec![0usize; deg[n]];
+    let mut next = deg[..n].to_vec();
+    for j in 0..n {
+        for &i in &ri[cp[j]..cp[j + 1]] {
+            let (pi, pj) = (inv[i], inv[j]);
+            if pi != pj {
+                let (lo, hi) = (pi.min(pj), pi.max(pj));
+                adj[next[hi]] = lo;
+                next[hi] += 1;
+            }
+        }
+    }
+    let lower = |k: usize| &adj[deg[k]..deg[k + 1]];
+    // Elimination tree (Liu's algorithm, with path compression).
+    let mut parent = vec![NONE; n];
+    let mut ancestor = vec![NONE; n];
+    for k in 0..n {
+        for &i in lower(k) {
+            let mut r = i;
+            while ancestor[r] != NONE && ancestor[r] != k {
+                let up = ancestor[r];
+                ancestor[r] = k;
+                r = up;
+            }
+            if ancestor[r] == NONE {
+                ancestor[r] = k;
+                parent[r] = k;
+            }
+        }
+    }
+    // Entries of each column of L (its row subtrees), the diagonal included.
+    let mut count = vec![1usize; n];
+    let mut mark = vec![NONE; n];
+    for k in 0..n {
+        mark[k] = k;
+        for &i in lower(k) {
+            let mut j = i;
+            while mark[j] != k {
+                count[j] += 1;
+                mark[j] = k;
+                j = parent[j];
+            }
+        }
+    }
+    // Subtree weights (children come before their parents).
+    let mut weight: Vec<f64> = count.iter().map(|&c| c as f64).collect();
+    for j in 0..n {
+        if parent[j] != NONE {
+            weight[parent[j]] += weight[j];
+        }
+    }
+    let total: f64 = (0..n)
+        .filter(|&j| parent[j] == NONE)
+        .map(|j| weight[j])
+        .sum();
+    let mut children_ptr = vec![0usize; n + 1];
+    for j in 0..n {
+        if parent[j] != NONE {
+            children_ptr[parent[j] + 1] += 1;
+        }
+    }
+    for k in 0..n {
+        children_ptr[k + 1] += children_ptr[k];
+    }
+    let mut children = vec![0usize; children_ptr[n]];
+    let mut fill = children_ptr[..n].to_vec();
+    for j in 0..n {
+        if parent[j] != NONE {
+            children[fill[parent[j]]] = j;
+            fill[parent[j]] += 1;
+        }
+    }
+    // Expand the heaviest subtree of the frontier into the top, one at a time (a chain of
+    // single children at once), and keep the expansion whose two-bin split (heaviest first
+    // into the lighter bin) has the least critical path.
+    let roots: Vec<usize> = (0..n).filter(|&j| parent[j] == NONE).collect();
+    let bins = |frontier: &[usize]| -> (f64, f64, Vec<usize>) {
+        let mut order: Vec<usize> = frontier.to_vec();
+        order.sort_by(|&x, &y| weight[y].total_cmp(&weight[x]).then(x.cmp(&y)));
+        let (mut w0, mut w1) = (0.0, 0.0);
+        let mut zero = Vec::new();
+        for r in order {
+            if w0 <= w1 {
+                w0 += weight[r];
+                zero.push(r);
+            } else {
+                w1 += weight[r];
+            }
+        }
+        (w0, w1, zero)
+    };
+    let expand = |frontier: &mut Vec<usize>, top: &mut Vec<usize>, top_w: &mut f64| {
+        let (at, _) = frontier
+            .iter()
+            .enumerate()
+            .max_by(|x, y| weight[*x.1].total_cmp(&weight[*y.1]).then(y.1.cmp(x.1)))
+            .expect("a non-empty frontier");
+        let mut r = frontier.swap_remove(at);
+        loop {
+            top.push(r);
+            *top_w += count[r] as f64;
+            let kids = &children[children_ptr[r]..children_ptr[r + 1]];
+            if kids.len() == 1 {
+                r = kids[0];
+            } else {
+                frontier.extend_from_slice(kids);
+                break;
+            }
+        }
+    };
+    let (mut frontier, mut top, mut top_w) = (roots.clone(), Vec::new(), 0.0);
+    let (mut best, mut best_cost) = (None, f64::INFINITY);
+    for step in 0..=MAX_EXPANSIONS {
+        if frontier.is_empty() {
+            break;
+        }
+        let (w0, w1, _) = bins(&frontier);
+        let cost = top_w + w0.max(w1);
+        if w0 > 0.0 && w1 > 0.0 && cost < best_cost {
+            best = Some(step);
+            best_cost = cost;
+        }
+        expand(&mut frontier, &mut top, &mut top_w);
+    }
+    let best = best?;
+    if best_cost > MAX_CRITICAL_FRACTION * total {
+        return None;
+    }
+    let (mut frontier, mut top, mut top_w) = (roots, Vec::new(), 0.0);
+    for _ in 0..best {
+        expand(&mut frontier, &mut top, &mut top_w);
+    }
+    let (_, _, zero) = bins(&frontier);
+    // Label every position: the top 2, a subtree its bin, the rest as its parent (parents
+    // come after their children, so a backward pass labels the subtrees whole).
+    let mut label = vec![NONE; n];
+    for &t in &top {
+        label[t] = 2;
+    }
+    for &r in &frontier {
+        label[r] = 1;
+    }
+    for &r in &zero {
+        label[r] = 0;
+    }
+    for j in (0..n).rev() {
+        if label[j] == NONE {
+            label[j] = label[parent[j]];
+        }
+    }
+    let mut new_fwd = Vec::with_capacity(n);
+    let mut sizes = [0usize; 3];
+    for part in 0..3 {
+        for p in 0..n {
+            if label[p] == part {
+                new_fwd.push(fwd[p]);
+                sizes[part] += 1;
+            }
+        }
+    }
+    let mut new_inv = vec![0usize; n];
+    for (p, &i) in new_fwd.iter().enumerate() {
+        new_inv[i] = p;
+    }
+    Some((new_fwd, new_inv, sizes[0], sizes[0] + sizes[1]))
+}
+
+/// A lower triangular factor `Λ` of order `n` in the three parts of [`two_subtrees`]
+/// (module docs), each in dense supernodes: part 0 (columns `0..a`) and part 1 (`a..b`)
+/// on local vectors that hold their own unknowns, then the top's (`b..n`); the top on
+/// `x[b..n]`.
+#[derive(Debug, Clone)]
+pub(super) struct SplitLower {
+    a: usize,
+    b: usize,
+    n: usize,
+    part0: Supernodal,
+    part1: Supernodal,
+    top: Supernodal,
+    /// The local vectors of parts 0 and 1.
+    z0: Vec<f64>,
+    z1: Vec<f64>,
+}
+
+impl SplitLower {
+    /// From the CSC arrays of `Λ` (as [`Supernodal::from_lower_csc`]), or `None` when a
+    /// column of one part has a row in the other (a pivot off the diagonal moved it).
+    pub(super) fn from_lower_csc(
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        values: &[f64],
+        unit: bool,
+        a: usize,
+        b: usize,
+    ) -> Option<Self> {
+        let n = col_ptr.len() - 1;
+        assert!(a <= b && b <= n);
+        // Part `[c0, c1)`, its rows numbered locally: its own from 0, the top's after.
+        let part = |c0: usize, c1: usize| -> Option<Supernodal> {
+            let mut cp = vec![0usize];
+            let (mut rows, mut vals) = (Vec::new(), Vec::new());
+            for j in c0..c1 {
+                for p in col_ptr[j]..col_ptr[j + 1] {
+                    let i = row_idx[p];
+                    let local = if (c0..c1).contains(&i) {
+                        i - c0
+                    } else if i >= b {
+                        (c1 - c0) + (i - b)
+                    } else {
+                        return None;
+                    };
+                    rows.push(local);
+                    vals.push(values[p]);
+                }
+                cp.push(rows.len());
+            }
+            Some(Supernodal::from_lower_csc(&cp, &rows, &vals, unit))
+        };
+        Some(Self {
+            a,
+            b,
+            n,
+            part0: part(0, a)?,
+            part1: part(a, b)?,
+            top: part(b, n)?,
+            z0: vec![0.0; a + (n - b)],
+            z1: vec![0.0; (b - a) + (n - b)],
+        })
+    }
+
+    /// Stored entries, diagonal included.
+    pub(super) fn nnz(&self) -> usize {
+        self.part0.nnz + self.part1.nnz + self.top.nnz
+    }
+
+    /// The parts' orders: `(a, b - a, n - b)`.
+    pub(super) fn sizes(&self) -> (usize, usize, usize) {
+        (self.a, self.b - self.a, self.n - self.b)
+    }
+
+    /// `x <- Λ^{-1} x`.
+    pub(super) fn forward(&mut self, x: &mut [f64]) {
+        let (a, b) = (self.a, self.b);
+        assert!(x.len() == self.n);
+        let (x0, rest) = x.split_at_mut(a);
+        let (x1, xt) = rest.split_at_mut(b - a);
+        let (z0, z1) = (&mut self.z0, &mut self.z1);
+        z0[..a].copy_from_slice(x0);
+        z0[a..].fill(0.0);
+        z1[..b - a].copy_from_slice(x1);
+        z1[b - a..].fill(0.0);
+        let (p0, p1) = (&mut self.part0, &mut self.part1);
+        rayon::join(|| p0.forward(z0), || p1.forward(z1));
+        x0.copy_from_slice(&z0[..a]);
+        x1.copy_from_slice(&z1[..b - a]);
+        for ((xi, s0), s1) in xt.iter_mut().zip(&z0[a..]).zip(&z1[b - a..]) {
+            *xi = (*xi + s0) + s1;
+        }
+        self.top.forward(xt);
+    }
+
+    /// `x <- Λ^{-T} x`.
+    pub(super) fn backward(&mut self, x: &mut [f64]) {
+        let (a, b) = (self.a, self.b);
+        assert!(x.len() == self.n);
+        let (x0, rest) = x.split_at_mut(a);
+        let (x1, xt) = rest.split_at_mut(b - a);
+        self.top.backward(xt);
+        let (z0, z1) = (&mut self.z0, &mut self.z1);
+        z0[..a].copy_from_slice(x0);
+        z0[a..].copy_from_slice(xt);
+        z1[..b - a].copy_from_slice(x1);
+        z1[b - a..].copy_from_slice(xt);
+        let (p0, p1) = (&mut self.part0, &mut self.part1);
+        rayon::join(|| p0.backward(z0), || p1.backward(z1));
+        x0.copy_from_slice(&z0[..a]);
+        x1.copy_from_slice(&z1[..b - a]);
+    }
+}
