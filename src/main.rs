@@ -72,6 +72,11 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Threads for the run [default: the number of cores]. A step matrix of 10,000
+        /// dofs or more is solved in two parts side by side; smaller ones on one thread.
+        /// The results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
         #[command(flatten)]
         guard: Guard,
     },
@@ -192,8 +197,10 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             scenario,
             out,
             quiet,
+            threads,
             guard: Guard { force, yes },
         } => {
+            set_threads("--threads", threads)?;
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
             check_estimate(&sc, yes)?;
             for w in &sc.warnings {
@@ -240,7 +247,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
-            set_jobs(jobs)?;
+            set_threads("--jobs", jobs)?;
             let stage = StagedDir::begin(&out, force)?;
             let (points, files) =
                 softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path())?;
@@ -271,7 +278,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
-            set_jobs(jobs)?;
+            set_threads("--jobs", jobs)?;
             let stage = StagedDir::begin(&out, force)?;
             let (_, files) =
                 softway::run::converge::converge(&scenario, &text, &key, &values, stage.path())?;
@@ -580,10 +587,11 @@ fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
     Ok((k.trim().to_string(), vals))
 }
 
-/// Runs at once for `sweep` and `converge` (default: the number of cores).
-fn set_jobs(jobs: Option<usize>) -> Result<(), String> {
-    match jobs {
-        Some(0) => Err("--jobs 0: give at least one job".into()),
+/// Threads of the pool: runs at once for `sweep` and `converge` (`--jobs`), threads of one
+/// run (`--threads`); default: the number of cores.
+fn set_threads(flag: &str, threads: Option<usize>) -> Result<(), String> {
+    match threads {
+        Some(0) => Err(format!("{flag} 0: give at least one")),
         Some(j) => {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(j)

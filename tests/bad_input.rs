@@ -1107,6 +1107,16 @@ fn sweep_with_zero_jobs() {
 }
 
 #[test]
+fn run_with_zero_threads() {
+    refused_on_bar(
+        "run_threads0",
+        "run",
+        &["--threads", "0"],
+        &["--threads 0", "at least one"],
+    );
+}
+
+#[test]
 fn sweep_bad_value() {
     refused_on_bar(
         "sweep_badvalue",

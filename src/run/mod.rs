@@ -82,9 +82,17 @@ pub static INTERRUPT: AtomicBool = AtomicBool::new(false);
 
 /// Runs every run of the scenario and writes the results into `out`.
 ///
+/// The run executes on a thread of rayon's pool (the caller's thread waits), so that the
+/// solves split between two threads (`linalg::Factor::parts`) hand their halves over
+/// within the pool rather than from outside it at every step.
+///
 /// # Errors
 /// [`RunError`].
 pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
+    rayon::scope(|_| run_here(sc, out, opts))
+}
+
+fn run_here(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     match &sc.runs[0].model {
         Model::Sdof(_) => sdof::run(sc, out, opts),
