@@ -16,6 +16,10 @@
 //! (`no_coriolis_llt_faer_supernodal`). The stored entries of each factor are printed on
 //! stderr.
 //!
+//! `threads/1`, `threads/2`: the free step of the meshes whose factor is split into two parts
+//! solved side by side (10,000 dofs and more: 48 and 192 rings) on a pool of one thread and
+//! of two; the speed-up is their ratio in one run.
+//!
 //! `bandwidth/*`: a streaming read of 1, 16 and 256 MiB (the caches and the memory); with
 //! it, a floor for each free step is printed on stderr: the bytes the step must read (the
 //! factors' values and 32-bit indices once each, `B` and `K` with their indices, five
@@ -112,11 +116,14 @@ fn bench_step(c: &mut Criterion) {
             BenchmarkId::new("free", format!("{label}, {n} dofs")),
             &n,
             |bch, _| {
-                bch.iter(|| {
-                    st.rhs_into(&u, &v, &w.load, &mut b);
-                    st.solve(&mut b);
-                    st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                    b[0]
+                // On a thread of the pool, as a run is (`run::run_scenario`).
+                rayon::scope(|_| {
+                    bch.iter(|| {
+                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.solve(&mut b);
+                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
+                        b[0]
+                    })
                 })
             },
         );
@@ -151,12 +158,14 @@ fn bench_step(c: &mut Criterion) {
             BenchmarkId::new("four_held", format!("{label}, {n} dofs")),
             &n,
             |bch, _| {
-                bch.iter(|| {
-                    st.rhs_into(&u, &v, &w.load, &mut b);
-                    st.solve(&mut b);
-                    rows.solve(&mut st, &mut b, 0.0);
-                    st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                    rows.lambda()[0]
+                rayon::scope(|_| {
+                    bch.iter(|| {
+                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.solve(&mut b);
+                        rows.solve(&mut st, &mut b, 0.0);
+                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
+                        rows.lambda()[0]
+                    })
                 })
             },
         );

@@ -2,6 +2,12 @@
 //! sparse Cholesky factorization (faer's numeric factorizations, with a fill-reducing
 //! ordering computed once), whose solves run on compact copies of the factors with memory
 //! allocated once, so that the time loop does not allocate; a Matrix Market writer.
+//!
+//! From `SPLIT_MIN_ORDER` unknowns on, the LU's column ordering is renumbered as two
+//! independent sets of subtrees of its elimination tree followed by their ancestors (module
+//! `split`): the two sets' solves run side by side on two threads, with the same result bit
+//! for bit on one thread. The kernels of the row solves are compiled for the baseline
+//! processor and for AVX2, chosen at run time ([`with_avx2`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;

@@ -16,7 +16,9 @@
 //!   factor (`factor_nnz`: LU with COLAMD, LU with AMD, Cholesky when `A` is symmetric
 //!   positive definite), the factor softway uses, and `softway_step_us`: the median over
 //!   five rounds of the time of one free step (right-hand side and solve, as
-//!   `benches/step.rs` times it), measured here, single-threaded.
+//!   `benches/step.rs` times it), measured here; `threads`, the threads it was timed on,
+//!   and `factor_parts` (from 10,000 dofs on: the orders of the factor's two parts solved
+//!   side by side on two threads and of the top; otherwise null, a single thread).
 
 use super::RunError;
 use crate::linalg::{write_matrix_market, FactorKind, Ordering};
@@ -46,6 +48,11 @@ pub struct MatrixReport {
     pub factor: String,
     /// One free step (right-hand side and solve), microseconds.
     pub softway_step_us: f64,
+    /// The orders of the factor's two parts solved side by side and of the top, when it is
+    /// split for two threads (10,000 dofs and more).
+    pub factor_parts: Option<(usize, usize, usize)>,
+    /// Threads of the pool the step was timed on.
+    pub threads: usize,
 }
 
 fn kind_name(k: FactorKind) -> String {
@@ -159,16 +166,20 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
     let n = model.n();
     let mut rhs = vec![0.0; n];
     let reps = (2_000_000 / (nnz_a + 1)).clamp(20, 20_000);
-    let mut rounds = Vec::with_capacity(5);
-    for _ in 0..5 {
-        let t = Instant::now();
-        for _ in 0..reps {
-            st.rhs_into(&u0, &v0, &f, &mut rhs);
-            st.solve(&mut rhs);
+    // On a thread of the pool, as a run is (`run::run_scenario`).
+    let mut rounds = rayon::scope(|_| {
+        let mut rounds = Vec::with_capacity(5);
+        for _ in 0..5 {
+            let t = Instant::now();
+            for _ in 0..reps {
+                st.rhs_into(&u0, &v0, &f, &mut rhs);
+                st.solve(&mut rhs);
+            }
+            rounds.push(t.elapsed().as_secs_f64() / reps as f64 * 1e6);
+            std::hint::black_box(&rhs);
         }
-        rounds.push(t.elapsed().as_secs_f64() / reps as f64 * 1e6);
-        std::hint::black_box(&rhs);
-    }
+        rounds
+    });
     rounds.sort_by(f64::total_cmp);
     let report = MatrixReport {
         n,
@@ -179,6 +190,8 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
         factor_nnz,
         factor: kind_name(st.factor_kind()),
         softway_step_us: rounds[2],
+        factor_parts: st.factor_parts(),
+        threads: rayon::current_num_threads(),
     };
     let path = out.join("matrix.json");
     write_json(&path, &report).map_err(|e| RunError::output(&path, e))?;
