@@ -63,22 +63,29 @@ fn ladder() -> Vec<(String, Mesh, Support)> {
     l
 }
 
+/// The wheel on `mesh` with `support` (the paper's data otherwise), the benches' step
+/// (alpha 0.8, gamma 0.2, h = 2 us) and its fixed dofs as Dirichlet conditions.
+fn wheel(mesh: Mesh, support: Support) -> (WheelModel, SpaceTimeParams, Vec<(usize, f64)>) {
+    let spec = WheelSpec {
+        support,
+        ..WheelSpec::paper()
+    };
+    let w = WheelModel::new(mesh, spec).unwrap();
+    let p = SpaceTimeParams {
+        alpha: 0.8,
+        gamma: 0.2,
+        h: 2e-6,
+    };
+    let bcs = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
+    (w, p, bcs)
+}
+
 fn bench_step(c: &mut Criterion) {
     let mut g = c.benchmark_group("wheel_step");
     g.sample_size(10);
     for (label, mesh, support) in ladder() {
-        let spec = WheelSpec {
-            support,
-            ..WheelSpec::paper()
-        };
-        let w = WheelModel::new(mesh, spec).unwrap();
+        let (w, p, bcs) = wheel(mesh, support);
         let n = w.model.n();
-        let p = SpaceTimeParams {
-            alpha: 0.8,
-            gamma: 0.2,
-            h: 2e-6,
-        };
-        let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
         let mut st = Stepper::new(&w.model, p, &bcs).unwrap();
         {
             let nnz_a = st.matrices().1.len();
@@ -179,18 +186,8 @@ fn bench_factor(c: &mut Criterion) {
     g.warm_up_time(std::time::Duration::from_millis(500));
     g.measurement_time(std::time::Duration::from_secs(2));
     for (label, mesh, support) in ladder() {
-        let spec = WheelSpec {
-            support,
-            ..WheelSpec::paper()
-        };
-        let w = WheelModel::new(mesh, spec).unwrap();
+        let (w, p, bcs) = wheel(mesh, support);
         let n = w.model.n();
-        let p = SpaceTimeParams {
-            alpha: 0.8,
-            gamma: 0.2,
-            h: 2e-6,
-        };
-        let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
         let mut symmetric = w.model.clone();
         symmetric.c.fill(0.0);
         let u = w.u_spin.clone();
@@ -294,18 +291,8 @@ fn bench_threads(c: &mut Criterion) {
     let mut g = c.benchmark_group("threads");
     g.sample_size(10);
     for (label, mesh, support) in ladder() {
-        let spec = WheelSpec {
-            support,
-            ..WheelSpec::paper()
-        };
-        let w = WheelModel::new(mesh, spec).unwrap();
+        let (w, p, bcs) = wheel(mesh, support);
         let n = w.model.n();
-        let p = SpaceTimeParams {
-            alpha: 0.8,
-            gamma: 0.2,
-            h: 2e-6,
-        };
-        let bcs: Vec<(usize, f64)> = w.fixed_dofs.iter().map(|&d| (d, 0.0)).collect();
         let mut st = Stepper::new(&w.model, p, &bcs).unwrap();
         if st.factor_parts().is_none() {
             continue;
