@@ -58,6 +58,46 @@ macro_rules! with_avx2 {
 }
 pub(crate) use with_avx2;
 
+/// A method `$name` that runs the `#[inline(always)]` method `$here` through [`with_avx2`],
+/// and `$twin`, the same body compiled for AVX2 (unsafe: the processor must have AVX2).
+macro_rules! avx2_method {
+    ($(#[$doc:meta])* $vis:vis fn $name:ident / $twin:ident
+        (&mut self $(, $a:ident: $t:ty)*) => $here:ident) => {
+        $(#[$doc])*
+        $vis fn $name(&mut self $(, $a: $t)*) {
+            with_avx2!(self.$here($($a),*), self.$twin($($a),*))
+        }
+
+        #[doc = concat!("`", stringify!($here), "` compiled for AVX2.")]
+        ///
+        /// # Safety
+        /// The processor must have AVX2.
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn $twin(&mut self $(, $a: $t)*) {
+            self.$here($($a),*)
+        }
+    };
+    ($(#[$doc:meta])* $vis:vis fn $name:ident / $twin:ident
+        (&self $(, $a:ident: $t:ty)*) => $here:ident) => {
+        $(#[$doc])*
+        $vis fn $name(&self $(, $a: $t)*) {
+            with_avx2!(self.$here($($a),*), self.$twin($($a),*))
+        }
+
+        #[doc = concat!("`", stringify!($here), "` compiled for AVX2.")]
+        ///
+        /// # Safety
+        /// The processor must have AVX2.
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn $twin(&self $(, $a: $t)*) {
+            self.$here($($a),*)
+        }
+    };
+}
+pub(crate) use avx2_method;
+
 /// Errors of the linear algebra layer.
 #[derive(Debug, thiserror::Error)]
 pub enum LinalgError {
@@ -1034,21 +1074,11 @@ impl SparseLu {
         }
     }
 
-    /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
-    /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
-    /// On AVX2's instructions where the processor has them ([`with_avx2`]).
-    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        with_avx2!(self.solve_here(rhs), self.solve_avx2(rhs));
-    }
-
-    /// [`SparseLu::solve_here`] compiled for AVX2.
-    ///
-    /// # Safety
-    /// The processor must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn solve_avx2(&mut self, rhs: &mut [f64]) {
-        self.solve_here(rhs);
+    avx2_method! {
+        /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
+        /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
+        /// On AVX2's instructions where the processor has them ([`with_avx2`]).
+        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
     }
 
     #[inline(always)]
@@ -1211,21 +1241,11 @@ impl SparseLlt {
         }
     }
 
-    /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
-    /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`). On AVX2's instructions where
-    /// the processor has them ([`with_avx2`]).
-    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
-        with_avx2!(self.solve_here(rhs), self.solve_avx2(rhs));
-    }
-
-    /// [`SparseLlt::solve_here`] compiled for AVX2.
-    ///
-    /// # Safety
-    /// The processor must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn solve_avx2(&mut self, rhs: &mut [f64]) {
-        self.solve_here(rhs);
+    avx2_method! {
+        /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
+        /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`). On AVX2's instructions where
+        /// the processor has them ([`with_avx2`]).
+        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
     }
 
     #[inline(always)]

@@ -32,7 +32,9 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::assembly::Assembler;
-use crate::linalg::{is_symmetric, with_avx2, Factor, FactorKind, LinalgError, Ordering, Pattern};
+use crate::linalg::{
+    avx2_method, is_symmetric, with_avx2, Factor, FactorKind, LinalgError, Ordering, Pattern,
+};
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
 use crate::time::params::beta;
@@ -350,23 +352,11 @@ impl RhsRows {
         rows
     }
 
-    /// `b[i] += (B v0 - h K u0)[i]` for the rows `i` stored alone, on AVX2's instructions
-    /// where the processor has them (`linalg::with_avx2`).
-    fn singles_into(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64]) {
-        with_avx2!(
-            self.singles_here(h, u0, v0, b),
-            self.singles_avx2(h, u0, v0, b)
-        );
-    }
-
-    /// [`RhsRows::singles_here`] compiled for AVX2.
-    ///
-    /// # Safety
-    /// The processor must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn singles_avx2(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64]) {
-        self.singles_here(h, u0, v0, b);
+    avx2_method! {
+        /// `b[i] += (B v0 - h K u0)[i]` for the rows `i` stored alone, on AVX2's
+        /// instructions where the processor has them (`linalg::with_avx2`).
+        fn singles_into / singles_avx2(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64])
+            => singles_here
     }
 
     #[inline(always)]
@@ -398,39 +388,18 @@ impl RhsRows {
         }
     }
 
-    /// `b[i - offset] += (B v0 - h K u0)[i]` for the rows `i` of the pairs `pairs`, on
-    /// AVX2's instructions where the processor has them (`linalg::with_avx2`).
-    fn pairs_into(
-        &self,
-        pairs: std::ops::Range<usize>,
-        offset: usize,
-        h: f64,
-        u0: &[f64],
-        v0: &[f64],
-        b: &mut [f64],
-    ) {
-        with_avx2!(
-            self.pairs_here(pairs.clone(), offset, h, u0, v0, b),
-            self.pairs_avx2(pairs, offset, h, u0, v0, b)
-        );
-    }
-
-    /// [`RhsRows::pairs_here`] compiled for AVX2.
-    ///
-    /// # Safety
-    /// The processor must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn pairs_avx2(
-        &self,
-        pairs: std::ops::Range<usize>,
-        offset: usize,
-        h: f64,
-        u0: &[f64],
-        v0: &[f64],
-        b: &mut [f64],
-    ) {
-        self.pairs_here(pairs, offset, h, u0, v0, b);
+    avx2_method! {
+        /// `b[i - offset] += (B v0 - h K u0)[i]` for the rows `i` of the pairs `pairs`, on
+        /// AVX2's instructions where the processor has them (`linalg::with_avx2`).
+        fn pairs_into / pairs_avx2(
+            &self,
+            pairs: std::ops::Range<usize>,
+            offset: usize,
+            h: f64,
+            u0: &[f64],
+            v0: &[f64],
+            b: &mut [f64]
+        ) => pairs_here
     }
 
     #[inline(always)]
