@@ -17,6 +17,7 @@ use faer::linalg::triangular_solve::{
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::lu::simplicial::{self, SimplicialLu};
 use faer::sparse::linalg::{amd, colamd};
@@ -1118,14 +1119,26 @@ pub struct SparseLlt {
     /// `L^T` by rows (the columns of `L`).
     lt: Triangle,
     /// For orders from `DENSE_SUPERNODAL_MIN_ORDER` on, `L` in dense supernodes (then `l`
-    /// and `lt` stay empty).
-    dense: Option<Supernodal>,
+    /// and `lt` stay empty): whole, or in the three parts of an ordering split for two
+    /// threads.
+    dense: Option<DenseLower>,
     /// The order from which `dense` is used (`DENSE_SUPERNODAL_MIN_ORDER`).
     dense_from: usize,
+    /// The ordering's two independent parts, positions `0..a` and `a..b`, before the top
+    /// (`split::two_subtrees`), when it has them.
+    parts: Option<(usize, usize)>,
     perm_fwd: Vec<usize>,
     perm_inv: Vec<usize>,
     work: Vec<f64>,
     n: usize,
+}
+
+/// The dense supernodal layout of a Cholesky factor `L`: whole, or in the three parts of an
+/// ordering split for two threads ([`SplitLower`]).
+#[derive(Debug, Clone)]
+enum DenseLower {
+    Whole(Supernodal),
+    Split(Box<SplitLower>),
 }
 
 impl std::fmt::Debug for SparseLlt {
@@ -1143,23 +1156,39 @@ impl SparseLlt {
         self
     }
 
-    /// Analyses and factors.
+    /// Analyses (AMD ordering, split into two independent parts and a top for two threads
+    /// from `SPLIT_MIN_ORDER` on, as [`SparseLu`]) and factors.
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is not positive definite.
     pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
-        let symbolic = factorize_symbolic_cholesky(
-            pattern.as_ref(),
-            Side::Upper,
-            Default::default(),
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold:
-                    faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL,
-                ..Default::default()
-            },
-        )
-        .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
+        Self::build(pattern, values, pattern.nrows() >= SPLIT_MIN_ORDER)
+    }
+
+    /// Analyses, with the AMD ordering split for two threads when `split` and the ordering
+    /// has two independent parts, and factors.
+    fn build(pattern: &Pattern, values: &[f64], split: bool) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
+        let mut parts = None;
+        let mut custom = None;
+        if split {
+            let (fwd, inv) = column_ordering(pattern, Ordering::Amd)?;
+            if let Some((f, i, a, b)) = split::two_subtrees(pattern, &fwd, &inv) {
+                custom = Some((f, i));
+                parts = Some((a, b));
+            }
+        }
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold:
+                faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL,
+            ..Default::default()
+        };
+        let ordering = match &custom {
+            Some((f, i)) => SymmetricOrdering::Custom(PermRef::new_checked(f, i, n)),
+            None => SymmetricOrdering::Amd,
+        };
+        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, ordering, params)
+            .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
         let (perm_fwd, perm_inv) = match symbolic.perm() {
             Some(p) => {
                 let (f, i) = p.arrays();
@@ -1174,6 +1203,7 @@ impl SparseLlt {
             lt: Triangle::default(),
             dense: None,
             dense_from: DENSE_SUPERNODAL_MIN_ORDER,
+            parts,
             perm_fwd,
             perm_inv,
             work: vec![0.0; n],
@@ -1221,7 +1251,13 @@ impl SparseLlt {
         };
         let (cp, ri) = (simp.col_ptr(), simp.row_idx());
         if self.n >= self.dense_from {
-            self.dense = Some(Supernodal::from_lower_csc(cp, ri, &self.numeric, false));
+            let split = self.parts.and_then(|(a, b)| {
+                SplitLower::from_lower_csc(cp, ri, &self.numeric, false, a, b)
+                    .map(|l| DenseLower::Split(Box::new(l)))
+            });
+            self.dense = Some(split.unwrap_or_else(|| {
+                DenseLower::Whole(Supernodal::from_lower_csc(cp, ri, &self.numeric, false))
+            }));
             self.l = Triangle::default();
             self.lt = Triangle::default();
         } else {
@@ -1236,8 +1272,18 @@ impl SparseLlt {
     /// Number of stored values of the factor `L` (diagonal included).
     pub fn factor_nnz(&self) -> usize {
         match &self.dense {
-            Some(l) => l.nnz,
+            Some(DenseLower::Whole(l)) => l.nnz,
+            Some(DenseLower::Split(l)) => l.nnz(),
             None => self.l.nnz(),
+        }
+    }
+
+    /// The orders of the two parts solved side by side and of the top after them, when the
+    /// factor is split for two threads (module `split`).
+    pub fn parts(&self) -> Option<(usize, usize, usize)> {
+        match &self.dense {
+            Some(DenseLower::Split(l)) => Some(l.sizes()),
+            _ => None,
         }
     }
 
@@ -1255,7 +1301,11 @@ impl SparseLlt {
             *wi = rhs[r];
         }
         match &mut self.dense {
-            Some(l) => {
+            Some(DenseLower::Whole(l)) => {
+                l.forward(w);
+                l.backward(w);
+            }
+            Some(DenseLower::Split(l)) => {
                 l.forward(w);
                 l.backward(w);
             }
@@ -1333,11 +1383,11 @@ impl Factor {
     }
 
     /// The orders of the two parts solved side by side and of the top, when the factor is
-    /// split for two threads ([`SparseLu::parts`]).
+    /// split for two threads ([`SparseLu::parts`], [`SparseLlt::parts`]).
     pub fn parts(&self) -> Option<(usize, usize, usize)> {
         match self {
             Factor::Lu(lu) => lu.parts(),
-            Factor::Llt(_) => None,
+            Factor::Llt(llt) => llt.parts(),
         }
     }
 
@@ -1529,6 +1579,11 @@ mod tests {
     /// its right, upper and upper-right neighbours): a planar graph, whose elimination tree
     /// branches as a mesh's does.
     fn grid_matrix(nx: usize, ny: usize) -> (Pattern, Vec<f64>) {
+        grid_matrix_skew(nx, ny, 0.01)
+    }
+
+    /// The same with the skew part `skew` (0: symmetric positive definite).
+    fn grid_matrix_skew(nx: usize, ny: usize, skew: f64) -> (Pattern, Vec<f64>) {
         let n = 2 * nx * ny;
         let mut t: Vec<Triplet<usize, usize, f64>> = Vec::new();
         let node = |x: usize, y: usize| x + nx * y;
@@ -1542,8 +1597,8 @@ mod tests {
                     for (da, db) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
                         let (i, j) = (2 * a + da, 2 * b + db);
                         let v = -w * (1.0 + 0.1 * (da + 2 * db) as f64);
-                        t.push(Triplet::new(i, j, v + 0.01 * w));
-                        t.push(Triplet::new(j, i, v - 0.01 * w));
+                        t.push(Triplet::new(i, j, v + skew * w));
+                        t.push(Triplet::new(j, i, v - skew * w));
                     }
                 }
             }
@@ -1595,6 +1650,43 @@ mod tests {
         assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
         let d = max_rel_diff(&x1, &x_ref);
         assert!(d < 1e-13, "split against faer's LU: {d:e}");
+    }
+
+    /// The Cholesky factor split for two threads (as from 10,000 unknowns on) keeps the
+    /// fill of AMD and solves alike, bit for bit, on one thread and two.
+    #[test]
+    fn split_cholesky_solves_alike_on_one_thread_and_two() {
+        let (pattern, values) = grid_matrix_skew(60, 50, 0.0);
+        let n = pattern.nrows();
+        let b = rhs(n);
+        let x_ref = faer_solve(&pattern, &values, &b);
+        let whole = SparseLlt::build(&pattern, &values, false)
+            .unwrap()
+            .with_layout(&pattern, &values, true);
+        assert!(whole.parts().is_none());
+        let mut split = SparseLlt::build(&pattern, &values, true)
+            .unwrap()
+            .with_layout(&pattern, &values, true);
+        let (p0, p1, top) = split.parts().expect("a split ordering");
+        assert_eq!(p0 + p1 + top, n);
+        assert!(
+            p0.min(p1) * 3 > p0.max(p1) && top * 10 < n,
+            "parts of {p0} and {p1} unknowns, top {top}"
+        );
+        assert_eq!(split.factor_nnz(), whole.factor_nnz(), "the fill");
+        let mut on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut x = b.clone();
+            pool.install(|| split.solve_in_place(&mut x));
+            x
+        };
+        let (x1, x2) = (on(1), on(2));
+        assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
+        let d = max_rel_diff(&x1, &x_ref);
+        assert!(d < 1e-13, "split Cholesky against faer's LU: {d:e}");
     }
 
     /// The solves compiled for AVX2 (chosen at run time) give the baseline's result bit for
@@ -1700,7 +1792,8 @@ mod tests {
                             ..
                         }) => lu.1.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap(),
                         Factor::Llt(LltLayout {
-                            dense: Some(ut), ..
+                            dense: Some(DenseLower::Whole(ut)),
+                            ..
                         }) => ut.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap(),
                         Factor::Lu(lu) => widest_rows(&lu.u),
                         Factor::Llt(llt) => widest_rows(&llt.lt),
