@@ -126,7 +126,7 @@ fn bench_step(c: &mut Criterion) {
                 // On a thread of the pool, as a run is (`run::run_scenario`).
                 rayon::scope(|_| {
                     bch.iter(|| {
-                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.rhs_into(&u, &v, &[], &w.load, &mut b);
                         st.solve(&mut b);
                         st.update_displacement(0.333, &u, &v, &b, &mut u1);
                         b[0]
@@ -167,7 +167,7 @@ fn bench_step(c: &mut Criterion) {
             |bch, _| {
                 rayon::scope(|_| {
                     bch.iter(|| {
-                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.rhs_into(&u, &v, &[], &w.load, &mut b);
                         st.solve(&mut b);
                         rows.solve(&mut st, &mut b, 0.0);
                         st.update_displacement(0.333, &u, &v, &b, &mut u1);
@@ -216,7 +216,7 @@ fn bench_factor(c: &mut Criterion) {
                 &n,
                 |bch, _| {
                     bch.iter(|| {
-                        st.rhs_into(&u, &v, &w.load, &mut b);
+                        st.rhs_into(&u, &v, &[], &w.load, &mut b);
                         st.solve(&mut b);
                         b[0]
                     })
@@ -266,7 +266,7 @@ fn bench_factor(c: &mut Criterion) {
             &n,
             |bch, _| {
                 bch.iter(|| {
-                    st.rhs_into(&u, &v, load, &mut b);
+                    st.rhs_into(&u, &v, &[], load, &mut b);
                     for &d in fixed {
                         b[d] = 0.0;
                     }
@@ -312,7 +312,7 @@ fn bench_threads(c: &mut Criterion) {
                 |bch, _| {
                     pool.install(|| {
                         bch.iter(|| {
-                            st.rhs_into(&u, &v, &w.load, &mut b);
+                            st.rhs_into(&u, &v, &[], &w.load, &mut b);
                             st.solve(&mut b);
                             st.update_displacement(0.333, &u, &v, &b, &mut u1);
                             b[0]

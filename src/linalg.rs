@@ -1497,6 +1497,21 @@ pub fn is_symmetric(pattern: &Pattern, values: &[f64], rel_tol: f64) -> bool {
     true
 }
 
+/// For each stored entry `(i, j)` of `pattern`, the position of `(j, i)`; None when the
+/// pattern is not structurally symmetric.
+pub fn transpose_positions(pattern: &Pattern) -> Option<Vec<usize>> {
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut t = vec![0; cp[pattern.ncols()]];
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            let col = &ri[cp[i]..cp[i + 1]];
+            t[p] = cp[i] + col.binary_search(&j).ok()?;
+        }
+    }
+    Some(t)
+}
+
 /// Writes the matrix `values` on `pattern` to `out` in Matrix Market coordinate format
 /// (`real general`, 1-based indices, every stored entry).
 ///

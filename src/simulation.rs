@@ -25,7 +25,7 @@ use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
 use crate::time::classic::{ClassicError, ClassicStepper, Dirichlet, Kinematic};
 use crate::time::integrator::{BuildError, Integrator, State, TimeIntegrator};
-use crate::time::step::{LinearModel, Stepper};
+use crate::time::step::{FactorChoice, LinearModel, Stepper};
 use crate::time::SpaceTimeParams;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -442,9 +442,19 @@ pub fn build_integrator(
     dirichlet: &[(usize, f64)],
 ) -> Result<Box<dyn TimeIntegrator>, BuildError> {
     Ok(match choice {
-        Integrator::SpaceTime { alpha, gamma } => Box::new(
-            Stepper::new(model, SpaceTimeParams { alpha, gamma, h }, dirichlet)?
-                .with_schedule(gamma_schedule),
+        Integrator::SpaceTime {
+            alpha,
+            gamma,
+            coriolis,
+        } => Box::new(
+            Stepper::with_options(
+                model,
+                SpaceTimeParams { alpha, gamma, h },
+                dirichlet,
+                FactorChoice::Auto,
+                coriolis,
+            )?
+            .with_schedule(gamma_schedule),
         ),
         Integrator::Classic { params, .. } => {
             let bcs: Vec<Dirichlet> = dirichlet

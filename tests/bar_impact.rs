@@ -23,6 +23,7 @@ fn run(bar: BarImpact, h: f64, restore: Restore) -> BarSummary {
         integrator: Integrator::SpaceTime {
             alpha: 0.8,
             gamma: 0.0,
+            coriolis: softway::time::Coriolis::Implicit,
         },
         contact: Treatment::SoftWay { restore },
         friction: None,

@@ -95,6 +95,7 @@ fn candidate_search_reproduces_all_pairs_on_the_wheel() {
     let st = Integrator::SpaceTime {
         alpha: 0.8,
         gamma: 0.2,
+        coriolis: softway::time::Coriolis::Implicit,
     };
     // Moreau-Jean's own law leaves out the pairs not predicted to touch within half a step,
     // so its reference does not reach every rim dof.
@@ -150,6 +151,7 @@ fn candidate_search_reproduces_all_pairs_on_the_bar() {
     let st = Integrator::SpaceTime {
         alpha: 0.8,
         gamma: 0.0,
+        coriolis: softway::time::Coriolis::Implicit,
     };
     for (name, integ, treat) in [
         ("exact, Newmark", nm, Treatment::Exact),

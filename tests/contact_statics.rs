@@ -108,6 +108,7 @@ fn slow_damped_roll_carries_the_static_contact_force() {
         Integrator::SpaceTime {
             alpha: 0.9,
             gamma: 0.5,
+            coriolis: softway::time::Coriolis::Implicit,
         },
         h,
         vec![],

@@ -15,6 +15,7 @@ use std::sync::atomic::AtomicBool;
 const ST: Integrator = Integrator::SpaceTime {
     alpha: 0.8,
     gamma: 0.2,
+    coriolis: softway::time::Coriolis::Implicit,
 };
 
 /// What a short rolling run measured.

@@ -50,6 +50,7 @@ fn space_time() -> Integrator {
     Integrator::SpaceTime {
         alpha: 0.8,
         gamma: 0.0,
+        coriolis: softway::time::Coriolis::Implicit,
     }
 }
 
@@ -352,6 +353,7 @@ fn soft_way_landing_block_stops_at_the_rigid_body_distance() {
     let integ = Integrator::SpaceTime {
         alpha: 0.8,
         gamma: 0.1,
+        coriolis: softway::time::Coriolis::Implicit,
     };
     let tf = (2.0 * lift / G).sqrt();
     let vn = G * tf;
@@ -637,6 +639,7 @@ fn penalty_friction_sticks_slips_and_stops_like_coulomb() {
     let damped = Integrator::SpaceTime {
         alpha: 0.8,
         gamma: 0.1,
+        coriolis: softway::time::Coriolis::Implicit,
     };
     for (name, integ) in [("space_time", damped), ("gen_alpha", gen_alpha())] {
         let tr = run(block(integ, treatment, Some(MU), h, 1.0, ramp, 0.0, 0.0)).unwrap();

@@ -42,7 +42,7 @@ fn one_dof_step_is_eq_9_and_eq_10_exactly() {
         let mut b = vec![0.0];
         let mut u1 = vec![0.0];
         for _ in 0..50 {
-            st.rhs_into(&u, &v, &[0.0], &mut b);
+            st.rhs_into(&u, &v, &[], &[0.0], &mut b);
             st.solve(&mut b);
             st.update_displacement(p.beta(), &u, &v, &b, &mut u1);
             (u[0], v[0]) = (u1[0], b[0]);
@@ -89,7 +89,7 @@ fn multipliers_match_the_bordered_system() {
     let v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
     let f: Vec<f64> = (0..n).map(|i| 0.1 * i as f64).collect();
     let mut b = vec![0.0; n];
-    st.rhs_into(&u, &v, &f, &mut b);
+    st.rhs_into(&u, &v, &[], &f, &mut b);
     let b0 = b.clone();
     // Velocity constraints c.v1 = g as equality rows y = -g + c.x on x = v1.
     let cons = [(2usize, 1.0, 0.25), (6, -1.0, 0.1)];

@@ -154,6 +154,7 @@ fn run_two(b: TwoBars, i: Integrator, t: Treatment, h: f64) -> Metrics {
 const ST: Integrator = Integrator::SpaceTime {
     alpha: 0.8,
     gamma: 0.0,
+    coriolis: softway::time::Coriolis::Implicit,
 };
 
 fn classic(kind: ClassicKind) -> Integrator {

@@ -10,6 +10,10 @@ with the peers, factor once and solve per step, each step being
 
     b = B v0 - h K u0 + h f,  b[fixed] = 0,  v1 = A^-1 b
 
+(with `time.coriolis = "extrapolated"` in the scenario, A and B hold the symmetric part of C
+and the Coriolis term is on the right-hand side: `b -= h G (v0 + alpha h a0)`, from G.mtx and
+a0.mtx; A is then symmetric and CHOLMOD solves the same step as softway)
+
 - scipy's SuperLU (`scipy.sparse.linalg.splu`) on A, COLAMD and MMD(A^T + A) orderings:
   the exact step (A is unsymmetric when the wheel spins: Coriolis);
 - CHOLMOD through cholespy (if installed) on A when A is symmetric; on an unsymmetric A on
@@ -82,9 +86,18 @@ def main():
     n = A.shape[0]
     hf = h * f
     hK = (h * K).tocsr()
+    g_path = os.path.join(out, "G.mtx")
+    if os.path.exists(g_path):
+        hG = (h * sp.csr_matrix(scipy.io.mmread(g_path))).tocsr()
+        a0 = np.asarray(scipy.io.mmread(os.path.join(out, "a0.mtx"))).ravel()
+        ah = info["alpha"] * h
+    else:
+        hG = None
 
     def rhs():
         b = B @ v0 - hK @ u0 + hf
+        if hG is not None:
+            b -= hG @ (v0 + ah * a0)
         b[fixed] = 0.0
         return b
 
@@ -119,7 +132,8 @@ def main():
         print("cholespy not installed: no CHOLMOD row (pip install cholespy)", file=sys.stderr)
 
     sw = info["softway_step_us"]
-    print(f"{info['n']} dofs, nnz(A) = {info['nnz_a']}, h = {h:g} s, A symmetric: {info['symmetric']}; "
+    print(f"{info['n']} dofs, nnz(A) = {info['nnz_a']}, h = {h:g} s, A symmetric: {info['symmetric']}, "
+          f"coriolis {info.get('coriolis', 'implicit')}; "
           f"SuperLU residual {resid:.1e}")
     print(f"{'solver':58} {'nnz(factors)':>13} {'us/step':>9} {'softway/peer':>13}")
     for name, nnz in info["factor_nnz"]:

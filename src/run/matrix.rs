@@ -11,6 +11,10 @@
 //! - `u0.mtx`, `v0.mtx`, `f.mtx` (Matrix Market arrays): the state and load of the step
 //!   timed (a wheel: its spun-up displacement, a velocity `1e-3 sin(i)` m/s, its
 //!   centrifugal load; a bar: its initial state, no load);
+//! - with `time.coriolis = "extrapolated"` (and a Coriolis term), `A` and `B` are built on
+//!   the symmetric part of `C`, and `G.mtx` (the skew part) and `a0.mtx` (the acceleration
+//!   of the step, `1e-3 cos(i)` m/s^2) complete the right-hand side:
+//!   `b = B v0 - h (K u0 + G (v0 + alpha h a0)) + h f`;
 //! - `fixed.txt`: the fixed dofs, 0-based, one a line;
 //! - `matrix.json`: `n`, `nnz_a`, `h_s`, `alpha`, `symmetric`, the stored entries of each
 //!   factor (`factor_nnz`: LU with COLAMD, LU with AMD, Cholesky when `A` is symmetric
@@ -53,6 +57,8 @@ pub struct MatrixReport {
     pub factor_parts: Option<(usize, usize, usize)>,
     /// Threads of the pool the step was timed on.
     pub threads: usize,
+    /// Where the Coriolis term is (`time.coriolis`): "implicit" or "extrapolated".
+    pub coriolis: String,
 }
 
 fn kind_name(k: FactorKind) -> String {
@@ -102,7 +108,12 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
         run: run.label.clone(),
         source: crate::simulation::SimError::Linalg(e),
     };
-    let mut st = Stepper::new(&model, run.params, &bcs).map_err(sim_err)?;
+    let coriolis = match run.integrator {
+        crate::time::Integrator::SpaceTime { coriolis, .. } => coriolis,
+        _ => crate::time::Coriolis::Implicit,
+    };
+    let mut st = Stepper::with_options(&model, run.params, &bcs, FactorChoice::Auto, coriolis)
+        .map_err(sim_err)?;
     let mut factor_nnz = Vec::new();
     for kind in [
         FactorKind::Lu(Ordering::Colamd),
@@ -116,6 +127,17 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
             }
         }
     }
+    if st.skew().is_some() {
+        factor_nnz.push((
+            format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
+            st.factor_nnz(),
+        ));
+    }
+    let n = model.n();
+    let a0: Vec<f64> = match st.skew() {
+        Some(_) => (0..n).map(|i| 1e-3 * (i as f64).cos()).collect(),
+        None => vec![0.0; n],
+    };
     let (pattern, a, b, k) = st.matrices();
     let symmetric = crate::linalg::is_symmetric(pattern, a, 1e-14);
     let nnz_a = a.len();
@@ -136,7 +158,12 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
             "B = M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K",
         ),
         ("K.mtx", k, "K"),
-    ] {
+    ]
+    .into_iter()
+    .chain(
+        st.skew()
+            .map(|g| ("G.mtx", g, "G = (C - C^T)/2, the Coriolis term")),
+    ) {
         let path = out.join(name);
         let mut w = std::io::BufWriter::new(
             std::fs::File::create(&path).map_err(|e| RunError::output(&path, e))?,
@@ -146,7 +173,11 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
             .map_err(|e| RunError::output(&path, e))?;
         files.push(path);
     }
-    for (name, values) in [("u0.mtx", &u0), ("v0.mtx", &v0), ("f.mtx", &f)] {
+    let with_a0 = st.skew().map(|_| ("a0.mtx", &a0));
+    for (name, values) in [("u0.mtx", &u0), ("v0.mtx", &v0), ("f.mtx", &f)]
+        .into_iter()
+        .chain(with_a0)
+    {
         let path = out.join(name);
         let mut s = format!(
             "%%MatrixMarket matrix array real general\n% {header}\n{} 1\n",
@@ -163,7 +194,6 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
     std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
     files.push(path);
     // softway's free step, timed as benches/step.rs does: median of five rounds.
-    let n = model.n();
     let mut rhs = vec![0.0; n];
     let reps = (2_000_000 / (nnz_a + 1)).clamp(20, 20_000);
     // On a thread of the pool, as a run is (`run::run_scenario`).
@@ -172,7 +202,7 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
         for _ in 0..5 {
             let t = Instant::now();
             for _ in 0..reps {
-                st.rhs_into(&u0, &v0, &f, &mut rhs);
+                st.rhs_into(&u0, &v0, &a0, &f, &mut rhs);
                 st.solve(&mut rhs);
             }
             rounds.push(t.elapsed().as_secs_f64() / reps as f64 * 1e6);
@@ -192,6 +222,7 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
         softway_step_us: rounds[2],
         factor_parts: st.factor_parts(),
         threads: rayon::current_num_threads(),
+        coriolis: st.coriolis().name().to_string(),
     };
     let path = out.join("matrix.json");
     write_json(&path, &report).map_err(|e| RunError::output(&path, e))?;

@@ -146,6 +146,7 @@ mod tests {
                 Integrator::SpaceTime {
                     alpha: 0.8,
                     gamma: 0.0,
+                    coriolis: crate::time::Coriolis::Implicit,
                 },
             ),
             (

@@ -52,6 +52,7 @@ pub(super) struct RawTime {
     pub alpha_h: Option<f64>,
     pub gamma_n: Option<f64>,
     pub cfl: Option<f64>,
+    pub coriolis: Option<String>,
 }
 
 /// `[bar]` and `[two_bars]`.
@@ -155,6 +156,7 @@ pub(super) struct RawRun {
     pub alpha_h: Option<f64>,
     pub gamma_n: Option<f64>,
     pub cfl: Option<f64>,
+    pub coriolis: Option<String>,
 }
 
 /// `[output]`.

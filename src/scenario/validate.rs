@@ -21,7 +21,7 @@ use crate::problems::{BarImpact, TwoBars};
 use crate::time::classic::ClassicParams;
 use crate::time::sdof::analyse;
 use crate::time::SpaceTimeParams;
-use crate::time::{ClassicKind, Integrator};
+use crate::time::{ClassicKind, Coriolis, Integrator};
 use std::path::Path;
 
 /// Validates a parsed scenario; `path` names it in errors and anchors relative mesh paths.
@@ -285,10 +285,16 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
         (None, Some(m)) => ("time.integrator".to_string(), m.clone()),
         (None, None) => ("time.integrator".to_string(), "space_time".to_string()),
     };
+    let coriolis = match (&r.coriolis, &time.coriolis) {
+        (Some(c), _) => Some((key("coriolis"), c.clone())),
+        (None, Some(c)) => Some(("time.coriolis".to_string(), c.clone())),
+        (None, None) => None,
+    };
     let integrator = cx.integrator(
         &integ_key,
         &integ_name,
         (alpha, gamma),
+        coriolis,
         pick(r.rho_inf, "rho_inf", "time", time.rho_inf),
         pick(r.alpha_h, "alpha_h", "time", time.alpha_h),
         pick(r.gamma_n, "gamma_n", "time", time.gamma_n),
@@ -566,6 +572,7 @@ impl Ctx<'_> {
         key: &str,
         v: &str,
         (alpha, gamma): (f64, f64),
+        coriolis: Option<(String, String)>,
         rho_inf: Option<(String, f64)>,
         alpha_h: Option<(String, f64)>,
         gamma_n: Option<(String, f64)>,
@@ -583,7 +590,31 @@ impl Ctx<'_> {
                 unused(&rho_inf, "generalized_alpha")?;
                 unused(&alpha_h, "hht")?;
                 unused(&gamma_n, "newmark_dissipative")?;
-                return Ok(Integrator::SpaceTime { alpha, gamma });
+                let coriolis = match coriolis {
+                    None => Coriolis::Implicit,
+                    Some((_, c)) if c == "implicit" => Coriolis::Implicit,
+                    Some((_, c)) if c == "extrapolated" => Coriolis::Extrapolated,
+                    Some((k, c)) => {
+                        return Err(self.invalid(
+                            &k,
+                            format!("\"{c}\""),
+                            "allowed: \"implicit\" (the Coriolis term in the step's matrix, the exact scheme), \"extrapolated\" (on the right-hand side, a Cholesky factor)",
+                        ))
+                    }
+                };
+                return Ok(Integrator::SpaceTime {
+                    alpha,
+                    gamma,
+                    coriolis,
+                });
+            }
+            _ if coriolis.is_some() => {
+                let (k, c) = coriolis.unwrap_or_default();
+                return Err(self.invalid(
+                    &k,
+                    format!("\"{c}\""),
+                    "only used with integrator = \"space_time\"",
+                ));
             }
             "newmark" => (ClassicKind::Newmark, ClassicParams::average_acceleration()),
             "newmark_dissipative" => {

@@ -36,6 +36,7 @@
 use crate::linalg::LinalgError;
 use crate::simulation::LoadFn;
 use crate::time::classic::{ClassicError, ClassicParams};
+use crate::time::Coriolis;
 use serde::Serialize;
 
 /// The state `(u, v, a)` at one time (`a` is kept by the classic integrators; the space-time
@@ -164,6 +165,8 @@ pub enum Integrator {
         alpha: f64,
         /// `gamma` in [0, 1].
         gamma: f64,
+        /// Where the Coriolis term goes (`time.coriolis`).
+        coriolis: Coriolis,
     },
     /// A member of the generalized-alpha family ([`crate::time::classic`]).
     Classic {
@@ -194,9 +197,19 @@ impl Integrator {
     /// The name used in tables.
     pub fn name(&self) -> String {
         match self {
-            Integrator::SpaceTime { alpha, gamma } => {
-                format!("space_time(alpha={alpha} gamma={gamma})")
-            }
+            Integrator::SpaceTime {
+                alpha,
+                gamma,
+                coriolis: Coriolis::Implicit,
+            } => format!("space_time(alpha={alpha} gamma={gamma})"),
+            Integrator::SpaceTime {
+                alpha,
+                gamma,
+                coriolis,
+            } => format!(
+                "space_time(alpha={alpha} gamma={gamma} coriolis={})",
+                coriolis.name()
+            ),
             Integrator::Classic { kind, params } => match kind {
                 ClassicKind::Newmark => "newmark".into(),
                 ClassicKind::NewmarkDissipative => format!("newmark({:.2})", params.gamma),

@@ -18,4 +18,4 @@ pub mod sdof;
 pub mod step;
 
 pub use integrator::{ClassicKind, Integrator, State, TimeIntegrator};
-pub use params::SpaceTimeParams;
+pub use params::{Coriolis, SpaceTimeParams};

@@ -32,6 +32,32 @@ impl SpaceTimeParams {
     }
 }
 
+/// How the step treats a damping matrix `C` with a skew part `G = (C - C^T)/2` (the
+/// Coriolis term of a rotating frame; scenario key `time.coriolis`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Coriolis {
+    /// `G` in the step's matrix `A = M + alpha h C + alpha^2 h^2/2 K`, Eq. (18): the exact
+    /// scheme, an unsymmetric `A` factored by LU.
+    #[default]
+    Implicit,
+    /// `G` on the right-hand side at the extrapolated velocity `v0 + h a0` (`a0` the last
+    /// step's mean acceleration): `A` keeps the symmetric part of `C` only and gets a
+    /// Cholesky factor. Its stability and accuracy against the exact scheme are those of
+    /// [`crate::time::sdof::gyroscopic_amplification`].
+    Extrapolated,
+}
+
+impl Coriolis {
+    /// The scenario value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Coriolis::Implicit => "implicit",
+            Coriolis::Extrapolated => "extrapolated",
+        }
+    }
+}
+
 /// `beta = 1 - alpha / (1 + gamma)`, Eq. (24).
 pub fn beta(alpha: f64, gamma: f64) -> f64 {
     1.0 - alpha / (1.0 + gamma)

@@ -19,6 +19,18 @@
 //! for the fill of `A^T A`). The LU with COLAMD stays available as the reference
 //! ([`FactorChoice::Kind`]); the tests check that the fast paths reproduce it.
 //!
+//! **The Coriolis term on the right-hand side** ([`Coriolis::Extrapolated`]). `C` splits
+//! into its symmetric part `C_s` and its skew part `G` (the Coriolis matrix of a rotating
+//! frame). The exact scheme keeps `G` in `A`; the extrapolated one keeps `C_s` only, so that
+//! `A_s = M + alpha h C_s + alpha^2 h^2/2 K` is symmetric (a Cholesky factor, half the
+//! bytes of the LU per solve), and takes the Coriolis force of the step at the extrapolated
+//! velocity `v0 + h a0` (`a0 = (v0 - v_-1)/h`, the last step's mean acceleration):
+//! $$A_s v_1 = B_s v_0 - h G (v_0 + \alpha h a_0) - h K u_0 + h f,$$
+//! with `B_s` the `B` above on `C_s`. The exact scheme's `alpha h G v1 + (1 - alpha) h G v0`
+//! becomes `h G (v0 + alpha h a0)`: the same to `O(h^2 G a')`. Its amplification on the
+//! spinning oscillator ([`crate::time::sdof::gyroscopic_eigenvalues`]) matches the exact
+//! scheme's for every mode well above the spin; the tests assert both.
+//!
 //! **Dirichlet velocities** are imposed by replacing the rows and columns of `A` by the
 //! identity and lifting the prescribed values into `b`.
 //!
@@ -38,7 +50,7 @@ use crate::linalg::{
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
 use crate::time::params::beta;
-use crate::time::SpaceTimeParams;
+use crate::time::{Coriolis, SpaceTimeParams};
 
 /// The semi-discrete linear model `M v' + C v + K u = f` on one sparsity pattern.
 #[derive(Debug, Clone)]
@@ -77,7 +89,12 @@ pub struct Stepper {
     n: usize,
     pattern: Pattern,
     m: Vec<f64>,
+    /// `C`, or its symmetric part `C_s` when the skew part is on the right-hand side.
     c: Vec<f64>,
+    /// The treatment of `C`'s skew part in force ([`Coriolis::Implicit`] when `C` has none).
+    coriolis: Coriolis,
+    /// `G`, the skew part of `C`, with [`Coriolis::Extrapolated`] (else empty).
+    g: Vec<f64>,
     /// Values of `M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K` for the current `h`.
     bv: Vec<f64>,
     /// Values of `K`.
@@ -120,10 +137,10 @@ impl Stepper {
         params: SpaceTimeParams,
         bcs: &[(usize, f64)],
     ) -> Result<Self, LinalgError> {
-        Self::with_factor(model, params, bcs, FactorChoice::Auto)
+        Self::with_options(model, params, bcs, FactorChoice::Auto, Coriolis::Implicit)
     }
 
-    /// The same with the factorization of `A` chosen by `choice`.
+    /// The same with the factorization of `A` chosen by `choice` (the exact scheme).
     ///
     /// # Errors
     /// [`LinalgError`] when `A` is singular (or, for a Cholesky factor, not positive
@@ -134,8 +151,36 @@ impl Stepper {
         bcs: &[(usize, f64)],
         choice: FactorChoice,
     ) -> Result<Self, LinalgError> {
+        Self::with_options(model, params, bcs, choice, Coriolis::Implicit)
+    }
+
+    /// The same with the factorization of `A` chosen by `choice` and the skew part of `C`
+    /// treated by `coriolis` (module docs). [`Coriolis::Extrapolated`] on a `C` without skew
+    /// part, or on a pattern that is not structurally symmetric, is the exact scheme
+    /// ([`Stepper::coriolis`] tells which is in force).
+    ///
+    /// # Errors
+    /// [`LinalgError`] when `A` is singular (or, for a Cholesky factor, not positive
+    /// definite).
+    pub fn with_options(
+        model: &LinearModel,
+        params: SpaceTimeParams,
+        bcs: &[(usize, f64)],
+        choice: FactorChoice,
+        coriolis: Coriolis,
+    ) -> Result<Self, LinalgError> {
         let n = model.n();
         let pattern = model.pattern().clone();
+        let (c, g) = match coriolis {
+            Coriolis::Extrapolated => split_skew(&pattern, &model.c),
+            Coriolis::Implicit => None,
+        }
+        .unwrap_or_else(|| (model.c.clone(), Vec::new()));
+        let coriolis = if g.is_empty() {
+            Coriolis::Implicit
+        } else {
+            Coriolis::Extrapolated
+        };
         let mut is_bc = vec![false; n];
         let mut bc_dofs = Vec::with_capacity(bcs.len());
         let mut bc_values = Vec::with_capacity(bcs.len());
@@ -150,7 +195,7 @@ impl Stepper {
         let (mut a_orig, mut bv, mut a_work) = (vec![0.0; nnz], vec![0.0; nnz], vec![0.0; nnz]);
         Operators {
             m: &model.m,
-            c: &model.c,
+            c: &c,
             k: &model.k,
             pattern: &pattern,
             is_bc: &is_bc,
@@ -165,7 +210,7 @@ impl Stepper {
             }
             FactorChoice::Auto => Factor::new(&pattern, &a_work, FactorKind::Lu(Ordering::Amd))?,
         };
-        let rhs_rows = RhsRows::new(&pattern, &bv, &model.k);
+        let rhs_rows = RhsRows::new(&pattern, &bv, &model.k, &g);
         Ok(Self {
             params,
             rhs_rows,
@@ -173,7 +218,9 @@ impl Stepper {
             beta_now: params.beta(),
             n,
             m: model.m.clone(),
-            c: model.c.clone(),
+            c,
+            coriolis,
+            g,
             bv,
             k: model.k.clone(),
             a_orig,
@@ -269,6 +316,11 @@ struct RhsRows {
     /// `[B_ij, K_ij, B_(i+1)j, K_(i+1)j]` per entry.
     pair_bk: Vec<[f64; 4]>,
     pair_src: Vec<[usize; 2]>,
+    /// With the Coriolis term on the right-hand side, the skew part `G` by the same rows:
+    /// `g[e]` beside `bk[e]`, `pair_g[e] = [G_ij, G_(i+1)j]` beside `pair_bk[e]` (empty
+    /// otherwise).
+    g: Vec<f64>,
+    pair_g: Vec<[f64; 2]>,
     /// For orders from `RHS_SPLIT_MIN_ORDER` on, the first pair of the second half of the
     /// entries: the pairs before it and those from it on are formed on two threads.
     pair_mid: Option<usize>,
@@ -280,7 +332,7 @@ struct RhsRows {
 const RHS_SPLIT_MIN_ORDER: usize = 10_000;
 
 impl RhsRows {
-    fn new(pattern: &Pattern, bv: &[f64], k: &[f64]) -> Self {
+    fn new(pattern: &Pattern, bv: &[f64], k: &[f64], g: &[f64]) -> Self {
         let n = pattern.nrows();
         assert!(n <= u32::MAX as usize, "too many dofs for 32-bit indices");
         let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
@@ -313,6 +365,8 @@ impl RhsRows {
             pair_idx: Vec::new(),
             pair_bk: Vec::new(),
             pair_src: Vec::new(),
+            g: Vec::new(),
+            pair_g: Vec::new(),
             pair_mid: None,
         };
         let mut i = 0;
@@ -348,6 +402,10 @@ impl RhsRows {
         }
         rows.bk = vec![[0.0; 2]; rows.idx.len()];
         rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
+        if !g.is_empty() {
+            rows.g = rows.src.iter().map(|&p| g[p]).collect();
+            rows.pair_g = rows.pair_src.iter().map(|&[p, q]| [g[p], g[q]]).collect();
+        }
         rows.refill(bv, k);
         rows
     }
@@ -436,6 +494,79 @@ impl RhsRows {
         }
     }
 
+    avx2_method! {
+        /// The same as `pairs_into` with the skew part: `b[i - offset] += (B v0 - h (K u0 +
+        /// G (v0 + c a0)))[i]`.
+        fn pairs_g_into / pairs_g_avx2(
+            &self,
+            pairs: std::ops::Range<usize>,
+            offset: usize,
+            h: f64,
+            c: f64,
+            uva: [&[f64]; 3],
+            b: &mut [f64]
+        ) => pairs_g_here
+    }
+
+    #[inline(always)]
+    fn pairs_g_here(
+        &self,
+        pairs: std::ops::Range<usize>,
+        offset: usize,
+        h: f64,
+        c: f64,
+        [u0, v0, a0]: [&[f64]; 3],
+        b: &mut [f64],
+    ) {
+        let n = v0.len();
+        assert!(u0.len() == n && a0.len() == n);
+        for k in pairs {
+            let i = self.pair[k] - offset;
+            let range = self.pair_ptr[k]..self.pair_ptr[k + 1];
+            let (idx, bk, g) = (
+                &self.pair_idx[range.clone()],
+                &self.pair_bk[range.clone()],
+                &self.pair_g[range],
+            );
+            // [B v, K u + G w of row i, the same of row i + 1], w = v0 + c a0.
+            let mut s = [0.0; 4];
+            for ((&j, v), gj) in idx.iter().zip(bk).zip(g) {
+                let j = j as usize;
+                debug_assert!(j < n);
+                // SAFETY: the column indices are < n (built from the pattern in
+                // `RhsRows::new`) and the three vectors have length n (asserted above).
+                let (vj, uj, aj) = unsafe {
+                    (
+                        *v0.get_unchecked(j),
+                        *u0.get_unchecked(j),
+                        *a0.get_unchecked(j),
+                    )
+                };
+                let wj = vj + c * aj;
+                s[0] += v[0] * vj;
+                s[1] += v[1] * uj + gj[0] * wj;
+                s[2] += v[2] * vj;
+                s[3] += v[3] * uj + gj[1] * wj;
+            }
+            b[i] += s[0] - h * s[1];
+            b[i + 1] += s[2] - h * s[3];
+        }
+    }
+
+    /// `b[i] -= h (G (v0 + c a0))[i]` for the rows `i` stored alone (the skew part's share
+    /// of `singles_into`).
+    fn singles_g_into(&self, h: f64, c: f64, v0: &[f64], a0: &[f64], b: &mut [f64]) {
+        for (k, &i) in self.single.iter().enumerate() {
+            let range = self.ptr[k]..self.ptr[k + 1];
+            let s: f64 = self.idx[range.clone()]
+                .iter()
+                .zip(&self.g[range])
+                .map(|(&j, gj)| gj * (v0[j as usize] + c * a0[j as usize]))
+                .sum();
+            b[i] -= h * s;
+        }
+    }
+
     fn refill(&mut self, bv: &[f64], k: &[f64]) {
         for (e, &p) in self.bk.iter_mut().zip(&self.src) {
             *e = [bv[p], k[p]];
@@ -486,8 +617,10 @@ impl Stepper {
     }
 
     /// `b = (M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K) v0 - h K u0 + h f`, where `f` is
-    /// the external force at `t0 + alpha h` (N per dof).
-    pub fn rhs_into(&self, u0: &[f64], v0: &[f64], f: &[f64], b: &mut [f64]) {
+    /// the external force at `t0 + alpha h` (N per dof); with the Coriolis term on the
+    /// right-hand side, `C` is its symmetric part and `- h G (v0 + alpha h a0)` is added
+    /// (module docs; `a0` is read only then).
+    pub fn rhs_into(&self, u0: &[f64], v0: &[f64], a0: &[f64], f: &[f64], b: &mut [f64]) {
         let h = self.h_now;
         for (bi, fi) in b.iter_mut().zip(f) {
             *bi = h * fi;
@@ -497,19 +630,40 @@ impl Stepper {
         let n = self.n;
         assert!(b.len() == n && v0.len() == n && u0.len() == n);
         let pairs = r.pair.len();
+        let skew = self.coriolis == Coriolis::Extrapolated;
+        assert!(!skew || a0.len() == n);
+        let c = self.params.alpha * h;
+        let part = |range: std::ops::Range<usize>, offset: usize, b: &mut [f64]| {
+            if skew {
+                r.pairs_g_into(range, offset, h, c, [u0, v0, a0], b);
+            } else {
+                r.pairs_into(range, offset, h, u0, v0, b);
+            }
+        };
         match r.pair_mid {
             Some(mid) => {
                 // The second half's rows start at its first pair's row.
                 let cut = r.pair[mid];
                 let (lo, hi) = b.split_at_mut(cut);
-                rayon::join(
-                    || r.pairs_into(0..mid, 0, h, u0, v0, lo),
-                    || r.pairs_into(mid..pairs, cut, h, u0, v0, hi),
-                );
+                rayon::join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
             }
-            None => r.pairs_into(0..pairs, 0, h, u0, v0, b),
+            None => part(0..pairs, 0, b),
         }
         r.singles_into(h, u0, v0, b);
+        if skew {
+            r.singles_g_into(h, c, v0, a0, b);
+        }
+    }
+
+    /// The treatment of `C`'s skew part in force (module docs).
+    pub fn coriolis(&self) -> Coriolis {
+        self.coriolis
+    }
+
+    /// `G`, the skew part of `C` on the right-hand side (on the pattern of
+    /// [`Stepper::matrices`]), with [`Coriolis::Extrapolated`].
+    pub fn skew(&self) -> Option<&[f64]> {
+        (self.coriolis == Coriolis::Extrapolated).then_some(&self.g[..])
     }
 
     /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities.
@@ -537,7 +691,8 @@ impl Stepper {
     /// The step's matrices for the current `h` on their pattern: `A` with the Dirichlet
     /// identity rows and columns (the matrix factored), the right-hand-side operator
     /// `B = M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K` and `K` (module docs): `(pattern,
-    /// A, B, K)`.
+    /// A, B, K)`. With [`Coriolis::Extrapolated`], `C` in `A` and `B` is its symmetric part
+    /// (and [`Stepper::skew`] the rest).
     pub fn matrices(&self) -> (&Pattern, &[f64], &[f64], &[f64]) {
         (&self.pattern, &self.a_work, &self.bv, &self.k)
     }
@@ -629,7 +784,7 @@ impl TimeIntegrator for Stepper {
         for (fi, ei) in f.iter_mut().zip(extra) {
             *fi += ei;
         }
-        self.rhs_into(&s0.u, &s0.v, f, x);
+        self.rhs_into(&s0.u, &s0.v, &s0.a, f, x);
         self.solve(x);
         let bt = self.beta_now;
         for i in 0..self.n {
@@ -689,6 +844,19 @@ impl TimeIntegrator for Stepper {
     fn symbolic_analyses(&self) -> usize {
         1
     }
+}
+
+/// `(C_s, G)`: the symmetric and skew parts of `C` on `pattern`; None when `C` has no skew
+/// part (to 1e-14 of its largest entry) or the pattern is not structurally symmetric.
+fn split_skew(pattern: &Pattern, c: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
+    let t = crate::linalg::transpose_positions(pattern)?;
+    let scale = c.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let g: Vec<f64> = (0..c.len()).map(|p| 0.5 * (c[p] - c[t[p]])).collect();
+    if g.iter().all(|x| x.abs() <= 1e-14 * scale) {
+        return None;
+    }
+    let cs = (0..c.len()).map(|p| 0.5 * (c[p] + c[t[p]])).collect();
+    Some((cs, g))
 }
 
 /// Gaussian elimination with partial pivoting on a small dense row-major `k x k` system;
@@ -755,7 +923,7 @@ mod tests {
         let n = w.model.n();
         let k = &w.model.k;
         let bv: Vec<f64> = (0..k.len()).map(|p| w.model.m[p] - 1e-9 * k[p]).collect();
-        let rows = RhsRows::new(w.model.pattern(), &bv, k);
+        let rows = RhsRows::new(w.model.pattern(), &bv, k, &[]);
         assert!(!rows.pair.is_empty());
         let u: Vec<f64> = (0..n).map(|i| 1e-4 * (0.3 * i as f64).sin()).collect();
         let v: Vec<f64> = (0..n).map(|i| 1e-2 * (0.7 * i as f64).cos()).collect();
@@ -783,5 +951,48 @@ mod tests {
             }
             assert!(same(&whole, &avx2), "AVX2");
         }
+        // With the skew part (the wheel's Coriolis matrix): the same bits in halves and on
+        // AVX2, and the three products of a plain sparse product to round-off.
+        let g = &w.model.c;
+        let rows = RhsRows::new(w.model.pattern(), &bv, k, g);
+        let acc: Vec<f64> = (0..n).map(|i| 3.0 * (0.9 * i as f64).sin()).collect();
+        let c = 0.8 * h;
+        let mut whole = vec![0.5; n];
+        rows.pairs_g_here(0..pairs, 0, h, c, [&u, &v, &acc], &mut whole);
+        rows.singles_here(h, &u, &v, &mut whole);
+        rows.singles_g_into(h, c, &v, &acc, &mut whole);
+        let mut halves = vec![0.5; n];
+        let (lo, hi) = halves.split_at_mut(cut);
+        rows.pairs_g_here(0..mid, 0, h, c, [&u, &v, &acc], lo);
+        rows.pairs_g_here(mid..pairs, cut, h, c, [&u, &v, &acc], hi);
+        rows.singles_here(h, &u, &v, &mut halves);
+        rows.singles_g_into(h, c, &v, &acc, &mut halves);
+        assert!(same(&whole, &halves), "halves, with G");
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            let mut avx2 = vec![0.5; n];
+            // SAFETY: the processor has AVX2 (checked just above).
+            unsafe {
+                rows.pairs_g_avx2(0..pairs, 0, h, c, [&u, &v, &acc], &mut avx2);
+            }
+            rows.singles_here(h, &u, &v, &mut avx2);
+            rows.singles_g_into(h, c, &v, &acc, &mut avx2);
+            assert!(same(&whole, &avx2), "AVX2, with G");
+        }
+        let pattern = w.model.pattern();
+        let mut reference = vec![0.5; n];
+        let wv: Vec<f64> = v.iter().zip(&acc).map(|(x, y)| x + c * y).collect();
+        crate::linalg::spmv_add(pattern, &bv, 1.0, &v, &mut reference);
+        crate::linalg::spmv_add(pattern, k, -h, &u, &mut reference);
+        crate::linalg::spmv_add(pattern, g, -h, &wv, &mut reference);
+        let scale = reference.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let d = whole
+            .iter()
+            .zip(&reference)
+            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(
+            d <= 1e-13 * scale,
+            "against sparse products: {d:e} of {scale:e}"
+        );
     }
 }
