@@ -1331,6 +1331,8 @@ pub enum FactorKind {
 }
 
 /// A factored step matrix: LU (the reference) or Cholesky.
+// One or two per stepper: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug)]
 pub enum Factor {
     /// LU.

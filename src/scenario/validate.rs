@@ -567,6 +567,7 @@ impl Ctx<'_> {
 
     /// The integrator named `v` (key `key`) with `alpha`, `gamma` (space-time) and the
     /// optional parameters `(key, value)` of the classic ones.
+    #[allow(clippy::too_many_arguments)]
     fn integrator(
         &self,
         key: &str,
