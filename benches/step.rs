@@ -8,6 +8,10 @@
 //! LU, COLAMD ordering and its generic solve; two sparse products for the right-hand side),
 //! beside `wheel_step/free` (softway's factor and solve now) in the same run.
 //!
+//! `wheel_step/free_extrapolated`, `wheel_step/four_held_extrapolated`: the same steps with
+//! the Coriolis term on the right-hand side (`time.coriolis = "extrapolated"`): a Cholesky
+//! factor of the symmetric part, one more vector gathered by the right-hand side.
+//!
 //! `factor/*`: the free step with each factorization of `A` on the same ladder, in one run:
 //! the LU with COLAMD (faer's default ordering, softway's factor before issue 11), the LU
 //! with AMD (the default for the wheel, whose Coriolis term makes `A` unsymmetric), and on
@@ -38,7 +42,7 @@ use softway::linalg::{spmv_add, FactorKind, FaerLu, Ordering};
 use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use softway::mesh::Mesh;
 use softway::time::step::{FactorChoice, Stepper};
-use softway::time::SpaceTimeParams;
+use softway::time::{Coriolis, SpaceTimeParams};
 use softway::wheel::{Support, WheelModel, WheelSpec};
 
 /// The ladder: (label, mesh, support) of the paper's family and of the converged wheel.
@@ -80,6 +84,28 @@ fn wheel(mesh: Mesh, support: Support) -> (WheelModel, SpaceTimeParams, Vec<(usi
     (w, p, bcs)
 }
 
+/// Four neighbouring rim nodes held on the base (their vertical velocity zero), from the
+/// bottom of the wheel: the rows of the contact solve.
+fn four_held(w: &WheelModel) -> RowSolver {
+    let n = w.model.n();
+    let bottom = w.rim.len() * 3 / 4;
+    let mut rows = RowSolver::new(n, 4, 8);
+    for k in 0..4 {
+        let node = w.rim[(bottom + k) % w.rim.len()];
+        let mut terms = Terms::default();
+        terms.push(2 * node + 1, 1.0);
+        rows.push(Row {
+            pair: k,
+            terms,
+            kind: RowKind::Equality,
+            y0: 0.0,
+            mu: 1.0,
+            reg: 0.0,
+        });
+    }
+    rows
+}
+
 fn bench_step(c: &mut Criterion) {
     let mut g = c.benchmark_group("wheel_step");
     g.sample_size(10);
@@ -104,21 +130,7 @@ fn bench_step(c: &mut Criterion) {
         let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
         let mut b = vec![0.0; n];
         let mut u1 = vec![0.0; n];
-        let bottom = w.rim[w.rim.len() * 3 / 4];
-        let mut rows = RowSolver::new(n, 4, 8);
-        for k in 0..4 {
-            let node = w.rim[(w.rim.iter().position(|&x| x == bottom).unwrap() + k) % w.rim.len()];
-            let mut terms = Terms::default();
-            terms.push(2 * node + 1, 1.0);
-            rows.push(Row {
-                pair: k,
-                terms,
-                kind: RowKind::Equality,
-                y0: 0.0,
-                mu: 1.0,
-                reg: 0.0,
-            });
-        }
+        let mut rows = four_held(&w);
         g.bench_with_input(
             BenchmarkId::new("free", format!("{label}, {n} dofs")),
             &n,
@@ -168,6 +180,51 @@ fn bench_step(c: &mut Criterion) {
                 rayon::scope(|_| {
                     bch.iter(|| {
                         st.rhs_into(&u, &v, &[], &w.load, &mut b);
+                        st.solve(&mut b);
+                        rows.solve(&mut st, &mut b, 0.0);
+                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
+                        rows.lambda()[0]
+                    })
+                })
+            },
+        );
+        drop(st);
+        let mut st = Stepper::with_options(
+            &w.model,
+            p,
+            &bcs,
+            FactorChoice::Auto,
+            Coriolis::Extrapolated,
+        )
+        .unwrap();
+        eprintln!(
+            "coriolis extrapolated: {label}: {:?}, factor nnz {}",
+            st.factor_kind(),
+            st.factor_nnz()
+        );
+        let acc: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).cos()).collect();
+        g.bench_with_input(
+            BenchmarkId::new("free_extrapolated", format!("{label}, {n} dofs")),
+            &n,
+            |bch, _| {
+                rayon::scope(|_| {
+                    bch.iter(|| {
+                        st.rhs_into(&u, &v, &acc, &w.load, &mut b);
+                        st.solve(&mut b);
+                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
+                        b[0]
+                    })
+                })
+            },
+        );
+        let mut rows = four_held(&w);
+        g.bench_with_input(
+            BenchmarkId::new("four_held_extrapolated", format!("{label}, {n} dofs")),
+            &n,
+            |bch, _| {
+                rayon::scope(|_| {
+                    bch.iter(|| {
+                        st.rhs_into(&u, &v, &acc, &w.load, &mut b);
                         st.solve(&mut b);
                         rows.solve(&mut st, &mut b, 0.0);
                         st.update_displacement(0.333, &u, &v, &b, &mut u1);
