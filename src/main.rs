@@ -163,6 +163,11 @@ enum Command {
         /// Also write stability.csv and stability.png into this folder.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Also compare the two treatments of the Coriolis term (`time.coriolis`) on the
+        /// spinning oscillator at this spin times the step, Omega*h in (0, 0.1] (the
+        /// wheel: 300 rad/s * 2 us = 6e-4).
+        #[arg(long)]
+        spin_h: Option<f64>,
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
@@ -431,9 +436,19 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             alpha,
             gamma,
             out,
+            spin_h,
             json,
             replace: Replace { force },
         } => {
+            if let Some(s) = spin_h {
+                if !(s.is_finite() && s > 0.0 && s <= 0.1) {
+                    return Err(format!(
+                        "--spin-h {s}: Omega*h must be in (0, 0.1] (the spin times the step)"
+                    )
+                    .into());
+                }
+            }
+            let gyro = spin_h.map(|s| softway::time::sdof::gyroscopic_table(alpha, gamma, s, 5));
             if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
                 return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
             }
@@ -458,6 +473,8 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     "unconditionally_stable": rep.unconditionally_stable,
                     "stability_limit_omega_h": rep.stability_limit_omega_h,
                     "table": rep.table,
+                    "spin_h": spin_h,
+                    "gyroscopic": gyro,
                 });
                 outln!("{}", serde_json::to_string_pretty(&j)?);
             } else {
@@ -468,6 +485,13 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                         "{}",
                         softway::output::stability::table_text(&rep)
                     );
+                    if let (Some(s), Some(g)) = (spin_h, &gyro) {
+                        let _ = write!(
+                            std::io::stdout(),
+                            "{}",
+                            softway::output::stability::gyroscopic_text(s, g)
+                        );
+                    }
                 }
                 for f in files {
                     outln!("wrote {}", f.display());

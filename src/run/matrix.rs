@@ -122,7 +122,9 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
     ] {
         if let Ok(s) = Stepper::with_factor(&model, run.params, &bcs, FactorChoice::Kind(kind)) {
             // A Cholesky factor of an unsymmetric matrix is not a factor of it.
-            if kind != FactorKind::Llt || st.factor_kind() == FactorKind::Llt {
+            if kind != FactorKind::Llt
+                || (st.factor_kind() == FactorKind::Llt && st.skew().is_none())
+            {
                 factor_nnz.push((kind_name(kind), s.factor_nnz()));
             }
         }
@@ -218,7 +220,10 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
         alpha: run.params.alpha,
         symmetric,
         factor_nnz,
-        factor: kind_name(st.factor_kind()),
+        factor: match st.skew() {
+            Some(_) => format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
+            None => kind_name(st.factor_kind()),
+        },
         softway_step_us: rounds[2],
         factor_parts: st.factor_parts(),
         threads: rayon::current_num_threads(),

@@ -222,6 +222,60 @@ pub fn gyroscopic_eigenvalues(
     ev
 }
 
+/// The two treatments of the Coriolis term compared at one `omega0 h` (a row of
+/// [`gyroscopic_table`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GyroscopicRow {
+    /// `omega0 h`.
+    pub omega0_h: f64,
+    /// Spectral radius with the Coriolis term in the step's matrix (the exact scheme).
+    pub rho_implicit: f64,
+    /// Spectral radius with it on the right-hand side, extrapolated.
+    pub rho_extrapolated: f64,
+    /// The largest distance from an exact eigenvalue to the nearest extrapolated one (the
+    /// four physical ones).
+    pub eigenvalue_gap: f64,
+    /// Modulus of the largest parasitic eigenvalue of the extrapolation.
+    pub parasitic: f64,
+}
+
+/// [`GyroscopicRow`]s for the spin `Omega h` on a log ladder of `omega0 h` from 3 times the
+/// spin to 1e4 (`per_decade` points a decade).
+pub fn gyroscopic_table(
+    alpha: f64,
+    gamma: f64,
+    spin_h: f64,
+    per_decade: usize,
+) -> Vec<GyroscopicRow> {
+    let lo = 3.0 * spin_h;
+    let decades = (1e4 / lo).log10().max(0.0);
+    let count = (decades * per_decade.max(1) as f64).round() as usize;
+    let r = |z: &(f64, f64)| z.0.hypot(z.1);
+    (0..=count)
+        .map(|i| {
+            let w = lo * 10f64.powf(i as f64 / per_decade.max(1) as f64);
+            let ex = gyroscopic_eigenvalues(alpha, gamma, w, spin_h, Coriolis::Extrapolated);
+            let im = gyroscopic_eigenvalues(alpha, gamma, w, spin_h, Coriolis::Implicit);
+            let gap = im[..4]
+                .iter()
+                .map(|z| {
+                    ex[..4]
+                        .iter()
+                        .map(|e| (e.0 - z.0).hypot(e.1 - z.1))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0, f64::max);
+            GyroscopicRow {
+                omega0_h: w,
+                rho_implicit: r(&im[0]),
+                rho_extrapolated: r(&ex[0]),
+                eigenvalue_gap: gap,
+                parasitic: r(&ex[4]),
+            }
+        })
+        .collect()
+}
+
 /// Spectral radius of [`gyroscopic_eigenvalues`] (NaN if the eigen-solver fails).
 pub fn gyroscopic_spectral_radius(
     alpha: f64,
@@ -250,41 +304,32 @@ mod tests {
     #[test]
     fn extrapolated_coriolis_keeps_the_exact_schemes_stability() {
         let (a, g) = (0.8, 0.2);
-        let r = |z: &(f64, f64)| z.0.hypot(z.1);
         for spin_h in [6e-4, 6e-3, 6e-2] {
-            for i in 0..=120 {
-                let w = 3.0 * spin_h * 10f64.powf(i as f64 / 20.0);
-                let ex = gyroscopic_eigenvalues(a, g, w, spin_h, Coriolis::Extrapolated);
-                let im = gyroscopic_eigenvalues(a, g, w, spin_h, Coriolis::Implicit);
+            let table = gyroscopic_table(a, g, spin_h, 20);
+            assert!(table.len() > 100);
+            for row in table {
+                let (w, ri, rx) = (row.omega0_h, row.rho_implicit, row.rho_extrapolated);
                 let at = format!("spin h {spin_h}, omega0 h {w:.3e}");
-                assert!(
-                    r(&ex[0]) <= r(&im[0]).max(1.0) + 1e-9,
-                    "{at}: rho {} against {}",
-                    r(&ex[0]),
-                    r(&im[0])
-                );
+                assert!(rx <= ri.max(1.0) + 1e-9, "{at}: rho {rx} against {ri}");
                 if w >= 5.0 * spin_h {
-                    assert!(r(&ex[0]) <= 1.0 + 1e-9, "{at}: rho {}", r(&ex[0]));
-                    assert!(r(&im[0]) <= 1.0 + 1e-9, "{at}: exact rho {}", r(&im[0]));
+                    assert!(rx <= 1.0 + 1e-9, "{at}: rho {rx}");
+                    assert!(ri <= 1.0 + 1e-9, "{at}: exact rho {ri}");
                 }
-                // Each exact eigenvalue has an extrapolated one near it.
-                let far = im[..4]
-                    .iter()
-                    .map(|z| {
-                        ex[..4]
-                            .iter()
-                            .map(|e| (e.0 - z.0).hypot(e.1 - z.1))
-                            .fold(f64::INFINITY, f64::min)
-                    })
-                    .fold(0.0, f64::max);
                 let bound = 2.0 * spin_h * (w * w).min(1.0);
                 assert!(
-                    far <= bound,
-                    "{at}: eigenvalues {far:e} apart, bound {bound:e}"
+                    row.eigenvalue_gap <= bound,
+                    "{at}: eigenvalues {:e} apart, bound {bound:e}",
+                    row.eigenvalue_gap
                 );
-                assert!(r(&ex[4]) < 2.0 * spin_h, "{at}: parasitic {}", r(&ex[4]));
-                assert!(r(&im[4]) < 1e-12, "{at}: the exact scheme ignores a");
+                assert!(
+                    row.parasitic < 2.0 * spin_h,
+                    "{at}: parasitic {}",
+                    row.parasitic
+                );
             }
+            // The exact scheme ignores `a`: two zero eigenvalues.
+            let im = gyroscopic_eigenvalues(a, g, 0.3, spin_h, Coriolis::Implicit);
+            assert!(im[4].0.hypot(im[4].1) < 1e-12);
         }
     }
 
