@@ -306,7 +306,7 @@ mod tests {
         let (a, g) = (0.8, 0.2);
         for spin_h in [6e-4, 6e-3, 6e-2] {
             let table = gyroscopic_table(a, g, spin_h, 20);
-            assert!(table.len() > 100);
+            assert!(table.len() >= 90, "{} rows", table.len());
             for row in table {
                 let (w, ri, rx) = (row.omega0_h, row.rho_implicit, row.rho_extrapolated);
                 let at = format!("spin h {spin_h}, omega0 h {w:.3e}");
