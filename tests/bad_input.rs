@@ -1186,6 +1186,10 @@ fn modes_of_a_bar() {
 #[test]
 fn stability_gamma_out_of_range() {
     cli_refused(&["stability", "--gamma", "2"], &["--gamma 2", "[0, 1]"]);
+    cli_refused(
+        &["stability", "--spin-h", "0.5"],
+        &["--spin-h 0.5", "(0, 0.1]"],
+    );
 }
 
 #[test]

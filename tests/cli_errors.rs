@@ -110,6 +110,36 @@ fn stability_json_reports_the_limits() {
     assert!((j["rho_inf"].as_f64().unwrap() - 1.0).abs() < 1e-9);
 }
 
+/// `--spin-h`: the two treatments of the Coriolis term side by side, the extrapolated one's
+/// spectral radius no larger than the exact scheme's (or 1) anywhere on the ladder.
+#[test]
+fn stability_compares_the_coriolis_treatments() {
+    let o = softway()
+        .args([
+            "stability",
+            "--alpha",
+            "0.8",
+            "--gamma",
+            "0.2",
+            "--spin-h",
+            "6e-4",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = j["gyroscopic"].as_array().unwrap();
+    assert!(rows.len() > 30);
+    for r in rows {
+        let (ri, rx) = (
+            r["rho_implicit"].as_f64().unwrap(),
+            r["rho_extrapolated"].as_f64().unwrap(),
+        );
+        assert!(rx <= ri.max(1.0) + 1e-9, "{r}");
+    }
+}
+
 #[test]
 fn unknown_integrator_and_contact() {
     let (c, e) = run_err(
