@@ -106,6 +106,51 @@ fn four_held(w: &WheelModel) -> RowSolver {
     rows
 }
 
+/// `free{suffix}` (right-hand side, solve, update) and `four_held{suffix}` (the same with
+/// four rim nodes held through the factored matrix) of `st` from the state `(u, v, a)`.
+fn free_and_held(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    label: &str,
+    suffix: &str,
+    st: &mut Stepper,
+    w: &WheelModel,
+    [u, v, a]: [&[f64]; 3],
+) {
+    let n = w.model.n();
+    let (mut b, mut u1) = (vec![0.0; n], vec![0.0; n]);
+    let mut rows = four_held(w);
+    g.bench_with_input(
+        BenchmarkId::new(format!("free{suffix}"), format!("{label}, {n} dofs")),
+        &n,
+        |bch, _| {
+            // On a thread of the pool, as a run is (`run::run_scenario`).
+            rayon::scope(|_| {
+                bch.iter(|| {
+                    st.rhs_into(u, v, a, &w.load, &mut b);
+                    st.solve(&mut b);
+                    st.update_displacement(0.333, u, v, &b, &mut u1);
+                    b[0]
+                })
+            })
+        },
+    );
+    g.bench_with_input(
+        BenchmarkId::new(format!("four_held{suffix}"), format!("{label}, {n} dofs")),
+        &n,
+        |bch, _| {
+            rayon::scope(|_| {
+                bch.iter(|| {
+                    st.rhs_into(u, v, a, &w.load, &mut b);
+                    st.solve(&mut b);
+                    rows.solve(st, &mut b, 0.0);
+                    st.update_displacement(0.333, u, v, &b, &mut u1);
+                    rows.lambda()[0]
+                })
+            })
+        },
+    );
+}
+
 fn bench_step(c: &mut Criterion) {
     let mut g = c.benchmark_group("wheel_step");
     g.sample_size(10);
@@ -130,22 +175,6 @@ fn bench_step(c: &mut Criterion) {
         let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
         let mut b = vec![0.0; n];
         let mut u1 = vec![0.0; n];
-        let mut rows = four_held(&w);
-        g.bench_with_input(
-            BenchmarkId::new("free", format!("{label}, {n} dofs")),
-            &n,
-            |bch, _| {
-                // On a thread of the pool, as a run is (`run::run_scenario`).
-                rayon::scope(|_| {
-                    bch.iter(|| {
-                        st.rhs_into(&u, &v, &[], &w.load, &mut b);
-                        st.solve(&mut b);
-                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                        b[0]
-                    })
-                })
-            },
-        );
         // The free step as softway did it before issue 11: faer's default sparse LU (COLAMD,
         // its generic solve) and two sparse products for the right-hand side.
         {
@@ -173,21 +202,7 @@ fn bench_step(c: &mut Criterion) {
                 },
             );
         }
-        g.bench_with_input(
-            BenchmarkId::new("four_held", format!("{label}, {n} dofs")),
-            &n,
-            |bch, _| {
-                rayon::scope(|_| {
-                    bch.iter(|| {
-                        st.rhs_into(&u, &v, &[], &w.load, &mut b);
-                        st.solve(&mut b);
-                        rows.solve(&mut st, &mut b, 0.0);
-                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                        rows.lambda()[0]
-                    })
-                })
-            },
-        );
+        free_and_held(&mut g, &label, "", &mut st, &w, [&u, &v, &[]]);
         drop(st);
         let mut st = Stepper::with_options(
             &w.model,
@@ -203,36 +218,7 @@ fn bench_step(c: &mut Criterion) {
             st.factor_nnz()
         );
         let acc: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).cos()).collect();
-        g.bench_with_input(
-            BenchmarkId::new("free_extrapolated", format!("{label}, {n} dofs")),
-            &n,
-            |bch, _| {
-                rayon::scope(|_| {
-                    bch.iter(|| {
-                        st.rhs_into(&u, &v, &acc, &w.load, &mut b);
-                        st.solve(&mut b);
-                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                        b[0]
-                    })
-                })
-            },
-        );
-        let mut rows = four_held(&w);
-        g.bench_with_input(
-            BenchmarkId::new("four_held_extrapolated", format!("{label}, {n} dofs")),
-            &n,
-            |bch, _| {
-                rayon::scope(|_| {
-                    bch.iter(|| {
-                        st.rhs_into(&u, &v, &acc, &w.load, &mut b);
-                        st.solve(&mut b);
-                        rows.solve(&mut st, &mut b, 0.0);
-                        st.update_displacement(0.333, &u, &v, &b, &mut u1);
-                        rows.lambda()[0]
-                    })
-                })
-            },
-        );
+        free_and_held(&mut g, &label, "_extrapolated", &mut st, &w, [&u, &v, &acc]);
     }
     g.finish();
 }

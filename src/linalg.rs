@@ -1631,79 +1631,63 @@ mod tests {
         (m.symbolic().to_owned().unwrap(), m.val().to_vec())
     }
 
-    /// The ordering split into two independent parts and a top: the parts are balanced,
-    /// the fill is that of the ordering it came from, the solve reproduces faer's LU to
-    /// 1e-13, and its result is the same, bit for bit, on one thread and on two.
+    /// The factor `build(split)` (in dense supernodes) with and without the split into two
+    /// independent parts and a top: the parts are balanced, the fill is that of the
+    /// ordering it came from, the solve reproduces faer's LU to 1e-13, and its result is the
+    /// same, bit for bit, on one thread and on two.
+    fn split_solves_alike(pattern: &Pattern, values: &[f64], build: impl Fn(bool) -> Factor) {
+        let n = pattern.nrows();
+        let b = rhs(n);
+        let x_ref = faer_solve(pattern, values, &b);
+        let whole = build(false);
+        assert!(whole.parts().is_none());
+        let mut split = build(true);
+        let kind = split.kind();
+        let (p0, p1, top) = split.parts().expect("a split ordering");
+        assert_eq!(p0 + p1 + top, n);
+        assert!(
+            p0.min(p1) * 3 > p0.max(p1) && top * 10 < n,
+            "{kind:?}: parts of {p0} and {p1} unknowns, top {top}"
+        );
+        assert_eq!(split.factor_nnz(), whole.factor_nnz(), "{kind:?}: the fill");
+        let mut on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut x = b.clone();
+            pool.install(|| split.solve_in_place(&mut x));
+            x
+        };
+        let (x1, x2) = (on(1), on(2));
+        assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
+        let d = max_rel_diff(&x1, &x_ref);
+        assert!(d < 1e-13, "{kind:?} split against faer's LU: {d:e}");
+    }
+
     #[test]
     fn split_factor_solves_alike_on_one_thread_and_two() {
         let (pattern, values) = grid_matrix(60, 50);
-        let n = pattern.nrows();
-        let b = rhs(n);
-        let x_ref = faer_solve(&pattern, &values, &b);
-        let whole = SparseLu::build(&pattern, &values, Ordering::Amd, false)
-            .unwrap()
-            .with_layout(&pattern, &values, true);
-        assert!(whole.parts().is_none());
-        let mut split = SparseLu::build(&pattern, &values, Ordering::Amd, true)
-            .unwrap()
-            .with_layout(&pattern, &values, true);
-        let (p0, p1, top) = split.parts().expect("a split ordering");
-        assert_eq!(p0 + p1 + top, n);
-        assert!(
-            p0.min(p1) * 3 > p0.max(p1) && top * 10 < n,
-            "parts of {p0} and {p1} unknowns, top {top}"
-        );
-        assert_eq!(split.factor_nnz(), whole.factor_nnz(), "the fill");
-        let mut on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let mut x = b.clone();
-            pool.install(|| split.solve_in_place(&mut x));
-            x
-        };
-        let (x1, x2) = (on(1), on(2));
-        assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
-        let d = max_rel_diff(&x1, &x_ref);
-        assert!(d < 1e-13, "split against faer's LU: {d:e}");
+        split_solves_alike(&pattern, &values, |split| {
+            Factor::Lu(
+                SparseLu::build(&pattern, &values, Ordering::Amd, split)
+                    .unwrap()
+                    .with_layout(&pattern, &values, true),
+            )
+        });
     }
 
-    /// The Cholesky factor split for two threads (as from 10,000 unknowns on) keeps the
-    /// fill of AMD and solves alike, bit for bit, on one thread and two.
+    /// The same for the Cholesky factor of a symmetric matrix.
     #[test]
     fn split_cholesky_solves_alike_on_one_thread_and_two() {
         let (pattern, values) = grid_matrix_skew(60, 50, 0.0);
-        let n = pattern.nrows();
-        let b = rhs(n);
-        let x_ref = faer_solve(&pattern, &values, &b);
-        let whole = SparseLlt::build(&pattern, &values, false)
-            .unwrap()
-            .with_layout(&pattern, &values, true);
-        assert!(whole.parts().is_none());
-        let mut split = SparseLlt::build(&pattern, &values, true)
-            .unwrap()
-            .with_layout(&pattern, &values, true);
-        let (p0, p1, top) = split.parts().expect("a split ordering");
-        assert_eq!(p0 + p1 + top, n);
-        assert!(
-            p0.min(p1) * 3 > p0.max(p1) && top * 10 < n,
-            "parts of {p0} and {p1} unknowns, top {top}"
-        );
-        assert_eq!(split.factor_nnz(), whole.factor_nnz(), "the fill");
-        let mut on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let mut x = b.clone();
-            pool.install(|| split.solve_in_place(&mut x));
-            x
-        };
-        let (x1, x2) = (on(1), on(2));
-        assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
-        let d = max_rel_diff(&x1, &x_ref);
-        assert!(d < 1e-13, "split Cholesky against faer's LU: {d:e}");
+        split_solves_alike(&pattern, &values, |split| {
+            Factor::Llt(
+                SparseLlt::build(&pattern, &values, split)
+                    .unwrap()
+                    .with_layout(&pattern, &values, true),
+            )
+        });
     }
 
     /// The solves compiled for AVX2 (chosen at run time) give the baseline's result bit for
