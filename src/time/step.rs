@@ -29,7 +29,7 @@
 //! into its symmetric part `C_s` and its skew part `G` (the Coriolis matrix of a rotating
 //! frame). The exact scheme keeps `G` in `A`; the extrapolated one keeps `C_s` only, so that
 //! `A_s = M + alpha h C_s + alpha^2 h^2/2 K` is symmetric (a Cholesky factor, half the
-//! bytes of the LU per solve), and takes the Coriolis force of the step at the extrapolated
+//! storage of the LU), and takes the Coriolis force of the step at the extrapolated
 //! velocity `v0 + h a0` (`a0 = (v0 - v_-1)/h`, the last step's mean acceleration):
 //! $$A_s v_1 = B_s v_0 - h G (v_0 + \alpha h a_0) - h K u_0 + h f,$$
 //! with `B_s` the `B` above on `C_s`. The exact scheme's `alpha h G v1 + (1 - alpha) h G v0`
