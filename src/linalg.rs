@@ -1665,6 +1665,33 @@ mod tests {
         assert!(d < 1e-13, "{kind:?} split against faer's LU: {d:e}");
     }
 
+    /// Two disconnected copies of a grid: their elimination trees are two equal subtrees, so
+    /// the split puts one copy in each part and leaves no top.
+    #[test]
+    fn two_disconnected_grids_split_into_the_two_without_a_top() {
+        let (p1, v1) = grid_matrix(12, 9);
+        let m = p1.nrows();
+        let mut t: Vec<Triplet<usize, usize, f64>> = Vec::new();
+        for copy in 0..2 {
+            for j in 0..m {
+                for q in p1.col_ptr()[j]..p1.col_ptr()[j + 1] {
+                    let i = p1.row_idx()[q];
+                    t.push(Triplet::new(copy * m + i, copy * m + j, v1[q]));
+                }
+            }
+        }
+        let mat = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(2 * m, 2 * m, &t)
+            .unwrap();
+        let pattern = mat.symbolic().to_owned().unwrap();
+        let (fwd, inv) = column_ordering(&pattern, Ordering::Amd).unwrap();
+        let (new_fwd, _, a, b) = split::two_subtrees(&pattern, &fwd, &inv).expect("a split");
+        assert_eq!((a, b), (m, 2 * m), "the parts of {} unknowns", 2 * m);
+        let copy_of = |k: usize| new_fwd[k] / m;
+        assert!((1..m).all(|k| copy_of(k) == copy_of(0)));
+        assert!((m + 1..2 * m).all(|k| copy_of(k) == copy_of(m)));
+        assert_ne!(copy_of(0), copy_of(m));
+    }
+
     #[test]
     fn split_factor_solves_alike_on_one_thread_and_two() {
         let (pattern, values) = grid_matrix(60, 50);
