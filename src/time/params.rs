@@ -44,7 +44,7 @@ pub enum Coriolis {
     /// `G` on the right-hand side at the extrapolated velocity `v0 + h a0` (`a0` the last
     /// step's mean acceleration): `A` keeps the symmetric part of `C` only and gets a
     /// Cholesky factor. Its stability and accuracy against the exact scheme are those of
-    /// [`crate::time::sdof::gyroscopic_amplification`].
+    /// [`crate::time::sdof::gyroscopic_table`].
     Extrapolated,
 }
 
