@@ -7,7 +7,7 @@
 //! independent sets of subtrees of its elimination tree followed by their ancestors (module
 //! `split`): the two sets' solves run side by side on two threads, with the same result bit
 //! for bit on one thread. The kernels of the row solves are compiled for the baseline
-//! processor and for AVX2, chosen at run time ([`with_avx2`]).
+//! processor and for AVX2, chosen at run time (the macro `with_avx2`).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
@@ -1078,7 +1078,7 @@ impl SparseLu {
     avx2_method! {
         /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
         /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
-        /// On AVX2's instructions where the processor has them ([`with_avx2`]).
+        /// On AVX2's instructions where the processor has them (the macro `with_avx2`).
         pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
     }
 
@@ -1290,7 +1290,7 @@ impl SparseLlt {
     avx2_method! {
         /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
         /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`). On AVX2's instructions where
-        /// the processor has them ([`with_avx2`]).
+        /// the processor has them (the macro `with_avx2`).
         pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
     }
 

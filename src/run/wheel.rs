@@ -115,7 +115,7 @@ pub struct WheelSummary {
     /// Smallest angle of the mesh's triangles, degrees.
     pub mesh_min_angle_deg: f64,
     /// Largest aspect ratio of the mesh's triangles (`R_c / (2 r_i)`, 1 = equilateral;
-    /// [`crate::mesh::quality`]).
+    /// [`crate::mesh::quality()`]).
     pub mesh_max_aspect: f64,
     /// The mesh's rotational symmetry order (6 for the hexagonal disk, 1 for the graded one).
     pub mesh_symmetry_order: usize,

@@ -267,7 +267,8 @@ pub fn write(
     Ok(files.into_iter().map(|f| f.1).collect())
 }
 
-/// The turn-averaged J2 and von Mises at the rim nodes ([`rim_profile`]).
+/// The turn-averaged J2 and von Mises at the rim nodes (`rim_profile`: area-weighted over
+/// the elements round each rim node).
 #[derive(Debug, Clone, Default)]
 pub struct RimProfile {
     /// The rim nodes' angles, degrees in (-180, 180], increasing.
@@ -286,7 +287,7 @@ impl RimProfile {
 }
 
 /// Writes `j2_rim_profile.csv` (`angle_deg, j2_mpa2, von_mises_mpa` at the rim nodes, see
-/// [`rim_profile`]) into `out`, plots or not; none without a turn average (a moving zone).
+/// `rim_profile`) into `out`, plots or not; none without a turn average (a moving zone).
 ///
 /// # Errors
 /// [`RunError::Output`].
