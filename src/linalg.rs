@@ -821,7 +821,7 @@ const DENSE_SUPERNODAL_MIN_ORDER: usize = 10_000;
 const MIN_SUPERNODE: usize = 4;
 
 /// Whether the processor has AVX2.
-fn has_avx2() -> bool {
+pub(crate) fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::is_x86_feature_detected!("avx2")
