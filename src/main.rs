@@ -151,6 +151,10 @@ enum Command {
         /// Output folder [default: out/<scenario name>-matrix].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Free steps timed in each of the five rounds (the median round is reported)
+        /// [default: 2,000,000 / nnz(A), between 20 and 20,000].
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+        steps: Option<u64>,
     },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
@@ -409,11 +413,15 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             outln!("wrote {} files into {}", files.len(), out.display());
             Ok(ExitCode::SUCCESS)
         }
-        Command::Matrix { scenario, out } => {
+        Command::Matrix {
+            scenario,
+            out,
+            steps,
+        } => {
             let sc = resolve(&Scenario::from_file(&scenario)?)?;
             let out =
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
-            let (rep, files) = softway::run::matrix::dump(&sc, &out)?;
+            let (rep, files) = softway::run::matrix::dump(&sc, &out, steps.map(|s| s as usize))?;
             outln!(
                 "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
                 sc.name,

@@ -271,3 +271,65 @@ fn cfl_is_resolved_before_the_run() {
     let h = s["runs"][0]["h"].as_f64().unwrap();
     assert!((h - 0.5 * 0.125).abs() < 1e-9 * 0.0625, "h = {h}");
 }
+
+/// `softway matrix`: `A` in Matrix Market as `matrix.json` describes it (order, stored
+/// entries, symmetry read from the entries), a free step timed over `--steps`; `--steps 0`
+/// is refused in one line.
+#[test]
+fn matrix_writes_a_as_its_report_says() {
+    let p = scenario("matrix", BAR);
+    let out = p.parent().unwrap().join("m");
+    let o = softway()
+        .args([
+            "matrix",
+            p.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--steps", "3"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("matrix.json")).unwrap()).unwrap();
+    let text = std::fs::read_to_string(out.join("A.mtx")).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('%'));
+    let dims: Vec<usize> = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    let entries: std::collections::HashMap<(usize, usize), f64> = lines
+        .map(|l| {
+            let t: Vec<&str> = l.split_whitespace().collect();
+            (
+                (t[0].parse().unwrap(), t[1].parse().unwrap()),
+                t[2].parse().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(dims[0], j["n"].as_u64().unwrap() as usize);
+    assert_eq!(dims[2], j["nnz_a"].as_u64().unwrap() as usize);
+    assert_eq!(entries.len(), dims[2]);
+    let symmetric = entries.iter().all(|(&(r, c), v)| {
+        entries
+            .get(&(c, r))
+            .is_some_and(|w| (v - w).abs() <= 1e-12 * v.abs())
+    });
+    assert_eq!(j["symmetric"].as_bool().unwrap(), symmetric);
+    assert!(j["softway_step_us"].as_f64().unwrap() > 0.0);
+    let o = softway()
+        .args([
+            "matrix",
+            p.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--steps", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--steps"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -70,11 +70,16 @@ fn kind_name(k: FactorKind) -> String {
 }
 
 /// Writes the matrices of the first run of `sc` (a wheel or a bar, space-time scheme) into
-/// `out` (module docs) and times softway's free step.
+/// `out` (module docs) and times softway's free step: `steps` free steps in each of five
+/// rounds (default `2,000,000 / nnz(A)`, between 20 and 20,000), the median round reported.
 ///
 /// # Errors
 /// [`RunError`] for another kind of scenario, a singular matrix or an output error.
-pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), RunError> {
+pub fn dump(
+    sc: &Scenario,
+    out: &Path,
+    steps: Option<usize>,
+) -> Result<(MatrixReport, Vec<PathBuf>), RunError> {
     let run = &sc.runs[0];
     let (model, fixed, u0, v0, f): (LinearModel, Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) =
         match &run.model {
@@ -197,7 +202,9 @@ pub fn dump(sc: &Scenario, out: &Path) -> Result<(MatrixReport, Vec<PathBuf>), R
     files.push(path);
     // softway's free step, timed as benches/step.rs does: median of five rounds.
     let mut rhs = vec![0.0; n];
-    let reps = (2_000_000 / (nnz_a + 1)).clamp(20, 20_000);
+    let reps = steps
+        .unwrap_or((2_000_000 / (nnz_a + 1)).clamp(20, 20_000))
+        .max(1);
     // On a thread of the pool, as a run is (`run::run_scenario`).
     let mut rounds = rayon::scope(|_| {
         let mut rounds = Vec::with_capacity(5);
