@@ -610,17 +610,17 @@ impl RhsRows {
                 &self.blk_bk[range.clone()],
                 &self.blk_g[range],
             );
-            let (mut sb, mut sk) = ([0.0; 4], [0.0; 4]);
-            for ((&j, v), gj) in idx.iter().zip(bk).zip(g) {
-                let j = j as usize;
-                assert!(j + 1 < n);
-                let (vl, ul, al) = ([v0[j], v0[j + 1]], [u0[j], u0[j + 1]], [a0[j], a0[j + 1]]);
-                for l in 0..4 {
-                    let w = vl[l % 2] + c * al[l % 2];
-                    sb[l] += v[l] * vl[l % 2];
-                    sk[l] += v[4 + l] * ul[l % 2] + gj[l] * w;
+            let (sb, sk) = if self.avx2 {
+                // SAFETY: as in `pairs_here`; `a0` has length n too.
+                #[cfg(target_arch = "x86_64")]
+                unsafe {
+                    rhs_blocks_g_avx2(idx, bk, g, c, [u0, v0, a0])
                 }
-            }
+                #[cfg(not(target_arch = "x86_64"))]
+                rhs_blocks_g(idx, bk, g, c, [u0, v0, a0])
+            } else {
+                rhs_blocks_g(idx, bk, g, c, [u0, v0, a0])
+            };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
         }
@@ -713,6 +713,81 @@ unsafe fn rhs_blocks_avx2(
         let ul = _mm256_broadcast_pd(&*(u0.as_ptr().add(j) as *const __m128d));
         sb = _mm256_add_pd(sb, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr()), vl));
         sk = _mm256_add_pd(sk, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr().add(4)), ul));
+    }
+    let (mut b, mut k) = ([0.0; 4], [0.0; 4]);
+    _mm256_storeu_pd(b.as_mut_ptr(), sb);
+    _mm256_storeu_pd(k.as_mut_ptr(), sk);
+    (b, k)
+}
+
+/// [`rhs_blocks`] with the skew part: `sk` also holds `G`'s four values times the lanes of
+/// `w = v0 + c a0` (each lane `K u + G w` summed as `K_l u_l + G_l w_l`); the order of
+/// [`rhs_blocks_g_avx2`]'s lanes.
+///
+/// # Panics
+/// When `j + 1` is out of range of a vector for a block (debug builds).
+#[inline(always)]
+fn rhs_blocks_g(
+    idx: &[u32],
+    bk: &[[f64; 8]],
+    g: &[[f64; 4]],
+    c: f64,
+    [u0, v0, a0]: [&[f64]; 3],
+) -> ([f64; 4], [f64; 4]) {
+    let (mut sb, mut sk) = ([0.0; 4], [0.0; 4]);
+    for ((&j, v), gj) in idx.iter().zip(bk).zip(g) {
+        let j = j as usize;
+        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && j + 1 < a0.len());
+        // SAFETY: a block's columns `j, j + 1` are < n (`RhsRows::new`) and the three
+        // vectors have length n (asserted by the callers).
+        let (vl, ul, al) = unsafe {
+            (
+                [*v0.get_unchecked(j), *v0.get_unchecked(j + 1)],
+                [*u0.get_unchecked(j), *u0.get_unchecked(j + 1)],
+                [*a0.get_unchecked(j), *a0.get_unchecked(j + 1)],
+            )
+        };
+        for l in 0..4 {
+            let w = vl[l % 2] + c * al[l % 2];
+            sb[l] += v[l] * vl[l % 2];
+            sk[l] += v[4 + l] * ul[l % 2] + gj[l] * w;
+        }
+    }
+    (sb, sk)
+}
+
+/// [`rhs_blocks_g`] on 256-bit registers (the same operations lane by lane).
+///
+/// # Safety
+/// The processor must have AVX2, and `j + 1` below the length of the three vectors for
+/// every block column `j`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn rhs_blocks_g_avx2(
+    idx: &[u32],
+    bk: &[[f64; 8]],
+    g: &[[f64; 4]],
+    c: f64,
+    [u0, v0, a0]: [&[f64]; 3],
+) -> ([f64; 4], [f64; 4]) {
+    use std::arch::x86_64::{
+        __m128d, _mm256_add_pd, _mm256_broadcast_pd, _mm256_loadu_pd, _mm256_mul_pd,
+        _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd,
+    };
+    let (mut sb, mut sk) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    let cc = _mm256_set1_pd(c);
+    for ((&j, v), gj) in idx.iter().zip(bk).zip(g) {
+        let j = j as usize;
+        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && j + 1 < a0.len());
+        let vl = _mm256_broadcast_pd(&*(v0.as_ptr().add(j) as *const __m128d));
+        let ul = _mm256_broadcast_pd(&*(u0.as_ptr().add(j) as *const __m128d));
+        let al = _mm256_broadcast_pd(&*(a0.as_ptr().add(j) as *const __m128d));
+        let w = _mm256_add_pd(vl, _mm256_mul_pd(cc, al));
+        sb = _mm256_add_pd(sb, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr()), vl));
+        let ku = _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr().add(4)), ul);
+        let gw = _mm256_mul_pd(_mm256_loadu_pd(gj.as_ptr()), w);
+        sk = _mm256_add_pd(sk, _mm256_add_pd(ku, gw));
     }
     let (mut b, mut k) = ([0.0; 4], [0.0; 4]);
     _mm256_storeu_pd(b.as_mut_ptr(), sb);
@@ -1134,6 +1209,7 @@ mod tests {
         assert!(same(&whole, &halves), "halves, with G");
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
+            rows.avx2 = true;
             let mut avx2 = vec![0.5; n];
             // SAFETY: the processor has AVX2 (checked just above).
             unsafe {
