@@ -831,6 +831,45 @@ fn narrow_backward<const W: usize>(blk: &[f64], rows: &[u32], j0: usize, x: &mut
     }
 }
 
+/// The columns (CSC: column pointers, row indices, values) of the lower triangular factor
+/// held by faer's supernodal Cholesky `sn` with the values `val`: supernode `s`, columns
+/// `j0..j1`, is a column-major block of `j1 - j0 + |P|` rows (the diagonal block, then the
+/// rows `P` below it); column `j0 + k` is its rows `k..` of the diagonal block and `P`.
+/// Entries that are exactly zero off the diagonal are left out: they are the padding of
+/// faer's relaxed supernodes (outside the elimination's structure, they stay zero), so the
+/// columns are those of the simplicial factor and a solve reads no more bytes.
+fn supernodal_columns(
+    sn: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
+    val: &[f64],
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let n = sn.nrows();
+    let (mut cp, mut ri, mut vals) = (Vec::with_capacity(n + 1), Vec::new(), Vec::new());
+    cp.push(0);
+    let (begin, end, vptr) = (
+        sn.supernode_begin(),
+        sn.supernode_end(),
+        sn.col_ptr_for_val(),
+    );
+    for s in 0..sn.n_supernodes() {
+        let (j0, j1) = (begin[s], end[s]);
+        let pattern = sn.supernode(s).pattern();
+        let (w, rows) = (j1 - j0, j1 - j0 + pattern.len());
+        let blk = &val[vptr[s]..vptr[s + 1]];
+        debug_assert_eq!(blk.len(), rows * w);
+        for k in 0..w {
+            let col = &blk[k * rows..(k + 1) * rows];
+            for (r, &v) in col.iter().enumerate().skip(k) {
+                if v != 0.0 || r == k {
+                    ri.push(if r < w { j0 + r } else { pattern[r - w] });
+                    vals.push(v);
+                }
+            }
+            cp.push(ri.len());
+        }
+    }
+    (cp, ri, vals)
+}
+
 /// The CSC arrays of the transpose of a square CSC matrix.
 fn transpose_csc(
     col_ptr: &[usize],
@@ -1366,6 +1405,18 @@ impl SparseLlt {
     /// Analyses, with the AMD ordering split for two threads when `split` and the ordering
     /// has two independent parts, and factors.
     fn build(pattern: &Pattern, values: &[f64], split: bool) -> Result<Self, LinalgError> {
+        let supernodal = pattern.nrows() >= DENSE_SUPERNODAL_MIN_ORDER;
+        Self::build_with(pattern, values, split, supernodal)
+    }
+
+    /// [`SparseLlt::build`] with faer's supernodal factorization (`supernodal`) or its
+    /// simplicial one.
+    fn build_with(
+        pattern: &Pattern,
+        values: &[f64],
+        split: bool,
+        supernodal: bool,
+    ) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
         let mut parts = None;
         let mut custom = None;
@@ -1376,9 +1427,15 @@ impl SparseLlt {
                 parts = Some((a, b));
             }
         }
+        // From the order of the dense layout on, faer's supernodal factorization (dense
+        // kernels on its relaxed supernodes), converted to the layout's columns; below it
+        // the simplicial one, whose columns the rows are built from directly.
         let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold:
-                faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL,
+            supernodal_flop_ratio_threshold: if supernodal {
+                faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL
+            } else {
+                faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL
+            },
             ..Default::default()
         };
         let ordering = match &custom {
@@ -1442,25 +1499,29 @@ impl SparseLlt {
                 Default::default(),
             )
             .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
-        let SymbolicCholeskyRaw::Simplicial(simp) = self.symbolic.raw() else {
-            return Err(LinalgError::Symbolic(
-                "a simplicial Cholesky analysis was asked for".into(),
-            ));
+        let columns;
+        let (cp, ri, numeric): (&[usize], &[usize], &[f64]) = match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(simp) => {
+                (simp.col_ptr(), simp.row_idx(), &self.numeric)
+            }
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                columns = supernodal_columns(sn, &self.numeric);
+                (&columns.0, &columns.1, &columns.2)
+            }
         };
-        let (cp, ri) = (simp.col_ptr(), simp.row_idx());
         if self.n >= self.dense_from {
             let split = self.parts.and_then(|(a, b)| {
-                SplitLower::from_lower_csc(cp, ri, &self.numeric, false, a, b)
+                SplitLower::from_lower_csc(cp, ri, numeric, false, a, b)
                     .map(|l| DenseLower::Split(Box::new(l)))
             });
             self.dense = Some(split.unwrap_or_else(|| {
-                DenseLower::Whole(Supernodal::from_lower_csc(cp, ri, &self.numeric, false))
+                DenseLower::Whole(Supernodal::from_lower_csc(cp, ri, numeric, false))
             }));
             self.l = Triangle::default();
             self.lt = Triangle::default();
         } else {
-            self.l = Triangle::from_csc(cp, ri, &self.numeric, false, false, true);
-            self.lt = Triangle::from_csc(cp, ri, &self.numeric, false, true, false);
+            self.l = Triangle::from_csc(cp, ri, numeric, false, false, true);
+            self.lt = Triangle::from_csc(cp, ri, numeric, false, true, false);
             self.dense = None;
         }
         self.numeric = Vec::new();
@@ -2047,6 +2108,33 @@ mod tests {
             f.solve_in_place(&mut x);
             let d = max_rel_diff(&x, &x_ref);
             assert!(d < 1e-13, "symmetric {symmetric}: {d:e}");
+        }
+    }
+
+    /// faer's supernodal Cholesky (used from 10,000 dofs on), converted to columns, gives
+    /// the simplicial factor's columns (the relaxed supernodes' zeros left out: the same
+    /// stored entries) and solves as faer's LU does, by rows, in dense supernodes and split.
+    #[test]
+    fn supernodal_cholesky_gives_the_simplicial_columns() {
+        let (pattern, values) = grid_matrix_skew(16, 15, 0.0);
+        let b = rhs(pattern.nrows());
+        let x_ref = faer_solve(&pattern, &values, &b);
+        for split in [false, true] {
+            let simplicial = SparseLlt::build_with(&pattern, &values, split, false).unwrap();
+            for dense in [false, true] {
+                let mut f = SparseLlt::build_with(&pattern, &values, split, true)
+                    .unwrap()
+                    .with_layout(&pattern, &values, dense);
+                assert!(matches!(
+                    f.symbolic.raw(),
+                    SymbolicCholeskyRaw::Supernodal(_)
+                ));
+                assert_eq!(f.factor_nnz(), simplicial.factor_nnz(), "split {split}");
+                let mut x = b.clone();
+                f.solve_in_place(&mut x);
+                let d = max_rel_diff(&x, &x_ref);
+                assert!(d < 1e-13, "split {split}, dense {dense}: {d:e}");
+            }
         }
     }
 
