@@ -1095,7 +1095,7 @@ pub struct Bounce {
 /// [`ModesError::MassNotPositive`] or [`ModesError::NoConvergence`] from the projected
 /// problem.
 pub fn bounce_mode(model: &WheelModel, d: f64) -> Result<Bounce, ModesError> {
-    use crate::linalg::{spmv_into, SparseLu};
+    use crate::linalg::{spmv_into, Factor};
     let n = model.mesh.n_dofs();
     let r = model.spec.radius;
     let pts = &model.mesh.points;
@@ -1124,7 +1124,7 @@ pub fn bounce_mode(model: &WheelModel, d: f64) -> Result<Bounce, ModesError> {
     let (m, k) = (&model.model.m, &model.k_elastic);
     let mut kf = k.clone();
     crate::linalg::set_identity_rows(pattern, &mut kf, &fixed);
-    let mut lu = SparseLu::new(pattern, &kf).map_err(|_| ModesError::NotFinite {
+    let mut lu = Factor::auto(pattern, &kf).map_err(|_| ModesError::NotFinite {
         matrix: "stiffness",
     })?;
     let q = BOUNCE_SUBSPACE

@@ -38,7 +38,7 @@ use crate::contact::obstacle::{Flattening, RotatingLine};
 use crate::contact::{Obstacle, Pair, Treatment};
 use crate::element::tri3::{self, Tri3Geometry};
 use crate::frame;
-use crate::linalg::{LinalgError, SparseLu};
+use crate::linalg::{Factor, LinalgError};
 use crate::material::{Elastic, PlaneModel};
 use crate::mesh::{Cells, Mesh};
 use crate::simulation::Problem;
@@ -292,7 +292,9 @@ pub fn static_solve(
     }
     let mut a = k.to_vec();
     crate::linalg::set_identity_rows(&asm.pattern, &mut a, &is_fixed);
-    let mut lu = SparseLu::new(&asm.pattern, &a)?;
+    // Symmetric (rows and columns of the fixed dofs replaced): a Cholesky where K is
+    // positive definite on the free dofs.
+    let mut lu = Factor::auto(&asm.pattern, &a)?;
     let mut u: Vec<f64> = f
         .iter()
         .zip(&is_fixed)

@@ -50,9 +50,7 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::assembly::Assembler;
-use crate::linalg::{
-    avx2_method, is_symmetric, with_avx2, Factor, FactorKind, LinalgError, Ordering, Pattern,
-};
+use crate::linalg::{avx2_method, with_avx2, Factor, FactorKind, LinalgError, Pattern};
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
 use crate::time::params::beta;
@@ -209,12 +207,8 @@ impl Stepper {
         .fill(params.alpha, params.h, &mut a_orig, &mut bv, &mut a_work);
         let lu = match choice {
             FactorChoice::Kind(kind) => Factor::new(&pattern, &a_work, kind)?,
-            FactorChoice::Auto if is_symmetric(&pattern, &a_work, 1e-14) => {
-                // A symmetric matrix that is not positive definite keeps the LU.
-                Factor::new(&pattern, &a_work, FactorKind::Llt)
-                    .or_else(|_| Factor::new(&pattern, &a_work, FactorKind::Lu(Ordering::Amd)))?
-            }
-            FactorChoice::Auto => Factor::new(&pattern, &a_work, FactorKind::Lu(Ordering::Amd))?,
+            // A symmetric matrix that is not positive definite keeps the LU.
+            FactorChoice::Auto => Factor::auto(&pattern, &a_work)?,
         };
         let rhs_rows = RhsRows::new(&pattern, &bv, &model.k, &g);
         Ok(Self {
