@@ -59,6 +59,8 @@ def main():
     ap.add_argument("--softway", default=None,
                     help="the softway binary [default: target/release/softway, else cargo run --release]")
     ap.add_argument("--dir", default=None, help="where softway writes the matrices [default: a temporary folder]")
+    ap.add_argument("--steps", type=int, default=None,
+                    help="softway's timed steps per round (softway matrix --steps) [default: softway's]")
     args = ap.parse_args()
 
     here = os.path.dirname(os.path.abspath(__file__))
@@ -70,7 +72,8 @@ def main():
         cand = os.path.join(target, "release", "softway")
         exe = cand if os.path.exists(cand) else None
     cmd = [exe] if exe else ["cargo", "run", "--quiet", "--release", "--"]
-    subprocess.run(cmd + ["matrix", args.scenario, "--out", out], check=True, cwd=root,
+    steps = ["--steps", str(args.steps)] if args.steps else []
+    subprocess.run(cmd + ["matrix", args.scenario, "--out", out] + steps, check=True, cwd=root,
                    stdout=subprocess.DEVNULL)
 
     info = json.load(open(os.path.join(out, "matrix.json")))
