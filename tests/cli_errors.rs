@@ -279,16 +279,14 @@ fn cfl_is_resolved_before_the_run() {
 fn matrix_writes_a_as_its_report_says() {
     let p = scenario("matrix", BAR);
     let out = p.parent().unwrap().join("m");
-    let o = softway()
-        .args([
-            "matrix",
-            p.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .args(["--steps", "3"])
-        .output()
-        .unwrap();
+    let matrix = |steps: &str| {
+        softway()
+            .args(["matrix", p.to_str().unwrap(), "--out"])
+            .args([out.to_str().unwrap(), "--steps", steps])
+            .output()
+            .unwrap()
+    };
+    let o = matrix("3");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let j: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("matrix.json")).unwrap()).unwrap();
@@ -319,16 +317,7 @@ fn matrix_writes_a_as_its_report_says() {
     });
     assert_eq!(j["symmetric"].as_bool().unwrap(), symmetric);
     assert!(j["softway_step_us"].as_f64().unwrap() > 0.0);
-    let o = softway()
-        .args([
-            "matrix",
-            p.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .args(["--steps", "0"])
-        .output()
-        .unwrap();
+    let o = matrix("0");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("--steps"), "{err}");
     assert!(!err.contains("panicked"), "{err}");

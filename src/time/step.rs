@@ -531,12 +531,12 @@ impl RhsRows {
                 // block columns `j, j + 1` are < n and `v0`, `u0` have length n.
                 #[cfg(target_arch = "x86_64")]
                 unsafe {
-                    rhs_blocks_avx2(idx, bk, v0, u0)
+                    rhs_blocks_avx2::<false>(idx, bk, &[], 0.0, [u0, v0, &[]])
                 }
                 #[cfg(not(target_arch = "x86_64"))]
-                rhs_blocks(idx, bk, v0, u0)
+                rhs_blocks::<false>(idx, bk, &[], 0.0, [u0, v0, &[]])
             } else {
-                rhs_blocks(idx, bk, v0, u0)
+                rhs_blocks::<false>(idx, bk, &[], 0.0, [u0, v0, &[]])
             };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
@@ -608,12 +608,12 @@ impl RhsRows {
                 // SAFETY: as in `pairs_here`; `a0` has length n too.
                 #[cfg(target_arch = "x86_64")]
                 unsafe {
-                    rhs_blocks_g_avx2(idx, bk, g, c, [u0, v0, a0])
+                    rhs_blocks_avx2::<true>(idx, bk, g, c, [u0, v0, a0])
                 }
                 #[cfg(not(target_arch = "x86_64"))]
-                rhs_blocks_g(idx, bk, g, c, [u0, v0, a0])
+                rhs_blocks::<true>(idx, bk, g, c, [u0, v0, a0])
             } else {
-                rhs_blocks_g(idx, bk, g, c, [u0, v0, a0])
+                rhs_blocks::<true>(idx, bk, g, c, [u0, v0, a0])
             };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
@@ -649,23 +649,38 @@ impl RhsRows {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::{
+    __m128d, _mm256_add_pd, _mm256_broadcast_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
+    _mm256_setzero_pd, _mm256_storeu_pd,
+};
+
 /// The blocks of a pair of rows `i, i + 1` of [`RhsRows`]: `(sb, sk)`, the lane sums of
 /// `B`'s and `K`'s four values of each block times `[v0[j], v0[j + 1], v0[j], v0[j + 1]]`
 /// and the same of `u0` (row `i`'s `(B v0)_i` share is `sb[0] + sb[1]`, row `i + 1`'s
-/// `sb[2] + sb[3]`): the order of [`rhs_blocks_avx2`]'s lanes, so that both give the same
-/// bits.
+/// `sb[2] + sb[3]`). With the skew part (`G`), `sk` also holds `G`'s four values `g` times
+/// the lanes of `w = v0 + c a0` (each lane `K u + G w` summed as `K_l u_l + G_l w_l`);
+/// without it `g` and `a0` are not read. The order of [`rhs_blocks_avx2`]'s lanes, so that
+/// both give the same bits.
 ///
 /// # Panics
-/// When `j + 1` is out of range of `v0` or `u0` for a block (debug builds; the indices come
-/// from the pattern).
+/// When `j + 1` is out of range of a vector for a block (debug builds; the indices come
+/// from the pattern), or with `G` when `g` is shorter than `idx`.
 #[inline(always)]
-fn rhs_blocks(idx: &[u32], bk: &[[f64; 8]], v0: &[f64], u0: &[f64]) -> ([f64; 4], [f64; 4]) {
+fn rhs_blocks<const G: bool>(
+    idx: &[u32],
+    bk: &[[f64; 8]],
+    g: &[[f64; 4]],
+    c: f64,
+    [u0, v0, a0]: [&[f64]; 3],
+) -> ([f64; 4], [f64; 4]) {
+    assert!(!G || g.len() >= idx.len());
     let (mut sb, mut sk) = ([0.0; 4], [0.0; 4]);
-    for (&j, v) in idx.iter().zip(bk) {
+    for (e, (&j, v)) in idx.iter().zip(bk).enumerate() {
         let j = j as usize;
-        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len());
-        // SAFETY: a block's columns `j, j + 1` are < n (`RhsRows::new`) and `v0`, `u0` have
-        // length n (asserted by the callers).
+        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && (!G || j + 1 < a0.len()));
+        // SAFETY: a block's columns `j, j + 1` are < n (`RhsRows::new`) and the vectors
+        // have length n (asserted by the callers).
         let (vl, ul) = unsafe {
             (
                 [*v0.get_unchecked(j), *v0.get_unchecked(j + 1)],
@@ -674,114 +689,63 @@ fn rhs_blocks(idx: &[u32], bk: &[[f64; 8]], v0: &[f64], u0: &[f64]) -> ([f64; 4]
         };
         for l in 0..4 {
             sb[l] += v[l] * vl[l % 2];
-            sk[l] += v[4 + l] * ul[l % 2];
+        }
+        if G {
+            // SAFETY: as above; `e < g.len()` (asserted above).
+            let (al, gj) = unsafe {
+                (
+                    [*a0.get_unchecked(j), *a0.get_unchecked(j + 1)],
+                    g.get_unchecked(e),
+                )
+            };
+            for l in 0..4 {
+                let w = vl[l % 2] + c * al[l % 2];
+                sk[l] += v[4 + l] * ul[l % 2] + gj[l] * w;
+            }
+        } else {
+            for l in 0..4 {
+                sk[l] += v[4 + l] * ul[l % 2];
+            }
         }
     }
     (sb, sk)
 }
 
-/// [`rhs_blocks`] on 256-bit registers: per block one broadcast of `v0[j..j + 2]` and one
-/// of `u0[j..j + 2]` to both halves, two products and two sums of four lanes.
+/// [`rhs_blocks`] on 256-bit registers, the same operations lane by lane: per block one
+/// broadcast of `v0[j..j + 2]` and one of `u0[j..j + 2]` (and of `a0[j..j + 2]`) to both
+/// halves, two products (four) and their sums.
 ///
 /// # Safety
-/// The processor must have AVX2, and `j + 1 < v0.len()`, `j + 1 < u0.len()` for every block
-/// column `j`.
+/// The processor must have AVX2, `j + 1` must be below the length of the vectors read for
+/// every block column `j`, and with `G`, `g.len() >= idx.len()`.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn rhs_blocks_avx2(
-    idx: &[u32],
-    bk: &[[f64; 8]],
-    v0: &[f64],
-    u0: &[f64],
-) -> ([f64; 4], [f64; 4]) {
-    use std::arch::x86_64::{
-        __m128d, _mm256_add_pd, _mm256_broadcast_pd, _mm256_loadu_pd, _mm256_mul_pd,
-        _mm256_setzero_pd, _mm256_storeu_pd,
-    };
-    let (mut sb, mut sk) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-    for (&j, v) in idx.iter().zip(bk) {
-        let j = j as usize;
-        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len());
-        let vl = _mm256_broadcast_pd(&*(v0.as_ptr().add(j) as *const __m128d));
-        let ul = _mm256_broadcast_pd(&*(u0.as_ptr().add(j) as *const __m128d));
-        sb = _mm256_add_pd(sb, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr()), vl));
-        sk = _mm256_add_pd(sk, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr().add(4)), ul));
-    }
-    let (mut b, mut k) = ([0.0; 4], [0.0; 4]);
-    _mm256_storeu_pd(b.as_mut_ptr(), sb);
-    _mm256_storeu_pd(k.as_mut_ptr(), sk);
-    (b, k)
-}
-
-/// [`rhs_blocks`] with the skew part: `sk` also holds `G`'s four values times the lanes of
-/// `w = v0 + c a0` (each lane `K u + G w` summed as `K_l u_l + G_l w_l`); the order of
-/// [`rhs_blocks_g_avx2`]'s lanes.
-///
-/// # Panics
-/// When `j + 1` is out of range of a vector for a block (debug builds).
-#[inline(always)]
-fn rhs_blocks_g(
+unsafe fn rhs_blocks_avx2<const G: bool>(
     idx: &[u32],
     bk: &[[f64; 8]],
     g: &[[f64; 4]],
     c: f64,
     [u0, v0, a0]: [&[f64]; 3],
 ) -> ([f64; 4], [f64; 4]) {
-    let (mut sb, mut sk) = ([0.0; 4], [0.0; 4]);
-    for ((&j, v), gj) in idx.iter().zip(bk).zip(g) {
-        let j = j as usize;
-        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && j + 1 < a0.len());
-        // SAFETY: a block's columns `j, j + 1` are < n (`RhsRows::new`) and the three
-        // vectors have length n (asserted by the callers).
-        let (vl, ul, al) = unsafe {
-            (
-                [*v0.get_unchecked(j), *v0.get_unchecked(j + 1)],
-                [*u0.get_unchecked(j), *u0.get_unchecked(j + 1)],
-                [*a0.get_unchecked(j), *a0.get_unchecked(j + 1)],
-            )
-        };
-        for l in 0..4 {
-            let w = vl[l % 2] + c * al[l % 2];
-            sb[l] += v[l] * vl[l % 2];
-            sk[l] += v[4 + l] * ul[l % 2] + gj[l] * w;
-        }
-    }
-    (sb, sk)
-}
-
-/// [`rhs_blocks_g`] on 256-bit registers (the same operations lane by lane).
-///
-/// # Safety
-/// The processor must have AVX2, and `j + 1` below the length of the three vectors for
-/// every block column `j`.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn rhs_blocks_g_avx2(
-    idx: &[u32],
-    bk: &[[f64; 8]],
-    g: &[[f64; 4]],
-    c: f64,
-    [u0, v0, a0]: [&[f64]; 3],
-) -> ([f64; 4], [f64; 4]) {
-    use std::arch::x86_64::{
-        __m128d, _mm256_add_pd, _mm256_broadcast_pd, _mm256_loadu_pd, _mm256_mul_pd,
-        _mm256_set1_pd, _mm256_setzero_pd, _mm256_storeu_pd,
-    };
+    debug_assert!(!G || g.len() >= idx.len());
     let (mut sb, mut sk) = (_mm256_setzero_pd(), _mm256_setzero_pd());
     let cc = _mm256_set1_pd(c);
-    for ((&j, v), gj) in idx.iter().zip(bk).zip(g) {
+    for (e, (&j, v)) in idx.iter().zip(bk).enumerate() {
         let j = j as usize;
-        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && j + 1 < a0.len());
+        debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && (!G || j + 1 < a0.len()));
         let vl = _mm256_broadcast_pd(&*(v0.as_ptr().add(j) as *const __m128d));
         let ul = _mm256_broadcast_pd(&*(u0.as_ptr().add(j) as *const __m128d));
-        let al = _mm256_broadcast_pd(&*(a0.as_ptr().add(j) as *const __m128d));
-        let w = _mm256_add_pd(vl, _mm256_mul_pd(cc, al));
         sb = _mm256_add_pd(sb, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr()), vl));
         let ku = _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr().add(4)), ul);
-        let gw = _mm256_mul_pd(_mm256_loadu_pd(gj.as_ptr()), w);
-        sk = _mm256_add_pd(sk, _mm256_add_pd(ku, gw));
+        if G {
+            let al = _mm256_broadcast_pd(&*(a0.as_ptr().add(j) as *const __m128d));
+            let w = _mm256_add_pd(vl, _mm256_mul_pd(cc, al));
+            let gw = _mm256_mul_pd(_mm256_loadu_pd(g.get_unchecked(e).as_ptr()), w);
+            sk = _mm256_add_pd(sk, _mm256_add_pd(ku, gw));
+        } else {
+            sk = _mm256_add_pd(sk, ku);
+        }
     }
     let (mut b, mut k) = ([0.0; 4], [0.0; 4]);
     _mm256_storeu_pd(b.as_mut_ptr(), sb);
