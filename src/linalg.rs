@@ -972,8 +972,7 @@ fn blocks_dot(idx: &[u32], val: &[[f64; 4]], x: &[f64]) -> [f64; 4] {
 #[inline]
 unsafe fn blocks_dot_avx2(idx: &[u32], val: &[[f64; 4]], x: &[f64]) -> [f64; 4] {
     use std::arch::x86_64::{
-        __m128d, _mm256_add_pd, _mm256_broadcast_pd, _mm256_loadu_pd, _mm256_mul_pd,
-        _mm256_setzero_pd, _mm256_storeu_pd,
+        _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_setzero_pd, _mm256_storeu_pd,
     };
     debug_assert_eq!(idx.len(), val.len());
     let (mut s0, mut s1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
@@ -986,8 +985,8 @@ unsafe fn blocks_dot_avx2(idx: &[u32], val: &[[f64; 4]], x: &[f64]) -> [f64; 4] 
             *idx.get_unchecked(2 * k + 1) as usize,
         );
         debug_assert!(c0 + 1 < x.len() && c1 + 1 < x.len());
-        let x0 = _mm256_broadcast_pd(&*(xp.add(c0) as *const __m128d));
-        let x1 = _mm256_broadcast_pd(&*(xp.add(c1) as *const __m128d));
+        let x0 = broadcast2(xp.add(c0));
+        let x1 = broadcast2(xp.add(c1));
         let v0 = _mm256_loadu_pd(vp.add(8 * k));
         let v1 = _mm256_loadu_pd(vp.add(8 * k + 4));
         s0 = _mm256_add_pd(s0, _mm256_mul_pd(v0, x0));
@@ -997,12 +996,27 @@ unsafe fn blocks_dot_avx2(idx: &[u32], val: &[[f64; 4]], x: &[f64]) -> [f64; 4] 
         let k = idx.len() - 1;
         let c = *idx.get_unchecked(k) as usize;
         debug_assert!(c + 1 < x.len());
-        let x0 = _mm256_broadcast_pd(&*(xp.add(c) as *const __m128d));
+        let x0 = broadcast2(xp.add(c));
         s0 = _mm256_add_pd(s0, _mm256_mul_pd(_mm256_loadu_pd(vp.add(4 * k)), x0));
     }
     let mut out = [0.0; 4];
     _mm256_storeu_pd(out.as_mut_ptr(), _mm256_add_pd(s0, s1));
     out
+}
+
+/// `[p[0], p[1], p[0], p[1]]`: two adjacent `f64`s, unaligned, in both halves of a 256-bit
+/// register (one `vbroadcastf128`; a `&__m128d` to them would claim an alignment they do
+/// not have).
+///
+/// # Safety
+/// The processor must have AVX2 and `p`, `p + 1` must be readable.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+pub(crate) unsafe fn broadcast2(p: *const f64) -> std::arch::x86_64::__m256d {
+    use std::arch::x86_64::{_mm256_set_m128d, _mm_loadu_pd};
+    let t = _mm_loadu_pd(p);
+    _mm256_set_m128d(t, t)
 }
 
 /// `sum_k a[k] b[k]` over the shorter of the two, in four partial sums.

@@ -650,9 +650,11 @@ impl RhsRows {
 }
 
 #[cfg(target_arch = "x86_64")]
+use crate::linalg::broadcast2;
+#[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
-    __m128d, _mm256_add_pd, _mm256_broadcast_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd,
-    _mm256_setzero_pd, _mm256_storeu_pd,
+    _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_setzero_pd,
+    _mm256_storeu_pd,
 };
 
 /// The blocks of a pair of rows `i, i + 1` of [`RhsRows`]: `(sb, sk)`, the lane sums of
@@ -734,12 +736,12 @@ unsafe fn rhs_blocks_avx2<const G: bool>(
     for (e, (&j, v)) in idx.iter().zip(bk).enumerate() {
         let j = j as usize;
         debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && (!G || j + 1 < a0.len()));
-        let vl = _mm256_broadcast_pd(&*(v0.as_ptr().add(j) as *const __m128d));
-        let ul = _mm256_broadcast_pd(&*(u0.as_ptr().add(j) as *const __m128d));
+        let vl = broadcast2(v0.as_ptr().add(j));
+        let ul = broadcast2(u0.as_ptr().add(j));
         sb = _mm256_add_pd(sb, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr()), vl));
         let ku = _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr().add(4)), ul);
         if G {
-            let al = _mm256_broadcast_pd(&*(a0.as_ptr().add(j) as *const __m128d));
+            let al = broadcast2(a0.as_ptr().add(j));
             let w = _mm256_add_pd(vl, _mm256_mul_pd(cc, al));
             let gw = _mm256_mul_pd(_mm256_loadu_pd(g.get_unchecked(e).as_ptr()), w);
             sk = _mm256_add_pd(sk, _mm256_add_pd(ku, gw));
