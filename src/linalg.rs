@@ -41,7 +41,7 @@ macro_rules! with_avx2 {
     ($generic:expr, $avx2:expr) => {{
         #[cfg(target_arch = "x86_64")]
         {
-            if std::is_x86_feature_detected!("avx2") {
+            if $crate::linalg::has_avx2() {
                 // SAFETY: the processor has AVX2 (checked just above).
                 #[allow(unused_unsafe)]
                 unsafe {
@@ -909,7 +909,8 @@ const DENSE_SUPERNODAL_MIN_ORDER: usize = 10_000;
 /// shorter runs are solved row by row).
 const MIN_SUPERNODE: usize = 4;
 
-/// Whether the processor has AVX2.
+/// Whether the processor has AVX2 (the one test of [`with_avx2`] and of the block kernels'
+/// flags).
 pub(crate) fn has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
