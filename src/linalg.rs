@@ -3,10 +3,10 @@
 //! ordering computed once), whose solves run on compact copies of the factors with memory
 //! allocated once, so that the time loop does not allocate; a Matrix Market writer.
 //!
-//! From `SPLIT_MIN_ORDER` unknowns on, the LU's column ordering is renumbered as two
-//! independent sets of subtrees of its elimination tree followed by their ancestors (module
-//! `split`): the two sets' solves run side by side on two threads, with the same result bit
-//! for bit on one thread. The kernels of the row solves are compiled for the baseline
+//! From `SPLIT_MIN_ORDER` unknowns on, the column ordering is renumbered as two independent
+//! sets of subtrees of its elimination tree followed by their ancestors (module `split`):
+//! the two sets' solves run side by side on two threads (module `team`), with the same
+//! result bit for bit on one thread. The kernels of the row solves are compiled for the baseline
 //! processor and for AVX2, chosen at run time (the macro `with_avx2`).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -26,6 +26,7 @@ use faer::Side;
 use faer::{Accum, MatMut, MatRef, Par};
 
 mod split;
+pub(crate) mod team;
 use split::SplitLower;
 
 /// Runs `$avx2` (an unsafe call of a function compiled with `#[target_feature(enable =
@@ -467,6 +468,12 @@ impl Triangle {
     /// Stored entries, diagonal included.
     fn nnz(&self) -> usize {
         self.off_diagonal + self.diag_inv.len()
+    }
+
+    avx2_method! {
+        /// [`Triangle::solve`] on AVX2's instructions where the processor has them (for the
+        /// parts of a split factor, solved outside the AVX2 copy of the factor's solve).
+        fn solve_in_place / solve_avx2(&mut self, x: &mut [f64]) => solve
     }
 
     /// `x <- T^{-1} x`.
@@ -1077,10 +1084,10 @@ pub struct SparseLu {
     numeric: SimplicialLu<usize, f64>,
     l: Triangle,
     u: Triangle,
-    /// For orders from `DENSE_SUPERNODAL_MIN_ORDER` on, `L` and `U^T` in dense supernodes
-    /// (then `l` and `u` stay empty).
-    dense: Option<Dense>,
-    /// The order from which `dense` is used (`DENSE_SUPERNODAL_MIN_ORDER`).
+    /// `L` and `U^T` in dense supernodes (from `DENSE_SUPERNODAL_MIN_ORDER` on) or in the
+    /// three parts of a split ordering; then `l` and `u` stay empty.
+    stored: Option<Stored>,
+    /// The order from which dense supernodes are used (`DENSE_SUPERNODAL_MIN_ORDER`).
     dense_from: usize,
     /// The ordering's two independent parts, positions `0..a` and `a..b`, before the top
     /// (`split::two_subtrees`), when it has them.
@@ -1089,18 +1096,25 @@ pub struct SparseLu {
     n: usize,
 }
 
-/// The dense supernodal layout of `L` and `U^T`: whole, or in the three parts of an ordering
-/// split for two threads ([`SplitLower`]).
+/// `L` and `U^T` stored otherwise than whole by rows: whole in dense supernodes, or in the
+/// three parts of an ordering split for two threads ([`SplitLower`], by rows or in dense
+/// supernodes).
 #[derive(Debug, Clone)]
-enum Dense {
-    Whole(Box<(Supernodal, Supernodal)>),
+enum Stored {
+    Supernodes(Box<(Supernodal, Supernodal)>),
     Split(Box<(SplitLower, SplitLower)>),
 }
 
 /// The order from which the column ordering is split into two independent parts and a top
-/// (`split::two_subtrees`) for solves on two threads: the orders solved in dense supernodes,
-/// where a solve takes long beside the threads' hand-over.
-const SPLIT_MIN_ORDER: usize = DENSE_SUPERNODAL_MIN_ORDER;
+/// (`split::two_subtrees`) for solves on two threads (by rows below
+/// `DENSE_SUPERNODAL_MIN_ORDER`, in dense supernodes from it on). The split is made whatever
+/// the thread count, so that a run's result does not depend on it. Measured with
+/// `softway matrix` (median of five rounds, alternated binaries, twice), the free step by
+/// rows, whole against split, on two threads: 2,054 dofs (18 rings) 57 -> 37 us, 3,432
+/// (`wheel.toml`) 108 -> 55 us, 7,948 (576 rim nodes) 335 -> 180 us; on one thread the
+/// split costs 10-20% (57 -> 62-67, 100 -> 118, 330 -> 338-367 us). On the paper's wheel
+/// (938 dofs) it gave 18 against 20 us per free step and nothing in the run's loop.
+const SPLIT_MIN_ORDER: usize = 1_500;
 
 impl std::fmt::Debug for SparseLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -1207,7 +1221,7 @@ impl SparseLu {
             numeric: SimplicialLu::new(),
             l: Triangle::default(),
             u: Triangle::default(),
-            dense: None,
+            stored: None,
             dense_from: DENSE_SUPERNODAL_MIN_ORDER,
             parts,
             work: vec![0.0; n],
@@ -1232,7 +1246,7 @@ impl SparseLu {
             numeric: SimplicialLu::new(),
             l: Triangle::default(),
             u: Triangle::default(),
-            dense: None,
+            stored: None,
             dense_from: self.dense_from,
             parts: self.parts,
             work: vec![0.0; self.n],
@@ -1274,27 +1288,42 @@ impl SparseLu {
             u.symbolic().col_ptr(),
             u.symbolic().row_idx(),
         );
-        if n >= self.dense_from {
-            let (tc, tr, tv) = transpose_csc(uc, ur, u.val());
-            let split = self.parts.and_then(|(a, b)| {
-                Some(Dense::Split(Box::new((
-                    SplitLower::from_lower_csc(lc, lr, l.val(), true, a, b)?,
-                    SplitLower::from_lower_csc(&tc, &tr, &tv, false, a, b)?,
-                ))))
-            });
-            self.dense = Some(split.unwrap_or_else(|| {
-                Dense::Whole(Box::new((
-                    Supernodal::from_lower_csc(lc, lr, l.val(), true),
-                    Supernodal::from_lower_csc(&tc, &tr, &tv, false),
-                )))
-            }));
-            self.l = Triangle::default();
-            self.u = Triangle::default();
+        let dense = n >= self.dense_from;
+        let (tc, tr, tv) = transpose_csc(uc, ur, u.val());
+        // L for the forward sweep, U^T for the backward one.
+        let (fwd, bwd) = if dense {
+            (split::Layout::Dense, split::Layout::Dense)
         } else {
-            self.l = Triangle::from_csc(lc, lr, l.val(), true, false, true);
-            self.u = Triangle::from_csc(uc, ur, u.val(), false, false, false);
-            self.dense = None;
-        }
+            (
+                split::Layout::Rows {
+                    forward: true,
+                    backward: false,
+                },
+                split::Layout::Rows {
+                    forward: false,
+                    backward: true,
+                },
+            )
+        };
+        let split = self.parts.and_then(|ab| {
+            Some(Stored::Split(Box::new((
+                SplitLower::from_lower_csc(lc, lr, l.val(), true, ab, fwd)?,
+                SplitLower::from_lower_csc(&tc, &tr, &tv, false, ab, bwd)?,
+            ))))
+        });
+        (self.l, self.u) = Default::default();
+        self.stored = match split {
+            Some(s) => Some(s),
+            None if dense => Some(Stored::Supernodes(Box::new((
+                Supernodal::from_lower_csc(lc, lr, l.val(), true),
+                Supernodal::from_lower_csc(&tc, &tr, &tv, false),
+            )))),
+            None => {
+                self.l = Triangle::from_csc(lc, lr, l.val(), true, false, true);
+                self.u = Triangle::from_csc(uc, ur, u.val(), false, false, false);
+                None
+            }
+        };
         self.numeric = SimplicialLu::new();
         Ok(())
     }
@@ -1312,17 +1341,17 @@ impl SparseLu {
     /// The orders of the two parts solved side by side and of the top after them, when the
     /// factor is split for two threads (module `split`).
     pub fn parts(&self) -> Option<(usize, usize, usize)> {
-        match &self.dense {
-            Some(Dense::Split(lu)) => Some(lu.0.sizes()),
+        match &self.stored {
+            Some(Stored::Split(lu)) => Some(lu.0.sizes()),
             _ => None,
         }
     }
 
     /// Stored entries of `L` (unit diagonal included) plus those of `U`.
     pub fn factor_nnz(&self) -> usize {
-        match &self.dense {
-            Some(Dense::Whole(lu)) => lu.0.nnz + lu.1.nnz,
-            Some(Dense::Split(lu)) => lu.0.nnz() + lu.1.nnz(),
+        match &self.stored {
+            Some(Stored::Supernodes(lu)) => lu.0.nnz + lu.1.nnz,
+            Some(Stored::Split(lu)) => lu.0.nnz() + lu.1.nnz(),
             None => self.l.nnz() + self.u.nnz(),
         }
     }
@@ -1340,12 +1369,12 @@ impl SparseLu {
         for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {
             *wi = rhs[r];
         }
-        match &mut self.dense {
-            Some(Dense::Whole(lu)) => {
+        match &mut self.stored {
+            Some(Stored::Supernodes(lu)) => {
                 lu.0.forward(w);
                 lu.1.backward(w);
             }
-            Some(Dense::Split(lu)) => {
+            Some(Stored::Split(lu)) => {
                 lu.0.forward(w);
                 lu.1.backward(w);
             }
@@ -1370,11 +1399,10 @@ pub struct SparseLlt {
     l: Triangle,
     /// `L^T` by rows (the columns of `L`).
     lt: Triangle,
-    /// For orders from `DENSE_SUPERNODAL_MIN_ORDER` on, `L` in dense supernodes (then `l`
-    /// and `lt` stay empty): whole, or in the three parts of an ordering split for two
-    /// threads.
-    dense: Option<DenseLower>,
-    /// The order from which `dense` is used (`DENSE_SUPERNODAL_MIN_ORDER`).
+    /// `L` in dense supernodes (from `DENSE_SUPERNODAL_MIN_ORDER` on) or in the three parts
+    /// of a split ordering; then `l` and `lt` stay empty.
+    stored: Option<StoredLower>,
+    /// The order from which dense supernodes are used (`DENSE_SUPERNODAL_MIN_ORDER`).
     dense_from: usize,
     /// The ordering's two independent parts, positions `0..a` and `a..b`, before the top
     /// (`split::two_subtrees`), when it has them.
@@ -1385,11 +1413,12 @@ pub struct SparseLlt {
     n: usize,
 }
 
-/// The dense supernodal layout of a Cholesky factor `L`: whole, or in the three parts of an
-/// ordering split for two threads ([`SplitLower`]).
+/// A Cholesky factor `L` stored otherwise than whole by rows: whole in dense supernodes, or
+/// in the three parts of an ordering split for two threads ([`SplitLower`], by rows or in
+/// dense supernodes).
 #[derive(Debug, Clone)]
-enum DenseLower {
-    Whole(Supernodal),
+enum StoredLower {
+    Supernodes(Supernodal),
     Split(Box<SplitLower>),
 }
 
@@ -1471,7 +1500,7 @@ impl SparseLlt {
             symbolic,
             l: Triangle::default(),
             lt: Triangle::default(),
-            dense: None,
+            stored: None,
             dense_from: DENSE_SUPERNODAL_MIN_ORDER,
             parts,
             perm_fwd,
@@ -1524,30 +1553,40 @@ impl SparseLlt {
                 (&columns.0, &columns.1, &columns.2)
             }
         };
-        if self.n >= self.dense_from {
-            let split = self.parts.and_then(|(a, b)| {
-                SplitLower::from_lower_csc(cp, ri, numeric, false, a, b)
-                    .map(|l| DenseLower::Split(Box::new(l)))
-            });
-            self.dense = Some(split.unwrap_or_else(|| {
-                DenseLower::Whole(Supernodal::from_lower_csc(cp, ri, numeric, false))
-            }));
-            self.l = Triangle::default();
-            self.lt = Triangle::default();
+        let dense = self.n >= self.dense_from;
+        let layout = if dense {
+            split::Layout::Dense
         } else {
-            self.l = Triangle::from_csc(cp, ri, numeric, false, false, true);
-            self.lt = Triangle::from_csc(cp, ri, numeric, false, true, false);
-            self.dense = None;
-        }
+            split::Layout::Rows {
+                forward: true,
+                backward: true,
+            }
+        };
+        let split = self.parts.and_then(|ab| {
+            SplitLower::from_lower_csc(cp, ri, numeric, false, ab, layout)
+                .map(|l| StoredLower::Split(Box::new(l)))
+        });
+        (self.l, self.lt) = Default::default();
+        self.stored = match split {
+            Some(s) => Some(s),
+            None if dense => Some(StoredLower::Supernodes(Supernodal::from_lower_csc(
+                cp, ri, numeric, false,
+            ))),
+            None => {
+                self.l = Triangle::from_csc(cp, ri, numeric, false, false, true);
+                self.lt = Triangle::from_csc(cp, ri, numeric, false, true, false);
+                None
+            }
+        };
         self.numeric = Vec::new();
         Ok(())
     }
 
     /// Number of stored values of the factor `L` (diagonal included).
     pub fn factor_nnz(&self) -> usize {
-        match &self.dense {
-            Some(DenseLower::Whole(l)) => l.nnz,
-            Some(DenseLower::Split(l)) => l.nnz(),
+        match &self.stored {
+            Some(StoredLower::Supernodes(l)) => l.nnz,
+            Some(StoredLower::Split(l)) => l.nnz(),
             None => self.l.nnz(),
         }
     }
@@ -1555,8 +1594,8 @@ impl SparseLlt {
     /// The orders of the two parts solved side by side and of the top after them, when the
     /// factor is split for two threads (module `split`).
     pub fn parts(&self) -> Option<(usize, usize, usize)> {
-        match &self.dense {
-            Some(DenseLower::Split(l)) => Some(l.sizes()),
+        match &self.stored {
+            Some(StoredLower::Split(l)) => Some(l.sizes()),
             _ => None,
         }
     }
@@ -1574,12 +1613,12 @@ impl SparseLlt {
         for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
             *wi = rhs[r];
         }
-        match &mut self.dense {
-            Some(DenseLower::Whole(l)) => {
+        match &mut self.stored {
+            Some(StoredLower::Supernodes(l)) => {
                 l.forward(w);
                 l.backward(w);
             }
-            Some(DenseLower::Split(l)) => {
+            Some(StoredLower::Split(l)) => {
                 l.forward(w);
                 l.backward(w);
             }
@@ -1921,7 +1960,7 @@ mod tests {
         (m.symbolic().to_owned().unwrap(), m.val().to_vec())
     }
 
-    /// The factor `build(split)` (in dense supernodes) with and without the split into two
+    /// The factor `build(split)` with and without the split into two
     /// independent parts and a top: the parts are balanced, the fill is that of the
     /// ordering it came from, the solve reproduces faer's LU to 1e-13, and its result is the
     /// same, bit for bit, on one thread and on two.
@@ -1982,29 +2021,34 @@ mod tests {
         assert_ne!(copy_of(0), copy_of(m));
     }
 
+    /// By rows and in dense supernodes.
     #[test]
     fn split_factor_solves_alike_on_one_thread_and_two() {
         let (pattern, values) = grid_matrix(60, 50);
-        split_solves_alike(&pattern, &values, |split| {
-            Factor::Lu(
-                SparseLu::build(&pattern, &values, Ordering::Amd, split)
-                    .unwrap()
-                    .with_layout(&pattern, &values, true),
-            )
-        });
+        for dense in [false, true] {
+            split_solves_alike(&pattern, &values, |split| {
+                Factor::Lu(
+                    SparseLu::build(&pattern, &values, Ordering::Amd, split)
+                        .unwrap()
+                        .with_layout(&pattern, &values, dense),
+                )
+            });
+        }
     }
 
     /// The same for the Cholesky factor of a symmetric matrix.
     #[test]
     fn split_cholesky_solves_alike_on_one_thread_and_two() {
         let (pattern, values) = grid_matrix_skew(60, 50, 0.0);
-        split_solves_alike(&pattern, &values, |split| {
-            Factor::Llt(
-                SparseLlt::build(&pattern, &values, split)
-                    .unwrap()
-                    .with_layout(&pattern, &values, true),
-            )
-        });
+        for dense in [false, true] {
+            split_solves_alike(&pattern, &values, |split| {
+                Factor::Llt(
+                    SparseLlt::build(&pattern, &values, split)
+                        .unwrap()
+                        .with_layout(&pattern, &values, dense),
+                )
+            });
+        }
     }
 
     /// The solves compiled for AVX2 (chosen at run time) give the baseline's result bit for
@@ -2117,11 +2161,11 @@ mod tests {
             };
             let bounds = match &f {
                 Factor::Lu(LuLayout {
-                    dense: Some(Dense::Whole(lu)),
+                    stored: Some(Stored::Supernodes(lu)),
                     ..
                 }) => lu.0.bounds.clone(),
                 Factor::Llt(LltLayout {
-                    dense: Some(DenseLower::Whole(l)),
+                    stored: Some(StoredLower::Supernodes(l)),
                     ..
                 }) => l.bounds.clone(),
                 _ => panic!("no dense layout"),
@@ -2250,11 +2294,11 @@ mod tests {
                     // `U`) that share their rows.
                     let widest = match &f {
                         Factor::Lu(LuLayout {
-                            dense: Some(Dense::Whole(lu)),
+                            stored: Some(Stored::Supernodes(lu)),
                             ..
                         }) => lu.1.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap(),
                         Factor::Llt(LltLayout {
-                            dense: Some(DenseLower::Whole(ut)),
+                            stored: Some(StoredLower::Supernodes(ut)),
                             ..
                         }) => ut.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap(),
                         Factor::Lu(lu) => widest_rows(&lu.u),

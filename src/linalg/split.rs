@@ -16,17 +16,17 @@
 //! part 1 on two threads (each keeping its contributions to the top in a vector of its own,
 //! added after, part 0's first), then the top; backward, the top, then parts 0 and 1 on two
 //! threads. Every sum is made in the same order whatever the number of threads, so the
-//! result does not depend on it (`rayon::join` runs both halves on one thread when the pool
+//! result does not depend on it (`team::join` runs both halves on one thread when the pool
 //! has one).
 //!
 //! [`two_subtrees`] finds the parts (the pair of subtree sets with the least critical path,
 //! the top plus the heavier part, weighing each column by its count of entries in `L`);
-//! [`SplitLower`] holds a lower factor in the three parts, each in dense supernodes
-//! ([`Supernodal`]).
+//! [`SplitLower`] holds a lower factor in the three parts, by rows ([`Triangle`], below
+//! 10,000 unknowns) or in dense supernodes ([`Supernodal`]).
 
 use std::collections::BTreeSet;
 
-use super::{Pattern, Supernodal};
+use super::{Pattern, Supernodal, Triangle};
 
 /// Most subtrees expanded into the top while looking for the best split.
 const MAX_EXPANSIONS: usize = 4096;
@@ -230,18 +230,154 @@ pub(super) fn two_subtrees(
     Some((new_fwd, new_inv, sizes[0], sizes[0] + sizes[1]))
 }
 
+/// How the parts of a [`SplitLower`] are stored and solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Layout {
+    /// Dense supernodes ([`Supernodal`]): both sweeps from one copy.
+    Dense,
+    /// By rows ([`Triangle`]): the rows of `Λ` for the forward sweep when `forward`, those
+    /// of `Λ^T` for the backward sweep when `backward` (a copy each).
+    Rows { forward: bool, backward: bool },
+}
+
+/// One part of a [`SplitLower`]. Parts 0 and 1 are solved on a local vector `[own | top]`
+/// as the lower triangle `Λp = [[Λ_pp, 0], [Λ_tp, I]]`: forward from `[b_p; 0]` it leaves
+/// `[Λ_pp^{-1} b_p; -Λ_tp Λ_pp^{-1} b_p]` (the part's contribution to the top), backward
+/// from `[b_p; x_t]` it leaves `[Λ_pp^{-T} (b_p - Λ_tp^T x_t); x_t]`.
+// Three per split factor: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone)]
+enum Part {
+    Dense(Supernodal),
+    /// The triangles of the forward and backward sweeps (an empty one where the layout did
+    /// not ask for that sweep).
+    Rows {
+        fwd: Triangle,
+        bwd: Triangle,
+    },
+}
+
+impl Part {
+    /// The part of columns `c0..c1` of `Λ` (CSC), its rows numbered locally (its own from
+    /// 0, the top's `b..n` after), or `None` when a column has a row outside the part and
+    /// the top. Dense parts leave the top's identity columns implicit; by rows they are
+    /// stored (unit entries), so that the triangle's order is the local vector's.
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        values: &[f64],
+        unit: bool,
+        (c0, c1): (usize, usize),
+        (b, n): (usize, usize),
+        layout: Layout,
+    ) -> Option<(Self, usize)> {
+        let mut cp = vec![0usize];
+        let (mut rows, mut vals) = (Vec::new(), Vec::new());
+        for j in c0..c1 {
+            for p in col_ptr[j]..col_ptr[j + 1] {
+                let i = row_idx[p];
+                let local = if (c0..c1).contains(&i) {
+                    i - c0
+                } else if i >= b {
+                    (c1 - c0) + (i - b)
+                } else {
+                    return None;
+                };
+                rows.push(local);
+                vals.push(values[p]);
+            }
+            cp.push(rows.len());
+        }
+        let mut nnz = rows.len();
+        if unit {
+            // The unit diagonal counts as stored, whether or not faer stored it.
+            nnz += (c0..c1)
+                .filter(|&j| !row_idx[col_ptr[j]..col_ptr[j + 1]].contains(&j))
+                .count();
+        }
+        let part = match layout {
+            Layout::Dense => Part::Dense(Supernodal::from_lower_csc(&cp, &rows, &vals, unit)),
+            Layout::Rows { forward, backward } => {
+                if c0 < b || c1 < n {
+                    // A part, not the top: the top's identity columns. Two consecutive top
+                    // rows on the same columns of the part (most often a node's two dofs)
+                    // get an explicit zero coupling, `Λp[t + 1, t] = 0`, which makes them a
+                    // pair of the triangle (one gather for both rows, as in the whole
+                    // factor) rather than two single rows.
+                    let w = c1 - c0;
+                    let mut top_cols: Vec<Vec<usize>> = vec![Vec::new(); n - b];
+                    for j in 0..w {
+                        for &i in &rows[cp[j]..cp[j + 1]] {
+                            if i >= w {
+                                top_cols[i - w].push(j);
+                            }
+                        }
+                    }
+                    let mut t = 0;
+                    while t < n - b {
+                        let paired = t + 1 < n - b
+                            && !top_cols[t].is_empty()
+                            && top_cols[t] == top_cols[t + 1];
+                        for k in 0..1 + paired as usize {
+                            rows.push(w + t + k);
+                            vals.push(1.0);
+                            if paired && k == 0 {
+                                rows.push(w + t + 1);
+                                vals.push(0.0);
+                            }
+                            cp.push(rows.len());
+                        }
+                        t += 1 + paired as usize;
+                    }
+                }
+                let tri = |wanted: bool, transpose: bool| {
+                    if wanted {
+                        Triangle::from_csc(&cp, &rows, &vals, unit, transpose, !transpose)
+                    } else {
+                        Triangle::default()
+                    }
+                };
+                Part::Rows {
+                    fwd: tri(forward, false),
+                    bwd: tri(backward, true),
+                }
+            }
+        };
+        Some((part, nnz))
+    }
+
+    /// The forward sweep on the part's local vector.
+    fn forward(&mut self, x: &mut [f64]) {
+        match self {
+            Part::Dense(sn) => sn.forward(x),
+            Part::Rows { fwd, .. } => fwd.solve_in_place(x),
+        }
+    }
+
+    /// The backward sweep on the part's local vector.
+    fn backward(&mut self, x: &mut [f64]) {
+        match self {
+            Part::Dense(sn) => sn.backward(x),
+            Part::Rows { bwd, .. } => bwd.solve_in_place(x),
+        }
+    }
+}
+
 /// A lower triangular factor `Λ` of order `n` in the three parts of [`two_subtrees`]
-/// (module docs), each in dense supernodes: part 0 (columns `0..a`) and part 1 (`a..b`)
-/// on local vectors that hold their own unknowns, then the top's (`b..n`); the top on
-/// `x[b..n]`.
+/// (module docs), in dense supernodes or by rows ([`Layout`]): part 0 (columns `0..a`) and
+/// part 1 (`a..b`) on local vectors that hold their own unknowns, then the top's (`b..n`);
+/// the top on `x[b..n]`.
 #[derive(Debug, Clone)]
 pub(super) struct SplitLower {
     a: usize,
     b: usize,
     n: usize,
-    part0: Supernodal,
-    part1: Supernodal,
-    top: Supernodal,
+    part0: Part,
+    part1: Part,
+    top: Part,
+    /// Stored entries of `Λ`, diagonal included.
+    nnz: usize,
     /// The local vectors of parts 0 and 1.
     z0: Vec<f64>,
     z1: Vec<f64>,
@@ -255,39 +391,23 @@ impl SplitLower {
         row_idx: &[usize],
         values: &[f64],
         unit: bool,
-        a: usize,
-        b: usize,
+        (a, b): (usize, usize),
+        layout: Layout,
     ) -> Option<Self> {
         let n = col_ptr.len() - 1;
         assert!(a <= b && b <= n);
-        // Part `[c0, c1)`, its rows numbered locally: its own from 0, the top's after.
-        let part = |c0: usize, c1: usize| -> Option<Supernodal> {
-            let mut cp = vec![0usize];
-            let (mut rows, mut vals) = (Vec::new(), Vec::new());
-            for j in c0..c1 {
-                for p in col_ptr[j]..col_ptr[j + 1] {
-                    let i = row_idx[p];
-                    let local = if (c0..c1).contains(&i) {
-                        i - c0
-                    } else if i >= b {
-                        (c1 - c0) + (i - b)
-                    } else {
-                        return None;
-                    };
-                    rows.push(local);
-                    vals.push(values[p]);
-                }
-                cp.push(rows.len());
-            }
-            Some(Supernodal::from_lower_csc(&cp, &rows, &vals, unit))
-        };
+        let part = |c0, c1| Part::new(col_ptr, row_idx, values, unit, (c0, c1), (b, n), layout);
+        let (part0, n0) = part(0, a)?;
+        let (part1, n1) = part(a, b)?;
+        let (top, nt) = part(b, n)?;
         Some(Self {
             a,
             b,
             n,
-            part0: part(0, a)?,
-            part1: part(a, b)?,
-            top: part(b, n)?,
+            part0,
+            part1,
+            top,
+            nnz: n0 + n1 + nt,
             z0: vec![0.0; a + (n - b)],
             z1: vec![0.0; (b - a) + (n - b)],
         })
@@ -295,9 +415,8 @@ impl SplitLower {
 
     /// Stored entries, diagonal included.
     pub(super) fn nnz(&self) -> usize {
-        self.part0.nnz + self.part1.nnz + self.top.nnz
+        self.nnz
     }
-
     /// The parts' orders: `(a, b - a, n - b)`.
     pub(super) fn sizes(&self) -> (usize, usize, usize) {
         (self.a, self.b - self.a, self.n - self.b)
@@ -315,7 +434,7 @@ impl SplitLower {
         z1[..b - a].copy_from_slice(x1);
         z1[b - a..].fill(0.0);
         let (p0, p1) = (&mut self.part0, &mut self.part1);
-        rayon::join(|| p0.forward(z0), || p1.forward(z1));
+        super::team::join(|| p0.forward(z0), || p1.forward(z1));
         x0.copy_from_slice(&z0[..a]);
         x1.copy_from_slice(&z1[..b - a]);
         for ((xi, s0), s1) in xt.iter_mut().zip(&z0[a..]).zip(&z1[b - a..]) {
@@ -337,7 +456,7 @@ impl SplitLower {
         z1[..b - a].copy_from_slice(x1);
         z1[b - a..].copy_from_slice(xt);
         let (p0, p1) = (&mut self.part0, &mut self.part1);
-        rayon::join(|| p0.backward(z0), || p1.backward(z1));
+        super::team::join(|| p0.backward(z0), || p1.backward(z1));
         x0.copy_from_slice(&z0[..a]);
         x1.copy_from_slice(&z1[..b - a]);
     }

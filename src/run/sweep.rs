@@ -78,6 +78,8 @@ pub fn run_ladder(
         scs.push((v.clone(), sc));
     }
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    // The runs share the cores: no spinning helper thread for their split solves.
+    let _runs_on_every_core = crate::linalg::team::Exclusive::hold();
     let results: Vec<Result<SweepPoint, SweepError>> = scs
         .par_iter()
         .map(|(v, sc)| {

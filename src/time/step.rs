@@ -343,9 +343,9 @@ struct RhsRows {
 }
 
 /// The order from which the right-hand side's pairs of rows are formed in two halves side
-/// by side (`rayon::join`; one thread runs both when the pool has one): the orders whose
-/// factor is split for two threads (`linalg::Factor::parts`).
-const RHS_SPLIT_MIN_ORDER: usize = 10_000;
+/// by side (`linalg::team::join`; one thread runs both when the pool has one): the orders
+/// whose factor is split for two threads (`linalg::Factor::parts`).
+const RHS_SPLIT_MIN_ORDER: usize = 1_500;
 
 impl RhsRows {
     fn new(pattern: &Pattern, bv: &[f64], k: &[f64], g: &[f64]) -> Self {
@@ -823,7 +823,7 @@ impl Stepper {
                 // The second half's rows start at its first pair's row.
                 let cut = r.pair[mid];
                 let (lo, hi) = b.split_at_mut(cut);
-                rayon::join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
+                crate::linalg::team::join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
             }
             None => part(0..pairs, 0, b),
         }
