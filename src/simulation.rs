@@ -149,7 +149,22 @@ impl StepView<'_> {
     pub fn strain(&self) -> f64 {
         0.5 * quadratic_form(self.model.pattern(), self.energy_stiffness, &self.state.u)
     }
+
+    /// `(kinetic, strain)`: from `ENERGIES_SIDE_BY_SIDE_MIN` dofs on, side by side on two
+    /// threads (`linalg::team::join`), with the same values.
+    pub fn energies(&self) -> (f64, f64) {
+        if self.state.v.len() < ENERGIES_SIDE_BY_SIDE_MIN {
+            return (self.kinetic(), self.strain());
+        }
+        let (mut kinetic, mut strain) = (0.0, 0.0);
+        crate::linalg::team::join(|| kinetic = self.kinetic(), || strain = self.strain());
+        (kinetic, strain)
+    }
 }
+
+/// The order from which [`StepView::energies`] runs its two quadratic forms on two threads:
+/// that of the split factors, whose steps already hand work to the second thread.
+const ENERGIES_SIDE_BY_SIDE_MIN: usize = 1_500;
 
 /// Counters of a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]

@@ -621,7 +621,7 @@ pub fn drive(
                         0.5 * quadratic_form(p, &wm.k_elastic, u),
                     )
                 } else {
-                    (s.kinetic(), s.strain())
+                    s.energies()
                 }
             });
             let step = WheelStep {
