@@ -73,7 +73,7 @@ def main():
         exe = cand if os.path.exists(cand) else None
     cmd = [exe] if exe else ["cargo", "run", "--quiet", "--release", "--"]
     steps = ["--steps", str(args.steps)] if args.steps else []
-    subprocess.run(cmd + ["matrix", args.scenario, "--out", out] + steps, check=True, cwd=root,
+    subprocess.run(cmd + ["matrix", os.path.abspath(args.scenario), "--out", os.path.abspath(out)] + steps, check=True, cwd=root,
                    stdout=subprocess.DEVNULL)
 
     info = json.load(open(os.path.join(out, "matrix.json")))
