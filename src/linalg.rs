@@ -1138,6 +1138,9 @@ pub struct SparseLu {
     /// (`split::two_subtrees`), when it has them.
     parts: Option<(usize, usize)>,
     work: Vec<f64>,
+    /// With a split, the position of each unknown's solution in the spread work vector
+    /// (`split::SplitLower::spread` of `col_inv`).
+    spread_inv: Vec<usize>,
     n: usize,
 }
 
@@ -1270,6 +1273,7 @@ impl SparseLu {
             dense_from: DENSE_SUPERNODAL_MIN_ORDER,
             parts,
             work: vec![0.0; n],
+            spread_inv: Vec::new(),
             n,
         };
         lu.refactor(pattern, values)?;
@@ -1295,6 +1299,7 @@ impl SparseLu {
             dense_from: self.dense_from,
             parts: self.parts,
             work: vec![0.0; self.n],
+            spread_inv: Vec::new(),
             n: self.n,
         };
         lu.refactor(pattern, values)?;
@@ -1369,6 +1374,15 @@ impl SparseLu {
                 None
             }
         };
+        // The solve's work vector: the split's spread vector, or the unknowns.
+        let len = match &self.stored {
+            Some(Stored::Split(lu)) => {
+                self.spread_inv = self.col_inv.iter().map(|&c| lu.0.spread(c)).collect();
+                lu.0.spread_len()
+            }
+            _ => n,
+        };
+        self.work.resize(len, 0.0);
         self.numeric = SimplicialLu::new();
         Ok(())
     }
@@ -1411,6 +1425,16 @@ impl SparseLu {
     #[inline(always)]
     fn solve_here(&mut self, rhs: &mut [f64]) {
         let w = &mut self.work;
+        if let Some(Stored::Split(lu)) = &mut self.stored {
+            // On the split's spread vector: each part solved in place.
+            lu.0.gather_spread(&self.row_fwd, rhs, w);
+            lu.0.forward(w);
+            lu.1.backward(w);
+            for (xi, &c) in rhs.iter_mut().zip(&self.spread_inv) {
+                *xi = w[c];
+            }
+            return;
+        }
         for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {
             *wi = rhs[r];
         }
@@ -1419,10 +1443,7 @@ impl SparseLu {
                 lu.0.forward(w);
                 lu.1.backward(w);
             }
-            Some(Stored::Split(lu)) => {
-                lu.0.forward(w);
-                lu.1.backward(w);
-            }
+            Some(Stored::Split(_)) => unreachable!("solved above"),
             None => {
                 self.l.solve(w);
                 self.u.solve(w);
@@ -1455,6 +1476,9 @@ pub struct SparseLlt {
     perm_fwd: Vec<usize>,
     perm_inv: Vec<usize>,
     work: Vec<f64>,
+    /// With a split, the position of each unknown's solution in the spread work vector
+    /// (`split::SplitLower::spread` of `perm_inv`).
+    spread_inv: Vec<usize>,
     n: usize,
 }
 
@@ -1551,6 +1575,7 @@ impl SparseLlt {
             perm_fwd,
             perm_inv,
             work: vec![0.0; n],
+            spread_inv: Vec::new(),
             n,
         };
         llt.refactor(pattern, values)?;
@@ -1623,6 +1648,15 @@ impl SparseLlt {
                 None
             }
         };
+        // The solve's work vector: the split's spread vector, or the unknowns.
+        let len = match &self.stored {
+            Some(StoredLower::Split(l)) => {
+                self.spread_inv = self.perm_inv.iter().map(|&c| l.spread(c)).collect();
+                l.spread_len()
+            }
+            _ => self.n,
+        };
+        self.work.resize(len, 0.0);
         self.numeric = Vec::new();
         Ok(())
     }
@@ -1655,6 +1689,16 @@ impl SparseLlt {
     #[inline(always)]
     fn solve_here(&mut self, rhs: &mut [f64]) {
         let w = &mut self.work;
+        if let Some(StoredLower::Split(l)) = &mut self.stored {
+            // On the split's spread vector: each part solved in place.
+            l.gather_spread(&self.perm_fwd, rhs, w);
+            l.forward(w);
+            l.backward(w);
+            for (xi, &c) in rhs.iter_mut().zip(&self.spread_inv) {
+                *xi = w[c];
+            }
+            return;
+        }
         for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
             *wi = rhs[r];
         }
@@ -1663,10 +1707,7 @@ impl SparseLlt {
                 l.forward(w);
                 l.backward(w);
             }
-            Some(StoredLower::Split(l)) => {
-                l.forward(w);
-                l.backward(w);
-            }
+            Some(StoredLower::Split(_)) => unreachable!("solved above"),
             None => {
                 self.l.solve(w);
                 self.lt.solve(w);

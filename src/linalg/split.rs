@@ -13,9 +13,11 @@
 //! ```
 //!
 //! and the two sweeps of a solve each run their two parts side by side: forward, part 0 and
-//! part 1 on two threads (each keeping its contributions to the top in a vector of its own,
-//! added after, part 0's first), then the top; backward, the top, then parts 0 and 1 on two
-//! threads. Every sum is made in the same order whatever the number of threads, so the
+//! part 1 on two threads (each keeping its contributions to the top in room of its own
+//! after its unknowns, added after, part 0's first), then the top; backward, the top, then
+//! parts 0 and 1 on two threads. The solve's vector is spread for this
+//! ([`SplitLower::spread`]): each part's unknowns and room are one contiguous slice, solved
+//! in place. Every sum is made in the same order whatever the number of threads, so the
 //! result does not depend on it (`team::join` runs both halves on one thread when the pool
 //! has one).
 //!
@@ -230,6 +232,11 @@ pub(super) fn two_subtrees(
     Some((new_fwd, new_inv, sizes[0], sizes[0] + sizes[1]))
 }
 
+/// Unused entries after each part's local vector in the spread vector
+/// ([`SplitLower::spread`]): one cache line, so that the two threads never write to the same
+/// line.
+const GAP: usize = 8;
+
 /// How the parts of a [`SplitLower`] are stored and solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Layout {
@@ -378,9 +385,6 @@ pub(super) struct SplitLower {
     top: Part,
     /// Stored entries of `Λ`, diagonal included.
     nnz: usize,
-    /// The local vectors of parts 0 and 1.
-    z0: Vec<f64>,
-    z1: Vec<f64>,
 }
 
 impl SplitLower {
@@ -408,8 +412,6 @@ impl SplitLower {
             part1,
             top,
             nnz: n0 + n1 + nt,
-            z0: vec![0.0; a + (n - b)],
-            z1: vec![0.0; (b - a) + (n - b)],
         })
     }
 
@@ -422,42 +424,60 @@ impl SplitLower {
         (self.a, self.b - self.a, self.n - self.b)
     }
 
-    /// `x <- Λ^{-1} x`.
+    /// The length of the vector the sweeps work on: `[x0 | s0 | x1 | s1 | xt]`, the two
+    /// parts' unknowns each followed by room for their contributions to the top (`n - b`
+    /// each), then the top's unknowns. Each part's local vector is then a contiguous slice
+    /// of it, solved in place (no copies in and out).
+    pub(super) fn spread_len(&self) -> usize {
+        self.n + 2 * (self.n - self.b + GAP)
+    }
+
+    /// The position of unknown `k` (`0..n`) in the vector of [`SplitLower::spread_len`].
+    pub(super) fn spread(&self, k: usize) -> usize {
+        k + (self.n - self.b + GAP) * ((k >= self.a) as usize + (k >= self.b) as usize)
+    }
+
+    /// `x[spread(k)] = src[idx[k]]` for every `k` (the gather of a permuted right-hand side
+    /// into the spread vector), range by range.
+    #[inline(always)]
+    pub(super) fn gather_spread(&self, idx: &[usize], src: &[f64], x: &mut [f64]) {
+        let (a, b, n) = (self.a, self.b, self.n);
+        let shift = self.n - self.b + GAP;
+        for (lo, hi, off) in [(0, a, 0), (a, b, shift), (b, n, 2 * shift)] {
+            for (xk, &i) in x[lo + off..hi + off].iter_mut().zip(&idx[lo..hi]) {
+                *xk = src[i];
+            }
+        }
+    }
+
+    /// `x <- Λ^{-1} x` on the spread vector ([`SplitLower::spread`]).
     pub(super) fn forward(&mut self, x: &mut [f64]) {
-        let (a, b) = (self.a, self.b);
-        assert!(x.len() == self.n);
-        let (x0, rest) = x.split_at_mut(a);
-        let (x1, xt) = rest.split_at_mut(b - a);
-        let (z0, z1) = (&mut self.z0, &mut self.z1);
-        z0[..a].copy_from_slice(x0);
-        z0[a..].fill(0.0);
-        z1[..b - a].copy_from_slice(x1);
-        z1[b - a..].fill(0.0);
+        let (a, b, t) = (self.a, self.b, self.n - self.b);
+        assert!(x.len() == self.spread_len());
+        let (v0, rest) = x.split_at_mut(a + t);
+        let (v1, xt) = rest[GAP..].split_at_mut(b - a + t);
+        let xt = &mut xt[GAP..];
+        v0[a..].fill(0.0);
+        v1[b - a..].fill(0.0);
         let (p0, p1) = (&mut self.part0, &mut self.part1);
-        super::team::join(|| p0.forward(z0), || p1.forward(z1));
-        x0.copy_from_slice(&z0[..a]);
-        x1.copy_from_slice(&z1[..b - a]);
-        for ((xi, s0), s1) in xt.iter_mut().zip(&z0[a..]).zip(&z1[b - a..]) {
+        super::team::join(|| p0.forward(v0), || p1.forward(v1));
+        for ((xi, s0), s1) in xt.iter_mut().zip(&v0[a..]).zip(&v1[b - a..]) {
             *xi = (*xi + s0) + s1;
         }
         self.top.forward(xt);
     }
 
-    /// `x <- Λ^{-T} x`.
+    /// `x <- Λ^{-T} x` on the spread vector ([`SplitLower::spread`]).
     pub(super) fn backward(&mut self, x: &mut [f64]) {
-        let (a, b) = (self.a, self.b);
-        assert!(x.len() == self.n);
-        let (x0, rest) = x.split_at_mut(a);
-        let (x1, xt) = rest.split_at_mut(b - a);
+        let (a, b, t) = (self.a, self.b, self.n - self.b);
+        assert!(x.len() == self.spread_len());
+        let (v0, rest) = x.split_at_mut(a + t);
+        let (v1, xt) = rest[GAP..].split_at_mut(b - a + t);
+        let xt = &mut xt[GAP..];
         self.top.backward(xt);
-        let (z0, z1) = (&mut self.z0, &mut self.z1);
-        z0[..a].copy_from_slice(x0);
-        z0[a..].copy_from_slice(xt);
-        z1[..b - a].copy_from_slice(x1);
-        z1[b - a..].copy_from_slice(xt);
+        v0[a..].copy_from_slice(xt);
+        v1[b - a..].copy_from_slice(xt);
         let (p0, p1) = (&mut self.part0, &mut self.part1);
-        super::team::join(|| p0.backward(z0), || p1.backward(z1));
-        x0.copy_from_slice(&z0[..a]);
-        x1.copy_from_slice(&z1[..b - a]);
+        super::team::join(|| p0.backward(v0), || p1.backward(v1));
     }
 }
