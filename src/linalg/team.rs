@@ -41,7 +41,8 @@ struct Helper {
     claimed: AtomicBool,
     job: UnsafeCell<Option<Job>>,
     panic: UnsafeCell<Option<Box<dyn Any + Send>>>,
-    thread: OnceLock<Thread>,
+    /// The helper, started on first use (`None` if it could not be).
+    thread: OnceLock<Option<Thread>>,
 }
 
 // SAFETY: `job` and `panic` are written by the claimant before it posts (Release) and by the
@@ -165,10 +166,15 @@ where
         std::thread::Builder::new()
             .name("softway-join".into())
             .spawn(helper_loop)
-            .expect("the join helper thread")
-            .thread()
-            .clone()
+            .ok()
+            .map(|j| j.thread().clone())
     });
+    let Some(thread) = thread else {
+        // No helper thread could be started: the pool's join.
+        h.claimed.store(false, Ordering::Release);
+        rayon::join(a, b);
+        return;
+    };
     let b = std::sync::Mutex::new(Some(b));
     let run_b = || {
         if let Some(b) = b.lock().unwrap_or_else(|e| e.into_inner()).take() {
