@@ -706,13 +706,23 @@ impl Supernodal {
         fn backward / backward_avx2(&mut self, x: &mut [f64]) => backward_here
     }
 
+    /// Supernode `s`: its first column, width, rows below the run and block.
+    #[inline(always)]
+    fn supernode(&self, s: usize) -> (usize, usize, &[u32], &[f64]) {
+        let j0 = self.bounds[s];
+        (
+            j0,
+            self.bounds[s + 1] - j0,
+            &self.rows[self.rows_ptr[s]..self.rows_ptr[s + 1]],
+            &self.blk[self.blk_ptr[s]..self.blk_ptr[s + 1]],
+        )
+    }
+
     #[inline(always)]
     fn forward_here(&mut self, x: &mut [f64]) {
+        let y = &mut std::mem::take(&mut self.y);
         for s in 0..self.bounds.len() - 1 {
-            let (j0, j1) = (self.bounds[s], self.bounds[s + 1]);
-            let w = j1 - j0;
-            let rows = &self.rows[self.rows_ptr[s]..self.rows_ptr[s + 1]];
-            let blk = &self.blk[self.blk_ptr[s]..self.blk_ptr[s + 1]];
+            let (j0, w, rows, blk) = self.supernode(s);
             match w {
                 1 => narrow_forward::<1>(blk, rows, j0, x),
                 2 => narrow_forward::<2>(blk, rows, j0, x),
@@ -721,18 +731,17 @@ impl Supernodal {
                 5 => narrow_forward::<5>(blk, rows, j0, x),
                 6 => narrow_forward::<6>(blk, rows, j0, x),
                 7 => narrow_forward::<7>(blk, rows, j0, x),
-                _ => wide_forward(blk, w, rows, j0, x, &mut self.y),
+                _ => wide_forward(blk, w, rows, j0, x, y),
             }
         }
+        self.y = std::mem::take(y);
     }
 
     #[inline(always)]
     fn backward_here(&mut self, x: &mut [f64]) {
+        let y = &mut std::mem::take(&mut self.y);
         for s in (0..self.bounds.len() - 1).rev() {
-            let (j0, j1) = (self.bounds[s], self.bounds[s + 1]);
-            let w = j1 - j0;
-            let rows = &self.rows[self.rows_ptr[s]..self.rows_ptr[s + 1]];
-            let blk = &self.blk[self.blk_ptr[s]..self.blk_ptr[s + 1]];
+            let (j0, w, rows, blk) = self.supernode(s);
             match w {
                 1 => narrow_backward::<1>(blk, rows, j0, x),
                 2 => narrow_backward::<2>(blk, rows, j0, x),
@@ -741,9 +750,10 @@ impl Supernodal {
                 5 => narrow_backward::<5>(blk, rows, j0, x),
                 6 => narrow_backward::<6>(blk, rows, j0, x),
                 7 => narrow_backward::<7>(blk, rows, j0, x),
-                _ => wide_backward(blk, w, rows, j0, x, &mut self.y),
+                _ => wide_backward(blk, w, rows, j0, x, y),
             }
         }
+        self.y = std::mem::take(y);
     }
 }
 
@@ -1162,7 +1172,11 @@ enum Stored {
 /// (`wheel.toml`) 108 -> 55 us, 7,948 (576 rim nodes) 335 -> 180 us; on one thread the
 /// split costs 10-20% (57 -> 62-67, 100 -> 118, 330 -> 338-367 us). On the paper's wheel
 /// (938 dofs) it gave 18 against 20 us per free step and nothing in the run's loop.
-const SPLIT_MIN_ORDER: usize = 1_500;
+///
+/// From the same order the time loop's other work on whole vectors runs on two threads as
+/// well (the right-hand side's halves, the held nodes' columns, the energies): the steps
+/// there already hand work to the second thread.
+pub(crate) const SPLIT_MIN_ORDER: usize = 1_500;
 
 impl std::fmt::Debug for SparseLu {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -163,8 +163,8 @@ impl StepView<'_> {
 }
 
 /// The order from which [`StepView::energies`] runs its two quadratic forms on two threads:
-/// that of the split factors, whose steps already hand work to the second thread.
-const ENERGIES_SIDE_BY_SIDE_MIN: usize = 1_500;
+/// that of the split factors.
+const ENERGIES_SIDE_BY_SIDE_MIN: usize = crate::linalg::SPLIT_MIN_ORDER;
 
 /// Counters of a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]

@@ -564,12 +564,11 @@ fn add_columns(cols: &[f64], terms: &[(usize, f64)], x: &mut [f64]) {
     );
 }
 
-/// The order from which [`add_columns`] runs on two threads: that of the split factors
-/// (`linalg`'s `SPLIT_MIN_ORDER`), whose steps already hand work to the second thread.
+/// The order from which [`add_columns`] runs on two threads: that of the split factors.
 /// With the energies' two quadratic forms side by side too (`StepView::energies`),
 /// `wheel.toml`'s run (3,432 dofs) went from 124.8 and 122.4 to 108.0 and 110.3 us per
 /// step of its loop (alternated binaries, twice).
-const SPLIT_ADD_MIN: usize = 1_500;
+const SPLIT_ADD_MIN: usize = crate::linalg::SPLIT_MIN_ORDER;
 
 /// [`add_columns`] on the rows `i0..i0 + x.len()` of the columns (each `n` long).
 fn add_columns_range(cols: &[f64], n: usize, terms: &[(usize, f64)], i0: usize, x: &mut [f64]) {

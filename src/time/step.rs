@@ -345,7 +345,7 @@ struct RhsRows {
 /// The order from which the right-hand side's pairs of rows are formed in two halves side
 /// by side (`linalg::team::join`; one thread runs both when the pool has one): the orders
 /// whose factor is split for two threads (`linalg::Factor::parts`).
-const RHS_SPLIT_MIN_ORDER: usize = 1_500;
+const RHS_SPLIT_MIN_ORDER: usize = crate::linalg::SPLIT_MIN_ORDER;
 
 impl RhsRows {
     fn new(pattern: &Pattern, bv: &[f64], k: &[f64], g: &[f64]) -> Self {
