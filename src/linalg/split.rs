@@ -354,6 +354,14 @@ impl Part {
         Some((part, nnz))
     }
 
+    /// The dense supernodes of a dense part.
+    fn dense_mut(&mut self) -> Option<&mut Supernodal> {
+        match self {
+            Part::Dense(sn) => Some(sn),
+            Part::Rows { .. } => None,
+        }
+    }
+
     /// The forward sweep on the part's local vector.
     fn forward(&mut self, x: &mut [f64]) {
         match self {
@@ -419,6 +427,13 @@ impl SplitLower {
     pub(super) fn nnz(&self) -> usize {
         self.nnz
     }
+    /// The parts stored in dense supernodes.
+    pub(super) fn dense_parts_mut(&mut self) -> impl Iterator<Item = &mut Supernodal> {
+        [&mut self.part0, &mut self.part1, &mut self.top]
+            .into_iter()
+            .filter_map(Part::dense_mut)
+    }
+
     /// The parts' orders: `(a, b - a, n - b)`.
     pub(super) fn sizes(&self) -> (usize, usize, usize) {
         (self.a, self.b - self.a, self.n - self.b)
