@@ -1624,12 +1624,8 @@ impl SparseLu {
         let w = &mut self.work;
         if let Some(Stored::Split(lu)) = &mut self.stored {
             // On the split's spread vector: each part solved in place.
-            lu.0.gather_spread(&self.row_fwd, rhs, w);
-            lu.0.forward(w);
-            lu.1.backward(w);
-            for (xi, &c) in rhs.iter_mut().zip(&self.spread_inv) {
-                *xi = w[c];
-            }
+            lu.0.gather_forward(&self.row_fwd, rhs, w);
+            lu.1.backward_scatter(w, &self.spread_inv, rhs);
             return;
         }
         for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {
@@ -1893,12 +1889,8 @@ impl SparseLlt {
         let w = &mut self.work;
         if let Some(StoredLower::Split(l)) = &mut self.stored {
             // On the split's spread vector: each part solved in place.
-            l.gather_spread(&self.perm_fwd, rhs, w);
-            l.forward(w);
-            l.backward(w);
-            for (xi, &c) in rhs.iter_mut().zip(&self.spread_inv) {
-                *xi = w[c];
-            }
+            l.gather_forward(&self.perm_fwd, rhs, w);
+            l.backward_scatter(w, &self.spread_inv, rhs);
             return;
         }
         for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
