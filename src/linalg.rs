@@ -2331,6 +2331,21 @@ mod tests {
         }
     }
 
+    /// The same for a system large enough that the solution is read out in two halves
+    /// (`split::SCATTER_SPLIT_MIN_ORDER`), in dense supernodes, LU and Cholesky.
+    #[test]
+    fn large_split_solves_alike_on_one_thread_and_two() {
+        let (pattern, values) = grid_matrix_skew(160, 160, 0.0);
+        assert!(pattern.nrows() >= split::SCATTER_SPLIT_MIN_ORDER);
+        split_solves_alike(&pattern, &values, |split| {
+            Factor::Llt(SparseLlt::build(&pattern, &values, split).unwrap())
+        });
+        let (pattern, values) = grid_matrix_skew(160, 160, 0.01);
+        split_solves_alike(&pattern, &values, |split| {
+            Factor::Lu(SparseLu::build(&pattern, &values, Ordering::Amd, split).unwrap())
+        });
+    }
+
     /// The solves compiled for AVX2 (chosen at run time) give the baseline's result bit for
     /// bit: the same operations in the same order, by rows and in dense supernodes, LU and
     /// Cholesky.

@@ -237,7 +237,7 @@ pub(super) fn two_subtrees(
 /// alternated: `scenarios/wheel.toml`, 3,430 unknowns, 50.4 -> 52.5 us a step with two
 /// halves; the 48-ring disk, 14,114, unchanged; the 192-ring disk, 222,338, 17.2-18.0 ->
 /// 15.8-16.9 ms for the solve with the gather in the parts' threads too).
-const SCATTER_SPLIT_MIN_ORDER: usize = 50_000;
+pub(super) const SCATTER_SPLIT_MIN_ORDER: usize = 50_000;
 
 /// Unused entries after each part's local vector in the spread vector
 /// ([`SplitLower::spread`]): one cache line, so that the two threads never write to the same
