@@ -24,10 +24,12 @@
 //! solved side by side (10,000 dofs and more: 48 and 192 rings) on a pool of one thread and
 //! of two; the speed-up is their ratio in one run.
 //!
-//! `bandwidth/*`: a streaming read of 1, 16 and 256 MiB (the caches and the memory); with
-//! it, a floor for each free step is printed on stderr: the bytes the step must read (the
-//! factors' values and 32-bit indices once each, `B` and `K` with their indices, five
-//! vectors) over the read bandwidth of a block of that size.
+//! `bandwidth/*`: a streaming read of 1, 16 and 256 MiB (the caches and the memory). A
+//! floor for each free step is printed on stderr: the bytes the step reads, as stored
+//! (`Stepper::free_step_bytes`: the factors' arrays as the solve reads them, the right-hand
+//! side's, the vectors), over the read bandwidth measured on a block of that same size (the
+//! level of the memory the step's data lives in), by one thread or, for a split factor,
+//! two.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -159,8 +161,7 @@ fn bench_step(c: &mut Criterion) {
         let n = w.model.n();
         let mut st = Stepper::new(&w.model, p, &bcs).unwrap();
         {
-            let nnz_a = st.matrices().1.len();
-            let bytes = st.factor_nnz() * (8 + 4) + nnz_a * (8 + 8 + 4) + 5 * n * 8;
+            let bytes = st.free_step_bytes();
             // A split factor is read by two threads: its floor is that of two readers.
             let threads = if st.factor_parts().is_some() { 2 } else { 1 };
             let bw = read_bandwidth_gb_s(bytes, threads);
@@ -373,28 +374,25 @@ fn bench_threads(c: &mut Criterion) {
 /// Bytes of the blocks whose read bandwidth `bench_bandwidth` measures.
 const BANDWIDTH_BLOCKS: [usize; 3] = [1 << 20, 16 << 20, 256 << 20];
 
-/// The sum of a block of `f64` (a streaming read; four partial sums).
+/// The sum of a block of `f64` (a streaming read; sixteen partial sums, so that the
+/// additions' latency does not bound the rate: four sums read at most 8 bytes a cycle, less
+/// than one thread reads from the last-level cache).
 fn read_sum(block: &[f64]) -> f64 {
-    let mut acc = [0.0; 4];
-    for c in block.chunks_exact(4) {
-        for k in 0..4 {
+    let mut acc = [0.0; 16];
+    for c in block.chunks_exact(16) {
+        for k in 0..16 {
             acc[k] += c[k];
         }
     }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
+    acc.iter().sum()
 }
 
-/// Measured read bandwidth (GB/s, best of a few rounds) of the smallest block of
-/// `BANDWIDTH_BLOCKS` that holds `bytes` (the largest if none does): the bandwidth of the
-/// level of the memory a working set of that size lives in, read by one thread or, with
-/// `threads = 2`, by two threads each reading its half side by side (`rayon::join`, as a
-/// split step reads its two parts).
+/// Measured read bandwidth (GB/s, best of a few rounds) of a block of `bytes` (rounded up
+/// to 64 KiB), read again and again: the bandwidth of the level of the memory a working set
+/// of that size lives in, read by one thread or, with `threads = 2`, by two threads each
+/// reading its half side by side (`rayon::join`, as a split step reads its two parts).
 fn read_bandwidth_gb_s(bytes: usize, threads: usize) -> f64 {
-    let size = BANDWIDTH_BLOCKS
-        .iter()
-        .copied()
-        .find(|&s| s >= bytes)
-        .unwrap_or(*BANDWIDTH_BLOCKS.last().unwrap());
+    let size = bytes.div_ceil(64 << 10) * (64 << 10);
     let block: Vec<f64> = (0..size / 8).map(|i| i as f64).collect();
     let (first, second) = block.split_at(block.len() / 2);
     let reps = ((1usize << 30) / size).max(2);

@@ -276,6 +276,28 @@ enum Segment {
 }
 
 impl Triangle {
+    /// Bytes of the arrays a solve reads.
+    fn bytes(&self) -> usize {
+        use std::mem::size_of_val as b;
+        b(&self.sn_first[..])
+            + b(&self.cols_ptr[..])
+            + b(&self.cols[..])
+            + b(&self.val_ptr[..])
+            + b(&self.tri_ptr[..])
+            + b(&self.val[..])
+            + b(&self.diag_inv[..])
+            + b(&self.single_ptr[..])
+            + b(&self.single_idx[..])
+            + b(&self.single_val[..])
+            + b(&self.pair_ptr[..])
+            + b(&self.pair_idx[..])
+            + b(&self.pair_val[..])
+            + b(&self.pair_coupling[..])
+            + b(&self.blk_ptr[..])
+            + b(&self.blk_idx[..])
+            + b(&self.blk_val[..])
+    }
+
     /// From a CSC factor (row indices in any order, the diagonal stored somewhere in each
     /// column), stored by the rows of the factor (`transpose = false`) or of its transpose
     /// (`transpose = true`); `unit`: the diagonal is 1 (not stored as such); `lower`: the
@@ -716,9 +738,15 @@ impl Supernodal {
         fn backward / backward_avx2(&mut self, x: &mut [f64]) => backward_here
     }
 
-    /// Bytes of the blocks and row indices (what the two sweeps each read).
+    /// Bytes of the arrays each of the two sweeps reads (the blocks, row indices and
+    /// pointers).
     fn bytes(&self) -> usize {
-        self.blk.len() * std::mem::size_of::<f64>() + self.rows.len() * std::mem::size_of::<u32>()
+        use std::mem::size_of_val as b;
+        b(&self.blk[..])
+            + b(&self.rows[..])
+            + b(&self.bounds[..])
+            + b(&self.rows_ptr[..])
+            + b(&self.blk_ptr[..])
     }
 
     /// Supernode `s`: its first column, width, rows below the run and block.
@@ -1612,6 +1640,15 @@ impl SparseLu {
         }
     }
 
+    /// Bytes of the factors that a solve reads (`L` forward, `U` backward, each once).
+    pub fn solve_bytes(&self) -> usize {
+        match &self.stored {
+            Some(Stored::Supernodes(lu)) => lu.0.bytes() + lu.1.bytes(),
+            Some(Stored::Split(lu)) => lu.0.bytes() + lu.1.bytes(),
+            None => self.l.bytes() + self.u.bytes(),
+        }
+    }
+
     avx2_method! {
         /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
         /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
@@ -1868,6 +1905,16 @@ impl SparseLlt {
         }
     }
 
+    /// Bytes of the factor that a solve reads: dense supernodes twice (one copy for both
+    /// sweeps), by rows the two copies (`L` and `L^T`) once each.
+    pub fn solve_bytes(&self) -> usize {
+        match &self.stored {
+            Some(StoredLower::Supernodes(l)) => 2 * l.bytes(),
+            Some(StoredLower::Split(l)) => l.solve_bytes(),
+            None => self.l.bytes() + self.lt.bytes(),
+        }
+    }
+
     /// The orders of the two parts solved side by side and of the top after them, when the
     /// factor is split for two threads (module `split`).
     pub fn parts(&self) -> Option<(usize, usize, usize)> {
@@ -2007,6 +2054,15 @@ impl Factor {
         match self {
             Factor::Lu(lu) => lu.factor_nnz(),
             Factor::Llt(llt) => llt.factor_nnz(),
+        }
+    }
+
+    /// Bytes of the factors that a solve reads, as stored (each sweep's arrays; one copy
+    /// read by both sweeps counts twice).
+    pub fn solve_bytes(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.solve_bytes(),
+            Factor::Llt(llt) => llt.solve_bytes(),
         }
     }
 

@@ -361,6 +361,23 @@ impl Part {
         Some((part, nnz))
     }
 
+    /// Bytes a solve reads of the part: a dense part's one copy twice (both sweeps), by rows
+    /// the two triangles once each (an empty one where that sweep is not asked for).
+    fn solve_bytes(&self) -> usize {
+        match self {
+            Part::Dense(sn) => 2 * sn.bytes(),
+            Part::Rows { fwd, bwd } => fwd.bytes() + bwd.bytes(),
+        }
+    }
+
+    /// Bytes of the part as stored.
+    fn bytes(&self) -> usize {
+        match self {
+            Part::Dense(sn) => sn.bytes(),
+            Part::Rows { fwd, bwd } => fwd.bytes() + bwd.bytes(),
+        }
+    }
+
     /// The dense supernodes of a dense part.
     fn dense_mut(&mut self) -> Option<&mut Supernodal> {
         match self {
@@ -434,6 +451,17 @@ impl SplitLower {
     pub(super) fn nnz(&self) -> usize {
         self.nnz
     }
+    /// Bytes of the three parts as stored.
+    pub(super) fn bytes(&self) -> usize {
+        self.part0.bytes() + self.part1.bytes() + self.top.bytes()
+    }
+
+    /// Bytes of the three parts that the two sweeps of a solve read together, when this one
+    /// factor serves both (Cholesky): dense parts count twice.
+    pub(super) fn solve_bytes(&self) -> usize {
+        self.part0.solve_bytes() + self.part1.solve_bytes() + self.top.solve_bytes()
+    }
+
     /// The parts stored in dense supernodes.
     pub(super) fn dense_parts_mut(&mut self) -> impl Iterator<Item = &mut Supernodal> {
         [&mut self.part0, &mut self.part1, &mut self.top]

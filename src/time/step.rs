@@ -634,6 +634,26 @@ impl RhsRows {
         }
     }
 
+    /// Bytes of the arrays a right-hand side reads (the positions in the pattern, read only
+    /// when the values change, left out).
+    fn bytes(&self) -> usize {
+        use std::mem::size_of_val as b;
+        b(&self.single[..])
+            + b(&self.ptr[..])
+            + b(&self.idx[..])
+            + b(&self.bk[..])
+            + b(&self.g[..])
+            + b(&self.pair[..])
+            + b(&self.pair_ptr[..])
+            + b(&self.pair_idx[..])
+            + b(&self.pair_bk[..])
+            + b(&self.pair_g[..])
+            + b(&self.blk_ptr[..])
+            + b(&self.blk_idx[..])
+            + b(&self.blk_bk[..])
+            + b(&self.blk_g[..])
+    }
+
     fn refill(&mut self, bv: &[f64], k: &[f64]) {
         for (e, &p) in self.bk.iter_mut().zip(&self.src) {
             *e = [bv[p], k[p]];
@@ -858,6 +878,21 @@ impl Stepper {
     /// Stored entries of the factors of `A` (`L + U`, or `L` for Cholesky).
     pub fn factor_nnz(&self) -> usize {
         self.lu.factor_nnz()
+    }
+
+    /// Bytes a free step reads (its floor is these over the read bandwidth of the memory
+    /// they live in): the factors as a solve reads them
+    /// ([`crate::linalg::Factor::solve_bytes`]), the right-hand side's rows and ten passes
+    /// over vectors of `n` values (the state, the load and `b` in the right-hand side, the
+    /// solve's gather, two sweeps and read-out, the update of `u`), eleven with the Coriolis
+    /// term on the right-hand side (`a0`).
+    pub fn free_step_bytes(&self) -> usize {
+        let passes = if self.coriolis == Coriolis::Extrapolated {
+            11
+        } else {
+            10
+        };
+        self.lu.solve_bytes() + self.rhs_rows.bytes() + passes * self.n * std::mem::size_of::<f64>()
     }
 
     /// The orders of the factor's two parts solved side by side and of the top after them,
