@@ -2530,6 +2530,22 @@ mod tests {
                     && widths.iter().any(|&w| w >= 8 && w % 4 != 0),
                 "widths {widths:?}"
             );
+            // Packed blocks hold the factor's entries and nothing else (no zeros above the
+            // diagonals), and a solve reads them twice for Cholesky, once each for LU.
+            assert_eq!(sn.blk.len(), sn.nnz);
+            let sn_bytes = sn.bytes();
+            assert!(
+                sn_bytes > 8 * sn.nnz && sn_bytes < 10 * sn.nnz,
+                "{sn_bytes}"
+            );
+            match &f {
+                Factor::Llt(_) => assert_eq!(f.solve_bytes(), 2 * sn_bytes),
+                Factor::Lu(SparseLu {
+                    stored: Some(Stored::Supernodes(lu)),
+                    ..
+                }) => assert_eq!(f.solve_bytes(), sn_bytes + lu.1.bytes()),
+                Factor::Lu(_) => unreachable!("dense layout above"),
+            }
             // The prefetch (on for factors that stream from memory) is a hint: the same bits.
             let (mut x, mut y) = (b.clone(), b.clone());
             let mut with = sn.clone();

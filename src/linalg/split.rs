@@ -451,6 +451,7 @@ impl SplitLower {
     pub(super) fn nnz(&self) -> usize {
         self.nnz
     }
+
     /// Bytes of the three parts as stored.
     pub(super) fn bytes(&self) -> usize {
         self.part0.bytes() + self.part1.bytes() + self.top.bytes()
@@ -491,23 +492,14 @@ impl SplitLower {
     /// into the spread vector), then `x <- Λ^{-1} x` on it: each part's range gathered by the
     /// thread that solves it, the top's by the first.
     pub(super) fn gather_forward(&mut self, idx: &[usize], src: &[f64], x: &mut [f64]) {
-        assert!(idx.len() == self.n);
-        self.forward_with(x, Some((idx, src)));
-    }
-
-    /// `x <- Λ^{-1} x` on the spread vector ([`SplitLower::spread`]), after the gather of
-    /// `gather` when given ([`SplitLower::gather_forward`]).
-    fn forward_with(&mut self, x: &mut [f64], gather: Option<(&[usize], &[f64])>) {
         let (a, b, n, t) = (self.a, self.b, self.n, self.n - self.b);
-        assert!(x.len() == self.spread_len());
+        assert!(x.len() == self.spread_len() && idx.len() == n);
         let (v0, rest) = x.split_at_mut(a + t);
         let (v1, xt) = rest[GAP..].split_at_mut(b - a + t);
         let xt = &mut xt[GAP..];
         let fill = |dst: &mut [f64], range: std::ops::Range<usize>| {
-            if let Some((idx, src)) = gather {
-                for (xk, &i) in dst.iter_mut().zip(&idx[range]) {
-                    *xk = src[i];
-                }
+            for (xk, &i) in dst.iter_mut().zip(&idx[range]) {
+                *xk = src[i];
             }
         };
         let (p0, p1) = (&mut self.part0, &mut self.part1);
