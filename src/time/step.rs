@@ -327,8 +327,11 @@ struct RhsRows {
     blk_idx: Vec<u32>,
     blk_bk: Vec<[f64; 8]>,
     blk_src: Vec<[usize; 4]>,
-    /// `G`'s four values of each block (with the Coriolis term on the right-hand side).
+    /// `G`'s four values of each block (with the Coriolis term on the right-hand side),
+    /// unless every block is `[[0, -g], [g, 0]]` (the wheel's Coriolis term, `2 Omega J
+    /// m_ab`): then `blk_gs` holds each block's `g` and `blk_g` is empty ([`ScalarSkew`]).
     blk_g: Vec<[f64; 4]>,
+    blk_gs: Vec<f64>,
     /// The processor has AVX2: the blocks run on [`rhs_blocks_avx2`] (the bits of
     /// [`rhs_blocks`]).
     avx2: bool,
@@ -386,6 +389,7 @@ impl RhsRows {
             blk_bk: Vec::new(),
             blk_src: Vec::new(),
             blk_g: Vec::new(),
+            blk_gs: Vec::new(),
             avx2: crate::linalg::has_avx2(),
             g: Vec::new(),
             pair_g: Vec::new(),
@@ -440,6 +444,11 @@ impl RhsRows {
             rows.g = rows.src.iter().map(|&p| g[p]).collect();
             rows.pair_g = rows.pair_src.iter().map(|&[p, q]| [g[p], g[q]]).collect();
             rows.blk_g = rows.blk_src.iter().map(|s| s.map(|p| g[p])).collect();
+            if rows.blk_g.iter().all(ScalarSkew::holds) {
+                // A quarter of the bytes, the same values (and bits) in the products.
+                rows.blk_gs = rows.blk_g.iter().map(|g| g[2]).collect();
+                rows.blk_g = Vec::new();
+            }
         }
         rows.refill(bv, k);
         rows
@@ -531,12 +540,12 @@ impl RhsRows {
                 // block columns `j, j + 1` are < n and `v0`, `u0` have length n.
                 #[cfg(target_arch = "x86_64")]
                 unsafe {
-                    rhs_blocks_avx2::<false>(idx, bk, &[], 0.0, [u0, v0, &[]])
+                    rhs_blocks_avx2::<false, &[[f64; 4]]>(idx, bk, &[], 0.0, [u0, v0, &[]])
                 }
                 #[cfg(not(target_arch = "x86_64"))]
-                rhs_blocks::<false>(idx, bk, &[], 0.0, [u0, v0, &[]])
+                rhs_blocks::<false, &[[f64; 4]]>(idx, bk, &[], 0.0, [u0, v0, &[]])
             } else {
-                rhs_blocks::<false>(idx, bk, &[], 0.0, [u0, v0, &[]])
+                rhs_blocks::<false, &[[f64; 4]]>(idx, bk, &[], 0.0, [u0, v0, &[]])
             };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
@@ -599,24 +608,40 @@ impl RhsRows {
             }
             // The blocks: lanes `[i j, i j+1, i+1 j, i+1 j+1]`.
             let range = self.blk_ptr[k]..self.blk_ptr[k + 1];
-            let (idx, bk, g) = (
-                &self.blk_idx[range.clone()],
-                &self.blk_bk[range.clone()],
-                &self.blk_g[range],
-            );
-            let (sb, sk) = if self.avx2 {
-                // SAFETY: as in `pairs_here`; `a0` has length n too.
-                #[cfg(target_arch = "x86_64")]
-                unsafe {
-                    rhs_blocks_avx2::<true>(idx, bk, g, c, [u0, v0, a0])
-                }
-                #[cfg(not(target_arch = "x86_64"))]
-                rhs_blocks::<true>(idx, bk, g, c, [u0, v0, a0])
+            let (idx, bk) = (&self.blk_idx[range.clone()], &self.blk_bk[range.clone()]);
+            let uva = [u0, v0, a0];
+            let (sb, sk) = if self.blk_g.is_empty() {
+                self.blocks_g(idx, bk, ScalarSkew(&self.blk_gs[range]), c, uva)
             } else {
-                rhs_blocks::<true>(idx, bk, g, c, [u0, v0, a0])
+                self.blocks_g(idx, bk, &self.blk_g[range], c, uva)
             };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
+        }
+    }
+
+    /// [`rhs_blocks`] with the skew part `g`, on AVX2 where the processor has it.
+    #[inline(always)]
+    fn blocks_g<S: SkewBlocks>(
+        &self,
+        idx: &[u32],
+        bk: &[[f64; 8]],
+        g: S,
+        c: f64,
+        uva: [&[f64]; 3],
+    ) -> ([f64; 4], [f64; 4]) {
+        if self.avx2 {
+            // SAFETY: `avx2` is set only where the processor has AVX2 (`new`); the block
+            // columns `j, j + 1` are < n and the three vectors have length n (asserted by
+            // `pairs_g_here`); `g` has a block for each of `idx`.
+            #[cfg(target_arch = "x86_64")]
+            unsafe {
+                rhs_blocks_avx2::<true, S>(idx, bk, g, c, uva)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            rhs_blocks::<true, S>(idx, bk, g, c, uva)
+        } else {
+            rhs_blocks::<true, S>(idx, bk, g, c, uva)
         }
     }
 
@@ -652,6 +677,7 @@ impl RhsRows {
             + b(&self.blk_idx[..])
             + b(&self.blk_bk[..])
             + b(&self.blk_g[..])
+            + b(&self.blk_gs[..])
     }
 
     fn refill(&mut self, bv: &[f64], k: &[f64]) {
@@ -689,10 +715,10 @@ use std::arch::x86_64::{
 /// When `j + 1` is out of range of a vector for a block (debug builds; the indices come
 /// from the pattern), or with `G` when `g` is shorter than `idx`.
 #[inline(always)]
-fn rhs_blocks<const G: bool>(
+fn rhs_blocks<const G: bool, S: SkewBlocks>(
     idx: &[u32],
     bk: &[[f64; 8]],
-    g: &[[f64; 4]],
+    g: S,
     c: f64,
     [u0, v0, a0]: [&[f64]; 3],
 ) -> ([f64; 4], [f64; 4]) {
@@ -714,12 +740,8 @@ fn rhs_blocks<const G: bool>(
         }
         if G {
             // SAFETY: as above; `e < g.len()` (asserted above).
-            let (al, gj) = unsafe {
-                (
-                    [*a0.get_unchecked(j), *a0.get_unchecked(j + 1)],
-                    g.get_unchecked(e),
-                )
-            };
+            let (al, gj) =
+                unsafe { ([*a0.get_unchecked(j), *a0.get_unchecked(j + 1)], g.block(e)) };
             for l in 0..4 {
                 let w = vl[l % 2] + c * al[l % 2];
                 sk[l] += v[4 + l] * ul[l % 2] + gj[l] * w;
@@ -743,10 +765,10 @@ fn rhs_blocks<const G: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn rhs_blocks_avx2<const G: bool>(
+unsafe fn rhs_blocks_avx2<const G: bool, S: SkewBlocks>(
     idx: &[u32],
     bk: &[[f64; 8]],
-    g: &[[f64; 4]],
+    g: S,
     c: f64,
     [u0, v0, a0]: [&[f64]; 3],
 ) -> ([f64; 4], [f64; 4]) {
@@ -763,7 +785,7 @@ unsafe fn rhs_blocks_avx2<const G: bool>(
         if G {
             let al = broadcast2(a0.as_ptr().add(j));
             let w = _mm256_add_pd(vl, _mm256_mul_pd(cc, al));
-            let gw = _mm256_mul_pd(_mm256_loadu_pd(g.get_unchecked(e).as_ptr()), w);
+            let gw = _mm256_mul_pd(_mm256_loadu_pd(g.block(e).as_ptr()), w);
             sk = _mm256_add_pd(sk, _mm256_add_pd(ku, gw));
         } else {
             sk = _mm256_add_pd(sk, ku);
@@ -773,6 +795,55 @@ unsafe fn rhs_blocks_avx2<const G: bool>(
     _mm256_storeu_pd(b.as_mut_ptr(), sb);
     _mm256_storeu_pd(k.as_mut_ptr(), sk);
     (b, k)
+}
+
+/// The skew part's blocks of a pair of rows for [`rhs_blocks`]: four values each, lanes
+/// `[i j, i j+1, i+1 j, i+1 j+1]`.
+trait SkewBlocks: Copy {
+    /// Blocks held.
+    fn len(&self) -> usize;
+    /// Block `e`'s four values.
+    ///
+    /// # Safety
+    /// `e < self.len()`.
+    unsafe fn block(&self, e: usize) -> [f64; 4];
+}
+
+impl SkewBlocks for &[[f64; 4]] {
+    fn len(&self) -> usize {
+        <[[f64; 4]]>::len(self)
+    }
+    #[inline(always)]
+    unsafe fn block(&self, e: usize) -> [f64; 4] {
+        // SAFETY: `e < len` (the caller's contract).
+        unsafe { *self.get_unchecked(e) }
+    }
+}
+
+/// Skew blocks `[[0, -g], [g, 0]]` held by their one value `g`: the wheel's Coriolis term
+/// (`2 Omega J m_ab`, `crate::frame::add_coriolis`), a quarter of the bytes of four values.
+/// Block `e` is `[+0, -g, g, +0]`, the four values it was made from, bit for bit
+/// ([`ScalarSkew::holds`]).
+#[derive(Clone, Copy)]
+struct ScalarSkew<'a>(&'a [f64]);
+
+impl ScalarSkew<'_> {
+    /// The four values `g` are `[+0, -x, x, +0]` for some `x`, bit for bit.
+    fn holds(g: &[f64; 4]) -> bool {
+        g[0].to_bits() == 0 && g[3].to_bits() == 0 && g[1].to_bits() == (-g[2]).to_bits()
+    }
+}
+
+impl SkewBlocks for ScalarSkew<'_> {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    #[inline(always)]
+    unsafe fn block(&self, e: usize) -> [f64; 4] {
+        // SAFETY: `e < len` (the caller's contract).
+        let g = unsafe { *self.0.get_unchecked(e) };
+        [0.0, -g, g, 0.0]
+    }
 }
 
 /// The matrices the step's operators are made of.
@@ -1202,6 +1273,20 @@ mod tests {
         rows.singles_here(h, &u, &v, &mut halves);
         rows.singles_g_into(h, c, &v, &acc, &mut halves);
         assert!(same(&whole, &halves), "halves, with G");
+        // The wheel's Coriolis blocks are held by one value each, and give the bits of their
+        // four values.
+        assert!(rows.blk_g.is_empty() && rows.blk_gs.len() == rows.blk_idx.len());
+        let mut four = rows.clone();
+        four.blk_g = rows.blk_src.iter().map(|s| s.map(|p| g[p])).collect();
+        four.blk_gs = Vec::new();
+        let mut with_four = vec![0.5; n];
+        four.pairs_g_here(0..pairs, 0, h, c, [&u, &v, &acc], &mut with_four);
+        four.singles_here(h, &u, &v, &mut with_four);
+        four.singles_g_into(h, c, &v, &acc, &mut with_four);
+        assert!(
+            same(&whole, &with_four),
+            "G's blocks by one value or by four"
+        );
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             rows.avx2 = true;
