@@ -769,18 +769,9 @@ impl Supernodal {
         for s in 0..self.bounds.len() - 1 {
             if self.prefetch {
                 // Up to PREFETCH_AHEAD entries after this supernode's block and rows.
-                let hi = (self.blk_ptr[s + 1] + PREFETCH_AHEAD).min(self.blk.len());
-                pv = pv.max(self.blk_ptr[s + 1]);
-                while pv < hi {
-                    prefetch(self.blk.as_ptr().wrapping_add(pv));
-                    pv += 8;
-                }
-                let hi = (self.rows_ptr[s + 1] + PREFETCH_AHEAD).min(self.rows.len());
-                pr = pr.max(self.rows_ptr[s + 1]);
-                while pr < hi {
-                    prefetch(self.rows.as_ptr().wrapping_add(pr));
-                    pr += 16;
-                }
+                let (v1, r1) = (self.blk_ptr[s + 1], self.rows_ptr[s + 1]);
+                pv = prefetch_lines(&self.blk, pv.max(v1)..v1 + PREFETCH_AHEAD).max(pv);
+                pr = prefetch_lines(&self.rows, pr.max(r1)..r1 + PREFETCH_AHEAD).max(pr);
             }
             let (j0, w, rows, blk) = self.supernode(s);
             match w {
@@ -805,18 +796,14 @@ impl Supernodal {
         for s in (0..self.bounds.len() - 1).rev() {
             if self.prefetch {
                 // Up to PREFETCH_AHEAD entries before this supernode's block and rows.
-                let lo = self.blk_ptr[s].saturating_sub(PREFETCH_AHEAD);
-                pv = pv.min(self.blk_ptr[s]);
-                while pv > lo {
-                    pv = pv.saturating_sub(8);
-                    prefetch(self.blk.as_ptr().wrapping_add(pv));
-                }
-                let lo = self.rows_ptr[s].saturating_sub(PREFETCH_AHEAD);
-                pr = pr.min(self.rows_ptr[s]);
-                while pr > lo {
-                    pr = pr.saturating_sub(16);
-                    prefetch(self.rows.as_ptr().wrapping_add(pr));
-                }
+                let (v0, r0) = (self.blk_ptr[s], self.rows_ptr[s]);
+                let (lo_v, lo_r) = (
+                    v0.saturating_sub(PREFETCH_AHEAD),
+                    r0.saturating_sub(PREFETCH_AHEAD),
+                );
+                prefetch_lines(&self.blk, lo_v..pv.min(v0));
+                prefetch_lines(&self.rows, lo_r..pr.min(r0));
+                (pv, pr) = (pv.min(lo_v), pr.min(lo_r));
             }
             let (j0, w, rows, blk) = self.supernode(s);
             match w {
@@ -855,6 +842,18 @@ fn prefetch_when_large<'a>(factors: impl IntoIterator<Item = &'a mut Supernodal>
     for f in factors {
         f.prefetch = on;
     }
+}
+
+/// Prefetches the cache lines of `data[range]` (its end clamped to the length; an empty
+/// range asks for nothing) and returns the clamped end.
+#[inline(always)]
+fn prefetch_lines<T>(data: &[T], range: std::ops::Range<usize>) -> usize {
+    let end = range.end.min(data.len());
+    let step = (64 / std::mem::size_of::<T>()).max(1);
+    for i in (range.start..end).step_by(step) {
+        prefetch(data.as_ptr().wrapping_add(i));
+    }
+    end
 }
 
 /// Asks for the cache line at `p` in the second-level cache (a hint: no fault, no effect
