@@ -21,8 +21,10 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::Side;
 use faer::{MatMut, Par};
 
+mod huge;
 mod split;
 pub(crate) mod team;
+use huge::HugeBuf;
 use split::SplitLower;
 
 /// Runs `$avx2` (an unsafe call of a function compiled with `#[target_feature(enable =
@@ -639,9 +641,11 @@ struct Supernodal {
     /// Supernode `s` is the columns `bounds[s]..bounds[s + 1]`.
     bounds: Vec<usize>,
     rows_ptr: Vec<usize>,
-    rows: Vec<u32>,
+    /// The rows `R` of each supernode, then its packed block: on huge pages when large
+    /// ([`HugeBuf`]).
+    rows: HugeBuf<u32>,
     blk_ptr: Vec<usize>,
-    blk: Vec<f64>,
+    blk: HugeBuf<f64>,
     /// Work for `y` (the widest `R`).
     y: Vec<f64>,
     /// Stored entries of `Λ`, diagonal included.
@@ -701,28 +705,30 @@ impl Supernodal {
             ..Default::default()
         };
         let mut widest = 0;
+        let (mut rows, mut blk) = (Vec::new(), Vec::new());
         for b in bounds.windows(2) {
             let (j0, j1) = (b[0], b[1]);
             let w = j1 - j0;
             let below: Vec<usize> = cols[j1 - 1][1..].iter().map(|e| e.0).collect();
             let m = below.len();
             widest = widest.max(m);
-            t.rows.extend(below.iter().map(|&i| i as u32));
-            t.rows_ptr.push(t.rows.len());
+            rows.extend(below.iter().map(|&i| i as u32));
+            t.rows_ptr.push(rows.len());
             for k in 0..w {
                 let col = std::mem::take(&mut cols[j0 + k]);
                 debug_assert_eq!(col.len(), w - k + m);
                 // Rows k..w of the run (the diagonal first, held as its reciprocal: the
                 // sweeps multiply), then R in order.
-                t.blk.push(1.0 / col[0].1);
-                t.blk.extend(col[1..].iter().map(|e| e.1));
+                blk.push(1.0 / col[0].1);
+                blk.extend(col[1..].iter().map(|e| e.1));
             }
             debug_assert_eq!(
-                t.blk.len() - t.blk_ptr[t.blk_ptr.len() - 1],
+                blk.len() - t.blk_ptr[t.blk_ptr.len() - 1],
                 packed_len(w, w + m)
             );
-            t.blk_ptr.push(t.blk.len());
+            t.blk_ptr.push(blk.len());
         }
+        (t.rows, t.blk) = (rows.into(), blk.into());
         t.bounds = bounds;
         t.y = vec![0.0; widest];
         t
