@@ -210,7 +210,18 @@ impl Stepper {
             // A symmetric matrix that is not positive definite keeps the LU.
             FactorChoice::Auto => Factor::auto(&pattern, &a_work)?,
         };
-        let rhs_rows = RhsRows::new(&pattern, &bv, &model.k, &g);
+        let rhs_rows = RhsRows::new(
+            &pattern,
+            &RhsValues {
+                m: &model.m,
+                c: &c,
+                k: &model.k,
+                g: &g,
+                bv: &bv,
+                alpha: params.alpha,
+                h: params.h,
+            },
+        );
         Ok(Self {
             params,
             rhs_rows,
@@ -275,7 +286,15 @@ impl Stepper {
             &mut self.bv,
             &mut self.a_work,
         );
-        self.rhs_rows.refill(&self.bv, &self.k);
+        self.rhs_rows.refill(&RhsValues {
+            m: &self.m,
+            c: &self.c,
+            k: &self.k,
+            g: &self.g,
+            bv: &self.bv,
+            alpha: self.params.alpha,
+            h,
+        });
         self.h_now = h;
     }
 }
@@ -321,15 +340,22 @@ struct RhsRows {
     pair_bk: Vec<[f64; 4]>,
     pair_src: Vec<[usize; 2]>,
     /// The pairs' blocks: pair `k`'s are `blk_ptr[k]..blk_ptr[k + 1]`, block `e` the columns
-    /// `j = blk_idx[e]` and `j + 1`, `blk_bk[e] = [B_ij, B_i(j+1), B_(i+1)j, B_(i+1)(j+1)]`
-    /// then `K`'s four on the same places, `blk_src[e]` their positions in the pattern.
+    /// `j = blk_idx[e]` and `j + 1`, `blk_src[e]` its four positions in the pattern, lanes
+    /// `[i j, i j+1, i+1 j, i+1 j+1]`. Its values are held in the form `blk_form`
+    /// ([`BlockForm`]): `blk_bk[e]`, `B`'s four values then `K`'s, or `blk_kd[e]`, `K`'s four
+    /// and two more from which `B` is formed in the products.
     blk_ptr: Vec<usize>,
     blk_idx: Vec<u32>,
+    blk_form: BlockForm,
     blk_bk: Vec<[f64; 8]>,
+    blk_kd: Vec<[f64; 6]>,
     blk_src: Vec<[usize; 4]>,
+    /// `(alpha - alpha^2/2) h^2`: `B = D - c2 K` with `D = M - (1 - alpha) h C`.
+    c2: f64,
     /// `G`'s four values of each block (with the Coriolis term on the right-hand side),
     /// unless every block is `[[0, -g], [g, 0]]` (the wheel's Coriolis term, `2 Omega J
     /// m_ab`): then `blk_gs` holds each block's `g` and `blk_g` is empty ([`ScalarSkew`]).
+    /// Both empty in [`BlockForm::Diagonal`], where `g` is in `blk_kd`.
     blk_g: Vec<[f64; 4]>,
     blk_gs: Vec<f64>,
     /// The processor has AVX2: the blocks run on [`rhs_blocks_avx2`] (the bits of
@@ -350,8 +376,48 @@ struct RhsRows {
 /// whose factor is split for two threads (`linalg::Factor::parts`).
 const RHS_SPLIT_MIN_ORDER: usize = crate::linalg::SPLIT_MIN_ORDER;
 
+/// How the right-hand side's blocks hold their values ([`RhsRows`]). In the wheel, `M` and
+/// the mass-proportional damping are `m_ab I` per pair of nodes and the Coriolis term `2
+/// Omega m_ab J`, so that `D = M - (1 - alpha) h C` has two values per block, or one, and
+/// `B = D - c2 K` need not be stored: a block is read as six values instead of eight
+/// (nine with the Coriolis term on the right-hand side, seven when `G` is by one value).
+/// `B`'s four values are formed as `Operators::fill` forms them, `d - c2 k` lane by lane
+/// (`RhsRows::refill` checks each against `B`), so every form gives the same bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum BlockForm {
+    /// `blk_bk`: `B`'s four values, then `K`'s.
+    General,
+    /// `blk_kd = [K's four, d, s]`, `D = [[d, s], [-s, d]]`.
+    Skew,
+    /// `blk_kd = [K's four, d, g]`, `D = [[d, 0], [0, d]]` and `G = [[0, -g], [g, 0]]`
+    /// (`g` zero without the Coriolis term on the right-hand side).
+    Diagonal,
+}
+
+/// The size of the blocks' eight values from which they are held in a compact form
+/// ([`BlockForm`]): below, they stay in the second-level cache between steps, where forming
+/// `B` costs more than reading it (the paper's wheel, 0.2 MB: 18.8 -> 21.1 us a free step;
+/// `wheel.toml`'s, 0.8 MB: 49.9 and 50.2 us; graded 576 rim nodes, 1.7 MB: 154 -> 150 us;
+/// 48 rings, 3.2 MB: 400-417 -> 380-394 us with the Coriolis term on the right-hand side;
+/// `softway matrix`, alternated binaries).
+const COMPACT_MIN_BYTES: usize = 1 << 20;
+
+/// The values the right-hand side's rows are filled from, for one step `h`: `B` and its
+/// parts `M`, `C` (the symmetric part with the Coriolis term on the right-hand side) and
+/// `K`, and `G` (empty unless on the right-hand side).
+struct RhsValues<'a> {
+    m: &'a [f64],
+    c: &'a [f64],
+    k: &'a [f64],
+    g: &'a [f64],
+    bv: &'a [f64],
+    alpha: f64,
+    h: f64,
+}
+
 impl RhsRows {
-    fn new(pattern: &Pattern, bv: &[f64], k: &[f64], g: &[f64]) -> Self {
+    fn new(pattern: &Pattern, values: &RhsValues) -> Self {
+        let g = values.g;
         let n = pattern.nrows();
         assert!(n <= u32::MAX as usize, "too many dofs for 32-bit indices");
         let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
@@ -386,8 +452,11 @@ impl RhsRows {
             pair_src: Vec::new(),
             blk_ptr: vec![0],
             blk_idx: Vec::new(),
+            blk_form: BlockForm::General,
             blk_bk: Vec::new(),
+            blk_kd: Vec::new(),
             blk_src: Vec::new(),
+            c2: 0.0,
             blk_g: Vec::new(),
             blk_gs: Vec::new(),
             avx2: crate::linalg::has_avx2(),
@@ -439,19 +508,66 @@ impl RhsRows {
         }
         rows.bk = vec![[0.0; 2]; rows.idx.len()];
         rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
-        rows.blk_bk = vec![[0.0; 8]; rows.blk_idx.len()];
         if !g.is_empty() {
             rows.g = rows.src.iter().map(|&p| g[p]).collect();
             rows.pair_g = rows.pair_src.iter().map(|&[p, q]| [g[p], g[q]]).collect();
-            rows.blk_g = rows.blk_src.iter().map(|s| s.map(|p| g[p])).collect();
-            if rows.blk_g.iter().all(ScalarSkew::holds) {
-                // A quarter of the bytes, the same values (and bits) in the products.
-                rows.blk_gs = rows.blk_g.iter().map(|g| g[2]).collect();
-                rows.blk_g = Vec::new();
-            }
         }
-        rows.refill(bv, k);
+        rows.bk = vec![[0.0; 2]; rows.idx.len()];
+        rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
+        rows.refill(values);
         rows
+    }
+
+    /// The form the blocks' values are held in for `values`: [`BlockForm::General`] below
+    /// `COMPACT_MIN_BYTES`, else the most compact one they allow
+    /// ([`RhsRows::compact_form`]).
+    fn block_form(&self, values: &RhsValues) -> BlockForm {
+        if std::mem::size_of::<[f64; 8]>() * self.blk_src.len() < COMPACT_MIN_BYTES {
+            BlockForm::General
+        } else {
+            self.compact_form(values)
+        }
+    }
+
+    /// The most compact form the blocks' values allow for `values` ([`BlockForm`]): each of
+    /// `B`'s values formed from it equal to `B`'s (`==`: a zero's sign aside, which no sum
+    /// that starts at `+0` can tell).
+    fn compact_form(&self, values: &RhsValues) -> BlockForm {
+        let RhsValues { m, c, k, g, bv, .. } = *values;
+        let (a, h) = (values.alpha, values.h);
+        let c2 = (a - 0.5 * a * a) * h * h;
+        // `D` as `Operators::fill` forms it, before `c2 K` is taken off.
+        let d = |p: usize| m[p] - (1.0 - a) * h * c[p];
+        let fits = |f: &dyn Fn(&[usize; 4]) -> [f64; 4]| {
+            self.blk_src.iter().all(|s| {
+                let lanes = f(s);
+                (0..4).all(|l| lanes[l] - c2 * k[s[l]] == bv[s[l]])
+            })
+        };
+        let same = |p: usize, q: usize| d(p).to_bits() == d(q).to_bits();
+        let diagonal = (g.is_empty()
+            || self
+                .blk_src
+                .iter()
+                .all(|s| ScalarSkew::holds(&s.map(|p| g[p]))))
+            && self
+                .blk_src
+                .iter()
+                .all(|s| same(s[0], s[3]) && d(s[1]) == 0.0 && d(s[2]) == 0.0)
+            && fits(&|s| [d(s[0]), 0.0, 0.0, d(s[3])]);
+        if diagonal {
+            return BlockForm::Diagonal;
+        }
+        let skew = self
+            .blk_src
+            .iter()
+            .all(|s| same(s[0], s[3]) && d(s[2]) == -d(s[1]))
+            && fits(&|s| [d(s[0]), d(s[1]), -d(s[1]), d(s[3])]);
+        if skew {
+            BlockForm::Skew
+        } else {
+            BlockForm::General
+        }
     }
 
     avx2_method! {
@@ -534,18 +650,26 @@ impl RhsRows {
                 s[3] += v[3] * uj;
             }
             let range = self.blk_ptr[k]..self.blk_ptr[k + 1];
-            let (idx, bk) = (&self.blk_idx[range.clone()], &self.blk_bk[range]);
-            let (sb, sk) = if self.avx2 {
-                // SAFETY: `avx2` is set only where the processor has AVX2 (`new`); the
-                // block columns `j, j + 1` are < n and `v0`, `u0` have length n.
-                #[cfg(target_arch = "x86_64")]
-                unsafe {
-                    rhs_blocks_avx2::<false, &[[f64; 4]]>(idx, bk, &[], 0.0, [u0, v0, &[]])
+            let idx = &self.blk_idx[range.clone()];
+            let (no_g, uva): (&[[f64; 4]], _) = (&[], [u0, v0, &[][..]]);
+            let (sb, sk) = match self.blk_form {
+                BlockForm::General => {
+                    self.blocks::<false, _, _>(idx, &self.blk_bk[range], no_g, 0.0, uva)
                 }
-                #[cfg(not(target_arch = "x86_64"))]
-                rhs_blocks::<false, &[[f64; 4]]>(idx, bk, &[], 0.0, [u0, v0, &[]])
-            } else {
-                rhs_blocks::<false, &[[f64; 4]]>(idx, bk, &[], 0.0, [u0, v0, &[]])
+                BlockForm::Skew => {
+                    let kd = SkewD {
+                        kd: &self.blk_kd[range],
+                        c2: self.c2,
+                    };
+                    self.blocks::<false, _, _>(idx, kd, no_g, 0.0, uva)
+                }
+                BlockForm::Diagonal => {
+                    let kd = DiagD {
+                        kd: &self.blk_kd[range],
+                        c2: self.c2,
+                    };
+                    self.blocks::<false, _, _>(idx, kd, no_g, 0.0, uva)
+                }
             };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
@@ -608,40 +732,70 @@ impl RhsRows {
             }
             // The blocks: lanes `[i j, i j+1, i+1 j, i+1 j+1]`.
             let range = self.blk_ptr[k]..self.blk_ptr[k + 1];
-            let (idx, bk) = (&self.blk_idx[range.clone()], &self.blk_bk[range.clone()]);
+            let idx = &self.blk_idx[range.clone()];
             let uva = [u0, v0, a0];
-            let (sb, sk) = if self.blk_g.is_empty() {
-                self.blocks_g(idx, bk, ScalarSkew(&self.blk_gs[range]), c, uva)
-            } else {
-                self.blocks_g(idx, bk, &self.blk_g[range], c, uva)
+            let (sb, sk) = match self.blk_form {
+                BlockForm::Diagonal => {
+                    let kd = &self.blk_kd[range];
+                    let vals = DiagD { kd, c2: self.c2 };
+                    self.blocks::<true, _, _>(idx, vals, SlotSkew(kd), c, uva)
+                }
+                BlockForm::General => {
+                    self.blocks_g(idx, &self.blk_bk[range.clone()], range, c, uva)
+                }
+                BlockForm::Skew => {
+                    let vals = SkewD {
+                        kd: &self.blk_kd[range.clone()],
+                        c2: self.c2,
+                    };
+                    self.blocks_g(idx, vals, range, c, uva)
+                }
             };
             b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
             b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
         }
     }
 
-    /// [`rhs_blocks`] with the skew part `g`, on AVX2 where the processor has it.
+    /// [`RhsRows::blocks`] with the skew part held apart from the values (`blk_g` or
+    /// `blk_gs`, the blocks `range`).
     #[inline(always)]
-    fn blocks_g<S: SkewBlocks>(
+    fn blocks_g<V: BlockValues>(
         &self,
         idx: &[u32],
-        bk: &[[f64; 8]],
+        vals: V,
+        range: std::ops::Range<usize>,
+        c: f64,
+        uva: [&[f64]; 3],
+    ) -> ([f64; 4], [f64; 4]) {
+        if self.blk_g.is_empty() {
+            self.blocks::<true, _, _>(idx, vals, ScalarSkew(&self.blk_gs[range]), c, uva)
+        } else {
+            self.blocks::<true, _, _>(idx, vals, &self.blk_g[range], c, uva)
+        }
+    }
+
+    /// [`rhs_blocks`], on AVX2 where the processor has it.
+    #[inline(always)]
+    fn blocks<const G: bool, V: BlockValues, S: SkewBlocks>(
+        &self,
+        idx: &[u32],
+        vals: V,
         g: S,
         c: f64,
         uva: [&[f64]; 3],
     ) -> ([f64; 4], [f64; 4]) {
         if self.avx2 {
             // SAFETY: `avx2` is set only where the processor has AVX2 (`new`); the block
-            // columns `j, j + 1` are < n and the three vectors have length n (asserted by
-            // `pairs_g_here`); `g` has a block for each of `idx`.
+            // columns `j, j + 1` are < n and the vectors read have length n (asserted by
+            // the callers); `vals` (and with `G`, `g`) have a block for each of `idx`.
             #[cfg(target_arch = "x86_64")]
             unsafe {
-                rhs_blocks_avx2::<true, S>(idx, bk, g, c, uva)
+                rhs_blocks_avx2::<G, V, S>(idx, vals, g, c, uva)
             }
             #[cfg(not(target_arch = "x86_64"))]
-            rhs_blocks::<true, S>(idx, bk, g, c, uva)
+            rhs_blocks::<G, V, S>(idx, vals, g, c, uva)
         } else {
-            rhs_blocks::<true, S>(idx, bk, g, c, uva)
+            rhs_blocks::<G, V, S>(idx, vals, g, c, uva)
         }
     }
 
@@ -676,21 +830,72 @@ impl RhsRows {
             + b(&self.blk_ptr[..])
             + b(&self.blk_idx[..])
             + b(&self.blk_bk[..])
+            + b(&self.blk_kd[..])
             + b(&self.blk_g[..])
             + b(&self.blk_gs[..])
     }
 
-    fn refill(&mut self, bv: &[f64], k: &[f64]) {
+    /// Fills the values for `values`' step (the blocks' arrays are allocated again only
+    /// when their form changes).
+    fn refill(&mut self, values: &RhsValues) {
+        let (k, bv) = (values.k, values.bv);
         for (e, &p) in self.bk.iter_mut().zip(&self.src) {
             *e = [bv[p], k[p]];
         }
         for (e, &[p, q]) in self.pair_bk.iter_mut().zip(&self.pair_src) {
             *e = [bv[p], k[p], bv[q], k[q]];
         }
-        for (e, s) in self.blk_bk.iter_mut().zip(&self.blk_src) {
-            *e = [
-                bv[s[0]], bv[s[1]], bv[s[2]], bv[s[3]], k[s[0]], k[s[1]], k[s[2]], k[s[3]],
-            ];
+        self.fill_blocks(self.block_form(values), values);
+    }
+
+    /// Fills the blocks' values in the form `form` (which must hold for `values`:
+    /// [`RhsRows::block_form`]), allocating their arrays when the form changes.
+    fn fill_blocks(&mut self, form: BlockForm, values: &RhsValues) {
+        let RhsValues { m, c, k, g, bv, .. } = *values;
+        let nb = self.blk_src.len();
+        if form != self.blk_form || (form == BlockForm::General) != (self.blk_bk.len() == nb) {
+            self.blk_form = form;
+            (self.blk_bk, self.blk_kd, self.blk_g, self.blk_gs) = Default::default();
+            match form {
+                BlockForm::General => self.blk_bk = vec![[0.0; 8]; nb],
+                BlockForm::Skew | BlockForm::Diagonal => self.blk_kd = vec![[0.0; 6]; nb],
+            }
+            if !g.is_empty() && form != BlockForm::Diagonal {
+                let four: Vec<[f64; 4]> = self.blk_src.iter().map(|s| s.map(|p| g[p])).collect();
+                if four.iter().all(ScalarSkew::holds) {
+                    // A quarter of the bytes, the same values (and bits) in the products.
+                    self.blk_gs = four.iter().map(|g| g[2]).collect();
+                } else {
+                    self.blk_g = four;
+                }
+            }
+        }
+        let (a, h) = (values.alpha, values.h);
+        self.c2 = (a - 0.5 * a * a) * h * h;
+        let d = |p: usize| m[p] - (1.0 - a) * h * c[p];
+        let ks = |s: &[usize; 4]| s.map(|p| k[p]);
+        match form {
+            BlockForm::General => {
+                for (e, s) in self.blk_bk.iter_mut().zip(&self.blk_src) {
+                    let kk = ks(s);
+                    *e = [
+                        bv[s[0]], bv[s[1]], bv[s[2]], bv[s[3]], kk[0], kk[1], kk[2], kk[3],
+                    ];
+                }
+            }
+            BlockForm::Skew => {
+                for (e, s) in self.blk_kd.iter_mut().zip(&self.blk_src) {
+                    let kk = ks(s);
+                    *e = [kk[0], kk[1], kk[2], kk[3], d(s[0]), d(s[1])];
+                }
+            }
+            BlockForm::Diagonal => {
+                for (e, s) in self.blk_kd.iter_mut().zip(&self.blk_src) {
+                    let kk = ks(s);
+                    let gs = if g.is_empty() { 0.0 } else { g[s[2]] };
+                    *e = [kk[0], kk[1], kk[2], kk[3], d(s[0]), gs];
+                }
+            }
         }
     }
 }
@@ -699,8 +904,9 @@ impl RhsRows {
 use crate::linalg::broadcast2;
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
-    _mm256_add_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_setzero_pd,
-    _mm256_storeu_pd,
+    __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute_pd,
+    _mm256_set1_pd, _mm256_set_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd,
+    _mm256_xor_pd,
 };
 
 /// The blocks of a pair of rows `i, i + 1` of [`RhsRows`]: `(sb, sk)`, the lane sums of
@@ -715,16 +921,16 @@ use std::arch::x86_64::{
 /// When `j + 1` is out of range of a vector for a block (debug builds; the indices come
 /// from the pattern), or with `G` when `g` is shorter than `idx`.
 #[inline(always)]
-fn rhs_blocks<const G: bool, S: SkewBlocks>(
+fn rhs_blocks<const G: bool, V: BlockValues, S: SkewBlocks>(
     idx: &[u32],
-    bk: &[[f64; 8]],
+    vals: V,
     g: S,
     c: f64,
     [u0, v0, a0]: [&[f64]; 3],
 ) -> ([f64; 4], [f64; 4]) {
-    assert!(!G || g.len() >= idx.len());
+    assert!(vals.len() >= idx.len() && (!G || g.len() >= idx.len()));
     let (mut sb, mut sk) = ([0.0; 4], [0.0; 4]);
-    for (e, (&j, v)) in idx.iter().zip(bk).enumerate() {
+    for (e, &j) in idx.iter().enumerate() {
         let j = j as usize;
         debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && (!G || j + 1 < a0.len()));
         // SAFETY: a block's columns `j, j + 1` are < n (`RhsRows::new`) and the vectors
@@ -735,8 +941,10 @@ fn rhs_blocks<const G: bool, S: SkewBlocks>(
                 [*u0.get_unchecked(j), *u0.get_unchecked(j + 1)],
             )
         };
+        // SAFETY: `e < vals.len()` (asserted above).
+        let (bl, kl) = unsafe { vals.lanes(e) };
         for l in 0..4 {
-            sb[l] += v[l] * vl[l % 2];
+            sb[l] += bl[l] * vl[l % 2];
         }
         if G {
             // SAFETY: as above; `e < g.len()` (asserted above).
@@ -744,11 +952,11 @@ fn rhs_blocks<const G: bool, S: SkewBlocks>(
                 unsafe { ([*a0.get_unchecked(j), *a0.get_unchecked(j + 1)], g.block(e)) };
             for l in 0..4 {
                 let w = vl[l % 2] + c * al[l % 2];
-                sk[l] += v[4 + l] * ul[l % 2] + gj[l] * w;
+                sk[l] += kl[l] * ul[l % 2] + gj[l] * w;
             }
         } else {
             for l in 0..4 {
-                sk[l] += v[4 + l] * ul[l % 2];
+                sk[l] += kl[l] * ul[l % 2];
             }
         }
     }
@@ -765,23 +973,24 @@ fn rhs_blocks<const G: bool, S: SkewBlocks>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn rhs_blocks_avx2<const G: bool, S: SkewBlocks>(
+unsafe fn rhs_blocks_avx2<const G: bool, V: BlockValues, S: SkewBlocks>(
     idx: &[u32],
-    bk: &[[f64; 8]],
+    vals: V,
     g: S,
     c: f64,
     [u0, v0, a0]: [&[f64]; 3],
 ) -> ([f64; 4], [f64; 4]) {
-    debug_assert!(!G || g.len() >= idx.len());
+    debug_assert!(vals.len() >= idx.len() && (!G || g.len() >= idx.len()));
     let (mut sb, mut sk) = (_mm256_setzero_pd(), _mm256_setzero_pd());
     let cc = _mm256_set1_pd(c);
-    for (e, (&j, v)) in idx.iter().zip(bk).enumerate() {
+    for (e, &j) in idx.iter().enumerate() {
         let j = j as usize;
         debug_assert!(j + 1 < v0.len() && j + 1 < u0.len() && (!G || j + 1 < a0.len()));
         let vl = broadcast2(v0.as_ptr().add(j));
         let ul = broadcast2(u0.as_ptr().add(j));
-        sb = _mm256_add_pd(sb, _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr()), vl));
-        let ku = _mm256_mul_pd(_mm256_loadu_pd(v.as_ptr().add(4)), ul);
+        let (bl, kl) = vals.lanes_avx2(e);
+        sb = _mm256_add_pd(sb, _mm256_mul_pd(bl, vl));
+        let ku = _mm256_mul_pd(kl, ul);
         if G {
             let al = broadcast2(a0.as_ptr().add(j));
             let w = _mm256_add_pd(vl, _mm256_mul_pd(cc, al));
@@ -795,6 +1004,130 @@ unsafe fn rhs_blocks_avx2<const G: bool, S: SkewBlocks>(
     _mm256_storeu_pd(b.as_mut_ptr(), sb);
     _mm256_storeu_pd(k.as_mut_ptr(), sk);
     (b, k)
+}
+
+/// The values of the blocks of a pair of rows for [`rhs_blocks`]: `B`'s four and `K`'s
+/// four, lanes `[i j, i j+1, i+1 j, i+1 j+1]` ([`BlockForm`]).
+trait BlockValues: Copy {
+    /// Blocks held.
+    fn len(&self) -> usize;
+    /// Block `e`'s values of `B` and of `K`.
+    ///
+    /// # Safety
+    /// `e < self.len()`.
+    unsafe fn lanes(&self, e: usize) -> ([f64; 4], [f64; 4]);
+    /// The same in two registers, by the same operations.
+    ///
+    /// # Safety
+    /// `e < self.len()`, and the processor has AVX2 (called from AVX2 code, into which it
+    /// is inlined).
+    #[cfg(target_arch = "x86_64")]
+    unsafe fn lanes_avx2(&self, e: usize) -> (__m256d, __m256d);
+}
+
+/// [`BlockForm::General`]: `B`'s four values, then `K`'s.
+impl BlockValues for &[[f64; 8]] {
+    fn len(&self) -> usize {
+        <[[f64; 8]]>::len(self)
+    }
+    #[inline(always)]
+    unsafe fn lanes(&self, e: usize) -> ([f64; 4], [f64; 4]) {
+        // SAFETY: `e < len` (the caller's contract).
+        let v = unsafe { self.get_unchecked(e) };
+        ([v[0], v[1], v[2], v[3]], [v[4], v[5], v[6], v[7]])
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn lanes_avx2(&self, e: usize) -> (__m256d, __m256d) {
+        // SAFETY: `e < len` and AVX2 (the caller's contract).
+        unsafe {
+            let v = self.get_unchecked(e).as_ptr();
+            (_mm256_loadu_pd(v), _mm256_loadu_pd(v.add(4)))
+        }
+    }
+}
+
+/// [`BlockForm::Skew`]: `[K's four, d, s]`, `B = [[d, s], [-s, d]] - c2 K`.
+#[derive(Clone, Copy)]
+struct SkewD<'a> {
+    kd: &'a [[f64; 6]],
+    c2: f64,
+}
+
+impl BlockValues for SkewD<'_> {
+    fn len(&self) -> usize {
+        self.kd.len()
+    }
+    #[inline(always)]
+    unsafe fn lanes(&self, e: usize) -> ([f64; 4], [f64; 4]) {
+        // SAFETY: `e < len` (the caller's contract).
+        let v = unsafe { self.kd.get_unchecked(e) };
+        let (c2, d, s) = (self.c2, v[4], v[5]);
+        (
+            [d - c2 * v[0], s - c2 * v[1], -s - c2 * v[2], d - c2 * v[3]],
+            [v[0], v[1], v[2], v[3]],
+        )
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn lanes_avx2(&self, e: usize) -> (__m256d, __m256d) {
+        // SAFETY: `e < len` and AVX2 (the caller's contract).
+        unsafe {
+            let v = self.kd.get_unchecked(e).as_ptr();
+            let k = _mm256_loadu_pd(v);
+            // [d, s, d, s] -> [d, s, s, d] -> [d, s, -s, d] (a sign flip, exact).
+            let ds = _mm256_permute_pd::<0b0110>(broadcast2(v.add(4)));
+            let d = _mm256_xor_pd(ds, _mm256_set_pd(0.0, -0.0, 0.0, 0.0));
+            (
+                _mm256_sub_pd(d, _mm256_mul_pd(_mm256_set1_pd(self.c2), k)),
+                k,
+            )
+        }
+    }
+}
+
+/// [`BlockForm::Diagonal`]: `[K's four, d, g]`, `B = [[d, 0], [0, d]] - c2 K` (`g` is
+/// [`SlotSkew`]'s).
+#[derive(Clone, Copy)]
+struct DiagD<'a> {
+    kd: &'a [[f64; 6]],
+    c2: f64,
+}
+
+impl BlockValues for DiagD<'_> {
+    fn len(&self) -> usize {
+        self.kd.len()
+    }
+    #[inline(always)]
+    unsafe fn lanes(&self, e: usize) -> ([f64; 4], [f64; 4]) {
+        // SAFETY: `e < len` (the caller's contract).
+        let v = unsafe { self.kd.get_unchecked(e) };
+        let (c2, d) = (self.c2, v[4]);
+        (
+            [
+                d - c2 * v[0],
+                0.0 - c2 * v[1],
+                0.0 - c2 * v[2],
+                d - c2 * v[3],
+            ],
+            [v[0], v[1], v[2], v[3]],
+        )
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn lanes_avx2(&self, e: usize) -> (__m256d, __m256d) {
+        // SAFETY: `e < len` and AVX2 (the caller's contract).
+        unsafe {
+            let v = self.kd.get_unchecked(e).as_ptr();
+            let k = _mm256_loadu_pd(v);
+            // [d, +0, +0, d].
+            let d = _mm256_blend_pd::<0b1001>(_mm256_setzero_pd(), _mm256_set1_pd(*v.add(4)));
+            (
+                _mm256_sub_pd(d, _mm256_mul_pd(_mm256_set1_pd(self.c2), k)),
+                k,
+            )
+        }
+    }
 }
 
 /// The skew part's blocks of a pair of rows for [`rhs_blocks`]: four values each, lanes
@@ -842,6 +1175,23 @@ impl SkewBlocks for ScalarSkew<'_> {
     unsafe fn block(&self, e: usize) -> [f64; 4] {
         // SAFETY: `e < len` (the caller's contract).
         let g = unsafe { *self.0.get_unchecked(e) };
+        [0.0, -g, g, 0.0]
+    }
+}
+
+/// [`BlockForm::Diagonal`]'s skew blocks `[[0, -g], [g, 0]]`, `g` the sixth value of each
+/// block (as [`ScalarSkew`]).
+#[derive(Clone, Copy)]
+struct SlotSkew<'a>(&'a [[f64; 6]]);
+
+impl SkewBlocks for SlotSkew<'_> {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    #[inline(always)]
+    unsafe fn block(&self, e: usize) -> [f64; 4] {
+        // SAFETY: `e < len` (the caller's contract).
+        let g = unsafe { self.0.get_unchecked(e)[5] };
         [0.0, -g, g, 0.0]
     }
 }
@@ -1199,39 +1549,65 @@ mod tests {
     use crate::mesh::generators::disk_rings;
     use crate::wheel::{WheelModel, WheelSpec};
 
+    /// `B`, and the right-hand side's rows, of the wheel's `M`, `c` (`C` or its symmetric
+    /// part) and `K` for `alpha = 0.6`, `h = 2e-6`, with the skew part `g` (or none), their
+    /// blocks in the most compact form they allow.
+    fn rows_of(w: &WheelModel, c: &[f64], g: &[f64]) -> (RhsRows, Vec<f64>) {
+        let (m, k, pattern) = (&w.model.m, &w.model.k, w.model.pattern());
+        let nnz = m.len();
+        let (mut a_orig, mut bv, mut a_work) = (vec![0.0; nnz], vec![0.0; nnz], vec![0.0; nnz]);
+        let is_bc = vec![false; w.model.n()];
+        let (alpha, h) = (0.6, 2e-6);
+        Operators {
+            m,
+            c,
+            k,
+            pattern,
+            is_bc: &is_bc,
+        }
+        .fill(alpha, h, &mut a_orig, &mut bv, &mut a_work);
+        let mut rows = RhsRows::new(
+            pattern,
+            &RhsValues {
+                m,
+                c,
+                k,
+                g,
+                bv: &bv,
+                alpha,
+                h,
+            },
+        );
+        // The paper's disk is small enough for `B`'s four values; its compact form is filled
+        // by hand.
+        assert_eq!(rows.blk_form, BlockForm::General);
+        let values = RhsValues {
+            m,
+            c,
+            k,
+            g,
+            bv: &bv,
+            alpha,
+            h,
+        };
+        rows.fill_blocks(rows.compact_form(&values), &values);
+        (rows, bv)
+    }
+
     /// The right-hand side's kernels compiled for AVX2 (and the blocks' AVX2 kernel) give
     /// the baseline's bits, the pairs formed in two halves (as from 10,000 dofs on) those
-    /// formed in one pass, and all of them the plain sparse products to round-off.
+    /// formed in one pass, the blocks' compact forms those of `B`'s and `K`'s eight values,
+    /// and all of them the plain sparse products to round-off.
     #[test]
     fn right_hand_side_kernels_agree_bit_for_bit() {
         let w = WheelModel::new(disk_rings(0.1, 6).unwrap(), WheelSpec::paper()).unwrap();
-        let n = w.model.n();
-        let k = &w.model.k;
-        let bv: Vec<f64> = (0..k.len()).map(|p| w.model.m[p] - 1e-9 * k[p]).collect();
-        let mut rows = RhsRows::new(w.model.pattern(), &bv, k, &[]);
-        assert!(!rows.pair.is_empty() && !rows.blk_idx.is_empty());
-        // The baseline: the portable block kernel.
-        rows.avx2 = false;
+        let (n, k, pattern) = (w.model.n(), &w.model.k, w.model.pattern());
         let u: Vec<f64> = (0..n).map(|i| 1e-4 * (0.3 * i as f64).sin()).collect();
         let v: Vec<f64> = (0..n).map(|i| 1e-2 * (0.7 * i as f64).cos()).collect();
+        let acc: Vec<f64> = (0..n).map(|i| 3.0 * (0.9 * i as f64).sin()).collect();
         let h = 2e-6;
+        let c = 0.8 * h;
         let same = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
-        let pairs = rows.pair.len();
-        let mut whole = vec![0.5; n];
-        rows.pairs_here(0..pairs, 0, h, &u, &v, &mut whole);
-        rows.singles_here(h, &u, &v, &mut whole);
-        let mid = pairs / 2;
-        let cut = rows.pair[mid];
-        let mut halves = vec![0.5; n];
-        let (lo, hi) = halves.split_at_mut(cut);
-        rows.pairs_here(0..mid, 0, h, &u, &v, lo);
-        rows.pairs_here(mid..pairs, cut, h, &u, &v, hi);
-        rows.singles_here(h, &u, &v, &mut halves);
-        assert!(same(&whole, &halves), "halves");
-        let pattern = w.model.pattern();
-        let mut reference = vec![0.5; n];
-        crate::linalg::spmv_add(pattern, &bv, 1.0, &v, &mut reference);
-        crate::linalg::spmv_add(pattern, k, -h, &u, &mut reference);
         let close = |x: &[f64], reference: &[f64]| {
             let scale = reference.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             let d = x
@@ -1243,67 +1619,110 @@ mod tests {
                 "against sparse products: {d:e} of {scale:e}"
             );
         };
-        close(&whole, &reference);
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
-            rows.avx2 = true;
-            let mut avx2 = vec![0.5; n];
-            // SAFETY: the processor has AVX2 (checked just above).
-            unsafe {
-                rows.pairs_avx2(0..pairs, 0, h, &u, &v, &mut avx2);
-                rows.singles_avx2(h, &u, &v, &mut avx2);
+        // `b` by the portable kernels (or AVX2's), the pairs in one pass or two halves.
+        let rhs = |rows: &RhsRows, g: bool, avx2: bool, halves: bool| {
+            let mut rows = rows.clone();
+            rows.avx2 = avx2;
+            let pairs = rows.pair.len();
+            let mid = if halves { pairs / 2 } else { pairs };
+            let cut = rows.pair.get(mid).copied().unwrap_or(n);
+            let mut b = vec![0.5; n];
+            let (lo, hi) = b.split_at_mut(cut);
+            for (range, offset, b) in [(0..mid, 0, lo), (mid..pairs, cut, hi)] {
+                #[cfg(target_arch = "x86_64")]
+                if avx2 {
+                    // SAFETY: called with `avx2` only where the processor has AVX2.
+                    unsafe {
+                        if g {
+                            rows.pairs_g_avx2(range, offset, h, c, [&u, &v, &acc], b);
+                        } else {
+                            rows.pairs_avx2(range, offset, h, &u, &v, b);
+                        }
+                    }
+                    continue;
+                }
+                if g {
+                    rows.pairs_g_here(range, offset, h, c, [&u, &v, &acc], b);
+                } else {
+                    rows.pairs_here(range, offset, h, &u, &v, b);
+                }
             }
-            assert!(same(&whole, &avx2), "AVX2");
-        }
-        // With the skew part (the wheel's Coriolis matrix): the same bits in halves and on
-        // AVX2, and the three products of a plain sparse product to round-off.
-        let g = &w.model.c;
-        let mut rows = RhsRows::new(w.model.pattern(), &bv, k, g);
-        rows.avx2 = false;
-        let acc: Vec<f64> = (0..n).map(|i| 3.0 * (0.9 * i as f64).sin()).collect();
-        let c = 0.8 * h;
-        let mut whole = vec![0.5; n];
-        rows.pairs_g_here(0..pairs, 0, h, c, [&u, &v, &acc], &mut whole);
-        rows.singles_here(h, &u, &v, &mut whole);
-        rows.singles_g_into(h, c, &v, &acc, &mut whole);
-        let mut halves = vec![0.5; n];
-        let (lo, hi) = halves.split_at_mut(cut);
-        rows.pairs_g_here(0..mid, 0, h, c, [&u, &v, &acc], lo);
-        rows.pairs_g_here(mid..pairs, cut, h, c, [&u, &v, &acc], hi);
-        rows.singles_here(h, &u, &v, &mut halves);
-        rows.singles_g_into(h, c, &v, &acc, &mut halves);
-        assert!(same(&whole, &halves), "halves, with G");
-        // The wheel's Coriolis blocks are held by one value each, and give the bits of their
-        // four values.
-        assert!(rows.blk_g.is_empty() && rows.blk_gs.len() == rows.blk_idx.len());
-        let mut four = rows.clone();
+            rows.singles_here(h, &u, &v, &mut b);
+            if g {
+                rows.singles_g_into(h, c, &v, &acc, &mut b);
+            }
+            b
+        };
+        let avx2 = cfg!(target_arch = "x86_64") && crate::linalg::has_avx2();
+        // Each of `rows`' ways to the same bits, and the sparse products to round-off.
+        let check = |rows: &RhsRows, bv: &[f64], g: &[f64]| {
+            let with_g = !g.is_empty();
+            let whole = rhs(rows, with_g, false, false);
+            assert!(same(&whole, &rhs(rows, with_g, false, true)), "halves");
+            if avx2 {
+                assert!(same(&whole, &rhs(rows, with_g, true, false)), "AVX2");
+                assert!(same(&whole, &rhs(rows, with_g, true, true)), "AVX2, halves");
+            }
+            let mut reference = vec![0.5; n];
+            crate::linalg::spmv_add(pattern, bv, 1.0, &v, &mut reference);
+            crate::linalg::spmv_add(pattern, k, -h, &u, &mut reference);
+            if with_g {
+                let wv: Vec<f64> = v.iter().zip(&acc).map(|(x, y)| x + c * y).collect();
+                crate::linalg::spmv_add(pattern, g, -h, &wv, &mut reference);
+            }
+            close(&whole, &reference);
+            whole
+        };
+
+        // The exact scheme: `D = M - (1 - alpha) h C` is `[[d, s], [-s, d]]` per block.
+        let (rows, bv) = rows_of(&w, &w.model.c, &[]);
+        assert!(!rows.pair.is_empty() && !rows.blk_idx.is_empty());
+        assert_eq!(rows.blk_form, BlockForm::Skew);
+        assert!(rows.blk_bk.is_empty() && rows.blk_kd.len() == rows.blk_idx.len());
+        let compact = check(&rows, &bv, &[]);
+        let mut general = rows.clone();
+        let values = |c, g, bv| RhsValues {
+            m: &w.model.m,
+            c,
+            k,
+            g,
+            bv,
+            alpha: 0.6,
+            h: 2e-6,
+        };
+        general.fill_blocks(BlockForm::General, &values(&w.model.c, &[], &bv));
+        assert!(general.blk_kd.is_empty() && general.blk_bk.len() == rows.blk_idx.len());
+        assert!(
+            same(&compact, &check(&general, &bv, &[])),
+            "Skew against General"
+        );
+
+        // The Coriolis term on the right-hand side: `D` is `d I`, `G` `[[0, -g], [g, 0]]`,
+        // both in six values per block.
+        let (cs, g) = split_skew(pattern, &w.model.c).unwrap();
+        let (rows, bv) = rows_of(&w, &cs, &g);
+        assert_eq!(rows.blk_form, BlockForm::Diagonal);
+        assert!(rows.blk_g.is_empty() && rows.blk_gs.is_empty());
+        let compact = check(&rows, &bv, &g);
+        let mut general = rows.clone();
+        general.fill_blocks(BlockForm::General, &values(&cs, &g, &bv));
+        assert!(general.blk_g.is_empty() && general.blk_gs.len() == rows.blk_idx.len());
+        assert!(
+            same(&compact, &check(&general, &bv, &g)),
+            "Diagonal against General"
+        );
+        // G's blocks by one value or by four.
+        let mut four = general.clone();
         four.blk_g = rows.blk_src.iter().map(|s| s.map(|p| g[p])).collect();
         four.blk_gs = Vec::new();
-        let mut with_four = vec![0.5; n];
-        four.pairs_g_here(0..pairs, 0, h, c, [&u, &v, &acc], &mut with_four);
-        four.singles_here(h, &u, &v, &mut with_four);
-        four.singles_g_into(h, c, &v, &acc, &mut with_four);
-        assert!(
-            same(&whole, &with_four),
-            "G's blocks by one value or by four"
-        );
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
-            rows.avx2 = true;
-            let mut avx2 = vec![0.5; n];
-            // SAFETY: the processor has AVX2 (checked just above).
-            unsafe {
-                rows.pairs_g_avx2(0..pairs, 0, h, c, [&u, &v, &acc], &mut avx2);
-            }
-            rows.singles_here(h, &u, &v, &mut avx2);
-            rows.singles_g_into(h, c, &v, &acc, &mut avx2);
-            assert!(same(&whole, &avx2), "AVX2, with G");
-        }
-        let mut reference = vec![0.5; n];
-        let wv: Vec<f64> = v.iter().zip(&acc).map(|(x, y)| x + c * y).collect();
-        crate::linalg::spmv_add(pattern, &bv, 1.0, &v, &mut reference);
-        crate::linalg::spmv_add(pattern, k, -h, &u, &mut reference);
-        crate::linalg::spmv_add(pattern, g, -h, &wv, &mut reference);
-        close(&whole, &reference);
+        assert!(same(&compact, &check(&four, &bv, &g)), "G by four values");
+
+        // A stiffness-proportional damping puts `K`'s coupling of x and y in `D`: the blocks
+        // keep `B`'s four values, the same sums.
+        let c_k: Vec<f64> = w.model.c.iter().zip(k).map(|(c, k)| c + 1e-5 * k).collect();
+        let (rows, bv) = rows_of(&w, &c_k, &[]);
+        assert_eq!(rows.blk_form, BlockForm::General);
+        assert!(rows.blk_kd.is_empty() && rows.blk_bk.len() == rows.blk_idx.len());
+        check(&rows, &bv, &[]);
     }
 }
