@@ -40,7 +40,7 @@ use faer::sparse::SparseColMatRef;
 use faer::Side;
 use faer::{Conj, MatMut, Par};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
-use softway::linalg::{spmv_add, FactorKind, FaerLu, Ordering};
+use softway::linalg::{spmv_add, FactorKind, FaerLu, HugeBuf, Ordering};
 use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use softway::mesh::Mesh;
 use softway::time::step::{FactorChoice, Stepper};
@@ -393,7 +393,9 @@ fn read_sum(block: &[f64]) -> f64 {
 /// reading its half side by side (`rayon::join`, as a split step reads its two parts).
 fn read_bandwidth_gb_s(bytes: usize, threads: usize) -> f64 {
     let size = bytes.div_ceil(64 << 10) * (64 << 10);
-    let block: Vec<f64> = (0..size / 8).map(|i| i as f64).collect();
+    // On huge pages from 1 MiB, as the step's factors and right-hand side.
+    let values: Vec<f64> = (0..size / 8).map(|i| i as f64).collect();
+    let block = HugeBuf::from_slice(&values);
     let (first, second) = block.split_at(block.len() / 2);
     let reps = ((1usize << 30) / size).max(2);
     // On a thread of the pool, as the step is timed.

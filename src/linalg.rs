@@ -24,7 +24,7 @@ use faer::{MatMut, Par};
 mod huge;
 mod split;
 pub(crate) mod team;
-use huge::HugeBuf;
+pub use huge::{HugeBuf, HUGE_MIN_BYTES};
 use split::SplitLower;
 
 /// Runs `$avx2` (an unsafe call of a function compiled with `#[target_feature(enable =

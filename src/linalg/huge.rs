@@ -22,11 +22,11 @@ const HUGE_PAGE: usize = 2 << 20;
 
 /// Arrays from this size on go on huge pages (below, the rounding to a whole huge page
 /// would waste more than it holds).
-pub(crate) const HUGE_MIN_BYTES: usize = 1 << 20;
+pub const HUGE_MIN_BYTES: usize = 1 << 20;
 
 /// A fixed-length array of `T`, on transparent huge pages from [`HUGE_MIN_BYTES`] on (module
 /// docs). It dereferences to `[T]`.
-pub(crate) struct HugeBuf<T: Copy> {
+pub struct HugeBuf<T: Copy> {
     ptr: NonNull<T>,
     len: usize,
     /// The allocation's layout (size zero: nothing allocated).
@@ -40,7 +40,7 @@ unsafe impl<T: Copy + Sync> Sync for HugeBuf<T> {}
 
 impl<T: Copy> HugeBuf<T> {
     /// A copy of `data`.
-    pub(crate) fn from_slice(data: &[T]) -> Self {
+    pub fn from_slice(data: &[T]) -> Self {
         let len = data.len();
         let bytes = std::mem::size_of_val(data);
         if bytes == 0 {
@@ -68,7 +68,7 @@ impl<T: Copy> HugeBuf<T> {
 
     /// True when the array was allocated for huge pages (whether the system gave them is
     /// its own affair).
-    pub(crate) fn is_huge(&self) -> bool {
+    pub fn is_huge(&self) -> bool {
         self.layout.align() == HUGE_PAGE
     }
 }

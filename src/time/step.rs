@@ -50,7 +50,7 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::assembly::Assembler;
-use crate::linalg::{avx2_method, with_avx2, Factor, FactorKind, LinalgError, Pattern};
+use crate::linalg::{avx2_method, with_avx2, Factor, FactorKind, HugeBuf, LinalgError, Pattern};
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
 use crate::time::params::beta;
@@ -345,10 +345,10 @@ struct RhsRows {
     /// ([`BlockForm`]): `blk_bk[e]`, `B`'s four values then `K`'s, or `blk_kd[e]`, `K`'s four
     /// and two more from which `B` is formed in the products.
     blk_ptr: Vec<usize>,
-    blk_idx: Vec<u32>,
+    blk_idx: HugeBuf<u32>,
     blk_form: BlockForm,
-    blk_bk: Vec<[f64; 8]>,
-    blk_kd: Vec<[f64; 6]>,
+    blk_bk: HugeBuf<[f64; 8]>,
+    blk_kd: HugeBuf<[f64; 6]>,
     blk_src: Vec<[usize; 4]>,
     /// `(alpha - alpha^2/2) h^2`: `B = D - c2 K` with `D = M - (1 - alpha) h C`.
     c2: f64,
@@ -451,10 +451,10 @@ impl RhsRows {
             pair_bk: Vec::new(),
             pair_src: Vec::new(),
             blk_ptr: vec![0],
-            blk_idx: Vec::new(),
+            blk_idx: HugeBuf::default(),
             blk_form: BlockForm::General,
-            blk_bk: Vec::new(),
-            blk_kd: Vec::new(),
+            blk_bk: HugeBuf::default(),
+            blk_kd: HugeBuf::default(),
             blk_src: Vec::new(),
             c2: 0.0,
             blk_g: Vec::new(),
@@ -464,7 +464,7 @@ impl RhsRows {
             pair_g: Vec::new(),
             pair_mid: None,
         };
-        let mut i = 0;
+        let (mut i, mut blk_idx) = (0, Vec::new());
         while i < n {
             let same = i + 1 < n
                 && row(i).len() == row(i + 1).len()
@@ -475,7 +475,7 @@ impl RhsRows {
                 let mut e = 0;
                 while e < a.len() {
                     if e + 1 < a.len() && a[e + 1].0 == a[e].0 + 1 {
-                        rows.blk_idx.push(a[e].0);
+                        blk_idx.push(a[e].0);
                         rows.blk_src.push([a[e].1, a[e + 1].1, b[e].1, b[e + 1].1]);
                         e += 2;
                     } else {
@@ -485,7 +485,7 @@ impl RhsRows {
                     }
                 }
                 rows.pair_ptr.push(rows.pair_idx.len());
-                rows.blk_ptr.push(rows.blk_idx.len());
+                rows.blk_ptr.push(blk_idx.len());
                 i += 2;
             } else {
                 rows.single.push(i);
@@ -497,6 +497,7 @@ impl RhsRows {
                 i += 1;
             }
         }
+        rows.blk_idx = blk_idx.into();
         if n >= RHS_SPLIT_MIN_ORDER && rows.pair.len() >= 2 {
             // Entries before pair `k` (a block is two columns).
             let before = |k: usize| rows.pair_ptr[k] + 2 * rows.blk_ptr[k];
@@ -857,8 +858,10 @@ impl RhsRows {
             self.blk_form = form;
             (self.blk_bk, self.blk_kd, self.blk_g, self.blk_gs) = Default::default();
             match form {
-                BlockForm::General => self.blk_bk = vec![[0.0; 8]; nb],
-                BlockForm::Skew | BlockForm::Diagonal => self.blk_kd = vec![[0.0; 6]; nb],
+                BlockForm::General => self.blk_bk = vec![[0.0; 8]; nb].into(),
+                BlockForm::Skew | BlockForm::Diagonal => {
+                    self.blk_kd = vec![[0.0; 6]; nb].into();
+                }
             }
             if !g.is_empty() && form != BlockForm::Diagonal {
                 let four: Vec<[f64; 4]> = self.blk_src.iter().map(|s| s.map(|p| g[p])).collect();
