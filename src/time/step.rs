@@ -1050,54 +1050,21 @@ impl BlockValues for &[[f64; 8]] {
     }
 }
 
-/// [`BlockForm::Skew`]: `[K's four, d, s]`, `B = [[d, s], [-s, d]] - c2 K`.
+/// [`BlockForm::Skew`] (`DIAGONAL` false): `[K's four, d, s]`, `B = [[d, s], [-s, d]] - c2
+/// K`; [`BlockForm::Diagonal`] (`DIAGONAL` true): `[K's four, d, g]`, `B = [[d, 0], [0, d]] -
+/// c2 K` (`g` is [`SlotSkew`]'s).
 #[derive(Clone, Copy)]
-struct SkewD<'a> {
+struct CompactD<'a, const DIAGONAL: bool> {
     kd: &'a [[f64; 6]],
     c2: f64,
 }
 
-impl BlockValues for SkewD<'_> {
-    fn len(&self) -> usize {
-        self.kd.len()
-    }
-    #[inline(always)]
-    unsafe fn lanes(&self, e: usize) -> ([f64; 4], [f64; 4]) {
-        // SAFETY: `e < len` (the caller's contract).
-        let v = unsafe { self.kd.get_unchecked(e) };
-        let (c2, d, s) = (self.c2, v[4], v[5]);
-        (
-            [d - c2 * v[0], s - c2 * v[1], -s - c2 * v[2], d - c2 * v[3]],
-            [v[0], v[1], v[2], v[3]],
-        )
-    }
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    unsafe fn lanes_avx2(&self, e: usize) -> (__m256d, __m256d) {
-        // SAFETY: `e < len` and AVX2 (the caller's contract).
-        unsafe {
-            let v = self.kd.get_unchecked(e).as_ptr();
-            let k = _mm256_loadu_pd(v);
-            // [d, s, d, s] -> [d, s, s, d] -> [d, s, -s, d] (a sign flip, exact).
-            let ds = _mm256_permute_pd::<0b0110>(broadcast2(v.add(4)));
-            let d = _mm256_xor_pd(ds, _mm256_set_pd(0.0, -0.0, 0.0, 0.0));
-            (
-                _mm256_sub_pd(d, _mm256_mul_pd(_mm256_set1_pd(self.c2), k)),
-                k,
-            )
-        }
-    }
-}
+/// [`BlockForm::Skew`]'s values.
+type SkewD<'a> = CompactD<'a, false>;
+/// [`BlockForm::Diagonal`]'s values.
+type DiagD<'a> = CompactD<'a, true>;
 
-/// [`BlockForm::Diagonal`]: `[K's four, d, g]`, `B = [[d, 0], [0, d]] - c2 K` (`g` is
-/// [`SlotSkew`]'s).
-#[derive(Clone, Copy)]
-struct DiagD<'a> {
-    kd: &'a [[f64; 6]],
-    c2: f64,
-}
-
-impl BlockValues for DiagD<'_> {
+impl<const DIAGONAL: bool> BlockValues for CompactD<'_, DIAGONAL> {
     fn len(&self) -> usize {
         self.kd.len()
     }
@@ -1106,13 +1073,10 @@ impl BlockValues for DiagD<'_> {
         // SAFETY: `e < len` (the caller's contract).
         let v = unsafe { self.kd.get_unchecked(e) };
         let (c2, d) = (self.c2, v[4]);
+        // `D`'s off-diagonal pair.
+        let (s1, s2) = if DIAGONAL { (0.0, 0.0) } else { (v[5], -v[5]) };
         (
-            [
-                d - c2 * v[0],
-                0.0 - c2 * v[1],
-                0.0 - c2 * v[2],
-                d - c2 * v[3],
-            ],
+            [d - c2 * v[0], s1 - c2 * v[1], s2 - c2 * v[2], d - c2 * v[3]],
             [v[0], v[1], v[2], v[3]],
         )
     }
@@ -1123,8 +1087,14 @@ impl BlockValues for DiagD<'_> {
         unsafe {
             let v = self.kd.get_unchecked(e).as_ptr();
             let k = _mm256_loadu_pd(v);
-            // [d, +0, +0, d].
-            let d = _mm256_blend_pd::<0b1001>(_mm256_setzero_pd(), _mm256_set1_pd(*v.add(4)));
+            let d = if DIAGONAL {
+                // [d, +0, +0, d].
+                _mm256_blend_pd::<0b1001>(_mm256_setzero_pd(), _mm256_set1_pd(*v.add(4)))
+            } else {
+                // [d, s, d, s] -> [d, s, s, d] -> [d, s, -s, d] (a sign flip, exact).
+                let ds = _mm256_permute_pd::<0b0110>(broadcast2(v.add(4)));
+                _mm256_xor_pd(ds, _mm256_set_pd(0.0, -0.0, 0.0, 0.0))
+            };
             (
                 _mm256_sub_pd(d, _mm256_mul_pd(_mm256_set1_pd(self.c2), k)),
                 k,
