@@ -218,8 +218,7 @@ impl Stepper {
                 k: &model.k,
                 g: &g,
                 bv: &bv,
-                alpha: params.alpha,
-                h: params.h,
+                parts: BParts::new(params.alpha, params.h),
             },
         );
         Ok(Self {
@@ -292,8 +291,7 @@ impl Stepper {
             k: &self.k,
             g: &self.g,
             bv: &self.bv,
-            alpha: self.params.alpha,
-            h,
+            parts: BParts::new(self.params.alpha, h),
         });
         self.h_now = h;
     }
@@ -402,17 +400,47 @@ enum BlockForm {
 /// `softway matrix`, alternated binaries).
 const COMPACT_MIN_BYTES: usize = 1 << 20;
 
-/// The values the right-hand side's rows are filled from, for one step `h`: `B` and its
-/// parts `M`, `C` (the symmetric part with the Coriolis term on the right-hand side) and
-/// `K`, and `G` (empty unless on the right-hand side).
+/// `B = D - c2 K` with `D = M - k1 C`, `k1 = (1 - alpha) h`, `c2 = (alpha - alpha^2/2) h^2`:
+/// the one place `B`'s values are formed ([`Operators::fill`]), and `D`'s of the right-hand
+/// side's compact blocks, which form `B` from `D` and `K` with these very operations
+/// ([`BlockForm`]), so that both round alike.
+#[derive(Debug, Clone, Copy)]
+struct BParts {
+    k1: f64,
+    c2: f64,
+}
+
+impl BParts {
+    fn new(alpha: f64, h: f64) -> Self {
+        Self {
+            k1: (1.0 - alpha) * h,
+            c2: (alpha - 0.5 * alpha * alpha) * h * h,
+        }
+    }
+
+    /// `D`'s value of an entry from `M`'s and `C`'s.
+    #[inline(always)]
+    fn d(&self, m: f64, c: f64) -> f64 {
+        m - self.k1 * c
+    }
+
+    /// `B`'s value of an entry from `M`'s, `C`'s and `K`'s.
+    #[inline(always)]
+    fn b(&self, m: f64, c: f64, k: f64) -> f64 {
+        self.d(m, c) - self.c2 * k
+    }
+}
+
+/// The values the right-hand side's rows are filled from, for one step: `B`
+/// ([`BParts::b`]) and its parts `M`, `C` (the symmetric part with the Coriolis term on the
+/// right-hand side) and `K`, and `G` (empty unless on the right-hand side).
 struct RhsValues<'a> {
     m: &'a [f64],
     c: &'a [f64],
     k: &'a [f64],
     g: &'a [f64],
     bv: &'a [f64],
-    alpha: f64,
-    h: f64,
+    parts: BParts,
 }
 
 impl RhsRows {
@@ -513,8 +541,6 @@ impl RhsRows {
             rows.g = rows.src.iter().map(|&p| g[p]).collect();
             rows.pair_g = rows.pair_src.iter().map(|&[p, q]| [g[p], g[q]]).collect();
         }
-        rows.bk = vec![[0.0; 2]; rows.idx.len()];
-        rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
         rows.refill(values);
         rows
     }
@@ -531,20 +557,11 @@ impl RhsRows {
     }
 
     /// The most compact form the blocks' values allow for `values` ([`BlockForm`]): each of
-    /// `B`'s values formed from it equal to `B`'s (`==`: a zero's sign aside, which no sum
-    /// that starts at `+0` can tell).
+    /// `D`'s values it holds equal to `D`'s (`==`: a zero's sign aside, which no sum that
+    /// starts at `+0` can tell), so that `B`'s formed from them are `B`'s ([`BParts`]).
     fn compact_form(&self, values: &RhsValues) -> BlockForm {
-        let RhsValues { m, c, k, g, bv, .. } = *values;
-        let (a, h) = (values.alpha, values.h);
-        let c2 = (a - 0.5 * a * a) * h * h;
-        // `D` as `Operators::fill` forms it, before `c2 K` is taken off.
-        let d = |p: usize| m[p] - (1.0 - a) * h * c[p];
-        let fits = |f: &dyn Fn(&[usize; 4]) -> [f64; 4]| {
-            self.blk_src.iter().all(|s| {
-                let lanes = f(s);
-                (0..4).all(|l| lanes[l] - c2 * k[s[l]] == bv[s[l]])
-            })
-        };
+        let RhsValues { m, c, g, parts, .. } = *values;
+        let d = |p: usize| parts.d(m[p], c[p]);
         let same = |p: usize, q: usize| d(p).to_bits() == d(q).to_bits();
         let diagonal = (g.is_empty()
             || self
@@ -554,16 +571,14 @@ impl RhsRows {
             && self
                 .blk_src
                 .iter()
-                .all(|s| same(s[0], s[3]) && d(s[1]) == 0.0 && d(s[2]) == 0.0)
-            && fits(&|s| [d(s[0]), 0.0, 0.0, d(s[3])]);
+                .all(|s| same(s[0], s[3]) && d(s[1]) == 0.0 && d(s[2]) == 0.0);
         if diagonal {
             return BlockForm::Diagonal;
         }
         let skew = self
             .blk_src
             .iter()
-            .all(|s| same(s[0], s[3]) && d(s[2]) == -d(s[1]))
-            && fits(&|s| [d(s[0]), d(s[1]), -d(s[1]), d(s[3])]);
+            .all(|s| same(s[0], s[3]) && d(s[2]) == -d(s[1]));
         if skew {
             BlockForm::Skew
         } else {
@@ -852,9 +867,20 @@ impl RhsRows {
     /// Fills the blocks' values in the form `form` (which must hold for `values`:
     /// [`RhsRows::block_form`]), allocating their arrays when the form changes.
     fn fill_blocks(&mut self, form: BlockForm, values: &RhsValues) {
-        let RhsValues { m, c, k, g, bv, .. } = *values;
+        let RhsValues {
+            m,
+            c,
+            k,
+            g,
+            bv,
+            parts,
+        } = *values;
         let nb = self.blk_src.len();
-        if form != self.blk_form || (form == BlockForm::General) != (self.blk_bk.len() == nb) {
+        let allocated = match form {
+            BlockForm::General => self.blk_bk.len() == nb,
+            BlockForm::Skew | BlockForm::Diagonal => self.blk_kd.len() == nb,
+        };
+        if form != self.blk_form || !allocated {
             self.blk_form = form;
             (self.blk_bk, self.blk_kd, self.blk_g, self.blk_gs) = Default::default();
             match form {
@@ -873,9 +899,8 @@ impl RhsRows {
                 }
             }
         }
-        let (a, h) = (values.alpha, values.h);
-        self.c2 = (a - 0.5 * a * a) * h * h;
-        let d = |p: usize| m[p] - (1.0 - a) * h * c[p];
+        self.c2 = parts.c2;
+        let d = |p: usize| parts.d(m[p], c[p]);
         let ks = |s: &[usize; 4]| s.map(|p| k[p]);
         match form {
             BlockForm::General => {
@@ -1183,9 +1208,10 @@ impl Operators<'_> {
     /// h^2 K` and `A` with the Dirichlet identity rows, for the step `h`.
     fn fill(&self, a: f64, h: f64, a_orig: &mut [f64], bv: &mut [f64], a_work: &mut [f64]) {
         let (m, c, k) = (self.m, self.c, self.k);
+        let parts = BParts::new(a, h);
         for p in 0..m.len() {
             a_orig[p] = m[p] + a * h * c[p] + 0.5 * a * a * h * h * k[p];
-            bv[p] = m[p] - (1.0 - a) * h * c[p] - (a - 0.5 * a * a) * h * h * k[p];
+            bv[p] = parts.b(m[p], c[p], k[p]);
         }
         a_work.copy_from_slice(a_orig);
         crate::linalg::set_identity_rows(self.pattern, a_work, self.is_bc);
@@ -1539,30 +1565,18 @@ mod tests {
             is_bc: &is_bc,
         }
         .fill(alpha, h, &mut a_orig, &mut bv, &mut a_work);
-        let mut rows = RhsRows::new(
-            pattern,
-            &RhsValues {
-                m,
-                c,
-                k,
-                g,
-                bv: &bv,
-                alpha,
-                h,
-            },
-        );
-        // The paper's disk is small enough for `B`'s four values; its compact form is filled
-        // by hand.
-        assert_eq!(rows.blk_form, BlockForm::General);
         let values = RhsValues {
             m,
             c,
             k,
             g,
             bv: &bv,
-            alpha,
-            h,
+            parts: BParts::new(alpha, h),
         };
+        let mut rows = RhsRows::new(pattern, &values);
+        // The paper's disk is small enough for `B`'s four values; its compact form is filled
+        // by hand.
+        assert_eq!(rows.blk_form, BlockForm::General);
         rows.fill_blocks(rows.compact_form(&values), &values);
         (rows, bv)
     }
@@ -1660,8 +1674,7 @@ mod tests {
             k,
             g,
             bv,
-            alpha: 0.6,
-            h: 2e-6,
+            parts: BParts::new(0.6, 2e-6),
         };
         general.fill_blocks(BlockForm::General, &values(&w.model.c, &[], &bv));
         assert!(general.blk_kd.is_empty() && general.blk_bk.len() == rows.blk_idx.len());
