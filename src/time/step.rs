@@ -379,8 +379,9 @@ const RHS_SPLIT_MIN_ORDER: usize = crate::linalg::SPLIT_MIN_ORDER;
 /// Omega m_ab J`, so that `D = M - (1 - alpha) h C` has two values per block, or one, and
 /// `B = D - c2 K` need not be stored: a block is read as six values instead of eight
 /// (nine with the Coriolis term on the right-hand side, seven when `G` is by one value).
-/// `B`'s four values are formed as `Operators::fill` forms them, `d - c2 k` lane by lane
-/// (`RhsRows::refill` checks each against `B`), so every form gives the same bits.
+/// `B`'s four values are formed lane by lane by the operations `Operators::fill` forms
+/// them with ([`BParts`]), from `D`'s values checked equal to `D`'s
+/// ([`RhsRows::compact_form`]), so every form gives the same bits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum BlockForm {
     /// `blk_bk`: `B`'s four values, then `K`'s.
