@@ -634,8 +634,18 @@ impl Triangle {
 /// The diagonal is held as its reciprocal (the sweeps multiply: a division's latency was
 /// on the chain of dependent operations of every column), the wide supernodes' triangles
 /// are solved in blocks of four columns (the rest of the run updated four columns per pass,
-/// as the rows `R`), and factors that stream from memory prefetch the blocks ahead of the
-/// sweep ([`Supernodal::prefetch`]).
+/// as the rows `R`), and factors larger than the second-level caches prefetch the blocks
+/// ahead of the sweep ([`Supernodal::prefetch`]).
+///
+/// A wide supernode is read in one pass, four columns at a time, each block of columns
+/// whole (its rows in the run, then in `R`) before the next, with the prefetch spread over
+/// the pass ([`Ahead`]): two cache lines asked for per four rows read, 32 KiB ahead. The
+/// kernels had read the triangle's columns first and the rows `R` in a second pass, and
+/// had asked for the next 32 KiB only when a supernode began (nothing within a large one,
+/// hundreds of lines at once after it). On the 192-ring disk the split forward sweep went
+/// from 6.6-7.0 to 5.6-6.1 ms, the backward from 7.0-7.3 to 5.4-6.0, the top's backward
+/// from 0.75 to 0.63 ms; the free step from 18.8-19.9 to 16.4-17.1 ms (an in-process
+/// probe, alternated binaries, twice). The sums are made in the same order: the same bits.
 #[derive(Debug, Clone, Default)]
 struct Supernodal {
     /// Supernode `s` is the columns `bounds[s]..bounds[s + 1]`.
@@ -774,9 +784,12 @@ impl Supernodal {
         let (mut pv, mut pr) = (0usize, 0usize);
         for s in 0..self.bounds.len() - 1 {
             if self.prefetch {
-                // Up to PREFETCH_AHEAD entries after this supernode's block and rows.
+                // Up to PREFETCH_AHEAD entries after this supernode's block (a narrow one's:
+                // a wide one prefetches as it goes) and rows.
                 let (v1, r1) = (self.blk_ptr[s + 1], self.rows_ptr[s + 1]);
-                pv = prefetch_lines(&self.blk, pv.max(v1)..v1 + PREFETCH_AHEAD).max(pv);
+                if self.bounds[s + 1] - self.bounds[s] < WIDE {
+                    pv = prefetch_lines(&self.blk, pv.max(v1)..v1 + PREFETCH_AHEAD).max(pv);
+                }
                 pr = prefetch_lines(&self.rows, pr.max(r1)..r1 + PREFETCH_AHEAD).max(pr);
             }
             let (j0, w, rows, blk) = self.supernode(s);
@@ -788,7 +801,12 @@ impl Supernodal {
                 5 => narrow_forward::<5>(blk, rows, j0, x),
                 6 => narrow_forward::<6>(blk, rows, j0, x),
                 7 => narrow_forward::<7>(blk, rows, j0, x),
-                _ => wide_forward(blk, w, rows, j0, x, y),
+                // The wide kernels prefetch their block as they go, and the entries after it.
+                _ if self.prefetch => {
+                    wide_forward::<true>(blk, w, rows, j0, x, y);
+                    pv = pv.max(self.blk_ptr[s + 1] + PREFETCH_AHEAD);
+                }
+                _ => wide_forward::<false>(blk, w, rows, j0, x, y),
             }
         }
         self.y = std::mem::take(y);
@@ -807,9 +825,12 @@ impl Supernodal {
                     v0.saturating_sub(PREFETCH_AHEAD),
                     r0.saturating_sub(PREFETCH_AHEAD),
                 );
-                prefetch_lines(&self.blk, lo_v..pv.min(v0));
+                if self.bounds[s + 1] - self.bounds[s] < WIDE {
+                    prefetch_lines(&self.blk, lo_v..pv.min(v0));
+                    pv = pv.min(lo_v);
+                }
                 prefetch_lines(&self.rows, lo_r..pr.min(r0));
-                (pv, pr) = (pv.min(lo_v), pr.min(lo_r));
+                pr = pr.min(lo_r);
             }
             let (j0, w, rows, blk) = self.supernode(s);
             match w {
@@ -820,7 +841,12 @@ impl Supernodal {
                 5 => narrow_backward::<5>(blk, rows, j0, x),
                 6 => narrow_backward::<6>(blk, rows, j0, x),
                 7 => narrow_backward::<7>(blk, rows, j0, x),
-                _ => wide_backward(blk, w, rows, j0, x, y),
+                // The wide kernels prefetch their block as they go, and the entries before it.
+                _ if self.prefetch => {
+                    wide_backward::<true>(blk, w, rows, j0, x, y);
+                    pv = pv.min(self.blk_ptr[s].saturating_sub(PREFETCH_AHEAD));
+                }
+                _ => wide_backward::<false>(blk, w, rows, j0, x, y),
             }
         }
         self.y = std::mem::take(y);
@@ -828,17 +854,27 @@ impl Supernodal {
 }
 
 /// Bytes of the factors from which the dense supernodes' sweeps prefetch their blocks
-/// ([`Supernodal::prefetch`]): below, a solve's factors stay in the last-level cache
-/// between steps (on the development host, two threads read 64 MiB at the cache's rate,
-/// 55 GB/s, and 256 MiB at memory's, 25 GB/s), and prefetching only adds instructions.
-const PREFETCH_MIN_BYTES: usize = 64 << 20;
+/// ([`Supernodal::prefetch`]): below, a solve's factors stay in the second-level caches
+/// between steps (2 MiB a core on the development host) and prefetching only adds
+/// instructions. Factors in the last-level cache gain from it as much as those in memory,
+/// since the wide kernels prefetch as they go ([`Ahead`]): the 48-ring disk (17 MB, in the
+/// last-level cache) went from 0.47-0.48 to 0.38-0.40 ms a free step with the Coriolis term
+/// on the right-hand side, from 0.47-0.48 to 0.42-0.44 ms in the exact scheme (an in-process
+/// probe, alternated binaries, twice), where the threshold had been 64 MiB. Dense
+/// supernodes are only used from 10,000 unknowns on, whose factors are larger.
+const PREFETCH_MIN_BYTES: usize = 4 << 20;
 
 /// How far ahead of the block being solved the sweeps prefetch, in entries: 32 KiB of
 /// values and 16 KiB of row indices. With the 192-ring disk's factors streaming from memory
 /// (176 MB a sweep), the split forward sweep took 7.3-7.6 ms instead of 8.5-8.9, the
 /// backward 7.9-8.3 instead of 9.4-10.1 (alternated, same session); 4 and 16 KiB gained
-/// less, and the non-temporal hint lost.
+/// less, and the non-temporal hint lost. Within the wide kernels ([`Ahead`]) the same
+/// distance was best again: the 192-ring step 16.5-16.9 ms, against 17.4-18.3 at 16 KiB,
+/// 17.3-18.1 at 64 KiB and 18.0-18.5 at 128 KiB (one binary, alternated, twice).
 const PREFETCH_AHEAD: usize = 4096;
+
+/// The narrowest supernode solved by the wide kernels.
+const WIDE: usize = 8;
 
 /// Turns on the prefetch of every one of `factors` (the dense supernodes of one solve) when
 /// together they hold `PREFETCH_MIN_BYTES` or more, off otherwise.
@@ -887,30 +923,71 @@ const fn packed_len(w: usize, h: usize) -> usize {
 /// the diagonal (as its reciprocal) first, then the rest of the run, then the rows below it.
 #[inline(always)]
 fn packed_col(blk: &[f64], h: usize, k: usize) -> &[f64] {
-    let start = k * h - (k * k - k) / 2;
+    let start = packed_start(h, k);
     &blk[start..start + h - k]
 }
 
+/// A prefetch that runs through a block ahead of a wide kernel's reads, two cache lines per
+/// block of four rows of four columns read (the 128 bytes read), spread over the pass
+/// rather than asked for at once; nothing at all unless `P`.
+#[derive(Clone, Copy)]
+struct Ahead<const P: bool> {
+    /// The next line to ask for (a hint's address: it may lie outside the block).
+    p: *const f64,
+    /// `1` when the pass runs up the block, `-1` down.
+    dir: isize,
+}
+
+impl<const P: bool> Ahead<P> {
+    /// From entry `at` of `blk` up (`dir = 1`) or down (`dir = -1`).
+    #[inline(always)]
+    fn new(blk: &[f64], at: isize, dir: isize) -> Self {
+        Self {
+            p: blk.as_ptr().wrapping_offset(at),
+            dir,
+        }
+    }
+
+    /// Asks for the next two lines.
+    #[inline(always)]
+    fn next(&mut self) {
+        if P {
+            prefetch(self.p);
+            prefetch(self.p.wrapping_offset(8 * self.dir));
+            self.p = self.p.wrapping_offset(16 * self.dir);
+        }
+    }
+}
+
 /// `out[q] -= (c0[q] v0 + c1[q] v1) + (c2[q] v2 + c3[q] v3)` for every `q` of `out` (four
-/// columns of a supernode's block, each a contiguous stream, in one pass).
+/// columns of a supernode's block, each a contiguous stream, in one pass), with `pf` moved
+/// on as the rows are read.
 #[inline(always)]
-fn sub_columns4(out: &mut [f64], c: [&[f64]; 4], v: [f64; 4]) {
+fn sub_columns4<const P: bool>(out: &mut [f64], c: [&[f64]; 4], v: [f64; 4], pf: &mut Ahead<P>) {
     let m = out.len();
-    for ((((o, &p0), &p1), &p2), &p3) in out
-        .iter_mut()
-        .zip(&c[0][..m])
-        .zip(&c[1][..m])
-        .zip(&c[2][..m])
-        .zip(&c[3][..m])
+    let m4 = m - m % 4;
+    for ((((o, p0), p1), p2), p3) in out[..m4]
+        .chunks_exact_mut(4)
+        .zip(c[0][..m4].chunks_exact(4))
+        .zip(c[1][..m4].chunks_exact(4))
+        .zip(c[2][..m4].chunks_exact(4))
+        .zip(c[3][..m4].chunks_exact(4))
     {
-        *o -= (p0 * v[0] + p1 * v[1]) + (p2 * v[2] + p3 * v[3]);
+        pf.next();
+        for l in 0..4 {
+            o[l] -= (p0[l] * v[0] + p1[l] * v[1]) + (p2[l] * v[2] + p3[l] * v[3]);
+        }
+    }
+    for q in m4..m {
+        out[q] -= (c[0][q] * v[0] + c[1][q] * v[1]) + (c[2][q] * v[2] + c[3][q] * v[3]);
     }
 }
 
 /// The four dot products `c_k . y` (four columns of a supernode's block against `y`) in one
-/// pass, each in four partial sums (rows `q..q + 4` one vector).
+/// pass, each in four partial sums (rows `q..q + 4` one vector), with `pf` moved on as the
+/// rows are read.
 #[inline(always)]
-fn dot_columns4(c: [&[f64]; 4], y: &[f64]) -> [f64; 4] {
+fn dot_columns4<const P: bool>(c: [&[f64]; 4], y: &[f64], pf: &mut Ahead<P>) -> [f64; 4] {
     let m = y.len();
     let m4 = m - m % 4;
     let (mut a0, mut a1, mut a2, mut a3) = ([0.0; 4], [0.0; 4], [0.0; 4], [0.0; 4]);
@@ -921,6 +998,7 @@ fn dot_columns4(c: [&[f64]; 4], y: &[f64]) -> [f64; 4] {
         .zip(c[2][..m4].chunks_exact(4))
         .zip(c[3][..m4].chunks_exact(4))
     {
+        pf.next();
         for l in 0..4 {
             a0[l] += p0[l] * yc[l];
             a1[l] += p1[l] * yc[l];
@@ -937,19 +1015,37 @@ fn dot_columns4(c: [&[f64]; 4], y: &[f64]) -> [f64; 4] {
     acc.map(|a| (a[0] + a[1]) + (a[2] + a[3]))
 }
 
-/// The forward solve of a supernode of `w` columns `j0..j0 + w` (layout of
-/// [`narrow_forward`], the diagonal held as its reciprocal): the `w x w` triangle on
-/// `x[j0..]` in blocks of four columns (each block's own small triangle, then the run's rows
-/// below it updated four columns per pass), then `y = Λ[R, j0..j0 + w] x[j0..]` four
-/// columns per pass over `y` (each column a contiguous stream), then `x[R] -= y`.
+/// Offset of column `k` in a packed supernode block of `h` rows ([`packed_col`]).
 #[inline(always)]
-fn wide_forward(blk: &[f64], w: usize, rows: &[u32], j0: usize, x: &mut [f64], y: &mut [f64]) {
+const fn packed_start(h: usize, k: usize) -> usize {
+    k * h - (k * k - k) / 2
+}
+
+/// The forward solve of a supernode of `w` columns `j0..j0 + w` (layout of
+/// [`narrow_forward`], the diagonal held as its reciprocal), one pass over its block in
+/// blocks of four columns: each block's own small triangle on `x[j0..]`, then the run's
+/// rows below it updated four columns per pass, then `y -= Λ[R, k..k + 4] (-x_k..)`;
+/// last `x[R] -= y`. With `P`, the lines `PREFETCH_AHEAD` entries ahead of the pass are
+/// asked for as it goes ([`Ahead`]).
+#[inline(always)]
+fn wide_forward<const P: bool>(
+    blk: &[f64],
+    w: usize,
+    rows: &[u32],
+    j0: usize,
+    x: &mut [f64],
+    y: &mut [f64],
+) {
     let (m, h) = (rows.len(), w + rows.len());
     debug_assert_eq!(blk.len(), packed_len(w, h));
     let xs = &mut x[j0..j0 + w];
+    let y = &mut y[..m];
+    y.fill(0.0);
+    let below = |k: usize| &packed_col(blk, h, k)[w - k..];
     let mut k = 0;
     while k < w {
         let kb = (w - k).min(4);
+        let mut pf = Ahead::<P>::new(blk, (packed_start(h, k) + PREFETCH_AHEAD) as isize, 1);
         for kk in k..k + kb {
             let col = packed_col(blk, h, kk);
             let xk = xs[kk] * col[0];
@@ -958,29 +1054,25 @@ fn wide_forward(blk: &[f64], w: usize, rows: &[u32], j0: usize, x: &mut [f64], y
                 xs[i] -= col[i - kk] * xk;
             }
         }
-        if kb == 4 && k + 4 < w {
-            // Rows k + 4..w of columns k..k + 4.
-            let c = std::array::from_fn(|l| &packed_col(blk, h, k + l)[4 - l..w - k - l]);
-            let v = [xs[k], xs[k + 1], xs[k + 2], xs[k + 3]];
-            sub_columns4(&mut xs[k + 4..], c, v);
+        if kb == 4 {
+            if k + 4 < w {
+                // Rows k + 4..w of columns k..k + 4.
+                let c = std::array::from_fn(|l| &packed_col(blk, h, k + l)[4 - l..w - k - l]);
+                let v = [xs[k], xs[k + 1], xs[k + 2], xs[k + 3]];
+                sub_columns4(&mut xs[k + 4..], c, v, &mut pf);
+            }
+            let c = [below(k), below(k + 1), below(k + 2), below(k + 3)];
+            let v = [-xs[k], -xs[k + 1], -xs[k + 2], -xs[k + 3]];
+            sub_columns4(y, c, v, &mut pf);
+        } else {
+            for kk in k..w {
+                let (c, xk) = (below(kk), xs[kk]);
+                for (yq, &cq) in y.iter_mut().zip(c) {
+                    *yq += cq * xk;
+                }
+            }
         }
         k += kb;
-    }
-    let y = &mut y[..m];
-    y.fill(0.0);
-    let below = |k: usize| &packed_col(blk, h, k)[w - k..];
-    let mut k = 0;
-    while k + 4 <= w {
-        let c = [below(k), below(k + 1), below(k + 2), below(k + 3)];
-        let v = [-xs[k], -xs[k + 1], -xs[k + 2], -xs[k + 3]];
-        sub_columns4(y, c, v);
-        k += 4;
-    }
-    for k in k..w {
-        let (c, xk) = (below(k), xs[k]);
-        for (yq, &cq) in y.iter_mut().zip(c) {
-            *yq += cq * xk;
-        }
     }
     for (&i, &yq) in rows.iter().zip(y.iter()) {
         x[i as usize] -= yq;
@@ -988,12 +1080,20 @@ fn wide_forward(blk: &[f64], w: usize, rows: &[u32], j0: usize, x: &mut [f64], y
 }
 
 /// The backward solve of a supernode of `w` columns (layout of [`narrow_forward`], the
-/// diagonal held as its reciprocal): `y = x[R]`, then `x_k -= Λ[R, k] . y` four columns per
-/// pass over `y`, then the transposed `w x w` triangle in blocks of four columns from the
-/// last (the run's rows below the block as four dot products in one pass, then the block's
-/// own small triangle).
+/// diagonal held as its reciprocal), one pass over its block in blocks of four columns from
+/// the last: `y = x[R]` first, then for each block `x_k -= Λ[R, k] . y` (four dot products
+/// in one pass), the run's rows below the block the same way, and the block's own small
+/// transposed triangle. With `P`, the lines `PREFETCH_AHEAD` entries below the pass (it runs
+/// down the block) are asked for as it goes ([`Ahead`]).
 #[inline(always)]
-fn wide_backward(blk: &[f64], w: usize, rows: &[u32], j0: usize, x: &mut [f64], y: &mut [f64]) {
+fn wide_backward<const P: bool>(
+    blk: &[f64],
+    w: usize,
+    rows: &[u32],
+    j0: usize,
+    x: &mut [f64],
+    y: &mut [f64],
+) {
     let (m, h) = (rows.len(), w + rows.len());
     debug_assert_eq!(blk.len(), packed_len(w, h));
     let y = &mut y[..m];
@@ -1001,26 +1101,31 @@ fn wide_backward(blk: &[f64], w: usize, rows: &[u32], j0: usize, x: &mut [f64], 
         *yq = x[i as usize];
     }
     let below = |k: usize| &packed_col(blk, h, k)[w - k..];
-    let mut k = 0;
-    while k + 4 <= w {
-        let d = dot_columns4([below(k), below(k + 1), below(k + 2), below(k + 3)], y);
-        for (l, dl) in d.iter().enumerate() {
-            x[j0 + k + l] -= dl;
-        }
-        k += 4;
-    }
-    for k in k..w {
-        x[j0 + k] -= dot_dense(below(k), y);
-    }
     let xs = &mut x[j0..j0 + w];
     for k in (0..w).step_by(4).rev() {
         let kb = (w - k).min(4);
-        if kb == 4 && k + 4 < w {
-            // Rows k + 4..w of columns k..k + 4.
-            let c = std::array::from_fn(|l| &packed_col(blk, h, k + l)[4 - l..w - k - l]);
-            let d = dot_columns4(c, &xs[k + 4..]);
+        let at = packed_start(h, k) as isize - PREFETCH_AHEAD as isize;
+        let mut pf = Ahead::<P>::new(blk, at - 8, -1);
+        if kb == 4 {
+            let d = dot_columns4(
+                [below(k), below(k + 1), below(k + 2), below(k + 3)],
+                y,
+                &mut pf,
+            );
             for (l, dl) in d.iter().enumerate() {
                 xs[k + l] -= dl;
+            }
+            if k + 4 < w {
+                // Rows k + 4..w of columns k..k + 4.
+                let c = std::array::from_fn(|l| &packed_col(blk, h, k + l)[4 - l..w - k - l]);
+                let d = dot_columns4(c, &xs[k + 4..], &mut pf);
+                for (l, dl) in d.iter().enumerate() {
+                    xs[k + l] -= dl;
+                }
+            }
+        } else {
+            for kk in k..w {
+                xs[kk] -= dot_dense(below(kk), y);
             }
         }
         for kk in (k..k + kb).rev() {
