@@ -81,6 +81,9 @@ impl LinearModel {
     }
 }
 
+/// The order from which [`Stepper::update_displacement`] runs in two halves side by side.
+const UPDATE_SPLIT_MIN_ORDER: usize = 50_000;
+
 /// The space-time stepper: factored `A`, the right-hand-side operators and the Dirichlet
 /// velocities. All work memory is allocated in [`Stepper::new`]; it implements the
 /// [`TimeIntegrator`] contract (multipliers are impulses).
@@ -1347,9 +1350,20 @@ impl Stepper {
         v1: &[f64],
         u1: &mut [f64],
     ) {
-        let h = self.h_now;
-        for i in 0..self.n {
-            u1[i] = u0[i] + h * ((1.0 - beta) * v0[i] + beta * v1[i]);
+        let n = self.n;
+        assert!(u0.len() == n && v0.len() == n && v1.len() == n && u1.len() == n);
+        let (h, b0) = (self.h_now, 1.0 - beta);
+        let update = |range: std::ops::Range<usize>, u1: &mut [f64]| {
+            let (u0, v0, v1) = (&u0[range.clone()], &v0[range.clone()], &v1[range]);
+            for (((u1i, &u0i), &v0i), &v1i) in u1.iter_mut().zip(u0).zip(v0).zip(v1) {
+                *u1i = u0i + h * (b0 * v0i + beta * v1i);
+            }
+        };
+        if n >= UPDATE_SPLIT_MIN_ORDER {
+            let (lo, hi) = u1.split_at_mut(n / 2);
+            crate::linalg::team::join(|| update(0..n / 2, lo), || update(n / 2..n, hi));
+        } else {
+            update(0..n, u1);
         }
     }
 
