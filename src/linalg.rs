@@ -898,6 +898,18 @@ fn prefetch_lines<T>(data: &[T], range: std::ops::Range<usize>) -> usize {
     end
 }
 
+/// Prefetches the cache lines of `data[range]` (its end clamped to the length), one per 64
+/// bytes whatever the size of `T`.
+#[inline(always)]
+pub(crate) fn prefetch_span<T>(data: &[T], range: std::ops::Range<usize>) {
+    let size = std::mem::size_of::<T>();
+    let (start, end) = (range.start * size, range.end.min(data.len()) * size);
+    let base = data.as_ptr().cast::<u8>();
+    for b in (start..end).step_by(64) {
+        prefetch(base.wrapping_add(b));
+    }
+}
+
 /// Asks for the cache line at `p` in the second-level cache (a hint: no fault, no effect
 /// on the results; nothing on other architectures).
 #[inline(always)]
