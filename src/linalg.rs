@@ -1116,6 +1116,7 @@ fn wide_backward<const P: bool>(
     let xs = &mut x[j0..j0 + w];
     for k in (0..w).step_by(4).rev() {
         let kb = (w - k).min(4);
+        // Down from the line below PREFETCH_AHEAD entries before the block's first column.
         let at = packed_start(h, k) as isize - PREFETCH_AHEAD as isize;
         let mut pf = Ahead::<P>::new(blk, at - 8, -1);
         if kb == 4 {
