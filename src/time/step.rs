@@ -902,11 +902,7 @@ impl RhsRows {
             + b(&self.pair_bk[..])
             + b(&self.pair_g[..])
             + b(&self.blk_ptr[..])
-            + b(&self.blk_idx[..])
-            + b(&self.blk_bk[..])
-            + b(&self.blk_kd[..])
-            + b(&self.blk_g[..])
-            + b(&self.blk_gs[..])
+            + self.blk_bytes()
     }
 
     /// Fills the values for `values`' step (the blocks' arrays are allocated again only
