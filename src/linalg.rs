@@ -783,17 +783,23 @@ impl Supernodal {
         // The prefetch cursors: entries of `blk` and `rows` before them have been asked for.
         let (mut pv, mut pr) = (0usize, 0usize);
         for s in 0..self.bounds.len() - 1 {
+            let (j0, w, rows, blk) = self.supernode(s);
             if self.prefetch {
                 // Up to PREFETCH_AHEAD entries after this supernode's block (a narrow one's:
                 // a wide one prefetches as it goes) and rows.
                 let (v1, r1) = (self.blk_ptr[s + 1], self.rows_ptr[s + 1]);
-                if self.bounds[s + 1] - self.bounds[s] < WIDE {
+                if w < WIDE {
                     pv = prefetch_lines(&self.blk, pv.max(v1)..v1 + PREFETCH_AHEAD).max(pv);
                 }
                 pr = prefetch_lines(&self.rows, pr.max(r1)..r1 + PREFETCH_AHEAD).max(pr);
             }
-            let (j0, w, rows, blk) = self.supernode(s);
             match w {
+                // The wide kernels prefetch their block as they go, and the entries after it.
+                _ if w >= WIDE && self.prefetch => {
+                    wide_forward::<true>(blk, w, rows, j0, x, y);
+                    pv = pv.max(self.blk_ptr[s + 1] + PREFETCH_AHEAD);
+                }
+                _ if w >= WIDE => wide_forward::<false>(blk, w, rows, j0, x, y),
                 1 => narrow_forward::<1>(blk, rows, j0, x),
                 2 => narrow_forward::<2>(blk, rows, j0, x),
                 3 => narrow_forward::<3>(blk, rows, j0, x),
@@ -801,12 +807,7 @@ impl Supernodal {
                 5 => narrow_forward::<5>(blk, rows, j0, x),
                 6 => narrow_forward::<6>(blk, rows, j0, x),
                 7 => narrow_forward::<7>(blk, rows, j0, x),
-                // The wide kernels prefetch their block as they go, and the entries after it.
-                _ if self.prefetch => {
-                    wide_forward::<true>(blk, w, rows, j0, x, y);
-                    pv = pv.max(self.blk_ptr[s + 1] + PREFETCH_AHEAD);
-                }
-                _ => wide_forward::<false>(blk, w, rows, j0, x, y),
+                _ => unreachable!("a narrow kernel for each width below WIDE"),
             }
         }
         self.y = std::mem::take(y);
@@ -818,22 +819,29 @@ impl Supernodal {
         // The prefetch cursors: entries of `blk` and `rows` from them on have been asked for.
         let (mut pv, mut pr) = (self.blk.len(), self.rows.len());
         for s in (0..self.bounds.len() - 1).rev() {
+            let (j0, w, rows, blk) = self.supernode(s);
             if self.prefetch {
-                // Up to PREFETCH_AHEAD entries before this supernode's block and rows.
+                // Up to PREFETCH_AHEAD entries before this supernode's block (a narrow one's:
+                // a wide one prefetches as it goes) and rows.
                 let (v0, r0) = (self.blk_ptr[s], self.rows_ptr[s]);
                 let (lo_v, lo_r) = (
                     v0.saturating_sub(PREFETCH_AHEAD),
                     r0.saturating_sub(PREFETCH_AHEAD),
                 );
-                if self.bounds[s + 1] - self.bounds[s] < WIDE {
+                if w < WIDE {
                     prefetch_lines(&self.blk, lo_v..pv.min(v0));
                     pv = pv.min(lo_v);
                 }
                 prefetch_lines(&self.rows, lo_r..pr.min(r0));
                 pr = pr.min(lo_r);
             }
-            let (j0, w, rows, blk) = self.supernode(s);
             match w {
+                // The wide kernels prefetch their block as they go, and the entries before it.
+                _ if w >= WIDE && self.prefetch => {
+                    wide_backward::<true>(blk, w, rows, j0, x, y);
+                    pv = pv.min(self.blk_ptr[s].saturating_sub(PREFETCH_AHEAD));
+                }
+                _ if w >= WIDE => wide_backward::<false>(blk, w, rows, j0, x, y),
                 1 => narrow_backward::<1>(blk, rows, j0, x),
                 2 => narrow_backward::<2>(blk, rows, j0, x),
                 3 => narrow_backward::<3>(blk, rows, j0, x),
@@ -841,12 +849,7 @@ impl Supernodal {
                 5 => narrow_backward::<5>(blk, rows, j0, x),
                 6 => narrow_backward::<6>(blk, rows, j0, x),
                 7 => narrow_backward::<7>(blk, rows, j0, x),
-                // The wide kernels prefetch their block as they go, and the entries before it.
-                _ if self.prefetch => {
-                    wide_backward::<true>(blk, w, rows, j0, x, y);
-                    pv = pv.min(self.blk_ptr[s].saturating_sub(PREFETCH_AHEAD));
-                }
-                _ => wide_backward::<false>(blk, w, rows, j0, x, y),
+                _ => unreachable!("a narrow kernel for each width below WIDE"),
             }
         }
         self.y = std::mem::take(y);
@@ -873,7 +876,8 @@ const PREFETCH_MIN_BYTES: usize = 4 << 20;
 /// 17.3-18.1 at 64 KiB and 18.0-18.5 at 128 KiB (one binary, alternated, twice).
 const PREFETCH_AHEAD: usize = 4096;
 
-/// The narrowest supernode solved by the wide kernels.
+/// The narrowest supernode solved by the wide kernels ([`wide_forward`]); narrower ones
+/// have a kernel each ([`narrow_forward`]).
 const WIDE: usize = 8;
 
 /// Turns on the prefetch of every one of `factors` (the dense supernodes of one solve) when
