@@ -16,7 +16,7 @@
 //! part 1 on two threads (each keeping its contributions to the top in room of its own
 //! after its unknowns, added after, part 0's first), then the top; backward, the top, then
 //! parts 0 and 1 on two threads. The solve's vector is spread for this
-//! ([`SplitLower::spread`]): each part's unknowns and room are one contiguous slice, solved
+//! ([`SplitLower::spread_len`]): each part's unknowns and room are one contiguous slice, solved
 //! in place. Every sum is made in the same order whatever the number of threads, so the
 //! result does not depend on it (`team::join` runs both halves on one thread when the pool
 //! has one).
@@ -232,15 +232,14 @@ pub(super) fn two_subtrees(
     Some((new_fwd, new_inv, sizes[0], sizes[0] + sizes[1]))
 }
 
-/// The order from which [`SplitLower::backward_scatter`] reads the solution out in two
-/// halves side by side: below, the hand-off costs what it saves (`softway matrix`,
-/// alternated: `scenarios/wheel.toml`, 3,430 unknowns, 50.4 -> 52.5 us a step with two
-/// halves; the 48-ring disk, 14,114, unchanged; the 192-ring disk, 222,338, 17.2-18.0 ->
-/// 15.8-16.9 ms for the solve with the gather in the parts' threads too).
-pub(super) const SCATTER_SPLIT_MIN_ORDER: usize = 50_000;
+/// The order from which [`SplitLower::backward_scatter`] reads each part's solution out in
+/// the thread that solved it: below, the two threads' writes share too many cache lines of
+/// the solution (`scenarios/wheel.toml`, 3,430 unknowns: 59-63 -> 60-65 us a free step,
+/// `softway matrix`, alternated binaries) and one thread reads it all out after the parts.
+const SCATTER_IN_PARTS_MIN_ORDER: usize = 10_000;
 
 /// Unused entries after each part's local vector in the spread vector
-/// ([`SplitLower::spread`]): one cache line, so that the two threads never write to the same
+/// ([`SplitLower::spread_len`]): one cache line, so that the two threads never write to the same
 /// line.
 const GAP: usize = 8;
 
@@ -417,6 +416,9 @@ pub(super) struct SplitLower {
     top: Part,
     /// Stored entries of `Λ`, diagonal included.
     nnz: usize,
+    /// Where [`SplitLower::backward_scatter`] writes unknown `k`'s solution: a permutation
+    /// of `0..n` ([`SplitLower::set_scatter`]; empty until set).
+    scatter: Vec<usize>,
 }
 
 impl SplitLower {
@@ -444,6 +446,7 @@ impl SplitLower {
             part1,
             top,
             nnz: n0 + n1 + nt,
+            scatter: Vec::new(),
         })
     }
 
@@ -483,12 +486,8 @@ impl SplitLower {
         self.n + 2 * (self.n - self.b + GAP)
     }
 
-    /// The position of unknown `k` (`0..n`) in the vector of [`SplitLower::spread_len`].
-    pub(super) fn spread(&self, k: usize) -> usize {
-        k + (self.n - self.b + GAP) * ((k >= self.a) as usize + (k >= self.b) as usize)
-    }
-
-    /// `x[spread(k)] = src[idx[k]]` for every `k` (the gather of a permuted right-hand side
+    /// `x[spread(k)] = src[idx[k]]` for every `k`, `spread(k)` the place of unknown `k` in
+    /// the spread vector ([`SplitLower::spread_len`]) (the gather of a permuted right-hand side
     /// into the spread vector), then `x <- Λ^{-1} x` on it: each part's range gathered by the
     /// thread that solves it, the top's by the first.
     pub(super) fn gather_forward(&mut self, idx: &[usize], src: &[f64], x: &mut [f64]) {
@@ -522,41 +521,54 @@ impl SplitLower {
         self.top.forward(xt);
     }
 
-    /// `x <- Λ^{-T} x` on the spread vector ([`SplitLower::spread`]).
-    pub(super) fn backward(&mut self, x: &mut [f64]) {
-        let (a, b, t) = (self.a, self.b, self.n - self.b);
-        assert!(x.len() == self.spread_len());
+    /// Sets where [`SplitLower::backward_scatter`] writes each unknown's solution:
+    /// `dst[to[k]]` for unknown `k`. Panics unless `to` is a permutation of `0..n`.
+    pub(super) fn set_scatter(&mut self, to: &[usize]) {
+        assert_eq!(to.len(), self.n, "a scatter of the factor's order");
+        let mut seen = vec![false; self.n];
+        for &i in to {
+            assert!(i < self.n && !seen[i], "a scatter that is a permutation");
+            seen[i] = true;
+        }
+        self.scatter = to.to_vec();
+    }
+
+    /// `x <- Λ^{-T} x` on the spread vector, then `dst[to[k]] = x[spread(k)]` for every `k`
+    /// (the solution read out, `to` of [`SplitLower::set_scatter`]): each part's unknowns by
+    /// the thread that solved them, right after, the top's by the first. Before, the first
+    /// thread read the whole solution out after both parts, in order of `dst`: on the
+    /// 48-ring disk (14,114 unknowns) that took 0.014-0.016 ms of a 0.46 ms step.
+    pub(super) fn backward_scatter(&mut self, x: &mut [f64], dst: &mut [f64]) {
+        let (a, b, n, t) = (self.a, self.b, self.n, self.n - self.b);
+        assert!(x.len() == self.spread_len() && dst.len() == n && self.scatter.len() == n);
         let (v0, rest) = x.split_at_mut(a + t);
         let (v1, xt) = rest[GAP..].split_at_mut(b - a + t);
         let xt = &mut xt[GAP..];
         self.top.backward(xt);
         v0[a..].copy_from_slice(xt);
         v1[b - a..].copy_from_slice(xt);
-        let (p0, p1) = (&mut self.part0, &mut self.part1);
-        super::team::join(|| p0.backward(v0), || p1.backward(v1));
-    }
-
-    /// `x <- Λ^{-T} x` on the spread vector, then `dst[i] = x[pos[i]]` for every `i` (the
-    /// solution read out of it), `dst` in two halves side by side.
-    pub(super) fn backward_scatter(&mut self, x: &mut [f64], pos: &[usize], dst: &mut [f64]) {
-        assert!(pos.len() == dst.len());
-        self.backward(x);
-        let x = &*x;
-        let mid = if dst.len() >= SCATTER_SPLIT_MIN_ORDER {
-            dst.len() / 2
-        } else {
-            0
-        };
-        let (d0, d1) = dst.split_at_mut(mid);
-        let read = |d: &mut [f64], p: &[usize]| {
-            for (di, &c) in d.iter_mut().zip(p) {
-                *di = x[c];
+        let (p0, p1, to) = (&mut self.part0, &mut self.part1, &self.scatter[..]);
+        if n < SCATTER_IN_PARTS_MIN_ORDER {
+            super::team::join(|| p0.backward(v0), || p1.backward(v1));
+            for (range, x) in [(0..a, &v0[..a]), (a..b, &v1[..b - a]), (b..n, &v0[a..])] {
+                for (&i, &xk) in to[range].iter().zip(x) {
+                    dst[i] = xk;
+                }
             }
-        };
-        if mid == 0 {
-            read(d1, pos);
-        } else {
-            super::team::join(|| read(d0, &pos[..mid]), || read(d1, &pos[mid..]));
+            return;
         }
+        let out = super::team::Disjoint::new(dst);
+        // SAFETY: `to` is a permutation (`set_scatter`), its three ranges disjoint.
+        super::team::join(
+            || {
+                p0.backward(v0);
+                unsafe { out.put(&to[..a], &v0[..a]) };
+                unsafe { out.put(&to[b..], &v0[a..]) };
+            },
+            || {
+                p1.backward(v1);
+                unsafe { out.put(&to[a..b], &v1[..b - a]) };
+            },
+        );
     }
 }
