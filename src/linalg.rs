@@ -1189,7 +1189,22 @@ fn narrow_forward<const W: usize>(blk: &[f64], rows: &[u32], j0: usize, x: &mut 
     }
     x[j0..j0 + W].copy_from_slice(&xs);
     let cols: [&[f64]; W] = std::array::from_fn(|k| &packed_col(blk, h, k)[W - k..]);
-    for (q, &i) in rows.iter().enumerate() {
+    // Four rows at a time, their sums as one array (a four-wide operation per column).
+    let m = rows.len();
+    let m4 = m - m % 4;
+    for (q, r) in (0..m4).step_by(4).zip(rows.chunks_exact(4)) {
+        let mut s = [0.0; 4];
+        for k in 0..W {
+            let c = quad(&cols[k][q..q + 4]);
+            for l in 0..4 {
+                s[l] += c[l] * xs[k];
+            }
+        }
+        for (&i, sl) in r.iter().zip(s) {
+            x[i as usize] -= sl;
+        }
+    }
+    for (q, &i) in rows.iter().enumerate().skip(m4) {
         let mut s = 0.0;
         for k in 0..W {
             s += cols[k][q] * xs[k];
@@ -1209,23 +1224,26 @@ fn narrow_backward<const W: usize>(blk: &[f64], rows: &[u32], j0: usize, x: &mut
     // one chain of dependent additions, a row per addition's latency.
     let m = rows.len();
     let m4 = m - m % 4;
-    let mut part = [[0.0; W]; 4];
-    for q in (0..m4).step_by(4) {
-        for (l, pl) in part.iter_mut().enumerate() {
-            let xi = x[rows[q + l] as usize];
-            for k in 0..W {
-                pl[k] += cols[k][q + l] * xi;
+    // part[k][l]: column k's sum over rows q + l, four rows a pass (one four-wide operation
+    // per column).
+    let mut part = [[0.0; 4]; W];
+    for (q, r) in (0..m4).step_by(4).zip(rows.chunks_exact(4)) {
+        let xq = [r[0], r[1], r[2], r[3]].map(|i| x[i as usize]);
+        for k in 0..W {
+            let c = quad(&cols[k][q..q + 4]);
+            for l in 0..4 {
+                part[k][l] += c[l] * xq[l];
             }
         }
     }
     for q in m4..m {
         let xi = x[rows[q] as usize];
         for k in 0..W {
-            part[0][k] += cols[k][q] * xi;
+            part[k][0] += cols[k][q] * xi;
         }
     }
     let acc: [f64; W] =
-        std::array::from_fn(|k| (part[0][k] + part[1][k]) + (part[2][k] + part[3][k]));
+        std::array::from_fn(|k| (part[k][0] + part[k][1]) + (part[k][2] + part[k][3]));
     for k in (0..W).rev() {
         let col = packed_col(blk, h, k);
         let mut a = x[j0 + k] - acc[k];
