@@ -21,6 +21,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::Side;
 use faer::{MatMut, Par};
 
+mod bisect;
 mod huge;
 mod split;
 pub(crate) mod team;
@@ -1628,8 +1629,8 @@ impl SparseLu {
         let (mut col_fwd, mut col_inv) = column_ordering(pattern, ordering)?;
         let mut parts = None;
         if split {
-            if let Some((f, i, a, b)) = split::two_subtrees(pattern, &col_fwd, &col_inv) {
-                (col_fwd, col_inv, parts) = (f, i, Some((a, b)));
+            if let Some(s) = split::best_split(pattern, &col_fwd, &col_inv) {
+                (col_fwd, col_inv, parts) = (s.fwd, s.inv, Some((s.a, s.b)));
             }
         }
         let mut lu = Self {
@@ -1915,9 +1916,9 @@ impl SparseLlt {
         let mut custom = None;
         if split {
             let (fwd, inv) = column_ordering(pattern, Ordering::Amd)?;
-            if let Some((f, i, a, b)) = split::two_subtrees(pattern, &fwd, &inv) {
-                custom = Some((f, i));
-                parts = Some((a, b));
+            if let Some(s) = split::best_split(pattern, &fwd, &inv) {
+                custom = Some((s.fwd, s.inv));
+                parts = Some((s.a, s.b));
             }
         }
         // From the order of the dense layout on, faer's supernodal factorization (dense
@@ -2446,9 +2447,9 @@ mod tests {
     }
 
     /// The factor `build(split)` with and without the split into two
-    /// independent parts and a top: the parts are balanced, the fill is that of the
-    /// ordering it came from, the solve reproduces faer's LU to 1e-13, and its result is the
-    /// same, bit for bit, on one thread and on two.
+    /// independent parts and a top: the parts are balanced, the fill is that of AMD or,
+    /// when the split took the graph's bisection, within 5% of it, the solve reproduces
+    /// faer's LU to 1e-13, and its result is the same, bit for bit, on one thread and on two.
     fn split_solves_alike(pattern: &Pattern, values: &[f64], build: impl Fn(bool) -> Factor) {
         let n = pattern.nrows();
         let b = rhs(n);
@@ -2463,7 +2464,11 @@ mod tests {
             p0.min(p1) * 3 > p0.max(p1) && top * 10 < n,
             "{kind:?}: parts of {p0} and {p1} unknowns, top {top}"
         );
-        assert_eq!(split.factor_nnz(), whole.factor_nnz(), "{kind:?}: the fill");
+        let (fill, amd) = (split.factor_nnz(), whole.factor_nnz());
+        assert!(
+            20 * fill <= 21 * amd,
+            "{kind:?}: fill {fill} against AMD's {amd}"
+        );
         let mut on = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -2498,12 +2503,44 @@ mod tests {
             .unwrap();
         let pattern = mat.symbolic().to_owned().unwrap();
         let (fwd, inv) = column_ordering(&pattern, Ordering::Amd).unwrap();
-        let (new_fwd, _, a, b) = split::two_subtrees(&pattern, &fwd, &inv).expect("a split");
+        let split::Split {
+            fwd: new_fwd, a, b, ..
+        } = split::two_subtrees(&pattern, &fwd, &inv).expect("a split");
         assert_eq!((a, b), (m, 2 * m), "the parts of {} unknowns", 2 * m);
         let copy_of = |k: usize| new_fwd[k] / m;
         assert!((1..m).all(|k| copy_of(k) == copy_of(0)));
         assert!((m + 1..2 * m).all(|k| copy_of(k) == copy_of(m)));
         assert_ne!(copy_of(0), copy_of(m));
+    }
+
+    /// On the hexagonal disk of 48 rings (14,114 unknowns) AMD's split has a top of 456
+    /// unknowns, the chain of its last eliminations. The split taken is the bisection's,
+    /// whose top is about the separator across a diameter, `2 (2 r + 1)` unknowns: a
+    /// shorter critical path for a fill within 2% of AMD's.
+    #[test]
+    fn the_disk_is_split_across_a_diameter() {
+        use crate::mesh::generators::disk_rings;
+        use crate::wheel::{Support, WheelModel, WheelSpec};
+        let rings = 48;
+        let spec = WheelSpec {
+            support: Support::CentrePinned,
+            ..WheelSpec::paper()
+        };
+        let w = WheelModel::new(disk_rings(0.1, rings).unwrap(), spec).unwrap();
+        let pattern = w.model.pattern();
+        let n = pattern.ncols();
+        let (fwd, inv) = column_ordering(pattern, Ordering::Amd).unwrap();
+        let own = split::two_subtrees(pattern, &fwd, &inv).expect("AMD's split");
+        let best = split::best_split(pattern, &fwd, &inv).expect("a split");
+        let diameter = 2 * (2 * rings + 1);
+        let (top, own_top) = (n - best.b, n - own.b);
+        assert!(
+            best.critical < own.critical && 2 * top <= 3 * diameter,
+            "top {top} (AMD's {own_top}), critical path {} (AMD's {})",
+            best.critical,
+            own.critical
+        );
+        assert!(50 * best.entries <= 51 * own.entries);
     }
 
     /// By rows and in dense supernodes.

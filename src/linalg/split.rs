@@ -22,7 +22,9 @@
 //! has one).
 //!
 //! [`two_subtrees`] finds the parts (the pair of subtree sets with the least critical path,
-//! the top plus the heavier part, weighing each column by its count of entries in `L`);
+//! the top plus the heavier part, weighing each column by its count of entries in `L`), and
+//! [`best_split`] the better of AMD's split and that of AMD's order cut in two by a separator
+//! of the graph (module `bisect`);
 //! [`SplitLower`] holds a lower factor in the three parts, by rows ([`Triangle`], below
 //! 10,000 unknowns) or in dense supernodes ([`Supernodal`]).
 
@@ -39,14 +41,59 @@ const MAX_CRITICAL_FRACTION: f64 = 0.8;
 
 const NONE: usize = usize::MAX;
 
+/// An ordering numbered `[part 0 | part 1 | top]`: part 0 the positions `0..a`, part 1
+/// `a..b` and the top `b..n`.
+#[derive(Debug, Clone)]
+pub(super) struct Split {
+    /// `fwd[p]` is the original index at position `p`; `inv` its inverse.
+    pub fwd: Vec<usize>,
+    pub inv: Vec<usize>,
+    pub a: usize,
+    pub b: usize,
+    /// Entries of `L` on the critical path: the top's and the heavier part's.
+    pub critical: u64,
+    /// Entries of `L`.
+    pub entries: u64,
+}
+
+/// The better of two splits of the ordering `fwd` (`inv` its inverse): [`two_subtrees`] of
+/// `fwd` itself, and of its bisection by a separator of the graph
+/// ([`super::bisect::bisected`], the same relative order on each side), taken when it
+/// shortens the critical path ([`Split::critical`]) by more than it adds to the fill.
+///
+/// On a 2D mesh AMD leaves at the top of its elimination tree a chain about twice a
+/// separator. On the 48-ring disk (14,114 unknowns) that is a top of 456 unknowns and a
+/// critical path of 444,419 entries of `L` (fill 791,987), against 250 and 420,574 (fill
+/// 805,173) for the bisection, which is taken. At 192 rings the bisection shortens the
+/// critical path by 20,000 entries and adds 400,000 to the fill; on the graded disks, an
+/// annulus, the level separator is long (`wheel.toml`: critical path 77,179 against
+/// 56,678). There AMD's split stays. `None` when neither splits.
+pub(super) fn best_split(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> Option<Split> {
+    let own = two_subtrees(pattern, fwd, inv);
+    let bisected = super::bisect::bisected(pattern, inv).and_then(|(f, _, _)| {
+        let mut i = vec![0usize; f.len()];
+        for (p, &k) in f.iter().enumerate() {
+            i[k] = p;
+        }
+        two_subtrees(pattern, &f, &i)
+    });
+    match (own, bisected) {
+        // Each entry the bisection adds is read too, by threads that share the memory's
+        // bandwidth: it must shorten the critical path by more than it adds.
+        (Some(o), Some(b)) => Some(
+            if b.critical + b.entries.saturating_sub(o.entries) < o.critical {
+                b
+            } else {
+                o
+            },
+        ),
+        (o, b) => o.or(b),
+    }
+}
+
 /// The ordering `fwd` (`fwd[p]` is the original index of position `p`; `inv` its inverse)
-/// renumbered as `[part 0 | part 1 | top]`: `(fwd, inv, a, b)` with part 0 the positions
-/// `0..a`, part 1 `a..b` and the top `b..n`, or `None` when no split pays off.
-pub(super) fn two_subtrees(
-    pattern: &Pattern,
-    fwd: &[usize],
-    inv: &[usize],
-) -> Option<(Vec<usize>, Vec<usize>, usize, usize)> {
+/// renumbered as `[part 0 | part 1 | top]` ([`Split`]), or `None` when no split pays off.
+pub(super) fn two_subtrees(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> Option<Split> {
     let n = fwd.len();
     if n < 4 {
         return None;
@@ -229,7 +276,14 @@ pub(super) fn two_subtrees(
     for (p, &i) in new_fwd.iter().enumerate() {
         new_inv[i] = p;
     }
-    Some((new_fwd, new_inv, sizes[0], sizes[0] + sizes[1]))
+    Some(Split {
+        fwd: new_fwd,
+        inv: new_inv,
+        a: sizes[0],
+        b: sizes[0] + sizes[1],
+        critical: best_cost,
+        entries: total,
+    })
 }
 
 /// The order from which [`SplitLower::backward_scatter`] reads each part's solution out in
