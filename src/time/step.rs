@@ -611,16 +611,22 @@ impl RhsRows {
     }
 
     avx2_method! {
-        /// `b[i] += (B v0 - h K u0)[i]` for the rows `i` stored alone, on AVX2's
+        /// `b[i] = h f[i] + (B v0 - h K u0)[i]` for the rows `i` stored alone, on AVX2's
         /// instructions where the processor has them (`linalg::with_avx2`).
-        fn singles_into / singles_avx2(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64])
-            => singles_here
+        fn singles_into / singles_avx2(
+            &self,
+            h: f64,
+            f: &[f64],
+            u0: &[f64],
+            v0: &[f64],
+            b: &mut [f64]
+        ) => singles_here
     }
 
     #[inline(always)]
-    fn singles_here(&self, h: f64, u0: &[f64], v0: &[f64], b: &mut [f64]) {
+    fn singles_here(&self, h: f64, f: &[f64], u0: &[f64], v0: &[f64], b: &mut [f64]) {
         let n = v0.len();
-        assert!(u0.len() == n);
+        assert!(u0.len() == n && f.len() == n);
         for (k, &i) in self.single.iter().enumerate() {
             let range = self.ptr[k]..self.ptr[k + 1];
             let (idx, bk) = (&self.idx[range.clone()], &self.bk[range]);
@@ -642,20 +648,20 @@ impl RhsRows {
                 sb[0] += v[0] * v0[j as usize];
                 sk[0] += v[1] * u0[j as usize];
             }
-            b[i] += (sb[0] + sb[1]) - h * (sk[0] + sk[1]);
+            b[i] = h * f[i] + ((sb[0] + sb[1]) - h * (sk[0] + sk[1]));
         }
     }
 
     avx2_method! {
-        /// `b[i - offset] += (B v0 - h K u0)[i]` for the rows `i` of the pairs `pairs`, on
-        /// AVX2's instructions where the processor has them (`linalg::with_avx2`).
+        /// `b[i - offset] = h f[i] + (B v0 - h K u0)[i]` for the rows `i` of the pairs `pairs`
+        /// (`fuv = [f, u0, v0]`), on AVX2's instructions where the processor has them
+        /// (`linalg::with_avx2`).
         fn pairs_into / pairs_avx2(
             &self,
             pairs: std::ops::Range<usize>,
             offset: usize,
             h: f64,
-            u0: &[f64],
-            v0: &[f64],
+            fuv: [&[f64]; 3],
             b: &mut [f64]
         ) => pairs_here
     }
@@ -666,12 +672,11 @@ impl RhsRows {
         pairs: std::ops::Range<usize>,
         offset: usize,
         h: f64,
-        u0: &[f64],
-        v0: &[f64],
+        [f, u0, v0]: [&[f64]; 3],
         b: &mut [f64],
     ) {
         let n = v0.len();
-        assert!(u0.len() == n);
+        assert!(u0.len() == n && f.len() == n);
         let mut ahead = self.blocks_ahead(pairs.start);
         for k in pairs {
             ahead(self.blk_ptr[k]);
@@ -713,21 +718,22 @@ impl RhsRows {
                     self.blocks::<false, _, _>(idx, kd, no_g, 0.0, uva)
                 }
             };
-            b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
-            b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
+            let r = self.pair[k];
+            b[i] = h * f[r] + ((s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1])));
+            b[i + 1] = h * f[r + 1] + ((s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3])));
         }
     }
 
     avx2_method! {
-        /// The same as `pairs_into` with the skew part: `b[i - offset] += (B v0 - h (K u0 +
-        /// G (v0 + c a0)))[i]`.
+        /// The same as `pairs_into` with the skew part: `b[i - offset] = h f[i] + (B v0 - h (K
+        /// u0 + G (v0 + c a0)))[i]` (`fuva = [f, u0, v0, a0]`).
         fn pairs_g_into / pairs_g_avx2(
             &self,
             pairs: std::ops::Range<usize>,
             offset: usize,
             h: f64,
             c: f64,
-            uva: [&[f64]; 3],
+            fuva: [&[f64]; 4],
             b: &mut [f64]
         ) => pairs_g_here
     }
@@ -739,11 +745,11 @@ impl RhsRows {
         offset: usize,
         h: f64,
         c: f64,
-        [u0, v0, a0]: [&[f64]; 3],
+        [f, u0, v0, a0]: [&[f64]; 4],
         b: &mut [f64],
     ) {
         let n = v0.len();
-        assert!(u0.len() == n && a0.len() == n);
+        assert!(u0.len() == n && a0.len() == n && f.len() == n);
         let mut ahead = self.blocks_ahead(pairs.start);
         for k in pairs {
             ahead(self.blk_ptr[k]);
@@ -795,8 +801,9 @@ impl RhsRows {
                     self.blocks_g(idx, vals, range, c, uva)
                 }
             };
-            b[i] += (s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1]));
-            b[i + 1] += (s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3]));
+            let r = self.pair[k];
+            b[i] = h * f[r] + ((s[0] + (sb[0] + sb[1])) - h * (s[1] + (sk[0] + sk[1])));
+            b[i + 1] = h * f[r + 1] + ((s[2] + (sb[2] + sb[3])) - h * (s[3] + (sk[2] + sk[3])));
         }
     }
 
@@ -1297,22 +1304,20 @@ impl Stepper {
     /// (module docs; `a0` is read only then).
     pub fn rhs_into(&self, u0: &[f64], v0: &[f64], a0: &[f64], f: &[f64], b: &mut [f64]) {
         let h = self.h_now;
-        for (bi, fi) in b.iter_mut().zip(f) {
-            *bi = h * fi;
-        }
-        // `b += B v0 - h K u0`, one row (or pair of rows) at a time.
+        // `b = h f + (B v0 - h K u0)`, one row (or pair of rows) at a time: `h f` is formed
+        // row by row with the rest, on the thread that forms the row.
         let r = &self.rhs_rows;
         let n = self.n;
-        assert!(b.len() == n && v0.len() == n && u0.len() == n);
+        assert!(b.len() == n && v0.len() == n && u0.len() == n && f.len() == n);
         let pairs = r.pair.len();
         let skew = self.coriolis == Coriolis::Extrapolated;
         assert!(!skew || a0.len() == n);
         let c = self.params.alpha * h;
         let part = |range: std::ops::Range<usize>, offset: usize, b: &mut [f64]| {
             if skew {
-                r.pairs_g_into(range, offset, h, c, [u0, v0, a0], b);
+                r.pairs_g_into(range, offset, h, c, [f, u0, v0, a0], b);
             } else {
-                r.pairs_into(range, offset, h, u0, v0, b);
+                r.pairs_into(range, offset, h, [f, u0, v0], b);
             }
         };
         match r.pair_mid {
@@ -1324,7 +1329,7 @@ impl Stepper {
             }
             None => part(0..pairs, 0, b),
         }
-        r.singles_into(h, u0, v0, b);
+        r.singles_into(h, f, u0, v0, b);
         if skew {
             r.singles_g_into(h, c, v0, a0, b);
         }
@@ -1660,6 +1665,7 @@ mod tests {
         let u: Vec<f64> = (0..n).map(|i| 1e-4 * (0.3 * i as f64).sin()).collect();
         let v: Vec<f64> = (0..n).map(|i| 1e-2 * (0.7 * i as f64).cos()).collect();
         let acc: Vec<f64> = (0..n).map(|i| 3.0 * (0.9 * i as f64).sin()).collect();
+        let f: Vec<f64> = (0..n).map(|i| 1e3 * (1.1 * i as f64).cos()).collect();
         let h = 2e-6;
         let c = 0.8 * h;
         let same = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits());
@@ -1681,7 +1687,7 @@ mod tests {
             let pairs = rows.pair.len();
             let mid = if halves { pairs / 2 } else { pairs };
             let cut = rows.pair.get(mid).copied().unwrap_or(n);
-            let mut b = vec![0.5; n];
+            let mut b = vec![f64::NAN; n];
             let (lo, hi) = b.split_at_mut(cut);
             for (range, offset, b) in [(0..mid, 0, lo), (mid..pairs, cut, hi)] {
                 #[cfg(target_arch = "x86_64")]
@@ -1689,20 +1695,20 @@ mod tests {
                     // SAFETY: called with `avx2` only where the processor has AVX2.
                     unsafe {
                         if g {
-                            rows.pairs_g_avx2(range, offset, h, c, [&u, &v, &acc], b);
+                            rows.pairs_g_avx2(range, offset, h, c, [&f, &u, &v, &acc], b);
                         } else {
-                            rows.pairs_avx2(range, offset, h, &u, &v, b);
+                            rows.pairs_avx2(range, offset, h, [&f, &u, &v], b);
                         }
                     }
                     continue;
                 }
                 if g {
-                    rows.pairs_g_here(range, offset, h, c, [&u, &v, &acc], b);
+                    rows.pairs_g_here(range, offset, h, c, [&f, &u, &v, &acc], b);
                 } else {
-                    rows.pairs_here(range, offset, h, &u, &v, b);
+                    rows.pairs_here(range, offset, h, [&f, &u, &v], b);
                 }
             }
-            rows.singles_here(h, &u, &v, &mut b);
+            rows.singles_here(h, &f, &u, &v, &mut b);
             if g {
                 rows.singles_g_into(h, c, &v, &acc, &mut b);
             }
@@ -1713,6 +1719,7 @@ mod tests {
         let check = |rows: &RhsRows, bv: &[f64], g: &[f64]| {
             let with_g = !g.is_empty();
             let whole = rhs(rows, with_g, false, false);
+            assert!(whole.iter().all(|x| x.is_finite()), "every row formed");
             assert!(same(&whole, &rhs(rows, with_g, false, true)), "halves");
             // The prefetch (on for large blocks) is a hint: the same bits.
             let mut other = rows.clone();
@@ -1728,7 +1735,7 @@ mod tests {
                 assert!(same(&whole, &rhs(rows, with_g, true, false)), "AVX2");
                 assert!(same(&whole, &rhs(rows, with_g, true, true)), "AVX2, halves");
             }
-            let mut reference = vec![0.5; n];
+            let mut reference: Vec<f64> = f.iter().map(|fi| h * fi).collect();
             crate::linalg::spmv_add(pattern, bv, 1.0, &v, &mut reference);
             crate::linalg::spmv_add(pattern, k, -h, &u, &mut reference);
             if with_g {
