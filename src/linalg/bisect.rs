@@ -209,8 +209,8 @@ mod tests {
         }
     }
 
-    /// A graph with an isolated vertex (a Dirichlet unknown) and two components is still
-    /// bisected, the isolated vertex on a side.
+    /// A graph with an isolated vertex (as a Dirichlet unknown's row and column can be) is
+    /// still bisected: the level structure starts elsewhere and the vertex joins a side.
     #[test]
     fn isolated_vertices_do_not_stop_the_bisection() {
         let base = grid(20, 20);
