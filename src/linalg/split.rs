@@ -70,13 +70,8 @@ pub(super) struct Split {
 /// 56,678). There AMD's split stays. `None` when neither splits.
 pub(super) fn best_split(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> Option<Split> {
     let own = two_subtrees(pattern, fwd, inv);
-    let bisected = super::bisect::bisected(pattern, inv).and_then(|(f, _, _)| {
-        let mut i = vec![0usize; f.len()];
-        for (p, &k) in f.iter().enumerate() {
-            i[k] = p;
-        }
-        two_subtrees(pattern, &f, &i)
-    });
+    let bisected = super::bisect::bisected(pattern, inv)
+        .and_then(|(f, _, _)| two_subtrees(pattern, &f, &inverse(&f)));
     match (own, bisected) {
         // Each entry the bisection adds is read too, by threads that share the memory's
         // bandwidth: it must shorten the critical path by more than it adds.
@@ -89,6 +84,15 @@ pub(super) fn best_split(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> Opt
         ),
         (o, b) => o.or(b),
     }
+}
+
+/// The inverse of the permutation `fwd`: `inv[fwd[p]] = p`.
+fn inverse(fwd: &[usize]) -> Vec<usize> {
+    let mut inv = vec![0usize; fwd.len()];
+    for (p, &i) in fwd.iter().enumerate() {
+        inv[i] = p;
+    }
+    inv
 }
 
 /// The ordering `fwd` (`fwd[p]` is the original index of position `p`; `inv` its inverse)
@@ -272,13 +276,9 @@ pub(super) fn two_subtrees(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> O
             }
         }
     }
-    let mut new_inv = vec![0usize; n];
-    for (p, &i) in new_fwd.iter().enumerate() {
-        new_inv[i] = p;
-    }
     Some(Split {
+        inv: inverse(&new_fwd),
         fwd: new_fwd,
-        inv: new_inv,
         a: sizes[0],
         b: sizes[0] + sizes[1],
         critical: best_cost,
