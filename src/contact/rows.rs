@@ -55,9 +55,9 @@
 //! columns, never a factorization; they are counted ([`RowSolver::stick_slip_changes`]).
 //! The loop stops after `10 + 4k` changes (k rows) in any case.
 
+use crate::linalg::dense_solve_in_place;
 use crate::linalg::with_avx2;
 use crate::time::integrator::TimeIntegrator;
-use crate::time::step::dense_solve_in_place;
 
 /// Most dofs one row acts on: two nodes of three components.
 pub const MAX_TERMS: usize = 6;

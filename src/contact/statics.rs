@@ -10,8 +10,8 @@
 //! its centre node alone, free to turn, is not, and there every rule may cycle.)
 
 use crate::contact::HalfSpace;
+use crate::linalg::dense_solve_in_place;
 use crate::linalg::{LinalgError, Pattern, SparseLu};
-use crate::time::step::dense_solve_in_place;
 
 /// The result of a static contact solve.
 #[derive(Debug, Clone)]

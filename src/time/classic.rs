@@ -553,7 +553,10 @@ impl TimeIntegrator for ClassicStepper {
         self.factorizations
     }
     fn symbolic_analyses(&self) -> usize {
-        usize::from(!self.is_diagonal())
+        match &self.solver {
+            Solver::Lu(lu) => crate::linalg::Factorization::symbolic_analyses(&**lu),
+            Solver::Diagonal(_) => 0,
+        }
     }
 }
 

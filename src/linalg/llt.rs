@@ -1,0 +1,363 @@
+//! The tuned sparse Cholesky factorization ([`SparseLlt`]): faer's symbolic analysis (AMD,
+//! split for two threads from `SPLIT_MIN_ORDER` on) made once and shared, its numeric
+//! factor copied into the solve's layouts as [`super::SparseLu`]'s.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
+};
+use faer::sparse::SparseColMatRef;
+use faer::{Par, Side};
+use std::sync::Arc;
+
+use super::lu::{column_ordering, Ordering};
+use super::solver::Counts;
+use super::split::{self, SplitLower};
+use super::supernodal::{prefetch_when_large, Supernodal, DENSE_SUPERNODAL_MIN_ORDER};
+use super::triangle::Triangle;
+use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
+
+/// Sparse Cholesky factorization `A = L L^T` of a symmetric positive definite matrix (only
+/// the upper triangle is read), symbolic analysis (AMD ordering) once, solve without
+/// allocation.
+///
+/// The symbolic analysis is held behind an [`Arc`] (as faer's own `SymbolicLlt`): a second
+/// factorization of other values on the same pattern ([`SparseLlt::with_values`]) shares it
+/// and makes no analysis of its own.
+pub struct SparseLlt {
+    /// faer's symbolic analysis: the ordering, the elimination tree, the factor's structure.
+    pub(super) symbolic: Arc<SymbolicCholesky<usize>>,
+    /// The analyses and numeric factorizations made.
+    pub(super) counts: Counts,
+    /// faer's factor (emptied after each factorization: the solve uses `l`).
+    pub(super) numeric: Vec<f64>,
+    pub(super) l: Triangle,
+    /// `L^T` by rows (the columns of `L`).
+    pub(super) lt: Triangle,
+    /// `L` in dense supernodes (from `DENSE_SUPERNODAL_MIN_ORDER` on) or in the three parts
+    /// of a split ordering; then `l` and `lt` stay empty.
+    pub(super) stored: Option<StoredLower>,
+    /// The order from which dense supernodes are used (`DENSE_SUPERNODAL_MIN_ORDER`).
+    pub(super) dense_from: usize,
+    /// The ordering's two independent parts, positions `0..a` and `a..b`, before the top
+    /// (`split::two_subtrees`), when it has them.
+    pub(super) parts: Option<(usize, usize)>,
+    pub(super) perm_fwd: Vec<usize>,
+    pub(super) perm_inv: Vec<usize>,
+    pub(super) work: Vec<f64>,
+    pub(super) n: usize,
+}
+
+/// A Cholesky factor `L` stored otherwise than whole by rows: whole in dense supernodes, or
+/// in the three parts of an ordering split for two threads ([`SplitLower`], by rows or in
+/// dense supernodes).
+#[derive(Debug, Clone)]
+pub(super) enum StoredLower {
+    Supernodes(Supernodal),
+    Split(Box<SplitLower>),
+}
+
+impl std::fmt::Debug for SparseLlt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SparseLlt").field("n", &self.n).finish()
+    }
+}
+
+impl SparseLlt {
+    /// The same factor solved in dense supernodes (`dense`) or by rows, whatever the order.
+    #[cfg(test)]
+    pub(super) fn with_layout(mut self, pattern: &Pattern, values: &[f64], dense: bool) -> Self {
+        self.dense_from = if dense { 0 } else { usize::MAX };
+        self.refactor(pattern, values).unwrap();
+        self
+    }
+
+    /// Analyses (AMD ordering, split into two independent parts and a top for two threads
+    /// from `SPLIT_MIN_ORDER` on, as [`SparseLu`]) and factors.
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Self::build(pattern, values, pattern.nrows() >= SPLIT_MIN_ORDER)
+    }
+
+    /// Analyses, with the AMD ordering split for two threads when `split` and the ordering
+    /// has two independent parts, and factors.
+    pub(super) fn build(
+        pattern: &Pattern,
+        values: &[f64],
+        split: bool,
+    ) -> Result<Self, LinalgError> {
+        let supernodal = pattern.nrows() >= DENSE_SUPERNODAL_MIN_ORDER;
+        Self::build_with(pattern, values, split, supernodal)
+    }
+
+    /// [`SparseLlt::build`] with faer's supernodal factorization (`supernodal`) or its
+    /// simplicial one.
+    pub(super) fn build_with(
+        pattern: &Pattern,
+        values: &[f64],
+        split: bool,
+        supernodal: bool,
+    ) -> Result<Self, LinalgError> {
+        let n = pattern.nrows();
+        let mut parts = None;
+        let mut custom = None;
+        if split {
+            let (fwd, inv) = column_ordering(pattern, Ordering::Amd)?;
+            if let Some(s) = split::best_split(pattern, &fwd, &inv) {
+                custom = Some((s.fwd, s.inv));
+                parts = Some((s.a, s.b));
+            }
+        }
+        // From the order of the dense layout on, faer's supernodal factorization (dense
+        // kernels on its relaxed supernodes), converted to the layout's columns; below it
+        // the simplicial one, whose columns the rows are built from directly.
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: if supernodal {
+                faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL
+            } else {
+                faer::sparse::linalg::SupernodalThreshold::FORCE_SIMPLICIAL
+            },
+            ..Default::default()
+        };
+        let ordering = match &custom {
+            Some((f, i)) => SymmetricOrdering::Custom(PermRef::new_checked(f, i, n)),
+            None => SymmetricOrdering::Amd,
+        };
+        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, ordering, params)
+            .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
+        let (perm_fwd, perm_inv) = match symbolic.perm() {
+            Some(p) => {
+                let (f, i) = p.arrays();
+                (f.to_vec(), i.to_vec())
+            }
+            None => ((0..n).collect(), (0..n).collect()),
+        };
+        let mut llt = Self {
+            numeric: Vec::new(),
+            symbolic: Arc::new(symbolic),
+            counts: Counts::analysed(),
+            l: Triangle::default(),
+            lt: Triangle::default(),
+            stored: None,
+            dense_from: DENSE_SUPERNODAL_MIN_ORDER,
+            parts,
+            perm_fwd,
+            perm_inv,
+            work: vec![0.0; n],
+            n,
+        };
+        llt.refactor(pattern, values)?;
+        Ok(llt)
+    }
+
+    /// A second numeric factorization of `values` on the same pattern, on this one's
+    /// symbolic analysis (shared, not made again: no analysis is counted for it).
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        let mut llt = Self {
+            numeric: Vec::new(),
+            symbolic: Arc::clone(&self.symbolic),
+            counts: Counts::default(),
+            l: Triangle::default(),
+            lt: Triangle::default(),
+            stored: None,
+            dense_from: self.dense_from,
+            parts: self.parts,
+            perm_fwd: self.perm_fwd.clone(),
+            perm_inv: self.perm_inv.clone(),
+            work: vec![0.0; self.n],
+            n: self.n,
+        };
+        llt.refactor(pattern, values)?;
+        Ok(llt)
+    }
+
+    /// Order of the matrix.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Numeric factorization of new values on the same pattern.
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix is not positive definite.
+    pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        let mat = SparseColMatRef::new(pattern.as_ref(), values);
+        let mut scratch = MemBuffer::new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        self.numeric.resize(self.symbolic.len_val(), 0.0);
+        self.symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut self.numeric,
+                mat,
+                Side::Upper,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut scratch),
+                Default::default(),
+            )
+            .map_err(|e| LinalgError::Singular(format!("{e:?}")))?;
+        let columns;
+        let (cp, ri, numeric): (&[usize], &[usize], &[f64]) = match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(simp) => {
+                (simp.col_ptr(), simp.row_idx(), &self.numeric)
+            }
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                columns = supernodal_columns(sn, &self.numeric);
+                (&columns.0, &columns.1, &columns.2)
+            }
+        };
+        let dense = self.n >= self.dense_from;
+        let layout = if dense {
+            split::Layout::Dense
+        } else {
+            split::Layout::Rows {
+                forward: true,
+                backward: true,
+            }
+        };
+        let split = self.parts.and_then(|ab| {
+            SplitLower::from_lower_csc(cp, ri, numeric, false, ab, layout)
+                .map(|l| StoredLower::Split(Box::new(l)))
+        });
+        (self.l, self.lt) = Default::default();
+        self.stored = match split {
+            Some(s) => Some(s),
+            None if dense => Some(StoredLower::Supernodes(Supernodal::from_lower_csc(
+                cp, ri, numeric, false,
+            ))),
+            None => {
+                self.l = Triangle::from_csc(cp, ri, numeric, false, false, true);
+                self.lt = Triangle::from_csc(cp, ri, numeric, false, true, false);
+                None
+            }
+        };
+        match &mut self.stored {
+            Some(StoredLower::Split(l)) => prefetch_when_large(l.dense_parts_mut()),
+            Some(StoredLower::Supernodes(l)) => prefetch_when_large([l]),
+            None => {}
+        }
+        // The solve's work vector: the split's spread vector, or the unknowns.
+        let len = match &mut self.stored {
+            Some(StoredLower::Split(l)) => {
+                l.set_scatter(&self.perm_fwd);
+                l.spread_len()
+            }
+            _ => self.n,
+        };
+        self.work.resize(len, 0.0);
+        self.numeric = Vec::new();
+        self.counts.factorizations += 1;
+        Ok(())
+    }
+
+    /// Number of stored values of the factor `L` (diagonal included).
+    pub fn factor_nnz(&self) -> usize {
+        match &self.stored {
+            Some(StoredLower::Supernodes(l)) => l.nnz,
+            Some(StoredLower::Split(l)) => l.nnz(),
+            None => self.l.nnz(),
+        }
+    }
+
+    /// Bytes of the factor that a solve reads: dense supernodes twice (one copy for both
+    /// sweeps), by rows the two copies (`L` and `L^T`) once each.
+    pub fn solve_bytes(&self) -> usize {
+        match &self.stored {
+            Some(StoredLower::Supernodes(l)) => 2 * l.bytes(),
+            Some(StoredLower::Split(l)) => l.solve_bytes(),
+            None => self.l.bytes() + self.lt.bytes(),
+        }
+    }
+
+    /// The orders of the two parts solved side by side and of the top after them, when the
+    /// factor is split for two threads (module `split`).
+    pub fn parts(&self) -> Option<(usize, usize, usize)> {
+        match &self.stored {
+            Some(StoredLower::Split(l)) => Some(l.sizes()),
+            _ => None,
+        }
+    }
+
+    avx2_method! {
+        /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
+        /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`). On AVX2's instructions where
+        /// the processor has them (the macro `with_avx2`).
+        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
+    }
+
+    #[inline(always)]
+    pub(super) fn solve_here(&mut self, rhs: &mut [f64]) {
+        let w = &mut self.work;
+        if let Some(StoredLower::Split(l)) = &mut self.stored {
+            // On the split's spread vector: each part solved in place.
+            l.gather_forward(&self.perm_fwd, rhs, w);
+            l.backward_scatter(w, rhs);
+            return;
+        }
+        for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
+            *wi = rhs[r];
+        }
+        match &mut self.stored {
+            Some(StoredLower::Supernodes(l)) => {
+                l.forward(w);
+                l.backward(w);
+            }
+            Some(StoredLower::Split(_)) => unreachable!("solved above"),
+            None => {
+                self.l.solve(w);
+                self.lt.solve(w);
+            }
+        }
+        for (xi, &c) in rhs.iter_mut().zip(&self.perm_inv) {
+            *xi = w[c];
+        }
+    }
+}
+
+/// The columns (CSC: column pointers, row indices, values) of the lower triangular factor
+/// held by faer's supernodal Cholesky `sn` with the values `val`: supernode `s`, columns
+/// `j0..j1`, is a column-major block of `j1 - j0 + |P|` rows (the diagonal block, then the
+/// rows `P` below it); column `j0 + k` is its rows `k..` of the diagonal block and `P`.
+/// Entries that are exactly zero off the diagonal are left out: they are the padding of
+/// faer's relaxed supernodes (outside the elimination's structure, they stay zero), so the
+/// columns are those of the simplicial factor and a solve reads no more bytes.
+pub(super) fn supernodal_columns(
+    sn: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<usize>,
+    val: &[f64],
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let n = sn.nrows();
+    let (mut cp, mut ri, mut vals) = (Vec::with_capacity(n + 1), Vec::new(), Vec::new());
+    cp.push(0);
+    let (begin, end, vptr) = (
+        sn.supernode_begin(),
+        sn.supernode_end(),
+        sn.col_ptr_for_val(),
+    );
+    for s in 0..sn.n_supernodes() {
+        let (j0, j1) = (begin[s], end[s]);
+        let pattern = sn.supernode(s).pattern();
+        let (w, rows) = (j1 - j0, j1 - j0 + pattern.len());
+        let blk = &val[vptr[s]..vptr[s + 1]];
+        debug_assert_eq!(blk.len(), rows * w);
+        for k in 0..w {
+            let col = &blk[k * rows..(k + 1) * rows];
+            for (r, &v) in col.iter().enumerate().skip(k) {
+                if v != 0.0 || r == k {
+                    ri.push(if r < w { j0 + r } else { pattern[r - w] });
+                    vals.push(v);
+                }
+            }
+            cp.push(ri.len());
+        }
+    }
+    (cp, ri, vals)
+}

@@ -1,0 +1,275 @@
+//! The solver behind one trait ([`Factorization`]): factor on a pattern, refactor new values
+//! on the same symbolic analysis, solve in place without allocating, and count the symbolic
+//! analyses and numeric factorizations made. [`Factor`] is the step matrices' factor: the
+//! tuned LU or Cholesky.
+
+use super::{is_symmetric, Ordering, Pattern, SparseLlt, SparseLu};
+
+/// Errors of the linear algebra layer.
+#[derive(Debug, thiserror::Error)]
+pub enum LinalgError {
+    /// The symbolic analysis failed (out of memory, bad pattern).
+    #[error("sparse LU analysis failed: {0}")]
+    Symbolic(String),
+    /// The numeric factorization failed: the matrix is singular.
+    #[error("the system matrix is singular (sparse LU failed: {0}); check the supports")]
+    Singular(String),
+}
+
+/// A sparse direct solver of `A x = b` for the matrices of one sparsity pattern.
+///
+/// Its work splits in two: a symbolic analysis of the pattern (the fill-reducing ordering
+/// and, for Cholesky, the elimination tree and the structure of the factor), made once, and
+/// a numeric factorization of each matrix on that pattern. The step matrix
+/// `A = M + alpha h C + alpha^2 h^2/2 K` (paper Eq. 18, DESIGN §1) keeps the pattern of `M`,
+/// `C` and `K` for every step length `h`: another `h` (the subdivision's contact events) is a
+/// numeric factorization on the run's one analysis ([`Factorization::refactor`],
+/// [`Factorization::with_values`]). The solve runs in place on memory allocated when
+/// factoring, so that the time loop does not allocate.
+///
+/// The counts are kept by the factorization itself, where the work is done:
+/// [`Factorization::symbolic_analyses`] is 1 for one made by [`Factorization::factor`] and
+/// 0 for one made by [`Factorization::with_values`] (which shares the analysis), and every
+/// successful numeric factorization adds one to [`Factorization::numeric_factorizations`].
+///
+/// Implementations: the reference, faer's own factorizations and solves
+/// ([`super::FaerLu`], [`super::FaerLlt`]), and the tuned ones ([`SparseLu`], [`SparseLlt`]
+/// and [`Factor`], their compact rows, dense supernodes and two-part split), checked
+/// against the reference (the tests of this module, `tests/factor.rs`).
+pub trait Factorization: Sized {
+    /// Analyses `pattern` and factors `values` on it.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the analysis fails or the matrix cannot be factored (singular;
+    /// for a Cholesky factorization, not positive definite).
+    fn factor(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError>;
+
+    /// Factors new `values` on the same `pattern`, on the existing symbolic analysis.
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix cannot be factored.
+    fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError>;
+
+    /// A second factorization, of `values` on the same `pattern`, sharing this one's
+    /// symbolic analysis (none of its own).
+    ///
+    /// # Errors
+    /// [`LinalgError::Singular`] when the matrix cannot be factored.
+    fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError>;
+
+    /// `rhs <- A^{-1} rhs`, without allocating.
+    fn solve_in_place(&mut self, rhs: &mut [f64]);
+
+    /// Order of the matrix.
+    fn n(&self) -> usize;
+
+    /// Symbolic analyses this factorization made (1 from [`Factorization::factor`], 0 from
+    /// [`Factorization::with_values`]; never more from [`Factorization::refactor`]).
+    fn symbolic_analyses(&self) -> usize;
+
+    /// Numeric factorizations this factorization made, the first one included.
+    fn numeric_factorizations(&self) -> usize;
+}
+
+/// The counts of a [`Factorization`]: symbolic analyses and numeric factorizations made.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(super) struct Counts {
+    /// Symbolic analyses made.
+    pub(super) analyses: usize,
+    /// Numeric factorizations made.
+    pub(super) factorizations: usize,
+}
+
+impl Counts {
+    /// The counts of a factorization that made its own analysis and no numeric factorization
+    /// yet.
+    pub(super) fn analysed() -> Self {
+        Self {
+            analyses: 1,
+            factorizations: 0,
+        }
+    }
+}
+
+/// [`Factorization`] for a type with inherent `refactor`, `with_values`, `solve_in_place`
+/// and `n` and a field `counts` ([`Counts`]), factored by `$factor`.
+macro_rules! factorization_by_counts {
+    ($t:ty, $factor:expr) => {
+        impl $crate::linalg::Factorization for $t {
+            fn factor(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+                $factor(pattern, values)
+            }
+            fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+                <$t>::refactor(self, pattern, values)
+            }
+            fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+                <$t>::with_values(self, pattern, values)
+            }
+            fn solve_in_place(&mut self, rhs: &mut [f64]) {
+                <$t>::solve_in_place(self, rhs)
+            }
+            fn n(&self) -> usize {
+                <$t>::n(self)
+            }
+            fn symbolic_analyses(&self) -> usize {
+                self.counts.analyses
+            }
+            fn numeric_factorizations(&self) -> usize {
+                self.counts.factorizations
+            }
+        }
+    };
+}
+pub(super) use factorization_by_counts;
+
+factorization_by_counts!(SparseLu, SparseLu::new);
+factorization_by_counts!(SparseLlt, SparseLlt::new);
+
+/// The step matrices' factor: [`Factorization::factor`] is [`Factor::auto`].
+impl Factorization for Factor {
+    fn factor(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Factor::auto(pattern, values)
+    }
+    fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        Factor::refactor(self, pattern, values)
+    }
+    fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Factor::with_values(self, pattern, values)
+    }
+    fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        Factor::solve_in_place(self, rhs)
+    }
+    fn n(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.n(),
+            Factor::Llt(llt) => llt.n(),
+        }
+    }
+    fn symbolic_analyses(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.counts.analyses,
+            Factor::Llt(llt) => llt.counts.analyses,
+        }
+    }
+    fn numeric_factorizations(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.counts.factorizations,
+            Factor::Llt(llt) => llt.counts.factorizations,
+        }
+    }
+}
+
+/// Which factorization a step matrix gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FactorKind {
+    /// LU with partial pivoting and the given column ordering (the reference: any matrix).
+    Lu(Ordering),
+    /// Cholesky `L L^T` (AMD ordering): symmetric positive definite matrices only.
+    Llt,
+}
+
+/// A factored step matrix: LU (the reference) or Cholesky.
+// One or two per stepper: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug)]
+pub enum Factor {
+    /// LU.
+    Lu(SparseLu),
+    /// Cholesky.
+    Llt(SparseLlt),
+}
+
+impl Factor {
+    /// Factors `values` on `pattern` as `kind` says.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the matrix is singular (or, for [`FactorKind::Llt`], not
+    /// positive definite).
+    pub fn new(pattern: &Pattern, values: &[f64], kind: FactorKind) -> Result<Self, LinalgError> {
+        Ok(match kind {
+            FactorKind::Lu(o) => Factor::Lu(SparseLu::with_ordering(pattern, values, o)?),
+            FactorKind::Llt => Factor::Llt(SparseLlt::new(pattern, values)?),
+        })
+    }
+
+    /// A Cholesky factor where the matrix is symmetric (to 1e-14 of its largest entry) and
+    /// positive definite, else an LU (AMD): the Cholesky halves the factor and, from 10,000
+    /// dofs on, runs on faer's supernodal kernels (the 192-ring disk's stiffness in seconds
+    /// where the LU takes about a minute).
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the matrix is singular.
+    pub fn auto(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        if is_symmetric(pattern, values, 1e-14) {
+            if let Ok(f) = Factor::new(pattern, values, FactorKind::Llt) {
+                return Ok(f);
+            }
+        }
+        Factor::new(pattern, values, FactorKind::Lu(Ordering::Amd))
+    }
+
+    /// The kind.
+    pub fn kind(&self) -> FactorKind {
+        match self {
+            Factor::Lu(lu) => FactorKind::Lu(lu.ordering()),
+            Factor::Llt(_) => FactorKind::Llt,
+        }
+    }
+
+    /// A second numeric factorization on the same analysis.
+    ///
+    /// # Errors
+    /// As [`Factor::new`].
+    pub fn with_values(&self, pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Ok(match self {
+            Factor::Lu(lu) => Factor::Lu(lu.with_values(pattern, values)?),
+            Factor::Llt(llt) => Factor::Llt(llt.with_values(pattern, values)?),
+        })
+    }
+
+    /// New values on the same analysis.
+    ///
+    /// # Errors
+    /// As [`Factor::new`].
+    pub fn refactor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LinalgError> {
+        match self {
+            Factor::Lu(lu) => lu.refactor(pattern, values),
+            Factor::Llt(llt) => llt.refactor(pattern, values),
+        }
+    }
+
+    /// The orders of the two parts solved side by side and of the top, when the factor is
+    /// split for two threads ([`SparseLu::parts`], [`SparseLlt::parts`]).
+    pub fn parts(&self) -> Option<(usize, usize, usize)> {
+        match self {
+            Factor::Lu(lu) => lu.parts(),
+            Factor::Llt(llt) => llt.parts(),
+        }
+    }
+
+    /// Stored entries of the factors (`L + U`, or `L`).
+    pub fn factor_nnz(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.factor_nnz(),
+            Factor::Llt(llt) => llt.factor_nnz(),
+        }
+    }
+
+    /// Bytes of the factors that a solve reads, as stored (each sweep's arrays; one copy
+    /// read by both sweeps counts twice).
+    pub fn solve_bytes(&self) -> usize {
+        match self {
+            Factor::Lu(lu) => lu.solve_bytes(),
+            Factor::Llt(llt) => llt.solve_bytes(),
+        }
+    }
+
+    /// Solves `A x = rhs` in place, without allocating.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        match self {
+            Factor::Lu(lu) => lu.solve_in_place(rhs),
+            Factor::Llt(llt) => llt.solve_in_place(rhs),
+        }
+    }
+}

@@ -1,0 +1,149 @@
+//! Operations on a matrix given by its sparsity pattern and values: the pattern type, the
+//! Dirichlet identity rows, `y = A x` and `y += s A x`, the quadratic form `x^T A x`, the
+//! symmetry test, the positions of the transposed entries and a Matrix Market writer. These
+//! are also the plain references the tuned kernels are checked against (module
+//! [`super::rhs`]).
+
+use faer::sparse::SymbolicSparseColMat;
+
+/// A square sparse pattern in compressed sparse column form (faer's symbolic matrix).
+pub type Pattern = SymbolicSparseColMat<usize>;
+
+/// Replaces the rows and columns of the `fixed` dofs by those of the identity (Dirichlet
+/// conditions imposed on a matrix sharing `pattern`; the right-hand side is lifted by the
+/// caller).
+pub fn set_identity_rows(pattern: &Pattern, values: &mut [f64], fixed: &[bool]) {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if fixed[i] || fixed[j] {
+                values[p] = if i == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+}
+
+/// `y = A x` for a CSC matrix given by its pattern and values (overwrites `y`).
+pub fn spmv_into(pattern: &Pattern, values: &[f64], x: &[f64], y: &mut [f64]) {
+    y.fill(0.0);
+    spmv_add(pattern, values, 1.0, x, y);
+}
+
+/// `y += s A x` for a CSC matrix.
+pub fn spmv_add(pattern: &Pattern, values: &[f64], s: f64, x: &[f64], y: &mut [f64]) {
+    let col_ptr = pattern.col_ptr();
+    let row_idx = pattern.row_idx();
+    for (j, &xj) in x.iter().enumerate() {
+        if xj == 0.0 {
+            continue;
+        }
+        let sx = s * xj;
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            y[row_idx[p]] += values[p] * sx;
+        }
+    }
+}
+
+/// `x^T A x` for a CSC matrix.
+pub fn quadratic_form(pattern: &Pattern, values: &[f64], x: &[f64]) -> f64 {
+    let col_ptr = pattern.col_ptr();
+    let row_idx = pattern.row_idx();
+    assert!(x.len() == pattern.ncols() && values.len() >= col_ptr[x.len()]);
+    let mut s = 0.0;
+    for (j, &xj) in x.iter().enumerate() {
+        let range = col_ptr[j]..col_ptr[j + 1];
+        // Four partial sums over the column (a dot product with a gather).
+        let mut acc = [0.0; 4];
+        let (ri, va) = (&row_idx[range.clone()], &values[range]);
+        let (ri4, va4) = (ri.chunks_exact(4), va.chunks_exact(4));
+        let (ri_rest, va_rest) = (ri4.remainder(), va4.remainder());
+        for (ic, vc) in ri4.zip(va4) {
+            for k in 0..4 {
+                acc[k] += vc[k] * x[ic[k]];
+            }
+        }
+        for (&i, &v) in ri_rest.iter().zip(va_rest) {
+            acc[0] += v * x[i];
+        }
+        s += ((acc[0] + acc[1]) + (acc[2] + acc[3])) * xj;
+    }
+    s
+}
+
+/// True when the values on `pattern` are symmetric to within `rel_tol` times the largest
+/// magnitude (the pattern itself must be structurally symmetric: an entry without its
+/// transposed partner makes the matrix unsymmetric).
+pub fn is_symmetric(pattern: &Pattern, values: &[f64], rel_tol: f64) -> bool {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    let scale = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let tol = rel_tol * scale;
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if i <= j {
+                continue;
+            }
+            // Entry (i, j) below the diagonal: find (j, i) in column i.
+            let col = &ri[cp[i]..cp[i + 1]];
+            match col.binary_search(&j) {
+                Ok(q) => {
+                    if (values[p] - values[cp[i] + q]).abs() > tol {
+                        return false;
+                    }
+                }
+                Err(_) => return false,
+            }
+        }
+    }
+    true
+}
+
+/// For each stored entry `(i, j)` of `pattern`, the position of `(j, i)`; None when the
+/// pattern is not structurally symmetric.
+pub fn transpose_positions(pattern: &Pattern) -> Option<Vec<usize>> {
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut t = vec![0; cp[pattern.ncols()]];
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            let col = &ri[cp[i]..cp[i + 1]];
+            t[p] = cp[i] + col.binary_search(&j).ok()?;
+        }
+    }
+    Some(t)
+}
+
+/// Writes the matrix `values` on `pattern` to `out` in Matrix Market coordinate format
+/// (`real general`, 1-based indices, every stored entry).
+///
+/// # Errors
+/// I/O errors of `out`.
+pub fn write_matrix_market<W: std::io::Write>(
+    out: &mut W,
+    pattern: &Pattern,
+    values: &[f64],
+    comment: &str,
+) -> std::io::Result<()> {
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    writeln!(out, "%%MatrixMarket matrix coordinate real general")?;
+    for line in comment.lines() {
+        writeln!(out, "% {line}")?;
+    }
+    writeln!(
+        out,
+        "{} {} {}",
+        pattern.nrows(),
+        pattern.ncols(),
+        values.len()
+    )?;
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            writeln!(out, "{} {} {:e}", ri[p] + 1, j + 1, values[p])?;
+        }
+    }
+    Ok(())
+}
