@@ -11,8 +11,9 @@ use softway::linalg::{
     is_symmetric, spmv_add, spmv_into, write_matrix_market, FactorKind, FaerLu, Ordering, Pattern,
 };
 use softway::mesh::generators::disk_rings;
+use softway::model::LinearModel;
 use softway::problems::bar_model;
-use softway::time::step::{FactorChoice, LinearModel, Stepper};
+use softway::time::step::{FactorChoice, Stepper};
 use softway::time::SpaceTimeParams;
 use softway::wheel::{WheelModel, WheelSpec};
 
