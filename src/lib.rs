@@ -36,9 +36,11 @@
 //! Space-time: `x = v1`, `U = u0 + h(1-beta)v0`, `mu_u = h beta`, `V = 0`, `mu_v = 1`, and
 //! `lambda` is an impulse (N s). Generalized-alpha family (Newmark, HHT, generalized-alpha,
 //! central difference): `x = a1`, `mu_u = beta_N h^2`, `mu_v = gamma_N h`, and `lambda` is a
-//! force (N). The contract: `predict` (`U`, `V`, `x_free = A^{-1} b`), `apply_inverse`,
-//! `finish`, `maps`, `stiffness_point` (where `K u` is evaluated), `set_step` (another `h`
-//! on the same symbolic analysis).
+//! force (N). The contract: `predict` (`U`, `V`, `x_free = A^{-1} b`; it returns the
+//! [`time::integrator::Step`] with the maps `mu_u`, `mu_v`, which the caller passes on to
+//! `finish`), `inverse_column` (`A^{-1} e_d`), `finish`, `stiffness_point` (where `K u` is
+//! evaluated), `set_step` (another `h` on the same symbolic analysis). The model, the loads
+//! and the states that both contracts use are in [`model`], below `time` and `contact`.
 //!
 //! **The contact-treatment contract** ([`contact::ContactTreatment`], after rapier's one-
 //! and two-body constraints). A pair (node against obstacle, node against node:
@@ -49,7 +51,8 @@
 //! (`|lambda| <= mu_f lambda_n`, for friction), which [`contact::rows::RowSolver`] solves
 //! through the integrator's factored matrix and cached columns `A^{-1} e_d` (no
 //! refactorization on a change of the active set); it judges the solution (accept, solve
-//! again, step back) and records the pairs' forces (always in N).
+//! again, step back) and records the pairs' forces (always in N). It works with a narrow
+//! [`contact::Context`] that the driver lends it each step, not with the driver's engine.
 //!
 //! **Friction** (first slice; `Problem::friction`, scenario key `contact.friction`). The
 //! Coulomb coefficient `mu` is carried by the treatment (given when it is built). With
@@ -80,6 +83,8 @@
 //! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (dense).
 //! - [`assembly`]: sparsity pattern once, element scatter (serial and parallel).
 //! - [`linalg`]: sparse products, sparse LU with reusable symbolic analysis.
+//! - [`model`]: the linear model, the load, the states and the pairs' states (below `time`
+//!   and `contact`).
 //! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step, and
 //!   the classic integrators.
 //! - [`contact`]: obstacles, pairs (node-obstacle, node-node), constraint rows, and the
@@ -108,6 +113,7 @@ pub mod frame;
 pub mod linalg;
 pub mod material;
 pub mod mesh;
+pub mod model;
 pub mod modes;
 pub mod output;
 pub mod problems;

@@ -4,8 +4,8 @@ use crate::assembly::Assembler;
 use crate::contact::{Obstacle, Pair, Treatment, Wall};
 use crate::element::bar2;
 use crate::mesh::{Cells, Mesh};
+use crate::model::LinearModel;
 use crate::simulation::Problem;
-use crate::time::step::LinearModel;
 use crate::time::Integrator;
 
 /// An elastic bar moving rigidly towards a rigid wall (paper §3.1, Fig. 8).

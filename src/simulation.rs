@@ -13,24 +13,32 @@
 //! step is reported to the observer only when it can no longer be revised, so outputs never
 //! hold a step that was undone.
 //!
-//! The [`Engine`] is what a treatment works with: the integrator, the pairs' geometry, the
-//! constraint rows and their solution ([`RowSolver`]), the loads and the work vectors.
+//! The [`Engine`] owns the integrator, the pairs and obstacles, the constraint rows and
+//! their solution ([`RowSolver`]), the loads and the work vectors; for each step it lends the
+//! treatment a [`Context`] (references into it, no allocation), the treatment's whole view
+//! of the engine. The treatment's counters ([`Counts`]) and errors
+//! ([`crate::contact::ContactError`]) are contact's own; the run reports them in [`RunStats`]
+//! and [`SimError`]. The model, the load and the states ([`LinearModel`], [`LoadFn`],
+//! [`State`], [`Snapshot`]) are in [`crate::model`] (re-exported here: `LoadFn`,
+//! `Snapshot`).
 
+use crate::contact::build as build_treatment;
+use crate::contact::context::{ContactError, Context, Counts, Integ, Scratch};
 use crate::contact::mass_redistribution::redistribute_mass;
-use crate::contact::pair::{Geometry, Pair};
+use crate::contact::pair::Pair;
 use crate::contact::rows::RowSolver;
-use crate::contact::treatment::{build as build_treatment, ContactTreatment, Treatment};
-use crate::contact::{FrictionLaw, Obstacle, PairState};
+use crate::contact::treatment::{ContactTreatment, Treatment};
+use crate::contact::{FrictionLaw, Obstacle};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
+use crate::model::{LinearModel, PairMode, PairState, State};
+pub use crate::model::{LoadFn, Snapshot};
+use crate::time::choice::{BuildError, Integrator};
 use crate::time::classic::{ClassicError, ClassicStepper, Dirichlet, Kinematic};
-use crate::time::integrator::{BuildError, Integrator, State, TimeIntegrator};
-use crate::time::step::{FactorChoice, LinearModel, Stepper};
+use crate::time::integrator::TimeIntegrator;
+use crate::time::step::{FactorChoice, Stepper};
 use crate::time::SpaceTimeParams;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// External force at time `t` (s), written into the slice (N per dof; overwrite it).
-pub type LoadFn = Box<dyn Fn(f64, &mut [f64]) + Send + Sync>;
 
 /// Everything the driver needs: the model, the integrator and the contact treatment,
 /// supports, loads, obstacles, contact pairs and the initial state.
@@ -89,26 +97,6 @@ impl std::fmt::Debug for Problem {
             .field("pairs", &self.pairs.len())
             .field("steps", &self.steps)
             .finish()
-    }
-}
-
-/// The state at the end of a step, with the pairs' states.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Snapshot {
-    /// Step index (0: the initial state).
-    pub k: usize,
-    /// Time, s.
-    pub t: f64,
-    /// `u`, `v`, `a`.
-    pub state: State,
-    /// Contact pairs.
-    pub pairs: Vec<PairState>,
-}
-
-impl std::ops::Deref for Snapshot {
-    type Target = State;
-    fn deref(&self) -> &State {
-        &self.state
     }
 }
 
@@ -248,7 +236,6 @@ impl Relocating {
 
     /// Relabels the pairs' states.
     fn pairs(&mut self, states: &mut [PairState]) {
-        use crate::contact::softway::PairMode;
         let map = |m: usize| self.node_map.get(m).copied().flatten();
         for (p, src) in self.pairs.iter().enumerate() {
             self.pair_scratch[p] = match *src {
@@ -295,6 +282,14 @@ pub enum SimError {
     },
 }
 
+impl From<ContactError> for SimError {
+    fn from(e: ContactError) -> Self {
+        match e {
+            ContactError::Linalg(l) => SimError::Linalg(l),
+        }
+    }
+}
+
 impl From<BuildError> for SimError {
     fn from(e: BuildError) -> Self {
         match e {
@@ -304,7 +299,7 @@ impl From<BuildError> for SimError {
     }
 }
 
-/// What a treatment works with (module docs).
+/// What the driver owns and lends to the treatment as a [`Context`] each step (module docs).
 pub struct Engine {
     /// Spatial dimension.
     pub dim: usize,
@@ -326,20 +321,20 @@ pub struct Engine {
     pub gap_tol: f64,
     /// The constraint rows and their solver.
     pub rows: RowSolver,
-    /// Nodal forces added to the load in the next prediction (the soft way's restore), N.
-    pub extra: Vec<f64>,
-    /// Load scratch.
-    pub f: Vec<f64>,
-    /// Predictors `U`, `V`.
-    pub pred: State,
-    /// The free solution `x_free`.
-    pub xfree: Vec<f64>,
-    /// `x` of the last solve.
-    pub x: Vec<f64>,
     /// Counters.
     pub stats: RunStats,
-    /// The obstacles' uniform half-spaces of one instant ([`Engine::gaps_into`]).
-    half_spaces: Vec<Option<crate::contact::obstacle::HalfSpace>>,
+    /// The treatment's counters.
+    counts: Counts,
+    /// Nodal forces added to the load in the next prediction (the soft way's restore), N.
+    extra: Vec<f64>,
+    /// Predictors `U`, `V`.
+    pred: State,
+    /// The free solution `x_free`.
+    xfree: Vec<f64>,
+    /// `x` of the last solve.
+    x: Vec<f64>,
+    /// The context's scratch (load vector, the obstacles' half-spaces of one instant).
+    scratch: Scratch,
 }
 
 impl std::fmt::Debug for Engine {
@@ -353,73 +348,31 @@ impl std::fmt::Debug for Engine {
 }
 
 impl Engine {
-    /// The geometry of pair `p` at time `t` in the configuration `u`.
-    pub fn geometry(&self, p: usize, t: f64, u: &[f64]) -> Geometry {
-        self.pairs[p].geometry(&self.obstacles, self.dim, &self.reference, u, t)
-    }
-
-    /// The tangential row of pair `p` at time `t` in the configuration `u` (`None` unless
-    /// the model is 2D; [`Pair::tangent`]).
-    pub fn tangent(&self, p: usize, t: f64, u: &[f64]) -> Option<Geometry> {
-        self.pairs[p].tangent(&self.obstacles, self.dim, &self.reference, u, t)
-    }
-
     /// The gap of pair `p` at time `t` in the configuration `u`, m.
     pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
         self.pairs[p].gap(&self.obstacles, self.dim, &self.reference, u, t)
     }
 
-    /// The gaps of every pair at time `t` in the configuration `u` into `out` (m): the same
-    /// values as [`Engine::gap`] pair by pair, each obstacle's half-space evaluated once.
-    pub fn gaps_into(&mut self, t: f64, u: &[f64], out: &mut [f64]) {
-        crate::contact::pair::gaps_into(
-            &self.pairs,
-            &self.obstacles,
-            self.dim,
-            &self.reference,
-            u,
-            t,
-            &mut self.half_spaces,
-            out,
-        );
-    }
-
-    /// Predicts the step from `(t0, s0)` (loads plus [`Engine::extra`]): `pred` and `xfree`.
-    pub fn predict(&mut self, t0: f64, s0: &State) {
-        self.integ.predict(
-            t0,
-            s0,
-            &self.load,
-            &self.extra,
-            &mut self.f,
-            &mut self.pred,
-            &mut self.xfree,
-        );
-    }
-
-    /// Solves the rows in [`Engine::rows`] from `xfree` into `x`; returns the active-set
-    /// changes.
-    pub fn solve(&mut self, tol: f64) -> usize {
-        self.x.copy_from_slice(&self.xfree);
-        self.rows.solve(self.integ.as_mut(), &mut self.x, tol)
-    }
-
-    /// The end state from `pred` and `x`.
-    pub fn finish(&self, s0: &State, s1: &mut State) {
-        self.integ.finish(s0, &self.pred, &self.x, s1);
-    }
-
-    /// Switches the integrator to the step `h` (a numeric refactorization at most; the
-    /// cached columns are dropped).
-    ///
-    /// # Errors
-    /// [`LinalgError`] when the new matrix is singular.
-    pub fn set_step(&mut self, h: f64) -> Result<(), LinalgError> {
-        if h != self.integ.h() {
-            self.integ.set_step(h)?;
-            self.rows.invalidate();
+    /// The treatment's view of the engine for one step (references only).
+    fn context(&mut self) -> Context<'_> {
+        Context {
+            dim: self.dim,
+            reference: &self.reference,
+            obstacles: &self.obstacles,
+            pairs: &self.pairs,
+            model: &self.model,
+            load: &self.load,
+            integ: Integ::new(self.integ.as_mut()),
+            rows: &mut self.rows,
+            extra: &mut self.extra,
+            pred: &mut self.pred,
+            xfree: &mut self.xfree,
+            x: &mut self.x,
+            h: self.h,
+            gap_tol: self.gap_tol,
+            counts: &mut self.counts,
+            scratch: &mut self.scratch,
         }
-        Ok(())
     }
 }
 
@@ -523,6 +476,7 @@ impl Simulation {
         let friction = friction.filter(FrictionLaw::is_active);
         let n = model.n();
         let np = pairs.len();
+        let n_obstacles = obstacles.len();
         let mut contact_nodes: Vec<usize> = pairs
             .iter()
             .flat_map(|p| {
@@ -565,14 +519,13 @@ impl Simulation {
             gap_tol,
             rows: RowSolver::new(n, np * if friction.is_some() { 2 } else { 1 }, cache),
             extra: vec![0.0; n],
-            f: vec![0.0; n],
             pred: State::zeros(n),
             xfree: vec![0.0; n],
             x: vec![0.0; n],
             stats: RunStats::default(),
-            half_spaces: Vec::with_capacity(0),
+            counts: Counts::default(),
+            scratch: Scratch::new(n, n_obstacles),
         };
-        engine.half_spaces.reserve(engine.obstacles.len());
         if !integrator.is_space_time() {
             for &(d, _) in &dirichlet {
                 state.v[d] = 0.0;
@@ -721,8 +674,9 @@ impl Simulation {
                 self.engine.stats.interrupted = true;
                 break;
             }
+            let mut ctx = self.engine.context();
             self.treatment
-                .advance(&mut self.engine, &mut self.snaps, have_prev)?;
+                .advance(&mut ctx, &mut self.snaps, have_prev)?;
             let k = self.snaps[2].k;
             if !self.snaps[2].v.iter().all(|x| x.is_finite()) {
                 return Err(SimError::NotFinite {
@@ -738,8 +692,15 @@ impl Simulation {
         }
         self.emit(1, true, &mut observer)?;
         let mut stats = self.engine.stats;
-        stats.factorizations = self.engine.integ.factorizations();
-        stats.symbolic_analyses = self.engine.integ.symbolic_analyses();
+        let counts = self.engine.counts;
+        stats.step_backs = counts.step_backs;
+        stats.resolves = counts.resolves;
+        stats.brakings = counts.brakings;
+        stats.entries = counts.entries;
+        stats.releases = counts.releases;
+        let factors = self.engine.integ.counts();
+        stats.factorizations = factors.numeric;
+        stats.symbolic_analyses = factors.symbolic;
         stats.stick_slip_changes = self.engine.rows.stick_slip_changes();
         Ok(stats)
     }

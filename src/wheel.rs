@@ -41,8 +41,8 @@ use crate::frame;
 use crate::linalg::{Factor, LinalgError};
 use crate::material::{Elastic, PlaneModel};
 use crate::mesh::{Cells, Mesh};
+use crate::model::LinearModel;
 use crate::simulation::Problem;
-use crate::time::step::LinearModel;
 use crate::time::Integrator;
 
 /// How the wheel is held at the axle.

@@ -16,8 +16,9 @@ use softway::linalg::{
     FaerLlt, FaerLu, Ordering, Pattern, SparseLlt, SparseLu,
 };
 use softway::mesh::generators::disk_rings;
+use softway::model::LinearModel;
 use softway::problems::bar_model;
-use softway::time::step::{FactorChoice, LinearModel, Stepper};
+use softway::time::step::{FactorChoice, Stepper};
 use softway::time::SpaceTimeParams;
 use softway::wheel::{WheelModel, WheelSpec};
 

@@ -15,9 +15,9 @@ use softway::contact::{FrictionLaw, HalfSpace, Obstacle, Pair, Plane, Restore, T
 use softway::linalg::spmv_add;
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::rectangle;
+use softway::model::LinearModel;
 use softway::simulation::{Problem, RunStats, SimError, Simulation};
 use softway::time::classic::ClassicParams;
-use softway::time::step::LinearModel;
 use softway::time::{ClassicKind, Integrator};
 use softway::wheel::{static_solve, triangle_geometry};
 use std::sync::atomic::AtomicBool;

@@ -3,13 +3,13 @@
 //! multi-dof step against the one-dof step, and exact node constraints.
 
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
+use softway::model::LinearModel;
+use softway::model::LoadFn;
 use softway::problems::BarImpact;
-use softway::simulation::LoadFn;
 use softway::time::classic::{
     amplification, initial_acceleration, max_frequency, max_frequency_bound, rho_inf, sdof_step,
     stable_step, ClassicParams, ClassicStepper, Dirichlet, Kinematic, State,
 };
-use softway::time::step::LinearModel;
 use softway::time::TimeIntegrator;
 
 fn methods() -> Vec<(String, ClassicParams, f64)> {
@@ -369,8 +369,10 @@ fn node_constraints_are_exact() {
             let mut impulse = 0.0;
             for _ in 0..20 {
                 // Through the integrator contract: v1 = V + mu_v x, u1 = U + mu_u x.
-                TimeIntegrator::predict(&mut st, 0.0, &s0, &load, &z, &mut f, &mut pred, &mut x);
-                let maps = TimeIntegrator::maps(&st);
+                let step = TimeIntegrator::predict(
+                    &mut st, 0.0, &s0, &load, &z, &mut f, &mut pred, &mut x,
+                );
+                let maps = step.maps;
                 let (y0, mu) = match kind {
                     Kinematic::Velocity => (pred.v[n - 1] - rhs, maps.mu_v),
                     _ => (pred.u[n - 1] - rhs, maps.mu_u),
@@ -385,7 +387,7 @@ fn node_constraints_are_exact() {
                     reg: 0.0,
                 });
                 rows.solve(&mut st, &mut x, 0.0);
-                TimeIntegrator::finish(&st, &s0, &pred, &x, &mut s1);
+                TimeIntegrator::finish(&st, &step, &s0, &pred, &x, &mut s1);
                 let lambda = rows.lambda().to_vec();
                 impulse += h * lambda[0];
                 let got = match kind {

@@ -5,8 +5,9 @@ use faer::linalg::solvers::Solve;
 use softway::assembly::Assembler;
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
 use softway::mesh::{Cells, Mesh};
+use softway::model::LinearModel;
 use softway::time::sdof;
-use softway::time::step::{LinearModel, Stepper};
+use softway::time::step::Stepper;
 use softway::time::SpaceTimeParams;
 use std::collections::BTreeMap;
 

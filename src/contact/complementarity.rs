@@ -23,7 +23,9 @@
 //!   restitution `e`. Positions are not enforced: a drift of order `h |v|` remains.
 //!
 //! **Candidate search.** Only the pairs that can carry a reaction get a row: those held in
-//! the previous step, and those whose condition in the free step, `y_free = y0 + mu
+//! the previous step (read from the start state's [`crate::model::PairState::held`]: the
+//! treatment keeps no pair state of its own between steps, so whatever restores or relabels
+//! the state, a step back or a moving zone, restores or relabels this too), and those whose condition in the free step, `y_free = y0 + mu
 //! c.x_free`, is below the margin `max(0, -min_p y_free)` (the deepest predicted violation:
 //! the reactions of the violated pairs move their neighbours by amounts of that order).
 //! After the solve every other pair's condition is evaluated at the solution, `y0 + mu c.x`;
@@ -41,10 +43,11 @@
 //! the two rows have the same unit, so the bound is the same with forces (exact, penalty) and
 //! impulses (Moreau-Jean with the space-time scheme).
 
+use super::context::{ContactError, Context};
 use super::friction::{spring_energy, stick_spring, FrictionLaw};
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, record_friction, ContactTreatment};
-use crate::simulation::{Engine, SimError, Snapshot};
+use crate::model::Snapshot;
 
 /// The contact law of a [`Complementarity`] treatment.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,7 +70,6 @@ pub enum Law {
 #[derive(Debug, Clone)]
 pub struct Complementarity {
     law: Law,
-    held: Vec<bool>,
     point: Vec<f64>,
     vel_tol: Option<f64>,
     friction: Option<FrictionLaw>,
@@ -95,7 +97,6 @@ impl Complementarity {
     pub fn new(law: Law, pairs: usize, n: usize) -> Self {
         Self {
             law,
-            held: vec![false; pairs],
             point: vec![0.0; n],
             vel_tol: None,
             friction: None,
@@ -135,57 +136,57 @@ impl ContactTreatment for Complementarity {
 
     fn solve_interval(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         fs: &Snapshot,
         ts: &mut Snapshot,
-    ) -> Result<(), SimError> {
-        let h = eng.integ.h();
+    ) -> Result<(), ContactError> {
+        let h = ctx.integ.h();
         let t0 = fs.t;
         let t1 = t0 + h;
-        eng.extra.fill(0.0);
-        eng.predict(t0, &fs.state);
-        let maps = eng.integ.maps();
-        let explicit = eng.integ.is_explicit();
+        ctx.extra.fill(0.0);
+        let step = ctx.predict(t0, &fs.state);
+        let maps = step.maps;
+        let explicit = step.explicit;
         // Moreau-Jean's tolerance on velocities (m/s), from the initial speeds, once.
         let vel_tol = *self
             .vel_tol
             .get_or_insert_with(|| 1e-12 * fs.v.iter().fold(1e-300_f64, |a, v| a.max(v.abs())));
-        let mut tol = eng.gap_tol;
+        let mut tol = ctx.gap_tol;
         let mu_k = match self.law {
-            Law::Penalty { .. } => eng
+            Law::Penalty { .. } => ctx
                 .integ
-                .stiffness_point(&fs.state, &eng.pred, &mut self.point),
+                .stiffness_point(&fs.state, ctx.pred, &mut self.point),
             _ => 0.0,
         };
         let mut margin = 0.0_f64;
-        for p in 0..self.held.len() {
-            let geo = eng.geometry(p, t1, &eng.pred.u);
+        for p in 0..self.posed.len() {
+            let geo = ctx.geometry(p, t1, &ctx.pred.u);
             let (y0, mu, reg) = match self.law {
                 Law::Penalty { stiffness } => {
-                    let g = geo.gap(&eng.reference, &self.point);
+                    let g = geo.gap(ctx.reference, &self.point);
                     (g, mu_k, maps.force / stiffness)
                 }
                 Law::MoreauJean { restitution } => {
-                    let g0 = eng.geometry(p, t0, &fs.u);
+                    let g0 = ctx.geometry(p, t0, &fs.u);
                     let gn = g0.terms.dot(&fs.v) - g0.w;
-                    if g0.gap(&eng.reference, &fs.u) + 0.5 * h * gn > 0.0 {
+                    if g0.gap(ctx.reference, &fs.u) + 0.5 * h * gn > 0.0 {
                         self.posed[p] = None;
                         continue;
                     }
                     tol = vel_tol;
                     (
-                        geo.terms.dot(&eng.pred.v) - geo.w + restitution * gn,
+                        geo.terms.dot(&ctx.pred.v) - geo.w + restitution * gn,
                         maps.mu_v,
                         0.0,
                     )
                 }
                 Law::Exact if explicit => {
                     // Forward increment: the next position u1 + h v1 + h^2 a1 / 2.
-                    let gh = geo.gap(&eng.reference, &eng.pred.u)
-                        + h * (geo.terms.dot(&eng.pred.v) - geo.w);
+                    let gh = geo.gap(ctx.reference, &ctx.pred.u)
+                        + h * (geo.terms.dot(&ctx.pred.v) - geo.w);
                     (gh, h * maps.mu_v + 0.5 * h * h, 0.0)
                 }
-                Law::Exact => (geo.gap(&eng.reference, &eng.pred.u), maps.mu_u, 0.0),
+                Law::Exact => (geo.gap(ctx.reference, &ctx.pred.u), maps.mu_u, 0.0),
             };
             let row = Row {
                 pair: p,
@@ -196,13 +197,13 @@ impl ContactTreatment for Complementarity {
                 reg,
             };
             let tangent = match self.friction {
-                Some(_) => eng.tangent(p, t1, &eng.pred.u).map(|tg| {
+                Some(_) => ctx.tangent(p, t1, &ctx.pred.u).map(|tg| {
                     (
                         Row {
                             pair: p,
                             terms: tg.terms,
                             kind: RowKind::Unilateral,
-                            y0: tg.terms.dot(&eng.pred.v) - tg.w,
+                            y0: tg.terms.dot(&ctx.pred.v) - tg.w,
                             mu: maps.mu_v,
                             reg: 0.0,
                         },
@@ -212,15 +213,15 @@ impl ContactTreatment for Complementarity {
                 None => None,
             };
             self.posed[p] = Some(PairRow { row, tangent });
-            let y_free = y0 + mu * geo.terms.dot(&eng.xfree);
+            let y_free = y0 + mu * geo.terms.dot(ctx.xfree);
             margin = margin.max(-y_free);
-            self.candidate[p] = !self.search || self.held[p] || y_free < -tol;
+            self.candidate[p] = !self.search || fs.pairs[p].held || y_free < -tol;
         }
         // Candidates: held, violated, or within the margin of the deepest violation.
         if self.search {
-            for p in 0..self.held.len() {
+            for p in 0..self.posed.len() {
                 if let Some(pr) = self.posed[p] {
-                    let y_free = pr.row.y0 + pr.row.mu * pr.row.terms.dot(&eng.xfree);
+                    let y_free = pr.row.y0 + pr.row.mu * pr.row.terms.dot(ctx.xfree);
                     if y_free < margin {
                         self.candidate[p] = true;
                     }
@@ -230,17 +231,17 @@ impl ContactTreatment for Complementarity {
         let kt = self.stick_stiffness();
         let mut changes = 0;
         loop {
-            eng.rows.clear();
-            for p in 0..self.held.len() {
+            ctx.rows.clear();
+            for p in 0..self.posed.len() {
                 let Some(pr) = self.posed[p] else { continue };
                 if !self.candidate[p] {
                     continue;
                 }
-                let normal = eng.rows.push(pr.row);
+                let normal = ctx.rows.push(pr.row);
                 if let (Some(law), Some((trow, wt))) = (self.friction, pr.tangent) {
                     self.wt[p] = wt;
                     let (reg, dy) = stick_spring(kt, fs.pairs[p].tangential_force, maps.force, h);
-                    eng.rows.push(Row {
+                    ctx.rows.push(Row {
                         kind: RowKind::Bounded {
                             normal,
                             mu_f: law.coefficient(trow.terms.dot(&fs.v) - wt),
@@ -252,12 +253,12 @@ impl ContactTreatment for Complementarity {
                     });
                 }
             }
-            changes += eng.solve(tol);
+            changes += ctx.solve(tol);
             // Every pair left out must hold at the solution (module docs).
             let mut added = false;
-            for p in 0..self.held.len() {
+            for p in 0..self.posed.len() {
                 let Some(pr) = self.posed[p] else { continue };
-                if !self.candidate[p] && pr.row.y0 + pr.row.mu * pr.row.terms.dot(&eng.x) < -tol {
+                if !self.candidate[p] && pr.row.y0 + pr.row.mu * pr.row.terms.dot(ctx.x) < -tol {
                     self.candidate[p] = true;
                     added = true;
                 }
@@ -266,19 +267,19 @@ impl ContactTreatment for Complementarity {
                 break;
             }
         }
-        eng.stats.resolves += changes;
-        eng.finish(&fs.state, &mut ts.state);
+        ctx.counts.resolves += changes;
+        ctx.finish(&step, &fs.state, &mut ts.state);
         ts.t = t1;
         ts.k = fs.k + 1;
-        for p in 0..self.held.len() {
-            ts.pairs[p] = plain_state(0.0, false, eng.gap(p, t1, &ts.u));
+        for p in 0..self.posed.len() {
+            ts.pairs[p] = plain_state(0.0, false, ctx.gap(p, t1, &ts.u));
             ts.pairs[p].dissipated = fs.pairs[p].dissipated;
         }
-        for (i, row) in eng.rows.rows().iter().enumerate() {
-            let lam = eng.rows.lambda()[i];
+        for (i, row) in ctx.rows.rows().iter().enumerate() {
+            let lam = ctx.rows.lambda()[i];
             if let RowKind::Bounded { .. } = row.kind {
                 let slip = (row.terms.dot(&ts.u) - row.terms.dot(&fs.u)) / h - self.wt[row.pair];
-                let sliding = eng.rows.is_sliding(i);
+                let sliding = ctx.rows.is_sliding(i);
                 let spring = (kt, fs.pairs[row.pair].tangential_force);
                 record_friction(
                     &mut ts.pairs[row.pair],
@@ -293,15 +294,14 @@ impl ContactTreatment for Complementarity {
             ts.pairs[row.pair].force = lam * maps.force * h / h;
             ts.pairs[row.pair].held = lam > 0.0;
         }
-        for p in 0..self.held.len() {
-            let now = ts.pairs[p].held;
-            if now && !self.held[p] {
-                eng.stats.entries += 1;
+        for p in 0..self.posed.len() {
+            let (was, now) = (fs.pairs[p].held, ts.pairs[p].held);
+            if now && !was {
+                ctx.counts.entries += 1;
             }
-            if self.held[p] && !now {
-                eng.stats.releases += 1;
+            if was && !now {
+                ctx.counts.releases += 1;
             }
-            self.held[p] = now;
         }
         Ok(())
     }

@@ -2,7 +2,7 @@
 //! so an impact takes no kinetic energy from them; contact is then enforced exactly.
 
 use crate::linalg::Pattern;
-use crate::time::step::LinearModel;
+use crate::model::LinearModel;
 
 /// Makes the dofs of `nodes` massless (Khenous, Laborde & Renard 2008): their rows and
 /// columns of `M` are zeroed and the mass removed is added to the diagonal of the

@@ -7,6 +7,7 @@
 //! - [`rows`]: constraint rows (equality, unilateral, bounded) solved through the factored
 //!   matrix of any integrator.
 //! - [`friction`]: the friction law (Coulomb, or falling with the slip speed).
+//! - [`context`]: what a treatment works with ([`Context`]), its counters and errors.
 //! - [`treatment`]: the contract of a contact treatment and the choice of one.
 //! - [`softway`]: the soft way (Table 1, Eqs. 26-27) and the space-time exact hold.
 //! - [`complementarity`]: exact enforcement for the generalized-alpha family, penalty,
@@ -16,6 +17,7 @@
 //! - [`statics`]: static frictionless contact by an active set.
 
 pub mod complementarity;
+pub mod context;
 pub mod friction;
 pub mod mass_redistribution;
 pub mod obstacle;
@@ -26,8 +28,46 @@ pub mod statics;
 pub mod subdivision;
 pub mod treatment;
 
+pub use context::{ContactError, Context, Counts};
 pub use friction::FrictionLaw;
 pub use obstacle::{HalfSpace, Obstacle, Plane, RotatingLine, Vector, Wall};
 pub use pair::{Geometry, Pair};
-pub use softway::{PairMode, PairState, Restore};
-pub use treatment::{ContactTreatment, Treatment};
+pub use softway::{PairMode, PairState};
+pub use treatment::{ContactTreatment, Restore, Treatment};
+
+use crate::time::choice::Integrator;
+
+/// Builds the treatment of `choice` for `integrator`, `pairs` contact pairs and `n` dofs,
+/// with the Coulomb coefficient `friction` (`None`: frictionless; checked by
+/// [`Treatment::check_friction`] first). Mass redistribution is exact enforcement on a model
+/// whose contact nodes the driver made massless ([`Treatment::massless_contact`]).
+pub fn build(
+    choice: Treatment,
+    integrator: &Integrator,
+    pairs: usize,
+    n: usize,
+    friction: Option<FrictionLaw>,
+) -> Box<dyn ContactTreatment> {
+    use complementarity::{Complementarity, Law};
+    use softway::SoftWay;
+    let st = integrator.is_space_time();
+    let mu = friction.filter(FrictionLaw::is_active);
+    match choice {
+        Treatment::SoftWay { restore } => {
+            Box::new(SoftWay::new(true, restore, pairs).with_friction(mu))
+        }
+        Treatment::Exact | Treatment::MassRedistribution if st => {
+            Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_friction(mu))
+        }
+        Treatment::Exact | Treatment::MassRedistribution => {
+            Box::new(Complementarity::new(Law::Exact, pairs, n).with_friction(mu))
+        }
+        Treatment::Penalty { stiffness } => {
+            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs, n).with_friction(mu))
+        }
+        Treatment::MoreauJean { restitution } => Box::new(
+            Complementarity::new(Law::MoreauJean { restitution }, pairs, n).with_friction(mu),
+        ),
+        Treatment::Subdivision => Box::new(subdivision::Subdivision::new(pairs)),
+    }
+}

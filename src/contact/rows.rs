@@ -59,95 +59,7 @@ use crate::linalg::dense_solve_in_place;
 use crate::linalg::with_avx2;
 use crate::time::integrator::TimeIntegrator;
 
-/// Most dofs one row acts on: two nodes of three components.
-pub const MAX_TERMS: usize = 6;
-
-/// The coefficients of a row on at most [`MAX_TERMS`] dofs.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Terms {
-    len: usize,
-    dof: [usize; MAX_TERMS],
-    coef: [f64; MAX_TERMS],
-}
-
-impl Default for Terms {
-    fn default() -> Self {
-        Self {
-            len: 0,
-            dof: [0; MAX_TERMS],
-            coef: [0.0; MAX_TERMS],
-        }
-    }
-}
-
-impl Terms {
-    /// Adds `coef` on `dof`.
-    ///
-    /// # Panics
-    /// Beyond [`MAX_TERMS`] terms.
-    pub fn push(&mut self, dof: usize, coef: f64) {
-        assert!(
-            self.len < MAX_TERMS,
-            "a row acts on at most {MAX_TERMS} dofs"
-        );
-        self.dof[self.len] = dof;
-        self.coef[self.len] = coef;
-        self.len += 1;
-    }
-
-    /// The `(dof, coefficient)` pairs.
-    pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        (0..self.len).map(|i| (self.dof[i], self.coef[i]))
-    }
-
-    /// `c . x`.
-    pub fn dot(&self, x: &[f64]) -> f64 {
-        let mut s = 0.0;
-        for i in 0..self.len {
-            s += self.coef[i] * x[self.dof[i]];
-        }
-        s
-    }
-
-    /// The same row on relabelled nodes of a 2D model: the terms of node `m` move to node
-    /// `node(m)` with their `(x, y)` coefficients turned by the rotation `rot` (row-major);
-    /// `None` when a node has no new label.
-    pub fn relabel_2d(
-        &self,
-        node: impl Fn(usize) -> Option<usize>,
-        rot: [[f64; 2]; 2],
-    ) -> Option<Terms> {
-        let mut out = Terms::default();
-        let mut seen = [usize::MAX; MAX_TERMS];
-        let mut k = 0;
-        for i in 0..self.len {
-            let m = self.dof[i] / 2;
-            if seen[..k].contains(&m) {
-                continue;
-            }
-            seen[k] = m;
-            k += 1;
-            let mut c = [0.0; 2];
-            for j in 0..self.len {
-                if self.dof[j] / 2 == m {
-                    c[self.dof[j] % 2] += self.coef[j];
-                }
-            }
-            let n = node(m)?;
-            for (comp, r) in rot.iter().enumerate() {
-                out.push(2 * n + comp, r[0] * c[0] + r[1] * c[1]);
-            }
-        }
-        Some(out)
-    }
-
-    /// `y[dof] += s c` for every term.
-    pub fn scatter(&self, s: f64, y: &mut [f64]) {
-        for i in 0..self.len {
-            y[self.dof[i]] += self.coef[i] * s;
-        }
-    }
-}
+pub use crate::model::{Terms, MAX_TERMS};
 
 /// The kind of a row (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -534,10 +446,7 @@ impl RowSolver {
         }
         let n = self.n;
         let col = &mut self.cols[s * n..(s + 1) * n];
-        col.fill(0.0);
-        if !integ.is_fixed(dof) {
-            col[dof] = 1.0;
-            integ.apply_inverse(col);
+        if integ.inverse_column(dof, col) {
             self.solves += 1;
         }
         self.dof_of_slot[s] = dof;
@@ -670,8 +579,8 @@ mod tests {
             }
         }
     }
-    use crate::simulation::LoadFn;
-    use crate::time::integrator::{Maps, MultiplierUnit, State};
+    use crate::model::{LoadFn, State};
+    use crate::time::integrator::{FactorCounts, Maps, MultiplierUnit, Step};
 
     /// `A = diag(d)`: the rows' solution is checkable by hand.
     struct Diagonal(Vec<f64>);
@@ -680,56 +589,49 @@ mod tests {
         fn name(&self) -> String {
             "diagonal".into()
         }
-        fn n(&self) -> usize {
-            self.0.len()
-        }
         fn h(&self) -> f64 {
             1.0
         }
-        fn unit(&self) -> MultiplierUnit {
-            MultiplierUnit::Impulse
-        }
-        fn maps(&self) -> Maps {
-            Maps {
-                mu_u: 1.0,
-                mu_v: 1.0,
-                force: 1.0,
+        fn step_at(&self, t0: f64) -> Step {
+            Step {
+                t0,
+                h: 1.0,
+                maps: Maps {
+                    mu_u: 1.0,
+                    mu_v: 1.0,
+                    force: 1.0,
+                },
+                weight: 1.0,
+                unit: MultiplierUnit::Impulse,
+                explicit: false,
             }
-        }
-        fn displacement_weight(&self, _t0: f64) -> f64 {
-            1.0
-        }
-        fn is_fixed(&self, _dof: usize) -> bool {
-            false
         }
         fn predict(
             &mut self,
-            _t0: f64,
+            t0: f64,
             _s0: &State,
             _load: &LoadFn,
             _extra: &[f64],
             _f: &mut [f64],
             _pred: &mut State,
             _x: &mut [f64],
-        ) {
+        ) -> Step {
+            self.step_at(t0)
         }
-        fn apply_inverse(&mut self, r: &mut [f64]) {
-            for (ri, di) in r.iter_mut().zip(&self.0) {
-                *ri /= di;
-            }
+        fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool {
+            col.fill(0.0);
+            col[dof] = 1.0 / self.0[dof];
+            true
         }
-        fn finish(&self, _s0: &State, _pred: &State, _x: &[f64], _s1: &mut State) {}
+        fn finish(&self, _: &Step, _s0: &State, _pred: &State, _x: &[f64], _s1: &mut State) {}
         fn stiffness_point(&self, _s0: &State, _pred: &State, _p: &mut [f64]) -> f64 {
             0.0
         }
         fn set_step(&mut self, _h: f64) -> Result<(), LinalgError> {
             Ok(())
         }
-        fn factorizations(&self) -> usize {
-            0
-        }
-        fn symbolic_analyses(&self) -> usize {
-            0
+        fn counts(&self) -> FactorCounts {
+            FactorCounts::default()
         }
     }
 

@@ -50,89 +50,14 @@
 //! carries no friction row and friction starts with the first held step. A released pair
 //! loses its friction row with its normal row.
 
+use super::context::{ContactError, Context};
 use super::friction::{spring_energy, stick_spring, FrictionLaw};
 use super::rows::{Row, RowKind, Terms};
-use super::treatment::{record_friction, ContactTreatment, Treatment};
-use crate::simulation::{Engine, SimError, Snapshot};
-use serde::Serialize;
+use super::treatment::{record_friction, ContactTreatment, Restore, Treatment};
+use crate::model::Snapshot;
+use crate::time::integrator::Step;
 
-/// The constraint a contact pair gets in the next step.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PairMode {
-    /// No constraint.
-    Free,
-    /// Braking: `c . v = q` at the end of the step (Eq. 26).
-    Brake {
-        /// Prescribed normal velocity, m/s.
-        q: f64,
-        /// The row `c` at the instant of arrival.
-        terms: Terms,
-        /// The boundary's normal velocity at the instant of arrival, m/s.
-        w: f64,
-    },
-    /// Held on the obstacle: relative normal velocity zero at the end of the step, with a
-    /// deadbeat correction of any gap drift ([`holding_velocity`]).
-    Hold,
-}
-
-/// The state of one contact pair at the end of a step.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PairState {
-    /// The constraint for the next step.
-    pub mode: PairMode,
-    /// Force to add along `brake_row` in the next step (the arrival momentum given back), N.
-    pub restore: Option<f64>,
-    /// The force `R = lambda_s / h` (N, along `brake_row`) to give back at release, kept since
-    /// the last braking (module docs, Release).
-    pub brake_force: f64,
-    /// The row of the last braking.
-    pub brake_row: Terms,
-    /// Constraint force of the step that ended here (N, positive when compressive), braking
-    /// included.
-    pub force: f64,
-    /// Carrying a reaction (held on its obstacle) at the end of the step.
-    pub held: bool,
-    /// Braked in the step that ended here.
-    pub braked: bool,
-    /// Released in the step that ended here.
-    pub released: bool,
-    /// Gap at the end of the step, m (negative: penetration).
-    pub gap: f64,
-    /// Friction force of the step that ended here along the pair's tangent
-    /// ([`crate::contact::Pair::tangent`]: the normal turned by +90 degrees), N; 0 without
-    /// friction.
-    pub tangential_force: f64,
-    /// Sliding (the friction force on the Coulomb bound) in the step that ended here.
-    pub sliding: bool,
-    /// Frictional dissipation in the step that ended here, W: `-F_t s` with `F_t` the
-    /// tangential force and `s` the mean slip velocity of the step, `(c_t.(u1 - u0))/h - w_t`
-    /// (>= 0).
-    pub slip_power: f64,
-    /// Energy dissipated by friction at this pair since the start, J (the sum of
-    /// `slip_power h` over the final steps; it is part of the state, so a repeated step
-    /// does not count twice).
-    pub dissipated: f64,
-}
-
-impl Default for PairState {
-    fn default() -> Self {
-        Self {
-            mode: PairMode::Free,
-            restore: None,
-            brake_force: 0.0,
-            brake_row: Terms::default(),
-            force: 0.0,
-            held: false,
-            braked: false,
-            released: false,
-            gap: f64::INFINITY,
-            tangential_force: 0.0,
-            sliding: false,
-            slip_power: 0.0,
-            dissipated: 0.0,
-        }
-    }
-}
+pub use crate::model::{PairMode, PairState};
 
 /// The braking normal velocity of Eq. (26), generalised to a moving obstacle (module docs):
 /// `q0 = (c - n.x_{-1})/h - (1 - beta) n.v_{-1} - beta w`.
@@ -146,19 +71,6 @@ pub fn braking_velocity(c: f64, p_prev: f64, q_prev: f64, w: f64, h: f64, beta: 
 pub fn holding_velocity(c1: f64, p0: f64, q0: f64, w: f64, h: f64, beta: f64) -> f64 {
     let g_star = p0 + h * ((1.0 - beta) * q0 + beta * w) - c1;
     w - g_star / h
-}
-
-/// What the soft way gives back at release (module docs, Release).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Restore {
-    /// The impulse that would have stopped the node in the braking step (`soft_way`): the
-    /// same whatever the phase of the arrival inside the step.
-    StoppingImpulse,
-    /// Table 1's braking reaction alone (`soft_way_braking_restore`).
-    BrakingReaction,
-    /// Nothing (`soft_way_no_restore`; exact enforcement).
-    Nothing,
 }
 
 const MAX_RESOLVES: usize = 32;
@@ -229,19 +141,20 @@ impl SoftWay {
 
     /// The rows of the current modes: brake rows get `c.v1 = q` (or, with `stop`, the
     /// boundary's velocity `w`), held rows the holding velocity.
-    fn push_rows(&mut self, eng: &mut Engine, fs: &Snapshot, t1: f64, bt: f64, stop: bool) {
-        let h = eng.integ.h();
-        eng.rows.clear();
+    fn push_rows(&mut self, ctx: &mut Context<'_>, fs: &Snapshot, step: &Step, stop: bool) {
+        let (t1, bt) = (step.t0 + step.h, step.weight);
+        let h = ctx.integ.h();
+        ctx.rows.clear();
         self.row_pair.clear();
         for p in 0..self.modes.len() {
             let (terms, g) = match self.modes[p] {
                 PairMode::Free => continue,
                 PairMode::Brake { q, terms, w } => (terms, if stop { w } else { q }),
                 PairMode::Hold => {
-                    let geo = eng.geometry(p, t1, &fs.u);
+                    let geo = ctx.geometry(p, t1, &fs.u);
                     let g = holding_velocity(
                         geo.offset,
-                        geo.position(&eng.reference, &fs.u),
+                        geo.position(ctx.reference, &fs.u),
                         geo.terms.dot(&fs.v),
                         geo.w,
                         h,
@@ -250,7 +163,7 @@ impl SoftWay {
                     (geo.terms, g)
                 }
             };
-            eng.rows.push(Row {
+            ctx.rows.push(Row {
                 pair: p,
                 terms,
                 kind: RowKind::Equality,
@@ -263,22 +176,22 @@ impl SoftWay {
         // Friction rows of the held pairs, after all normal rows (module docs, Friction).
         self.friction_row.fill(None);
         let Some(law) = self.friction else { return };
-        let maps = eng.integ.maps();
+        let maps = step.maps;
         for normal in 0..self.row_pair.len() {
             let p = self.row_pair[normal];
             if self.modes[p] != PairMode::Hold {
                 continue;
             }
-            if let Some(tg) = eng.tangent(p, t1, &fs.u) {
+            if let Some(tg) = ctx.tangent(p, t1, &fs.u) {
                 self.friction_row[p] = Some((tg.terms, tg.w));
                 let mu_f = law.coefficient(tg.terms.dot(&fs.v) - tg.w);
                 let (reg, dy) = stick_spring(
                     law.tangential_stiffness,
                     fs.pairs[p].tangential_force,
                     maps.force,
-                    eng.integ.h(),
+                    ctx.integ.h(),
                 );
-                eng.rows.push(Row {
+                ctx.rows.push(Row {
                     pair: p,
                     terms: tg.terms,
                     kind: RowKind::Bounded {
@@ -286,7 +199,7 @@ impl SoftWay {
                         mu_f,
                         eta: law.viscosity / maps.force,
                     },
-                    y0: tg.terms.dot(&eng.pred.v) - tg.w + dy,
+                    y0: tg.terms.dot(&ctx.pred.v) - tg.w + dy,
                     mu: maps.mu_v,
                     reg,
                 });
@@ -325,14 +238,14 @@ impl ContactTreatment for SoftWay {
 
     fn solve_interval(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         fs: &Snapshot,
         ts: &mut Snapshot,
-    ) -> Result<(), SimError> {
-        let h = eng.integ.h();
+    ) -> Result<(), ContactError> {
+        let h = ctx.integ.h();
         let t0 = fs.t;
         let t1 = t0 + h;
-        let bt = eng.integ.displacement_weight(t0);
+        let mut step = ctx.integ.step_at(t0);
         let np = self.modes.len();
         for p in 0..np {
             self.modes[p] = fs.pairs[p].mode;
@@ -342,13 +255,13 @@ impl ContactTreatment for SoftWay {
         let mut gaps_fresh = false;
         for _ in 0..MAX_RESOLVES {
             gaps_fresh = false;
-            eng.extra.fill(0.0);
+            ctx.extra.fill(0.0);
             for p in 0..np {
                 if let Some(r) = self.restore[p] {
-                    fs.pairs[p].brake_row.scatter(r, &mut eng.extra);
+                    fs.pairs[p].brake_row.scatter(r, ctx.extra);
                 }
             }
-            eng.predict(t0, &fs.state);
+            step = ctx.predict(t0, &fs.state);
             // In a braking step, the impulses that would stop the braked nodes (relative
             // normal velocity w at t1): given back at release.
             let braking = self
@@ -356,20 +269,20 @@ impl ContactTreatment for SoftWay {
                 .iter()
                 .any(|m| matches!(m, PairMode::Brake { .. }));
             if braking && self.restore_mode == Restore::StoppingImpulse {
-                self.push_rows(eng, fs, t1, bt, true);
-                eng.solve(0.0);
+                self.push_rows(ctx, fs, &step, true);
+                ctx.solve(0.0);
                 let k = self.row_pair.len();
-                self.lambda_stop[..k].copy_from_slice(&eng.rows.lambda()[..k]);
+                self.lambda_stop[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
             }
-            self.push_rows(eng, fs, t1, bt, false);
-            eng.solve(0.0);
+            self.push_rows(ctx, fs, &step, false);
+            ctx.solve(0.0);
             let k = self.row_pair.len();
-            self.lambda[..k].copy_from_slice(&eng.rows.lambda()[..k]);
-            for (i, row) in eng.rows.rows().iter().enumerate().skip(k) {
-                self.lambda_t[row.pair] = eng.rows.lambda()[i];
-                self.sliding[row.pair] = eng.rows.is_sliding(i);
+            self.lambda[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
+            for (i, row) in ctx.rows.rows().iter().enumerate().skip(k) {
+                self.lambda_t[row.pair] = ctx.rows.lambda()[i];
+                self.sliding[row.pair] = ctx.rows.is_sliding(i);
             }
-            eng.finish(&fs.state, &mut ts.state);
+            ctx.finish(&step, &fs.state, &mut ts.state);
             ts.t = t1;
             ts.k = fs.k + 1;
             // Tension: release (Table 1, item 7).
@@ -384,22 +297,22 @@ impl ContactTreatment for SoftWay {
                         self.restore[p] = Some(bf);
                     }
                     changed = true;
-                    eng.stats.releases += 1;
+                    ctx.counts.releases += 1;
                 }
             }
             if changed {
-                eng.stats.resolves += 1;
+                ctx.counts.resolves += 1;
                 continue;
             }
             // Penetration of free pairs at t1.
-            eng.gaps_into(t1, &ts.u, &mut self.gaps);
+            ctx.gaps_into(t1, &ts.u, &mut self.gaps);
             gaps_fresh = true;
             self.pen.clear();
             for p in 0..np {
                 if self.modes[p] != PairMode::Free {
                     continue;
                 }
-                if self.gaps[p] < -eng.gap_tol {
+                if self.gaps[p] < -ctx.gap_tol {
                     if self.released[p] {
                         // Released in this very step and penetrating again: hold it.
                         self.modes[p] = PairMode::Hold;
@@ -411,13 +324,13 @@ impl ContactTreatment for SoftWay {
                 }
             }
             if changed {
-                eng.stats.resolves += 1;
+                ctx.counts.resolves += 1;
                 continue;
             }
             break;
         }
         if !gaps_fresh {
-            eng.gaps_into(t1, &ts.u, &mut self.gaps);
+            ctx.gaps_into(t1, &ts.u, &mut self.gaps);
         }
         // Record the pairs' states at t1 and their modes for the next step.
         let k = self.row_pair.len();
@@ -443,7 +356,7 @@ impl ContactTreatment for SoftWay {
             };
             if let Some((terms, wt)) = self.friction_row[p] {
                 let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
-                let force = self.lambda_t[p] * eng.integ.maps().force;
+                let force = self.lambda_t[p] * step.maps.force;
                 let kt = self.stick_stiffness();
                 let spring = (kt, prev.tangential_force);
                 record_friction(&mut st, force, self.sliding[p], slip, h, spring);
@@ -464,7 +377,7 @@ impl ContactTreatment for SoftWay {
                 PairMode::Hold => {
                     st.held = true;
                     if !prev.held && !prev.braked {
-                        eng.stats.entries += 1;
+                        ctx.counts.entries += 1;
                     }
                 }
                 PairMode::Free => {
@@ -482,16 +395,16 @@ impl ContactTreatment for SoftWay {
     /// asks for it (Table 1, items 4-6).
     fn advance(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         ring: &mut [Snapshot; 3],
         have_prev: bool,
-    ) -> Result<(), SimError> {
+    ) -> Result<(), ContactError> {
         let mut step_backs = 0;
         let mut immediate = 0;
         loop {
             {
                 let (lo, hi) = ring.split_at_mut(2);
-                self.solve_interval(eng, &lo[1], &mut hi[0])?;
+                self.solve_interval(ctx, &lo[1], &mut hi[0])?;
             }
             if self.pen.is_empty() {
                 return Ok(());
@@ -501,16 +414,16 @@ impl ContactTreatment for SoftWay {
             pen.extend_from_slice(&self.pen);
             if self.brakes && have_prev && step_backs < 2 {
                 step_backs += 1;
-                eng.stats.step_backs += 1;
-                eng.stats.brakings += pen.len();
-                let h = eng.integ.h();
+                ctx.counts.step_backs += 1;
+                ctx.counts.brakings += pen.len();
+                let h = ctx.integ.h();
                 let t_arrive = ring[2].t;
-                let bt = eng.integ.displacement_weight(ring[0].t);
+                let bt = ctx.integ.step_at(ring[0].t).weight;
                 for &p in &pen {
-                    let geo = eng.geometry(p, t_arrive, &ring[2].u);
+                    let geo = ctx.geometry(p, t_arrive, &ring[2].u);
                     let q = braking_velocity(
                         geo.offset,
-                        geo.position(&eng.reference, &ring[0].u),
+                        geo.position(ctx.reference, &ring[0].u),
                         geo.terms.dot(&ring[0].v),
                         geo.w,
                         h,
@@ -528,13 +441,13 @@ impl ContactTreatment for SoftWay {
                 loop {
                     {
                         let (lo, hi) = ring.split_at_mut(1);
-                        self.solve_interval(eng, &lo[0], &mut hi[0])?;
+                        self.solve_interval(ctx, &lo[0], &mut hi[0])?;
                     }
                     if self.pen.is_empty() || guard >= MAX_RESOLVES {
                         break;
                     }
                     guard += 1;
-                    eng.stats.resolves += 1;
+                    ctx.counts.resolves += 1;
                     for i in 0..self.pen.len() {
                         let p = self.pen[i];
                         ring[0].pairs[p].mode = PairMode::Hold;
@@ -542,7 +455,7 @@ impl ContactTreatment for SoftWay {
                 }
             } else {
                 immediate += 1;
-                eng.stats.resolves += 1;
+                ctx.counts.resolves += 1;
                 for &p in &pen {
                     ring[1].pairs[p].mode = PairMode::Hold;
                 }

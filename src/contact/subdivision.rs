@@ -12,11 +12,12 @@
 //! deadbeat way of [`super::softway`]: `y = g(U) + h_s c.x = 0`, i.e.
 //! `c.v1 = -g(U)/h_s` with `U = u0 + h_s (1 - beta) v0`.
 
+use super::context::{ContactError, Context};
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, ContactTreatment};
 use crate::linalg::SparseLu;
-use crate::simulation::{Engine, SimError, Snapshot};
-use crate::time::integrator::State;
+use crate::model::Snapshot;
+use crate::model::State;
 
 /// The subdivision treatment (module docs).
 #[derive(Debug)]
@@ -48,57 +49,57 @@ impl Subdivision {
 
     /// Solves `[t, t + h_s]` from `s0` into `s1` with the held pairs held, `h_s` the
     /// integrator's current step; the multipliers go to `self.lam`.
-    fn solve_held(&mut self, eng: &mut Engine, t: f64, s0: &State, s1: &mut State) {
-        let hs = eng.integ.h();
-        eng.extra.fill(0.0);
-        eng.predict(t, s0);
-        eng.rows.clear();
+    fn solve_held(&mut self, ctx: &mut Context<'_>, t: f64, s0: &State, s1: &mut State) {
+        let hs = ctx.integ.h();
+        ctx.extra.fill(0.0);
+        let step = ctx.predict(t, s0);
+        ctx.rows.clear();
         for p in 0..self.held.len() {
             if !self.held[p] {
                 continue;
             }
-            let geo = eng.geometry(p, t + hs, &eng.pred.u);
-            eng.rows.push(Row {
+            let geo = ctx.geometry(p, t + hs, &ctx.pred.u);
+            ctx.rows.push(Row {
                 pair: p,
                 terms: geo.terms,
                 kind: RowKind::Equality,
-                y0: geo.gap(&eng.reference, &eng.pred.u),
+                y0: geo.gap(ctx.reference, &ctx.pred.u),
                 mu: hs,
                 reg: 0.0,
             });
         }
-        eng.solve(0.0);
+        ctx.solve(0.0);
         self.lam.fill(0.0);
-        for (i, row) in eng.rows.rows().iter().enumerate() {
-            self.lam[row.pair] = eng.rows.lambda()[i];
+        for (i, row) in ctx.rows.rows().iter().enumerate() {
+            self.lam[row.pair] = ctx.rows.lambda()[i];
         }
-        eng.finish(s0, s1);
+        ctx.finish(&step, s0, s1);
     }
 
     /// A sub-step `[t, t + len]` from `cur` into `s1`, with its own factorization.
     fn sub_step(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         t: f64,
         len: f64,
         s1: &mut State,
-    ) -> Result<(), SimError> {
-        eng.set_step(len)?;
+    ) -> Result<(), ContactError> {
+        ctx.set_step(len)?;
         let cur = std::mem::replace(&mut self.cur, State::zeros(0));
-        self.solve_held(eng, t, &cur, s1);
+        self.solve_held(ctx, t, &cur, s1);
         self.cur = cur;
         Ok(())
     }
 
     /// The velocity jump of pair `p` at `t` on the state `cur`: `M dv = c^T P` with
     /// `c.(v + dv) = w`; returns the impulse `P`, N s.
-    fn jump(&mut self, eng: &Engine, p: usize, t: f64) -> Result<f64, SimError> {
+    fn jump(&mut self, ctx: &Context<'_>, p: usize, t: f64) -> Result<f64, ContactError> {
         let n = self.cur.v.len();
         if self.mass_lu.is_none() {
-            self.mass_lu = Some(SparseLu::new(eng.model.pattern(), &eng.model.m)?);
+            self.mass_lu = Some(SparseLu::new(ctx.model.pattern(), &ctx.model.m)?);
             self.minv_c = vec![0.0; n];
         }
-        let geo = eng.geometry(p, t, &self.cur.u);
+        let geo = ctx.geometry(p, t, &self.cur.u);
         self.minv_c.fill(0.0);
         geo.terms.scatter(1.0, &mut self.minv_c);
         if let Some(lu) = self.mass_lu.as_mut() {
@@ -119,12 +120,12 @@ impl ContactTreatment for Subdivision {
 
     fn solve_interval(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         fs: &Snapshot,
         ts: &mut Snapshot,
-    ) -> Result<(), SimError> {
+    ) -> Result<(), ContactError> {
         let k = self.held.len();
-        let h = eng.h;
+        let h = ctx.h;
         let t0 = fs.t;
         let t1 = t0 + h;
         if self.cur.u.len() != fs.u.len() {
@@ -146,9 +147,9 @@ impl ContactTreatment for Subdivision {
                 break;
             }
             let len = if (rem - h).abs() <= 1e-12 * h { h } else { rem };
-            eng.set_step(len)?;
+            ctx.set_step(len)?;
             let cur = std::mem::replace(&mut self.cur, State::zeros(0));
-            self.solve_held(eng, t, &cur, &mut ts.state);
+            self.solve_held(ctx, t, &cur, &mut ts.state);
             self.cur = cur;
             // Release: the first held pair whose force crosses zero.
             let mut rel: Option<(usize, f64)> = None;
@@ -163,9 +164,9 @@ impl ContactTreatment for Subdivision {
                 }
             }
             if let Some((p, th)) = rel {
-                eng.stats.releases += 1;
+                ctx.counts.releases += 1;
                 if th * rem > 1e-9 * h {
-                    self.sub_step(eng, t, th * rem, &mut ts.state)?;
+                    self.sub_step(ctx, t, th * rem, &mut ts.state)?;
                     // Keep the held part only if it stayed compressive; otherwise the
                     // force crossed zero earlier than interpolated: release at `t`.
                     if self.lam[p] >= 0.0 {
@@ -186,9 +187,9 @@ impl ContactTreatment for Subdivision {
                 if self.held[p] {
                     continue;
                 }
-                let g1 = eng.gap(p, t + rem, &ts.u);
-                if g1 < -eng.gap_tol {
-                    let g0 = eng.gap(p, t, &self.cur.u).max(0.0);
+                let g1 = ctx.gap(p, t + rem, &ts.u);
+                if g1 < -ctx.gap_tol {
+                    let g0 = ctx.gap(p, t, &self.cur.u).max(0.0);
                     let th = g0 / (g0 - g1);
                     if ent.is_none_or(|(_, v)| th < v) {
                         ent = Some((p, th));
@@ -203,9 +204,9 @@ impl ContactTreatment for Subdivision {
                 break;
             };
             // Secant on the end gap of the sub-step [t, t + th rem].
-            let g0 = eng.gap(p, t, &self.cur.u);
+            let g0 = ctx.gap(p, t, &self.cur.u);
             let (mut ta, mut ga) = (0.0, g0);
-            let (mut tb, mut gb) = (1.0, eng.gap(p, t + rem, &ts.u));
+            let (mut tb, mut gb) = (1.0, ctx.gap(p, t + rem, &ts.u));
             let mut th = th0.clamp(0.0, 1.0);
             for _ in 0..12 {
                 if th * rem <= 1e-9 * h {
@@ -215,10 +216,10 @@ impl ContactTreatment for Subdivision {
                     self.lam_keep.fill(0.0);
                     break;
                 }
-                self.sub_step(eng, t, th * rem, &mut ts.state)?;
+                self.sub_step(ctx, t, th * rem, &mut ts.state)?;
                 self.lam_keep.copy_from_slice(&self.lam);
-                let g = eng.gap(p, t + th * rem, &ts.u);
-                if g.abs() <= eng.gap_tol {
+                let g = ctx.gap(p, t + th * rem, &ts.u);
+                if g.abs() <= ctx.gap_tol {
                     break;
                 }
                 if g > 0.0 {
@@ -234,23 +235,23 @@ impl ContactTreatment for Subdivision {
             self.cur.u.copy_from_slice(&ts.u);
             self.cur.v.copy_from_slice(&ts.v);
             t += th * rem;
-            let pimp = self.jump(eng, p, t)?;
+            let pimp = self.jump(ctx, p, t)?;
             self.impulse[p] += pimp.max(0.0);
             self.held[p] = true;
-            eng.stats.entries += 1;
+            ctx.counts.entries += 1;
         }
         if done_by_substeps {
             // Finished by sub-steps: the state is in `cur`.
             ts.state.u.copy_from_slice(&self.cur.u);
             ts.state.v.copy_from_slice(&self.cur.v);
         }
-        eng.set_step(h)?;
+        ctx.set_step(h)?;
         ts.t = t1;
         ts.k = fs.k + 1;
         for p in 0..k {
             let force = self.impulse[p] / h;
             let active = self.impulse[p] != 0.0 || self.held[p];
-            ts.pairs[p] = plain_state(force, active, eng.gap(p, t1, &ts.u));
+            ts.pairs[p] = plain_state(force, active, ctx.gap(p, t1, &ts.u));
         }
         Ok(())
     }

@@ -1,11 +1,14 @@
 //! The contact-treatment contract, and the choice of a treatment.
 //!
-//! A treatment turns the pairs and their states into constraint rows
-//! ([`crate::contact::rows`]) for the engine to solve through the integrator's factored
-//! matrix, judges each solution (accept it, solve the interval again with another active set,
-//! or ask the driver to step back and repeat the previous interval), and records the pairs'
-//! states and reactions at the end of the interval ([`PairState`]): the force of a pair is
-//! always a force (N, compressive positive), whatever the unit of its multiplier.
+//! A treatment works with a narrow [`Context`] lent by the driver for each step (the pairs
+//! and their geometry, the rows, the integrator's step, inverse, prediction and end state,
+//! the extra forces; [`super::context`]), never with the driver's engine, and fails with a
+//! [`ContactError`]. It turns the pairs and their states into constraint rows
+//! ([`crate::contact::rows`]) to solve through the integrator's factored matrix, judges each
+//! solution (accept it, solve the interval again with another active set, or step back and
+//! repeat the previous interval), and records the pairs' states and reactions at the end of
+//! the interval ([`PairState`]): the force of a pair is always a force (N, compressive
+//! positive), whatever the unit of its multiplier.
 //!
 //! | treatment | file | rows | judge |
 //! |---|---|---|---|
@@ -16,7 +19,7 @@
 //! The combinations that do not exist are refused by [`Treatment::check`], in one place.
 //!
 //! **Friction.** The Coulomb coefficient `mu` ([`crate::simulation::Problem::friction`],
-//! scenario key `contact.friction`) is carried by the treatment, given at [`build`]; `None`
+//! scenario key `contact.friction`) is carried by the treatment, given at [`super::build`]; `None`
 //! (or 0) builds exactly the frictionless rows. With `mu > 0` (2D models,
 //! [`Treatment::check_friction`]) every pair that carries a normal row also gets a bounded
 //! row ([`crate::contact::rows::RowKind::Bounded`], `|lambda_t| <= mu lambda_n`) on its
@@ -32,10 +35,11 @@
 //! step on). A treatment records the tangential force, sliding flag, slip power and
 //! dissipated energy of each pair ([`PairState`], [`record_friction`]).
 
+use super::context::{ContactError, Context};
 use super::friction::spring_energy;
-use super::{FrictionLaw, PairState, Restore};
-use crate::simulation::{Engine, SimError, Snapshot};
-use crate::time::integrator::Integrator;
+use super::{FrictionLaw, PairState};
+use crate::model::Snapshot;
+use crate::time::choice::Integrator;
 use serde::Serialize;
 
 /// The choice of a contact treatment (scenario key `contact.method`), with its parameters.
@@ -183,13 +187,13 @@ pub trait ContactTreatment: Send {
     /// again while the active set changes), and records the pairs' states at the end.
     ///
     /// # Errors
-    /// [`SimError`] when a matrix cannot be factored (subdivision).
+    /// [`ContactError`] when a matrix cannot be factored (subdivision).
     fn solve_interval(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         from: &Snapshot,
         to: &mut Snapshot,
-    ) -> Result<(), SimError>;
+    ) -> Result<(), ContactError>;
 
     /// One step of the ring `[t_{k-2}, t_{k-1}, t_k]`: solves `ring[1] -> ring[2]`. A
     /// treatment that steps back (the soft way) may also solve `ring[0] -> ring[1]` again.
@@ -198,12 +202,12 @@ pub trait ContactTreatment: Send {
     /// As [`ContactTreatment::solve_interval`].
     fn advance(
         &mut self,
-        eng: &mut Engine,
+        ctx: &mut Context<'_>,
         ring: &mut [Snapshot; 3],
         _have_prev: bool,
-    ) -> Result<(), SimError> {
+    ) -> Result<(), ContactError> {
         let (lo, hi) = ring.split_at_mut(2);
-        self.solve_interval(eng, &lo[1], &mut hi[0])
+        self.solve_interval(ctx, &lo[1], &mut hi[0])
     }
 
     /// Poses rows only for the candidate pairs (`true`, the default) or for every pair at
@@ -217,39 +221,17 @@ pub trait ContactTreatment: Send {
     }
 }
 
-/// Builds the treatment of `choice` for `integrator`, `pairs` contact pairs and `n` dofs,
-/// with the Coulomb coefficient `friction` (`None`: frictionless; checked by
-/// [`Treatment::check_friction`] first). Mass redistribution is exact enforcement on a model
-/// whose contact nodes the driver made massless ([`Treatment::massless_contact`]).
-pub fn build(
-    choice: Treatment,
-    integrator: &Integrator,
-    pairs: usize,
-    n: usize,
-    friction: Option<FrictionLaw>,
-) -> Box<dyn ContactTreatment> {
-    use super::complementarity::{Complementarity, Law};
-    use super::softway::SoftWay;
-    let st = integrator.is_space_time();
-    let mu = friction.filter(FrictionLaw::is_active);
-    match choice {
-        Treatment::SoftWay { restore } => {
-            Box::new(SoftWay::new(true, restore, pairs).with_friction(mu))
-        }
-        Treatment::Exact | Treatment::MassRedistribution if st => {
-            Box::new(SoftWay::new(false, Restore::Nothing, pairs).with_friction(mu))
-        }
-        Treatment::Exact | Treatment::MassRedistribution => {
-            Box::new(Complementarity::new(Law::Exact, pairs, n).with_friction(mu))
-        }
-        Treatment::Penalty { stiffness } => {
-            Box::new(Complementarity::new(Law::Penalty { stiffness }, pairs, n).with_friction(mu))
-        }
-        Treatment::MoreauJean { restitution } => Box::new(
-            Complementarity::new(Law::MoreauJean { restitution }, pairs, n).with_friction(mu),
-        ),
-        Treatment::Subdivision => Box::new(super::subdivision::Subdivision::new(pairs)),
-    }
+/// What the soft way gives back at release ([`super::softway`], Release).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Restore {
+    /// The impulse that would have stopped the node in the braking step (`soft_way`): the
+    /// same whatever the phase of the arrival inside the step.
+    StoppingImpulse,
+    /// Table 1's braking reaction alone (`soft_way_braking_restore`).
+    BrakingReaction,
+    /// Nothing (`soft_way_no_restore`; exact enforcement).
+    Nothing,
 }
 
 /// Records the friction of pair state `st` for a step of length `h`: the tangential force

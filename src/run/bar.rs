@@ -228,7 +228,7 @@ impl<'a> Recorder<'a> {
     fn new(
         label: &'a str,
         head: usize,
-        model: &crate::time::step::LinearModel,
+        model: &crate::model::LinearModel,
         bodies: Vec<std::ops::Range<usize>>,
         csv: Option<&'a mut CsvWriter>,
         stride: usize,

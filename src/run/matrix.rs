@@ -26,9 +26,10 @@
 
 use super::RunError;
 use crate::linalg::{write_matrix_market, FactorKind, Ordering};
+use crate::model::LinearModel;
 use crate::output::files::write_json;
 use crate::scenario::{Model, Scenario};
-use crate::time::step::{FactorChoice, LinearModel, Stepper};
+use crate::time::step::{FactorChoice, Stepper};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -49,10 +49,9 @@
 //! [`ClassicStepper`] implements the [`TimeIntegrator`] contract with `x = a1`.
 
 use crate::linalg::{spmv_add, LinalgError, Pattern, SparseLu};
-use crate::simulation::LoadFn;
-pub use crate::time::integrator::State;
-use crate::time::integrator::{Maps, MultiplierUnit, TimeIntegrator};
-use crate::time::step::LinearModel;
+pub use crate::model::State;
+use crate::model::{LinearModel, LoadFn};
+use crate::time::integrator::{FactorCounts, Maps, MultiplierUnit, Step, TimeIntegrator};
 use serde::Serialize;
 
 /// Errors of the classic integrators.
@@ -453,30 +452,22 @@ impl TimeIntegrator for ClassicStepper {
             self.params.alpha_m, self.params.alpha_f, self.params.beta, self.params.gamma
         )
     }
-    fn n(&self) -> usize {
-        self.n
-    }
     fn h(&self) -> f64 {
         self.h
     }
-    fn unit(&self) -> MultiplierUnit {
-        MultiplierUnit::Force
-    }
-    fn maps(&self) -> Maps {
-        Maps {
-            mu_u: self.params.beta * self.h * self.h,
-            mu_v: self.params.gamma * self.h,
-            force: 1.0,
+    fn step_at(&self, t0: f64) -> Step {
+        Step {
+            t0,
+            h: self.h,
+            maps: Maps {
+                mu_u: self.params.beta * self.h * self.h,
+                mu_v: self.params.gamma * self.h,
+                force: 1.0,
+            },
+            weight: self.params.beta * self.h,
+            unit: MultiplierUnit::Force,
+            explicit: self.is_diagonal(),
         }
-    }
-    fn displacement_weight(&self, _t0: f64) -> f64 {
-        self.params.beta * self.h
-    }
-    fn is_explicit(&self) -> bool {
-        self.is_diagonal()
-    }
-    fn is_fixed(&self, dof: usize) -> bool {
-        self.is_bc[dof]
     }
     fn initialize(
         &mut self,
@@ -503,7 +494,7 @@ impl TimeIntegrator for ClassicStepper {
         f: &mut [f64],
         pred: &mut State,
         x: &mut [f64],
-    ) {
+    ) -> Step {
         let h = self.h;
         load(t0, f);
         let mut f1 = std::mem::take(&mut self.f1);
@@ -515,12 +506,19 @@ impl TimeIntegrator for ClassicStepper {
         ClassicStepper::predict(self, s0, f, &f1, pred);
         self.f1 = f1;
         x.copy_from_slice(&pred.a);
+        self.step_at(t0)
     }
-    fn apply_inverse(&mut self, r: &mut [f64]) {
-        ClassicStepper::apply_inverse(self, r)
+    fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool {
+        col.fill(0.0);
+        if self.is_bc[dof] {
+            return false;
+        }
+        col[dof] = 1.0;
+        ClassicStepper::apply_inverse(self, col);
+        true
     }
-    fn finish(&self, _s0: &State, pred: &State, x: &[f64], s1: &mut State) {
-        let Maps { mu_u, mu_v, .. } = TimeIntegrator::maps(self);
+    fn finish(&self, step: &Step, _s0: &State, pred: &State, x: &[f64], s1: &mut State) {
+        let Maps { mu_u, mu_v, .. } = step.maps;
         for i in 0..self.n {
             s1.u[i] = pred.u[i] + mu_u * x[i];
             s1.v[i] = pred.v[i] + mu_v * x[i];
@@ -549,13 +547,13 @@ impl TimeIntegrator for ClassicStepper {
         self.factorizations += 1;
         Ok(())
     }
-    fn factorizations(&self) -> usize {
-        self.factorizations
-    }
-    fn symbolic_analyses(&self) -> usize {
-        match &self.solver {
-            Solver::Lu(lu) => crate::linalg::Factorization::symbolic_analyses(&**lu),
-            Solver::Diagonal(_) => 0,
+    fn counts(&self) -> FactorCounts {
+        FactorCounts {
+            numeric: self.factorizations,
+            symbolic: match &self.solver {
+                Solver::Lu(lu) => crate::linalg::Factorization::symbolic_analyses(&**lu),
+                Solver::Diagonal(_) => 0,
+            },
         }
     }
 }

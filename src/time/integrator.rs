@@ -21,46 +21,29 @@
 //! # The contract
 //!
 //! - [`TimeIntegrator::predict`]: from the state at `t0` and the loads, the predictors
-//!   `U`, `V` and the free solution `x_free = A^{-1} b`;
-//! - [`TimeIntegrator::apply_inverse`]: `r <- A^{-1} r` (a column `z_q`);
-//! - [`TimeIntegrator::finish`]: the end state from the predictors and the corrected `x`;
-//! - [`TimeIntegrator::maps`]: `mu_u`, `mu_v` and the force per unit multiplier, and
-//!   [`TimeIntegrator::unit`]: whether a multiplier is an impulse or a force;
+//!   `U`, `V` and the free solution `x_free = A^{-1} b`; it *returns* the step it predicted
+//!   ([`Step`]: `t0`, `h`, the maps `mu_u`, `mu_v`, the force per unit multiplier and the
+//!   displacement weight), a value that the caller hands on to the rows and to `finish`:
+//!   the integrator keeps no state between the two calls;
+//! - [`TimeIntegrator::step_at`]: the same [`Step`] for a step starting at `t0`, without
+//!   predicting (the soft way's braking law, Eq. 26, needs `beta` of the interval it repeats);
+//! - [`TimeIntegrator::inverse_column`]: a column `z_d = A^{-1} e_d` (zero on a dof with a
+//!   prescribed velocity, whose row of `A` is the identity);
+//! - [`TimeIntegrator::finish`]: the end state `u1 = U + mu_u x`, `v1 = V + mu_v x` from the
+//!   predictors and the corrected `x`, with the maps of the [`Step`] that `predict` returned;
 //! - [`TimeIntegrator::stiffness_point`]: where the scheme evaluates `K u` (penalty springs
 //!   act there, so they are integrated like the elastic forces);
 //! - [`TimeIntegrator::set_step`]: another step length on the same symbolic analysis (a
-//!   numeric refactorization only; the subdivision of the paper's Fig. 5 uses it).
+//!   numeric refactorization only; the subdivision of the paper's Fig. 5 uses it);
+//! - [`TimeIntegrator::initialize`] (once, before the first step) and
+//!   [`TimeIntegrator::counts`] (after the run).
 //!
-//! An integrator allocates its work memory when built; none of these calls allocates.
+//! An integrator allocates its work memory when built; none of the per-step calls allocates.
 
 use crate::linalg::LinalgError;
-use crate::simulation::LoadFn;
-use crate::time::classic::{ClassicError, ClassicParams};
-use crate::time::Coriolis;
+use crate::model::LoadFn;
+pub use crate::model::State;
 use serde::Serialize;
-
-/// The state `(u, v, a)` at one time (`a` is kept by the classic integrators; the space-time
-/// scheme stores the mean acceleration of the step).
-#[derive(Debug, Clone, PartialEq)]
-pub struct State {
-    /// Displacements, m.
-    pub u: Vec<f64>,
-    /// Velocities, m/s.
-    pub v: Vec<f64>,
-    /// Accelerations, m/s^2.
-    pub a: Vec<f64>,
-}
-
-impl State {
-    /// Zero state of `n` dofs.
-    pub fn zeros(n: usize) -> Self {
-        Self {
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            a: vec![0.0; n],
-        }
-    }
-}
 
 /// What a constraint multiplier of an integrator is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -84,28 +67,46 @@ pub struct Maps {
     pub force: f64,
 }
 
+/// One step as the integrator predicted it ([`TimeIntegrator::predict`],
+/// [`TimeIntegrator::step_at`]): what the rows, the treatments and
+/// [`TimeIntegrator::finish`] read of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    /// Start of the step `t0`, s.
+    pub t0: f64,
+    /// Length `h`, s.
+    pub h: f64,
+    /// The maps of the step (they may change with `gamma`'s schedule).
+    pub maps: Maps,
+    /// The weight of `x` in the displacement update per unit `h`: `beta` of Eq. (24) for the
+    /// space-time scheme (`u1 = U + h beta v1`, so `mu_u = h beta`; the soft way's braking and
+    /// holding laws need it), `beta_N h` for the generalized-alpha family (`mu_u = beta_N h^2`).
+    pub weight: f64,
+    /// The unit of a multiplier.
+    pub unit: MultiplierUnit,
+    /// True when the matrix is diagonal (the explicit central difference).
+    pub explicit: bool,
+}
+
+/// Factorizations of a run ([`TimeIntegrator::counts`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FactorCounts {
+    /// Numeric factorizations of a system matrix.
+    pub numeric: usize,
+    /// Symbolic analyses (1 for a run of a sparse factor, whatever the steps; 0 for a
+    /// diagonal matrix).
+    pub symbolic: usize,
+}
+
 /// A time integrator (module docs).
 pub trait TimeIntegrator: Send {
     /// The name used in tables, e.g. `space_time(alpha=0.8 gamma=0)`, `newmark`.
     fn name(&self) -> String;
-    /// Number of dofs.
-    fn n(&self) -> usize;
     /// The current step length, s.
     fn h(&self) -> f64;
-    /// The unit of a multiplier.
-    fn unit(&self) -> MultiplierUnit;
-    /// The maps of the current step (they may change with `gamma`'s schedule).
-    fn maps(&self) -> Maps;
-    /// The weight of `x` in the displacement update of the step starting at `t0`, per unit
-    /// `h`: `beta` of Eq. (24) for the space-time scheme (`u1 = U + h beta v1`; the soft
-    /// way's braking and holding laws need it), `beta_N h` for the generalized-alpha family.
-    fn displacement_weight(&self, t0: f64) -> f64;
-    /// True when the matrix is diagonal (the explicit central difference).
-    fn is_explicit(&self) -> bool {
-        false
-    }
-    /// True when `dof` has a prescribed velocity (its row of `A` is the identity).
-    fn is_fixed(&self, dof: usize) -> bool;
+    /// The step of the current length starting at `t0`, as [`TimeIntegrator::predict`]
+    /// would return it.
+    fn step_at(&self, t0: f64) -> Step;
     /// Completes the initial state (the classic integrators' consistent acceleration, zero
     /// on the fixed and the `massless` dofs). Allocates (call once).
     ///
@@ -122,7 +123,8 @@ pub trait TimeIntegrator: Send {
     }
     /// The predictors `U`, `V` into `pred.u`, `pred.v` and `x_free = A^{-1} b` into `x`, for
     /// the step from `(t0, s0)` with the external load plus the nodal forces `extra` (N),
-    /// using `f` as scratch.
+    /// using `f` as scratch; returns the step (`step_at(t0)`), to be passed to
+    /// [`TimeIntegrator::finish`].
     #[allow(clippy::too_many_arguments)]
     fn predict(
         &mut self,
@@ -133,11 +135,13 @@ pub trait TimeIntegrator: Send {
         f: &mut [f64],
         pred: &mut State,
         x: &mut [f64],
-    );
-    /// `r <- A^{-1} r` with the fixed rows of `r` zeroed first.
-    fn apply_inverse(&mut self, r: &mut [f64]);
-    /// The end state from the predictors and `x`.
-    fn finish(&self, s0: &State, pred: &State, x: &[f64], s1: &mut State);
+    ) -> Step;
+    /// `col <- A^{-1} e_dof`; `col` is zero and no solve is made (returns false) when `dof`
+    /// has a prescribed velocity (its row of `A` is the identity and its value is lifted).
+    fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool;
+    /// The end state of `step` (returned by [`TimeIntegrator::predict`]) from the start
+    /// state, the predictors and `x`.
+    fn finish(&self, step: &Step, s0: &State, pred: &State, x: &[f64], s1: &mut State);
     /// The displacement where the scheme evaluates `K u`, as `P + mu_k x`: `P` into `p`,
     /// returns `mu_k`. Space-time: `u0 + h(alpha - alpha^2/2) v0 + (h alpha^2/2) v1` (the `K`
     /// terms of Eq. 9); generalized-alpha family: the step end `u1`.
@@ -149,97 +153,6 @@ pub trait TimeIntegrator: Send {
     /// # Errors
     /// [`LinalgError`] when the new `A` is singular.
     fn set_step(&mut self, h: f64) -> Result<(), LinalgError>;
-    /// Numeric factorizations so far.
-    fn factorizations(&self) -> usize;
-    /// Symbolic analyses so far (1 for a run, whatever the steps).
-    fn symbolic_analyses(&self) -> usize;
-}
-
-/// The choice of an integrator, with its parameters (scenario key `integrator`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(tag = "name", rename_all = "snake_case")]
-pub enum Integrator {
-    /// The space-time velocity scheme (Eqs. 6-10, 24).
-    SpaceTime {
-        /// `alpha` in (0, 1].
-        alpha: f64,
-        /// `gamma` in [0, 1].
-        gamma: f64,
-        /// Where the Coriolis term goes (`time.coriolis`).
-        coriolis: Coriolis,
-    },
-    /// A member of the generalized-alpha family ([`crate::time::classic`]).
-    Classic {
-        /// Short name.
-        kind: ClassicKind,
-        /// Its parameters.
-        params: ClassicParams,
-    },
-}
-
-/// The classic integrators by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ClassicKind {
-    /// Newmark average acceleration (`beta = 1/4`, `gamma = 1/2`).
-    Newmark,
-    /// Newmark with `gamma_N > 1/2`.
-    NewmarkDissipative,
-    /// HHT-alpha.
-    Hht,
-    /// Generalized-alpha (Chung-Hulbert).
-    GeneralizedAlpha,
-    /// Explicit central difference.
-    CentralDifference,
-}
-
-impl Integrator {
-    /// The name used in tables.
-    pub fn name(&self) -> String {
-        match self {
-            Integrator::SpaceTime {
-                alpha,
-                gamma,
-                coriolis: Coriolis::Implicit,
-            } => format!("space_time(alpha={alpha} gamma={gamma})"),
-            Integrator::SpaceTime {
-                alpha,
-                gamma,
-                coriolis,
-            } => format!(
-                "space_time(alpha={alpha} gamma={gamma} coriolis={})",
-                coriolis.name()
-            ),
-            Integrator::Classic { kind, params } => match kind {
-                ClassicKind::Newmark => "newmark".into(),
-                ClassicKind::NewmarkDissipative => format!("newmark({:.2})", params.gamma),
-                ClassicKind::Hht => format!("hht({:.3})", -params.alpha_f),
-                ClassicKind::GeneralizedAlpha => {
-                    format!("gen_alpha({:.2})", crate::time::classic::rho_inf(*params))
-                }
-                ClassicKind::CentralDifference => "central_difference".into(),
-            },
-        }
-    }
-
-    /// True for the explicit central difference.
-    pub fn is_explicit(&self) -> bool {
-        matches!(self, Integrator::Classic { params, .. } if params.is_explicit())
-    }
-
-    /// True for the space-time scheme.
-    pub fn is_space_time(&self) -> bool {
-        matches!(self, Integrator::SpaceTime { .. })
-    }
-}
-
-/// Errors of building an integrator.
-#[derive(Debug, thiserror::Error)]
-pub enum BuildError {
-    /// A matrix could not be factored.
-    #[error(transparent)]
-    Linalg(#[from] LinalgError),
-    /// A classic integrator could not be set up.
-    #[error(transparent)]
-    Classic(#[from] ClassicError),
+    /// Factorizations so far.
+    fn counts(&self) -> FactorCounts;
 }

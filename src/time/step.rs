@@ -49,40 +49,15 @@
 //! step, so a change of the active set costs no factorization. The multiplier `lambda_p` is
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
-use crate::assembly::Assembler;
 use crate::linalg::rhs::Operators;
 use crate::linalg::{
     BParts, Factor, FactorKind, Factorization, LinalgError, Pattern, RhsOperator, RhsValues,
 };
-use crate::simulation::LoadFn;
-use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
+pub use crate::model::LinearModel;
+use crate::model::{LoadFn, State};
+use crate::time::integrator::{FactorCounts, Maps, MultiplierUnit, Step, TimeIntegrator};
 use crate::time::params::beta;
 use crate::time::{Coriolis, SpaceTimeParams};
-
-/// The semi-discrete linear model `M v' + C v + K u = f` on one sparsity pattern.
-#[derive(Debug, Clone)]
-pub struct LinearModel {
-    /// Pattern and element map.
-    pub assembler: Assembler,
-    /// Mass matrix values.
-    pub m: Vec<f64>,
-    /// Stiffness matrix values (elastic plus, in a rotating frame, spin terms).
-    pub k: Vec<f64>,
-    /// Damping matrix values (`eta_z` of Eq. 22, Coriolis in a rotating frame).
-    pub c: Vec<f64>,
-}
-
-impl LinearModel {
-    /// Number of degrees of freedom.
-    pub fn n(&self) -> usize {
-        self.assembler.pattern.nrows()
-    }
-
-    /// The pattern.
-    pub fn pattern(&self) -> &Pattern {
-        &self.assembler.pattern
-    }
-}
 
 /// The order from which [`Stepper::update_displacement`] runs in two halves side by side:
 /// on the 48-ring disk (14,114 dofs) 0.0125 -> 0.0100 ms (an in-process probe, alternated
@@ -96,8 +71,6 @@ pub struct Stepper {
     params: SpaceTimeParams,
     /// `gamma` from given instants on: `(t_from, gamma)`, sorted by time.
     schedule: Vec<(f64, f64)>,
-    /// `beta` of the step being solved (set by `predict`).
-    beta_now: f64,
     n: usize,
     pattern: Pattern,
     m: Vec<f64>,
@@ -232,7 +205,6 @@ impl Stepper {
             params,
             rhs_rows,
             schedule: Vec::new(),
-            beta_now: params.beta(),
             n,
             m: model.m.clone(),
             c,
@@ -463,27 +435,23 @@ impl TimeIntegrator for Stepper {
             self.params.alpha, self.params.gamma
         )
     }
-    fn n(&self) -> usize {
-        self.n
-    }
     fn h(&self) -> f64 {
         self.h_now
     }
-    fn unit(&self) -> MultiplierUnit {
-        MultiplierUnit::Impulse
-    }
-    fn maps(&self) -> Maps {
-        Maps {
-            mu_u: self.h_now * self.beta_now,
-            mu_v: 1.0,
-            force: 1.0 / self.h_now,
+    fn step_at(&self, t0: f64) -> Step {
+        let (h, beta) = (self.h_now, self.beta_at(t0));
+        Step {
+            t0,
+            h,
+            maps: Maps {
+                mu_u: h * beta,
+                mu_v: 1.0,
+                force: 1.0 / h,
+            },
+            weight: beta,
+            unit: MultiplierUnit::Impulse,
+            explicit: false,
         }
-    }
-    fn displacement_weight(&self, t0: f64) -> f64 {
-        self.beta_at(t0)
-    }
-    fn is_fixed(&self, dof: usize) -> bool {
-        self.is_bc[dof]
     }
     #[allow(clippy::too_many_arguments)]
     fn predict(
@@ -495,33 +463,35 @@ impl TimeIntegrator for Stepper {
         f: &mut [f64],
         pred: &mut State,
         x: &mut [f64],
-    ) {
-        let h = self.h_now;
-        self.beta_now = self.beta_at(t0);
+    ) -> Step {
+        let step = self.step_at(t0);
+        let h = step.h;
         load(t0 + self.params.alpha * h, f);
         for (fi, ei) in f.iter_mut().zip(extra) {
             *fi += ei;
         }
         self.rhs_into(&s0.u, &s0.v, &s0.a, f, x);
         self.solve(x);
-        let bt = self.beta_now;
+        let bt = step.weight;
         for i in 0..self.n {
             pred.u[i] = s0.u[i] + h * (1.0 - bt) * s0.v[i];
             pred.v[i] = 0.0;
         }
+        step
     }
-    fn apply_inverse(&mut self, r: &mut [f64]) {
-        for (ri, &bc) in r.iter_mut().zip(&self.is_bc) {
-            if bc {
-                *ri = 0.0;
-            }
+    fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool {
+        col.fill(0.0);
+        if self.is_bc[dof] {
+            return false;
         }
-        self.factor().solve_in_place(r);
+        col[dof] = 1.0;
+        self.factor().solve_in_place(col);
+        true
     }
-    fn finish(&self, s0: &State, _pred: &State, x: &[f64], s1: &mut State) {
+    fn finish(&self, step: &Step, s0: &State, _pred: &State, x: &[f64], s1: &mut State) {
         s1.v.copy_from_slice(x);
-        self.update_displacement(self.beta_now, &s0.u, &s0.v, x, &mut s1.u);
-        let h = self.h_now;
+        self.update_displacement(step.weight, &s0.u, &s0.v, x, &mut s1.u);
+        let h = step.h;
         for i in 0..self.n {
             s1.a[i] = (s1.v[i] - s0.v[i]) / h;
         }
@@ -555,18 +525,15 @@ impl TimeIntegrator for Stepper {
         }
         Ok(())
     }
-    /// The numeric factorizations made by the run's factor and the other step length's,
-    /// as they count them ([`Factorization::numeric_factorizations`]).
-    fn factorizations(&self) -> usize {
-        self.factors()
-            .map(Factorization::numeric_factorizations)
-            .sum()
-    }
-    /// The symbolic analyses made by the run's factor and the other step length's, as they
-    /// count them ([`Factorization::symbolic_analyses`]): 1 while the second shares the
+    /// The numeric factorizations and symbolic analyses made by the run's factor and the
+    /// other step length's, as they count them ([`Factorization::numeric_factorizations`],
+    /// [`Factorization::symbolic_analyses`]): one analysis while the second shares the
     /// first's.
-    fn symbolic_analyses(&self) -> usize {
-        self.factors().map(Factorization::symbolic_analyses).sum()
+    fn counts(&self) -> FactorCounts {
+        FactorCounts {
+            numeric: self.factors().map(Factorization::numeric_factorizations).sum(),
+            symbolic: self.factors().map(Factorization::symbolic_analyses).sum(),
+        }
     }
 }
 

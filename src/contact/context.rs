@@ -1,0 +1,216 @@
+//! What a contact treatment works with: a narrow [`Context`] that the driver
+//! ([`crate::simulation`]) builds from its engine for each step (references only, no
+//! allocation), instead of the engine itself.
+//!
+//! A treatment sees the pairs and their geometry ([`Context::geometry`],
+//! [`Context::tangent`], [`Context::gap`], [`Context::gaps_into`]), the constraint rows and
+//! their solver ([`RowSolver`]), the integrator through a handle ([`Integ`]: the step
+//! length, the [`Step`] of an instant, the stiffness point) and the step's three calls of
+//! the integrator contract ([`crate::time::integrator`]):
+//! $$x_{free} = A^{-1} b\ \ (\text{[`Context::predict`]}),\qquad
+//!   x = x_{free} + \sum_q z_q \lambda_q\ \ (\text{[`Context::solve`]}),\qquad
+//!   u_1 = U + \mu_u x,\ v_1 = V + \mu_v x\ \ (\text{[`Context::finish`]}),$$
+//! the extra nodal forces of the next prediction (the soft way's restore), the run's step,
+//! the gap tolerance, and the counters it keeps ([`Counts`]). Errors are
+//! [`ContactError`]s.
+
+use super::obstacle::{HalfSpace, Obstacle};
+use super::pair::{Geometry, Pair};
+use super::rows::RowSolver;
+use crate::linalg::LinalgError;
+use crate::model::{LinearModel, LoadFn, State};
+use crate::time::integrator::{Step, TimeIntegrator};
+
+/// The events a treatment counts (the driver reports them in its run statistics).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Steps stepped back and repeated (braking, Table 1 item 4).
+    pub step_backs: usize,
+    /// Extra solves of the same interval (active-set changes, releases, immediate holds).
+    pub resolves: usize,
+    /// Braking events.
+    pub brakings: usize,
+    /// Entries into contact.
+    pub entries: usize,
+    /// Releases.
+    pub releases: usize,
+}
+
+/// Errors of a contact treatment.
+#[derive(Debug, thiserror::Error)]
+pub enum ContactError {
+    /// A matrix could not be factored (a sub-step's `A`, the mass matrix of a velocity jump).
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+}
+
+/// The integrator as a treatment sees it: its step length, the [`Step`] of an instant and
+/// the point where it evaluates `K u` (the predictions, solves and end states go through
+/// [`Context`]).
+pub struct Integ<'a>(&'a mut dyn TimeIntegrator);
+
+impl<'a> Integ<'a> {
+    /// The handle of `integ`.
+    pub fn new(integ: &'a mut dyn TimeIntegrator) -> Self {
+        Self(integ)
+    }
+
+    /// The current step length, s.
+    pub fn h(&self) -> f64 {
+        self.0.h()
+    }
+
+    /// The step of the current length starting at `t0` ([`TimeIntegrator::step_at`]).
+    pub fn step_at(&self, t0: f64) -> Step {
+        self.0.step_at(t0)
+    }
+
+    /// [`TimeIntegrator::stiffness_point`].
+    pub fn stiffness_point(&self, s0: &State, pred: &State, p: &mut [f64]) -> f64 {
+        self.0.stiffness_point(s0, pred, p)
+    }
+}
+
+impl std::fmt::Debug for Integ<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("Integ").field(&self.0.name()).finish()
+    }
+}
+
+/// The driver's scratch for a [`Context`]: the load vector and the obstacles' half-spaces of
+/// one instant (allocated once, [`Scratch::new`]).
+#[derive(Debug, Clone)]
+pub struct Scratch {
+    f: Vec<f64>,
+    half_spaces: Vec<Option<HalfSpace>>,
+}
+
+impl Scratch {
+    /// For `n` dofs and `obstacles` obstacles.
+    pub fn new(n: usize, obstacles: usize) -> Self {
+        Self {
+            f: vec![0.0; n],
+            half_spaces: Vec::with_capacity(obstacles),
+        }
+    }
+}
+
+/// What a treatment works with (module docs).
+pub struct Context<'a> {
+    /// Spatial dimension.
+    pub dim: usize,
+    /// Reference positions of the nodes, m.
+    pub reference: &'a [f64],
+    /// The obstacles.
+    pub obstacles: &'a [Box<dyn Obstacle>],
+    /// The contact pairs.
+    pub pairs: &'a [Pair],
+    /// The model integrated (after any mass redistribution).
+    pub model: &'a LinearModel,
+    /// The external load.
+    pub load: &'a LoadFn,
+    /// The integrator.
+    pub integ: Integ<'a>,
+    /// The constraint rows and their solver.
+    pub rows: &'a mut RowSolver,
+    /// Nodal forces added to the load in the next prediction (the soft way's restore), N.
+    pub extra: &'a mut [f64],
+    /// Predictors `U`, `V` of the last prediction.
+    pub pred: &'a mut State,
+    /// The free solution `x_free` of the last prediction.
+    pub xfree: &'a mut [f64],
+    /// `x` of the last solve.
+    pub x: &'a mut [f64],
+    /// The run's step, s.
+    pub h: f64,
+    /// Gap below `-gap_tol` (m) counts as penetration.
+    pub gap_tol: f64,
+    /// The treatment's counters.
+    pub counts: &'a mut Counts,
+    /// The driver's scratch.
+    pub scratch: &'a mut Scratch,
+}
+
+impl std::fmt::Debug for Context<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Context")
+            .field("dim", &self.dim)
+            .field("integ", &self.integ)
+            .field("pairs", &self.pairs.len())
+            .field("h", &self.h)
+            .finish()
+    }
+}
+
+impl Context<'_> {
+    /// The geometry of pair `p` at time `t` in the configuration `u`.
+    pub fn geometry(&self, p: usize, t: f64, u: &[f64]) -> Geometry {
+        self.pairs[p].geometry(self.obstacles, self.dim, self.reference, u, t)
+    }
+
+    /// The tangential row of pair `p` at time `t` in the configuration `u` (`None` unless
+    /// the model is 2D; [`Pair::tangent`]).
+    pub fn tangent(&self, p: usize, t: f64, u: &[f64]) -> Option<Geometry> {
+        self.pairs[p].tangent(self.obstacles, self.dim, self.reference, u, t)
+    }
+
+    /// The gap of pair `p` at time `t` in the configuration `u`, m.
+    pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
+        self.pairs[p].gap(self.obstacles, self.dim, self.reference, u, t)
+    }
+
+    /// The gaps of every pair at time `t` in the configuration `u` into `out` (m): the same
+    /// values as [`Context::gap`] pair by pair, each obstacle's half-space evaluated once.
+    pub fn gaps_into(&mut self, t: f64, u: &[f64], out: &mut [f64]) {
+        super::pair::gaps_into(
+            self.pairs,
+            self.obstacles,
+            self.dim,
+            self.reference,
+            u,
+            t,
+            &mut self.scratch.half_spaces,
+            out,
+        );
+    }
+
+    /// Predicts the step from `(t0, s0)` (loads plus [`Context::extra`]) into
+    /// [`Context::pred`] and [`Context::xfree`]; returns the step, for [`Context::finish`]
+    /// and the rows' maps.
+    pub fn predict(&mut self, t0: f64, s0: &State) -> Step {
+        self.integ.0.predict(
+            t0,
+            s0,
+            self.load,
+            self.extra,
+            &mut self.scratch.f,
+            self.pred,
+            self.xfree,
+        )
+    }
+
+    /// Solves the rows in [`Context::rows`] from `xfree` into `x`; returns the active-set
+    /// changes.
+    pub fn solve(&mut self, tol: f64) -> usize {
+        self.x.copy_from_slice(self.xfree);
+        self.rows.solve(&mut *self.integ.0, self.x, tol)
+    }
+
+    /// The end state of `step` (returned by [`Context::predict`]) from `pred` and `x`.
+    pub fn finish(&self, step: &Step, s0: &State, s1: &mut State) {
+        self.integ.0.finish(step, s0, self.pred, self.x, s1);
+    }
+
+    /// Switches the integrator to the step `h` (a numeric refactorization at most; the
+    /// cached columns are dropped).
+    ///
+    /// # Errors
+    /// [`ContactError::Linalg`] when the new matrix is singular.
+    pub fn set_step(&mut self, h: f64) -> Result<(), ContactError> {
+        if h != self.integ.h() {
+            self.integ.0.set_step(h)?;
+            self.rows.invalidate();
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,92 @@
+//! The coefficients of a constraint row on at most [`MAX_TERMS`] dofs
+//! ([`crate::contact::rows`]).
+
+/// Most dofs one row acts on: two nodes of three components.
+pub const MAX_TERMS: usize = 6;
+
+/// The coefficients of a row on at most [`MAX_TERMS`] dofs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Terms {
+    len: usize,
+    dof: [usize; MAX_TERMS],
+    coef: [f64; MAX_TERMS],
+}
+
+impl Default for Terms {
+    fn default() -> Self {
+        Self {
+            len: 0,
+            dof: [0; MAX_TERMS],
+            coef: [0.0; MAX_TERMS],
+        }
+    }
+}
+
+impl Terms {
+    /// Adds `coef` on `dof`.
+    ///
+    /// # Panics
+    /// Beyond [`MAX_TERMS`] terms.
+    pub fn push(&mut self, dof: usize, coef: f64) {
+        assert!(
+            self.len < MAX_TERMS,
+            "a row acts on at most {MAX_TERMS} dofs"
+        );
+        self.dof[self.len] = dof;
+        self.coef[self.len] = coef;
+        self.len += 1;
+    }
+
+    /// The `(dof, coefficient)` pairs.
+    pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        (0..self.len).map(|i| (self.dof[i], self.coef[i]))
+    }
+
+    /// `c . x`.
+    pub fn dot(&self, x: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for i in 0..self.len {
+            s += self.coef[i] * x[self.dof[i]];
+        }
+        s
+    }
+
+    /// The same row on relabelled nodes of a 2D model: the terms of node `m` move to node
+    /// `node(m)` with their `(x, y)` coefficients turned by the rotation `rot` (row-major);
+    /// `None` when a node has no new label.
+    pub fn relabel_2d(
+        &self,
+        node: impl Fn(usize) -> Option<usize>,
+        rot: [[f64; 2]; 2],
+    ) -> Option<Terms> {
+        let mut out = Terms::default();
+        let mut seen = [usize::MAX; MAX_TERMS];
+        let mut k = 0;
+        for i in 0..self.len {
+            let m = self.dof[i] / 2;
+            if seen[..k].contains(&m) {
+                continue;
+            }
+            seen[k] = m;
+            k += 1;
+            let mut c = [0.0; 2];
+            for j in 0..self.len {
+                if self.dof[j] / 2 == m {
+                    c[self.dof[j] % 2] += self.coef[j];
+                }
+            }
+            let n = node(m)?;
+            for (comp, r) in rot.iter().enumerate() {
+                out.push(2 * n + comp, r[0] * c[0] + r[1] * c[1]);
+            }
+        }
+        Some(out)
+    }
+
+    /// `y[dof] += s c` for every term.
+    pub fn scatter(&self, s: f64, y: &mut [f64]) {
+        for i in 0..self.len {
+            y[self.dof[i]] += self.coef[i] * s;
+        }
+    }
+}
