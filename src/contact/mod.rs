@@ -23,6 +23,7 @@ pub mod mass_redistribution;
 pub mod obstacle;
 pub mod pair;
 pub mod rows;
+pub mod search;
 pub mod softway;
 pub mod statics;
 pub mod subdivision;
