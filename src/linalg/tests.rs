@@ -4,6 +4,7 @@ use super::kernels::blocks_dot_avx2;
 use super::llt::StoredLower;
 use super::lu::column_ordering;
 use super::lu::Stored;
+use super::solver::Counts;
 use super::supernodal::DENSE_SUPERNODAL_MIN_ORDER;
 use super::triangle::{Segment, Triangle, MIN_SUPERNODE};
 use super::*;
@@ -552,4 +553,77 @@ fn supernodal_solves_reproduce_faers_lu() {
             }
         }
     }
+}
+
+/// A second factorization of other values on the same pattern shares the Cholesky's
+/// symbolic analysis (the same `Arc`: no ordering or elimination tree made again, none
+/// counted) and the LU's column ordering, split alike (1,800 unknowns: the two-part split),
+/// and solves its own matrix as faer's LU does; a refactor counts a numeric factorization
+/// and no analysis.
+#[test]
+fn with_values_shares_the_symbolic_analysis() {
+    let (pattern, values) = grid_matrix_skew(30, 30, 0.0);
+    assert!(pattern.nrows() >= SPLIT_MIN_ORDER);
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut other = values.clone();
+    for j in 0..pattern.ncols() {
+        for p in cp[j]..cp[j + 1] {
+            if ri[p] == j {
+                other[p] *= 2.0;
+            }
+        }
+    }
+    let b = rhs(pattern.nrows());
+    let x_ref = faer_solve(&pattern, &other, &b);
+    let close = |x: &[f64]| max_rel_diff(x, &x_ref) < 1e-13;
+
+    let mut llt = SparseLlt::new(&pattern, &values).unwrap();
+    let mut second = llt.with_values(&pattern, &other).unwrap();
+    assert!(std::sync::Arc::ptr_eq(&llt.symbolic, &second.symbolic));
+    assert_eq!(std::sync::Arc::strong_count(&llt.symbolic), 2);
+    assert!(llt.parts.is_some() && second.parts == llt.parts);
+    assert_eq!(second.perm_fwd, llt.perm_fwd);
+    assert_eq!(
+        second.counts,
+        Counts {
+            analyses: 0,
+            factorizations: 1
+        }
+    );
+    let mut x = b.clone();
+    second.solve_in_place(&mut x);
+    assert!(close(&x), "Cholesky with_values");
+    llt.refactor(&pattern, &other).unwrap();
+    assert_eq!(
+        llt.counts,
+        Counts {
+            analyses: 1,
+            factorizations: 2
+        }
+    );
+    let mut y = b.clone();
+    llt.solve_in_place(&mut y);
+    assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+
+    let lu = SparseLu::new(&pattern, &values).unwrap();
+    let mut second = lu.with_values(&pattern, &other).unwrap();
+    assert_eq!(second.col_fwd, lu.col_fwd);
+    assert!(lu.parts.is_some() && second.parts == lu.parts);
+    assert_eq!(
+        second.counts,
+        Counts {
+            analyses: 0,
+            factorizations: 1
+        }
+    );
+    assert_eq!(
+        lu.counts,
+        Counts {
+            analyses: 1,
+            factorizations: 1
+        }
+    );
+    let mut x = b.clone();
+    second.solve_in_place(&mut x);
+    assert!(close(&x), "LU with_values");
 }

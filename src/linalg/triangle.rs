@@ -225,47 +225,11 @@ impl Triangle {
         for w in bounds.windows(2) {
             let (r0, r1) = (w[0], w[1]);
             if r1 - r0 == 1 {
-                // A single row: its entries by rows.
-                let entries = row(r0);
-                t.single_idx.extend(entries.iter().map(|e| e.0));
-                t.single_val.extend(entries.iter().map(|e| e.1));
-                t.single_ptr.push(t.single_idx.len());
-                match t.segments.last_mut() {
-                    Some((_, end, Segment::Singles)) if *end == r0 => *end = r1,
-                    _ => t.segments.push((r0, r1, Segment::Singles)),
-                }
+                t.push_single(r0, row(r0));
                 continue;
             }
             if r1 - r0 == 2 {
-                // A pair: lower, row r0 + 1 is row r0's columns and r0; upper, row r0 is
-                // r0 + 1 and row r0 + 1's columns.
-                let (a, b) = (row(r0), row(r0 + 1));
-                let (shared, first, second, coupling) = if lower {
-                    (a, a, &b[..a.len()], b[a.len()].1)
-                } else {
-                    (b, &a[1..], b, a[0].1)
-                };
-                let mut k = 0;
-                while k < shared.len() {
-                    let c = shared[k].0;
-                    if k + 1 < shared.len() && shared[k + 1].0 == c + 1 {
-                        t.blk_idx.push(c);
-                        t.blk_val
-                            .push([first[k].1, first[k + 1].1, second[k].1, second[k + 1].1]);
-                        k += 2;
-                    } else {
-                        t.pair_idx.push(c);
-                        t.pair_val.push([first[k].1, second[k].1]);
-                        k += 1;
-                    }
-                }
-                t.pair_ptr.push(t.pair_idx.len());
-                t.blk_ptr.push(t.blk_idx.len());
-                t.pair_coupling.push(coupling);
-                t.single_ptr.push(t.single_idx.len());
-                t.single_ptr.push(t.single_idx.len());
-                t.segments
-                    .push((r0, r1, Segment::Pair(t.pair_coupling.len() - 1)));
+                t.push_pair(r0, row(r0), row(r0 + 1));
                 continue;
             }
             for _ in r0..r1 {
@@ -305,6 +269,49 @@ impl Triangle {
             t.segments.reverse();
         }
         t
+    }
+
+    /// Stores row `r` alone, its off-diagonal `entries` (sorted by column) by rows.
+    fn push_single(&mut self, r: usize, entries: &[(u32, f64)]) {
+        self.single_idx.extend(entries.iter().map(|e| e.0));
+        self.single_val.extend(entries.iter().map(|e| e.1));
+        self.single_ptr.push(self.single_idx.len());
+        match self.segments.last_mut() {
+            Some((_, end, Segment::Singles)) if *end == r => *end = r + 1,
+            _ => self.segments.push((r, r + 1, Segment::Singles)),
+        }
+    }
+
+    /// Stores the rows `r0, r0 + 1` as a pair, from their off-diagonal entries `a` and `b`
+    /// (sorted by column): lower, row `r0 + 1` is row `r0`'s columns and `r0`; upper, row
+    /// `r0` is `r0 + 1` and row `r0 + 1`'s columns.
+    fn push_pair(&mut self, r0: usize, a: &[(u32, f64)], b: &[(u32, f64)]) {
+        let (shared, first, second, coupling) = if self.lower {
+            (a, a, &b[..a.len()], b[a.len()].1)
+        } else {
+            (b, &a[1..], b, a[0].1)
+        };
+        let mut k = 0;
+        while k < shared.len() {
+            let c = shared[k].0;
+            if k + 1 < shared.len() && shared[k + 1].0 == c + 1 {
+                self.blk_idx.push(c);
+                self.blk_val
+                    .push([first[k].1, first[k + 1].1, second[k].1, second[k + 1].1]);
+                k += 2;
+            } else {
+                self.pair_idx.push(c);
+                self.pair_val.push([first[k].1, second[k].1]);
+                k += 1;
+            }
+        }
+        self.pair_ptr.push(self.pair_idx.len());
+        self.blk_ptr.push(self.blk_idx.len());
+        self.pair_coupling.push(coupling);
+        self.single_ptr.push(self.single_idx.len());
+        self.single_ptr.push(self.single_idx.len());
+        self.segments
+            .push((r0, r0 + 2, Segment::Pair(self.pair_coupling.len() - 1)));
     }
 
     /// Stored entries, diagonal included.
