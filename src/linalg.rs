@@ -24,9 +24,10 @@ use faer::{MatMut, Par};
 mod bisect;
 mod huge;
 mod split;
-pub(crate) mod team;
+pub mod team;
 pub use huge::{HugeBuf, HUGE_MIN_BYTES};
 use split::SplitLower;
+use team::Team;
 
 /// Runs `$avx2` (an unsafe call of a function compiled with `#[target_feature(enable =
 /// "avx2")]`, the same code as `$generic`) where the processor has AVX2, else `$generic`.
@@ -1806,17 +1807,23 @@ impl SparseLu {
     avx2_method! {
         /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
         /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
-        /// On AVX2's instructions where the processor has them (the macro `with_avx2`).
-        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
+        /// On AVX2's instructions where the processor has them (the macro `with_avx2`); a
+        /// split factor's parts side by side on `team`'s threads.
+        pub fn solve_on / solve_avx2(&mut self, team: &Team, rhs: &mut [f64]) => solve_here
+    }
+
+    /// [`SparseLu::solve_on`] with the default team (`rayon::join` in the caller's pool).
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        self.solve_on(&Team::default(), rhs);
     }
 
     #[inline(always)]
-    fn solve_here(&mut self, rhs: &mut [f64]) {
+    fn solve_here(&mut self, team: &Team, rhs: &mut [f64]) {
         let w = &mut self.work;
         if let Some(Stored::Split(lu)) = &mut self.stored {
             // On the split's spread vector: each part solved in place.
-            lu.0.gather_forward(&self.row_fwd, rhs, w);
-            lu.1.backward_scatter(w, rhs);
+            lu.0.gather_forward(team, &self.row_fwd, rhs, w);
+            lu.1.backward_scatter(team, w, rhs);
             return;
         }
         for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {
@@ -2078,16 +2085,21 @@ impl SparseLlt {
         /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
         /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`). On AVX2's instructions where
         /// the processor has them (the macro `with_avx2`).
-        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
+        pub fn solve_on / solve_avx2(&mut self, team: &Team, rhs: &mut [f64]) => solve_here
+    }
+
+    /// [`SparseLlt::solve_on`] with the default team (`rayon::join` in the caller's pool).
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        self.solve_on(&Team::default(), rhs);
     }
 
     #[inline(always)]
-    fn solve_here(&mut self, rhs: &mut [f64]) {
+    fn solve_here(&mut self, team: &Team, rhs: &mut [f64]) {
         let w = &mut self.work;
         if let Some(StoredLower::Split(l)) = &mut self.stored {
             // On the split's spread vector: each part solved in place.
-            l.gather_forward(&self.perm_fwd, rhs, w);
-            l.backward_scatter(w, rhs);
+            l.gather_forward(team, &self.perm_fwd, rhs, w);
+            l.backward_scatter(team, w, rhs);
             return;
         }
         for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {
@@ -2216,11 +2228,18 @@ impl Factor {
         }
     }
 
-    /// Solves `A x = rhs` in place, without allocating.
+    /// Solves `A x = rhs` in place, without allocating (a split factor's parts side by
+    /// side through the default team, `rayon::join` in the caller's pool).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        self.solve_on(&Team::default(), rhs);
+    }
+
+    /// Solves `A x = rhs` in place, without allocating, a split factor's parts side by side
+    /// on `team`'s threads (the same bits on any team).
+    pub fn solve_on(&mut self, team: &Team, rhs: &mut [f64]) {
         match self {
-            Factor::Lu(lu) => lu.solve_in_place(rhs),
-            Factor::Llt(llt) => llt.solve_in_place(rhs),
+            Factor::Lu(lu) => lu.solve_on(team, rhs),
+            Factor::Llt(llt) => llt.solve_on(team, rhs),
         }
     }
 }

@@ -153,6 +153,9 @@ pub trait TimeIntegrator: Send {
     fn factorizations(&self) -> usize;
     /// Symbolic analyses so far (1 for a run, whatever the steps).
     fn symbolic_analyses(&self) -> usize;
+    /// Runs the integrator's two-part work on `team`'s threads, if it has any (the same bits
+    /// on any team; by default nothing changes).
+    fn set_team(&mut self, _team: &crate::linalg::team::Team) {}
 }
 
 /// The choice of an integrator, with its parameters (scenario key `integrator`).

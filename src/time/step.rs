@@ -50,6 +50,7 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::assembly::Assembler;
+use crate::linalg::team::Team;
 use crate::linalg::{avx2_method, with_avx2, Factor, FactorKind, HugeBuf, LinalgError, Pattern};
 use crate::simulation::LoadFn;
 use crate::time::integrator::{Maps, MultiplierUnit, State, TimeIntegrator};
@@ -135,6 +136,9 @@ pub struct Stepper {
     /// The step length in force, s.
     h_now: f64,
     factorizations: usize,
+    /// The threads of the two-part work: the split factor's sweeps, the right-hand side's
+    /// halves, the displacement update (`Team::default()` until [`Stepper::set_team`]).
+    team: Team,
     bc_dofs: Vec<usize>,
     bc_values: Vec<f64>,
     is_bc: Vec<bool>,
@@ -258,6 +262,7 @@ impl Stepper {
             lu_other: None,
             h_now: params.h,
             factorizations: 1,
+            team: Team::default(),
             pattern,
             bc_dofs,
             bc_values,
@@ -392,7 +397,7 @@ struct RhsRows {
 }
 
 /// The order from which the right-hand side's pairs of rows are formed in two halves side
-/// by side (`linalg::team::join`; one thread runs both when the pool has one): the orders
+/// by side (`Team::join`; one thread runs both with `Par::Seq`): the orders
 /// whose factor is split for two threads (`linalg::Factor::parts`).
 const RHS_SPLIT_MIN_ORDER: usize = crate::linalg::SPLIT_MIN_ORDER;
 
@@ -1325,7 +1330,8 @@ impl Stepper {
                 // The second half's rows start at its first pair's row.
                 let cut = r.pair[mid];
                 let (lo, hi) = b.split_at_mut(cut);
-                crate::linalg::team::join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
+                self.team
+                    .join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
             }
             None => part(0..pairs, 0, b),
         }
@@ -1349,7 +1355,8 @@ impl Stepper {
     /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities.
     pub fn solve(&mut self, b: &mut [f64]) {
         self.apply_dirichlet(b);
-        self.factor().solve_in_place(b);
+        let (lu, team) = self.factor();
+        lu.solve_on(team, b);
     }
 
     /// The factorization of `A` in use.
@@ -1392,11 +1399,18 @@ impl Stepper {
         (&self.pattern, &self.a_work, &self.bv, &self.k)
     }
 
-    fn factor(&mut self) -> &mut Factor {
-        match &mut self.lu_other {
+    /// The factor in use and the team its solves run on.
+    fn factor(&mut self) -> (&mut Factor, &Team) {
+        let lu = match &mut self.lu_other {
             Some((h, lu)) if *h == self.h_now => lu,
             _ => &mut self.lu,
-        }
+        };
+        (lu, &self.team)
+    }
+
+    /// Runs the two-part work on `team`'s threads (the same bits on any team).
+    pub fn set_team(&mut self, team: &Team) {
+        self.team = team.clone();
     }
 
     /// `u1 = u0 + h [(1 - beta) v0 + beta v1]`, Eq. (10).
@@ -1419,7 +1433,8 @@ impl Stepper {
         };
         if n >= UPDATE_SPLIT_MIN_ORDER {
             let (lo, hi) = u1.split_at_mut(n / 2);
-            crate::linalg::team::join(|| update(0..n / 2, lo), || update(n / 2..n, hi));
+            self.team
+                .join(|| update(0..n / 2, lo), || update(n / 2..n, hi));
         } else {
             update(0..n, u1);
         }
@@ -1504,7 +1519,8 @@ impl TimeIntegrator for Stepper {
                 *ri = 0.0;
             }
         }
-        self.factor().solve_in_place(r);
+        let (lu, team) = self.factor();
+        lu.solve_on(team, r);
     }
     fn finish(&self, s0: &State, _pred: &State, x: &[f64], s1: &mut State) {
         s1.v.copy_from_slice(x);
@@ -1546,6 +1562,9 @@ impl TimeIntegrator for Stepper {
     }
     fn factorizations(&self) -> usize {
         self.factorizations
+    }
+    fn set_team(&mut self, team: &Team) {
+        Stepper::set_team(self, team);
     }
     fn symbolic_analyses(&self) -> usize {
         1
