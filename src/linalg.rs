@@ -2499,6 +2499,10 @@ mod tests {
         };
         let (x1, x2) = (on(1), on(2));
         assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
+        // On a team of the caller's thread and its own helper.
+        let mut x3 = b.clone();
+        split.solve_on(&Team::new(team::Par::threads(2)), &mut x3);
+        assert!(x1.iter().zip(&x3).all(|(p, q)| p.to_bits() == q.to_bits()));
         let d = max_rel_diff(&x1, &x_ref);
         assert!(d < 1e-13, "{kind:?} split against faer's LU: {d:e}");
     }
@@ -2625,10 +2629,10 @@ mod tests {
                     let (mut x, mut y) = (b.clone(), b.clone());
                     // The baseline without the AVX2 block kernel (`blocks_dot`).
                     (lu.l.avx2, lu.u.avx2) = (false, false);
-                    lu.solve_here(&mut x);
+                    lu.solve_here(&Team::default(), &mut x);
                     (lu.l.avx2, lu.u.avx2) = (true, true);
                     // SAFETY: the processor has AVX2 (checked above).
-                    unsafe { lu.solve_avx2(&mut y) };
+                    unsafe { lu.solve_avx2(&Team::default(), &mut y) };
                     assert!(same(&x, &y), "LU, dense {dense}");
                     if symmetric {
                         let mut llt = SparseLlt::new(&pattern, &values)
@@ -2636,10 +2640,10 @@ mod tests {
                             .with_layout(&pattern, &values, dense);
                         let (mut x, mut y) = (b.clone(), b.clone());
                         (llt.l.avx2, llt.lt.avx2) = (false, false);
-                        llt.solve_here(&mut x);
+                        llt.solve_here(&Team::default(), &mut x);
                         (llt.l.avx2, llt.lt.avx2) = (true, true);
                         // SAFETY: as above.
-                        unsafe { llt.solve_avx2(&mut y) };
+                        unsafe { llt.solve_avx2(&Team::default(), &mut y) };
                         assert!(same(&x, &y), "Cholesky, dense {dense}");
                     }
                 }

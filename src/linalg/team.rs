@@ -463,9 +463,13 @@ mod tests {
     #[test]
     fn a_panic_in_either_closure_reaches_the_caller_and_the_helper_serves_again() {
         let team = Team::new(Par::threads(2));
-        let r = std::panic::catch_unwind(|| team.join(|| (), || panic!("b")));
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            team.join(|| (), || panic!("b"))
+        }));
         assert!(r.is_err());
-        let r = std::panic::catch_unwind(|| team.join(|| panic!("a"), || ()));
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            team.join(|| panic!("a"), || ())
+        }));
         assert!(r.is_err());
         let mut s = [0; 2];
         let (p, q) = s.split_at_mut(1);
