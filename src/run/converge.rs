@@ -126,6 +126,9 @@ fn figures(summary: &serde_json::Value) -> Vec<(String, f64)> {
     out
 }
 
+/// What [`converge`] returns: the ladders, the files written and the runs' warnings.
+pub type Converged = (Vec<FigureLadder>, Vec<PathBuf>, Vec<String>);
+
 /// Runs the ladder and writes `converge.csv`, `converge.md` and `converge.png` into `out`;
 /// returns the ladders, the files and the runs' warnings (each prefixed with its rung).
 /// `cancel` stops every run at its next step.
@@ -140,7 +143,7 @@ pub fn converge(
     values: &[String],
     out: &Path,
     cancel: &Cancel,
-) -> Result<(Vec<FigureLadder>, Vec<PathBuf>, Vec<String>), SweepError> {
+) -> Result<Converged, SweepError> {
     let bad = |message: String| SweepError::Value {
         key: key.into(),
         value: values.join(","),
