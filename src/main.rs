@@ -5,12 +5,11 @@
 use clap::{Parser, Subcommand};
 use softway::build::resolve;
 use softway::output::staging::StagedDir;
-use softway::run::{run_scenario, RunOptions, INTERRUPT};
+use softway::run::{run_scenario, Cancel, Par, RunOptions};
 use softway::scenario::Scenario;
 use softway::time::sdof::analyse;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::Ordering;
 
 /// `println!` that never panics: a closed standard output (`softway run ... | head`) only
 /// silences the rest of the report; the run itself goes on and its files are written.
@@ -185,13 +184,16 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => return usage_error(&e),
     };
-    let _ = ctrlc::set_handler(|| {
-        if INTERRUPT.swap(true, Ordering::SeqCst) {
+    // Ctrl-C cancels the jobs' token; a second one aborts.
+    let cancel = Cancel::new();
+    let on_ctrl_c = cancel.clone();
+    let _ = ctrlc::set_handler(move || {
+        if on_ctrl_c.cancel() {
             std::process::exit(130);
         }
         errln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
     });
-    match try_main(cli) {
+    match try_main(cli, &cancel) {
         Ok(code) => code,
         Err(e) => {
             errln!("softway: error: {e}");
@@ -200,7 +202,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
+fn try_main(cli: Cli, cancel: &Cancel) -> Result<ExitCode, Box<dyn std::error::Error>> {
     match cli.command {
         Command::Run {
             scenario,
@@ -217,7 +219,15 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
             let stage = StagedDir::begin(&out, force)?;
-            let report = run_scenario(&sc, stage.path(), &RunOptions { progress: !quiet })?;
+            let opts = RunOptions {
+                progress: !quiet,
+                par: threads.map(Par::threads),
+                cancel: cancel.clone(),
+            };
+            let report = run_scenario(&sc, stage.path(), &opts)?;
+            for w in &report.warnings {
+                errln!("softway: warning: {w}");
+            }
             let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
             stage.commit()?;
             outln!("{} ({})", sc.name, scenario.display());
@@ -259,7 +269,12 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             set_threads("--jobs", jobs)?;
             let stage = StagedDir::begin(&out, force)?;
             let (points, files) =
-                softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path())?;
+                softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path(), cancel)?;
+            for p in &points {
+                for w in &p.warnings {
+                    errln!("softway: warning: {key} = {}: {w}", p.value);
+                }
+            }
             let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
             let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
             stage.commit()?;
@@ -268,7 +283,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             for d in dirs {
                 outln!("    {}/", d.display());
             }
-            if INTERRUPT.load(Ordering::Relaxed) {
+            if cancel.is_cancelled() {
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
@@ -289,8 +304,17 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
             set_threads("--jobs", jobs)?;
             let stage = StagedDir::begin(&out, force)?;
-            let (_, files) =
-                softway::run::converge::converge(&scenario, &text, &key, &values, stage.path())?;
+            let (_, files, warnings) = softway::run::converge::converge(
+                &scenario,
+                &text,
+                &key,
+                &values,
+                stage.path(),
+                cancel,
+            )?;
+            for w in &warnings {
+                errln!("softway: warning: {w}");
+            }
             let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
             stage.commit()?;
             outln!(
@@ -299,7 +323,7 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 values.len()
             );
             print_table(&out.join("converge.md"), &files);
-            if INTERRUPT.load(Ordering::Relaxed) {
+            if cancel.is_cancelled() {
                 return Ok(ExitCode::from(130));
             }
             Ok(ExitCode::SUCCESS)
@@ -316,8 +340,11 @@ fn try_main(cli: Cli) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
             let stage = StagedDir::begin(&out, force)?;
-            let report =
-                softway::run::compare::compare(&sc, stage.path(), &RunOptions { progress: false })?;
+            let opts = RunOptions {
+                cancel: cancel.clone(),
+                ..RunOptions::default()
+            };
+            let report = softway::run::compare::compare(&sc, stage.path(), &opts)?;
             let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
             stage.commit()?;
             for l in &report.lines {

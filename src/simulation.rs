@@ -29,6 +29,7 @@ use crate::contact::pair::Pair;
 use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{ContactTreatment, Treatment};
 use crate::contact::{FrictionLaw, Obstacle};
+use crate::linalg::team::{Par, Team};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
 use crate::model::{LinearModel, PairMode, PairState, State};
@@ -125,6 +126,8 @@ pub struct StepView<'a> {
     /// Energy dissipated by friction since the start, summed over the pairs, J
     /// ([`PairState::dissipated`]).
     pub friction_dissipated: f64,
+    /// The run's threads ([`Simulation::set_par`]), for [`StepView::energies`].
+    team: &'a Team,
 }
 
 impl StepView<'_> {
@@ -139,13 +142,14 @@ impl StepView<'_> {
     }
 
     /// `(kinetic, strain)`: from `ENERGIES_SIDE_BY_SIDE_MIN` dofs on, side by side on two
-    /// threads (`linalg::team::join`), with the same values.
+    /// threads (the run's [`Team`]), with the same values.
     pub fn energies(&self) -> (f64, f64) {
         if self.state.v.len() < ENERGIES_SIDE_BY_SIDE_MIN {
             return (self.kinetic(), self.strain());
         }
         let (mut kinetic, mut strain) = (0.0, 0.0);
-        crate::linalg::team::join(|| kinetic = self.kinetic(), || strain = self.strain());
+        self.team
+            .join(|| kinetic = self.kinetic(), || strain = self.strain());
         (kinetic, strain)
     }
 }
@@ -386,6 +390,8 @@ pub struct Simulation {
     snaps: [Snapshot; 3],
     massless: Vec<usize>,
     relocation: Option<Relocating>,
+    /// The threads of the run's two-part work ([`Simulation::set_par`]).
+    team: Team,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -552,6 +558,7 @@ impl Simulation {
             snaps: [snap.clone(), snap.clone(), snap],
             massless,
             relocation: None,
+            team: Team::default(),
         })
     }
 
@@ -653,6 +660,19 @@ impl Simulation {
         &self.engine.rows
     }
 
+    /// Runs the two-part work of the steps (the split factor's sweeps, the right-hand side,
+    /// the contact rows' columns, the energies) on `par`'s threads: a [`Team`] of the run's
+    /// own, whose helper thread (with [`Par::Threads`]) ends with the simulation. Until
+    /// called, that work goes through `rayon::join` in the caller's pool. The results are
+    /// the same bits for every `par`. Below `SPLIT_MIN_ORDER` dofs nothing is split, and
+    /// no helper thread is started.
+    pub fn set_par(&mut self, par: Par) {
+        let split = self.engine.model.n() >= crate::linalg::SPLIT_MIN_ORDER;
+        self.team = Team::new(if split { par } else { Par::Seq });
+        self.engine.integ.set_team(&self.team);
+        self.engine.rows.set_team(&self.team);
+    }
+
     /// The treatment's name.
     pub fn treatment_name(&self) -> String {
         self.choice.name()
@@ -726,6 +746,7 @@ impl Simulation {
             held,
             slip_power,
             friction_dissipated,
+            team: &self.team,
         })
     }
 }

@@ -29,7 +29,7 @@ fn run(bar: BarImpact, h: f64, restore: Restore) -> BarSummary {
         friction: None,
         t_end,
     };
-    simulate(&r, None, 1, false).unwrap().0
+    simulate(&r, None, 1, &Default::default()).unwrap().0
 }
 
 const PAPER: BarImpact = BarImpact {

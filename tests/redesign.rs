@@ -82,7 +82,7 @@ fn bar_figures(name: &str) -> Value {
     let sc = resolve(&sc).unwrap();
     let mut runs = serde_json::Map::new();
     for run in &sc.runs {
-        let (s, _) = simulate(run, None, 1, false).unwrap();
+        let (s, _) = simulate(run, None, 1, &Default::default()).unwrap();
         let v = serde_json::to_value(&s).unwrap();
         let mut o = serde_json::Map::new();
         for k in BAR_KEYS {

@@ -71,7 +71,7 @@ fn traction(tag: &str, xi: f64) -> (f64, f64, f64, f64) {
 /// test `tag`.
 fn traction_block(tag: &str, sc: &Scenario) -> serde_json::Value {
     let dir = out_dir(tag);
-    run_scenario(sc, &dir, &RunOptions { progress: false }).unwrap();
+    run_scenario(sc, &dir, &RunOptions::default()).unwrap();
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     std::fs::remove_dir_all(&dir).ok();

@@ -437,9 +437,9 @@ fn the_default_support_is_a_clamped_hub() {
     assert!(radii.iter().all(|r| (r - 0.01).abs() < 1e-12), "{radii:?}");
 }
 
-/// A resonance is announced before the run: on the paper's mesh (72 rim nodes, bounce
-/// 5842 Hz on the pin) at 510 rad/s the node passing (5844 Hz) falls on the bounce, and the
-/// run prints a warning naming both; at 300 rad/s (3438 Hz, twice 6875 Hz) it does not.
+/// A resonance is announced (from the run's report, after it): on the paper's mesh (72 rim
+/// nodes, bounce 5842 Hz on the pin) at 510 rad/s the node passing (5844 Hz) falls on the
+/// bounce, and the run prints a warning naming both; at 300 rad/s (3438 Hz, twice 6875 Hz) it does not.
 #[test]
 fn a_node_passing_resonance_is_announced() {
     let dir = std::env::temp_dir().join(format!("softway-resonance-{}", std::process::id()));

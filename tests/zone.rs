@@ -94,12 +94,7 @@ fn a_moving_zone_reaches_the_uniformly_refined_rim_with_fewer_unknowns() {
     let summary = |rim: usize, zone: usize| {
         let dir =
             std::env::temp_dir().join(format!("softway-zone-{}-{rim}-{zone}", std::process::id()));
-        run_scenario(
-            &scenario(rim, zone, 0.25),
-            &dir,
-            &RunOptions { progress: false },
-        )
-        .unwrap();
+        run_scenario(&scenario(rim, zone, 0.25), &dir, &RunOptions::default()).unwrap();
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
                 .unwrap();

@@ -56,6 +56,7 @@
 //! The loop stops after `10 + 4k` changes (k rows) in any case.
 
 use crate::linalg::dense_solve_in_place;
+use crate::linalg::team::Team;
 use crate::linalg::with_avx2;
 use crate::time::integrator::TimeIntegrator;
 
@@ -123,6 +124,8 @@ pub struct RowSolver {
     /// The multipliers' terms of one solve: `(slot, weight)` of each cached column added
     /// to `x`.
     axpy: Vec<(usize, f64)>,
+    /// The threads of [`add_columns`] (`Team::default()` until [`RowSolver::set_team`]).
+    team: Team,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,7 +164,14 @@ impl RowSolver {
             m: vec![0.0; mr * mr],
             r: vec![0.0; mr],
             axpy: Vec::with_capacity(mr * MAX_TERMS),
+            team: Team::default(),
         }
+    }
+
+    /// Adds the columns of a solve in two halves on `team`'s threads (the same bits on any
+    /// team).
+    pub fn set_team(&mut self, team: &Team) {
+        self.team = team.clone();
     }
 
     /// Drops every cached column (call after `A` changes).
@@ -266,7 +276,7 @@ impl RowSolver {
                 }
             }
         }
-        add_columns(&self.cols, &self.axpy, x);
+        add_columns(&self.team, &self.cols, &self.axpy, x);
         changes
     }
 
@@ -459,15 +469,15 @@ impl RowSolver {
 /// `cols`), four columns per pass over `x`, on AVX2's instructions where the processor has
 /// them (`linalg::with_avx2`). Each `x_i` receives the terms one after the other in their
 /// order, as one pass per column would give it, bit for bit. From `SPLIT_ADD_MIN` unknowns
-/// on, the two halves of `x` side by side (`linalg::team::join`).
-fn add_columns(cols: &[f64], terms: &[(usize, f64)], x: &mut [f64]) {
+/// on, the two halves of `x` side by side on `team`'s threads.
+fn add_columns(team: &Team, cols: &[f64], terms: &[(usize, f64)], x: &mut [f64]) {
     let n = x.len();
     if n < SPLIT_ADD_MIN || terms.is_empty() {
         add_columns_range(cols, n, terms, 0, x);
         return;
     }
     let (lo, hi) = x.split_at_mut(n / 2);
-    crate::linalg::team::join(
+    team.join(
         || add_columns_range(cols, n, terms, 0, lo),
         || add_columns_range(cols, n, terms, n / 2, hi),
     );
@@ -549,6 +559,7 @@ mod tests {
             .num_threads(2)
             .build()
             .unwrap();
+        let helper = Team::new(crate::linalg::team::Par::threads(2));
         for n in [37, SPLIT_ADD_MIN + 1] {
             let cols: Vec<f64> = (0..9 * n).map(|i| (0.7 * i as f64).sin()).collect();
             for count in 0..=9 {
@@ -567,7 +578,10 @@ mod tests {
                 add_columns_here(&cols, n, &terms, 0, &mut x);
                 assert!(same(&x), "{count} terms");
                 let mut x = x0.clone();
-                pool.install(|| add_columns(&cols, &terms, &mut x));
+                pool.install(|| add_columns(&Team::default(), &cols, &terms, &mut x));
+                assert!(same(&x), "{count} terms, n = {n}, two threads of a pool");
+                let mut x = x0.clone();
+                add_columns(&helper, &cols, &terms, &mut x);
                 assert!(same(&x), "{count} terms, n = {n}, two threads");
                 #[cfg(target_arch = "x86_64")]
                 if std::is_x86_feature_detected!("avx2") {

@@ -16,6 +16,7 @@ use super::lu::{column_ordering, Ordering};
 use super::solver::Counts;
 use super::split::{self, SplitLower};
 use super::supernodal::{prefetch_when_large, Supernodal, DENSE_SUPERNODAL_MIN_ORDER};
+use super::team::Team;
 use super::triangle::Triangle;
 use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
 
@@ -291,16 +292,21 @@ impl SparseLlt {
         /// Solves `A x = rhs` in place, without allocating: `x = P^T L^{-T} L^{-1} P b` (the
         /// fill-reducing permutation `P` gathers `b[perm_fwd[i]]`). On AVX2's instructions where
         /// the processor has them (the macro `with_avx2`).
-        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
+        pub fn solve_on / solve_avx2(&mut self, team: &Team, rhs: &mut [f64]) => solve_here
+    }
+
+    /// [`SparseLlt::solve_on`] with the default team (`rayon::join` in the caller's pool).
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        self.solve_on(&Team::default(), rhs);
     }
 
     #[inline(always)]
-    pub(super) fn solve_here(&mut self, rhs: &mut [f64]) {
+    pub(super) fn solve_here(&mut self, team: &Team, rhs: &mut [f64]) {
         let w = &mut self.work;
         if let Some(StoredLower::Split(l)) = &mut self.stored {
             // On the split's spread vector: each part solved in place.
-            l.gather_forward(&self.perm_fwd, rhs, w);
-            l.backward_scatter(w, rhs);
+            l.gather_forward(team, &self.perm_fwd, rhs, w);
+            l.backward_scatter(team, w, rhs);
             return;
         }
         for (wi, &r) in w.iter_mut().zip(&self.perm_fwd) {

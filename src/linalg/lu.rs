@@ -12,6 +12,7 @@ use faer::sparse::SparseColMatRef;
 use super::solver::Counts;
 use super::split::{self, SplitLower};
 use super::supernodal::{prefetch_when_large, Supernodal, DENSE_SUPERNODAL_MIN_ORDER};
+use super::team::Team;
 use super::triangle::Triangle;
 use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
 
@@ -338,16 +339,21 @@ impl SparseLu {
         /// Solves `A x = rhs` in place, without allocating: `x = Q U^{-1} L^{-1} P b` (faer's
         /// row permutation `P` gathers `b[row_fwd[i]]`, the column ordering scatters back).
         /// On AVX2's instructions where the processor has them (the macro `with_avx2`).
-        pub fn solve_in_place / solve_avx2(&mut self, rhs: &mut [f64]) => solve_here
+        pub fn solve_on / solve_avx2(&mut self, team: &Team, rhs: &mut [f64]) => solve_here
+    }
+
+    /// [`SparseLu::solve_on`] with the default team (`rayon::join` in the caller's pool).
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        self.solve_on(&Team::default(), rhs);
     }
 
     #[inline(always)]
-    pub(super) fn solve_here(&mut self, rhs: &mut [f64]) {
+    pub(super) fn solve_here(&mut self, team: &Team, rhs: &mut [f64]) {
         let w = &mut self.work;
         if let Some(Stored::Split(lu)) = &mut self.stored {
             // On the split's spread vector: each part solved in place.
-            lu.0.gather_forward(&self.row_fwd, rhs, w);
-            lu.1.backward_scatter(w, rhs);
+            lu.0.gather_forward(team, &self.row_fwd, rhs, w);
+            lu.1.backward_scatter(team, w, rhs);
             return;
         }
         for (wi, &r) in w.iter_mut().zip(&self.row_fwd) {

@@ -110,7 +110,7 @@ pub mod solver;
 pub mod sparse;
 mod split;
 mod supernodal;
-pub(crate) mod team;
+pub mod team;
 mod triangle;
 
 pub use dense::dense_solve_in_place;

@@ -265,11 +265,18 @@ impl Factor {
         }
     }
 
-    /// Solves `A x = rhs` in place, without allocating.
+    /// Solves `A x = rhs` in place, without allocating (a split factor's parts side by
+    /// side through the default team, `rayon::join` in the caller's pool).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        self.solve_on(&super::team::Team::default(), rhs);
+    }
+
+    /// Solves `A x = rhs` in place, without allocating, a split factor's parts side by side
+    /// on `team`'s threads (the same bits on any team).
+    pub fn solve_on(&mut self, team: &super::team::Team, rhs: &mut [f64]) {
         match self {
-            Factor::Lu(lu) => lu.solve_in_place(rhs),
-            Factor::Llt(llt) => llt.solve_in_place(rhs),
+            Factor::Lu(lu) => lu.solve_on(team, rhs),
+            Factor::Llt(llt) => llt.solve_on(team, rhs),
         }
     }
 }

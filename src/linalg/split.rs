@@ -18,8 +18,8 @@
 //! parts 0 and 1 on two threads. The solve's vector is spread for this
 //! ([`SplitLower::spread_len`]): each part's unknowns and room are one contiguous slice, solved
 //! in place. Every sum is made in the same order whatever the number of threads, so the
-//! result does not depend on it (`team::join` runs both halves on one thread when the pool
-//! has one).
+//! result does not depend on it (`Team::join` runs both halves on one thread with
+//! `Par::Seq`).
 //!
 //! [`two_subtrees`] finds the parts (the pair of subtree sets with the least critical path,
 //! the top plus the heavier part, weighing each column by its count of entries in `L`), and
@@ -30,6 +30,7 @@
 
 use std::collections::BTreeSet;
 
+use super::team::Team;
 use super::{Pattern, Supernodal, Triangle};
 
 /// Most subtrees expanded into the top while looking for the best split.
@@ -544,7 +545,13 @@ impl SplitLower {
     /// the spread vector ([`SplitLower::spread_len`]) (the gather of a permuted right-hand side
     /// into the spread vector), then `x <- Λ^{-1} x` on it: each part's range gathered by the
     /// thread that solves it, the top's by the first.
-    pub(super) fn gather_forward(&mut self, idx: &[usize], src: &[f64], x: &mut [f64]) {
+    pub(super) fn gather_forward(
+        &mut self,
+        team: &Team,
+        idx: &[usize],
+        src: &[f64],
+        x: &mut [f64],
+    ) {
         let (a, b, n, t) = (self.a, self.b, self.n, self.n - self.b);
         assert!(x.len() == self.spread_len() && idx.len() == n);
         let (v0, rest) = x.split_at_mut(a + t);
@@ -556,7 +563,7 @@ impl SplitLower {
             }
         };
         let (p0, p1) = (&mut self.part0, &mut self.part1);
-        super::team::join(
+        team.join(
             || {
                 fill(&mut v0[..a], 0..a);
                 v0[a..].fill(0.0);
@@ -592,7 +599,7 @@ impl SplitLower {
     /// the thread that solved them, right after, the top's by the first. Before, the first
     /// thread read the whole solution out after both parts, in order of `dst`: on the
     /// 48-ring disk (14,114 unknowns) that took 0.014-0.016 ms of a 0.46 ms step.
-    pub(super) fn backward_scatter(&mut self, x: &mut [f64], dst: &mut [f64]) {
+    pub(super) fn backward_scatter(&mut self, team: &Team, x: &mut [f64], dst: &mut [f64]) {
         let (a, b, n, t) = (self.a, self.b, self.n, self.n - self.b);
         assert!(x.len() == self.spread_len() && dst.len() == n && self.scatter.len() == n);
         let (v0, rest) = x.split_at_mut(a + t);
@@ -603,7 +610,7 @@ impl SplitLower {
         v1[b - a..].copy_from_slice(xt);
         let (p0, p1, to) = (&mut self.part0, &mut self.part1, &self.scatter[..]);
         if n < SCATTER_IN_PARTS_MIN_ORDER {
-            super::team::join(|| p0.backward(v0), || p1.backward(v1));
+            team.join(|| p0.backward(v0), || p1.backward(v1));
             for (range, x) in [(0..a, &v0[..a]), (a..b, &v1[..b - a]), (b..n, &v0[a..])] {
                 for (&i, &xk) in to[range].iter().zip(x) {
                     dst[i] = xk;
@@ -613,7 +620,7 @@ impl SplitLower {
         }
         let out = super::team::Disjoint::new(dst);
         // SAFETY: `to` is a permutation (`set_scatter`), its three ranges disjoint.
-        super::team::join(
+        team.join(
             || {
                 p0.backward(v0);
                 unsafe { out.put(&to[..a], &v0[..a]) };

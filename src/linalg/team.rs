@@ -1,29 +1,93 @@
-//! `join`: two closures side by side, for the time loop's two-part solves.
+//! Parallelism as a parameter: [`Par`], how many threads a run may use, and [`Team`], the
+//! run's own means of running two closures side by side ([`Team::join`]) for the time
+//! loop's two-part work (the split factor's sweeps, the right-hand side's halves, the
+//! contact rows' columns, the energies).
 //!
-//! A solve on two threads hands work to the second thread three times per step (the
-//! right-hand side's halves, the forward and the backward sweeps' parts), every few hundred
-//! microseconds. Through `rayon::join` each hand-off wakes a sleeping worker (a futex wake,
-//! then the worker's steal), which the 48-ring step's profile showed as 12-14% of its time
-//! in the kernel's scheduler. Here one helper thread, started on first use, waits for its
-//! next job spinning for up to [`SPIN`] after its last one, and only then sleeps; a step
-//! that hands it work every few hundred microseconds finds it awake. Measured with
-//! `softway matrix` on the 48-ring disk (14,114 dofs, alternated binaries, twice): the free
-//! step 655 and 687 us through `rayon::join`, 559 and 528 us here.
+//! A solve on two threads hands work to the second thread three times per step, every few
+//! hundred microseconds at most. Through `rayon::join` each hand-off wakes a sleeping worker
+//! (a futex wake, then the worker's steal), which the 48-ring step's profile showed as 12-14%
+//! of its time in the kernel's scheduler. A [`Team`] built for [`Par::Threads`] therefore
+//! owns one helper thread: it waits for its next job spinning for [`HELPER_SPIN`] after its
+//! last one, then blocks (`park`), so that a step that hands it work every few tens of
+//! microseconds finds it awake, and an idle run (or one whose cores are taken by other
+//! processes) does not burn a time slice. The caller waiting for the helper's half also
+//! spins for at most [`CALLER_SPIN`], then blocks until the helper wakes it.
 //!
-//! The helper serves one caller at a time. [`join`] falls back to `rayon::join` when the
-//! helper is busy with another caller, when the pool has one thread (then both closures run
-//! on the caller's thread, as `rayon::join` does), or while [`Exclusive`] is held (runs in
-//! parallel on every core, where a spinning helper would take a core from a run).
+//! Nothing here is process-wide: the helper belongs to its team, which belongs to a run
+//! (created when the run is built, handed to its stepper, row solver and energies as
+//! clones), and ends when the last clone is dropped. A team never runs work on the caller's
+//! rayon pool, so a run inside a caller's pool takes none of the pool's workers. The default
+//! team (`Team::default()`, what a factor or stepper built outside a run uses) is
+//! `rayon::join` in whatever pool it is called from.
+//!
+//! Every two-part computation makes its sums in the same order whatever the team, so the
+//! results are the same bits on one thread and on two.
 
 use std::any::Any;
 use std::cell::UnsafeCell;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
-use std::sync::OnceLock;
-use std::thread::Thread;
+use std::num::NonZeroUsize;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::Arc;
+use std::thread::{JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
-/// How long the helper spins for its next job before it sleeps.
-const SPIN: Duration = Duration::from_millis(2);
+/// How many threads a computation may use (as faer's `Par`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Par {
+    /// One thread: the caller's.
+    Seq,
+    /// Up to this many threads (the caller's and helpers of its own).
+    Threads(NonZeroUsize),
+}
+
+impl Par {
+    /// `n` threads: [`Par::Seq`] for 0 or 1.
+    pub fn threads(n: usize) -> Self {
+        match NonZeroUsize::new(n) {
+            Some(n) if n.get() >= 2 => Par::Threads(n),
+            _ => Par::Seq,
+        }
+    }
+
+    /// The threads of the rayon pool the caller runs in (its global pool outside any): a run
+    /// started inside a caller's `ThreadPool::install` follows that pool.
+    pub fn current() -> Self {
+        Par::threads(rayon::current_num_threads())
+    }
+
+    /// The number of threads, at least one.
+    pub fn count(self) -> usize {
+        match self {
+            Par::Seq => 1,
+            Par::Threads(n) => n.get(),
+        }
+    }
+}
+
+/// How long the helper spins for its next job before it blocks. The wheel's step hands it
+/// work every 10-60 us (`wheel.toml`, 3,432 dofs: five hand-offs in a step of ~110 us),
+/// so a spin of this length keeps it awake within a step and lets it block between runs or
+/// when its core is wanted elsewhere.
+pub const HELPER_SPIN: Duration = Duration::from_micros(50);
+
+/// How long the caller spins for the helper's half before it blocks.
+pub const CALLER_SPIN: Duration = Duration::from_micros(20);
+
+/// Spins up to `limit` (checking the clock every 64 turns) for `ready`; true if it came.
+fn spin_until(limit: Duration, ready: impl Fn() -> bool) -> bool {
+    let since = Instant::now();
+    let mut n = 0u32;
+    loop {
+        if ready() {
+            return true;
+        }
+        n = n.wrapping_add(1);
+        if n % 64 == 0 && since.elapsed() >= limit {
+            return false;
+        }
+        std::hint::spin_loop();
+    }
+}
 
 const IDLE: u32 = 0;
 const POSTED: u32 = 1;
@@ -33,99 +97,211 @@ const DONE: u32 = 2;
 /// caller waits for `DONE` before the closure's frame ends, unwinding included).
 type Job = *const (dyn Fn() + Sync);
 
-struct Helper {
+/// What the caller and the helper share.
+struct Shared {
     state: AtomicU32,
-    /// Set by the helper before it sleeps; a caller that posts a job then wakes it.
-    sleeping: AtomicBool,
+    /// Set by the helper before it blocks; a caller that posts a job then wakes it.
+    helper_blocked: AtomicBool,
+    /// Set by the caller before it blocks; the helper that reports `DONE` then wakes it.
+    caller_blocked: AtomicBool,
     /// The caller's claim (one caller at a time).
     claimed: AtomicBool,
+    /// Set when the team is dropped: the helper returns.
+    stop: AtomicBool,
     job: UnsafeCell<Option<Job>>,
+    /// The thread of the caller of the posted job (to wake it).
+    caller: UnsafeCell<Option<Thread>>,
     panic: UnsafeCell<Option<Box<dyn Any + Send>>>,
-    /// The helper, started on first use (`None` if it could not be).
-    thread: OnceLock<Option<Thread>>,
 }
 
-// SAFETY: `job` and `panic` are written by the claimant before it posts (Release) and by the
-// helper before it reports `DONE` (Release), and read by the other side after it observed
-// that state (Acquire): the protocol orders every access.
-unsafe impl Sync for Helper {}
+// SAFETY: `job`, `caller` and `panic` are written by the claimant before it posts (Release)
+// and by the helper before it reports `DONE` (Release), and read by the other side after it
+// observed that state (Acquire): the protocol orders every access. The raw job pointer is
+// only dereferenced while the caller's frame that owns the closure waits for `DONE`.
+unsafe impl Sync for Shared {}
+// SAFETY: as above; the helper thread holds the shared state, not the job's closure.
+unsafe impl Send for Shared {}
 
-static HELPER: Helper = Helper {
-    state: AtomicU32::new(IDLE),
-    sleeping: AtomicBool::new(false),
-    claimed: AtomicBool::new(false),
-    job: UnsafeCell::new(None),
-    panic: UnsafeCell::new(None),
-    thread: OnceLock::new(),
-};
-
-/// Holders of an [`Exclusive`] guard.
-static EXCLUSIVE: AtomicUsize = AtomicUsize::new(0);
-
-/// While held, [`join`] does not use its helper (runs side by side on every core: sweeps,
-/// convergence studies).
-#[must_use]
-pub struct Exclusive(());
-
-impl Exclusive {
-    pub fn hold() -> Self {
-        EXCLUSIVE.fetch_add(1, Ordering::SeqCst);
-        Exclusive(())
-    }
+/// The helper thread and its shared state; dropping it stops and joins the helper.
+struct Owner {
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
 }
 
-impl Drop for Exclusive {
+impl Drop for Owner {
     fn drop(&mut self) {
-        EXCLUSIVE.fetch_sub(1, Ordering::SeqCst);
+        self.shared.stop.store(true, Ordering::SeqCst);
+        if let Some(t) = self.thread.take() {
+            t.thread().unpark();
+            let _ = t.join();
+        }
     }
 }
 
-fn helper_loop() {
-    let h = &HELPER;
+#[derive(Clone, Default)]
+enum Kind {
+    /// `rayon::join` in the caller's pool.
+    #[default]
+    Pool,
+    /// Both closures on the caller's thread, one after the other.
+    Seq,
+    /// A helper thread of the team's own.
+    Helper(Arc<Owner>),
+}
+
+/// Runs two closures side by side on threads that belong to a run ([module docs](self)).
+/// Clones share the same helper; it ends when the last clone is dropped.
+#[derive(Clone, Default)]
+pub struct Team {
+    kind: Kind,
+}
+
+impl std::fmt::Debug for Team {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self.kind {
+            Kind::Pool => "Team(pool)",
+            Kind::Seq => "Team(seq)",
+            Kind::Helper(_) => "Team(helper)",
+        })
+    }
+}
+
+impl Team {
+    /// A team for `par`: one thread for [`Par::Seq`], the caller's and one helper thread
+    /// of its own for [`Par::Threads`] (one thread if the helper cannot be started).
+    pub fn new(par: Par) -> Self {
+        if par == Par::Seq {
+            return Team { kind: Kind::Seq };
+        }
+        let shared = Arc::new(Shared {
+            state: AtomicU32::new(IDLE),
+            helper_blocked: AtomicBool::new(false),
+            caller_blocked: AtomicBool::new(false),
+            claimed: AtomicBool::new(false),
+            stop: AtomicBool::new(false),
+            job: UnsafeCell::new(None),
+            caller: UnsafeCell::new(None),
+            panic: UnsafeCell::new(None),
+        });
+        let for_helper = Arc::clone(&shared);
+        match std::thread::Builder::new()
+            .name("softway-team".into())
+            .spawn(move || helper_loop(&for_helper))
+        {
+            Ok(t) => Team {
+                kind: Kind::Helper(Arc::new(Owner {
+                    shared,
+                    thread: Some(t),
+                })),
+            },
+            Err(_) => Team { kind: Kind::Seq },
+        }
+    }
+
+    /// The threads this team runs on: [`Par::Seq`], or two with a helper; the default
+    /// team's are those of the pool it is asked from ([`Par::current`]).
+    pub fn par(&self) -> Par {
+        match self.kind {
+            Kind::Pool => Par::current(),
+            Kind::Seq => Par::Seq,
+            Kind::Helper(_) => Par::threads(2),
+        }
+    }
+
+    /// Runs `a` on this thread and `b` on the team's other thread (both here with
+    /// [`Par::Seq`], `a` first, or when the helper is serving another caller of the same
+    /// team); returns when both have. A panic in either reaches the caller.
+    pub fn join<A, B>(&self, a: A, b: B)
+    where
+        A: FnOnce() + Send,
+        B: FnOnce() + Send,
+    {
+        match &self.kind {
+            Kind::Pool => {
+                rayon::join(a, b);
+            }
+            Kind::Seq => {
+                a();
+                b();
+            }
+            Kind::Helper(owner) => {
+                let h = &*owner.shared;
+                if h.claimed
+                    .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+                    .is_err()
+                {
+                    a();
+                    b();
+                    return;
+                }
+                let thread = owner.thread.as_ref().map(|t| t.thread());
+                join_on(h, thread, a, b);
+            }
+        }
+    }
+
+    /// The helper's shared state, for the tests to see the helper end.
+    #[cfg(test)]
+    fn shared(&self) -> Option<std::sync::Weak<Shared>> {
+        match &self.kind {
+            Kind::Helper(o) => Some(Arc::downgrade(&o.shared)),
+            _ => None,
+        }
+    }
+}
+
+fn helper_loop(h: &Shared) {
     loop {
-        let mut since = Instant::now();
-        let mut n = 0u32;
-        while h.state.load(Ordering::Acquire) != POSTED {
-            n = n.wrapping_add(1);
-            if n % 64 != 0 {
-                std::hint::spin_loop();
-                continue;
-            }
-            if since.elapsed() < SPIN {
-                continue;
-            }
-            h.sleeping.store(true, Ordering::SeqCst);
-            if h.state.load(Ordering::SeqCst) != POSTED {
+        let posted = || h.state.load(Ordering::Acquire) == POSTED || h.stop.load(Ordering::Acquire);
+        while !spin_until(HELPER_SPIN, posted) {
+            h.helper_blocked.store(true, Ordering::SeqCst);
+            if h.state.load(Ordering::SeqCst) != POSTED && !h.stop.load(Ordering::SeqCst) {
                 std::thread::park();
             }
-            h.sleeping.store(false, Ordering::SeqCst);
-            since = Instant::now();
+            h.helper_blocked.store(false, Ordering::SeqCst);
         }
-        // SAFETY: POSTED was observed (Acquire): the claimant wrote the job before it.
-        let job = unsafe { (*h.job.get()).take() }.expect("a posted job");
+        if h.state.load(Ordering::Acquire) != POSTED {
+            return; // stopped
+        }
+        // SAFETY: POSTED was observed (Acquire): the claimant wrote the job and its thread
+        // before it, and does not touch them until DONE.
+        let (job, caller) = unsafe { ((*h.job.get()).take(), (*h.caller.get()).take()) };
+        let job = job.expect("a posted job");
         // SAFETY: the claimant keeps the closure alive until it observes DONE.
         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| unsafe { (*job)() }));
         if let Err(p) = r {
-            // SAFETY: the claimant reads it only after DONE (Release below).
+            // SAFETY: the claimant reads it only after DONE (SeqCst, below).
             unsafe { *h.panic.get() = Some(p) };
         }
-        h.state.store(DONE, Ordering::Release);
+        h.state.store(DONE, Ordering::SeqCst);
+        if h.caller_blocked.load(Ordering::SeqCst) {
+            if let Some(c) = caller {
+                c.unpark();
+            }
+        }
     }
 }
 
 /// The caller's claim on the helper. [`Claim::finish`] waits for the helper's job and
 /// releases the claim; dropping an unfinished claim (the caller's own closure unwinding)
 /// does the same, since the helper's job borrows the caller's frame.
-struct Claim {
+struct Claim<'a> {
+    h: &'a Shared,
     finished: bool,
 }
 
-impl Claim {
-    /// Waits for `DONE`, releases the claim; the helper's panic, if its job panicked.
+impl Claim<'_> {
+    /// Waits for `DONE` (spinning up to [`CALLER_SPIN`], then blocked), releases the
+    /// claim; the helper's panic, if its job panicked.
     fn finish(&mut self) -> Option<Box<dyn Any + Send>> {
-        let h = &HELPER;
-        while h.state.load(Ordering::Acquire) != DONE {
-            std::hint::spin_loop();
+        let h = self.h;
+        let done = || h.state.load(Ordering::Acquire) == DONE;
+        if !spin_until(CALLER_SPIN, done) {
+            h.caller_blocked.store(true, Ordering::SeqCst);
+            while h.state.load(Ordering::SeqCst) != DONE {
+                std::thread::park();
+            }
+            h.caller_blocked.store(false, Ordering::SeqCst);
         }
         // SAFETY: DONE was observed (Acquire); the helper wrote the slot before it.
         let p = unsafe { (*h.panic.get()).take() };
@@ -136,7 +312,7 @@ impl Claim {
     }
 }
 
-impl Drop for Claim {
+impl Drop for Claim<'_> {
     fn drop(&mut self) {
         if !self.finished {
             let _ = self.finish();
@@ -144,35 +320,16 @@ impl Drop for Claim {
     }
 }
 
-/// Runs `a` on this thread and `b` on the helper (or on rayon's pool, module docs); returns
-/// when both have.
-pub fn join<A, B>(a: A, b: B)
+/// `a` here, `b` on the claimed helper `thread` of `h`.
+fn join_on<A, B>(h: &Shared, thread: Option<&Thread>, a: A, b: B)
 where
     A: FnOnce() + Send,
     B: FnOnce() + Send,
 {
-    if rayon::current_num_threads() < 2
-        || EXCLUSIVE.load(Ordering::Relaxed) > 0
-        || HELPER
-            .claimed
-            .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
-            .is_err()
-    {
-        rayon::join(a, b);
-        return;
-    }
-    let h = &HELPER;
-    let thread = h.thread.get_or_init(|| {
-        std::thread::Builder::new()
-            .name("softway-join".into())
-            .spawn(helper_loop)
-            .ok()
-            .map(|j| j.thread().clone())
-    });
     let Some(thread) = thread else {
-        // No helper thread could be started: the pool's join.
         h.claimed.store(false, Ordering::Release);
-        rayon::join(a, b);
+        a();
+        b();
         return;
     };
     let b = std::sync::Mutex::new(Some(b));
@@ -186,12 +343,15 @@ where
     // for DONE before this frame (which owns `run_b`) ends.
     let job: Job = unsafe { std::mem::transmute::<&(dyn Fn() + Sync), Job>(job) };
     // SAFETY: the helper is IDLE (claimed, and every claim ends in IDLE): it does not read.
-    unsafe { *h.job.get() = Some(job) };
+    unsafe {
+        *h.job.get() = Some(job);
+        *h.caller.get() = Some(std::thread::current());
+    }
     h.state.store(POSTED, Ordering::SeqCst);
-    if h.sleeping.load(Ordering::SeqCst) {
+    if h.helper_blocked.load(Ordering::SeqCst) {
         thread.unpark();
     }
-    let mut claim = Claim { finished: false };
+    let mut claim = Claim { h, finished: false };
     a();
     if let Some(p) = claim.finish() {
         std::panic::resume_unwind(p);
@@ -237,29 +397,154 @@ impl<'a> Disjoint<'a> {
 mod tests {
     use super::*;
 
+    fn teams() -> [Team; 3] {
+        [
+            Team::new(Par::Seq),
+            Team::new(Par::threads(2)),
+            Team::default(),
+        ]
+    }
+
     #[test]
     fn both_closures_run_and_see_their_borrows() {
-        let mut x = vec![0u64; 1000];
-        let (lo, hi) = x.split_at_mut(500);
-        for _ in 0..200 {
-            join(
-                || lo.iter_mut().for_each(|v| *v += 1),
-                || hi.iter_mut().for_each(|v| *v += 2),
-            );
+        for team in teams() {
+            let mut x = vec![0u64; 1000];
+            let (lo, hi) = x.split_at_mut(500);
+            for _ in 0..200 {
+                team.join(
+                    || lo.iter_mut().for_each(|v| *v += 1),
+                    || hi.iter_mut().for_each(|v| *v += 2),
+                );
+            }
+            assert!(x[..500].iter().all(|&v| v == 200), "{team:?}");
+            assert!(x[500..].iter().all(|&v| v == 400), "{team:?}");
         }
-        assert!(x[..500].iter().all(|&v| v == 200));
-        assert!(x[500..].iter().all(|&v| v == 400));
+    }
+
+    /// With [`Par::Seq`] both closures run on the caller's thread, `a` first.
+    #[test]
+    fn a_sequential_team_runs_both_on_the_callers_thread_in_order() {
+        let team = Team::new(Par::Seq);
+        assert_eq!(team.par(), Par::Seq);
+        let me = std::thread::current().id();
+        let order = std::sync::Mutex::new(Vec::new());
+        team.join(
+            || {
+                order
+                    .lock()
+                    .unwrap()
+                    .push(("a", std::thread::current().id()))
+            },
+            || {
+                order
+                    .lock()
+                    .unwrap()
+                    .push(("b", std::thread::current().id()))
+            },
+        );
+        assert_eq!(order.into_inner().unwrap(), [("a", me), ("b", me)]);
+    }
+
+    /// With a helper, `b` runs on another thread, the helper's.
+    #[test]
+    fn a_team_of_two_runs_the_second_closure_on_its_helper() {
+        let team = Team::new(Par::threads(2));
+        assert_eq!(team.par(), Par::threads(2));
+        let me = std::thread::current().id();
+        let (mut ta, mut tb) = (None, None);
+        team.join(
+            || ta = Some(std::thread::current().id()),
+            || tb = Some(std::thread::current().id()),
+        );
+        assert_eq!(ta, Some(me));
+        assert!(tb.is_some() && tb != Some(me));
     }
 
     #[test]
     fn a_panic_in_either_closure_reaches_the_caller_and_the_helper_serves_again() {
-        let r = std::panic::catch_unwind(|| join(|| (), || panic!("b")));
+        let team = Team::new(Par::threads(2));
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            team.join(|| (), || panic!("b"))
+        }));
         assert!(r.is_err());
-        let r = std::panic::catch_unwind(|| join(|| panic!("a"), || ()));
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            team.join(|| panic!("a"), || ())
+        }));
         assert!(r.is_err());
         let mut s = [0; 2];
         let (p, q) = s.split_at_mut(1);
-        join(|| p[0] = 1, || q[0] = 2);
+        team.join(|| p[0] = 1, || q[0] = 2);
         assert_eq!(s, [1, 2]);
+    }
+
+    /// The helper blocks when idle (after [`HELPER_SPIN`]), still serves after it was
+    /// woken, and ends (its thread joined, the shared state freed) when the last clone of
+    /// its team is dropped.
+    #[test]
+    fn the_helper_blocks_when_idle_and_ends_with_its_team() {
+        let team = Team::new(Par::threads(2));
+        let shared = team.shared().expect("a helper");
+        let mut s = [0; 2];
+        let (p, q) = s.split_at_mut(1);
+        team.join(|| p[0] = 1, || q[0] = 2);
+        let since = Instant::now();
+        let blocked = || {
+            shared
+                .upgrade()
+                .unwrap()
+                .helper_blocked
+                .load(Ordering::SeqCst)
+        };
+        while !blocked() && since.elapsed() < Duration::from_secs(5) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        assert!(
+            blocked(),
+            "the helper still spins after {:?}",
+            since.elapsed()
+        );
+        team.join(|| p[0] = 3, || q[0] = 4);
+        assert_eq!(s, [3, 4]);
+        let clone = team.clone();
+        drop(team);
+        assert!(shared.upgrade().is_some(), "a clone keeps the helper");
+        clone.join(|| (), || ());
+        drop(clone);
+        assert!(shared.upgrade().is_none(), "the helper outlived its team");
+    }
+
+    /// [`Par::current`] follows the pool it is asked from.
+    #[test]
+    fn par_follows_the_callers_pool() {
+        let pool = |n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        assert_eq!(pool(1).install(Par::current), Par::Seq);
+        assert_eq!(pool(3).install(Par::current), Par::threads(3));
+        assert_eq!(Par::threads(0), Par::Seq);
+        assert_eq!(Par::threads(3).count(), 3);
+        assert_eq!(pool(1).install(|| Team::default().par()), Par::Seq);
+    }
+
+    /// Two callers of one team at once: one gets the helper, the other runs both of its
+    /// closures itself; every result is right.
+    #[test]
+    fn two_callers_of_one_team_share_it() {
+        let team = Team::new(Par::threads(2));
+        std::thread::scope(|s| {
+            for k in 0..2u64 {
+                let team = &team;
+                s.spawn(move || {
+                    for i in 0..500u64 {
+                        let (mut x, mut y) = (0, 0);
+                        team.join(|| x = i + k, || y = 2 * i + k);
+                        assert_eq!((x, y), (i + k, 2 * i + k));
+                    }
+                });
+            }
+        });
     }
 }

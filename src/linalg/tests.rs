@@ -7,6 +7,7 @@ use super::lu::Stored;
 use super::solver::Counts;
 use super::supernodal::DENSE_SUPERNODAL_MIN_ORDER;
 use super::triangle::{Segment, Triangle, MIN_SUPERNODE};
+use super::team::{self, Team};
 use super::*;
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 use faer::sparse::Triplet;
@@ -125,6 +126,10 @@ fn split_solves_alike(pattern: &Pattern, values: &[f64], build: impl Fn(bool) ->
     };
     let (x1, x2) = (on(1), on(2));
     assert!(x1.iter().zip(&x2).all(|(p, q)| p.to_bits() == q.to_bits()));
+    // On a team of the caller's thread and its own helper.
+    let mut x3 = b.clone();
+    split.solve_on(&Team::new(team::Par::threads(2)), &mut x3);
+    assert!(x1.iter().zip(&x3).all(|(p, q)| p.to_bits() == q.to_bits()));
     let d = max_rel_diff(&x1, &x_ref);
     assert!(d < 1e-13, "{kind:?} split against faer's LU: {d:e}");
 }
@@ -251,10 +256,10 @@ fn avx2_solves_match_the_baseline_bit_for_bit() {
                 let (mut x, mut y) = (b.clone(), b.clone());
                 // The baseline without the AVX2 block kernel (`blocks_dot`).
                 (lu.l.avx2, lu.u.avx2) = (false, false);
-                lu.solve_here(&mut x);
+                lu.solve_here(&Team::default(), &mut x);
                 (lu.l.avx2, lu.u.avx2) = (true, true);
                 // SAFETY: the processor has AVX2 (checked above).
-                unsafe { lu.solve_avx2(&mut y) };
+                unsafe { lu.solve_avx2(&Team::default(), &mut y) };
                 assert!(same(&x, &y), "LU, dense {dense}");
                 if symmetric {
                     let mut llt = SparseLlt::new(&pattern, &values)
@@ -262,10 +267,10 @@ fn avx2_solves_match_the_baseline_bit_for_bit() {
                         .with_layout(&pattern, &values, dense);
                     let (mut x, mut y) = (b.clone(), b.clone());
                     (llt.l.avx2, llt.lt.avx2) = (false, false);
-                    llt.solve_here(&mut x);
+                    llt.solve_here(&Team::default(), &mut x);
                     (llt.l.avx2, llt.lt.avx2) = (true, true);
                     // SAFETY: as above.
-                    unsafe { llt.solve_avx2(&mut y) };
+                    unsafe { llt.solve_avx2(&Team::default(), &mut y) };
                     assert!(same(&x, &y), "Cholesky, dense {dense}");
                 }
             }

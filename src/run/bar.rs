@@ -2,7 +2,7 @@
 //! d'Alembert solution: contact from `t = gap / v0` for `2 L / c`, constant force
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
-use super::{progress_bar, RunError, RunOptions, RunReport, INTERRUPT};
+use super::{progress_bar, RunError, RunOptions, RunReport};
 use crate::output::files::{write_json, CsvWriter};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Run, Scenario};
@@ -350,7 +350,7 @@ pub fn simulate(
     run: &Run,
     csv: Option<&mut CsvWriter>,
     stride: usize,
-    show_progress: bool,
+    opts: &RunOptions,
 ) -> Result<(BarSummary, BarTrace), RunError> {
     let h = run.params.h;
     let sim_err = |source: crate::simulation::SimError| RunError::Simulation {
@@ -372,7 +372,7 @@ pub fn simulate(
         energy: 0.5 * a.rho_a * a.length * a.speed * a.speed,
     };
     let steps = (run.t_end / h).round() as usize;
-    let pb = progress_bar(steps as u64, &run.label, show_progress);
+    let pb = progress_bar(steps as u64, &run.label, opts.progress);
     let start = Instant::now();
     let (mesh, problem, bodies) = match &run.model {
         Model::BarImpact(b) => {
@@ -394,6 +394,7 @@ pub fn simulate(
         .map(|v| v[0])
         .unwrap_or(0);
     let mut sim = Simulation::new(problem).map_err(sim_err)?;
+    sim.set_par(opts.par());
     let mut rec = Recorder::new(
         &run.label,
         head,
@@ -404,7 +405,7 @@ pub fn simulate(
         pb,
     );
     let stats = sim
-        .run(&INTERRUPT, |s| {
+        .run(opts.cancel.flag(), |s| {
             let st = &s.state;
             let pair = &st.pairs[0];
             rec.record(&Sample {
@@ -515,7 +516,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     let mut traces = Vec::new();
     let mut report = RunReport::default();
     for run in &sc.runs {
-        let (s, tr) = simulate(run, Some(&mut csv), sc.history_stride, opts.progress)?;
+        let (s, tr) = simulate(run, Some(&mut csv), sc.history_stride, opts)?;
         let interrupted = s.interrupted;
         summaries.push(s);
         traces.push((run.label.clone(), tr));

@@ -112,7 +112,7 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
                 "`softway compare` needs a bar scenario (kind = \"bar_impact\" or \"two_bars\")",
             ));
         }
-        let (s, tr) = simulate(run, None, 1, opts.progress)?;
+        let (s, tr) = simulate(run, None, 1, opts)?;
         exact_force = s.exact.contact_force;
         rows.push(row(&s));
         traces.push((run.label.clone(), tr));

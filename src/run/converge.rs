@@ -17,7 +17,7 @@
 //! oscillator scenarios every number of the run.
 
 use super::sweep::{run_ladder, SweepError, SweepPoint};
-use super::RunError;
+use super::{Cancel, RunError};
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use std::fmt::Write as _;
@@ -126,7 +126,12 @@ fn figures(summary: &serde_json::Value) -> Vec<(String, f64)> {
     out
 }
 
-/// Runs the ladder and writes `converge.csv`, `converge.md` and `converge.png` into `out`.
+/// What [`converge`] returns: the ladders, the files written and the runs' warnings.
+pub type Converged = (Vec<FigureLadder>, Vec<PathBuf>, Vec<String>);
+
+/// Runs the ladder and writes `converge.csv`, `converge.md` and `converge.png` into `out`;
+/// returns the ladders, the files and the runs' warnings (each prefixed with its rung).
+/// `cancel` stops every run at its next step.
 ///
 /// # Errors
 /// [`SweepError`]; a scenario with several runs (each rung must be one run), a ladder of
@@ -137,7 +142,8 @@ pub fn converge(
     key: &str,
     values: &[String],
     out: &Path,
-) -> Result<(Vec<FigureLadder>, Vec<PathBuf>), SweepError> {
+    cancel: &Cancel,
+) -> Result<Converged, SweepError> {
     let bad = |message: String| SweepError::Value {
         key: key.into(),
         value: values.join(","),
@@ -166,7 +172,15 @@ pub fn converge(
             path.display()
         )));
     }
-    let points = run_ladder(path, text, key, values, out)?;
+    let points = run_ladder(path, text, key, values, out, cancel)?;
+    let warnings = points
+        .iter()
+        .flat_map(|p| {
+            p.warnings
+                .iter()
+                .map(|w| format!("{key} = {}: {w}", p.value))
+        })
+        .collect();
     let per_rung: Vec<Vec<(String, f64)>> = points.iter().map(|p| figures(&p.summary)).collect();
     let names: Vec<String> = per_rung
         .first()
@@ -193,7 +207,7 @@ pub fn converge(
         })
         .collect();
     let files = write_tables(out, key, values, &xs, &ladders, &points)?;
-    Ok((ladders, files))
+    Ok((ladders, files, warnings))
 }
 
 fn write_tables(

@@ -10,9 +10,11 @@ pub mod sdof;
 pub mod sweep;
 pub mod wheel;
 
+pub use crate::linalg::team::{Par, Team};
 use crate::scenario::{Model, Scenario};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Errors of a job.
 #[derive(Debug, thiserror::Error)]
@@ -59,11 +61,52 @@ impl RunError {
     }
 }
 
+/// A cancellation token: the caller keeps a clone and calls [`Cancel::cancel`] (the CLI
+/// from its Ctrl-C handler); a job stops at its next step and writes what it has. Clones
+/// share one flag; a fresh token is not cancelled.
+#[derive(Debug, Clone, Default)]
+pub struct Cancel(Arc<AtomicBool>);
+
+impl Cancel {
+    /// A token not cancelled.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Cancels every job that holds a clone of this token; returns true if it already was.
+    pub fn cancel(&self) -> bool {
+        self.0.swap(true, Ordering::SeqCst)
+    }
+
+    /// True once [`Cancel::cancel`] was called on a clone.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// The flag itself, as `Simulation::run` reads it.
+    pub fn flag(&self) -> &AtomicBool {
+        &self.0
+    }
+}
+
 /// Options of a job.
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     /// Show a progress bar (on a terminal).
     pub progress: bool,
+    /// The threads of each run; `None` (the default): [`Par::current`] when the run starts,
+    /// i.e. the rayon pool it is called in. Sweeps and convergence ladders run their runs
+    /// side by side, each with [`Par::Seq`].
+    pub par: Option<Par>,
+    /// Stops the job at its next step (it then writes what it has, `interrupted` set).
+    pub cancel: Cancel,
+}
+
+impl RunOptions {
+    /// The threads of a run: [`RunOptions::par`], or those of the caller's pool.
+    pub fn par(&self) -> Par {
+        self.par.unwrap_or_else(Par::current)
+    }
 }
 
 /// What a job reports back.
@@ -75,24 +118,17 @@ pub struct RunReport {
     pub files: Vec<PathBuf>,
     /// True if interrupted.
     pub interrupted: bool,
+    /// Warnings for the user (the library prints nothing; the CLI prints these).
+    pub warnings: Vec<String>,
 }
 
-/// Set by Ctrl-C: the running job stops at the next step and writes what it has.
-pub static INTERRUPT: AtomicBool = AtomicBool::new(false);
-
-/// Runs every run of the scenario and writes the results into `out`.
-///
-/// The run executes on a thread of rayon's pool (the caller's thread waits), so that the
-/// solves split between two threads (`linalg::Factor::parts`) hand their halves over
-/// within the pool rather than from outside it at every step.
+/// Runs every run of the scenario and writes the results into `out`, on the caller's thread
+/// and, with [`RunOptions::par`] of two threads or more, a helper thread of each run's own
+/// ([`Team`]), which ends with the run.
 ///
 /// # Errors
 /// [`RunError`].
 pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
-    rayon::scope(|_| run_here(sc, out, opts))
-}
-
-fn run_here(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     match &sc.runs[0].model {
         Model::Sdof(_) => sdof::run(sc, out, opts),

@@ -1,14 +1,13 @@
 //! The one-degree-of-freedom oscillator `m x'' + k x = 0` by the scheme of Eqs. (9)-(10),
 //! against the exact solution `x = x0 cos(omega t) + v0/omega sin(omega t)`.
 
-use super::{RunError, RunOptions, RunReport, INTERRUPT};
+use super::{RunError, RunOptions, RunReport};
 use crate::output::files::{write_json, CsvWriter};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario};
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
 use std::path::Path;
-use std::sync::atomic::Ordering;
 
 /// Key figures of one run.
 #[derive(Debug, Clone, Serialize)]
@@ -45,7 +44,7 @@ pub struct SdofSummary {
 ///
 /// # Errors
 /// [`RunError`].
-pub fn run(sc: &Scenario, out: &Path, _opts: &RunOptions) -> Result<RunReport, RunError> {
+pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     let hist = out.join("history.csv");
     let mut csv = CsvWriter::create(
         &hist,
@@ -101,7 +100,7 @@ pub fn run(sc: &Scenario, out: &Path, _opts: &RunOptions) -> Result<RunReport, R
             ts.push(t);
             xs.push(x);
             es.push(x - xe);
-            if k == n || INTERRUPT.load(Ordering::Relaxed) {
+            if k == n || opts.cancel.is_cancelled() {
                 report.interrupted |= k < n;
                 break;
             }

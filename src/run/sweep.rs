@@ -2,7 +2,7 @@
 //! table (`sweep.csv`, `sweep.md`) and, for the wheel, the paper's Fig. 15 (`sweep.png`:
 //! oscillations per turn and maximal contact force against omega).
 
-use super::{run_scenario, RunError, RunOptions};
+use super::{run_scenario, Cancel, Par, RunError, RunOptions};
 use crate::build::resolve;
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
@@ -20,6 +20,8 @@ pub struct SweepPoint {
     pub dir: PathBuf,
     /// Its `summary.json`.
     pub summary: serde_json::Value,
+    /// Its run's warnings ([`super::RunReport::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// Errors of a sweep.
@@ -41,8 +43,9 @@ pub enum SweepError {
 }
 
 /// Validates and builds the scenario text at `path` for every value of `key` (all before any
-/// run starts), then runs them in parallel (rayon) into `out/<key>=<value>/`; returns the
-/// points in the order of `values`.
+/// run starts), then runs them in parallel (rayon, in the caller's pool; each run on one
+/// thread, [`Par::Seq`]) into `out/<key>=<value>/`; returns the points in the order of
+/// `values`. `cancel` stops every run at its next step.
 ///
 /// # Errors
 /// [`SweepError`].
@@ -52,6 +55,7 @@ pub fn run_ladder(
     key: &str,
     values: &[String],
     out: &Path,
+    cancel: &Cancel,
 ) -> Result<Vec<SweepPoint>, SweepError> {
     let mut scs = Vec::new();
     let mut dirs = std::collections::BTreeSet::new();
@@ -78,13 +82,17 @@ pub fn run_ladder(
         scs.push((v.clone(), sc));
     }
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
-    // The runs share the cores: no spinning helper thread for their split solves.
-    let _runs_on_every_core = crate::linalg::team::Exclusive::hold();
+    // The runs share the cores: each on one thread, no helper for its split solves.
+    let opts = RunOptions {
+        progress: false,
+        par: Some(Par::Seq),
+        cancel: cancel.clone(),
+    };
     let results: Vec<Result<SweepPoint, SweepError>> = scs
         .par_iter()
         .map(|(v, sc)| {
             let dir = out.join(point_dir_name(key, v));
-            let rep = run_scenario(sc, &dir, &RunOptions { progress: false })?;
+            let rep = run_scenario(sc, &dir, &opts)?;
             let sj = dir.join("summary.json");
             let summary = std::fs::read_to_string(&sj)
                 .ok()
@@ -102,6 +110,7 @@ pub fn run_ladder(
                 value: v.clone(),
                 dir,
                 summary,
+                warnings: rep.warnings,
             })
         })
         .collect();
@@ -125,8 +134,9 @@ pub fn sweep(
     key: &str,
     values: &[String],
     out: &Path,
+    cancel: &Cancel,
 ) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
-    let points = run_ladder(path, text, key, values, out)?;
+    let points = run_ladder(path, text, key, values, out, cancel)?;
     let mut files = Vec::new();
     // Table: the key figures (wheel), or every scalar number of the summaries.
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");

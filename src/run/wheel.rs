@@ -19,7 +19,7 @@ pub mod figures;
 pub mod observers;
 pub mod traction;
 
-use super::{RunError, RunOptions, RunReport, INTERRUPT};
+use super::{RunError, RunOptions, RunReport};
 use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
@@ -146,6 +146,9 @@ pub struct WheelSummary {
     pub time_per_step_us: f64,
     /// True when interrupted.
     pub interrupted: bool,
+    /// Warnings for the user (not in `summary.json`; [`RunReport::warnings`]).
+    #[serde(skip)]
+    pub warnings: Vec<String>,
     /// Traction with friction (`contact.friction > 0`): creep force, stick and slip, Carter.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub traction: Option<TractionSummary>,
@@ -270,7 +273,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
         unreachable!("wheel job on a wheel scenario")
     };
     let wm = build(ws, &sc.path)?;
-    let (summary, files) = simulate(&wm, ws, run, sc, out, opts.progress)?;
+    let (summary, files) = simulate(&wm, ws, run, sc, out, opts)?;
     let sj = out.join("summary.json");
     let mut json = serde_json::to_value(&summary).map_err(|e| RunError::output(&sj, e))?;
     if let Some(o) = json.as_object_mut() {
@@ -289,6 +292,7 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
     let mut report = RunReport {
         files,
         interrupted: summary.interrupted,
+        warnings: summary.warnings.clone(),
         ..Default::default()
     };
     report.files.push(sj);
@@ -396,7 +400,7 @@ pub fn simulate(
     run: &Run,
     sc: &Scenario,
     out: &Path,
-    show_progress: bool,
+    opts: &RunOptions,
 ) -> Result<(WheelSummary, Vec<PathBuf>), RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     let h = run.params.h;
@@ -411,13 +415,14 @@ pub fn simulate(
     // The bounce of the disk between its support and the contact, and the node-passing
     // harmonics that would drive it (a resonance warning before the run).
     let bounce = bounce_mode(wm, ws.spec.flattening.depth).ok();
+    let mut warnings = Vec::new();
     if let Some(b) = bounce {
         let passing = ws.spec.omega * wm.passing_nodes() as f64 / (2.0 * PI);
         for k in 1..=4 {
             let f = k as f64 * passing;
             if (f / b.frequency_hz - 1.0).abs() < 0.05 {
-                crate::output::note(format_args!(
-                    "softway: warning: {}: the node passing ({k} x {passing:.1} Hz = {f:.1} Hz) is within 5% of the bounce of the wheel on its support and contact ({:.1} Hz): expect a resonance (change omega, the rim nodes or the support)",
+                warnings.push(format!(
+                    "{}: the node passing ({k} x {passing:.1} Hz = {f:.1} Hz) is within 5% of the bounce of the wheel on its support and contact ({:.1} Hz): expect a resonance (change omega, the rim nodes or the support)",
                     run.label, b.frequency_hz
                 ));
             }
@@ -428,8 +433,8 @@ pub fn simulate(
     if let Support::Hub { radius } = ws.spec.support {
         let held = wm.support_radius();
         if held < 0.95 * radius {
-            crate::output::note(format_args!(
-                "softway: warning: {}: the hub of radius {radius} m holds the nodes within it, the outermost at {held:.4e} m: the mesh has no node on the hub's circle (generated disks with rim_nodes mesh it; support_radius_m in summary.json)",
+            warnings.push(format!(
+                "{}: the hub of radius {radius} m holds the nodes within it, the outermost at {held:.4e} m: the mesh has no node on the hub's circle (generated disks with rim_nodes mesh it; support_radius_m in summary.json)",
                 run.label
             ));
         }
@@ -445,7 +450,7 @@ pub fn simulate(
     let mut average = TurnAverage::new(wm, timeline, last_turn);
     let mut snapshots =
         VelocitySnapshots::new(timeline, last_turn.0, ws.fields_per_turn, wm.mesh.n_dofs());
-    let mut progress = Progress::new(steps, &run.label, show_progress);
+    let mut progress = Progress::new(steps, &run.label, opts.progress);
     let mu = run.friction.filter(|l| l.is_active()).map(|l| l.static_mu);
     let mut traction = match mu {
         Some(_) => Some(TractionWatch::create(
@@ -478,6 +483,7 @@ pub fn simulate(
         run,
         (steps, timeline, sc.history_stride),
         &mut watchers,
+        opts,
     )?;
     drop(watchers);
     progress.finish();
@@ -512,6 +518,7 @@ pub fn simulate(
         snapshots: snapshots.finish(),
     };
     let mut summary = summarise(wm, ws, run, &results, bounce);
+    summary.warnings = warnings;
     let mut files = vec![history.finish()?, nodes.finish()?];
     if let Some((ts, profile, path)) = traction {
         files.push(path);
@@ -563,6 +570,7 @@ pub fn drive(
     run: &Run,
     (steps, timeline, stride): (usize, Timeline, usize),
     observers: &mut [&mut dyn Observer],
+    opts: &RunOptions,
 ) -> Result<LoopOutcome, RunError> {
     use crate::simulation::Simulation;
     let sim_error = |source| RunError::Simulation {
@@ -583,6 +591,7 @@ pub fn drive(
     );
     problem.friction = run.friction;
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
+    sim.set_par(opts.par());
     if let Some((sources, step)) = &wm.zone {
         sim.set_relocation(crate::simulation::Relocation {
             sources: sources.clone(),
@@ -602,7 +611,7 @@ pub fn drive(
     let own = if twin { wm.mesh.n_dofs() } else { 0 };
     let (mut u_own, mut v_own) = (vec![0.0; own], vec![0.0; own]);
     let stats = sim
-        .run(&INTERRUPT, |s| {
+        .run(opts.cancel.flag(), |s| {
             let st = s.state;
             let first_rolling = !rolling_seen && timeline.rolling(st.t);
             rolling_seen |= first_rolling;
@@ -733,6 +742,7 @@ fn summarise(
         wall_time_s: o.wall_time_s,
         time_per_step_us: o.wall_time_s / o.steps.max(1) as f64 * 1e6,
         interrupted: o.interrupted,
+        warnings: Vec::new(),
         traction: None,
     }
 }

@@ -155,4 +155,7 @@ pub trait TimeIntegrator: Send {
     fn set_step(&mut self, h: f64) -> Result<(), LinalgError>;
     /// Factorizations so far.
     fn counts(&self) -> FactorCounts;
+    /// Runs the integrator's two-part work on `team`'s threads, if it has any (the same bits
+    /// on any team; by default nothing changes).
+    fn set_team(&mut self, _team: &crate::linalg::team::Team) {}
 }

@@ -50,6 +50,7 @@
 //! the impulse of the constraint over the step: the force is `lambda_p / h`.
 
 use crate::linalg::rhs::Operators;
+use crate::linalg::team::Team;
 use crate::linalg::{
     BParts, Factor, FactorKind, Factorization, LinalgError, Pattern, RhsOperator, RhsValues,
 };
@@ -96,6 +97,9 @@ pub struct Stepper {
     lu_other: Option<(f64, Factor)>,
     /// The step length in force, s.
     h_now: f64,
+    /// The threads of the two-part work: the split factor's sweeps, the right-hand side's
+    /// halves, the displacement update (`Team::default()` until [`Stepper::set_team`]).
+    team: Team,
     bc_dofs: Vec<usize>,
     bc_values: Vec<f64>,
     is_bc: Vec<bool>,
@@ -217,6 +221,7 @@ impl Stepper {
             lu,
             lu_other: None,
             h_now: params.h,
+            team: Team::default(),
             pattern,
             bc_dofs,
             bc_values,
@@ -311,7 +316,7 @@ impl Stepper {
         assert!(b.len() == self.n);
         debug_assert_eq!(self.coriolis == Coriolis::Extrapolated, !self.g.is_empty());
         self.rhs_rows
-            .apply(h, self.params.alpha * h, [u0, v0, a0], f, b);
+            .apply(&self.team, h, self.params.alpha * h, [u0, v0, a0], f, b);
     }
 
     /// The treatment of `C`'s skew part in force (module docs).
@@ -328,7 +333,8 @@ impl Stepper {
     /// Solves `A v1 = b` in place (`b` becomes `v1`) with the Dirichlet velocities.
     pub fn solve(&mut self, b: &mut [f64]) {
         self.apply_dirichlet(b);
-        self.factor().solve_in_place(b);
+        let (lu, team) = self.factor();
+        lu.solve_on(team, b);
     }
 
     /// The factorization of `A` in use.
@@ -376,11 +382,18 @@ impl Stepper {
         std::iter::once(&self.lu).chain(self.lu_other.as_ref().map(|(_, lu)| lu))
     }
 
-    fn factor(&mut self) -> &mut Factor {
-        match &mut self.lu_other {
+    /// The factor in use and the team its solves run on.
+    fn factor(&mut self) -> (&mut Factor, &Team) {
+        let lu = match &mut self.lu_other {
             Some((h, lu)) if *h == self.h_now => lu,
             _ => &mut self.lu,
-        }
+        };
+        (lu, &self.team)
+    }
+
+    /// Runs the two-part work on `team`'s threads (the same bits on any team).
+    pub fn set_team(&mut self, team: &Team) {
+        self.team = team.clone();
     }
 
     /// `u1 = u0 + h [(1 - beta) v0 + beta v1]`, Eq. (10).
@@ -403,7 +416,8 @@ impl Stepper {
         };
         if n >= UPDATE_SPLIT_MIN_ORDER {
             let (lo, hi) = u1.split_at_mut(n / 2);
-            crate::linalg::team::join(|| update(0..n / 2, lo), || update(n / 2..n, hi));
+            self.team
+                .join(|| update(0..n / 2, lo), || update(n / 2..n, hi));
         } else {
             update(0..n, u1);
         }
@@ -485,7 +499,8 @@ impl TimeIntegrator for Stepper {
             return false;
         }
         col[dof] = 1.0;
-        self.factor().solve_in_place(col);
+        let (lu, team) = self.factor();
+        lu.solve_on(team, col);
         true
     }
     fn finish(&self, step: &Step, s0: &State, _pred: &State, x: &[f64], s1: &mut State) {
@@ -534,6 +549,9 @@ impl TimeIntegrator for Stepper {
             numeric: self.factors().map(Factorization::numeric_factorizations).sum(),
             symbolic: self.factors().map(Factorization::symbolic_analyses).sum(),
         }
+    }
+    fn set_team(&mut self, team: &Team) {
+        Stepper::set_team(self, team);
     }
 }
 
@@ -600,7 +618,7 @@ mod tests {
             let x0: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).sin()).collect();
             let mut b = vec![0.0; n];
             crate::linalg::spmv_into(&s.pattern, &s.a_work, &x0, &mut b);
-            s.factor().solve_in_place(&mut b);
+            s.factor().0.solve_in_place(&mut b);
             let err = b
                 .iter()
                 .zip(&x0)

@@ -208,7 +208,7 @@ pub fn run_in_process(path: &Path, text: &str, name: &str) -> (TestDir, serde_js
     use softway::scenario::Scenario;
     let sc = softway::build::resolve(&Scenario::from_str(text, path).unwrap()).unwrap();
     let dir = TestDir::new("lib", name);
-    softway::run::run_scenario(&sc, &dir, &softway::run::RunOptions { progress: false }).unwrap();
+    softway::run::run_scenario(&sc, &dir, &softway::run::RunOptions::default()).unwrap();
     let s =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     (dir, s)

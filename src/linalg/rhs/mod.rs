@@ -95,7 +95,7 @@ pub struct RhsOperator {
 }
 
 /// The order from which the right-hand side's pairs of rows are formed in two halves side
-/// by side (`linalg::team::join`; one thread runs both when the pool has one): the orders
+/// by side (`Team::join`; one thread runs both with `Par::Seq`): the orders
 /// whose factor is split for two threads (`linalg::Factor::parts`).
 const RHS_SPLIT_MIN_ORDER: usize = crate::linalg::SPLIT_MIN_ORDER;
 
@@ -334,7 +334,15 @@ impl RhsOperator {
     ///
     /// # Panics
     /// When a vector's length is not the pattern's order.
-    pub fn apply(&self, h: f64, c: f64, [u0, v0, a0]: [&[f64]; 3], f: &[f64], b: &mut [f64]) {
+    pub fn apply(
+        &self,
+        team: &crate::linalg::team::Team,
+        h: f64,
+        c: f64,
+        [u0, v0, a0]: [&[f64]; 3],
+        f: &[f64],
+        b: &mut [f64],
+    ) {
         let r = self;
         let n = self.n;
         assert!(b.len() == n && v0.len() == n && u0.len() == n && f.len() == n);
@@ -353,7 +361,7 @@ impl RhsOperator {
                 // The second half's rows start at its first pair's row.
                 let cut = r.pair[mid];
                 let (lo, hi) = b.split_at_mut(cut);
-                crate::linalg::team::join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
+                team.join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
             }
             None => part(0..pairs, 0, b),
         }
