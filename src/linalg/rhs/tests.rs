@@ -119,7 +119,14 @@ fn right_hand_side_kernels_agree_bit_for_bit() {
         }
         // The operator's own entry point: the same bits.
         let mut applied = vec![f64::NAN; n];
-        rows.apply(h, c, [&u, &v, &acc], &f, &mut applied);
+        rows.apply(
+            &crate::linalg::team::Team::default(),
+            h,
+            c,
+            [&u, &v, &acc],
+            &f,
+            &mut applied,
+        );
         assert!(same(&whole, &applied), "apply");
         // The plain sparse products (by columns): the same to round-off.
         let mut reference = vec![f64::NAN; n];
