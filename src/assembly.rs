@@ -20,6 +20,18 @@
 //! | [`Tri3Mass`] | `rho t A / 12 (1 + delta_ij) delta_ab` (or lumped `rho t A / 3 I`) | `M` (also the damping `eta_z N^T N` of Eq. 22, with `eta_z` for `rho`) |
 //! | [`Tri3Stiffness`] | `t A B^T D B` | `K` |
 //! | [`Tri3GeometricStiffness`] | `delta_ab t A grad N_i . S_e grad N_j` | `K_sigma` of the element stresses `S_e` |
+//!
+//! # Dof layout and element families
+//!
+//! A model is a set of bodies and discrete elements whose nodes carry different dofs: a
+//! triangle mesh's nodes `dim` translations, a 2D beam's nodes `(u, w, theta)` or
+//! `(w, theta)` ([`crate::element::beam`]), a point mass or a hub its own
+//! ([`crate::element::discrete`]). A [`DofLayout`] numbers the dofs node by node with a
+//! count per node; an [`ElementFamily`] lists the dofs of elements of one kind (`ndof_e`
+//! each, not `dim * npe`); [`Assembler::try_with_families`] builds one pattern for any
+//! number of families, and the `*_family*` methods scatter family `f`'s element matrices,
+//! `A = sum_f sum_{e in f} P_e^T A_e P_e`. A mesh alone ([`Assembler::new`]) is the one-family
+//! case, [`ElementFamily::of_mesh`]: the same pattern, slots and values, bit for bit.
 
 use crate::element::tri3::{self, Tri3Geometry};
 use crate::linalg::Pattern;
@@ -310,7 +322,8 @@ impl ElementFamily {
     }
 
     /// Elements on nodes of `layout`: element `e` takes every dof of each of its nodes, node
-    /// after node (a 2D beam on `(w, theta)` nodes: `[w_a, theta_a, w_b, theta_b]`).
+    /// after node (a 2D beam on `(w, theta)` nodes: `[w_a, theta_a, w_b, theta_b]`). An
+    /// empty `elements` gives an empty family.
     ///
     /// # Errors
     /// [`AssemblyError::NodeOutOfRange`], [`AssemblyError::MixedElementDofs`] when the
@@ -338,7 +351,8 @@ impl ElementFamily {
             }
         }
         if elements.is_empty() {
-            ndof_e = K * layout.dofs(0).map_or(1, |r| r.len().max(1));
+            // No element to tell: an empty family of one dof per node.
+            ndof_e = K.max(1);
         }
         Self::try_new(ndof_e, dofs)
     }

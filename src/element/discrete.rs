@@ -31,6 +31,14 @@ pub enum DiscreteError {
         /// Its value.
         value: f64,
     },
+    /// A load that is not finite.
+    #[error("{what} must be finite, got {value}")]
+    NotFinite {
+        /// The quantity.
+        what: &'static str,
+        /// Its value.
+        value: f64,
+    },
     /// A spring between a dof and itself.
     #[error("a spring-damper joins dof {dof} to itself")]
     SameDof {
@@ -181,24 +189,26 @@ impl Discrete {
     ///
     /// # Errors
     /// [`DiscreteError::Layout`] for a node not in the layout, [`DiscreteError::HubDofs`],
-    /// [`DiscreteError::Negative`].
+    /// [`DiscreteError::Negative`], [`DiscreteError::NotFinite`].
     pub fn add_hub(&mut self, layout: &DofLayout, hub: &Hub) -> Result<(), DiscreteError> {
         let dofs = layout.dofs(hub.node)?;
-        for got in [hub.load.len(), hub.translations.max(dofs.len())] {
-            if got != dofs.len() {
-                return Err(DiscreteError::HubDofs {
-                    node: hub.node,
-                    got,
-                    dofs: dofs.len(),
-                });
-            }
+        let bad = |got| DiscreteError::HubDofs {
+            node: hub.node,
+            got,
+            dofs: dofs.len(),
+        };
+        if hub.load.len() != dofs.len() {
+            return Err(bad(hub.load.len()));
+        }
+        if hub.translations > dofs.len() {
+            return Err(bad(hub.translations));
         }
         let m = non_negative("hub mass", hub.mass)?;
         let j = non_negative("hub inertia", hub.inertia)?;
         for (i, d) in dofs.enumerate() {
             if !hub.load[i].is_finite() {
-                return Err(DiscreteError::Negative {
-                    what: "hub load (finite)",
+                return Err(DiscreteError::NotFinite {
+                    what: "hub load",
                     value: hub.load[i],
                 });
             }
@@ -369,6 +379,23 @@ mod tests {
         assert!(matches!(
             d.add_hub(&layout, &hub),
             Err(DiscreteError::HubDofs { .. })
+        ));
+        let nan = Hub {
+            load: vec![0.0, f64::NAN],
+            ..hub.clone()
+        };
+        assert!(matches!(
+            d.add_hub(&layout, &nan),
+            Err(DiscreteError::NotFinite { .. })
+        ));
+        let three = Hub {
+            translations: 3,
+            load: vec![0.0; 2],
+            ..hub.clone()
+        };
+        assert!(matches!(
+            d.add_hub(&layout, &three),
+            Err(DiscreteError::HubDofs { got: 3, .. })
         ));
         let hub = Hub { node: 4, ..hub };
         assert!(matches!(
