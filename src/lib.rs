@@ -74,14 +74,17 @@
 //! | where is the step loop? | `src/simulation.rs` |
 //! | where are the rotating-frame terms? | `src/frame.rs` |
 //! | where are stresses and J2? | `src/element/tri3.rs`, `src/material.rs` |
+//! | where are the rail's beam and the track's springs? | `src/element/beam.rs`, `src/element/discrete.rs` |
 //! | where are the wheel job's observers? | `src/run/wheel/observers.rs` |
 //!
 //! ## Module map
 //! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.
-//! - [`element`]: bar and triangle kernels.
+//! - [`element`]: bar, triangle and 2D beam (Euler-Bernoulli, Timoshenko) kernels; discrete
+//!   point masses, spring-dampers and hubs.
 //! - [`material`]: linear elastic material, plane stress / strain.
 //! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (dense).
-//! - [`assembly`]: sparsity pattern once, element scatter (serial and parallel).
+//! - [`assembly`]: dof layout and element families, sparsity pattern once, element scatter
+//!   (serial and parallel).
 //! - [`linalg`]: sparse products, sparse LU with reusable symbolic analysis.
 //! - [`model`]: the linear model, the load, the states and the pairs' states (below `time`
 //!   and `contact`).

@@ -1,7 +1,11 @@
 //! Element kernels: each fills a buffer the caller owns.
 //!
 //! - [`bar2`]: two-node axial bar (1D).
+//! - [`beam`]: two-node beam in 2D, Euler-Bernoulli and Timoshenko, with rotations.
+//! - [`discrete`]: point masses, spring-dampers and rigid hubs.
 //! - [`tri3`]: three-node constant-strain triangle (plane stress / plane strain).
 
 pub mod bar2;
+pub mod beam;
+pub mod discrete;
 pub mod tri3;
