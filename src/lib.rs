@@ -116,3 +116,5 @@ pub mod scenario;
 pub mod simulation;
 pub mod time;
 pub mod wheel;
+
+pub use run::{run, Results, RunError, RunOptions};

@@ -1,16 +1,20 @@
 //! Jobs: run a built [`Scenario`] (validated by [`crate::scenario`], its steps resolved by
-//! [`crate::build::resolve`]) and write its results (`history.csv`, `summary.json`, plots,
-//! VTK) into an output folder.
+//! [`crate::build::resolve`]) into [`Results`] in memory ([`run()`]), which
+//! [`Results::save`] writes as files (`history.csv`, `summary.json`, plots, VTK); the
+//! command line's `run` ([`run_scenario`]) does both, streaming the long tables into the
+//! output folder as it goes so that a long run's memory stays flat.
 
 pub mod bar;
 pub mod compare;
 pub mod converge;
 pub mod matrix;
+pub mod results;
 pub mod sdof;
 pub mod sweep;
 pub mod wheel;
 
 use crate::scenario::{Model, Scenario};
+pub use results::{FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -80,24 +84,46 @@ pub struct RunReport {
 /// Set by Ctrl-C: the running job stops at the next step and writes what it has.
 pub static INTERRUPT: AtomicBool = AtomicBool::new(false);
 
-/// Runs every run of the scenario and writes the results into `out`.
+/// Runs every run of the scenario and returns its results in memory: the summary, the
+/// histories as named columns, the contact nodes, the fields ([`Results`]; nothing is
+/// written). [`Results::save`] writes them as the command line does.
 ///
 /// The run executes on a thread of rayon's pool (the caller's thread waits), so that the
 /// solves split between two threads (`linalg::Factor::parts`) hand their halves over
-/// within the pool rather than from outside it at every step.
+/// within the pool rather than from outside it at every step. It stops at the next step
+/// when [`INTERRUPT`] is set ([`Results::interrupted`]).
+///
+/// # Errors
+/// [`RunError`]: a model that cannot be built, a failed simulation.
+pub fn run(scenario: &Scenario, options: &RunOptions) -> Result<Results, RunError> {
+    rayon::scope(|_| record(scenario, options, None))
+}
+
+/// Runs every run of the scenario and writes the results into `out` (the command line's
+/// `run`): [`run()`], with the history, the contact nodes and the traction history streamed
+/// into `out` as the run goes (memory flat on a long run), then [`Results::save`].
 ///
 /// # Errors
 /// [`RunError`].
 pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
-    rayon::scope(|_| run_here(sc, out, opts))
+    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    rayon::scope(|_| {
+        let results = record(sc, opts, Some(out))?;
+        let files = results.save(out)?;
+        Ok(RunReport {
+            lines: results.lines,
+            files,
+            interrupted: results.interrupted,
+        })
+    })
 }
 
-fn run_here(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
-    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+/// Runs the scenario's model; tables are streamed into `stream` when given.
+fn record(sc: &Scenario, opts: &RunOptions, stream: Option<&Path>) -> Result<Results, RunError> {
     match &sc.runs[0].model {
-        Model::Sdof(_) => sdof::run(sc, out, opts),
-        Model::BarImpact(_) | Model::TwoBars(_) => bar::run(sc, out, opts),
-        Model::Wheel(_) => wheel::run(sc, out, opts),
+        Model::Sdof(_) => sdof::record(sc, stream),
+        Model::BarImpact(_) | Model::TwoBars(_) => bar::record(sc, stream, opts.progress),
+        Model::Wheel(_) => wheel::record(sc, stream, opts.progress),
     }
 }
 
