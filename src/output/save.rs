@@ -75,11 +75,7 @@ impl Results {
         files.extend(figures::write_rim_profile(out, &w.profile)?);
         if self.plots {
             files.extend(figures::write(
-                out,
-                &w.wm,
-                &w.summary,
-                &w.results,
-                &w.profile,
+                out, &w.wm, &w.summary, &w.results, &w.profile,
             )?);
         }
         Ok(files)

@@ -393,14 +393,7 @@ pub fn simulate(
         .map(|v| v[0])
         .unwrap_or(0);
     let mut sim = Simulation::new(problem).map_err(sim_err)?;
-    let mut rec = Recorder::new(
-        head,
-        &sim.engine().model,
-        bodies,
-        csv,
-        stride,
-        pb,
-    );
+    let mut rec = Recorder::new(head, &sim.engine().model, bodies, csv, stride, pb);
     let stats = sim
         .run(&INTERRUPT, |s| {
             let st = &s.state;
@@ -518,8 +511,12 @@ pub(crate) fn record(
         .iter()
         .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
         .sum();
-    let mut csv = Rows::open(Columns::keyed("run", labels, &HISTORY), hist.as_deref(), rows)
-        .map_err(at)?;
+    let mut csv = Rows::open(
+        Columns::keyed("run", labels, &HISTORY),
+        hist.as_deref(),
+        rows,
+    )
+    .map_err(at)?;
     let mut summaries = Vec::new();
     let mut traces = Vec::new();
     let mut interrupted = false;

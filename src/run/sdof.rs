@@ -66,8 +66,12 @@ pub(crate) fn record(sc: &Scenario, stream: Option<&Path>) -> Result<Results, Ru
         .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
         .sum();
     let at = |e| RunError::output(hist.as_deref().unwrap_or(Path::new("history.csv")), e);
-    let mut csv = Rows::open(Columns::keyed("run", labels, &HISTORY), hist.as_deref(), rows)
-        .map_err(at)?;
+    let mut csv = Rows::open(
+        Columns::keyed("run", labels, &HISTORY),
+        hist.as_deref(),
+        rows,
+    )
+    .map_err(at)?;
     let mut interrupted = false;
     let mut sums = Vec::new();
     let mut px = Panel::new(

@@ -825,7 +825,11 @@ fn fields_of(wm: &WheelModel, r: &WheelResults) -> Fields {
             point_data: Vec::new(),
             cell_data: vec![
                 array("J2_turn_average_MPa2", 1, r.fields.j2_mpa2.clone()),
-                array("von_mises_turn_average_MPa", 1, r.fields.von_mises_mpa.clone()),
+                array(
+                    "von_mises_turn_average_MPa",
+                    1,
+                    r.fields.von_mises_mpa.clone(),
+                ),
             ],
         });
     }
