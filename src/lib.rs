@@ -76,6 +76,27 @@
 //! | where are stresses and J2? | `src/element/tri3.rs`, `src/material.rs` |
 //! | where are the rail's beam and the track's springs? | `src/element/beam.rs`, `src/element/discrete.rs` |
 //! | where are the wheel job's observers? | `src/run/wheel/observers.rs` |
+//! | where are results held and written? | `src/run/results.rs`, `src/output/table.rs`, `src/output/save.rs` |
+//!
+//! ## Running from code
+//!
+//! [`run()`] runs a resolved [`scenario::Scenario`] ([`build::resolve`]) and returns its
+//! [`Results`] in memory: the summary (`summary.json`'s object), the history as named
+//! columns with units ([`output::table::Columns`], `history.csv`), the per-node contact rows
+//! (`contact_nodes.csv`), the fields on the mesh (the VTU files) and the screen lines.
+//! [`Results::save`] writes them as the command line's files, byte for byte. The command
+//! line's `run` ([`run::run_scenario`]) streams the long tables into its output folder
+//! during the run instead of holding them, so a long run's memory stays flat.
+//!
+//! ```no_run
+//! let sc = softway::scenario::Scenario::from_file(std::path::Path::new("scenarios/bar-impact.toml"))?;
+//! let sc = softway::build::resolve(&sc)?;
+//! let r = softway::run(&sc, &softway::RunOptions::default())?;
+//! let force = r.history.column("contact_force_N").unwrap_or(&[]);
+//! println!("{} rows, peak {:?} N", r.history.len(), force.iter().cloned().reduce(f64::max));
+//! r.save(std::path::Path::new("out/bar-impact"))?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! ## Module map
 //! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.
@@ -98,7 +119,7 @@
 //!   combinations of model, integrator and contact in one table).
 //! - [`build`]: what a scenario needs a model for (the central difference's step from
 //!   `cfl`), before the jobs of [`run`] start.
-//! - [`output`]: CSV, JSON, VTK, plots.
+//! - [`output`]: CSV, JSON, VTK, plots; tables in memory and the writing of [`Results`].
 //! - [`analysis`]: signals (spectra, oscillation counts).
 //!
 //! Units are SI inside: m, s, kg, N, Pa.
@@ -125,3 +146,5 @@ pub mod scenario;
 pub mod simulation;
 pub mod time;
 pub mod wheel;
+
+pub use run::{run, Results, RunError, RunOptions};

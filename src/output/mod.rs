@@ -1,11 +1,14 @@
-//! Outputs: CSV histories, JSON summaries, VTK files for ParaView, PNG plots.
+//! Outputs: CSV histories, JSON summaries, VTK files for ParaView, PNG plots; tables of
+//! results in memory ([`table`]) and the writing of a run's [`crate::Results`] ([`save`]).
 //!
 //! Every file is written atomically (to a temporary name, then renamed), so an interrupted or
 //! failed run never leaves a half-written result behind.
 
 pub mod files;
+pub mod save;
 pub mod stability;
 pub mod staging;
+pub mod table;
 pub mod vtk;
 
 /// PNG figures: the `softway-plot` workspace crate (crates/softway-plot),

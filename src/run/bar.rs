@@ -2,9 +2,10 @@
 //! d'Alembert solution: contact from `t = gap / v0` for `2 L / c`, constant force
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
-use super::{progress_bar, RunError, RunOptions, RunReport};
-use crate::output::files::{write_json, CsvWriter};
+use super::results::{Detail, Fields, Results};
+use super::{progress_bar, RunError, RunOptions};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::output::table::{Columns, Rows};
 use crate::scenario::{Model, Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
@@ -199,7 +200,6 @@ struct Sample<'a> {
 
 /// The figures accumulated over a run.
 struct Recorder<'a> {
-    label: &'a str,
     head: usize,
     /// Mass of each dof (row sums of M) and the dofs of each body.
     mass_rows: Vec<f64>,
@@ -219,18 +219,18 @@ struct Recorder<'a> {
     pen_last: f64,
     entries: usize,
     was_in_contact: bool,
-    csv: Option<&'a mut CsvWriter>,
+    /// The history's rows and this run's key (label index) in them.
+    csv: Option<(&'a mut Rows, u32)>,
     stride: usize,
     pb: indicatif::ProgressBar,
 }
 
 impl<'a> Recorder<'a> {
     fn new(
-        label: &'a str,
         head: usize,
-        model: &crate::model::LinearModel,
+        model: &crate::time::step::LinearModel,
         bodies: Vec<std::ops::Range<usize>>,
-        csv: Option<&'a mut CsvWriter>,
+        csv: Option<(&'a mut Rows, u32)>,
         stride: usize,
         pb: indicatif::ProgressBar,
     ) -> Self {
@@ -239,7 +239,6 @@ impl<'a> Recorder<'a> {
         crate::linalg::spmv_into(model.pattern(), &model.m, &vec![1.0; n], &mut mass_rows);
         let nb = bodies.len();
         Self {
-            label,
             head,
             mass_rows,
             bodies,
@@ -302,7 +301,7 @@ impl<'a> Recorder<'a> {
         if s.k % 64 == 0 {
             self.pb.set_position(s.k as u64);
         }
-        if let Some(w) = self.csv.as_deref_mut() {
+        if let Some((w, key)) = self.csv.as_mut() {
             if s.k % self.stride == 0 {
                 let state = if s.in_contact {
                     2.0
@@ -311,8 +310,8 @@ impl<'a> Recorder<'a> {
                 } else {
                     0.0
                 };
-                w.row(
-                    Some(self.label),
+                w.push(
+                    *key,
                     &[
                         s.t,
                         s.u[self.head],
@@ -341,14 +340,14 @@ struct Counts {
 }
 
 /// Runs one run of a bar scenario (`bar_impact` or `two_bars`) with its integrator and
-/// contact treatment through the driver ([`Simulation`]); rows go to `csv` (if given) with
-/// the run label.
+/// contact treatment through the driver ([`Simulation`]); rows go to `csv` (if given: the
+/// history's rows and this run's key in them, see [`HISTORY`]).
 ///
 /// # Errors
 /// [`RunError`].
 pub fn simulate(
     run: &Run,
-    csv: Option<&mut CsvWriter>,
+    csv: Option<(&mut Rows, u32)>,
     stride: usize,
     opts: &RunOptions,
 ) -> Result<(BarSummary, BarTrace), RunError> {
@@ -395,15 +394,7 @@ pub fn simulate(
         .unwrap_or(0);
     let mut sim = Simulation::new(problem).map_err(sim_err)?;
     sim.set_par(opts.par());
-    let mut rec = Recorder::new(
-        &run.label,
-        head,
-        &sim.engine().model,
-        bodies,
-        csv,
-        stride,
-        pb,
-    );
+    let mut rec = Recorder::new(head, &sim.engine().model, bodies, csv, stride, pb);
     let stats = sim
         .run(opts.cancel.flag(), |s| {
             let st = &s.state;
@@ -489,49 +480,69 @@ pub fn simulate(
     Ok((summary, rec.trace))
 }
 
-/// Runs all runs of a bar scenario and writes `history.csv`, `summary.json` and
-/// `bar_head.png`.
+/// The columns of `history.csv`: `run` (the run's label), then these (`contact_state`: 0
+/// free, 1 braked, 2 held).
+pub const HISTORY: [(&str, &str); 9] = [
+    ("t_s", "s"),
+    ("head_u_m", "m"),
+    ("head_v_m_s", "m/s"),
+    ("contact_force_N", "N"),
+    ("kinetic_J", "J"),
+    ("strain_J", "J"),
+    ("total_J", "J"),
+    ("contact_state", "1"),
+    ("gap_m", "m"),
+];
+
+/// Runs all runs of a bar scenario; the history is streamed to `stream` (`history.csv`)
+/// when given, else held. The figure (`bar_head.png`) is drawn by [`Results::save`].
 ///
 /// # Errors
 /// [`RunError`].
-pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
-    let hist = out.join("history.csv");
-    let mut csv = CsvWriter::create(
-        &hist,
-        &[
-            "run",
-            "t_s",
-            "head_u_m",
-            "head_v_m_s",
-            "contact_force_N",
-            "kinetic_J",
-            "strain_J",
-            "total_J",
-            "contact_state",
-            "gap_m",
-        ],
+pub(crate) fn record(
+    sc: &Scenario,
+    stream: Option<&Path>,
+    opts: &RunOptions,
+) -> Result<Results, RunError> {
+    let hist = stream.map(|out| out.join("history.csv"));
+    let at = |e| RunError::output(hist.as_deref().unwrap_or(Path::new("history.csv")), e);
+    let labels = sc.runs.iter().map(|r| r.label.clone()).collect();
+    let rows: usize = sc
+        .runs
+        .iter()
+        .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
+        .sum();
+    let mut csv = Rows::open(
+        Columns::keyed("run", labels, &HISTORY),
+        hist.as_deref(),
+        rows,
     )
-    .map_err(|e| RunError::output(&hist, e))?;
+    .map_err(at)?;
     let mut summaries = Vec::new();
     let mut traces = Vec::new();
-    let mut report = RunReport::default();
-    for run in &sc.runs {
-        let (s, tr) = simulate(run, Some(&mut csv), sc.history_stride, opts)?;
-        let interrupted = s.interrupted;
+    let mut interrupted = false;
+    for (key, run) in sc.runs.iter().enumerate() {
+        let (s, tr) = simulate(
+            run,
+            Some((&mut csv, key as u32)),
+            sc.history_stride,
+            opts,
+        )?;
+        let stopped = s.interrupted;
         summaries.push(s);
         traces.push((run.label.clone(), tr));
-        if interrupted {
-            report.interrupted = true;
+        if stopped {
+            interrupted = true;
             break;
         }
     }
-    csv.finish().map_err(|e| RunError::output(&hist, e))?;
-    report.files.push(hist);
+    let history = csv.finish().map_err(at)?;
+    let kind = summaries.first().map(|s| s.case).unwrap_or("bar_impact");
     let mut json = serde_json::json!({
         "scenario": sc.name,
-        "kind": summaries.first().map(|s| s.case).unwrap_or("bar_impact"),
+        "kind": kind,
         "units": {"time": "s", "length": "m", "velocity": "m/s", "force": "N", "energy": "J"},
-        "interrupted": report.interrupted,
+        "interrupted": interrupted,
         "runs": summaries,
     });
     if let (Some(obj), Some(mib)) = (json.as_object_mut(), super::peak_rss_mib()) {
@@ -546,47 +557,59 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             }
         }
     }
-    let sj = out.join("summary.json");
     super::stamp_provenance(&mut json, sc);
-    write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
-    report.files.push(sj);
-    if sc.plots && !traces.is_empty() {
-        let png = out.join("bar_head.png");
-        plot_traces(
-            &png,
-            &traces,
-            &summaries[0].exact,
-            summaries[0].case == "two_bars",
-        )?;
-        report.files.push(png);
-    }
-    for s in &summaries {
-        report.lines.push(format!(
-            "{:<14} h = {:<6} impact {:>7} release {:>7} duration {:>7} (exact {:.4}) mean force {:>8} (exact {:.4}) rebound {:.4} m/s (exact {:.4}) energy {:.4} -> {:.4} J, {} steps, {:.3} s",
-            s.label,
-            s.h,
-            fmt_opt(s.impact_time),
-            fmt_opt(s.release_time),
-            fmt_opt(s.contact_duration),
-            s.exact.contact_duration,
-            fmt_opt(s.mean_contact_force),
-            s.exact.contact_force,
-            s.rebound_velocity,
-            s.exact.rebound_velocity,
-            s.energy_initial,
-            s.energy_final,
-            s.steps,
-            s.wall_time_s
-        ));
-    }
-    Ok(report)
+    let lines = summaries.iter().map(summary_line).collect();
+    Ok(Results {
+        kind,
+        summary: json,
+        history,
+        contact_nodes: None,
+        traction_history: None,
+        rim_profile: None,
+        fields: Fields::default(),
+        lines,
+        interrupted,
+        warnings: Vec::new(),
+        plots: sc.plots,
+        detail: Detail::Bar {
+            exact: summaries.first().map(|s| s.exact),
+            two_bars: kind == "two_bars",
+            traces,
+        },
+    })
+}
+
+/// The screen line of a run.
+fn summary_line(s: &BarSummary) -> String {
+    format!(
+        "{:<14} h = {:<6} impact {:>7} release {:>7} duration {:>7} (exact {:.4}) mean force {:>8} (exact {:.4}) rebound {:.4} m/s (exact {:.4}) energy {:.4} -> {:.4} J, {} steps, {:.3} s",
+        s.label,
+        s.h,
+        fmt_opt(s.impact_time),
+        fmt_opt(s.release_time),
+        fmt_opt(s.contact_duration),
+        s.exact.contact_duration,
+        fmt_opt(s.mean_contact_force),
+        s.exact.contact_force,
+        s.rebound_velocity,
+        s.exact.rebound_velocity,
+        s.energy_initial,
+        s.energy_final,
+        s.steps,
+        s.wall_time_s
+    )
 }
 
 fn fmt_opt(x: Option<f64>) -> String {
     x.map(|v| format!("{v:.4}")).unwrap_or_else(|| "-".into())
 }
 
-fn plot_traces(
+/// Draws `bar_head.png` (displacement, velocity and contact force of the head against the
+/// exact values) into `png`.
+///
+/// # Errors
+/// [`RunError::Output`].
+pub(crate) fn plot_traces(
     png: &Path,
     traces: &[(String, BarTrace)],
     exact: &BarExact,

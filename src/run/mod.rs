@@ -1,17 +1,21 @@
 //! Jobs: run a built [`Scenario`] (validated by [`crate::scenario`], its steps resolved by
-//! [`crate::build::resolve`]) and write its results (`history.csv`, `summary.json`, plots,
-//! VTK) into an output folder.
+//! [`crate::build::resolve`]) into [`Results`] in memory ([`run()`]), which
+//! [`Results::save`] writes as files (`history.csv`, `summary.json`, plots, VTK); the
+//! command line's `run` ([`run_scenario`]) does both, streaming the long tables into the
+//! output folder as it goes so that a long run's memory stays flat.
 
 pub mod bar;
 pub mod compare;
 pub mod converge;
 pub mod matrix;
+pub mod results;
 pub mod sdof;
 pub mod sweep;
 pub mod wheel;
 
 pub use crate::linalg::team::{Par, Team};
 use crate::scenario::{Model, Scenario};
+pub use results::{FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -62,7 +66,7 @@ impl RunError {
 }
 
 /// A cancellation token: the caller keeps a clone and calls [`Cancel::cancel`] (the CLI
-/// from its Ctrl-C handler); a job stops at its next step and writes what it has. Clones
+/// from its Ctrl-C handler); a job stops at its next step and keeps what it has. Clones
 /// share one flag; a fresh token is not cancelled.
 #[derive(Debug, Clone, Default)]
 pub struct Cancel(Arc<AtomicBool>);
@@ -98,7 +102,7 @@ pub struct RunOptions {
     /// i.e. the rayon pool it is called in. Sweeps and convergence ladders run their runs
     /// side by side, each with [`Par::Seq`].
     pub par: Option<Par>,
-    /// Stops the job at its next step (it then writes what it has, `interrupted` set).
+    /// Stops the job at its next step (it then keeps what it has, `interrupted` set).
     pub cancel: Cancel,
 }
 
@@ -122,18 +126,44 @@ pub struct RunReport {
     pub warnings: Vec<String>,
 }
 
-/// Runs every run of the scenario and writes the results into `out`, on the caller's thread
-/// and, with [`RunOptions::par`] of two threads or more, a helper thread of each run's own
-/// ([`Team`]), which ends with the run.
+/// Runs every run of the scenario and returns its results in memory: the summary, the
+/// histories as named columns, the contact nodes, the fields ([`Results`]; nothing is
+/// written). [`Results::save`] writes them as the command line does.
+///
+/// The run executes on the caller's thread and, with [`RunOptions::par`] of two threads or
+/// more, a helper thread of each run's own ([`Team`]), which ends with the run. It stops at
+/// the next step when [`RunOptions::cancel`] is cancelled ([`Results::interrupted`]).
+///
+/// # Errors
+/// [`RunError`]: a model that cannot be built, a failed simulation.
+pub fn run(scenario: &Scenario, options: &RunOptions) -> Result<Results, RunError> {
+    record(scenario, options, None)
+}
+
+/// Runs every run of the scenario and writes the results into `out` (the command line's
+/// `run`): [`run()`], with the history, the contact nodes and the traction history streamed
+/// into `out` as the run goes (memory flat on a long run), then [`Results::save`].
 ///
 /// # Errors
 /// [`RunError`].
 pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    let results = record(sc, opts, Some(out))?;
+    let files = results.save(out)?;
+    Ok(RunReport {
+        lines: results.lines,
+        files,
+        interrupted: results.interrupted,
+        warnings: results.warnings,
+    })
+}
+
+/// Runs the scenario's model; tables are streamed into `stream` when given.
+fn record(sc: &Scenario, opts: &RunOptions, stream: Option<&Path>) -> Result<Results, RunError> {
     match &sc.runs[0].model {
-        Model::Sdof(_) => sdof::run(sc, out, opts),
-        Model::BarImpact(_) | Model::TwoBars(_) => bar::run(sc, out, opts),
-        Model::Wheel(_) => wheel::run(sc, out, opts),
+        Model::Sdof(_) => sdof::record(sc, stream, opts),
+        Model::BarImpact(_) | Model::TwoBars(_) => bar::record(sc, stream, opts),
+        Model::Wheel(_) => wheel::record(sc, stream, opts),
     }
 }
 

@@ -1,9 +1,10 @@
 //! The one-degree-of-freedom oscillator `m x'' + k x = 0` by the scheme of Eqs. (9)-(10),
 //! against the exact solution `x = x0 cos(omega t) + v0/omega sin(omega t)`.
 
-use super::{RunError, RunOptions, RunReport};
-use crate::output::files::{write_json, CsvWriter};
+use super::results::{Detail, Fields, Results};
+use super::{RunError, RunOptions};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::output::table::{Columns, Rows};
 use crate::scenario::{Model, Scenario};
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
@@ -40,26 +41,41 @@ pub struct SdofSummary {
     pub steps: usize,
 }
 
-/// Runs all runs and writes `history.csv`, `summary.json`, `sdof.png`.
+/// The columns of `history.csv`: `run` (the run's label), then these.
+pub const HISTORY: [(&str, &str); 6] = [
+    ("t_s", "s"),
+    ("x_m", "m"),
+    ("v_m_s", "m/s"),
+    ("x_exact_m", "m"),
+    ("v_exact_m_s", "m/s"),
+    ("energy_J", "J"),
+];
+
+/// Runs all runs; the history is streamed to `stream` (`history.csv`) when given, else
+/// held. The figure (`sdof.png`) is drawn by [`Results::save`].
 ///
 /// # Errors
 /// [`RunError`].
-pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
-    let hist = out.join("history.csv");
-    let mut csv = CsvWriter::create(
-        &hist,
-        &[
-            "run",
-            "t_s",
-            "x_m",
-            "v_m_s",
-            "x_exact_m",
-            "v_exact_m_s",
-            "energy_J",
-        ],
+pub(crate) fn record(
+    sc: &Scenario,
+    stream: Option<&Path>,
+    opts: &RunOptions,
+) -> Result<Results, RunError> {
+    let hist = stream.map(|out| out.join("history.csv"));
+    let labels = sc.runs.iter().map(|r| r.label.clone()).collect();
+    let rows: usize = sc
+        .runs
+        .iter()
+        .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
+        .sum();
+    let at = |e| RunError::output(hist.as_deref().unwrap_or(Path::new("history.csv")), e);
+    let mut csv = Rows::open(
+        Columns::keyed("run", labels, &HISTORY),
+        hist.as_deref(),
+        rows,
     )
-    .map_err(|e| RunError::output(&hist, e))?;
-    let mut report = RunReport::default();
+    .map_err(at)?;
+    let mut interrupted = false;
     let mut sums = Vec::new();
     let mut px = Panel::new(
         "One degree of freedom: displacement (Eqs. 9-10)",
@@ -94,14 +110,14 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             let (xe, ve) = exact(t);
             max_err = max_err.max((x - xe).abs());
             if k % sc.history_stride == 0 {
-                csv.row(Some(&run.label), &[t, x, v, xe, ve, energy(x, v)])
-                    .map_err(|e| RunError::output(&hist, e))?;
+                csv.push(ri as u32, &[t, x, v, xe, ve, energy(x, v)])
+                    .map_err(at)?;
             }
             ts.push(t);
             xs.push(x);
             es.push(x - xe);
             if k == n || opts.cancel.is_cancelled() {
-                report.interrupted |= k < n;
+                interrupted |= k < n;
                 break;
             }
             let (x1, v1) = step(o.mass, o.stiffness, 0.0, run.params, x, v);
@@ -139,27 +155,19 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             energy_final: energy(x, v),
             steps,
         });
-        if report.interrupted {
+        if interrupted {
             break;
         }
     }
-    csv.finish().map_err(|e| RunError::output(&hist, e))?;
-    report.files.push(hist);
-    let sj = out.join("summary.json");
+    let history = csv.finish().map_err(at)?;
     let mut json = serde_json::json!({
-        "scenario": sc.name, "kind": "sdof", "interrupted": report.interrupted,
+        "scenario": sc.name, "kind": "sdof", "interrupted": interrupted,
         "units": {"time": "s", "length": "m", "energy": "J"}, "runs": sums,
     });
     super::stamp_provenance(&mut json, sc);
-    write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
-    report.files.push(sj);
-    if sc.plots {
-        let png = out.join("sdof.png");
-        panels(&png, &[px, pe], 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
-        report.files.push(png);
-    }
+    let mut lines = Vec::new();
     for s in &sums {
-        report.lines.push(format!(
+        lines.push(format!(
             "{:<12} omega h = {:.4}: period {} s (exact {:.6}, predicted error {:+.3e}), max |x - x_exact| = {:.3e} m, energy {:.6} -> {:.6} J",
             s.label,
             s.omega_h,
@@ -171,5 +179,26 @@ pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, Ru
             s.energy_final
         ));
     }
-    Ok(report)
+    Ok(Results {
+        kind: "sdof",
+        summary: json,
+        history,
+        contact_nodes: None,
+        traction_history: None,
+        rim_profile: None,
+        fields: Fields::default(),
+        lines,
+        interrupted,
+        warnings: Vec::new(),
+        plots: sc.plots,
+        detail: Detail::Sdof(vec![px, pe]),
+    })
+}
+
+/// Draws `sdof.png` (displacement, error against the exact solution) into `png`.
+///
+/// # Errors
+/// [`RunError::Output`].
+pub(crate) fn plot(png: &Path, panes: &[Panel]) -> Result<(), RunError> {
+    panels(png, panes, 2, 1, (1200, 1100)).map_err(|e| RunError::output(png, e))
 }

@@ -15,11 +15,14 @@
 //! place that speaks to the driver ([`crate::simulation`]), then collects their results
 //! into the [`WheelSummary`], the VTK fields and the figures ([`figures`]).
 
+mod collect;
 pub mod figures;
 pub mod observers;
 pub mod traction;
 
-use super::{RunError, RunOptions, RunReport};
+pub(crate) use collect::record;
+
+use super::{RunError, RunOptions};
 use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
@@ -31,9 +34,8 @@ use crate::mesh::quality as mesh_quality;
 use crate::mesh::zone::disk_zone;
 use crate::mesh::Mesh;
 use crate::modes::{bounce_mode, Bounce};
-use crate::output::files::write_json;
-use crate::output::vtk::{write_vtu, Field, PvdWriter};
-use crate::scenario::{MeshSource, Model, Run, Scenario, WheelScenario};
+use crate::output::table::Columns;
+use crate::scenario::{MeshSource, Run, Scenario, WheelScenario};
 use crate::wheel::{Support, WheelModel};
 use observers::{
     ContactForceStats, ContactForceSummary, ContactNodesWriter, EnergyWatch, HistoryWriter,
@@ -42,9 +44,9 @@ use observers::{
 };
 use serde::Serialize;
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
-use traction::{TractionSummary, TractionWatch};
+use traction::{TractionProfile, TractionSummary, TractionWatch};
 
 /// Key figures of a wheel run (`summary.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -146,7 +148,7 @@ pub struct WheelSummary {
     pub time_per_step_us: f64,
     /// True when interrupted.
     pub interrupted: bool,
-    /// Warnings for the user (not in `summary.json`; [`RunReport::warnings`]).
+    /// Warnings for the user (not in `summary.json`; [`crate::run::Results::warnings`]).
     #[serde(skip)]
     pub warnings: Vec<String>,
     /// Traction with friction (`contact.friction > 0`): creep force, stick and slip, Carter.
@@ -263,43 +265,6 @@ pub fn check_disk(mesh: &Mesh, tags: &[u64], radius: f64) -> Result<(), String> 
     Ok(())
 }
 
-/// Runs a wheel scenario (its first run; a sweep calls [`simulate`] per value).
-///
-/// # Errors
-/// [`RunError`].
-pub fn run(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
-    let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
-        unreachable!("wheel job on a wheel scenario")
-    };
-    let wm = build(ws, &sc.path)?;
-    let (summary, files) = simulate(&wm, ws, run, sc, out, opts)?;
-    let sj = out.join("summary.json");
-    let mut json = serde_json::to_value(&summary).map_err(|e| RunError::output(&sj, e))?;
-    if let Some(o) = json.as_object_mut() {
-        o.insert("scenario".into(), sc.name.clone().into());
-        o.insert("kind".into(), "wheel".into());
-        if let Some(mib) = super::peak_rss_mib() {
-            o.insert("peak_rss_mib".into(), mib.into());
-        }
-        o.insert(
-            "units".into(),
-            serde_json::json!({"time": "s", "force": "N", "frequency": "Hz", "stress": "MPa", "energy": "J", "omega": "rad/s"}),
-        );
-    }
-    super::stamp_provenance(&mut json, sc);
-    write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
-    let mut report = RunReport {
-        files,
-        interrupted: summary.interrupted,
-        warnings: summary.warnings.clone(),
-        ..Default::default()
-    };
-    report.files.push(sj);
-    report.lines = summary_lines(&summary);
-    Ok(report)
-}
-
 /// Screen lines of a summary.
 pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
     let mut lines = base_lines(s);
@@ -389,8 +354,29 @@ fn describe(c: &Component) -> String {
     )
 }
 
-/// Runs one wheel run and writes its files (history, fields, plots) into `out`: build the
-/// observers, attach them to the step loop ([`drive`]), collect.
+/// What one wheel run gives: the tables (held, or streamed into the folder given to
+/// [`simulate`]), the summary and what the fields, profiles and figures are made of.
+#[derive(Debug)]
+pub struct WheelRecord {
+    /// The key figures.
+    pub summary: WheelSummary,
+    /// `history.csv`'s table.
+    pub history: Columns,
+    /// `contact_nodes.csv`'s table.
+    pub contact_nodes: Columns,
+    /// `traction_history.csv`'s table (with friction).
+    pub traction_history: Option<Columns>,
+    /// The observers' results.
+    pub results: WheelResults,
+    /// The rim profile of the turn-averaged `J2`.
+    pub profile: figures::RimProfile,
+    /// The traction's figures and steady profile (with friction).
+    pub traction: Option<(TractionSummary, TractionProfile)>,
+}
+
+/// Runs one wheel run: build the observers, attach them to the step loop ([`drive`]),
+/// collect. The tables are streamed into the folder `stream` (`history.csv`,
+/// `contact_nodes.csv`, `traction_history.csv`) when given, else held in memory.
 ///
 /// # Errors
 /// [`RunError`].
@@ -399,10 +385,13 @@ pub fn simulate(
     ws: &WheelScenario,
     run: &Run,
     sc: &Scenario,
-    out: &Path,
+    stream: Option<&Path>,
     opts: &RunOptions,
-) -> Result<(WheelSummary, Vec<PathBuf>), RunError> {
-    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+) -> Result<WheelRecord, RunError> {
+    if let Some(out) = stream {
+        std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    }
+    let file = |name: &str| stream.map(|out| out.join(name));
     let h = run.params.h;
     let timeline = Timeline {
         h,
@@ -439,12 +428,19 @@ pub fn simulate(
             ));
         }
     }
-    let history_path = out.join("history.csv");
-    let mut history = HistoryWriter::create(&history_path, sc.history_stride, wm.base())?;
-    let nodes_path = out.join("contact_nodes.csv");
+    let mut history = HistoryWriter::create(
+        file("history.csv").as_deref(),
+        sc.history_stride,
+        wm.base(),
+        steps,
+    )?;
     let with_friction = run.friction.is_some_and(|l| l.is_active());
-    let mut nodes =
-        ContactNodesWriter::create(&nodes_path, sc.history_stride, &wm.rim, with_friction)?;
+    let mut nodes = ContactNodesWriter::create(
+        file("contact_nodes.csv").as_deref(),
+        sc.history_stride,
+        &wm.rim,
+        with_friction,
+    )?;
     let mut forces = ContactForceStats::new(timeline, steps);
     let mut energy = EnergyWatch::new(timeline);
     let mut average = TurnAverage::new(wm, timeline, last_turn);
@@ -456,7 +452,7 @@ pub fn simulate(
         Some(_) => Some(TractionWatch::create(
             wm,
             timeline,
-            &out.join("traction_history.csv"),
+            file("traction_history.csv").as_deref(),
             sc.history_stride,
         )?),
         None => None,
@@ -519,22 +515,22 @@ pub fn simulate(
     };
     let mut summary = summarise(wm, ws, run, &results, bounce);
     summary.warnings = warnings;
-    let mut files = vec![history.finish()?, nodes.finish()?];
-    if let Some((ts, profile, path)) = traction {
-        files.push(path);
-        files.push(traction::write_profile(out, &ts, &profile)?);
-        if sc.plots {
-            files.extend(traction::figures(out, &ts, &profile)?);
+    let (traction, traction_history) = match traction {
+        Some((ts, profile, table)) => {
+            summary.traction = Some(ts.clone());
+            (Some((ts, profile)), Some(table))
         }
-        summary.traction = Some(ts);
-    }
-    files.extend(write_fields(out, wm, &results)?);
-    let profile = figures::RimProfile::of(wm, &results);
-    files.extend(figures::write_rim_profile(out, &profile)?);
-    if sc.plots {
-        files.extend(figures::write(out, wm, &summary, &results, &profile)?);
-    }
-    Ok((summary, files))
+        None => (None, None),
+    };
+    Ok(WheelRecord {
+        history: history.finish()?,
+        contact_nodes: nodes.finish()?,
+        traction_history,
+        profile: figures::RimProfile::of(wm, &results),
+        summary,
+        results,
+        traction,
+    })
 }
 
 /// What the step loop reports back, in the job's terms.
@@ -755,70 +751,4 @@ fn max_or_nan(v: &[f64]) -> f64 {
     } else {
         v.iter().cloned().fold(0.0, f64::max)
     }
-}
-
-/// Fields for ParaView: the turn averages (`j2_turn_average.vtu`) and the velocity
-/// snapshots (`velocity_NNN.vtu`, `velocity.pvd`).
-fn write_fields(out: &Path, wm: &WheelModel, r: &WheelResults) -> Result<Vec<PathBuf>, RunError> {
-    let mut files = Vec::new();
-    if !r.fields.j2_mpa2.is_empty() {
-        let vtu = out.join("j2_turn_average.vtu");
-        write_vtu(
-            &vtu,
-            &wm.mesh,
-            None,
-            &[],
-            &[
-                Field {
-                    name: "J2_turn_average_MPa2",
-                    components: 1,
-                    values: &r.fields.j2_mpa2,
-                },
-                Field {
-                    name: "von_mises_turn_average_MPa",
-                    components: 1,
-                    values: &r.fields.von_mises_mpa,
-                },
-            ],
-        )
-        .map_err(|e| RunError::output(&vtu, e))?;
-        files.push(vtu);
-    }
-    let mut pvd = PvdWriter::new();
-    let sn = &r.snapshots;
-    for (i, ((t, v), u)) in sn.t.iter().zip(&sn.v).zip(&sn.u).enumerate() {
-        let name = format!("velocity_{i:03}.vtu");
-        let p = out.join(&name);
-        let speed: Vec<f64> = v
-            .chunks(2)
-            .map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt())
-            .collect();
-        write_vtu(
-            &p,
-            &wm.mesh,
-            Some(u),
-            &[
-                Field {
-                    name: "velocity",
-                    components: 2,
-                    values: v,
-                },
-                Field {
-                    name: "speed",
-                    components: 1,
-                    values: &speed,
-                },
-            ],
-            &[],
-        )
-        .map_err(|e| RunError::output(&p, e))?;
-        pvd.add(*t, name);
-        files.push(p);
-    }
-    if !pvd.is_empty() {
-        let p = out.join("velocity.pvd");
-        pvd.write(&p).map_err(|e| RunError::output(&p, e))?;
-        files.push(p);
-    }
-    Ok(files)
 }

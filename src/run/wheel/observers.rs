@@ -5,7 +5,8 @@
 //!
 //! | observer | keeps | gives |
 //! |---|---|---|
-//! | [`HistoryWriter`] | `history.csv`, one row per `stride` steps | the file |
+//! | [`HistoryWriter`] | `history.csv`'s rows, one per `stride` steps (held or streamed) | the table |
+//! | [`ContactNodesWriter`] | `contact_nodes.csv`'s rows (held or streamed) | the table |
 //! | [`ContactForceStats`] | the contact force over time, nodes held, penetration | [`ContactForceSummary`]: mean / min / max over the rolling phase, oscillations per turn, spectrum |
 //! | [`EnergyWatch`] | the energy after settling and at the end | the two values |
 //! | [`TurnAverage`] | sums of the element `J2` and von Mises over the last full turn | [`TurnAverageFields`] |
@@ -18,11 +19,11 @@ use crate::analysis::signal::{
 };
 use crate::analysis::trace::{Envelope, LatestWindow, ENVELOPE_CAP, SPECTRUM_WINDOW_CAP};
 use crate::contact::{PairState, RotatingLine};
-use crate::output::files::CsvWriter;
+use crate::output::table::{Columns, Rows};
 use crate::run::{progress_bar, RunError};
 use crate::wheel::WheelModel;
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// What an observer sees of one final step (made from the driver's view in one place,
 /// [`super::drive`]).
@@ -105,60 +106,74 @@ impl Timeline {
     }
 }
 
-/// `history.csv`: one row every `stride` steps.
+/// The error of a table's file (`path`; `name` when held in memory).
+fn table_error(path: Option<&Path>, name: &str, e: std::io::Error) -> RunError {
+    RunError::output(path.unwrap_or(Path::new(name)), e)
+}
+
+/// `history.csv`: one row every `stride` steps, held or streamed to a file.
 #[derive(Debug)]
 pub struct HistoryWriter {
-    csv: CsvWriter,
-    path: PathBuf,
+    csv: Rows,
     stride: usize,
     base: RotatingLine,
 }
 
 impl HistoryWriter {
-    /// The columns.
-    pub const HEADER: [&'static str; 8] = [
-        "t_s",
-        "base_angle_deg",
-        "contact_force_N",
-        "nodes_in_contact",
-        "kinetic_J",
-        "strain_J",
-        "total_J",
-        "min_gap_m",
+    /// The columns and their units.
+    pub const COLUMNS: [(&'static str, &'static str); 8] = [
+        ("t_s", "s"),
+        ("base_angle_deg", "deg"),
+        ("contact_force_N", "N"),
+        ("nodes_in_contact", "1"),
+        ("kinetic_J", "J"),
+        ("strain_J", "J"),
+        ("total_J", "J"),
+        ("min_gap_m", "m"),
     ];
 
-    /// Creates `path` and writes the header; `base` gives the base angle column.
+    /// Rows streamed to `path` (created now, header written) when given, else held with
+    /// room for the rows of `steps` steps; `base` gives the base angle column.
     ///
     /// # Errors
     /// [`RunError::Output`].
-    pub fn create(path: &Path, stride: usize, base: RotatingLine) -> Result<Self, RunError> {
-        let csv = CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
-        Ok(Self {
-            csv,
-            path: path.to_path_buf(),
-            stride: stride.max(1),
-            base,
-        })
+    pub fn create(
+        path: Option<&Path>,
+        stride: usize,
+        base: RotatingLine,
+        steps: usize,
+    ) -> Result<Self, RunError> {
+        let stride = stride.max(1);
+        let csv = Rows::open(Columns::new(&Self::COLUMNS), path, steps / stride + 1)
+            .map_err(|e| table_error(path, "history.csv", e))?;
+        Ok(Self { csv, stride, base })
     }
 
-    /// Closes the file.
+    /// The table (the file closed when streamed).
     ///
     /// # Errors
     /// [`RunError::Output`].
-    pub fn finish(self) -> Result<PathBuf, RunError> {
-        self.csv
-            .finish()
-            .map_err(|e| RunError::output(&self.path, e))?;
-        Ok(self.path)
+    pub fn finish(self) -> Result<Columns, RunError> {
+        finish_rows(self.csv, "history.csv")
     }
+}
+
+/// Closes `rows` (named `name` in an error).
+fn finish_rows(rows: Rows, name: &str) -> Result<Columns, RunError> {
+    let path = match &rows {
+        Rows::File { path, .. } => Some(path.clone()),
+        Rows::Memory(_) => None,
+    };
+    rows.finish()
+        .map_err(|e| table_error(path.as_deref(), name, e))
 }
 
 impl Observer for HistoryWriter {
     fn observe(&mut self, s: &WheelStep) -> std::io::Result<()> {
         if s.k % self.stride == 0 {
             let (kinetic, strain) = s.energy.unwrap_or((f64::NAN, f64::NAN));
-            self.csv.row(
-                None,
+            self.csv.push(
+                0,
                 &[
                     s.t,
                     self.base.angle(s.t).to_degrees(),
@@ -182,64 +197,63 @@ impl Observer for HistoryWriter {
 /// `sliding` (1 on the Coulomb bound, 0 in stick).
 #[derive(Debug)]
 pub struct ContactNodesWriter {
-    csv: CsvWriter,
-    path: PathBuf,
+    csv: Rows,
     stride: usize,
-    /// The rim nodes' indices as text, made once (no formatting of integers per row).
-    ids: Vec<String>,
     friction: bool,
 }
 
 impl ContactNodesWriter {
-    /// The columns.
-    pub const HEADER: [&'static str; 5] = ["node", "t_s", "force_N", "gap_m", "held"];
-
-    /// The columns with friction.
-    pub const HEADER_FRICTION: [&'static str; 7] = [
-        "node",
-        "t_s",
-        "force_N",
-        "gap_m",
-        "held",
-        "tangential_N",
-        "sliding",
+    /// The columns after the key `node` (the mesh's node index) and their units.
+    pub const COLUMNS: [(&'static str, &'static str); 4] = [
+        ("t_s", "s"),
+        ("force_N", "N"),
+        ("gap_m", "m"),
+        ("held", "1"),
     ];
 
-    /// Creates `path` and writes the header; `rim` are the pairs' nodes, in their order;
-    /// `friction` adds the tangential columns.
+    /// The columns with friction.
+    pub const COLUMNS_FRICTION: [(&'static str, &'static str); 6] = [
+        ("t_s", "s"),
+        ("force_N", "N"),
+        ("gap_m", "m"),
+        ("held", "1"),
+        ("tangential_N", "N"),
+        ("sliding", "1"),
+    ];
+
+    /// Rows streamed to `path` (created now, header written) when given, else held; `rim`
+    /// are the pairs' nodes, in their order (the key's labels: no formatting of integers
+    /// per row); `friction` adds the tangential columns.
     ///
     /// # Errors
     /// [`RunError::Output`].
     pub fn create(
-        path: &Path,
+        path: Option<&Path>,
         stride: usize,
         rim: &[usize],
         friction: bool,
     ) -> Result<Self, RunError> {
-        let header: &[&str] = if friction {
-            &Self::HEADER_FRICTION
+        let columns: &[(&str, &str)] = if friction {
+            &Self::COLUMNS_FRICTION
         } else {
-            &Self::HEADER
+            &Self::COLUMNS
         };
-        let csv = CsvWriter::create(path, header).map_err(|e| RunError::output(path, e))?;
+        let ids = rim.iter().map(|n| n.to_string()).collect();
+        let csv = Rows::open(Columns::keyed("node", ids, columns), path, 0)
+            .map_err(|e| table_error(path, "contact_nodes.csv", e))?;
         Ok(Self {
             csv,
-            path: path.to_path_buf(),
             stride: stride.max(1),
-            ids: rim.iter().map(|n| n.to_string()).collect(),
             friction,
         })
     }
 
-    /// Closes the file.
+    /// The table (the file closed when streamed).
     ///
     /// # Errors
     /// [`RunError::Output`].
-    pub fn finish(self) -> Result<PathBuf, RunError> {
-        self.csv
-            .finish()
-            .map_err(|e| RunError::output(&self.path, e))?;
-        Ok(self.path)
+    pub fn finish(self) -> Result<Columns, RunError> {
+        finish_rows(self.csv, "contact_nodes.csv")
     }
 }
 
@@ -251,13 +265,12 @@ impl Observer for ContactNodesWriter {
                     let held = if ps.held { 1.0 } else { 0.0 };
                     if self.friction {
                         let sliding = if ps.sliding { 1.0 } else { 0.0 };
-                        self.csv.row(
-                            Some(&self.ids[p]),
+                        self.csv.push(
+                            p as u32,
                             &[s.t, ps.force, ps.gap, held, ps.tangential_force, sliding],
                         )?;
                     } else {
-                        self.csv
-                            .row(Some(&self.ids[p]), &[s.t, ps.force, ps.gap, held])?;
+                        self.csv.push(p as u32, &[s.t, ps.force, ps.gap, held])?;
                     }
                 }
             }

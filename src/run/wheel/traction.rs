@@ -43,6 +43,7 @@ use super::observers::{Observer, Timeline, WheelStep};
 use crate::analysis::trace::{Envelope, ENVELOPE_CAP};
 use crate::contact::RotatingLine;
 use crate::output::files::CsvWriter;
+use crate::output::table::{Columns, Rows};
 use crate::run::RunError;
 use crate::wheel::WheelModel;
 use serde::Serialize;
@@ -109,8 +110,7 @@ pub struct TractionWatch {
     window_p: f64,
     window_samples: f64,
     friction_energy: f64,
-    history: CsvWriter,
-    path: PathBuf,
+    history: Rows,
     stride: usize,
     /// The history rows kept for the figure, as envelopes of bounded size
     /// ([`crate::analysis::trace`]): normal force, traction, friction energy.
@@ -184,26 +184,26 @@ pub struct TractionProfile {
 }
 
 impl TractionWatch {
-    /// The history columns.
-    pub const HEADER: [&'static str; 7] = [
-        "t_s",
-        "normal_N",
-        "traction_N",
-        "stick_nodes",
-        "slip_nodes",
-        "slip_power_W",
-        "friction_energy_J",
+    /// The history columns and their units.
+    pub const COLUMNS: [(&'static str, &'static str); 7] = [
+        ("t_s", "s"),
+        ("normal_N", "N"),
+        ("traction_N", "N"),
+        ("stick_nodes", "1"),
+        ("slip_nodes", "1"),
+        ("slip_power_W", "W"),
+        ("friction_energy_J", "J"),
     ];
 
-    /// A watch over the rim of `wm`, writing `traction_history.csv` at `path` every `stride`
-    /// steps.
+    /// A watch over the rim of `wm`, keeping `traction_history.csv`'s rows every `stride`
+    /// steps: streamed to `path` when given, else held.
     ///
     /// # Errors
     /// [`RunError::Output`].
     pub fn create(
         wm: &WheelModel,
         timeline: Timeline,
-        path: &Path,
+        path: Option<&Path>,
         stride: usize,
     ) -> Result<Self, RunError> {
         let rim_x: Vec<[f64; 2]> = wm.rim.iter().map(|&i| wm.mesh.points[i]).collect();
@@ -234,8 +234,8 @@ impl TractionWatch {
             / timeline.h
             / stride.max(1) as f64;
         let rows = rows.ceil() as usize + 2;
-        let history =
-            CsvWriter::create(path, &Self::HEADER).map_err(|e| RunError::output(path, e))?;
+        let history = Rows::open(Columns::new(&Self::COLUMNS), path, rows)
+            .map_err(|e| RunError::output(path.unwrap_or(Path::new("traction_history.csv")), e))?;
         Ok(Self {
             coupling: wm.spec.coupling,
             timeline,
@@ -258,13 +258,13 @@ impl TractionWatch {
             window_samples: 0.0,
             friction_energy: 0.0,
             history,
-            path: path.to_path_buf(),
             stride: stride.max(1),
             series: std::array::from_fn(|_| Envelope::new(ENVELOPE_CAP, rows)),
         })
     }
 
-    /// Closes the history and gives the figures and the profile, for the friction `mu`, the
+    /// Closes the history and gives the figures, the profile and the history's table, for
+    /// the friction `mu`, the
     /// creepage `xi`, the wheel's `radius`, `thickness` and plane modulus `e_star`.
     ///
     /// # Errors
@@ -274,10 +274,15 @@ impl TractionWatch {
         mu: f64,
         xi: f64,
         (radius, thickness, e_star): (f64, f64, f64),
-    ) -> Result<(TractionSummary, TractionProfile, PathBuf), RunError> {
-        self.history
+    ) -> Result<(TractionSummary, TractionProfile, Columns), RunError> {
+        let path = match &self.history {
+            Rows::File { path, .. } => path.clone(),
+            Rows::Memory(_) => "traction_history.csv".into(),
+        };
+        let history = self
+            .history
             .finish()
-            .map_err(|e| RunError::output(&self.path, e))?;
+            .map_err(|e| RunError::output(&path, e))?;
         let nb = 2 * self.half_bins + 1;
         let mut prof = TractionProfile {
             s: Vec::with_capacity(nb),
@@ -380,7 +385,7 @@ impl TractionWatch {
             carter_saturation_creepage: mu * a / radius,
             pitch_over_half_width: 4.0 * self.bin / a,
         };
-        Ok((summary, prof, self.path))
+        Ok((summary, prof, history))
     }
 }
 
@@ -400,8 +405,8 @@ impl Observer for TractionWatch {
         }
         self.friction_energy = s.friction_dissipated;
         if s.k % self.stride == 0 {
-            self.history.row(
-                None,
+            self.history.push(
+                0,
                 &[
                     s.t,
                     normal,

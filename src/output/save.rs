@@ -1,0 +1,135 @@
+//! [`Results::save`]: the results of a run written as the command line's files, byte for
+//! byte (`history.csv`, `summary.json`, `contact_nodes.csv`, `j2_rim_profile.csv`, the
+//! traction files, VTU/PVD, PNG figures).
+
+use super::files::write_json;
+use super::table::Columns;
+use super::vtk::{write_vtu, Field, PvdWriter};
+use crate::run::results::{Detail, FieldArray, Fields, Results, WheelDetail};
+use crate::run::wheel::{figures, traction};
+use crate::run::{bar, sdof, RunError};
+use std::path::{Path, PathBuf};
+
+impl Results {
+    /// Writes the results into the folder `out` (created if needed) as the command line's
+    /// `run` does, and returns the files written in the order the command line lists them.
+    /// A table streamed to a file during the run ([`Columns::streamed_to`]) is left in place
+    /// when that file is the one to write, else copied.
+    ///
+    /// # Errors
+    /// [`RunError::Output`] naming the file.
+    pub fn save(&self, out: &Path) -> Result<Vec<PathBuf>, RunError> {
+        std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+        let mut files = vec![table(out, "history.csv", &self.history)?];
+        match &self.detail {
+            Detail::Sdof(panes) => {
+                files.push(self.save_summary(out)?);
+                if self.plots {
+                    let png = out.join("sdof.png");
+                    sdof::plot(&png, panes)?;
+                    files.push(png);
+                }
+            }
+            Detail::Bar {
+                traces,
+                exact,
+                two_bars,
+            } => {
+                files.push(self.save_summary(out)?);
+                if let (true, Some(exact)) = (self.plots && !traces.is_empty(), exact) {
+                    let png = out.join("bar_head.png");
+                    bar::plot_traces(&png, traces, exact, *two_bars)?;
+                    files.push(png);
+                }
+            }
+            Detail::Wheel(w) => {
+                files.extend(self.save_wheel(out, w)?);
+                files.push(self.save_summary(out)?);
+            }
+        }
+        Ok(files)
+    }
+
+    /// `summary.json`.
+    fn save_summary(&self, out: &Path) -> Result<PathBuf, RunError> {
+        let sj = out.join("summary.json");
+        write_json(&sj, &self.summary).map_err(|e| RunError::output(&sj, e))?;
+        Ok(sj)
+    }
+
+    /// The wheel's files after `history.csv`: contact nodes, traction, fields, rim profile,
+    /// figures.
+    fn save_wheel(&self, out: &Path, w: &WheelDetail) -> Result<Vec<PathBuf>, RunError> {
+        let mut files = Vec::new();
+        if let Some(nodes) = &self.contact_nodes {
+            files.push(table(out, "contact_nodes.csv", nodes)?);
+        }
+        if let (Some((ts, profile)), Some(history)) = (&w.traction, &self.traction_history) {
+            files.push(table(out, "traction_history.csv", history)?);
+            files.push(traction::write_profile(out, ts, profile)?);
+            if self.plots {
+                files.extend(traction::figures(out, ts, profile)?);
+            }
+        }
+        files.extend(write_fields(out, &self.fields)?);
+        files.extend(figures::write_rim_profile(out, &w.profile)?);
+        if self.plots {
+            files.extend(figures::write(
+                out, &w.wm, &w.summary, &w.results, &w.profile,
+            )?);
+        }
+        Ok(files)
+    }
+}
+
+/// Writes `table` as `out/name`.
+fn table(out: &Path, name: &str, table: &Columns) -> Result<PathBuf, RunError> {
+    let path = out.join(name);
+    table
+        .write_csv(&path)
+        .map_err(|e| RunError::output(&path, e))?;
+    Ok(path)
+}
+
+/// The fields as VTU files, one per frame, and `velocity.pvd` listing the frames with an
+/// instant.
+fn write_fields(out: &Path, fields: &Fields) -> Result<Vec<PathBuf>, RunError> {
+    let Some(mesh) = &fields.mesh else {
+        return Ok(Vec::new());
+    };
+    let mut files = Vec::new();
+    let mut pvd = PvdWriter::new();
+    for frame in &fields.frames {
+        let p = out.join(&frame.file);
+        write_vtu(
+            &p,
+            mesh,
+            frame.displacement.as_deref(),
+            &view(&frame.point_data),
+            &view(&frame.cell_data),
+        )
+        .map_err(|e| RunError::output(&p, e))?;
+        if let Some(t) = frame.time {
+            pvd.add(t, frame.file.clone());
+        }
+        files.push(p);
+    }
+    if !pvd.is_empty() {
+        let p = out.join("velocity.pvd");
+        pvd.write(&p).map_err(|e| RunError::output(&p, e))?;
+        files.push(p);
+    }
+    Ok(files)
+}
+
+/// The arrays as the VTK writer's fields.
+fn view(arrays: &[FieldArray]) -> Vec<Field<'_>> {
+    arrays
+        .iter()
+        .map(|a| Field {
+            name: &a.name,
+            components: a.components,
+            values: &a.values,
+        })
+        .collect()
+}

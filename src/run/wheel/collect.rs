@@ -1,0 +1,121 @@
+//! A wheel run's [`Results`]: the scenario's first run through [`simulate`], its summary
+//! as `summary.json` holds it, its tables, and its fields for ParaView.
+
+use super::{build, simulate, summary_lines, WheelModel, WheelResults};
+use crate::output::table::Columns;
+use crate::run::results::{Detail, FieldArray, FieldFrame, Fields, Results, WheelDetail};
+use crate::run::{RunError, RunOptions};
+use crate::scenario::{Model, Scenario};
+use std::path::Path;
+
+/// Runs a wheel scenario (its first run; a sweep runs a scenario per value); the history,
+/// the contact nodes and the traction history are streamed into the folder `stream` when
+/// given, else held. The fields, the profiles and the figures are written by
+/// [`Results::save`].
+///
+/// # Errors
+/// [`RunError`].
+pub(crate) fn record(
+    sc: &Scenario,
+    stream: Option<&Path>,
+    opts: &RunOptions,
+) -> Result<Results, RunError> {
+    let run = &sc.runs[0];
+    let Model::Wheel(ws) = &run.model else {
+        unreachable!("wheel job on a wheel scenario")
+    };
+    let wm = build(ws, &sc.path)?;
+    let rec = simulate(&wm, ws, run, sc, stream, opts)?;
+    let mut json = serde_json::to_value(&rec.summary)
+        .map_err(|e| RunError::output(Path::new("summary.json"), e))?;
+    if let Some(o) = json.as_object_mut() {
+        o.insert("scenario".into(), sc.name.clone().into());
+        o.insert("kind".into(), "wheel".into());
+        if let Some(mib) = crate::run::peak_rss_mib() {
+            o.insert("peak_rss_mib".into(), mib.into());
+        }
+        o.insert(
+            "units".into(),
+            serde_json::json!({"time": "s", "force": "N", "frequency": "Hz", "stress": "MPa", "energy": "J", "omega": "rad/s"}),
+        );
+    }
+    crate::run::stamp_provenance(&mut json, sc);
+    let rim_profile = (!rec.profile.angles_deg.is_empty()).then(|| {
+        let p = &rec.profile;
+        let mut t = Columns::new(&[
+            ("angle_deg", "deg"),
+            ("j2_mpa2", "MPa^2"),
+            ("von_mises_mpa", "MPa"),
+        ]);
+        for ((a, j), v) in p.angles_deg.iter().zip(&p.j2_mpa2).zip(&p.von_mises_mpa) {
+            t.push(0, &[*a, *j, *v]);
+        }
+        t
+    });
+    Ok(Results {
+        kind: "wheel",
+        summary: json,
+        history: rec.history,
+        contact_nodes: Some(rec.contact_nodes),
+        traction_history: rec.traction_history,
+        rim_profile,
+        fields: fields_of(&wm, &rec.results),
+        lines: summary_lines(&rec.summary),
+        interrupted: rec.summary.interrupted,
+        warnings: rec.summary.warnings.clone(),
+        plots: sc.plots,
+        detail: Detail::Wheel(Box::new(WheelDetail {
+            wm,
+            results: rec.results,
+            summary: rec.summary,
+            profile: rec.profile,
+            traction: rec.traction,
+        })),
+    })
+}
+
+/// Fields for ParaView: the turn averages (`j2_turn_average.vtu`, on the cells) and the
+/// velocity snapshots (`velocity_NNN.vtu`: velocity and speed on the points, drawn
+/// displaced; listed in `velocity.pvd`).
+fn fields_of(wm: &WheelModel, r: &WheelResults) -> Fields {
+    let array = |name: &str, components: usize, values: Vec<f64>| FieldArray {
+        name: name.into(),
+        components,
+        values,
+    };
+    let mut frames = Vec::new();
+    if !r.fields.j2_mpa2.is_empty() {
+        frames.push(FieldFrame {
+            file: "j2_turn_average.vtu".into(),
+            time: None,
+            displacement: None,
+            point_data: Vec::new(),
+            cell_data: vec![
+                array("J2_turn_average_MPa2", 1, r.fields.j2_mpa2.clone()),
+                array(
+                    "von_mises_turn_average_MPa",
+                    1,
+                    r.fields.von_mises_mpa.clone(),
+                ),
+            ],
+        });
+    }
+    let sn = &r.snapshots;
+    for (i, ((t, v), u)) in sn.t.iter().zip(&sn.v).zip(&sn.u).enumerate() {
+        let speed: Vec<f64> = v
+            .chunks(2)
+            .map(|c| (c[0] * c[0] + c[1] * c[1]).sqrt())
+            .collect();
+        frames.push(FieldFrame {
+            file: format!("velocity_{i:03}.vtu"),
+            time: Some(*t),
+            displacement: Some(u.clone()),
+            point_data: vec![array("velocity", 2, v.clone()), array("speed", 1, speed)],
+            cell_data: Vec::new(),
+        });
+    }
+    Fields {
+        mesh: Some(wm.mesh.clone()),
+        frames,
+    }
+}
