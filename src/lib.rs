@@ -77,6 +77,13 @@
 //! | where are the rail's beam and the track's springs? | `src/element/beam.rs`, `src/element/discrete.rs` |
 //! | where are the wheel job's observers? | `src/run/wheel/observers.rs` |
 //! | where are results held and written? | `src/run/results.rs`, `src/output/table.rs`, `src/output/save.rs` |
+//! | where are the model, the loads and the states? | `src/model/` |
+//! | what does a treatment see of the driver? | `src/contact/context.rs` |
+//! | where is the contact search between bodies (and the bodies' frames)? | `src/contact/search.rs` |
+//! | where is the solver trait, and which factorizations implement it? | `src/linalg/solver.rs` (faer's: `reference.rs`; tuned: `lu.rs`, `llt.rs`, `triangle.rs`, `supernodal.rs`, `split.rs`) |
+//! | where is the step's right-hand side formed? | `src/linalg/rhs/` (with its plain sparse-product reference) |
+//! | how many threads does a run use, and where are they? | `src/linalg/team.rs` (`Par`, the run's `Team`); `RunOptions::par` |
+//! | how is a run cancelled? | `run::Cancel` in `RunOptions::cancel` |
 //!
 //! ## Running from code
 //!
@@ -106,13 +113,21 @@
 //! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (dense).
 //! - [`assembly`]: dof layout and element families, sparsity pattern once, element scatter
 //!   (serial and parallel).
-//! - [`linalg`]: sparse products, sparse LU with reusable symbolic analysis.
+//! - [`linalg`]: sparse products; the solver trait ([`linalg::Factorization`]: factor,
+//!   refactor on the same symbolic analysis, solve in place, counts kept by the
+//!   factorization) with faer's LU and Cholesky as the reference and the tuned layouts
+//!   (compact rows, supernodes, the two-part split) as the fast implementation; the step's
+//!   right-hand-side operator; the dense solve; [`linalg::team`]: parallelism as a parameter
+//!   ([`linalg::team::Par`]) and the run's own helper thread, which parks when idle.
 //! - [`model`]: the linear model, the load, the states and the pairs' states (below `time`
 //!   and `contact`).
 //! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step, and
 //!   the classic integrators.
-//! - [`contact`]: obstacles, pairs (node-obstacle, node-node), constraint rows, and the
-//!   treatments: the soft way, exact, penalty, mass redistribution, Moreau-Jean, subdivision.
+//! - [`contact`]: obstacles, pairs (node-obstacle, node-node), constraint rows, the
+//!   treatments (the soft way, exact, penalty, mass redistribution, Moreau-Jean,
+//!   subdivision) and the narrow context they work on; the contact search of a body's nodes
+//!   against another body's surface segments, each body in its frame (fixed, translating,
+//!   rotating: [`contact::search`]).
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
 //! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed
