@@ -40,6 +40,7 @@ use faer::sparse::SparseColMatRef;
 use faer::Side;
 use faer::{Conj, MatMut, Par};
 use softway::contact::rows::{Row, RowKind, RowSolver, Terms};
+use softway::linalg::team::Team;
 use softway::linalg::{spmv_add, FactorKind, FaerLu, HugeBuf, Ordering};
 use softway::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use softway::mesh::Mesh;
@@ -352,6 +353,9 @@ fn bench_threads(c: &mut Criterion) {
                 .num_threads(threads)
                 .build()
                 .unwrap();
+            // A run's team of the pool's threads (`Simulation::set_par`).
+            let team = pool.install(|| Team::new(softway::linalg::team::Par::current()));
+            st.set_team(&team);
             g.bench_with_input(
                 BenchmarkId::new(format!("{threads}"), format!("{label}, {n} dofs")),
                 &n,

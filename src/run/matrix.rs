@@ -206,8 +206,10 @@ pub fn dump(
     let reps = steps
         .unwrap_or((2_000_000 / (nnz_a + 1)).clamp(20, 20_000))
         .max(1);
-    // On a thread of the pool, as a run is (`run::run_scenario`).
-    let mut rounds = rayon::scope(|_| {
+    // On the threads of a run (`Simulation::set_par`): a team of the caller's pool's size.
+    let team = crate::linalg::team::Team::new(crate::linalg::team::Par::current());
+    st.set_team(&team);
+    let mut rounds = {
         let mut rounds = Vec::with_capacity(5);
         for _ in 0..5 {
             let t = Instant::now();
@@ -219,7 +221,7 @@ pub fn dump(
             std::hint::black_box(&rhs);
         }
         rounds
-    });
+    };
     rounds.sort_by(f64::total_cmp);
     let report = MatrixReport {
         n,
@@ -234,7 +236,7 @@ pub fn dump(
         },
         softway_step_us: rounds[2],
         factor_parts: st.factor_parts(),
-        threads: rayon::current_num_threads(),
+        threads: team.par().count(),
         coriolis: st.coriolis().name().to_string(),
     };
     let path = out.join("matrix.json");
