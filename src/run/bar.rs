@@ -522,12 +522,7 @@ pub(crate) fn record(
     let mut traces = Vec::new();
     let mut interrupted = false;
     for (key, run) in sc.runs.iter().enumerate() {
-        let (s, tr) = simulate(
-            run,
-            Some((&mut csv, key as u32)),
-            sc.history_stride,
-            opts,
-        )?;
+        let (s, tr) = simulate(run, Some((&mut csv, key as u32)), sc.history_stride, opts)?;
         let stopped = s.interrupted;
         summaries.push(s);
         traces.push((run.label.clone(), tr));
