@@ -22,7 +22,7 @@ wall() {
     t0=$(date +%s.%N)
     "$@" > /dev/null 2>&1
     t1=$(date +%s.%N)
-    echo "$t1 - $t0" | bc
+    awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f\n", b - a }' 
 }
 
 run() {
@@ -39,11 +39,11 @@ while [ "$i" -lt "$pairs" ]; do
     d=$(wall run default)
     s=$(wall run one --threads 1)
     echo "pair $i: default $d s, --threads 1 $s s"
-    echo "$d / $s" | bc -l >> "$out/ratios"
+    awk -v a="$d" -v b="$s" 'BEGIN { print a / b }' >> "$out/ratios"
     w2=$(wall two)
     w1=$(wall run single)
     echo "pair $i: two side by side $w2 s, one $w1 s"
-    echo "$w2 / $w1" | bc -l >> "$out/side"
+    awk -v a="$w2" -v b="$w1" 'BEGIN { print a / b }' >> "$out/side"
     i=$((i + 1))
 done
 median() { sort -g "$1" | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }

@@ -71,9 +71,9 @@ enum Command {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
-        /// Threads for the run [default: the number of cores]. A step matrix of 10,000
-        /// dofs or more is solved in two parts side by side; smaller ones on one thread.
-        /// The results do not depend on it.
+        /// Threads for the run [default: the number of cores]. A step matrix of 1,500
+        /// dofs or more is solved in two parts side by side, on the run's own helper thread;
+        /// smaller ones on one thread. The results do not depend on it.
         #[arg(long)]
         threads: Option<usize>,
         #[command(flatten)]
