@@ -245,7 +245,7 @@ impl Search {
             }
             let l = (reference[2 * q] - reference[2 * p])
                 .hypot(reference[2 * q + 1] - reference[2 * p + 1]);
-            if !(l > 0.0) {
+            if l.is_nan() || l <= 0.0 {
                 return Err(SearchError::Segment {
                     segment: k,
                     why: "of zero length",
