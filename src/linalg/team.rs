@@ -10,8 +10,15 @@
 //! owns one helper thread: it waits for its next job spinning for [`HELPER_SPIN`] after its
 //! last one, then blocks (`park`), so that a step that hands it work every few tens of
 //! microseconds finds it awake, and an idle run (or one whose cores are taken by other
-//! processes) does not burn a time slice. The caller waiting for the helper's half also
-//! spins for at most [`CALLER_SPIN`], then blocks until the helper wakes it.
+//! processes) does not burn a time slice.
+//!
+//! **The caller never waits for a helper that has not started.** When the caller has done
+//! its own half and the helper has not yet taken the other (it is parked, or waiting for a
+//! core that other processes hold), the caller takes the job back and runs it itself, as
+//! `rayon::join` pops its own job when no worker stole it. So under a competing load a
+//! step costs at most what it costs on one thread plus two atomic operations a hand-off;
+//! only a half the helper is already running is waited for: spinning for at most
+//! [`CALLER_SPIN`], then blocked until the helper wakes it.
 //!
 //! Nothing here is process-wide: the helper belongs to its team, which belongs to a run
 //! (created when the run is built, handed to its stepper, row solver and energies as
@@ -68,10 +75,12 @@ impl Par {
 /// work every 10-60 us (`wheel.toml`, 3,432 dofs: five hand-offs in a step of ~110 us),
 /// so a spin of this length keeps it awake within a step and lets it block between runs or
 /// when its core is wanted elsewhere.
-pub const HELPER_SPIN: Duration = Duration::from_micros(50);
+pub const HELPER_SPIN: Duration = Duration::from_micros(250);
 
-/// How long the caller spins for the helper's half before it blocks.
-pub const CALLER_SPIN: Duration = Duration::from_micros(20);
+/// How long the caller spins for the half the helper is running before it blocks: the
+/// halves take tens of microseconds, and a blocked caller woken under a competing load
+/// may wait a time slice for its core.
+pub const CALLER_SPIN: Duration = Duration::from_micros(200);
 
 /// Spins up to `limit` (checking the clock every 64 turns) for `ready`; true if it came.
 fn spin_until(limit: Duration, ready: impl Fn() -> bool) -> bool {
@@ -92,6 +101,8 @@ fn spin_until(limit: Duration, ready: impl Fn() -> bool) -> bool {
 const IDLE: u32 = 0;
 const POSTED: u32 = 1;
 const DONE: u32 = 2;
+/// The helper took the posted job (and runs it); the caller can no longer take it back.
+const RUNNING: u32 = 3;
 
 /// The job handed to the helper: a closure on the caller's stack, its lifetime erased (the
 /// caller waits for `DONE` before the closure's frame ends, unwinding included).
@@ -126,7 +137,19 @@ unsafe impl Send for Shared {}
 struct Owner {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
+    /// Joins still to run on the caller's thread alone, after the caller took a job back
+    /// ([`MAX_BACKOFF`]).
+    skip: AtomicU32,
+    /// Take-backs in a row (one more at each, halved at each join the helper served): from
+    /// two on, `2^streak` joins (at most [`MAX_BACKOFF`]) run on the caller's thread alone.
+    backoff: AtomicU32,
 }
+
+/// The longest run of joins done on the caller's thread alone after the caller had to take
+/// a job back (the helper was not there to start it): on a machine whose cores other
+/// processes hold, the run then keeps to one thread and asks for the helper once in this
+/// many hand-offs (about fifty steps of the wheel), instead of at every one.
+pub const MAX_BACKOFF: u32 = 256;
 
 impl Drop for Owner {
     fn drop(&mut self) {
@@ -192,6 +215,8 @@ impl Team {
                 kind: Kind::Helper(Arc::new(Owner {
                     shared,
                     thread: Some(t),
+                    skip: AtomicU32::new(0),
+                    backoff: AtomicU32::new(0),
                 })),
             },
             Err(_) => Team { kind: Kind::Seq },
@@ -234,8 +259,28 @@ impl Team {
                     b();
                     return;
                 }
+                // The claim makes this caller the only one to touch `skip` and `backoff`.
+                let skip = owner.skip.load(Ordering::Relaxed);
+                if skip > 0 {
+                    owner.skip.store(skip - 1, Ordering::Relaxed);
+                    h.claimed.store(false, Ordering::Release);
+                    a();
+                    b();
+                    return;
+                }
                 let thread = owner.thread.as_ref().map(|t| t.thread());
-                join_on(h, thread, a, b);
+                let taken_back = join_on(h, thread, a, b);
+                // A take-back after a pause (the helper had parked) wakes the helper for the
+                // next join; take-backs in a row mean its core is held elsewhere.
+                let last = owner.backoff.load(Ordering::Relaxed);
+                let streak = if taken_back { last + 1 } else { last / 2 };
+                owner.backoff.store(streak.min(16), Ordering::Relaxed);
+                let skip = if taken_back && streak >= 2 {
+                    (1u32 << streak.min(16)).min(MAX_BACKOFF)
+                } else {
+                    0
+                };
+                owner.skip.store(skip, Ordering::Relaxed);
             }
         }
     }
@@ -260,11 +305,20 @@ fn helper_loop(h: &Shared) {
             }
             h.helper_blocked.store(false, Ordering::SeqCst);
         }
-        if h.state.load(Ordering::Acquire) != POSTED {
-            return; // stopped
+        if h.stop.load(Ordering::Acquire) && h.state.load(Ordering::Acquire) != POSTED {
+            return;
         }
-        // SAFETY: POSTED was observed (Acquire): the claimant wrote the job and its thread
-        // before it, and does not touch them until DONE.
+        // Take the job, unless the caller took it back first (it runs it itself when the
+        // helper was not there to start it: a helper that waits for a time slice of its
+        // own under a competing load never delays the caller).
+        if h.state
+            .compare_exchange(POSTED, RUNNING, Ordering::SeqCst, Ordering::SeqCst)
+            .is_err()
+        {
+            continue;
+        }
+        // SAFETY: the helper moved POSTED to RUNNING: the claimant wrote the job and its
+        // thread before posting, and does not touch them until DONE.
         let (job, caller) = unsafe { ((*h.job.get()).take(), (*h.caller.get()).take()) };
         let job = job.expect("a posted job");
         // SAFETY: the claimant keeps the closure alive until it observes DONE.
@@ -291,8 +345,31 @@ struct Claim<'a> {
 }
 
 impl Claim<'_> {
+    /// Takes the posted job back if the helper has not started it (`POSTED -> IDLE`):
+    /// true if it did (the caller then runs it, or drops it when unwinding), with the job
+    /// slots cleared and the claim released.
+    fn take_back(&mut self) -> bool {
+        let h = self.h;
+        if h.state
+            .compare_exchange(POSTED, IDLE, Ordering::SeqCst, Ordering::SeqCst)
+            .is_err()
+        {
+            return false;
+        }
+        // SAFETY: the helper did not move POSTED to RUNNING, so it never reads the slots
+        // of this job; the claim is still held, so no other caller writes them.
+        unsafe {
+            *h.job.get() = None;
+            *h.caller.get() = None;
+        }
+        self.finished = true;
+        h.claimed.store(false, Ordering::Release);
+        true
+    }
+
     /// Waits for `DONE` (spinning up to [`CALLER_SPIN`], then blocked), releases the
-    /// claim; the helper's panic, if its job panicked.
+    /// claim; the helper's panic, if its job panicked. The helper is running the job:
+    /// [`Claim::take_back`] failed.
     fn finish(&mut self) -> Option<Box<dyn Any + Send>> {
         let h = self.h;
         let done = || h.state.load(Ordering::Acquire) == DONE;
@@ -314,14 +391,15 @@ impl Claim<'_> {
 
 impl Drop for Claim<'_> {
     fn drop(&mut self) {
-        if !self.finished {
+        if !self.finished && !self.take_back() {
             let _ = self.finish();
         }
     }
 }
 
-/// `a` here, `b` on the claimed helper `thread` of `h`.
-fn join_on<A, B>(h: &Shared, thread: Option<&Thread>, a: A, b: B)
+/// `a` here, `b` on the claimed helper `thread` of `h`; true when the helper had not
+/// started `b` by the time `a` was done, so that the caller took it back and ran it.
+fn join_on<A, B>(h: &Shared, thread: Option<&Thread>, a: A, b: B) -> bool
 where
     A: FnOnce() + Send,
     B: FnOnce() + Send,
@@ -330,7 +408,7 @@ where
         h.claimed.store(false, Ordering::Release);
         a();
         b();
-        return;
+        return false;
     };
     let b = std::sync::Mutex::new(Some(b));
     let run_b = || {
@@ -353,9 +431,16 @@ where
     }
     let mut claim = Claim { h, finished: false };
     a();
+    if claim.take_back() {
+        // The helper had not started `b` (asleep, or waiting for a core): run it here
+        // rather than wait for it.
+        run_b();
+        return true;
+    }
     if let Some(p) = claim.finish() {
         std::panic::resume_unwind(p);
     }
+    false
 }
 
 /// A slice that the two closures of a [`join`] write at places of their own: each place
@@ -445,19 +530,37 @@ mod tests {
         assert_eq!(order.into_inner().unwrap(), [("a", me), ("b", me)]);
     }
 
-    /// With a helper, `b` runs on another thread, the helper's.
+    /// With a helper, `b` runs on another thread, the helper's, when `a` lasts until the
+    /// helper has started it; when `a` is done first and the helper has not started `b`,
+    /// the caller takes `b` back: either way both run once.
     #[test]
     fn a_team_of_two_runs_the_second_closure_on_its_helper() {
         let team = Team::new(Par::threads(2));
         assert_eq!(team.par(), Par::threads(2));
         let me = std::thread::current().id();
         let (mut ta, mut tb) = (None, None);
+        let started = AtomicBool::new(false);
         team.join(
-            || ta = Some(std::thread::current().id()),
-            || tb = Some(std::thread::current().id()),
+            || {
+                ta = Some(std::thread::current().id());
+                let since = Instant::now();
+                while !started.load(Ordering::SeqCst) && since.elapsed() < Duration::from_secs(10) {
+                    std::hint::spin_loop();
+                }
+            },
+            || {
+                started.store(true, Ordering::SeqCst);
+                tb = Some(std::thread::current().id());
+            },
         );
         assert_eq!(ta, Some(me));
         assert!(tb.is_some() && tb != Some(me));
+        let mut runs = [0u32; 2];
+        let (ra, rb) = runs.split_at_mut(1);
+        for _ in 0..1000 {
+            team.join(|| ra[0] += 1, || rb[0] += 1);
+        }
+        assert_eq!(runs, [1000, 1000]);
     }
 
     #[test]
