@@ -5,7 +5,7 @@
 use super::results::{Detail, Fields, Results};
 use super::{progress_bar, RunError, RunOptions};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::output::table::{Columns, Rows};
+use crate::output::table::Rows;
 use crate::scenario::{Model, Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
@@ -504,20 +504,8 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let hist = stream.map(|out| out.join("history.csv"));
-    let at = |e| RunError::output(hist.as_deref().unwrap_or(Path::new("history.csv")), e);
-    let labels = sc.runs.iter().map(|r| r.label.clone()).collect();
-    let rows: usize = sc
-        .runs
-        .iter()
-        .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
-        .sum();
-    let mut csv = Rows::open(
-        Columns::keyed("run", labels, &HISTORY),
-        hist.as_deref(),
-        rows,
-    )
-    .map_err(at)?;
+    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let at = |e| RunError::output(&hist, e);
     let mut summaries = Vec::new();
     let mut traces = Vec::new();
     let mut interrupted = false;

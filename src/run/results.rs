@@ -13,12 +13,15 @@
 
 use crate::mesh::Mesh;
 use crate::output::plot::Panel;
-use crate::output::table::Columns;
+use crate::output::table::{Columns, Rows};
 use crate::run::bar::{BarExact, BarTrace};
 use crate::run::wheel::figures::RimProfile;
 use crate::run::wheel::traction::{TractionProfile, TractionSummary};
 use crate::run::wheel::{WheelResults, WheelSummary};
+use crate::run::RunError;
+use crate::scenario::Scenario;
 use crate::wheel::WheelModel;
+use std::path::{Path, PathBuf};
 
 /// The results of one scenario's run.
 #[derive(Debug)]
@@ -111,4 +114,33 @@ pub(crate) struct WheelDetail {
     pub summary: WheelSummary,
     pub profile: RimProfile,
     pub traction: Option<(TractionSummary, TractionProfile)>,
+}
+
+/// The history of a scenario's runs, one row every `history_stride` steps keyed by the
+/// run's label, with the columns `columns` (name, unit): streamed to `stream/history.csv`
+/// when given, else held, with room reserved for every run's rows. Returns the table and
+/// the path its errors name.
+///
+/// # Errors
+/// [`RunError`] when the file cannot be created.
+pub(crate) fn keyed_history(
+    sc: &Scenario,
+    stream: Option<&Path>,
+    columns: &[(&str, &str)],
+) -> Result<(Rows, PathBuf), RunError> {
+    let hist = stream.map(|out| out.join("history.csv"));
+    let labels = sc.runs.iter().map(|r| r.label.clone()).collect();
+    let rows: usize = sc
+        .runs
+        .iter()
+        .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
+        .sum();
+    let name = hist.clone().unwrap_or_else(|| "history.csv".into());
+    let csv = Rows::open(
+        Columns::keyed("run", labels, columns),
+        hist.as_deref(),
+        rows,
+    )
+    .map_err(|e| RunError::output(&name, e))?;
+    Ok((csv, name))
 }

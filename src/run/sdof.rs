@@ -4,7 +4,6 @@
 use super::results::{Detail, Fields, Results};
 use super::{RunError, RunOptions};
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::output::table::{Columns, Rows};
 use crate::scenario::{Model, Scenario};
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
@@ -61,20 +60,8 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let hist = stream.map(|out| out.join("history.csv"));
-    let labels = sc.runs.iter().map(|r| r.label.clone()).collect();
-    let rows: usize = sc
-        .runs
-        .iter()
-        .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
-        .sum();
-    let at = |e| RunError::output(hist.as_deref().unwrap_or(Path::new("history.csv")), e);
-    let mut csv = Rows::open(
-        Columns::keyed("run", labels, &HISTORY),
-        hist.as_deref(),
-        rows,
-    )
-    .map_err(at)?;
+    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let at = |e| RunError::output(&hist, e);
     let mut interrupted = false;
     let mut sums = Vec::new();
     let mut px = Panel::new(
