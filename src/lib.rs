@@ -145,6 +145,7 @@
 
 pub mod analysis;
 pub mod assembly;
+pub mod bodies;
 pub mod build;
 pub mod contact;
 pub mod element;
@@ -153,6 +154,7 @@ pub mod linalg;
 pub mod material;
 pub mod mesh;
 pub mod model;
+pub mod models;
 pub mod modes;
 pub mod output;
 pub mod problems;

@@ -96,6 +96,7 @@ impl BarImpact {
             dirichlet: vec![],
             load: Box::new(|_, f| f.fill(0.0)),
             obstacles: vec![wall],
+            interfaces: Vec::new(),
             pairs: vec![Pair::Obstacle {
                 node: self.elements,
                 obstacle: 0,
@@ -256,6 +257,7 @@ impl TwoBars {
             dirichlet: vec![],
             load: Box::new(|_, f| f.fill(0.0)),
             obstacles: vec![],
+            interfaces: Vec::new(),
             pairs: vec![Pair::Nodes {
                 a: n,
                 b: n + 1,

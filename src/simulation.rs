@@ -28,7 +28,7 @@ use crate::contact::mass_redistribution::redistribute_mass;
 use crate::contact::pair::Pair;
 use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{ContactTreatment, Treatment};
-use crate::contact::{FrictionLaw, Obstacle};
+use crate::contact::{FrictionLaw, Interface, InterfaceError, Obstacle};
 use crate::linalg::team::{Par, Team};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
@@ -62,6 +62,9 @@ pub struct Problem {
     pub load: LoadFn,
     /// Rigid obstacles.
     pub obstacles: Vec<Box<dyn Obstacle>>,
+    /// Contact interfaces between bodies, searched at the start of every step
+    /// ([`crate::contact::interface`]; their pairs are [`Pair::Searched`]).
+    pub interfaces: Vec<Interface>,
     /// Contact pairs.
     pub pairs: Vec<Pair>,
     /// Contact treatment.
@@ -276,6 +279,9 @@ pub enum SimError {
     /// The observer failed (writing output).
     #[error("writing results failed: {0}")]
     Output(#[from] std::io::Error),
+    /// A contact interface between bodies lost a node's target.
+    #[error(transparent)]
+    Interface(#[from] InterfaceError),
     /// The solution blew up.
     #[error("the solution is not finite at step {step} (t = {t:e} s): the time step is beyond the stability limit of the integrator (with a penalty: of the penalty spring) or the model is ill-posed")]
     NotFinite {
@@ -290,6 +296,7 @@ impl From<ContactError> for SimError {
     fn from(e: ContactError) -> Self {
         match e {
             ContactError::Linalg(l) => SimError::Linalg(l),
+            ContactError::Interface(i) => SimError::Interface(i),
         }
     }
 }
@@ -319,6 +326,8 @@ pub struct Engine {
     pub load: LoadFn,
     /// Obstacles.
     pub obstacles: Vec<Box<dyn Obstacle>>,
+    /// Contact interfaces.
+    pub interfaces: Vec<Interface>,
     /// Pairs.
     pub pairs: Vec<Pair>,
     /// Penetration tolerance, m.
@@ -354,7 +363,26 @@ impl std::fmt::Debug for Engine {
 impl Engine {
     /// The gap of pair `p` at time `t` in the configuration `u`, m.
     pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
-        self.pairs[p].gap(&self.obstacles, self.dim, &self.reference, u, t)
+        self.pairs[p].gap(
+            &self.obstacles,
+            &self.interfaces,
+            self.dim,
+            &self.reference,
+            u,
+            t,
+        )
+    }
+
+    /// Searches every interface at time `t` in the configuration `u` and freezes the
+    /// targets for the step that starts there ([`Interface::refresh`]).
+    ///
+    /// # Errors
+    /// [`SimError::Contact`] when a node near a surface loses it.
+    fn refresh_interfaces(&mut self, t: f64, u: &[f64]) -> Result<(), SimError> {
+        for i in &mut self.interfaces {
+            i.refresh(t, u)?;
+        }
+        Ok(())
     }
 
     /// The treatment's view of the engine for one step (references only).
@@ -363,6 +391,7 @@ impl Engine {
             dim: self.dim,
             reference: &self.reference,
             obstacles: &self.obstacles,
+            interfaces: &self.interfaces,
             pairs: &self.pairs,
             model: &self.model,
             load: &self.load,
@@ -463,6 +492,7 @@ impl Simulation {
             dirichlet,
             load,
             obstacles,
+            interfaces,
             pairs,
             treatment,
             u0,
@@ -490,6 +520,9 @@ impl Simulation {
                 nodes.into_iter().take(len)
             })
             .collect();
+        for i in &interfaces {
+            contact_nodes.extend(i.master_dofs().iter().step_by(2).map(|&d| d / dim));
+        }
         contact_nodes.sort_unstable();
         contact_nodes.dedup();
         // Mass redistribution: the contact nodes massless before the integrator is built.
@@ -521,6 +554,7 @@ impl Simulation {
             model,
             load,
             obstacles,
+            interfaces,
             pairs,
             gap_tol,
             rows: RowSolver::new(n, np * if friction.is_some() { 2 } else { 1 }, cache),
@@ -546,6 +580,7 @@ impl Simulation {
             state,
             pairs: vec![PairState::default(); np],
         };
+        engine.refresh_interfaces(t0, &snap.state.u)?;
         for p in 0..np {
             snap.pairs[p].gap = engine.gap(p, t0, &snap.state.u);
         }
@@ -573,6 +608,11 @@ impl Simulation {
         if eng.dim != 2 || spec.sources.len() != nodes || spec.omega.is_nan() || spec.omega <= 0.0 {
             return Err(SimError::Unsupported(
                 "a moving refined zone needs a 2D model, a source for every node and a turning obstacle".into(),
+            ));
+        }
+        if !eng.interfaces.is_empty() {
+            return Err(SimError::Unsupported(
+                "a moving refined zone is for one body against its base, not for contact between bodies".into(),
             ));
         }
         if !eng.obstacles.iter_mut().all(|o| o.turn_frame(0.0)) {
@@ -694,6 +734,8 @@ impl Simulation {
                 self.engine.stats.interrupted = true;
                 break;
             }
+            let s1 = &self.snaps[1];
+            self.engine.refresh_interfaces(s1.t, &s1.state.u)?;
             let mut ctx = self.engine.context();
             self.treatment
                 .advance(&mut ctx, &mut self.snaps, have_prev)?;

@@ -534,6 +534,7 @@ impl WheelModel {
             dirichlet: on.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
             load: Box::new(move |_, f| f.copy_from_slice(&load)),
             obstacles: vec![base],
+            interfaces: Vec::new(),
             pairs,
             treatment,
             u0,

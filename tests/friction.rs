@@ -135,6 +135,7 @@ fn block(
             }
         }),
         obstacles: vec![floor],
+        interfaces: Vec::new(),
         pairs: bottom
             .iter()
             .map(|&node| Pair::Obstacle { node, obstacle: 0 })

@@ -14,6 +14,7 @@
 //! the gap tolerance, and the counters it keeps ([`Counts`]). Errors are
 //! [`ContactError`]s.
 
+use super::interface::Interface;
 use super::obstacle::{HalfSpace, Obstacle};
 use super::pair::{Geometry, Pair};
 use super::rows::RowSolver;
@@ -42,6 +43,9 @@ pub enum ContactError {
     /// A matrix could not be factored (a sub-step's `A`, the mass matrix of a velocity jump).
     #[error(transparent)]
     Linalg(#[from] LinalgError),
+    /// A contact interface lost a node's target ([`super::interface`]).
+    #[error(transparent)]
+    Interface(#[from] super::interface::InterfaceError),
 }
 
 /// The integrator as a treatment sees it: its step length, the [`Step`] of an instant and
@@ -103,6 +107,8 @@ pub struct Context<'a> {
     pub reference: &'a [f64],
     /// The obstacles.
     pub obstacles: &'a [Box<dyn Obstacle>],
+    /// The contact interfaces between bodies (searched at the start of the step).
+    pub interfaces: &'a [Interface],
     /// The contact pairs.
     pub pairs: &'a [Pair],
     /// The model integrated (after any mass redistribution).
@@ -145,18 +151,39 @@ impl std::fmt::Debug for Context<'_> {
 impl Context<'_> {
     /// The geometry of pair `p` at time `t` in the configuration `u`.
     pub fn geometry(&self, p: usize, t: f64, u: &[f64]) -> Geometry {
-        self.pairs[p].geometry(self.obstacles, self.dim, self.reference, u, t)
+        self.pairs[p].geometry(
+            self.obstacles,
+            self.interfaces,
+            self.dim,
+            self.reference,
+            u,
+            t,
+        )
     }
 
     /// The tangential row of pair `p` at time `t` in the configuration `u` (`None` unless
     /// the model is 2D; [`Pair::tangent`]).
     pub fn tangent(&self, p: usize, t: f64, u: &[f64]) -> Option<Geometry> {
-        self.pairs[p].tangent(self.obstacles, self.dim, self.reference, u, t)
+        self.pairs[p].tangent(
+            self.obstacles,
+            self.interfaces,
+            self.dim,
+            self.reference,
+            u,
+            t,
+        )
     }
 
     /// The gap of pair `p` at time `t` in the configuration `u`, m.
     pub fn gap(&self, p: usize, t: f64, u: &[f64]) -> f64 {
-        self.pairs[p].gap(self.obstacles, self.dim, self.reference, u, t)
+        self.pairs[p].gap(
+            self.obstacles,
+            self.interfaces,
+            self.dim,
+            self.reference,
+            u,
+            t,
+        )
     }
 
     /// The gaps of every pair at time `t` in the configuration `u` into `out` (m): the same
@@ -165,6 +192,7 @@ impl Context<'_> {
         super::pair::gaps_into(
             self.pairs,
             self.obstacles,
+            self.interfaces,
             self.dim,
             self.reference,
             u,

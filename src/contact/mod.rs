@@ -4,6 +4,11 @@
 //!   and the walls and lines of the paper's examples.
 //! - [`pair`]: the pairs of both kinds (node against obstacle, node against node) and their
 //!   geometry (row, offset, boundary velocity).
+//! - [`search`]: contact search between bodies, each in a frame of its own (fixed,
+//!   translating, rotating): a node's closest segment of another body's surface, and the
+//!   row of the pair.
+//! - [`interface`]: one body's contact nodes against another's surface, searched at the
+//!   start of each step ([`Pair::Searched`]).
 //! - [`rows`]: constraint rows (equality, unilateral, bounded) solved through the factored
 //!   matrix of any integrator.
 //! - [`friction`]: the friction law (Coulomb, or falling with the slip speed).
@@ -19,6 +24,7 @@
 pub mod complementarity;
 pub mod context;
 pub mod friction;
+pub mod interface;
 pub mod mass_redistribution;
 pub mod obstacle;
 pub mod pair;
@@ -31,6 +37,7 @@ pub mod treatment;
 
 pub use context::{ContactError, Context, Counts};
 pub use friction::FrictionLaw;
+pub use interface::{Interface, InterfaceError};
 pub use obstacle::{HalfSpace, Obstacle, Plane, RotatingLine, Vector, Wall};
 pub use pair::{Geometry, Pair};
 pub use softway::{PairMode, PairState};

@@ -166,6 +166,16 @@ impl Flattening {
             self.depth * 0.5 * PI / self.settle_time * (PI * t / self.settle_time).sin()
         }
     }
+
+    /// `d''(t)`, m/s^2 (0 outside the ramp; the ramp's ends are jumps of `d''`).
+    pub fn accel(&self, t: f64) -> f64 {
+        if self.settle_time <= 0.0 || t >= self.settle_time || t <= 0.0 {
+            0.0
+        } else {
+            let w = PI / self.settle_time;
+            self.depth * 0.5 * w * w * (w * t).cos()
+        }
+    }
 }
 
 /// The rigid base of the rolling wheel seen in the wheel's rotating frame: a straight line

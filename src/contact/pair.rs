@@ -40,6 +40,7 @@
 //! contact point), so the slip is `c_t . v_shadow - w_t` with `w_t` the rail's velocity where
 //! the node touches it: at zero creepage and no tangential traction, no slip.
 
+use super::interface::Interface;
 use super::obstacle::{tangent_2d, Obstacle, Vector};
 use super::rows::Terms;
 
@@ -72,6 +73,17 @@ pub enum Pair {
         shadow: usize,
         /// The obstacle.
         obstacle: usize,
+    },
+    /// A body's contact node against another body's surface, through a contact search:
+    /// the row of the segment found under it at the start of each step
+    /// ([`super::interface`]).
+    Searched {
+        /// The node (the model's index).
+        node: usize,
+        /// The interface (index into the problem's interfaces).
+        interface: usize,
+        /// The node's index among the interface's slave nodes.
+        slot: usize,
     },
     /// Node `a` of one body facing node `b` of another along `normal` (unit, from `a` to
     /// `b`).
@@ -116,7 +128,7 @@ impl Pair {
     /// The nodes of the pair.
     pub fn nodes(&self) -> ([usize; 3], usize) {
         match *self {
-            Pair::Obstacle { node, .. } => ([node, node, node], 1),
+            Pair::Obstacle { node, .. } | Pair::Searched { node, .. } => ([node, node, node], 1),
             Pair::Split { node, shadow, .. } => ([node, shadow, shadow], 2),
             Pair::Weighted { nodes, .. } => (nodes, 3),
             Pair::Nodes { a, b, .. } => ([a, b, b], 2),
@@ -135,12 +147,13 @@ impl Pair {
     pub fn geometry(
         &self,
         obstacles: &[Box<dyn Obstacle>],
+        interfaces: &[Interface],
         dim: usize,
         reference: &[f64],
         u: &[f64],
         t: f64,
     ) -> Geometry {
-        self.row(obstacles, dim, reference, u, t, true)
+        self.row(obstacles, interfaces, dim, reference, u, t, true)
     }
 
     /// The gap `c . (X + u) - o` at time `t` in the configuration `u`, m (the row without the
@@ -148,19 +161,22 @@ impl Pair {
     pub fn gap(
         &self,
         obstacles: &[Box<dyn Obstacle>],
+        interfaces: &[Interface],
         dim: usize,
         reference: &[f64],
         u: &[f64],
         t: f64,
     ) -> f64 {
-        self.row(obstacles, dim, reference, u, t, false)
+        self.row(obstacles, interfaces, dim, reference, u, t, false)
             .gap(reference, u)
     }
 
     /// The geometry, with the boundary velocity `w` when `velocity` (else `w = 0`).
+    #[allow(clippy::too_many_arguments)]
     fn row(
         &self,
         obstacles: &[Box<dyn Obstacle>],
+        interfaces: &[Interface],
         dim: usize,
         reference: &[f64],
         u: &[f64],
@@ -169,6 +185,15 @@ impl Pair {
     ) -> Geometry {
         let mut terms = Terms::default();
         match *self {
+            Pair::Searched {
+                interface, slot, ..
+            } => {
+                let mut g = interfaces[interface].row(slot, t, u, false);
+                if !velocity {
+                    g.w = 0.0;
+                }
+                g
+            }
             Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
                 let x = position(dim, reference, u, node);
                 let obst = &obstacles[obstacle];
@@ -231,6 +256,7 @@ impl Pair {
     pub fn tangent(
         &self,
         obstacles: &[Box<dyn Obstacle>],
+        interfaces: &[Interface],
         dim: usize,
         reference: &[f64],
         u: &[f64],
@@ -241,6 +267,9 @@ impl Pair {
         }
         let mut terms = Terms::default();
         match *self {
+            Pair::Searched {
+                interface, slot, ..
+            } => Some(interfaces[interface].row(slot, t, u, true)),
             Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
                 // A split pair's row acts on its shadow; its direction and the surface's
                 // velocity are those at the contact point, the node of the normal row.
@@ -315,6 +344,7 @@ fn position(dim: usize, reference: &[f64], u: &[f64], node: usize) -> Vector {
 pub fn gaps_into(
     pairs: &[Pair],
     obstacles: &[Box<dyn Obstacle>],
+    interfaces: &[Interface],
     dim: usize,
     reference: &[f64],
     u: &[f64],
@@ -329,10 +359,12 @@ pub fn gaps_into(
             Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
                 match scratch[obstacle] {
                     Some(hs) => hs.gap(position(dim, reference, u, node)),
-                    None => p.gap(obstacles, dim, reference, u, t),
+                    None => p.gap(obstacles, interfaces, dim, reference, u, t),
                 }
             }
-            Pair::Weighted { .. } | Pair::Nodes { .. } => p.gap(obstacles, dim, reference, u, t),
+            Pair::Weighted { .. } | Pair::Nodes { .. } | Pair::Searched { .. } => {
+                p.gap(obstacles, interfaces, dim, reference, u, t)
+            }
         };
     }
 }
@@ -372,16 +404,16 @@ mod tests {
             weights: w,
             obstacle: 0,
         };
-        let g = pair.geometry(&base, 2, &reference, &u, t);
-        let tg = pair.tangent(&base, 2, &reference, &u, t).unwrap();
+        let g = pair.geometry(&base, &[], 2, &reference, &u, t);
+        let tg = pair.tangent(&base, &[], 2, &reference, &u, t).unwrap();
         let (mut gap, mut rate, mut w_n, mut slip, mut w_t) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for (k, &wk) in w.iter().enumerate() {
             let node = Pair::Obstacle {
                 node: k,
                 obstacle: 0,
             };
-            let gk = node.geometry(&base, 2, &reference, &u, t);
-            let tk = node.tangent(&base, 2, &reference, &u, t).unwrap();
+            let gk = node.geometry(&base, &[], 2, &reference, &u, t);
+            let tk = node.tangent(&base, &[], 2, &reference, &u, t).unwrap();
             gap += wk * gk.gap(&reference, &u);
             rate += wk * gk.terms.dot(&v);
             w_n += wk * gk.w;

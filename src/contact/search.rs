@@ -41,7 +41,7 @@
 //! Two dimensions: the segments are a 2D body's boundary edges (a 3D body would need
 //! facets); [`Search::new`] refuses any other dimension.
 
-use super::obstacle::{dot, tangent_2d, Vector};
+use super::obstacle::{dot, tangent_2d, Flattening, Vector};
 use super::rows::Terms;
 
 /// The rigid motion of a body's frame against the ground (module docs).
@@ -55,6 +55,21 @@ pub enum Motion {
         origin: Vector,
         /// The frame's velocity, m/s.
         velocity: Vector,
+    },
+    /// The frame translates and is pressed along `direction` (unit) by a flattening program
+    /// (the kinematic load of the paper's wheel, put on the base body):
+    /// `x = origin + velocity t + d(t) direction + X + u`. The frame accelerates at
+    /// `d''(t) direction` ([`Motion::acceleration`]): the body's equations carry the
+    /// inertial load `-M 1 d''(t)` along `direction`.
+    Pressed {
+        /// Position of the frame's origin at `t = 0`, m.
+        origin: Vector,
+        /// The frame's velocity, m/s.
+        velocity: Vector,
+        /// The direction of the pressing, unit.
+        direction: Vector,
+        /// The program `d(t)`.
+        program: Flattening,
     },
     /// The frame turns about z: `x = centre + R(angle0 + omega t) (X + u)`.
     Rotating {
@@ -98,13 +113,25 @@ impl Motion {
     pub fn place(&self, t: f64, local: Vector) -> Vector {
         match *self {
             Motion::Fixed => local,
-            Motion::Translating { origin, velocity } => {
-                std::array::from_fn(|i| origin[i] + velocity[i] * t + local[i])
+            Motion::Translating { .. } | Motion::Pressed { .. } => {
+                let o = self.origin(t);
+                std::array::from_fn(|i| o[i] + local[i])
             }
             Motion::Rotating { centre, .. } => {
                 let r = self.rotate(t, local);
                 std::array::from_fn(|i| centre[i] + r[i])
             }
+        }
+    }
+
+    /// The acceleration of a translating frame at time `t`, m/s^2 (zero but for
+    /// [`Motion::Pressed`]; a rotating frame's terms are [`crate::frame`]'s).
+    pub fn acceleration(&self, t: f64) -> Vector {
+        match *self {
+            Motion::Pressed {
+                direction, program, ..
+            } => direction.map(|c| c * program.accel(t)),
+            _ => [0.0; 3],
         }
     }
 
@@ -115,6 +142,15 @@ impl Motion {
             Motion::Translating { origin, velocity } => {
                 std::array::from_fn(|i| origin[i] + velocity[i] * t)
             }
+            Motion::Pressed {
+                origin,
+                velocity,
+                direction,
+                program,
+            } => {
+                let d = program.at(t);
+                std::array::from_fn(|i| origin[i] + velocity[i] * t + d * direction[i])
+            }
             Motion::Rotating { centre, .. } => centre,
         }
     }
@@ -124,6 +160,15 @@ impl Motion {
         match *self {
             Motion::Fixed => [0.0; 3],
             Motion::Translating { velocity, .. } => velocity,
+            Motion::Pressed {
+                velocity,
+                direction,
+                program,
+                ..
+            } => {
+                let r = program.rate(t);
+                std::array::from_fn(|i| velocity[i] + r * direction[i])
+            }
             Motion::Rotating { omega, .. } => {
                 let r = self.rotate(t, local);
                 [-omega * r[1], omega * r[0], 0.0]
@@ -268,6 +313,11 @@ impl Search {
     /// The segments.
     pub fn segments(&self) -> &[[usize; 2]] {
         &self.segments
+    }
+
+    /// The reach, m.
+    pub fn reach(&self) -> f64 {
+        self.reach
     }
 
     /// The master body's placement.
@@ -580,12 +630,29 @@ mod tests {
 
     #[test]
     fn w_is_minus_the_gap_rate_at_fixed_displacements() {
-        let (reference, segments) = floor(20, 0.3);
-        let master = Placed {
-            motion: Motion::Translating {
+        for motion in [
+            Motion::Translating {
                 origin: [0.01, -0.1, 0.0],
                 velocity: [-30.0, 0.5, 0.0],
             },
+            Motion::Pressed {
+                origin: [0.01, -0.1, 0.0],
+                velocity: [-30.0, 0.0, 0.0],
+                direction: [0.0, 1.0, 0.0],
+                program: Flattening {
+                    depth: 1e-3,
+                    settle_time: 3e-4,
+                },
+            },
+        ] {
+            w_is_minus_the_gap_rate(motion);
+        }
+    }
+
+    fn w_is_minus_the_gap_rate(motion: Motion) {
+        let (reference, segments) = floor(20, 0.3);
+        let master = Placed {
+            motion,
             first_dof: 2,
         };
         let mut s = Search::new(2, master, reference, segments, 0.05).unwrap();

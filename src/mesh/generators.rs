@@ -769,9 +769,93 @@ pub fn rectangle(lx: f64, ly: f64, nx: usize, ny: usize) -> Result<Mesh, MeshErr
     })
 }
 
+/// A block `[0, length] x [0, depth]` for a body that another rolls along: the triangles of
+/// [`rectangle`] with columns of width close to `dx` and rows that grow geometrically by
+/// `ratio` from `dx` at the top (`y = depth`, the contact surface) down to the bottom (the
+/// last rows scaled so that they end at `y = 0`). Node sets as [`rectangle`]'s.
+///
+/// # Errors
+/// [`MeshError`] for a length, depth or `dx` that is not finite and positive, a `ratio`
+/// outside `[1, 2]`, or too many nodes.
+pub fn block_graded(length: f64, depth: f64, dx: f64, ratio: f64) -> Result<Mesh, MeshError> {
+    check_length("length", length)?;
+    check_length("depth", depth)?;
+    check_length("dx", dx)?;
+    if !(1.0..=2.0).contains(&ratio) {
+        return Err(MeshError::OutOfRange {
+            name: "ratio",
+            value: ratio,
+            min: 1.0,
+            max: 2.0,
+        });
+    }
+    let nx = (length / dx).ceil().max(1.0);
+    if nx > MAX_NODES as f64 {
+        return Err(MeshError::TooLarge {
+            name: "length / dx",
+            value: usize::MAX,
+            max: MAX_NODES,
+        });
+    }
+    let mut rows = Vec::new();
+    let (mut h, mut sum) = (dx, 0.0);
+    while sum < depth && rows.len() < 10_000 {
+        rows.push(h);
+        sum += h;
+        h *= ratio;
+    }
+    // The last row ends past the bottom: shrink the rows below the first half so that the
+    // top keeps its `dx`.
+    let over = sum - depth;
+    let scale_from = rows.len() / 2;
+    let below: f64 = rows[scale_from..].iter().sum();
+    let s = ((below - over) / below).max(0.1);
+    for r in &mut rows[scale_from..] {
+        *r *= s;
+    }
+    let ny = rows.len();
+    let mut mesh = rectangle(length, depth, nx as usize, ny)?;
+    let row = nx as usize + 1;
+    let mut y = depth;
+    let mut ys = vec![depth; ny + 1];
+    for (k, r) in rows.iter().enumerate() {
+        y -= r;
+        ys[ny - 1 - k] = if k + 1 == ny { 0.0 } else { y.max(0.0) };
+    }
+    for (i, p) in mesh.points.iter_mut().enumerate() {
+        p[1] = ys[i / row];
+    }
+    Ok(mesh)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_graded_block_has_its_fine_rows_on_top_and_covers_its_depth() {
+        let m = block_graded(0.3, 0.05, 2e-3, 1.25).unwrap();
+        let top = &m.node_sets["top"];
+        let bottom = &m.node_sets["bottom"];
+        assert!(top.iter().all(|&i| m.points[i][1] == 0.05));
+        assert!(bottom.iter().all(|&i| m.points[i][1] == 0.0));
+        let row = top.len();
+        let (y0, y1) = (
+            m.points[m.points.len() - 1][1],
+            m.points[m.points.len() - 1 - row][1],
+        );
+        assert!(((y0 - y1) - 2e-3).abs() < 1e-12, "top row {}", y0 - y1);
+        assert!(((m.points[1][0] - m.points[0][0]) - 2e-3).abs() < 1e-12);
+        let Cells::Tri3(tris) = &m.cells else {
+            panic!("triangles")
+        };
+        assert!(tris.iter().all(|&t| signed_area(&m.points, t) > 0.0));
+        let area: f64 = tris.iter().map(|&t| signed_area(&m.points, t)).sum();
+        assert!(
+            area > 0.0 && (area - 0.3 * 0.05).abs() < 1e-12 * 0.015,
+            "area {area}"
+        );
+    }
 
     fn signed_area(p: &[[f64; 2]], t: [usize; 3]) -> f64 {
         let [a, b, c] = [p[t[0]], p[t[1]], p[t[2]]];

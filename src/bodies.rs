@@ -1,0 +1,290 @@
+//! A model as a set of bodies (DESIGN §7): each body a mesh with its own semi-discrete
+//! model `M v' + C v + K u = f` (its frame's terms included: [`crate::frame`] for a body
+//! seen in a rotating frame), its supports, its constant load, its initial state, and the
+//! rigid motion of its frame against the ground ([`Motion`]), by which the contact search
+//! places it ([`crate::contact::search`]).
+//!
+//! [`assemble`] lays the bodies' dofs one after another (body `b` owns the dofs
+//! `first_dof[b] .. first_dof[b + 1]` and its node `i` is the model's node
+//! `first_node[b] + i`) and joins their matrices block-diagonally on one pattern: the bodies
+//! meet through contact rows only. The pattern of the union is the union of the bodies'
+//! patterns shifted, so the joined value arrays are the bodies' arrays one after another
+//! (checked entry by entry).
+//!
+//! **A translating frame that accelerates.** A body whose frame is pressed by a program
+//! `d(t)` along `e` ([`Motion::Pressed`]: the base block of the wheel, carrying the paper's
+//! kinematic load) has its material at `x = o(t) + X + u` with `o'' = d''(t) e`; its
+//! equations in the frame carry the inertial load
+//! $$f_{frame}(t) = -M\,\mathbf{1}_e\,d''(t)$$
+//! (`1_e` the unit translation along `e`), which [`load_fn`] adds to the constant loads.
+
+use crate::assembly::{Assembler, AssemblyError, ElementFamily};
+use crate::contact::search::Motion;
+use crate::linalg::spmv_add;
+use crate::mesh::Mesh;
+use crate::model::{LinearModel, LoadFn};
+
+/// A body of the model (module docs).
+#[derive(Debug, Clone)]
+pub struct Body {
+    /// Name (for messages and output).
+    pub name: String,
+    /// The mesh (a 2D triangle mesh; the body's own node indices and reference positions).
+    pub mesh: Mesh,
+    /// The body's model on the pattern of [`Assembler::new`] of its mesh.
+    pub model: LinearModel,
+    /// The elastic stiffness alone (the strain energy), on the same pattern.
+    pub elastic: Vec<f64>,
+    /// The rigid motion of the body's frame against the ground.
+    pub motion: Motion,
+    /// Supported dofs (the body's own indices): zero velocity.
+    pub fixed_dofs: Vec<usize>,
+    /// Constant load, N per dof.
+    pub load: Vec<f64>,
+    /// Initial displacement, m.
+    pub u0: Vec<f64>,
+}
+
+/// The bodies joined into one model (module docs).
+#[derive(Debug, Clone)]
+pub struct Assembled {
+    /// The joined model.
+    pub model: LinearModel,
+    /// The joined elastic stiffness.
+    pub elastic: Vec<f64>,
+    /// Reference positions, each body's in its own frame, m.
+    pub reference: Vec<f64>,
+    /// First dof of each body, and the number of dofs last.
+    pub first_dof: Vec<usize>,
+    /// First node of each body, and the number of nodes last.
+    pub first_node: Vec<usize>,
+    /// Supported dofs of the model.
+    pub fixed_dofs: Vec<usize>,
+    /// Constant load of the model, N.
+    pub load: Vec<f64>,
+    /// Initial displacement of the model, m.
+    pub u0: Vec<f64>,
+}
+
+/// Joins `bodies` (module docs).
+///
+/// # Errors
+/// [`AssemblyError`] when a body's mesh is not a 2D triangle mesh or a body's arrays do not
+/// match its mesh.
+pub fn assemble(bodies: &[Body]) -> Result<Assembled, AssemblyError> {
+    let mut first_dof = vec![0];
+    let mut first_node = vec![0];
+    let mut families = Vec::with_capacity(bodies.len());
+    for b in bodies {
+        let o = *first_dof.last().unwrap_or(&0);
+        let fam = ElementFamily::of_mesh(&b.mesh);
+        let dofs = (0..fam.len())
+            .flat_map(|e| fam.element_dofs(e).iter().map(move |&d| d + o))
+            .collect();
+        families.push(ElementFamily::try_new(fam.ndof_e(), dofs)?);
+        first_dof.push(o + b.mesh.n_dofs());
+        first_node.push(first_node.last().unwrap_or(&0) + b.mesh.n_nodes());
+    }
+    let n = *first_dof.last().unwrap_or(&0);
+    let assembler = Assembler::try_with_families(n, families)?;
+    let mut model = LinearModel {
+        m: Vec::with_capacity(assembler.nnz()),
+        k: Vec::with_capacity(assembler.nnz()),
+        c: Vec::with_capacity(assembler.nnz()),
+        assembler,
+    };
+    let mut elastic = Vec::with_capacity(model.assembler.nnz());
+    let (mut reference, mut fixed_dofs, mut load, mut u0) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (bi, b) in bodies.iter().enumerate() {
+        let o = first_dof[bi];
+        let nd = b.mesh.n_dofs();
+        let own = &b.model;
+        let sizes_ok = own.n() == nd
+            && [own.k.len(), own.c.len(), b.elastic.len()]
+                .iter()
+                .all(|&l| l == own.m.len())
+            && b.load.len() == nd
+            && b.u0.len() == nd
+            && b.fixed_dofs.iter().all(|&d| d < nd);
+        if !sizes_ok {
+            return Err(AssemblyError::DofOutOfRange {
+                family: bi,
+                element: 0,
+                dof: nd,
+                n_dofs: own.n(),
+            });
+        }
+        // The union's column `o + j` is the body's column `j` shifted: check it entry by
+        // entry, then the value arrays simply follow one another.
+        let cp = own.pattern().col_ptr();
+        let ri = own.pattern().row_idx();
+        for j in 0..nd {
+            for k in cp[j]..cp[j + 1] {
+                let slot = model.assembler.slot(ri[k] + o, j + o);
+                debug_assert_eq!(slot, Some(model.m.len() + k - cp[0]));
+                if slot.is_none() {
+                    return Err(AssemblyError::DofOutOfRange {
+                        family: bi,
+                        element: k,
+                        dof: ri[k] + o,
+                        n_dofs: n,
+                    });
+                }
+            }
+        }
+        model.m.extend_from_slice(&own.m);
+        model.k.extend_from_slice(&own.k);
+        model.c.extend_from_slice(&own.c);
+        elastic.extend_from_slice(&b.elastic);
+        reference.extend(b.mesh.reference_positions());
+        fixed_dofs.extend(b.fixed_dofs.iter().map(|&d| d + o));
+        load.extend_from_slice(&b.load);
+        u0.extend_from_slice(&b.u0);
+    }
+    Ok(Assembled {
+        model,
+        elastic,
+        reference,
+        first_dof,
+        first_node,
+        fixed_dofs,
+        load,
+        u0,
+    })
+}
+
+/// The model's load at time `t`: the bodies' constant loads plus, for each body whose frame
+/// accelerates ([`Motion::acceleration`]), the inertial load `-M 1 a(t)` on its free dofs
+/// (module docs). Allocates once here; the returned function allocates nothing.
+pub fn load_fn(bodies: &[Body], joined: &Assembled) -> LoadFn {
+    let base = joined.load.clone();
+    let mut frames = Vec::new();
+    for (bi, b) in bodies.iter().enumerate() {
+        if !matches!(b.motion, Motion::Pressed { .. }) {
+            continue;
+        }
+        let nd = b.mesh.n_dofs();
+        let mut unit = [vec![0.0; nd], vec![0.0; nd]];
+        for (c, out) in unit.iter_mut().enumerate() {
+            let ones: Vec<f64> = (0..nd).map(|d| f64::from(u8::from(d % 2 == c))).collect();
+            spmv_add(b.model.pattern(), &b.model.m, 1.0, &ones, out);
+            for &d in &b.fixed_dofs {
+                out[d] = 0.0;
+            }
+        }
+        frames.push((joined.first_dof[bi], b.motion, unit));
+    }
+    Box::new(move |t, f| {
+        f.copy_from_slice(&base);
+        for (o, motion, unit) in &frames {
+            let a = motion.acceleration(t);
+            for (c, col) in unit.iter().enumerate() {
+                if a[c] != 0.0 {
+                    for (fi, m1) in f[*o..*o + col.len()].iter_mut().zip(col) {
+                        *fi -= a[c] * m1;
+                    }
+                }
+            }
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::assemble_mass_stiffness;
+    use crate::contact::obstacle::Flattening;
+    use crate::material::{Elastic, PlaneModel};
+    use crate::mesh::generators::rectangle;
+    use crate::wheel::triangle_geometry;
+
+    fn block(lx: f64, ly: f64, nx: usize, ny: usize, motion: Motion) -> Body {
+        let mesh = rectangle(lx, ly, nx, ny).unwrap();
+        let (_, geometry) = triangle_geometry(&mesh).unwrap();
+        let mat = Elastic {
+            young: 2e11,
+            poisson: 0.3,
+            density: 7800.0,
+        };
+        let d = PlaneModel::Stress.elasticity_matrix(&mat);
+        let asm = Assembler::new(&mesh);
+        let (m, k) = assemble_mass_stiffness(&asm, &geometry, &d, &mat, 0.01, false);
+        let nd = mesh.n_dofs();
+        Body {
+            name: "block".into(),
+            model: LinearModel {
+                c: asm.zeros(),
+                assembler: asm,
+                m,
+                k: k.clone(),
+            },
+            elastic: k,
+            motion,
+            fixed_dofs: vec![0, 1],
+            load: (0..nd).map(|d| d as f64).collect(),
+            u0: vec![0.0; nd],
+            mesh,
+        }
+    }
+
+    /// The joined matrices act on each body's dofs as the body's own, and on nothing else.
+    #[test]
+    fn the_joined_model_is_block_diagonal() {
+        let a = block(1.0, 0.5, 3, 2, Motion::Fixed);
+        let b = block(0.4, 0.3, 2, 3, Motion::Fixed);
+        let j = assemble(&[a.clone(), b.clone()]).unwrap();
+        let (na, nb) = (a.mesh.n_dofs(), b.mesh.n_dofs());
+        assert_eq!(j.first_dof, vec![0, na, na + nb]);
+        assert_eq!(j.first_node, vec![0, na / 2, (na + nb) / 2]);
+        let x: Vec<f64> = (0..na + nb).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut y = vec![0.0; na + nb];
+        spmv_add(j.model.pattern(), &j.model.k, 1.0, &x, &mut y);
+        let mut ya = vec![0.0; na];
+        spmv_add(a.model.pattern(), &a.model.k, 1.0, &x[..na], &mut ya);
+        let mut yb = vec![0.0; nb];
+        spmv_add(b.model.pattern(), &b.model.k, 1.0, &x[na..], &mut yb);
+        for (got, want) in y.iter().zip(ya.iter().chain(&yb)) {
+            assert!(
+                (got - want).abs() <= 1e-12 * want.abs().max(1.0),
+                "{got} {want}"
+            );
+        }
+        assert_eq!(j.fixed_dofs, vec![0, 1, na, na + 1]);
+        assert_eq!(j.load[na + 3], 3.0);
+    }
+
+    /// A pressed frame's inertial load is `-M 1 d''` along the pressing: its sum over the
+    /// free dofs is minus the free mass times the acceleration.
+    #[test]
+    fn a_pressed_frame_loads_its_body_with_its_inertia() {
+        let program = Flattening {
+            depth: 1e-3,
+            settle_time: 2e-3,
+        };
+        let motion = Motion::Pressed {
+            origin: [0.0; 3],
+            velocity: [3.0, 0.0, 0.0],
+            direction: [0.0, 1.0, 0.0],
+            program,
+        };
+        let mut b = block(1.0, 0.5, 4, 2, motion);
+        b.fixed_dofs.clear();
+        b.load.iter_mut().for_each(|f| *f = 0.0);
+        let bodies = [b];
+        let j = assemble(&bodies).unwrap();
+        let f = load_fn(&bodies, &j);
+        let mut out = vec![0.0; j.model.n()];
+        let t = 0.3e-3;
+        f(t, &mut out);
+        let mass = 7800.0 * 1.0 * 0.5 * 0.01;
+        let fy: f64 = out.iter().skip(1).step_by(2).sum();
+        let fx: f64 = out.iter().step_by(2).sum();
+        assert!((fy + mass * program.accel(t)).abs() < 1e-9 * mass * program.accel(t).abs());
+        assert_eq!(fx, 0.0);
+        // d'' is the derivative of d' (central difference).
+        let e = 1e-9;
+        let fd = (program.rate(t + e) - program.rate(t - e)) / (2.0 * e);
+        assert!((fd - program.accel(t)).abs() < 1e-5 * program.accel(t).abs());
+    }
+}

@@ -1,0 +1,182 @@
+//! A contact interface between two bodies: one body's contact nodes (slave) searched against
+//! another body's surface segments (master) once per step ([`super::search`]), each node's
+//! closest segment then frozen for the step and presented to the treatments as the row of a
+//! [`Pair::Searched`](super::Pair::Searched) pair.
+//!
+//! A pair exists for every slave node for the whole run; what comes and goes as the bodies
+//! move is its target. A node with a segment within the search's reach has the row of
+//! [`super::search`] (`c` on the node's and the segment's ends' dofs, the frames' offset and
+//! the drift's normal velocity `w`); a node with none has an empty row whose gap is
+//! [`FAR_GAP`] times the reach: open, never braked, held or reacted, whatever the treatment.
+//!
+//! **When the targets are frozen.** The driver refreshes every interface at the start of
+//! each step, from the state the step starts from ([`Interface::refresh`]); the treatment's
+//! predictions, solves and judgements of that step all see the same rows. A step back (the
+//! soft way's braking, Table 1 item 4) repeats the previous interval with the targets of the
+//! later state: one step's travel (`V h`, 60 um for the wheel at 30 m/s and `h` = 2 us,
+//! against segments of 2 mm) off.
+//!
+//! **Losing a target.** A node held in contact whose target disappears (a body rolled off
+//! the other's end) would leave a held row empty: [`Interface::refresh`] refuses it with
+//! [`InterfaceError::LostTarget`], naming the node, rather than let the run continue on a
+//! singular row.
+
+use super::pair::Geometry;
+use super::rows::Terms;
+use super::search::{Placed, Search, Target};
+
+/// The gap of a node without a target, in units of the search's reach.
+pub const FAR_GAP: f64 = 1.0e3;
+
+/// Errors of an interface's refresh.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum InterfaceError {
+    /// A node close to the master surface found no segment within reach.
+    #[error(
+        "contact node {node} was {gap:.3e} m from the master surface at t = {t:.6e} s and then \
+         found no segment within reach (the bodies have moved apart along the surface: make \
+         the master surface longer, or the run shorter)"
+    )]
+    LostTarget {
+        /// The node (the slave body's own index).
+        node: usize,
+        /// Its last gap, m.
+        gap: f64,
+        /// The time of the refresh, s.
+        t: f64,
+    },
+}
+
+/// A contact interface: slave nodes against a master surface (module docs).
+#[derive(Debug, Clone)]
+pub struct Interface {
+    search: Search,
+    slave: Placed,
+    /// The slave body's contact nodes (its own indices).
+    nodes: Vec<usize>,
+    /// Their reference positions, m.
+    x_ref: Vec<[f64; 2]>,
+    /// Each node's target at the last refresh.
+    targets: Vec<Option<Target>>,
+    /// The reach of the search, m.
+    reach: f64,
+}
+
+impl Interface {
+    /// An interface between the nodes `nodes` of the slave body placed by `slave` (its own
+    /// node indices, reference positions `slave_reference`, two per node) and the master
+    /// surface of `search`.
+    ///
+    /// # Panics
+    /// If a node is not in `slave_reference`.
+    pub fn new(search: Search, slave: Placed, nodes: Vec<usize>, slave_reference: &[f64]) -> Self {
+        let reach = search.reach();
+        let x_ref = nodes
+            .iter()
+            .map(|&i| [slave_reference[2 * i], slave_reference[2 * i + 1]])
+            .collect();
+        Self {
+            targets: vec![None; nodes.len()],
+            search,
+            slave,
+            nodes,
+            x_ref,
+            reach,
+        }
+    }
+
+    /// The slave nodes (the slave body's own indices), one pair each.
+    pub fn nodes(&self) -> &[usize] {
+        &self.nodes
+    }
+
+    /// The slave body's placement.
+    pub fn slave(&self) -> Placed {
+        self.slave
+    }
+
+    /// The master surface's search.
+    pub fn search(&self) -> &Search {
+        &self.search
+    }
+
+    /// The target of slave node `slot` (its index in [`Interface::nodes`]) at the last
+    /// refresh.
+    pub fn target(&self, slot: usize) -> Option<&Target> {
+        self.targets[slot].as_ref()
+    }
+
+    /// The master body's dofs that a row may touch (both ends of every segment), sorted.
+    pub fn master_dofs(&self) -> Vec<usize> {
+        let first = self.search.master().first_dof;
+        let mut dofs: Vec<usize> = self
+            .search
+            .segments()
+            .iter()
+            .flat_map(|s| s.iter().flat_map(|&i| [first + 2 * i, first + 2 * i + 1]))
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        dofs
+    }
+
+    /// Finds each slave node's closest master segment at time `t` in the configuration `u`
+    /// (the model's displacements) and freezes it (module docs). Allocates nothing.
+    ///
+    /// # Errors
+    /// [`InterfaceError::LostTarget`] when a node that was within half the reach of the
+    /// surface finds none.
+    pub fn refresh(&mut self, t: f64, u: &[f64]) -> Result<(), InterfaceError> {
+        self.search.update(t, u);
+        for slot in 0..self.nodes.len() {
+            let d = self.slave.first_dof + 2 * self.nodes[slot];
+            let local = [
+                self.x_ref[slot][0] + u[d],
+                self.x_ref[slot][1] + u[d + 1],
+                0.0,
+            ];
+            let found = self.search.find(self.slave.motion.place(t, local));
+            if found.is_none() {
+                if let Some(last) = self.targets[slot] {
+                    if last.gap < 0.5 * self.reach {
+                        return Err(InterfaceError::LostTarget {
+                            node: self.nodes[slot],
+                            gap: last.gap,
+                            t,
+                        });
+                    }
+                }
+            }
+            self.targets[slot] = found;
+        }
+        Ok(())
+    }
+
+    /// The normal row (`tangent` false) or the tangential row (true) of slave node `slot`
+    /// against its frozen target at time `t` in the configuration `u`; an empty row with the
+    /// gap [`FAR_GAP`] times the reach when it has none (module docs).
+    pub fn row(&self, slot: usize, t: f64, u: &[f64], tangent: bool) -> Geometry {
+        match &self.targets[slot] {
+            Some(target) => {
+                let (node, x_ref) = (self.nodes[slot], self.x_ref[slot]);
+                let r = if tangent {
+                    self.search
+                        .tangent_row(target, self.slave, node, x_ref, t, u)
+                } else {
+                    self.search
+                        .normal_row(target, self.slave, node, x_ref, t, u)
+                };
+                Geometry {
+                    terms: r.terms,
+                    offset: if tangent { 0.0 } else { r.offset },
+                    w: r.w,
+                }
+            }
+            None => Geometry {
+                terms: Terms::default(),
+                offset: if tangent { 0.0 } else { -FAR_GAP * self.reach },
+                w: 0.0,
+            },
+        }
+    }
+}
