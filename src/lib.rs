@@ -80,6 +80,9 @@
 //! | where are the model, the loads and the states? | `src/model/` |
 //! | what does a treatment see of the driver? | `src/contact/context.rs` |
 //! | where is the contact search between bodies (and the bodies' frames)? | `src/contact/search.rs` |
+//! | where are a model's bodies joined, and a pressed frame's inertial load? | `src/bodies.rs` |
+//! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
+//! | where is the wheel on an elastic block (Hertz's half-width)? | `src/models/wheel_on_block.rs`; its job `src/run/on_block.rs`; `scenarios/wheel-on-block.toml` |
 //! | where is the solver trait, and which factorizations implement it? | `src/linalg/solver.rs` (faer's: `reference.rs`; tuned: `lu.rs`, `llt.rs`, `triangle.rs`, `supernodal.rs`, `split.rs`) |
 //! | where is the step's right-hand side formed? | `src/linalg/rhs/` (with its plain sparse-product reference) |
 //! | how many threads does a run use, and where are they? | `src/linalg/team.rs` (`Par`, the run's `Team`); `RunOptions::par` |
@@ -128,6 +131,12 @@
 //!   subdivision) and the narrow context they work on; the contact search of a body's nodes
 //!   against another body's surface segments, each body in its frame (fixed, translating,
 //!   rotating: [`contact::search`]).
+//! - [`bodies`]: a model as a set of bodies, each a mesh with its model, supports, load and
+//!   frame (fixed, translating, pressed, rotating), joined block-diagonally; the inertial
+//!   load of a pressed frame `-M 1 d''(t)`.
+//! - [`models`]: models of more than one body: the wheel on an elastic block, met through
+//!   the contact search ([`contact::interface`], [`contact::Pair::Searched`]) with Hertz's
+//!   line contact as its check.
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
 //! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed

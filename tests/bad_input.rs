@@ -323,6 +323,54 @@ refused!(
     wheel_text().replace("omega = 300.0", "omega = 0.0"),
     ["`rolling.omega` = 0", "> 0"]
 );
+fn block_text() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-on-block.toml"
+    ))
+    .unwrap()
+}
+
+refused!(
+    block_poisson_half,
+    block_text().replace(
+        "poisson = 0.3\ndensity = 7830.0        # kg",
+        "poisson = 0.5\ndensity = 7830.0        # kg"
+    ),
+    ["`block.poisson` = 0.5", "(-1, 0.5)"]
+);
+refused!(
+    block_shallower_than_the_flattening,
+    block_text().replace("depth = 0.05 ", "depth = 0.001 "),
+    [
+        "`block.depth` = 0.001",
+        "deeper than twice rolling.flattening"
+    ]
+);
+refused!(
+    block_grading_out_of_range,
+    block_text().replace("grading = 1.2", "grading = 2.5"),
+    ["`block.grading` = 2.5", "[1, 2]"]
+);
+refused!(
+    block_misspelt_key,
+    block_text().replace("margin = 0.06", "margni = 0.06"),
+    ["margni", "margin"]
+);
+refused!(
+    block_with_friction,
+    block_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\nfriction = 0.3"
+    ),
+    ["`block`", "contact.friction"]
+);
+refused!(
+    block_under_a_bar,
+    format!("{}\n[block]\ndepth = 0.05\n", common::BAR),
+    ["`block`", "kind = \"wheel\""]
+);
+
 refused!(
     wheel_with_an_end_time,
     wheel_text().replace("h = 2e-6", "h = 2e-6\nt_end = 1.0"),

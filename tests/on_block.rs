@@ -1,5 +1,7 @@
 //! The wheel on a deformable block (issue 29): a second body met through a contact search.
 
+mod common;
+
 use softway::assembly::{assemble_mass_stiffness, Assembler};
 use softway::bodies::{self, Body};
 use softway::contact::obstacle::Flattening;
@@ -345,4 +347,49 @@ fn momentum_is_exchanged_between_two_free_bodies_and_conserved() {
             );
         }
     }
+}
+
+/// `scenarios/wheel-on-block.toml` through the command line (a quarter of its rolling, rim
+/// of 144): the files a user gets, and a summary that is physically sane: the patch within
+/// 15% of Hertz's at this mesh (the rim of 288 of the scenario: -4.7%), the block's dofs and
+/// the bodies' file holding both meshes.
+#[test]
+fn the_wheel_on_block_scenario_runs_through_the_command_line() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-on-block.toml"
+    ))
+    .unwrap()
+    .replace("rim_nodes = 288", "rim_nodes = 144")
+    .replace("turns = 0.5", "turns = 0.1")
+    .replace("settle_time = 5e-3", "settle_time = 2e-3");
+    let p = common::scenario("wheel-on-block-short", &text);
+    let (out, s) = common::run_ok(&p);
+    assert_eq!(s["kind"], "wheel_on_block");
+    for f in [
+        "history.csv",
+        "summary.json",
+        "bodies_final.vtu",
+        "wheel_on_block.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let dev = s["half_width_vs_hertz"].as_f64().unwrap();
+    assert!(dev.abs() < 0.15, "half-width against Hertz's: {dev}");
+    assert!(s["mean_nodes_in_contact"].as_f64().unwrap() >= 3.0);
+    let f = s["mean_contact_force"].as_f64().unwrap();
+    let (lo, hi) = (
+        s["min_contact_force"].as_f64().unwrap(),
+        s["max_contact_force"].as_f64().unwrap(),
+    );
+    assert!(
+        lo > 0.9 * f && hi < 1.1 * f,
+        "rolling force {lo} .. {hi} about {f}"
+    );
+    let vtu = std::fs::read_to_string(out.join("bodies_final.vtu")).unwrap();
+    let points = s["wheel_dofs"].as_u64().unwrap() / 2 + s["block_dofs"].as_u64().unwrap() / 2;
+    assert!(
+        vtu.contains(&format!("NumberOfPoints=\"{points}\"")),
+        "the bodies' file holds {points} points"
+    );
 }

@@ -46,6 +46,17 @@ impl Results {
                 files.extend(self.save_wheel(out, w)?);
                 files.push(self.save_summary(out)?);
             }
+            Detail::Panels { file, panes } => {
+                files.extend(write_fields(out, &self.fields)?);
+                files.push(self.save_summary(out)?);
+                if self.plots {
+                    let png = out.join(file);
+                    let height = 550 * panes.len().max(1) as u32;
+                    crate::output::plot::panels(&png, panes, panes.len().max(1), 1, (1200, height))
+                        .map_err(|e| RunError::output(&png, e))?;
+                    files.push(png);
+                }
+            }
         }
         Ok(files)
     }

@@ -8,6 +8,7 @@ pub mod bar;
 pub mod compare;
 pub mod converge;
 pub mod matrix;
+pub mod on_block;
 pub mod results;
 pub mod sdof;
 pub mod sweep;

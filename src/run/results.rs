@@ -104,6 +104,13 @@ pub(crate) enum Detail {
     },
     /// The wheel: its model and the observers' results.
     Wheel(Box<WheelDetail>),
+    /// Panels drawn one above the other into `file`.
+    Panels {
+        /// The PNG's name.
+        file: &'static str,
+        /// The panels.
+        panes: Vec<Panel>,
+    },
 }
 
 /// The wheel's model and its observers' results, for the figures and the profiles.

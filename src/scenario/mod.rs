@@ -50,6 +50,16 @@
 //! friction = 0.3               # Coulomb coefficient mu, >= 0 (default 0: frictionless);
 //!                              # 2D models only (the wheel), refused for bars
 //!
+//! [block]                      # kind = "wheel" only: an elastic block as the base
+//! young = 2.05e11              # Pa (default: the wheel's material)
+//! poisson = 0.3
+//! density = 7830.0             # kg/m^3
+//! depth = 0.05                 # m, clamped at the bottom (default: half the radius)
+//! dx = 2e-3                    # m, the top columns' width (default: the rim's pitch)
+//! grading = 1.2                # the rows' growth from the top down, in [1, 2]
+//! margin = 0.05                # m of block before and after the travel (default: depth)
+//! reach = 8e-3                 # m, the contact search's reach (default: four columns)
+//!
 //! [[runs]]                     # optional: several runs of one scenario
 //! label = "h = 0.4"
 //! h = 0.4                      # any of h, alpha, gamma, elements, method
@@ -158,6 +168,9 @@ pub struct WheelScenario {
     pub settle_gamma: Option<f64>,
     /// Velocity-field snapshots over the last turn (Fig. 17), default 8.
     pub fields_per_turn: usize,
+    /// An elastic block as the base instead of the rigid line (`[block]`;
+    /// [`crate::models::wheel_on_block`]).
+    pub block: Option<crate::models::wheel_on_block::BlockSpec>,
 }
 
 impl WheelScenario {

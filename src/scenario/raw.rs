@@ -23,6 +23,7 @@ pub(super) struct RawScenario {
     pub wheel: Option<RawWheel>,
     pub material: Option<RawMaterial>,
     pub rolling: Option<RawRolling>,
+    pub block: Option<RawBlock>,
     pub contact: Option<RawContact>,
     #[serde(default)]
     pub runs: Vec<RawRun>,
@@ -100,6 +101,20 @@ pub(super) struct RawWheel {
     pub zone_rim_nodes: Option<i64>,
     pub zone_width: Option<f64>,
     pub zone_sectors: Option<i64>,
+}
+
+/// `[block]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawBlock {
+    pub young: Option<f64>,
+    pub poisson: Option<f64>,
+    pub density: Option<f64>,
+    pub depth: Option<f64>,
+    pub dx: Option<f64>,
+    pub grading: Option<f64>,
+    pub margin: Option<f64>,
+    pub reach: Option<f64>,
 }
 
 /// `[material]`.

@@ -6,7 +6,8 @@
 
 use super::combinations::{check_combination, Culprit, ModelKind};
 use super::raw::{
-    RawBar, RawContact, RawMaterial, RawRolling, RawRun, RawScenario, RawSdof, RawTime, RawWheel,
+    RawBar, RawBlock, RawContact, RawMaterial, RawRolling, RawRun, RawScenario, RawSdof, RawTime,
+    RawWheel,
 };
 use super::{
     Contact, MeshSource, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep, WheelScenario,
@@ -41,6 +42,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         wheel,
         material,
         rolling,
+        block,
         contact,
         runs: raw_runs,
         output,
@@ -78,12 +80,22 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         (None, "wheel") => f64::NAN,
         (None, _) => return Err(cx.missing("time.t_end", "the end time of the run, s")),
     };
-    let model = model(
+    let mut model = model(
         &cx,
         &kind,
         (sdof, bar, two_bars),
         (wheel, material, rolling),
     )?;
+    if let Some(b) = block {
+        let Model::Wheel(w) = &mut model else {
+            return Err(cx.invalid(
+                "block",
+                "(given)",
+                "an elastic block is a base for kind = \"wheel\"",
+            ));
+        };
+        w.block = Some(block_spec(&cx, b, &w.spec)?);
+    }
     let t_end = match &model {
         Model::Wheel(w) => {
             if time.t_end.is_some() {
@@ -354,6 +366,28 @@ fn run_spec(cx: &Ctx, i: usize, r: &RawRun, base: &Base) -> Result<RunSpec, Scen
             };
             if let Some(why) = why {
                 return Err(cx.invalid("rolling.coupling", "\"uncoupled\"", why));
+            }
+        }
+        if w.block.is_some() {
+            let why = if friction.is_some_and(|law| law.is_active()) {
+                Some("contact.friction: the block's tangential rows are searched but not yet verified; remove contact.friction")
+            } else if w.spec.creepage != 0.0 {
+                Some("rolling.creepage: the block runs under the wheel at the rim's speed; remove rolling.creepage")
+            } else if w.spec.coupling == Coupling::Uncoupled {
+                Some("rolling.coupling = \"uncoupled\": remove it")
+            } else if w.spec.surface != ContactSurface::Nodes {
+                Some("wheel.contact_surface = \"segments\": the rim's nodes are searched against the block's segments; remove it")
+            } else if matches!(w.mesh, MeshSource::Zone(_)) {
+                Some("a moving refined zone (wheel.zone_rim_nodes): remove it")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                return Err(cx.invalid(
+                    "block",
+                    "(given)",
+                    &format!("an elastic block does not work with {why}"),
+                ));
             }
         }
         if w.spec.creepage != 0.0 && friction.is_none_or(|law| !law.is_active()) {
@@ -1024,5 +1058,62 @@ fn wheel_model(
             r.fields_per_turn.unwrap_or(8),
             1000,
         )?,
+        block: None,
+    })
+}
+
+/// The `[block]` table under a wheel of `spec`: the material (default the wheel's), the
+/// depth (default half the wheel's radius), the top column width (default the rim's pitch),
+/// the rows' growth (default 1.2), the margins before and after the travel (default the
+/// depth: an end nearer than that softens the block under the patch) and the search's reach
+/// (default four columns).
+fn block_spec(
+    cx: &Ctx,
+    b: RawBlock,
+    spec: &crate::wheel::WheelSpec,
+) -> Result<crate::models::wheel_on_block::BlockSpec, ScenarioError> {
+    use crate::material::Elastic;
+    let mat = spec.material;
+    let young = cx.positive("block.young", b.young.unwrap_or(mat.young))?;
+    let density = cx.positive("block.density", b.density.unwrap_or(mat.density))?;
+    let poisson = b.poisson.unwrap_or(mat.poisson);
+    if !(poisson.is_finite() && poisson > -1.0 && poisson < 0.5) {
+        return Err(cx.invalid(
+            "block.poisson",
+            poisson,
+            "Poisson's ratio must be in (-1, 0.5)",
+        ));
+    }
+    let grading = b.grading.unwrap_or(1.2);
+    if !(1.0..=2.0).contains(&grading) {
+        return Err(cx.invalid(
+            "block.grading",
+            grading,
+            "the growth of the rows from the top down, in [1, 2]",
+        ));
+    }
+    let opt = |key: &str, v: Option<f64>| v.map(|x| cx.positive(key, x)).transpose();
+    let depth = cx.positive("block.depth", b.depth.unwrap_or(0.5 * spec.radius))?;
+    if depth <= 2.0 * spec.flattening.depth {
+        return Err(cx.invalid(
+            "block.depth",
+            depth,
+            &format!(
+                "the block must be deeper than twice rolling.flattening = {} m",
+                spec.flattening.depth
+            ),
+        ));
+    }
+    Ok(crate::models::wheel_on_block::BlockSpec {
+        material: Elastic {
+            young,
+            poisson,
+            density,
+        },
+        depth,
+        dx: opt("block.dx", b.dx)?,
+        grading,
+        margin: cx.positive("block.margin", b.margin.unwrap_or(depth))?,
+        reach: opt("block.reach", b.reach)?,
     })
 }

@@ -24,6 +24,9 @@ pub(crate) fn record(
     let Model::Wheel(ws) = &run.model else {
         unreachable!("wheel job on a wheel scenario")
     };
+    if ws.block.is_some() {
+        return crate::run::on_block::record(sc, stream, opts);
+    }
     let wm = build(ws, &sc.path)?;
     let rec = simulate(&wm, ws, run, sc, stream, opts)?;
     let mut json = serde_json::to_value(&rec.summary)
