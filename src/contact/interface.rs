@@ -21,9 +21,8 @@
 //! [`InterfaceError::LostTarget`], naming the node, rather than let the run continue on a
 //! singular row.
 
-use super::pair::Geometry;
 use super::rows::Terms;
-use super::search::{Placed, Search, Target};
+use super::search::{Placed, Search, SearchedRow, Target};
 
 /// The gap of a node without a target, in units of the search's reach.
 pub const FAR_GAP: f64 = 1.0e3;
@@ -155,7 +154,7 @@ impl Interface {
     /// The normal row (`tangent` false) or the tangential row (true) of slave node `slot`
     /// against its frozen target at time `t` in the configuration `u`; an empty row with the
     /// gap [`FAR_GAP`] times the reach when it has none (module docs).
-    pub fn row(&self, slot: usize, t: f64, u: &[f64], tangent: bool) -> Geometry {
+    pub fn row(&self, slot: usize, t: f64, u: &[f64], tangent: bool) -> SearchedRow {
         match &self.targets[slot] {
             Some(target) => {
                 let (node, x_ref) = (self.nodes[slot], self.x_ref[slot]);
@@ -166,13 +165,12 @@ impl Interface {
                     self.search
                         .normal_row(target, self.slave, node, x_ref, t, u)
                 };
-                Geometry {
-                    terms: r.terms,
+                SearchedRow {
                     offset: if tangent { 0.0 } else { r.offset },
-                    w: r.w,
+                    ..r
                 }
             }
-            None => Geometry {
+            None => SearchedRow {
                 terms: Terms::default(),
                 offset: if tangent { 0.0 } else { -FAR_GAP * self.reach },
                 w: 0.0,

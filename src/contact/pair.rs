@@ -188,11 +188,12 @@ impl Pair {
             Pair::Searched {
                 interface, slot, ..
             } => {
-                let mut g = interfaces[interface].row(slot, t, u, false);
-                if !velocity {
-                    g.w = 0.0;
+                let r = interfaces[interface].row(slot, t, u, false);
+                Geometry {
+                    terms: r.terms,
+                    offset: r.offset,
+                    w: if velocity { r.w } else { 0.0 },
                 }
-                g
             }
             Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
                 let x = position(dim, reference, u, node);
@@ -269,7 +270,14 @@ impl Pair {
         match *self {
             Pair::Searched {
                 interface, slot, ..
-            } => Some(interfaces[interface].row(slot, t, u, true)),
+            } => {
+                let r = interfaces[interface].row(slot, t, u, true);
+                Some(Geometry {
+                    terms: r.terms,
+                    offset: r.offset,
+                    w: r.w,
+                })
+            }
             Pair::Obstacle { node, obstacle } | Pair::Split { node, obstacle, .. } => {
                 // A split pair's row acts on its shadow; its direction and the surface's
                 // velocity are those at the contact point, the node of the normal row.

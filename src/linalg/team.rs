@@ -20,6 +20,13 @@
 //! only a half the helper is already running is waited for: spinning for at most
 //! [`CALLER_SPIN`], then blocked until the helper wakes it.
 //!
+//! **A machine whose cores are taken.** Every [`LOAD_CHECK`] joins the team reads the run
+//! queue (`/proc/loadavg`): when other processes' runnable threads leave no core for its
+//! helper (`others + 2 > cores`), the next `LOAD_CHECK` joins run on the caller's thread
+//! alone, then it looks again. A helper that would start its half and lose its core in
+//! the middle of it (the caller then waits a time slice) is not asked; on an idle machine
+//! nothing changes.
+//!
 //! Nothing here is process-wide: the helper belongs to its team, which belongs to a run
 //! (created when the run is built, handed to its stepper, row solver and energies as
 //! clones), and ends when the last clone is dropped. A team never runs work on the caller's
@@ -143,6 +150,34 @@ struct Owner {
     /// Take-backs in a row (one more at each, halved at each join the helper served): from
     /// two on, `2^streak` joins (at most [`MAX_BACKOFF`]) run on the caller's thread alone.
     backoff: AtomicU32,
+    /// Joins asked of this team, for the machine's check every [`LOAD_CHECK`] joins.
+    joins: AtomicU32,
+    /// The machine's cores (`std::thread::available_parallelism`).
+    cores: usize,
+}
+
+/// Every this many joins the team looks at the machine's run queue ([`others_running`]):
+/// when the threads of other processes leave no core free for its helper, the next
+/// `LOAD_CHECK` joins run on the caller's thread alone. About fifty steps of the wheel
+/// (five hand-offs a step), some 5 ms; the look costs a few microseconds.
+pub const LOAD_CHECK: u32 = 256;
+
+/// The threads of other processes that are runnable now: the running count of
+/// `/proc/loadavg` (its fourth field, `running/total`) less this run's (`ours`); `None`
+/// off Linux or when the file cannot be read.
+pub fn others_running(ours: usize) -> Option<usize> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    parse_running(&text).map(|r| r.saturating_sub(ours))
+}
+
+/// The running count of a `/proc/loadavg` text (`0.52 0.58 0.59 3/512 12345`).
+fn parse_running(text: &str) -> Option<usize> {
+    text.split_whitespace()
+        .nth(3)?
+        .split('/')
+        .next()?
+        .parse()
+        .ok()
 }
 
 /// The longest run of joins done on the caller's thread alone after the caller had to take
@@ -217,6 +252,8 @@ impl Team {
                     thread: Some(t),
                     skip: AtomicU32::new(0),
                     backoff: AtomicU32::new(0),
+                    joins: AtomicU32::new(0),
+                    cores: std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
                 })),
             },
             Err(_) => Team { kind: Kind::Seq },
@@ -260,6 +297,15 @@ impl Team {
                     return;
                 }
                 // The claim makes this caller the only one to touch `skip` and `backoff`.
+                let joins = owner.joins.load(Ordering::Relaxed).wrapping_add(1);
+                owner.joins.store(joins, Ordering::Relaxed);
+                if joins % LOAD_CHECK == 0 && owner.skip.load(Ordering::Relaxed) == 0 {
+                    // The caller runs now; the helper too unless it is blocked.
+                    let ours = 1 + usize::from(!h.helper_blocked.load(Ordering::Relaxed));
+                    if others_running(ours).is_some_and(|o| o + 2 > owner.cores) {
+                        owner.skip.store(LOAD_CHECK, Ordering::Relaxed);
+                    }
+                }
                 let skip = owner.skip.load(Ordering::Relaxed);
                 if skip > 0 {
                     owner.skip.store(skip - 1, Ordering::Relaxed);
@@ -617,6 +663,17 @@ mod tests {
     }
 
     /// [`Par::current`] follows the pool it is asked from.
+    #[test]
+    fn the_run_queue_is_read_from_loadavg() {
+        assert_eq!(parse_running("0.52 0.58 0.59 3/512 12345\n"), Some(3));
+        assert_eq!(parse_running("0.52 0.58"), None);
+        assert_eq!(parse_running("a b c x/9 1"), None);
+        if std::path::Path::new("/proc/loadavg").exists() {
+            // This thread runs while it reads.
+            assert!(others_running(0).is_some_and(|n| n >= 1));
+        }
+    }
+
     #[test]
     fn par_follows_the_callers_pool() {
         let pool = |n| {

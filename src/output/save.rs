@@ -7,7 +7,7 @@ use super::table::Columns;
 use super::vtk::{write_vtu, Field, PvdWriter};
 use crate::run::results::{Detail, FieldArray, Fields, Results, WheelDetail};
 use crate::run::wheel::{figures, traction};
-use crate::run::{bar, sdof, RunError};
+use crate::run::RunError;
 use std::path::{Path, PathBuf};
 
 impl Results {
@@ -22,37 +22,16 @@ impl Results {
         std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
         let mut files = vec![table(out, "history.csv", &self.history)?];
         match &self.detail {
-            Detail::Sdof(panes) => {
-                files.push(self.save_summary(out)?);
-                if self.plots {
-                    let png = out.join("sdof.png");
-                    sdof::plot(&png, panes)?;
-                    files.push(png);
-                }
-            }
-            Detail::Bar {
-                traces,
-                exact,
-                two_bars,
-            } => {
-                files.push(self.save_summary(out)?);
-                if let (true, Some(exact)) = (self.plots && !traces.is_empty(), exact) {
-                    let png = out.join("bar_head.png");
-                    bar::plot_traces(&png, traces, exact, *two_bars)?;
-                    files.push(png);
-                }
-            }
             Detail::Wheel(w) => {
                 files.extend(self.save_wheel(out, w)?);
                 files.push(self.save_summary(out)?);
             }
-            Detail::Panels { file, panes } => {
+            Detail::Panels { file, panes, size } => {
                 files.extend(write_fields(out, &self.fields)?);
                 files.push(self.save_summary(out)?);
-                if self.plots {
+                if self.plots && !panes.is_empty() {
                     let png = out.join(file);
-                    let height = 550 * panes.len().max(1) as u32;
-                    crate::output::plot::panels(&png, panes, panes.len().max(1), 1, (1200, height))
+                    crate::output::plot::panels(&png, panes, panes.len(), 1, *size)
                         .map_err(|e| RunError::output(&png, e))?;
                     files.push(png);
                 }

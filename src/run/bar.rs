@@ -4,7 +4,7 @@
 
 use super::results::{Detail, Fields, Results};
 use super::{progress_bar, RunError, RunOptions};
-use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::Rows;
 use crate::scenario::{Model, Run, Scenario};
 use crate::simulation::Simulation;
@@ -554,10 +554,15 @@ pub(crate) fn record(
         interrupted,
         warnings: Vec::new(),
         plots: sc.plots,
-        detail: Detail::Bar {
-            exact: summaries.first().map(|s| s.exact),
-            two_bars: kind == "two_bars",
-            traces,
+        detail: Detail::Panels {
+            file: "bar_head.png",
+            panes: match summaries.first() {
+                Some(s) if !traces.is_empty() => {
+                    trace_panels(&traces, &s.exact, kind == "two_bars")
+                }
+                _ => Vec::new(),
+            },
+            size: (1200, 1500),
         },
     })
 }
@@ -587,17 +592,9 @@ fn fmt_opt(x: Option<f64>) -> String {
     x.map(|v| format!("{v:.4}")).unwrap_or_else(|| "-".into())
 }
 
-/// Draws `bar_head.png` (displacement, velocity and contact force of the head against the
-/// exact values) into `png`.
-///
-/// # Errors
-/// [`RunError::Output`].
-pub(crate) fn plot_traces(
-    png: &Path,
-    traces: &[(String, BarTrace)],
-    exact: &BarExact,
-    two_bars: bool,
-) -> Result<(), RunError> {
+/// The panels of `bar_head.png`: displacement, velocity and contact force of the head
+/// against the exact values.
+fn trace_panels(traces: &[(String, BarTrace)], exact: &BarExact, two_bars: bool) -> Vec<Panel> {
     let style = |i: usize| {
         if i == 0 {
             SeriesStyle::Line
@@ -637,7 +634,7 @@ pub(crate) fn plot_traces(
             .push((-exact.rebound_velocity, "-v0 (exact rebound)".into()));
     }
     pf.hlines.push((exact.contact_force, "exact force".into()));
-    panels(png, &[pu, pv, pf], 3, 1, (1200, 1500)).map_err(|e| RunError::output(png, e))
+    vec![pu, pv, pf]
 }
 
 #[cfg(test)]

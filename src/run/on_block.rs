@@ -214,6 +214,7 @@ pub(crate) fn record(
         detail: Detail::Panels {
             file: "wheel_on_block.png",
             panes,
+            size: (1200, 1100),
         },
     })
 }

@@ -14,7 +14,6 @@
 use crate::mesh::Mesh;
 use crate::output::plot::Panel;
 use crate::output::table::{Columns, Rows};
-use crate::run::bar::{BarExact, BarTrace};
 use crate::run::wheel::figures::RimProfile;
 use crate::run::wheel::traction::{TractionProfile, TractionSummary};
 use crate::run::wheel::{WheelResults, WheelSummary};
@@ -94,22 +93,17 @@ pub struct FieldArray {
 /// What each kind's figures and extra files need beyond the public items.
 #[derive(Debug)]
 pub(crate) enum Detail {
-    /// The oscillator's panels (displacement, error).
-    Sdof(Vec<Panel>),
-    /// The bar's traces per run, the first run's exact values, two bars or one.
-    Bar {
-        traces: Vec<(String, BarTrace)>,
-        exact: Option<BarExact>,
-        two_bars: bool,
-    },
     /// The wheel: its model and the observers' results.
     Wheel(Box<WheelDetail>),
-    /// Panels drawn one above the other into `file`.
+    /// Panels drawn one above the other into `file` (the oscillator's, the bar's, the
+    /// wheel on a block's; none drawn when empty).
     Panels {
         /// The PNG's name.
         file: &'static str,
         /// The panels.
         panes: Vec<Panel>,
+        /// The image's size, pixels.
+        size: (u32, u32),
     },
 }
 

@@ -3,7 +3,7 @@
 
 use super::results::{Detail, Fields, Results};
 use super::{RunError, RunOptions};
-use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario};
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
@@ -178,14 +178,10 @@ pub(crate) fn record(
         interrupted,
         warnings: Vec::new(),
         plots: sc.plots,
-        detail: Detail::Sdof(vec![px, pe]),
+        detail: Detail::Panels {
+            file: "sdof.png",
+            panes: vec![px, pe],
+            size: (1200, 1100),
+        },
     })
-}
-
-/// Draws `sdof.png` (displacement, error against the exact solution) into `png`.
-///
-/// # Errors
-/// [`RunError::Output`].
-pub(crate) fn plot(png: &Path, panes: &[Panel]) -> Result<(), RunError> {
-    panels(png, panes, 2, 1, (1200, 1100)).map_err(|e| RunError::output(png, e))
 }
