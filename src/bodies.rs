@@ -20,7 +20,9 @@
 
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};
 use crate::contact::search::Motion;
+use crate::element::beam::{lengths, Beam2, BeamError, BeamMatrix, BeamSection, BeamTheory};
 use crate::linalg::spmv_add;
+use crate::mesh::Cells;
 use crate::mesh::Mesh;
 use crate::model::{LinearModel, LoadFn};
 
@@ -43,6 +45,109 @@ pub struct Body {
     pub load: Vec<f64>,
     /// Initial displacement, m.
     pub u0: Vec<f64>,
+    /// The position each dof's displacement adds to (`X` of a contact row's
+    /// `c . (X + u)`): a node's coordinates for a body of triangles, `(Y, 0)` per node for a
+    /// rail of beams (its deflection and rotation), m (rad).
+    pub reference: Vec<f64>,
+    /// The dofs of a unit rigid translation of the body along the frame's `x` and `y`
+    /// (`None` along an axis the body's dofs cannot follow: a rail of beams along `x`).
+    pub translations: [Option<Vec<f64>>; 2],
+}
+
+impl Body {
+    /// A body of triangles on `mesh` (2D, two dofs per node): the reference is the nodes'
+    /// coordinates, the translations `(1, 0, 1, 0, ..)` and `(0, 1, 0, 1, ..)`; no load,
+    /// no initial displacement, no supports.
+    pub fn triangles(
+        name: &str,
+        mesh: Mesh,
+        model: LinearModel,
+        elastic: Vec<f64>,
+        motion: Motion,
+    ) -> Self {
+        let n = mesh.n_dofs();
+        let unit = |c: usize| Some((0..n).map(|d| f64::from(u8::from(d % 2 == c))).collect());
+        Body {
+            name: name.into(),
+            reference: mesh.reference_positions(),
+            translations: [unit(0), unit(1)],
+            model,
+            elastic,
+            motion,
+            fixed_dofs: Vec::new(),
+            load: vec![0.0; n],
+            u0: vec![0.0; n],
+            mesh,
+        }
+    }
+
+    /// A rail of [`Beam2`] elements along the frame's `x` at height `y` (m), its nodes at
+    /// the abscissae `xs` (increasing), dofs `(w, theta)` per node, pinned (`w = 0`) at the
+    /// nodes `pinned`; the mass and stiffness of `section` in `theory`.
+    ///
+    /// # Errors
+    /// [`BeamError`] for a bad section or abscissae that do not increase.
+    pub fn rail(
+        name: &str,
+        xs: &[f64],
+        y: f64,
+        section: &BeamSection,
+        theory: BeamTheory,
+        motion: Motion,
+        pinned: &[usize],
+    ) -> Result<Self, BeamError> {
+        section.validate(theory)?;
+        let points: Vec<[f64; 2]> = xs.iter().map(|&x| [x, y]).collect();
+        let elements: Vec<[usize; 2]> = (1..xs.len()).map(|i| [i - 1, i]).collect();
+        let lengths = lengths(&points, &elements)?;
+        let mesh = Mesh {
+            dim: 2,
+            points,
+            cells: Cells::Bar2(elements),
+            node_sets: Default::default(),
+        };
+        let asm = Assembler::new(&mesh);
+        let op = |matrix| Beam2 {
+            lengths: &lengths,
+            section,
+            theory,
+            matrix,
+        };
+        let m = asm.assemble(&op(BeamMatrix::Mass));
+        let k = asm.assemble(&op(BeamMatrix::Stiffness));
+        let n = mesh.n_dofs();
+        Ok(Body {
+            name: name.into(),
+            reference: (0..n).map(|d| if d % 2 == 0 { y } else { 0.0 }).collect(),
+            translations: [
+                None,
+                Some((0..n).map(|d| f64::from(u8::from(d % 2 == 0))).collect()),
+            ],
+            model: LinearModel {
+                c: asm.zeros(),
+                assembler: asm,
+                m,
+                k: k.clone(),
+            },
+            elastic: k,
+            motion,
+            fixed_dofs: pinned.iter().map(|&i| 2 * i).collect(),
+            load: vec![0.0; n],
+            u0: vec![0.0; n],
+            mesh,
+        })
+    }
+
+    /// `Phi` of each element of a rail built by [`Body::rail`] (0 for Euler-Bernoulli).
+    pub fn rail_phi(&self, section: &BeamSection, theory: BeamTheory) -> Vec<f64> {
+        match &self.mesh.cells {
+            Cells::Bar2(e) => e
+                .iter()
+                .map(|&[a, b]| section.phi(theory, self.mesh.points[b][0] - self.mesh.points[a][0]))
+                .collect(),
+            Cells::Tri3(_) => Vec::new(),
+        }
+    }
 }
 
 /// The bodies joined into one model (module docs).
@@ -106,6 +211,8 @@ pub fn assemble(bodies: &[Body]) -> Result<Assembled, AssemblyError> {
                 .all(|&l| l == own.m.len())
             && b.load.len() == nd
             && b.u0.len() == nd
+            && b.reference.len() == nd
+            && b.translations.iter().flatten().all(|t| t.len() == nd)
             && b.fixed_dofs.iter().all(|&d| d < nd);
         if !sizes_ok {
             return Err(AssemblyError::DofOutOfRange {
@@ -137,7 +244,7 @@ pub fn assemble(bodies: &[Body]) -> Result<Assembled, AssemblyError> {
         model.k.extend_from_slice(&own.k);
         model.c.extend_from_slice(&own.c);
         elastic.extend_from_slice(&b.elastic);
-        reference.extend(b.mesh.reference_positions());
+        reference.extend_from_slice(&b.reference);
         fixed_dofs.extend(b.fixed_dofs.iter().map(|&d| d + o));
         load.extend_from_slice(&b.load);
         u0.extend_from_slice(&b.u0);
@@ -167,8 +274,9 @@ pub fn load_fn(bodies: &[Body], joined: &Assembled) -> LoadFn {
         let nd = b.mesh.n_dofs();
         let mut unit = [vec![0.0; nd], vec![0.0; nd]];
         for (c, out) in unit.iter_mut().enumerate() {
-            let ones: Vec<f64> = (0..nd).map(|d| f64::from(u8::from(d % 2 == c))).collect();
-            spmv_add(b.model.pattern(), &b.model.m, 1.0, &ones, out);
+            if let Some(ones) = &b.translations[c] {
+                spmv_add(b.model.pattern(), &b.model.m, 1.0, ones, out);
+            }
             for &d in &b.fixed_dofs {
                 out[d] = 0.0;
             }
@@ -211,21 +319,16 @@ mod tests {
         let asm = Assembler::new(&mesh);
         let (m, k) = assemble_mass_stiffness(&asm, &geometry, &d, &mat, 0.01, false);
         let nd = mesh.n_dofs();
-        Body {
-            name: "block".into(),
-            model: LinearModel {
-                c: asm.zeros(),
-                assembler: asm,
-                m,
-                k: k.clone(),
-            },
-            elastic: k,
-            motion,
-            fixed_dofs: vec![0, 1],
-            load: (0..nd).map(|d| d as f64).collect(),
-            u0: vec![0.0; nd],
-            mesh,
-        }
+        let model = LinearModel {
+            c: asm.zeros(),
+            assembler: asm,
+            m,
+            k: k.clone(),
+        };
+        let mut b = Body::triangles("block", mesh, model, k, motion);
+        b.fixed_dofs = vec![0, 1];
+        b.load = (0..nd).map(|d| d as f64).collect();
+        b
     }
 
     /// The joined matrices act on each body's dofs as the body's own, and on nothing else.

@@ -199,22 +199,13 @@ fn plate(lx: f64, ly: f64, nx: usize, ny: usize, motion: Motion) -> Body {
     let d = PlaneModel::Stress.elasticity_matrix(&STEEL);
     let asm = Assembler::new(&mesh);
     let (m, k) = assemble_mass_stiffness(&asm, &geometry, &d, &STEEL, 0.01, false);
-    let n = mesh.n_dofs();
-    Body {
-        name: "plate".into(),
-        model: LinearModel {
-            c: asm.zeros(),
-            assembler: asm,
-            m,
-            k: k.clone(),
-        },
-        elastic: k,
-        motion,
-        fixed_dofs: Vec::new(),
-        load: vec![0.0; n],
-        u0: vec![0.0; n],
-        mesh,
-    }
+    let model = LinearModel {
+        c: asm.zeros(),
+        assembler: asm,
+        m,
+        k: k.clone(),
+    };
+    Body::triangles("plate", mesh, model, k, motion)
 }
 
 /// Two free plates, the upper one falling at 1 m/s onto the lower one off its middle,

@@ -43,6 +43,7 @@
 
 use super::obstacle::{dot, tangent_2d, Flattening, Vector};
 use super::rows::Terms;
+use crate::element::beam::shape_functions;
 
 /// The rigid motion of a body's frame against the ground (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -242,10 +243,27 @@ pub enum SearchError {
     Reach(f64),
 }
 
+/// How a master surface's points move with the master body's dofs (module docs, Beams).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Surface {
+    /// Edges of a body of triangles: node `i`'s dofs are its displacements `(u_x, u_y)` in
+    /// the frame, linear along a segment.
+    Edges,
+    /// The top of a rail of [`crate::element::beam::Beam2`] elements along the frame's `x`:
+    /// node `i`'s dofs are `(w, theta)`, the deflection along `y` and the rotation; along a
+    /// segment the deflection is the element's own (`N_w` of
+    /// [`crate::element::beam::shape_functions`] with its `Phi`, one per segment).
+    Beams {
+        /// `Phi = 12 EI / (kappa G A l^2)` of each segment's element (0: Euler-Bernoulli).
+        phi: Vec<f64>,
+    },
+}
+
 /// The master surface and its bins (module docs).
 #[derive(Debug, Clone)]
 pub struct Search {
     master: Placed,
+    surface: Surface,
     /// The master body's reference positions, two per node.
     reference: Vec<f64>,
     segments: Vec<[usize; 2]>,
@@ -303,6 +321,7 @@ impl Search {
             ends: vec![[[0.0; 3]; 2]; segments.len()],
             bins: Vec::with_capacity(4 * segments.len()),
             master,
+            surface: Surface::Edges,
             reference,
             segments,
             reach,
@@ -315,6 +334,33 @@ impl Search {
         &self.segments
     }
 
+    /// The same search on a rail of beams (module docs, Beams): the segments are elements
+    /// along the frame's `x` with the given `phi` each, run from right to left (the rail
+    /// below its top).
+    ///
+    /// # Errors
+    /// [`SearchError::Segment`] when `phi` does not give one value per segment, or a
+    /// segment is not along `x` from right to left.
+    pub fn on_beams(mut self, phi: Vec<f64>) -> Result<Self, SearchError> {
+        if phi.len() != self.segments.len() {
+            return Err(SearchError::Segment {
+                segment: phi.len().min(self.segments.len()),
+                why: "without a beam's Phi (one per segment)",
+            });
+        }
+        for (k, &[p, q]) in self.segments.iter().enumerate() {
+            let r = &self.reference;
+            if r[2 * q] >= r[2 * p] || r[2 * q + 1] != r[2 * p + 1] {
+                return Err(SearchError::Segment {
+                    segment: k,
+                    why: "not a beam along x run from right to left",
+                });
+            }
+        }
+        self.surface = Surface::Beams { phi };
+        Ok(self)
+    }
+
     /// The reach, m.
     pub fn reach(&self) -> f64 {
         self.reach
@@ -323,6 +369,18 @@ impl Search {
     /// The master body's placement.
     pub fn master(&self) -> Placed {
         self.master
+    }
+
+    /// The frame position of master node `i` with the model's displacements `u`: `X + u`
+    /// on edges, `(X, Y + w)` on beams.
+    fn local(&self, u: &[f64], i: usize) -> Vector {
+        match self.surface {
+            Surface::Edges => self.master.local(&self.reference, u, i),
+            Surface::Beams { .. } => {
+                let d = self.master.first_dof + 2 * i;
+                [self.reference[2 * i], self.reference[2 * i + 1] + u[d], 0.0]
+            }
+        }
     }
 
     fn key(&self, x: f64) -> i64 {
@@ -335,14 +393,8 @@ impl Search {
         self.bins.clear();
         for k in 0..self.segments.len() {
             let [p, q] = self.segments[k];
-            let a = self
-                .master
-                .motion
-                .place(t, self.master.local(&self.reference, u, p));
-            let b = self
-                .master
-                .motion
-                .place(t, self.master.local(&self.reference, u, q));
+            let a = self.master.motion.place(t, self.local(u, p));
+            let b = self.master.motion.place(t, self.local(u, q));
             self.ends[k] = [a, b];
             let (x0, x1) = (self.key(a[0].min(b[0])), self.key(a[0].max(b[0])));
             let (y0, y1) = (self.key(a[1].min(b[1])), self.key(a[1].max(b[1])));
@@ -460,18 +512,36 @@ impl Search {
         terms.push(da, ca[0]);
         terms.push(da + 1, ca[1]);
         let cm = self.master.motion.rotate_back(t, n);
-        for (m, wgt) in [(p, 1.0 - xi), (q, xi)] {
-            let d = self.master.first_dof + 2 * m;
-            terms.push(d, -wgt * cm[0]);
-            terms.push(d + 1, -wgt * cm[1]);
+        match &self.surface {
+            Surface::Edges => {
+                for (m, wgt) in [(p, 1.0 - xi), (q, xi)] {
+                    let d = self.master.first_dof + 2 * m;
+                    terms.push(d, -wgt * cm[0]);
+                    terms.push(d + 1, -wgt * cm[1]);
+                }
+            }
+            Surface::Beams { phi } => {
+                // The element runs from q (left, its node 1) to p (right, its node 2).
+                let l = self.reference[2 * p] - self.reference[2 * q];
+                let (nw, _) = shape_functions(phi[target.segment], l, 1.0 - xi);
+                let (dq, dp) = (self.master.first_dof + 2 * q, self.master.first_dof + 2 * p);
+                for (d, c) in [(dq, nw[0]), (dq + 1, nw[1]), (dp, nw[2]), (dp + 1, nw[3])] {
+                    terms.push(d, -c * cm[1]);
+                }
+            }
         }
         // g = n.(x_a - x_s) = c.(X + u) + n.(origin_a - origin_s): o = -n.(o_a - o_s).
         let (oa, om) = (slave.motion.origin(t), self.master.motion.origin(t));
-        let offset = -(n[0] * (oa[0] - om[0]) + n[1] * (oa[1] - om[1]));
+        let mut offset = -(n[0] * (oa[0] - om[0]) + n[1] * (oa[1] - om[1]));
+        if let Surface::Beams { .. } = self.surface {
+            // A beam's point has no dof along x: its abscissa is the offset's.
+            let xs = (1.0 - xi) * self.reference[2 * p] + xi * self.reference[2 * q];
+            offset += cm[0] * xs;
+        }
         let la = [x_ref[0] + u[da], x_ref[1] + u[da + 1], 0.0];
         let drift_a = slave.motion.drift(t, la);
-        let lp = self.master.local(&self.reference, u, p);
-        let lq = self.master.local(&self.reference, u, q);
+        let lp = self.local(u, p);
+        let lq = self.local(u, q);
         let (dp, dq) = (
             self.master.motion.drift(t, lp),
             self.master.motion.drift(t, lq),
@@ -676,8 +746,8 @@ mod tests {
         let gap_at = |tt: f64| {
             let xa = wheel.motion.place(tt, [xr[0] + u[0], xr[1] + u[1], 0.0]);
             let [p, q] = s.segments[target.segment];
-            let lp = s.master.local(&s.reference, &u, p);
-            let lq = s.master.local(&s.reference, &u, q);
+            let lp = s.local(&u, p);
+            let lq = s.local(&u, q);
             let (a, b) = (s.master.motion.place(tt, lp), s.master.motion.place(tt, lq));
             let xs: Vector = std::array::from_fn(|d| (1.0 - target.xi) * a[d] + target.xi * b[d]);
             dot(target.normal, [xa[0] - xs[0], xa[1] - xs[1], 0.0])
@@ -691,6 +761,80 @@ mod tests {
             row.w
         );
         assert!((gap_at(t) - target.gap).abs() < 1e-15);
+    }
+
+    /// On a rail of beams the row's gap is the normal distance to the beam's own deflected
+    /// line (Hermite, or the Timoshenko element's `N_w`), not to the chord; its rate at
+    /// fixed dofs is `-w`.
+    #[test]
+    fn a_node_over_a_rail_of_beams_sees_the_beams_deflection() {
+        let (reference, segments) = floor(4, 0.4);
+        let phi = vec![0.0, 0.0, 0.3, 0.0];
+        let master = Placed {
+            motion: Motion::Translating {
+                origin: [0.0, -0.1, 0.0],
+                velocity: [-20.0, 0.0, 0.0],
+            },
+            first_dof: 2,
+        };
+        let s0 = Search::new(2, master, reference.clone(), segments, 0.05).unwrap();
+        let mut s = s0.clone().on_beams(phi.clone()).unwrap();
+        assert!(s0.clone().on_beams(vec![0.0; 3]).is_err());
+        // (w, theta) per rail node after the slave node's two dofs.
+        let mut u = vec![0.0; 2 + 10];
+        let w = [0.0, -1e-4, -3e-4, -2e-4, 0.0];
+        let th = [1e-3, 2e-3, 0.0, -2e-3, -1e-3];
+        for i in 0..5 {
+            u[2 + 2 * i] = w[i];
+            u[2 + 2 * i + 1] = th[i];
+        }
+        let slave = Placed {
+            motion: Motion::Fixed,
+            first_dof: 0,
+        };
+        let t = 2e-3;
+        let xr = [0.13, -0.0998];
+        s.update(t, &u);
+        let x = [xr[0], xr[1], 0.0];
+        let target = s.find(x).unwrap();
+        let row = s.normal_row(&target, slave, 0, xr, t, &u);
+        // X per dof: the slave's position, then (Y, 0) per rail node.
+        let mut xref = vec![xr[0], xr[1]];
+        for i in 0..5 {
+            xref.extend([reference[2 * i + 1], 0.0]);
+        }
+        let x_all: Vec<f64> = xref.iter().zip(&u).map(|(a, b)| a + b).collect();
+        let g = row.terms.dot(&x_all) - row.offset;
+        // Directly: the element from q (left) to p (right), its deflection at 1 - xi.
+        let [p, q] = s.segments()[target.segment];
+        let l = reference[2 * p] - reference[2 * q];
+        let (nw, _) = shape_functions(phi[target.segment], l, 1.0 - target.xi);
+        let wx = nw[0] * w[q] + nw[1] * th[q] + nw[2] * w[p] + nw[3] * th[p];
+        let xs_local = [
+            (1.0 - target.xi) * reference[2 * p] + target.xi * reference[2 * q],
+            reference[2 * p + 1] + wx,
+            0.0,
+        ];
+        let xs = master.motion.place(t, xs_local);
+        let direct = dot(target.normal, [x[0] - xs[0], x[1] - xs[1], 0.0]);
+        assert!((g - direct).abs() < 1e-15, "row {g}, direct {direct}");
+        let chord = target.gap;
+        assert!(
+            (g - chord).abs() > 1e-7,
+            "the deflection between nodes is not the chord's"
+        );
+        // Rate at fixed dofs.
+        let gap_at = |tt: f64| {
+            let xs = master.motion.place(tt, xs_local);
+            dot(target.normal, [x[0] - xs[0], x[1] - xs[1], 0.0])
+        };
+        let dt = 1e-9;
+        let rate = (gap_at(t + dt) - gap_at(t - dt)) / (2.0 * dt);
+        assert!(
+            (rate + row.w).abs() < 1e-6 * 20.0,
+            "rate {rate}, w {}",
+            row.w
+        );
     }
 
     #[test]

@@ -133,7 +133,6 @@ impl WheelOnBlock {
             ws.thickness,
             ws.lumped,
         );
-        let n = mesh.n_dofs();
         let fixed_dofs: Vec<usize> = mesh.node_sets["bottom"]
             .iter()
             .flat_map(|&i| [2 * i, 2 * i + 1])
@@ -153,31 +152,15 @@ impl WheelOnBlock {
             omega: -ws.omega,
             angle0: 0.0,
         };
-        let block = Body {
-            name: "block".into(),
-            model: LinearModel {
-                c: asm.zeros(),
-                assembler: asm,
-                m,
-                k: k.clone(),
-            },
-            elastic: k,
-            motion: block_motion,
-            fixed_dofs,
-            load: vec![0.0; n],
-            u0: vec![0.0; n],
-            mesh,
+        let model = LinearModel {
+            c: asm.zeros(),
+            assembler: asm,
+            m,
+            k: k.clone(),
         };
-        let wheel_body = Body {
-            name: "wheel".into(),
-            mesh: wheel.mesh.clone(),
-            model: wheel.model.clone(),
-            elastic: wheel.k_elastic.clone(),
-            motion: wheel_motion,
-            fixed_dofs: wheel.fixed_dofs.clone(),
-            load: wheel.load.clone(),
-            u0: wheel.u_spin.clone(),
-        };
+        let mut block = Body::triangles("block", mesh, model, k, block_motion);
+        block.fixed_dofs = fixed_dofs;
+        let wheel_body = wheel_body(&wheel);
         let bodies = vec![wheel_body, block];
         let joined = bodies::assemble(&bodies)?;
         let reach = spec.reach.unwrap_or(4.0 * dx);
@@ -295,6 +278,26 @@ impl WheelOnBlock {
         self.wheel_motion()
             .place(t, [p[0] + u[2 * i], p[1] + u[2 * i + 1], 0.0])[0]
     }
+}
+
+/// The wheel of `wheel` as a body: its model in the frame turning at `-omega` about the
+/// axle, its hub, its spinning equilibrium's load and initial displacement.
+pub fn wheel_body(wheel: &WheelModel) -> Body {
+    let mut b = Body::triangles(
+        "wheel",
+        wheel.mesh.clone(),
+        wheel.model.clone(),
+        wheel.k_elastic.clone(),
+        Motion::Rotating {
+            centre: [0.0; 3],
+            omega: -wheel.spec.omega,
+            angle0: 0.0,
+        },
+    );
+    b.fixed_dofs = wheel.fixed_dofs.clone();
+    b.load = wheel.load.clone();
+    b.u0 = wheel.u_spin.clone();
+    b
 }
 
 /// `E*` of two bodies in the plane model `plane` (module docs), Pa.
