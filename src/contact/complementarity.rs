@@ -48,6 +48,7 @@ use super::friction::{spring_energy, stick_spring, FrictionLaw};
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, record_friction, ContactTreatment};
 use crate::model::Snapshot;
+use crate::time::integrator::Maps;
 
 /// The contact law of a [`Complementarity`] treatment.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,39 +126,19 @@ impl Complementarity {
     }
 }
 
-impl ContactTreatment for Complementarity {
-    fn name(&self) -> String {
-        match self.law {
-            Law::Exact => "exact".into(),
-            Law::Penalty { stiffness } => format!("penalty({stiffness:e})"),
-            Law::MoreauJean { restitution } => format!("moreau_jean({restitution})"),
-        }
-    }
-
-    fn solve_interval(
+impl Complementarity {
+    /// Poses each pair's rows at the step's end (module docs: the law's `y0`, `mu`, `reg`,
+    /// the tangent with friction), or none for a Moreau-Jean pair not about to touch, and
+    /// marks the candidates; returns the tolerance of the solve.
+    fn pose(
         &mut self,
         ctx: &mut Context<'_>,
         fs: &Snapshot,
-        ts: &mut Snapshot,
-    ) -> Result<(), ContactError> {
+        (maps, explicit, mu_k, vel_tol): (Maps, bool, f64, f64),
+    ) -> f64 {
         let h = ctx.integ.h();
-        let t0 = fs.t;
-        let t1 = t0 + h;
-        ctx.extra.fill(0.0);
-        let step = ctx.predict(t0, &fs.state);
-        let maps = step.maps;
-        let explicit = step.explicit;
-        // Moreau-Jean's tolerance on velocities (m/s), from the initial speeds, once.
-        let vel_tol = *self
-            .vel_tol
-            .get_or_insert_with(|| 1e-12 * fs.v.iter().fold(1e-300_f64, |a, v| a.max(v.abs())));
+        let (t0, t1) = (fs.t, fs.t + h);
         let mut tol = ctx.gap_tol;
-        let mu_k = match self.law {
-            Law::Penalty { .. } => ctx
-                .integ
-                .stiffness_point(&fs.state, ctx.pred, &mut self.point),
-            _ => 0.0,
-        };
         let mut margin = 0.0_f64;
         for p in 0..self.posed.len() {
             let geo = ctx.geometry(p, t1, &ctx.pred.u);
@@ -228,6 +209,19 @@ impl ContactTreatment for Complementarity {
                 }
             }
         }
+        tol
+    }
+
+    /// Solves the candidates' rows, adding any pair left out that the solution violates,
+    /// until none is; returns the active-set changes.
+    fn solve_candidates(
+        &mut self,
+        ctx: &mut Context<'_>,
+        fs: &Snapshot,
+        force: f64,
+        tol: f64,
+    ) -> usize {
+        let h = ctx.integ.h();
         let kt = self.stick_stiffness();
         let mut changes = 0;
         loop {
@@ -240,12 +234,12 @@ impl ContactTreatment for Complementarity {
                 let normal = ctx.rows.push(pr.row);
                 if let (Some(law), Some((trow, wt))) = (self.friction, pr.tangent) {
                     self.wt[p] = wt;
-                    let (reg, dy) = stick_spring(kt, fs.pairs[p].tangential_force, maps.force, h);
+                    let (reg, dy) = stick_spring(kt, fs.pairs[p].tangential_force, force, h);
                     ctx.rows.push(Row {
                         kind: RowKind::Bounded {
                             normal,
                             mu_f: law.coefficient(trow.terms.dot(&fs.v) - wt),
-                            eta: law.viscosity / maps.force,
+                            eta: law.viscosity / force,
                         },
                         y0: trow.y0 + dy,
                         reg,
@@ -267,10 +261,14 @@ impl ContactTreatment for Complementarity {
                 break;
             }
         }
-        ctx.counts.resolves += changes;
-        ctx.finish(&step, &fs.state, &mut ts.state);
-        ts.t = t1;
-        ts.k = fs.k + 1;
+        changes
+    }
+
+    /// The pairs' states at the step's end: gaps, forces, friction, entries and releases.
+    fn record(&mut self, ctx: &mut Context<'_>, fs: &Snapshot, ts: &mut Snapshot, force: f64) {
+        let h = ctx.integ.h();
+        let t1 = ts.t;
+        let kt = self.stick_stiffness();
         for p in 0..self.posed.len() {
             ts.pairs[p] = plain_state(0.0, false, ctx.gap(p, t1, &ts.u));
             ts.pairs[p].dissipated = fs.pairs[p].dissipated;
@@ -283,7 +281,7 @@ impl ContactTreatment for Complementarity {
                 let spring = (kt, fs.pairs[row.pair].tangential_force);
                 record_friction(
                     &mut ts.pairs[row.pair],
-                    lam * maps.force,
+                    lam * force,
                     sliding,
                     slip,
                     h,
@@ -291,7 +289,7 @@ impl ContactTreatment for Complementarity {
                 );
                 continue;
             }
-            ts.pairs[row.pair].force = lam * maps.force * h / h;
+            ts.pairs[row.pair].force = lam * force * h / h;
             ts.pairs[row.pair].held = lam > 0.0;
         }
         for p in 0..self.posed.len() {
@@ -303,6 +301,48 @@ impl ContactTreatment for Complementarity {
                 ctx.counts.releases += 1;
             }
         }
+    }
+}
+
+impl ContactTreatment for Complementarity {
+    fn name(&self) -> String {
+        match self.law {
+            Law::Exact => "exact".into(),
+            Law::Penalty { stiffness } => format!("penalty({stiffness:e})"),
+            Law::MoreauJean { restitution } => format!("moreau_jean({restitution})"),
+        }
+    }
+
+    fn solve_interval(
+        &mut self,
+        ctx: &mut Context<'_>,
+        fs: &Snapshot,
+        ts: &mut Snapshot,
+    ) -> Result<(), ContactError> {
+        let h = ctx.integ.h();
+        let t0 = fs.t;
+        let t1 = t0 + h;
+        ctx.extra.fill(0.0);
+        let step = ctx.predict(t0, &fs.state);
+        let maps = step.maps;
+        let explicit = step.explicit;
+        // Moreau-Jean's tolerance on velocities (m/s), from the initial speeds, once.
+        let vel_tol = *self
+            .vel_tol
+            .get_or_insert_with(|| 1e-12 * fs.v.iter().fold(1e-300_f64, |a, v| a.max(v.abs())));
+        let mu_k = match self.law {
+            Law::Penalty { .. } => ctx
+                .integ
+                .stiffness_point(&fs.state, ctx.pred, &mut self.point),
+            _ => 0.0,
+        };
+        let tol = self.pose(ctx, fs, (maps, explicit, mu_k, vel_tol));
+        let changes = self.solve_candidates(ctx, fs, maps.force, tol);
+        ctx.counts.resolves += changes;
+        ctx.finish(&step, &fs.state, &mut ts.state);
+        ts.t = t1;
+        ts.k = fs.k + 1;
+        self.record(ctx, fs, ts, maps.force);
         Ok(())
     }
 

@@ -103,8 +103,218 @@ pub(super) fn two_subtrees(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> O
     if n < 4 {
         return None;
     }
-    // The graph of A + A^T in the ordering: for each position k, the positions i < k it
-    // touches.
+    let tree = Tree::of(pattern, inv);
+    let (frontier, top, zero, best_cost) = tree.best_split()?;
+    if best_cost as f64 > MAX_CRITICAL_FRACTION * tree.total as f64 {
+        return None;
+    }
+    // Label every position: the top 2, a subtree its bin, the rest as its parent (parents
+    // come after their children, so a backward pass labels the subtrees whole).
+    let mut label = vec![NONE; n];
+    for &t in &top {
+        label[t] = 2;
+    }
+    for &(_, r) in &frontier {
+        label[r] = 1;
+    }
+    for &r in &zero {
+        label[r] = 0;
+    }
+    for j in (0..n).rev() {
+        if label[j] == NONE {
+            label[j] = label[tree.parent[j]];
+        }
+    }
+    let mut new_fwd = Vec::with_capacity(n);
+    let mut sizes = [0usize; 3];
+    for part in 0..3 {
+        for p in 0..n {
+            if label[p] == part {
+                new_fwd.push(fwd[p]);
+                sizes[part] += 1;
+            }
+        }
+    }
+    Some(Split {
+        inv: inverse(&new_fwd),
+        fwd: new_fwd,
+        a: sizes[0],
+        b: sizes[0] + sizes[1],
+        critical: best_cost,
+        entries: tree.total,
+    })
+}
+
+/// A frontier of subtrees, heaviest first, then by position.
+type Frontier = BTreeSet<(std::cmp::Reverse<u64>, usize)>;
+
+/// The elimination tree of `A + A^T` in an ordering, with its columns' entry counts and
+/// subtree weights.
+struct Tree {
+    /// Parent of each position (`NONE` for a root).
+    parent: Vec<usize>,
+    /// Entries of each column of `L`, the diagonal included.
+    count: Vec<u64>,
+    /// Entries of each subtree.
+    weight: Vec<u64>,
+    /// Children of position `k`: `children[children_ptr[k]..children_ptr[k + 1]]`.
+    children_ptr: Vec<usize>,
+    children: Vec<usize>,
+    /// Entries of `L`.
+    total: u64,
+}
+
+impl Tree {
+    /// The tree of `pattern` in the ordering whose inverse permutation is `inv`.
+    fn of(pattern: &Pattern, inv: &[usize]) -> Self {
+        let n = inv.len();
+        let (deg, adj) = lower_graph(pattern, inv);
+        let lower = |k: usize| &adj[deg[k]..deg[k + 1]];
+        // Elimination tree (Liu's algorithm, with path compression).
+        let mut parent = vec![NONE; n];
+        let mut ancestor = vec![NONE; n];
+        for k in 0..n {
+            for &i in lower(k) {
+                let mut r = i;
+                while ancestor[r] != NONE && ancestor[r] != k {
+                    let up = ancestor[r];
+                    ancestor[r] = k;
+                    r = up;
+                }
+                if ancestor[r] == NONE {
+                    ancestor[r] = k;
+                    parent[r] = k;
+                }
+            }
+        }
+        // Entries of each column of L (its row subtrees), the diagonal included.
+        let mut count = vec![1u64; n];
+        let mut mark = vec![NONE; n];
+        for k in 0..n {
+            mark[k] = k;
+            for &i in lower(k) {
+                let mut j = i;
+                while mark[j] != k {
+                    count[j] += 1;
+                    mark[j] = k;
+                    j = parent[j];
+                }
+            }
+        }
+        // Subtree weights (children come before their parents).
+        let mut weight: Vec<u64> = count.clone();
+        for j in 0..n {
+            if parent[j] != NONE {
+                weight[parent[j]] += weight[j];
+            }
+        }
+        let total: u64 = (0..n)
+            .filter(|&j| parent[j] == NONE)
+            .map(|j| weight[j])
+            .sum();
+        let mut children_ptr = vec![0usize; n + 1];
+        for j in 0..n {
+            if parent[j] != NONE {
+                children_ptr[parent[j] + 1] += 1;
+            }
+        }
+        for k in 0..n {
+            children_ptr[k + 1] += children_ptr[k];
+        }
+        let mut children = vec![0usize; children_ptr[n]];
+        let mut fill = children_ptr[..n].to_vec();
+        for j in 0..n {
+            if parent[j] != NONE {
+                children[fill[parent[j]]] = j;
+                fill[parent[j]] += 1;
+            }
+        }
+        Tree {
+            parent,
+            count,
+            weight,
+            children_ptr,
+            children,
+            total,
+        }
+    }
+
+    fn key(&self, r: usize) -> (std::cmp::Reverse<u64>, usize) {
+        (std::cmp::Reverse(self.weight[r]), r)
+    }
+
+    /// The frontier's two bins (heaviest first into the lighter): their weights and the
+    /// subtrees of bin 0.
+    fn bins(frontier: &Frontier) -> (u64, u64, Vec<usize>) {
+        let (mut w0, mut w1) = (0, 0);
+        let mut zero = Vec::new();
+        for &(std::cmp::Reverse(w), r) in frontier {
+            if w0 <= w1 {
+                w0 += w;
+                zero.push(r);
+            } else {
+                w1 += w;
+            }
+        }
+        (w0, w1, zero)
+    }
+
+    /// Moves the frontier's heaviest subtree into the top (a chain of single children at
+    /// once).
+    fn expand(&self, frontier: &mut Frontier, top: &mut Vec<usize>, top_w: &mut u64) {
+        let (_, mut r) = frontier.pop_first().expect("a non-empty frontier");
+        loop {
+            top.push(r);
+            *top_w += self.count[r];
+            let kids = &self.children[self.children_ptr[r]..self.children_ptr[r + 1]];
+            if kids.len() == 1 {
+                r = kids[0];
+            } else {
+                frontier.extend(kids.iter().map(|&k| self.key(k)));
+                break;
+            }
+        }
+    }
+
+    /// Expands the heaviest subtree of the frontier into the top, one at a time, and keeps
+    /// the expansion whose two-bin split has the least critical path: its frontier, top,
+    /// bin 0 and critical path. The frontier is kept sorted (heaviest first, then by
+    /// position): each expansion takes its first and each split is one pass, where sorting
+    /// it anew at every expansion took seconds on a 14,000-dof wheel.
+    fn best_split(&self) -> Option<(Frontier, Vec<usize>, Vec<usize>, u64)> {
+        let n = self.parent.len();
+        let start: Frontier = (0..n)
+            .filter(|&j| self.parent[j] == NONE)
+            .map(|r| self.key(r))
+            .collect();
+        let (mut frontier, mut top, mut top_w) = (start.clone(), Vec::new(), 0);
+        let (mut best, mut best_cost) = (None, u64::MAX);
+        for step in 0..=MAX_EXPANSIONS {
+            if frontier.is_empty() {
+                break;
+            }
+            let (w0, w1, _) = Self::bins(&frontier);
+            let cost = top_w + w0.max(w1);
+            if w0 > 0 && w1 > 0 && cost < best_cost {
+                best = Some(step);
+                best_cost = cost;
+            }
+            self.expand(&mut frontier, &mut top, &mut top_w);
+        }
+        let best = best?;
+        let (mut frontier, mut top, mut top_w) = (start, Vec::new(), 0);
+        for _ in 0..best {
+            self.expand(&mut frontier, &mut top, &mut top_w);
+        }
+        let (_, _, zero) = Self::bins(&frontier);
+        Some((frontier, top, zero, best_cost))
+    }
+}
+
+/// The graph of `A + A^T` in the ordering `inv`: for each position `k`, the positions
+/// `i < k` it touches, `adj[deg[k]..deg[k + 1]]`.
+fn lower_graph(pattern: &Pattern, inv: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let n = inv.len();
     let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
     let mut deg = vec![0usize; n + 1];
     for j in 0..n {
@@ -130,161 +340,7 @@ pub(super) fn two_subtrees(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> O
             }
         }
     }
-    let lower = |k: usize| &adj[deg[k]..deg[k + 1]];
-    // Elimination tree (Liu's algorithm, with path compression).
-    let mut parent = vec![NONE; n];
-    let mut ancestor = vec![NONE; n];
-    for k in 0..n {
-        for &i in lower(k) {
-            let mut r = i;
-            while ancestor[r] != NONE && ancestor[r] != k {
-                let up = ancestor[r];
-                ancestor[r] = k;
-                r = up;
-            }
-            if ancestor[r] == NONE {
-                ancestor[r] = k;
-                parent[r] = k;
-            }
-        }
-    }
-    // Entries of each column of L (its row subtrees), the diagonal included.
-    let mut count = vec![1u64; n];
-    let mut mark = vec![NONE; n];
-    for k in 0..n {
-        mark[k] = k;
-        for &i in lower(k) {
-            let mut j = i;
-            while mark[j] != k {
-                count[j] += 1;
-                mark[j] = k;
-                j = parent[j];
-            }
-        }
-    }
-    // Subtree weights (children come before their parents).
-    let mut weight: Vec<u64> = count.clone();
-    for j in 0..n {
-        if parent[j] != NONE {
-            weight[parent[j]] += weight[j];
-        }
-    }
-    let total: u64 = (0..n)
-        .filter(|&j| parent[j] == NONE)
-        .map(|j| weight[j])
-        .sum();
-    let mut children_ptr = vec![0usize; n + 1];
-    for j in 0..n {
-        if parent[j] != NONE {
-            children_ptr[parent[j] + 1] += 1;
-        }
-    }
-    for k in 0..n {
-        children_ptr[k + 1] += children_ptr[k];
-    }
-    let mut children = vec![0usize; children_ptr[n]];
-    let mut fill = children_ptr[..n].to_vec();
-    for j in 0..n {
-        if parent[j] != NONE {
-            children[fill[parent[j]]] = j;
-            fill[parent[j]] += 1;
-        }
-    }
-    // Expand the heaviest subtree of the frontier into the top, one at a time (a chain of
-    // single children at once), and keep the expansion whose two-bin split (heaviest first
-    // into the lighter bin) has the least critical path. The frontier is kept sorted (heaviest
-    // first, then by position): each expansion takes its first and each split is one pass,
-    // where sorting it anew at every expansion took seconds on a 14,000-dof wheel.
-    let key = |r: usize| (std::cmp::Reverse(weight[r]), r);
-    let roots: Vec<usize> = (0..n).filter(|&j| parent[j] == NONE).collect();
-    let bins = |frontier: &BTreeSet<(std::cmp::Reverse<u64>, usize)>| -> (u64, u64, Vec<usize>) {
-        let (mut w0, mut w1) = (0, 0);
-        let mut zero = Vec::new();
-        for &(std::cmp::Reverse(w), r) in frontier {
-            if w0 <= w1 {
-                w0 += w;
-                zero.push(r);
-            } else {
-                w1 += w;
-            }
-        }
-        (w0, w1, zero)
-    };
-    let expand = |frontier: &mut BTreeSet<(std::cmp::Reverse<u64>, usize)>,
-                  top: &mut Vec<usize>,
-                  top_w: &mut u64| {
-        let (_, mut r) = frontier.pop_first().expect("a non-empty frontier");
-        loop {
-            top.push(r);
-            *top_w += count[r];
-            let kids = &children[children_ptr[r]..children_ptr[r + 1]];
-            if kids.len() == 1 {
-                r = kids[0];
-            } else {
-                frontier.extend(kids.iter().map(|&k| key(k)));
-                break;
-            }
-        }
-    };
-    let start: BTreeSet<_> = roots.iter().map(|&r| key(r)).collect();
-    let (mut frontier, mut top, mut top_w) = (start.clone(), Vec::new(), 0);
-    let (mut best, mut best_cost) = (None, u64::MAX);
-    for step in 0..=MAX_EXPANSIONS {
-        if frontier.is_empty() {
-            break;
-        }
-        let (w0, w1, _) = bins(&frontier);
-        let cost = top_w + w0.max(w1);
-        if w0 > 0 && w1 > 0 && cost < best_cost {
-            best = Some(step);
-            best_cost = cost;
-        }
-        expand(&mut frontier, &mut top, &mut top_w);
-    }
-    let best = best?;
-    if best_cost as f64 > MAX_CRITICAL_FRACTION * total as f64 {
-        return None;
-    }
-    let (mut frontier, mut top, mut top_w) = (start, Vec::new(), 0);
-    for _ in 0..best {
-        expand(&mut frontier, &mut top, &mut top_w);
-    }
-    let (_, _, zero) = bins(&frontier);
-    // Label every position: the top 2, a subtree its bin, the rest as its parent (parents
-    // come after their children, so a backward pass labels the subtrees whole).
-    let mut label = vec![NONE; n];
-    for &t in &top {
-        label[t] = 2;
-    }
-    for &(_, r) in &frontier {
-        label[r] = 1;
-    }
-    for &r in &zero {
-        label[r] = 0;
-    }
-    for j in (0..n).rev() {
-        if label[j] == NONE {
-            label[j] = label[parent[j]];
-        }
-    }
-    let mut new_fwd = Vec::with_capacity(n);
-    let mut sizes = [0usize; 3];
-    for part in 0..3 {
-        for p in 0..n {
-            if label[p] == part {
-                new_fwd.push(fwd[p]);
-                sizes[part] += 1;
-            }
-        }
-    }
-    Some(Split {
-        inv: inverse(&new_fwd),
-        fwd: new_fwd,
-        a: sizes[0],
-        b: sizes[0] + sizes[1],
-        critical: best_cost,
-        entries: total,
-    })
+    (deg, adj)
 }
 
 /// The order from which [`SplitLower::backward_scatter`] reads each part's solution out in
