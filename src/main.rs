@@ -202,339 +202,403 @@ fn main() -> ExitCode {
     }
 }
 
-fn try_main(cli: Cli, cancel: &Cancel) -> Result<ExitCode, Box<dyn std::error::Error>> {
+/// What a subcommand returns: its exit code, or the error `main` reports.
+type CommandResult = Result<ExitCode, Box<dyn std::error::Error>>;
+
+/// Runs the subcommand of `cli`, one function each.
+fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
     match cli.command {
         Command::Run {
             scenario,
             out,
             quiet,
             threads,
-            guard: Guard { force, yes },
-        } => {
-            set_threads("--threads", threads)?;
-            let sc = resolve(&Scenario::from_file(&scenario)?)?;
-            check_estimate(&sc, yes)?;
-            for w in &sc.warnings {
-                errln!("softway: warning: {w}");
-            }
-            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-            let stage = StagedDir::begin(&out, force)?;
-            let opts = RunOptions {
-                progress: !quiet,
-                par: threads.map(Par::threads),
-                cancel: cancel.clone(),
-            };
-            let report = run_scenario(&sc, stage.path(), &opts)?;
-            for w in &report.warnings {
-                errln!("softway: warning: {w}");
-            }
-            let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
-            stage.commit()?;
-            outln!("{} ({})", sc.name, scenario.display());
-            for l in &report.lines {
-                outln!("  {l}");
-            }
-            outln!("  wrote:");
-            for f in &files {
-                outln!("    {}", f.display());
-            }
-            if report.interrupted {
-                errln!("softway: interrupted; the files above hold the steps computed so far");
-                return Ok(ExitCode::from(130));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+            guard,
+        } => run_command(&scenario, out, quiet, threads, guard, cancel),
         Command::Sweep {
             scenario,
             set,
             out,
             jobs,
-            guard: Guard { force, yes },
-        } => {
-            let sc = Scenario::from_file(&scenario)?;
-            let text = std::fs::read_to_string(&scenario)
-                .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-            let (key, values) = match set {
-                Some(s) => parse_set(&s)?,
-                None => sc.sweep.clone().ok_or_else(|| {
-                    format!(
-                        "{}: no [sweep] table and no --set KEY=V1,V2,...",
-                        scenario.display()
-                    )
-                })?,
-            };
-            check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
-            let out =
-                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
-            set_threads("--jobs", jobs)?;
-            let stage = StagedDir::begin(&out, force)?;
-            let (points, files) =
-                softway::run::sweep::sweep(&scenario, &text, &key, &values, stage.path(), cancel)?;
-            for p in &points {
-                for w in &p.warnings {
-                    errln!("softway: warning: {key} = {}: {w}", p.value);
-                }
-            }
-            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-            let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
-            stage.commit()?;
-            outln!("{}: {key} swept over {} values", sc.name, values.len());
-            print_table(&out.join("sweep.md"), &files);
-            for d in dirs {
-                outln!("    {}/", d.display());
-            }
-            if cancel.is_cancelled() {
-                return Ok(ExitCode::from(130));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+            guard,
+        } => sweep_command(&scenario, set, out, jobs, guard, cancel),
         Command::Converge {
             scenario,
             set,
             out,
             jobs,
-            guard: Guard { force, yes },
-        } => {
-            let sc = Scenario::from_file(&scenario)?;
-            let text = std::fs::read_to_string(&scenario)
-                .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-            let (key, values) = parse_set(&set)?;
-            check_ladder_estimate(&scenario, &text, &key, &values, yes)?;
-            let out =
-                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
-            set_threads("--jobs", jobs)?;
-            let stage = StagedDir::begin(&out, force)?;
-            let (_, files, warnings) = softway::run::converge::converge(
-                &scenario,
-                &text,
-                &key,
-                &values,
-                stage.path(),
-                cancel,
-            )?;
-            for w in &warnings {
-                errln!("softway: warning: {w}");
-            }
-            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-            stage.commit()?;
-            outln!(
-                "{}: convergence of {key} over {} rungs",
-                sc.name,
-                values.len()
-            );
-            print_table(&out.join("converge.md"), &files);
-            if cancel.is_cancelled() {
-                return Ok(ExitCode::from(130));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+            guard,
+        } => converge_command(&scenario, &set, out, jobs, guard, cancel),
         Command::Compare {
             scenario,
             out,
-            guard: Guard { force, yes },
-        } => {
-            let sc = resolve(&Scenario::from_file(&scenario)?)?;
-            check_estimate(&sc, yes)?;
-            for w in &sc.warnings {
-                errln!("softway: warning: {w}");
-            }
-            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-            let stage = StagedDir::begin(&out, force)?;
-            let opts = RunOptions {
-                cancel: cancel.clone(),
-                ..RunOptions::default()
-            };
-            let report = softway::run::compare::compare(&sc, stage.path(), &opts)?;
-            let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
-            stage.commit()?;
-            for l in &report.lines {
-                outln!("{l}");
-            }
-            outln!("wrote:");
-            for f in &files {
-                outln!("  {}", f.display());
-            }
-            if report.interrupted {
-                errln!("softway: interrupted: the table holds the runs finished before");
-                return Ok(ExitCode::from(130));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+            guard,
+        } => compare_command(&scenario, out, guard, cancel),
         Command::Modes {
             scenario,
             count,
             out,
-            replace: Replace { force },
-        } => {
-            let sc = Scenario::from_file(&scenario)?;
-            let softway::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
-                return Err(format!(
-                    "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
-                    scenario.display()
-                )
-                .into());
-            };
-            if count == 0 {
-                return Err("--count 0: ask for at least one mode".into());
-            }
-            let wm = softway::run::wheel::build(ws, &sc.path)?;
-            let rep = softway::modes::modes_report(&wm, count)?;
-            let out =
-                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-            let stage = StagedDir::begin(&out, force)?;
-            let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
-            stage.commit()?;
-            outln!(
-                "{}: {} dofs ({} free), support {:?}",
-                sc.name,
-                rep.dofs,
-                rep.free_dofs,
-                wm.spec.support
-            );
-            outln!("at rest:");
-            outln!(
-                "{:>5} {:>14} {:>12} {:>5}  kind",
-                "mode",
-                "frequency Hz",
-                "period us",
-                "n"
-            );
-            for (i, m) in rep.at_rest.iter().enumerate() {
-                outln!(
-                    "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
-                    i + 1,
-                    m.frequency_hz,
-                    m.period_us,
-                    m.wavenumber
-                        .map(|n| n.to_string())
-                        .unwrap_or_else(|| "-".into()),
-                    m.kind
-                );
-            }
-            if let Some(sp) = &rep.spinning {
-                outln!(
-                    "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
-                    ws.spec.omega
-                );
-                outln!(
-                    "{:>5} {:>14} {:>14} {:>10}  kind",
-                    "mode",
-                    "frequency Hz",
-                    "at rest Hz",
-                    "whirl"
-                );
-                for (i, m) in sp.iter().enumerate() {
-                    outln!(
-                        "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
-                        i + 1,
-                        m.frequency_hz,
-                        m.rest_frequency_hz,
-                        m.whirl.to_string(),
-                        m.kind
-                    );
-                }
-            }
-            for n in &rep.notes {
-                outln!("note: {n}");
-            }
-            outln!("wrote {} files into {}", files.len(), out.display());
-            Ok(ExitCode::SUCCESS)
-        }
+            replace,
+        } => modes_command(&scenario, count, out, replace),
         Command::Matrix {
             scenario,
             out,
             steps,
-        } => {
-            let sc = resolve(&Scenario::from_file(&scenario)?)?;
-            let out =
-                out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
-            let (rep, files) = softway::run::matrix::dump(&sc, &out, steps.map(|s| s as usize))?;
-            outln!(
-                "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
-                sc.name,
-                rep.n,
-                rep.nnz_a,
-                rep.symmetric,
-                rep.factor
-            );
-            for (name, nnz) in &rep.factor_nnz {
-                outln!("  nnz of the factors, {name}: {nnz}");
-            }
-            outln!("  softway free step: {:.1} us", rep.softway_step_us);
-            outln!("  wrote:");
-            for f in &files {
-                outln!("    {}", f.display());
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+        } => matrix_command(&scenario, out, steps),
         Command::Stability {
             alpha,
             gamma,
             out,
             spin_h,
             json,
-            replace: Replace { force },
-        } => {
-            if let Some(s) = spin_h {
-                if !(s.is_finite() && s > 0.0 && s <= 0.1) {
-                    return Err(format!(
-                        "--spin-h {s}: Omega*h must be in (0, 0.1] (the spin times the step)"
-                    )
-                    .into());
-                }
-            }
-            let gyro = spin_h.map(|s| softway::time::sdof::gyroscopic_table(alpha, gamma, s, 5));
-            if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
-                return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
-            }
-            if !(gamma.is_finite() && (0.0..=1.0).contains(&gamma)) {
-                return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
-            }
-            let rep = analyse(alpha, gamma, 5);
-            let files = match out {
-                Some(dir) => {
-                    let stage = StagedDir::begin(&dir, force)?;
-                    let files = softway::output::stability::write(&rep, stage.path())?;
-                    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-                    stage.commit()?;
-                    files
-                }
-                None => Vec::new(),
-            };
-            if json {
-                let j = serde_json::json!({
-                    "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
-                    "rho_inf": rep.rho_inf,
-                    "unconditionally_stable": rep.unconditionally_stable,
-                    "stability_limit_omega_h": rep.stability_limit_omega_h,
-                    "table": rep.table,
-                    "spin_h": spin_h,
-                    "gyroscopic": gyro,
-                });
-                outln!("{}", serde_json::to_string_pretty(&j)?);
-            } else {
-                {
-                    use std::io::Write as _;
-                    let _ = write!(
-                        std::io::stdout(),
-                        "{}",
-                        softway::output::stability::table_text(&rep)
-                    );
-                    if let (Some(s), Some(g)) = (spin_h, &gyro) {
-                        let _ = write!(
-                            std::io::stdout(),
-                            "{}",
-                            softway::output::stability::gyroscopic_text(s, g)
-                        );
-                    }
-                }
-                for f in files {
-                    outln!("wrote {}", f.display());
-                }
-            }
-            Ok(ExitCode::SUCCESS)
+            replace,
+        } => stability_command(alpha, gamma, out, spin_h, json, replace),
+    }
+}
+
+/// `softway run`: one scenario into its folder, with its report on standard output.
+fn run_command(
+    scenario: &Path,
+    out: Option<PathBuf>,
+    quiet: bool,
+    threads: Option<usize>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    set_threads("--threads", threads)?;
+    let sc = resolve(&Scenario::from_file(scenario)?)?;
+    check_estimate(&sc, yes)?;
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+    let stage = StagedDir::begin(&out, force)?;
+    let opts = RunOptions {
+        progress: !quiet,
+        par: threads.map(Par::threads),
+        cancel: cancel.clone(),
+    };
+    let report = run_scenario(&sc, stage.path(), &opts)?;
+    for w in &report.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!("{} ({})", sc.name, scenario.display());
+    for l in &report.lines {
+        outln!("  {l}");
+    }
+    outln!("  wrote:");
+    for f in &files {
+        outln!("    {}", f.display());
+    }
+    if report.interrupted {
+        errln!("softway: interrupted; the files above hold the steps computed so far");
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway sweep`: the scenario over the values of `--set` (or its `[sweep]` table).
+fn sweep_command(
+    scenario: &Path,
+    set: Option<String>,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    let text = std::fs::read_to_string(scenario)
+        .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+    let (key, values) = match set {
+        Some(s) => parse_set(&s)?,
+        None => sc.sweep.clone().ok_or_else(|| {
+            format!(
+                "{}: no [sweep] table and no --set KEY=V1,V2,...",
+                scenario.display()
+            )
+        })?,
+    };
+    check_ladder_estimate(scenario, &text, &key, &values, yes)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
+    set_threads("--jobs", jobs)?;
+    let stage = StagedDir::begin(&out, force)?;
+    let (points, files) =
+        softway::run::sweep::sweep(scenario, &text, &key, &values, stage.path(), cancel)?;
+    for p in &points {
+        for w in &p.warnings {
+            errln!("softway: warning: {key} = {}: {w}", p.value);
         }
     }
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
+    stage.commit()?;
+    outln!("{}: {key} swept over {} values", sc.name, values.len());
+    print_table(&out.join("sweep.md"), &files);
+    for d in dirs {
+        outln!("    {}/", d.display());
+    }
+    if cancel.is_cancelled() {
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway converge`: the scenario over the refinement ladder of `--set`.
+fn converge_command(
+    scenario: &Path,
+    set: &str,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    let text = std::fs::read_to_string(scenario)
+        .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+    let (key, values) = parse_set(set)?;
+    check_ladder_estimate(scenario, &text, &key, &values, yes)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
+    set_threads("--jobs", jobs)?;
+    let stage = StagedDir::begin(&out, force)?;
+    let (_, files, warnings) =
+        softway::run::converge::converge(scenario, &text, &key, &values, stage.path(), cancel)?;
+    for w in &warnings {
+        errln!("softway: warning: {w}");
+    }
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!(
+        "{}: convergence of {key} over {} rungs",
+        sc.name,
+        values.len()
+    );
+    print_table(&out.join("converge.md"), &files);
+    if cancel.is_cancelled() {
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway compare`: the combinations of a bar scenario side by side.
+fn compare_command(
+    scenario: &Path,
+    out: Option<PathBuf>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let sc = resolve(&Scenario::from_file(scenario)?)?;
+    check_estimate(&sc, yes)?;
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+    let stage = StagedDir::begin(&out, force)?;
+    let opts = RunOptions {
+        cancel: cancel.clone(),
+        ..RunOptions::default()
+    };
+    let report = softway::run::compare::compare(&sc, stage.path(), &opts)?;
+    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    for l in &report.lines {
+        outln!("{l}");
+    }
+    outln!("wrote:");
+    for f in &files {
+        outln!("  {}", f.display());
+    }
+    if report.interrupted {
+        errln!("softway: interrupted: the table holds the runs finished before");
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU.
+fn modes_command(
+    scenario: &Path,
+    count: usize,
+    out: Option<PathBuf>,
+    Replace { force }: Replace,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    let softway::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
+        return Err(format!(
+            "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
+            scenario.display()
+        )
+        .into());
+    };
+    if count == 0 {
+        return Err("--count 0: ask for at least one mode".into());
+    }
+    let wm = softway::run::wheel::build(ws, &sc.path)?;
+    let rep = softway::modes::modes_report(&wm, count)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
+    let stage = StagedDir::begin(&out, force)?;
+    let files = softway::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+    stage.commit()?;
+    print_modes(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
+    outln!("wrote {} files into {}", files.len(), out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Prints the tables of `softway modes`: the rest modes, the spinning ones, the notes.
+fn print_modes(
+    name: &str,
+    rep: &softway::modes::ModesReport,
+    support: &softway::wheel::Support,
+    omega: f64,
+) {
+    outln!(
+        "{}: {} dofs ({} free), support {:?}",
+        name,
+        rep.dofs,
+        rep.free_dofs,
+        support
+    );
+    outln!("at rest:");
+    outln!(
+        "{:>5} {:>14} {:>12} {:>5}  kind",
+        "mode",
+        "frequency Hz",
+        "period us",
+        "n"
+    );
+    for (i, m) in rep.at_rest.iter().enumerate() {
+        outln!(
+            "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
+            i + 1,
+            m.frequency_hz,
+            m.period_us,
+            m.wavenumber
+                .map(|n| n.to_string())
+                .unwrap_or_else(|| "-".into()),
+            m.kind
+        );
+    }
+    if let Some(sp) = &rep.spinning {
+        outln!(
+            "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
+            omega
+        );
+        outln!(
+            "{:>5} {:>14} {:>14} {:>10}  kind",
+            "mode",
+            "frequency Hz",
+            "at rest Hz",
+            "whirl"
+        );
+        for (i, m) in sp.iter().enumerate() {
+            outln!(
+                "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
+                i + 1,
+                m.frequency_hz,
+                m.rest_frequency_hz,
+                m.whirl.to_string(),
+                m.kind
+            );
+        }
+    }
+    for n in &rep.notes {
+        outln!("note: {n}");
+    }
+}
+
+/// `softway matrix`: the step's matrices of a scenario's first run, and softway's time.
+fn matrix_command(scenario: &Path, out: Option<PathBuf>, steps: Option<u64>) -> CommandResult {
+    let sc = resolve(&Scenario::from_file(scenario)?)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
+    let (rep, files) = softway::run::matrix::dump(&sc, &out, steps.map(|s| s as usize))?;
+    outln!(
+        "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
+        sc.name,
+        rep.n,
+        rep.nnz_a,
+        rep.symmetric,
+        rep.factor
+    );
+    for (name, nnz) in &rep.factor_nnz {
+        outln!("  nnz of the factors, {name}: {nnz}");
+    }
+    outln!("  softway free step: {:.1} us", rep.softway_step_us);
+    outln!("  wrote:");
+    for f in &files {
+        outln!("    {}", f.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway stability`: the scheme's stability table, optionally written and with the
+/// Coriolis treatments compared.
+fn stability_command(
+    alpha: f64,
+    gamma: f64,
+    out: Option<PathBuf>,
+    spin_h: Option<f64>,
+    json: bool,
+    Replace { force }: Replace,
+) -> CommandResult {
+    if let Some(s) = spin_h {
+        if !(s.is_finite() && s > 0.0 && s <= 0.1) {
+            return Err(format!(
+                "--spin-h {s}: Omega*h must be in (0, 0.1] (the spin times the step)"
+            )
+            .into());
+        }
+    }
+    let gyro = spin_h.map(|s| softway::time::sdof::gyroscopic_table(alpha, gamma, s, 5));
+    if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+        return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
+    }
+    if !(gamma.is_finite() && (0.0..=1.0).contains(&gamma)) {
+        return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
+    }
+    let rep = analyse(alpha, gamma, 5);
+    let files = match out {
+        Some(dir) => {
+            let stage = StagedDir::begin(&dir, force)?;
+            let files = softway::output::stability::write(&rep, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
+            files
+        }
+        None => Vec::new(),
+    };
+    if json {
+        let j = serde_json::json!({
+            "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
+            "rho_inf": rep.rho_inf,
+            "unconditionally_stable": rep.unconditionally_stable,
+            "stability_limit_omega_h": rep.stability_limit_omega_h,
+            "table": rep.table,
+            "spin_h": spin_h,
+            "gyroscopic": gyro,
+        });
+        outln!("{}", serde_json::to_string_pretty(&j)?);
+    } else {
+        {
+            use std::io::Write as _;
+            let _ = write!(
+                std::io::stdout(),
+                "{}",
+                softway::output::stability::table_text(&rep)
+            );
+            if let (Some(s), Some(g)) = (spin_h, &gyro) {
+                let _ = write!(
+                    std::io::stdout(),
+                    "{}",
+                    softway::output::stability::gyroscopic_text(s, g)
+                );
+            }
+        }
+        for f in files {
+            outln!("wrote {}", f.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Refuses a built scenario whose estimated cost is beyond [`softway::build::Limits`]

@@ -476,46 +476,19 @@ pub fn spinning_analysis(model: &WheelModel, count: usize) -> Result<SpinAnalysi
     check_values(asm, &model.k_elastic, "stiffness")?;
     let free = FreeDofs::new(n, &model.fixed_dofs)?;
     free.check_size("spinning", MAX_SPINNING_DOFS)?;
-    let nf = free.len();
     let par = faer::get_global_parallelism();
     let l = cholesky_mass(asm, &model.model.m, &free)?;
 
     // Rest modes in the same coordinates q = L^T u, for matching.
-    let (rest, rest_scale) = unit_scaled(congruence(
+    let rest = RestModes::new(l.as_ref(), &free, asm, &model.k_elastic, par)?;
+    let state = StateSpace::new(
         l.as_ref(),
-        free.dense(asm, &model.k_elastic),
+        &free,
+        asm,
+        (&model.model.k, &model.model.c),
         par,
-        true,
-    ));
-    let rest = rest
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|_| ModesError::NoConvergence("self-adjoint"))?;
-    let rest_w: Vec<f64> = (0..nf)
-        .map(|i| (rest_scale * rest.S().column_vector()[i]).max(0.0).sqrt())
-        .collect();
-
-    let kt = congruence(l.as_ref(), free.dense(asm, &model.model.k), par, true);
-    let ct = congruence(l.as_ref(), free.dense(asm, &model.model.c), par, false);
-    let a = (0..nf).map(|i| kt[(i, i)]).fold(0.0, f64::max).sqrt();
-    let a = if a > 0.0 { a } else { 1.0 };
-    let mut big = Mat::<f64>::zeros(2 * nf, 2 * nf);
-    for i in 0..nf {
-        big[(i, nf + i)] = a;
-    }
-    for j in 0..nf {
-        for i in 0..nf {
-            big[(nf + i, j)] = -kt[(i, j)] / a;
-            big[(nf + i, nf + j)] = -ct[(i, j)];
-        }
-    }
-    let (big, scale) = unit_scaled(big);
-    let evd = big
-        .eigen()
-        .map_err(|_| ModesError::NoConvergence("nonsymmetric"))?;
-    let s = evd.S().column_vector();
-    let eigenvalues: Vec<[f64; 2]> = (0..2 * nf)
-        .map(|i| [scale * s[i].re, scale * s[i].im])
-        .collect();
+    )?;
+    let eigenvalues = &state.eigenvalues;
     let lmax = eigenvalues
         .iter()
         .map(|l| l[0].hypot(l[1]))
@@ -527,82 +500,20 @@ pub fn spinning_analysis(model: &WheelModel, count: usize) -> Result<SpinAnalysi
         0.0
     };
 
-    let mut modes = Vec::new();
-    // Zero-frequency eigenvalues: rigid pairs, then real ones one by one.
-    let zero: Vec<usize> = (0..2 * nf)
-        .filter(|&i| eigenvalues[i][1].abs() < tol)
-        .collect();
-    let rigid: Vec<usize> = zero
-        .iter()
-        .copied()
-        .filter(|&i| eigenvalues[i][0].abs() < tol)
-        .collect();
-    for pair in rigid.chunks(2) {
-        let growth = pair
-            .iter()
-            .map(|&i| eigenvalues[i][0])
-            .fold(f64::NEG_INFINITY, f64::max);
-        modes.push(zero_mode(growth, "rigid"));
-    }
-    for &i in zero.iter().filter(|&&i| eigenvalues[i][0].abs() >= tol) {
-        let re = eigenvalues[i][0];
-        modes.push(zero_mode(
-            re,
-            if re < 0.0 { "overdamped" } else { "divergent" },
-        ));
-    }
+    let mut modes = zero_frequency_modes(eigenvalues, tol);
     // Oscillating modes: Im lambda > 0, the lowest `count`.
-    let mut osc: Vec<usize> = (0..2 * nf).filter(|&i| eigenvalues[i][1] >= tol).collect();
+    let mut osc: Vec<usize> = (0..eigenvalues.len())
+        .filter(|&i| eigenvalues[i][1] >= tol)
+        .collect();
     osc.sort_by(|&x, &y| eigenvalues[x][1].total_cmp(&eigenvalues[y][1]));
     osc.truncate(count);
-    let u = evd.U();
     for &i in &osc {
-        // The eigenvector [a q, lambda q] as real and imaginary columns.
-        let mut z = Mat::<f64>::zeros(2 * nf, 2);
-        for r in 0..2 * nf {
-            z[(r, 0)] = u[(r, i)].re;
-            z[(r, 1)] = u[(r, i)].im;
-        }
-        // faer 0.24 returns inaccurate eigenvectors for (nearly) repeated eigenvalues, e.g.
-        // the pairs of equal frequencies without spin: those are recomputed by inverse
-        // iteration on the quadratic pencil from faer's vector.
-        if state_residual(big.as_ref(), z.as_ref(), s[i]) > MAX_RESIDUAL {
-            let lambda = faer::c64::new(eigenvalues[i][0], eigenvalues[i][1]);
-            let q = refine_on_pencil(&kt, &ct, lambda, z.subrows(0, nf));
-            for r in 0..nf {
-                let x = faer::c64::new(q[(r, 0)], q[(r, 1)]);
-                let y = lambda * x / scale;
-                (z[(r, 0)], z[(r, 1)]) = (a / scale * x.re, a / scale * x.im);
-                (z[(nf + r, 0)], z[(nf + r, 1)]) = (y.re, y.im);
-            }
-            check_residual(
-                "nonsymmetric",
-                state_residual(big.as_ref(), z.as_ref(), s[i]),
-            )?;
-        }
+        let z = state.eigenvector(i)?;
         // q = y1 / a (the scale does not matter for the ratios below).
-        let mut qre = z.subrows(0, nf).to_owned();
-        // Share of each rest mode: |X^T q|^2.
-        let proj = rest.U().transpose() * qre.as_ref();
-        let best = (0..nf)
-            .max_by(|&x, &y| {
-                let px = proj[(x, 0)].powi(2) + proj[(x, 1)].powi(2);
-                let py = proj[(y, 0)].powi(2) + proj[(y, 1)].powi(2);
-                px.total_cmp(&py)
-            })
-            .unwrap_or(0);
-        let wb = rest_w[best];
-        let near = |k: usize| (rest_w[k] - wb).abs() <= PAIR_TOLERANCE * wb;
-        let paired = (best > 0 && near(best - 1)) || (best + 1 < nf && near(best + 1));
-        // Shape u = L^-T q (real and imaginary parts), then its angular momentum.
-        solve_upper_triangular_in_place(l.as_ref().transpose(), qre.as_mut(), par);
-        let mut ure = vec![0.0; n];
-        let mut uim = vec![0.0; n];
-        for (f, &dof) in free.dofs.iter().enumerate() {
-            ure[dof] = qre[(f, 0)];
-            uim[dof] = qre[(f, 1)];
-        }
-        let j = angular_momentum(asm, &model.model.m, &ure, &uim, model.mesh.dim);
+        let qre = z.subrows(0, free.len()).to_owned();
+        let (best, paired) = rest.nearest(qre.as_ref());
+        let wb = rest.w[best];
+        let j = shape_angular_momentum(model, l.as_ref(), &free, qre, par);
         let whirl = if !paired || omega_frame == 0.0 || j == 0.0 {
             Whirl::Standing
         } else if j * omega_frame > 0.0 {
@@ -626,10 +537,210 @@ pub fn spinning_analysis(model: &WheelModel, count: usize) -> Result<SpinAnalysi
     }
     Ok(SpinAnalysis {
         modes,
-        eigenvalues,
+        eigenvalues: state.eigenvalues,
         zero_tolerance: tol,
         omega_frame,
     })
+}
+
+/// The rest modes in the coordinates `q = L^T u` of the spinning analysis, which the
+/// spinning modes are matched to.
+struct RestModes {
+    /// The eigendecomposition of the unit-scaled `L^-1 K L^-T` (`K` the elastic stiffness).
+    evd: faer::linalg::solvers::SelfAdjointEigen<f64>,
+    /// The circular frequencies, rad/s, increasing.
+    w: Vec<f64>,
+}
+
+impl RestModes {
+    /// The rest modes of the elastic stiffness `k_elastic` with the mass factor `l`.
+    fn new(
+        l: MatRef<'_, f64>,
+        free: &FreeDofs,
+        asm: &Assembler,
+        k_elastic: &[f64],
+        par: Par,
+    ) -> Result<Self, ModesError> {
+        let nf = free.len();
+        let (rest, rest_scale) = unit_scaled(congruence(l, free.dense(asm, k_elastic), par, true));
+        let rest = rest
+            .self_adjoint_eigen(Side::Lower)
+            .map_err(|_| ModesError::NoConvergence("self-adjoint"))?;
+        let rest_w: Vec<f64> = (0..nf)
+            .map(|i| (rest_scale * rest.S().column_vector()[i]).max(0.0).sqrt())
+            .collect();
+        Ok(Self {
+            evd: rest,
+            w: rest_w,
+        })
+    }
+
+    /// The rest mode with the largest share `|X^T q|^2` of `q = [Re q, Im q]`, and whether
+    /// it is one of a pair of (nearly) equal frequencies.
+    fn nearest(&self, qre: MatRef<'_, f64>) -> (usize, bool) {
+        let nf = self.w.len();
+        // Share of each rest mode: |X^T q|^2.
+        let proj = self.evd.U().transpose() * qre;
+        let best = (0..nf)
+            .max_by(|&x, &y| {
+                let px = proj[(x, 0)].powi(2) + proj[(x, 1)].powi(2);
+                let py = proj[(y, 0)].powi(2) + proj[(y, 1)].powi(2);
+                px.total_cmp(&py)
+            })
+            .unwrap_or(0);
+        let wb = self.w[best];
+        let near = |k: usize| (self.w[k] - wb).abs() <= PAIR_TOLERANCE * wb;
+        let paired = (best > 0 && near(best - 1)) || (best + 1 < nf && near(best + 1));
+        (best, paired)
+    }
+}
+
+/// The quadratic eigenproblem in `q = L^T u` as a state-space one,
+/// `B = [[0, a I], [-K~/a, -C~]]` for the state `[a q, lambda q]`, unit-scaled and solved.
+struct StateSpace {
+    /// `K~ = L^-1 K_eff L^-T`.
+    kt: Mat<f64>,
+    /// `C~ = L^-1 C L^-T`.
+    ct: Mat<f64>,
+    /// The scale `a = sqrt(max K~_ii)` of the state's first half (1 for a zero `K~`).
+    a: f64,
+    /// `B / scale`.
+    big: Mat<f64>,
+    /// `max |B_ij|`.
+    scale: f64,
+    /// The eigendecomposition of `B / scale`.
+    evd: faer::linalg::solvers::Eigen<f64>,
+    /// Every eigenvalue `lambda = [Re, Im]` of `B`, rad/s.
+    eigenvalues: Vec<[f64; 2]>,
+}
+
+impl StateSpace {
+    /// The state-space problem of the stiffness and damping values `(k, c)` with the mass
+    /// factor `l`.
+    fn new(
+        l: MatRef<'_, f64>,
+        free: &FreeDofs,
+        asm: &Assembler,
+        (k, c): (&[f64], &[f64]),
+        par: Par,
+    ) -> Result<Self, ModesError> {
+        let nf = free.len();
+        let kt = congruence(l, free.dense(asm, k), par, true);
+        let ct = congruence(l, free.dense(asm, c), par, false);
+        let a = (0..nf).map(|i| kt[(i, i)]).fold(0.0, f64::max).sqrt();
+        let a = if a > 0.0 { a } else { 1.0 };
+        let mut big = Mat::<f64>::zeros(2 * nf, 2 * nf);
+        for i in 0..nf {
+            big[(i, nf + i)] = a;
+        }
+        for j in 0..nf {
+            for i in 0..nf {
+                big[(nf + i, j)] = -kt[(i, j)] / a;
+                big[(nf + i, nf + j)] = -ct[(i, j)];
+            }
+        }
+        let (big, scale) = unit_scaled(big);
+        let evd = big
+            .eigen()
+            .map_err(|_| ModesError::NoConvergence("nonsymmetric"))?;
+        let s = evd.S().column_vector();
+        let eigenvalues: Vec<[f64; 2]> = (0..2 * nf)
+            .map(|i| [scale * s[i].re, scale * s[i].im])
+            .collect();
+        Ok(Self {
+            kt,
+            ct,
+            a,
+            big,
+            scale,
+            evd,
+            eigenvalues,
+        })
+    }
+
+    /// The eigenvector of eigenvalue `i`, `[a q, lambda q]`, as real and imaginary columns;
+    /// recomputed on the pencil when faer's is inaccurate.
+    fn eigenvector(&self, i: usize) -> Result<Mat<f64>, ModesError> {
+        let (nf, a, scale) = (self.kt.nrows(), self.a, self.scale);
+        let s = self.evd.S().column_vector();
+        let u = self.evd.U();
+        // The eigenvector [a q, lambda q] as real and imaginary columns.
+        let mut z = Mat::<f64>::zeros(2 * nf, 2);
+        for r in 0..2 * nf {
+            z[(r, 0)] = u[(r, i)].re;
+            z[(r, 1)] = u[(r, i)].im;
+        }
+        // faer 0.24 returns inaccurate eigenvectors for (nearly) repeated eigenvalues, e.g.
+        // the pairs of equal frequencies without spin: those are recomputed by inverse
+        // iteration on the quadratic pencil from faer's vector.
+        if state_residual(self.big.as_ref(), z.as_ref(), s[i]) > MAX_RESIDUAL {
+            let lambda = faer::c64::new(self.eigenvalues[i][0], self.eigenvalues[i][1]);
+            let q = refine_on_pencil(&self.kt, &self.ct, lambda, z.subrows(0, nf));
+            for r in 0..nf {
+                let x = faer::c64::new(q[(r, 0)], q[(r, 1)]);
+                let y = lambda * x / scale;
+                (z[(r, 0)], z[(r, 1)]) = (a / scale * x.re, a / scale * x.im);
+                (z[(nf + r, 0)], z[(nf + r, 1)]) = (y.re, y.im);
+            }
+            check_residual(
+                "nonsymmetric",
+                state_residual(self.big.as_ref(), z.as_ref(), s[i]),
+            )?;
+        }
+        Ok(z)
+    }
+}
+
+/// The zero-frequency modes among `eigenvalues` (`|Im lambda| < tol`): the rigid pairs,
+/// then the real ones one by one.
+fn zero_frequency_modes(eigenvalues: &[[f64; 2]], tol: f64) -> Vec<SpinMode> {
+    let mut modes = Vec::new();
+    // Zero-frequency eigenvalues: rigid pairs, then real ones one by one.
+    let zero: Vec<usize> = (0..eigenvalues.len())
+        .filter(|&i| eigenvalues[i][1].abs() < tol)
+        .collect();
+    let rigid: Vec<usize> = zero
+        .iter()
+        .copied()
+        .filter(|&i| eigenvalues[i][0].abs() < tol)
+        .collect();
+    for pair in rigid.chunks(2) {
+        let growth = pair
+            .iter()
+            .map(|&i| eigenvalues[i][0])
+            .fold(f64::NEG_INFINITY, f64::max);
+        modes.push(zero_mode(growth, "rigid"));
+    }
+    for &i in zero.iter().filter(|&&i| eigenvalues[i][0].abs() >= tol) {
+        let re = eigenvalues[i][0];
+        modes.push(zero_mode(
+            re,
+            if re < 0.0 { "overdamped" } else { "divergent" },
+        ));
+    }
+    modes
+}
+
+/// The angular momentum of the shape `u = L^-T q` of `q = [Re q, Im q]` (its real and
+/// imaginary parts, on every dof of `model`).
+fn shape_angular_momentum(
+    model: &WheelModel,
+    l: MatRef<'_, f64>,
+    free: &FreeDofs,
+    mut qre: Mat<f64>,
+    par: Par,
+) -> f64 {
+    let asm = &model.model.assembler;
+    let n = asm.pattern.nrows();
+    // Shape u = L^-T q (real and imaginary parts), then its angular momentum.
+    solve_upper_triangular_in_place(l.transpose(), qre.as_mut(), par);
+    let mut ure = vec![0.0; n];
+    let mut uim = vec![0.0; n];
+    for (f, &dof) in free.dofs.iter().enumerate() {
+        ure[dof] = qre[(f, 0)];
+        uim[dof] = qre[(f, 1)];
+    }
+    angular_momentum(asm, &model.model.m, &ure, &uim, model.mesh.dim)
 }
 
 /// Rest modes, and the spinning modes when the model spins (rotating frame, `omega != 0`)

@@ -319,13 +319,60 @@ fn build_mesh(
     names: &BTreeMap<(i32, i32), String>,
     path: &Path,
 ) -> Result<(Mesh, Vec<u64>), GmshError> {
-    let missing = |element: u64, node: u64| GmshError::MissingNode {
-        path: path.to_path_buf(),
-        element,
-        node,
-    };
+    check_counts(msh, path)?;
+    let (coords, entity_nodes) = node_coordinates(msh, path)?;
+    let physicals = entity_physicals(msh);
+    let (mut groups, triangles) = groups_and_triangles(msh, names, &physicals, &coords, path)?;
+    if triangles.is_empty() {
+        return Err(GmshError::NoTriangles {
+            path: path.to_path_buf(),
+        });
+    }
+    // Nodes classified on a grouped entity (e.g. a physical point without a point element).
+    for (&(dim, tag), list) in &entity_nodes {
+        for name in group_names(&physicals, names, dim, tag) {
+            groups.entry(name.clone()).or_default().extend(list);
+        }
+    }
+    let used = check_nodes(&coords, &triangles, &groups, path)?;
 
-    // The headers' counts against the blocks'.
+    // Compact renumbering in increasing tag order.
+    let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
+    let points: Vec<[f64; 2]> = used
+        .iter()
+        .map(|t| coords.get(t).copied().unwrap_or([f64::NAN; 2]))
+        .collect();
+    let idx = |t: &u64| index.get(t).copied().unwrap_or(0);
+    let mut cells: Vec<[usize; 3]> = triangles
+        .iter()
+        .map(|(_, t)| [idx(&t[0]), idx(&t[1]), idx(&t[2])])
+        .collect();
+
+    orient(&mut cells, &points, &triangles, path)?;
+
+    let node_sets = groups
+        .into_iter()
+        .map(|(name, set)| {
+            let mut v: Vec<usize> = set.iter().map(idx).collect();
+            v.sort_unstable();
+            v.dedup();
+            (name, v)
+        })
+        .collect();
+
+    Ok((
+        Mesh {
+            dim: 2,
+            points,
+            cells: Cells::Tri3(cells),
+            node_sets,
+        },
+        used.into_iter().collect(),
+    ))
+}
+
+/// The headers' counts of nodes and elements against the blocks'.
+fn check_counts(msh: &MshFile<u64, i32, f64>, path: &Path) -> Result<(), GmshError> {
     let mismatch = |section, what, announced: u64, found: usize| {
         let found = found as u64;
         (announced != found).then(|| GmshError::CountMismatch {
@@ -352,8 +399,26 @@ fn build_mesh(
             return Err(e);
         }
     }
+    Ok(())
+}
 
-    // Node coordinates by tag, and the nodes of each entity's node block.
+/// Node coordinates by Gmsh tag.
+type Coords = HashMap<u64, [f64; 2]>;
+
+/// The Gmsh tags of the nodes of each entity's node block, by `(dim, tag)`.
+type EntityNodes = HashMap<(i32, i32), Vec<u64>>;
+
+/// The named groups: the Gmsh tags of their nodes by name.
+type Groups = BTreeMap<String, BTreeSet<u64>>;
+
+/// The triangles: each with its Gmsh element tag and its nodes' tags.
+type Triangles = Vec<(u64, [u64; 3])>;
+
+/// Node coordinates by tag (each tag once), and the nodes of each entity's node block.
+fn node_coordinates(
+    msh: &MshFile<u64, i32, f64>,
+    path: &Path,
+) -> Result<(Coords, EntityNodes), GmshError> {
     let mut coords: HashMap<u64, [f64; 2]> = HashMap::new();
     let mut entity_nodes: HashMap<(i32, i32), Vec<u64>> = HashMap::new();
     if let Some(nodes) = &msh.data.nodes {
@@ -402,8 +467,11 @@ fn build_mesh(
             }
         }
     }
+    Ok((coords, entity_nodes))
+}
 
-    // Physical tags of each entity.
+/// The physical tags of each entity `(dim, tag)`.
+fn entity_physicals(msh: &MshFile<u64, i32, f64>) -> HashMap<(i32, i32), Vec<i32>> {
     let mut entity_physicals: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
     if let Some(entities) = &msh.data.entities {
         for p in &entities.points {
@@ -419,18 +487,41 @@ fn build_mesh(
             entity_physicals.insert((3, v.tag), v.physical_tags.clone());
         }
     }
-    let group_names = |dim: i32, tag: i32| -> Vec<&String> {
-        entity_physicals
-            .get(&(dim, tag))
-            .map(|phys| {
-                phys.iter()
-                    .filter_map(|&p| names.get(&(dim, p)).or_else(|| names.get(&(dim, -p))))
-                    .collect()
-            })
-            .unwrap_or_default()
-    };
+    entity_physicals
+}
 
-    // Named groups (possibly empty) and triangles.
+/// The names of the physical groups of the entity `(dim, tag)`.
+fn group_names<'a>(
+    entity_physicals: &HashMap<(i32, i32), Vec<i32>>,
+    names: &'a BTreeMap<(i32, i32), String>,
+    dim: i32,
+    tag: i32,
+) -> Vec<&'a String> {
+    entity_physicals
+        .get(&(dim, tag))
+        .map(|phys| {
+            phys.iter()
+                .filter_map(|&p| names.get(&(dim, p)).or_else(|| names.get(&(dim, -p))))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The named groups (possibly empty) with the nodes of their elements, and the triangles
+/// with their Gmsh tags; an element on a node without coordinates, or a surface element
+/// other than a 3-node triangle, is an error.
+fn groups_and_triangles(
+    msh: &MshFile<u64, i32, f64>,
+    names: &BTreeMap<(i32, i32), String>,
+    physicals: &HashMap<(i32, i32), Vec<i32>>,
+    coords: &Coords,
+    path: &Path,
+) -> Result<(Groups, Triangles), GmshError> {
+    let missing = |element: u64, node: u64| GmshError::MissingNode {
+        path: path.to_path_buf(),
+        element,
+        node,
+    };
     let mut groups: BTreeMap<String, BTreeSet<u64>> = names
         .values()
         .map(|name| (name.clone(), BTreeSet::new()))
@@ -461,7 +552,7 @@ fn build_mesh(
                     });
                 }
             }
-            for name in group_names(dim, tag) {
+            for name in group_names(physicals, names, dim, tag) {
                 let set = groups.entry(name.clone()).or_default();
                 for el in &block.elements {
                     for &n in &el.nodes {
@@ -474,19 +565,17 @@ fn build_mesh(
             }
         }
     }
-    if triangles.is_empty() {
-        return Err(GmshError::NoTriangles {
-            path: path.to_path_buf(),
-        });
-    }
-    // Nodes classified on a grouped entity (e.g. a physical point without a point element).
-    for (&(dim, tag), list) in &entity_nodes {
-        for name in group_names(dim, tag) {
-            groups.entry(name.clone()).or_default().extend(list);
-        }
-    }
+    Ok((groups, triangles))
+}
 
-    // Every node a triangle's vertex; no two at one position.
+/// The nodes of the triangles, in increasing tag order; every node must be a triangle's
+/// vertex and no two at one position.
+fn check_nodes(
+    coords: &Coords,
+    triangles: &[(u64, [u64; 3])],
+    groups: &Groups,
+    path: &Path,
+) -> Result<BTreeSet<u64>, GmshError> {
     let used: BTreeSet<u64> = triangles.iter().flat_map(|(_, t)| *t).collect();
     if let Some(&node) = coords.keys().filter(|t| !used.contains(t)).min() {
         let group = groups
@@ -515,40 +604,7 @@ fn build_mesh(
             y: w[0].1[1],
         });
     }
-
-    // Compact renumbering in increasing tag order.
-    let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
-    let points: Vec<[f64; 2]> = used
-        .iter()
-        .map(|t| coords.get(t).copied().unwrap_or([f64::NAN; 2]))
-        .collect();
-    let idx = |t: &u64| index.get(t).copied().unwrap_or(0);
-    let mut cells: Vec<[usize; 3]> = triangles
-        .iter()
-        .map(|(_, t)| [idx(&t[0]), idx(&t[1]), idx(&t[2])])
-        .collect();
-
-    orient(&mut cells, &points, &triangles, path)?;
-
-    let node_sets = groups
-        .into_iter()
-        .map(|(name, set)| {
-            let mut v: Vec<usize> = set.iter().map(idx).collect();
-            v.sort_unstable();
-            v.dedup();
-            (name, v)
-        })
-        .collect();
-
-    Ok((
-        Mesh {
-            dim: 2,
-            points,
-            cells: Cells::Tri3(cells),
-            node_sets,
-        },
-        used.into_iter().collect(),
-    ))
+    Ok(used)
 }
 
 /// Checks the triangle areas and makes all triangles counter-clockwise (see the module

@@ -92,6 +92,27 @@ fn pow2_ratio(a: usize, b: usize) -> Option<u32> {
 /// a power of two, a zone wider than half the rim or narrower than two sectors, a grading
 /// outside `[0.05, 2]`, a mesh beyond the node limit.
 pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
+    let (fine, step) = check_options(o)?;
+    let lat = Lattice::of(o, fine, step);
+    let leaves = quadtree_leaves(o, &lat)?;
+    let (keys, polys) = leaf_nodes(&lat, &leaves);
+    let index: HashMap<Key, usize> = keys.iter().enumerate().map(|(n, &k)| (k, n)).collect();
+    let points: Vec<[f64; 2]> = keys.iter().map(|&(j, i)| lat.point(j, i)).collect();
+    let (tris, leaf_tris) = triangulate(&lat, &leaves, &polys, &index, &points);
+    let mesh = zone_mesh(&lat, &keys, points, tris);
+    let (sources, exact) = relocation_sources(&lat, &leaves, &leaf_tris, &keys, &index, &mesh);
+    Ok(ZoneMesh {
+        mesh,
+        step,
+        centre: lat.centre,
+        sources,
+        exact_nodes: exact,
+    })
+}
+
+/// Checks the options; returns the finest level of the quadtree (the zone's rim pitch) and
+/// the angle of one sector.
+fn check_options(o: &ZoneOptions) -> Result<(u32, f64), MeshError> {
     for (name, v) in [("radius", o.radius), ("hub_radius", o.hub_radius)] {
         if !(v.is_finite() && v > 0.0) {
             return Err(MeshError::InvalidLength { name, value: v });
@@ -149,18 +170,13 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
             max: super::generators::MAX_NODES,
         });
     }
-    let rows = ((o.radius / o.hub_radius).ln() / (1.0 + step).ln())
-        .round()
-        .max(1.0) as usize;
-    let lat = Lattice {
-        levels: fine,
-        rows,
-        sectors: o.sectors,
-        hub: o.hub_radius,
-        radius: o.radius,
-        q_ln: (o.radius / o.hub_radius).ln() / rows as f64,
-        centre: -PI / 2.0,
-    };
+    Ok((fine, step))
+}
+
+/// The leaves of the quadtree: every root cell split while it is larger than the size
+/// wanted at its centre (module docs), sorted by level, ring and sector.
+fn quadtree_leaves(o: &ZoneOptions, lat: &Lattice) -> Result<Vec<Cell>, MeshError> {
+    let fine = lat.levels;
     let s_c = 2.0 * PI * o.radius / o.rim_nodes as f64;
     let s_f = 2.0 * PI * o.radius / o.zone_rim_nodes as f64;
     let size = |r: f64, th: f64| -> f64 {
@@ -176,10 +192,9 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
         };
         coarse.min(s_f + o.grading * dist)
     };
-    // Leaves of the quadtree.
     let mut leaves: Vec<Cell> = Vec::new();
     let mut stack: Vec<Cell> = Vec::new();
-    for ir in 0..rows {
+    for ir in 0..lat.rows {
         for it in 0..o.sectors {
             stack.push(Cell { level: 0, ir, it });
         }
@@ -209,37 +224,41 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
         }
     }
     leaves.sort_by_key(|c| (c.level, c.ir, c.it));
-    // Nodes: the leaves' corners, then the centres of the cells with hanging nodes.
-    let nt = lat.nt();
-    let key = |j: usize, i: usize| (j, i % nt);
+    Ok(leaves)
+}
+
+/// The nodes, sorted: the leaves' corners, then the centres of the cells with hanging
+/// nodes; and each leaf's polygon (its nodes round its sides, counter-clockwise from
+/// `(j0, i0)`).
+fn leaf_nodes(lat: &Lattice, leaves: &[Cell]) -> (Vec<Key>, Vec<Vec<Key>>) {
     let mut corner: HashMap<(usize, usize), usize> = HashMap::new();
-    for &c in &leaves {
+    for &c in leaves {
         let (j0, j1, i0, i1) = lat.span(c);
         for (j, i) in [(j0, i0), (j0, i1), (j1, i0), (j1, i1)] {
-            corner.entry(key(j, i)).or_insert(0);
+            corner.entry(lat.key(j, i)).or_insert(0);
         }
     }
     let polygon = |c: Cell| -> Vec<(usize, usize)> {
         let (j0, j1, i0, i1) = lat.span(c);
         let mut p = Vec::new();
         for i in i0..i1 {
-            if corner.contains_key(&key(j0, i)) {
-                p.push(key(j0, i));
+            if corner.contains_key(&lat.key(j0, i)) {
+                p.push(lat.key(j0, i));
             }
         }
         for j in j0..j1 {
-            if corner.contains_key(&key(j, i1)) {
-                p.push(key(j, i1));
+            if corner.contains_key(&lat.key(j, i1)) {
+                p.push(lat.key(j, i1));
             }
         }
         for i in (i0 + 1..=i1).rev() {
-            if corner.contains_key(&key(j1, i)) {
-                p.push(key(j1, i));
+            if corner.contains_key(&lat.key(j1, i)) {
+                p.push(lat.key(j1, i));
             }
         }
         for j in (j0 + 1..=j1).rev() {
-            if corner.contains_key(&key(j, i0)) {
-                p.push(key(j, i0));
+            if corner.contains_key(&lat.key(j, i0)) {
+                p.push(lat.key(j, i0));
             }
         }
         p
@@ -249,14 +268,23 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
     for (c, p) in leaves.iter().zip(&polys) {
         if p.len() > 4 {
             let (j0, j1, i0, i1) = lat.span(*c);
-            keys.push(key((j0 + j1) / 2, (i0 + i1) / 2));
+            keys.push(lat.key((j0 + j1) / 2, (i0 + i1) / 2));
         }
     }
     keys.sort_unstable();
     keys.dedup();
-    let index: HashMap<(usize, usize), usize> =
-        keys.iter().enumerate().map(|(n, &k)| (k, n)).collect();
-    let points: Vec<[f64; 2]> = keys.iter().map(|&(j, i)| lat.point(j, i)).collect();
+    (keys, polys)
+}
+
+/// The triangles, counter-clockwise: a leaf of four nodes is two triangles, one with
+/// hanging nodes a fan from its centre; and each leaf's range of triangles.
+fn triangulate(
+    lat: &Lattice,
+    leaves: &[Cell],
+    polys: &[Vec<Key>],
+    index: &HashMap<Key, usize>,
+    points: &[[f64; 2]],
+) -> (Vec<[usize; 3]>, Vec<(usize, usize)>) {
     let area = |t: [usize; 3]| {
         let (a, b, c) = (points[t[0]], points[t[1]], points[t[2]]);
         (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
@@ -264,7 +292,7 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
     let ccw = |t: [usize; 3]| if area(t) < 0.0 { [t[0], t[2], t[1]] } else { t };
     let mut tris: Vec<[usize; 3]> = Vec::new();
     let mut leaf_tris: Vec<(usize, usize)> = Vec::with_capacity(leaves.len());
-    for (c, p) in leaves.iter().zip(&polys) {
+    for (c, p) in leaves.iter().zip(polys) {
         let first = tris.len();
         let ids: Vec<usize> = p.iter().map(|k| index[k]).collect();
         if ids.len() == 4 {
@@ -274,25 +302,44 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
             tris.push(ccw([ids[0], ids[2], ids[3]]));
         } else {
             let (j0, j1, i0, i1) = lat.span(*c);
-            let m = index[&key((j0 + j1) / 2, (i0 + i1) / 2)];
+            let m = index[&lat.key((j0 + j1) / 2, (i0 + i1) / 2)];
             for k in 0..ids.len() {
                 tris.push(ccw([m, ids[k], ids[(k + 1) % ids.len()]]));
             }
         }
         leaf_tris.push((first, tris.len()));
     }
+    (tris, leaf_tris)
+}
+
+/// The mesh of the nodes `keys` at `points` and the triangles `tris`, with the node sets
+/// `"rim"` and `"hub"`.
+fn zone_mesh(lat: &Lattice, keys: &[Key], points: Vec<[f64; 2]>, tris: Vec<[usize; 3]>) -> Mesh {
     let rim: Vec<usize> = (0..keys.len()).filter(|&n| keys[n].0 == lat.nr()).collect();
     let hub: Vec<usize> = (0..keys.len()).filter(|&n| keys[n].0 == 0).collect();
     let mut node_sets = std::collections::BTreeMap::new();
     node_sets.insert("rim".to_string(), rim);
     node_sets.insert("hub".to_string(), hub);
-    let mesh = Mesh {
+    Mesh {
         dim: 2,
         points,
         cells: Cells::Tri3(tris),
         node_sets,
-    };
-    // Relocation sources: the node one sector ahead, else its triangle in the old mesh.
+    }
+}
+
+/// Relocation sources: per node, the node one sector ahead, else its triangle in the old
+/// mesh; and the count of the former.
+fn relocation_sources(
+    lat: &Lattice,
+    leaves: &[Cell],
+    leaf_tris: &[(usize, usize)],
+    keys: &[Key],
+    index: &HashMap<Key, usize>,
+    mesh: &Mesh,
+) -> (Vec<Source>, usize) {
+    let fine = lat.levels;
+    let rows = lat.rows;
     let leaf_of: HashMap<Cell, usize> = leaves.iter().enumerate().map(|(n, &c)| (c, n)).collect();
     let shift = 1usize << fine;
     let Cells::Tri3(tris) = &mesh.cells else {
@@ -300,8 +347,8 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
     };
     let mut sources = Vec::with_capacity(keys.len());
     let mut exact = 0;
-    for &(j, i) in &keys {
-        let from = key(j, i + shift);
+    for &(j, i) in keys {
+        let from = lat.key(j, i + shift);
         if let Some(&n) = index.get(&from) {
             sources.push(Source::Node(n));
             exact += 1;
@@ -333,13 +380,7 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
             weights: best.2,
         });
     }
-    Ok(ZoneMesh {
-        mesh,
-        step,
-        centre: lat.centre,
-        sources,
-        exact_nodes: exact,
-    })
+    (sources, exact)
 }
 
 /// Barycentric coordinates of `x` in triangle `t`.
@@ -362,6 +403,9 @@ fn wrap(a: f64) -> f64 {
     a
 }
 
+/// A node of the lattice of the finest level, `(j, i)` (module docs).
+type Key = (usize, usize);
+
 /// A quadtree cell: `level` 0 is a root cell (one ring, one sector).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 struct Cell {
@@ -383,6 +427,26 @@ struct Lattice {
 }
 
 impl Lattice {
+    /// The lattice of the options `o` with `levels` levels below the root cells of angle
+    /// `step`: rings about square, the zone centred below the wheel.
+    fn of(o: &ZoneOptions, levels: u32, step: f64) -> Self {
+        let rows = ((o.radius / o.hub_radius).ln() / (1.0 + step).ln())
+            .round()
+            .max(1.0) as usize;
+        Lattice {
+            levels,
+            rows,
+            sectors: o.sectors,
+            hub: o.hub_radius,
+            radius: o.radius,
+            q_ln: (o.radius / o.hub_radius).ln() / rows as f64,
+            centre: -PI / 2.0,
+        }
+    }
+    /// The key of the lattice point `(j, i)`: its angle index taken round the rim.
+    fn key(&self, j: usize, i: usize) -> Key {
+        (j, i % self.nt())
+    }
     fn m(&self) -> usize {
         1 << self.levels
     }

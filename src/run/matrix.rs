@@ -30,6 +30,7 @@ use crate::model::LinearModel;
 use crate::output::files::write_json;
 use crate::scenario::{Model, Scenario};
 use crate::time::step::{FactorChoice, Stepper};
+use crate::time::SpaceTimeParams;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -82,6 +83,107 @@ pub fn dump(
     steps: Option<usize>,
 ) -> Result<(MatrixReport, Vec<PathBuf>), RunError> {
     let run = &sc.runs[0];
+    let StepInputs {
+        model,
+        fixed,
+        u0,
+        v0,
+        f,
+    } = step_inputs(sc)?;
+    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    let bcs: Vec<(usize, f64)> = fixed.iter().map(|&d| (d, 0.0)).collect();
+    let sim_err = |e| RunError::Simulation {
+        run: run.label.clone(),
+        source: crate::simulation::SimError::Linalg(e),
+    };
+    let coriolis = match run.integrator {
+        crate::time::Integrator::SpaceTime { coriolis, .. } => coriolis,
+        _ => crate::time::Coriolis::Implicit,
+    };
+    let mut st = Stepper::with_options(&model, run.params, &bcs, FactorChoice::Auto, coriolis)
+        .map_err(sim_err)?;
+    let factor_nnz = factor_sizes(&model, run.params, &bcs, &st);
+    let n = model.n();
+    let a0: Vec<f64> = match st.skew() {
+        Some(_) => (0..n).map(|i| 1e-3 * (i as f64).cos()).collect(),
+        None => vec![0.0; n],
+    };
+    let (pattern, a, _, _) = st.matrices();
+    let symmetric = crate::linalg::is_symmetric(pattern, a, 1e-14);
+    let nnz_a = a.len();
+    let header = format!(
+        "softway: {} ({}), space-time step, alpha = {}, h = {:e} s",
+        sc.name, run.label, run.params.alpha, run.params.h
+    );
+    let mut files = write_matrices(out, &st, &header)?;
+    let with_a0 = st.skew().map(|_| ("a0.mtx", &a0));
+    for (name, values) in [("u0.mtx", &u0), ("v0.mtx", &v0), ("f.mtx", &f)]
+        .into_iter()
+        .chain(with_a0)
+    {
+        let path = out.join(name);
+        let mut s = format!(
+            "%%MatrixMarket matrix array real general\n% {header}\n{} 1\n",
+            values.len()
+        );
+        for v in values.iter() {
+            s.push_str(&format!("{v:e}\n"));
+        }
+        std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
+        files.push(path);
+    }
+    let path = out.join("fixed.txt");
+    let s: String = fixed.iter().map(|d| format!("{d}\n")).collect();
+    std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
+    files.push(path);
+    // softway's free step, timed as benches/step.rs does: median of five rounds.
+    let reps = steps
+        .unwrap_or((2_000_000 / (nnz_a + 1)).clamp(20, 20_000))
+        .max(1);
+    // On the threads of a run (`Simulation::set_par`): a team of the caller's pool's size.
+    let team = crate::linalg::team::Team::new(crate::linalg::team::Par::current());
+    st.set_team(&team);
+    let rounds = time_free_step(&mut st, [&u0, &v0, &a0, &f], n, reps);
+    let report = MatrixReport {
+        n,
+        nnz_a,
+        h_s: run.params.h,
+        alpha: run.params.alpha,
+        symmetric,
+        factor_nnz,
+        factor: match st.skew() {
+            Some(_) => format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
+            None => kind_name(st.factor_kind()),
+        },
+        softway_step_us: rounds[2],
+        factor_parts: st.factor_parts(),
+        threads: team.par().count(),
+        coriolis: st.coriolis().name().to_string(),
+    };
+    let path = out.join("matrix.json");
+    write_json(&path, &report).map_err(|e| RunError::output(&path, e))?;
+    files.push(path);
+    Ok((report, files))
+}
+
+/// The model and the state and load of the step timed (module docs).
+struct StepInputs {
+    /// The model.
+    model: LinearModel,
+    /// Its fixed dofs.
+    fixed: Vec<usize>,
+    /// The displacement.
+    u0: Vec<f64>,
+    /// The velocity.
+    v0: Vec<f64>,
+    /// The load.
+    f: Vec<f64>,
+}
+
+/// The step's inputs of the first run of `sc`: a wheel's spun-up model with a velocity
+/// `1e-3 sin(i)`, or a bar's initial state without load.
+fn step_inputs(sc: &Scenario) -> Result<StepInputs, RunError> {
+    let run = &sc.runs[0];
     let (model, fixed, u0, v0, f): (LinearModel, Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) =
         match &run.model {
             Model::Wheel(ws) => {
@@ -108,25 +210,31 @@ pub fn dump(
                 ))
             }
         };
-    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
-    let bcs: Vec<(usize, f64)> = fixed.iter().map(|&d| (d, 0.0)).collect();
-    let sim_err = |e| RunError::Simulation {
-        run: run.label.clone(),
-        source: crate::simulation::SimError::Linalg(e),
-    };
-    let coriolis = match run.integrator {
-        crate::time::Integrator::SpaceTime { coriolis, .. } => coriolis,
-        _ => crate::time::Coriolis::Implicit,
-    };
-    let mut st = Stepper::with_options(&model, run.params, &bcs, FactorChoice::Auto, coriolis)
-        .map_err(sim_err)?;
+    Ok(StepInputs {
+        model,
+        fixed,
+        u0,
+        v0,
+        f,
+    })
+}
+
+/// The stored entries of the factors of `A` by each factorization that factors it (a
+/// Cholesky factor only when softway's is one, `st`), and of softway's own with an
+/// extrapolated Coriolis term.
+fn factor_sizes(
+    model: &LinearModel,
+    params: SpaceTimeParams,
+    bcs: &[(usize, f64)],
+    st: &Stepper,
+) -> Vec<(String, usize)> {
     let mut factor_nnz = Vec::new();
     for kind in [
         FactorKind::Lu(Ordering::Colamd),
         FactorKind::Lu(Ordering::Amd),
         FactorKind::Llt,
     ] {
-        if let Ok(s) = Stepper::with_factor(&model, run.params, &bcs, FactorChoice::Kind(kind)) {
+        if let Ok(s) = Stepper::with_factor(model, params, bcs, FactorChoice::Kind(kind)) {
             // A Cholesky factor of an unsymmetric matrix is not a factor of it.
             if kind != FactorKind::Llt
                 || (st.factor_kind() == FactorKind::Llt && st.skew().is_none())
@@ -141,19 +249,14 @@ pub fn dump(
             st.factor_nnz(),
         ));
     }
-    let n = model.n();
-    let a0: Vec<f64> = match st.skew() {
-        Some(_) => (0..n).map(|i| 1e-3 * (i as f64).cos()).collect(),
-        None => vec![0.0; n],
-    };
+    factor_nnz
+}
+
+/// Writes `A.mtx`, `B.mtx`, `K.mtx` and with an extrapolated Coriolis term `G.mtx` into
+/// `out`, each under `header`; returns their paths.
+fn write_matrices(out: &Path, st: &Stepper, header: &str) -> Result<Vec<PathBuf>, RunError> {
     let (pattern, a, b, k) = st.matrices();
-    let symmetric = crate::linalg::is_symmetric(pattern, a, 1e-14);
-    let nnz_a = a.len();
     let mut files = Vec::new();
-    let header = format!(
-        "softway: {} ({}), space-time step, alpha = {}, h = {:e} s",
-        sc.name, run.label, run.params.alpha, run.params.h
-    );
     for (name, values, what) in [
         (
             "A.mtx",
@@ -181,66 +284,28 @@ pub fn dump(
             .map_err(|e| RunError::output(&path, e))?;
         files.push(path);
     }
-    let with_a0 = st.skew().map(|_| ("a0.mtx", &a0));
-    for (name, values) in [("u0.mtx", &u0), ("v0.mtx", &v0), ("f.mtx", &f)]
-        .into_iter()
-        .chain(with_a0)
-    {
-        let path = out.join(name);
-        let mut s = format!(
-            "%%MatrixMarket matrix array real general\n% {header}\n{} 1\n",
-            values.len()
-        );
-        for v in values.iter() {
-            s.push_str(&format!("{v:e}\n"));
-        }
-        std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
-        files.push(path);
-    }
-    let path = out.join("fixed.txt");
-    let s: String = fixed.iter().map(|d| format!("{d}\n")).collect();
-    std::fs::write(&path, s).map_err(|e| RunError::output(&path, e))?;
-    files.push(path);
-    // softway's free step, timed as benches/step.rs does: median of five rounds.
+    Ok(files)
+}
+
+/// The time of one free step of `n` dofs (right-hand side and solve from
+/// `[u0, v0, a0, f]`) in each of five rounds of `reps` steps, microseconds, sorted.
+fn time_free_step(
+    st: &mut Stepper,
+    [u0, v0, a0, f]: [&[f64]; 4],
+    n: usize,
+    reps: usize,
+) -> Vec<f64> {
     let mut rhs = vec![0.0; n];
-    let reps = steps
-        .unwrap_or((2_000_000 / (nnz_a + 1)).clamp(20, 20_000))
-        .max(1);
-    // On the threads of a run (`Simulation::set_par`): a team of the caller's pool's size.
-    let team = crate::linalg::team::Team::new(crate::linalg::team::Par::current());
-    st.set_team(&team);
-    let mut rounds = {
-        let mut rounds = Vec::with_capacity(5);
-        for _ in 0..5 {
-            let t = Instant::now();
-            for _ in 0..reps {
-                st.rhs_into(&u0, &v0, &a0, &f, &mut rhs);
-                st.solve(&mut rhs);
-            }
-            rounds.push(t.elapsed().as_secs_f64() / reps as f64 * 1e6);
-            std::hint::black_box(&rhs);
+    let mut rounds = Vec::with_capacity(5);
+    for _ in 0..5 {
+        let t = Instant::now();
+        for _ in 0..reps {
+            st.rhs_into(u0, v0, a0, f, &mut rhs);
+            st.solve(&mut rhs);
         }
-        rounds
-    };
+        rounds.push(t.elapsed().as_secs_f64() / reps as f64 * 1e6);
+        std::hint::black_box(&rhs);
+    }
     rounds.sort_by(f64::total_cmp);
-    let report = MatrixReport {
-        n,
-        nnz_a,
-        h_s: run.params.h,
-        alpha: run.params.alpha,
-        symmetric,
-        factor_nnz,
-        factor: match st.skew() {
-            Some(_) => format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
-            None => kind_name(st.factor_kind()),
-        },
-        softway_step_us: rounds[2],
-        factor_parts: st.factor_parts(),
-        threads: team.par().count(),
-        coriolis: st.coriolis().name().to_string(),
-    };
-    let path = out.join("matrix.json");
-    write_json(&path, &report).map_err(|e| RunError::output(&path, e))?;
-    files.push(path);
-    Ok((report, files))
+    rounds
 }

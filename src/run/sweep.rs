@@ -137,9 +137,34 @@ pub fn sweep(
     cancel: &Cancel,
 ) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
     let points = run_ladder(path, text, key, values, out, cancel)?;
-    let mut files = Vec::new();
     // Table: the key figures (wheel), or every scalar number of the summaries.
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
+    // With friction: the traction figures (nested in the summary's `traction`).
+    let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
+    let cols = table_columns(&points, is_wheel, with_traction);
+    let mut files = write_tables(out, key, &cols, &points)?;
+    // Fig. 15 for wheels.
+    let xs: Vec<f64> = points
+        .iter()
+        .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
+        .collect();
+    if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
+        files.extend(creep_curve(out, &points, &xs)?);
+    } else if is_wheel && xs.len() == points.len() {
+        let png = out.join("sweep.png");
+        let panes = [
+            oscillations_panel(key, &points, &xs),
+            force_panel(key, &points, &xs),
+        ];
+        panels(&png, &panes, 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    Ok((points, files))
+}
+
+/// The table's columns: the wheel's key figures (and with friction its traction figures,
+/// `traction/...`), or every scalar number of the summaries of other models.
+fn table_columns(points: &[SweepPoint], is_wheel: bool, with_traction: bool) -> Vec<String> {
     let mut cols: Vec<String> = if is_wheel {
         [
             "speed_km_h",
@@ -161,8 +186,6 @@ pub fn sweep(
     } else {
         Vec::new()
     };
-    // With friction: the traction figures (nested in the summary's `traction`).
-    let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
     if with_traction {
         for c in [
             "traction/creepage",
@@ -188,35 +211,49 @@ pub fn sweep(
             }
         }
     }
-    let cell = |p: &SweepPoint, c: &str| -> String {
-        let v = if c.contains('/') {
-            p.summary
-                .pointer(&format!("/{c}"))
-                .unwrap_or(&serde_json::Value::Null)
-        } else {
-            &p.summary[c]
-        };
-        match v {
-            serde_json::Value::Number(n) => match n.as_f64() {
-                Some(x) if n.is_f64() => format!("{x:.5}"),
-                _ => n.to_string(),
-            },
-            serde_json::Value::Array(a) => a
-                .iter()
-                .map(|x| x.to_string())
-                .collect::<Vec<_>>()
-                .join(" "),
-            _ => String::new(),
-        }
+    cols
+}
+
+/// The table's cell of point `p` in column `c` (a path `a/b` into the summary's nested
+/// objects): a float to five decimals, an array space-separated, nothing for the rest.
+fn table_cell(p: &SweepPoint, c: &str) -> String {
+    let v = if c.contains('/') {
+        p.summary
+            .pointer(&format!("/{c}"))
+            .unwrap_or(&serde_json::Value::Null)
+    } else {
+        &p.summary[c]
     };
+    match v {
+        serde_json::Value::Number(n) => match n.as_f64() {
+            Some(x) if n.is_f64() => format!("{x:.5}"),
+            _ => n.to_string(),
+        },
+        serde_json::Value::Array(a) => a
+            .iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(" "),
+        _ => String::new(),
+    }
+}
+
+/// Writes the table, a row per point, as `sweep.csv` and `sweep.md` into `out`.
+fn write_tables(
+    out: &Path,
+    key: &str,
+    cols: &[String],
+    points: &[SweepPoint],
+) -> Result<Vec<PathBuf>, RunError> {
+    let mut files = Vec::new();
     let mut csv = format!("{key},{}\n", cols.join(","));
     let mut md = format!(
         "| {key} | {} |\n|{}|\n",
         cols.join(" | "),
         vec!["---"; cols.len() + 1].join("|")
     );
-    for p in &points {
-        let row: Vec<String> = cols.iter().map(|c| cell(p, c)).collect();
+    for p in points {
+        let row: Vec<String> = cols.iter().map(|c| table_cell(p, c)).collect();
         let _ = writeln!(csv, "{},{}", p.value, row.join(","));
         let _ = writeln!(md, "| {} | {} |", p.value, row.join(" | "));
     }
@@ -225,110 +262,111 @@ pub fn sweep(
         write_atomic(&f, body.as_bytes()).map_err(|e| RunError::output(&f, e))?;
         files.push(f);
     }
-    // Fig. 15 for wheels.
-    let xs: Vec<f64> = points
+    Ok(files)
+}
+
+/// Fig. 15's upper panel: the oscillations of the contact force per turn against the
+/// swept values `xs` (peaks counted, the bounce rolling and held, the strongest locked
+/// component).
+fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
+    let osc: Vec<f64> = points
         .iter()
-        .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
+        .map(|p| {
+            let v: Vec<f64> = p.summary["oscillations_per_turn"]
+                .as_array()
+                .map(|a| a.iter().skip(1).filter_map(|x| x.as_f64()).collect())
+                .unwrap_or_default();
+            if v.is_empty() {
+                f64::NAN
+            } else {
+                v.iter().sum::<f64>() / v.len() as f64
+            }
+        })
         .collect();
-    if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
-        files.extend(creep_curve(out, &points, &xs)?);
-    } else if is_wheel && xs.len() == points.len() {
-        let osc: Vec<f64> = points
+    let num = |p: &SweepPoint, k: &str| p.summary[k].as_f64().unwrap_or(f64::NAN);
+    // The fixed-frequency component (the bounce), counted per turn.
+    let fixed: Vec<f64> = points
+        .iter()
+        .map(|p| num(p, "fixed_frequency_cycles_per_turn"))
+        .collect();
+    // The bounce computed with the contact held, as cycles per turn: f_b 2 pi / omega.
+    let held: Vec<f64> = points
+        .iter()
+        .zip(xs)
+        .map(|(p, &w)| num(p, "bounce_frequency_hz") * 2.0 * std::f64::consts::PI / w)
+        .collect();
+    // The strongest component locked to the rotation.
+    let locked: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            p.summary["spectral_components"]
+                .as_array()
+                .and_then(|cs| cs.iter().find(|c| c["kind"]["type"] == "locked"))
+                .and_then(|c| c["kind"]["cycles_per_turn"].as_f64())
+                .unwrap_or(f64::NAN)
+        })
+        .collect();
+    let mut p1 = Panel::new(
+        "Oscillations of the contact force per turn (Fig. 15)",
+        format!("{key} [rad/s]"),
+        "cycles per turn",
+    );
+    p1.series.push(Series::new(
+        "peaks counted (the paper's rule, mean of turns 2..)",
+        xs.to_vec(),
+        osc,
+        SeriesStyle::LineMarkers,
+    ));
+    p1.series.push(Series::new(
+        "fixed-frequency component (bounce), rolling",
+        xs.to_vec(),
+        fixed,
+        SeriesStyle::LineMarkers,
+    ));
+    p1.series.push(Series::new(
+        "bounce with the contact held, f_b 2 pi / omega",
+        xs.to_vec(),
+        held,
+        SeriesStyle::Line,
+    ));
+    p1.series.push(Series::new(
+        "strongest component locked to the rotation",
+        xs.to_vec(),
+        locked,
+        SeriesStyle::LineMarkers,
+    ));
+    p1
+}
+
+/// Fig. 15's lower panel: the maximal contact force over the turns against the swept
+/// values `xs`, with the mean and the minimum beside it.
+fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
+    let force = |k: &str| -> Vec<f64> {
+        points
             .iter()
-            .map(|p| {
-                let v: Vec<f64> = p.summary["oscillations_per_turn"]
-                    .as_array()
-                    .map(|a| a.iter().skip(1).filter_map(|x| x.as_f64()).collect())
-                    .unwrap_or_default();
-                if v.is_empty() {
-                    f64::NAN
-                } else {
-                    v.iter().sum::<f64>() / v.len() as f64
-                }
-            })
-            .collect();
-        let num = |p: &SweepPoint, k: &str| p.summary[k].as_f64().unwrap_or(f64::NAN);
-        // The fixed-frequency component (the bounce), counted per turn.
-        let fixed: Vec<f64> = points
-            .iter()
-            .map(|p| num(p, "fixed_frequency_cycles_per_turn"))
-            .collect();
-        // The bounce computed with the contact held, as cycles per turn: f_b 2 pi / omega.
-        let held: Vec<f64> = points
-            .iter()
-            .zip(&xs)
-            .map(|(p, &w)| num(p, "bounce_frequency_hz") * 2.0 * std::f64::consts::PI / w)
-            .collect();
-        // The strongest component locked to the rotation.
-        let locked: Vec<f64> = points
-            .iter()
-            .map(|p| {
-                p.summary["spectral_components"]
-                    .as_array()
-                    .and_then(|cs| cs.iter().find(|c| c["kind"]["type"] == "locked"))
-                    .and_then(|c| c["kind"]["cycles_per_turn"].as_f64())
-                    .unwrap_or(f64::NAN)
-            })
-            .collect();
-        let force = |k: &str| -> Vec<f64> {
-            points
-                .iter()
-                .map(|p| p.summary[k].as_f64().unwrap_or(f64::NAN))
-                .collect()
-        };
-        let mut p1 = Panel::new(
-            "Oscillations of the contact force per turn (Fig. 15)",
-            format!("{key} [rad/s]"),
-            "cycles per turn",
-        );
-        p1.series.push(Series::new(
-            "peaks counted (the paper's rule, mean of turns 2..)",
-            xs.clone(),
-            osc,
+            .map(|p| p.summary[k].as_f64().unwrap_or(f64::NAN))
+            .collect()
+    };
+    // The maximal force with the mean and the minimum beside it, so that its change with
+    // the speed reads against the force itself.
+    let mut p2 = Panel::new(
+        "Contact force over the turns: maximum, mean and minimum",
+        format!("{key} [rad/s]"),
+        "contact force [N]",
+    );
+    for (label, k) in [
+        ("max over the turns", "max_contact_force"),
+        ("mean", "mean_contact_force"),
+        ("min over the turns", "min_contact_force"),
+    ] {
+        p2.series.push(Series::new(
+            label,
+            xs.to_vec(),
+            force(k),
             SeriesStyle::LineMarkers,
         ));
-        p1.series.push(Series::new(
-            "fixed-frequency component (bounce), rolling",
-            xs.clone(),
-            fixed,
-            SeriesStyle::LineMarkers,
-        ));
-        p1.series.push(Series::new(
-            "bounce with the contact held, f_b 2 pi / omega",
-            xs.clone(),
-            held,
-            SeriesStyle::Line,
-        ));
-        p1.series.push(Series::new(
-            "strongest component locked to the rotation",
-            xs.clone(),
-            locked,
-            SeriesStyle::LineMarkers,
-        ));
-        // The maximal force with the mean and the minimum beside it, so that its change with
-        // the speed reads against the force itself.
-        let mut p2 = Panel::new(
-            "Contact force over the turns: maximum, mean and minimum",
-            format!("{key} [rad/s]"),
-            "contact force [N]",
-        );
-        for (label, k) in [
-            ("max over the turns", "max_contact_force"),
-            ("mean", "mean_contact_force"),
-            ("min over the turns", "min_contact_force"),
-        ] {
-            p2.series.push(Series::new(
-                label,
-                xs.clone(),
-                force(k),
-                SeriesStyle::LineMarkers,
-            ));
-        }
-        let png = out.join("sweep.png");
-        panels(&png, &[p1, p2], 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
-        files.push(png);
     }
-    Ok((points, files))
+    p2
 }
 
 /// The creep curve of a creepage sweep (`creep_curve.png`, `creep_curve.csv`): the traction

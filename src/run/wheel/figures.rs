@@ -30,14 +30,50 @@ pub fn write(
     r: &WheelResults,
     profile: &RimProfile,
 ) -> Result<Vec<PathBuf>, RunError> {
-    use rayon::prelude::*;
-    let mut jobs: Vec<Job> = Vec::new();
     let omega = summary.omega;
-    let (t_settle, turn_time, h) = (r.timeline.t_settle, r.timeline.turn_time, r.timeline.h);
+    let mut jobs: Vec<Job> = Vec::from(force_figures(out, summary, r));
+    jobs.extend(spectrum_figure(out, r));
+    jobs.extend(rim_profile_figure(out, omega, profile));
+    jobs.extend(turn_average_maps(out, wm, r, omega));
+    // Fig. 17: velocity fields, the largest figure: drawn first.
+    let mut first = None;
+    if let Some(job) = velocity_fields_figure(out, wm, r) {
+        first = Some(jobs.len());
+        jobs.push(job);
+    }
+    draw(jobs, first)
+}
+
+/// Draws the figures side by side, `first` first and then the others as listed; returns
+/// their paths as listed.
+fn draw(jobs: Vec<Job>, first: Option<usize>) -> Result<Vec<PathBuf>, RunError> {
+    use rayon::prelude::*;
+    // Drawn in the order (largest first, then as listed), returned as listed.
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    if let Some(k) = first {
+        order[..=k].rotate_right(1);
+    }
+    let mut slots: Vec<Option<Job>> = jobs.into_iter().map(Some).collect();
+    let drawn: Vec<(usize, Job)> = order
+        .iter()
+        .map(|&k| (k, slots[k].take().expect("each job once")))
+        .collect();
+    let mut files: Vec<(usize, PathBuf)> = drawn
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|(k, job)| job().map(|png| (k, png)))
+        .collect::<Result<_, _>>()?;
+    files.sort_by_key(|f| f.0);
+    Ok(files.into_iter().map(|f| f.1).collect())
+}
+
+/// Fig. 12, the contact force over the turns, and Fig. 13, a zoom on a quarter of the last
+/// turn.
+fn force_figures<'a>(out: &'a Path, summary: &WheelSummary, r: &WheelResults) -> [Job<'a>; 2] {
+    let omega = summary.omega;
+    let (t_settle, turn_time) = (r.timeline.t_settle, r.timeline.turn_time);
     let full_turns = r.timeline.full_turns();
     let mean = r.forces.mean;
-    let (rot_hz, node_pass_hz) = (r.forces.rotation_hz, r.forces.node_passing_hz);
-    let base = wm.base();
     // Fig. 12: force over the turns.
     let (plot_t, plot_f) = &r.forces.plot;
     let turns_axis: Vec<f64> = plot_t.iter().map(|t| (t - t_settle) / turn_time).collect();
@@ -57,11 +93,6 @@ pub fn write(
     ));
     p.hlines
         .push((mean, format!("mean over the turns {mean:.3e} N")));
-    jobs.push(Box::new(move || {
-        let png = out.join("contact_force.png");
-        line_plot(&png, &p, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
-        Ok(png)
-    }));
     // Fig. 13: a zoom on a quarter of the last turn.
     let z0 = full_turns - 1.0;
     let mut pz = Panel::new(
@@ -76,83 +107,110 @@ pub fn write(
         SeriesStyle::Line,
     ));
     pz.x_range = Some((z0, z0 + 0.25));
-    jobs.push(Box::new(move || {
-        let png = out.join("contact_force_zoom.png");
-        line_plot(&png, &pz, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
-        Ok(png)
-    }));
-    // Spectrum.
-    if !r.forces.spectrum.frequency_hz.is_empty() {
-        let (lo, hi) = (0.5 * rot_hz, (20.0 * node_pass_hz).min(0.5 / h));
-        let mut ps = Panel::new(
-            "Amplitude spectrum of the contact force (rolling phase; largest peak per log bin)",
-            "frequency [Hz]",
-            "amplitude [N]",
-        );
-        ps.x_log = true;
-        ps.y_log = true;
-        ps.x_range = Some((lo, hi));
-        let (f, a) = peak_envelope(
-            &r.forces.spectrum.frequency_hz,
-            &r.forces.spectrum.amplitude,
-            lo,
-            hi,
-            1200,
-        );
-        // Five decades below the largest peak.
-        let amax = a.iter().cloned().fold(0.0, f64::max);
-        let (f, a): (Vec<f64>, Vec<f64>) = f
-            .into_iter()
-            .zip(a)
-            .filter(|(_, x)| *x >= amax * 1e-5)
-            .unzip();
-        ps.y_range = Some((amax * 1e-5, amax * 2.0));
-        ps.series
-            .push(Series::new("amplitude", f, a, SeriesStyle::Line));
-        jobs.push(Box::new(move || {
-            let png = out.join("spectrum.png");
-            line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+    [
+        Box::new(move || {
+            let png = out.join("contact_force.png");
+            line_plot(&png, &p, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
             Ok(png)
-        }));
+        }),
+        Box::new(move || {
+            let png = out.join("contact_force_zoom.png");
+            line_plot(&png, &pz, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+            Ok(png)
+        }),
+    ]
+}
+
+/// The amplitude spectrum of the contact force (none without one).
+fn spectrum_figure<'a>(out: &'a Path, r: &WheelResults) -> Option<Job<'a>> {
+    if r.forces.spectrum.frequency_hz.is_empty() {
+        return None;
     }
+    let h = r.timeline.h;
+    let (rot_hz, node_pass_hz) = (r.forces.rotation_hz, r.forces.node_passing_hz);
+    let (lo, hi) = (0.5 * rot_hz, (20.0 * node_pass_hz).min(0.5 / h));
+    let mut ps = Panel::new(
+        "Amplitude spectrum of the contact force (rolling phase; largest peak per log bin)",
+        "frequency [Hz]",
+        "amplitude [N]",
+    );
+    ps.x_log = true;
+    ps.y_log = true;
+    ps.x_range = Some((lo, hi));
+    let (f, a) = peak_envelope(
+        &r.forces.spectrum.frequency_hz,
+        &r.forces.spectrum.amplitude,
+        lo,
+        hi,
+        1200,
+    );
+    // Five decades below the largest peak.
+    let amax = a.iter().cloned().fold(0.0, f64::max);
+    let (f, a): (Vec<f64>, Vec<f64>) = f
+        .into_iter()
+        .zip(a)
+        .filter(|(_, x)| *x >= amax * 1e-5)
+        .unzip();
+    ps.y_range = Some((amax * 1e-5, amax * 2.0));
+    ps.series
+        .push(Series::new("amplitude", f, a, SeriesStyle::Line));
+    Some(Box::new(move || {
+        let png = out.join("spectrum.png");
+        line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+        Ok(png)
+    }))
+}
+
+/// The rim profile of the turn-averaged J2 against the angle, as the departure from its
+/// mean (none without a profile).
+fn rim_profile_figure<'a>(out: &'a Path, omega: f64, profile: &RimProfile) -> Option<Job<'a>> {
     // The rim profile of the turn-averaged J2 and von Mises: at the rim nodes (recovered
     // from the elements round each), against the angle (where a corrugation pattern would
     // show).
     let (angles, j2_rim) = (&profile.angles_deg, &profile.j2_mpa2);
-    if !angles.is_empty() {
-        // Drawn as the departure from the mean, in percent: in steady rolling every rim
-        // point passes through the same history, so a flat line is the wheel's answer and
-        // what departs from it reads against its size.
-        let m = j2_rim.iter().sum::<f64>() / j2_rim.len() as f64;
-        let mut pr = Panel::new(
-            format!(
-                "Turn-averaged J2 at the rim nodes, omega = {omega} rad/s ({} rim nodes; mean {m:.4e} MPa²)",
-                angles.len()
-            ),
-            "angle of the rim node [deg]",
-            "J2 / mean - 1 [%]",
-        );
-        pr.series.push(Series::new(
-            "J2, turn average",
-            angles.clone(),
-            // A run stopped before its turn average began has J2 = 0 everywhere: no
-            // departure to draw.
-            j2_rim
-                .iter()
-                .map(|j| if m > 0.0 { 100.0 * (j / m - 1.0) } else { 0.0 })
-                .collect(),
-            SeriesStyle::Line,
-        ));
-        pr.hlines.push((0.0, "the mean".to_string()));
-        pr.x_range = Some((-180.0, 180.0));
-        jobs.push(Box::new(move || {
-            let png = out.join("j2_rim_profile.png");
-            line_plot(&png, &pr, (1400, 600)).map_err(|e| RunError::output(&png, e))?;
-            Ok(png)
-        }));
+    if angles.is_empty() {
+        return None;
     }
-    // Figs. 14/16: J2 turn average (none with a moving zone: module docs of
-    // crate::run::wheel).
+    // Drawn as the departure from the mean, in percent: in steady rolling every rim
+    // point passes through the same history, so a flat line is the wheel's answer and
+    // what departs from it reads against its size.
+    let m = j2_rim.iter().sum::<f64>() / j2_rim.len() as f64;
+    let mut pr = Panel::new(
+        format!(
+            "Turn-averaged J2 at the rim nodes, omega = {omega} rad/s ({} rim nodes; mean {m:.4e} MPa²)",
+            angles.len()
+        ),
+        "angle of the rim node [deg]",
+        "J2 / mean - 1 [%]",
+    );
+    pr.series.push(Series::new(
+        "J2, turn average",
+        angles.clone(),
+        // A run stopped before its turn average began has J2 = 0 everywhere: no
+        // departure to draw.
+        j2_rim
+            .iter()
+            .map(|j| if m > 0.0 { 100.0 * (j / m - 1.0) } else { 0.0 })
+            .collect(),
+        SeriesStyle::Line,
+    ));
+    pr.hlines.push((0.0, "the mean".to_string()));
+    pr.x_range = Some((-180.0, 180.0));
+    Some(Box::new(move || {
+        let png = out.join("j2_rim_profile.png");
+        line_plot(&png, &pr, (1400, 600)).map_err(|e| RunError::output(&png, e))?;
+        Ok(png)
+    }))
+}
+
+/// Figs. 14/16: the maps of the turn-averaged J2 and von Mises (none with a moving zone:
+/// module docs of [`crate::run::wheel`]).
+fn turn_average_maps<'a>(
+    out: &'a Path,
+    wm: &'a WheelModel,
+    r: &'a WheelResults,
+    omega: f64,
+) -> Vec<Job<'a>> {
     let maps = if r.fields.j2_mpa2.is_empty() {
         Vec::new()
     } else {
@@ -171,6 +229,7 @@ pub fn write(
             ),
         ]
     };
+    let mut jobs: Vec<Job<'a>> = Vec::new();
     for (name, vals, label, title) in maps {
         jobs.push(Box::new(move || {
             let png = out.join(name);
@@ -207,64 +266,55 @@ pub fn write(
             Ok(png)
         }));
     }
-    // Fig. 17: velocity fields, the largest figure: drawn first.
-    let mut first = None;
-    if !r.snapshots.v.is_empty() {
-        first = Some(jobs.len());
-        jobs.push(Box::new(move || {
-            let vecs: Vec<Vec<[f64; 2]>> = r
-                .snapshots
-                .v
-                .iter()
-                .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
-                .collect();
-            let frames: Vec<MeshVectorField> = vecs
-                .iter()
-                .zip(&r.snapshots.t)
-                .map(|(v, t)| MeshVectorField {
-                    points: &wm.mesh.points,
-                    triangles: &wm.triangles,
-                    vectors: v,
-                    title: if wm.zone.is_some() {
-                        // The zone's frame turns with the base, sector by sector.
-                        format!(
-                            "base at {:.0} deg, drawn in the zone's frame",
-                            base.angle(*t).to_degrees().rem_euclid(360.0)
-                        )
-                    } else {
-                        format!(
-                            "base at {:.0} deg",
-                            base.angle(*t).to_degrees().rem_euclid(360.0)
-                        )
-                    },
-                    colorbar_label: "velocity in the wheel's frame [m/s]".into(),
-                    length_unit_scale: 100.0,
-                    length_unit: "cm".into(),
-                })
-                .collect();
-            let png = out.join("velocity_fields.png");
-            mesh_vector_fields(&png, &frames, 4, (1800, 1000))
-                .map_err(|e| RunError::output(&png, e))?;
-            Ok(png)
-        }));
+    jobs
+}
+
+/// Fig. 17: the velocity fields of the last turn (none without snapshots).
+fn velocity_fields_figure<'a>(
+    out: &'a Path,
+    wm: &'a WheelModel,
+    r: &'a WheelResults,
+) -> Option<Job<'a>> {
+    if r.snapshots.v.is_empty() {
+        return None;
     }
-    // Drawn in the order (largest first, then as listed), returned as listed.
-    let mut order: Vec<usize> = (0..jobs.len()).collect();
-    if let Some(k) = first {
-        order[..=k].rotate_right(1);
-    }
-    let mut slots: Vec<Option<Job>> = jobs.into_iter().map(Some).collect();
-    let drawn: Vec<(usize, Job)> = order
-        .iter()
-        .map(|&k| (k, slots[k].take().expect("each job once")))
-        .collect();
-    let mut files: Vec<(usize, PathBuf)> = drawn
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|(k, job)| job().map(|png| (k, png)))
-        .collect::<Result<_, _>>()?;
-    files.sort_by_key(|f| f.0);
-    Ok(files.into_iter().map(|f| f.1).collect())
+    let base = wm.base();
+    Some(Box::new(move || {
+        let vecs: Vec<Vec<[f64; 2]>> = r
+            .snapshots
+            .v
+            .iter()
+            .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
+            .collect();
+        let frames: Vec<MeshVectorField> = vecs
+            .iter()
+            .zip(&r.snapshots.t)
+            .map(|(v, t)| MeshVectorField {
+                points: &wm.mesh.points,
+                triangles: &wm.triangles,
+                vectors: v,
+                title: if wm.zone.is_some() {
+                    // The zone's frame turns with the base, sector by sector.
+                    format!(
+                        "base at {:.0} deg, drawn in the zone's frame",
+                        base.angle(*t).to_degrees().rem_euclid(360.0)
+                    )
+                } else {
+                    format!(
+                        "base at {:.0} deg",
+                        base.angle(*t).to_degrees().rem_euclid(360.0)
+                    )
+                },
+                colorbar_label: "velocity in the wheel's frame [m/s]".into(),
+                length_unit_scale: 100.0,
+                length_unit: "cm".into(),
+            })
+            .collect();
+        let png = out.join("velocity_fields.png");
+        mesh_vector_fields(&png, &frames, 4, (1800, 1000))
+            .map_err(|e| RunError::output(&png, e))?;
+        Ok(png)
+    }))
 }
 
 /// The turn-averaged J2 and von Mises at the rim nodes (`rim_profile`: area-weighted over

@@ -1,0 +1,245 @@
+//! A run's validation: one `[[runs]]` entry (or the top-level settings alone) over the
+//! scenario's [`Base`], stage by stage: its time, model, contact treatment, integrator,
+//! their combination, friction, the wheel's refusals and the step.
+
+use super::super::combinations::{check_combination, Culprit, ModelKind};
+use super::super::raw::RawRun;
+use super::super::{Contact, Model, RunSpec, ScenarioError, TimeStep};
+use super::{friction_law, wheel, Base, Ctx};
+use crate::contact::FrictionLaw;
+use crate::time::Integrator;
+
+/// Run `i` (`[[runs]]` entry `r`, or the top-level settings alone): its overrides over
+/// `base`, each setting checked under the key it came from (`runs[i].x` or `table.x`).
+pub(super) fn run_spec(
+    cx: &Ctx,
+    i: usize,
+    r: &RawRun,
+    base: &Base,
+) -> Result<RunSpec, ScenarioError> {
+    let keys = RunKeys(i);
+    let (alpha, gamma, h) = run_time(cx, &keys, r, base)?;
+    let mut model = run_model(cx, &keys, r, base)?;
+    let (method_key, method_name, run_contact) = run_contact(cx, &keys, r, base, &model)?;
+    let (integ_key, integ_name, integrator) = run_integrator(cx, &keys, r, base, (alpha, gamma))?;
+    // The one table of allowed combinations (super::combinations).
+    check_combination(ModelKind::of(&model), &integrator, &run_contact).map_err(|refusal| {
+        let (k, v) = match refusal.culprit {
+            Culprit::Integrator => (&integ_key, &integ_name),
+            Culprit::Contact => (&method_key, &method_name),
+        };
+        cx.invalid(k, format!("\"{v}\""), &refusal.why)
+    })?;
+    let friction = run_friction(cx, base, &model, &run_contact)?;
+    if let Model::Wheel(w) = &model {
+        wheel::check_wheel_run(cx, w, friction, &run_contact, &integrator)?;
+    }
+    // The central difference runs explicit: lumped mass, step from cfl if given.
+    if integrator.is_explicit() {
+        match &mut model {
+            Model::BarImpact(b) => b.lumped = true,
+            Model::TwoBars(b) => b.lumped = true,
+            _ => {}
+        }
+    }
+    let step = run_step(cx, &keys, r, base, &integrator, h)?;
+    Ok(RunSpec {
+        label: r.label.clone(),
+        alpha,
+        gamma,
+        step,
+        model,
+        integrator,
+        contact: run_contact,
+        friction,
+        t_end: base.t_end,
+    })
+}
+
+/// The keys of run `i`'s settings: `runs[i].x` for its own, `table.x` for its tables'.
+struct RunKeys(usize);
+
+impl RunKeys {
+    /// The key `runs[i].k` of the run's own setting `k`.
+    fn key(&self, k: &str) -> String {
+        let i = self.0;
+        format!("runs[{i}].{k}")
+    }
+
+    /// Each setting from the run, else from its table, with the key it came from.
+    fn pick(
+        &self,
+        run: Option<f64>,
+        name: &str,
+        table: &str,
+        base: Option<f64>,
+    ) -> Option<(String, f64)> {
+        run.map(|x| (self.key(name), x))
+            .or(base.map(|x| (format!("{table}.{name}"), x)))
+    }
+}
+
+/// The run's `(alpha, gamma, h)`: its own, else the top-level ones; `h` no longer than
+/// `time.t_end`.
+fn run_time(
+    cx: &Ctx,
+    keys: &RunKeys,
+    r: &RawRun,
+    base: &Base,
+) -> Result<(f64, f64, f64), ScenarioError> {
+    let alpha = match r.alpha {
+        Some(a) => cx.alpha(&keys.key("alpha"), a)?,
+        None => base.alpha,
+    };
+    let gamma = match r.gamma {
+        Some(g) => cx.gamma(&keys.key("gamma"), g)?,
+        None => base.gamma,
+    };
+    let h = match (r.h, base.h) {
+        (Some(h), _) => cx.positive(&keys.key("h"), h)?,
+        (None, Some(h)) => h,
+        (None, None) => return Err(cx.missing("time.h", "the time step, s (or runs[].h)")),
+    };
+    if h > base.t_end {
+        return Err(cx.invalid(
+            &keys.key("h"),
+            h,
+            &format!("the step must not exceed time.t_end = {}", base.t_end),
+        ));
+    }
+    Ok((alpha, gamma, h))
+}
+
+/// The run's model: the top-level one with the run's `elements` (bars only).
+fn run_model(cx: &Ctx, keys: &RunKeys, r: &RawRun, base: &Base) -> Result<Model, ScenarioError> {
+    let mut model = base.model.clone();
+    if let Some(e) = r.elements {
+        match &mut model {
+            Model::BarImpact(b) => b.elements = cx.count(&keys.key("elements"), e, 1_000_000)?,
+            Model::TwoBars(b) => b.elements = cx.count(&keys.key("elements"), e, 1_000_000)?,
+            _ => {
+                return Err(cx.invalid(
+                    &keys.key("elements"),
+                    e,
+                    "only bar scenarios have elements",
+                ))
+            }
+        }
+    }
+    Ok(model)
+}
+
+/// The run's contact treatment with the key and the name it came from (default: exact for
+/// two bars, the soft way otherwise).
+fn run_contact(
+    cx: &Ctx,
+    keys: &RunKeys,
+    r: &RawRun,
+    base: &Base,
+    model: &Model,
+) -> Result<(String, String, Contact), ScenarioError> {
+    let contact = &base.contact;
+    let (method_key, method_name) = match (&r.method, &contact.method) {
+        (Some(m), _) => (keys.key("method"), m.clone()),
+        (None, Some(m)) => ("contact.method".to_string(), m.clone()),
+        (None, None) => (
+            "contact.method".to_string(),
+            if matches!(model, Model::TwoBars(_)) {
+                "exact"
+            } else {
+                "soft_way"
+            }
+            .to_string(),
+        ),
+    };
+    let run_contact = cx.contact(
+        &method_key,
+        &method_name,
+        keys.pick(r.penalty, "penalty", "contact", contact.penalty),
+        keys.pick(r.restitution, "restitution", "contact", contact.restitution),
+    )?;
+    Ok((method_key, method_name, run_contact))
+}
+
+/// The run's integrator with the key and the name it came from (default: the space-time
+/// scheme), its Coriolis treatment and the classic ones' parameters.
+fn run_integrator(
+    cx: &Ctx,
+    keys: &RunKeys,
+    r: &RawRun,
+    base: &Base,
+    alpha_gamma: (f64, f64),
+) -> Result<(String, String, Integrator), ScenarioError> {
+    let time = &base.time;
+    let (integ_key, integ_name) = match (&r.integrator, &time.integrator) {
+        (Some(m), _) => (keys.key("integrator"), m.clone()),
+        (None, Some(m)) => ("time.integrator".to_string(), m.clone()),
+        (None, None) => ("time.integrator".to_string(), "space_time".to_string()),
+    };
+    let coriolis = match (&r.coriolis, &time.coriolis) {
+        (Some(c), _) => Some((keys.key("coriolis"), c.clone())),
+        (None, Some(c)) => Some(("time.coriolis".to_string(), c.clone())),
+        (None, None) => None,
+    };
+    let integrator = cx.integrator(
+        &integ_key,
+        &integ_name,
+        alpha_gamma,
+        coriolis,
+        keys.pick(r.rho_inf, "rho_inf", "time", time.rho_inf),
+        keys.pick(r.alpha_h, "alpha_h", "time", time.alpha_h),
+        keys.pick(r.gamma_n, "gamma_n", "time", time.gamma_n),
+    )?;
+    Ok((integ_key, integ_name, integrator))
+}
+
+/// The run's friction law ([`friction_law`]), checked against the model's dimension and the
+/// treatment ([`crate::contact::Treatment::check_friction`]).
+fn run_friction(
+    cx: &Ctx,
+    base: &Base,
+    model: &Model,
+    run_contact: &Contact,
+) -> Result<Option<FrictionLaw>, ScenarioError> {
+    // Friction: finite coefficients >= 0 (the falling law: kinetic coefficient and Stribeck
+    // velocity), on a 2D model (the wheel), with a treatment that carries it
+    // (crate::contact::Treatment::check_friction).
+    let friction = friction_law(cx, &base.contact)?;
+    if let Some(law) = friction {
+        let dim = if matches!(model, Model::Wheel(_)) {
+            2
+        } else {
+            1
+        };
+        run_contact
+            .check_friction(Some(law), dim)
+            .map_err(|why| cx.invalid("contact.friction", law.static_mu, &why))?;
+    }
+    Ok(friction)
+}
+
+/// The run's step: from `cfl` (the central difference only, in (0, 1]), else the fixed `h`.
+fn run_step(
+    cx: &Ctx,
+    keys: &RunKeys,
+    r: &RawRun,
+    base: &Base,
+    integrator: &Integrator,
+    h: f64,
+) -> Result<TimeStep, ScenarioError> {
+    let step = match keys.pick(r.cfl, "cfl", "time", base.time.cfl) {
+        Some((k, c)) if !integrator.is_explicit() => {
+            return Err(cx.invalid(
+                &k,
+                c,
+                "cfl sets the step of integrator = \"central_difference\" only",
+            ));
+        }
+        Some((k, c)) if !(c.is_finite() && c > 0.0 && c <= 1.0) => {
+            return Err(cx.invalid(&k, c, "cfl must be in (0, 1]: the step as a fraction of the stable step 2/omega_max (penalty spring included)"));
+        }
+        Some((key, cfl)) => TimeStep::Cfl { cfl, key },
+        None => TimeStep::Fixed(h),
+    };
+    Ok(step)
+}

@@ -1,0 +1,517 @@
+//! The wheel's validation: `[wheel]`, `[material]` and `[rolling]` into a
+//! [`WheelScenario`], the `[block]` under it, and the settings a wheel's run refuses in
+//! combination (a moving zone, the uncoupled problem, a block, a creepage).
+
+use super::super::raw::{RawBlock, RawMaterial, RawRolling, RawWheel};
+use super::super::{Contact, MeshSource, ScenarioError, WheelScenario};
+use super::{Ctx, DEFAULT_HUB_FRACTION};
+use crate::contact::obstacle::Flattening;
+use crate::contact::{FrictionLaw, Treatment};
+use crate::material::{Elastic, PlaneModel};
+use crate::time::Integrator;
+use crate::wheel::{ContactSurface, Coupling, Support, WheelSpec};
+use std::path::Path;
+
+/// The wheel of `[wheel]`, `[material]` and `[rolling]`, each value checked under its key
+/// (in the order of the keys' checks below: the first error found is the one reported).
+pub(super) fn wheel_model(
+    cx: &Ctx,
+    w: Option<RawWheel>,
+    m: Option<RawMaterial>,
+    r: Option<RawRolling>,
+) -> Result<WheelScenario, ScenarioError> {
+    let w = w.ok_or_else(|| cx.missing("wheel", "kind = \"wheel\" needs a [wheel] table"))?;
+    let m = m.ok_or_else(|| {
+        cx.missing(
+            "material",
+            "the wheel's [material] (young, poisson, density)",
+        )
+    })?;
+    let r = r.ok_or_else(|| {
+        cx.missing(
+            "rolling",
+            "[rolling] (omega, flattening, settle_time, turns)",
+        )
+    })?;
+    let radius = cx.positive("wheel.radius", w.radius)?;
+    let thickness = cx.positive("wheel.thickness", w.thickness)?;
+    let material = wheel_material(cx, &m)?;
+    let mesh = disk_mesh(cx, &w)?;
+    let plane = plane_model(cx, &w)?;
+    let lumped = wheel_mass(cx, &w)?;
+    let support = support(cx, &w, radius)?;
+    let mesh = zone_mesh(cx, &w, mesh, support, radius)?;
+    let rolling = rolling(cx, &r, radius)?;
+    let damping = cx.non_negative("wheel.damping", w.damping.unwrap_or(0.0))?;
+    let coupling = coupling(cx, &r)?;
+    let surface = contact_surface(cx, &w)?;
+    let fields_per_turn = cx.count(
+        "rolling.fields_per_turn",
+        r.fields_per_turn.unwrap_or(8),
+        1000,
+    )?;
+    Ok(WheelScenario {
+        spec: WheelSpec {
+            radius,
+            thickness,
+            material,
+            plane,
+            lumped,
+            damping,
+            support,
+            omega: rolling.omega,
+            flattening: rolling.flattening,
+            stress_stiffening: w.stress_stiffening.unwrap_or(true),
+            rotating_frame: w.rotating_frame.unwrap_or(true),
+            creepage: rolling.creepage,
+            coupling,
+            surface,
+        },
+        mesh,
+        turns: rolling.turns,
+        settle_gamma: rolling.settle_gamma,
+        fields_per_turn,
+        block: None,
+    })
+}
+
+/// The wheel's `[material]`: Young's modulus, Poisson's ratio, density.
+fn wheel_material(cx: &Ctx, m: &RawMaterial) -> Result<Elastic, ScenarioError> {
+    let young = cx.positive("material.young", m.young)?;
+    if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+        return Err(cx.invalid(
+            "material.poisson",
+            m.poisson,
+            "Poisson's ratio must be in (-1, 0.5)",
+        ));
+    }
+    let density = cx.positive("material.density", m.density)?;
+    Ok(Elastic {
+        young,
+        poisson: m.poisson,
+        density,
+    })
+}
+
+/// The disk's mesh: `wheel.rings`, `wheel.rim_nodes` (with `wheel.grading`) or
+/// `wheel.mesh` (a Gmsh file, relative to the scenario), one of them at most.
+fn disk_mesh(cx: &Ctx, w: &RawWheel) -> Result<MeshSource, ScenarioError> {
+    let given = [
+        ("wheel.rings", w.rings.is_some()),
+        ("wheel.rim_nodes", w.rim_nodes.is_some()),
+        ("wheel.mesh", w.mesh.is_some()),
+    ];
+    if given.iter().filter(|g| g.1).count() > 1 {
+        let names: Vec<&str> = given.iter().filter(|g| g.1).map(|g| g.0).collect();
+        return Err(cx.invalid(
+            names[1],
+            format!("given with {}", names[0]),
+            "give one of wheel.rings, wheel.rim_nodes or wheel.mesh",
+        ));
+    }
+    if w.grading.is_some() && w.rim_nodes.is_none() {
+        return Err(cx.invalid(
+            "wheel.grading",
+            w.grading.unwrap_or_default(),
+            "the grading of the disk of wheel.rim_nodes; give wheel.rim_nodes",
+        ));
+    }
+    Ok(match (w.rings, &w.mesh) {
+        (None, None) if w.rim_nodes.is_some() => {
+            let n = cx.count("wheel.rim_nodes", w.rim_nodes.unwrap_or(0), 100_000)?;
+            if n < 12 {
+                return Err(cx.invalid("wheel.rim_nodes", n, "at least 12 rim nodes"));
+            }
+            let grading = w
+                .grading
+                .unwrap_or(crate::mesh::generators::DiskOptions::DEFAULT_GRADING);
+            if !(1.0..=2.0).contains(&grading) {
+                return Err(cx.invalid("wheel.grading", grading, "in [1, 2]"));
+            }
+            MeshSource::Graded {
+                rim_nodes: n,
+                grading,
+            }
+        }
+        (Some(n), _) => MeshSource::Rings(cx.count("wheel.rings", n, 400)?),
+        (None, Some(f)) => {
+            let p = Path::new(f);
+            let p = if p.is_relative() {
+                cx.path.parent().unwrap_or(Path::new(".")).join(p)
+            } else {
+                p.to_path_buf()
+            };
+            MeshSource::Gmsh(p)
+        }
+        (None, None) => MeshSource::Rings(12),
+    })
+}
+
+/// `wheel.plane`: plane stress (default) or plane strain.
+fn plane_model(cx: &Ctx, w: &RawWheel) -> Result<PlaneModel, ScenarioError> {
+    Ok(match w.plane.as_deref().unwrap_or("stress") {
+        "stress" => PlaneModel::Stress,
+        "strain" => PlaneModel::Strain,
+        o => {
+            return Err(cx.invalid(
+                "wheel.plane",
+                format!("\"{o}\""),
+                "allowed: \"stress\", \"strain\"",
+            ))
+        }
+    })
+}
+
+/// `wheel.mass`: lumped (`true`) or consistent (`false`, the default).
+fn wheel_mass(cx: &Ctx, w: &RawWheel) -> Result<bool, ScenarioError> {
+    Ok(match w.mass.as_deref().unwrap_or("consistent") {
+        "consistent" => false,
+        "lumped" => true,
+        o => {
+            return Err(cx.invalid(
+                "wheel.mass",
+                format!("\"{o}\""),
+                "allowed: \"consistent\", \"lumped\"",
+            ))
+        }
+    })
+}
+
+/// `wheel.support` and `wheel.hub_radius`: the pinned centre or a clamped hub (default, a
+/// tenth of the radius).
+fn support(cx: &Ctx, w: &RawWheel, radius: f64) -> Result<Support, ScenarioError> {
+    // Default: a hub clamped over a tenth of the radius (the pinned centre is a point
+    // support whose stiffness vanishes as the mesh is refined; `softway::wheel`).
+    Ok(match w.support.as_deref().unwrap_or("hub") {
+        "centre" | "center" => {
+            if let Some(hr) = w.hub_radius {
+                return Err(cx.invalid(
+                    "wheel.hub_radius",
+                    hr,
+                    "only with support = \"hub\" (the centre node is pinned)",
+                ));
+            }
+            Support::CentrePinned
+        }
+        "hub" => {
+            let hr = w.hub_radius.unwrap_or(DEFAULT_HUB_FRACTION * radius);
+            let hr = cx.positive("wheel.hub_radius", hr)?;
+            if hr >= radius {
+                return Err(cx.invalid(
+                    "wheel.hub_radius",
+                    hr,
+                    &format!("must be smaller than wheel.radius = {radius}"),
+                ));
+            }
+            Support::Hub { radius: hr }
+        }
+        o => {
+            return Err(cx.invalid(
+                "wheel.support",
+                format!("\"{o}\""),
+                "allowed: \"centre\", \"hub\"",
+            ))
+        }
+    })
+}
+
+/// `mesh`, or with `wheel.zone_rim_nodes` the moving refined zone on the graded disk of
+/// `mesh` (`wheel.zone_sectors`, `wheel.zone_width`; a hub needed).
+fn zone_mesh(
+    cx: &Ctx,
+    w: &RawWheel,
+    mesh: MeshSource,
+    support: Support,
+    radius: f64,
+) -> Result<MeshSource, ScenarioError> {
+    Ok(match (w.zone_rim_nodes, mesh) {
+        (None, mesh) => {
+            for (k, given) in [
+                ("wheel.zone_width", w.zone_width.is_some()),
+                ("wheel.zone_sectors", w.zone_sectors.is_some()),
+            ] {
+                if given {
+                    return Err(cx.invalid(
+                        k,
+                        "(given)",
+                        "a key of the moving refined zone: give wheel.zone_rim_nodes too",
+                    ));
+                }
+            }
+            mesh
+        }
+        (Some(z), MeshSource::Graded { rim_nodes, .. }) => {
+            let Support::Hub { radius: hub_radius } = support else {
+                return Err(cx.invalid(
+                    "wheel.zone_rim_nodes",
+                    z,
+                    "the refined zone's mesh is the annulus on the hub: needs support = \"hub\"",
+                ));
+            };
+            let sectors = cx.count("wheel.zone_sectors", w.zone_sectors.unwrap_or(72), 720)?;
+            if sectors < 8 {
+                return Err(cx.invalid("wheel.zone_sectors", sectors, "at least 8 sectors"));
+            }
+            let pow2 = |a: usize, b: usize| a % b == 0 && (a / b).is_power_of_two();
+            if !pow2(rim_nodes, sectors) {
+                return Err(cx.invalid(
+                    "wheel.rim_nodes",
+                    rim_nodes,
+                    &format!("with a refined zone: wheel.zone_sectors = {sectors} times a power of two (e.g. {}, {})", sectors, 2 * sectors),
+                ));
+            }
+            let zn = cx.count("wheel.zone_rim_nodes", z, 100_000)?;
+            if !pow2(zn, rim_nodes) {
+                return Err(cx.invalid(
+                    "wheel.zone_rim_nodes",
+                    zn,
+                    &format!("wheel.rim_nodes = {rim_nodes} times 1, 2, 4, 8, ... (the rim's pitch in the zone; times 1: the same mesh family without a zone)"),
+                ));
+            }
+            let width = w.zone_width.unwrap_or(30.0);
+            let min = 2.0 * 360.0 / sectors as f64;
+            if !(width.is_finite() && width >= min && width <= 180.0) {
+                return Err(cx.invalid(
+                    "wheel.zone_width",
+                    width,
+                    &format!("the zone's arc of the rim in degrees, from two sectors ({min}) to 180"),
+                ));
+            }
+            MeshSource::Zone(crate::mesh::zone::ZoneOptions {
+                radius,
+                hub_radius,
+                sectors,
+                rim_nodes,
+                zone_rim_nodes: zn,
+                zone_width: width.to_radians(),
+                grading: 0.3,
+            })
+        }
+        (Some(z), _) => {
+            return Err(cx.invalid(
+                "wheel.zone_rim_nodes",
+                z,
+                "the refined zone is a generated mesh: give wheel.rim_nodes (the rim's pitch outside the zone), not wheel.rings or wheel.mesh",
+            ))
+        }
+    })
+}
+
+/// The validated numbers of `[rolling]` (its `coupling` apart: [`coupling`]).
+struct Rolling {
+    /// `rolling.omega`, rad/s.
+    omega: f64,
+    /// `rolling.flattening` and `rolling.settle_time`.
+    flattening: Flattening,
+    /// `rolling.turns`.
+    turns: f64,
+    /// `rolling.settle_gamma`, if given.
+    settle_gamma: Option<f64>,
+    /// `rolling.creepage` (default 0).
+    creepage: f64,
+}
+
+/// `[rolling]`: the speed, the flattening (below the wheel's `radius`) and its settling,
+/// the turns, the settling's `gamma` and the creepage.
+fn rolling(cx: &Ctx, r: &RawRolling, radius: f64) -> Result<Rolling, ScenarioError> {
+    let omega = r.omega;
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(cx.invalid(
+            "rolling.omega",
+            omega,
+            "the wheel's angular speed must be a finite number > 0, rad/s",
+        ));
+    }
+    let depth = cx.positive("rolling.flattening", r.flattening)?;
+    if depth >= radius {
+        return Err(cx.invalid(
+            "rolling.flattening",
+            depth,
+            &format!("the flattening must be smaller than wheel.radius = {radius} m"),
+        ));
+    }
+    let settle_time = cx.non_negative("rolling.settle_time", r.settle_time)?;
+    let turns = cx.positive("rolling.turns", r.turns)?;
+    let settle_gamma = match r.settle_gamma {
+        Some(g) => Some(cx.gamma("rolling.settle_gamma", g)?),
+        None => None,
+    };
+    let creepage = r.creepage.unwrap_or(0.0);
+    if !(creepage.is_finite() && creepage.abs() < 1.0) {
+        return Err(cx.invalid(
+            "rolling.creepage",
+            creepage,
+            "the creepage (omega rho - V)/(omega rho) must be a finite number between -1 and 1 \
+             (railway creepages are below 0.01)",
+        ));
+    }
+    Ok(Rolling {
+        omega,
+        flattening: Flattening { depth, settle_time },
+        turns,
+        settle_gamma,
+        creepage,
+    })
+}
+
+/// `rolling.coupling`: coupled (default) or uncoupled (Carter's twin disk).
+fn coupling(cx: &Ctx, r: &RawRolling) -> Result<Coupling, ScenarioError> {
+    Ok(match r.coupling.as_deref().unwrap_or("coupled") {
+        "coupled" => Coupling::Coupled,
+        "uncoupled" => Coupling::Uncoupled,
+        o => {
+            return Err(cx.invalid(
+                "rolling.coupling",
+                format!("\"{o}\""),
+                "allowed: \"coupled\" (the elastic wheel on its rigid base), \"uncoupled\" (Carter's elastically similar bodies: a twin disk carries the tangential tractions)",
+            ))
+        }
+    })
+}
+
+/// `wheel.contact_surface`: a gap per rim node (default) or per rim segment.
+fn contact_surface(cx: &Ctx, w: &RawWheel) -> Result<ContactSurface, ScenarioError> {
+    Ok(match w.contact_surface.as_deref().unwrap_or("nodes") {
+        "nodes" => ContactSurface::Nodes,
+        "segments" => ContactSurface::Segments,
+        o => {
+            return Err(cx.invalid(
+                "wheel.contact_surface",
+                format!("\"{o}\""),
+                "allowed: \"nodes\" (a gap per rim node), \"segments\" (mortar-weighted gaps on the rim's segments)",
+            ))
+        }
+    })
+}
+
+/// The `[block]` table under a wheel of `spec`: the material (default the wheel's), the
+/// depth (default half the wheel's radius), the top column width (default the rim's pitch),
+/// the rows' growth (default 1.2), the margins before and after the travel (default the
+/// depth: an end nearer than that softens the block under the patch) and the search's reach
+/// (default four columns).
+pub(super) fn block_spec(
+    cx: &Ctx,
+    b: RawBlock,
+    spec: &WheelSpec,
+) -> Result<crate::models::wheel_on_block::BlockSpec, ScenarioError> {
+    let mat = spec.material;
+    let young = cx.positive("block.young", b.young.unwrap_or(mat.young))?;
+    let density = cx.positive("block.density", b.density.unwrap_or(mat.density))?;
+    let poisson = b.poisson.unwrap_or(mat.poisson);
+    if !(poisson.is_finite() && poisson > -1.0 && poisson < 0.5) {
+        return Err(cx.invalid(
+            "block.poisson",
+            poisson,
+            "Poisson's ratio must be in (-1, 0.5)",
+        ));
+    }
+    let grading = b.grading.unwrap_or(1.2);
+    if !(1.0..=2.0).contains(&grading) {
+        return Err(cx.invalid(
+            "block.grading",
+            grading,
+            "the growth of the rows from the top down, in [1, 2]",
+        ));
+    }
+    let opt = |key: &str, v: Option<f64>| v.map(|x| cx.positive(key, x)).transpose();
+    let depth = cx.positive("block.depth", b.depth.unwrap_or(0.5 * spec.radius))?;
+    if depth <= 2.0 * spec.flattening.depth {
+        return Err(cx.invalid(
+            "block.depth",
+            depth,
+            &format!(
+                "the block must be deeper than twice rolling.flattening = {} m",
+                spec.flattening.depth
+            ),
+        ));
+    }
+    Ok(crate::models::wheel_on_block::BlockSpec {
+        material: Elastic {
+            young,
+            poisson,
+            density,
+        },
+        depth,
+        dx: opt("block.dx", b.dx)?,
+        grading,
+        margin: cx.positive("block.margin", b.margin.unwrap_or(depth))?,
+        reach: opt("block.reach", b.reach)?,
+    })
+}
+
+/// A wheel's run against what its wheel `w` does not work with: a moving zone, the
+/// uncoupled problem and an elastic block each refuse some of friction, creepage, coupling,
+/// contact surface, treatment and integrator; a creepage needs friction.
+pub(super) fn check_wheel_run(
+    cx: &Ctx,
+    w: &WheelScenario,
+    friction: Option<FrictionLaw>,
+    run_contact: &Contact,
+    integrator: &Integrator,
+) -> Result<(), ScenarioError> {
+    if let MeshSource::Zone(_) = w.mesh {
+        let why = if friction.is_some_and(|law| law.is_active()) {
+            Some("contact.friction: the traction outputs follow rim nodes, which a moving zone relabels (not yet)")
+        } else if w.spec.coupling == Coupling::Uncoupled {
+            Some("rolling.coupling = \"uncoupled\": its twin disk is not relabelled (not yet)")
+        } else if w.spec.surface != ContactSurface::Nodes {
+            Some("wheel.contact_surface = \"segments\": a moving zone relabels node pairs only")
+        } else if !matches!(run_contact, Treatment::SoftWay { .. } | Treatment::Exact)
+            || !integrator.is_space_time()
+        {
+            Some("a moving zone runs with the space-time scheme and the soft way or exact enforcement")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(cx.invalid(
+                "wheel.zone_rim_nodes",
+                "(given)",
+                &format!("a moving refined zone does not work with {why}"),
+            ));
+        }
+    }
+    if w.spec.coupling == Coupling::Uncoupled {
+        let why = if friction.is_none_or(|law| !law.is_active()) {
+            Some("the uncoupled problem differs from the coupled one only through friction: set contact.friction > 0 (or remove rolling.coupling)")
+        } else if w.spec.surface != ContactSurface::Nodes {
+            Some("the uncoupled problem poses node pairs: remove wheel.contact_surface or set it to \"nodes\"")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(cx.invalid("rolling.coupling", "\"uncoupled\"", why));
+        }
+    }
+    if w.block.is_some() {
+        let why = if friction.is_some_and(|law| law.is_active()) {
+            Some("contact.friction: the block's tangential rows are searched but not yet verified; remove contact.friction")
+        } else if w.spec.creepage != 0.0 {
+            Some("rolling.creepage: the block runs under the wheel at the rim's speed; remove rolling.creepage")
+        } else if w.spec.coupling == Coupling::Uncoupled {
+            Some("rolling.coupling = \"uncoupled\": remove it")
+        } else if w.spec.surface != ContactSurface::Nodes {
+            Some("wheel.contact_surface = \"segments\": the rim's nodes are searched against the block's segments; remove it")
+        } else if matches!(w.mesh, MeshSource::Zone(_)) {
+            Some("a moving refined zone (wheel.zone_rim_nodes): remove it")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(cx.invalid(
+                "block",
+                "(given)",
+                &format!("an elastic block does not work with {why}"),
+            ));
+        }
+    }
+    if w.spec.creepage != 0.0 && friction.is_none_or(|law| !law.is_active()) {
+        return Err(cx.invalid(
+            "rolling.creepage",
+            w.spec.creepage,
+            "a creepage transmits a force only through friction: set contact.friction > 0 \
+             (or remove rolling.creepage)",
+        ));
+    }
+    Ok(())
+}
