@@ -21,9 +21,10 @@
 //! [`CALLER_SPIN`], then blocked until the helper wakes it.
 //!
 //! **A machine whose cores are taken.** Every [`LOAD_CHECK`] joins the team reads the run
-//! queue (`/proc/loadavg`): when other processes' runnable threads leave no core for its
-//! helper (`others + 2 > cores`), the next `LOAD_CHECK` joins run on the caller's thread
-//! alone, then it looks again. A helper that would start its half and lose its core in
+//! queue (`/proc/loadavg`): when other processes' runnable threads are as many as the
+//! cores (`others >= cores`: one short-lived process does not count), the next
+//! `LOAD_CHECK` joins run on the caller's thread alone, then it looks again (twice as
+//! many joins after each look that finds the cores taken, up to 16 times). A helper that would start its half and lose its core in
 //! the middle of it (the caller then waits a time slice) is not asked; on an idle machine
 //! nothing changes.
 //!
@@ -152,14 +153,20 @@ struct Owner {
     backoff: AtomicU32,
     /// Joins asked of this team, for the machine's check every [`LOAD_CHECK`] joins.
     joins: AtomicU32,
+    /// Checks in a row that found the machine's cores taken: the next window is
+    /// `LOAD_CHECK` times `2^loaded` joins (at most 16 times).
+    loaded: AtomicU32,
     /// The machine's cores (`std::thread::available_parallelism`).
     cores: usize,
 }
 
 /// Every this many joins the team looks at the machine's run queue ([`others_running`]):
-/// when the threads of other processes leave no core free for its helper, the next
-/// `LOAD_CHECK` joins run on the caller's thread alone. About fifty steps of the wheel
-/// (five hand-offs a step), some 5 ms; the look costs a few microseconds.
+/// when the threads of other processes that are runnable are as many as the cores (the
+/// helper would wait for a core, and so would the caller), the next
+/// `LOAD_CHECK` joins run on the caller's thread alone (after each further check that finds
+/// the cores taken, twice as many, up to 16 times: the look, a few microseconds on an idle
+/// machine, may cost a time slice on a loaded one). About fifty steps of the wheel (five
+/// hand-offs a step), some 5 ms.
 pub const LOAD_CHECK: u32 = 256;
 
 /// The threads of other processes that are runnable now: the running count of
@@ -253,6 +260,7 @@ impl Team {
                     skip: AtomicU32::new(0),
                     backoff: AtomicU32::new(0),
                     joins: AtomicU32::new(0),
+                    loaded: AtomicU32::new(0),
                     cores: std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
                 })),
             },
@@ -302,8 +310,12 @@ impl Team {
                 if joins % LOAD_CHECK == 0 && owner.skip.load(Ordering::Relaxed) == 0 {
                     // The caller runs now; the helper too unless it is blocked.
                     let ours = 1 + usize::from(!h.helper_blocked.load(Ordering::Relaxed));
-                    if others_running(ours).is_some_and(|o| o + 2 > owner.cores) {
-                        owner.skip.store(LOAD_CHECK, Ordering::Relaxed);
+                    if others_running(ours).is_some_and(|o| o >= owner.cores) {
+                        let loaded = owner.loaded.load(Ordering::Relaxed);
+                        owner.loaded.store((loaded + 1).min(4), Ordering::Relaxed);
+                        owner.skip.store(LOAD_CHECK << loaded, Ordering::Relaxed);
+                    } else {
+                        owner.loaded.store(0, Ordering::Relaxed);
                     }
                 }
                 let skip = owner.skip.load(Ordering::Relaxed);
