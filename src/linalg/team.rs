@@ -24,7 +24,9 @@
 //! queue (`/proc/loadavg`): when other processes' runnable threads are as many as the
 //! cores (`others >= cores`: one short-lived process does not count), the next
 //! `LOAD_CHECK` joins run on the caller's thread alone, then it looks again (twice as
-//! many joins after each look that finds the cores taken, up to 16 times). A helper that would start its half and lose its core in
+//! many joins after each look that finds the cores taken, up to 16 times); it goes back to
+//! two threads only when a core is free for each (`others + 2 <= cores`), so that two runs
+//! side by side, each seeing the other's one thread, keep to one thread each. A helper that would start its half and lose its core in
 //! the middle of it (the caller then waits a time slice) is not asked; on an idle machine
 //! nothing changes.
 //!
@@ -310,12 +312,18 @@ impl Team {
                 if joins % LOAD_CHECK == 0 && owner.skip.load(Ordering::Relaxed) == 0 {
                     // The caller runs now; the helper too unless it is blocked.
                     let ours = 1 + usize::from(!h.helper_blocked.load(Ordering::Relaxed));
-                    if others_running(ours).is_some_and(|o| o >= owner.cores) {
-                        let loaded = owner.loaded.load(Ordering::Relaxed);
-                        owner.loaded.store((loaded + 1).min(4), Ordering::Relaxed);
-                        owner.skip.store(LOAD_CHECK << loaded, Ordering::Relaxed);
-                    } else {
-                        owner.loaded.store(0, Ordering::Relaxed);
+                    // Enter one thread when the others fill the cores; leave it only
+                    // when a core is free for each of this run's two threads (between
+                    // the two, as two runs side by side see each other: stay).
+                    let loaded = owner.loaded.load(Ordering::Relaxed);
+                    match others_running(ours) {
+                        Some(o) if o >= owner.cores || (loaded > 0 && o + 2 > owner.cores) => {
+                            owner.loaded.store((loaded + 1).min(4), Ordering::Relaxed);
+                            owner
+                                .skip
+                                .store(LOAD_CHECK << loaded.min(4), Ordering::Relaxed);
+                        }
+                        _ => owner.loaded.store(0, Ordering::Relaxed),
                     }
                 }
                 let skip = owner.skip.load(Ordering::Relaxed);
