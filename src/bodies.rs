@@ -21,6 +21,7 @@
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};
 use crate::contact::search::Motion;
 use crate::element::beam::{lengths, Beam2, BeamError, BeamMatrix, BeamSection, BeamTheory};
+use crate::element::discrete::DiscreteError;
 use crate::linalg::spmv_add;
 use crate::mesh::Cells;
 use crate::mesh::Mesh;
@@ -136,6 +137,39 @@ impl Body {
             u0: vec![0.0; n],
             mesh,
         })
+    }
+
+    /// Adds springs and dampers from dofs of this body to its frame (the rail's pads and
+    /// ballast under its sleepers: [`crate::element::discrete`]'s ground spring-damper,
+    /// `K_e = [k]`, `C_e = [c]`): `(dof, k N/m, c N s/m)` each, on the pattern's diagonal.
+    ///
+    /// # Errors
+    /// [`DiscreteError`] for a dof past the body's or a stiffness or damping that is
+    /// negative or not finite.
+    pub fn with_ground_springs(
+        mut self,
+        springs: &[(usize, f64, f64)],
+    ) -> Result<Self, DiscreteError> {
+        for &(d, k, c) in springs {
+            for (what, value) in [("spring stiffness", k), ("damping", c)] {
+                if !(value.is_finite() && value >= 0.0) {
+                    return Err(DiscreteError::Negative { what, value });
+                }
+            }
+            let slot = (d < self.model.n())
+                .then(|| self.model.assembler.slot(d, d))
+                .flatten()
+                .ok_or(DiscreteError::Layout(AssemblyError::DofOutOfRange {
+                    family: 0,
+                    element: 0,
+                    dof: d,
+                    n_dofs: self.model.n(),
+                }))?;
+            self.model.k[slot] += k;
+            self.elastic[slot] += k;
+            self.model.c[slot] += c;
+        }
+        Ok(self)
     }
 
     /// `Phi` of each element of a rail built by [`Body::rail`] (0 for Euler-Bernoulli).

@@ -82,6 +82,7 @@
 //! | where is the contact search between bodies (and the bodies' frames)? | `src/contact/search.rs` |
 //! | where are a model's bodies joined, and a pressed frame's inertial load? | `src/bodies.rs` |
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
+//! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies.rs`; `tests/on_rail.rs` |
 //! | where is the wheel on an elastic block (Hertz's half-width)? | `src/models/wheel_on_block.rs`; its job `src/run/on_block.rs`; `scenarios/wheel-on-block.toml` |
 //! | where is the solver trait, and which factorizations implement it? | `src/linalg/solver.rs` (faer's: `reference.rs`; tuned: `lu.rs`, `llt.rs`, `triangle.rs`, `supernodal.rs`, `split.rs`) |
 //! | where is the step's right-hand side formed? | `src/linalg/rhs/` (with its plain sparse-product reference) |

@@ -38,6 +38,19 @@
 //! the surface's size. Pairs come and go as the bodies move: a node is paired with the
 //! segment under it, or with none when no segment is within reach.
 //!
+//! # Beams
+//!
+//! A rail of [`crate::element::beam::Beam2`] elements along its frame's `x` is a master
+//! surface too ([`Search::on_beams`]): its nodes carry the deflection `w` and the rotation
+//! `theta`, and between two nodes its top is the element's own deflected line,
+//! $$x_s(\xi) = \big(X(\xi),\ Y + N_w(\xi_e) \cdot (w_1, \theta_1, w_2, \theta_2)\big),
+//!   \qquad \xi_e = 1 - \xi$$
+//! (the segment runs from the element's right node to its left one, so that the rail lies
+//! below its top; `N_w` the Hermite cubics, or the Timoshenko element's with its `Phi`). The
+//! row then carries `-N_w (R_s^T n)_y` on the element's four dofs, and the abscissa
+//! `X(xi)`, which no dof moves, goes into the offset. The search itself (binning, closest
+//! point, normal) works on the chords between the deflected nodes.
+//!
 //! Two dimensions: the segments are a 2D body's boundary edges (a 3D body would need
 //! facets); [`Search::new`] refuses any other dimension.
 
