@@ -254,10 +254,12 @@ fn a_rail_on_discrete_sleepers_bends_as_the_exact_beam_on_springs() {
     }
     // Gaussian elimination (the matrix is symmetric positive definite).
     for c in 0..n {
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for q in c..=n {
-                a[r][q] -= f * a[c][q];
+        let (top, below) = a.split_at_mut(c + 1);
+        let pivot = &top[c];
+        for row in below {
+            let f = row[c] / pivot[c];
+            for (x, y) in row[c..].iter_mut().zip(&pivot[c..]) {
+                *x -= f * y;
             }
         }
     }
