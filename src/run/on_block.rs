@@ -102,10 +102,7 @@ pub(crate) fn record(
         source,
     };
     let t_settle = ws.spec.flattening.settle_time;
-    let gamma_schedule = match ws.settle_gamma {
-        Some(g) if t_settle > 0.0 => vec![(0.0, g), (t_settle, run.params.gamma)],
-        _ => vec![],
-    };
+    let gamma_schedule = ws.gamma_schedule(run.params.gamma);
     let problem = wb.problem(run.integrator, h, gamma_schedule, run.contact, steps);
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
     sim.set_par(opts.par());

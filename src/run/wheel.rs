@@ -573,11 +573,7 @@ pub fn drive(
         run: run.label.clone(),
         source,
     };
-    let t_settle = ws.spec.flattening.settle_time;
-    let gamma_schedule = match ws.settle_gamma {
-        Some(g) if t_settle > 0.0 => vec![(0.0, g), (t_settle, run.params.gamma)],
-        _ => vec![],
-    };
+    let gamma_schedule = ws.gamma_schedule(run.params.gamma);
     let mut problem = wm.problem(
         run.integrator,
         run.params.h,

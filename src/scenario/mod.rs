@@ -174,6 +174,16 @@ pub struct WheelScenario {
 }
 
 impl WheelScenario {
+    /// The space-time scheme's `gamma` over the run: `settle_gamma` while settling, then
+    /// the run's `gamma` (empty: the run's throughout).
+    pub fn gamma_schedule(&self, gamma: f64) -> Vec<(f64, f64)> {
+        let t_settle = self.spec.flattening.settle_time;
+        match self.settle_gamma {
+            Some(g) if t_settle > 0.0 => vec![(0.0, g), (t_settle, gamma)],
+            _ => vec![],
+        }
+    }
+
     /// Settling time plus the turns, s.
     pub fn duration(&self) -> f64 {
         self.spec.flattening.settle_time + self.turns * 2.0 * std::f64::consts::PI / self.spec.omega
