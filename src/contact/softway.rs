@@ -214,6 +214,69 @@ impl SoftWay {
     fn stick_stiffness(&self) -> f64 {
         self.friction.map_or(0.0, |l| l.tangential_stiffness)
     }
+
+    /// Records the pairs' states at the end of the interval `fs -> ts` and their modes for
+    /// the next step (a braked pair becomes held, with its braking force and row kept for
+    /// the restore); `unit_force` is the force of a unit multiplier.
+    fn record(&mut self, ctx: &mut Context<'_>, fs: &Snapshot, ts: &mut Snapshot, unit_force: f64) {
+        let h = ctx.integ.h();
+        let np = self.modes.len();
+        let k = self.row_pair.len();
+        for p in 0..np {
+            let prev = fs.pairs[p];
+            let i = self.row_pair[..k].iter().position(|&q| q == p);
+            let lam = i.map(|i| self.lambda[i]).unwrap_or(0.0);
+            let gap = self.gaps[p];
+            let mut st = PairState {
+                mode: self.modes[p],
+                restore: None,
+                brake_force: prev.brake_force,
+                brake_row: prev.brake_row,
+                force: lam / h,
+                held: false,
+                braked: false,
+                released: self.released[p],
+                gap,
+                tangential_force: 0.0,
+                sliding: false,
+                slip_power: 0.0,
+                dissipated: prev.dissipated,
+            };
+            if let Some((terms, wt)) = self.friction_row[p] {
+                let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
+                let force = self.lambda_t[p] * unit_force;
+                let kt = self.stick_stiffness();
+                let spring = (kt, prev.tangential_force);
+                record_friction(&mut st, force, self.sliding[p], slip, h, spring);
+            }
+            match self.modes[p] {
+                PairMode::Brake { terms, .. } => {
+                    st.braked = true;
+                    let ls = match i {
+                        Some(i) if self.restore_mode == Restore::StoppingImpulse => {
+                            self.lambda_stop[i]
+                        }
+                        _ => lam,
+                    };
+                    st.brake_force = ls / h;
+                    st.brake_row = terms;
+                    st.mode = PairMode::Hold;
+                }
+                PairMode::Hold => {
+                    st.held = true;
+                    if !prev.held && !prev.braked {
+                        ctx.counts.entries += 1;
+                    }
+                }
+                PairMode::Free => {
+                    if self.released[p] {
+                        st.brake_force = 0.0;
+                    }
+                }
+            }
+            ts.pairs[p] = st;
+        }
+    }
 }
 
 impl ContactTreatment for SoftWay {
@@ -332,62 +395,7 @@ impl ContactTreatment for SoftWay {
         if !gaps_fresh {
             ctx.gaps_into(t1, &ts.u, &mut self.gaps);
         }
-        // Record the pairs' states at t1 and their modes for the next step.
-        let k = self.row_pair.len();
-        for p in 0..np {
-            let prev = fs.pairs[p];
-            let i = self.row_pair[..k].iter().position(|&q| q == p);
-            let lam = i.map(|i| self.lambda[i]).unwrap_or(0.0);
-            let gap = self.gaps[p];
-            let mut st = PairState {
-                mode: self.modes[p],
-                restore: None,
-                brake_force: prev.brake_force,
-                brake_row: prev.brake_row,
-                force: lam / h,
-                held: false,
-                braked: false,
-                released: self.released[p],
-                gap,
-                tangential_force: 0.0,
-                sliding: false,
-                slip_power: 0.0,
-                dissipated: prev.dissipated,
-            };
-            if let Some((terms, wt)) = self.friction_row[p] {
-                let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
-                let force = self.lambda_t[p] * step.maps.force;
-                let kt = self.stick_stiffness();
-                let spring = (kt, prev.tangential_force);
-                record_friction(&mut st, force, self.sliding[p], slip, h, spring);
-            }
-            match self.modes[p] {
-                PairMode::Brake { terms, .. } => {
-                    st.braked = true;
-                    let ls = match i {
-                        Some(i) if self.restore_mode == Restore::StoppingImpulse => {
-                            self.lambda_stop[i]
-                        }
-                        _ => lam,
-                    };
-                    st.brake_force = ls / h;
-                    st.brake_row = terms;
-                    st.mode = PairMode::Hold;
-                }
-                PairMode::Hold => {
-                    st.held = true;
-                    if !prev.held && !prev.braked {
-                        ctx.counts.entries += 1;
-                    }
-                }
-                PairMode::Free => {
-                    if self.released[p] {
-                        st.brake_force = 0.0;
-                    }
-                }
-            }
-            ts.pairs[p] = st;
-        }
+        self.record(ctx, fs, ts, step.maps.force);
         Ok(())
     }
 

@@ -401,33 +401,7 @@ pub fn simulate(
     };
     let steps = (ws.duration() / h).round() as usize;
     let last_turn = timeline.last_full_turn();
-    // The bounce of the disk between its support and the contact, and the node-passing
-    // harmonics that would drive it (a resonance warning before the run).
-    let bounce = bounce_mode(wm, ws.spec.flattening.depth).ok();
-    let mut warnings = Vec::new();
-    if let Some(b) = bounce {
-        let passing = ws.spec.omega * wm.passing_nodes() as f64 / (2.0 * PI);
-        for k in 1..=4 {
-            let f = k as f64 * passing;
-            if (f / b.frequency_hz - 1.0).abs() < 0.05 {
-                warnings.push(format!(
-                    "{}: the node passing ({k} x {passing:.1} Hz = {f:.1} Hz) is within 5% of the bounce of the wheel on its support and contact ({:.1} Hz): expect a resonance (change omega, the rim nodes or the support)",
-                    run.label, b.frequency_hz
-                ));
-            }
-        }
-    }
-    // A hub holds the nodes within its radius: say so when the mesh has none near its circle
-    // (a disk of rings, a Gmsh mesh), where the clamp is smaller than asked.
-    if let Support::Hub { radius } = ws.spec.support {
-        let held = wm.support_radius();
-        if held < 0.95 * radius {
-            warnings.push(format!(
-                "{}: the hub of radius {radius} m holds the nodes within it, the outermost at {held:.4e} m: the mesh has no node on the hub's circle (generated disks with rim_nodes mesh it; support_radius_m in summary.json)",
-                run.label
-            ));
-        }
-    }
+    let (bounce, warnings) = warnings_before(wm, ws, run);
     let mut history = HistoryWriter::create(
         file("history.csv").as_deref(),
         sc.history_stride,
@@ -747,4 +721,42 @@ fn max_or_nan(v: &[f64]) -> f64 {
     } else {
         v.iter().cloned().fold(0.0, f64::max)
     }
+}
+
+/// What to warn about before a wheel run, and the bounce it was found from: the node
+/// passing near the bounce of the wheel on its support and contact (a resonance), a hub
+/// that holds fewer nodes than its radius asks.
+fn warnings_before(
+    wm: &WheelModel,
+    ws: &WheelScenario,
+    run: &Run,
+) -> (Option<Bounce>, Vec<String>) {
+    let mut warnings = Vec::new();
+    // The bounce of the disk between its support and the contact, and the node-passing
+    // harmonics that would drive it (a resonance warning before the run).
+    let bounce = bounce_mode(wm, ws.spec.flattening.depth).ok();
+    if let Some(b) = bounce {
+        let passing = ws.spec.omega * wm.passing_nodes() as f64 / (2.0 * PI);
+        for k in 1..=4 {
+            let f = k as f64 * passing;
+            if (f / b.frequency_hz - 1.0).abs() < 0.05 {
+                warnings.push(format!(
+                    "{}: the node passing ({k} x {passing:.1} Hz = {f:.1} Hz) is within 5% of the bounce of the wheel on its support and contact ({:.1} Hz): expect a resonance (change omega, the rim nodes or the support)",
+                    run.label, b.frequency_hz
+                ));
+            }
+        }
+    }
+    // A hub holds the nodes within its radius: say so when the mesh has none near its circle
+    // (a disk of rings, a Gmsh mesh), where the clamp is smaller than asked.
+    if let Support::Hub { radius } = ws.spec.support {
+        let held = wm.support_radius();
+        if held < 0.95 * radius {
+            warnings.push(format!(
+                "{}: the hub of radius {radius} m holds the nodes within it, the outermost at {held:.4e} m: the mesh has no node on the hub's circle (generated disks with rim_nodes mesh it; support_radius_m in summary.json)",
+                run.label
+            ));
+        }
+    }
+    (bounce, warnings)
 }
