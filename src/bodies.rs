@@ -20,12 +20,15 @@
 
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};
 use crate::contact::search::Motion;
+use crate::contact::{Interface, Pair, Treatment};
 use crate::element::beam::{lengths, Beam2, BeamError, BeamMatrix, BeamSection, BeamTheory};
 use crate::element::discrete::DiscreteError;
 use crate::linalg::spmv_add;
 use crate::mesh::Cells;
 use crate::mesh::Mesh;
 use crate::model::{LinearModel, LoadFn};
+use crate::simulation::Problem;
+use crate::time::Integrator;
 
 /// A body of the model (module docs).
 #[derive(Debug, Clone)]
@@ -203,6 +206,42 @@ pub struct Assembled {
     pub load: Vec<f64>,
     /// Initial displacement of the model, m.
     pub u0: Vec<f64>,
+}
+
+impl Assembled {
+    /// The driver's problem of the joined `bodies` (those it was assembled from) meeting
+    /// through `interfaces` with the contact `pairs`, from `t = 0` and the bodies' initial
+    /// displacements at rest, for `steps` steps of `h` with `integrator`: supports held,
+    /// the loads of [`load_fn`], the strain energy on the elastic stiffness, the soft way,
+    /// frictionless, a penetration tolerance of 1e-12 m (change any field after).
+    pub fn problem(
+        &self,
+        bodies: &[Body],
+        (interfaces, pairs): (Vec<Interface>, Vec<Pair>),
+        (integrator, h, steps): (Integrator, f64, usize),
+    ) -> Problem {
+        Problem {
+            dim: 2,
+            reference: self.reference.clone(),
+            model: self.model.clone(),
+            integrator,
+            h,
+            gamma_schedule: Vec::new(),
+            dirichlet: self.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
+            load: load_fn(bodies, self),
+            obstacles: Vec::new(),
+            interfaces,
+            pairs,
+            treatment: Treatment::SOFT_WAY,
+            u0: self.u0.clone(),
+            v0: vec![0.0; self.model.n()],
+            t0: 0.0,
+            steps,
+            gap_tol: 1e-12,
+            energy_stiffness: Some(self.elastic.clone()),
+            friction: None,
+        }
+    }
 }
 
 /// Joins `bodies` (module docs).

@@ -5,7 +5,7 @@ mod common;
 use softway::assembly::{assemble_mass_stiffness, Assembler};
 use softway::bodies::{self, Body};
 use softway::contact::obstacle::Flattening;
-use softway::contact::search::{Motion, Placed, Search};
+use softway::contact::search::{top_segments, Motion, Placed, Search};
 use softway::contact::Treatment;
 use softway::contact::{Interface, Pair};
 use softway::linalg::spmv_add;
@@ -239,9 +239,7 @@ fn momentum_is_exchanged_between_two_free_bodies_and_conserved() {
             },
         );
         let lower = plate(0.04, 0.01, 16, 4, Motion::Fixed);
-        let mut top = lower.mesh.node_sets["top"].clone();
-        top.sort_by(|&a, &b| lower.mesh.points[b][0].total_cmp(&lower.mesh.points[a][0]));
-        let segments = top.windows(2).map(|w| [w[0], w[1]]).collect();
+        let segments = top_segments(&lower.mesh.points, &lower.mesh.node_sets["top"]);
         let slaves = upper.mesh.node_sets["bottom"].clone();
         let bodies = vec![upper, lower];
         let joined = bodies::assemble(&bodies).unwrap();
@@ -271,34 +269,12 @@ fn momentum_is_exchanged_between_two_free_bodies_and_conserved() {
             v0[d] = -1.0;
         }
         let h = 1e-6;
+        let pairs = Pair::searched(0, &interface, 0);
         let problem = Problem {
-            dim: 2,
-            reference: joined.reference.clone(),
-            model: joined.model.clone(),
-            integrator: SPACE_TIME,
-            h,
-            gamma_schedule: Vec::new(),
-            dirichlet: Vec::new(),
-            load: bodies::load_fn(&bodies, &joined),
-            obstacles: Vec::new(),
-            interfaces: vec![interface],
-            pairs: slaves
-                .iter()
-                .enumerate()
-                .map(|(slot, &node)| Pair::Searched {
-                    node,
-                    interface: 0,
-                    slot,
-                })
-                .collect(),
             treatment,
-            u0: vec![0.0; n],
             v0: v0.clone(),
-            t0: 0.0,
-            steps: 400,
-            gap_tol: 1e-12,
             energy_stiffness: None,
-            friction: None,
+            ..joined.problem(&bodies, (vec![interface], pairs), (SPACE_TIME, h, 400))
         };
         let momentum = |v: &[f64]| {
             let mut mv = vec![0.0; n];

@@ -5,7 +5,7 @@
 use softway::bodies::{self, Body};
 use softway::contact::obstacle::Flattening;
 use softway::contact::search::{Motion, Placed, Search};
-use softway::contact::{Interface, Pair, Treatment};
+use softway::contact::{Interface, Pair};
 use softway::element::beam::{BeamSection, BeamTheory};
 use softway::mesh::generators::{disk_graded, DiskOptions};
 use softway::models::wheel_on_block::wheel_body;
@@ -126,41 +126,16 @@ fn pressed(theory: BeamTheory, span: f64, elements: usize, depth: f64, press: Pr
         wheel.rim.clone(),
         &wheel.mesh.reference_positions(),
     );
-    let n = joined.model.n();
     let steps = (t_end / h) as usize;
+    let pairs = Pair::searched(0, &interface, 0);
+    let st = Integrator::SpaceTime {
+        alpha: 0.8,
+        gamma: 0.2,
+        coriolis: softway::time::Coriolis::Implicit,
+    };
     let problem = Problem {
-        dim: 2,
-        reference: joined.reference.clone(),
-        model: joined.model.clone(),
-        integrator: Integrator::SpaceTime {
-            alpha: 0.8,
-            gamma: 0.2,
-            coriolis: softway::time::Coriolis::Implicit,
-        },
-        h,
-        gamma_schedule: Vec::new(),
-        dirichlet: joined.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
-        load: bodies::load_fn(&bodies, &joined),
-        obstacles: Vec::new(),
-        interfaces: vec![interface],
-        pairs: wheel
-            .rim
-            .iter()
-            .enumerate()
-            .map(|(slot, &node)| Pair::Searched {
-                node,
-                interface: 0,
-                slot,
-            })
-            .collect(),
-        treatment: Treatment::SOFT_WAY,
-        u0: joined.u0.clone(),
-        v0: vec![0.0; n],
-        t0: 0.0,
-        steps,
         gap_tol: 1e-10,
-        energy_stiffness: Some(joined.elastic.clone()),
-        friction: None,
+        ..joined.problem(&bodies, (vec![interface], pairs), (st, h, steps))
     };
     let mid = joined.first_dof[1] + 2 * node_at(at);
     let mut sim = Simulation::new(problem).unwrap();

@@ -135,6 +135,21 @@ impl Pair {
         }
     }
 
+    /// One [`Pair::Searched`] per slave node of `iface` (index `interface` in the
+    /// problem), in its order; the slave body's node `i` is the model's `first_node + i`.
+    pub fn searched(interface: usize, iface: &Interface, first_node: usize) -> Vec<Pair> {
+        iface
+            .nodes()
+            .iter()
+            .enumerate()
+            .map(|(slot, &node)| Pair::Searched {
+                node: first_node + node,
+                interface,
+                slot,
+            })
+            .collect()
+    }
+
     /// Mortar weights of a surface node between neighbours at distances `l_prev` and
     /// `l_next` (module docs, Segment): `[w_node, w_prev, w_next]`.
     pub fn mortar_weights(l_prev: f64, l_next: f64) -> [f64; 3] {

@@ -272,6 +272,15 @@ pub enum Surface {
     },
 }
 
+/// The segments of a flat top surface `nodes` of a body below it, with node positions
+/// `points`: the nodes sorted from right to left (decreasing `x`) and joined in that order,
+/// so that the body lies on the left of each segment (its outward normal `+y`).
+pub fn top_segments(points: &[[f64; 2]], nodes: &[usize]) -> Vec<[usize; 2]> {
+    let mut top = nodes.to_vec();
+    top.sort_by(|&a, &b| points[b][0].total_cmp(&points[a][0]));
+    top.windows(2).map(|w| [w[0], w[1]]).collect()
+}
+
 /// The master surface and its bins (module docs).
 #[derive(Debug, Clone)]
 pub struct Search {

@@ -33,7 +33,7 @@
 //! `sum F (x - x_c)^2 / sum F = a^2 / 4` ([`patch_half_width`]).
 
 use crate::bodies::{self, Assembled, Body};
-use crate::contact::search::{Motion, Placed, Search, SearchError};
+use crate::contact::search::{top_segments, Motion, Placed, Search, SearchError};
 use crate::contact::{Interface, Pair, Treatment};
 use crate::element::tri3::Tri3Geometry;
 use crate::material::{Elastic, PlaneModel};
@@ -137,10 +137,7 @@ impl WheelOnBlock {
             .iter()
             .flat_map(|&i| [2 * i, 2 * i + 1])
             .collect();
-        // Top nodes from right to left: the block lies on the left of each segment.
-        let mut top = mesh.node_sets["top"].clone();
-        top.sort_by(|&a, &b| mesh.points[b][0].total_cmp(&mesh.points[a][0]));
-        let segments: Vec<[usize; 2]> = top.windows(2).map(|w| [w[0], w[1]]).collect();
+        let segments = top_segments(&mesh.points, &mesh.node_sets["top"]);
         let block_motion = Motion::Pressed {
             origin: [-spec.margin, -r_spin - spec.depth, 0.0],
             velocity: [-speed, 0.0, 0.0],
@@ -212,16 +209,7 @@ impl WheelOnBlock {
 
     /// The contact pairs: one per rim node, in the order of [`WheelModel::rim`].
     pub fn pairs(&self) -> Vec<Pair> {
-        self.wheel
-            .rim
-            .iter()
-            .enumerate()
-            .map(|(slot, &node)| Pair::Searched {
-                node,
-                interface: 0,
-                slot,
-            })
-            .collect()
+        Pair::searched(0, &self.interface, 0)
     }
 
     /// The effective modulus `E*` of the wheel against the block in the wheel's plane model
@@ -246,27 +234,15 @@ impl WheelOnBlock {
         treatment: Treatment,
         steps: usize,
     ) -> Problem {
-        let n = self.joined.model.n();
         Problem {
-            dim: 2,
-            reference: self.joined.reference.clone(),
-            model: self.joined.model.clone(),
-            integrator,
-            h,
             gamma_schedule,
-            dirichlet: self.joined.fixed_dofs.iter().map(|&d| (d, 0.0)).collect(),
-            load: bodies::load_fn(&self.bodies, &self.joined),
-            obstacles: Vec::new(),
-            interfaces: vec![self.interface.clone()],
-            pairs: self.pairs(),
             treatment,
-            u0: self.joined.u0.clone(),
-            v0: vec![0.0; n],
-            t0: 0.0,
-            steps,
             gap_tol: 1e-9 * self.wheel.spec.radius,
-            energy_stiffness: Some(self.joined.elastic.clone()),
-            friction: None,
+            ..self.joined.problem(
+                &self.bodies,
+                (vec![self.interface.clone()], self.pairs()),
+                (integrator, h, steps),
+            )
         }
     }
 
