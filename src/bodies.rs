@@ -22,7 +22,7 @@ use crate::assembly::{Assembler, AssemblyError, ElementFamily};
 use crate::contact::search::Motion;
 use crate::contact::{Interface, Pair, Treatment};
 use crate::element::beam::{lengths, Beam2, BeamError, BeamMatrix, BeamSection, BeamTheory};
-use crate::element::discrete::DiscreteError;
+use crate::element::discrete::{Discrete, DiscreteError};
 use crate::linalg::spmv_add;
 use crate::mesh::Cells;
 use crate::mesh::Mesh;
@@ -59,7 +59,8 @@ pub struct Body {
 }
 
 impl Body {
-    /// A body of triangles on `mesh` (2D, two dofs per node): the reference is the nodes'
+    /// A body on `mesh` (2D, two dofs per node: triangles, or segments of a rigid surface):
+    /// the reference is the nodes'
     /// coordinates, the translations `(1, 0, 1, 0, ..)` and `(0, 1, 0, 1, ..)`; no load,
     /// no initial displacement, no supports.
     pub fn triangles(
@@ -83,6 +84,19 @@ impl Body {
             u0: vec![0.0; n],
             mesh,
         }
+    }
+
+    /// A rigid surface on `mesh` (its cells the segments a contact search meets): every dof
+    /// held, no mass, no stiffness; the frame's [`Motion`] alone moves it. The paper's rigid
+    /// base is such a body: a straight segment under the wheel, pressed by the flattening
+    /// program ([`Motion::Pressed`]), met by the rim through the search like a deformable
+    /// base (tests/on_block.rs runs the two and compares).
+    pub fn rigid(name: &str, mesh: Mesh, motion: Motion) -> Self {
+        let model = LinearModel::zeros(Assembler::new(&mesh));
+        let elastic = model.k.clone();
+        let mut b = Body::triangles(name, mesh, model, elastic, motion);
+        b.fixed_dofs = (0..b.mesh.n_dofs()).collect();
+        b
     }
 
     /// A rail of [`Beam2`] elements along the frame's `x` at height `y` (m), its nodes at
@@ -196,7 +210,8 @@ pub struct Assembled {
     pub elastic: Vec<f64>,
     /// Reference positions, each body's in its own frame, m.
     pub reference: Vec<f64>,
-    /// First dof of each body, and the number of dofs last.
+    /// First dof of each body, and the number of the bodies' dofs last (the joints' own
+    /// dofs follow, up to [`LinearModel::n`]).
     pub first_dof: Vec<usize>,
     /// First node of each body, and the number of nodes last.
     pub first_node: Vec<usize>,
@@ -250,6 +265,38 @@ impl Assembled {
 /// [`AssemblyError`] when a body's mesh is not a 2D triangle mesh or a body's arrays do not
 /// match its mesh.
 pub fn assemble(bodies: &[Body]) -> Result<Assembled, AssemblyError> {
+    assemble_with(bodies, &Joints::default())
+}
+
+/// The bodies' first dofs in the joined model, and the number of their dofs last: the
+/// numbering [`assemble`] gives, by which [`Joints`] name the bodies' dofs.
+pub fn first_dofs(bodies: &[Body]) -> Vec<usize> {
+    let mut first = vec![0];
+    for b in bodies {
+        first.push(first.last().unwrap_or(&0) + b.mesh.n_dofs());
+    }
+    first
+}
+
+/// Discrete elements between bodies and on dofs of their own (module docs): `dofs` dofs
+/// after the bodies' (an axle's translations, a sleeper's deflection, ...), and the
+/// elements, numbered in the joined model ([`first_dofs`]).
+#[derive(Debug, Clone, Default)]
+pub struct Joints {
+    /// How many dofs of their own the joints add after the bodies' dofs.
+    pub dofs: usize,
+    /// The elements (masses, spring-dampers, hubs) on the joined numbering.
+    pub discrete: Discrete,
+}
+
+/// Joins `bodies` and the discrete elements `joints` (module docs): the bodies' dofs first,
+/// then the joints' own. The joints' springs add to the elastic stiffness (their energy is
+/// strain energy), their hubs' loads to the load.
+///
+/// # Errors
+/// [`AssemblyError`] when a body's arrays do not match its mesh or a joint names a dof
+/// past the model's.
+pub fn assemble_with(bodies: &[Body], joints: &Joints) -> Result<Assembled, AssemblyError> {
     let mut first_dof = vec![0];
     let mut first_node = vec![0];
     let mut families = Vec::with_capacity(bodies.len());
@@ -263,15 +310,18 @@ pub fn assemble(bodies: &[Body]) -> Result<Assembled, AssemblyError> {
         first_dof.push(o + b.mesh.n_dofs());
         first_node.push(first_node.last().unwrap_or(&0) + b.mesh.n_nodes());
     }
-    let n = *first_dof.last().unwrap_or(&0);
+    let n_bodies = *first_dof.last().unwrap_or(&0);
+    let n = n_bodies + joints.dofs;
+    families.extend(joints.discrete.families());
     let assembler = Assembler::try_with_families(n, families)?;
+    let nnz = assembler.nnz();
     let mut model = LinearModel {
-        m: Vec::with_capacity(assembler.nnz()),
-        k: Vec::with_capacity(assembler.nnz()),
-        c: Vec::with_capacity(assembler.nnz()),
+        m: vec![0.0; nnz],
+        k: vec![0.0; nnz],
+        c: vec![0.0; nnz],
         assembler,
     };
-    let mut elastic = Vec::with_capacity(model.assembler.nnz());
+    let mut elastic = vec![0.0; nnz];
     let (mut reference, mut fixed_dofs, mut load, mut u0) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (bi, b) in bodies.iter().enumerate() {
@@ -295,32 +345,56 @@ pub fn assemble(bodies: &[Body]) -> Result<Assembled, AssemblyError> {
                 n_dofs: own.n(),
             });
         }
-        // The union's column `o + j` is the body's column `j` shifted: check it entry by
-        // entry, then the value arrays simply follow one another.
+        // The union's column `o + j` holds the body's column `j` shifted (and, where a
+        // joint couples the dof, the joint's entries): each body entry goes to its slot.
+        // The bodies' blocks do not overlap, so the values are the bodies' own, bit for bit.
         let cp = own.pattern().col_ptr();
         let ri = own.pattern().row_idx();
         for j in 0..nd {
             for k in cp[j]..cp[j + 1] {
-                let slot = model.assembler.slot(ri[k] + o, j + o);
-                debug_assert_eq!(slot, Some(model.m.len() + k - cp[0]));
-                if slot.is_none() {
+                let Some(slot) = model.assembler.slot(ri[k] + o, j + o) else {
                     return Err(AssemblyError::DofOutOfRange {
                         family: bi,
                         element: k,
                         dof: ri[k] + o,
                         n_dofs: n,
                     });
-                }
+                };
+                let kk = k - cp[0];
+                model.m[slot] = own.m[kk];
+                model.k[slot] = own.k[kk];
+                model.c[slot] = own.c[kk];
+                elastic[slot] = b.elastic[kk];
             }
         }
-        model.m.extend_from_slice(&own.m);
-        model.k.extend_from_slice(&own.k);
-        model.c.extend_from_slice(&own.c);
-        elastic.extend_from_slice(&b.elastic);
         reference.extend_from_slice(&b.reference);
         fixed_dofs.extend(b.fixed_dofs.iter().map(|&d| d + o));
         load.extend_from_slice(&b.load);
         u0.extend_from_slice(&b.u0);
+    }
+    if joints.dofs > 0 || !joints.discrete.is_empty() {
+        // The joints' matrices on the joined pattern; their stiffness is strain energy too.
+        let nb = bodies.len();
+        let (mut mj, mut cj, mut kj) = (vec![0.0; nnz], vec![0.0; nnz], vec![0.0; nnz]);
+        joints
+            .discrete
+            .add_matrices_into(&model.assembler, nb, &mut mj, &mut cj, &mut kj)
+            .map_err(|_| AssemblyError::DofOutOfRange {
+                family: nb,
+                element: 0,
+                dof: n,
+                n_dofs: n,
+            })?;
+        for s in 0..nnz {
+            model.m[s] += mj[s];
+            model.c[s] += cj[s];
+            model.k[s] += kj[s];
+            elastic[s] += kj[s];
+        }
+        reference.resize(n, 0.0);
+        u0.resize(n, 0.0);
+        load.resize(n, 0.0);
+        joints.discrete.add_load_into(1.0, &mut load);
     }
     Ok(Assembled {
         model,

@@ -192,6 +192,85 @@ fn a_stiffer_block_tends_to_the_rigid_base() {
     );
 }
 
+/// The paper's rigid base as one case of the contact search: a rigid body of one straight
+/// segment ([`Body::rigid`]), pressed up by the flattening program like the block, met by
+/// every rim node through the search, against the wheel's own rotating-base pairs
+/// (`Pair::Obstacle`): the same wheel (rim 144, 300 rad/s, 1 mm over 1 ms, 2 ms), step by
+/// step the same total contact force to 1e-10 of its peak (3.9e-14 when written), and the same number
+/// of held nodes (the rows agree to round-off: the search's unit tests).
+#[test]
+fn the_rigid_base_is_a_rigid_body_met_by_the_search() {
+    let (settle, t_end, h) = (1e-3, 2e-3, 2e-6);
+    let wb = WheelOnBlock::new(wheel(144, 300.0, 1e-3, settle), block(1.0, 0.03), t_end).unwrap();
+    let obstacle = run_rigid(&wb, h, t_end);
+    let ws = &wb.wheel.spec;
+    let r_spin = wb.wheel.spinning_radius();
+    let half = 0.05;
+    let mesh = softway::mesh::Mesh {
+        dim: 2,
+        points: vec![[-half, 0.0], [half, 0.0]],
+        cells: softway::mesh::Cells::Bar2(vec![[0, 1]]),
+        node_sets: Default::default(),
+    };
+    let base_motion = Motion::Pressed {
+        origin: [0.0, -r_spin, 0.0],
+        velocity: [0.0; 3],
+        direction: [0.0, 1.0, 0.0],
+        program: ws.flattening,
+    };
+    let base = Body::rigid("base", mesh, base_motion);
+    let bodies = vec![wb.bodies[0].clone(), base];
+    let joined = bodies::assemble(&bodies).unwrap();
+    let search = Search::new(
+        2,
+        Placed {
+            motion: base_motion,
+            first_dof: joined.first_dof[1],
+        },
+        bodies[1].mesh.reference_positions(),
+        vec![[1, 0]],
+        0.01,
+    )
+    .unwrap();
+    let interface = Interface::new(
+        search,
+        Placed {
+            motion: wb.wheel_motion(),
+            first_dof: 0,
+        },
+        wb.wheel.rim.clone(),
+        &wb.wheel.mesh.reference_positions(),
+    );
+    let pairs = Pair::searched(0, &interface, 0);
+    let steps = (t_end / h).round() as usize;
+    let problem = Problem {
+        gap_tol: 1e-9 * ws.radius,
+        ..joined.problem(&bodies, (vec![interface], pairs), (SPACE_TIME, h, steps))
+    };
+    let searched = trace(&wb, Simulation::new(problem).unwrap());
+    assert_eq!(searched.force.len(), obstacle.force.len());
+    let peak = obstacle.force.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    let worst = searched
+        .force
+        .iter()
+        .zip(&obstacle.force)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0_f64, f64::max);
+    let held_differ = searched
+        .held
+        .iter()
+        .zip(&obstacle.held)
+        .filter(|(a, b)| a != b)
+        .count();
+    println!(
+        "rigid base by search against the rotating base: peak {peak:.6e} N, worst difference {worst:.3e} N ({:.2e} of the peak), steps with another held count {held_differ}",
+        worst / peak
+    );
+    assert!(peak > 1e5, "peak force {peak}");
+    assert!(worst < 1e-10 * peak, "worst {worst} N of {peak} N");
+    assert_eq!(held_differ, 0);
+}
+
 /// A free steel plate of `lx` by `ly` (m) in `nx` by `ny` quads, placed by `motion`.
 fn plate(lx: f64, ly: f64, nx: usize, ny: usize, motion: Motion) -> Body {
     let mesh = rectangle(lx, ly, nx, ny).unwrap();

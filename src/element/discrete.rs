@@ -153,6 +153,11 @@ impl Discrete {
         Self::default()
     }
 
+    /// True when the set holds no element and no load.
+    pub fn is_empty(&self) -> bool {
+        self.single_dofs.is_empty() && self.link_dofs.is_empty() && self.loads.is_empty()
+    }
+
     /// Adds a point mass.
     ///
     /// # Errors

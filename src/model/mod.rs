@@ -35,6 +35,17 @@ pub struct LinearModel {
 }
 
 impl LinearModel {
+    /// The model with no mass, damping or stiffness on the pattern of `assembler`.
+    pub fn zeros(assembler: Assembler) -> Self {
+        let z = assembler.zeros();
+        Self {
+            m: z.clone(),
+            k: z.clone(),
+            c: z,
+            assembler,
+        }
+    }
+
     /// Number of degrees of freedom.
     pub fn n(&self) -> usize {
         self.assembler.pattern.nrows()
