@@ -11,6 +11,18 @@
 //! patterns shifted, so the joined value arrays are the bodies' arrays one after another
 //! (checked entry by entry).
 //!
+//! **Discrete elements between bodies** ([`Joints`], [`assemble_with`]): point masses,
+//! spring-dampers and hubs ([`crate::element::discrete`]) on the joined numbering, joining
+//! dofs of different bodies or dofs of their own appended after the bodies' (an axle node
+//! carrying the unsprung mass and the axle load, a sleeper's mass). Their entries join the
+//! pattern as two more element families; their stiffness counts in the strain energy
+//! (tests/joints.rs: an axle on a spring to an elastic block oscillates at the series
+//! stiffness's period, and springs between two free bodies keep the total momentum).
+//!
+//! **A rigid body** ([`Body::rigid`]) is a surface whose dofs are all held: the paper's
+//! rigid base is one, met by the rim through the contact search with the same forces as
+//! the rotating base's own pairs (tests/on_block.rs).
+//!
 //! **A translating frame that accelerates.** A body whose frame is pressed by a program
 //! `d(t)` along `e` ([`Motion::Pressed`]: the base block of the wheel, carrying the paper's
 //! kinematic load) has its material at `x = o(t) + X + u` with `o'' = d''(t) e`; its
