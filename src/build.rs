@@ -1,6 +1,6 @@
 //! Stage 3 of reading a scenario, build: what needs a model. The validated
 //! [`Scenario<RunSpec>`] ([`crate::scenario`], plain data) becomes the [`Scenario`] of
-//! [`Run`]s that the jobs ([`crate::run`]) take, each with its time step `h` resolved:
+//! [`Run`]s that the jobs ([`crate::run`](mod@crate::run)) take, each with its time step `h` resolved:
 //!
 //! - `cfl` (central difference): `h = cfl * 2 / omega_max`, with `omega_max` the largest
 //!   natural circular frequency of the lumped contact bar, found by assembling it (and a

@@ -81,6 +81,9 @@
 //! | what does a treatment see of the driver? | `src/contact/context.rs` |
 //! | where is the contact search between bodies (and the bodies' frames)? | `src/contact/search.rs` |
 //! | where are a model's bodies joined, and a pressed frame's inertial load? | `src/bodies.rs` |
+//! | where do discrete elements join bodies (an axle on springs, a sleeper's mass)? | `src/bodies.rs` (`Joints`, `assemble_with`); the elements in `src/element/discrete.rs`; `tests/joints.rs` |
+//! | where is a rigid base or obstacle as a body of the search? | `src/bodies.rs` (`Body::rigid`); `tests/on_block.rs` compares it with the rotating base |
+//! | where is the command line? | `src/cli.rs` (`src/main.rs` only calls it) |
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
 //! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies.rs`; `tests/on_rail.rs` |
 //! | where is the wheel on an elastic block (Hertz's half-width)? | `src/models/wheel_on_block.rs`; its job `src/run/on_block.rs`; `scenarios/wheel-on-block.toml` |
@@ -93,7 +96,7 @@
 //!
 //! [`run()`] runs a resolved [`scenario::Scenario`] ([`build::resolve`]) and returns its
 //! [`Results`] in memory: the summary (`summary.json`'s object), the history as named
-//! columns with units ([`output::table::Columns`], `history.csv`), the per-node contact rows
+//! columns with units ([`run::Columns`], `history.csv`), the per-node contact rows
 //! (`contact_nodes.csv`), the fields on the mesh (the VTU files) and the screen lines.
 //! [`Results::save`] writes them as the command line's files, byte for byte. The command
 //! line's `run` ([`run::run_scenario`]) streams the long tables into its output folder
@@ -133,8 +136,10 @@
 //!   against another body's surface segments, each body in its frame (fixed, translating,
 //!   rotating: [`contact::search`]).
 //! - [`bodies`]: a model as a set of bodies, each a mesh with its model, supports, load and
-//!   frame (fixed, translating, pressed, rotating), joined block-diagonally; the inertial
-//!   load of a pressed frame `-M 1 d''(t)`.
+//!   frame (fixed, translating, pressed, rotating), joined on one pattern with the discrete
+//!   elements between them and on dofs of their own ([`bodies::Joints`]: an axle node with
+//!   its mass and load, springs and dampers); rigid bodies ([`bodies::Body::rigid`]); the
+//!   inertial load of a pressed frame `-M 1 d''(t)`.
 //! - [`models`]: models of more than one body: the wheel on an elastic block, met through
 //!   the contact search ([`contact::interface`], [`contact::Pair::Searched`]) with Hertz's
 //!   line contact as its check.
@@ -143,9 +148,12 @@
 //! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed
 //!   combinations of model, integrator and contact in one table).
 //! - [`build`]: what a scenario needs a model for (the central difference's step from
-//!   `cfl`), before the jobs of [`run`] start.
-//! - [`output`]: CSV, JSON, VTK, plots; tables in memory and the writing of [`Results`].
+//!   `cfl`), before the jobs of [`run`](mod@run) start.
+//! - `output` (the crate's own): CSV, JSON, VTK, plots; the writing of [`Results`]
+//!   ([`Results::save`]) and of the command line's files ([`cli`]).
 //! - [`analysis`]: signals (spectra, oscillation counts).
+//! - [`cli`]: the command line (parse, validate, run, report); the binary only calls
+//!   [`cli::main`].
 //!
 //! Units are SI inside: m, s, kg, N, Pa.
 
@@ -157,6 +165,7 @@ pub mod analysis;
 pub mod assembly;
 pub mod bodies;
 pub mod build;
+pub mod cli;
 pub mod contact;
 pub mod element;
 pub mod frame;
@@ -166,7 +175,7 @@ pub mod mesh;
 pub mod model;
 pub mod models;
 pub mod modes;
-pub mod output;
+pub(crate) mod output;
 pub mod problems;
 pub mod run;
 pub mod scenario;

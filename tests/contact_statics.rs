@@ -171,7 +171,7 @@ fn contact_half_width_approaches_hertz_on_fine_disks() {
 #[test]
 fn static_force_with_the_hub_converges_on_the_rim_ladder() {
     use softway::mesh::generators::{disk_graded, DiskOptions};
-    use softway::run::converge::observed_orders;
+    use softway::run::observed_orders;
     let rims = [288.0, 576.0, 1152.0, 2304.0];
     let forces: Vec<f64> = rims
         .iter()

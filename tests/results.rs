@@ -8,7 +8,7 @@
 mod common;
 
 use common::{run_ok, scenario, shipped, TestDir};
-use softway::output::table::Columns;
+use softway::run::Columns;
 use softway::run::RunOptions;
 use softway::scenario::Scenario;
 use std::path::Path;
@@ -77,7 +77,7 @@ fn assert_same_files(a: &Path, b: &Path) -> Vec<String> {
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             // The command line's mark of a folder it wrote (`output::staging`).
-            .filter(|n| n != softway::output::staging::MARKER)
+            .filter(|n| n != softway::cli::MARKER)
             .collect();
         v.sort();
         v

@@ -76,7 +76,7 @@ impl SparseLlt {
     }
 
     /// Analyses (AMD ordering, split into two independent parts and a top for two threads
-    /// from `SPLIT_MIN_ORDER` on, as [`SparseLu`]) and factors.
+    /// from `SPLIT_MIN_ORDER` on, as [`super::SparseLu`]) and factors.
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is not positive definite.

@@ -9,7 +9,7 @@
 //!   refactor new values on the same symbolic analysis, solve in place without allocating,
 //!   the symbolic analyses and numeric factorizations counted by the factorization itself),
 //!   the errors ([`LinalgError`]) and the step matrices' factor [`Factor`].
-//! - [`reference`]: the reference implementation, faer's own LU and Cholesky with their
+//! - [`reference`](mod@reference): the reference implementation, faer's own LU and Cholesky with their
 //!   generic solves ([`FaerLu`], [`FaerLlt`]).
 //! - the tuned implementation, checked against the reference (the tests here,
 //!   `tests/factor.rs`): [`SparseLu`] (module `lu`: faer's numeric LU on an ordering

@@ -143,11 +143,6 @@ impl StagedDir {
         &self.staging
     }
 
-    /// The output folder it will become.
-    pub fn target(&self) -> &Path {
-        &self.target
-    }
-
     /// `p` (a path inside the staging folder) as it will be once committed.
     pub fn final_path(&self, p: &Path) -> PathBuf {
         p.strip_prefix(&self.staging)

@@ -142,12 +142,12 @@ impl Columns {
             .collect()
     }
 
-    /// The CSV file the rows were streamed to instead of being held (see [`Rows`]).
+    /// The CSV file the rows were streamed to instead of being held (see `Rows`).
     pub fn streamed_to(&self) -> Option<&Path> {
         self.streamed.as_deref()
     }
 
-    /// Writes the table as CSV into `path` (atomically, through [`CsvWriter`]: the same
+    /// Writes the table as CSV into `path` (atomically, through `CsvWriter`: the same
     /// bytes as the file streamed during a run). A streamed table is copied from its file.
     ///
     /// # Errors

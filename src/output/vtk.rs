@@ -330,13 +330,9 @@ impl PvdWriter {
     }
 
     /// The entries added so far, in order.
+    #[cfg(test)]
     pub fn entries(&self) -> &[(f64, String)] {
         &self.entries
-    }
-
-    /// Number of entries.
-    pub fn len(&self) -> usize {
-        self.entries.len()
     }
 
     /// True when no entry was added.

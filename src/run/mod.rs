@@ -5,17 +5,19 @@
 //! output folder as it goes so that a long run's memory stays flat.
 
 pub mod bar;
-pub mod compare;
-pub mod converge;
-pub mod matrix;
-pub mod on_block;
+pub(crate) mod compare;
+pub(crate) mod converge;
+pub(crate) mod matrix;
+pub(crate) mod on_block;
 pub mod results;
-pub mod sdof;
-pub mod sweep;
+pub(crate) mod sdof;
+pub(crate) mod sweep;
 pub mod wheel;
 
 pub use crate::linalg::team::{Par, Team};
+pub use crate::output::table::{Column, Columns};
 use crate::scenario::{Model, Scenario};
+pub use converge::observed_orders;
 pub use results::{FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

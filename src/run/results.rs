@@ -1,5 +1,5 @@
 //! The results of a run, in memory: what [`crate::run::run`] returns and
-//! [`Results::save`](crate::output::save) writes as the command line's files.
+//! [`Results::save`] writes as the command line's files.
 //!
 //! | item | file of the command line |
 //! |---|---|

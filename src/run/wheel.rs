@@ -9,16 +9,16 @@
 //! turn's force range counts as one oscillation
 //! ([`crate::analysis::signal::count_oscillations`]).
 //!
-//! **Shape of the job.** [`simulate`] builds the observers of [`observers`] (history rows,
+//! **Shape of the job.** [`simulate`] builds the observers of `observers` (history rows,
 //! contact-force statistics, energy, the turn-averaged `J2` / von Mises, the velocity
 //! snapshots, the progress bar), attaches them to the step loop in [`drive`], the one
 //! place that speaks to the driver ([`crate::simulation`]), then collects their results
-//! into the [`WheelSummary`], the VTK fields and the figures ([`figures`]).
+//! into the [`WheelSummary`], the VTK fields and the figures (`figures`).
 
 mod collect;
-pub mod figures;
-pub mod observers;
-pub mod traction;
+pub(crate) mod figures;
+pub(crate) mod observers;
+pub(crate) mod traction;
 
 pub(crate) use collect::record;
 

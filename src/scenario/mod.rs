@@ -13,7 +13,7 @@
 //! 3. **Build** ([`crate::build`]): what needs a model. [`crate::build::resolve`] turns each
 //!    [`RunSpec`] into a [`Run`] with its step `h` (assembling the contact bar to find the
 //!    central difference's stable step when `cfl` is given, and warning about an explicit
-//!    step or penalty beyond stability); the jobs ([`crate::run`]) take the built
+//!    step or penalty beyond stability); the jobs ([`crate::run`](mod@crate::run)) take the built
 //!    [`Scenario`] (= `Scenario<Run>`). Wheel meshes are read later still, by
 //!    [`crate::run::wheel::build`].
 //!

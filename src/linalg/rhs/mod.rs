@@ -3,7 +3,7 @@
 //! and with the Coriolis term on the right-hand side `- h G (v0 + alpha h a0)`
 //! ([`RhsOperator`]), formed by the tuned kernels (module `kernels`: rows by pairs, blocks
 //! of two columns, compact blocks, AVX2, prefetch); [`rhs_plain_into`] forms the same by
-//! plain sparse products, the reference the kernels are tested against. [`Operators`]
+//! plain sparse products, the reference the kernels are tested against. `Operators`
 //! forms the step's matrices `A` and `B` from `M`, `C` and `K`.
 
 use super::{spmv_add, HugeBuf, Pattern};
@@ -34,7 +34,7 @@ const RHS_AHEAD: usize = 512;
 /// gather of `v0` and `u0` serves both rows. Other rows are stored alone. A pair's columns
 /// that come two by two (`j, j + 1`: a neighbouring node's two dofs) are a block: one
 /// index, eight values, `v0[j..j + 2]` and `u0[j..j + 2]` read in one load each, and on AVX2
-/// two 256-bit products ([`rhs_blocks_avx2`]). Measured on the paper's wheel: the right-hand
+/// two 256-bit products (`rhs_blocks_avx2`). Measured on the paper's wheel: the right-hand
 /// side 5.4 -> 4.1 us per step (see `Stepper::rhs_into`).
 #[derive(Debug, Clone)]
 pub struct RhsOperator {
@@ -127,9 +127,9 @@ enum BlockForm {
 const COMPACT_MIN_BYTES: usize = 1 << 20;
 
 /// `B = D - c2 K` with `D = M - k1 C`, `k1 = (1 - alpha) h`, `c2 = (alpha - alpha^2/2) h^2`:
-/// the one place `B`'s values are formed ([`Operators::fill`]), and `D`'s of the right-hand
+/// the one place `B`'s values are formed (`Operators::fill`), and `D`'s of the right-hand
 /// side's compact blocks, which form `B` from `D` and `K` with these very operations
-/// ([`BlockForm`]), so that both round alike.
+/// (`BlockForm`), so that both round alike.
 #[derive(Debug, Clone, Copy)]
 pub struct BParts {
     k1: f64,
@@ -171,7 +171,7 @@ pub struct RhsValues<'a> {
     pub k: &'a [f64],
     /// `G`'s, the skew part of `C` on the right-hand side (empty: none).
     pub g: &'a [f64],
-    /// `B`'s, formed by [`BParts::b`] from `m`, `c` and `k` ([`Operators::fill`]).
+    /// `B`'s, formed by [`BParts::b`] from `m`, `c` and `k` (`Operators::fill`).
     pub bv: &'a [f64],
     /// The step's coefficients of `B`.
     pub parts: BParts,

@@ -1,0 +1,749 @@
+//! The `softway` command line: parse, validate, call the library, report (the binary's
+//! `main` calls [`main`]). A scenario goes through the library's three stages:
+//! [`Scenario::from_file`] parses and validates it, [`resolve`] builds what needs a model
+//! (the step from `cfl`), the jobs run it; the files are the output module's.
+
+use crate::build::resolve;
+use crate::output::staging::StagedDir;
+use clap::{Parser, Subcommand};
+
+/// The file by which the command line marks a folder it wrote (it replaces only such
+/// folders).
+pub use crate::output::staging::MARKER;
+use crate::run::{run_scenario, Cancel, Par, RunOptions};
+use crate::scenario::Scenario;
+use crate::time::sdof::analyse;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// `println!` that never panics: a closed standard output (`softway run ... | head`) only
+/// silences the rest of the report; the run itself goes on and its files are written.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
+/// `eprintln!` that never panics (a closed standard error).
+macro_rules! errln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// Dynamic contact by the space-time finite element method (Bajer's soft way).
+#[derive(Parser, Debug)]
+#[command(name = "softway", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// What may be replaced: an output folder of other files.
+#[derive(clap::Args, Debug)]
+struct Replace {
+    /// Replace the output folder even if it holds files softway did not write (a folder
+    /// written by softway is always replaced whole, never mixed with new files).
+    #[arg(long)]
+    force: bool,
+}
+
+/// What a run may do beyond the defaults: replace a folder of other files, exceed the
+/// size limits.
+#[derive(clap::Args, Debug)]
+struct Guard {
+    /// Replace the output folder even if it holds files softway did not write (a folder
+    /// written by softway is always replaced whole, never mixed with new files).
+    #[arg(long)]
+    force: bool,
+    /// Run even if the estimate of steps, time, memory or disk is beyond the limits (4 h on
+    /// one core, half the memory, 20 GB of per-step files).
+    #[arg(long)]
+    yes: bool,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scenario and write history.csv, summary.json, plots and fields into a folder.
+    Run {
+        /// The scenario file (TOML).
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+        /// Threads for the run [default: the number of cores]. A step matrix of 1,500
+        /// dofs or more is solved in two parts side by side, on the run's own helper thread;
+        /// smaller ones on one thread. The results do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        #[command(flatten)]
+        guard: Guard,
+    },
+    /// Run a scenario over a list of values of one key, in parallel (e.g. the paper's Fig. 15).
+    Sweep {
+        /// The scenario file (TOML).
+        scenario: PathBuf,
+        /// KEY=V1,V2,... (a dotted scenario key), e.g. rolling.omega=250,300,350; default:
+        /// the scenario's [sweep] table.
+        #[arg(long)]
+        set: Option<String>,
+        /// Output folder [default: out/<scenario name>-sweep].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Runs at once [default: the number of cores].
+        #[arg(long)]
+        jobs: Option<usize>,
+        #[command(flatten)]
+        guard: Guard,
+    },
+    /// Run a scenario over a refinement ladder of one key (mesh or step) and report the
+    /// observed order of every key figure: converge.csv, converge.md, converge.png.
+    Converge {
+        /// The scenario file (TOML, one run).
+        scenario: PathBuf,
+        /// KEY=V1,V2,V3,... a geometric ladder of at least three rungs, e.g.
+        /// wheel.rings=6,12,24 or time.h=0.1,0.05,0.025.
+        #[arg(long)]
+        set: String,
+        /// Output folder [default: out/<scenario name>-converge].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Runs at once [default: the number of cores].
+        #[arg(long)]
+        jobs: Option<usize>,
+        #[command(flatten)]
+        guard: Guard,
+    },
+    /// Run the combinations (integrator, contact treatment, time step, mesh) of a bar
+    /// scenario side by side against the exact answer: compare.csv, compare.md, force and
+    /// energy plots.
+    Compare {
+        /// The scenario file (TOML, kind = "bar_impact" or "two_bars", one [[runs]] entry
+        /// per combination).
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        guard: Guard,
+    },
+    /// Natural frequencies (Hz) and periods (us) of a wheel scenario's model, at rest and
+    /// spinning (rotating frame), with the mode shapes as VTU.
+    Modes {
+        /// The scenario file (TOML, kind = "wheel").
+        scenario: PathBuf,
+        /// Number of elastic modes.
+        #[arg(long, default_value_t = 12)]
+        count: usize,
+        /// Output folder [default: out/<scenario name>-modes].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        replace: Replace,
+    },
+    /// Write the space-time step's matrices of a wheel or bar scenario (Matrix Market) for
+    /// other solvers, with the size of each factor and softway's time for one free step:
+    /// A.mtx, B.mtx, K.mtx, u0/v0/f.mtx, fixed.txt, matrix.json (bench/peers/ reads them).
+    Matrix {
+        /// The scenario file (TOML, kind = "wheel" or "bar_impact"; its first run).
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>-matrix].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Free steps timed in each of the five rounds (the median round is reported)
+        /// [default: 2,000,000 / nnz(A), between 20 and 20,000].
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+        steps: Option<u64>,
+    },
+    /// Spectral radius, damping and period error of the scheme against omega*h.
+    Stability {
+        /// alpha of Eq. (8), in (0, 1].
+        #[arg(long, default_value_t = 0.8)]
+        alpha: f64,
+        /// gamma of Eq. (24), in [0, 1].
+        #[arg(long, default_value_t = 0.0)]
+        gamma: f64,
+        /// Also write stability.csv and stability.png into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Also compare the two treatments of the Coriolis term (`time.coriolis`) on the
+        /// spinning oscillator at this spin times the step, Omega*h in (0, 0.1] (the
+        /// wheel: 300 rad/s * 2 us = 6e-4).
+        #[arg(long)]
+        spin_h: Option<f64>,
+        /// Print one JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        replace: Replace,
+    },
+}
+
+/// The command line's entry: parses the arguments, runs the subcommand, returns the exit
+/// code (0 done, 1 a check failed, 2 an error, 130 interrupted).
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
+    // Ctrl-C cancels the jobs' token; a second one aborts.
+    let cancel = Cancel::new();
+    let on_ctrl_c = cancel.clone();
+    let _ = ctrlc::set_handler(move || {
+        if on_ctrl_c.cancel() {
+            std::process::exit(130);
+        }
+        errln!("\ninterrupted: finishing the current step and writing what was computed (Ctrl-C again to abort)");
+    });
+    match try_main(cli, &cancel) {
+        Ok(code) => code,
+        Err(e) => {
+            errln!("softway: error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// What a subcommand returns: its exit code, or the error `main` reports.
+type CommandResult = Result<ExitCode, Box<dyn std::error::Error>>;
+
+/// Runs the subcommand of `cli`, one function each.
+fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
+    match cli.command {
+        Command::Run {
+            scenario,
+            out,
+            quiet,
+            threads,
+            guard,
+        } => run_command(&scenario, out, quiet, threads, guard, cancel),
+        Command::Sweep {
+            scenario,
+            set,
+            out,
+            jobs,
+            guard,
+        } => sweep_command(&scenario, set, out, jobs, guard, cancel),
+        Command::Converge {
+            scenario,
+            set,
+            out,
+            jobs,
+            guard,
+        } => converge_command(&scenario, &set, out, jobs, guard, cancel),
+        Command::Compare {
+            scenario,
+            out,
+            guard,
+        } => compare_command(&scenario, out, guard, cancel),
+        Command::Modes {
+            scenario,
+            count,
+            out,
+            replace,
+        } => modes_command(&scenario, count, out, replace),
+        Command::Matrix {
+            scenario,
+            out,
+            steps,
+        } => matrix_command(&scenario, out, steps),
+        Command::Stability {
+            alpha,
+            gamma,
+            out,
+            spin_h,
+            json,
+            replace,
+        } => stability_command(alpha, gamma, out, spin_h, json, replace),
+    }
+}
+
+/// `softway run`: one scenario into its folder, with its report on standard output.
+fn run_command(
+    scenario: &Path,
+    out: Option<PathBuf>,
+    quiet: bool,
+    threads: Option<usize>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    set_threads("--threads", threads)?;
+    let sc = resolve(&Scenario::from_file(scenario)?)?;
+    check_estimate(&sc, yes)?;
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+    let stage = StagedDir::begin(&out, force)?;
+    let opts = RunOptions {
+        progress: !quiet,
+        par: threads.map(Par::threads),
+        cancel: cancel.clone(),
+    };
+    let report = run_scenario(&sc, stage.path(), &opts)?;
+    for w in &report.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!("{} ({})", sc.name, scenario.display());
+    for l in &report.lines {
+        outln!("  {l}");
+    }
+    outln!("  wrote:");
+    for f in &files {
+        outln!("    {}", f.display());
+    }
+    if report.interrupted {
+        errln!("softway: interrupted; the files above hold the steps computed so far");
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway sweep`: the scenario over the values of `--set` (or its `[sweep]` table).
+fn sweep_command(
+    scenario: &Path,
+    set: Option<String>,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    let text = std::fs::read_to_string(scenario)
+        .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+    let (key, values) = match set {
+        Some(s) => parse_set(&s)?,
+        None => sc.sweep.clone().ok_or_else(|| {
+            format!(
+                "{}: no [sweep] table and no --set KEY=V1,V2,...",
+                scenario.display()
+            )
+        })?,
+    };
+    check_ladder_estimate(scenario, &text, &key, &values, yes)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
+    set_threads("--jobs", jobs)?;
+    let stage = StagedDir::begin(&out, force)?;
+    let (points, files) =
+        crate::run::sweep::sweep(scenario, &text, &key, &values, stage.path(), cancel)?;
+    for p in &points {
+        for w in &p.warnings {
+            errln!("softway: warning: {key} = {}: {w}", p.value);
+        }
+    }
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
+    stage.commit()?;
+    outln!("{}: {key} swept over {} values", sc.name, values.len());
+    print_table(&out.join("sweep.md"), &files);
+    for d in dirs {
+        outln!("    {}/", d.display());
+    }
+    if cancel.is_cancelled() {
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway converge`: the scenario over the refinement ladder of `--set`.
+fn converge_command(
+    scenario: &Path,
+    set: &str,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    let text = std::fs::read_to_string(scenario)
+        .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+    let (key, values) = parse_set(set)?;
+    check_ladder_estimate(scenario, &text, &key, &values, yes)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
+    set_threads("--jobs", jobs)?;
+    let stage = StagedDir::begin(&out, force)?;
+    let (_, files, warnings) =
+        crate::run::converge::converge(scenario, &text, &key, &values, stage.path(), cancel)?;
+    for w in &warnings {
+        errln!("softway: warning: {w}");
+    }
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!(
+        "{}: convergence of {key} over {} rungs",
+        sc.name,
+        values.len()
+    );
+    print_table(&out.join("converge.md"), &files);
+    if cancel.is_cancelled() {
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway compare`: the combinations of a bar scenario side by side.
+fn compare_command(
+    scenario: &Path,
+    out: Option<PathBuf>,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let sc = resolve(&Scenario::from_file(scenario)?)?;
+    check_estimate(&sc, yes)?;
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+    let stage = StagedDir::begin(&out, force)?;
+    let opts = RunOptions {
+        cancel: cancel.clone(),
+        ..RunOptions::default()
+    };
+    let report = crate::run::compare::compare(&sc, stage.path(), &opts)?;
+    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    for l in &report.lines {
+        outln!("{l}");
+    }
+    outln!("wrote:");
+    for f in &files {
+        outln!("  {}", f.display());
+    }
+    if report.interrupted {
+        errln!("softway: interrupted: the table holds the runs finished before");
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU.
+fn modes_command(
+    scenario: &Path,
+    count: usize,
+    out: Option<PathBuf>,
+    Replace { force }: Replace,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    let crate::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
+        return Err(format!(
+            "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
+            scenario.display()
+        )
+        .into());
+    };
+    if count == 0 {
+        return Err("--count 0: ask for at least one mode".into());
+    }
+    let wm = crate::run::wheel::build(ws, &sc.path)?;
+    let rep = crate::modes::modes_report(&wm, count)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
+    let stage = StagedDir::begin(&out, force)?;
+    let files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+    stage.commit()?;
+    print_modes(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
+    outln!("wrote {} files into {}", files.len(), out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Prints the tables of `softway modes`: the rest modes, the spinning ones, the notes.
+fn print_modes(
+    name: &str,
+    rep: &crate::modes::ModesReport,
+    support: &crate::wheel::Support,
+    omega: f64,
+) {
+    outln!(
+        "{}: {} dofs ({} free), support {:?}",
+        name,
+        rep.dofs,
+        rep.free_dofs,
+        support
+    );
+    outln!("at rest:");
+    outln!(
+        "{:>5} {:>14} {:>12} {:>5}  kind",
+        "mode",
+        "frequency Hz",
+        "period us",
+        "n"
+    );
+    for (i, m) in rep.at_rest.iter().enumerate() {
+        outln!(
+            "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
+            i + 1,
+            m.frequency_hz,
+            m.period_us,
+            m.wavenumber
+                .map(|n| n.to_string())
+                .unwrap_or_else(|| "-".into()),
+            m.kind
+        );
+    }
+    if let Some(sp) = &rep.spinning {
+        outln!(
+            "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
+            omega
+        );
+        outln!(
+            "{:>5} {:>14} {:>14} {:>10}  kind",
+            "mode",
+            "frequency Hz",
+            "at rest Hz",
+            "whirl"
+        );
+        for (i, m) in sp.iter().enumerate() {
+            outln!(
+                "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
+                i + 1,
+                m.frequency_hz,
+                m.rest_frequency_hz,
+                m.whirl.to_string(),
+                m.kind
+            );
+        }
+    }
+    for n in &rep.notes {
+        outln!("note: {n}");
+    }
+}
+
+/// `softway matrix`: the step's matrices of a scenario's first run, and softway's time.
+fn matrix_command(scenario: &Path, out: Option<PathBuf>, steps: Option<u64>) -> CommandResult {
+    let sc = resolve(&Scenario::from_file(scenario)?)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
+    let (rep, files) = crate::run::matrix::dump(&sc, &out, steps.map(|s| s as usize))?;
+    outln!(
+        "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
+        sc.name,
+        rep.n,
+        rep.nnz_a,
+        rep.symmetric,
+        rep.factor
+    );
+    for (name, nnz) in &rep.factor_nnz {
+        outln!("  nnz of the factors, {name}: {nnz}");
+    }
+    outln!("  softway free step: {:.1} us", rep.softway_step_us);
+    outln!("  wrote:");
+    for f in &files {
+        outln!("    {}", f.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway stability`: the scheme's stability table, optionally written and with the
+/// Coriolis treatments compared.
+fn stability_command(
+    alpha: f64,
+    gamma: f64,
+    out: Option<PathBuf>,
+    spin_h: Option<f64>,
+    json: bool,
+    Replace { force }: Replace,
+) -> CommandResult {
+    if let Some(s) = spin_h {
+        if !(s.is_finite() && s > 0.0 && s <= 0.1) {
+            return Err(format!(
+                "--spin-h {s}: Omega*h must be in (0, 0.1] (the spin times the step)"
+            )
+            .into());
+        }
+    }
+    let gyro = spin_h.map(|s| crate::time::sdof::gyroscopic_table(alpha, gamma, s, 5));
+    if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+        return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
+    }
+    if !(gamma.is_finite() && (0.0..=1.0).contains(&gamma)) {
+        return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
+    }
+    let rep = analyse(alpha, gamma, 5);
+    let files = match out {
+        Some(dir) => {
+            let stage = StagedDir::begin(&dir, force)?;
+            let files = crate::output::stability::write(&rep, stage.path())?;
+            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+            stage.commit()?;
+            files
+        }
+        None => Vec::new(),
+    };
+    if json {
+        let j = serde_json::json!({
+            "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
+            "rho_inf": rep.rho_inf,
+            "unconditionally_stable": rep.unconditionally_stable,
+            "stability_limit_omega_h": rep.stability_limit_omega_h,
+            "table": rep.table,
+            "spin_h": spin_h,
+            "gyroscopic": gyro,
+        });
+        outln!("{}", serde_json::to_string_pretty(&j)?);
+    } else {
+        {
+            use std::io::Write as _;
+            let _ = write!(
+                std::io::stdout(),
+                "{}",
+                crate::output::stability::table_text(&rep)
+            );
+            if let (Some(s), Some(g)) = (spin_h, &gyro) {
+                let _ = write!(
+                    std::io::stdout(),
+                    "{}",
+                    crate::output::stability::gyroscopic_text(s, g)
+                );
+            }
+        }
+        for f in files {
+            outln!("wrote {}", f.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Refuses a built scenario whose estimated cost is beyond [`crate::build::Limits`]
+/// unless `yes`; a wheel's Gmsh mesh is read here (so that its errors come before any
+/// output folder is made).
+fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), String> {
+    let mut mesh_nodes = None;
+    for run in &sc.runs {
+        if let crate::scenario::Model::Wheel(ws) = &run.model {
+            if let crate::scenario::MeshSource::Gmsh(p) = &ws.mesh {
+                let mesh = crate::run::wheel::read_mesh_file(p, ws.spec.radius, &sc.path)
+                    .map_err(|e| e.to_string())?;
+                mesh_nodes = Some(mesh.n_nodes());
+            }
+        }
+    }
+    let est = crate::build::estimate(sc, mesh_nodes);
+    match est.check(&crate::build::Limits::default()) {
+        Some(why) if !yes => Err(format!("{}: {why}", sc.path.display())),
+        _ => Ok(()),
+    }
+}
+
+/// [`check_estimate`] over a sweep or a ladder: every value validated, the costs summed.
+fn check_ladder_estimate(
+    path: &Path,
+    text: &str,
+    key: &str,
+    values: &[String],
+    yes: bool,
+) -> Result<(), String> {
+    let mut total: Option<crate::build::Estimate> = None;
+    for v in values {
+        let t = crate::scenario::set_key(text, key, v).map_err(|m| format!("{key} = {v}: {m}"))?;
+        let sc = Scenario::from_str(&t, path)
+            .and_then(|sc| resolve(&sc))
+            .map_err(|e| format!("{key} = {v}: {e}"))?;
+        check_estimate(&sc, true)?;
+        let e = crate::build::estimate(&sc, None);
+        total = Some(match total {
+            None => e,
+            Some(mut t) => {
+                t.steps += e.steps;
+                t.seconds += e.seconds;
+                t.disk_bytes += e.disk_bytes;
+                t.memory_bytes = t.memory_bytes.max(e.memory_bytes);
+                if e.dofs > t.dofs {
+                    t.dofs = e.dofs;
+                    t.culprit = e.culprit;
+                }
+                t
+            }
+        });
+    }
+    match total.and_then(|t| t.check(&crate::build::Limits::default())) {
+        Some(why) if !yes => Err(format!("{}: {key}: {why}", path.display())),
+        _ => Ok(()),
+    }
+}
+
+/// A command-line mistake on one line (clap's message, its tip and the usage), exit 2;
+/// `--help` and `--version` as clap prints them, exit 0.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            errln!("softway: error: no command given: softway run|sweep|converge|compare|modes|stability ... (see softway --help)");
+            return ExitCode::from(2);
+        }
+        _ => {}
+    }
+    let text = e.render().to_string();
+    let mut parts = Vec::new();
+    let mut usage = None;
+    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(u) = line.strip_prefix("Usage:") {
+            usage = Some(u.trim().to_string());
+        } else if !line.starts_with("For more information") {
+            parts.push(line.to_string());
+        }
+    }
+    let mut msg = parts.join(" ");
+    if let Some(u) = usage {
+        msg.push_str(&format!("; usage: {u}"));
+    }
+    errln!("softway: {msg}");
+    ExitCode::from(2)
+}
+
+/// `KEY=V1,V2,...` of `--set` into the key and its values.
+fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
+    let (k, v) = s
+        .split_once('=')
+        .filter(|(k, _)| !k.trim().is_empty())
+        .ok_or_else(|| format!("--set {s}: expected KEY=V1,V2,... (e.g. rolling.omega=250,300)"))?;
+    let vals: Vec<String> = v
+        .split(',')
+        .map(|x| x.trim().to_string())
+        .filter(|x| !x.is_empty())
+        .collect();
+    if vals.is_empty() {
+        return Err(format!("--set {s}: no values"));
+    }
+    Ok((k.trim().to_string(), vals))
+}
+
+/// Threads of the pool: runs at once for `sweep` and `converge` (`--jobs`), threads of one
+/// run (`--threads`); default: the number of cores.
+fn set_threads(flag: &str, threads: Option<usize>) -> Result<(), String> {
+    match threads {
+        Some(0) => Err(format!("{flag} 0: give at least one")),
+        Some(j) => {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(j)
+                .build_global()
+                .ok();
+            Ok(())
+        }
+        None => Ok(()),
+    }
+}
+
+/// Prints a markdown table written by a study and the files it wrote.
+fn print_table(md: &std::path::Path, files: &[PathBuf]) {
+    {
+        use std::io::Write as _;
+        let _ = write!(
+            std::io::stdout(),
+            "{}",
+            std::fs::read_to_string(md).unwrap_or_default()
+        );
+    }
+    outln!("  wrote:");
+    for f in files {
+        outln!("    {}", f.display());
+    }
+}
