@@ -696,7 +696,7 @@ mod tests {
         pvd.add(0.0, "run_0000.vtu");
         pvd.add(1e-4, "run_0001.vtu");
         pvd.add(0.25, String::from("a&b <1>.vtu"));
-        assert_eq!(pvd.len(), 3);
+        assert_eq!(pvd.entries().len(), 3);
         let path = dir.0.join("run.pvd");
         pvd.write(&path).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
