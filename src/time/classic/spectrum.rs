@@ -113,7 +113,7 @@ fn diagonal(pattern: &Pattern, values: &[f64]) -> Vec<f64> {
 
 /// One step of the family for one dof `m a + c v + k u = f` (kg, N s/m, N/m; forces `f0`,
 /// `f1` in N at `t0`, `t1`), state `(u, v, a)`; the same arithmetic as
-/// [`ClassicStepper::step`].
+/// [`super::ClassicStepper::step`].
 #[allow(clippy::too_many_arguments)]
 pub fn sdof_step(
     m: f64,
