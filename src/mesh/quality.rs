@@ -69,8 +69,8 @@ pub struct MeshQuality {
 
 /// Interior angles (degrees), aspect ratio `R_c / (2 r_i)`, signed area and longest edge of
 /// the triangle `p`.
-fn triangle_measures(p: [[f64; 2]; 3]) -> ([f64; 3], f64, f64, f64) {
-    let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+fn triangle_measures(p: [&[f64]; 3]) -> ([f64; 3], f64, f64, f64) {
+    let sub = |a: &[f64], b: &[f64]| [a[0] - b[0], a[1] - b[1]];
     let mut angles = [0.0; 3];
     let mut len = [0.0; 3];
     for v in 0..3 {
@@ -186,8 +186,7 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
     let mut edges: HashMap<(usize, usize), usize> = HashMap::new();
     let mut aspect_sum = 0.0;
     for t in tris {
-        let p = [mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]];
-        let (angles, aspect, area, longest) = triangle_measures(p);
+        let (angles, aspect, area, longest) = triangle_measures(t.map(|i| mesh.point(i)));
         for a in angles {
             // f64::min / max skip the NaN start.
             q.min_angle_deg = q.min_angle_deg.min(a);
@@ -223,7 +222,12 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
         Some(rim) => rim.len(),
         None => boundary_nodes.len(),
     };
-    q.symmetry_order = symmetry_order(&mesh.points, q.rim_nodes);
+    // The symmetry is planar: a 1D mesh lies on the x axis.
+    let planar: Vec<[f64; 2]> = mesh
+        .points()
+        .map(|p| [p[0], p.get(1).copied().unwrap_or(0.0)])
+        .collect();
+    q.symmetry_order = symmetry_order(&planar, q.rim_nodes);
     q
 }
 
@@ -233,12 +237,12 @@ mod tests {
     use crate::mesh::generators::{bar, disk_rings, rectangle};
 
     fn one_triangle(p: [[f64; 2]; 3]) -> Mesh {
-        Mesh {
-            dim: 2,
-            points: p.to_vec(),
-            cells: Cells::Tri3(vec![[0, 1, 2]]),
-            node_sets: Default::default(),
-        }
+        Mesh::new(
+            2,
+            p.concat(),
+            Cells::Tri3(vec![[0, 1, 2]]),
+            Default::default(),
+        )
     }
 
     #[test]
@@ -289,7 +293,7 @@ mod tests {
         }
         // Turning one interior node breaks the symmetry.
         let mut m = disk_rings(0.1, 8).unwrap();
-        m.points[3][0] += 1e-6;
+        m.coords[2 * 3] += 1e-6;
         assert_eq!(quality(&m).symmetry_order, 1);
     }
 
