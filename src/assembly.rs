@@ -672,9 +672,7 @@ mod tests {
         };
         let geom: Vec<Tri3Geometry> = tris
             .iter()
-            .map(|t| {
-                tri3::geometry(&[mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]]).unwrap()
-            })
+            .map(|t| tri3::geometry(&tri3::corners(&mesh, *t)).unwrap())
             .collect();
         let asm = Assembler::new(&mesh);
         let mat = Elastic {
@@ -705,7 +703,7 @@ mod tests {
             stress: &stress,
             thickness: 0.01,
         });
-        let u: Vec<f64> = mesh.points.iter().flat_map(|q| [q[0], 0.0]).collect();
+        let u: Vec<f64> = mesh.points().flat_map(|q| [q[0], 0.0]).collect();
         let mut ku = vec![0.0; u.len()];
         crate::linalg::spmv_into(&asm.pattern, &ks, &u, &mut ku);
         let q: f64 = ku.iter().zip(&u).map(|(a, b)| a * b).sum();
@@ -720,9 +718,7 @@ mod tests {
         };
         let geom: Vec<Tri3Geometry> = tris
             .iter()
-            .map(|t| {
-                tri3::geometry(&[mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]]).unwrap()
-            })
+            .map(|t| tri3::geometry(&tri3::corners(&mesh, *t)).unwrap())
             .collect();
         let mat = Elastic {
             young: 2.05e11,
@@ -731,7 +727,7 @@ mod tests {
         };
         let d = crate::material::PlaneModel::Stress.elasticity_matrix(&mat);
         let old = Assembler::new(&mesh);
-        let layout = DofLayout::uniform(mesh.points.len(), 2);
+        let layout = DofLayout::uniform(mesh.n_nodes(), 2);
         let fam = ElementFamily::on_nodes(&layout, tris).unwrap();
         assert_eq!(fam, ElementFamily::of_mesh(&mesh));
         let new = Assembler::try_with_families(layout.n_dofs(), vec![fam.clone()]).unwrap();
@@ -755,7 +751,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(beam.ndof_e(), 4);
-        let rim = layout.dof(mesh.points.len() - 1, 1).unwrap();
+        let rim = layout.dof(mesh.n_nodes() - 1, 1).unwrap();
         let spring =
             ElementFamily::try_new(2, vec![rim, layout.dof(beam_nodes.start, 0).unwrap()]).unwrap();
         let mixed = Assembler::try_with_families(layout.n_dofs(), vec![fam, beam, spring]).unwrap();

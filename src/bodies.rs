@@ -127,15 +127,10 @@ impl Body {
         pinned: &[usize],
     ) -> Result<Self, BeamError> {
         section.validate(theory)?;
-        let points: Vec<[f64; 2]> = xs.iter().map(|&x| [x, y]).collect();
+        let coords: Vec<f64> = xs.iter().flat_map(|&x| [x, y]).collect();
         let elements: Vec<[usize; 2]> = (1..xs.len()).map(|i| [i - 1, i]).collect();
-        let lengths = lengths(&points, &elements)?;
-        let mesh = Mesh {
-            dim: 2,
-            points,
-            cells: Cells::Bar2(elements),
-            node_sets: Default::default(),
-        };
+        let lengths = lengths(&coords, 2, &elements)?;
+        let mesh = Mesh::new(2, coords, Cells::Bar2(elements), Default::default());
         let asm = Assembler::new(&mesh);
         let op = |matrix| Beam2 {
             lengths: &lengths,
@@ -206,7 +201,7 @@ impl Body {
         match &self.mesh.cells {
             Cells::Bar2(e) => e
                 .iter()
-                .map(|&[a, b]| section.phi(theory, self.mesh.points[b][0] - self.mesh.points[a][0]))
+                .map(|&[a, b]| section.phi(theory, self.mesh.point(b)[0] - self.mesh.point(a)[0]))
                 .collect(),
             Cells::Tri3(_) => Vec::new(),
         }

@@ -144,9 +144,7 @@ mod tests {
         };
         let geom: Vec<_> = tris
             .iter()
-            .map(|t| {
-                tri3::geometry(&[mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]]).unwrap()
-            })
+            .map(|t| tri3::geometry(&tri3::corners(&mesh, *t)).unwrap())
             .collect();
         let asm = Assembler::new(&mesh);
         let d = PlaneModel::Stress.elasticity_matrix(&STEEL);

@@ -50,19 +50,12 @@ impl BarImpact {
     /// The bar's mesh: nodes from `x = 0` (tail) to `x = L` (head, node set "head").
     pub fn mesh(&self) -> Mesh {
         let n = self.elements;
-        let points = (0..=n)
-            .map(|i| [self.length * i as f64 / n as f64, 0.0])
-            .collect();
+        let coords = (0..=n).map(|i| self.length * i as f64 / n as f64).collect();
         let cells = Cells::Bar2((0..n).map(|i| [i, i + 1]).collect());
         let mut node_sets = std::collections::BTreeMap::new();
         node_sets.insert("head".to_string(), vec![n]);
         node_sets.insert("tail".to_string(), vec![0]);
-        Mesh {
-            dim: 1,
-            points,
-            cells,
-            node_sets,
-        }
+        Mesh::new(1, coords, cells, node_sets)
     }
 
     /// The model `M, K, C` of the bar.
@@ -121,7 +114,7 @@ pub fn bar_model(mesh: &Mesh, ea: f64, rho_a: f64, lumped: bool, damping: f64) -
     let asm = Assembler::new(mesh);
     let le = |e: usize| {
         let c = mesh.cell_nodes(e);
-        mesh.points[c[1]][0] - mesh.points[c[0]][0]
+        mesh.point(c[1])[0] - mesh.point(c[0])[0]
     };
     let mut m = asm.zeros();
     let mut k = asm.zeros();
@@ -209,15 +202,8 @@ impl TwoBars {
     /// `N+1..=2N+1` ("b", "b_tail").
     pub fn mesh(&self) -> Mesh {
         let n = self.elements;
-        let mut points: Vec<[f64; 2]> = (0..=n)
-            .map(|i| [self.length * i as f64 / n as f64, 0.0])
-            .collect();
-        points.extend((0..=n).map(|i| {
-            [
-                self.length + self.gap + self.length * i as f64 / n as f64,
-                0.0,
-            ]
-        }));
+        let mut coords: Vec<f64> = (0..=n).map(|i| self.length * i as f64 / n as f64).collect();
+        coords.extend((0..=n).map(|i| self.length + self.gap + self.length * i as f64 / n as f64));
         let mut cells: Vec<[usize; 2]> = (0..n).map(|i| [i, i + 1]).collect();
         cells.extend((0..n).map(|i| [n + 1 + i, n + 2 + i]));
         let mut node_sets = std::collections::BTreeMap::new();
@@ -225,12 +211,7 @@ impl TwoBars {
         node_sets.insert("b".to_string(), (n + 1..=2 * n + 1).collect());
         node_sets.insert("a_head".to_string(), vec![n]);
         node_sets.insert("b_tail".to_string(), vec![n + 1]);
-        Mesh {
-            dim: 1,
-            points,
-            cells: Cells::Bar2(cells),
-            node_sets,
-        }
+        Mesh::new(1, coords, Cells::Bar2(cells), node_sets)
     }
 
     /// The problem: bar A's head facing bar B's tail (a node-to-node pair along `+x`), run

@@ -219,8 +219,8 @@ pub struct WheelModel {
 /// copy on them, every node set holding both copies; two bodies without a common node.
 pub fn doubled(mesh: &Mesh) -> Mesh {
     let n = mesh.n_nodes();
-    let mut points = mesh.points.clone();
-    points.extend_from_slice(&mesh.points);
+    let mut coords = mesh.coords.clone();
+    coords.extend_from_slice(&mesh.coords);
     let cells = match &mesh.cells {
         Cells::Bar2(c) => Cells::Bar2(
             c.iter()
@@ -245,12 +245,7 @@ pub fn doubled(mesh: &Mesh) -> Mesh {
             )
         })
         .collect();
-    Mesh {
-        dim: mesh.dim,
-        points,
-        cells,
-        node_sets,
-    }
+    Mesh::new(mesh.dim, coords, cells, node_sets)
 }
 
 /// Element geometry of every triangle, with an error naming a bad element.
@@ -263,12 +258,13 @@ pub fn triangle_geometry(mesh: &Mesh) -> Result<(Vec<[usize; 3]>, Vec<Tri3Geomet
     };
     let mut g = Vec::with_capacity(tris.len());
     for (e, t) in tris.iter().enumerate() {
-        let p = [mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]];
-        g.push(tri3::geometry(&p).map_err(|source| WheelError::Element {
-            element: e,
-            nodes: *t,
-            source,
-        })?);
+        g.push(
+            tri3::geometry(&tri3::corners(mesh, *t)).map_err(|source| WheelError::Element {
+                element: e,
+                nodes: *t,
+                source,
+            })?,
+        );
     }
     Ok((tris.clone(), g))
 }
@@ -400,7 +396,7 @@ impl WheelModel {
         self.fixed_dofs
             .iter()
             .map(|&d| {
-                let p = self.mesh.points[d / 2];
+                let p = self.mesh.point(d / 2);
                 p[0].hypot(p[1])
             })
             .fold(0.0, f64::max)
@@ -413,11 +409,11 @@ impl WheelModel {
         if self.zone.is_none() {
             return self.rim.len();
         }
-        let angle = |i: usize| self.mesh.points[i][1].atan2(self.mesh.points[i][0]);
+        let angle_of = |i: usize| angle(self.mesh.point(i));
         let n = self.rim.len();
         let finest = (0..n)
             .map(|k| {
-                let d = angle(self.rim[(k + 1) % n]) - angle(self.rim[k]);
+                let d = angle_of(self.rim[(k + 1) % n]) - angle_of(self.rim[k]);
                 d.rem_euclid(2.0 * std::f64::consts::PI)
             })
             .filter(|&d| d > 0.0)
@@ -431,8 +427,8 @@ impl WheelModel {
         self.rim
             .iter()
             .map(|&i| {
-                let p = self.mesh.points[i];
-                norm([p[0] + self.u_spin[2 * i], p[1] + self.u_spin[2 * i + 1]])
+                let p = self.mesh.point(i);
+                norm(&[p[0] + self.u_spin[2 * i], p[1] + self.u_spin[2 * i + 1]])
             })
             .fold(0.0, f64::max)
     }
@@ -460,7 +456,7 @@ impl WheelModel {
                 .map(|&node| Pair::Obstacle { node, obstacle: 0 })
                 .collect(),
             ContactSurface::Segments => {
-                let p = |i: usize| self.mesh.points[i];
+                let p = |i: usize| self.mesh.point(i);
                 let angle = |i: usize| p(i)[1].atan2(p(i)[0]);
                 let n = self.rim.len();
                 let mut order: Vec<usize> = (0..n).collect();
@@ -572,18 +568,18 @@ fn held_nodes(mesh: &Mesh, spec: &WheelSpec) -> Result<Vec<usize>, WheelError> {
     match spec.support {
         Support::CentrePinned => {
             let c = (0..mesh.n_nodes())
-                .min_by(|&a, &b| norm(mesh.points[a]).total_cmp(&norm(mesh.points[b])))
+                .min_by(|&a, &b| norm(mesh.point(a)).total_cmp(&norm(mesh.point(b))))
                 .ok_or_else(|| WheelError::Support("empty mesh".into()))?;
-            if norm(mesh.points[c]) > 1e-6 * spec.radius {
+            if norm(mesh.point(c)) > 1e-6 * spec.radius {
                 return Err(WheelError::Support(format!(
                     "no node at the centre (the nearest is {:.3e} m away)",
-                    norm(mesh.points[c])
+                    norm(mesh.point(c))
                 )));
             }
             Ok(vec![c])
         }
         Support::Hub { radius } => {
-            let v = crate::mesh::generators::nodes_within(mesh, [0.0, 0.0], radius);
+            let v = crate::mesh::generators::nodes_within(mesh, &[0.0, 0.0], radius);
             if v.is_empty() {
                 return Err(WheelError::Support(format!(
                     "no node within the hub radius {radius} m"
@@ -597,14 +593,14 @@ fn held_nodes(mesh: &Mesh, spec: &WheelSpec) -> Result<Vec<usize>, WheelError> {
 /// The rim, sorted by angle: the node set "rim" (a Gmsh physical group, or the
 /// generator's), else the nodes at the outer radius.
 fn rim_nodes(mesh: &Mesh) -> Vec<usize> {
-    let rmax = mesh.points.iter().map(|&p| norm(p)).fold(0.0, f64::max);
+    let rmax = mesh.points().map(norm).fold(0.0, f64::max);
     let mut rim: Vec<usize> = match mesh.node_set("rim") {
         Some(r) if !r.is_empty() => r.to_vec(),
         _ => (0..mesh.n_nodes())
-            .filter(|&i| norm(mesh.points[i]) > rmax * (1.0 - 1e-6))
+            .filter(|&i| norm(mesh.point(i)) > rmax * (1.0 - 1e-6))
             .collect(),
     };
-    rim.sort_by(|&a, &b| angle(mesh.points[a]).total_cmp(&angle(mesh.points[b])));
+    rim.sort_by(|&a, &b| angle(mesh.point(a)).total_cmp(&angle(mesh.point(b))));
     rim
 }
 
@@ -614,7 +610,7 @@ fn static_fixed_dofs(mesh: &Mesh, spec: &WheelSpec, fixed: &[usize], rim: &[usiz
     let mut fixed_static = fixed.to_vec();
     if matches!(spec.support, Support::CentrePinned) {
         if let Some(&r) = rim.first() {
-            let p = mesh.points[r];
+            let p = mesh.point(r);
             fixed_static.push(if p[0].abs() > p[1].abs() {
                 2 * r + 1
             } else {
@@ -625,10 +621,12 @@ fn static_fixed_dofs(mesh: &Mesh, spec: &WheelSpec, fixed: &[usize], rim: &[usiz
     fixed_static
 }
 
-fn norm(p: [f64; 2]) -> f64 {
+/// Distance of the planar point `p` from the origin.
+fn norm(p: &[f64]) -> f64 {
     (p[0] * p[0] + p[1] * p[1]).sqrt()
 }
 
-fn angle(p: [f64; 2]) -> f64 {
+/// Polar angle of the planar point `p`.
+fn angle(p: &[f64]) -> f64 {
     p[1].atan2(p[0])
 }

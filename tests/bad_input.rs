@@ -558,7 +558,7 @@ fn disk() -> Disk {
     };
     Disk {
         nodes: (0..mesh.n_nodes())
-            .map(|i| (i as u64 + 1, mesh.points[i]))
+            .map(|i| (i as u64 + 1, [mesh.point(i)[0], mesh.point(i)[1]]))
             .collect(),
         rim: mesh
             .node_set("rim")

@@ -54,11 +54,11 @@ struct Line {
 fn line(length: f64, n_el: usize, ring: bool) -> Line {
     let n_nodes = if ring { n_el } else { n_el + 1 };
     let layout = DofLayout::uniform(n_nodes, 2);
-    let points: Vec<[f64; 2]> = (0..=n_el)
-        .map(|i| [length * i as f64 / n_el as f64, 0.0])
+    let coords: Vec<f64> = (0..=n_el)
+        .flat_map(|i| [length * i as f64 / n_el as f64, 0.0])
         .collect();
     let conn: Vec<[usize; 2]> = (0..n_el).map(|e| [e, e + 1]).collect();
-    let lengths = beam::lengths(&points, &conn).unwrap();
+    let lengths = beam::lengths(&coords, 2, &conn).unwrap();
     let conn: Vec<[usize; 2]> = conn.iter().map(|&[a, b]| [a, b % n_nodes]).collect();
     let family = ElementFamily::on_nodes(&layout, &conn).unwrap();
     Line {

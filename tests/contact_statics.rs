@@ -36,8 +36,8 @@ fn static_force(wm: &WheelModel, t: f64) -> (f64, Vec<(usize, f64)>) {
         .rim
         .iter()
         .max_by(|&&a, &&b| {
-            let pa = wm.mesh.points[a];
-            let pb = wm.mesh.points[b];
+            let pa = wm.mesh.point(a);
+            let pb = wm.mesh.point(b);
             (-(pa[0] * e[0] + pa[1] * e[1])).total_cmp(&(-(pb[0] * e[0] + pb[1] * e[1])))
         })
         .unwrap();
@@ -79,7 +79,7 @@ fn patch_against_hertz(wm: &WheelModel) -> (f64, f64, f64, f64, usize) {
     let xs: Vec<f64> = active
         .iter()
         .filter(|a| a.1 > 0.0)
-        .map(|a| wm.mesh.points[a.0][0])
+        .map(|a| wm.mesh.point(a.0)[0])
         .collect();
     let half = (xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - xs.iter().cloned().fold(f64::INFINITY, f64::min))

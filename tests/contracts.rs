@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 fn one_dof(m: f64, k: f64) -> LinearModel {
     let mesh = Mesh {
         dim: 1,
-        points: vec![[0.0, 0.0]],
+        coords: vec![0.0],
         cells: Cells::Bar2(vec![]),
         node_sets: BTreeMap::new(),
     };

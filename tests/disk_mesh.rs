@@ -23,18 +23,18 @@ fn tris(mesh: &Mesh) -> &[[usize; 3]] {
     }
 }
 
-fn signed_area(p: &[[f64; 2]], t: [usize; 3]) -> f64 {
-    let [a, b, c] = [p[t[0]], p[t[1]], p[t[2]]];
+fn signed_area(m: &Mesh, t: [usize; 3]) -> f64 {
+    let [a, b, c] = t.map(|i| m.point(i));
     0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
 }
 
-fn norm(p: [f64; 2]) -> f64 {
+fn norm(p: &[f64]) -> f64 {
     p[0].hypot(p[1])
 }
 
 /// The distinct node radii, increasing (radii within 1e-9 R merged).
 fn ring_radii(mesh: &Mesh) -> Vec<f64> {
-    let mut r: Vec<f64> = mesh.points.iter().map(|&p| norm(p)).collect();
+    let mut r: Vec<f64> = mesh.points().map(norm).collect();
     r.sort_by(f64::total_cmp);
     r.dedup_by(|a, b| (*a - *b).abs() < 1e-9 * R);
     r
@@ -95,7 +95,7 @@ fn rim_has_exactly_the_requested_nodes_on_the_circle() {
         assert_eq!(quality(&m).rim_nodes, n);
         // Counter-clockwise from the positive x axis, at the rim pitch.
         for (i, &node) in rim.iter().enumerate() {
-            let p = m.points[node];
+            let p = m.point(node);
             assert!(
                 (norm(p) - R).abs() < 1e-12 * R,
                 "n = {n}: rim node {i} off the circle"
@@ -108,14 +108,10 @@ fn rim_has_exactly_the_requested_nodes_on_the_circle() {
             );
         }
         // No other node on the circle; the centre node at the origin.
-        let on_circle = m
-            .points
-            .iter()
-            .filter(|&&p| norm(p) > R * (1.0 - 1e-9))
-            .count();
+        let on_circle = m.points().filter(|&p| norm(p) > R * (1.0 - 1e-9)).count();
         assert_eq!(on_circle, n);
         assert_eq!(m.node_set("centre"), Some(&[0][..]));
-        assert_eq!(m.points[0], [0.0, 0.0]);
+        assert_eq!(m.point(0), [0.0, 0.0]);
         assert_eq!(m.node_set("all").unwrap().len(), m.n_nodes());
     }
 }
@@ -126,7 +122,7 @@ fn no_inverted_or_degenerate_triangle_and_area_of_the_rim_polygon() {
         let m = graded(n);
         let mut total = 0.0;
         for &t in tris(&m) {
-            let a = signed_area(&m.points, t);
+            let a = signed_area(&m, t);
             assert!(a > 0.0, "n = {n}: triangle {t:?} has area {a}");
             total += a;
         }
@@ -295,7 +291,7 @@ fn deterministic_and_scaled_with_the_radius() {
     let a = graded(144);
     let b = disk_graded(2.0 * R, 144, DiskOptions::default()).unwrap();
     assert_eq!(a.cells, b.cells);
-    for (p, q) in a.points.iter().zip(&b.points) {
+    for (p, q) in a.points().zip(b.points()) {
         assert!((2.0 * p[0] - q[0]).abs() < 1e-12 && (2.0 * p[1] - q[1]).abs() < 1e-12);
     }
 }
@@ -396,13 +392,13 @@ fn a_hub_makes_the_graded_disk_an_annulus_clamped_on_its_circle() {
             inner.len()
         );
         for &n in inner {
-            assert!((norm(m.points[n]) - hub).abs() < 1e-12 * R, "{label}");
+            assert!((norm(m.point(n)) - hub).abs() < 1e-12 * R, "{label}");
         }
         assert!(
-            m.points.iter().all(|&p| norm(p) > hub * (1.0 - 1e-12)),
+            m.points().all(|p| norm(p) > hub * (1.0 - 1e-12)),
             "{label}: a node inside the hub"
         );
-        let area: f64 = tris(&m).iter().map(|&t| signed_area(&m.points, t)).sum();
+        let area: f64 = tris(&m).iter().map(|&t| signed_area(&m, t)).sum();
         // The polygons inscribed in the two circles.
         let polygon = |r: f64, n: usize| 0.5 * n as f64 * r * r * (TAU / n as f64).sin();
         let expect = polygon(R, rim) - polygon(hub, inner.len());

@@ -31,14 +31,14 @@ fn write_msh(path: &std::path::Path, rings: usize) {
         let _ = writeln!(s, "{}", i + 1);
     }
     for &i in &rim {
-        let _ = writeln!(s, "{} {} 0", mesh.points[i][0], mesh.points[i][1]);
+        let _ = writeln!(s, "{} {} 0", mesh.point(i)[0], mesh.point(i)[1]);
     }
     let _ = writeln!(s, "2 1 0 {}", others.len());
     for &i in &others {
         let _ = writeln!(s, "{}", i + 1);
     }
     for &i in &others {
-        let _ = writeln!(s, "{} {} 0", mesh.points[i][0], mesh.points[i][1]);
+        let _ = writeln!(s, "{} {} 0", mesh.point(i)[0], mesh.point(i)[1]);
     }
     s.push_str("$EndNodes\n");
     let m = tris.len();

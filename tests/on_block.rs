@@ -318,7 +318,11 @@ fn momentum_is_exchanged_between_two_free_bodies_and_conserved() {
             },
         );
         let lower = plate(0.04, 0.01, 16, 4, Motion::Fixed);
-        let segments = top_segments(&lower.mesh.points, &lower.mesh.node_sets["top"]);
+        let segments = top_segments(
+            &lower.mesh.coords,
+            lower.mesh.dim,
+            &lower.mesh.node_sets["top"],
+        );
         let slaves = upper.mesh.node_sets["bottom"].clone();
         let bodies = vec![upper, lower];
         let joined = bodies::assemble(&bodies).unwrap();

@@ -205,7 +205,7 @@ fn a_short_wheel_in_memory_is_the_command_lines_files() {
     let key = nodes.key().unwrap();
     let rim_radius: f64 = 0.1;
     for label in &key.labels {
-        let p = mesh.points[label.parse::<usize>().unwrap()];
+        let p = mesh.point(label.parse::<usize>().unwrap());
         assert!((p[0].hypot(p[1]) / rim_radius - 1.0).abs() < 1e-9);
     }
     // The summary's mean force is the mean of the history's force over the rolling rows

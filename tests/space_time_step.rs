@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 fn one_dof(m: f64, k: f64) -> LinearModel {
     let mesh = Mesh {
         dim: 1,
-        points: vec![[0.0, 0.0]],
+        coords: vec![0.0],
         cells: Cells::Bar2(vec![]),
         node_sets: BTreeMap::new(),
     };
@@ -60,7 +60,7 @@ fn multipliers_match_the_bordered_system() {
     let n_el = 6;
     let mesh = Mesh {
         dim: 1,
-        points: (0..=n_el).map(|i| [i as f64 * 0.2, 0.0]).collect(),
+        coords: (0..=n_el).map(|i| i as f64 * 0.2).collect(),
         cells: Cells::Bar2((0..n_el).map(|i| [i, i + 1]).collect()),
         node_sets: BTreeMap::new(),
     };

@@ -49,7 +49,7 @@ fn spinning_disk_error(rings: usize) -> f64 {
     let mut err2 = 0.0;
     for (e, t) in wm.triangles.iter().enumerate() {
         let c = [0, 1].map(|k| {
-            (wm.mesh.points[t[0]][k] + wm.mesh.points[t[1]][k] + wm.mesh.points[t[2]][k]) / 3.0
+            (wm.mesh.point(t[0])[k] + wm.mesh.point(t[1])[k] + wm.mesh.point(t[2])[k]) / 3.0
         });
         let r2 = c[0] * c[0] + c[1] * c[1];
         let sr = (3.0 + nu) / 8.0 * rho * w * w * (r0 * r0 - r2);
@@ -91,7 +91,7 @@ fn rigid_rotation_of_the_pinned_spinning_wheel_is_neutral() {
     )
     .unwrap();
     let n = wm.mesh.n_dofs();
-    let u: Vec<f64> = wm.mesh.points.iter().flat_map(|p| [-p[1], p[0]]).collect();
+    let u: Vec<f64> = wm.mesh.points().flat_map(|p| [-p[1], p[0]]).collect();
     let mut ku = vec![0.0; n];
     spmv_into(wm.model.pattern(), &wm.model.k, &u, &mut ku);
     let mut mu = vec![0.0; n];
@@ -431,7 +431,7 @@ fn the_default_support_is_a_clamped_hub() {
     let radii: Vec<f64> = wm
         .fixed_dofs
         .iter()
-        .map(|&d| wm.mesh.points[d / 2][0].hypot(wm.mesh.points[d / 2][1]))
+        .map(|&d| wm.mesh.point(d / 2)[0].hypot(wm.mesh.point(d / 2)[1]))
         .collect();
     assert!(radii.len() >= 6, "{radii:?}");
     assert!(radii.iter().all(|r| (r - 0.01).abs() < 1e-12), "{radii:?}");

@@ -46,6 +46,9 @@ pub enum InterfaceError {
     },
 }
 
+/// Coordinates (and displacement dofs) per slave node: the bodies in contact are planar.
+const DIM: usize = 2;
+
 /// A contact interface: slave nodes against a master surface (module docs).
 #[derive(Debug, Clone)]
 pub struct Interface {
@@ -53,8 +56,8 @@ pub struct Interface {
     slave: Placed,
     /// The slave body's contact nodes (its own indices).
     nodes: Vec<usize>,
-    /// Their reference positions, m.
-    x_ref: Vec<[f64; 2]>,
+    /// Their reference positions, m, flat: [`DIM`] per node, in the order of `nodes`.
+    x_ref: Vec<f64>,
     /// Each node's target at the last refresh.
     targets: Vec<Option<Target>>,
     /// The reach of the search, m.
@@ -72,7 +75,8 @@ impl Interface {
         let reach = search.reach();
         let x_ref = nodes
             .iter()
-            .map(|&i| [slave_reference[2 * i], slave_reference[2 * i + 1]])
+            .flat_map(|&i| &slave_reference[DIM * i..DIM * (i + 1)])
+            .copied()
             .collect();
         Self {
             targets: vec![None; nodes.len()],
@@ -82,6 +86,11 @@ impl Interface {
             x_ref,
             reach,
         }
+    }
+
+    /// The reference position of slave node `slot` (its index in [`Interface::nodes`]).
+    fn x_ref(&self, slot: usize) -> &[f64] {
+        &self.x_ref[DIM * slot..DIM * (slot + 1)]
     }
 
     /// The slave nodes (the slave body's own indices), one pair each.
@@ -129,11 +138,8 @@ impl Interface {
         self.search.update(t, u);
         for slot in 0..self.nodes.len() {
             let d = self.slave.first_dof + 2 * self.nodes[slot];
-            let local = [
-                self.x_ref[slot][0] + u[d],
-                self.x_ref[slot][1] + u[d + 1],
-                0.0,
-            ];
+            let x_ref = self.x_ref(slot);
+            let local = [x_ref[0] + u[d], x_ref[1] + u[d + 1], 0.0];
             let found = self.search.find(self.slave.motion.place(t, local));
             if found.is_none() {
                 if let Some(last) = self.targets[slot] {
@@ -157,7 +163,7 @@ impl Interface {
     pub fn row(&self, slot: usize, t: f64, u: &[f64], tangent: bool) -> SearchedRow {
         match &self.targets[slot] {
             Some(target) => {
-                let (node, x_ref) = (self.nodes[slot], self.x_ref[slot]);
+                let (node, x_ref) = (self.nodes[slot], self.x_ref(slot));
                 let r = if tangent {
                     self.search
                         .tangent_row(target, self.slave, node, x_ref, t, u)

@@ -273,11 +273,12 @@ pub enum Surface {
 }
 
 /// The segments of a flat top surface `nodes` of a body below it, with node positions
-/// `points`: the nodes sorted from right to left (decreasing `x`) and joined in that order,
-/// so that the body lies on the left of each segment (its outward normal `+y`).
-pub fn top_segments(points: &[[f64; 2]], nodes: &[usize]) -> Vec<[usize; 2]> {
+/// `coords` (flat, `dim` per node, `x` first): the nodes sorted from right to left
+/// (decreasing `x`) and joined in that order, so that the body lies on the left of each
+/// segment (its outward normal `+y`).
+pub fn top_segments(coords: &[f64], dim: usize, nodes: &[usize]) -> Vec<[usize; 2]> {
     let mut top = nodes.to_vec();
-    top.sort_by(|&a, &b| points[b][0].total_cmp(&points[a][0]));
+    top.sort_by(|&a, &b| coords[dim * b].total_cmp(&coords[dim * a]));
     top.windows(2).map(|w| [w[0], w[1]]).collect()
 }
 
@@ -488,14 +489,14 @@ impl Search {
     }
 
     /// The normal row of slave node `node` (its dofs `slave.first_dof + 2 node ..`,
-    /// reference position `x_ref`) against `target` at time `t` in the configuration `u`
+    /// reference position `x_ref`, its `x` and `y`) against `target` at time `t` in the configuration `u`
     /// (module docs).
     pub fn normal_row(
         &self,
         target: &Target,
         slave: Placed,
         node: usize,
-        x_ref: [f64; 2],
+        x_ref: &[f64],
         t: f64,
         u: &[f64],
     ) -> SearchedRow {
@@ -508,7 +509,7 @@ impl Search {
         target: &Target,
         slave: Placed,
         node: usize,
-        x_ref: [f64; 2],
+        x_ref: &[f64],
         t: f64,
         u: &[f64],
     ) -> SearchedRow {
@@ -522,7 +523,7 @@ impl Search {
         n: Vector,
         slave: Placed,
         node: usize,
-        x_ref: [f64; 2],
+        x_ref: &[f64],
         t: f64,
         u: &[f64],
     ) -> SearchedRow {
@@ -688,7 +689,7 @@ mod tests {
             s.update(t, &u);
             let x = wheel.motion.place(t, [xr[0] + ux, xr[1] + uy, 0.0]);
             let target = s.find(x).expect("the node is over the floor");
-            let row = s.normal_row(&target, wheel, 0, xr, t, &u);
+            let row = s.normal_row(&target, wheel, 0, &xr, t, &u);
             let local = [xr[0] + ux, xr[1] + uy, 0.0];
             let hs = base.half_space(t, local);
             // The same gap.
@@ -776,7 +777,7 @@ mod tests {
         };
         let dt = 1e-9;
         let rate = (gap_at(t + dt) - gap_at(t - dt)) / (2.0 * dt);
-        let row = s.normal_row(&target, wheel, 0, xr, t, &u);
+        let row = s.normal_row(&target, wheel, 0, &xr, t, &u);
         assert!(
             (rate + row.w).abs() < 1e-6 * 30.0,
             "rate {rate}, w {}",
@@ -819,7 +820,7 @@ mod tests {
         s.update(t, &u);
         let x = [xr[0], xr[1], 0.0];
         let target = s.find(x).unwrap();
-        let row = s.normal_row(&target, slave, 0, xr, t, &u);
+        let row = s.normal_row(&target, slave, 0, &xr, t, &u);
         // X per dof: the slave's position, then (Y, 0) per rail node.
         let mut xref = vec![xr[0], xr[1]];
         for i in 0..5 {

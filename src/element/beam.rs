@@ -184,19 +184,30 @@ impl BeamSection {
     }
 }
 
-/// The lengths of the elements `elements` (node pairs) on the points `points` (m).
+/// The lengths of the elements `elements` (node pairs) on the nodes at the flat coordinates
+/// `coords`, `dim` per node (m).
 ///
 /// # Errors
 /// [`BeamError::BadLength`] for a zero, negative or non-finite length (coincident nodes).
 ///
 /// # Panics
-/// If an element refers to a point past `points`.
-pub fn lengths(points: &[[f64; 2]], elements: &[[usize; 2]]) -> Result<Vec<f64>, BeamError> {
+/// If an element refers to a node past `coords`.
+pub fn lengths(coords: &[f64], dim: usize, elements: &[[usize; 2]]) -> Result<Vec<f64>, BeamError> {
+    let x = |i: usize| &coords[dim * i..dim * (i + 1)];
     elements
         .iter()
         .enumerate()
         .map(|(element, &[a, b])| {
-            let length = (points[b][0] - points[a][0]).hypot(points[b][1] - points[a][1]);
+            let (p, q) = (x(a), x(b));
+            let length = match dim {
+                2 => (q[0] - p[0]).hypot(q[1] - p[1]),
+                _ => p
+                    .iter()
+                    .zip(q)
+                    .map(|(u, v)| (v - u).powi(2))
+                    .sum::<f64>()
+                    .sqrt(),
+            };
             if length.is_finite() && length > 0.0 {
                 Ok(length)
             } else {
@@ -598,10 +609,14 @@ mod tests {
         );
         s.inertia = f64::NAN;
         assert!(s.validate(BeamTheory::EulerBernoulli).is_err());
-        let pts = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]];
-        assert_eq!(lengths(&pts, &[[0, 1]]), Ok(vec![1.0]));
+        let pts = [0.0, 0.0, 1.0, 0.0, 1.0, 0.0];
+        assert_eq!(lengths(&pts, 2, &[[0, 1]]), Ok(vec![1.0]));
         assert_eq!(
-            lengths(&pts, &[[0, 1], [1, 2]]),
+            lengths(&[0.0, 1.0, 3.0], 1, &[[0, 1], [1, 2]]),
+            Ok(vec![1.0, 2.0])
+        );
+        assert_eq!(
+            lengths(&pts, 2, &[[0, 1], [1, 2]]),
             Err(BeamError::BadLength {
                 element: 1,
                 length: 0.0

@@ -87,6 +87,18 @@ pub enum ElementError {
     },
 }
 
+/// The corners `[x, y]` of the triangle `t` of the planar `mesh` (a 3-node triangle is 2D),
+/// as [`geometry`] takes them.
+///
+/// # Panics
+/// If a node of `t` is not in the mesh or the mesh has fewer than two coordinates per node.
+pub fn corners(mesh: &crate::mesh::Mesh, t: [usize; 3]) -> [[f64; 2]; 3] {
+    t.map(|i| {
+        let p = mesh.point(i);
+        [p[0], p[1]]
+    })
+}
+
 /// Area and shape-function gradients of the triangle with nodes `p` (counter-clockwise).
 ///
 /// # Errors

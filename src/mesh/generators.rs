@@ -103,7 +103,7 @@ fn check_nodes(name: &'static str, value: usize, nodes: Option<usize>) -> Result
 
 /// A straight 1D bar from `x = 0` to `x = length` with `n_elements` equal two-node elements.
 ///
-/// Nodes are numbered from left to right (`n_elements + 1` nodes, `y = 0`). Node sets:
+/// Nodes are numbered from left to right (`n_elements + 1` nodes, one coordinate `x` each). Node sets:
 /// `"left"` (node 0), `"right"` (the last node) and `"all"`.
 ///
 /// # Errors
@@ -115,15 +115,14 @@ pub fn bar(length: f64, n_elements: usize) -> Result<Mesh, MeshError> {
     check_count("n_elements", n_elements)?;
     let n_nodes = check_nodes("n_elements", n_elements, n_elements.checked_add(1))?;
 
-    let points = (0..n_nodes)
+    let coords = (0..n_nodes)
         .map(|i| {
             // The last node sits exactly at `length`.
-            let x = if i == n_elements {
+            if i == n_elements {
                 length
             } else {
                 length * i as f64 / n_elements as f64
-            };
-            [x, 0.0]
+            }
         })
         .collect();
     let cells = (0..n_elements).map(|e| [e, e + 1]).collect();
@@ -133,12 +132,7 @@ pub fn bar(length: f64, n_elements: usize) -> Result<Mesh, MeshError> {
     node_sets.insert("right".to_string(), vec![n_elements]);
     node_sets.insert("all".to_string(), (0..n_nodes).collect());
 
-    Ok(Mesh {
-        dim: 1,
-        points,
-        cells: Cells::Bar2(cells),
-        node_sets,
-    })
+    Ok(Mesh::new(1, coords, Cells::Bar2(cells), node_sets))
 }
 
 /// Index of the first node of ring `k` (ring 0 is the centre node): `1 + 3k(k-1)` for `k >= 1`.
@@ -177,8 +171,8 @@ pub fn disk_rings(radius: f64, n_rings: usize) -> Result<Mesh, MeshError> {
         .and_then(|m| m.checked_add(1));
     let n_nodes = check_nodes("n_rings", n, n_nodes)?;
 
-    let mut points = Vec::with_capacity(n_nodes);
-    points.push([0.0, 0.0]);
+    let mut coords = Vec::with_capacity(2 * n_nodes);
+    coords.extend([0.0, 0.0]);
     for k in 1..=n {
         let r = if k == n {
             radius
@@ -188,7 +182,7 @@ pub fn disk_rings(radius: f64, n_rings: usize) -> Result<Mesh, MeshError> {
         let m = 6 * k;
         for i in 0..m {
             let theta = std::f64::consts::TAU * i as f64 / m as f64;
-            points.push([r * theta.cos(), r * theta.sin()]);
+            coords.extend([r * theta.cos(), r * theta.sin()]);
         }
     }
 
@@ -224,12 +218,7 @@ pub fn disk_rings(radius: f64, n_rings: usize) -> Result<Mesh, MeshError> {
     node_sets.insert("rim".to_string(), (ring_start(n)..n_nodes).collect());
     node_sets.insert("all".to_string(), (0..n_nodes).collect());
 
-    Ok(Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(tris),
-        node_sets,
-    })
+    Ok(Mesh::new(2, coords, Cells::Tri3(tris), node_sets))
 }
 
 /// Options of [`disk_graded`]. Every field has a default ([`DiskOptions::default`]).
@@ -449,25 +438,31 @@ fn graded_rings(
     })
 }
 
-fn signed_area(p: &[[f64; 2]], t: [usize; 3]) -> f64 {
-    let [a, b, c] = [p[t[0]], p[t[1]], p[t[2]]];
+/// Node `i` of the flat planar coordinates `coords`.
+fn xy(coords: &[f64], i: usize) -> &[f64] {
+    &coords[2 * i..2 * i + 2]
+}
+
+/// Signed area of the triangle `t` of the flat planar coordinates `coords`.
+fn signed_area(coords: &[f64], t: [usize; 3]) -> f64 {
+    let [a, b, c] = t.map(|i| xy(coords, i));
     0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
 }
 
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+fn distance(a: &[f64], b: &[f64]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 /// Triangulates the annulus between an inner ring (`a >= 2` nodes from `inner`, first node
-/// at angle `inner_angle`) and an outer ring (`b` nodes from `outer`), counter-clockwise:
-/// `a + b` triangles.
+/// at angle `inner_angle`) and an outer ring (`b` nodes from `outer`) of the flat planar
+/// coordinates `coords`, counter-clockwise: `a + b` triangles.
 ///
 /// The zipper starts on the edge from the inner ring's first node to the outer node nearest
 /// in angle, and walks around: each step adds the triangle that advances along one ring,
 /// the one whose new edge across the annulus is the shorter (ties: the outer ring), unless
 /// that triangle would not have a positive area and the other would.
 fn zip_rings(
-    points: &[[f64; 2]],
+    coords: &[f64],
     (inner, a, inner_angle): (usize, usize, f64),
     (outer, b): (usize, usize),
     tris: &mut Vec<[usize; 3]>,
@@ -476,7 +471,7 @@ fn zip_rings(
     let j0 = (0..b)
         .min_by(|&x, &y| {
             let d = |j: usize| {
-                let p = points[outer + j];
+                let p = xy(coords, outer + j);
                 ((p[1].atan2(p[0]) - inner_angle + std::f64::consts::PI)
                     .rem_euclid(std::f64::consts::TAU)
                     - std::f64::consts::PI)
@@ -495,11 +490,11 @@ fn zip_rings(
         } else {
             let t_out = [ia(i), ob(j), ob(j + 1)];
             let t_in = [ia(i), ob(j), ia(i + 1)];
-            let shorter_outer = distance(points[ia(i)], points[ob(j + 1)])
-                <= distance(points[ia(i + 1)], points[ob(j)]);
+            let shorter_outer = distance(xy(coords, ia(i)), xy(coords, ob(j + 1)))
+                <= distance(xy(coords, ia(i + 1)), xy(coords, ob(j)));
             let (ok_out, ok_in) = (
-                signed_area(points, t_out) > 0.0,
-                signed_area(points, t_in) > 0.0,
+                signed_area(coords, t_out) > 0.0,
+                signed_area(coords, t_in) > 0.0,
             );
             if shorter_outer {
                 ok_out || !ok_in
@@ -614,11 +609,11 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
     let centre = usize::from(hub == 0.0);
     let n_nodes: usize = counts.iter().sum::<usize>() - (1 - centre);
 
-    let mut points = Vec::with_capacity(n_nodes);
+    let mut coords = Vec::with_capacity(2 * n_nodes);
     let mut starts = Vec::with_capacity(m + 1);
     let mut first_angle = Vec::with_capacity(m + 1);
     if centre == 1 {
-        points.push([0.0, 0.0]);
+        coords.extend([0.0, 0.0]);
     }
     starts.push(0);
     first_angle.push(0.0);
@@ -630,11 +625,11 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
         } else {
             (k as f64 * GOLDEN_ANGLE * n_k as f64 / std::f64::consts::TAU).rem_euclid(1.0)
         };
-        starts.push(points.len());
+        starts.push(coords.len() / 2);
         first_angle.push(std::f64::consts::TAU * twist / n_k as f64);
         for i in 0..n_k {
             let theta = std::f64::consts::TAU * (i as f64 + twist) / n_k as f64;
-            points.push([radii[k] * theta.cos(), radii[k] * theta.sin()]);
+            coords.extend([radii[k] * theta.cos(), radii[k] * theta.sin()]);
         }
     }
 
@@ -646,7 +641,7 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
     }
     for k in 2..=m {
         zip_rings(
-            &points,
+            &coords,
             (starts[k - 1], counts[k - 1], first_angle[k - 1]),
             (starts[k], counts[k]),
             &mut tris,
@@ -665,32 +660,29 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
     node_sets.insert("rim".to_string(), (starts[m]..n_nodes).collect());
     node_sets.insert("all".to_string(), (0..n_nodes).collect());
 
-    Ok(Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(tris),
-        node_sets,
-    })
+    Ok(Mesh::new(2, coords, Cells::Tri3(tris), node_sets))
 }
 
-/// Nodes of `mesh` within distance `radius` of `centre` (e.g. for a hub clamp), sorted.
+/// Nodes of the planar `mesh` within distance `radius` of `centre` (its `x` and `y`, e.g.
+/// for a hub clamp), sorted.
 ///
 /// A node counts as inside when its distance is at most `radius + tol`, with the tolerance
 /// `tol = 1e-9 * max(radius, size of the mesh)` so that nodes placed on the circle by the
 /// generators (with rounding) are included. A negative or NaN `radius` gives no nodes.
-pub fn nodes_within(mesh: &Mesh, centre: [f64; 2], radius: f64) -> Vec<usize> {
+///
+/// # Panics
+/// If the mesh or `centre` has fewer than two coordinates.
+pub fn nodes_within(mesh: &Mesh, centre: &[f64], radius: f64) -> Vec<usize> {
     if radius.is_nan() || radius < 0.0 {
         return Vec::new();
     }
     let extent = mesh
-        .points
-        .iter()
+        .points()
         .map(|p| p[0].abs().max(p[1].abs()))
         .filter(|v| v.is_finite())
         .fold(0.0_f64, f64::max);
     let limit = radius + 1e-9 * radius.max(extent);
-    mesh.points
-        .iter()
+    mesh.points()
         .enumerate()
         .filter(|(_, p)| {
             let dx = p[0] - centre[0];
@@ -729,11 +721,11 @@ pub fn rectangle(lx: f64, ly: f64, nx: usize, ny: usize) -> Result<Mesh, MeshErr
             l * i as f64 / n as f64
         }
     };
-    let mut points = Vec::with_capacity(n_nodes);
+    let mut coords = Vec::with_capacity(2 * n_nodes);
     for j in 0..=ny {
         let y = coord(j, ny, ly);
         for i in 0..=nx {
-            points.push([coord(i, nx, lx), y]);
+            coords.extend([coord(i, nx, lx), y]);
         }
     }
 
@@ -761,12 +753,7 @@ pub fn rectangle(lx: f64, ly: f64, nx: usize, ny: usize) -> Result<Mesh, MeshErr
     node_sets.insert("top".to_string(), (0..=nx).map(|i| id(i, ny)).collect());
     node_sets.insert("all".to_string(), (0..n_nodes).collect());
 
-    Ok(Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(tris),
-        node_sets,
-    })
+    Ok(Mesh::new(2, coords, Cells::Tri3(tris), node_sets))
 }
 
 /// A block `[0, length] x [0, depth]` for a body that another rolls along: the triangles of
@@ -822,7 +809,7 @@ pub fn block_graded(length: f64, depth: f64, dx: f64, ratio: f64) -> Result<Mesh
         y -= r;
         ys[ny - 1 - k] = if k + 1 == ny { 0.0 } else { y.max(0.0) };
     }
-    for (i, p) in mesh.points.iter_mut().enumerate() {
+    for (i, p) in mesh.coords.chunks_exact_mut(2).enumerate() {
         p[1] = ys[i / row];
     }
     Ok(mesh)
@@ -837,29 +824,24 @@ mod tests {
         let m = block_graded(0.3, 0.05, 2e-3, 1.25).unwrap();
         let top = &m.node_sets["top"];
         let bottom = &m.node_sets["bottom"];
-        assert!(top.iter().all(|&i| m.points[i][1] == 0.05));
-        assert!(bottom.iter().all(|&i| m.points[i][1] == 0.0));
+        assert!(top.iter().all(|&i| m.point(i)[1] == 0.05));
+        assert!(bottom.iter().all(|&i| m.point(i)[1] == 0.0));
         let row = top.len();
         let (y0, y1) = (
-            m.points[m.points.len() - 1][1],
-            m.points[m.points.len() - 1 - row][1],
+            m.point(m.n_nodes() - 1)[1],
+            m.point(m.n_nodes() - 1 - row)[1],
         );
         assert!(((y0 - y1) - 2e-3).abs() < 1e-12, "top row {}", y0 - y1);
-        assert!(((m.points[1][0] - m.points[0][0]) - 2e-3).abs() < 1e-12);
+        assert!(((m.point(1)[0] - m.point(0)[0]) - 2e-3).abs() < 1e-12);
         let Cells::Tri3(tris) = &m.cells else {
             panic!("triangles")
         };
-        assert!(tris.iter().all(|&t| signed_area(&m.points, t) > 0.0));
-        let area: f64 = tris.iter().map(|&t| signed_area(&m.points, t)).sum();
+        assert!(tris.iter().all(|&t| signed_area(&m.coords, t) > 0.0));
+        let area: f64 = tris.iter().map(|&t| signed_area(&m.coords, t)).sum();
         assert!(
             area > 0.0 && (area - 0.3 * 0.05).abs() < 1e-12 * 0.015,
             "area {area}"
         );
-    }
-
-    fn signed_area(p: &[[f64; 2]], t: [usize; 3]) -> f64 {
-        let [a, b, c] = [p[t[0]], p[t[1]], p[t[2]]];
-        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
     }
 
     fn tris(mesh: &Mesh) -> &[[usize; 3]] {
@@ -905,9 +887,9 @@ mod tests {
         assert_eq!(m.dim, 1);
         assert_eq!(m.n_nodes(), 5);
         assert_eq!(m.cells, Cells::Bar2(vec![[0, 1], [1, 2], [2, 3], [3, 4]]));
-        let xs: Vec<f64> = m.points.iter().map(|p| p[0]).collect();
+        let xs: Vec<f64> = m.points().map(|p| p[0]).collect();
         assert_eq!(xs, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
-        assert!(m.points.iter().all(|p| p[1] == 0.0));
+        assert_eq!(m.coords, xs);
         assert_eq!(m.node_set("left"), Some(&[0][..]));
         assert_eq!(m.node_set("right"), Some(&[4][..]));
         assert_eq!(m.node_set("all").unwrap().len(), 5);
@@ -915,7 +897,7 @@ mod tests {
         check_sets_sorted(&m);
 
         let m = bar(0.3, 7).unwrap();
-        assert_eq!(m.points[7][0], 0.3);
+        assert_eq!(m.point(7)[0], 0.3);
     }
 
     #[test]
@@ -968,7 +950,7 @@ mod tests {
             let mut total = 0.0;
             let mut min_area = f64::INFINITY;
             for &t in tris(&m) {
-                let a = signed_area(&m.points, t);
+                let a = signed_area(&m.coords, t);
                 assert!(a > 0.0, "n = {n}: triangle {t:?} has area {a}");
                 min_area = min_area.min(a);
                 total += a;
@@ -994,7 +976,7 @@ mod tests {
         let rim = m.node_set("rim").unwrap();
         let mut last = -1.0;
         for &i in rim {
-            let p = m.points[i];
+            let p = m.point(i);
             assert!((p[0].hypot(p[1]) - r).abs() < 1e-12);
             let mut ang = p[1].atan2(p[0]);
             if ang < 0.0 {
@@ -1006,7 +988,7 @@ mod tests {
         // Ring k nodes sit on radius k r / n.
         for k in 1..=5 {
             for i in ring_start(k)..ring_start(k) + 6 * k {
-                let p = m.points[i];
+                let p = m.point(i);
                 assert!((p[0].hypot(p[1]) - r * k as f64 / 5.0).abs() < 1e-12);
             }
         }
@@ -1042,15 +1024,15 @@ mod tests {
     fn nodes_within_hub() {
         let m = disk_rings(1.0, 12).unwrap();
         // Radius 2/12: centre, ring 1 and ring 2 (rounded positions included).
-        let hub = nodes_within(&m, [0.0, 0.0], 2.0 / 12.0);
+        let hub = nodes_within(&m, &[0.0, 0.0], 2.0 / 12.0);
         assert_eq!(hub, (0..1 + 6 + 12).collect::<Vec<_>>());
-        assert_eq!(nodes_within(&m, [0.0, 0.0], 0.0), vec![0]);
-        assert!(nodes_within(&m, [0.0, 0.0], -1.0).is_empty());
-        assert!(nodes_within(&m, [0.0, 0.0], f64::NAN).is_empty());
-        assert_eq!(nodes_within(&m, [0.0, 0.0], 10.0).len(), m.n_nodes());
+        assert_eq!(nodes_within(&m, &[0.0, 0.0], 0.0), vec![0]);
+        assert!(nodes_within(&m, &[0.0, 0.0], -1.0).is_empty());
+        assert!(nodes_within(&m, &[0.0, 0.0], f64::NAN).is_empty());
+        assert_eq!(nodes_within(&m, &[0.0, 0.0], 10.0).len(), m.n_nodes());
         // Off-centre: the rim node on the positive x axis.
         let rim0 = m.node_set("rim").unwrap()[0];
-        assert_eq!(nodes_within(&m, [1.0, 0.0], 1e-3), vec![rim0]);
+        assert_eq!(nodes_within(&m, &[1.0, 0.0], 1e-3), vec![rim0]);
     }
 
     #[test]
@@ -1062,16 +1044,16 @@ mod tests {
         assert_eq!(m.cells.len(), 2 * 4 * 3);
         let mut total = 0.0;
         for &t in tris(&m) {
-            let a = signed_area(&m.points, t);
+            let a = signed_area(&m.coords, t);
             assert!((a - 0.5 * (lx / nx as f64) * (ly / ny as f64)).abs() < 1e-14);
             total += a;
         }
         assert!((total - lx * ly).abs() < 1e-12);
         check_conforming(&m);
         check_sets_sorted(&m);
-        let on = |name: &str, f: &dyn Fn([f64; 2]) -> bool| {
+        let on = |name: &str, f: &dyn Fn(&[f64]) -> bool| {
             let set = m.node_set(name).unwrap();
-            let expect: Vec<usize> = (0..m.n_nodes()).filter(|&i| f(m.points[i])).collect();
+            let expect: Vec<usize> = (0..m.n_nodes()).filter(|&i| f(m.point(i))).collect();
             assert_eq!(set, expect.as_slice(), "{name}");
         };
         on("left", &|p| p[0] == 0.0);

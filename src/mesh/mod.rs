@@ -41,13 +41,17 @@ impl Cells {
     }
 }
 
-/// A finite element mesh in 1D or 2D.
+/// A finite element mesh; its dimension is a parameter.
+///
+/// The reference coordinates are flat with the dimension as stride: node `i` is
+/// `coords[dim * i..dim * (i + 1)]` ([`Mesh::point`]), which is also the layout of the
+/// degrees of freedom (node `i`, component `c` is `dim * i + c`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
-    /// Spatial dimension: 1 (bars, `y` unused and zero) or 2 (triangles).
+    /// Spatial dimension: 1 (bars) or 2 (triangles); the stride of [`Mesh::coords`].
     pub dim: usize,
-    /// Reference coordinates of the nodes, in m. In 1D only `[0]` is used.
-    pub points: Vec<[f64; 2]>,
+    /// Reference coordinates of the nodes, in m, `dim` per node (node by node).
+    pub coords: Vec<f64>,
     /// The cells.
     pub cells: Cells,
     /// Named node sets (sorted node indices, no repeats).
@@ -55,14 +59,50 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// A mesh of dimension `dim` with the flat coordinates `coords` (`dim` per node).
+    ///
+    /// # Panics
+    /// If `dim` is zero or `coords.len()` is not a multiple of `dim`.
+    pub fn new(
+        dim: usize,
+        coords: Vec<f64>,
+        cells: Cells,
+        node_sets: BTreeMap<String, Vec<usize>>,
+    ) -> Mesh {
+        assert!(
+            dim >= 1 && coords.len() % dim == 0,
+            "{} coordinates are not a whole number of nodes of dimension {dim}",
+            coords.len()
+        );
+        Mesh {
+            dim,
+            coords,
+            cells,
+            node_sets,
+        }
+    }
+
     /// Number of nodes.
     pub fn n_nodes(&self) -> usize {
-        self.points.len()
+        self.coords.len() / self.dim
     }
 
     /// Number of degrees of freedom (`dim` per node; node `i`, component `c` is `dim*i + c`).
     pub fn n_dofs(&self) -> usize {
-        self.dim * self.points.len()
+        self.dim * self.n_nodes()
+    }
+
+    /// Reference coordinates of node `i` (`dim` of them), in m.
+    ///
+    /// # Panics
+    /// If `i >= n_nodes()`.
+    pub fn point(&self, i: usize) -> &[f64] {
+        &self.coords[self.dim * i..self.dim * (i + 1)]
+    }
+
+    /// Reference coordinates of every node, in node order (`dim` each).
+    pub fn points(&self) -> impl ExactSizeIterator<Item = &[f64]> + '_ {
+        self.coords.chunks_exact(self.dim)
     }
 
     /// The node set of that name, if any.
@@ -70,13 +110,9 @@ impl Mesh {
         self.node_sets.get(name).map(|v| v.as_slice())
     }
 
-    /// Reference coordinates as a flat vector of length [`Mesh::n_dofs`].
+    /// Reference coordinates as a flat vector of length [`Mesh::n_dofs`] (the coordinates).
     pub fn reference_positions(&self) -> Vec<f64> {
-        let mut x = Vec::with_capacity(self.n_dofs());
-        for p in &self.points {
-            x.extend_from_slice(&p[..self.dim]);
-        }
-        x
+        self.coords.clone()
     }
 
     /// Node indices of each cell, as slices.

@@ -69,8 +69,8 @@ pub struct MeshQuality {
 
 /// Interior angles (degrees), aspect ratio `R_c / (2 r_i)`, signed area and longest edge of
 /// the triangle `p`.
-fn triangle_measures(p: [[f64; 2]; 3]) -> ([f64; 3], f64, f64, f64) {
-    let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+fn triangle_measures(p: [&[f64]; 3]) -> ([f64; 3], f64, f64, f64) {
+    let sub = |a: &[f64], b: &[f64]| [a[0] - b[0], a[1] - b[1]];
     let mut angles = [0.0; 3];
     let mut len = [0.0; 3];
     for v in 0..3 {
@@ -113,11 +113,12 @@ fn divisors_descending(n: usize) -> Vec<usize> {
     large
 }
 
-/// The largest divisor `k` of `rim` such that turning every point by `2 pi / k` about the
-/// origin lands it within `SYMMETRY_TOL * R` of a point (1 if none but the identity).
-fn symmetry_order(points: &[[f64; 2]], rim: usize) -> usize {
-    let extent = points
-        .iter()
+/// The largest divisor `k` of `rim` such that turning every point (flat planar coordinates
+/// `xy`, two per point) by `2 pi / k` about the origin lands it within `SYMMETRY_TOL * R` of
+/// a point (1 if none but the identity).
+fn symmetry_order(xy: &[f64], rim: usize) -> usize {
+    let extent = xy
+        .chunks_exact(2)
         .map(|p| p[0].hypot(p[1]))
         .filter(|r| r.is_finite())
         .fold(0.0_f64, f64::max);
@@ -128,18 +129,18 @@ fn symmetry_order(points: &[[f64; 2]], rim: usize) -> usize {
     // Points hashed on a grid of cells of side 2 tol: a match lies in the 3 x 3 block of
     // cells around the turned point.
     let cell = 2.0 * tol;
-    let key = |p: [f64; 2]| ((p[0] / cell).floor() as i64, (p[1] / cell).floor() as i64);
+    let key = |x: f64, y: f64| ((x / cell).floor() as i64, (y / cell).floor() as i64);
     let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-    for (i, &p) in points.iter().enumerate() {
-        grid.entry(key(p)).or_default().push(i);
+    for (i, p) in xy.chunks_exact(2).enumerate() {
+        grid.entry(key(p[0], p[1])).or_default().push(i);
     }
-    let has_point_near = |q: [f64; 2]| {
-        let (cx, cy) = key(q);
+    let has_point_near = |qx: f64, qy: f64| {
+        let (cx, cy) = key(qx, qy);
         (cx - 1..=cx + 1).any(|x| {
             (cy - 1..=cy + 1).any(|y| {
                 grid.get(&(x, y)).is_some_and(|v| {
                     v.iter()
-                        .any(|&i| (points[i][0] - q[0]).hypot(points[i][1] - q[1]) <= tol)
+                        .any(|&i| (xy[2 * i] - qx).hypot(xy[2 * i + 1] - qy) <= tol)
                 })
             })
         })
@@ -149,9 +150,9 @@ fn symmetry_order(points: &[[f64; 2]], rim: usize) -> usize {
             return 1;
         }
         let (s, c) = (std::f64::consts::TAU / k as f64).sin_cos();
-        let maps_onto_itself = points
-            .iter()
-            .all(|p| has_point_near([c * p[0] - s * p[1], s * p[0] + c * p[1]]));
+        let maps_onto_itself = xy
+            .chunks_exact(2)
+            .all(|p| has_point_near(c * p[0] - s * p[1], s * p[0] + c * p[1]));
         if maps_onto_itself {
             return k;
         }
@@ -186,8 +187,7 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
     let mut edges: HashMap<(usize, usize), usize> = HashMap::new();
     let mut aspect_sum = 0.0;
     for t in tris {
-        let p = [mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]];
-        let (angles, aspect, area, longest) = triangle_measures(p);
+        let (angles, aspect, area, longest) = triangle_measures(t.map(|i| mesh.point(i)));
         for a in angles {
             // f64::min / max skip the NaN start.
             q.min_angle_deg = q.min_angle_deg.min(a);
@@ -223,7 +223,12 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
         Some(rim) => rim.len(),
         None => boundary_nodes.len(),
     };
-    q.symmetry_order = symmetry_order(&mesh.points, q.rim_nodes);
+    // The symmetry is planar: a 1D mesh lies on the x axis.
+    let planar: Vec<f64> = mesh
+        .points()
+        .flat_map(|p| [p[0], p.get(1).copied().unwrap_or(0.0)])
+        .collect();
+    q.symmetry_order = symmetry_order(&planar, q.rim_nodes);
     q
 }
 
@@ -233,12 +238,12 @@ mod tests {
     use crate::mesh::generators::{bar, disk_rings, rectangle};
 
     fn one_triangle(p: [[f64; 2]; 3]) -> Mesh {
-        Mesh {
-            dim: 2,
-            points: p.to_vec(),
-            cells: Cells::Tri3(vec![[0, 1, 2]]),
-            node_sets: Default::default(),
-        }
+        Mesh::new(
+            2,
+            p.concat(),
+            Cells::Tri3(vec![[0, 1, 2]]),
+            Default::default(),
+        )
     }
 
     #[test]
@@ -289,7 +294,7 @@ mod tests {
         }
         // Turning one interior node breaks the symmetry.
         let mut m = disk_rings(0.1, 8).unwrap();
-        m.points[3][0] += 1e-6;
+        m.coords[2 * 3] += 1e-6;
         assert_eq!(quality(&m).symmetry_order, 1);
     }
 

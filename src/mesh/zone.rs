@@ -97,9 +97,9 @@ pub fn disk_zone(o: &ZoneOptions) -> Result<ZoneMesh, MeshError> {
     let leaves = quadtree_leaves(o, &lat)?;
     let (keys, polys) = leaf_nodes(&lat, &leaves);
     let index: HashMap<Key, usize> = keys.iter().enumerate().map(|(n, &k)| (k, n)).collect();
-    let points: Vec<[f64; 2]> = keys.iter().map(|&(j, i)| lat.point(j, i)).collect();
-    let (tris, leaf_tris) = triangulate(&lat, &leaves, &polys, &index, &points);
-    let mesh = zone_mesh(&lat, &keys, points, tris);
+    let coords: Vec<f64> = keys.iter().flat_map(|&(j, i)| lat.point(j, i)).collect();
+    let (tris, leaf_tris) = triangulate(&lat, &leaves, &polys, &index, &coords);
+    let mesh = zone_mesh(&lat, &keys, coords, tris);
     let (sources, exact) = relocation_sources(&lat, &leaves, &leaf_tris, &keys, &index, &mesh);
     Ok(ZoneMesh {
         mesh,
@@ -276,17 +276,19 @@ fn leaf_nodes(lat: &Lattice, leaves: &[Cell]) -> (Vec<Key>, Vec<Vec<Key>>) {
     (keys, polys)
 }
 
-/// The triangles, counter-clockwise: a leaf of four nodes is two triangles, one with
-/// hanging nodes a fan from its centre; and each leaf's range of triangles.
+/// The triangles of the nodes at the flat planar coordinates `coords`, counter-clockwise: a
+/// leaf of four nodes is two triangles, one with hanging nodes a fan from its centre; and
+/// each leaf's range of triangles.
 fn triangulate(
     lat: &Lattice,
     leaves: &[Cell],
     polys: &[Vec<Key>],
     index: &HashMap<Key, usize>,
-    points: &[[f64; 2]],
+    coords: &[f64],
 ) -> (Vec<[usize; 3]>, Vec<(usize, usize)>) {
+    let xy = |i: usize| &coords[2 * i..2 * i + 2];
     let area = |t: [usize; 3]| {
-        let (a, b, c) = (points[t[0]], points[t[1]], points[t[2]]);
+        let (a, b, c) = (xy(t[0]), xy(t[1]), xy(t[2]));
         (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
     };
     let ccw = |t: [usize; 3]| if area(t) < 0.0 { [t[0], t[2], t[1]] } else { t };
@@ -312,20 +314,15 @@ fn triangulate(
     (tris, leaf_tris)
 }
 
-/// The mesh of the nodes `keys` at `points` and the triangles `tris`, with the node sets
-/// `"rim"` and `"hub"`.
-fn zone_mesh(lat: &Lattice, keys: &[Key], points: Vec<[f64; 2]>, tris: Vec<[usize; 3]>) -> Mesh {
+/// The mesh of the nodes `keys` at the flat planar coordinates `coords` and the triangles
+/// `tris`, with the node sets `"rim"` and `"hub"`.
+fn zone_mesh(lat: &Lattice, keys: &[Key], coords: Vec<f64>, tris: Vec<[usize; 3]>) -> Mesh {
     let rim: Vec<usize> = (0..keys.len()).filter(|&n| keys[n].0 == lat.nr()).collect();
     let hub: Vec<usize> = (0..keys.len()).filter(|&n| keys[n].0 == 0).collect();
     let mut node_sets = std::collections::BTreeMap::new();
     node_sets.insert("rim".to_string(), rim);
     node_sets.insert("hub".to_string(), hub);
-    Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(tris),
-        node_sets,
-    }
+    Mesh::new(2, coords, Cells::Tri3(tris), node_sets)
 }
 
 /// Relocation sources: per node, the node one sector ahead, else its triangle in the old
@@ -370,7 +367,7 @@ fn relocation_sources(
         let (a, b) = leaf_tris[leaf];
         let best = (a..b)
             .map(|t| {
-                let w = barycentric(&mesh.points, tris[t], x);
+                let w = barycentric(mesh, tris[t], &x);
                 (w[0].min(w[1]).min(w[2]), t, w)
             })
             .max_by(|p, q| p.0.total_cmp(&q.0))
@@ -383,9 +380,9 @@ fn relocation_sources(
     (sources, exact)
 }
 
-/// Barycentric coordinates of `x` in triangle `t`.
-fn barycentric(p: &[[f64; 2]], t: [usize; 3], x: [f64; 2]) -> [f64; 3] {
-    let (a, b, c) = (p[t[0]], p[t[1]], p[t[2]]);
+/// Barycentric coordinates of the planar point `x` in triangle `t` of `mesh`.
+fn barycentric(mesh: &Mesh, t: [usize; 3], x: &[f64]) -> [f64; 3] {
+    let (a, b, c) = (mesh.point(t[0]), mesh.point(t[1]), mesh.point(t[2]));
     let det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
     let l1 = ((x[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (x[1] - a[1])) / det;
     let l2 = ((b[0] - a[0]) * (x[1] - a[1]) - (x[0] - a[0]) * (b[1] - a[1])) / det;
@@ -521,7 +518,7 @@ mod tests {
         let angles: Vec<f64> = rim
             .iter()
             .map(|&n| {
-                let p = z.mesh.points[n];
+                let p = z.mesh.point(n);
                 wrap(p[1].atan2(p[0]) - z.centre)
             })
             .collect();
@@ -542,7 +539,7 @@ mod tests {
         // Far from the zone every node maps onto a node; the interpolated ones are few.
         assert!(z.exact_nodes > z.sources.len() * 8 / 10);
         for (n, s) in z.sources.iter().enumerate() {
-            let p = z.mesh.points[n];
+            let p = z.mesh.point(n);
             let a = wrap(p[1].atan2(p[0]) - z.centre);
             if a.abs() > 90f64.to_radians() {
                 assert!(matches!(s, Source::Node(_)), "node {n} at {a}");
@@ -550,7 +547,7 @@ mod tests {
             if let Source::Node(m) = *s {
                 // The source is the same point one sector ahead.
                 let (c, s_) = (z.step.cos(), z.step.sin());
-                let q = z.mesh.points[m];
+                let q = z.mesh.point(m);
                 let turned = [c * p[0] - s_ * p[1], s_ * p[0] + c * p[1]];
                 assert!(
                     (turned[0] - q[0]).abs() < 1e-12 && (turned[1] - q[1]).abs() < 1e-12,
@@ -568,8 +565,8 @@ mod tests {
     #[test]
     fn relocation_carries_a_linear_field_exactly() {
         let z = disk_zone(&options()).unwrap();
-        let f = |p: [f64; 2]| 3.0 * p[0] - 2.0 * p[1] + 0.5;
-        let old: Vec<f64> = z.mesh.points.iter().map(|&p| f(p)).collect();
+        let f = |p: &[f64]| 3.0 * p[0] - 2.0 * p[1] + 0.5;
+        let old: Vec<f64> = z.mesh.points().map(f).collect();
         let (c, s) = (z.step.cos(), z.step.sin());
         for (n, src) in z.sources.iter().enumerate() {
             let v = match *src {
@@ -578,8 +575,8 @@ mod tests {
                     (0..3).map(|k| weights[k] * old[nodes[k]]).sum()
                 }
             };
-            let p = z.mesh.points[n];
-            let expect = f([c * p[0] - s * p[1], s * p[0] + c * p[1]]);
+            let p = z.mesh.point(n);
+            let expect = f(&[c * p[0] - s * p[1], s * p[0] + c * p[1]]);
             assert!((v - expect).abs() < 1e-12, "node {n}: {v} vs {expect}");
         }
     }

@@ -137,7 +137,7 @@ impl WheelOnBlock {
             .iter()
             .flat_map(|&i| [2 * i, 2 * i + 1])
             .collect();
-        let segments = top_segments(&mesh.points, &mesh.node_sets["top"]);
+        let segments = top_segments(&mesh.coords, mesh.dim, &mesh.node_sets["top"]);
         let block_motion = Motion::Pressed {
             origin: [-spec.margin, -r_spin - spec.depth, 0.0],
             velocity: [-speed, 0.0, 0.0],
@@ -250,7 +250,7 @@ impl WheelOnBlock {
     /// m.
     pub fn rim_x(&self, slot: usize, t: f64, u: &[f64]) -> f64 {
         let i = self.wheel.rim[slot];
-        let p = self.wheel.mesh.points[i];
+        let p = self.wheel.mesh.point(i);
         self.wheel_motion()
             .place(t, [p[0] + u[2 * i], p[1] + u[2 * i + 1], 0.0])[0]
     }

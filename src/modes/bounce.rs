@@ -35,17 +35,17 @@ pub fn bounce_mode(model: &WheelModel, d: f64) -> Result<Bounce, ModesError> {
     use crate::linalg::{spmv_into, Factor};
     let n = model.mesh.n_dofs();
     let r = model.spec.radius;
-    let pts = &model.mesh.points;
+    let y = |i: usize| model.mesh.point(i)[1];
     let lowest = model
         .rim
         .iter()
         .copied()
-        .min_by(|&a, &b| pts[a][1].total_cmp(&pts[b][1]));
+        .min_by(|&a, &b| y(a).total_cmp(&y(b)));
     let mut held: Vec<usize> = model
         .rim
         .iter()
         .copied()
-        .filter(|&i| pts[i][1] <= -(r - d))
+        .filter(|&i| y(i) <= -(r - d))
         .collect();
     if held.is_empty() {
         held.extend(lowest);
@@ -73,7 +73,7 @@ pub fn bounce_mode(model: &WheelModel, d: f64) -> Result<Bounce, ModesError> {
             let (j, comp, sine) = (c / 4, (c / 2) % 2, c % 2 == 1);
             (0..n)
                 .map(|dof| {
-                    let p = pts[dof / 2];
+                    let p = model.mesh.point(dof / 2);
                     let th = p[1].atan2(p[0]);
                     let w = if sine {
                         ((j + 1) as f64 * th).sin()

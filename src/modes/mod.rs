@@ -486,7 +486,7 @@ pub fn rim_wavenumber(model: &WheelModel, shape: &[f64]) -> Option<usize> {
     for k in 0..=rim.len() / 2 {
         let (mut rc, mut rs, mut tc, mut ts) = (0.0, 0.0, 0.0, 0.0);
         for &node in rim {
-            let [x, y] = model.mesh.points[node];
+            let (x, y) = (model.mesh.point(node)[0], model.mesh.point(node)[1]);
             let th = y.atan2(x);
             let (ux, uy) = (shape[2 * node], shape[2 * node + 1]);
             let ur = ux * th.cos() + uy * th.sin();

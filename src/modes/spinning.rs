@@ -462,13 +462,12 @@ pub(super) fn rigid_kind(mesh: &Mesh, u: &[f64]) -> &'static str {
         };
     }
     let c = mesh
-        .points
-        .iter()
+        .points()
         .fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
     let c = [c[0] / nn as f64, c[1] / nn as f64];
     // Orthogonal basis: tx, ty, rotation about the centroid (orthogonal to both).
     let (mut tx, mut ty, mut rot, mut r2) = (0.0, 0.0, 0.0, 0.0);
-    for (i, p) in mesh.points.iter().enumerate() {
+    for (i, p) in mesh.points().enumerate() {
         let (x, y) = (p[0] - c[0], p[1] - c[1]);
         tx += u[2 * i];
         ty += u[2 * i + 1];

@@ -166,7 +166,6 @@ fn build_vtu(
         path: path.to_path_buf(),
         message,
     };
-    let n_nodes = mesh.n_nodes();
     let n_cells = mesh.cells.len();
     let (nodes_per_cell, cell_type, flat): (usize, CellType, Vec<u64>) = match &mesh.cells {
         Cells::Bar2(c) => (
@@ -193,6 +192,14 @@ fn build_vtu(
             )))
         }
     }
+    if mesh.coords.len() % mesh.dim != 0 {
+        return Err(invalid(format!(
+            "{} coordinates are not a whole number of nodes of dimension {}",
+            mesh.coords.len(),
+            mesh.dim
+        )));
+    }
+    let n_nodes = mesh.n_nodes();
     if let Some(pos) = flat.iter().position(|&i| i >= n_nodes as u64) {
         return Err(invalid(format!(
             "cell {} refers to node {}, but the mesh has {n_nodes} nodes",
@@ -246,10 +253,10 @@ fn build_vtu(
         }
     }
 
+    // Three components whatever the dimension: the missing ones are zero.
     let points: Vec<f64> = mesh
-        .points
-        .iter()
-        .flat_map(|p| [p[0], if mesh.dim >= 2 { p[1] } else { 0.0 }, 0.0])
+        .points()
+        .flat_map(|p| std::array::from_fn::<f64, 3, _>(|c| p.get(c).copied().unwrap_or(0.0)))
         .collect();
     let offsets: Vec<u64> = (1..=n_cells as u64)
         .map(|k| k * nodes_per_cell as u64)
@@ -554,7 +561,7 @@ mod tests {
         assert_eq!(names.len(), 1);
 
         let (points, conn, offsets, types, point, cell) = read_back(&path);
-        let expect_points: Vec<f64> = mesh.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+        let expect_points: Vec<f64> = mesh.points().flat_map(|p| [p[0], p[1], 0.0]).collect();
         assert_eq!(points, expect_points);
         let Cells::Tri3(tris) = &mesh.cells else {
             unreachable!()
@@ -678,6 +685,10 @@ mod tests {
         assert!(matches!(e, VtkError::InvalidMesh { .. }), "{e:?}");
         let mut broken = mesh.clone();
         broken.dim = 1;
+        let e = write_vtu(&path, &broken, None, &[], &[]).unwrap_err();
+        assert!(matches!(e, VtkError::InvalidMesh { .. }), "{e:?}");
+        let mut broken = mesh.clone();
+        broken.coords.pop();
         let e = write_vtu(&path, &broken, None, &[], &[]).unwrap_err();
         assert!(matches!(e, VtkError::InvalidMesh { .. }), "{e:?}");
         // Nothing was written.

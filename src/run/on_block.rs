@@ -383,15 +383,15 @@ fn fields(wb: &WheelOnBlock, last: &Last) -> Fields {
     if last.u.is_empty() {
         return Fields::default();
     }
-    let mut points = Vec::new();
+    let mut coords = Vec::new();
     let (mut disp, mut vel, mut body) = (Vec::new(), Vec::new(), Vec::new());
     let mut tris = Vec::new();
     for (b, bd) in wb.bodies.iter().enumerate() {
         let (o, first) = (wb.joined.first_dof[b], wb.joined.first_node[b]);
-        for (i, p) in bd.mesh.points.iter().enumerate() {
+        for (i, p) in bd.mesh.points().enumerate() {
             let (ux, uy) = (last.u[o + 2 * i], last.u[o + 2 * i + 1]);
             let g = bd.motion.place(last.t, [p[0] + ux, p[1] + uy, 0.0]);
-            points.push([g[0], g[1]]);
+            coords.extend([g[0], g[1]]);
             let du = bd.motion.rotate(last.t, [ux, uy, 0.0]);
             let local = [p[0] + ux, p[1] + uy, 0.0];
             let rv = bd
@@ -406,12 +406,7 @@ fn fields(wb: &WheelOnBlock, last: &Last) -> Fields {
             tris.extend(t.iter().map(|c| c.map(|i| i + first)));
         }
     }
-    let mesh = Mesh {
-        dim: 2,
-        points,
-        cells: Cells::Tri3(tris),
-        node_sets: Default::default(),
-    };
+    let mesh = Mesh::new(2, coords, Cells::Tri3(tris), Default::default());
     let arr = |name: &str, components, values| FieldArray {
         name: name.into(),
         components,

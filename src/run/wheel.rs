@@ -217,15 +217,15 @@ const RIM_TOLERANCE: f64 = 1e-3;
 /// # Errors
 /// A message naming the node (Gmsh tag), its position and what is allowed.
 pub fn check_disk(mesh: &Mesh, tags: &[u64], radius: f64) -> Result<(), String> {
-    let r = |i: usize| mesh.points[i][0].hypot(mesh.points[i][1]);
+    let r = |i: usize| mesh.point(i)[0].hypot(mesh.point(i)[1]);
     let tag = |i: usize| tags.get(i).copied().unwrap_or(i as u64);
     let off = |i: usize| (r(i) / radius - 1.0).abs() > RIM_TOLERANCE;
     let describe = |i: usize, what: &str| {
         format!(
             "node {} at ({:.6e}, {:.6e}) m, {what}, is at radius {:.6e} m: the wheel's rim must be the circle of wheel.radius = {radius} m about the axle (0, 0), within {RIM_TOLERANCE:e} (an off-centre, out-of-round or wrongly scaled mesh)",
             tag(i),
-            mesh.points[i][0],
-            mesh.points[i][1],
+            mesh.point(i)[0],
+            mesh.point(i)[1],
             r(i)
         )
     };

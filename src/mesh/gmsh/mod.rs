@@ -341,9 +341,9 @@ fn build_mesh(
 
     // Compact renumbering in increasing tag order.
     let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
-    let points: Vec<[f64; 2]> = used
+    let xy: Vec<f64> = used
         .iter()
-        .map(|t| coords.get(t).copied().unwrap_or([f64::NAN; 2]))
+        .flat_map(|t| coords.get(t).copied().unwrap_or([f64::NAN; 2]))
         .collect();
     let idx = |t: &u64| index.get(t).copied().unwrap_or(0);
     let mut cells: Vec<[usize; 3]> = triangles
@@ -351,7 +351,7 @@ fn build_mesh(
         .map(|(_, t)| [idx(&t[0]), idx(&t[1]), idx(&t[2])])
         .collect();
 
-    orient(&mut cells, &points, &triangles, path)?;
+    orient(&mut cells, &xy, &triangles, path)?;
 
     let node_sets = groups
         .into_iter()
@@ -364,12 +364,7 @@ fn build_mesh(
         .collect();
 
     Ok((
-        Mesh {
-            dim: 2,
-            points,
-            cells: Cells::Tri3(cells),
-            node_sets,
-        },
+        Mesh::new(2, xy, Cells::Tri3(cells), node_sets),
         used.into_iter().collect(),
     ))
 }
@@ -422,7 +417,7 @@ fn node_coordinates(
     msh: &MshFile<u64, i32, f64>,
     path: &Path,
 ) -> Result<(Coords, EntityNodes), GmshError> {
-    let mut coords: HashMap<u64, [f64; 2]> = HashMap::new();
+    let mut coords: Coords = HashMap::new();
     let mut entity_nodes: HashMap<(i32, i32), Vec<u64>> = HashMap::new();
     if let Some(nodes) = &msh.data.nodes {
         let mut next_tag = nodes.min_node_tag;
@@ -611,15 +606,19 @@ fn check_nodes(
 }
 
 /// Checks the triangle areas and makes all triangles counter-clockwise (see the module
-/// documentation). `triangles` gives the Gmsh tag of each cell, for errors.
+/// documentation); `xy` holds the nodes' flat planar coordinates. `triangles` gives the
+/// Gmsh tag of each cell, for errors.
 fn orient(
     cells: &mut [[usize; 3]],
-    points: &[[f64; 2]],
+    xy: &[f64],
     triangles: &[(u64, [u64; 3])],
     path: &Path,
 ) -> Result<(), GmshError> {
     let area = |t: &[usize; 3]| {
-        let p = |i: usize| points.get(t[i]).copied().unwrap_or([f64::NAN; 2]);
+        let p = |i: usize| match xy.get(2 * t[i]..2 * t[i] + 2) {
+            Some(&[x, y]) => [x, y],
+            _ => [f64::NAN; 2],
+        };
         let (a, b, c) = (p(0), p(1), p(2));
         0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
     };
@@ -862,7 +861,7 @@ mod tests {
     const TAGS: [u64; 5] = [1, 2, 3, 4, 5];
 
     fn signed_area(m: &Mesh, t: [usize; 3]) -> f64 {
-        let [a, b, c] = [m.points[t[0]], m.points[t[1]], m.points[t[2]]];
+        let [a, b, c] = t.map(|i| m.point(i));
         0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
     }
 
@@ -875,7 +874,7 @@ mod tests {
 
     /// The index of the node at `xy`.
     fn node_at(m: &Mesh, xy: [f64; 2]) -> usize {
-        m.points.iter().position(|p| *p == xy).expect("node")
+        m.points().position(|p| p == xy).expect("node")
     }
 
     /// Checks the square mesh read back: counts, coordinates, sets, orientation.
@@ -912,7 +911,7 @@ mod tests {
         let m = read_msh(&p).unwrap();
         check_square(&m);
         // Tags 1..5 in increasing order: the node order is kept.
-        assert_eq!(m.points, XY.to_vec());
+        assert_eq!(m.coords, XY.concat());
         assert_eq!(tris(&m), CCW.to_vec());
         assert_eq!(m.node_set("bottom"), Some(&[0, 1][..]));
     }
@@ -976,8 +975,8 @@ mod tests {
         let m = read_msh(&p).unwrap();
         check_square(&m);
         // Renumbered by increasing tag: 5 (centre), 7, 33, 101, 2000.
-        assert_eq!(m.points[0], [0.5, 0.5]);
-        assert_eq!(m.points[4], [0.0, 1.0]);
+        assert_eq!(m.point(0), [0.5, 0.5]);
+        assert_eq!(m.point(4), [0.0, 1.0]);
         // Contiguous tags 1..=5, but not in file order: mshio would drop them.
         let p = dir.write(
             "permuted.msh",
@@ -986,8 +985,8 @@ mod tests {
         let m = read_msh(&p).unwrap();
         check_square(&m);
         assert_eq!(
-            m.points,
-            vec![[0.5, 0.5], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]
+            m.coords,
+            [[0.5, 0.5], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]].concat()
         );
     }
 
@@ -1206,13 +1205,13 @@ mod tests {
             let bytes = square_binary(TAGS, &CCW, little);
             let m = read_msh(&dir.write("bin.msh", &bytes)).unwrap();
             check_square(&m);
-            assert_eq!(m.points, XY.to_vec());
+            assert_eq!(m.coords, XY.concat());
             // Sparse and permuted tags, clockwise triangles.
             let cw: Vec<[usize; 3]> = CCW.iter().map(|t| [t[0], t[2], t[1]]).collect();
             let bytes = square_binary([5, 4, 3, 2, 1], &cw, little);
             let m = read_msh(&dir.write("bin2.msh", &bytes)).unwrap();
             check_square(&m);
-            assert_eq!(m.points[0], [0.5, 0.5]);
+            assert_eq!(m.point(0), [0.5, 0.5]);
             let bytes = square_binary([10, 40, 20, 90, 3], &CCW, little);
             check_square(&read_msh(&dir.write("bin3.msh", &bytes)).unwrap());
         }

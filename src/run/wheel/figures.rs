@@ -243,6 +243,7 @@ fn turn_average_maps<'a>(
                 ..Default::default()
             };
             let title = format!("{title}, {omega} rad/s");
+            let xy = planar(&wm.mesh);
             let label = if clipped {
                 format!("{label}, clipped at {top:.0} (max {vmax:.0})")
             } else {
@@ -251,7 +252,7 @@ fn turn_average_maps<'a>(
             mesh_color_map_with(
                 &png,
                 &MeshColorMap {
-                    points: &wm.mesh.points,
+                    points: &xy,
                     triangles: &wm.triangles,
                     cell_values: vals,
                     title,
@@ -267,6 +268,11 @@ fn turn_average_maps<'a>(
         }));
     }
     jobs
+}
+
+/// The nodes of the planar `mesh` as the plots take them, `[x, y]` each.
+fn planar(mesh: &crate::mesh::Mesh) -> Vec<[f64; 2]> {
+    mesh.points().map(|p| [p[0], p[1]]).collect()
 }
 
 /// Fig. 17: the velocity fields of the last turn (none without snapshots).
@@ -286,11 +292,12 @@ fn velocity_fields_figure<'a>(
             .iter()
             .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
             .collect();
+        let xy = planar(&wm.mesh);
         let frames: Vec<MeshVectorField> = vecs
             .iter()
             .zip(&r.snapshots.t)
             .map(|(v, t)| MeshVectorField {
-                points: &wm.mesh.points,
+                points: &xy,
                 triangles: &wm.triangles,
                 vectors: v,
                 title: if wm.zone.is_some() {
@@ -371,7 +378,7 @@ fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> RimProfile {
     }
     // (sum of area, area * j2, area * vm) per rim node.
     let mut acc = vec![(0.0, 0.0, 0.0); wm.rim.len()];
-    let p = |n: usize| wm.mesh.points[n];
+    let p = |n: usize| wm.mesh.point(n);
     for (e, t) in wm.triangles.iter().enumerate() {
         let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
         let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs();
@@ -459,7 +466,7 @@ mod tests {
             .collect();
         let p = rim_profile(&wm, &touch, &touch);
         let (angles, j2) = (p.angles_deg, p.j2_mpa2);
-        let p = wm.mesh.points[node];
+        let p = wm.mesh.point(node);
         let a = p[1].atan2(p[0]).to_degrees();
         let k = angles.iter().position(|&x| (x - a).abs() < 1e-9).unwrap();
         assert!((j2[k] - 1.0).abs() < 1e-12);

@@ -89,7 +89,7 @@ pub struct TractionWatch {
     timeline: Timeline,
     base: RotatingLine,
     /// Reference positions of the rim nodes (flat x, y per rim pair).
-    rim_x: Vec<[f64; 2]>,
+    rim_x: Vec<f64>,
     rim_dofs: Vec<usize>,
     /// Tributary length times thickness per rim pair, m^2.
     area: Vec<f64>,
@@ -206,18 +206,23 @@ impl TractionWatch {
         path: Option<&Path>,
         stride: usize,
     ) -> Result<Self, RunError> {
-        let rim_x: Vec<[f64; 2]> = wm.rim.iter().map(|&i| wm.mesh.points[i]).collect();
-        let n = rim_x.len();
-        let angle = |p: [f64; 2]| p[1].atan2(p[0]);
+        let rim_x: Vec<f64> = wm
+            .rim
+            .iter()
+            .flat_map(|&i| &wm.mesh.point(i)[..2])
+            .copied()
+            .collect();
+        let n = wm.rim.len();
+        let angle = |k: usize| rim_x[2 * k + 1].atan2(rim_x[2 * k]);
         let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&a, &b| angle(rim_x[a]).total_cmp(&angle(rim_x[b])));
+        order.sort_by(|&a, &b| angle(a).total_cmp(&angle(b)));
         let radius = wm.spec.radius;
         let mut area = vec![0.0; n];
         for (k, &i) in order.iter().enumerate() {
             let prev = order[(k + n - 1) % n];
             let next = order[(k + 1) % n];
             let arc = |a: usize, b: usize| {
-                let d = (angle(rim_x[b]) - angle(rim_x[a])).rem_euclid(2.0 * PI);
+                let d = (angle(b) - angle(a)).rem_euclid(2.0 * PI);
                 radius * d
             };
             area[i] = 0.5 * (arc(prev, i) + arc(i, next)) * wm.spec.thickness;
@@ -447,8 +452,8 @@ impl Observer for TractionWatch {
             }
             let d = self.rim_dofs[k];
             let x = [
-                self.rim_x[k][0] + s.u[d] - self.base.centre[0],
-                self.rim_x[k][1] + s.u[d + 1] - self.base.centre[1],
+                self.rim_x[2 * k] + s.u[d] - self.base.centre[0],
+                self.rim_x[2 * k + 1] + s.u[d + 1] - self.base.centre[1],
             ];
             let pos = along[0] * x[0] + along[1] * x[1];
             let b = (pos / self.bin).round() + self.half_bins as f64;
