@@ -206,12 +206,12 @@ fn the_rigid_base_is_a_rigid_body_met_by_the_search() {
     let ws = &wb.wheel.spec;
     let r_spin = wb.wheel.spinning_radius();
     let half = 0.05;
-    let mesh = softway::mesh::Mesh {
-        dim: 2,
-        points: vec![[-half, 0.0], [half, 0.0]],
-        cells: softway::mesh::Cells::Bar2(vec![[0, 1]]),
-        node_sets: Default::default(),
-    };
+    let mesh = softway::mesh::Mesh::new(
+        2,
+        vec![-half, 0.0, half, 0.0],
+        softway::mesh::Cells::Bar2(vec![[0, 1]]),
+        Default::default(),
+    );
     let base_motion = Motion::Pressed {
         origin: [0.0, -r_spin, 0.0],
         velocity: [0.0; 3],
