@@ -284,6 +284,7 @@ fn run_command(
         progress: !quiet,
         par: threads.map(Par::threads),
         cancel: cancel.clone(),
+        ..RunOptions::default()
     };
     let report = run_scenario(&sc, stage.path(), &opts)?;
     for w in &report.warnings {

@@ -84,6 +84,7 @@
 //! | where do discrete elements join bodies (an axle on springs, a sleeper's mass)? | `src/bodies.rs` (`Joints`, `assemble_with`); the elements in `src/element/discrete.rs`; `tests/joints.rs` |
 //! | where is a rigid base or obstacle as a body of the search? | `src/bodies.rs` (`Body::rigid`); `tests/on_block.rs` compares it with the rotating base |
 //! | where is the command line? | `src/cli.rs` (`src/main.rs` only calls it) |
+//! | what stops a run that blows up? | `src/guard.rs` (the energy bound), checked in `Simulation::run` |
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
 //! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies.rs`; `tests/on_rail.rs` |
 //! | where is the wheel on an elastic block (Hertz's half-width)? | `src/models/wheel_on_block.rs`; its job `src/run/on_block.rs`; `scenarios/wheel-on-block.toml` |
@@ -145,6 +146,8 @@
 //!   line contact as its check.
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
+//! - [`guard`]: the divergence guard (the energy against the initial energy plus the work
+//!   done on the system), which stops a run that blows up.
 //! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed
 //!   combinations of model, integrator and contact in one table).
 //! - [`build`]: what a scenario needs a model for (the central difference's step from
@@ -169,6 +172,7 @@ pub mod cli;
 pub mod contact;
 pub mod element;
 pub mod frame;
+pub mod guard;
 pub mod linalg;
 pub mod material;
 pub mod mesh;

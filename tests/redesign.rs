@@ -21,6 +21,7 @@
 use serde_json::Value;
 use softway::build::resolve;
 use softway::run::bar::simulate;
+use softway::run::{GuardMode, RunOptions};
 use softway::scenario::Scenario;
 use std::path::Path;
 use std::process::Command;
@@ -82,7 +83,12 @@ fn bar_figures(name: &str) -> Value {
     let sc = resolve(&sc).unwrap();
     let mut runs = serde_json::Map::new();
     for run in &sc.runs {
-        let (s, _) = simulate(run, None, 1, &Default::default()).unwrap();
+        // The lab's rows, as `softway compare` runs them (a diverging one goes on).
+        let opts = RunOptions {
+            guard: GuardMode::Record,
+            ..Default::default()
+        };
+        let (s, _) = simulate(run, None, 1, &opts).unwrap();
         let v = serde_json::to_value(&s).unwrap();
         let mut o = serde_json::Map::new();
         for k in BAR_KEYS {

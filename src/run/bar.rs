@@ -79,6 +79,10 @@ pub struct BarSummary {
     pub errors: BarErrors,
     /// True when interrupted.
     pub interrupted: bool,
+    /// When the divergence guard found the energy past its bound (`softway compare` lets
+    /// such runs go on and marks them; every other job stops them), s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub diverged_at_s: Option<f64>,
 }
 
 /// The exact d'Alembert answers.
@@ -337,6 +341,7 @@ struct Counts {
     releases: usize,
     factorizations: usize,
     interrupted: bool,
+    diverged_at_s: Option<f64>,
 }
 
 /// Runs one run of a bar scenario (`bar_impact` or `two_bars`) with its integrator and
@@ -394,6 +399,7 @@ pub fn simulate(
         .unwrap_or(0);
     let mut sim = Simulation::new(problem).map_err(sim_err)?;
     sim.set_par(opts.par());
+    sim.set_guard(opts.guard);
     let mut rec = Recorder::new(head, &sim.engine().model, bodies, csv, stride, pb);
     let stats = sim
         .run(opts.cancel.flag(), |s| {
@@ -420,6 +426,7 @@ pub fn simulate(
         releases: stats.releases,
         factorizations: stats.factorizations,
         interrupted: stats.interrupted,
+        diverged_at_s: stats.diverged_at_s,
     };
     rec.pb.finish_and_clear();
     let wall = start.elapsed().as_secs_f64();
@@ -476,6 +483,7 @@ pub fn simulate(
             energy: if e0 > 0.0 { rec.e1 / e0 - 1.0 } else { 0.0 },
         },
         interrupted: counts.interrupted,
+        diverged_at_s: counts.diverged_at_s,
     };
     Ok((summary, rec.trace))
 }

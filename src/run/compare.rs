@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// The columns of the comparison, one row per run.
-pub const COLUMNS: [&str; 17] = [
+pub const COLUMNS: [&str; 18] = [
     "run",
     "integrator",
     "contact",
@@ -29,6 +29,7 @@ pub const COLUMNS: [&str; 17] = [
     "factorizations",
     "steps",
     "wall_time_s",
+    "diverged_at_s",
 ];
 
 fn row(s: &BarSummary) -> Vec<String> {
@@ -60,6 +61,9 @@ fn row(s: &BarSummary) -> Vec<String> {
         s.factorizations.to_string(),
         s.steps.to_string(),
         format!("{:.4}", s.wall_time_s),
+        s.diverged_at_s
+            .map(|t| format!("{t:.4e}"))
+            .unwrap_or_else(|| "-".into()),
     ]
 }
 
@@ -105,6 +109,12 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
     let mut traces: Vec<(String, BarTrace)> = Vec::new();
     let mut exact_force = 0.0;
     let mut interrupted = false;
+    // The lab shows what each combination does: a run past the guard's bound goes on and
+    // its row says when it diverged (`diverged_at_s`).
+    let opts = &RunOptions {
+        guard: crate::guard::GuardMode::Record,
+        ..opts.clone()
+    };
     for run in &sc.runs {
         if !matches!(run.model, Model::BarImpact(_) | Model::TwoBars(_)) {
             return Err(RunError::input(

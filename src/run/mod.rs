@@ -14,6 +14,7 @@ pub(crate) mod sdof;
 pub(crate) mod sweep;
 pub mod wheel;
 
+pub use crate::guard::GuardMode;
 pub use crate::linalg::team::{Par, Team};
 pub use crate::output::table::{Column, Columns};
 use crate::scenario::{Model, Scenario};
@@ -107,6 +108,9 @@ pub struct RunOptions {
     pub par: Option<Par>,
     /// Stops the job at its next step (it then keeps what it has, `interrupted` set).
     pub cancel: Cancel,
+    /// What the divergence guard does ([`crate::guard`]): stop the run (the default), or
+    /// record where it diverged and go on (the comparison lab's rows).
+    pub guard: GuardMode,
 }
 
 impl RunOptions {

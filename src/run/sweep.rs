@@ -87,6 +87,7 @@ pub fn run_ladder(
         progress: false,
         par: Some(Par::Seq),
         cancel: cancel.clone(),
+        ..RunOptions::default()
     };
     let results: Vec<Result<SweepPoint, SweepError>> = scs
         .par_iter()

@@ -29,17 +29,25 @@ use crate::contact::pair::Pair;
 use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{ContactTreatment, Treatment};
 use crate::contact::{FrictionLaw, Interface, InterfaceError, Obstacle};
+use crate::guard::{Diverged, DivergenceGuard, GuardMode};
 use crate::linalg::team::{Par, Team};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
-use crate::model::{LinearModel, PairMode, PairState, State};
+use crate::model::{LinearModel, PairState, State};
 pub use crate::model::{LoadFn, Snapshot};
+
+mod relocation;
+mod view;
+
 use crate::time::choice::{BuildError, Integrator};
 use crate::time::classic::{ClassicError, ClassicStepper, Dirichlet, Kinematic};
 use crate::time::integrator::TimeIntegrator;
 use crate::time::step::{FactorChoice, Stepper};
 use crate::time::SpaceTimeParams;
+use relocation::Relocating;
+pub use relocation::Relocation;
 use std::sync::atomic::{AtomicBool, Ordering};
+pub use view::{RunStats, StepView};
 
 /// Everything the driver needs: the model, the integrator and the contact treatment,
 /// supports, loads, obstacles, contact pairs and the initial state.
@@ -104,166 +112,6 @@ impl std::fmt::Debug for Problem {
     }
 }
 
-/// What an observer sees of a final step. The energies are computed when asked
-/// ([`StepView::kinetic`], [`StepView::strain`]: one sparse quadratic form each), so an
-/// observer that writes them every n-th step does not pay for them at every step.
-#[derive(Debug)]
-pub struct StepView<'a> {
-    /// The state.
-    pub state: &'a Snapshot,
-    /// The model integrated (its `M`).
-    pub model: &'a LinearModel,
-    /// The stiffness of the reported strain energy.
-    pub energy_stiffness: &'a [f64],
-    /// True for the last step of the run (the one reported after the loop).
-    pub last: bool,
-    /// Energy stored in penalty springs, J.
-    pub penalty: f64,
-    /// Sum of the pairs' constraint forces (braking included), N.
-    pub contact_force: f64,
-    /// Pairs held on their obstacle (carrying a reaction).
-    pub held: usize,
-    /// Frictional dissipation of the step that ended here, summed over the pairs, W
-    /// ([`PairState::slip_power`]).
-    pub slip_power: f64,
-    /// Energy dissipated by friction since the start, summed over the pairs, J
-    /// ([`PairState::dissipated`]).
-    pub friction_dissipated: f64,
-    /// The run's threads ([`Simulation::set_par`]), for [`StepView::energies`].
-    team: &'a Team,
-}
-
-impl StepView<'_> {
-    /// Kinetic energy `v^T M v / 2`, J.
-    pub fn kinetic(&self) -> f64 {
-        0.5 * quadratic_form(self.model.pattern(), &self.model.m, &self.state.v)
-    }
-
-    /// Strain energy `u^T K u / 2`, J (`K`: the energy stiffness of the problem).
-    pub fn strain(&self) -> f64 {
-        0.5 * quadratic_form(self.model.pattern(), self.energy_stiffness, &self.state.u)
-    }
-
-    /// `(kinetic, strain)`: from `ENERGIES_SIDE_BY_SIDE_MIN` dofs on, side by side on two
-    /// threads (the run's [`Team`]), with the same values.
-    pub fn energies(&self) -> (f64, f64) {
-        if self.state.v.len() < ENERGIES_SIDE_BY_SIDE_MIN {
-            return (self.kinetic(), self.strain());
-        }
-        let (mut kinetic, mut strain) = (0.0, 0.0);
-        self.team
-            .join(|| kinetic = self.kinetic(), || strain = self.strain());
-        (kinetic, strain)
-    }
-}
-
-/// The order from which [`StepView::energies`] runs its two quadratic forms on two threads:
-/// that of the split factors.
-const ENERGIES_SIDE_BY_SIDE_MIN: usize = crate::linalg::SPLIT_MIN_ORDER;
-
-/// Counters of a run.
-#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
-pub struct RunStats {
-    /// Steps taken.
-    pub steps: usize,
-    /// Steps stepped back and repeated (braking, Table 1 item 4).
-    pub step_backs: usize,
-    /// Extra solves of the same interval (active-set changes, releases, immediate holds).
-    pub resolves: usize,
-    /// Braking events.
-    pub brakings: usize,
-    /// Entries into contact.
-    pub entries: usize,
-    /// Releases.
-    pub releases: usize,
-    /// Stick/slip changes of friction rows, in all solves (each a dense re-solve of the
-    /// active rows, no factorization; [`RowSolver::stick_slip_changes`]).
-    pub stick_slip_changes: usize,
-    /// Numeric factorizations of a system matrix.
-    pub factorizations: usize,
-    /// Symbolic analyses of a system matrix.
-    pub symbolic_analyses: usize,
-    /// Relocations of a moving refined zone ([`Relocation`]).
-    pub relocations: usize,
-    /// True when the run stopped on an interrupt.
-    pub interrupted: bool,
-}
-
-/// A moving refined zone ([`crate::mesh::zone`]): each time the obstacle has turned half a
-/// sector past the zone's centre, the frame of the mesh turns by one sector `step` with it,
-/// and the state is relabelled: node `n` takes the state of its [`Source`] (a node, or the
-/// interpolation in a triangle) with its vectors turned by `-step`, pair `p` the state of the
-/// pair at that node (a fresh state if there is none), and the obstacles turn by `-step`
-/// ([`crate::contact::Obstacle::turn_frame`]). The matrices and their factors do not change.
-/// 2D models of node pairs only.
-#[derive(Debug, Clone)]
-pub struct Relocation {
-    /// Per node, the source of its state.
-    pub sources: Vec<Source>,
-    /// The angle of one relocation, rad.
-    pub step: f64,
-    /// The obstacle's angular speed in the frame, rad/s (> 0).
-    pub omega: f64,
-    /// The obstacle's angle past the zone's centre at `t = 0`, rad.
-    pub angle0: f64,
-}
-
-/// The relocation's work, built once ([`Simulation::set_relocation`]).
-#[derive(Debug)]
-struct Relocating {
-    spec: Relocation,
-    /// Pair `p` takes the state of pair `pairs[p]`.
-    pairs: Vec<Option<usize>>,
-    /// The new label of each old node (`None`: dropped).
-    node_map: Vec<Option<usize>>,
-    rot: [[f64; 2]; 2],
-    scratch: Vec<f64>,
-    pair_scratch: Vec<PairState>,
-}
-
-impl Relocating {
-    /// Relabels a state vector (2 per node) in place.
-    fn vector(&mut self, x: &mut [f64]) {
-        let r = self.rot;
-        for (n, src) in self.spec.sources.iter().enumerate() {
-            let (a, b) = match *src {
-                Source::Node(m) => (x[2 * m], x[2 * m + 1]),
-                Source::Triangle { nodes, weights } => (0..3).fold((0.0, 0.0), |(a, b), k| {
-                    (
-                        a + weights[k] * x[2 * nodes[k]],
-                        b + weights[k] * x[2 * nodes[k] + 1],
-                    )
-                }),
-            };
-            self.scratch[2 * n] = r[0][0] * a + r[0][1] * b;
-            self.scratch[2 * n + 1] = r[1][0] * a + r[1][1] * b;
-        }
-        x.copy_from_slice(&self.scratch);
-    }
-
-    /// Relabels the pairs' states.
-    fn pairs(&mut self, states: &mut [PairState]) {
-        let map = |m: usize| self.node_map.get(m).copied().flatten();
-        for (p, src) in self.pairs.iter().enumerate() {
-            self.pair_scratch[p] = match *src {
-                None => PairState::default(),
-                Some(q) => {
-                    let mut st = states[q];
-                    st.brake_row = st.brake_row.relabel_2d(map, self.rot).unwrap_or_default();
-                    if let PairMode::Brake { q, terms, w } = st.mode {
-                        st.mode = match terms.relabel_2d(map, self.rot) {
-                            Some(terms) => PairMode::Brake { q, terms, w },
-                            None => PairMode::Free,
-                        };
-                    }
-                    st
-                }
-            };
-        }
-        states.copy_from_slice(&self.pair_scratch);
-    }
-}
-
 /// Errors of a run.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
@@ -282,6 +130,9 @@ pub enum SimError {
     /// A contact interface between bodies lost a node's target.
     #[error(transparent)]
     Interface(#[from] InterfaceError),
+    /// The energy grew beyond what the work done on the system explains ([`crate::guard`]).
+    #[error(transparent)]
+    Diverged(#[from] Diverged),
     /// The solution blew up.
     #[error("the solution is not finite at step {step} (t = {t:e} s): the time step is beyond the stability limit of the integrator (with a penalty: of the penalty spring) or the model is ill-posed")]
     NotFinite {
@@ -421,6 +272,8 @@ pub struct Simulation {
     relocation: Option<Relocating>,
     /// The threads of the run's two-part work ([`Simulation::set_par`]).
     team: Team,
+    /// The divergence guard ([`crate::guard`]).
+    guard: DivergenceGuard,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -584,6 +437,7 @@ impl Simulation {
         for p in 0..np {
             snap.pairs[p].gap = engine.gap(p, t0, &snap.state.u);
         }
+        let n_guard = snap.state.u.len();
         Ok(Self {
             engine,
             treatment: treat,
@@ -594,6 +448,7 @@ impl Simulation {
             massless,
             relocation: None,
             team: Team::default(),
+            guard: DivergenceGuard::new(n_guard),
         })
     }
 
@@ -700,6 +555,12 @@ impl Simulation {
         &self.engine.rows
     }
 
+    /// What the divergence guard does past its bound ([`crate::guard`]; default: stop the
+    /// run with [`SimError::Diverged`]).
+    pub fn set_guard(&mut self, mode: GuardMode) {
+        self.guard.set_mode(mode);
+    }
+
     /// Runs the two-part work of the steps (the split factor's sweeps, the right-hand side,
     /// the contact rows' columns, the energies) on `par`'s threads: a [`Team`] of the run's
     /// own, whose helper thread (with [`Par::Threads`]) ends with the simulation. Until
@@ -746,12 +607,14 @@ impl Simulation {
                     t: self.snaps[2].t,
                 });
             }
+            self.guard_step(have_prev, false)?;
             self.emit(1, false, &mut observer)?;
             self.relocate_if_due();
             self.snaps.rotate_left(1);
             have_prev = true;
             self.engine.stats.steps += 1;
         }
+        self.guard_step(have_prev, true)?;
         self.emit(1, true, &mut observer)?;
         let mut stats = self.engine.stats;
         let counts = self.engine.counts;
@@ -764,7 +627,57 @@ impl Simulation {
         stats.factorizations = factors.numeric;
         stats.symbolic_analyses = factors.symbolic;
         stats.stick_slip_changes = self.engine.rows.stick_slip_changes();
+        stats.diverged_at_s = self.guard.first().map(|d| d.t);
         Ok(stats)
+    }
+
+    /// The energy of snapshot `i` (kinetic, strain on the energy stiffness, penalty), J.
+    fn energy(&self, i: usize) -> f64 {
+        let s = &self.snaps[i];
+        let m = &self.engine.model;
+        let k = self.energy_stiffness.as_deref().unwrap_or(&m.k);
+        0.5 * quadratic_form(m.pattern(), &m.m, &s.state.v)
+            + 0.5 * quadratic_form(m.pattern(), k, &s.state.u)
+            + self.treatment.stored_energy(s)
+    }
+
+    /// The divergence guard on the final step `snaps[1]` ([`crate::guard`]): its work bound
+    /// since `snaps[0]` (when `have_prev`), and its energy every `CHECK_STRIDE` steps and at
+    /// the `last`.
+    fn guard_step(&mut self, have_prev: bool, last: bool) -> Result<(), SimError> {
+        if !have_prev {
+            let e0 = self.energy(1);
+            self.guard.start(e0);
+            return Ok(());
+        }
+        let e = &self.engine;
+        let (s0, s1) = (&self.snaps[0], &self.snaps[1]);
+        let (t, u) = (s1.t, &s1.state.u);
+        let mut power = 0.0;
+        for (p, ps) in e.pairs.iter().zip(&s1.pairs) {
+            let (dim, r) = (e.dim, &e.reference);
+            if ps.force != 0.0 {
+                let g = p.geometry(&e.obstacles, &e.interfaces, dim, r, u, t);
+                power += (ps.force * g.w).abs();
+            }
+            if ps.tangential_force != 0.0 {
+                if let Some(g) = p.tangent(&e.obstacles, &e.interfaces, dim, r, u, t) {
+                    power += (ps.tangential_force * g.w).abs();
+                }
+            }
+        }
+        let h = s1.t - s0.t;
+        if self.guard.load_mut().len() == u.len() {
+            (e.load)(t, self.guard.load_mut());
+        }
+        let due = self
+            .guard
+            .add_step(&s0.state.u, &s1.state.u, h.abs() * power);
+        if due || last {
+            let energy = self.energy(1);
+            self.guard.check(s1.k, s1.t, energy)?;
+        }
+        Ok(())
     }
 
     fn emit<F>(&self, i: usize, last: bool, observer: &mut F) -> Result<(), std::io::Error>

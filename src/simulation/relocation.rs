@@ -1,0 +1,79 @@
+//! The moving refined zone's relocation of the state ([`Relocation`]).
+
+use crate::mesh::zone::Source;
+use crate::model::{PairMode, PairState};
+
+/// A moving refined zone ([`crate::mesh::zone`]): each time the obstacle has turned half a
+/// sector past the zone's centre, the frame of the mesh turns by one sector `step` with it,
+/// and the state is relabelled: node `n` takes the state of its [`Source`] (a node, or the
+/// interpolation in a triangle) with its vectors turned by `-step`, pair `p` the state of the
+/// pair at that node (a fresh state if there is none), and the obstacles turn by `-step`
+/// ([`crate::contact::Obstacle::turn_frame`]). The matrices and their factors do not change.
+/// 2D models of node pairs only.
+#[derive(Debug, Clone)]
+pub struct Relocation {
+    /// Per node, the source of its state.
+    pub sources: Vec<Source>,
+    /// The angle of one relocation, rad.
+    pub step: f64,
+    /// The obstacle's angular speed in the frame, rad/s (> 0).
+    pub omega: f64,
+    /// The obstacle's angle past the zone's centre at `t = 0`, rad.
+    pub angle0: f64,
+}
+
+/// The relocation's work, built once ([`super::Simulation::set_relocation`]).
+#[derive(Debug)]
+pub(super) struct Relocating {
+    pub(super) spec: Relocation,
+    /// Pair `p` takes the state of pair `pairs[p]`.
+    pub(super) pairs: Vec<Option<usize>>,
+    /// The new label of each old node (`None`: dropped).
+    pub(super) node_map: Vec<Option<usize>>,
+    pub(super) rot: [[f64; 2]; 2],
+    pub(super) scratch: Vec<f64>,
+    pub(super) pair_scratch: Vec<PairState>,
+}
+
+impl Relocating {
+    /// Relabels a state vector (2 per node) in place.
+    pub(super) fn vector(&mut self, x: &mut [f64]) {
+        let r = self.rot;
+        for (n, src) in self.spec.sources.iter().enumerate() {
+            let (a, b) = match *src {
+                Source::Node(m) => (x[2 * m], x[2 * m + 1]),
+                Source::Triangle { nodes, weights } => (0..3).fold((0.0, 0.0), |(a, b), k| {
+                    (
+                        a + weights[k] * x[2 * nodes[k]],
+                        b + weights[k] * x[2 * nodes[k] + 1],
+                    )
+                }),
+            };
+            self.scratch[2 * n] = r[0][0] * a + r[0][1] * b;
+            self.scratch[2 * n + 1] = r[1][0] * a + r[1][1] * b;
+        }
+        x.copy_from_slice(&self.scratch);
+    }
+
+    /// Relabels the pairs' states.
+    pub(super) fn pairs(&mut self, states: &mut [PairState]) {
+        let map = |m: usize| self.node_map.get(m).copied().flatten();
+        for (p, src) in self.pairs.iter().enumerate() {
+            self.pair_scratch[p] = match *src {
+                None => PairState::default(),
+                Some(q) => {
+                    let mut st = states[q];
+                    st.brake_row = st.brake_row.relabel_2d(map, self.rot).unwrap_or_default();
+                    if let PairMode::Brake { q, terms, w } = st.mode {
+                        st.mode = match terms.relabel_2d(map, self.rot) {
+                            Some(terms) => PairMode::Brake { q, terms, w },
+                            None => PairMode::Free,
+                        };
+                    }
+                    st
+                }
+            };
+        }
+        states.copy_from_slice(&self.pair_scratch);
+    }
+}

@@ -1,0 +1,94 @@
+//! What an observer sees of a final step ([`StepView`]) and a run's counters
+//! ([`RunStats`]).
+
+use crate::linalg::quadratic_form;
+use crate::linalg::team::Team;
+use crate::model::{LinearModel, Snapshot};
+
+/// What an observer sees of a final step. The energies are computed when asked
+/// ([`StepView::kinetic`], [`StepView::strain`]: one sparse quadratic form each), so an
+/// observer that writes them every n-th step does not pay for them at every step.
+#[derive(Debug)]
+pub struct StepView<'a> {
+    /// The state.
+    pub state: &'a Snapshot,
+    /// The model integrated (its `M`).
+    pub model: &'a LinearModel,
+    /// The stiffness of the reported strain energy.
+    pub energy_stiffness: &'a [f64],
+    /// True for the last step of the run (the one reported after the loop).
+    pub last: bool,
+    /// Energy stored in penalty springs, J.
+    pub penalty: f64,
+    /// Sum of the pairs' constraint forces (braking included), N.
+    pub contact_force: f64,
+    /// Pairs held on their obstacle (carrying a reaction).
+    pub held: usize,
+    /// Frictional dissipation of the step that ended here, summed over the pairs, W
+    /// ([`crate::model::PairState::slip_power`]).
+    pub slip_power: f64,
+    /// Energy dissipated by friction since the start, summed over the pairs, J
+    /// ([`crate::model::PairState::dissipated`]).
+    pub friction_dissipated: f64,
+    /// The run's threads ([`super::Simulation::set_par`]), for [`StepView::energies`].
+    pub(super) team: &'a Team,
+}
+
+impl StepView<'_> {
+    /// Kinetic energy `v^T M v / 2`, J.
+    pub fn kinetic(&self) -> f64 {
+        0.5 * quadratic_form(self.model.pattern(), &self.model.m, &self.state.v)
+    }
+
+    /// Strain energy `u^T K u / 2`, J (`K`: the energy stiffness of the problem).
+    pub fn strain(&self) -> f64 {
+        0.5 * quadratic_form(self.model.pattern(), self.energy_stiffness, &self.state.u)
+    }
+
+    /// `(kinetic, strain)`: from `ENERGIES_SIDE_BY_SIDE_MIN` dofs on, side by side on two
+    /// threads (the run's [`Team`]), with the same values.
+    pub fn energies(&self) -> (f64, f64) {
+        if self.state.v.len() < ENERGIES_SIDE_BY_SIDE_MIN {
+            return (self.kinetic(), self.strain());
+        }
+        let (mut kinetic, mut strain) = (0.0, 0.0);
+        self.team
+            .join(|| kinetic = self.kinetic(), || strain = self.strain());
+        (kinetic, strain)
+    }
+}
+
+/// The order from which [`StepView::energies`] runs its two quadratic forms on two threads:
+/// that of the split factors.
+const ENERGIES_SIDE_BY_SIDE_MIN: usize = crate::linalg::SPLIT_MIN_ORDER;
+
+/// Counters of a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct RunStats {
+    /// Steps taken.
+    pub steps: usize,
+    /// Steps stepped back and repeated (braking, Table 1 item 4).
+    pub step_backs: usize,
+    /// Extra solves of the same interval (active-set changes, releases, immediate holds).
+    pub resolves: usize,
+    /// Braking events.
+    pub brakings: usize,
+    /// Entries into contact.
+    pub entries: usize,
+    /// Releases.
+    pub releases: usize,
+    /// Stick/slip changes of friction rows, in all solves (each a dense re-solve of the
+    /// active rows, no factorization; [`crate::contact::rows::RowSolver::stick_slip_changes`]).
+    pub stick_slip_changes: usize,
+    /// Numeric factorizations of a system matrix.
+    pub factorizations: usize,
+    /// Symbolic analyses of a system matrix.
+    pub symbolic_analyses: usize,
+    /// Relocations of a moving refined zone ([`super::Relocation`]).
+    pub relocations: usize,
+    /// True when the run stopped on an interrupt.
+    pub interrupted: bool,
+    /// When the divergence guard found the energy past its bound, in
+    /// [`crate::guard::GuardMode::Record`] (the run went on), s.
+    pub diverged_at_s: Option<f64>,
+}

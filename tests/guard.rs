@@ -1,0 +1,137 @@
+//! The divergence guard (`softway::guard`) through the command line: runs that blow up
+//! stop with exit 2, one line naming the step, the time and the keys to look at, and
+//! nothing written; the same scenarios at sane values run (their results are checked in
+//! tests/bar_impact.rs, tests/compare.rs, tests/wheel.rs).
+
+mod common;
+
+use common::{assert_one_line_error, cli, run_err, shipped, TestDir, BAR};
+
+fn diverged(name: &str, text: &str) {
+    let (code, err) = run_err(name, text);
+    assert_eq!(code, 2, "{err}");
+    assert_one_line_error(code, &err, &["diverged at step", "exceeds 2 x", "time.h"]);
+}
+
+/// The bar of the catalogue at `h = 0.01` over 5 s (the impact, the release and after).
+fn long_bar() -> String {
+    BAR.replace("h = 0.1", "h = 0.01")
+        .replace("t_end = 1.0", "t_end = 5.0")
+}
+
+/// The fields of a CSV line (RFC 4180 quotes).
+fn fields(line: &str) -> Vec<String> {
+    let (mut out, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(std::mem::take(&mut cur)),
+            _ => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
+
+/// A penalty of 1e30 N/m on the bar at h = 0.01: the spring is far past the step's stability
+/// and the energy settles at several times the initial one (x1.09 when the guard trips at
+/// h = 0.01; x3 at the end when it was let run).
+#[test]
+fn a_penalty_far_too_stiff_for_the_step_is_stopped() {
+    let text = long_bar().replace(
+        "elements = 8",
+        "elements = 8\n[contact]\nmethod = \"penalty\"\npenalty = 1e30",
+    );
+    diverged("penalty_1e30", &text);
+}
+
+/// The central difference at `cfl = 1` (on its stability limit, lumped mass, exact
+/// contact): the energy grows (0.5 J -> 3.7 J when it was let run).
+#[test]
+fn the_central_difference_on_its_limit_is_stopped() {
+    let text = long_bar()
+        .replace("alpha = 0.8\n", "")
+        .replace(
+            "elements = 8",
+            "elements = 8\nmass = \"lumped\"\n[contact]\nmethod = \"exact\"",
+        )
+        .replace(
+            "[bar]",
+            "integrator = \"central_difference\"\ncfl = 1.0\n[bar]",
+        );
+    diverged("cd_on_its_limit", &text);
+}
+
+/// The paper's wheel with `poisson = -0.9999999` (allowed: `(-1, 0.5)`), one turn: the
+/// energy ran to 9.6e153 J with exit 0 before the guard.
+#[test]
+fn a_wheel_of_an_almost_singular_material_is_stopped() {
+    let (_, text) = shipped(
+        "wheel-paper-mesh",
+        &[("material.poisson", "-0.9999999"), ("rolling.turns", "1")],
+    );
+    diverged("poisson_limit", &text);
+}
+
+/// `softway compare` (the lab) lets every combination run and marks the ones past the bound
+/// in `diverged_at_s`: on `compare-bar.toml` exactly the combinations the README calls
+/// wrong (Newmark with exact contact or a stiff penalty, HHT with exact contact: energy
+/// x7.9, x7.5, x1.9 at the end), none of the sane ones (energy within 5%).
+#[test]
+fn the_lab_marks_the_combinations_that_diverge() {
+    let dir = TestDir::new("guard", "compare");
+    let out = dir.join("cmp");
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/compare-bar.toml");
+    let o = cli(["compare", scenario, "--out", out.to_str().unwrap()]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    let mut lines = text.lines();
+    let head = fields(lines.next().unwrap());
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let (run, energy, diverged) = (col("run"), col("energy_change"), col("diverged_at_s"));
+    let mut marked = Vec::new();
+    for line in lines {
+        let cells = fields(line);
+        let e: f64 = cells[energy].parse().unwrap();
+        if cells[diverged] == "-" {
+            assert!(e.abs() < 0.05, "{}: energy {e} unmarked", cells[run]);
+        } else {
+            assert!(e > 0.5, "{}: marked with energy {e}", cells[run]);
+            marked.push(cells[run].to_string());
+        }
+    }
+    assert_eq!(
+        marked,
+        ["Newmark, exact", "Newmark, penalty 1e4", "HHT -0.1, exact"].map(String::from),
+        "{text}"
+    );
+}
+
+/// A step longer than half a rim node's passage under the base is refused before the run:
+/// the paper's wheel (72 rim nodes at 300 rad/s: a passage of 291 us) at `h = 3e-4` s (it
+/// gave negative contact forces and 0.65 mm of penetration with exit 0), and at
+/// `omega = 1e5` rad/s with its own `h = 2e-6` s (a passage of 0.87 us).
+#[test]
+fn a_step_longer_than_a_node_passage_is_refused() {
+    for (name, keys) in [
+        ("h_3e-4", [("time.h", "3e-4"), ("rolling.turns", "1")]),
+        (
+            "omega_1e5",
+            [("rolling.omega", "1e5"), ("rolling.turns", "1")],
+        ),
+    ] {
+        let (_, text) = shipped("wheel-paper-mesh", &keys);
+        let (code, err) = run_err(name, &text);
+        assert_eq!(code, 2, "{err}");
+        assert_one_line_error(
+            code,
+            &err,
+            &["time.h", "passage under the base", "rim nodes"],
+        );
+    }
+}
