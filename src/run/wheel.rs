@@ -727,7 +727,7 @@ fn max_or_nan(v: &[f64]) -> f64 {
 /// What to warn about before a wheel run, and the bounce it was found from: the node
 /// passing near the bounce of the wheel on its support and contact (a resonance), a hub
 /// that holds fewer nodes than its radius asks.
-/// Steps a rim node's passage under the base must take at least ([`step_adequacy`]).
+/// Steps a rim node's passage under the base must take at least (the wheel job refuses a longer step before the run).
 pub const STEPS_PER_PASSAGE_MIN: f64 = 2.0;
 
 /// Refuses a step longer than half a rim node's passage under the base,
