@@ -25,7 +25,7 @@
 //! dot product with the load and the rows of the pairs that carry a force.
 
 /// Steps between two energy checks.
-pub const CHECK_STRIDE: usize = 16;
+pub const CHECK_STRIDE: usize = 64;
 
 /// The ratio `kappa` of the bound (module docs).
 pub const ENERGY_FACTOR: f64 = 2.0;
