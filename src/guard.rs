@@ -166,7 +166,7 @@ mod tests {
             assert_eq!(due, k + 1 == CHECK_STRIDE);
             u = u1;
         }
-        let work = 16.0 * (0.2 + 0.05 + 0.01);
+        let work = CHECK_STRIDE as f64 * (0.2 + 0.05 + 0.01);
         assert!((g.bound() - (2.0 * (1.0 + work) + ENERGY_FLOOR)).abs() < 1e-12);
         assert!(g.check(16, 1.0, 2.0 * (1.0 + work) - 1e-6).is_ok());
         let e = g.check(16, 1.0, 2.0 * (1.0 + work) + 1e-6).unwrap_err();
