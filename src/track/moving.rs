@@ -149,7 +149,7 @@ pub fn run(
             let sample = (|| -> Result<Sample, TrackError> {
                 let statics = if passage.static_reference {
                     let u = pencil.static_displacement(track, x, -load.force)?;
-                    -track.deflection_at(&u, x)?
+                    -track.deflection_under_load(&u, x, -load.force)?
                 } else {
                     f64::NAN
                 };
@@ -157,7 +157,7 @@ pub fn run(
                 Ok(Sample {
                     t: s.state.t,
                     x,
-                    deflection: -track.deflection_at(&st.u, x)?,
+                    deflection: -track.deflection_under_load(&st.u, x, -load.force)?,
                     static_deflection: statics,
                     nearest,
                     pad_force_nearest: track.pad_force(&st.u, &st.v, nearest),
