@@ -231,6 +231,16 @@ pub(crate) fn record(
         "parameters": parameters(first),
         "runs": sums,
     });
+    // The first run's figures at the top level too (the columns of `softway sweep`'s table).
+    if let (Some(o), Ok(serde_json::Value::Object(first))) =
+        (json.as_object_mut(), serde_json::to_value(&sums[0]))
+    {
+        for (k, v) in first {
+            if v.is_number() && k != "steps" {
+                o.insert(k, v);
+            }
+        }
+    }
     super::stamp_provenance(&mut json, sc);
     let lines = sums
         .iter()

@@ -46,9 +46,14 @@
 //! small where the wave enters. Dashpots at the rail's ends matched to its impedance were
 //! not chosen: a beam's end impedance depends on the frequency (and needs a moment dashpot
 //! too), so dashpots match one frequency only. [`Ends::Free`] leaves the ends free (for the
-//! checks). The reflection that remains is measured in `tests/track.rs` (the mid-span
-//! receptance of two track lengths, and the deflection under a moving load on two track
-//! lengths) and stated in the README.
+//! checks). The `"uic60"` set's 100 bays with 30 absorbing bays at each end and
+//! `eta_max = 1000 1/s` change the receptances at mid-span and above the middle sleeper by
+//! at most 1.9e-5 (relative) when the track is doubled, over 20 Hz-3 kHz away from the two
+//! band edges (within 10% of the pinned-pinned frequency, and 2.75-3 kHz), against 1.1e-4
+//! with free ends; at the band edges nothing converges (the infinite track's receptance is
+//! singular there: [`receptance`]). The deflection under a load moving at 30 m/s changes by
+//! 1.7e-5 of its peak (free ends 1.1e-5: at that speed the response under the load is its
+//! near field, which neither end sees). `tests/track.rs` measures both.
 
 pub mod hertz;
 pub mod moving;
