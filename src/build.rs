@@ -227,6 +227,11 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
                 };
                 (2.0 * nodes, w.duration(), Some(key))
             }
+            Model::Track(t) => {
+                let s = &t.spec;
+                let dofs = 2.0 * (s.bays * s.elements_per_bay + 1) as f64 + (s.bays + 1) as f64;
+                (dofs, t.duration(), Some("track.bays"))
+            }
         };
         let steps = (duration / h).ceil().max(1.0);
         let seconds = steps * (2e-7 * dofs + 2e-6);

@@ -146,6 +146,18 @@ enum Command {
         #[command(flatten)]
         replace: Replace,
     },
+    /// The rail's point receptance of a track scenario (mid-span and above a sleeper,
+    /// magnitude and phase, 20 Hz-3 kHz by default) with its pinned-pinned, track and P2
+    /// frequencies: receptance.csv, receptance.png, summary.json.
+    Receptance {
+        /// The scenario file (TOML, kind = "track").
+        scenario: PathBuf,
+        /// Output folder [default: out/<scenario name>-receptance].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        replace: Replace,
+    },
     /// Write the space-time step's matrices of a wheel or bar scenario (Matrix Market) for
     /// other solvers, with the size of each factor and softway's time for one free step:
     /// A.mtx, B.mtx, K.mtx, u0/v0/f.mtx, fixed.txt, matrix.json (bench/peers/ reads them).
@@ -247,6 +259,11 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             out,
             replace,
         } => modes_command(&scenario, count, out, replace),
+        Command::Receptance {
+            scenario,
+            out,
+            replace,
+        } => receptance_command(&scenario, out, replace),
         Command::Matrix {
             scenario,
             out,
@@ -515,6 +532,39 @@ fn print_modes(
     }
 }
 
+/// `softway receptance`: a track's receptance and frequencies into a folder.
+fn receptance_command(
+    scenario: &Path,
+    out: Option<PathBuf>,
+    Replace { force }: Replace,
+) -> CommandResult {
+    let sc = Scenario::from_file(scenario)?;
+    if !matches!(sc.runs[0].model, crate::scenario::Model::Track(_)) {
+        return Err(format!(
+            "{}: `softway receptance` needs a track scenario (kind = \"track\")",
+            scenario.display()
+        )
+        .into());
+    }
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
+    let stage = StagedDir::begin(&out, force)?;
+    let report = crate::run::track::receptance_job(&sc, stage.path(), sc.plots)?;
+    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!("{} ({})", sc.name, scenario.display());
+    for l in &report.lines {
+        outln!("  {l}");
+    }
+    outln!("  wrote:");
+    for f in &files {
+        outln!("    {}", f.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// `softway matrix`: the step's matrices of a scenario's first run, and softway's time.
 fn matrix_command(scenario: &Path, out: Option<PathBuf>, steps: Option<u64>) -> CommandResult {
     let sc = resolve(&Scenario::from_file(scenario)?)?;
@@ -677,7 +727,7 @@ fn usage_error(e: &clap::Error) -> ExitCode {
             return ExitCode::SUCCESS;
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            errln!("softway: error: no command given: softway run|sweep|converge|compare|modes|stability ... (see softway --help)");
+            errln!("softway: error: no command given: softway run|sweep|converge|compare|modes|receptance|matrix|stability ... (see softway --help)");
             return ExitCode::from(2);
         }
         _ => {}

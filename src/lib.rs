@@ -83,6 +83,7 @@
 //! | where are a model's bodies joined, and a pressed frame's inertial load? | `src/bodies.rs` |
 //! | where do discrete elements join bodies (an axle on springs, a sleeper's mass)? | `src/bodies.rs` (`Joints`, `assemble_with`); the elements in `src/element/discrete.rs`; `tests/joints.rs` |
 //! | where is a rigid base or obstacle as a body of the search? | `src/bodies.rs` (`Body::rigid`); `tests/on_block.rs` compares it with the rotating base |
+//! | where is the track (rail on pads, sleepers, ballast), its receptance and a moving load? | `src/track/` (`TrackSpec`, `receptance.rs`, `hertz.rs`, `moving.rs`); `tests/track.rs` |
 //! | where is the command line? | `src/cli.rs` (`src/main.rs` only calls it) |
 //! | what stops a run that blows up? | `src/guard.rs` (the energy bound), checked in `Simulation::run` |
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
@@ -144,6 +145,10 @@
 //! - [`models`]: models of more than one body: the wheel on an elastic block, met through
 //!   the contact search ([`contact::interface`], [`contact::Pair::Searched`]) with Hertz's
 //!   line contact as its check.
+//! - [`track`]: the track: a rail of beams on discrete pads, half-sleepers and ballast
+//!   (named parameter sets, absorbing ends), its receptance (complex sparse LU) with the
+//!   pinned-pinned, track and P2 frequencies (Hertz's elliptic contact), and a constant load
+//!   moving along it through the driver.
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
 //! - [`guard`]: the divergence guard (the energy against the initial energy plus the work
@@ -185,6 +190,7 @@ pub mod run;
 pub mod scenario;
 pub mod simulation;
 pub mod time;
+pub mod track;
 pub mod wheel;
 
 pub use run::{run, Results, RunError, RunOptions};

@@ -265,6 +265,154 @@ fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
     );
 }
 
+// ---------------------------------------------------------------- scenario: the track
+
+fn track_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/track.toml")).unwrap()
+}
+
+refused!(
+    track_unknown_set,
+    track_text().replace("set = \"uic60\"", "set = \"zhai\""),
+    ["`track.set` = \"zhai\"", "\"uic60\""]
+);
+refused!(
+    track_unknown_theory,
+    track_text().replace("set = \"uic60\"", "theory = \"rayleigh\""),
+    ["`track.theory` = \"rayleigh\"", "\"euler_bernoulli\""]
+);
+refused!(
+    track_negative_pad,
+    track_text().replace("set = \"uic60\"", "pad_stiffness = -1.0"),
+    ["`track.pad_stiffness` = -1", "> 0"]
+);
+refused!(
+    track_negative_ballast_damping,
+    track_text().replace("set = \"uic60\"", "ballast_damping = -5.0"),
+    ["`track.ballast_damping` = -5", ">= 0"]
+);
+refused!(
+    track_poisson_half,
+    track_text().replace("set = \"uic60\"", "poisson = 0.5"),
+    ["`track.poisson` = 0.5", "(-1, 0.5)"]
+);
+refused!(
+    track_zero_elements_per_bay,
+    track_text().replace("elements_per_bay = 6", "elements_per_bay = 0"),
+    ["`track.elements_per_bay` = 0", "1 to 1000"]
+);
+refused!(
+    track_one_bay,
+    track_text().replace("bays = 100", "bays = 1"),
+    ["`track.bays` = 1", "at least 2"]
+);
+refused!(
+    track_huge_rail,
+    track_text()
+        .replace("bays = 100", "bays = 1000000")
+        .replace("elements_per_bay = 6", "elements_per_bay = 1000"),
+    ["`track.elements_per_bay` = 1000", "at most 2000000"]
+);
+refused!(
+    track_absorbing_zones_overlap,
+    track_text().replace("bays = 100", "bays = 100\nend_bays = 50"),
+    ["`track.end_bays` = 50", "2 end_bays < track.bays = 100"]
+);
+refused!(
+    track_unknown_ends,
+    track_text().replace("bays = 100", "bays = 100\nends = \"periodic\""),
+    ["`track.ends` = \"periodic\"", "\"absorbing\""]
+);
+refused!(
+    track_end_damping_on_free_ends,
+    track_text().replace(
+        "bays = 100",
+        "bays = 100\nends = \"free\"\nend_damping = 10.0"
+    ),
+    ["`track.end_damping` = 10", "ends = \"absorbing\""]
+);
+refused!(
+    track_misspelt_key,
+    track_text().replace("set = \"uic60\"", "pad_stifness = 1e8"),
+    ["pad_stifness", "pad_stiffness"]
+);
+refused!(
+    track_travel_into_the_sponge,
+    track_text().replace("travel_bays = 6", "travel_bays = 50"),
+    ["`vehicle.travel_bays` = 50", "at most 40 bays"]
+);
+refused!(
+    track_missing_speed,
+    track_text().replace("speed = 30.0", ""),
+    ["`vehicle.speed`", "m/s"]
+);
+refused!(
+    track_zero_speed,
+    track_text().replace("speed = 30.0", "speed = 0.0"),
+    ["`vehicle.speed` = 0", "> 0"]
+);
+refused!(
+    track_negative_unsprung_mass,
+    track_text().replace("unsprung_mass = 800.0", "unsprung_mass = -800.0"),
+    ["`vehicle.unsprung_mass` = -800", "> 0"]
+);
+refused!(
+    track_receptance_upside_down,
+    track_text().replace("f_max = 3000.0", "f_max = 10.0"),
+    ["`receptance.f_max` = 10", "above receptance.f_min = 20"]
+);
+refused!(
+    track_receptance_two_points,
+    track_text().replace("points = 400", "points = 2"),
+    ["`receptance.points` = 2", "at least 3"]
+);
+refused!(
+    track_with_t_end,
+    track_text().replace("h = 5e-5", "h = 5e-5\nt_end = 1.0"),
+    ["`time.t_end`", "remove time.t_end"]
+);
+refused!(
+    track_with_contact,
+    format!("{}\n[contact]\nmethod = \"exact\"\n", track_text()),
+    ["`contact`", "no contact"]
+);
+refused!(
+    track_run_with_a_method,
+    format!("{}\n[[runs]]\nmethod = \"exact\"\n", track_text()),
+    ["`runs[0].method`", "no contact"]
+);
+refused!(
+    track_explicit,
+    track_text().replace("h = 5e-5", "h = 5e-5\nintegrator = \"central_difference\""),
+    [
+        "`time.integrator` = \"central_difference\"",
+        "\"space_time\""
+    ]
+);
+refused!(
+    track_with_a_bar_table,
+    format!(
+        "{}\n[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n",
+        track_text()
+    ),
+    ["`bar`", "not used with kind = \"track\""]
+);
+refused!(
+    track_table_on_a_bar,
+    format!("{}\n[vehicle]\nspeed = 30.0\n", common::BAR),
+    ["`vehicle`", "only used with kind = \"track\""]
+);
+
+#[test]
+fn receptance_of_a_bar() {
+    refused_on_bar(
+        "receptance_bar",
+        "receptance",
+        &[],
+        &["receptance_bar.toml", "needs a track scenario"],
+    );
+}
+
 // ---------------------------------------------------------------- scenario: wheels
 
 fn wheel_text() -> String {

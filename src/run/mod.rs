@@ -12,6 +12,7 @@ pub(crate) mod on_block;
 pub mod results;
 pub(crate) mod sdof;
 pub(crate) mod sweep;
+pub(crate) mod track;
 pub mod wheel;
 
 pub use crate::guard::GuardMode;
@@ -171,6 +172,7 @@ fn record(sc: &Scenario, opts: &RunOptions, stream: Option<&Path>) -> Result<Res
         Model::Sdof(_) => sdof::record(sc, stream, opts),
         Model::BarImpact(_) | Model::TwoBars(_) => bar::record(sc, stream, opts),
         Model::Wheel(_) => wheel::record(sc, stream, opts),
+        Model::Track(_) => track::record(sc, stream, opts),
     }
 }
 

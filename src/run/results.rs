@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 /// The results of one scenario's run.
 #[derive(Debug)]
 pub struct Results {
-    /// The model's kind: `sdof`, `bar_impact`, `two_bars` or `wheel`.
+    /// The model's kind: `sdof`, `bar_impact`, `two_bars`, `wheel` or `track`.
     pub kind: &'static str,
     /// The key figures: the object written as `summary.json` (units in its `units` entry).
     pub summary: serde_json::Value,

@@ -10,13 +10,14 @@
 //! | `bar_impact`, `two_bars`, `wheel` | `space_time`                     | `soft_way*`, `exact`, `penalty`, `mass_redistribution`, `moreau_jean`, `subdivision` |
 //! | `bar_impact`, `two_bars`, `wheel` | `newmark`, `newmark_dissipative`, `hht`, `generalized_alpha` | `exact`, `penalty`, `mass_redistribution`, `moreau_jean` |
 //! | `bar_impact`, `two_bars` | `central_difference`                      | `exact`, `penalty`                                                 |
+//! | `track`      | `space_time`, `newmark`, `newmark_dissipative`, `hht`, `generalized_alpha` | any (the track has no contact yet; `[contact]` is refused) |
 //!
 //! `soft_way*` is `soft_way`, `soft_way_braking_restore` and `soft_way_no_restore`. The rules
 //! between an integrator and a treatment alone (the soft way and the subdivision are
 //! space-time treatments; mass redistribution and Moreau-Jean need an implicit step) are the
 //! engine's, [`crate::contact::Treatment::check`]; this table adds the model's: the
-//! oscillator is the space-time scheme's, and the wheel's explicit stable step (~1e-8 s) is
-//! refused.
+//! oscillator is the space-time scheme's, the wheel's explicit stable step (~1e-8 s) is
+//! refused, and so is the track's (its stiff pads and short elements; the consistent mass).
 //!
 //! To allow a combination, delete (or narrow) the arm of [`check_combination`] that refuses
 //! it and update the table above; the test `allowed_set_is_the_documented_table` in this
@@ -37,6 +38,8 @@ pub enum ModelKind {
     TwoBars,
     /// `wheel`.
     Wheel,
+    /// `track`.
+    Track,
 }
 
 impl ModelKind {
@@ -47,6 +50,7 @@ impl ModelKind {
             Model::BarImpact(_) => ModelKind::BarImpact,
             Model::TwoBars(_) => ModelKind::TwoBars,
             Model::Wheel(_) => ModelKind::Wheel,
+            Model::Track(_) => ModelKind::Track,
         }
     }
 }
@@ -115,13 +119,18 @@ pub fn check_combination(
 ) -> Result<(), Refusal> {
     use Culprit::{Contact as Method, Integrator as Integ};
     use Family::{Explicit, Implicit};
-    use ModelKind::{Sdof, Wheel};
+    use ModelKind::{Sdof, Track, Wheel};
     match (kind, Family::of(integrator)) {
         (Sdof, Implicit | Explicit) => refuse(
             Integ,
             "the one-degree-of-freedom scheme is the space-time scheme's (Eqs. 9-10); use \"space_time\"",
         ),
         (Sdof, _) => Ok(()),
+        (Track, Explicit) => refuse(
+            Integ,
+            "the track's explicit step is bounded by its stiff pads and short rail elements (consistent mass); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"",
+        ),
+        (Track, _) => Ok(()),
         (Wheel, Explicit) => refuse(
             Integ,
             "the wheel's stable explicit step is about 1e-8 s (hundreds of millions of steps a turn); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"",
@@ -213,6 +222,7 @@ mod tests {
         );
         match (kind, integrator) {
             (ModelKind::Sdof, _) => integrator == "space_time",
+            (ModelKind::Track, _) => integrator != "central_difference",
             (_, "space_time") => true,
             (_, _) if implicit => !soft && contact != "subdivision",
             (ModelKind::Wheel, "central_difference") => false,
@@ -228,6 +238,7 @@ mod tests {
             ModelKind::BarImpact,
             ModelKind::TwoBars,
             ModelKind::Wheel,
+            ModelKind::Track,
         ];
         let mut allowed = 0;
         for kind in kinds {
@@ -243,8 +254,8 @@ mod tests {
                 }
             }
         }
-        // sdof 8, bar_impact and two_bars 8 + 4*4 + 2 each, wheel 8 + 4*4: 84.
-        assert_eq!(allowed, 8 + 26 + 26 + 24);
+        // sdof 8, bar_impact and two_bars 8 + 4*4 + 2 each, wheel 8 + 4*4, track 5*8: 124.
+        assert_eq!(allowed, 8 + 26 + 26 + 24 + 40);
     }
 
     /// A scenario of `kind` with `time.h` and `[contact] penalty` set (the penalty is
@@ -255,6 +266,7 @@ mod tests {
             ModelKind::BarImpact | ModelKind::TwoBars => {
                 "[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n"
             }
+            ModelKind::Track => unreachable!("the track refuses [contact]: not in this test"),
             ModelKind::Wheel => concat!(
                 "kind = \"wheel\"\n",
                 "[wheel]\nradius = 0.1\nthickness = 0.01\n",

@@ -21,7 +21,7 @@
 //!
 //! ```toml
 //! name = "bar-impact"          # output folder name (default: the file's stem)
-//! kind = "bar_impact"          # "sdof" | "bar_impact" | "two_bars" | "wheel"
+//! kind = "bar_impact"          # "sdof" | "bar_impact" | "two_bars" | "wheel" | "track"
 //!
 //! [time]
 //! alpha = 0.8                  # Eq. (8), in (0, 1]; default 0.8
@@ -59,6 +59,27 @@
 //! grading = 1.2                # the rows' growth from the top down, in [1, 2]
 //! margin = 0.05                # m of block before and after the travel (default: depth)
 //! reach = 8e-3                 # m, the contact search's reach (default: four columns)
+//!
+//! [track]                      # kind = "track" (crate::track): a parameter set and overrides
+//! set = "uic60"                # the named set (default)
+//! pad_stiffness = 200e6        # any of: theory ("timoshenko" | "euler_bernoulli"), young,
+//!                              # shear_modulus, shear_coefficient, area, inertia, density,
+//!                              # pad_stiffness, pad_damping, sleeper_mass, ballast_stiffness,
+//!                              # ballast_damping, spacing, bays, elements_per_bay, ends
+//!                              # ("absorbing" | "free"), end_bays, end_damping, head_radius,
+//!                              # poisson
+//!
+//! [vehicle]                    # kind = "track": one wheel
+//! unsprung_mass = 800.0        # kg per wheel
+//! axle_load = 100e3            # N per wheel
+//! wheel_radius = 0.46          # m
+//! speed = 30.0                 # m/s (required)
+//! travel_bays = 6              # bays the load crosses, centred on the middle
+//!
+//! [receptance]                 # kind = "track": `softway receptance`
+//! f_min = 20.0                 # Hz
+//! f_max = 3000.0               # Hz
+//! points = 400                 # log-spaced
 //!
 //! [[runs]]                     # optional: several runs of one scenario
 //! label = "h = 0.4"
@@ -190,6 +211,72 @@ impl WheelScenario {
     }
 }
 
+/// The vehicle of a track scenario (`[vehicle]`): one wheel, its share of the axle's
+/// unsprung mass and load, and its passage.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Vehicle {
+    /// Unsprung mass per wheel, kg (default 800).
+    #[serde(rename = "unsprung_mass_kg")]
+    pub unsprung_mass: f64,
+    /// Static load per wheel, N (default 100e3).
+    #[serde(rename = "axle_load_N")]
+    pub axle_load: f64,
+    /// Wheel radius, m (default 0.46).
+    #[serde(rename = "wheel_radius_m")]
+    pub wheel_radius: f64,
+    /// Speed, m/s.
+    #[serde(rename = "speed_m_s")]
+    pub speed: f64,
+    /// Bays the load crosses, centred on the track's middle (default 6).
+    pub travel_bays: usize,
+}
+
+/// The frequencies of `softway receptance` (`[receptance]`): `points` log-spaced from
+/// `f_min` to `f_max`, Hz.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct ReceptanceRange {
+    /// Lowest frequency, Hz (default 20).
+    #[serde(rename = "f_min_Hz")]
+    pub f_min: f64,
+    /// Highest frequency, Hz (default 3000).
+    #[serde(rename = "f_max_Hz")]
+    pub f_max: f64,
+    /// Frequencies (default 400).
+    pub points: usize,
+}
+
+/// The track scenario (`kind = "track"`): the track ([`crate::track`]), the vehicle and the
+/// receptance's frequencies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackScenario {
+    /// The parameter set named by `track.set`.
+    pub set: String,
+    /// The track: the set with the overrides of `[track]`.
+    pub spec: crate::track::TrackSpec,
+    /// The vehicle.
+    pub vehicle: Vehicle,
+    /// The receptance's frequencies.
+    pub receptance: ReceptanceRange,
+}
+
+impl TrackScenario {
+    /// Where the moving load starts: half its travel before the middle sleeper, m.
+    pub fn start(&self) -> f64 {
+        let s = self.spec.spacing;
+        (self.spec.bays / 2) as f64 * s - 0.5 * self.vehicle.travel_bays as f64 * s
+    }
+
+    /// The distance the load travels, m.
+    pub fn travel(&self) -> f64 {
+        self.vehicle.travel_bays as f64 * self.spec.spacing
+    }
+
+    /// The passage's duration, s.
+    pub fn duration(&self) -> f64 {
+        self.travel() / self.vehicle.speed
+    }
+}
+
 /// The physical model of a scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Model {
@@ -201,6 +288,8 @@ pub enum Model {
     TwoBars(TwoBars),
     /// The elastic wheel rolling on a rigid base.
     Wheel(Box<WheelScenario>),
+    /// A constant load moving along the track.
+    Track(Box<TrackScenario>),
 }
 
 /// One run of a built scenario (the scenario may list several): what the jobs run.

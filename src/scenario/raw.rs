@@ -25,6 +25,9 @@ pub(super) struct RawScenario {
     pub rolling: Option<RawRolling>,
     pub block: Option<RawBlock>,
     pub contact: Option<RawContact>,
+    pub track: Option<RawTrack>,
+    pub vehicle: Option<RawVehicle>,
+    pub receptance: Option<RawReceptance>,
     #[serde(default)]
     pub runs: Vec<RawRun>,
     pub output: Option<RawOutput>,
@@ -115,6 +118,53 @@ pub(super) struct RawBlock {
     pub grading: Option<f64>,
     pub margin: Option<f64>,
     pub reach: Option<f64>,
+}
+
+/// `[track]`: a parameter set and any of its values overridden.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawTrack {
+    pub set: Option<String>,
+    pub theory: Option<String>,
+    pub young: Option<f64>,
+    pub shear_modulus: Option<f64>,
+    pub shear_coefficient: Option<f64>,
+    pub area: Option<f64>,
+    pub inertia: Option<f64>,
+    pub density: Option<f64>,
+    pub pad_stiffness: Option<f64>,
+    pub pad_damping: Option<f64>,
+    pub sleeper_mass: Option<f64>,
+    pub ballast_stiffness: Option<f64>,
+    pub ballast_damping: Option<f64>,
+    pub spacing: Option<f64>,
+    pub bays: Option<i64>,
+    pub elements_per_bay: Option<i64>,
+    pub ends: Option<String>,
+    pub end_bays: Option<i64>,
+    pub end_damping: Option<f64>,
+    pub head_radius: Option<f64>,
+    pub poisson: Option<f64>,
+}
+
+/// `[vehicle]`: the wheel on the track.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawVehicle {
+    pub unsprung_mass: Option<f64>,
+    pub axle_load: Option<f64>,
+    pub wheel_radius: Option<f64>,
+    pub speed: Option<f64>,
+    pub travel_bays: Option<i64>,
+}
+
+/// `[receptance]`: the frequencies of `softway receptance`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawReceptance {
+    pub f_min: Option<f64>,
+    pub f_max: Option<f64>,
+    pub points: Option<i64>,
 }
 
 /// `[material]`.

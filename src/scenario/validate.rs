@@ -6,12 +6,14 @@
 //! [`TimeStep::Cfl`] for [`crate::build`]).
 
 use super::raw::{
-    RawBar, RawContact, RawMaterial, RawRolling, RawRun, RawScenario, RawSdof, RawTime, RawWheel,
+    RawBar, RawContact, RawMaterial, RawReceptance, RawRolling, RawRun, RawScenario, RawSdof,
+    RawTime, RawTrack, RawVehicle, RawWheel,
 };
 use super::{Contact, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep};
 use crate::contact::{FrictionLaw, Restore, Treatment};
 
 mod run;
+mod track;
 mod wheel;
 
 /// Default hub radius of `support = "hub"`, as a fraction of the wheel's radius (1 cm for
@@ -43,6 +45,9 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         rolling,
         block,
         contact,
+        track,
+        vehicle,
+        receptance,
         runs: raw_runs,
         output,
         sweep,
@@ -76,7 +81,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
     };
     let t_end = match (time.t_end, kind.as_str()) {
         (Some(t), _) => cx.positive("time.t_end", t)?,
-        (None, "wheel") => f64::NAN,
+        (None, "wheel" | "track") => f64::NAN,
         (None, _) => return Err(cx.missing("time.t_end", "the end time of the run, s")),
     };
     let mut model = model(
@@ -84,6 +89,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         &kind,
         (sdof, bar, two_bars),
         (wheel, material, rolling),
+        (track, vehicle, receptance),
     )?;
     if let Some(b) = block {
         let Model::Wheel(w) = &mut model else {
@@ -105,6 +111,23 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
                 ));
             }
             w.duration()
+        }
+        Model::Track(t) => {
+            if time.t_end.is_some() {
+                return Err(cx.invalid(
+                    "time.t_end",
+                    t_end,
+                    "a track run lasts vehicle.travel_bays bays at vehicle.speed: remove time.t_end",
+                ));
+            }
+            if contact.is_some() {
+                return Err(cx.invalid(
+                    "contact",
+                    "(given)",
+                    "a track scenario has no contact (a constant load moves along the rail): remove [contact]",
+                ));
+            }
+            t.duration()
         }
         _ => t_end,
     };
@@ -155,13 +178,29 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
     })
 }
 
-/// The model of `kind` from its tables, each value checked under its key.
+/// The track's tables: `[track]`, `[vehicle]`, `[receptance]`.
+type TrackTables = (Option<RawTrack>, Option<RawVehicle>, Option<RawReceptance>);
+
+/// The model of `kind` from its tables, each value checked under its key; the track's
+/// tables are refused for the other kinds.
 fn model(
     cx: &Ctx,
     kind: &str,
     (sdof, bar, two_bars): (Option<RawSdof>, Option<RawBar>, Option<RawBar>),
     (wheel, material, rolling): (Option<RawWheel>, Option<RawMaterial>, Option<RawRolling>),
+    (track_table, vehicle, receptance): TrackTables,
 ) -> Result<Model, ScenarioError> {
+    if kind != "track" {
+        for (key, given) in [
+            ("track", track_table.is_some()),
+            ("vehicle", vehicle.is_some()),
+            ("receptance", receptance.is_some()),
+        ] {
+            if given {
+                return Err(cx.invalid(key, "(given)", "only used with kind = \"track\""));
+            }
+        }
+    }
     Ok(match kind {
         "sdof" => {
             let s =
@@ -210,11 +249,35 @@ fn model(
             })
         }
         "wheel" => Model::Wheel(Box::new(wheel::wheel_model(cx, wheel, material, rolling)?)),
+        "track" => {
+            for (key, given) in [
+                ("sdof", sdof.is_some()),
+                ("bar", bar.is_some()),
+                ("two_bars", two_bars.is_some()),
+                ("wheel", wheel.is_some()),
+                ("material", material.is_some()),
+                ("rolling", rolling.is_some()),
+            ] {
+                if given {
+                    return Err(cx.invalid(
+                        key,
+                        "(given)",
+                        "not used with kind = \"track\" (its tables: [track], [vehicle], [receptance], [time])",
+                    ));
+                }
+            }
+            Model::Track(Box::new(track::track_model(
+                cx,
+                track_table,
+                vehicle,
+                receptance,
+            )?))
+        }
         other => {
             return Err(cx.invalid(
                 "kind",
                 format!("\"{other}\""),
-                "allowed: \"sdof\", \"bar_impact\", \"two_bars\", \"wheel\"",
+                "allowed: \"sdof\", \"bar_impact\", \"two_bars\", \"wheel\", \"track\"",
             ))
         }
     })

@@ -20,6 +20,21 @@ pub(super) fn run_spec(
     let keys = RunKeys(i);
     let (alpha, gamma, h) = run_time(cx, &keys, r, base)?;
     let mut model = run_model(cx, &keys, r, base)?;
+    if matches!(model, Model::Track(_)) {
+        for (k, given) in [
+            ("method", r.method.is_some()),
+            ("penalty", r.penalty.is_some()),
+            ("restitution", r.restitution.is_some()),
+        ] {
+            if given {
+                return Err(cx.invalid(
+                    &keys.key(k),
+                    "(given)",
+                    "a track scenario has no contact (a constant load moves along the rail)",
+                ));
+            }
+        }
+    }
     let (method_key, method_name, run_contact) = run_contact(cx, &keys, r, base, &model)?;
     let (integ_key, integ_name, integrator) = run_integrator(cx, &keys, r, base, (alpha, gamma))?;
     // The one table of allowed combinations (super::combinations).
