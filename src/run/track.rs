@@ -162,62 +162,14 @@ pub(crate) fn record(
         .map_err(|e| RunError::input(&sc.path, format!("run `{}`: {e}", run.label)))?;
         interrupted |= stats.interrupted;
         let sum = summarise(&run.label, &track, &passage, &samples, stats.interrupted);
-        let style = if ri % 2 == 0 {
-            SeriesStyle::Line
-        } else {
-            SeriesStyle::Dashed
-        };
-        let xs: Vec<f64> = samples.iter().map(|s| s.x).collect();
-        let mm = |f: fn(&Sample) -> f64| samples.iter().map(|s| 1e3 * f(s)).collect::<Vec<_>>();
-        let kn = |f: fn(&Sample) -> f64| samples.iter().map(|s| 1e-3 * f(s)).collect::<Vec<_>>();
-        let name = |what: &str| {
-            if sc.runs.len() > 1 {
-                format!("{}: {what}", run.label)
-            } else {
-                what.to_string()
-            }
-        };
-        deflection.series.push(Series::new(
-            name(&format!("moving at {} m/s", ts.vehicle.speed)),
-            xs.clone(),
-            mm(|s| s.deflection),
-            style,
-        ));
-        deflection.series.push(Series::new(
-            name("static, standing there"),
-            xs.clone(),
-            mm(|s| s.static_deflection),
-            SeriesStyle::Dashed,
-        ));
-        pads.series.push(Series::new(
-            name("pad nearest the load"),
-            xs.clone(),
-            kn(|s| s.pad_force_nearest),
-            style,
-        ));
-        pads.series.push(Series::new(
-            name(&format!(
-                "pad of the middle sleeper (x = {:.2} m)",
-                track.middle()
-            )),
-            xs,
-            kn(|s| s.pad_force_middle),
-            SeriesStyle::Dashed,
-        ));
-        let top = samples
-            .iter()
-            .map(|s| s.pad_force_nearest.max(s.pad_force_middle))
-            .fold(0.0, f64::max);
-        // Head room for the legends above the curves.
-        pads.y_range = Some((0.0, 1.4e-3 * top));
-        let (lo, hi) = samples
-            .iter()
-            .flat_map(|s| [s.deflection, s.static_deflection])
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
-                (a.min(d), b.max(d))
-            });
-        let span = (hi - lo).max(1e-3 * hi.abs()).max(1e-12);
-        deflection.y_range = Some((1e3 * (lo - 0.05 * span), 1e3 * (hi + 0.6 * span)));
+        plot_run(
+            (&mut deflection, &mut pads),
+            (ri, sc.runs.len()),
+            &run.label,
+            ts.vehicle.speed,
+            &track,
+            &samples,
+        );
         sums.push(sum);
         if interrupted {
             break;
@@ -242,28 +194,7 @@ pub(crate) fn record(
         }
     }
     super::stamp_provenance(&mut json, sc);
-    let lines = sums
-        .iter()
-        .map(|s| {
-            format!(
-                "{:<10} {} m/s over {:.2} m: deflection under the load {:.4} mm mean ({:.4}-{:.4}), static {:.4}-{:.4} mm, dynamic/static {:.4}; strongest component {} (sleeper passing {:.2} Hz); pad force up to {:.1} kN",
-                s.label,
-                s.speed_m_s,
-                s.travel_m,
-                1e3 * s.deflection_mean_m,
-                1e3 * s.deflection_min_m,
-                1e3 * s.deflection_max_m,
-                1e3 * s.static_deflection_min_m,
-                1e3 * s.static_deflection_max_m,
-                s.dynamic_over_static_max,
-                s.dominant_frequency_hz
-                    .map(|f| format!("{f:.2} Hz"))
-                    .unwrap_or_else(|| "-".into()),
-                s.sleeper_passing_hz,
-                1e-3 * s.pad_force_nearest_max
-            )
-        })
-        .collect();
+    let lines = sums.iter().map(screen_line).collect();
     Ok(Results {
         kind: "track",
         summary: json,
@@ -282,6 +213,96 @@ pub(crate) fn record(
             size: (1400, 1100),
         },
     })
+}
+
+/// Adds run `ri` (of `runs`, labelled `label`, at `speed` m/s) to the two panels: the
+/// deflection under the load against the static one, the pad forces; and sets their
+/// ranges with room for the legends.
+fn plot_run(
+    (deflection, pads): (&mut Panel, &mut Panel),
+    (ri, runs): (usize, usize),
+    label: &str,
+    speed: f64,
+    track: &Track,
+    samples: &[Sample],
+) {
+    let style = if ri % 2 == 0 {
+        SeriesStyle::Line
+    } else {
+        SeriesStyle::Dashed
+    };
+    let xs: Vec<f64> = samples.iter().map(|s| s.x).collect();
+    let mm = |f: fn(&Sample) -> f64| samples.iter().map(|s| 1e3 * f(s)).collect::<Vec<_>>();
+    let kn = |f: fn(&Sample) -> f64| samples.iter().map(|s| 1e-3 * f(s)).collect::<Vec<_>>();
+    let name = |what: &str| {
+        if runs > 1 {
+            format!("{label}: {what}")
+        } else {
+            what.to_string()
+        }
+    };
+    deflection.series.push(Series::new(
+        name(&format!("moving at {} m/s", speed)),
+        xs.clone(),
+        mm(|s| s.deflection),
+        style,
+    ));
+    deflection.series.push(Series::new(
+        name("static, standing there"),
+        xs.clone(),
+        mm(|s| s.static_deflection),
+        SeriesStyle::Dashed,
+    ));
+    pads.series.push(Series::new(
+        name("pad nearest the load"),
+        xs.clone(),
+        kn(|s| s.pad_force_nearest),
+        style,
+    ));
+    pads.series.push(Series::new(
+        name(&format!(
+            "pad of the middle sleeper (x = {:.2} m)",
+            track.middle()
+        )),
+        xs,
+        kn(|s| s.pad_force_middle),
+        SeriesStyle::Dashed,
+    ));
+    let top = samples
+        .iter()
+        .map(|s| s.pad_force_nearest.max(s.pad_force_middle))
+        .fold(0.0, f64::max);
+    // Head room for the legends above the curves.
+    pads.y_range = Some((0.0, 1.4e-3 * top));
+    let (lo, hi) = samples
+        .iter()
+        .flat_map(|s| [s.deflection, s.static_deflection])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
+            (a.min(d), b.max(d))
+        });
+    let span = (hi - lo).max(1e-3 * hi.abs()).max(1e-12);
+    deflection.y_range = Some((1e3 * (lo - 0.05 * span), 1e3 * (hi + 0.6 * span)));
+}
+
+/// The screen line of one run.
+fn screen_line(s: &PassageSummary) -> String {
+    format!(
+        "{:<10} {} m/s over {:.2} m: deflection under the load {:.4} mm mean ({:.4}-{:.4}), static {:.4}-{:.4} mm, dynamic/static {:.4}; strongest component {} (sleeper passing {:.2} Hz); pad force up to {:.1} kN",
+        s.label,
+        s.speed_m_s,
+        s.travel_m,
+        1e3 * s.deflection_mean_m,
+        1e3 * s.deflection_min_m,
+        1e3 * s.deflection_max_m,
+        1e3 * s.static_deflection_min_m,
+        1e3 * s.static_deflection_max_m,
+        s.dynamic_over_static_max,
+        s.dominant_frequency_hz
+            .map(|f| format!("{f:.2} Hz"))
+            .unwrap_or_else(|| "-".into()),
+        s.sleeper_passing_hz,
+        1e-3 * s.pad_force_nearest_max
+    )
 }
 
 /// One run's key figures from its samples; the spectrum of the deflection under the load
