@@ -159,6 +159,8 @@ enum Command {
         /// [default: 2,000,000 / nnz(A), between 20 and 20,000].
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
         steps: Option<u64>,
+        #[command(flatten)]
+        replace: Replace,
     },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
@@ -251,7 +253,8 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             scenario,
             out,
             steps,
-        } => matrix_command(&scenario, out, steps),
+            replace,
+        } => matrix_command(&scenario, out, steps, replace),
         Command::Stability {
             alpha,
             gamma,
@@ -279,7 +282,7 @@ fn run_command(
         errln!("softway: warning: {w}");
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
         progress: !quiet,
         par: threads.map(Par::threads),
@@ -330,7 +333,7 @@ fn sweep_command(
     check_ladder_estimate(scenario, &text, &key, &values, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let (points, files) =
         crate::run::sweep::sweep(scenario, &text, &key, &values, stage.path(), cancel)?;
     for p in &points {
@@ -368,7 +371,7 @@ fn converge_command(
     check_ladder_estimate(scenario, &text, &key, &values, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let (_, files, warnings) =
         crate::run::converge::converge(scenario, &text, &key, &values, stage.path(), cancel)?;
     for w in &warnings {
@@ -401,7 +404,7 @@ fn compare_command(
         errln!("softway: warning: {w}");
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
         cancel: cancel.clone(),
         ..RunOptions::default()
@@ -444,38 +447,42 @@ fn modes_command(
     let wm = crate::run::wheel::build(ws, &sc.path)?;
     let rep = crate::modes::modes_report(&wm, count)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
     stage.commit()?;
-    print_modes(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
-    outln!("wrote {} files into {}", files.len(), out.display());
+    let mut text = modes_text(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
+    text.push_str(&format!(
+        "wrote {} files into {}\n",
+        files.len(),
+        out.display()
+    ));
+    print_result(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 
-/// Prints the tables of `softway modes`: the rest modes, the spinning ones, the notes.
-fn print_modes(
+/// The tables of `softway modes`: the rest modes, the spinning ones, the notes.
+fn modes_text(
     name: &str,
     rep: &crate::modes::ModesReport,
     support: &crate::wheel::Support,
     omega: f64,
-) {
-    outln!(
+) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
         "{}: {} dofs ({} free), support {:?}",
-        name,
-        rep.dofs,
-        rep.free_dofs,
-        support
+        name, rep.dofs, rep.free_dofs, support
     );
-    outln!("at rest:");
-    outln!(
+    let _ = writeln!(s, "at rest:");
+    let _ = writeln!(
+        s,
         "{:>5} {:>14} {:>12} {:>5}  kind",
-        "mode",
-        "frequency Hz",
-        "period us",
-        "n"
+        "mode", "frequency Hz", "period us", "n"
     );
     for (i, m) in rep.at_rest.iter().enumerate() {
-        outln!(
+        let _ = writeln!(
+            s,
             "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
             i + 1,
             m.frequency_hz,
@@ -487,19 +494,19 @@ fn print_modes(
         );
     }
     if let Some(sp) = &rep.spinning {
-        outln!(
+        let _ = writeln!(
+            s,
             "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
             omega
         );
-        outln!(
+        let _ = writeln!(
+            s,
             "{:>5} {:>14} {:>14} {:>10}  kind",
-            "mode",
-            "frequency Hz",
-            "at rest Hz",
-            "whirl"
+            "mode", "frequency Hz", "at rest Hz", "whirl"
         );
         for (i, m) in sp.iter().enumerate() {
-            outln!(
+            let _ = writeln!(
+                s,
                 "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
                 i + 1,
                 m.frequency_hz,
@@ -510,15 +517,24 @@ fn print_modes(
         }
     }
     for n in &rep.notes {
-        outln!("note: {n}");
+        let _ = writeln!(s, "note: {n}");
     }
+    s
 }
 
 /// `softway matrix`: the step's matrices of a scenario's first run, and softway's time.
-fn matrix_command(scenario: &Path, out: Option<PathBuf>, steps: Option<u64>) -> CommandResult {
+fn matrix_command(
+    scenario: &Path,
+    out: Option<PathBuf>,
+    steps: Option<u64>,
+    Replace { force }: Replace,
+) -> CommandResult {
     let sc = resolve(&Scenario::from_file(scenario)?)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
-    let (rep, files) = crate::run::matrix::dump(&sc, &out, steps.map(|s| s as usize))?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
+    let (rep, files) = crate::run::matrix::dump(&sc, stage.path(), steps.map(|s| s as usize))?;
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
     outln!(
         "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
         sc.name,
@@ -584,26 +600,16 @@ fn stability_command(
             "spin_h": spin_h,
             "gyroscopic": gyro,
         });
-        outln!("{}", serde_json::to_string_pretty(&j)?);
+        print_result(&format!("{}\n", serde_json::to_string_pretty(&j)?))?;
     } else {
-        {
-            use std::io::Write as _;
-            let _ = write!(
-                std::io::stdout(),
-                "{}",
-                crate::output::stability::table_text(&rep)
-            );
-            if let (Some(s), Some(g)) = (spin_h, &gyro) {
-                let _ = write!(
-                    std::io::stdout(),
-                    "{}",
-                    crate::output::stability::gyroscopic_text(s, g)
-                );
-            }
+        let mut text = crate::output::stability::table_text(&rep);
+        if let (Some(s), Some(g)) = (spin_h, &gyro) {
+            text.push_str(&crate::output::stability::gyroscopic_text(s, g));
         }
         for f in files {
-            outln!("wrote {}", f.display());
+            text.push_str(&format!("wrote {}\n", f.display()));
         }
+        print_result(&text)?;
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -616,7 +622,7 @@ fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), Strin
     for run in &sc.runs {
         if let crate::scenario::Model::Wheel(ws) = &run.model {
             if let crate::scenario::MeshSource::Gmsh(p) = &ws.mesh {
-                let mesh = crate::run::wheel::read_mesh_file(p, ws.spec.radius, &sc.path)
+                let mesh = crate::run::wheel::read_mesh_file(p, &ws.spec, &sc.path)
                     .map_err(|e| e.to_string())?;
                 mesh_nodes = Some(mesh.n_nodes());
             }
@@ -729,6 +735,22 @@ fn set_threads(flag: &str, threads: Option<usize>) -> Result<(), String> {
             Ok(())
         }
         None => Ok(()),
+    }
+}
+
+/// Writes `text`, a command's result (`stability`'s table or JSON, `modes`' tables), to
+/// standard output and flushes it: a failed write (a full disk: `> /dev/full`) is an error
+/// (exit 2), not an empty file and exit 0. A closed pipe (`| head`) is not: the reader
+/// stopped reading. The reports of the commands that write folders stay best effort
+/// ([`outln!`]): their results are the files.
+fn print_result(text: &str) -> Result<(), String> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write the result to standard output: {e}"))
+        }
+        _ => Ok(()),
     }
 }
 

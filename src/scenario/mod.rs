@@ -388,7 +388,6 @@ mod tests {
     const BAR: &str = r#"
 kind = "bar_impact"
 [time]
-h = 0.1
 t_end = 1.0
 integrator = "central_difference"
 cfl = 0.5
@@ -438,11 +437,8 @@ method = "exact"
                     cfl: 0.25,
                     key: "runs[1].cfl".into()
                 },
-                // A run's h does not override the scenario's cfl (as before the split).
-                &TimeStep::Cfl {
-                    cfl: 0.5,
-                    key: "time.cfl".into()
-                },
+                // A run's own step overrides the scenario's cfl, as every run setting does.
+                &TimeStep::Fixed(0.05),
             ]
         );
         // The explicit integrator's lumped mass is a validated setting.
