@@ -7,7 +7,10 @@
 //! 2. **Validate** (`validate.rs`, private, behind [`Scenario::from_file`] and
 //!    [`Scenario::from_str`]): types, ranges and defaults of every value, and the
 //!    combinations of model, integrator and contact treatment, refused in one table:
-//!    [`combinations::check_combination`]. The result is a [`Scenario<RunSpec>`]: plain
+//!    [`combinations::check_combination`]; every key is used or refused (a table the kind
+//!    does not read, a setting the run's integrator, treatment or model does not use, a
+//!    top-level setting no run uses, a second run of a wheel: `validate/usage.rs`). The
+//!    result is a [`Scenario<RunSpec>`]: plain
 //!    data, nothing assembled, no mesh read. A run whose step is set by `cfl` keeps it as
 //!    [`TimeStep::Cfl`].
 //! 3. **Build** ([`crate::build`]): what needs a model. [`crate::build::resolve`] turns each
@@ -60,9 +63,10 @@
 //! margin = 0.05                # m of block before and after the travel (default: depth)
 //! reach = 8e-3                 # m, the contact search's reach (default: four columns)
 //!
-//! [[runs]]                     # optional: several runs of one scenario
+//! [[runs]]                     # optional: several runs of one scenario (a wheel: one)
 //! label = "h = 0.4"
-//! h = 0.4                      # any of h, alpha, gamma, elements, method
+//! h = 0.4                      # any of h, alpha, gamma, elements, method, ...: the run's
+//!                              # own beats the top level's; one no run uses is refused
 //! ```
 
 use crate::contact::{FrictionLaw, Treatment};
