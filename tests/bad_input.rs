@@ -107,6 +107,12 @@ bar_refused!(
     ["`kind` = \"bar\\nimpact\"", "allowed"]
 );
 bar_refused!(
+    name_dot,
+    "kind =",
+    "name = \".\"\nkind =",
+    ["`name` = \".\"", "not \".\" or \"..\""]
+);
+bar_refused!(
     name_with_a_slash,
     "kind =",
     "name = \"../x\"\nkind =",
@@ -1545,11 +1551,13 @@ fn out_never_replaces_the_current_home_or_scenario_folder() {
     std::fs::write(study.join("thesis.tex"), "keep me").unwrap();
     std::os::unix::fs::symlink(&study, dir.join("link")).unwrap();
     let s = |p: &Path| p.to_str().unwrap().to_string();
-    let cases: [(&Path, String, &str); 9] = [
+    let cases: [(&Path, String, &str); 10] = [
         (&study, s(&study), "the current folder"),
         (&study, ".".into(), "not a folder name"),
         (&study, "../study".into(), "the current folder"),
         (&study, "./../study/".into(), "the current folder"),
+        // Through a folder that does not exist yet (made as a parent, then `..`).
+        (&study, "../fresh/../study".into(), "the current folder"),
         (&study, s(&dir.join("link")), "the current folder"),
         (&study, s(&dir), "the current folder"),
         (&elsewhere, s(&study), "the scenario's folder"),

@@ -123,9 +123,18 @@ impl StagedDir {
             what: what.to_string(),
             source,
         };
+        // The last component as written: `Path::file_name` skips a trailing `.` (`out/.`
+        // would name `out`, the folder of every result).
+        let written = target.to_string_lossy();
+        let last = written
+            .trim_end_matches('/')
+            .rsplit('/')
+            .next()
+            .unwrap_or("");
         let name = target
             .file_name()
             .filter(|n| !n.is_empty() && *n != "." && *n != "..")
+            .filter(|_| last != "." && last != "..")
             .ok_or_else(|| {
                 io(
                     "not a folder name",
@@ -137,23 +146,23 @@ impl StagedDir {
             })?
             .to_string_lossy()
             .into_owned();
-        // The folder that would be replaced, canonical (None: nothing there yet).
-        let existing = match std::fs::symlink_metadata(target) {
-            Err(_) => None,
-            Ok(link) => match std::fs::metadata(target) {
+        // The folder that would be replaced, canonical, checked (None: nothing there yet).
+        let check = |path: &Path| -> Result<Option<PathBuf>, StagingError> {
+            let Ok(link) = std::fs::symlink_metadata(path) else {
+                return Ok(None);
+            };
+            let real = match std::fs::metadata(path) {
                 Err(_) if link.file_type().is_symlink() => {
-                    let to = std::fs::read_link(target).unwrap_or_default();
+                    let to = std::fs::read_link(path).unwrap_or_default();
                     return Err(StagingError::DanglingLink(target.to_path_buf(), to));
                 }
                 Err(e) => return Err(io("cannot read it", e)),
                 Ok(m) if !m.is_dir() => return Err(StagingError::NotAFolder(target.to_path_buf())),
-                Ok(_) => Some(std::fs::canonicalize(target).map_err(|e| io("cannot read it", e))?),
-            },
-        };
-        if let Some(real) = &existing {
+                Ok(_) => std::fs::canonicalize(path).map_err(|e| io("cannot read it", e))?,
+            };
             if let Some((what, holds)) = protected(inputs)
                 .into_iter()
-                .find(|(_, p)| p.starts_with(real))
+                .find(|(_, p)| p.starts_with(&real))
             {
                 return Err(StagingError::Protected {
                     path: target.to_path_buf(),
@@ -161,9 +170,16 @@ impl StagedDir {
                     holds,
                 });
             }
-            if !force && !replaceable(real).map_err(|e| io("cannot read it", e))? {
+            if !force && !replaceable(&real).map_err(|e| io("cannot read it", e))? {
                 return Err(StagingError::Foreign(target.to_path_buf()));
             }
+            Ok(Some(real))
+        };
+        let existing = check(target)?;
+        if existing.is_none() {
+            // A path through a folder that does not exist (`new/../study`) names an existing
+            // one once its parents are made: checked before anything is made.
+            check(&lexical(target))?;
         }
         let parent = match target.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -189,9 +205,13 @@ impl StagedDir {
         // Where the folder is: through every symbolic link (of the target or its parents).
         let real = match existing {
             Some(real) => real,
-            None => std::fs::canonicalize(&parent)
-                .map_err(|e| io("cannot read its parent folder", e))?
-                .join(&name),
+            None => {
+                let real = std::fs::canonicalize(&parent)
+                    .map_err(|e| io("cannot read its parent folder", e))?
+                    .join(&name);
+                // Once the parents are made (links among them), checked again.
+                check(&real)?.unwrap_or(real)
+            }
         };
         let (parent, name) = match (real.parent(), real.file_name()) {
             (Some(p), Some(n)) => (p.to_path_buf(), n.to_string_lossy().into_owned()),
@@ -279,6 +299,30 @@ impl Drop for StagedDir {
             let _ = std::fs::remove_dir_all(&self.staging);
         }
     }
+}
+
+/// `path` from its deepest existing ancestor (canonicalized) on, its `.` and `..` resolved
+/// as written: the folder it names once its missing parents are made.
+fn lexical(path: &Path) -> PathBuf {
+    let absolute = std::env::current_dir()
+        .map(|d| d.join(path))
+        .unwrap_or_else(|_| path.to_path_buf());
+    let base = absolute
+        .ancestors()
+        .find(|a| a.exists())
+        .unwrap_or(Path::new("/"));
+    let mut out = std::fs::canonicalize(base).unwrap_or_else(|_| base.to_path_buf());
+    let rest = absolute.strip_prefix(base).unwrap_or(Path::new(""));
+    for c in rest.components() {
+        match c {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::Normal(n) => out.push(n),
+            _ => {}
+        }
+    }
+    out
 }
 
 /// The folders never replaced, canonical, with what they are: the current folder, the
@@ -440,6 +484,16 @@ mod tests {
         let cwd = std::env::current_dir().unwrap();
         let e = StagedDir::begin(&cwd, true).unwrap_err();
         assert!(e.to_string().contains("the current folder"), "{e}");
+        // Through a folder that does not exist yet: the path names `study` once made.
+        let through = d.join("work").join("new").join("..").join("study");
+        let e = StagedDir::begin_keeping(&through, true, &[&scenario]).unwrap_err();
+        assert!(e.to_string().contains("the scenario's folder"), "{e}");
+        assert_eq!(entries(&inner), ["s.toml"]);
+        // `work/.` is `work` to Path::file_name: refused as no folder name.
+        for dot in [d.join("work").join("."), d.join("work").join("./")] {
+            let e = StagedDir::begin(&dot, true).unwrap_err();
+            assert!(e.to_string().contains("not a folder name"), "{e}");
+        }
         // A folder beside the input is fine.
         StagedDir::begin_keeping(&d.join("work").join("out"), false, &[&scenario])
             .unwrap()

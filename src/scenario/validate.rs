@@ -49,12 +49,14 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         sweep,
     } = raw;
     let name = match name {
-        Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) => n,
+        Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) && n != "." && n != ".." => {
+            n
+        }
         Some(n) => {
             return Err(cx.invalid(
                 "name",
                 format!("\"{n}\""),
-                "must be a non-empty name without slashes",
+                "must be a non-empty name without slashes, not \".\" or \"..\" (it names the output folder out/<name>)",
             ))
         }
         None => path
