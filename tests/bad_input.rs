@@ -107,6 +107,12 @@ bar_refused!(
     ["`kind` = \"bar\\nimpact\"", "allowed"]
 );
 bar_refused!(
+    no_elements_anywhere,
+    "elements = 8",
+    "",
+    ["missing `bar.elements`", "or runs[0].elements"]
+);
+bar_refused!(
     name_dot,
     "kind =",
     "name = \".\"\nkind =",

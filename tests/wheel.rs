@@ -300,15 +300,19 @@ fn bad_wheel_inputs_give_clear_errors() {
         e.contains("time.coriolis") && e.contains("\"implicit\"") && e.contains("\"extrapolated\""),
         "{e}"
     );
+    // A classic integrator (without the space-time scheme's alpha and gamma, and with a
+    // treatment it runs with): the Coriolis treatment is the space-time scheme's.
     let e = cli_error(
-        "coriolis_newmark",
-        &t.replace(
-            "h = 2e-6",
-            "h = 2e-6\nintegrator = \"newmark\"\ncoriolis = \"extrapolated\"",
-        ),
+        "coriolis_hht",
+        &t.replace("alpha = 0.8\ngamma = 0.2\n", "")
+            .replace(
+                "h = 2e-6",
+                "h = 2e-6\nintegrator = \"hht\"\ncoriolis = \"extrapolated\"",
+            )
+            .replace("method = \"soft_way\"", "method = \"exact\""),
     );
     assert!(
-        e.contains("time.coriolis") && e.contains("space_time"),
+        e.contains("`time.coriolis`") && e.contains("space-time") && e.contains("\"hht\""),
         "{e}"
     );
     let e = cli_error("omega", &t.replace("omega = 300.0", "omega = -300.0"));
