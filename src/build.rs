@@ -398,12 +398,19 @@ mod tests {
     use super::*;
     use std::path::Path;
 
+    /// The bar with `time.h = 0.1` unless `integrator_and_step` sets a `cfl` (a step
+    /// setting that no run uses is refused).
     fn bar(integrator_and_step: &str, contact: &str) -> String {
+        let h = if integrator_and_step.contains("cfl") {
+            ""
+        } else {
+            "h = 0.1"
+        };
         format!(
             r#"
 kind = "bar_impact"
 [time]
-h = 0.1
+{h}
 t_end = 4.0
 {integrator_and_step}
 [bar]
@@ -522,7 +529,9 @@ mass = "lumped"
 
     #[test]
     fn labels_default_to_the_resolved_step() {
+        // Both runs set their own step: no time.h.
         let text = bar("integrator = \"central_difference\"", "method = \"exact\"")
+            .replace("h = 0.1\n", "")
             + "[[runs]]\ncfl = 0.5\n[[runs]]\nh = 0.01\nlabel = \"given\"\n";
         let built = resolve(&validated(&text)).unwrap();
         let h0 = built.runs[0].params.h;

@@ -84,7 +84,7 @@
 //! | where do discrete elements join bodies (an axle on springs, a sleeper's mass)? | `src/bodies.rs` (`Joints`, `assemble_with`); the elements in `src/element/discrete.rs`; `tests/joints.rs` |
 //! | where is a rigid base or obstacle as a body of the search? | `src/bodies.rs` (`Body::rigid`); `tests/on_block.rs` compares it with the rotating base |
 //! | where is the track (rail on pads, sleepers, ballast), its receptance and a moving load? | `src/track/` (`TrackSpec`, `receptance.rs`, `hertz.rs`, `moving.rs`); `tests/track.rs` |
-//! | where is the command line? | `src/cli.rs` (`src/main.rs` only calls it) |
+//! | where is the command line? | `src/cli/` (`mod.rs`: parsing and the runs' subcommands; `analysis.rs`: modes, receptance, matrix, stability; `src/main.rs` only calls it) |
 //! | what stops a run that blows up? | `src/guard.rs` (the energy bound), checked in `Simulation::run` |
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
 //! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies.rs`; `tests/on_rail.rs` |

@@ -564,7 +564,7 @@ impl WheelModel {
 }
 
 /// The nodes held by the support: the centre node, or every node within the hub radius.
-fn held_nodes(mesh: &Mesh, spec: &WheelSpec) -> Result<Vec<usize>, WheelError> {
+pub(crate) fn held_nodes(mesh: &Mesh, spec: &WheelSpec) -> Result<Vec<usize>, WheelError> {
     match spec.support {
         Support::CentrePinned => {
             let c = (0..mesh.n_nodes())

@@ -97,7 +97,7 @@ bar_refused!(
     missing_bar_table,
     "[bar]",
     "[two_bars]",
-    ["missing `bar`", "needs a [bar] table"]
+    ["`two_bars`", "not by kind = \"bar_impact\"", "reads [bar]"]
 );
 bar_refused!(missing_t_end, "t_end = 1.0", "", ["time.t_end", "end time"]);
 bar_refused!(
@@ -105,6 +105,18 @@ bar_refused!(
     "\"bar_impact\"",
     "\"bar\\nimpact\"",
     ["`kind` = \"bar\\nimpact\"", "allowed"]
+);
+bar_refused!(
+    no_elements_anywhere,
+    "elements = 8",
+    "",
+    ["missing `bar.elements`", "or runs[0].elements"]
+);
+bar_refused!(
+    name_dot,
+    "kind =",
+    "name = \".\"\nkind =",
+    ["`name` = \".\"", "not \".\" or \"..\""]
 );
 bar_refused!(
     name_with_a_slash,
@@ -173,7 +185,7 @@ bar_refused!(
     step_longer_than_the_run,
     "h = 0.1",
     "h = 2.0",
-    ["`runs[0].h` = 2", "must not exceed time.t_end"]
+    ["`time.h` = 2", "must not exceed time.t_end"]
 );
 bar_refused!(
     zero_history_stride,
@@ -624,6 +636,293 @@ refused!(
     ["`runs[0].elements` = 4", "only bar scenarios"]
 );
 
+// ---------------------------------------------------------------- scenario: every key used
+
+/// The shipped `scenarios/<name>.toml`.
+fn shipped_text(name: &str) -> String {
+    std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenarios")
+            .join(format!("{name}.toml")),
+    )
+    .unwrap()
+}
+
+/// The bar without `time.alpha` (for the classic integrators, which do not use it).
+fn bar_classic(integrator: &str) -> String {
+    BAR.replace("alpha = 0.8\n", &format!("integrator = \"{integrator}\"\n"))
+        + "[contact]\nmethod = \"exact\"\n"
+}
+
+const ROLLING: &str =
+    "[rolling]\nomega = 300.0\nflattening = 1e-3\nsettle_time = 5e-3\nturns = 1\n";
+
+refused!(
+    bar_table_in_a_wheel,
+    format!(
+        "{}\n[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n",
+        wheel_text()
+    ),
+    [
+        "`bar` = (a table)",
+        "read by kind = \"bar_impact\" only, not by kind = \"wheel\"",
+        "remove [bar]"
+    ]
+);
+refused!(
+    two_bars_table_in_a_wheel,
+    format!("{}\n[two_bars]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n", wheel_text()),
+    ["`two_bars`", "not by kind = \"wheel\""]
+);
+refused!(
+    rolling_table_in_a_bar,
+    format!("{BAR}{ROLLING}"),
+    [
+        "`rolling`",
+        "read by kind = \"wheel\" only, not by kind = \"bar_impact\""
+    ]
+);
+refused!(
+    material_table_in_a_bar,
+    format!("{BAR}[material]\nyoung = 2.05e11\npoisson = 0.3\ndensity = 7830.0\n"),
+    ["`material`", "not by kind = \"bar_impact\""]
+);
+refused!(
+    contact_table_in_an_oscillator,
+    shipped_text("sdof") + "[contact]\nmethod = \"exact\"\n",
+    [
+        "`contact`",
+        "not by kind = \"sdof\"",
+        "the oscillator has no contact"
+    ]
+);
+refused!(
+    runs_method_in_an_oscillator,
+    shipped_text("sdof").replace(
+        "label = \"h = 0.1, gamma 0\"",
+        "label = \"h = 0.1, gamma 0\"\nmethod = \"exact\""
+    ),
+    [
+        "`runs[1].method` = \"exact\"",
+        "the oscillator has no contact"
+    ]
+);
+refused!(
+    penalty_with_the_soft_way,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\npenalty = 1e9"
+    ),
+    [
+        "`contact.penalty` = 1000000000",
+        "the stiffness of method = \"penalty\"",
+        "not used by method = \"soft_way\""
+    ]
+);
+refused!(
+    restitution_with_the_default_soft_way,
+    format!("{BAR}[contact]\nrestitution = 0.5\n"),
+    [
+        "`contact.restitution` = 0.5",
+        "not used by method = \"soft_way\""
+    ]
+);
+refused!(
+    runs_penalty_with_exact,
+    format!("{BAR}[[runs]]\nmethod = \"exact\"\npenalty = 1e4\n"),
+    [
+        "`runs[0].penalty` = 10000",
+        "not used by method = \"exact\""
+    ]
+);
+refused!(
+    a_second_run_in_a_wheel,
+    format!(
+        "{}\n[[runs]]\nlabel = \"a\"\n[[runs]]\nlabel = \"b\"\n",
+        wheel_text()
+    ),
+    ["`runs[1]`", "a wheel scenario runs one run", "sweep --set"]
+);
+refused!(
+    alpha_with_newmark,
+    bar_classic("newmark").replace("h = 0.1", "h = 0.1\nalpha = 0.8"),
+    [
+        "`time.alpha` = 0.8",
+        "alpha of the space-time scheme",
+        "not used by integrator = \"newmark\""
+    ]
+);
+refused!(
+    gamma_with_hht,
+    bar_classic("hht").replace("h = 0.1", "h = 0.1\ngamma = 0.2"),
+    ["`time.gamma` = 0.2", "not used by integrator = \"hht\""]
+);
+refused!(
+    runs_alpha_with_generalized_alpha,
+    format!(
+        "{}[[runs]]\nalpha = 0.5\n",
+        bar_classic("generalized_alpha")
+    ),
+    [
+        "`runs[0].alpha` = 0.5",
+        "not used by integrator = \"generalized_alpha\""
+    ]
+);
+refused!(
+    gamma_n_with_newmark,
+    bar_classic("newmark").replace("h = 0.1", "h = 0.1\ngamma_n = 0.6"),
+    [
+        "`time.gamma_n` = 0.6",
+        "not used by integrator = \"newmark\""
+    ]
+);
+refused!(
+    coriolis_on_a_bar,
+    BAR.replace("h = 0.1", "h = 0.1\ncoriolis = \"extrapolated\""),
+    [
+        "`time.coriolis` = \"extrapolated\"",
+        "only a rotating wheel"
+    ]
+);
+refused!(
+    coriolis_on_a_wheel_without_its_rotating_frame,
+    wheel_text()
+        .replace("h = 2e-6", "h = 2e-6\ncoriolis = \"extrapolated\"")
+        .replace("[wheel]", "[wheel]\nrotating_frame = false"),
+    ["`time.coriolis`", "wheel.rotating_frame = false"]
+);
+refused!(
+    step_that_every_run_overrides,
+    format!("{BAR}[[runs]]\nh = 0.05\n[[runs]]\nh = 0.02\n"),
+    ["`time.h` = 0.1", "every [[runs]] entry sets its own h"]
+);
+refused!(
+    elements_that_every_run_overrides,
+    format!("{BAR}[[runs]]\nelements = 4\n[[runs]]\nelements = 16\n"),
+    [
+        "`bar.elements` = 8",
+        "every [[runs]] entry sets its own elements"
+    ]
+);
+refused!(
+    step_beside_cfl,
+    bar_classic("central_difference").replace("h = 0.1", "h = 0.1\ncfl = 0.5"),
+    ["`time.h` = 0.1", "the step is set by time.cfl"]
+);
+refused!(
+    runs_step_beside_its_cfl,
+    format!(
+        "{}[[runs]]\nh = 0.05\ncfl = 0.5\n",
+        bar_classic("central_difference").replace("h = 0.1\n", "")
+    ),
+    ["`runs[0].h` = 0.05", "the step is set by runs[0].cfl"]
+);
+refused!(
+    consistent_mass_with_the_central_difference,
+    bar_classic("central_difference")
+        .replace("elements = 8", "elements = 8\nmass = \"consistent\""),
+    ["`bar.mass` = \"consistent\"", "lumped mass"]
+);
+refused!(
+    stress_stiffening_without_the_rotating_frame,
+    wheel_text().replace(
+        "[wheel]",
+        "[wheel]\nrotating_frame = false\nstress_stiffening = true"
+    ),
+    [
+        "`wheel.stress_stiffening` = true",
+        "wheel.rotating_frame = false"
+    ]
+);
+refused!(
+    grading_with_a_refined_zone,
+    shipped_text("wheel-zone").replace("rim_nodes = 144", "rim_nodes = 144\ngrading = 1.2"),
+    [
+        "`wheel.grading` = 1.2",
+        "not used by the refined zone's mesh"
+    ]
+);
+refused!(
+    settle_gamma_without_settling,
+    wheel_text().replace(
+        "settle_time = 5e-3",
+        "settle_time = 0.0\nsettle_gamma = 0.5"
+    ),
+    ["`rolling.settle_gamma` = 0.5", "rolling.settle_time = 0"]
+);
+refused!(
+    settle_gamma_with_a_classic_integrator,
+    wheel_text()
+        .replace("alpha = 0.8\ngamma = 0.2\n", "integrator = \"hht\"\n")
+        .replace("method = \"soft_way\"", "method = \"exact\"")
+        .replace(
+            "settle_time = 5e-3",
+            "settle_time = 5e-3\nsettle_gamma = 0.5"
+        ),
+    ["`rolling.settle_gamma` = 0.5", "classic integrator"]
+);
+refused!(
+    fields_per_turn_on_a_block,
+    block_text().replace("turns = 0.5", "turns = 0.5\nfields_per_turn = 4"),
+    ["`rolling.fields_per_turn` = 4", "[block]"]
+);
+refused!(
+    tangential_stiffness_without_friction,
+    wheel_text().replace(
+        "method = \"soft_way\"",
+        "method = \"soft_way\"\nfriction = 0.0\ntangential_stiffness = 1e9"
+    ),
+    ["`contact.tangential_stiffness`", "contact.friction = 0"]
+);
+refused!(
+    trapezoidal_newmark_with_exact_contact_on_the_wheel,
+    wheel_text()
+        .replace("alpha = 0.8\ngamma = 0.2\n", "integrator = \"newmark\"\n")
+        .replace("method = \"soft_way\"", "method = \"exact\""),
+    [
+        "`time.integrator` = \"newmark\"",
+        "period-2h mode undamped",
+        "newmark_dissipative"
+    ]
+);
+
+/// `sweep --set KEY=...` of a key every `[[runs]]` entry overrides (every point would be the
+/// same), and `converge` likewise: refused before anything is written.
+#[test]
+fn sweep_of_a_key_every_run_overrides() {
+    let text = format!(
+        "{}[[runs]]\nh = 0.05\nelements = 8\n[[runs]]\nh = 0.02\nelements = 16\n",
+        BAR.replace("h = 0.1\n", "").replace("elements = 8\n", "")
+    );
+    let p = scenario("sweep_shadowed", &text);
+    let out = p.with_extension("out");
+    for (command, set, must) in [
+        ("sweep", "time.h=0.1,0.2", "`time.h` = 0.1"),
+        ("converge", "bar.elements=4,8,16", "`bar.elements` = 4"),
+    ] {
+        let key = set.split('=').next().unwrap();
+        cli_refused(
+            &[
+                command,
+                p.to_str().unwrap(),
+                "--set",
+                set,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &[
+                "sweep_shadowed.toml",
+                must,
+                &format!(
+                    "every [[runs]] entry sets its own {}",
+                    &key[key.find('.').unwrap() + 1..]
+                ),
+            ],
+        );
+        assert_nothing_written(&out);
+    }
+}
+
 // ---------------------------------------------------------------- scenario: files
 
 #[test]
@@ -1070,6 +1369,86 @@ mesh_refused!(
     ["invalid Gmsh MSH 4.1 file"]
 );
 
+// Meshes that lie (issue 33): each would run to exit 0 with a wrong answer.
+
+mesh_refused!(
+    mesh_every_triangle_twice,
+    ascii(&disk_with(|d| {
+        let again = d.tris.clone();
+        d.tris.extend(again);
+    })),
+    ["triangles 20 and 74 have the same nodes", "listed twice"]
+);
+mesh_refused!(
+    mesh_overlapping_triangles,
+    ascii(&disk_with(|d| {
+        // A node inside the first triangle and a triangle on its first edge: the two cover
+        // the same area.
+        let t = d.tris[0];
+        let (a, b, c) = (d.xy(t[0]), d.xy(t[1]), d.xy(t[2]));
+        d.nodes.push((
+            100,
+            [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0],
+        ));
+        d.tris.push([t[0], t[1], 100]);
+    })),
+    ["triangles 20 and 74 overlap", "same side of their edge"]
+);
+mesh_refused!(
+    mesh_disk_and_a_separate_annulus,
+    ascii(&disk_with(|d| {
+        // The annulus: the disk without its centre's triangles; the disk: the centre and six
+        // new nodes at 1 cm. Only the centre is pinned.
+        let c = d.centre;
+        d.tris.retain(|t| !t.contains(&c));
+        for k in 0..6u64 {
+            let a = std::f64::consts::PI / 3.0 * k as f64;
+            d.nodes.push((100 + k, [0.01 * a.cos(), 0.01 * a.sin()]));
+        }
+        for k in 0..6u64 {
+            d.tris.push([c, 100 + k, 100 + (k + 1) % 6]);
+        }
+    })),
+    [
+        "in 2 parts",
+        "36 nodes (node 2 among them) has no path to the support",
+        "the pinned centre, node 1"
+    ]
+);
+mesh_refused!(
+    mesh_not_planar,
+    {
+        let d = disk();
+        let p = d.xy(5);
+        ascii(&d).replace_first(
+            format!("\n{} {} 0\n", p[0], p[1]).as_bytes(),
+            format!("\n{} {} 0.004\n", p[0], p[1]).as_bytes(),
+        )
+    },
+    ["node 5 is at z = 4e-3", "plane z = 0"]
+);
+
+/// Round-off in z (1e-12 of the radius) is no reason to refuse a mesh.
+#[test]
+fn mesh_with_round_off_in_z_runs() {
+    let d = disk();
+    let p = d.xy(5);
+    let bytes = ascii(&d).replace_first(
+        format!("\n{} {} 0\n", p[0], p[1]).as_bytes(),
+        format!("\n{} {} 1e-13\n", p[0], p[1]).as_bytes(),
+    );
+    let (_dir, p) = wheel_on_mesh("round_off_z", &bytes);
+    let out = p.with_extension("out");
+    let o = cli([
+        "run".as_ref(),
+        p.as_os_str(),
+        "--quiet".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+}
+
 /// Non-contiguous node tags (every tag times 7, plus 3) are fine: the run goes through.
 #[test]
 fn mesh_with_non_contiguous_tags_runs() {
@@ -1280,6 +1659,116 @@ fn older_results_are_never_mixed_with_new_ones() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert!(names.iter().all(|n| !n.contains("softway-")), "{names:?}");
+}
+
+/// `softway run SCENARIO --out OUT --force --quiet` in the folder `cwd` with `HOME` set to
+/// `home`.
+fn run_in(cwd: &Path, home: &Path, scenario: &Path, out: &str) -> common::Outcome {
+    let o = common::softway()
+        .current_dir(cwd)
+        .env("HOME", home)
+        .arg("run")
+        .arg(scenario)
+        .args(["--out", out, "--force", "--quiet"])
+        .output()
+        .unwrap();
+    common::Outcome {
+        code: o.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&o.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&o.stderr).into_owned(),
+    }
+}
+
+/// The names in `dir`, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// `--out` never replaces the current folder, the home folder, the scenario's folder or a
+/// parent of one, `--force` or not, however the path is written (absolute, relative, with
+/// `..`, through a link): exit 2, one line, nothing written or removed.
+#[test]
+fn out_never_replaces_the_current_home_or_scenario_folder() {
+    let dir = fresh_dir("cli", "out_protected");
+    let study = dir.join("study");
+    let (home, elsewhere) = (dir.join("home"), dir.join("elsewhere"));
+    for d in [&study, &home, &elsewhere] {
+        std::fs::create_dir_all(d).unwrap();
+    }
+    let sc = study.join("s.toml");
+    std::fs::write(&sc, BAR).unwrap();
+    std::fs::write(study.join("thesis.tex"), "keep me").unwrap();
+    std::os::unix::fs::symlink(&study, dir.join("link")).unwrap();
+    let s = |p: &Path| p.to_str().unwrap().to_string();
+    let cases: [(&Path, String, &str); 10] = [
+        (&study, s(&study), "the current folder"),
+        (&study, ".".into(), "not a folder name"),
+        (&study, "../study".into(), "the current folder"),
+        (&study, "./../study/".into(), "the current folder"),
+        // Through a folder that does not exist yet (made as a parent, then `..`).
+        (&study, "../fresh/../study".into(), "the current folder"),
+        (&study, s(&dir.join("link")), "the current folder"),
+        (&study, s(&dir), "the current folder"),
+        (&elsewhere, s(&study), "the scenario's folder"),
+        (&elsewhere, "../link".into(), "the scenario's folder"),
+        (&elsewhere, s(&home), "the home folder"),
+    ];
+    for (cwd, out, must) in cases {
+        let o = run_in(cwd, &home, &sc, &out);
+        assert_one_line_error(o.code, &o.stderr, &[&format!("--out {out}"), must]);
+        assert!(o.stdout.is_empty(), "{}", o.stdout);
+    }
+    assert_eq!(names(&study), ["s.toml", "thesis.tex"]);
+    assert_eq!(names(&dir), ["elsewhere", "home", "link", "study"]);
+    assert!(names(&home).is_empty() && names(&elsewhere).is_empty());
+    // A new folder beside the scenario is fine.
+    let o = run_in(&study, &home, &sc, "results");
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert_eq!(names(&study), ["results", "s.toml", "thesis.tex"]);
+}
+
+/// `--out LINK`, a link to an output folder: the folder it points to is replaced (no stale
+/// file left there), the link stays a link; a link to nothing is refused.
+#[test]
+fn out_through_a_link_replaces_the_folder_it_points_to() {
+    let p = scenario("out_link", BAR);
+    let dir = p.parent().unwrap();
+    let results = dir.join("results");
+    let run = |out: &Path| {
+        cli([
+            "run".as_ref(),
+            p.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--quiet".as_ref(),
+        ])
+    };
+    assert_eq!(run(&results).code, 0);
+    std::fs::write(results.join("stale.csv"), "old").unwrap();
+    let link = dir.join("latest");
+    std::os::unix::fs::symlink("results", &link).unwrap();
+    let o = run(&link);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(results.join("summary.json").exists() && !results.join("stale.csv").exists());
+    assert_eq!(names(dir), ["latest", "out_link.toml", "results"]);
+    let dangling = dir.join("dangling");
+    std::os::unix::fs::symlink("nowhere", &dangling).unwrap();
+    let o = run(&dangling);
+    assert_one_line_error(o.code, &o.stderr, &["dangling", "symbolic link to nowhere"]);
+    assert!(!dir.join("nowhere").exists());
+    assert_eq!(
+        names(dir),
+        ["dangling", "latest", "out_link.toml", "results"]
+    );
 }
 
 #[test]

@@ -110,6 +110,25 @@ fn stability_json_reports_the_limits() {
     assert!((j["rho_inf"].as_f64().unwrap() - 1.0).abs() < 1e-9);
 }
 
+/// `stability` on a full disk (`> /dev/full`): the result could not be written, so exit 2
+/// with one line, never an empty file and exit 0; the table likewise.
+#[test]
+fn stability_on_a_full_disk_fails() {
+    for args in [&["stability", "--json"][..], &["stability"][..]] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let o = softway().args(args).stdout(full).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_one_line_error(
+            o.status.code().unwrap_or(-1),
+            &err,
+            &["standard output", "No space left on device"],
+        );
+    }
+}
+
 /// `--spin-h`: the two treatments of the Coriolis term side by side, the extrapolated one's
 /// spectral radius no larger than the exact scheme's (or 1) anywhere on the ladder.
 #[test]
@@ -195,6 +214,7 @@ fn combinations_that_do_not_exist_are_refused() {
         &format!(
             "{}\n[contact]\nmethod = \"exact\"\n",
             BAR.replace("[time]", "[time]\nintegrator = \"newmark\"\nrho_inf = 0.5")
+                .replace("alpha = 0.8\n", "")
         ),
     );
     assert_one_line_error(
@@ -262,6 +282,8 @@ fn cfl_is_resolved_before_the_run() {
             "[time]",
             "[time]\nintegrator = \"central_difference\"\ncfl = 0.5",
         )
+        .replace("h = 0.1\n", "")
+        .replace("alpha = 0.8\n", "")
         .replace(
             "elements = 8",
             "elements = 8\n[contact]\nmethod = \"exact\"",

@@ -2,6 +2,8 @@
 //! a pinned spinning wheel, serial against parallel assembly, a short rolling run's
 //! invariants, and bad input through the CLI.
 
+mod common;
+
 use softway::assembly::Assembler;
 use softway::contact::obstacle::Flattening;
 use softway::contact::Treatment;
@@ -298,15 +300,19 @@ fn bad_wheel_inputs_give_clear_errors() {
         e.contains("time.coriolis") && e.contains("\"implicit\"") && e.contains("\"extrapolated\""),
         "{e}"
     );
+    // A classic integrator (without the space-time scheme's alpha and gamma, and with a
+    // treatment it runs with): the Coriolis treatment is the space-time scheme's.
     let e = cli_error(
-        "coriolis_newmark",
-        &t.replace(
-            "h = 2e-6",
-            "h = 2e-6\nintegrator = \"newmark\"\ncoriolis = \"extrapolated\"",
-        ),
+        "coriolis_hht",
+        &t.replace("alpha = 0.8\ngamma = 0.2\n", "")
+            .replace(
+                "h = 2e-6",
+                "h = 2e-6\nintegrator = \"hht\"\ncoriolis = \"extrapolated\"",
+            )
+            .replace("method = \"soft_way\"", "method = \"exact\""),
     );
     assert!(
-        e.contains("time.coriolis") && e.contains("space_time"),
+        e.contains("`time.coriolis`") && e.contains("space-time") && e.contains("\"hht\""),
         "{e}"
     );
     let e = cli_error("omega", &t.replace("omega = 300.0", "omega = -300.0"));
@@ -471,4 +477,47 @@ fn a_node_passing_resonance_is_announced() {
     );
     assert!(!stderr[1].contains("bounce"), "{}", stderr[1]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The integrator x treatment lab on the paper's wheel (1 turn): exact contact under the
+/// damped classic integrators gives the soft way's mean force within 10% (the trapezoidal
+/// Newmark with exact contact blew up to 55 MN and is refused, naming the integrator and the
+/// mode; `scenario::combinations`).
+#[test]
+fn exact_contact_on_the_rolling_wheel_is_sane_or_refused() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel-paper-mesh.toml");
+    let soft = wheel_text().replace("turns = 5", "turns = 1");
+    assert_ne!(soft, wheel_text());
+    let classic = |integrator: &str| {
+        let t = soft
+            .replace(
+                "alpha = 0.8\ngamma = 0.2\n",
+                &format!("integrator = \"{integrator}\"\n"),
+            )
+            .replace("method = \"soft_way\"", "method = \"exact\"");
+        assert_ne!(t, soft);
+        t
+    };
+    let mean = |text: &str, name: &str| {
+        let (_dir, s) = common::run_in_process(&path, text, name);
+        assert_eq!(s["interrupted"], false);
+        s["mean_contact_force"].as_f64().unwrap()
+    };
+    let f_soft = mean(&soft, "lab-soft-way");
+    assert!(f_soft > 6e5 && f_soft < 7.5e5, "{f_soft}");
+    for integrator in ["newmark_dissipative", "hht", "generalized_alpha"] {
+        let f = mean(&classic(integrator), &format!("lab-{integrator}"));
+        assert!(
+            (f / f_soft - 1.0).abs() < 0.1,
+            "{integrator} with exact contact: mean force {f} N, the soft way's {f_soft} N"
+        );
+    }
+    let e = softway::scenario::Scenario::from_str(&classic("newmark"), &path)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("`time.integrator` = \"newmark\"") && e.contains("period-2h"),
+        "{e}"
+    );
 }

@@ -1,5 +1,5 @@
 //! Gmsh bytes (ASCII or binary MSH) -> a triangle mesh or an error; never a panic. A mesh
-//! that reads also goes through the wheel's disk check.
+//! that reads also goes through the wheel's disk and support checks.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -15,6 +15,13 @@ fuzz_target!(|data: &[u8]| {
                 assert!(mesh.cell_nodes(e).iter().all(|&i| i < n));
             }
             if let Err(m) = softway::run::wheel::check_disk(&mesh, &tags, 1.0) {
+                assert!(!m.contains('\n'), "multi-line message: {m}");
+            }
+            let spec = softway::wheel::WheelSpec {
+                radius: 1.0,
+                ..softway::wheel::WheelSpec::paper()
+            };
+            if let Err(m) = softway::run::wheel::check_supported(&mesh, &tags, &spec) {
                 assert!(!m.contains('\n'), "multi-line message: {m}");
             }
         }

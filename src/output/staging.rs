@@ -11,6 +11,15 @@
 //! replaced only if it holds the marker (or is empty): a folder of other files is refused
 //! unless the caller passes `force` (the command line's `--force`), so that a mistyped
 //! `--out` cannot wipe a folder of the user's own.
+//!
+//! Some folders are never replaced, `force` or not ([`StagingError::Protected`]): the
+//! current folder, the home folder (`$HOME`), the folder of an input (the scenario file) and
+//! any folder holding one of them, however the path is written (absolute, relative, with
+//! `..`, through symbolic links: the paths are compared canonicalized).
+//!
+//! A target that is a symbolic link to a folder is written through: the folder it points to
+//! is the one replaced (by the same rules) and the link is kept, so the link shows the new
+//! results and no older results are left where it pointed. A link to nothing is refused.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -41,6 +50,28 @@ pub enum StagingError {
         .0.display()
     )]
     Foreign(PathBuf),
+    /// The target is, or holds, a folder never replaced (module docs).
+    #[error(
+        "--out {}: the folder is or holds {what} ({}); softway never replaces the current folder, \
+         the home folder, the scenario's folder or a folder holding one of them, even with \
+         --force: give a new folder",
+        .path.display(), .holds.display()
+    )]
+    Protected {
+        /// The output folder asked for.
+        path: PathBuf,
+        /// What it holds: `the current folder`, ...
+        what: &'static str,
+        /// That folder.
+        holds: PathBuf,
+    },
+    /// The target is a symbolic link to nothing.
+    #[error(
+        "--out {}: is a symbolic link to {}, which does not exist; create that folder, or \
+         give another --out",
+        .0.display(), .1.display()
+    )]
+    DanglingLink(PathBuf, PathBuf),
     /// A folder cannot be created, read, renamed or removed.
     #[error("--out {}: {what}: {source}", .path.display())]
     Io {
@@ -56,28 +87,54 @@ pub enum StagingError {
 /// A staging folder for an output folder; removed on drop unless committed.
 #[derive(Debug)]
 pub struct StagedDir {
+    /// The output folder as given (messages, [`StagedDir::final_path`]).
     target: PathBuf,
+    /// The folder replaced at the commit: `target` canonicalized (through a symbolic link).
+    real: PathBuf,
     staging: PathBuf,
     committed: bool,
 }
 
 impl StagedDir {
-    /// Checks `target` and creates a fresh staging folder beside it (its parent folders
-    /// are created as needed), with the [`MARKER`] file. Stale staging folders of dead
-    /// processes beside `target` are removed.
+    /// [`StagedDir::begin_keeping`] with no input to keep.
     ///
     /// # Errors
-    /// [`StagingError::NotAFolder`], [`StagingError::Foreign`] (unless `force`),
-    /// [`StagingError::Io`] when the folders cannot be created.
+    /// As [`StagedDir::begin_keeping`].
     pub fn begin(target: &Path, force: bool) -> Result<Self, StagingError> {
+        Self::begin_keeping(target, force, &[])
+    }
+
+    /// Checks `target` and creates a fresh staging folder beside it (its parent folders
+    /// are created as needed), with the [`MARKER`] file. Stale staging folders of dead
+    /// processes beside `target` are removed. `target` must not be, nor hold, the current
+    /// folder, the home folder or the folder of one of `inputs` (module docs).
+    ///
+    /// # Errors
+    /// [`StagingError::NotAFolder`], [`StagingError::Protected`],
+    /// [`StagingError::DanglingLink`], [`StagingError::Foreign`] (unless `force`),
+    /// [`StagingError::Io`] when the folders cannot be created.
+    pub fn begin_keeping(
+        target: &Path,
+        force: bool,
+        inputs: &[&Path],
+    ) -> Result<Self, StagingError> {
         let io = |what: &str, source: std::io::Error| StagingError::Io {
             path: target.to_path_buf(),
             what: what.to_string(),
             source,
         };
+        // The last component as written: `Path::file_name` skips a trailing `.` (`out/.`
+        // would name `out`, the folder of every result).
+        let written = target.to_string_lossy();
+        let last = written
+            .trim_end_matches('/')
+            .rsplit('/')
+            .next()
+            .unwrap_or("");
         let name = target
             .file_name()
             .filter(|n| !n.is_empty() && *n != "." && *n != "..")
+            .filter(|_| last != "." && last != "..")
             .ok_or_else(|| {
                 io(
                     "not a folder name",
@@ -89,12 +146,40 @@ impl StagedDir {
             })?
             .to_string_lossy()
             .into_owned();
-        match std::fs::metadata(target) {
-            Ok(m) if !m.is_dir() => return Err(StagingError::NotAFolder(target.to_path_buf())),
-            Ok(_) if !force && !replaceable(target).map_err(|e| io("cannot read it", e))? => {
-                return Err(StagingError::Foreign(target.to_path_buf()))
+        // The folder that would be replaced, canonical, checked (None: nothing there yet).
+        let check = |path: &Path| -> Result<Option<PathBuf>, StagingError> {
+            let Ok(link) = std::fs::symlink_metadata(path) else {
+                return Ok(None);
+            };
+            let real = match std::fs::metadata(path) {
+                Err(_) if link.file_type().is_symlink() => {
+                    let to = std::fs::read_link(path).unwrap_or_default();
+                    return Err(StagingError::DanglingLink(target.to_path_buf(), to));
+                }
+                Err(e) => return Err(io("cannot read it", e)),
+                Ok(m) if !m.is_dir() => return Err(StagingError::NotAFolder(target.to_path_buf())),
+                Ok(_) => std::fs::canonicalize(path).map_err(|e| io("cannot read it", e))?,
+            };
+            if let Some((what, holds)) = protected(inputs)
+                .into_iter()
+                .find(|(_, p)| p.starts_with(&real))
+            {
+                return Err(StagingError::Protected {
+                    path: target.to_path_buf(),
+                    what,
+                    holds,
+                });
             }
-            _ => {}
+            if !force && !replaceable(&real).map_err(|e| io("cannot read it", e))? {
+                return Err(StagingError::Foreign(target.to_path_buf()));
+            }
+            Ok(Some(real))
+        };
+        let existing = check(target)?;
+        if existing.is_none() {
+            // A path through a folder that does not exist (`new/../study`) names an existing
+            // one once its parents are made: checked before anything is made.
+            check(&lexical(target))?;
         }
         let parent = match target.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -117,6 +202,21 @@ impl StagedDir {
                 None => io("cannot create its parent folder", e),
             }
         })?;
+        // Where the folder is: through every symbolic link (of the target or its parents).
+        let real = match existing {
+            Some(real) => real,
+            None => {
+                let real = std::fs::canonicalize(&parent)
+                    .map_err(|e| io("cannot read its parent folder", e))?
+                    .join(&name);
+                // Once the parents are made (links among them), checked again.
+                check(&real)?.unwrap_or(real)
+            }
+        };
+        let (parent, name) = match (real.parent(), real.file_name()) {
+            (Some(p), Some(n)) => (p.to_path_buf(), n.to_string_lossy().into_owned()),
+            _ => (parent, name),
+        };
         remove_stale(&parent, &name);
         static SERIAL: AtomicU64 = AtomicU64::new(0);
         let staging = parent.join(format!(
@@ -127,6 +227,7 @@ impl StagedDir {
         std::fs::create_dir(&staging).map_err(|e| io("cannot create a folder beside it", e))?;
         let dir = StagedDir {
             target: target.to_path_buf(),
+            real,
             staging,
             committed: false,
         };
@@ -170,17 +271,17 @@ impl StagedDir {
                 })
                 .unwrap_or_default(),
         );
-        let had_old = match std::fs::symlink_metadata(&self.target) {
+        let had_old = match std::fs::symlink_metadata(&self.real) {
             Ok(_) => {
-                std::fs::rename(&self.target, &aside)
+                std::fs::rename(&self.real, &aside)
                     .map_err(|e| io("cannot move the older results aside", e))?;
                 true
             }
             Err(_) => false,
         };
-        if let Err(e) = std::fs::rename(&self.staging, &self.target) {
+        if let Err(e) = std::fs::rename(&self.staging, &self.real) {
             if had_old {
-                let _ = std::fs::rename(&aside, &self.target);
+                let _ = std::fs::rename(&aside, &self.real);
             }
             return Err(io("cannot move the new results into place", e));
         }
@@ -198,6 +299,55 @@ impl Drop for StagedDir {
             let _ = std::fs::remove_dir_all(&self.staging);
         }
     }
+}
+
+/// `path` from its deepest existing ancestor (canonicalized) on, its `.` and `..` resolved
+/// as written: the folder it names once its missing parents are made.
+fn lexical(path: &Path) -> PathBuf {
+    let absolute = std::env::current_dir()
+        .map(|d| d.join(path))
+        .unwrap_or_else(|_| path.to_path_buf());
+    let base = absolute
+        .ancestors()
+        .find(|a| a.exists())
+        .unwrap_or(Path::new("/"));
+    let mut out = std::fs::canonicalize(base).unwrap_or_else(|_| base.to_path_buf());
+    let rest = absolute.strip_prefix(base).unwrap_or(Path::new(""));
+    for c in rest.components() {
+        match c {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::Normal(n) => out.push(n),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The folders never replaced, canonical, with what they are: the current folder, the
+/// home folder and the folders of `inputs` (those that exist).
+fn protected(inputs: &[&Path]) -> Vec<(&'static str, PathBuf)> {
+    let mut v = Vec::new();
+    if let Ok(d) = std::env::current_dir().and_then(std::fs::canonicalize) {
+        v.push(("the current folder", d));
+    }
+    if let Some(h) = std::env::var_os("HOME").filter(|h| !h.is_empty()) {
+        if let Ok(h) = std::fs::canonicalize(h) {
+            v.push(("the home folder", h));
+        }
+    }
+    for input in inputs {
+        if let Ok(p) = std::fs::canonicalize(input) {
+            let folder = if p.is_dir() {
+                p
+            } else {
+                p.parent().map(Path::to_path_buf).unwrap_or(p)
+            };
+            v.push(("the scenario's folder", folder));
+        }
+    }
+    v
 }
 
 /// True when `dir` may be replaced without `--force`: empty, or written by softway.
@@ -306,6 +456,81 @@ mod tests {
         std::fs::write(&f, "x").unwrap();
         let e = StagedDir::begin(&f, true).unwrap_err();
         assert!(matches!(e, StagingError::NotAFolder(_)), "{e}");
+    }
+
+    /// A folder holding an input, the current folder or the home folder is never replaced,
+    /// `force` or not, however written; nothing is created or removed.
+    #[test]
+    fn a_folder_holding_an_input_is_never_replaced() {
+        let d = tmp("protected");
+        let inner = d.join("work").join("study");
+        std::fs::create_dir_all(&inner).unwrap();
+        let scenario = inner.join("s.toml");
+        std::fs::write(&scenario, "kind = \"sdof\"").unwrap();
+        for target in [
+            inner.clone(),
+            d.join("work"),
+            inner.join("..").join("study"),
+            d.join("work").join(".").join("study"),
+        ] {
+            for force in [false, true] {
+                let e = StagedDir::begin_keeping(&target, force, &[&scenario]).unwrap_err();
+                assert!(matches!(e, StagingError::Protected { .. }), "{e}");
+                assert!(e.to_string().contains("the scenario's folder"), "{e}");
+            }
+        }
+        assert_eq!(entries(&inner), ["s.toml"]);
+        assert_eq!(entries(&d.join("work")), ["study"]);
+        let cwd = std::env::current_dir().unwrap();
+        let e = StagedDir::begin(&cwd, true).unwrap_err();
+        assert!(e.to_string().contains("the current folder"), "{e}");
+        // Through a folder that does not exist yet: the path names `study` once made.
+        let through = d.join("work").join("new").join("..").join("study");
+        let e = StagedDir::begin_keeping(&through, true, &[&scenario]).unwrap_err();
+        assert!(e.to_string().contains("the scenario's folder"), "{e}");
+        assert_eq!(entries(&inner), ["s.toml"]);
+        // `work/.` is `work` to Path::file_name: refused as no folder name.
+        for dot in [d.join("work").join("."), d.join("work").join("./")] {
+            let e = StagedDir::begin(&dot, true).unwrap_err();
+            assert!(e.to_string().contains("not a folder name"), "{e}");
+        }
+        // A folder beside the input is fine.
+        StagedDir::begin_keeping(&d.join("work").join("out"), false, &[&scenario])
+            .unwrap()
+            .commit()
+            .unwrap();
+    }
+
+    /// A symbolic link to a softway folder is written through: the folder it points to is
+    /// replaced, the link kept. A link to nothing is refused.
+    #[cfg(unix)]
+    #[test]
+    fn a_link_to_an_output_folder_is_written_through() {
+        let d = tmp("link");
+        let results = d.join("results");
+        let s = StagedDir::begin(&results, false).unwrap();
+        std::fs::write(s.path().join("old.txt"), "old").unwrap();
+        s.commit().unwrap();
+        let link = d.join("latest");
+        std::os::unix::fs::symlink(&results, &link).unwrap();
+        let s = StagedDir::begin(&link, false).unwrap();
+        std::fs::write(s.path().join("new.txt"), "new").unwrap();
+        assert_eq!(
+            s.final_path(&s.path().join("new.txt")),
+            link.join("new.txt")
+        );
+        s.commit().unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(entries(&results), [MARKER, "new.txt"]);
+        assert_eq!(entries(&d), ["latest", "results"]);
+        let dangling = d.join("dangling");
+        std::os::unix::fs::symlink(d.join("nothing"), &dangling).unwrap();
+        let e = StagedDir::begin(&dangling, true).unwrap_err();
+        assert!(matches!(e, StagingError::DanglingLink(..)), "{e}");
+        assert!(!d.join("nothing").exists());
     }
 
     #[test]

@@ -36,7 +36,7 @@ use crate::mesh::Mesh;
 use crate::modes::{bounce_mode, Bounce};
 use crate::output::table::Columns;
 use crate::scenario::{MeshSource, Run, Scenario, WheelScenario};
-use crate::wheel::{Support, WheelModel};
+use crate::wheel::{Support, WheelModel, WheelSpec};
 use observers::{
     ContactForceStats, ContactForceSummary, ContactNodesWriter, EnergyWatch, HistoryWriter,
     Observer, Progress, Snapshots, Timeline, TurnAverage, TurnAverageFields, VelocitySnapshots,
@@ -178,7 +178,7 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
             },
         )
         .map_err(|e| RunError::input(sc_path, e))?,
-        MeshSource::Gmsh(p) => read_mesh_file(p, ws.spec.radius, sc_path)?,
+        MeshSource::Gmsh(p) => read_mesh_file(p, &ws.spec, sc_path)?,
         MeshSource::Zone(o) => {
             let z = disk_zone(o).map_err(|e| RunError::input(sc_path, e))?;
             let mut wm = WheelModel::new(z.mesh, ws.spec.clone())
@@ -191,19 +191,83 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
 }
 
 /// Reads the wheel's Gmsh mesh `p` (the scenario's `wheel.mesh`) and checks it is a disk
-/// of `radius` about the axle ([`check_disk`]).
+/// of the wheel's radius about the axle ([`check_disk`]) held by its support in every part
+/// ([`check_supported`]).
 ///
 /// # Errors
 /// [`RunError::Input`] naming the scenario `sc_path`, the key `wheel.mesh`, the mesh file
 /// and what is wrong.
-pub fn read_mesh_file(p: &Path, radius: f64, sc_path: &Path) -> Result<Mesh, RunError> {
+pub fn read_mesh_file(p: &Path, spec: &WheelSpec, sc_path: &Path) -> Result<Mesh, RunError> {
     let at_fault = |e: String| RunError::Input {
         path: sc_path.to_path_buf(),
         message: format!("`wheel.mesh` = \"{}\": {e}", p.display()),
     };
     let (mesh, tags) = read_msh_tagged(p).map_err(|e| at_fault(e.to_string()))?;
-    check_disk(&mesh, &tags, radius).map_err(at_fault)?;
+    check_disk(&mesh, &tags, spec.radius).map_err(at_fault)?;
+    check_supported(&mesh, &tags, spec).map_err(at_fault)?;
     Ok(mesh)
+}
+
+/// Checks that every part of the mesh (its triangles joined through shared nodes) holds a
+/// node of the wheel's support: a part with no path to the support would float free (a disk
+/// and a separate annulus run with the annulus carrying no load). `tags` are the nodes' Gmsh
+/// tags, for the message. A support that holds no node at all is left to
+/// [`WheelModel::new`].
+///
+/// # Errors
+/// A message naming the parts, a node of the loose part (Gmsh tag) and the support.
+pub fn check_supported(mesh: &Mesh, tags: &[u64], spec: &WheelSpec) -> Result<(), String> {
+    let crate::mesh::Cells::Tri3(tris) = &mesh.cells else {
+        return Ok(());
+    };
+    let Ok(held) = crate::wheel::held_nodes(mesh, spec) else {
+        return Ok(());
+    };
+    let n = mesh.n_nodes();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for t in tris {
+        for k in 1..3 {
+            let (a, b) = (root(&mut parent, t[0]), root(&mut parent, t[k]));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut supported = vec![false; n];
+    for &i in &held {
+        let r = root(&mut parent, i);
+        supported[r] = true;
+    }
+    let tag = |i: usize| tags.get(i).copied().unwrap_or(i as u64);
+    let roots: Vec<usize> = (0..n).map(|i| root(&mut parent, i)).collect();
+    let mut parts: Vec<usize> = roots.clone();
+    parts.sort_unstable();
+    parts.dedup();
+    // The loose part holding the smallest node tag, its size and that tag.
+    let loose = (0..n)
+        .filter(|&i| !supported[roots[i]])
+        .min_by_key(|&i| tag(i));
+    let Some(first) = loose else {
+        return Ok(());
+    };
+    let size = roots.iter().filter(|&&r| r == roots[first]).count();
+    let support = match spec.support {
+        Support::CentrePinned => format!("the pinned centre, node {}", tag(held[0])),
+        Support::Hub { radius } => format!(
+            "the hub's {} nodes within wheel.hub_radius = {radius} m",
+            held.len()
+        ),
+    };
+    Err(format!(
+        "the mesh is in {} parts and one of {size} nodes (node {} among them) has no path to the support ({support}): it would float free; join the parts (Gmsh: Coherence Mesh) or remove the loose one",
+        parts.len(),
+        tag(first)
+    ))
 }
 
 /// Relative tolerance on the radius of the rim of a mesh read from a file.

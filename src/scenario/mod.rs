@@ -7,7 +7,10 @@
 //! 2. **Validate** (`validate.rs`, private, behind [`Scenario::from_file`] and
 //!    [`Scenario::from_str`]): types, ranges and defaults of every value, and the
 //!    combinations of model, integrator and contact treatment, refused in one table:
-//!    [`combinations::check_combination`]. The result is a [`Scenario<RunSpec>`]: plain
+//!    [`combinations::check_combination`]; every key is used or refused (a table the kind
+//!    does not read, a setting the run's integrator, treatment or model does not use, a
+//!    top-level setting no run uses, a second run of a wheel: `validate/usage.rs`). The
+//!    result is a [`Scenario<RunSpec>`]: plain
 //!    data, nothing assembled, no mesh read. A run whose step is set by `cfl` keeps it as
 //!    [`TimeStep::Cfl`].
 //! 3. **Build** ([`crate::build`]): what needs a model. [`crate::build::resolve`] turns each
@@ -81,9 +84,10 @@
 //! f_max = 3000.0               # Hz
 //! points = 400                 # log-spaced
 //!
-//! [[runs]]                     # optional: several runs of one scenario
+//! [[runs]]                     # optional: several runs of one scenario (a wheel: one)
 //! label = "h = 0.4"
-//! h = 0.4                      # any of h, alpha, gamma, elements, method
+//! h = 0.4                      # any of h, alpha, gamma, elements, method, ...: the run's
+//!                              # own beats the top level's; one no run uses is refused
 //! ```
 
 use crate::contact::{FrictionLaw, Treatment};
@@ -477,7 +481,6 @@ mod tests {
     const BAR: &str = r#"
 kind = "bar_impact"
 [time]
-h = 0.1
 t_end = 1.0
 integrator = "central_difference"
 cfl = 0.5
@@ -527,11 +530,8 @@ method = "exact"
                     cfl: 0.25,
                     key: "runs[1].cfl".into()
                 },
-                // A run's h does not override the scenario's cfl (as before the split).
-                &TimeStep::Cfl {
-                    cfl: 0.5,
-                    key: "time.cfl".into()
-                },
+                // A run's own step overrides the scenario's cfl, as every run setting does.
+                &TimeStep::Fixed(0.05),
             ]
         );
         // The explicit integrator's lumped mass is a validated setting.

@@ -68,7 +68,7 @@ pub(super) struct RawBar {
     pub rho_a: f64,
     pub speed: f64,
     pub gap: f64,
-    pub elements: i64,
+    pub elements: Option<i64>,
     pub mass: Option<String>,
     pub damping: Option<f64>,
 }

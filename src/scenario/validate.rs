@@ -14,6 +14,7 @@ use crate::contact::{FrictionLaw, Restore, Treatment};
 
 mod run;
 mod track;
+mod usage;
 mod wheel;
 
 /// Default hub radius of `support = "hub"`, as a fraction of the wheel's radius (1 cm for
@@ -53,12 +54,14 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         sweep,
     } = raw;
     let name = match name {
-        Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) => n,
+        Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) && n != "." && n != ".." => {
+            n
+        }
         Some(n) => {
             return Err(cx.invalid(
                 "name",
                 format!("\"{n}\""),
-                "must be a non-empty name without slashes",
+                "must be a non-empty name without slashes, not \".\" or \"..\" (it names the output folder out/<name>)",
             ))
         }
         None => path
@@ -84,6 +87,29 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         (None, "wheel" | "track") => f64::NAN,
         (None, _) => return Err(cx.missing("time.t_end", "the end time of the run, s")),
     };
+    usage::check_tables(
+        &cx,
+        &kind,
+        &[
+            ("sdof", sdof.is_some()),
+            ("bar", bar.is_some()),
+            ("two_bars", two_bars.is_some()),
+            ("wheel", wheel.is_some()),
+            ("material", material.is_some()),
+            ("rolling", rolling.is_some()),
+            ("block", block.is_some()),
+            ("contact", contact.is_some()),
+        ],
+    )?;
+    // The bar's table as written: its `elements` (a setting runs may override) and `mass`.
+    let bar_table = match kind.as_str() {
+        "bar_impact" => bar.as_ref().map(|b| ("bar", b.elements, b.mass.clone())),
+        "two_bars" => two_bars
+            .as_ref()
+            .map(|b| ("two_bars", b.elements, b.mass.clone())),
+        _ => None,
+    };
+    let fields_per_turn = rolling.as_ref().and_then(|r| r.fields_per_turn);
     let mut model = model(
         &cx,
         &kind,
@@ -99,6 +125,13 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
                 "an elastic block is a base for kind = \"wheel\"",
             ));
         };
+        if let Some(n) = fields_per_turn {
+            return Err(cx.invalid(
+                "rolling.fields_per_turn",
+                n,
+                "the velocity snapshots of the wheel on its rigid base, not written with a [block] (its run writes the last state's fields): remove it",
+            ));
+        }
         w.block = Some(wheel::block_spec(&cx, b, &w.spec)?);
     }
     let t_end = match &model {
@@ -140,17 +173,49 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         time,
         contact: contact.unwrap_or_default(),
     };
+    if matches!(base.model, Model::Wheel(_)) && raw_runs.len() > 1 {
+        return Err(cx.invalid(
+            "runs[1]",
+            "(a second run)",
+            "a wheel scenario runs one run (runs[0]); the others would be dropped: give one [[runs]] entry, or vary a key with `softway sweep --set KEY=V1,V2,...`",
+        ));
+    }
     let raw_runs = if raw_runs.is_empty() {
         vec![RawRun::default()]
     } else {
         raw_runs
     };
+    // The top-level settings given that runs may override: (name, key, value).
+    let top: Vec<(&str, String, String)> = usage::SETTINGS
+        .iter()
+        .filter_map(|&(name, table, _)| {
+            let elements = bar_table.as_ref().and_then(|b| b.1);
+            let value = usage::top_value(&base.time, &base.contact, elements, name)?;
+            let table = match (table, &bar_table) {
+                ("", Some(b)) => b.0,
+                _ => table,
+            };
+            Some((name, format!("{table}.{name}"), value))
+        })
+        .collect();
     let mut runs = Vec::with_capacity(raw_runs.len());
+    let mut uses = Vec::with_capacity(raw_runs.len());
     let mut warnings = Vec::new();
     for (i, r) in raw_runs.iter().enumerate() {
-        let run = run::run_spec(&cx, i, r, &base)?;
+        let (run, used) = run::run_spec(&cx, i, r, &base, &top)?;
         warnings.extend(stability_warning(&run, raw_runs.len()));
         runs.push(run);
+        uses.push(used);
+    }
+    usage::check_top_used(&cx, &top, &uses)?;
+    if let Some((table, _, Some(mass))) = &bar_table {
+        if mass == "consistent" && runs.iter().all(|r| r.integrator.is_explicit()) {
+            return Err(cx.invalid(
+                &format!("{table}.mass"),
+                "\"consistent\"",
+                "every run's integrator = \"central_difference\" runs with the lumped mass: remove it (or set it to \"lumped\")",
+            ));
+        }
     }
     let out = output.unwrap_or_default();
     let history_stride = cx.count(
@@ -222,7 +287,7 @@ fn model(
                 rho_a: cx.positive("bar.rho_a", b.rho_a)?,
                 speed: cx.positive("bar.speed", b.speed)?,
                 gap: cx.non_negative("bar.gap", b.gap)?,
-                elements: cx.count("bar.elements", b.elements, 1_000_000)?,
+                elements: elements(cx, "bar.elements", b.elements)?,
                 lumped,
                 damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
             })
@@ -244,7 +309,7 @@ fn model(
                 rho_a: cx.positive("two_bars.rho_a", b.rho_a)?,
                 speed: cx.positive("two_bars.speed", b.speed)?,
                 gap: cx.non_negative("two_bars.gap", b.gap)?,
-                elements: cx.count("two_bars.elements", b.elements, 1_000_000)?,
+                elements: elements(cx, "two_bars.elements", b.elements)?,
                 lumped: mass_kind(cx, "two_bars.mass", b.mass.as_deref())?,
             })
         }
@@ -475,19 +540,10 @@ impl Ctx<'_> {
         alpha_h: Option<(String, f64)>,
         gamma_n: Option<(String, f64)>,
     ) -> Result<Integrator, ScenarioError> {
-        let unused = |p: &Option<(String, f64)>, what: &str| -> Result<(), ScenarioError> {
-            match p {
-                Some((k, x)) => {
-                    Err(self.invalid(k, x, &format!("only used with integrator = \"{what}\"")))
-                }
-                None => Ok(()),
-            }
-        };
+        // A parameter of another integrator is refused by the use of the settings
+        // (super::usage), not here.
         let (kind, params) = match v {
             "space_time" => {
-                unused(&rho_inf, "generalized_alpha")?;
-                unused(&alpha_h, "hht")?;
-                unused(&gamma_n, "newmark_dissipative")?;
                 let coriolis = match coriolis {
                     None => Coriolis::Implicit,
                     Some((_, c)) if c == "implicit" => Coriolis::Implicit,
@@ -505,14 +561,6 @@ impl Ctx<'_> {
                     gamma,
                     coriolis,
                 });
-            }
-            _ if coriolis.is_some() => {
-                let (k, c) = coriolis.unwrap_or_default();
-                return Err(self.invalid(
-                    &k,
-                    format!("\"{c}\""),
-                    "only used with integrator = \"space_time\"",
-                ));
             }
             "newmark" => (ClassicKind::Newmark, ClassicParams::average_acceleration()),
             "newmark_dissipative" => {
@@ -545,15 +593,6 @@ impl Ctx<'_> {
                 ))
             }
         };
-        if kind != ClassicKind::GeneralizedAlpha {
-            unused(&rho_inf, "generalized_alpha")?;
-        }
-        if kind != ClassicKind::Hht {
-            unused(&alpha_h, "hht")?;
-        }
-        if kind != ClassicKind::NewmarkDissipative {
-            unused(&gamma_n, "newmark_dissipative")?;
-        }
         Ok(Integrator::Classic { kind, params })
     }
 }
@@ -622,7 +661,27 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
     if let Some(kt) = c.tangential_stiffness {
         law.tangential_stiffness = cx.positive("contact.tangential_stiffness", kt)?;
     }
+    if !law.is_active() {
+        for (key, v) in [
+            ("contact.friction_viscosity", c.friction_viscosity),
+            ("contact.tangential_stiffness", c.tangential_stiffness),
+        ] {
+            if let Some(v) = v {
+                return Err(cx.invalid(
+                    key,
+                    v,
+                    "a key of the friction law, not used while contact.friction = 0 (frictionless): remove it",
+                ));
+            }
+        }
+    }
     Ok(Some(law))
+}
+
+/// The bar's `elements` (key `key`), 0 when not given: then every run must give its own
+/// (`run::run_model`).
+fn elements(cx: &Ctx, key: &str, v: Option<i64>) -> Result<usize, ScenarioError> {
+    v.map_or(Ok(0), |e| cx.count(key, e, 1_000_000))
 }
 
 fn finite(cx: &Ctx, key: &str, v: f64) -> Result<f64, ScenarioError> {

@@ -108,9 +108,9 @@ pub fn run_err(name: &str, text: &str) -> (i32, String) {
     run_file_err(&scenario(name, text))
 }
 
-/// Asserts a non-zero exit and exactly one line holding every string of `must`.
+/// Asserts the exit of an error (2) and exactly one line holding every string of `must`.
 pub fn assert_one_line_error(code: i32, err: &str, must: &[&str]) {
-    assert_ne!(code, 0, "{err}");
+    assert_eq!(code, 2, "{err}");
     let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "expected one line, got: {err}");
     for m in must {

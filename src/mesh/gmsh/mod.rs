@@ -1,7 +1,9 @@
 //! Import of Gmsh `.msh` meshes (MSH format 4.1, ASCII or binary).
 //!
 //! [`read_msh`] reads a 2D triangle mesh: the 3-node triangles (Gmsh element type 2) become
-//! the cells ([`Cells::Tri3`]), `z` is ignored, and every *named* physical group
+//! the cells ([`Cells::Tri3`]), in the plane `z = 0` (a node off it beyond round-off, 1e-9 of
+//! the mesh's extent, is an error naming it: its `z` would be dropped), and every *named*
+//! physical group
 //! (`$PhysicalNames`) becomes a node set of that name holding all nodes of the entities
 //! tagged with it, whatever their dimension (points at the centre, curves on the rim,
 //! surfaces). Points and lines are used only for these groups, never as cells.
@@ -14,7 +16,8 @@
 //!
 //! Orientation: if all triangles are clockwise they are all reversed; a triangle of (near)
 //! zero area, or a mesh with triangles of both orientations, is an error naming the Gmsh
-//! element tag.
+//! element tag. So is a triangle listed twice (the same three nodes: its mass and stiffness
+//! would count twice) and two triangles that overlap (on the same side of a shared edge).
 //!
 //! Parsing goes through the [`mshio`] crate; the `$PhysicalNames` section (which `mshio`
 //! skips) is read here. Export from Gmsh with `Mesh.MshFileVersion = 4.1` (the default in
@@ -189,6 +192,56 @@ pub enum GmshError {
         /// The mean absolute triangle area of the mesh.
         mean_area: f64,
     },
+    /// A node off the plane `z = 0` (a 2D mesh's `z` would be dropped).
+    #[error(
+        "{}: node {node} is at z = {z:e}: a 2D mesh lies in the plane z = 0 (the nodes' x and y \
+         reach {extent:e}; |z| up to 1e-9 of that is round-off); mesh the wheel in the xy plane",
+        .path.display()
+    )]
+    NonPlanar {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of the node farthest off the plane.
+        node: u64,
+        /// Its z.
+        z: f64,
+        /// The largest |x| or |y| of the nodes.
+        extent: f64,
+    },
+    /// A triangle listed twice (the same three nodes).
+    #[error(
+        "{}: triangles {first} and {second} have the same nodes {nodes:?}: an element listed \
+         twice would count its mass and stiffness twice; remove the duplicate",
+        .path.display()
+    )]
+    DuplicateElement {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of the first.
+        first: u64,
+        /// Gmsh tag of the repeat.
+        second: u64,
+        /// Their nodes' Gmsh tags.
+        nodes: [u64; 3],
+    },
+    /// Two triangles on the same side of a shared edge: they overlap.
+    #[error(
+        "{}: triangles {first} and {second} overlap: both lie on the same side of their edge \
+         from node {a} to node {b}; the triangles of a mesh must not cover an area twice",
+        .path.display()
+    )]
+    OverlappingElements {
+        /// The file.
+        path: PathBuf,
+        /// Gmsh tag of one triangle.
+        first: u64,
+        /// Gmsh tag of the other.
+        second: u64,
+        /// Gmsh tag of the edge's first node.
+        a: u64,
+        /// Gmsh tag of the edge's second node.
+        b: u64,
+    },
     /// The triangles do not all have the same orientation.
     #[error(
         "{}: triangle {element} is inverted: {inverted} of {total} triangles are oriented \
@@ -331,6 +384,7 @@ fn build_mesh(
             path: path.to_path_buf(),
         });
     }
+    check_planar(msh, path)?;
     // Nodes classified on a grouped entity (e.g. a physical point without a point element).
     for (&(dim, tag), list) in &entity_nodes {
         for name in group_names(&physicals, names, dim, tag) {
@@ -352,6 +406,7 @@ fn build_mesh(
         .collect();
 
     orient(&mut cells, &xy, &triangles, path)?;
+    check_overlaps(&cells, &triangles, &used, path)?;
 
     let node_sets = groups
         .into_iter()
@@ -603,6 +658,100 @@ fn check_nodes(
         });
     }
     Ok(used)
+}
+
+/// Relative `|z|` (to the largest `|x|`, `|y|`) beyond which a node is off the plane.
+const PLANAR_RELATIVE_Z: f64 = 1e-9;
+
+/// Every node in the plane `z = 0`, to [`PLANAR_RELATIVE_Z`] of the nodes' extent in x and
+/// y.
+fn check_planar(msh: &MshFile<u64, i32, f64>, path: &Path) -> Result<(), GmshError> {
+    let Some(nodes) = &msh.data.nodes else {
+        return Ok(());
+    };
+    let mut extent = 0.0f64;
+    // (|z|, block, index in the block) of the node farthest off the plane.
+    let mut worst: Option<(f64, usize, usize)> = None;
+    for (b, block) in nodes.node_blocks.iter().enumerate() {
+        for (i, n) in block.nodes.iter().enumerate() {
+            extent = extent.max(n.x.abs()).max(n.y.abs());
+            // A NaN z counts as off the plane (f64::max skips NaN x and y).
+            let z = if n.z.is_nan() {
+                f64::INFINITY
+            } else {
+                n.z.abs()
+            };
+            if worst.is_none_or(|w| z > w.0) {
+                worst = Some((z, b, i));
+            }
+        }
+    }
+    let Some((z, b, i)) = worst.filter(|w| w.0 > PLANAR_RELATIVE_Z * extent) else {
+        return Ok(());
+    };
+    // The node's tag: its block's tag map, else the contiguous tags in file order.
+    let block = &nodes.node_blocks[b];
+    let tag = match &block.node_tags {
+        Some(tags) => tags.iter().find(|(_, &k)| k == i).map(|(&t, _)| t),
+        None => {
+            let before: usize = nodes.node_blocks[..b].iter().map(|x| x.nodes.len()).sum();
+            Some(nodes.min_node_tag + (before + i) as u64)
+        }
+    };
+    Err(GmshError::NonPlanar {
+        path: path.to_path_buf(),
+        node: tag.unwrap_or(0),
+        z: if z.is_finite() {
+            block.nodes[i].z
+        } else {
+            f64::NAN
+        },
+        extent,
+    })
+}
+
+/// No triangle listed twice and no two triangles overlapping: once all counter-clockwise,
+/// every directed edge belongs to one triangle at most. `used` are the node tags in compact
+/// order (for messages).
+fn check_overlaps(
+    cells: &[[usize; 3]],
+    triangles: &[(u64, [u64; 3])],
+    used: &BTreeSet<u64>,
+    path: &Path,
+) -> Result<(), GmshError> {
+    let mut same: HashMap<[usize; 3], usize> = HashMap::with_capacity(cells.len());
+    for (k, c) in cells.iter().enumerate() {
+        let mut key = *c;
+        key.sort_unstable();
+        if let Some(&first) = same.get(&key) {
+            let mut nodes = triangles[first].1;
+            nodes.sort_unstable();
+            return Err(GmshError::DuplicateElement {
+                path: path.to_path_buf(),
+                first: triangles[first].0,
+                second: triangles[k].0,
+                nodes,
+            });
+        }
+        same.insert(key, k);
+    }
+    let tags: Vec<u64> = used.iter().copied().collect();
+    let mut edges: HashMap<(usize, usize), usize> = HashMap::with_capacity(3 * cells.len());
+    for (k, c) in cells.iter().enumerate() {
+        for (a, b) in [(c[0], c[1]), (c[1], c[2]), (c[2], c[0])] {
+            if let Some(&first) = edges.get(&(a, b)) {
+                return Err(GmshError::OverlappingElements {
+                    path: path.to_path_buf(),
+                    first: triangles[first].0,
+                    second: triangles[k].0,
+                    a: tags.get(a).copied().unwrap_or(a as u64),
+                    b: tags.get(b).copied().unwrap_or(b as u64),
+                });
+            }
+            edges.insert((a, b), k);
+        }
+    }
+    Ok(())
 }
 
 /// Checks the triangle areas and makes all triangles counter-clockwise (see the module

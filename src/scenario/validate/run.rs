@@ -1,24 +1,29 @@
 //! A run's validation: one `[[runs]]` entry (or the top-level settings alone) over the
 //! scenario's [`Base`], stage by stage: its time, model, contact treatment, integrator,
-//! their combination, friction, the wheel's refusals and the step.
+//! their combination, friction, the wheel's refusals, the step and the use of every setting
+//! ([`super::usage`]).
 
 use super::super::combinations::{check_combination, Culprit, ModelKind};
 use super::super::raw::RawRun;
 use super::super::{Contact, Model, RunSpec, ScenarioError, TimeStep};
+use super::usage::{run_uses, RunConfig, Use};
 use super::{friction_law, wheel, Base, Ctx};
 use crate::contact::FrictionLaw;
 use crate::time::Integrator;
 
 /// Run `i` (`[[runs]]` entry `r`, or the top-level settings alone): its overrides over
-/// `base`, each setting checked under the key it came from (`runs[i].x` or `table.x`).
+/// `base`, each setting checked under the key it came from (`runs[i].x` or `table.x`), with
+/// how it uses each top-level setting of `top` ([`super::usage`]; a setting of its own
+/// that it does not use is refused).
 pub(super) fn run_spec(
     cx: &Ctx,
     i: usize,
     r: &RawRun,
     base: &Base,
-) -> Result<RunSpec, ScenarioError> {
+    top: &[(&str, String, String)],
+) -> Result<(RunSpec, Vec<Use>), ScenarioError> {
     let keys = RunKeys(i);
-    let (alpha, gamma, h) = run_time(cx, &keys, r, base)?;
+    let (alpha, gamma) = run_time(cx, &keys, r, base)?;
     let mut model = run_model(cx, &keys, r, base)?;
     if matches!(model, Model::Track(_)) {
         for (k, given) in [
@@ -37,6 +42,19 @@ pub(super) fn run_spec(
     }
     let (method_key, method_name, run_contact) = run_contact(cx, &keys, r, base, &model)?;
     let (integ_key, integ_name, integrator) = run_integrator(cx, &keys, r, base, (alpha, gamma))?;
+    let (step, step_key) = run_step(cx, &keys, r, base, &model, &integrator)?;
+    let uses = run_uses(
+        cx,
+        i,
+        r,
+        &RunConfig {
+            model: &model,
+            integrator: (&integrator, &integ_name),
+            contact: (&run_contact, &method_name),
+            step: (&step, &step_key),
+        },
+        top,
+    )?;
     // The one table of allowed combinations (super::combinations).
     check_combination(ModelKind::of(&model), &integrator, &run_contact).map_err(|refusal| {
         let (k, v) = match refusal.culprit {
@@ -57,8 +75,7 @@ pub(super) fn run_spec(
             _ => {}
         }
     }
-    let step = run_step(cx, &keys, r, base, &integrator, h)?;
-    Ok(RunSpec {
+    let spec = RunSpec {
         label: r.label.clone(),
         alpha,
         gamma,
@@ -68,7 +85,8 @@ pub(super) fn run_spec(
         contact: run_contact,
         friction,
         t_end: base.t_end,
-    })
+    };
+    Ok((spec, uses))
 }
 
 /// The keys of run `i`'s settings: `runs[i].x` for its own, `table.x` for its tables'.
@@ -94,14 +112,13 @@ impl RunKeys {
     }
 }
 
-/// The run's `(alpha, gamma, h)`: its own, else the top-level ones; `h` no longer than
-/// `time.t_end`.
+/// The run's `(alpha, gamma)`: its own, else the top-level ones.
 fn run_time(
     cx: &Ctx,
     keys: &RunKeys,
     r: &RawRun,
     base: &Base,
-) -> Result<(f64, f64, f64), ScenarioError> {
+) -> Result<(f64, f64), ScenarioError> {
     let alpha = match r.alpha {
         Some(a) => cx.alpha(&keys.key("alpha"), a)?,
         None => base.alpha,
@@ -110,36 +127,35 @@ fn run_time(
         Some(g) => cx.gamma(&keys.key("gamma"), g)?,
         None => base.gamma,
     };
-    let h = match (r.h, base.h) {
-        (Some(h), _) => cx.positive(&keys.key("h"), h)?,
-        (None, Some(h)) => h,
-        (None, None) => return Err(cx.missing("time.h", "the time step, s (or runs[].h)")),
-    };
-    if h > base.t_end {
-        return Err(cx.invalid(
-            &keys.key("h"),
-            h,
-            &format!("the step must not exceed time.t_end = {}", base.t_end),
-        ));
-    }
-    Ok((alpha, gamma, h))
+    Ok((alpha, gamma))
 }
 
-/// The run's model: the top-level one with the run's `elements` (bars only).
+/// The run's model: the top-level one with the run's `elements` (bars only; given here or
+/// in the bar's table).
 fn run_model(cx: &Ctx, keys: &RunKeys, r: &RawRun, base: &Base) -> Result<Model, ScenarioError> {
     let mut model = base.model.clone();
-    if let Some(e) = r.elements {
-        match &mut model {
-            Model::BarImpact(b) => b.elements = cx.count(&keys.key("elements"), e, 1_000_000)?,
-            Model::TwoBars(b) => b.elements = cx.count(&keys.key("elements"), e, 1_000_000)?,
-            _ => {
+    let (table, elements) = match &mut model {
+        Model::BarImpact(b) => ("bar", &mut b.elements),
+        Model::TwoBars(b) => ("two_bars", &mut b.elements),
+        _ => {
+            if let Some(e) = r.elements {
                 return Err(cx.invalid(
                     &keys.key("elements"),
                     e,
                     "only bar scenarios have elements",
-                ))
+                ));
             }
+            return Ok(model);
         }
+    };
+    if let Some(e) = r.elements {
+        *elements = cx.count(&keys.key("elements"), e, 1_000_000)?;
+    }
+    if *elements == 0 {
+        return Err(cx.missing(
+            &format!("{table}.elements"),
+            &format!("the bar's number of elements (or {})", keys.key("elements")),
+        ));
     }
     Ok(model)
 }
@@ -233,28 +249,59 @@ fn run_friction(
     Ok(friction)
 }
 
-/// The run's step: from `cfl` (the central difference only, in (0, 1]), else the fixed `h`.
+/// Why an implicit run's only step setting, a `cfl`, does not set its step.
+const NOT_EXPLICIT: &str = "cfl sets the step of integrator = \"central_difference\" only, not of an implicit integrator: give time.h (or runs[].h) instead";
+
+/// The run's step and the key it comes from: the run's own (`runs[i].cfl` for the central
+/// difference, else `runs[i].h`) before the top-level one (`time.cfl` for the central
+/// difference, else `time.h`); a fixed step no longer than the run. A `cfl` the integrator
+/// does not use, or a step setting the chosen one overrides, is refused by
+/// [`super::usage`].
 fn run_step(
     cx: &Ctx,
     keys: &RunKeys,
     r: &RawRun,
     base: &Base,
+    model: &Model,
     integrator: &Integrator,
-    h: f64,
-) -> Result<TimeStep, ScenarioError> {
-    let step = match keys.pick(r.cfl, "cfl", "time", base.time.cfl) {
-        Some((k, c)) if !integrator.is_explicit() => {
-            return Err(cx.invalid(
-                &k,
-                c,
-                "cfl sets the step of integrator = \"central_difference\" only",
-            ));
+) -> Result<(TimeStep, String), ScenarioError> {
+    let explicit = integrator.is_explicit();
+    let cfl = |key: String, c: f64| {
+        if c.is_finite() && c > 0.0 && c <= 1.0 {
+            Ok((
+                TimeStep::Cfl {
+                    cfl: c,
+                    key: key.clone(),
+                },
+                key,
+            ))
+        } else {
+            Err(cx.invalid(&key, c, "cfl must be in (0, 1]: the step as a fraction of the stable step 2/omega_max (penalty spring included)"))
         }
-        Some((k, c)) if !(c.is_finite() && c > 0.0 && c <= 1.0) => {
-            return Err(cx.invalid(&k, c, "cfl must be in (0, 1]: the step as a fraction of the stable step 2/omega_max (penalty spring included)"));
-        }
-        Some((key, cfl)) => TimeStep::Cfl { cfl, key },
-        None => TimeStep::Fixed(h),
     };
-    Ok(step)
+    let (h, key) = match (r.cfl, r.h, base.time.cfl, base.h) {
+        (Some(c), _, _, _) if explicit => return cfl(keys.key("cfl"), c),
+        (_, Some(h), _, _) => (cx.positive(&keys.key("h"), h)?, keys.key("h")),
+        (_, None, Some(c), _) if explicit => return cfl("time.cfl".to_string(), c),
+        (_, None, _, Some(h)) => (h, "time.h".to_string()),
+        (Some(c), None, _, None) => return Err(cx.invalid(&keys.key("cfl"), c, NOT_EXPLICIT)),
+        (None, None, Some(c), None) => return Err(cx.invalid("time.cfl", c, NOT_EXPLICIT)),
+        _ => {
+            return Err(cx.missing(
+                "time.h",
+                "the time step, s (or runs[].h; time.cfl for the central difference)",
+            ))
+        }
+    };
+    if h > base.t_end {
+        let limit = match model {
+            Model::Wheel(_) => format!(
+                "the step must not exceed the run, rolling.settle_time + rolling.turns turns = {} s",
+                base.t_end
+            ),
+            _ => format!("the step must not exceed time.t_end = {}", base.t_end),
+        };
+        return Err(cx.invalid(&key, h, &limit));
+    }
+    Ok((TimeStep::Fixed(h), key))
 }

@@ -50,6 +50,13 @@ pub(super) fn wheel_model(
         r.fields_per_turn.unwrap_or(8),
         1000,
     )?;
+    if let (Some(s), Some(false)) = (w.stress_stiffening, w.rotating_frame) {
+        return Err(cx.invalid(
+            "wheel.stress_stiffening",
+            s,
+            "the stress stiffening of the spinning wheel's rotating frame, not used with wheel.rotating_frame = false: remove it",
+        ));
+    }
     Ok(WheelScenario {
         spec: WheelSpec {
             radius,
@@ -240,6 +247,13 @@ fn zone_mesh(
             }
             mesh
         }
+        (Some(z), MeshSource::Graded { .. }) if w.grading.is_some() => {
+            return Err(cx.invalid(
+                "wheel.grading",
+                w.grading.unwrap_or_default(),
+                &format!("the grading of the disk of wheel.rim_nodes, not used by the refined zone's mesh (wheel.zone_rim_nodes = {z}, graded by the zone's own rule): remove it"),
+            ))
+        }
         (Some(z), MeshSource::Graded { rim_nodes, .. }) => {
             let Support::Hub { radius: hub_radius } = support else {
                 return Err(cx.invalid(
@@ -333,6 +347,11 @@ fn rolling(cx: &Ctx, r: &RawRolling, radius: f64) -> Result<Rolling, ScenarioErr
     let settle_time = cx.non_negative("rolling.settle_time", r.settle_time)?;
     let turns = cx.positive("rolling.turns", r.turns)?;
     let settle_gamma = match r.settle_gamma {
+        Some(g) if settle_time == 0.0 => return Err(cx.invalid(
+            "rolling.settle_gamma",
+            g,
+            "gamma while settling, not used with rolling.settle_time = 0 (no settling): remove it",
+        )),
         Some(g) => Some(cx.gamma("rolling.settle_gamma", g)?),
         None => None,
     };
@@ -470,6 +489,13 @@ pub(super) fn check_wheel_run(
                 &format!("a moving refined zone does not work with {why}"),
             ));
         }
+    }
+    if let Some(g) = w.settle_gamma.filter(|_| !integrator.is_space_time()) {
+        return Err(cx.invalid(
+            "rolling.settle_gamma",
+            g,
+            "gamma of the space-time scheme while settling, not used by a classic integrator: remove it",
+        ));
     }
     if w.spec.coupling == Coupling::Uncoupled {
         let why = if friction.is_none_or(|law| !law.is_active()) {

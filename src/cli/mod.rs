@@ -12,7 +12,6 @@ use clap::{Parser, Subcommand};
 pub use crate::output::staging::MARKER;
 use crate::run::{run_scenario, Cancel, Par, RunOptions};
 use crate::scenario::Scenario;
-use crate::time::sdof::analyse;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -32,6 +31,10 @@ macro_rules! errln {
         let _ = writeln!(std::io::stderr(), $($arg)*);
     }};
 }
+
+mod analysis;
+
+use analysis::{matrix_command, modes_command, receptance_command, stability_command};
 
 /// Dynamic contact by the space-time finite element method (Bajer's soft way).
 #[derive(Parser, Debug)]
@@ -171,6 +174,8 @@ enum Command {
         /// [default: 2,000,000 / nnz(A), between 20 and 20,000].
         #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
         steps: Option<u64>,
+        #[command(flatten)]
+        replace: Replace,
     },
     /// Spectral radius, damping and period error of the scheme against omega*h.
     Stability {
@@ -222,7 +227,7 @@ pub fn main() -> ExitCode {
 }
 
 /// What a subcommand returns: its exit code, or the error `main` reports.
-type CommandResult = Result<ExitCode, Box<dyn std::error::Error>>;
+pub(super) type CommandResult = Result<ExitCode, Box<dyn std::error::Error>>;
 
 /// Runs the subcommand of `cli`, one function each.
 fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
@@ -268,7 +273,8 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             scenario,
             out,
             steps,
-        } => matrix_command(&scenario, out, steps),
+            replace,
+        } => matrix_command(&scenario, out, steps, replace),
         Command::Stability {
             alpha,
             gamma,
@@ -296,7 +302,7 @@ fn run_command(
         errln!("softway: warning: {w}");
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
         progress: !quiet,
         par: threads.map(Par::threads),
@@ -348,7 +354,7 @@ fn sweep_command(
     check_ladder_estimate(scenario, &text, &key, &values, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let (points, files) =
         crate::run::sweep::sweep(scenario, &text, &key, &values, stage.path(), cancel)?;
     for p in &points {
@@ -386,7 +392,7 @@ fn converge_command(
     check_ladder_estimate(scenario, &text, &key, &values, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let (_, files, warnings) =
         crate::run::converge::converge(scenario, &text, &key, &values, stage.path(), cancel)?;
     for w in &warnings {
@@ -419,7 +425,7 @@ fn compare_command(
         errln!("softway: warning: {w}");
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    let stage = StagedDir::begin(&out, force)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
         cancel: cancel.clone(),
         ..RunOptions::default()
@@ -441,224 +447,6 @@ fn compare_command(
     Ok(ExitCode::SUCCESS)
 }
 
-/// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU.
-fn modes_command(
-    scenario: &Path,
-    count: usize,
-    out: Option<PathBuf>,
-    Replace { force }: Replace,
-) -> CommandResult {
-    let sc = Scenario::from_file(scenario)?;
-    let crate::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
-        return Err(format!(
-            "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
-            scenario.display()
-        )
-        .into());
-    };
-    if count == 0 {
-        return Err("--count 0: ask for at least one mode".into());
-    }
-    let wm = crate::run::wheel::build(ws, &sc.path)?;
-    let rep = crate::modes::modes_report(&wm, count)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-    let stage = StagedDir::begin(&out, force)?;
-    let files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
-    stage.commit()?;
-    print_modes(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
-    outln!("wrote {} files into {}", files.len(), out.display());
-    Ok(ExitCode::SUCCESS)
-}
-
-/// Prints the tables of `softway modes`: the rest modes, the spinning ones, the notes.
-fn print_modes(
-    name: &str,
-    rep: &crate::modes::ModesReport,
-    support: &crate::wheel::Support,
-    omega: f64,
-) {
-    outln!(
-        "{}: {} dofs ({} free), support {:?}",
-        name,
-        rep.dofs,
-        rep.free_dofs,
-        support
-    );
-    outln!("at rest:");
-    outln!(
-        "{:>5} {:>14} {:>12} {:>5}  kind",
-        "mode",
-        "frequency Hz",
-        "period us",
-        "n"
-    );
-    for (i, m) in rep.at_rest.iter().enumerate() {
-        outln!(
-            "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
-            i + 1,
-            m.frequency_hz,
-            m.period_us,
-            m.wavenumber
-                .map(|n| n.to_string())
-                .unwrap_or_else(|| "-".into()),
-            m.kind
-        );
-    }
-    if let Some(sp) = &rep.spinning {
-        outln!(
-            "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
-            omega
-        );
-        outln!(
-            "{:>5} {:>14} {:>14} {:>10}  kind",
-            "mode",
-            "frequency Hz",
-            "at rest Hz",
-            "whirl"
-        );
-        for (i, m) in sp.iter().enumerate() {
-            outln!(
-                "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
-                i + 1,
-                m.frequency_hz,
-                m.rest_frequency_hz,
-                m.whirl.to_string(),
-                m.kind
-            );
-        }
-    }
-    for n in &rep.notes {
-        outln!("note: {n}");
-    }
-}
-
-/// `softway receptance`: a track's receptance and frequencies into a folder.
-fn receptance_command(
-    scenario: &Path,
-    out: Option<PathBuf>,
-    Replace { force }: Replace,
-) -> CommandResult {
-    let sc = Scenario::from_file(scenario)?;
-    if !matches!(sc.runs[0].model, crate::scenario::Model::Track(_)) {
-        return Err(format!(
-            "{}: `softway receptance` needs a track scenario (kind = \"track\")",
-            scenario.display()
-        )
-        .into());
-    }
-    for w in &sc.warnings {
-        errln!("softway: warning: {w}");
-    }
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
-    let stage = StagedDir::begin(&out, force)?;
-    let report = crate::run::track::receptance_job(&sc, stage.path(), sc.plots)?;
-    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
-    outln!("{} ({})", sc.name, scenario.display());
-    for l in &report.lines {
-        outln!("  {l}");
-    }
-    outln!("  wrote:");
-    for f in &files {
-        outln!("    {}", f.display());
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `softway matrix`: the step's matrices of a scenario's first run, and softway's time.
-fn matrix_command(scenario: &Path, out: Option<PathBuf>, steps: Option<u64>) -> CommandResult {
-    let sc = resolve(&Scenario::from_file(scenario)?)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
-    let (rep, files) = crate::run::matrix::dump(&sc, &out, steps.map(|s| s as usize))?;
-    outln!(
-        "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
-        sc.name,
-        rep.n,
-        rep.nnz_a,
-        rep.symmetric,
-        rep.factor
-    );
-    for (name, nnz) in &rep.factor_nnz {
-        outln!("  nnz of the factors, {name}: {nnz}");
-    }
-    outln!("  softway free step: {:.1} us", rep.softway_step_us);
-    outln!("  wrote:");
-    for f in &files {
-        outln!("    {}", f.display());
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `softway stability`: the scheme's stability table, optionally written and with the
-/// Coriolis treatments compared.
-fn stability_command(
-    alpha: f64,
-    gamma: f64,
-    out: Option<PathBuf>,
-    spin_h: Option<f64>,
-    json: bool,
-    Replace { force }: Replace,
-) -> CommandResult {
-    if let Some(s) = spin_h {
-        if !(s.is_finite() && s > 0.0 && s <= 0.1) {
-            return Err(format!(
-                "--spin-h {s}: Omega*h must be in (0, 0.1] (the spin times the step)"
-            )
-            .into());
-        }
-    }
-    let gyro = spin_h.map(|s| crate::time::sdof::gyroscopic_table(alpha, gamma, s, 5));
-    if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
-        return Err(format!("--alpha {alpha}: alpha must be in (0, 1] (Eq. 8)").into());
-    }
-    if !(gamma.is_finite() && (0.0..=1.0).contains(&gamma)) {
-        return Err(format!("--gamma {gamma}: gamma must be in [0, 1] (Eq. 24)").into());
-    }
-    let rep = analyse(alpha, gamma, 5);
-    let files = match out {
-        Some(dir) => {
-            let stage = StagedDir::begin(&dir, force)?;
-            let files = crate::output::stability::write(&rep, stage.path())?;
-            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-            stage.commit()?;
-            files
-        }
-        None => Vec::new(),
-    };
-    if json {
-        let j = serde_json::json!({
-            "alpha": rep.alpha, "gamma": rep.gamma, "beta": rep.beta,
-            "rho_inf": rep.rho_inf,
-            "unconditionally_stable": rep.unconditionally_stable,
-            "stability_limit_omega_h": rep.stability_limit_omega_h,
-            "table": rep.table,
-            "spin_h": spin_h,
-            "gyroscopic": gyro,
-        });
-        outln!("{}", serde_json::to_string_pretty(&j)?);
-    } else {
-        {
-            use std::io::Write as _;
-            let _ = write!(
-                std::io::stdout(),
-                "{}",
-                crate::output::stability::table_text(&rep)
-            );
-            if let (Some(s), Some(g)) = (spin_h, &gyro) {
-                let _ = write!(
-                    std::io::stdout(),
-                    "{}",
-                    crate::output::stability::gyroscopic_text(s, g)
-                );
-            }
-        }
-        for f in files {
-            outln!("wrote {}", f.display());
-        }
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
 /// Refuses a built scenario whose estimated cost is beyond [`crate::build::Limits`]
 /// unless `yes`; a wheel's Gmsh mesh is read here (so that its errors come before any
 /// output folder is made).
@@ -667,7 +455,7 @@ fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), Strin
     for run in &sc.runs {
         if let crate::scenario::Model::Wheel(ws) = &run.model {
             if let crate::scenario::MeshSource::Gmsh(p) = &ws.mesh {
-                let mesh = crate::run::wheel::read_mesh_file(p, ws.spec.radius, &sc.path)
+                let mesh = crate::run::wheel::read_mesh_file(p, &ws.spec, &sc.path)
                     .map_err(|e| e.to_string())?;
                 mesh_nodes = Some(mesh.n_nodes());
             }
@@ -780,6 +568,22 @@ fn set_threads(flag: &str, threads: Option<usize>) -> Result<(), String> {
             Ok(())
         }
         None => Ok(()),
+    }
+}
+
+/// Writes `text`, a command's result (`stability`'s table or JSON, `modes`' tables), to
+/// standard output and flushes it: a failed write (a full disk: `> /dev/full`) is an error
+/// (exit 2), not an empty file and exit 0. A closed pipe (`| head`) is not: the reader
+/// stopped reading. The reports of the commands that write folders stay best effort
+/// ([`outln!`]): their results are the files.
+pub(super) fn print_result(text: &str) -> Result<(), String> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write the result to standard output: {e}"))
+        }
+        _ => Ok(()),
     }
 }
 
