@@ -66,12 +66,12 @@
 //!
 //! | question | file |
 //! |---|---|
-//! | where is the step equation? | `src/time/step.rs` (space-time), `src/time/classic.rs` |
+//! | where is the step equation? | `src/time/step.rs` (space-time), `src/time/classic/` (the family's spectrum in `spectrum.rs`) |
 //! | where is the integrator contract? | `src/time/integrator.rs` |
 //! | where is the soft way? | `src/contact/softway.rs` |
 //! | where are the other treatments? | `src/contact/complementarity.rs`, `mass_redistribution.rs`, `subdivision.rs` |
 //! | where are constraint rows solved? | `src/contact/rows.rs` |
-//! | where is the step loop? | `src/simulation.rs` |
+//! | where is the step loop? | `src/simulation/mod.rs` (what observers see: `view.rs`; the moving zone's relocation: `relocation.rs`) |
 //! | where are the rotating-frame terms? | `src/frame.rs` |
 //! | where are stresses and J2? | `src/element/tri3.rs`, `src/material.rs` |
 //! | where are the rail's beam and the track's springs? | `src/element/beam.rs`, `src/element/discrete.rs` |
