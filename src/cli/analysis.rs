@@ -1,7 +1,7 @@
 //! The analysis subcommands: `modes`, `receptance`, `matrix`, `stability` (one function
 //! each; the runs' subcommands are in [`super`]).
 
-use super::{print_result, CommandResult, Replace};
+use super::{print_report, print_result, CommandResult, Replace};
 use crate::build::resolve;
 use crate::output::staging::StagedDir;
 use crate::scenario::Scenario;
@@ -127,15 +127,12 @@ pub(super) fn receptance_command(
     let report = crate::run::track::receptance_job(&sc, stage.path(), sc.plots)?;
     let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
-    outln!("{} ({})", sc.name, scenario.display());
-    for l in &report.lines {
-        outln!("  {l}");
-    }
-    outln!("  wrote:");
-    for f in &files {
-        outln!("    {}", f.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    print_report(
+        Some(format!("{} ({})", sc.name, scenario.display())),
+        &report.lines,
+        &files,
+        None,
+    )
 }
 
 /// `softway matrix`: the step's matrices of a scenario's first run, and softway's time.
@@ -151,23 +148,17 @@ pub(super) fn matrix_command(
     let (rep, files) = crate::run::matrix::dump(&sc, stage.path(), steps.map(|s| s as usize))?;
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
-    outln!(
+    let mut lines: Vec<String> = rep
+        .factor_nnz
+        .iter()
+        .map(|(name, nnz)| format!("nnz of the factors, {name}: {nnz}"))
+        .collect();
+    lines.push(format!("softway free step: {:.1} us", rep.softway_step_us));
+    let head = format!(
         "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
-        sc.name,
-        rep.n,
-        rep.nnz_a,
-        rep.symmetric,
-        rep.factor
+        sc.name, rep.n, rep.nnz_a, rep.symmetric, rep.factor
     );
-    for (name, nnz) in &rep.factor_nnz {
-        outln!("  nnz of the factors, {name}: {nnz}");
-    }
-    outln!("  softway free step: {:.1} us", rep.softway_step_us);
-    outln!("  wrote:");
-    for f in &files {
-        outln!("    {}", f.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    print_report(Some(head), &lines, &files, None)
 }
 
 /// `softway stability`: the scheme's stability table, optionally written and with the

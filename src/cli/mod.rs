@@ -315,19 +315,14 @@ fn run_command(
     }
     let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
-    outln!("{} ({})", sc.name, scenario.display());
-    for l in &report.lines {
-        outln!("  {l}");
-    }
-    outln!("  wrote:");
-    for f in &files {
-        outln!("    {}", f.display());
-    }
-    if report.interrupted {
-        errln!("softway: interrupted; the files above hold the steps computed so far");
-        return Ok(ExitCode::from(130));
-    }
-    Ok(ExitCode::SUCCESS)
+    print_report(
+        Some(format!("{} ({})", sc.name, scenario.display())),
+        &report.lines,
+        &files,
+        report
+            .interrupted
+            .then_some("interrupted; the files above hold the steps computed so far"),
+    )
 }
 
 /// `softway sweep`: the scenario over the values of `--set` (or its `[sweep]` table).
@@ -433,15 +428,42 @@ fn compare_command(
     let report = crate::run::compare::compare(&sc, stage.path(), &opts)?;
     let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
-    for l in &report.lines {
-        outln!("{l}");
+    print_report(
+        None,
+        &report.lines,
+        &files,
+        report
+            .interrupted
+            .then_some("interrupted: the table holds the runs finished before"),
+    )
+}
+
+/// Prints `head` (if any), a job's report `lines` and the `files` it wrote (indented under
+/// the head), then returns the exit code: 130 after the message `interrupted` when the job
+/// was interrupted, else 0.
+pub(super) fn print_report(
+    head: Option<String>,
+    lines: &[String],
+    files: &[PathBuf],
+    interrupted: Option<&str>,
+) -> CommandResult {
+    let (line, wrote, file) = if head.is_some() {
+        ("  ", "  ", "    ")
+    } else {
+        ("", "", "  ")
+    };
+    if let Some(h) = head {
+        outln!("{h}");
     }
-    outln!("wrote:");
-    for f in &files {
-        outln!("  {}", f.display());
+    for l in lines {
+        outln!("{line}{l}");
     }
-    if report.interrupted {
-        errln!("softway: interrupted: the table holds the runs finished before");
+    outln!("{wrote}wrote:");
+    for f in files {
+        outln!("{file}{}", f.display());
+    }
+    if let Some(message) = interrupted {
+        errln!("softway: {message}");
         return Ok(ExitCode::from(130));
     }
     Ok(ExitCode::SUCCESS)
