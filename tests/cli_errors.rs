@@ -344,3 +344,32 @@ fn matrix_writes_a_as_its_report_says() {
     assert!(!o.status.success() && err.contains("--steps"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+/// A scenario path that is a named pipe with no writer is refused at once (opening it would
+/// wait for a writer forever).
+#[test]
+fn a_pipe_in_place_of_the_scenario_is_refused_at_once() {
+    let dir = common::fresh_dir("cli", "fifo");
+    let p = dir.join("pipe.toml");
+    let made = std::process::Command::new("mkfifo").arg(&p).status();
+    assert!(made.expect("mkfifo (coreutils)").success());
+    let (c, e) = common::run_file_err(&p);
+    assert_one_line_error(c, &e, &["pipe.toml", "not a regular file"]);
+    assert_eq!(c, 2);
+}
+
+/// `--threads` and `--jobs` have a bound (20000 threads ran for minutes on an 8-element bar).
+#[test]
+fn thousands_of_threads_are_refused() {
+    let p = scenario("threads", BAR);
+    for (cmd, flag) in [("run", "--threads"), ("sweep", "--jobs")] {
+        let mut args = vec![cmd.to_string(), p.display().to_string()];
+        if cmd == "sweep" {
+            args.extend(["--set".into(), "bar.elements=8,16".into()]);
+        }
+        args.extend([flag.into(), "20000".into()]);
+        let o = common::cli(&args);
+        assert_eq!(o.code, 2, "{}", o.stderr);
+        assert_one_line_error(o.code, &o.stderr, &[flag, "20000", "at most 256"]);
+    }
+}

@@ -577,11 +577,21 @@ fn parse_set(s: &str) -> Result<(String, Vec<String>), String> {
     Ok((k.trim().to_string(), vals))
 }
 
+/// The most threads `--threads` and `--jobs` take.
+const MAX_THREADS: usize = 256;
+
 /// Threads of the pool: runs at once for `sweep` and `converge` (`--jobs`), threads of one
 /// run (`--threads`); default: the number of cores.
+/// At most [`MAX_THREADS`].
 fn set_threads(flag: &str, threads: Option<usize>) -> Result<(), String> {
     match threads {
         Some(0) => Err(format!("{flag} 0: give at least one")),
+        Some(j) if j > MAX_THREADS => {
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            Err(format!(
+                "{flag} {j}: at most {MAX_THREADS} (this machine has {cores} cores; more threads than cores only wait for them)"
+            ))
+        }
         Some(j) => {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(j)

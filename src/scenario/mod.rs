@@ -433,6 +433,13 @@ pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
 /// or a pipe, which could be read forever) of at most [`MAX_SCENARIO_BYTES`], in UTF-8.
 fn read_text(path: &Path) -> std::io::Result<String> {
     use std::io::Read as _;
+    // Checked before opening too: opening a pipe with no writer waits for one forever.
+    let before = std::fs::metadata(path)?;
+    if !before.is_file() && !before.is_dir() {
+        return Err(std::io::Error::other(
+            "not a regular file (a device or a pipe); give a TOML file",
+        ));
+    }
     let file = std::fs::File::open(path)?;
     let meta = file.metadata()?;
     if meta.is_dir() {
