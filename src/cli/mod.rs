@@ -296,11 +296,7 @@ fn run_command(
     cancel: &Cancel,
 ) -> CommandResult {
     set_threads("--threads", threads)?;
-    let sc = resolve(&Scenario::from_file(scenario)?)?;
-    check_estimate(&sc, yes)?;
-    for w in &sc.warnings {
-        errln!("softway: warning: {w}");
-    }
+    let sc = open_scenario(scenario, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
@@ -414,11 +410,7 @@ fn compare_command(
     Guard { force, yes }: Guard,
     cancel: &Cancel,
 ) -> CommandResult {
-    let sc = resolve(&Scenario::from_file(scenario)?)?;
-    check_estimate(&sc, yes)?;
-    for w in &sc.warnings {
-        errln!("softway: warning: {w}");
-    }
+    let sc = open_scenario(scenario, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
@@ -467,6 +459,17 @@ pub(super) fn print_report(
         return Ok(ExitCode::from(130));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The scenario at `path`, validated and resolved, its estimate checked (`--yes` lets it
+/// past the limits) and its warnings printed.
+fn open_scenario(path: &Path, yes: bool) -> Result<Scenario, Box<dyn std::error::Error>> {
+    let sc = resolve(&Scenario::from_file(path)?)?;
+    check_estimate(&sc, yes)?;
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    Ok(sc)
 }
 
 /// Refuses a built scenario whose estimated cost is beyond [`crate::build::Limits`]

@@ -2,7 +2,7 @@
 //! d'Alembert solution: contact from `t = gap / v0` for `2 L / c`, constant force
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
-use super::results::{Detail, Fields, Results};
+use super::results::Results;
 use super::{progress_bar, RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::Rows;
@@ -550,29 +550,18 @@ pub(crate) fn record(
     }
     super::stamp_provenance(&mut json, sc);
     let lines = summaries.iter().map(summary_line).collect();
-    Ok(Results {
-        kind,
-        summary: json,
+    let panes = match summaries.first() {
+        Some(s) if !traces.is_empty() => trace_panels(&traces, &s.exact, kind == "two_bars"),
+        _ => Vec::new(),
+    };
+    Ok(Results::with_panels(
+        (kind, json),
         history,
-        contact_nodes: None,
-        traction_history: None,
-        rim_profile: None,
-        fields: Fields::default(),
         lines,
         interrupted,
-        warnings: Vec::new(),
-        plots: sc.plots,
-        detail: Detail::Panels {
-            file: "bar_head.png",
-            panes: match summaries.first() {
-                Some(s) if !traces.is_empty() => {
-                    trace_panels(&traces, &s.exact, kind == "two_bars")
-                }
-                _ => Vec::new(),
-            },
-            size: (1200, 1500),
-        },
-    })
+        sc.plots,
+        ("bar_head.png", panes, (1200, 1500)),
+    ))
 }
 
 /// The screen line of a run.

@@ -10,7 +10,7 @@
 //! and the body's index on the points) and `wheel_on_block.png` (the force over time; the
 //! last step's contact pressure against Hertz's ellipse).
 
-use super::results::{Detail, FieldArray, FieldFrame, Fields, Results};
+use super::results::{FieldArray, FieldFrame, Fields, Results};
 use super::{RunError, RunOptions};
 use crate::mesh::{Cells, Mesh};
 use crate::models::wheel_on_block::{patch_half_width, WheelOnBlock};
@@ -197,22 +197,15 @@ pub(crate) fn record(
     super::stamp_provenance(&mut json, sc);
     let panes = figure(&wb, &trace, &last);
     Ok(Results {
-        kind: "wheel_on_block",
-        summary: json,
-        history,
-        contact_nodes: None,
-        traction_history: None,
-        rim_profile: None,
         fields: fields(&wb, &last),
-        lines: lines(&summary),
-        interrupted: stats.interrupted,
-        warnings: Vec::new(),
-        plots: sc.plots,
-        detail: Detail::Panels {
-            file: "wheel_on_block.png",
-            panes,
-            size: (1200, 1100),
-        },
+        ..Results::with_panels(
+            ("wheel_on_block", json),
+            history,
+            lines(&summary),
+            stats.interrupted,
+            sc.plots,
+            ("wheel_on_block.png", panes, (1200, 1100)),
+        )
     })
 }
 

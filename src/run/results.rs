@@ -54,6 +54,34 @@ pub struct Results {
     pub(crate) detail: Detail,
 }
 
+impl Results {
+    /// The results of a job with a history and one figure of panels (the oscillator, the
+    /// bars, the track, the wheel on its block): no per-node tables, no fields, no warnings.
+    pub(crate) fn with_panels(
+        (kind, summary): (&'static str, serde_json::Value),
+        history: Columns,
+        lines: Vec<String>,
+        interrupted: bool,
+        plots: bool,
+        (file, panes, size): (&'static str, Vec<Panel>, (u32, u32)),
+    ) -> Self {
+        Results {
+            kind,
+            summary,
+            history,
+            contact_nodes: None,
+            traction_history: None,
+            rim_profile: None,
+            fields: Fields::default(),
+            lines,
+            interrupted,
+            warnings: Vec::new(),
+            plots,
+            detail: Detail::Panels { file, panes, size },
+        }
+    }
+}
+
 /// Fields on a mesh at output times (the VTU files of the command line).
 #[derive(Debug, Clone, Default)]
 pub struct Fields {

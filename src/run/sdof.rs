@@ -1,7 +1,7 @@
 //! The one-degree-of-freedom oscillator `m x'' + k x = 0` by the scheme of Eqs. (9)-(10),
 //! against the exact solution `x = x0 cos(omega t) + v0/omega sin(omega t)`.
 
-use super::results::{Detail, Fields, Results};
+use super::results::Results;
 use super::{RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario};
@@ -166,22 +166,12 @@ pub(crate) fn record(
             s.energy_final
         ));
     }
-    Ok(Results {
-        kind: "sdof",
-        summary: json,
+    Ok(Results::with_panels(
+        ("sdof", json),
         history,
-        contact_nodes: None,
-        traction_history: None,
-        rim_profile: None,
-        fields: Fields::default(),
         lines,
         interrupted,
-        warnings: Vec::new(),
-        plots: sc.plots,
-        detail: Detail::Panels {
-            file: "sdof.png",
-            panes: vec![px, pe],
-            size: (1200, 1100),
-        },
-    })
+        sc.plots,
+        ("sdof.png", vec![px, pe], (1200, 1100)),
+    ))
 }

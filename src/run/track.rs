@@ -3,7 +3,7 @@
 //! receptance with its frequencies (`softway receptance`: `receptance.csv`,
 //! `receptance.png`, `summary.json`).
 
-use super::results::{Detail, Fields, Results};
+use super::results::Results;
 use super::{RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario, TrackScenario};
@@ -195,24 +195,14 @@ pub(crate) fn record(
     }
     super::stamp_provenance(&mut json, sc);
     let lines = sums.iter().map(screen_line).collect();
-    Ok(Results {
-        kind: "track",
-        summary: json,
+    Ok(Results::with_panels(
+        ("track", json),
         history,
-        contact_nodes: None,
-        traction_history: None,
-        rim_profile: None,
-        fields: Fields::default(),
         lines,
         interrupted,
-        warnings: Vec::new(),
-        plots: sc.plots,
-        detail: Detail::Panels {
-            file: "track.png",
-            panes: vec![deflection, pads],
-            size: (1400, 1100),
-        },
-    })
+        sc.plots,
+        ("track.png", vec![deflection, pads], (1400, 1100)),
+    ))
 }
 
 /// Adds run `ri` (of `runs`, labelled `label`, at `speed` m/s) to the two panels: the

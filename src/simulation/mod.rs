@@ -667,9 +667,7 @@ impl Simulation {
             }
         }
         let h = s1.t - s0.t;
-        if self.guard.load_mut().len() == u.len() {
-            (e.load)(t, self.guard.load_mut());
-        }
+        (e.load)(t, self.guard.load_mut());
         let due = self
             .guard
             .add_step(&s0.state.u, &s1.state.u, h.abs() * power);

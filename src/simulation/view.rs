@@ -89,6 +89,7 @@ pub struct RunStats {
     /// True when the run stopped on an interrupt.
     pub interrupted: bool,
     /// When the divergence guard found the energy past its bound, in
-    /// [`crate::guard::GuardMode::Record`] (the run went on), s.
+    /// [`crate::guard::GuardMode::Record`] (the run went on), s; not written when none.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub diverged_at_s: Option<f64>,
 }
