@@ -28,6 +28,7 @@ pub mod interface;
 pub mod mass_redistribution;
 pub mod obstacle;
 pub mod pair;
+pub mod profile;
 pub mod rows;
 pub mod search;
 pub mod softway;

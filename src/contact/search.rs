@@ -51,10 +51,18 @@
 //! `X(xi)`, which no dof moves, goes into the offset. The search itself (binning, closest
 //! point, normal) works on the chords between the deflected nodes.
 //!
+//! # Irregularity
+//!
+//! A rail's top may carry a roughness or corrugation `r(X)` ([`super::profile`],
+//! [`Search::with_profile`]): the surface point under a node is `(X, Y + w + r(X))` and the
+//! chord's direction `e` becomes `(e_x, e_y + r'(X) e_x)` before the normal is taken. The
+//! row's offset holds `n_y r(X)`; the tilted normal puts `V r'(X)` into its drift term `w`.
+//!
 //! Two dimensions: the segments are a 2D body's boundary edges (a 3D body would need
 //! facets); [`Search::new`] refuses any other dimension.
 
 use super::obstacle::{dot, tangent_2d, Flattening, Vector};
+use super::profile::Profile;
 use super::rows::Terms;
 use crate::element::beam::shape_functions;
 
@@ -296,6 +304,8 @@ pub struct Search {
     ends: Vec<[Vector; 2]>,
     /// `(cell key, segment)` sorted by key.
     bins: Vec<(i64, i64, usize)>,
+    /// The surface's irregularity over the master frame's abscissa ([`Search::with_profile`]).
+    profile: Option<Profile>,
 }
 
 impl Search {
@@ -349,6 +359,7 @@ impl Search {
             segments,
             reach,
             cell,
+            profile: None,
         })
     }
 
@@ -382,6 +393,37 @@ impl Search {
         }
         self.surface = Surface::Beams { phi };
         Ok(self)
+    }
+
+    /// The same search with the irregularity `profile` on the rail's top (module docs,
+    /// Irregularity): the surface point under a node is raised by `r(X)` and its normal
+    /// turned by `r'(X)`, `X` the abscissa in the rail's frame.
+    ///
+    /// # Errors
+    /// [`SearchError::Segment`] when the surface is not a rail of beams ([`Search::on_beams`]
+    /// first).
+    pub fn with_profile(mut self, profile: Profile) -> Result<Self, SearchError> {
+        if !matches!(self.surface, Surface::Beams { .. }) {
+            return Err(SearchError::Segment {
+                segment: 0,
+                why: "not a rail of beams: an irregularity needs Search::on_beams first",
+            });
+        }
+        self.profile = Some(profile);
+        Ok(self)
+    }
+
+    /// The irregularity on the surface, if any.
+    pub fn profile(&self) -> Option<&Profile> {
+        self.profile.as_ref()
+    }
+
+    /// `(r, r')` of the irregularity at the point `xi` of segment `[p, q]` (zero without one).
+    fn irregularity(&self, p: usize, q: usize, xi: f64) -> (f64, f64) {
+        match &self.profile {
+            None => (0.0, 0.0),
+            Some(pr) => pr.at((1.0 - xi) * self.reference[2 * p] + xi * self.reference[2 * q]),
+        }
     }
 
     /// The reach, m.
@@ -476,9 +518,14 @@ impl Search {
         let e = [b[0] - a[0], b[1] - a[1], 0.0];
         let l2 = dot(e, e);
         let xi = (((x[0] - a[0]) * e[0] + (x[1] - a[1]) * e[1]) / l2).clamp(0.0, 1.0);
-        let l = l2.sqrt();
+        let mut c: Vector = std::array::from_fn(|d| (1.0 - xi) * a[d] + xi * b[d]);
+        // The irregularity raises the point and turns the chord by its slope (module docs).
+        let [p, q] = self.segments[k];
+        let (r, slope) = self.irregularity(p, q, xi);
+        c[1] += r;
+        let e = [e[0], e[1] + slope * e[0], 0.0];
+        let l = dot(e, e).sqrt();
         let normal = [e[1] / l, -e[0] / l, 0.0];
-        let c: Vector = std::array::from_fn(|d| (1.0 - xi) * a[d] + xi * b[d]);
         let gap = (x[0] - c[0]) * normal[0] + (x[1] - c[1]) * normal[1];
         Target {
             segment: k,
@@ -560,6 +607,8 @@ impl Search {
             // A beam's point has no dof along x: its abscissa is the offset's.
             let xs = (1.0 - xi) * self.reference[2 * p] + xi * self.reference[2 * q];
             offset += cm[0] * xs;
+            // The irregularity's height is the surface's, moved by no dof.
+            offset += cm[1] * self.irregularity(p, q, xi).0;
         }
         let la = [x_ref[0] + u[da], x_ref[1] + u[da + 1], 0.0];
         let drift_a = slave.motion.drift(t, la);
@@ -858,6 +907,78 @@ mod tests {
             "rate {rate}, w {}",
             row.w
         );
+    }
+
+    /// An irregularity on the rail's top: the row's gap is the height above `r(X)`, and a
+    /// node held still over the rail that runs under it sees the gap change at
+    /// `-V r'(X)`, which the row's drift term `w` carries (to the slope squared).
+    #[test]
+    fn a_node_over_an_irregular_rail_sees_the_height_and_its_slope() {
+        let (reference, segments) = floor(4, 0.4);
+        let v = 20.0;
+        let master = Placed {
+            motion: Motion::Translating {
+                origin: [0.0, -0.1, 0.0],
+                velocity: [-v, 0.0, 0.0],
+            },
+            first_dof: 2,
+        };
+        let (amp, wl) = (1e-4, 0.1);
+        let profile = Profile::harmonic(amp, wl, (-0.4, 0.4), 0.0).unwrap();
+        let plain = Search::new(2, master, reference.clone(), segments, 0.05).unwrap();
+        assert!(
+            plain.clone().with_profile(profile.clone()).is_err(),
+            "edges refuse it"
+        );
+        let mut s = plain
+            .on_beams(vec![0.0; 4])
+            .unwrap()
+            .with_profile(profile.clone())
+            .unwrap();
+        let u = vec![0.0; 2 + 10];
+        let slave = Placed {
+            motion: Motion::Fixed,
+            first_dof: 0,
+        };
+        let xr = [0.13, -0.0995];
+        let x = [xr[0], xr[1], 0.0];
+        let gap_at = |s: &mut Search, t: f64| {
+            s.update(t, &u);
+            s.find(x).unwrap().gap
+        };
+        for t in [0.0, 1e-3, 2.3e-3] {
+            s.update(t, &u);
+            let target = s.find(x).unwrap();
+            let row = s.normal_row(&target, slave, 0, &xr, t, &u);
+            let mut xref = vec![xr[0], xr[1]];
+            for i in 0..5 {
+                xref.extend([reference[2 * i + 1], 0.0]);
+            }
+            let g = row.terms.dot(&xref) - row.offset;
+            let (r, slope) = profile.at(xr[0] + v * t);
+            let height = xr[1] + 0.1 - r;
+            assert!(
+                (g - target.gap).abs() < 1e-15,
+                "row {g}, search {}",
+                target.gap
+            );
+            assert!(
+                (g - height).abs() < 1e-3 * amp,
+                "gap {g} against the height above the profile {height}"
+            );
+            let dt = 1e-7;
+            let rate = (gap_at(&mut s, t + dt) - gap_at(&mut s, t - dt)) / (2.0 * dt);
+            assert!(
+                (rate + v * slope).abs() < 1e-3 * (v * amp * 2.0 * std::f64::consts::PI / wl),
+                "rate {rate}, -V r' {}",
+                -v * slope
+            );
+            assert!(
+                (rate + row.w).abs() < 1e-3 * (v * amp * 2.0 * std::f64::consts::PI / wl),
+                "rate {rate}, w {}",
+                row.w
+            );
+        }
     }
 
     #[test]
