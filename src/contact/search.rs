@@ -48,8 +48,13 @@
 //! (the segment runs from the element's right node to its left one, so that the rail lies
 //! below its top; `N_w` the Hermite cubics, or the Timoshenko element's with its `Phi`). The
 //! row then carries `-N_w (R_s^T n)_y` on the element's four dofs, and the abscissa
-//! `X(xi)`, which no dof moves, goes into the offset. The search itself (binning, closest
-//! point, normal) works on the chords between the deflected nodes.
+//! `X(xi)`, which no dof moves, goes into the offset. The binning and the closest point's
+//! parameter `xi` are the chords' between the deflected nodes; the point, the gap and the
+//! normal are the beam's own line's there (`n` normal to its tangent `(1, w'(X))`), so the
+//! normal turns continuously along the rail (an Euler-Bernoulli rail's line is C1; a
+//! Timoshenko rail's slope steps at a node by the shear strain's jump, the support's force
+//! over `kappa G A`) and a node sliding along it at `V` sees the normal velocity `V w'`
+//! through the row's drift term, not the chord's stepwise slope.
 //!
 //! # Irregularity
 //!
@@ -290,6 +295,24 @@ pub fn top_segments(coords: &[f64], dim: usize, nodes: &[usize]) -> Vec<[usize; 
     top.windows(2).map(|w| [w[0], w[1]]).collect()
 }
 
+/// A beam element's deflection and slope at its local coordinate `xi_e` (from its left
+/// node), `(w, dw/dx)`, from the dofs `(w1, theta1, w2, theta2)` and its `Phi` and length
+/// `l` (the shape functions of [`shape_functions`], differentiated).
+fn beam_line(phi: f64, l: f64, xi_e: f64, dofs: &[f64; 4]) -> (f64, f64) {
+    let (nw, _) = shape_functions(phi, l, xi_e);
+    let s = 1.0 / (1.0 + phi);
+    let x = xi_e;
+    let dn = [
+        s * (6.0 * x * x - 6.0 * x - phi),
+        s * l * (3.0 * x * x - (4.0 + phi) * x + 1.0 + 0.5 * phi),
+        s * (-6.0 * x * x + 6.0 * x + phi),
+        s * l * (3.0 * x * x - (2.0 - phi) * x - 0.5 * phi),
+    ];
+    let w = (0..4).map(|i| nw[i] * dofs[i]).sum();
+    let dw = (0..4).map(|i| dn[i] * dofs[i]).sum::<f64>() / l;
+    (w, dw)
+}
+
 /// The master surface and its bins (module docs).
 #[derive(Debug, Clone)]
 pub struct Search {
@@ -302,6 +325,9 @@ pub struct Search {
     cell: f64,
     /// The segments' ends in the ground at the last update.
     ends: Vec<[Vector; 2]>,
+    /// On beams: each segment's element dofs `(w, theta)` of its left and right nodes at the
+    /// last update.
+    beam_dofs: Vec<[f64; 4]>,
     /// `(cell key, segment)` sorted by key.
     bins: Vec<(i64, i64, usize)>,
     /// The surface's irregularity over the master frame's abscissa ([`Search::with_profile`]).
@@ -352,6 +378,7 @@ impl Search {
         let cell = longest.max(reach);
         Ok(Self {
             ends: vec![[[0.0; 3]; 2]; segments.len()],
+            beam_dofs: vec![[0.0; 4]; segments.len()],
             bins: Vec::with_capacity(4 * segments.len()),
             master,
             surface: Surface::Edges,
@@ -461,6 +488,10 @@ impl Search {
             let a = self.master.motion.place(t, self.local(u, p));
             let b = self.master.motion.place(t, self.local(u, q));
             self.ends[k] = [a, b];
+            if let Surface::Beams { .. } = self.surface {
+                let (dq, dp) = (self.master.first_dof + 2 * q, self.master.first_dof + 2 * p);
+                self.beam_dofs[k] = [u[dq], u[dq + 1], u[dp], u[dp + 1]];
+            }
             let (x0, x1) = (self.key(a[0].min(b[0])), self.key(a[0].max(b[0])));
             let (y0, y1) = (self.key(a[1].min(b[1])), self.key(a[1].max(b[1])));
             for i in x0..=x1 {
@@ -519,9 +550,22 @@ impl Search {
         let l2 = dot(e, e);
         let xi = (((x[0] - a[0]) * e[0] + (x[1] - a[1]) * e[1]) / l2).clamp(0.0, 1.0);
         let mut c: Vector = std::array::from_fn(|d| (1.0 - xi) * a[d] + xi * b[d]);
-        // The irregularity raises the point and turns the chord by its slope (module docs).
         let [p, q] = self.segments[k];
         let (r, slope) = self.irregularity(p, q, xi);
+        let e = match &self.surface {
+            Surface::Edges => e,
+            Surface::Beams { phi } => {
+                // The beam's own deflected line at the point and its slope (module docs,
+                // Beams): the element runs from q (left) to p (right), xi_e = 1 - xi.
+                let l = self.reference[2 * p] - self.reference[2 * q];
+                let (w, dw) = beam_line(phi[k], l, 1.0 - xi, &self.beam_dofs[k]);
+                let chord_w = (1.0 - xi) * self.beam_dofs[k][2] + xi * self.beam_dofs[k][0];
+                c[1] += w - chord_w;
+                // Run from right to left: along -x, down the slope.
+                [-l, -dw * l, 0.0]
+            }
+        };
+        // The irregularity raises the point and turns the line by its slope (module docs).
         c[1] += r;
         let e = [e[0], e[1] + slope * e[0], 0.0];
         let l = dot(e, e).sqrt();
@@ -890,10 +934,28 @@ mod tests {
         let xs = master.motion.place(t, xs_local);
         let direct = dot(target.normal, [x[0] - xs[0], x[1] - xs[1], 0.0]);
         assert!((g - direct).abs() < 1e-15, "row {g}, direct {direct}");
-        let chord = target.gap;
         assert!(
-            (g - chord).abs() > 1e-7,
+            (g - target.gap).abs() < 1e-15,
+            "the search's gap is the row's"
+        );
+        let chord_w = (1.0 - target.xi) * w[p] + target.xi * w[q];
+        assert!(
+            (wx - chord_w).abs() > 1e-7,
             "the deflection between nodes is not the chord's"
+        );
+        // The normal is the beam line's: normal to (1, w') with w' the element's own slope.
+        let dxi = 1e-6;
+        let w_at = |xe: f64| {
+            let (n, _) = shape_functions(phi[target.segment], l, xe);
+            n[0] * w[q] + n[1] * th[q] + n[2] * w[p] + n[3] * th[p]
+        };
+        let xe = 1.0 - target.xi;
+        let slope = (w_at(xe + dxi) - w_at(xe - dxi)) / (2.0 * dxi * l);
+        let nx = -slope / (1.0 + slope * slope).sqrt();
+        assert!(
+            (target.normal[0] - nx).abs() < 1e-9,
+            "normal {:?}, beam slope {slope}",
+            target.normal
         );
         // Rate at fixed dofs.
         let gap_at = |tt: f64| {

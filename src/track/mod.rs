@@ -58,6 +58,7 @@
 pub mod hertz;
 pub mod moving;
 pub mod receptance;
+pub mod rolling;
 
 use crate::assembly::AssemblyError;
 use crate::bodies::{assemble_with, first_dofs, Assembled, Body, Joints};
@@ -294,6 +295,31 @@ impl TrackSpec {
     /// # Errors
     /// [`TrackError`] for invalid data.
     pub fn build(&self) -> Result<Track, TrackError> {
+        let (rail, xs, phi) = self.rail()?;
+        let bodies = vec![rail];
+        let n_rail = first_dofs(&bodies)[1];
+        let (discrete, pads) = self.supports(0, n_rail)?;
+        let joints = Joints {
+            dofs: self.bays + 1,
+            discrete,
+        };
+        let joined = assemble_with(&bodies, &joints)?;
+        Ok(Track {
+            spec: *self,
+            bodies,
+            joined,
+            xs,
+            phi,
+            pads,
+        })
+    }
+
+    /// The rail as a body in the ground's frame (module docs, its sponge included), with its
+    /// nodes' abscissae and each element's `Phi`.
+    ///
+    /// # Errors
+    /// [`TrackError`] for invalid data.
+    pub fn rail(&self) -> Result<(Body, Vec<f64>, Vec<f64>), TrackError> {
         self.validate()?;
         let ne = self.bays * self.elements_per_bay;
         let le = self.spacing / self.elements_per_bay as f64;
@@ -328,8 +354,20 @@ impl TrackSpec {
                 }
             }
         }
-        let bodies = vec![rail];
-        let n_rail = first_dofs(&bodies)[1];
+        Ok((rail, xs, phi))
+    }
+
+    /// The pads, sleepers and ballast as discrete elements on a joined numbering where the
+    /// rail's dofs start at `rail_first` and the sleepers' (one each) at `sleeper_first`,
+    /// with each sleeper's pad `(rail deflection dof, sleeper dof)`.
+    ///
+    /// # Errors
+    /// [`TrackError::Discrete`] for a negative value.
+    pub fn supports(
+        &self,
+        rail_first: usize,
+        sleeper_first: usize,
+    ) -> Result<(Discrete, Vec<(usize, usize)>), TrackError> {
         let sleepers = self.bays + 1;
         let mut discrete = Discrete::new();
         let spring = |link, stiffness, damping| SpringDamper {
@@ -340,8 +378,8 @@ impl TrackSpec {
         };
         let mut pads = Vec::with_capacity(sleepers);
         for j in 0..sleepers {
-            let w = 2 * j * self.elements_per_bay;
-            let y = n_rail + j;
+            let w = rail_first + 2 * j * self.elements_per_bay;
+            let y = sleeper_first + j;
             let x = j as f64 * self.spacing;
             discrete.add_mass(PointMass {
                 dof: y,
@@ -360,19 +398,7 @@ impl TrackSpec {
             ))?;
             pads.push((w, y));
         }
-        let joints = Joints {
-            dofs: sleepers,
-            discrete,
-        };
-        let joined = assemble_with(&bodies, &joints)?;
-        Ok(Track {
-            spec: *self,
-            bodies,
-            joined,
-            xs,
-            phi,
-            pads,
-        })
+        Ok((discrete, pads))
     }
 }
 

@@ -1,0 +1,466 @@
+//! The wheel rolling on the track: the elastic wheel of [`crate::wheel`] in its rotating
+//! frame, carried by a moving hub and an unsprung mass, loaded by the axle load and gravity
+//! through a primary suspension, in contact with the rail of [`super::Track`] through the
+//! contact search on the rail's beams ([`crate::contact::search`]), over an optional
+//! irregularity of the rail's top ([`crate::contact::profile`]).
+//!
+//! # Frames
+//!
+//! The ground origin rides with the vehicle at the hub's nominal position. The wheel's dofs
+//! are displacements in the frame turning with it at `Omega = -omega` about the axle (the
+//! paper's frame: its material does not move in it; `omega = V / R_s`, `R_s` the spun
+//! rim's radius); the rail's and sleepers' are displacements in the track's frame, which
+//! runs under the vehicle at `-V`: at time `t` the rail's abscissa `X = x_0 + V t` is under
+//! the axle. The rail's top (its beam axis, `Y = 0`) is at `-R_s` in the ground: at `t = 0`
+//! it touches the spun rim's lowest point.
+//!
+//! # The moving hub
+//!
+//! The paper's hub is clamped to the axle; here the axle is a node of its own with two
+//! translation dofs `a` (in the wheel's frame, like the wheel's), and every node of the hub's
+//! circle is tied to it by a stiff spring in both directions (`k_tie = 100 E t` each, `E` the
+//! wheel's modulus, `t` its thickness: the ties add about `1 / (100 n_hub)` of the wheel's
+//! compliance). An isotropic spring is the same in every frame, so the ties are constant
+//! matrices. The axle carries the unsprung mass less the wheel's own (`m_a`); being at the
+//! centre of the turning frame it has the frame's terms of a point mass there:
+//! $$m_a(\ddot a + 2\Omega J\dot a - \Omega^2 a) = R(t)^T F(t) + \text{ties},$$
+//! (`J` the quarter turn; [`crate::frame`]), the Coriolis entries `-2 Omega m_a`,
+//! `+2 Omega m_a` in `C` and the softening `-Omega^2 m_a` in `K`.
+//!
+//! **The load.** The static wheel load `P = F_axle + m_u g` (`F_axle` the axle load per
+//! wheel from the sprung mass, `m_u` the unsprung mass per wheel, the wheel's included) acts
+//! downwards in the ground: `F_axle` on the axle, gravity on every mass of the wheel and the
+//! axle. In the turning frame the ground's downward direction is `R(t)^T (0, -1)`, so the
+//! load turns at `-Omega` there: `f(t) = s(t) [g (d_x M 1_x + d_y M 1_y) + F_axle (d_x e_ax
+//! + d_y e_ay)]`, `(d_x, d_y) = R(t)^T (0, -1)`, on the wheel's and the axle's dofs. It is
+//! applied over `settle` seconds by the raised cosine `s(t) = (1 - cos(pi t / T_s)) / 2`
+//! (then 1): the track and wheel start at rest, touching, unloaded.
+//!
+//! **The primary suspension** joins the axle to the vehicle (the frame's origin) by an
+//! isotropic spring-damper `(k_s, c_s)`; the axle load is its static preload (a constant
+//! force; `k_s = c_s = 0` by default). The damper acts on the axle's velocity against the
+//! vehicle, `R(a' + Omega J a)` in the ground, which puts `c_s Omega J` into `K`.
+//! Being isotropic, it holds the axle horizontally with the same stiffness as vertically (a
+//! real axle box is stiffer along the track); with `k_s = 0` only the contact holds the axle
+//! along the track (frictionless: a free drift the run reports as `axle_drift_m`).
+//!
+//! # What is not modelled
+//!
+//! The rail is a beam along its axis: its top is its neutral axis (the head's rotation
+//! `-h theta` along the track is left out), the contact is the 2D wheel's line contact
+//! (the wheel's `thickness` sets its width), the rail's own weight is left out (its
+//! static sag under gravity is the same everywhere and does not enter the dynamics).
+
+use super::{Track, TrackError, TrackSpec};
+use crate::bodies::{assemble_with, first_dofs, Assembled, Body, Joints};
+use crate::contact::profile::Profile;
+use crate::contact::search::{Motion, Placed, Search, SearchError};
+use crate::contact::{Interface, Pair, Treatment};
+use crate::element::beam::shape_functions;
+use crate::element::discrete::{Link, PointMass, SpringDamper, SpringKind};
+use crate::linalg::spmv_add;
+use crate::model::LoadFn;
+use crate::simulation::Problem;
+use crate::time::Integrator;
+use crate::wheel::WheelModel;
+
+/// The vehicle's share over one wheel (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Vehicle {
+    /// Unsprung mass per wheel, the wheel's own included, kg.
+    #[serde(rename = "unsprung_mass_kg")]
+    pub unsprung_mass: f64,
+    /// Static load per wheel from the sprung mass, N.
+    #[serde(rename = "axle_load_N")]
+    pub axle_load: f64,
+    /// Speed along the track, m/s.
+    #[serde(rename = "speed_m_s")]
+    pub speed: f64,
+    /// Primary suspension's stiffness (isotropic), N/m.
+    #[serde(rename = "suspension_stiffness_N_m")]
+    pub suspension_stiffness: f64,
+    /// Primary suspension's damping (isotropic), N s/m.
+    #[serde(rename = "suspension_damping_N_s_m")]
+    pub suspension_damping: f64,
+    /// Gravity, m/s^2.
+    #[serde(rename = "gravity_m_s2")]
+    pub gravity: f64,
+    /// Time over which the static load is applied, s.
+    #[serde(rename = "settle_s")]
+    pub settle: f64,
+}
+
+impl Vehicle {
+    /// The static wheel load `F_axle + m_u g`, N.
+    pub fn static_load(&self) -> f64 {
+        self.axle_load + self.unsprung_mass * self.gravity
+    }
+}
+
+/// Errors of building the wheel on the track.
+#[derive(Debug, thiserror::Error)]
+pub enum RollingError {
+    /// The track.
+    #[error(transparent)]
+    Track(#[from] TrackError),
+    /// The search.
+    #[error(transparent)]
+    Search(#[from] SearchError),
+    /// The joined model.
+    #[error("joining the wheel and the track: {0}")]
+    Assembly(#[from] crate::assembly::AssemblyError),
+    /// The wheel's own mass exceeds the unsprung mass.
+    #[error("vehicle.unsprung_mass = {unsprung} kg is less than the wheel's own mass {wheel:.1} kg (the unsprung mass includes the wheel)")]
+    Mass {
+        /// The unsprung mass, kg.
+        unsprung: f64,
+        /// The wheel's, kg.
+        wheel: f64,
+    },
+    /// A value out of range or a wheel that cannot roll here.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// The wheel, its axle and the track (module docs).
+#[derive(Debug)]
+pub struct WheelOnTrack {
+    /// The wheel's model (its hub's dofs are freed here).
+    pub wheel: WheelModel,
+    /// The track's data.
+    pub track: TrackSpec,
+    /// The vehicle.
+    pub vehicle: Vehicle,
+    /// The wheel (0) and the rail (1).
+    pub bodies: Vec<Body>,
+    /// The joined model: wheel, rail, sleepers (one dof each), the axle's two dofs.
+    pub joined: Assembled,
+    /// The rim against the rail's top.
+    pub interface: Interface,
+    /// The rail's node abscissae, m.
+    pub xs: Vec<f64>,
+    /// `Phi` of each rail element.
+    pub phi: Vec<f64>,
+    /// Each sleeper's pad: (the rail's deflection dof above it, the sleeper's dof).
+    pub pads: Vec<(usize, usize)>,
+    /// The axle's dofs (x, y in the wheel's frame).
+    pub axle: [usize; 2],
+    /// The wheel's own mass, kg.
+    pub wheel_mass: f64,
+    /// The axle's point mass, kg.
+    pub axle_mass: f64,
+    /// The rail's abscissa under the axle at `t = 0`, m.
+    pub start: f64,
+    /// The spun rim's radius, m.
+    pub rim_radius: f64,
+    /// The tie springs' stiffness, N/m each.
+    pub tie_stiffness: f64,
+}
+
+impl WheelOnTrack {
+    /// The wheel `wheel` (a coupled wheel in its rotating frame, held by a hub: its
+    /// `omega` is replaced by `V / R_s`) on the track `track`, its axle over the rail's
+    /// abscissa `start` at `t = 0`, the rail's top carrying `profile`.
+    ///
+    /// # Errors
+    /// [`RollingError`].
+    pub fn new(
+        wheel: WheelModel,
+        track: &TrackSpec,
+        vehicle: Vehicle,
+        start: f64,
+        profile: Option<Profile>,
+    ) -> Result<Self, RollingError> {
+        let ws = &wheel.spec;
+        if wheel.twin.is_some() || wheel.zone.is_some() || !ws.rotating_frame {
+            return Err(RollingError::Unsupported(
+                "the wheel on a track is a coupled wheel in its rotating frame without a moving zone".into(),
+            ));
+        }
+        if !matches!(ws.support, crate::wheel::Support::Hub { .. }) {
+            return Err(RollingError::Unsupported(
+                "the wheel on a track needs a hub (wheel.support = hub): its nodes are tied to the axle".into(),
+            ));
+        }
+        let r_s = wheel.spinning_radius();
+        let v = vehicle.speed;
+        // The wheel's frame terms were built for its own omega: it must roll at V / R_s.
+        let omega = ws.omega;
+        if !((omega * r_s - v).abs() <= 1e-9 * v.abs().max(1.0)) {
+            return Err(RollingError::Unsupported(format!(
+                "the wheel turns at {omega} rad/s but rolls at {v} m/s on a radius of {r_s} m: build it with omega = V / R_s"
+            )));
+        }
+        let (rail, xs, phi) = track.rail()?;
+        let length = track.length();
+        if !(start.is_finite() && start >= 0.0 && start <= length) {
+            return Err(TrackError::OffRail { x: start, length }.into());
+        }
+        let rail_motion = Motion::Translating {
+            origin: [-start, -r_s, 0.0],
+            velocity: [-v, 0.0, 0.0],
+        };
+        let wheel_motion = Motion::Rotating {
+            centre: [0.0; 3],
+            omega: -omega,
+            angle0: 0.0,
+        };
+        let mut wb = crate::models::wheel_on_block::wheel_body(&wheel);
+        // The hub is freed and tied to the axle; the spinning equilibrium's load is kept on
+        // every dof (its hub reactions balance: the ties start unstretched).
+        let hub_dofs = std::mem::take(&mut wb.fixed_dofs);
+        wb.load = vec![0.0; wb.load.len()];
+        spmv_add(
+            wheel.model.pattern(),
+            &wheel.model.k,
+            1.0,
+            &wheel.u_spin,
+            &mut wb.load,
+        );
+        let mut rail = rail;
+        rail.motion = rail_motion;
+        let bodies = vec![wb, rail];
+        let first = first_dofs(&bodies);
+        let (n_wheel, n_bodies) = (first[1], first[2]);
+        let sleepers = track.bays + 1;
+        let (mut discrete, pads) = track.supports(n_wheel, n_bodies)?;
+        let axle = [n_bodies + sleepers, n_bodies + sleepers + 1];
+        let mass_of = |dir: usize| -> f64 {
+            let ones: Vec<f64> = (0..n_wheel)
+                .map(|d| f64::from(u8::from(d % 2 == dir)))
+                .collect();
+            let mut out = vec![0.0; n_wheel];
+            spmv_add(wheel.model.pattern(), &wheel.model.m, 1.0, &ones, &mut out);
+            out.iter().sum()
+        };
+        let wheel_mass = mass_of(1);
+        let axle_mass = vehicle.unsprung_mass - wheel_mass;
+        if !(axle_mass > 0.0) {
+            return Err(RollingError::Mass {
+                unsprung: vehicle.unsprung_mass,
+                wheel: wheel_mass,
+            });
+        }
+        let tie_stiffness = 100.0 * ws.material.young * ws.thickness;
+        let spring = |link, stiffness, damping| SpringDamper {
+            link,
+            kind: SpringKind::Translational,
+            stiffness,
+            damping,
+        };
+        let joint = |e: crate::element::discrete::DiscreteError| RollingError::Track(e.into());
+        for &d in &hub_dofs {
+            discrete
+                .add_spring(spring(Link::Between(d, axle[d % 2]), tie_stiffness, 0.0))
+                .map_err(joint)?;
+        }
+        for &a in &axle {
+            discrete
+                .add_mass(PointMass {
+                    dof: a,
+                    mass: axle_mass,
+                })
+                .map_err(joint)?;
+            discrete
+                .add_spring(spring(
+                    Link::Ground(a),
+                    vehicle.suspension_stiffness,
+                    vehicle.suspension_damping,
+                ))
+                .map_err(joint)?;
+        }
+        // The pattern's (ax, ay) entries for the frame's terms (values added below).
+        discrete
+            .add_spring(spring(Link::Between(axle[0], axle[1]), 0.0, 0.0))
+            .map_err(joint)?;
+        let joints = Joints {
+            dofs: sleepers + 2,
+            discrete,
+        };
+        let mut joined = assemble_with(&bodies, &joints)?;
+        // The axle's frame terms and the suspension damper's (module docs).
+        let om = -omega;
+        let slot = |i, j| {
+            joined
+                .model
+                .assembler
+                .slot(i, j)
+                .ok_or_else(|| RollingError::Unsupported("the axle's pattern".into()))
+        };
+        let (sxy, syx) = (slot(axle[0], axle[1])?, slot(axle[1], axle[0])?);
+        let (sxx, syy) = (slot(axle[0], axle[0])?, slot(axle[1], axle[1])?);
+        let m = &mut joined.model;
+        m.c[sxy] -= 2.0 * om * axle_mass;
+        m.c[syx] += 2.0 * om * axle_mass;
+        m.k[sxx] -= om * om * axle_mass;
+        m.k[syy] -= om * om * axle_mass;
+        m.k[sxy] -= vehicle.suspension_damping * om;
+        m.k[syx] += vehicle.suspension_damping * om;
+        // The search on the rail's top: segment k is element ne - 1 - k, right to left.
+        let ne = xs.len() - 1;
+        let segments: Vec<[usize; 2]> = (0..ne).map(|k| [ne - k, ne - 1 - k]).collect();
+        let seg_phi = (0..ne).map(|k| phi[ne - 1 - k]).collect();
+        let points: Vec<f64> = xs.iter().flat_map(|&x| [x, 0.0]).collect();
+        let le = length / ne as f64;
+        let mut search = Search::new(
+            2,
+            Placed {
+                motion: rail_motion,
+                first_dof: n_wheel,
+            },
+            points,
+            segments,
+            le.min(0.02),
+        )?
+        .on_beams(seg_phi)?;
+        if let Some(p) = profile {
+            search = search.with_profile(p)?;
+        }
+        let interface = Interface::new(
+            search,
+            Placed {
+                motion: wheel_motion,
+                first_dof: 0,
+            },
+            wheel.rim.clone(),
+            &wheel.mesh.reference_positions(),
+        );
+        Ok(Self {
+            track: *track,
+            vehicle,
+            bodies,
+            joined,
+            interface,
+            xs,
+            phi,
+            pads,
+            axle,
+            wheel_mass,
+            axle_mass,
+            start,
+            rim_radius: r_s,
+            tie_stiffness,
+            wheel,
+        })
+    }
+
+    /// The driver's problem: `steps` steps of `h` with `integrator`, the soft way,
+    /// frictionless (set `treatment` and `friction` after), the load of the module docs.
+    pub fn problem(&self, integrator: Integrator, h: f64, steps: usize) -> Problem {
+        let pairs = Pair::searched(0, &self.interface, 0);
+        let mut p = self.joined.problem(
+            &self.bodies,
+            (vec![self.interface.clone()], pairs),
+            (integrator, h, steps),
+        );
+        p.load = self.load_fn();
+        p.treatment = Treatment::SOFT_WAY;
+        p
+    }
+
+    /// The load at time `t` (module docs). Allocates once here; the returned function
+    /// allocates nothing.
+    pub fn load_fn(&self) -> LoadFn {
+        let n = self.joined.model.n();
+        let n_wheel = self.joined.first_dof[1];
+        let base = self.joined.load.clone();
+        // M 1_x and M 1_y on the wheel's and the axle's dofs (the joined mass: the ties
+        // carry none).
+        let mut unit = [vec![0.0; n], vec![0.0; n]];
+        for (c, out) in unit.iter_mut().enumerate() {
+            let mut ones = vec![0.0; n];
+            for d in (c..n_wheel).step_by(2) {
+                ones[d] = 1.0;
+            }
+            ones[self.axle[c]] = 1.0;
+            spmv_add(
+                self.joined.model.pattern(),
+                &self.joined.model.m,
+                1.0,
+                &ones,
+                out,
+            );
+            for (d, o) in out.iter_mut().enumerate() {
+                if !(d < n_wheel || d == self.axle[c]) {
+                    *o = 0.0;
+                }
+            }
+        }
+        let g = self.vehicle.gravity;
+        let f_axle = self.vehicle.axle_load;
+        let settle = self.vehicle.settle;
+        let frame = self.bodies[0].motion;
+        let axle = self.axle;
+        Box::new(move |t, f| {
+            f.copy_from_slice(&base);
+            let s = ramp(t, settle);
+            let d = frame.rotate_back(t, [0.0, -1.0, 0.0]);
+            for (fi, (ux, uy)) in f.iter_mut().zip(unit[0].iter().zip(&unit[1])) {
+                *fi += s * g * (d[0] * ux + d[1] * uy);
+            }
+            f[axle[0]] += s * f_axle * d[0];
+            f[axle[1]] += s * f_axle * d[1];
+        })
+    }
+
+    /// The rail's abscissa under the axle at time `t`, m.
+    pub fn under_axle(&self, t: f64) -> f64 {
+        self.start + self.vehicle.speed * t
+    }
+
+    /// The axle's displacement in the ground (x along the track, y up) at `t`, m.
+    pub fn axle_ground(&self, t: f64, u: &[f64]) -> [f64; 2] {
+        let a = [u[self.axle[0]], u[self.axle[1]], 0.0];
+        let g = self.bodies[0].motion.rotate(t, a);
+        [g[0], g[1]]
+    }
+
+    /// The rail's deflection at its abscissa `x` (m, up), from the element's own shape.
+    ///
+    /// # Errors
+    /// [`TrackError::OffRail`].
+    pub fn rail_deflection(&self, x: f64, u: &[f64]) -> Result<f64, TrackError> {
+        let length = *self.xs.last().unwrap_or(&0.0);
+        if !(x.is_finite() && (0.0..=length).contains(&x)) {
+            return Err(TrackError::OffRail { x, length });
+        }
+        let ne = self.xs.len() - 1;
+        let le = length / ne as f64;
+        let e = ((x / le).floor() as usize).min(ne - 1);
+        let xi = ((x - self.xs[e]) / le).clamp(0.0, 1.0);
+        let (nw, _) = shape_functions(self.phi[e], le, xi);
+        let o = self.joined.first_dof[1] + 2 * e;
+        Ok((0..4).map(|k| nw[k] * u[o + k]).sum())
+    }
+
+    /// The pad force of sleeper `j` (compression positive), N: `k_p (y_j - w_j) + c_p (v_y - v_w)`.
+    pub fn pad_force(&self, j: usize, u: &[f64], v: &[f64]) -> f64 {
+        let (w, y) = self.pads[j];
+        -(self.track.pad_stiffness * (u[w] - u[y]) + self.track.pad_damping * (v[w] - v[y]))
+    }
+
+    /// The sleeper nearest the rail's abscissa `x`.
+    pub fn sleeper_near(&self, x: f64) -> usize {
+        ((x / self.track.spacing).round().max(0.0) as usize).min(self.track.bays)
+    }
+
+    /// The track alone (the rail, its sleepers and ends), as [`TrackSpec::build`] builds it.
+    ///
+    /// # Errors
+    /// [`TrackError`].
+    pub fn track_alone(&self) -> Result<Track, TrackError> {
+        self.track.build()
+    }
+}
+
+/// The raised-cosine ramp from 0 at `t = 0` to 1 at `t = settle` (1 after; 1 throughout
+/// when `settle` is 0).
+pub fn ramp(t: f64, settle: f64) -> f64 {
+    if settle <= 0.0 || t >= settle {
+        1.0
+    } else if t <= 0.0 {
+        0.0
+    } else {
+        0.5 * (1.0 - (std::f64::consts::PI * t / settle).cos())
+    }
+}
