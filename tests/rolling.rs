@@ -1,14 +1,27 @@
 //! The wheel rolling on the track (issue 30): the elastic wheel in its rotating frame on a
 //! moving hub with its unsprung mass, loaded through the axle, on the UIC60 rail on pads,
-//! sleepers and ballast, through the contact search.
+//! sleepers and ballast, met through the contact search (`softway::track::rolling`).
+//!
+//! - On a smooth rail the mean contact force over whole sleeper bays is the static wheel
+//!   load `F_axle + m_u g` (the axle's momentum balance: its mean acceleration is zero), and
+//!   the force varies at the sleeper-passing frequency `V / s`.
+//! - Over an irregularity made of harmonics at `V / lambda_i` between 27 and 63 Hz, the
+//!   force's response per unit irregularity (the run with it less the smooth run, fitted by
+//!   least squares at each `V / lambda_i`) peaks at the P2 frequency: the wheel's mass on
+//!   its contact spring on the track's receptance (`track::receptance::p2_with`, an
+//!   independent frequency-domain computation on the track alone, with the contact spring
+//!   measured in the smooth run).
 
 use softway::contact::profile::Profile;
+use softway::contact::{Restore, Treatment};
 use softway::mesh::generators::{disk_graded, DiskOptions};
 use softway::simulation::Simulation;
 use softway::time::{Coriolis, Integrator};
+use softway::track::receptance::p2_with;
 use softway::track::rolling::{Vehicle, WheelOnTrack};
-use softway::track::TrackSpec;
+use softway::track::{Ends, TrackSpec};
 use softway::wheel::{Support, WheelModel, WheelSpec};
+use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
 /// One step's record.
@@ -20,20 +33,32 @@ struct Rec {
     rail_w: f64,
 }
 
-struct Setup {
-    rim: usize,
-    speed: f64,
-    h: f64,
-    bays: usize,
-    duration: f64,
-    settle: f64,
-    profile: Option<Profile>,
+/// The runs' common data: 360 rim nodes (8 mm pitch), 40 m/s, three steps a rim node's
+/// passage, 80 bays with 20 absorbing at each end, 0.5 s (20 m).
+const RIM: usize = 360;
+const SPEED: f64 = 40.0;
+const BAYS: usize = 80;
+const DURATION: f64 = 0.5;
+const SETTLE: f64 = 0.05;
+/// The fitted window, s.
+const WINDOW: (f64, f64) = (0.15, 0.5);
+
+fn track() -> TrackSpec {
+    TrackSpec {
+        bays: BAYS,
+        ends: Ends::Absorbing {
+            bays: 20,
+            damping: 1000.0,
+        },
+        ..TrackSpec::uic60()
+    }
 }
 
-fn wheel(rim: usize, speed: f64) -> WheelModel {
+/// A 0.46 m steel wheel 20 mm thick (plane strain) on a 0.1 m hub, turning at `V / R_s`.
+fn wheel() -> WheelModel {
     let mesh = disk_graded(
         0.46,
-        rim,
+        RIM,
         DiskOptions {
             hub: Some(0.1),
             grading: 1.3,
@@ -52,8 +77,8 @@ fn wheel(rim: usize, speed: f64) -> WheelModel {
         },
         ..WheelSpec::paper()
     };
-    // omega = V / R_s: find R_s at a first omega, then rebuild (R_s moves by ~1e-7).
-    let mut omega = speed / 0.46;
+    // omega = V / R_s, R_s the spun rim's radius (it moves by ~1e-7 with omega).
+    let mut omega = SPEED / 0.46;
     for _ in 0..3 {
         let w = WheelModel::new(
             mesh.clone(),
@@ -63,110 +88,52 @@ fn wheel(rim: usize, speed: f64) -> WheelModel {
             },
         )
         .unwrap();
-        omega = speed / w.spinning_radius();
+        omega = SPEED / w.spinning_radius();
     }
     WheelModel::new(mesh, WheelSpec { omega, ..spec }).unwrap()
 }
 
-fn roll(s: Setup) -> (WheelOnTrack, Vec<Rec>) {
-    let track = TrackSpec {
-        bays: s.bays,
-        ends: softway::track::Ends::Absorbing {
-            bays: s.bays / 4,
-            damping: 1000.0,
-        },
-        ..TrackSpec::uic60()
-    };
-    let vehicle = Vehicle {
+fn vehicle() -> Vehicle {
+    Vehicle {
         unsprung_mass: 800.0,
         axle_load: 100e3,
-        speed: s.speed,
-        suspension_stiffness: std::env::var("KS")
-            .map(|v| v.parse().unwrap())
-            .unwrap_or(0.0),
-        suspension_damping: std::env::var("CS")
-            .map(|v| v.parse().unwrap())
-            .unwrap_or(0.0),
+        speed: SPEED,
+        suspension_stiffness: 0.0,
+        suspension_damping: 0.0,
         gravity: 9.81,
-        settle: s.settle,
-    };
-    let start = (s.bays / 4 + 1) as f64 * track.spacing;
-    let wot = WheelOnTrack::new(wheel(s.rim, s.speed), &track, vehicle, start, s.profile).unwrap();
-    let steps = (s.duration / s.h).round() as usize;
-    let integ = Integrator::SpaceTime {
-        alpha: std::env::var("ALPHA")
-            .map(|v| v.parse().unwrap())
-            .unwrap_or(0.8),
+        settle: SETTLE,
+    }
+}
+
+/// The rail's abscissa under the axle at `t = 0`: just past the sponge.
+fn start() -> f64 {
+    21.0 * track().spacing
+}
+
+fn roll(treatment: Treatment, profile: Option<Profile>) -> (WheelOnTrack, Vec<Rec>) {
+    roll_with(vehicle(), treatment, profile)
+}
+
+fn roll_with(
+    vehicle: Vehicle,
+    treatment: Treatment,
+    profile: Option<Profile>,
+) -> (WheelOnTrack, Vec<Rec>) {
+    let wot = WheelOnTrack::new(wheel(), &track(), vehicle, start(), profile).unwrap();
+    let pitch = 2.0 * PI * wot.rim_radius / RIM as f64;
+    let h = pitch / SPEED / 3.0;
+    let steps = (DURATION / h).round() as usize;
+    let integrator = Integrator::SpaceTime {
+        alpha: 0.8,
         gamma: 0.0,
         coriolis: Coriolis::Implicit,
     };
-    let mut problem = wot.problem(integ, s.h, steps);
-    match std::env::var("TREAT").as_deref() {
-        Ok("exact") => problem.treatment = softway::contact::Treatment::Exact,
-        Ok("nothing") => {
-            problem.treatment = softway::contact::Treatment::SoftWay {
-                restore: softway::contact::Restore::Nothing,
-            }
-        }
-        Ok("braking") => {
-            problem.treatment = softway::contact::Treatment::SoftWay {
-                restore: softway::contact::Restore::BrakingReaction,
-            }
-        }
-        _ => {}
-    }
+    let mut problem = wot.problem(integrator, h, steps);
+    problem.treatment = treatment;
     let mut sim = Simulation::new(problem).unwrap();
-    let mut recs = Vec::with_capacity(steps);
-    let res = sim.run(&AtomicBool::new(false), |v| {
-        let t = v.state.t;
-        let u = &v.state.state.u;
-        if v.state.k
-            % std::env::var("EVERY")
-                .map(|v| v.parse().unwrap())
-                .unwrap_or(50)
-            == 0
-        {
-            let a = wot.axle_ground(t, u);
-            println!(
-                "{:.4} F {:.1} kN axle {:.4} {:.4} mm rail {:.4} mm E {:.1} held {}",
-                t,
-                v.contact_force * 1e-3,
-                a[0] * 1e3,
-                a[1] * 1e3,
-                wot.rail_deflection(wot.under_axle(t), u).unwrap() * 1e3,
-                v.kinetic() + v.strain(),
-                v.held
-            );
-        }
-        if let Ok(dbg) = std::env::var("DBG") {
-            let (a, b): (usize, usize) = {
-                let mut it = dbg.split(',').map(|x| x.parse().unwrap());
-                (it.next().unwrap(), it.next().unwrap())
-            };
-            if (a..=b).contains(&v.state.k) {
-                let list: Vec<String> = v
-                    .state
-                    .pairs
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, p)| p.gap < 2e-4 || p.force != 0.0)
-                    .map(|(i, p)| {
-                        format!(
-                            "[{i} {:?} g {:.2e} f {:.1} h{} b{} r{} bf {:.1} rs {:?}]",
-                            p.mode,
-                            p.gap,
-                            p.force * 1e-3,
-                            p.held as u8,
-                            p.braked as u8,
-                            p.released as u8,
-                            p.brake_force * 1e-3,
-                            p.restore
-                        )
-                    })
-                    .collect();
-                println!("k {} {}", v.state.k, list.join(" "));
-            }
-        }
+    let mut recs = Vec::with_capacity(steps + 1);
+    sim.run(&AtomicBool::new(false), |v| {
+        let (t, u) = (v.state.t, &v.state.state.u);
         recs.push(Rec {
             t,
             force: v.contact_force,
@@ -174,55 +141,214 @@ fn roll(s: Setup) -> (WheelOnTrack, Vec<Rec>) {
             rail_w: wot.rail_deflection(wot.under_axle(t), u).unwrap(),
         });
         Ok(())
-    });
-    if let Err(e) = res {
-        println!("FAILED at {:.4}: {e}", recs.last().map_or(0.0, |r| r.t));
-    }
+    })
+    .unwrap();
     (wot, recs)
 }
 
+/// The records from `t0` over a whole number of periods `period` up to `t1`.
+fn whole_periods(recs: &[Rec], (t0, t1): (f64, f64), period: f64) -> &[Rec] {
+    let n = ((t1 - t0) / period).floor();
+    let end = t0 + n * period;
+    let a = recs.iter().position(|r| r.t >= t0).unwrap();
+    let b = recs.iter().position(|r| r.t >= end).unwrap_or(recs.len());
+    &recs[a..b]
+}
+
+/// Least-squares amplitudes of `y(t)` at the frequencies `f` (with a constant).
+fn amplitudes(t: &[f64], y: &[f64], f: &[f64]) -> Vec<f64> {
+    let m = 2 * f.len() + 1;
+    let basis = |tt: f64| {
+        let mut row = vec![1.0];
+        for &fi in f {
+            let ph = 2.0 * PI * fi * tt;
+            row.extend([ph.cos(), ph.sin()]);
+        }
+        row
+    };
+    let mut a = vec![vec![0.0; m + 1]; m];
+    for (&tt, &yy) in t.iter().zip(y) {
+        let r = basis(tt);
+        for i in 0..m {
+            for j in 0..m {
+                a[i][j] += r[i] * r[j];
+            }
+            a[i][m] += r[i] * yy;
+        }
+    }
+    // Gaussian elimination with partial pivoting.
+    for c in 0..m {
+        let p = (c..m)
+            .max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))
+            .unwrap();
+        a.swap(c, p);
+        let (top, below) = a.split_at_mut(c + 1);
+        let pivot = &top[c];
+        for row in below {
+            let k = row[c] / pivot[c];
+            for (x, y) in row[c..].iter_mut().zip(&pivot[c..]) {
+                *x -= k * y;
+            }
+        }
+    }
+    let mut x = vec![0.0; m];
+    for i in (0..m).rev() {
+        let s: f64 = (i + 1..m).map(|j| a[i][j] * x[j]).sum();
+        x[i] = (a[i][m] - s) / a[i][i];
+    }
+    (0..f.len())
+        .map(|i| x[1 + 2 * i].hypot(x[2 + 2 * i]))
+        .collect()
+}
+
 #[test]
-fn experiment() {
-    let t0 = std::time::Instant::now();
-    let (wot, recs) = roll(Setup {
-        rim: std::env::var("RIM")
-            .map(|v| v.parse().unwrap())
-            .unwrap_or(360),
-        speed: std::env::var("V")
-            .map(|v| v.parse().unwrap())
-            .unwrap_or(27.78),
-        h: std::env::var("H")
-            .map(|v| v.parse().unwrap())
-            .unwrap_or(1e-4),
-        bays: 60,
-        duration: 0.3,
-        settle: 0.05,
-        profile: None,
-    });
-    let half = &recs[recs.len() / 2..];
-    let mean = half.iter().map(|r| r.force).sum::<f64>() / half.len() as f64;
-    let sd =
-        (half.iter().map(|r| (r.force - mean).powi(2)).sum::<f64>() / half.len() as f64).sqrt();
-    println!(
-        "mean F (second half) {:.2} kN, sd {:.2} kN, reached t = {:.4}",
-        mean * 1e-3,
-        sd * 1e-3,
-        recs.last().unwrap().t
-    );
-    println!(
-        "{} dofs, wheel {:.1} kg, axle {:.1} kg, {:?}",
-        wot.joined.model.n(),
-        wot.wheel_mass,
-        wot.axle_mass,
-        t0.elapsed()
-    );
-    for r in recs.iter().step_by(100) {
+fn on_a_smooth_rail_the_static_load_is_carried_and_the_force_varies_at_the_sleeper_passing_frequency(
+) {
+    let period = track().spacing / SPEED;
+    let load = vehicle().static_load();
+    for (name, treatment) in [
+        ("exact", Treatment::Exact),
+        (
+            "soft way without restore",
+            Treatment::SoftWay {
+                restore: Restore::Nothing,
+            },
+        ),
+    ] {
+        let (_, recs) = roll(treatment, None);
+        let w = whole_periods(&recs, WINDOW, period);
+        let mean = w.iter().map(|r| r.force).sum::<f64>() / w.len() as f64;
+        let err = mean / load - 1.0;
         println!(
-            "{:.4} F {:.1} kN axle {:.3} mm rail {:.3} mm",
-            r.t,
-            r.force * 1e-3,
-            r.axle_y * 1e3,
-            r.rail_w * 1e3
+            "{name}: mean contact force over {} sleeper bays {:.2} N against F_axle + m_u g = {load:.2} N ({err:+.2e})",
+            ((WINDOW.1 - WINDOW.0) / period).floor(),
+            mean
+        );
+        assert!(err.abs() < 5e-3, "{name}: mean force {mean} against {load}");
+        // The force's spectrum below 1 kHz over the window: its largest line is V / s.
+        let t: Vec<f64> = w.iter().map(|r| r.t).collect();
+        let y: Vec<f64> = w.iter().map(|r| r.force - mean).collect();
+        let span = t[t.len() - 1] - t[0] + (t[1] - t[0]);
+        let lines: Vec<f64> = (1..(1000.0 * span) as usize)
+            .map(|k| k as f64 / span)
+            .collect();
+        let dft = |f: f64| {
+            let (c, s) = t.iter().zip(&y).fold((0.0, 0.0), |(c, s), (&tt, &yy)| {
+                let ph = 2.0 * PI * f * tt;
+                (c + yy * ph.cos(), s + yy * ph.sin())
+            });
+            2.0 * c.hypot(s) / y.len() as f64
+        };
+        let (best, amp) = lines
+            .iter()
+            .map(|&f| (f, dft(f)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        println!(
+            "{name}: strongest line {best:.2} Hz ({amp:.0} N) against V / s = {:.2} Hz",
+            1.0 / period
+        );
+        assert!(
+            (best - 1.0 / period).abs() < 0.5 / span,
+            "{name}: strongest line {best} Hz, sleeper passing {} Hz",
+            1.0 / period
         );
     }
+}
+
+/// With a primary suspension spring `k_s` about the axle's nominal position, the spring
+/// carries `-k_s z` of the load (`z` the axle's drop): the mean contact force is
+/// `F_axle + m_u g + k_s z_mean`.
+#[test]
+fn a_suspension_spring_takes_its_share_of_the_load() {
+    let k_s = 2e6;
+    let v = Vehicle {
+        suspension_stiffness: k_s,
+        suspension_damping: 2e4,
+        ..vehicle()
+    };
+    let (_, recs) = roll_with(v, Treatment::Exact, None);
+    let w = whole_periods(&recs, WINDOW, track().spacing / SPEED);
+    let mean = |f: &dyn Fn(&Rec) -> f64| w.iter().map(f).sum::<f64>() / w.len() as f64;
+    let (force, drop) = (mean(&|r| r.force), mean(&|r| r.axle_y));
+    let expected = v.static_load() + k_s * drop;
+    let err = force / expected - 1.0;
+    println!("suspension: mean force {force:.1} N, axle {drop:.4e} m, expected {expected:.1} N ({err:+.2e})");
+    assert!(
+        k_s * drop < -0.01 * v.static_load(),
+        "the spring carries a part"
+    );
+    assert!(err.abs() < 5e-3, "mean force {force} against {expected}");
+}
+
+#[test]
+fn an_irregularity_excites_the_p2_resonance_where_v_over_the_wavelength_meets_it() {
+    // Harmonics at 27, 30, .., 63 Hz at 40 m/s, 20 um each, faded in over the first 2 m.
+    let freqs: Vec<f64> = (0..13).map(|i| 27.0 + 3.0 * i as f64).collect();
+    let amp = 20e-6;
+    let (x0, x1) = (start() - 1.0, start() + SPEED * DURATION + 2.0);
+    let dx = 1e-3;
+    let n = ((x1 - x0) / dx) as usize + 1;
+    let phases: Vec<f64> = (0..freqs.len()).map(|i| 2.399 * i as f64).collect();
+    let values: Vec<f64> = (0..n)
+        .map(|k| {
+            let x = k as f64 * dx;
+            let fade = if x < 3.0 {
+                0.5 * (1.0 - (PI * x / 3.0).cos())
+            } else {
+                1.0
+            };
+            fade * freqs
+                .iter()
+                .zip(&phases)
+                .map(|(&f, &ph)| amp * (2.0 * PI * f / SPEED * x + ph).sin())
+                .sum::<f64>()
+        })
+        .collect();
+    let profile = Profile::sampled(x0, dx, values).unwrap();
+    let treatment = Treatment::Exact;
+    let (wot, smooth) = roll(treatment, None);
+    let (_, rough) = roll(treatment, Some(profile));
+    let a = smooth.iter().position(|r| r.t >= WINDOW.0).unwrap();
+    let t: Vec<f64> = smooth[a..].iter().map(|r| r.t).collect();
+    let df: Vec<f64> = rough[a..]
+        .iter()
+        .zip(&smooth[a..])
+        .map(|(r, s)| r.force - s.force)
+        .collect();
+    let response: Vec<f64> = amplitudes(&t, &df, &freqs)
+        .iter()
+        .map(|a_f| a_f / amp)
+        .collect();
+    for (f, r) in freqs.iter().zip(&response) {
+        println!("{f:5.1} Hz: {:.3e} N/m", r);
+    }
+    let i = (1..freqs.len() - 1)
+        .max_by(|&i, &j| response[i].total_cmp(&response[j]))
+        .unwrap();
+    // The parabola through the peak and its neighbours.
+    let (y0, y1, y2) = (response[i - 1], response[i], response[i + 1]);
+    let peak = freqs[i] + 0.5 * 3.0 * (y0 - y2) / (y0 - 2.0 * y1 + y2);
+    // The contact spring (wheel and contact in series) of the smooth run, and P2 on it.
+    let load = vehicle().static_load();
+    let w = &smooth[a..];
+    let squeeze = w.iter().map(|r| r.rail_w - r.axle_y).sum::<f64>() / w.len() as f64;
+    let k_c = load / squeeze;
+    let built = track().build().unwrap();
+    let mid = (BAYS / 2) as f64 * track().spacing + 0.5 * track().spacing;
+    let above = (BAYS / 2) as f64 * track().spacing;
+    let m_u = vehicle().unsprung_mass;
+    let p2_mid = p2_with(&built, mid, m_u, k_c, 200).unwrap().unwrap();
+    let p2_above = p2_with(&built, above, m_u, k_c, 200).unwrap().unwrap();
+    let expected = 0.5 * (p2_mid + p2_above);
+    let err = peak / expected - 1.0;
+    println!(
+        "contact spring {k_c:.3e} N/m; P2 {p2_mid:.2} Hz at mid-span, {p2_above:.2} Hz above a sleeper; rolling peak {peak:.2} Hz ({err:+.2e}); axle mass {:.1} kg",
+        wot.axle_mass
+    );
+    assert!(
+        response[i] > 1.5 * response[0] && response[i] > 1.5 * response[freqs.len() - 1],
+        "a resonance peak inside the band: {response:?}"
+    );
+    assert!(err.abs() < 0.05, "peak {peak} Hz against P2 {expected} Hz");
 }

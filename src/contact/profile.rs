@@ -72,7 +72,7 @@ fn check(
 
 fn samples(length: f64, dx: f64) -> Result<usize, ProfileError> {
     let n = (length / dx).ceil();
-    if !(n < MAX_SAMPLES as f64) {
+    if n.is_nan() || n >= MAX_SAMPLES as f64 {
         return Err(ProfileError::TooLong(n as usize));
     }
     Ok(n as usize + 1)

@@ -305,6 +305,45 @@ pub struct Frequencies {
     pub p2_single_dof_hz: f64,
 }
 
+/// The P2 frequency of a wheel of mass `unsprung_mass` (kg) on the contact spring
+/// `contact_stiffness` (N/m) over the rail's point `x` (m) of `track`: the lowest local
+/// minimum of `|alpha(x, f) + 1 / k_c - 1 / (m_u (2 pi f)^2)|` between 5 Hz and half the
+/// span's simply supported frequency, on `points` log-spaced frequencies refined by golden
+/// section (module docs). `None` when that band holds no minimum.
+///
+/// # Errors
+/// [`TrackError`] for a failed solve.
+pub fn p2_with(
+    track: &Track,
+    x: f64,
+    unsprung_mass: f64,
+    contact_stiffness: f64,
+    points: usize,
+) -> Result<Option<f64>, TrackError> {
+    let spec = &track.spec;
+    let f_ss = simply_supported_hz(&spec.section, spec.theory, spec.spacing);
+    let mut pencil = Pencil::new(track)?;
+    let mut score = |f: f64| -> Result<f64, TrackError> {
+        pencil.factor(2.0 * PI * f)?;
+        let alpha = pencil.point_receptance(track, x)?;
+        let w = 2.0 * PI * f;
+        let d = alpha + c64::new(1.0 / contact_stiffness - 1.0 / (unsprung_mass * w * w), 0.0);
+        Ok(-d.norm())
+    };
+    let freqs = log_frequencies(5.0, 0.5 * f_ss, points.max(3));
+    let values = freqs
+        .iter()
+        .map(|&f| score(f))
+        .collect::<Result<Vec<f64>, TrackError>>()?;
+    refined_extremum(
+        &freqs,
+        &values,
+        (0.0, f64::INFINITY),
+        Pick::Lowest,
+        &mut score,
+    )
+}
+
 /// Which local maximum of a score [`refined_extremum`] takes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Pick {

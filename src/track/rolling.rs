@@ -31,8 +31,9 @@
 //! wheel from the sprung mass, `m_u` the unsprung mass per wheel, the wheel's included) acts
 //! downwards in the ground: `F_axle` on the axle, gravity on every mass of the wheel and the
 //! axle. In the turning frame the ground's downward direction is `R(t)^T (0, -1)`, so the
-//! load turns at `-Omega` there: `f(t) = s(t) [g (d_x M 1_x + d_y M 1_y) + F_axle (d_x e_ax
-//! + d_y e_ay)]`, `(d_x, d_y) = R(t)^T (0, -1)`, on the wheel's and the axle's dofs. It is
+//! load turns at `-Omega` there:
+//! `f(t) = s(t) [g (d_x M 1_x + d_y M 1_y) + F_axle (d_x e_ax + d_y e_ay)]`,
+//! `(d_x, d_y) = R(t)^T (0, -1)`, on the wheel's and the axle's dofs. It is
 //! applied over `settle` seconds by the raised cosine `s(t) = (1 - cos(pi t / T_s)) / 2`
 //! (then 1): the track and wheel start at rest, touching, unloaded.
 //!
@@ -186,7 +187,8 @@ impl WheelOnTrack {
         let v = vehicle.speed;
         // The wheel's frame terms were built for its own omega: it must roll at V / R_s.
         let omega = ws.omega;
-        if !((omega * r_s - v).abs() <= 1e-9 * v.abs().max(1.0)) {
+        let mismatch = (omega * r_s - v).abs();
+        if mismatch.is_nan() || mismatch > 1e-9 * v.abs().max(1.0) {
             return Err(RollingError::Unsupported(format!(
                 "the wheel turns at {omega} rad/s but rolls at {v} m/s on a radius of {r_s} m: build it with omega = V / R_s"
             )));
@@ -235,7 +237,7 @@ impl WheelOnTrack {
         };
         let wheel_mass = mass_of(1);
         let axle_mass = vehicle.unsprung_mass - wheel_mass;
-        if !(axle_mass > 0.0) {
+        if axle_mass.is_nan() || axle_mass <= 0.0 {
             return Err(RollingError::Mass {
                 unsprung: vehicle.unsprung_mass,
                 wheel: wheel_mass,
