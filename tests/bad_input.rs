@@ -280,6 +280,15 @@ fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
 // ---------------------------------------------------------------- scenario: the track
 
 fn track_text() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/track-moving-load.toml"
+    ))
+    .unwrap()
+}
+
+/// The wheel rolling on the track (scenarios/track.toml).
+fn rolling_text() -> String {
     std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/track.toml")).unwrap()
 }
 
@@ -351,7 +360,11 @@ refused!(
 refused!(
     track_travel_into_the_sponge,
     track_text().replace("travel_bays = 6", "travel_bays = 50"),
-    ["`vehicle.travel_bays` = 50", "at most 40 bays"]
+    [
+        "`vehicle.travel_bays` = 50",
+        "absorbing zones",
+        "25 bays before the middle, 20 there"
+    ]
 );
 refused!(
     track_missing_speed,
@@ -386,7 +399,7 @@ refused!(
 refused!(
     track_with_contact,
     format!("{}\n[contact]\nmethod = \"exact\"\n", track_text()),
-    ["`contact`", "no contact"]
+    ["`contact`", "no contact", "moving_load"]
 );
 refused!(
     track_run_with_a_method,
@@ -413,6 +426,93 @@ refused!(
     track_table_on_a_bar,
     format!("{}\n[vehicle]\nspeed = 30.0\n", common::BAR),
     ["`vehicle`", "only used with kind = \"track\""]
+);
+
+refused!(
+    rolling_with_the_soft_way_restoring,
+    rolling_text().replace("method = \"exact\"", "method = \"soft_way\""),
+    [
+        "`contact.method` = \"soft_way\"",
+        "\"soft_way_no_restore\"",
+        "momentum back"
+    ]
+);
+refused!(
+    rolling_with_two_speeds,
+    rolling_text().replace("speed_km_h = 100.0", "speed_km_h = 100.0\nspeed = 27.0"),
+    ["`vehicle.speed`", "not both"]
+);
+refused!(
+    rolling_unknown_model,
+    rolling_text().replace("model = \"wheel\"", "model = \"bogie\""),
+    ["`vehicle.model` = \"bogie\"", "\"moving_load\""]
+);
+refused!(
+    rolling_step_too_long,
+    rolling_text().replace("gamma = 0.0", "gamma = 0.0\nh = 1e-4"),
+    ["`time.h` = 0.0001", "rim node passes", "at most half"]
+);
+refused!(
+    rolling_hub_bigger_than_the_wheel,
+    rolling_text().replace(
+        "wheel_thickness = 0.02",
+        "wheel_thickness = 0.02\nwheel_hub_radius = 0.5"
+    ),
+    ["`vehicle.wheel_hub_radius` = 0.5", "below"]
+);
+refused!(
+    rolling_settle_into_the_sponge,
+    rolling_text().replace("settle_bays = 4", "settle_bays = 15"),
+    ["`vehicle.settle_bays` = 15", "absorbing zones"]
+);
+refused!(
+    rolling_irregularity_of_unknown_type,
+    format!("{}\n[irregularity]\ntype = \"sawtooth\"\n", rolling_text()),
+    ["`irregularity.type` = \"sawtooth\"", "\"harmonic\""]
+);
+refused!(
+    rolling_irregularity_without_wavelength,
+    format!("{}\n[irregularity]\namplitude = 1e-5\n", rolling_text()),
+    ["`irregularity.wavelength`"]
+);
+refused!(
+    rolling_irregularity_key_of_another_type,
+    format!(
+        "{}\n[irregularity]\ntype = \"harmonic\"\namplitude = 1e-5\nwavelength = 0.05\nseed = 3\n",
+        rolling_text()
+    ),
+    [
+        "`irregularity.seed`",
+        "not used with irregularity.type = \"harmonic\""
+    ]
+);
+refused!(
+    rolling_irregularity_file_missing,
+    format!(
+        "{}\n[irregularity]\ntype = \"measured\"\nfile = \"no-such-profile.csv\"\n",
+        rolling_text()
+    ),
+    [
+        "`irregularity.file`",
+        "no-such-profile.csv",
+        "cannot be read"
+    ]
+);
+refused!(
+    moving_load_with_an_irregularity,
+    format!(
+        "{}\n[irregularity]\namplitude = 1e-5\nwavelength = 0.05\n",
+        track_text()
+    ),
+    ["`irregularity`", "moving load"]
+);
+refused!(
+    moving_load_with_wheel_keys,
+    track_text().replace("travel_bays = 6", "travel_bays = 6\nwheel_rim_nodes = 1440"),
+    [
+        "`vehicle.wheel_rim_nodes`",
+        "only used with vehicle.model = \"wheel\""
+    ]
 );
 
 #[test]

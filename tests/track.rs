@@ -405,7 +405,10 @@ fn p2_is_below_the_single_dof_estimate_by_the_track_mass() {
 fn the_commands_write_the_receptance_and_the_passage() {
     let dir = std::env::temp_dir().join(format!("softway-track-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/track.toml");
+    let scenario = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/track-moving-load.toml"
+    );
     let softway = |args: &[&str]| {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
             .args(args)

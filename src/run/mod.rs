@@ -13,6 +13,7 @@ pub mod results;
 pub(crate) mod sdof;
 pub(crate) mod sweep;
 pub(crate) mod track;
+pub(crate) mod track_rolling;
 pub mod wheel;
 
 pub use crate::guard::GuardMode;

@@ -105,6 +105,9 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
+    if track_of(&sc.runs[0].model).vehicle.model == crate::scenario::VehicleModel::Wheel {
+        return super::track_rolling::record(sc, stream, opts);
+    }
     let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let mut sums = Vec::new();

@@ -217,22 +217,134 @@ impl WheelScenario {
 
 /// The vehicle of a track scenario (`[vehicle]`): one wheel, its share of the axle's
 /// unsprung mass and load, and its passage.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Vehicle {
-    /// Unsprung mass per wheel, kg (default 800).
+    /// What rolls along the rail (`vehicle.model`, default the wheel).
+    pub model: VehicleModel,
+    /// Unsprung mass per wheel, the wheel's own included, kg (default 800).
     #[serde(rename = "unsprung_mass_kg")]
     pub unsprung_mass: f64,
-    /// Static load per wheel, N (default 100e3).
+    /// Static load per wheel from the sprung mass, N (default 100e3).
     #[serde(rename = "axle_load_N")]
     pub axle_load: f64,
     /// Wheel radius, m (default 0.46).
     #[serde(rename = "wheel_radius_m")]
     pub wheel_radius: f64,
-    /// Speed, m/s.
+    /// Speed, m/s (`vehicle.speed`, or `vehicle.speed_km_h`).
     #[serde(rename = "speed_m_s")]
     pub speed: f64,
-    /// Bays the load crosses, centred on the track's middle (default 6).
+    /// Bays of the recorded passage, centred on the track's middle (default 6 for the moving
+    /// load, 20 for the wheel).
     pub travel_bays: usize,
+    /// Bays the wheel rolls before the recorded passage while its load is applied (over the
+    /// first half of them) and settles (default 4; the wheel only).
+    pub settle_bays: usize,
+    /// The primary suspension's stiffness (isotropic, about the axle's nominal position),
+    /// N/m (default 0: the axle load is a constant force).
+    #[serde(rename = "suspension_stiffness_N_m")]
+    pub suspension_stiffness: f64,
+    /// The primary suspension's damping, N s/m (default 0).
+    #[serde(rename = "suspension_damping_N_s_m")]
+    pub suspension_damping: f64,
+    /// Gravity, m/s^2 (default 9.81).
+    #[serde(rename = "gravity_m_s2")]
+    pub gravity: f64,
+    /// The wheel's mesh and material (the wheel only).
+    pub wheel: TrackWheel,
+}
+
+/// What rolls along the rail in a track scenario.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VehicleModel {
+    /// The elastic wheel in its rotating frame on its moving hub ([`crate::track::rolling`]).
+    Wheel,
+    /// A constant force moving at the speed ([`crate::track::moving`]).
+    MovingLoad,
+}
+
+/// The rolling wheel of a track scenario (`vehicle.wheel_*` keys): a graded disk on a hub.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct TrackWheel {
+    /// Rim nodes (default 720).
+    pub rim_nodes: usize,
+    /// Thickness (the line contact's width), m (default 0.02).
+    #[serde(rename = "thickness_m")]
+    pub thickness: f64,
+    /// Hub radius, m (default 0.1).
+    #[serde(rename = "hub_radius_m")]
+    pub hub_radius: f64,
+    /// The disk mesh's radial grading (default 1.3).
+    pub grading: f64,
+    /// Plane strain (default) or plane stress.
+    pub plane: crate::material::PlaneModel,
+    /// Steel: E = 210 GPa, nu = the track's Poisson's ratio, rho = 7850 kg/m^3.
+    pub material: crate::material::Elastic,
+}
+
+/// The rail's irregularity in a track scenario (`[irregularity]`), over the rail's abscissa
+/// measured from where the axle starts.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case", tag = "type")]
+pub enum Irregularity {
+    /// `amplitude sin(2 pi x / wavelength)`, faded in over `fade` wavelengths.
+    Harmonic {
+        /// m.
+        #[serde(rename = "amplitude_m")]
+        amplitude: f64,
+        /// m.
+        #[serde(rename = "wavelength_m")]
+        wavelength: f64,
+        /// Wavelengths.
+        fade: f64,
+    },
+    /// Measured `(x, r)` points from a CSV file (`x_m,r_m`).
+    Measured {
+        /// The file.
+        file: PathBuf,
+        /// The points, m.
+        #[serde(skip)]
+        points: Vec<(f64, f64)>,
+    },
+    /// Random, from one-third-octave band levels `(wavelength m, dB re 1 um)`.
+    Spectrum {
+        /// The bands.
+        bands: Vec<(f64, f64)>,
+        /// Harmonics a band.
+        per_band: usize,
+        /// The phases' seed.
+        seed: u64,
+    },
+}
+
+impl Irregularity {
+    /// The profile over the rail's abscissae `[from, to]` (m), shifted so that its `x = 0`
+    /// is the rail's `from`.
+    ///
+    /// # Errors
+    /// [`crate::contact::profile::ProfileError`].
+    pub fn profile(
+        &self,
+        (from, to): (f64, f64),
+    ) -> Result<crate::contact::profile::Profile, crate::contact::profile::ProfileError> {
+        use crate::contact::profile::Profile;
+        match self {
+            Irregularity::Harmonic {
+                amplitude,
+                wavelength,
+                fade,
+            } => Profile::harmonic(*amplitude, *wavelength, (from, to), *fade),
+            Irregularity::Measured { points, .. } => {
+                let shifted: Vec<(f64, f64)> = points.iter().map(|&(x, r)| (x + from, r)).collect();
+                Profile::from_points(&shifted)
+            }
+            Irregularity::Spectrum {
+                bands,
+                per_band,
+                seed,
+            } => Profile::from_spectrum(bands, *per_band, (from, to), *seed),
+        }
+    }
 }
 
 /// The frequencies of `softway receptance` (`[receptance]`): `points` log-spaced from
@@ -261,18 +373,40 @@ pub struct TrackScenario {
     pub vehicle: Vehicle,
     /// The receptance's frequencies.
     pub receptance: ReceptanceRange,
+    /// The rail's irregularity (`[irregularity]`; the wheel only).
+    pub irregularity: Option<Irregularity>,
 }
 
 impl TrackScenario {
-    /// Where the moving load starts: half its travel before the middle sleeper, m.
+    /// Where the load starts: half its recorded travel before the middle sleeper, and the
+    /// wheel its settling bays before that, m.
     pub fn start(&self) -> f64 {
         let s = self.spec.spacing;
-        (self.spec.bays / 2) as f64 * s - 0.5 * self.vehicle.travel_bays as f64 * s
+        (self.spec.bays / 2) as f64 * s
+            - 0.5 * self.vehicle.travel_bays as f64 * s
+            - self.settle_distance()
     }
 
-    /// The distance the load travels, m.
+    /// The time a rim node of the wheel takes to pass the contact: the rim's pitch over the
+    /// speed, s.
+    pub fn rim_passage(&self) -> f64 {
+        let w = &self.vehicle.wheel;
+        2.0 * std::f64::consts::PI * self.vehicle.wheel_radius
+            / w.rim_nodes as f64
+            / self.vehicle.speed
+    }
+
+    /// The distance the wheel rolls before the recorded passage, m (0 for the moving load).
+    pub fn settle_distance(&self) -> f64 {
+        match self.vehicle.model {
+            VehicleModel::Wheel => self.vehicle.settle_bays as f64 * self.spec.spacing,
+            VehicleModel::MovingLoad => 0.0,
+        }
+    }
+
+    /// The distance the load travels, settling included, m.
     pub fn travel(&self) -> f64 {
-        self.vehicle.travel_bays as f64 * self.spec.spacing
+        self.vehicle.travel_bays as f64 * self.spec.spacing + self.settle_distance()
     }
 
     /// The passage's duration, s.

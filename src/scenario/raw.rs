@@ -28,6 +28,7 @@ pub(super) struct RawScenario {
     pub track: Option<RawTrack>,
     pub vehicle: Option<RawVehicle>,
     pub receptance: Option<RawReceptance>,
+    pub irregularity: Option<RawIrregularity>,
     #[serde(default)]
     pub runs: Vec<RawRun>,
     pub output: Option<RawOutput>,
@@ -151,11 +152,37 @@ pub(super) struct RawTrack {
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawVehicle {
+    pub model: Option<String>,
     pub unsprung_mass: Option<f64>,
     pub axle_load: Option<f64>,
     pub wheel_radius: Option<f64>,
     pub speed: Option<f64>,
+    pub speed_km_h: Option<f64>,
     pub travel_bays: Option<i64>,
+    pub settle_bays: Option<i64>,
+    pub suspension_stiffness: Option<f64>,
+    pub suspension_damping: Option<f64>,
+    pub gravity: Option<f64>,
+    pub wheel_rim_nodes: Option<i64>,
+    pub wheel_thickness: Option<f64>,
+    pub wheel_hub_radius: Option<f64>,
+    pub wheel_grading: Option<f64>,
+    pub wheel_plane: Option<String>,
+}
+
+/// `[irregularity]`: the rail's roughness under the rolling wheel.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawIrregularity {
+    #[serde(rename = "type")]
+    pub kind: Option<String>,
+    pub amplitude: Option<f64>,
+    pub wavelength: Option<f64>,
+    pub fade: Option<f64>,
+    pub file: Option<String>,
+    pub bands: Option<Vec<Vec<f64>>>,
+    pub per_band: Option<i64>,
+    pub seed: Option<i64>,
 }
 
 /// `[receptance]`: the frequencies of `softway receptance`.

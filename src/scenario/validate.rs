@@ -6,8 +6,8 @@
 //! [`TimeStep::Cfl`] for [`crate::build`]).
 
 use super::raw::{
-    RawBar, RawContact, RawMaterial, RawReceptance, RawRolling, RawRun, RawScenario, RawSdof,
-    RawTime, RawTrack, RawVehicle, RawWheel,
+    RawBar, RawContact, RawIrregularity, RawMaterial, RawReceptance, RawRolling, RawRun,
+    RawScenario, RawSdof, RawTime, RawTrack, RawVehicle, RawWheel,
 };
 use super::{Contact, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep};
 use crate::contact::{FrictionLaw, Restore, Treatment};
@@ -49,6 +49,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         track,
         vehicle,
         receptance,
+        irregularity,
         runs: raw_runs,
         output,
         sweep,
@@ -115,7 +116,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         &kind,
         (sdof, bar, two_bars),
         (wheel, material, rolling),
-        (track, vehicle, receptance),
+        (track, vehicle, receptance, irregularity),
     )?;
     if let Some(b) = block {
         let Model::Wheel(w) = &mut model else {
@@ -153,11 +154,11 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
                     "a track run lasts vehicle.travel_bays bays at vehicle.speed: remove time.t_end",
                 ));
             }
-            if contact.is_some() {
+            if contact.is_some() && t.vehicle.model == crate::scenario::VehicleModel::MovingLoad {
                 return Err(cx.invalid(
                     "contact",
                     "(given)",
-                    "a track scenario has no contact (a constant load moves along the rail): remove [contact]",
+                    "vehicle.model = \"moving_load\" has no contact (a constant load moves along the rail): remove [contact]",
                 ));
             }
             t.duration()
@@ -243,8 +244,13 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
     })
 }
 
-/// The track's tables: `[track]`, `[vehicle]`, `[receptance]`.
-type TrackTables = (Option<RawTrack>, Option<RawVehicle>, Option<RawReceptance>);
+/// The track's tables: `[track]`, `[vehicle]`, `[receptance]`, `[irregularity]`.
+type TrackTables = (
+    Option<RawTrack>,
+    Option<RawVehicle>,
+    Option<RawReceptance>,
+    Option<RawIrregularity>,
+);
 
 /// The model of `kind` from its tables, each value checked under its key; the track's
 /// tables are refused for the other kinds.
@@ -253,13 +259,14 @@ fn model(
     kind: &str,
     (sdof, bar, two_bars): (Option<RawSdof>, Option<RawBar>, Option<RawBar>),
     (wheel, material, rolling): (Option<RawWheel>, Option<RawMaterial>, Option<RawRolling>),
-    (track_table, vehicle, receptance): TrackTables,
+    (track_table, vehicle, receptance, irregularity): TrackTables,
 ) -> Result<Model, ScenarioError> {
     if kind != "track" {
         for (key, given) in [
             ("track", track_table.is_some()),
             ("vehicle", vehicle.is_some()),
             ("receptance", receptance.is_some()),
+            ("irregularity", irregularity.is_some()),
         ] {
             if given {
                 return Err(cx.invalid(key, "(given)", "only used with kind = \"track\""));
@@ -327,7 +334,7 @@ fn model(
                     return Err(cx.invalid(
                         key,
                         "(given)",
-                        "not used with kind = \"track\" (its tables: [track], [vehicle], [receptance], [time])",
+                        "not used with kind = \"track\" (its tables: [track], [vehicle], [receptance], [irregularity], [contact], [time])",
                     ));
                 }
             }
@@ -335,7 +342,7 @@ fn model(
                 cx,
                 track_table,
                 vehicle,
-                receptance,
+                (receptance, irregularity),
             )?))
         }
         other => {

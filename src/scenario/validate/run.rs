@@ -25,7 +25,8 @@ pub(super) fn run_spec(
     let keys = RunKeys(i);
     let (alpha, gamma) = run_time(cx, &keys, r, base)?;
     let mut model = run_model(cx, &keys, r, base)?;
-    if matches!(model, Model::Track(_)) {
+    if matches!(&model, Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::MovingLoad)
+    {
         for (k, given) in [
             ("method", r.method.is_some()),
             ("penalty", r.penalty.is_some()),
@@ -35,7 +36,7 @@ pub(super) fn run_spec(
                 return Err(cx.invalid(
                     &keys.key(k),
                     "(given)",
-                    "a track scenario has no contact (a constant load moves along the rail)",
+                    "vehicle.model = \"moving_load\" has no contact (a constant load moves along the rail)",
                 ));
             }
         }
@@ -175,7 +176,7 @@ fn run_contact(
         (None, Some(m)) => ("contact.method".to_string(), m.clone()),
         (None, None) => (
             "contact.method".to_string(),
-            if matches!(model, Model::TwoBars(_)) {
+            if matches!(model, Model::TwoBars(_) | Model::Track(_)) {
                 "exact"
             } else {
                 "soft_way"
@@ -286,6 +287,13 @@ fn run_step(
         (_, None, _, Some(h)) => (h, "time.h".to_string()),
         (Some(c), None, _, None) => return Err(cx.invalid(&keys.key("cfl"), c, NOT_EXPLICIT)),
         (None, None, Some(c), None) => return Err(cx.invalid("time.cfl", c, NOT_EXPLICIT)),
+        (None, None, None, None) if matches!(model, Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::Wheel) =>
+        {
+            let Model::Track(t) = model else {
+                unreachable!("matched above")
+            };
+            (t.rim_passage() / 3.0, "time.h".to_string())
+        }
         _ => {
             return Err(cx.missing(
                 "time.h",
@@ -293,6 +301,19 @@ fn run_step(
             ))
         }
     };
+    if let Model::Track(t) = model {
+        let pass = t.rim_passage();
+        if t.vehicle.model == crate::scenario::VehicleModel::Wheel && h > 0.5 * pass {
+            return Err(cx.invalid(
+                &key,
+                h,
+                &format!(
+                    "a rim node passes the contact in {pass:.3e} s (the rim's pitch over the speed, vehicle.wheel_rim_nodes and vehicle.speed): the step must be at most half that, {:.3e} s (without time.h: a third)",
+                    0.5 * pass
+                ),
+            ));
+        }
+    }
     if h > base.t_end {
         let limit = match model {
             Model::Wheel(_) => format!(

@@ -1,10 +1,13 @@
 //! The track's validation: `[track]` (a parameter set and its overrides), `[vehicle]` and
 //! `[receptance]` into a [`TrackScenario`], every value under its key.
 
-use super::super::raw::{RawReceptance, RawTrack, RawVehicle};
-use super::super::{ReceptanceRange, ScenarioError, TrackScenario, Vehicle};
+use super::super::raw::{RawIrregularity, RawReceptance, RawTrack, RawVehicle};
+use super::super::{
+    Irregularity, ReceptanceRange, ScenarioError, TrackScenario, TrackWheel, Vehicle, VehicleModel,
+};
 use super::Ctx;
 use crate::element::beam::BeamTheory;
+use crate::material::{Elastic, PlaneModel};
 use crate::track::{Ends, TrackSpec, SETS};
 
 /// The largest rail of a track scenario, elements.
@@ -15,7 +18,7 @@ pub(super) fn track_model(
     cx: &Ctx,
     t: Option<RawTrack>,
     v: Option<RawVehicle>,
-    r: Option<RawReceptance>,
+    (r, irr): (Option<RawReceptance>, Option<RawIrregularity>),
 ) -> Result<TrackScenario, ScenarioError> {
     let t = t.unwrap_or_default();
     let set = t.set.clone().unwrap_or_else(|| "uic60".into());
@@ -135,11 +138,23 @@ pub(super) fn track_model(
     spec.ends = ends(cx, &t, spec)?;
     let vehicle = vehicle(cx, v, &spec)?;
     let receptance = receptance(cx, r)?;
+    let irregularity = match irr {
+        None => None,
+        Some(_) if vehicle.model == VehicleModel::MovingLoad => {
+            return Err(cx.invalid(
+                "irregularity",
+                "(a table)",
+                "the moving load has no contact to feel it: remove [irregularity], or roll the wheel (vehicle.model = \"wheel\")",
+            ))
+        }
+        Some(i) => Some(irregularity(cx, i)?),
+    };
     Ok(TrackScenario {
         set,
         spec,
         vehicle,
         receptance,
+        irregularity,
     })
 }
 
@@ -196,41 +211,341 @@ fn vehicle(cx: &Ctx, v: Option<RawVehicle>, spec: &TrackSpec) -> Result<Vehicle,
     let v = v.ok_or_else(|| {
         cx.missing(
             "vehicle",
-            "kind = \"track\" needs a [vehicle] table with its speed, m/s",
+            "kind = \"track\" needs a [vehicle] table with its speed (vehicle.speed, m/s, or vehicle.speed_km_h)",
         )
     })?;
-    let speed = v.speed.ok_or_else(|| {
-        cx.missing(
-            "vehicle.speed",
-            "the speed of the load along the track, m/s",
-        )
-    })?;
+    let model = match v.model.as_deref() {
+        None | Some("wheel") => VehicleModel::Wheel,
+        Some("moving_load") => VehicleModel::MovingLoad,
+        Some(other) => {
+            return Err(cx.invalid(
+                "vehicle.model",
+                format!("\"{other}\""),
+                "allowed: \"wheel\" (the elastic wheel rolling on its hub), \"moving_load\" (a constant force)",
+            ))
+        }
+    };
+    let speed = match (v.speed, v.speed_km_h) {
+        (Some(s), None) => cx.positive("vehicle.speed", s)?,
+        (None, Some(k)) => cx.positive("vehicle.speed_km_h", k)? / 3.6,
+        (Some(s), Some(_)) => {
+            return Err(cx.invalid(
+                "vehicle.speed",
+                s,
+                "give vehicle.speed (m/s) or vehicle.speed_km_h, not both",
+            ))
+        }
+        (None, None) => {
+            return Err(cx.missing(
+                "vehicle.speed",
+                "the speed along the track: vehicle.speed (m/s) or vehicle.speed_km_h",
+            ))
+        }
+    };
+    let wheel_only = [
+        ("vehicle.settle_bays", v.settle_bays.is_some()),
+        (
+            "vehicle.suspension_stiffness",
+            v.suspension_stiffness.is_some(),
+        ),
+        ("vehicle.suspension_damping", v.suspension_damping.is_some()),
+        ("vehicle.gravity", v.gravity.is_some()),
+        ("vehicle.wheel_rim_nodes", v.wheel_rim_nodes.is_some()),
+        ("vehicle.wheel_thickness", v.wheel_thickness.is_some()),
+        ("vehicle.wheel_hub_radius", v.wheel_hub_radius.is_some()),
+        ("vehicle.wheel_grading", v.wheel_grading.is_some()),
+        ("vehicle.wheel_plane", v.wheel_plane.is_some()),
+    ];
+    if model == VehicleModel::MovingLoad {
+        if let Some((key, _)) = wheel_only.iter().find(|(_, given)| *given) {
+            return Err(cx.invalid(
+                key,
+                "(given)",
+                "only used with vehicle.model = \"wheel\" (the moving load is a constant force)",
+            ));
+        }
+    }
+    let radius = cx.positive("vehicle.wheel_radius", v.wheel_radius.unwrap_or(0.46))?;
+    let plane = match v.wheel_plane.as_deref().unwrap_or("strain") {
+        "strain" => PlaneModel::Strain,
+        "stress" => PlaneModel::Stress,
+        o => {
+            return Err(cx.invalid(
+                "vehicle.wheel_plane",
+                format!("\"{o}\""),
+                "allowed: \"strain\", \"stress\"",
+            ))
+        }
+    };
+    let hub = cx.positive(
+        "vehicle.wheel_hub_radius",
+        v.wheel_hub_radius.unwrap_or(0.1),
+    )?;
+    if hub >= 0.8 * radius {
+        return Err(cx.invalid(
+            "vehicle.wheel_hub_radius",
+            hub,
+            &format!(
+                "must be below 0.8 vehicle.wheel_radius = {} m",
+                0.8 * radius
+            ),
+        ));
+    }
+    let grading = v.wheel_grading.unwrap_or(1.3);
+    if !(grading.is_finite() && (1.0..=2.0).contains(&grading)) {
+        return Err(cx.invalid("vehicle.wheel_grading", grading, "must be in [1, 2]"));
+    }
+    let wheel = TrackWheel {
+        rim_nodes: cx.count(
+            "vehicle.wheel_rim_nodes",
+            v.wheel_rim_nodes.unwrap_or(720),
+            100_000,
+        )?,
+        thickness: cx.positive("vehicle.wheel_thickness", v.wheel_thickness.unwrap_or(0.02))?,
+        hub_radius: hub,
+        grading,
+        plane,
+        material: Elastic {
+            young: 2.1e11,
+            poisson: spec.poisson,
+            density: 7850.0,
+        },
+    };
+    if wheel.rim_nodes < 64 {
+        return Err(cx.invalid(
+            "vehicle.wheel_rim_nodes",
+            wheel.rim_nodes,
+            "give at least 64 rim nodes",
+        ));
+    }
+    let default_travel = match model {
+        VehicleModel::Wheel => 20,
+        VehicleModel::MovingLoad => 6,
+    };
     let vehicle = Vehicle {
+        model,
         unsprung_mass: cx.positive("vehicle.unsprung_mass", v.unsprung_mass.unwrap_or(800.0))?,
         axle_load: cx.positive("vehicle.axle_load", v.axle_load.unwrap_or(100e3))?,
-        wheel_radius: cx.positive("vehicle.wheel_radius", v.wheel_radius.unwrap_or(0.46))?,
-        speed: cx.positive("vehicle.speed", speed)?,
-        travel_bays: cx.count("vehicle.travel_bays", v.travel_bays.unwrap_or(6), 1_000_000)?,
+        wheel_radius: radius,
+        speed,
+        travel_bays: cx.count(
+            "vehicle.travel_bays",
+            v.travel_bays.unwrap_or(default_travel),
+            1_000_000,
+        )?,
+        settle_bays: match v.settle_bays {
+            Some(b) => cx.count("vehicle.settle_bays", b, 1_000_000)?,
+            None if model == VehicleModel::Wheel => 4,
+            None => 0,
+        },
+        suspension_stiffness: cx.non_negative(
+            "vehicle.suspension_stiffness",
+            v.suspension_stiffness.unwrap_or(0.0),
+        )?,
+        suspension_damping: cx.non_negative(
+            "vehicle.suspension_damping",
+            v.suspension_damping.unwrap_or(0.0),
+        )?,
+        gravity: cx.non_negative("vehicle.gravity", v.gravity.unwrap_or(9.81))?,
+        wheel,
     };
+    if model == VehicleModel::Wheel && vehicle.settle_bays < 2 {
+        return Err(cx.invalid(
+            "vehicle.settle_bays",
+            vehicle.settle_bays,
+            "give at least 2 (the load is applied over the first half of them)",
+        ));
+    }
     let zone = match spec.ends {
         Ends::Absorbing { bays, .. } => bays,
         Ends::Free => 0,
     };
-    // The load crosses travel_bays bays centred on the middle sleeper: half of them each
-    // side, rounded up, must stay out of the absorbing zone.
-    let room = (spec.bays / 2).min(spec.bays - spec.bays / 2) - zone;
-    if vehicle.travel_bays.div_ceil(2) > room {
+    // The recorded travel is centred on the middle sleeper; the wheel's settling bays come
+    // before it: all of it must stay out of the absorbing zones.
+    let before = vehicle.travel_bays.div_ceil(2) + vehicle.settle_bays;
+    let after = vehicle.travel_bays.div_ceil(2);
+    let room_before = (spec.bays / 2).saturating_sub(zone);
+    let room_after = (spec.bays - spec.bays / 2).saturating_sub(zone);
+    if before > room_before || after > room_after {
+        let key = if after > room_after || vehicle.settle_bays == 0 {
+            "vehicle.travel_bays"
+        } else {
+            "vehicle.settle_bays"
+        };
+        let value = if key == "vehicle.travel_bays" {
+            vehicle.travel_bays
+        } else {
+            vehicle.settle_bays
+        };
         return Err(cx.invalid(
-            "vehicle.travel_bays",
-            vehicle.travel_bays,
+            key,
+            value,
             &format!(
-                "the load must travel between the absorbing zones (track.end_bays = {zone} at each end of {} bays): at most {} bays",
+                "the load must travel between the absorbing zones (track.end_bays = {zone} at each end of {} bays): vehicle.travel_bays / 2 + vehicle.settle_bays = {before} bays before the middle, {room_before} there",
                 spec.bays,
-                2 * room
             ),
         ));
     }
     Ok(vehicle)
+}
+
+/// `[irregularity]`: a harmonic, a measured profile (CSV `x_m,r_m`, relative to the
+/// scenario's folder) or a random profile from band levels.
+fn irregularity(cx: &Ctx, i: RawIrregularity) -> Result<Irregularity, ScenarioError> {
+    let kind = i.kind.as_deref().unwrap_or("harmonic");
+    let given = |key: &str| match key {
+        "amplitude" => i.amplitude.is_some(),
+        "wavelength" => i.wavelength.is_some(),
+        "fade" => i.fade.is_some(),
+        "file" => i.file.is_some(),
+        "bands" => i.bands.is_some(),
+        "per_band" => i.per_band.is_some(),
+        "seed" => i.seed.is_some(),
+        _ => false,
+    };
+    let uses: &[&str] = match kind {
+        "harmonic" => &["amplitude", "wavelength", "fade"],
+        "measured" => &["file"],
+        "spectrum" => &["bands", "per_band", "seed"],
+        other => {
+            return Err(cx.invalid(
+                "irregularity.type",
+                format!("\"{other}\""),
+                "allowed: \"harmonic\", \"measured\" (a CSV file), \"spectrum\" (band levels)",
+            ))
+        }
+    };
+    for key in [
+        "amplitude",
+        "wavelength",
+        "fade",
+        "file",
+        "bands",
+        "per_band",
+        "seed",
+    ] {
+        if given(key) && !uses.contains(&key) {
+            return Err(cx.invalid(
+                &format!("irregularity.{key}"),
+                "(given)",
+                &format!(
+                    "not used with irregularity.type = \"{kind}\" (it reads: {})",
+                    uses.join(", ")
+                ),
+            ));
+        }
+    }
+    match kind {
+        "harmonic" => {
+            let amplitude = i.amplitude.ok_or_else(|| {
+                cx.missing("irregularity.amplitude", "the harmonic's amplitude, m")
+            })?;
+            let wavelength = i.wavelength.ok_or_else(|| {
+                cx.missing("irregularity.wavelength", "the harmonic's wavelength, m")
+            })?;
+            let amplitude = cx.positive("irregularity.amplitude", amplitude)?;
+            if amplitude > 1e-3 {
+                return Err(cx.invalid(
+                    "irregularity.amplitude",
+                    amplitude,
+                    "at most 1e-3 m (a roughness, not a step)",
+                ));
+            }
+            Ok(Irregularity::Harmonic {
+                amplitude,
+                wavelength: cx.positive("irregularity.wavelength", wavelength)?,
+                fade: cx.non_negative("irregularity.fade", i.fade.unwrap_or(2.0))?,
+            })
+        }
+        "measured" => {
+            let file = i
+                .file
+                .ok_or_else(|| cx.missing("irregularity.file", "a CSV file of x_m,r_m (m) rows"))?;
+            let path = cx
+                .path
+                .parent()
+                .unwrap_or(std::path::Path::new("."))
+                .join(&file);
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                cx.invalid(
+                    "irregularity.file",
+                    format!("\"{file}\""),
+                    &format!("cannot be read: {e}"),
+                )
+            })?;
+            let mut points = Vec::new();
+            for (n, line) in text.lines().enumerate() {
+                let line = line.trim();
+                if line.is_empty()
+                    || line.starts_with('#')
+                    || (n == 0 && line.starts_with(|c: char| c.is_alphabetic()))
+                {
+                    continue;
+                }
+                let parsed: Option<(f64, f64)> = (|| {
+                    let mut it = line.split(',').map(|v| v.trim().parse::<f64>().ok());
+                    let x = it.next()??;
+                    let r = it.next()??;
+                    it.next().is_none().then_some((x, r))
+                })();
+                match parsed {
+                    Some((x, r)) if x.is_finite() && r.is_finite() && r.abs() <= 1e-3 => {
+                        points.push((x, r))
+                    }
+                    _ => {
+                        return Err(cx.invalid(
+                            "irregularity.file",
+                            format!("\"{file}\" line {}", n + 1),
+                            "rows of two numbers x_m,r_m (|r| at most 1e-3 m)",
+                        ))
+                    }
+                }
+            }
+            if points.len() < 2 || points.windows(2).any(|w| w[1].0 <= w[0].0) {
+                return Err(cx.invalid(
+                    "irregularity.file",
+                    format!("\"{file}\""),
+                    "at least two rows with increasing x_m",
+                ));
+            }
+            Ok(Irregularity::Measured { file: path, points })
+        }
+        _ => {
+            let raw = i.bands.ok_or_else(|| {
+                cx.missing(
+                    "irregularity.bands",
+                    "one-third-octave band levels: [[wavelength_m, level_dB_re_1um], ...]",
+                )
+            })?;
+            let mut bands = Vec::with_capacity(raw.len());
+            for b in &raw {
+                match b.as_slice() {
+                    &[l, db] if l.is_finite() && l > 0.0 && db.is_finite() && db <= 60.0 => {
+                        bands.push((l, db))
+                    }
+                    _ => {
+                        return Err(cx.invalid(
+                            "irregularity.bands",
+                            format!("{b:?}"),
+                            "pairs [wavelength_m > 0, level dB re 1 um <= 60]",
+                        ))
+                    }
+                }
+            }
+            if bands.is_empty() {
+                return Err(cx.invalid("irregularity.bands", "[]", "give at least one band"));
+            }
+            Ok(Irregularity::Spectrum {
+                bands,
+                per_band: cx.count("irregularity.per_band", i.per_band.unwrap_or(8), 1000)?,
+                seed: match i.seed {
+                    Some(s) if s >= 0 => s as u64,
+                    Some(s) => return Err(cx.invalid("irregularity.seed", s, "must be >= 0")),
+                    None => 1,
+                },
+            })
+        }
+    }
 }
 
 /// `[receptance]`: `points` frequencies from `f_min` to `f_max`.

@@ -1,0 +1,614 @@
+//! `softway run` of a track scenario with the wheel ([`crate::track::rolling`]): the elastic
+//! wheel on its moving hub rolls `settle_bays` bays while its load comes on (over the first
+//! half of them) and settles, then the recorded `travel_bays` centred on the track's middle.
+//!
+//! Files: `history.csv` (every `output.history_stride` steps: time, distance travelled, the
+//! rail's abscissa under the axle, a settling flag, the contact force, the rim nodes in
+//! contact, the axle's vertical displacement and its drift along the track in the ground,
+//! the rail's deflection under the axle, the irregularity there, the nearest pad's force),
+//! `track.png` (the contact force against the distance with the static load; the axle and
+//! the rail under it; the force's spectrum against the wavelength with the sleeper spacing,
+//! P2 and pinned-pinned wavelengths at the run's speed marked; the pad forces) and
+//! `summary.json` (the passage's force statistics, the measured contact spring, the track's
+//! frequencies, the cost per step and per metre).
+
+use super::results::Results;
+use super::{RunError, RunOptions};
+use crate::analysis::signal::{amplitude_spectrum, dominant_peak, moving_average};
+use crate::material::Elastic;
+use crate::mesh::generators::{disk_graded, DiskOptions};
+use crate::output::plot::{Panel, Series, SeriesStyle};
+use crate::scenario::{Model, Run, Scenario, TrackScenario};
+use crate::simulation::Simulation;
+use crate::track::receptance::{frequencies, log_frequencies, p2_with, receptance, Wheel};
+use crate::track::rolling::{Vehicle, WheelOnTrack};
+use crate::wheel::{Support, WheelModel, WheelSpec};
+use std::path::Path;
+use std::time::Instant;
+
+/// The columns of `history.csv`: `run` (the run's label), then these.
+pub const HISTORY: [(&str, &str); 12] = [
+    ("t_s", "s"),
+    ("distance_m", "m"),
+    ("rail_x_m", "m"),
+    ("settling", "1"),
+    ("contact_force_N", "N"),
+    ("nodes_in_contact", "1"),
+    ("axle_displacement_m", "m"),
+    ("axle_drift_m", "m"),
+    ("rail_deflection_m", "m"),
+    ("irregularity_m", "m"),
+    ("pad_force_nearest_N", "N"),
+    ("nearest_sleeper", "1"),
+];
+
+/// One run's key figures (`summary.json`, `runs[i]`).
+#[derive(Debug, Clone, serde::Serialize)]
+struct RollingSummary {
+    label: String,
+    treatment: String,
+    h_s: f64,
+    steps: usize,
+    speed_m_s: f64,
+    speed_km_h: f64,
+    start_m: f64,
+    settle_m: f64,
+    travel_m: f64,
+    rim_nodes: usize,
+    rim_pitch_m: f64,
+    steps_per_rim_node: f64,
+    wheel_dofs: usize,
+    track_dofs: usize,
+    wheel_mass_kg: f64,
+    axle_mass_kg: f64,
+    static_load_n: f64,
+    contact_force_mean_n: f64,
+    contact_force_min_n: f64,
+    contact_force_max_n: f64,
+    contact_force_std_n: f64,
+    mean_over_static_minus_1: f64,
+    dynamic_factor_max: f64,
+    nodes_in_contact_mean: f64,
+    axle_displacement_mean_m: f64,
+    rail_deflection_mean_m: f64,
+    contact_stiffness_n_m: f64,
+    axle_drift_max_m: f64,
+    sleeper_passing_hz: f64,
+    dominant_frequency_hz: Option<f64>,
+    dominant_amplitude_n: Option<f64>,
+    p2_hz: Option<f64>,
+    p2_above_sleeper_hz: Option<f64>,
+    p2_hertz_hz: Option<f64>,
+    pinned_pinned_hz: Option<f64>,
+    wall_s: f64,
+    ms_per_step: f64,
+    s_per_metre: f64,
+    interrupted: bool,
+}
+
+/// One step's record.
+#[derive(Debug, Clone, Copy)]
+struct Rec {
+    distance: f64,
+    settling: bool,
+    force: f64,
+    held: usize,
+    axle_y: f64,
+    axle_x: f64,
+    rail_w: f64,
+    pad: f64,
+}
+
+fn track_of(model: &Model) -> &TrackScenario {
+    match model {
+        Model::Track(t) => t,
+        _ => unreachable!("track job on a track scenario"),
+    }
+}
+
+/// The wheel of `ts` turning at `V / R_s` (`R_s` the spun rim's radius: two rebuilds).
+fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
+    let v = &ts.vehicle;
+    let w = &v.wheel;
+    let mesh = disk_graded(
+        v.wheel_radius,
+        w.rim_nodes,
+        DiskOptions {
+            hub: Some(w.hub_radius),
+            grading: w.grading,
+        },
+    )
+    .map_err(|e| format!("the wheel's mesh: {e}"))?;
+    let spec = WheelSpec {
+        radius: v.wheel_radius,
+        thickness: w.thickness,
+        plane: w.plane,
+        support: Support::Hub {
+            radius: w.hub_radius,
+        },
+        material: Elastic { ..w.material },
+        ..WheelSpec::paper()
+    };
+    let mut omega = v.speed / v.wheel_radius;
+    for _ in 0..2 {
+        let m = WheelModel::new(
+            mesh.clone(),
+            WheelSpec {
+                omega,
+                ..spec.clone()
+            },
+        )
+        .map_err(|e| e.to_string())?;
+        omega = v.speed / m.spinning_radius();
+    }
+    WheelModel::new(mesh, WheelSpec { omega, ..spec }).map_err(|e| e.to_string())
+}
+
+/// `softway run` of a track scenario with the wheel (module docs).
+///
+/// # Errors
+/// [`RunError`]: a model that cannot be built, a failed run, a file that cannot be written.
+pub(crate) fn record(
+    sc: &Scenario,
+    stream: Option<&Path>,
+    opts: &RunOptions,
+) -> Result<Results, RunError> {
+    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let at = |e| RunError::output(&hist, e);
+    let first = track_of(&sc.runs[0].model);
+    let mut panels = Panels::new(first);
+    let mut sums = Vec::new();
+    let mut interrupted = false;
+    for (ri, run) in sc.runs.iter().enumerate() {
+        let ts = track_of(&run.model);
+        let (sum, recs) = roll(sc, run, ts, opts, &mut |k, row| {
+            if k % sc.history_stride.max(1) == 0 {
+                csv.push(ri as u32, row)?;
+            }
+            Ok(())
+        })?;
+        interrupted |= sum.interrupted;
+        panels.add(ri, sc.runs.len(), &run.label, ts, &sum, &recs);
+        sums.push(sum);
+        if interrupted {
+            break;
+        }
+    }
+    let history = csv.finish().map_err(at)?;
+    let mut json = serde_json::json!({
+        "scenario": sc.name, "kind": "track", "vehicle_model": "wheel", "interrupted": interrupted,
+        "units": {"time": "s", "length": "m", "force": "N", "frequency": "Hz", "stiffness": "N/m", "mass": "kg"},
+        "signs": "displacements and deflections up positive; contact and pad forces in compression",
+        "parameters": super::track::parameters(first),
+        "runs": sums,
+    });
+    if let (Some(o), Ok(serde_json::Value::Object(first))) =
+        (json.as_object_mut(), serde_json::to_value(&sums[0]))
+    {
+        for (k, v) in first {
+            if v.is_number() && k != "steps" {
+                o.insert(k, v);
+            }
+        }
+    }
+    super::stamp_provenance(&mut json, sc);
+    let lines = sums.iter().map(screen_line).collect();
+    Ok(Results::with_panels(
+        ("track", json),
+        history,
+        lines,
+        interrupted,
+        sc.plots,
+        ("track.png", panels.into_vec(), (1400, 1500)),
+    ))
+}
+
+/// Runs one wheel passage, calling `row(k, columns)` at every step.
+fn roll(
+    sc: &Scenario,
+    run: &Run,
+    ts: &TrackScenario,
+    opts: &RunOptions,
+    row: &mut dyn FnMut(usize, &[f64]) -> std::io::Result<()>,
+) -> Result<(RollingSummary, Vec<Rec>), RunError> {
+    let input = |e: String| RunError::input(&sc.path, format!("run `{}`: {e}", run.label));
+    let v = &ts.vehicle;
+    let wheel = wheel_model(ts).map_err(input)?;
+    let settle_time = 0.5 * ts.settle_distance() / v.speed;
+    let vehicle = Vehicle {
+        unsprung_mass: v.unsprung_mass,
+        axle_load: v.axle_load,
+        speed: v.speed,
+        suspension_stiffness: v.suspension_stiffness,
+        suspension_damping: v.suspension_damping,
+        gravity: v.gravity,
+        settle: settle_time,
+    };
+    let start = ts.start();
+    let h = run.params.h;
+    let steps = (ts.travel() / (v.speed * h)).round().max(1.0) as usize;
+    let profile = ts
+        .irregularity
+        .as_ref()
+        .map(|irr| irr.profile((start, start + ts.travel() + 1.0)))
+        .transpose()
+        .map_err(|e| input(e.to_string()))?;
+    let wot = WheelOnTrack::new(wheel, &ts.spec, vehicle, start, profile)
+        .map_err(|e| input(e.to_string()))?;
+    let mut problem = wot.problem(run.integrator, h, steps);
+    problem.treatment = run.contact;
+    problem.friction = run.friction;
+    let sim_error = |source| RunError::Simulation {
+        run: run.label.clone(),
+        source,
+    };
+    let mut sim = Simulation::new(problem).map_err(sim_error)?;
+    sim.set_par(opts.par());
+    sim.set_guard(opts.guard);
+    let pb = super::progress_bar(steps as u64, &run.label, opts.progress);
+    let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
+    let clock = Instant::now();
+    let profile_at = |x: f64| wot.interface.search().profile().map_or(0.0, |p| p.at(x).0);
+    let stats = sim
+        .run(opts.cancel.flag(), |s| {
+            let st = s.state;
+            let (t, u, vel) = (st.t, &st.state.u, &st.state.v);
+            let x = wot.under_axle(t);
+            let axle = wot.axle_ground(t, u);
+            let nearest = wot.sleeper_near(x);
+            let rail_w = wot
+                .rail_deflection(x, u)
+                .map_err(|e| std::io::Error::other(e.to_string()))?;
+            let rec = Rec {
+                distance: x - start,
+                settling: x - start < ts.settle_distance(),
+                force: s.contact_force,
+                held: s.held,
+                axle_y: axle[1],
+                axle_x: axle[0],
+                rail_w,
+                pad: wot.pad_force(nearest, u, vel),
+            };
+            row(
+                st.k,
+                &[
+                    t,
+                    rec.distance,
+                    x,
+                    f64::from(u8::from(rec.settling)),
+                    rec.force,
+                    rec.held as f64,
+                    rec.axle_y,
+                    rec.axle_x,
+                    rec.rail_w,
+                    profile_at(x),
+                    rec.pad,
+                    nearest as f64,
+                ],
+            )?;
+            if st.k % 64 == 0 {
+                pb.set_position(st.k as u64);
+            }
+            recs.push(rec);
+            Ok(())
+        })
+        .map_err(sim_error)?;
+    pb.finish_and_clear();
+    let wall = clock.elapsed().as_secs_f64();
+    let sum = summarise(run, ts, &wot, &recs, (stats.interrupted, wall))?;
+    Ok((sum, recs))
+}
+
+/// The passage's figures from the records after settling (module docs).
+fn summarise(
+    run: &Run,
+    ts: &TrackScenario,
+    wot: &WheelOnTrack,
+    recs: &[Rec],
+    (interrupted, wall): (bool, f64),
+) -> Result<RollingSummary, RunError> {
+    let v = &ts.vehicle;
+    let s = ts.spec.spacing;
+    let h = run.params.h;
+    let load = wot.vehicle.static_load();
+    let passage: Vec<&Rec> = recs.iter().filter(|r| !r.settling).collect();
+    // Whole sleeper bays of the passage for the means.
+    let bays = (passage.len() as f64 * h * v.speed / s).floor().max(1.0);
+    let whole = ((bays * s / (v.speed * h)).round() as usize).min(passage.len());
+    let w = &passage[..whole];
+    let n = w.len().max(1) as f64;
+    let mean = |f: &dyn Fn(&Rec) -> f64| w.iter().map(|r| f(r)).sum::<f64>() / n;
+    let force = mean(&|r| r.force);
+    let std = (w.iter().map(|r| (r.force - force).powi(2)).sum::<f64>() / n).sqrt();
+    let (fmin, fmax) = w
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+            (a.min(r.force), b.max(r.force))
+        });
+    let axle = mean(&|r| r.axle_y);
+    let rail = mean(&|r| r.rail_w);
+    let forces: Vec<f64> = w.iter().map(|r| r.force).collect();
+    let peak = (forces.len() >= 16)
+        .then(|| dominant_peak(&amplitude_spectrum(&forces, h), 0.2 * v.speed / s))
+        .flatten();
+    let k_c = load / (rail - axle);
+    // The track's frequencies: the receptance's (Hertz's 3D spring) and P2 on the measured
+    // contact spring.
+    let err = |e: crate::track::TrackError| RunError::Simulation {
+        run: run.label.clone(),
+        source: crate::simulation::SimError::Unsupported(e.to_string()),
+    };
+    let track = ts.spec.build().map_err(err)?;
+    let r = receptance(&track, &log_frequencies(20.0, 3000.0, 200)).map_err(err)?;
+    let f = frequencies(
+        &track,
+        &r,
+        &Wheel {
+            unsprung_mass: v.unsprung_mass,
+            load: v.axle_load,
+            radius: v.wheel_radius,
+        },
+    )
+    .map_err(err)?;
+    let (p2, p2_above) = if k_c.is_finite() && k_c > 0.0 {
+        (
+            p2_with(&track, r.mid_span_x, v.unsprung_mass, k_c, 120).map_err(err)?,
+            p2_with(&track, r.above_sleeper_x, v.unsprung_mass, k_c, 120).map_err(err)?,
+        )
+    } else {
+        (None, None)
+    };
+    let rim = v.wheel.rim_nodes;
+    let steps = recs.len().saturating_sub(1);
+    let travelled = recs.last().map_or(0.0, |r| r.distance);
+    Ok(RollingSummary {
+        label: run.label.clone(),
+        treatment: run.contact.name(),
+        h_s: h,
+        steps,
+        speed_m_s: v.speed,
+        speed_km_h: 3.6 * v.speed,
+        start_m: ts.start(),
+        settle_m: ts.settle_distance(),
+        travel_m: ts.travel() - ts.settle_distance(),
+        rim_nodes: rim,
+        rim_pitch_m: 2.0 * std::f64::consts::PI * wot.rim_radius / rim as f64,
+        steps_per_rim_node: ts.rim_passage() / h,
+        wheel_dofs: wot.joined.first_dof[1],
+        track_dofs: wot.joined.model.n() - wot.joined.first_dof[1] - 2,
+        wheel_mass_kg: wot.wheel_mass,
+        axle_mass_kg: wot.axle_mass,
+        static_load_n: load,
+        contact_force_mean_n: force,
+        contact_force_min_n: fmin,
+        contact_force_max_n: fmax,
+        contact_force_std_n: std,
+        mean_over_static_minus_1: force / load - 1.0,
+        dynamic_factor_max: fmax / load,
+        nodes_in_contact_mean: mean(&|r| r.held as f64),
+        axle_displacement_mean_m: axle,
+        rail_deflection_mean_m: rail,
+        contact_stiffness_n_m: k_c,
+        axle_drift_max_m: recs.iter().map(|r| r.axle_x.abs()).fold(0.0, f64::max),
+        sleeper_passing_hz: v.speed / s,
+        dominant_frequency_hz: peak.map(|p| p.0),
+        dominant_amplitude_n: peak.map(|p| p.1),
+        p2_hz: p2,
+        p2_above_sleeper_hz: p2_above,
+        p2_hertz_hz: f.p2_hz,
+        pinned_pinned_hz: f.pinned_pinned_hz,
+        wall_s: wall,
+        ms_per_step: 1e3 * wall / steps.max(1) as f64,
+        s_per_metre: wall / travelled.max(1e-12),
+        interrupted,
+    })
+}
+
+/// The screen line of one run.
+fn screen_line(s: &RollingSummary) -> String {
+    let hz = |f: Option<f64>| f.map_or_else(|| "-".to_string(), |f| format!("{f:.1} Hz"));
+    format!(
+        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {:.3e} N/m; {:.2} ms a step, {:.2} s a metre",
+        s.label,
+        s.speed_km_h,
+        s.travel_m,
+        1e-3 * s.contact_force_mean_n,
+        1e2 * s.mean_over_static_minus_1,
+        1e-3 * s.static_load_n,
+        1e-3 * s.contact_force_min_n,
+        1e-3 * s.contact_force_max_n,
+        hz(s.dominant_frequency_hz),
+        s.sleeper_passing_hz,
+        hz(s.p2_hz),
+        s.contact_stiffness_n_m,
+        s.ms_per_step,
+        s.s_per_metre,
+    )
+}
+
+/// The four panels of `track.png`.
+struct Panels {
+    force: Panel,
+    motion: Panel,
+    spectrum: Panel,
+    pads: Panel,
+}
+
+impl Panels {
+    fn new(ts: &TrackScenario) -> Self {
+        let v = &ts.vehicle;
+        let mut spectrum = Panel::new(
+            "Contact force spectrum over the passage",
+            "wavelength on the rail [m]",
+            "amplitude [kN]",
+        );
+        spectrum.x_log = true;
+        spectrum.y_log = true;
+        Panels {
+            force: Panel::new(
+                format!(
+                    "Wheel on the track at {:.0} km/h: contact force",
+                    3.6 * v.speed
+                ),
+                "distance travelled [m]",
+                "contact force [kN]",
+            ),
+            motion: Panel::new(
+                "Axle and rail under it",
+                "distance travelled [m]",
+                "vertical displacement [mm]",
+            ),
+            spectrum,
+            pads: Panel::new(
+                "Force in the pad nearest the axle",
+                "distance travelled [m]",
+                "pad force (compression) [kN]",
+            ),
+        }
+    }
+
+    fn add(
+        &mut self,
+        ri: usize,
+        runs: usize,
+        label: &str,
+        ts: &TrackScenario,
+        sum: &RollingSummary,
+        recs: &[Rec],
+    ) {
+        let style = if ri % 2 == 0 {
+            SeriesStyle::Line
+        } else {
+            SeriesStyle::Dashed
+        };
+        let name = |what: &str| {
+            if runs > 1 {
+                format!("{label}: {what}")
+            } else {
+                what.to_string()
+            }
+        };
+        let x: Vec<f64> = recs.iter().map(|r| r.distance).collect();
+        let col = |f: &dyn Fn(&Rec) -> f64| recs.iter().map(f).collect::<Vec<f64>>();
+        // The force averaged over a rim node's passage (the node-passing ripple out).
+        let window = (sum.steps_per_rim_node.round() as usize).max(1);
+        let smooth = moving_average(&col(&|r| 1e-3 * r.force), window);
+        self.force.series.push(Series::new(
+            name(&format!(
+                "contact force, mean over a rim node's passage ({window} steps)"
+            )),
+            x.clone(),
+            smooth.clone(),
+            style,
+        ));
+        let passage = smooth
+            .iter()
+            .zip(recs)
+            .filter(|(_, r)| !r.settling)
+            .map(|(&f, _)| f);
+        let (lo, hi) = passage.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), f| {
+            (a.min(f), b.max(f))
+        });
+        if lo.is_finite() {
+            let (cur_lo, cur_hi) = self.force.y_range.unwrap_or((0.0, hi));
+            self.force.y_range = Some((cur_lo.min(0.0), cur_hi.max(hi + 0.6 * (hi - lo).max(1.0))));
+        }
+        if ri == 0 {
+            self.force.hlines.push((
+                1e-3 * sum.static_load_n,
+                format!(
+                    "static load F_axle + m_u g = {:.1} kN",
+                    1e-3 * sum.static_load_n
+                ),
+            ));
+            let settle = ts.settle_distance();
+            if settle > 0.0 {
+                for p in [&mut self.force, &mut self.motion, &mut self.pads] {
+                    p.vspans
+                        .push((0.0, settle, "load applied, settling".to_string()));
+                }
+            }
+        }
+        self.motion.series.push(Series::new(
+            name("axle"),
+            x.clone(),
+            col(&|r| 1e3 * r.axle_y),
+            style,
+        ));
+        self.motion.series.push(Series::new(
+            name("rail under the axle"),
+            x.clone(),
+            col(&|r| 1e3 * r.rail_w),
+            SeriesStyle::Dashed,
+        ));
+        self.pads.series.push(Series::new(
+            name("nearest pad"),
+            x,
+            col(&|r| 1e-3 * r.pad),
+            style,
+        ));
+        // The spectrum against the wavelength V / f, with the track's wavelengths marked.
+        let forces: Vec<f64> = recs
+            .iter()
+            .filter(|r| !r.settling)
+            .map(|r| r.force)
+            .collect();
+        let spec = amplitude_spectrum(&forces, sum.h_s);
+        let v = ts.vehicle.speed;
+        // Wavelengths from four rim pitches (the node-passing ripple below) to 5 m.
+        let top = 0.25 * v / sum.rim_pitch_m;
+        let (wl, amp): (Vec<f64>, Vec<f64>) = spec
+            .frequency_hz
+            .iter()
+            .zip(&spec.amplitude)
+            .filter(|(&f, &a)| f > v / 5.0 && f < top && a > 0.0)
+            .map(|(&f, &a)| (v / f, 1e-3 * a))
+            .unzip();
+        let peak = amp.iter().copied().fold(0.0, f64::max);
+        if peak > 0.0 {
+            self.spectrum.y_range = Some((1e-3 * peak, 30.0 * peak));
+            self.spectrum.x_range = Some((4.0 * sum.rim_pitch_m, 5.0));
+        }
+        let amp_at = |lambda: f64| {
+            wl.iter()
+                .zip(&amp)
+                .min_by(|a, b| {
+                    (a.0.ln() - lambda.ln())
+                        .abs()
+                        .total_cmp(&(b.0.ln() - lambda.ln()).abs())
+                })
+                .map(|(_, &a)| a)
+        };
+        let marks = [
+            ("sleeper spacing", Some(v / ts.spec.spacing)),
+            ("P2", sum.p2_hz),
+            ("pinned-pinned", sum.pinned_pinned_hz),
+        ];
+        let mut points = Vec::new();
+        for (what, f) in marks {
+            if let Some(f) = f {
+                let lambda = v / f;
+                if let Some(a) = amp_at(lambda) {
+                    points.push((what, f, lambda, a));
+                }
+            }
+        }
+        self.spectrum
+            .series
+            .push(Series::new(name("contact force"), wl, amp, style));
+        if ri == 0 {
+            for (what, f, lambda, a) in points {
+                self.spectrum.series.push(Series::new(
+                    format!("{what}: {lambda:.3} m ({f:.0} Hz at {:.0} km/h)", 3.6 * v),
+                    vec![lambda],
+                    vec![a],
+                    SeriesStyle::Markers,
+                ));
+            }
+        }
+    }
+
+    fn into_vec(self) -> Vec<Panel> {
+        vec![self.force, self.motion, self.spectrum, self.pads]
+    }
+}
