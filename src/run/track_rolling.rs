@@ -74,6 +74,7 @@ struct RollingSummary {
     contact_stiffness_n_m: f64,
     axle_drift_max_m: f64,
     sleeper_passing_hz: f64,
+    node_passing_hz: f64,
     dominant_frequency_hz: Option<f64>,
     dominant_amplitude_n: Option<f64>,
     p2_hz: Option<f64>,
@@ -328,8 +329,21 @@ fn summarise(
     let axle = mean(&|r| r.axle_y);
     let rail = mean(&|r| r.rail_w);
     let forces: Vec<f64> = w.iter().map(|r| r.force).collect();
+    // The strongest line below half the rim's node-passing frequency (the ripple of the
+    // rim's discretisation above it).
+    let node_passing = 1.0 / ts.rim_passage();
     let peak = (forces.len() >= 16)
-        .then(|| dominant_peak(&amplitude_spectrum(&forces, h), 0.2 * v.speed / s))
+        .then(|| {
+            let mut spec = amplitude_spectrum(&forces, h);
+            let keep = spec
+                .frequency_hz
+                .iter()
+                .take_while(|&&f| f < 0.5 * node_passing)
+                .count();
+            spec.frequency_hz.truncate(keep);
+            spec.amplitude.truncate(keep);
+            dominant_peak(&spec, 0.2 * v.speed / s)
+        })
         .flatten();
     let k_c = load / (rail - axle);
     // The track's frequencies: the receptance's (Hertz's 3D spring) and P2 on the measured
@@ -391,6 +405,7 @@ fn summarise(
         contact_stiffness_n_m: k_c,
         axle_drift_max_m: recs.iter().map(|r| r.axle_x.abs()).fold(0.0, f64::max),
         sleeper_passing_hz: v.speed / s,
+        node_passing_hz: node_passing,
         dominant_frequency_hz: peak.map(|p| p.0),
         dominant_amplitude_n: peak.map(|p| p.1),
         p2_hz: p2,
