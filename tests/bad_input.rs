@@ -438,6 +438,11 @@ refused!(
     ]
 );
 refused!(
+    rolling_with_friction,
+    rolling_text().replace("method = \"exact\"", "method = \"exact\"\nfriction = 0.3"),
+    ["`contact.friction` = 0.3", "frictionless"]
+);
+refused!(
     rolling_with_two_speeds,
     rolling_text().replace("speed_km_h = 100.0", "speed_km_h = 100.0\nspeed = 27.0"),
     ["`vehicle.speed`", "not both"]

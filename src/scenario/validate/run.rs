@@ -237,6 +237,13 @@ fn run_friction(
     // velocity), on a 2D model (the wheel), with a treatment that carries it
     // (crate::contact::Treatment::check_friction).
     let friction = friction_law(cx, &base.contact)?;
+    if let (Some(law), Model::Track(_)) = (friction, model) {
+        return Err(cx.invalid(
+            "contact.friction",
+            law.static_mu,
+            "the wheel on the track rolls frictionless (its tangential rows on the rail's beams are not checked yet): remove the key or set it to 0",
+        ));
+    }
     if let Some(law) = friction {
         let dim = if matches!(model, Model::Wheel(_)) {
             2
