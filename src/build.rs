@@ -207,6 +207,18 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
     let mut worst = -1.0;
     for (i, run) in sc.runs.iter().enumerate() {
         let h = run.params.h;
+        // The contact solver's dense blocks grow with the square of the rows it may hold
+        // (`crate::contact::rows::RowSolver`: two of `rows^2` values): one row a rim node,
+        // two with friction.
+        let per_pair = if run.friction.is_some() { 2.0 } else { 1.0 };
+        let rows = per_pair
+            * match &run.model {
+                Model::Wheel(w) => rim_nodes(&w.mesh, mesh_nodes),
+                Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::Wheel => {
+                    t.vehicle.wheel.rim_nodes as f64
+                }
+                _ => 2.0,
+            };
         let (dofs, duration, size_key) = match &run.model {
             Model::Sdof(_) => (1.0, run.t_end, None),
             Model::BarImpact(b) => (b.elements as f64 + 1.0, run.t_end, Some("bar.elements")),
@@ -229,7 +241,12 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
             }
             Model::Track(t) => {
                 let s = &t.spec;
-                let dofs = 2.0 * (s.bays * s.elements_per_bay + 1) as f64 + (s.bays + 1) as f64;
+                let mut dofs = 2.0 * (s.bays * s.elements_per_bay + 1) as f64 + (s.bays + 1) as f64;
+                if t.vehicle.model == crate::scenario::VehicleModel::Wheel {
+                    let w = &t.vehicle.wheel;
+                    let r = w.rim_nodes as f64;
+                    dofs += 2.0 * 1.2 * r * r.ln() + 2.0;
+                }
                 (dofs, t.duration(), Some("track.bays"))
             }
         };
@@ -239,7 +256,9 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
         e.seconds += seconds;
         e.dofs = e.dofs.max(dofs);
         let windowed = steps.min(crate::analysis::trace::SPECTRUM_WINDOW_CAP as f64);
-        e.memory_bytes = e.memory_bytes.max(4096.0 * dofs + 512.0 * windowed);
+        e.memory_bytes = e
+            .memory_bytes
+            .max(4096.0 * dofs + 512.0 * windowed + 16.0 * rows * rows);
         e.disk_bytes += 300.0 * steps / sc.history_stride as f64;
         if seconds > worst {
             worst = seconds;
@@ -250,14 +269,53 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
             };
             e.culprit = format!("`{h_key}` = {h:e} s over {duration:e} s");
             if let Some(k) = size_key {
-                e.culprit.push_str(&format!(", `{k}` ({dofs} dofs)"));
+                e.culprit.push_str(&format!(", `{k}` ({dofs:.0} dofs)"));
             }
         }
     }
     e
 }
 
+/// The rim nodes of a wheel mesh (the contact pairs): the rings' `6 n`, the graded disk's
+/// count, the zone's coarse rim plus its fine part, about `sqrt(4 pi N)` of a file's `N`.
+fn rim_nodes(mesh: &crate::scenario::MeshSource, file_nodes: Option<usize>) -> f64 {
+    use crate::scenario::MeshSource;
+    match mesh {
+        &MeshSource::Rings(n) => 6.0 * n as f64,
+        &MeshSource::Graded { rim_nodes, .. } => rim_nodes as f64,
+        MeshSource::Zone(z) => {
+            z.rim_nodes as f64
+                + z.zone_rim_nodes as f64 * z.zone_width / (2.0 * std::f64::consts::PI)
+        }
+        MeshSource::Gmsh(_) => (4.0 * std::f64::consts::PI * file_nodes.unwrap_or(0) as f64).sqrt(),
+    }
+}
+
+/// The most steps a run may take, confirmed or not: at a microsecond a step, eleven days.
+pub const MAX_STEPS: f64 = 1e12;
+
 impl Estimate {
+    /// `None` when the run can be carried out at all, else why not, whatever the user
+    /// confirms: more steps than [`MAX_STEPS`] (or not a number), or more memory than this
+    /// machine has.
+    pub fn impossible(&self) -> Option<String> {
+        if self.steps.is_nan() || self.steps > MAX_STEPS {
+            return Some(format!(
+                "this run would take {:.3e} steps (at most {MAX_STEPS:e} can be run, with or without --yes); check {}",
+                self.steps, self.culprit
+            ));
+        }
+        match physical_memory_bytes() {
+            Some(total) if self.memory_bytes > total => Some(format!(
+                "this run would need about {} of memory, more than this machine's {} (with or without --yes); check {}",
+                human_bytes(self.memory_bytes),
+                human_bytes(total),
+                self.culprit
+            )),
+            _ => None,
+        }
+    }
+
     /// `None` within `limits`, else the one-line reason (what would be exceeded, by how
     /// much, and the keys that set it).
     pub fn check(&self, limits: &Limits) -> Option<String> {

@@ -277,6 +277,51 @@ fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
     );
 }
 
+/// What no confirmation can make runnable: more memory than the machine has (the contact
+/// solver's dense blocks grow with the square of the rim: 100,000 rim nodes need ~170 GB),
+/// or more steps than can be run (`h = 5e-324`: infinitely many). Refused with `--yes` too,
+/// before anything is written.
+#[test]
+fn runs_beyond_the_machine_are_refused_even_when_confirmed() {
+    let wheel =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"))
+            .unwrap()
+            .replace("rim_nodes = 288", "rim_nodes = 100000");
+    let bar = common::BAR.replace("h = ", "h = 5e-324 #");
+    for (name, text, must) in [
+        (
+            "huge_wheel_yes",
+            wheel,
+            vec![
+                "more than this machine",
+                "`wheel.rim_nodes`",
+                "with or without --yes",
+            ],
+        ),
+        (
+            "tiny_step_yes",
+            bar,
+            vec!["inf steps", "h` = 5e-324", "with or without --yes"],
+        ),
+    ] {
+        let p = common::scenario(name, &text);
+        let out = p.with_extension("out");
+        let o = common::cli([
+            "run".as_ref(),
+            p.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--quiet".as_ref(),
+            "--yes".as_ref(),
+        ]);
+        common::assert_nothing_written(&out);
+        let mut all = vec![format!("{name}.toml")];
+        all.extend(must.iter().map(|m| m.to_string()));
+        let refs: Vec<&str> = all.iter().map(|s| s.as_str()).collect();
+        assert_one_line_error(o.code, &o.stderr, &refs);
+    }
+}
+
 // ---------------------------------------------------------------- scenario: the track
 
 fn track_text() -> String {

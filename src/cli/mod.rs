@@ -487,6 +487,9 @@ fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), Strin
         }
     }
     let est = crate::build::estimate(sc, mesh_nodes);
+    if let Some(why) = est.impossible() {
+        return Err(format!("{}: {why}", sc.path.display()));
+    }
     match est.check(&crate::build::Limits::default()) {
         Some(why) if !yes => Err(format!("{}: {why}", sc.path.display())),
         _ => Ok(()),
