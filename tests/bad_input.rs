@@ -277,6 +277,27 @@ fn a_wheel_that_would_exhaust_memory_is_refused_with_its_estimate() {
     );
 }
 
+#[test]
+fn a_flattening_below_the_contacts_resolution_is_refused_before_the_run() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml"))
+            .unwrap();
+    for d in ["1e-300", "1e-9"] {
+        let t = text.replace("flattening = 1e-3 ", &format!("flattening = {d} "));
+        assert!(t.contains(d));
+        let (c, e) = run_err("tiny_flattening", &t);
+        assert_one_line_error(
+            c,
+            &e,
+            &[
+                "tiny_flattening.toml",
+                "`rolling.flattening`",
+                "at least 1e-6 wheel.radius",
+            ],
+        );
+    }
+}
+
 /// What no confirmation can make runnable: more memory than the machine has (the contact
 /// solver's dense blocks grow with the square of the rim: 100,000 rim nodes need ~170 GB),
 /// or more steps than can be run (`h = 5e-324`: infinitely many). Refused with `--yes` too,

@@ -337,6 +337,18 @@ fn rolling(cx: &Ctx, r: &RawRolling, radius: f64) -> Result<Rolling, ScenarioErr
         ));
     }
     let depth = cx.positive("rolling.flattening", r.flattening)?;
+    // The contact counts a gap below 1e-9 R as closed (crate::wheel): a flattening within a
+    // thousand of those is no press at all (the run ends with no contact force to analyse).
+    if depth < 1e-6 * radius {
+        return Err(cx.invalid(
+            "rolling.flattening",
+            depth,
+            &format!(
+                "the flattening must be at least 1e-6 wheel.radius = {:e} m (the contact's gap tolerance is 1e-9 of the radius: below that the wheel is not pressed)",
+                1e-6 * radius
+            ),
+        ));
+    }
     if depth >= radius {
         return Err(cx.invalid(
             "rolling.flattening",
