@@ -104,5 +104,26 @@ fn a_short_ladder_or_several_runs_are_refused_before_anything_runs() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("[[runs]]"), "{err}");
     assert!(!d.join("multi").exists(), "nothing written");
+    // Ladders whose order would mean nothing: not monotone, or not a constant ratio.
+    for (ladder, must) in [
+        ("time.h=0.1,0.025,0.05", "increase (or decrease)"),
+        ("time.h=0.1,0.09,0.001", "constant ratio"),
+        ("time.h=0.1,0.1,0.1", "increase (or decrease)"),
+    ] {
+        let out = d.join("bad-ladder");
+        let o = Command::new(env!("CARGO_BIN_EXE_softway"))
+            .args(["converge", sc.to_str().unwrap(), "--set", ladder])
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{ladder}: {err}");
+        assert!(
+            err.contains(must) && err.lines().count() == 1,
+            "{ladder}: {err}"
+        );
+        assert!(!out.exists(), "nothing written for {ladder}");
+    }
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -163,6 +163,25 @@ pub fn converge(
     if xs.iter().any(|&x| !(x.is_finite() && x > 0.0)) {
         return Err(bad("the rungs must be positive".into()));
     }
+    // The observed order compares successive differences at one ratio: the rungs must
+    // refine (or coarsen) monotonically by a constant ratio.
+    let ratios: Vec<f64> = xs.windows(2).map(|w| w[1] / w[0]).collect();
+    if ratios.iter().any(|&r| r == 1.0)
+        || !(ratios.iter().all(|&r| r > 1.0) || ratios.iter().all(|&r| r < 1.0))
+    {
+        return Err(bad(
+            "the rungs must increase (or decrease) from one to the next, e.g. 8,16,32".into(),
+        ));
+    }
+    let r0 = ratios[0];
+    if let Some(r) = ratios
+        .iter()
+        .find(|&&r| (r.ln() / r0.ln() - 1.0).abs() > 0.02)
+    {
+        return Err(bad(format!(
+            "the rungs must grow by a constant ratio (the observed order assumes it): {r0:.4} then {r:.4}; e.g. 8,16,32 or 1e-4,5e-5,2.5e-5"
+        )));
+    }
     let runs = crate::scenario::Scenario::from_str(text, path)
         .map(|sc| sc.runs.len())
         .unwrap_or(1);
@@ -172,14 +191,28 @@ pub fn converge(
             path.display()
         )));
     }
-    let points = run_ladder(path, text, key, values, out, cancel)?;
-    let warnings = points
+    let mut points = run_ladder(path, text, key, values, out, cancel)?;
+    // A rung cut short (Ctrl-C) is no rung of the ladder: no order from it or after it.
+    let complete = points
         .iter()
-        .flat_map(|p| {
+        .take_while(|p| p.summary["interrupted"] != serde_json::Value::Bool(true))
+        .count();
+    let mut cut = Vec::new();
+    if complete < points.len() {
+        cut.push(format!(
+            "{key} = {}: interrupted; it and the rungs after it are left out of the orders",
+            points[complete].value
+        ));
+        points.truncate(complete);
+    }
+    let xs = &xs[..points.len()];
+    let warnings = cut
+        .into_iter()
+        .chain(points.iter().flat_map(|p| {
             p.warnings
                 .iter()
                 .map(|w| format!("{key} = {}: {w}", p.value))
-        })
+        }))
         .collect();
     let per_rung: Vec<Vec<(String, f64)>> = points.iter().map(|p| figures(&p.summary)).collect();
     let names: Vec<String> = per_rung
@@ -206,7 +239,7 @@ pub fn converge(
             }
         })
         .collect();
-    let files = write_tables(out, key, values, &xs, &ladders, &points)?;
+    let files = write_tables(out, key, &values[..points.len()], xs, &ladders, &points)?;
     Ok((ladders, files, warnings))
 }
 
