@@ -166,7 +166,7 @@ pub fn converge(
     // The observed order compares successive differences at one ratio: the rungs must
     // refine (or coarsen) monotonically by a constant ratio.
     let ratios: Vec<f64> = xs.windows(2).map(|w| w[1] / w[0]).collect();
-    if ratios.iter().any(|&r| r == 1.0)
+    if ratios.contains(&1.0)
         || !(ratios.iter().all(|&r| r > 1.0) || ratios.iter().all(|&r| r < 1.0))
     {
         return Err(bad(
@@ -230,7 +230,7 @@ pub fn converge(
                         .map_or(f64::NAN, |(_, v)| *v)
                 })
                 .collect();
-            let orders = observed_orders(&xs, &vals);
+            let orders = observed_orders(xs, &vals);
             FigureLadder {
                 name: name.clone(),
                 extrapolated: extrapolate(&xs, &vals, &orders),
