@@ -233,7 +233,7 @@ pub fn converge(
             let orders = observed_orders(xs, &vals);
             FigureLadder {
                 name: name.clone(),
-                extrapolated: extrapolate(&xs, &vals, &orders),
+                extrapolated: extrapolate(xs, &vals, &orders),
                 values: vals,
                 orders,
             }
