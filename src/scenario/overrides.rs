@@ -293,7 +293,14 @@ pub fn read_with(
         path: path.to_path_buf(),
         message,
     };
-    let run_text = apply(text, sets).map_err(parse_error)?;
+    let run_text = match apply(text, sets) {
+        Ok(t) => t,
+        Err(m) => {
+            // The file's own error first, with its line.
+            super::raw::parse(text, path)?;
+            return Err(parse_error(m));
+        }
+    };
     if let Err(e) = super::raw::parse(&run_text, path) {
         // Which override is at fault: the first one that, alone on the file, the parser
         // refuses (the file itself may be at fault: then its own message).
