@@ -381,7 +381,7 @@ fn base_lines(s: &WheelSummary) -> Vec<String> {
     vec![
         format!(
             "omega = {} rad/s ({:.0} km/h), {} dofs, {} steps of {:.3e} s in {:.2} s ({:.1} us/step)",
-            s.omega, s.speed_km_h, s.dofs, s.steps, s.h, s.wall_time_s, s.time_per_step_us
+            (s.omega * 1e4).round() / 1e4, s.speed_km_h, s.dofs, s.steps, s.h, s.wall_time_s, s.time_per_step_us
         ),
         format!(
             "contact force over the turns: mean {:.4e} N, min {:.4e} N, max {:.4e} N; {:.2} nodes in contact on average",
