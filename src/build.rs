@@ -50,6 +50,8 @@ pub fn resolve(sc: &Scenario<RunSpec>) -> Result<Scenario, ScenarioError> {
         warnings,
         sweep: sc.sweep.clone(),
         source_sha256: sc.source_sha256.clone(),
+        source_text: sc.source_text.clone(),
+        overrides: sc.overrides.clone(),
     })
 }
 

@@ -2,16 +2,59 @@
 //!
 //! Dynamic contact by the space-time finite element method in the velocity formulation,
 //! after C. I. Bajer, *The space-time approach to rail/wheel contact and corrugations
-//! problem* (Computer Assisted Mechanics and Engineering Sciences, 1998).
+//! problem* (Computer Assisted Mechanics and Engineering Sciences, 1998): an elastic wheel
+//! rolling on its base, bars striking walls and each other, a rail on its sleepers, with the
+//! paper's "soft way" contact and the classic integrators and contact treatments beside it.
+//!
+//! ## Using it from Rust
+//!
+//! A scenario is TOML text (the keys: [`scenario`]); [`run()`] runs it and returns its
+//! [`Results`] in memory: the summary (`summary.json`'s object), the history as named
+//! columns with units ([`run::Columns`], `history.csv`), the per-node contact rows, the
+//! fields on the mesh and the screen lines; [`Results::save`] writes the command line's
+//! files. The paper's bar (Fig. 8) striking a wall, checked against d'Alembert's answer
+//! (the contact lasts `2 L / c` = 2 s, the force is `rho A c v0` = 1 N):
+//!
+//! ```
+//! let text = r#"
+//! kind = "bar_impact"
+//! [time]
+//! h = 0.01
+//! t_end = 3.0
+//! [bar]
+//! length = 1.0
+//! ea = 1.0
+//! rho_a = 1.0
+//! speed = 1.0
+//! gap = 0.5
+//! elements = 40
+//! [contact]
+//! method = "soft_way"
+//! "#;
+//! let sc = softway::scenario::Scenario::from_str(text, std::path::Path::new("bar.toml"))?;
+//! let sc = softway::build::resolve(&sc)?;
+//! let r = softway::run(&sc, &softway::RunOptions::default())?;
+//! let run = &r.summary["runs"][0];
+//! let duration = run["contact_duration"].as_f64().unwrap();
+//! let force = run["mean_contact_force"].as_f64().unwrap();
+//! assert!((duration - 2.0).abs() <= 2.0 * 0.01 + 1e-9, "{duration}"); // two steps
+//! assert!((force - 1.0).abs() < 0.01, "{force}");
+//! let f = r.history.column("contact_force_N").unwrap();
+//! assert_eq!(f.len(), r.history.len());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! ## The method in a page
 //!
 //! **Time step (paper §2, Eqs. 6-11, 24).** Over `[t0, t0 + h]` the velocity is linear in
 //! time and the virtual velocity is a Dirac at `t0 + alpha h`. The semi-discrete equation
 //! `M v' + C v + K u = f + r` then gives
-//! $$\big(M + \alpha h C + \tfrac{\alpha^2h^2}{2}K\big) v_1 = M v_0 - (1-\alpha)hCv_0 - hKu_0
-//!   \;-\; (\alpha - \tfrac{\alpha^2}{2})h^2 K v_0 + h f(t_0 + \alpha h) + h r,$$
-//! $$u_1 = u_0 + h[(1-\beta)v_0 + \beta v_1],\qquad \beta = 1 - \alpha/(1+\gamma).$$
+//!
+//! > (M + α h C + α²h²/2 K) v₁ = M v₀ − (1 − α) h C v₀ − h K u₀ − (α − α²/2) h² K v₀
+//! > + h f(t₀ + α h) + h r,
+//! >
+//! > u₁ = u₀ + h [(1 − β) v₀ + β v₁],   β = 1 − α / (1 + γ).
+//!
 //! For one degree of freedom this is Eq. (9) with Eq. (10); `gamma = 0` preserves energy
 //! (Eq. 11) and `gamma > 0` adds numerical dissipation (Eq. 24). See [`time`].
 //!
@@ -29,10 +72,12 @@
 //! the previous interval, with observers called on final steps only. The driver takes any
 //! integrator and any contact treatment through two contracts.
 //!
-//! **The integrator contract** ([`time::TimeIntegrator`], after MFEM's `ODESolver`). Each
+//! **The integrator contract** ([`time::TimeIntegrator`]). Each
 //! integrator solves per step one linear system with a constant factored matrix in an
 //! unknown `x` that fixes the end state linearly:
-//! $$A x = b + \sum_p c_p^T\lambda_p,\qquad u_1 = U + \mu_u x,\qquad v_1 = V + \mu_v x.$$
+//!
+//! > A x = b + Σₚ cₚᵀ λₚ,   u₁ = U + μᵤ x,   v₁ = V + μᵥ x.
+//!
 //! Space-time: `x = v1`, `U = u0 + h(1-beta)v0`, `mu_u = h beta`, `V = 0`, `mu_v = 1`, and
 //! `lambda` is an impulse (N s). Generalized-alpha family (Newmark, HHT, generalized-alpha,
 //! central difference): `x = a1`, `mu_u = beta_N h^2`, `mu_v = gamma_N h`, and `lambda` is a
@@ -42,11 +87,12 @@
 //! evaluated), `set_step` (another `h` on the same symbolic analysis). The model, the loads
 //! and the states that both contracts use are in [`model`], below `time` and `contact`.
 //!
-//! **The contact-treatment contract** ([`contact::ContactTreatment`], after rapier's one-
-//! and two-body constraints). A pair (node against obstacle, node against node:
+//! **The contact-treatment contract** ([`contact::ContactTreatment`]). A pair (node against obstacle, node against node:
 //! [`contact::Pair`]) presents a row `c`, an offset `o` and a boundary velocity `w`, with the
 //! gap `g = c.(X + u) - o`. A treatment turns the pairs and their states into rows
-//! $$y_p = y_{0,p} + \mu_p\, c_p\cdot x + r_p\lambda_p$$
+//!
+//! > yₚ = y₀,ₚ + μₚ cₚ · x + rₚ λₚ
+//!
 //! of kind equality, unilateral (`y >= 0`, `lambda >= 0`, `y lambda = 0`) or bounded
 //! (`|lambda| <= mu_f lambda_n`, for friction), which [`contact::rows::RowSolver`] solves
 //! through the integrator's factored matrix and cached columns `A^{-1} e_d` (no
@@ -54,7 +100,7 @@
 //! again, step back) and records the pairs' forces (always in N). It works with a narrow
 //! [`contact::Context`] that the driver lends it each step, not with the driver's engine.
 //!
-//! **Friction** (first slice; `Problem::friction`, scenario key `contact.friction`). The
+//! **Friction** (`Problem::friction`, scenario key `contact.friction`). The
 //! Coulomb coefficient `mu` is carried by the treatment (given when it is built). With
 //! `mu > 0` (2D models) a pair also presents a tangent ([`contact::Pair::tangent`]: the
 //! normal turned by +90 degrees, with the surface's tangential velocity `w_t`), and every
@@ -96,30 +142,19 @@
 //!
 //! ## Running from code
 //!
-//! [`run()`] runs a resolved [`scenario::Scenario`] ([`build::resolve`]) and returns its
-//! [`Results`] in memory: the summary (`summary.json`'s object), the history as named
-//! columns with units ([`run::Columns`], `history.csv`), the per-node contact rows
-//! (`contact_nodes.csv`), the fields on the mesh (the VTU files) and the screen lines.
-//! [`Results::save`] writes them as the command line's files, byte for byte. The command
-//! line's `run` ([`run::run_scenario`]) streams the long tables into its output folder
-//! during the run instead of holding them, so a long run's memory stays flat.
-//!
-//! ```no_run
-//! let sc = softway::scenario::Scenario::from_file(std::path::Path::new("scenarios/bar-impact.toml"))?;
-//! let sc = softway::build::resolve(&sc)?;
-//! let r = softway::run(&sc, &softway::RunOptions::default())?;
-//! let force = r.history.column("contact_force_N").unwrap_or(&[]);
-//! println!("{} rows, peak {:?} N", r.history.len(), force.iter().cloned().reduce(f64::max));
-//! r.save(std::path::Path::new("out/bar-impact"))?;
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
+//! The command line's `run` ([`run::run_scenario`]) streams the long tables into its
+//! output folder during the run instead of holding them, so a long run's memory stays
+//! flat; [`run()`] (above) holds them. A scenario file is read by
+//! [`scenario::Scenario::from_file`], with command-line overrides by
+//! [`scenario::Scenario::from_file_with`] ([`scenario::overrides`]).
 //!
 //! ## Module map
 //! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.
 //! - [`element`]: bar, triangle and 2D beam (Euler-Bernoulli, Timoshenko) kernels; discrete
 //!   point masses, spring-dampers and hubs.
 //! - [`material`]: linear elastic material, plane stress / strain.
-//! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (dense).
+//! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (sparse
+//!   shift-invert at any size; dense references).
 //! - [`assembly`]: dof layout and element families, sparsity pattern once, element scatter
 //!   (serial and parallel).
 //! - [`linalg`]: sparse products; the solver trait ([`linalg::Factorization`]: factor,
@@ -194,3 +229,9 @@ pub mod track;
 pub mod wheel;
 
 pub use run::{run, Results, RunError, RunOptions};
+
+/// The git commit this build was compiled from (`git describe --always --dirty`: the short
+/// hash, `-dirty` when the work tree had changes at the build), or `None` when not built
+/// from a git checkout (a crates.io package, a tarball). Set by the build script; recorded
+/// in `summary.json` (`softway_git_commit`) and in each output folder's `scenario.toml`.
+pub const GIT_COMMIT: Option<&str> = option_env!("SOFTWAY_GIT_COMMIT");

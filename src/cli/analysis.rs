@@ -12,11 +12,12 @@ use std::process::ExitCode;
 /// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU.
 pub(super) fn modes_command(
     scenario: &Path,
+    set: &[String],
     count: usize,
     out: Option<PathBuf>,
     Replace { force }: Replace,
 ) -> CommandResult {
-    let sc = Scenario::from_file(scenario)?;
+    let sc = super::read_scenario(scenario, set)?;
     let crate::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
         return Err(format!(
             "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
@@ -31,7 +32,8 @@ pub(super) fn modes_command(
     let rep = crate::modes::modes_report(&wm, count)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+    let mut files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
     stage.commit()?;
     let mut text = modes_text(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
     text.push_str(&format!(
@@ -52,10 +54,14 @@ fn modes_text(
 ) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
+    let support = match support {
+        crate::wheel::Support::Hub { radius } => format!("a hub clamped within {radius} m"),
+        crate::wheel::Support::CentrePinned => "the centre node pinned".to_string(),
+    };
     let _ = writeln!(
         s,
-        "{}: {} dofs ({} free), support {:?}",
-        name, rep.dofs, rep.free_dofs, support
+        "{}: {} dofs ({} free), support: {support}",
+        name, rep.dofs, rep.free_dofs
     );
     let _ = writeln!(s, "at rest:");
     let _ = writeln!(
@@ -124,7 +130,10 @@ pub(super) fn receptance_command(
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let report = crate::run::track::receptance_job(&sc, stage.path(), sc.plots)?;
+    let mut report = crate::run::track::receptance_job(&sc, stage.path(), sc.plots)?;
+    report
+        .files
+        .push(crate::run::write_scenario_copy(&sc, stage.path())?);
     let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     print_report(
@@ -145,7 +154,8 @@ pub(super) fn matrix_command(
     let sc = resolve(&Scenario::from_file(scenario)?)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (rep, files) = crate::run::matrix::dump(&sc, stage.path(), steps.map(|s| s as usize))?;
+    let (rep, mut files) = crate::run::matrix::dump(&sc, stage.path(), steps.map(|s| s as usize))?;
+    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     let mut lines: Vec<String> = rep

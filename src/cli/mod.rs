@@ -73,6 +73,12 @@ enum Command {
     Run {
         /// The scenario file (TOML).
         scenario: PathBuf,
+        /// KEY=VALUE: a dotted key of the scenario set to a TOML value for this run, e.g.
+        /// rolling.speed_km_h=120, wheel.rim_nodes=576, contact.method=exact (nothing after
+        /// `=` removes the key); repeatable. Checked as the file's keys are; the output
+        /// folder's scenario.toml holds the text as run.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
         /// Output folder [default: out/<scenario name>].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -87,14 +93,20 @@ enum Command {
         #[command(flatten)]
         guard: Guard,
     },
-    /// Run a scenario over a list of values of one key, in parallel (e.g. the paper's Fig. 15).
+    /// Run a scenario over the values of one key or a grid of several, in parallel (e.g. the
+    /// paper's Fig. 15).
     Sweep {
         /// The scenario file (TOML).
         scenario: PathBuf,
-        /// KEY=V1,V2,... (a dotted scenario key), e.g. rolling.omega=250,300,350; default:
-        /// the scenario's [sweep] table.
-        #[arg(long)]
-        set: Option<String>,
+        /// KEY=V1,V2,... (a dotted scenario key and its values), e.g.
+        /// rolling.speed_km_h=90,120,150; repeatable: a grid over several keys (--grid); a
+        /// key with one value is set at every point. Default: the scenario's [sweep] table.
+        #[arg(long = "set", value_name = "KEY=V1,V2,...")]
+        set: Vec<String>,
+        /// How the keys' values combine: every combination (product), or the i-th value of
+        /// each key together (zip; lists of one length).
+        #[arg(long, value_enum, default_value_t = crate::scenario::overrides::Grid::Product)]
+        grid: crate::scenario::overrides::Grid,
         /// Output folder [default: out/<scenario name>-sweep].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -129,6 +141,9 @@ enum Command {
         /// The scenario file (TOML, kind = "bar_impact" or "two_bars", one [[runs]] entry
         /// per combination).
         scenario: PathBuf,
+        /// KEY=VALUE: a dotted key set to a TOML value, as `run --set`; repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
         /// Output folder [default: out/<scenario name>].
         #[arg(long)]
         out: Option<PathBuf>,
@@ -140,6 +155,9 @@ enum Command {
     Modes {
         /// The scenario file (TOML, kind = "wheel").
         scenario: PathBuf,
+        /// KEY=VALUE: a dotted key set to a TOML value, as `run --set`; repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
         /// Number of elastic modes.
         #[arg(long, default_value_t = 12)]
         count: usize,
@@ -234,18 +252,20 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
     match cli.command {
         Command::Run {
             scenario,
+            set,
             out,
             quiet,
             threads,
             guard,
-        } => run_command(&scenario, out, quiet, threads, guard, cancel),
+        } => run_command(&scenario, &set, out, quiet, threads, guard, cancel),
         Command::Sweep {
             scenario,
             set,
+            grid,
             out,
             jobs,
             guard,
-        } => sweep_command(&scenario, set, out, jobs, guard, cancel),
+        } => sweep_command(&scenario, &set, grid, out, jobs, guard, cancel),
         Command::Converge {
             scenario,
             set,
@@ -255,15 +275,17 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
         } => converge_command(&scenario, &set, out, jobs, guard, cancel),
         Command::Compare {
             scenario,
+            set,
             out,
             guard,
-        } => compare_command(&scenario, out, guard, cancel),
+        } => compare_command(&scenario, &set, out, guard, cancel),
         Command::Modes {
             scenario,
+            set,
             count,
             out,
             replace,
-        } => modes_command(&scenario, count, out, replace),
+        } => modes_command(&scenario, &set, count, out, replace),
         Command::Receptance {
             scenario,
             out,
@@ -289,6 +311,7 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
 /// `softway run`: one scenario into its folder, with its report on standard output.
 fn run_command(
     scenario: &Path,
+    set: &[String],
     out: Option<PathBuf>,
     quiet: bool,
     threads: Option<usize>,
@@ -296,7 +319,7 @@ fn run_command(
     cancel: &Cancel,
 ) -> CommandResult {
     set_threads("--threads", threads)?;
-    let sc = open_scenario(scenario, yes)?;
+    let sc = open_scenario(scenario, set, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
@@ -321,10 +344,11 @@ fn run_command(
     )
 }
 
-/// `softway sweep`: the scenario over the values of `--set` (or its `[sweep]` table).
+/// `softway sweep`: the scenario over the grid of `--set` values (or its `[sweep]` table).
 fn sweep_command(
     scenario: &Path,
-    set: Option<String>,
+    set: &[String],
+    grid: crate::scenario::overrides::Grid,
     out: Option<PathBuf>,
     jobs: Option<usize>,
     Guard { force, yes }: Guard,
@@ -333,30 +357,39 @@ fn sweep_command(
     let sc = Scenario::from_file(scenario)?;
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-    let (key, values) = match set {
-        Some(s) => parse_set(&s)?,
-        None => sc.sweep.clone().ok_or_else(|| {
+    let keys = if set.is_empty() {
+        vec![sc.sweep.clone().ok_or_else(|| {
             format!(
                 "{}: no [sweep] table and no --set KEY=V1,V2,...",
                 scenario.display()
             )
-        })?,
+        })?]
+    } else {
+        set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?
     };
-    check_ladder_estimate(scenario, &text, &key, &values, yes)?;
+    let points = crate::scenario::overrides::grid(&keys, grid)?;
+    check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
     set_threads("--jobs", jobs)?;
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (points, files) =
-        crate::run::sweep::sweep(scenario, &text, &key, &values, stage.path(), cancel)?;
+    let (points, mut files) =
+        crate::run::sweep::sweep(scenario, &text, &points, stage.path(), cancel)?;
+    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
     for p in &points {
         for w in &p.warnings {
-            errln!("softway: warning: {key} = {}: {w}", p.value);
+            errln!("softway: warning: {}: {w}", p.label());
         }
     }
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
     stage.commit()?;
-    outln!("{}: {key} swept over {} values", sc.name, values.len());
+    let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
+    outln!(
+        "{}: {} swept over {} points",
+        sc.name,
+        names.join(", "),
+        points.len()
+    );
     print_table(&out.join("sweep.md"), &files);
     for d in dirs {
         outln!("    {}/", d.display());
@@ -380,12 +413,17 @@ fn converge_command(
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
     let (key, values) = parse_set(set)?;
-    check_ladder_estimate(scenario, &text, &key, &values, yes)?;
+    let points = crate::scenario::overrides::grid(
+        &[(key.clone(), values.clone())],
+        crate::scenario::overrides::Grid::Product,
+    )?;
+    check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
     set_threads("--jobs", jobs)?;
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (_, files, warnings) =
+    let (_, mut files, warnings) =
         crate::run::converge::converge(scenario, &text, &key, &values, stage.path(), cancel)?;
+    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
     for w in &warnings {
         errln!("softway: warning: {w}");
     }
@@ -406,18 +444,22 @@ fn converge_command(
 /// `softway compare`: the combinations of a bar scenario side by side.
 fn compare_command(
     scenario: &Path,
+    set: &[String],
     out: Option<PathBuf>,
     Guard { force, yes }: Guard,
     cancel: &Cancel,
 ) -> CommandResult {
-    let sc = open_scenario(scenario, yes)?;
+    let sc = open_scenario(scenario, set, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let opts = RunOptions {
         cancel: cancel.clone(),
         ..RunOptions::default()
     };
-    let report = crate::run::compare::compare(&sc, stage.path(), &opts)?;
+    let mut report = crate::run::compare::compare(&sc, stage.path(), &opts)?;
+    report
+        .files
+        .push(crate::run::write_scenario_copy(&sc, stage.path())?);
     let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     print_report(
@@ -461,15 +503,33 @@ pub(super) fn print_report(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The scenario at `path`, validated and resolved, its estimate checked (`--yes` lets it
-/// past the limits) and its warnings printed.
-fn open_scenario(path: &Path, yes: bool) -> Result<Scenario, Box<dyn std::error::Error>> {
-    let sc = resolve(&Scenario::from_file(path)?)?;
+/// The scenario at `path` with the `--set` overrides `set` (`KEY=VALUE` each) written into
+/// it, validated and resolved, its estimate checked (`--yes` lets it past the limits) and
+/// its warnings printed.
+fn open_scenario(
+    path: &Path,
+    set: &[String],
+    yes: bool,
+) -> Result<Scenario, Box<dyn std::error::Error>> {
+    let sc = resolve(&read_scenario(path, set)?)?;
     check_estimate(&sc, yes)?;
     for w in &sc.warnings {
         errln!("softway: warning: {w}");
     }
     Ok(sc)
+}
+
+/// The scenario at `path`, validated, with the `--set` overrides `set` (`KEY=VALUE` each)
+/// written into it.
+pub(super) fn read_scenario(
+    path: &Path,
+    set: &[String],
+) -> Result<Scenario<crate::scenario::RunSpec>, Box<dyn std::error::Error>> {
+    let sets = set
+        .iter()
+        .map(|s| crate::scenario::Override::parse(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Scenario::from_file_with(path, &sets)?)
 }
 
 /// Refuses a built scenario whose estimated cost is beyond [`crate::build::Limits`]
@@ -496,20 +556,24 @@ fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), Strin
     }
 }
 
-/// [`check_estimate`] over a sweep or a ladder: every value validated, the costs summed.
+/// [`check_estimate`] over a sweep or a ladder: every point validated, the costs summed.
 fn check_ladder_estimate(
     path: &Path,
     text: &str,
-    key: &str,
-    values: &[String],
+    points: &[Vec<crate::scenario::Override>],
     yes: bool,
 ) -> Result<(), String> {
     let mut total: Option<crate::build::Estimate> = None;
-    for v in values {
-        let t = crate::scenario::set_key(text, key, v).map_err(|m| format!("{key} = {v}: {m}"))?;
-        let sc = Scenario::from_str(&t, path)
-            .and_then(|sc| resolve(&sc))
-            .map_err(|e| format!("{key} = {v}: {e}"))?;
+    for p in points {
+        let at = p
+            .iter()
+            .map(|o| format!("{} = {}", o.key, o.value))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let sc = crate::scenario::overrides::read_with(text, path, p)
+            .map_err(|e| e.to_string())
+            .and_then(|(sc, _)| resolve(&sc).map_err(|e| e.to_string()))
+            .map_err(|e| format!("{at}: {e}"))?;
         check_estimate(&sc, true)?;
         let e = crate::build::estimate(&sc, None);
         total = Some(match total {
@@ -528,7 +592,7 @@ fn check_ladder_estimate(
         });
     }
     match total.and_then(|t| t.check(&crate::build::Limits::default())) {
-        Some(why) if !yes => Err(format!("{}: {key}: {why}", path.display())),
+        Some(why) if !yes => Err(format!("{}: the sweep: {why}", path.display())),
         _ => Ok(()),
     }
 }

@@ -1,10 +1,13 @@
-//! Natural frequencies and mode shapes of the wheel, at rest and spinning
-//! (DESIGN §5: `softway modes`).
+//! Natural frequencies and mode shapes of the wheel, at rest and spinning (`softway modes`).
 //!
-//! Both analyses are dense: the matrices restricted to the free degrees of freedom are
-//! copied into dense `faer` matrices, so they are meant for the paper's meshes (a few
-//! thousand dofs). Larger models are refused up front with [`ModesError::TooLarge`]
-//! ([`MAX_DENSE_DOFS`], [`MAX_SPINNING_DOFS`]) instead of running for hours.
+//! `softway modes` ([`modes_report`]) finds the lowest modes by shift-invert on the sparse
+//! factorizations, at any size ([`natural_modes_sparse`], [`spinning_modes_sparse`]; the
+//! module `sparse`). The dense analyses below ([`natural_modes`], [`spinning_modes`]) solve
+//! the whole eigenproblem and are their reference (`tests/sparse_modes.rs`: the same
+//! frequencies to 1e-8); they copy the matrices restricted to the free degrees of freedom
+//! into dense `faer` matrices, so they are meant for a few thousand dofs, and larger models
+//! are refused up front with [`ModesError::TooLarge`] ([`MAX_DENSE_DOFS`],
+//! [`MAX_SPINNING_DOFS`]) instead of running for hours.
 //!
 //! ## At rest ([`natural_modes`])
 //!
@@ -107,9 +110,11 @@ use crate::output::vtk::{write_vtu, Field, PvdWriter, VtkError};
 use crate::wheel::WheelModel;
 
 mod bounce;
+mod sparse;
 mod spinning;
 
 pub use bounce::{bounce_mode, Bounce, BOUNCE_SUBSPACE};
+pub use sparse::{natural_modes_sparse, natural_modes_sparse_of, spinning_modes_sparse};
 use spinning::rigid_kind;
 pub use spinning::{spinning_analysis, spinning_modes, SpinAnalysis, SpinMode, Whirl};
 
@@ -225,6 +230,18 @@ pub enum ModesError {
     /// The eigensolver did not converge.
     #[error("the dense {0} eigensolver did not converge")]
     NoConvergence(&'static str),
+    /// The sparse shift-invert solver's Krylov space did not hold the modes asked for to
+    /// its tolerance.
+    #[error(
+        "the sparse shift-invert eigensolver did not converge: {wanted} eigenpairs asked for, \
+         a basis of {basis} vectors; ask for fewer modes (--count)"
+    )]
+    SparseNoConvergence {
+        /// Eigenpairs asked for.
+        wanted: usize,
+        /// The basis reached.
+        basis: usize,
+    },
     /// An eigenpair failed the residual check (a defect of the dense eigensolver).
     #[error(
         "the dense {solver} eigensolver returned an inaccurate eigenpair (relative residual \
@@ -373,25 +390,20 @@ pub fn natural_modes_of(sys: &Matrices, count: usize) -> Result<Vec<Mode>, Modes
     Ok(modes)
 }
 
-/// Rest modes, and the spinning modes when the model spins (rotating frame, `omega != 0`)
-/// and has at most [`MAX_SPINNING_DOFS`] free dofs (otherwise a note says why not).
+/// Rest modes, and the spinning modes when the model spins (rotating frame, `omega != 0`;
+/// otherwise a note says why not), both by the sparse shift-invert solver
+/// ([`natural_modes_sparse`], [`spinning_modes_sparse`]): any size. The dense analyses
+/// ([`natural_modes`], [`spinning_modes`]) are their reference.
 ///
 /// # Errors
-/// As [`natural_modes`]; a spinning analysis that fails for another reason than its size.
+/// As [`natural_modes_sparse`].
 pub fn modes_report(model: &WheelModel, count: usize) -> Result<ModesReport, ModesError> {
-    let at_rest = natural_modes(model, count)?;
+    let at_rest = natural_modes_sparse(model, count)?;
     let n = model.mesh.n_dofs();
     let free_dofs = FreeDofs::new(n, &model.fixed_dofs)?.len();
     let mut notes = Vec::new();
     let spinning = if model.spec.rotating_frame && model.spec.omega != 0.0 {
-        match spinning_modes(model, count) {
-            Ok(m) => Some(m),
-            Err(e @ ModesError::TooLarge { .. }) => {
-                notes.push(format!("spinning modes skipped: {e}"));
-                None
-            }
-            Err(e) => return Err(e),
-        }
+        Some(spinning_modes_sparse(model, count)?)
     } else {
         notes.push("spinning modes skipped: the wheel does not spin (omega = 0)".to_string());
         None

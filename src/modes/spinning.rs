@@ -330,7 +330,7 @@ impl StateSpace {
 
 /// The zero-frequency modes among `eigenvalues` (`|Im lambda| < tol`): the rigid pairs,
 /// then the real ones one by one.
-fn zero_frequency_modes(eigenvalues: &[[f64; 2]], tol: f64) -> Vec<SpinMode> {
+pub(super) fn zero_frequency_modes(eigenvalues: &[[f64; 2]], tol: f64) -> Vec<SpinMode> {
     let mut modes = Vec::new();
     // Zero-frequency eigenvalues: rigid pairs, then real ones one by one.
     let zero: Vec<usize> = (0..eigenvalues.len())
@@ -486,7 +486,13 @@ pub(super) fn rigid_kind(mesh: &Mesh, u: &[f64]) -> &'static str {
 }
 
 /// `j = 2 a^T (M_s (x) J) b / (a^T M a + b^T M b)` for `phi = a + i b` (2D).
-fn angular_momentum(asm: &Assembler, m: &[f64], a: &[f64], b: &[f64], dim: usize) -> f64 {
+pub(super) fn angular_momentum(
+    asm: &Assembler,
+    m: &[f64],
+    a: &[f64],
+    b: &[f64],
+    dim: usize,
+) -> f64 {
     if dim != 2 {
         return 0.0;
     }

@@ -158,7 +158,8 @@ pub fn run(scenario: &Scenario, options: &RunOptions) -> Result<Results, RunErro
 pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     let results = record(sc, opts, Some(out))?;
-    let files = results.save(out)?;
+    let mut files = results.save(out)?;
+    files.push(write_scenario_copy(sc, out)?);
     Ok(RunReport {
         lines: results.lines,
         files,
@@ -200,16 +201,38 @@ fn parse_vm_hwm(status: &str) -> Option<f64> {
 }
 
 /// Adds what makes a `summary.json` traceable to a JSON object: `softway_version` (the
-/// crate's version) and `scenario_sha256` ([`Scenario::source_sha256`], the digest of the
-/// scenario text as run).
+/// crate's version), `softway_git_commit` ([`crate::GIT_COMMIT`], when built from a git
+/// checkout) and `scenario_sha256` ([`Scenario::source_sha256`], the digest of the
+/// scenario text as run, which the folder's `scenario.toml` holds).
 pub(crate) fn stamp_provenance(json: &mut serde_json::Value, sc: &Scenario) {
     if let Some(o) = json.as_object_mut() {
         o.insert(
             "softway_version".into(),
             env!("CARGO_PKG_VERSION").to_string().into(),
         );
+        if let Some(c) = crate::GIT_COMMIT {
+            o.insert("softway_git_commit".into(), c.into());
+        }
         o.insert("scenario_sha256".into(), sc.source_sha256.clone().into());
     }
+}
+
+/// The name of the copy of the scenario each output folder keeps
+/// ([`Scenario::provenance_text`]).
+pub const SCENARIO_COPY: &str = "scenario.toml";
+
+/// Writes the scenario's copy ([`SCENARIO_COPY`]) into the folder `out`; returns its path.
+///
+/// # Errors
+/// [`RunError::Output`].
+pub fn write_scenario_copy<R>(
+    sc: &crate::scenario::Scenario<R>,
+    out: &Path,
+) -> Result<PathBuf, RunError> {
+    let f = out.join(SCENARIO_COPY);
+    crate::output::files::write_atomic(&f, sc.provenance_text().as_bytes())
+        .map_err(|e| RunError::output(&f, e))?;
+    Ok(f)
 }
 
 /// A progress bar over `len` steps (hidden when not on a terminal or not asked for).

@@ -6,7 +6,8 @@ use super::{run_scenario, Cancel, Par, RunError, RunOptions};
 use crate::build::resolve;
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::scenario::{set_key, Scenario};
+use crate::scenario::overrides::read_with;
+pub use crate::scenario::Override;
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -14,7 +15,9 @@ use std::path::{Path, PathBuf};
 /// One point of a sweep.
 #[derive(Debug, Clone)]
 pub struct SweepPoint {
-    /// The value (TOML literal).
+    /// The values of the swept keys at this point (`--set` overrides, in the keys' order).
+    pub sets: Vec<Override>,
+    /// The values (TOML literals), comma-separated in the keys' order.
     pub value: String,
     /// Its output folder.
     pub dir: PathBuf,
@@ -24,13 +27,28 @@ pub struct SweepPoint {
     pub warnings: Vec<String>,
 }
 
+impl SweepPoint {
+    /// `key = value, key = value` of the point, for messages.
+    pub fn label(&self) -> String {
+        point_label(&self.sets)
+    }
+}
+
+/// `key = value, ...` of a point's overrides.
+fn point_label(sets: &[Override]) -> String {
+    sets.iter()
+        .map(|o| format!("{} = {}", o.key, o.value))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Errors of a sweep.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
     /// The key cannot be set or the result is not a valid scenario.
     #[error("{key} = {value}: {message}")]
     Value {
-        /// Key.
+        /// Key (the keys of a grid's point, comma-separated).
         key: String,
         /// Value.
         value: String,
@@ -42,10 +60,7 @@ pub enum SweepError {
     Run(#[from] RunError),
 }
 
-/// Validates and builds the scenario text at `path` for every value of `key` (all before any
-/// run starts), then runs them in parallel (rayon, in the caller's pool; each run on one
-/// thread, [`Par::Seq`]) into `out/<key>=<value>/`; returns the points in the order of
-/// `values`. `cancel` stops every run at its next step.
+/// [`run_points`] over the values of one key.
 ///
 /// # Errors
 /// [`SweepError`].
@@ -57,29 +72,57 @@ pub fn run_ladder(
     out: &Path,
     cancel: &Cancel,
 ) -> Result<Vec<SweepPoint>, SweepError> {
+    let points: Vec<Vec<Override>> = values
+        .iter()
+        .map(|v| {
+            vec![Override {
+                key: key.to_string(),
+                value: v.clone(),
+            }]
+        })
+        .collect();
+    run_points(path, text, &points, out, cancel)
+}
+
+/// Validates and builds the scenario text at `path` for every point (its overrides written
+/// into the text as `--set` writes them; all before any run starts), then runs them in
+/// parallel (rayon, in the caller's pool; each run on one thread, [`Par::Seq`]) into
+/// `out/<key>=<value>,.../`; returns the points in their order. `cancel` stops every run at
+/// its next step.
+///
+/// # Errors
+/// [`SweepError`].
+pub fn run_points(
+    path: &Path,
+    text: &str,
+    points: &[Vec<Override>],
+    out: &Path,
+    cancel: &Cancel,
+) -> Result<Vec<SweepPoint>, SweepError> {
     let mut scs = Vec::new();
     let mut dirs = std::collections::BTreeSet::new();
-    for v in values {
-        if !dirs.insert(point_dir_name(key, v)) {
-            return Err(SweepError::Value {
-                key: key.into(),
-                value: v.clone(),
-                message: "given twice: give every value once".into(),
-            });
+    for sets in points {
+        let bad = |message: String| SweepError::Value {
+            key: sets
+                .iter()
+                .map(|o| o.key.as_str())
+                .collect::<Vec<_>>()
+                .join(","),
+            value: sets
+                .iter()
+                .map(|o| o.value.as_str())
+                .collect::<Vec<_>>()
+                .join(","),
+            message,
+        };
+        if !dirs.insert(point_dir_name(sets)) {
+            return Err(bad("given twice: give every value once".into()));
         }
-        let t = set_key(text, key, v).map_err(|m| SweepError::Value {
-            key: key.into(),
-            value: v.clone(),
-            message: m,
-        })?;
-        let sc = Scenario::from_str(&t, path)
-            .and_then(|sc| resolve(&sc))
-            .map_err(|e| SweepError::Value {
-                key: key.into(),
-                value: v.clone(),
-                message: e.to_string(),
-            })?;
-        scs.push((v.clone(), sc));
+        let sc = read_with(text, path, sets)
+            .map_err(|e| e.to_string())
+            .and_then(|(sc, _)| resolve(&sc).map_err(|e| e.to_string()))
+            .map_err(bad)?;
+        scs.push((sets.clone(), sc));
     }
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     // The runs share the cores: each on one thread, no helper for its split solves.
@@ -91,8 +134,8 @@ pub fn run_ladder(
     };
     let results: Vec<Result<SweepPoint, SweepError>> = scs
         .par_iter()
-        .map(|(v, sc)| {
-            let dir = out.join(point_dir_name(key, v));
+        .map(|(sets, sc)| {
+            let dir = out.join(point_dir_name(sets));
             let rep = run_scenario(sc, &dir, &opts)?;
             let sj = dir.join("summary.json");
             let summary = std::fs::read_to_string(&sj)
@@ -100,7 +143,8 @@ pub fn run_ladder(
                 .and_then(|s| serde_json::from_str(&s).ok())
                 .unwrap_or(serde_json::Value::Null);
             crate::output::note(format_args!(
-                "  {key} = {v}: done{}",
+                "  {}: done{}",
+                point_label(sets),
                 if rep.interrupted {
                     " (interrupted)"
                 } else {
@@ -108,7 +152,12 @@ pub fn run_ladder(
                 }
             ));
             Ok(SweepPoint {
-                value: v.clone(),
+                sets: sets.clone(),
+                value: sets
+                    .iter()
+                    .map(|o| o.value.as_str())
+                    .collect::<Vec<_>>()
+                    .join(","),
                 dir,
                 summary,
                 warnings: rep.warnings,
@@ -118,36 +167,55 @@ pub fn run_ladder(
     results.into_iter().collect()
 }
 
-/// The folder of one point, `<key>=<value>` (quotes trimmed, path separators replaced by
-/// `_` so that a value never leads out of the sweep's folder).
-fn point_dir_name(key: &str, value: &str) -> String {
-    format!("{key}={}", value.trim_matches('"')).replace(['/', '\\'], "_")
+/// The folder of one point, `<key>=<value>,<key>=<value>` (quotes trimmed, path separators
+/// replaced by `_` so that a value never leads out of the sweep's folder).
+fn point_dir_name(sets: &[Override]) -> String {
+    sets.iter()
+        .map(|o| format!("{}={}", o.key, o.value.trim_matches('"')))
+        .collect::<Vec<_>>()
+        .join(",")
+        .replace(['/', '\\'], "_")
 }
 
-/// Runs the scenario text at `path` for every value of `key`, in parallel (rayon), into
-/// `out/<key>=<value>/`; writes the table and plot into `out`.
+/// Runs the scenario text at `path` at every point of a grid ([`crate::scenario::overrides::grid`]),
+/// in parallel (rayon), into `out/<key>=<value>,.../`; writes the table (a column per key)
+/// and, when one key varies and its values are numbers, the plot into `out`.
 ///
 /// # Errors
-/// [`SweepError`]; every value is validated and built before any run starts.
+/// [`SweepError`]; every point is validated and built before any run starts.
 pub fn sweep(
     path: &Path,
     text: &str,
-    key: &str,
-    values: &[String],
+    points: &[Vec<Override>],
     out: &Path,
     cancel: &Cancel,
 ) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
-    let points = run_ladder(path, text, key, values, out, cancel)?;
+    let points = run_points(path, text, points, out, cancel)?;
+    let keys: Vec<String> = points
+        .first()
+        .map(|p| p.sets.iter().map(|o| o.key.clone()).collect())
+        .unwrap_or_default();
     // Table: the key figures (wheel), or every scalar number of the summaries.
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
     // With friction: the traction figures (nested in the summary's `traction`).
     let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
     let cols = table_columns(&points, is_wheel, with_traction);
-    let mut files = write_tables(out, key, &cols, &points)?;
-    // Fig. 15 for wheels.
+    let mut files = write_tables(out, &keys, &cols, &points)?;
+    // Fig. 15 for wheels, over the one key that varies.
+    let varying: Vec<usize> = (0..keys.len())
+        .filter(|&i| {
+            points
+                .iter()
+                .any(|p| p.sets[i].value != points[0].sets[i].value)
+        })
+        .collect();
+    let [i] = varying[..] else {
+        return Ok((points, files));
+    };
+    let key = keys[i].as_str();
     let xs: Vec<f64> = points
         .iter()
-        .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
+        .filter_map(|p| p.sets[i].value.trim_matches('"').parse::<f64>().ok())
         .collect();
     if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
         files.extend(creep_curve(out, &points, &xs)?);
@@ -216,7 +284,8 @@ fn table_columns(points: &[SweepPoint], is_wheel: bool, with_traction: bool) -> 
 }
 
 /// The table's cell of point `p` in column `c` (a path `a/b` into the summary's nested
-/// objects): a float to five decimals, an array space-separated, nothing for the rest.
+/// objects): a float to five decimals, an array as JSON (`[3,4,4]`; quoted in the CSV),
+/// nothing for the rest.
 fn table_cell(p: &SweepPoint, c: &str) -> String {
     let v = if c.contains('/') {
         p.summary
@@ -230,33 +299,46 @@ fn table_cell(p: &SweepPoint, c: &str) -> String {
             Some(x) if n.is_f64() => format!("{x:.5}"),
             _ => n.to_string(),
         },
-        serde_json::Value::Array(a) => a
-            .iter()
-            .map(|x| x.to_string())
-            .collect::<Vec<_>>()
-            .join(" "),
+        serde_json::Value::Array(_) => v.to_string(),
         _ => String::new(),
     }
 }
 
-/// Writes the table, a row per point, as `sweep.csv` and `sweep.md` into `out`.
+/// A CSV field: quoted (inner quotes doubled) when it holds a comma or a quote.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// Writes the table, a row per point (a column per swept key, then the figures), as
+/// `sweep.csv` and `sweep.md` into `out`.
 fn write_tables(
     out: &Path,
-    key: &str,
+    keys: &[String],
     cols: &[String],
     points: &[SweepPoint],
 ) -> Result<Vec<PathBuf>, RunError> {
     let mut files = Vec::new();
-    let mut csv = format!("{key},{}\n", cols.join(","));
+    let head: Vec<String> = keys.iter().chain(cols).cloned().collect();
+    let mut csv = format!("{}\n", head.join(","));
     let mut md = format!(
-        "| {key} | {} |\n|{}|\n",
-        cols.join(" | "),
-        vec!["---"; cols.len() + 1].join("|")
+        "| {} |\n|{}|\n",
+        head.join(" | "),
+        vec!["---"; head.len()].join("|")
     );
     for p in points {
-        let row: Vec<String> = cols.iter().map(|c| table_cell(p, c)).collect();
-        let _ = writeln!(csv, "{},{}", p.value, row.join(","));
-        let _ = writeln!(md, "| {} | {} |", p.value, row.join(" | "));
+        let row: Vec<String> = p
+            .sets
+            .iter()
+            .map(|o| o.value.clone())
+            .chain(cols.iter().map(|c| table_cell(p, c)))
+            .collect();
+        let quoted: Vec<String> = row.iter().map(|c| csv_field(c)).collect();
+        let _ = writeln!(csv, "{}", quoted.join(","));
+        let _ = writeln!(md, "| {} |", row.join(" | "));
     }
     for (name, body) in [("sweep.csv", csv), ("sweep.md", md)] {
         let f = out.join(name);
@@ -293,8 +375,7 @@ fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
     // The bounce computed with the contact held, as cycles per turn: f_b 2 pi / omega.
     let held: Vec<f64> = points
         .iter()
-        .zip(xs)
-        .map(|(p, &w)| num(p, "bounce_frequency_hz") * 2.0 * std::f64::consts::PI / w)
+        .map(|p| num(p, "bounce_frequency_hz") * 2.0 * std::f64::consts::PI / num(p, "omega"))
         .collect();
     // The strongest component locked to the rotation.
     let locked: Vec<f64> = points
@@ -309,7 +390,7 @@ fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
         .collect();
     let mut p1 = Panel::new(
         "Oscillations of the contact force per turn (Fig. 15)",
-        format!("{key} [rad/s]"),
+        axis_label(key),
         "cycles per turn",
     );
     p1.series.push(Series::new(
@@ -339,6 +420,15 @@ fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
     p1
 }
 
+/// The swept key with its unit, for an axis.
+fn axis_label(key: &str) -> String {
+    match key {
+        "rolling.omega" => format!("{key} [rad/s]"),
+        "rolling.speed_km_h" => format!("{key} [km/h]"),
+        _ => key.to_string(),
+    }
+}
+
 /// Fig. 15's lower panel: the maximal contact force over the turns against the swept
 /// values `xs`, with the mean and the minimum beside it.
 fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
@@ -352,7 +442,7 @@ fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
     // the speed reads against the force itself.
     let mut p2 = Panel::new(
         "Contact force over the turns: maximum, mean and minimum",
-        format!("{key} [rad/s]"),
+        axis_label(key),
         "contact force [N]",
     );
     for (label, k) in [

@@ -17,6 +17,7 @@
 
 mod collect;
 pub(crate) mod figures;
+pub mod load;
 pub(crate) mod observers;
 pub(crate) mod traction;
 
@@ -57,6 +58,14 @@ pub struct WheelSummary {
     pub omega: f64,
     /// Rim speed `omega R`, km/h.
     pub speed_km_h: f64,
+    /// The flattening the base presses the wheel to, m (`rolling.flattening`, or found for
+    /// `wheel.load`).
+    pub flattening_m: f64,
+    /// The load asked for (`wheel.load`), N; null when the flattening was given.
+    pub requested_load_n: Option<f64>,
+    /// Rim pitches across Hertz's contact patch at the mean contact force (`2 a` over the
+    /// rim's pitch under the contact): about the rim nodes in the patch.
+    pub patch_rim_pitches: f64,
     /// Time step, s.
     pub h: f64,
     /// `alpha`.
@@ -184,10 +193,26 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
             let mut wm = WheelModel::new(z.mesh, ws.spec.clone())
                 .map_err(|e| RunError::input(sc_path, e))?;
             wm.zone = Some((z.sources, z.step));
-            return Ok(wm);
+            return pressed_to_load(wm, ws, sc_path);
         }
     };
-    WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::input(sc_path, e))
+    let wm = WheelModel::new(mesh, ws.spec.clone()).map_err(|e| RunError::input(sc_path, e))?;
+    pressed_to_load(wm, ws, sc_path)
+}
+
+/// The model with the flattening that carries `wheel.load` ([`load::flattening_for_load`]),
+/// or as it is when the flattening was given.
+fn pressed_to_load(
+    mut wm: WheelModel,
+    ws: &WheelScenario,
+    sc_path: &Path,
+) -> Result<WheelModel, RunError> {
+    if let Some(p) = ws.load {
+        let found = load::flattening_for_load(&wm, p)
+            .map_err(|e| RunError::input(sc_path, format!("wheel.load = {p} N: {e}")))?;
+        wm.spec.flattening.depth = found.depth;
+    }
+    Ok(wm)
 }
 
 /// Reads the wheel's Gmsh mesh `p` (the scenario's `wheel.mesh`) and checks it is a disk
@@ -356,12 +381,22 @@ fn base_lines(s: &WheelSummary) -> Vec<String> {
     vec![
         format!(
             "omega = {} rad/s ({:.0} km/h), {} dofs, {} steps of {:.3e} s in {:.2} s ({:.1} us/step)",
-            s.omega, s.speed_km_h, s.dofs, s.steps, s.h, s.wall_time_s, s.time_per_step_us
+            (s.omega * 1e4).round() / 1e4, s.speed_km_h, s.dofs, s.steps, s.h, s.wall_time_s, s.time_per_step_us
         ),
         format!(
             "contact force over the turns: mean {:.4e} N, min {:.4e} N, max {:.4e} N; {:.2} nodes in contact on average",
             s.mean_contact_force, s.min_contact_force, s.max_contact_force, s.mean_nodes_in_contact
         ),
+        match s.requested_load_n {
+            Some(p) => format!(
+                "flattening {:.4e} m, found for the load {p:.4e} N (static); Hertz's patch spans {:.1} rim pitches",
+                s.flattening_m, s.patch_rim_pitches
+            ),
+            None => format!(
+                "flattening {:.4e} m; Hertz's patch spans {:.1} rim pitches",
+                s.flattening_m, s.patch_rim_pitches
+            ),
+        },
         format!(
             "oscillations per turn {:?}; dominant frequency {} ({} cycles per turn); node passing {:.1} Hz",
             s.oscillations_per_turn,
@@ -735,6 +770,10 @@ fn summarise(
         label: run.label.clone(),
         omega,
         speed_km_h: omega * ws.spec.radius * 3.6,
+        flattening_m: wm.spec.flattening.depth,
+        requested_load_n: ws.load,
+        patch_rim_pitches: 2.0 * load::hertz_half_width(wm, f.mean) * wm.passing_nodes() as f64
+            / (2.0 * PI * wm.spec.radius),
         h: run.params.h,
         alpha: run.params.alpha,
         gamma: run.params.gamma,
@@ -831,7 +870,17 @@ fn warnings_before(
     let mut warnings = Vec::new();
     // The bounce of the disk between its support and the contact, and the node-passing
     // harmonics that would drive it (a resonance warning before the run).
-    let bounce = bounce_mode(wm, ws.spec.flattening.depth).ok();
+    let bounce = bounce_mode(wm, wm.spec.flattening.depth).ok();
+    // A rim too coarse for the patch: Hertz's width at the load (or at the static force of
+    // the flattening given) against the rim's pitch.
+    let force = ws.load.or_else(|| {
+        load::static_contact(wm, wm.spec.flattening.depth)
+            .ok()
+            .map(|f| f.0)
+    });
+    if let Some(w) = force.and_then(|f| load::coarse_rim_warning(wm, f, &run.label)) {
+        warnings.push(w);
+    }
     if let Some(b) = bounce {
         let passing = ws.spec.omega * wm.passing_nodes() as f64 / (2.0 * PI);
         for k in 1..=4 {

@@ -97,11 +97,13 @@ use crate::time::SpaceTimeParams;
 use std::path::{Path, PathBuf};
 
 pub mod combinations;
+pub mod overrides;
 mod raw;
 mod validate;
 
 pub use validate::DEFAULT_HUB_FRACTION;
 
+pub use overrides::Override;
 pub use raw::set_key;
 
 /// A scenario error: the file, the key at fault and what is allowed.
@@ -196,6 +198,13 @@ pub struct WheelScenario {
     /// An elastic block as the base instead of the rigid line (`[block]`;
     /// [`crate::models::wheel_on_block`]).
     pub block: Option<crate::models::wheel_on_block::BlockSpec>,
+    /// The wheel's load, N (`wheel.load`; for the wheel's thickness, the unit of the contact
+    /// force in `summary.json`): the alternative to `rolling.flattening`. Then
+    /// `spec.flattening.depth` is not known until the model is built:
+    /// [`crate::run::wheel::build`] sets it to the flattening at which a static contact solve
+    /// of the spinning wheel carries this load ([`crate::run::wheel::load`]); until then it
+    /// is NaN.
+    pub load: Option<f64>,
 }
 
 impl WheelScenario {
@@ -534,6 +543,40 @@ pub struct Scenario<R = Run> {
     /// SHA-256 of the scenario text as run (the file's bytes; a sweep's or a ladder's
     /// value set into it for that run), lowercase hex: recorded in `summary.json`.
     pub source_sha256: String,
+    /// The scenario text as run (the file's, with the `--set` values or a sweep's point
+    /// written into it): copied into every output folder as `scenario.toml`
+    /// ([`Scenario::provenance_text`]).
+    pub source_text: String,
+    /// The command line's `--set KEY=VALUE` overrides written into the text, in order (a
+    /// sweep's or a ladder's point among them).
+    pub overrides: Vec<Override>,
+}
+
+impl<R> Scenario<R> {
+    /// The copy of the scenario an output folder keeps (`scenario.toml`): a header of
+    /// comments (the softway version, the git commit it was built from when built from a
+    /// checkout, the file, the `--set` values), then the text as run, which
+    /// `softway run scenario.toml` runs again (a relative `wheel.mesh` is relative to the
+    /// original file's folder, named in the header).
+    pub fn provenance_text(&self) -> String {
+        use std::fmt::Write as _;
+        let mut s = format!("# softway {}", env!("CARGO_PKG_VERSION"));
+        if let Some(c) = crate::GIT_COMMIT {
+            let _ = write!(s, " (git {c})");
+        }
+        let _ = write!(s, "\n# scenario: {}\n", self.path.display());
+        for o in &self.overrides {
+            let _ = writeln!(s, "# --set {}", o.to_arg());
+        }
+        let _ = writeln!(
+            s,
+            "# The text below is the scenario as run{} (SHA-256 {}, summary.json's scenario_sha256).\n",
+            if self.overrides.is_empty() { "" } else { ", the --set values written into it" },
+            self.source_sha256
+        );
+        s.push_str(&self.source_text);
+        s
+    }
 }
 
 impl Scenario<RunSpec> {
@@ -549,6 +592,19 @@ impl Scenario<RunSpec> {
         Self::from_str(&text, path)
     }
 
+    /// Reads a scenario file with the command line's `--set` overrides written into it
+    /// ([`overrides::read_with`]): validated as the file would be with those values.
+    ///
+    /// # Errors
+    /// [`ScenarioError`]; a key or value the parser refuses is named by its `--set`.
+    pub fn from_file_with(path: &Path, sets: &[Override]) -> Result<Self, ScenarioError> {
+        let text = read_text(path).map_err(|source| ScenarioError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Ok(overrides::read_with(&text, path, sets)?.0)
+    }
+
     /// Parses and validates scenario text; `path` names it in errors (no model is built).
     ///
     /// # Errors
@@ -556,6 +612,7 @@ impl Scenario<RunSpec> {
     pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
         let mut sc = validate::validate(raw::parse(text, path)?, path)?;
         sc.source_sha256 = sha256_hex(text.as_bytes());
+        sc.source_text = text.to_string();
         Ok(sc)
     }
 }

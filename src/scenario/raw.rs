@@ -105,6 +105,7 @@ pub(super) struct RawWheel {
     pub zone_rim_nodes: Option<i64>,
     pub zone_width: Option<f64>,
     pub zone_sectors: Option<i64>,
+    pub load: Option<f64>,
 }
 
 /// `[block]`.
@@ -207,8 +208,9 @@ pub(super) struct RawMaterial {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawRolling {
-    pub omega: f64,
-    pub flattening: f64,
+    pub omega: Option<f64>,
+    pub speed_km_h: Option<f64>,
+    pub flattening: Option<f64>,
     pub settle_time: f64,
     pub turns: f64,
     pub settle_gamma: Option<f64>,
@@ -269,6 +271,12 @@ pub(super) fn parse(text: &str, path: &Path) -> Result<RawScenario, ScenarioErro
         path: path.to_path_buf(),
         message: one_line_message(text, e.message(), e.span()),
     })
+}
+
+/// Parses scenario text as [`parse`] does; the error is the parser's message alone, on one
+/// line, without the position (a `--set` override is named by its argument instead).
+pub(super) fn parse_message(text: &str) -> Result<RawScenario, String> {
+    toml::from_str(text).map_err(|e| one_line_message(text, e.message(), None))
 }
 
 /// The parser's message on one line, after `line L, column C (`the line`)` of the byte span

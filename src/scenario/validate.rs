@@ -133,6 +133,13 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
                 "the velocity snapshots of the wheel on its rigid base, not written with a [block] (its run writes the last state's fields): remove it",
             ));
         }
+        if let Some(p) = w.load {
+            return Err(cx.invalid(
+                "wheel.load",
+                p,
+                "not with a [block] (the block is pressed to rolling.flattening): give rolling.flattening",
+            ));
+        }
         w.block = Some(wheel::block_spec(&cx, b, &w.spec)?);
     }
     let t_end = match &model {
@@ -241,6 +248,8 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         warnings,
         sweep,
         source_sha256: String::new(),
+        source_text: String::new(),
+        overrides: Vec::new(),
     })
 }
 

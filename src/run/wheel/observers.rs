@@ -120,8 +120,10 @@ pub struct HistoryWriter {
 }
 
 impl HistoryWriter {
-    /// The columns and their units.
-    pub const COLUMNS: [(&'static str, &'static str); 8] = [
+    /// The columns and their units (`settling`: 1 while the base presses the wheel to its
+    /// flattening, before `rolling.settle_time`; 0 in the rolling phase the summary's
+    /// figures are taken from).
+    pub const COLUMNS: [(&'static str, &'static str); 9] = [
         ("t_s", "s"),
         ("base_angle_deg", "deg"),
         ("contact_force_N", "N"),
@@ -130,6 +132,7 @@ impl HistoryWriter {
         ("strain_J", "J"),
         ("total_J", "J"),
         ("min_gap_m", "m"),
+        ("settling", "1"),
     ];
 
     /// Rows streamed to `path` (created now, header written) when given, else held with
@@ -183,6 +186,11 @@ impl Observer for HistoryWriter {
                     strain,
                     kinetic + strain + s.penalty,
                     s.min_gap,
+                    if s.t < self.base.flattening.settle_time {
+                        1.0
+                    } else {
+                        0.0
+                    },
                 ],
             )?;
         }

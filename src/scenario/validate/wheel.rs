@@ -41,7 +41,8 @@ pub(super) fn wheel_model(
     let lumped = wheel_mass(cx, &w)?;
     let support = support(cx, &w, radius)?;
     let mesh = zone_mesh(cx, &w, mesh, support, radius)?;
-    let rolling = rolling(cx, &r, radius)?;
+    let load = w.load.map(|p| cx.positive("wheel.load", p)).transpose()?;
+    let rolling = rolling(cx, &r, radius, load)?;
     let damping = cx.non_negative("wheel.damping", w.damping.unwrap_or(0.0))?;
     let coupling = coupling(cx, &r)?;
     let surface = contact_surface(cx, &w)?;
@@ -79,6 +80,7 @@ pub(super) fn wheel_model(
         settle_gamma: rolling.settle_gamma,
         fields_per_turn,
         block: None,
+        load,
     })
 }
 
@@ -327,8 +329,37 @@ struct Rolling {
 
 /// `[rolling]`: the speed, the flattening (below the wheel's `radius`) and its settling,
 /// the turns, the settling's `gamma` and the creepage.
-fn rolling(cx: &Ctx, r: &RawRolling, radius: f64) -> Result<Rolling, ScenarioError> {
-    let omega = r.omega;
+fn rolling(
+    cx: &Ctx,
+    r: &RawRolling,
+    radius: f64,
+    load: Option<f64>,
+) -> Result<Rolling, ScenarioError> {
+    let omega =
+        match (r.omega, r.speed_km_h) {
+            (Some(_), Some(v)) => return Err(cx.invalid(
+                "rolling.speed_km_h",
+                v,
+                "given with rolling.omega: give one of them (speed_km_h = 3.6 omega wheel.radius)",
+            )),
+            (None, None) => {
+                return Err(cx.missing(
+                    "rolling.omega",
+                    "the wheel's spin, rad/s (or rolling.speed_km_h, the rim's speed in km/h)",
+                ))
+            }
+            (Some(omega), None) => omega,
+            (None, Some(v)) => {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(cx.invalid(
+                        "rolling.speed_km_h",
+                        v,
+                        "the rim's speed must be a finite number > 0, km/h",
+                    ));
+                }
+                v / 3.6 / radius
+            }
+        };
     if !(omega.is_finite() && omega > 0.0) {
         return Err(cx.invalid(
             "rolling.omega",
@@ -336,7 +367,24 @@ fn rolling(cx: &Ctx, r: &RawRolling, radius: f64) -> Result<Rolling, ScenarioErr
             "the wheel's angular speed must be a finite number > 0, rad/s",
         ));
     }
-    let depth = cx.positive("rolling.flattening", r.flattening)?;
+    let depth = match (r.flattening, load) {
+        (Some(_), Some(p)) => {
+            return Err(cx.invalid(
+                "wheel.load",
+                p,
+                "given with rolling.flattening: the load sets the flattening (found by a static contact solve); give one of them",
+            ))
+        }
+        (None, None) => {
+            return Err(cx.missing(
+                "rolling.flattening",
+                "how far the base presses the wheel, m (or wheel.load, the wheel's load in N, which sets it)",
+            ))
+        }
+        // Found when the model is built (crate::run::wheel::build).
+        (None, Some(_)) => f64::NAN,
+        (Some(d), None) => cx.positive("rolling.flattening", d)?,
+    };
     // The contact counts a gap below 1e-9 R as closed (crate::wheel): a flattening within a
     // thousand of those is no press at all (the run ends with no contact force to analyse).
     if depth < 1e-6 * radius {
