@@ -379,7 +379,12 @@ fn figure_label(name: &str) -> String {
     } else {
         "-"
     };
-    format!("{} [{unit}]", name.replace('_', " "))
+    // The unit's suffix is not repeated in words.
+    let stem = ["_hz", "_mpa2", "_mpa", "_us", "_s", "_m"]
+        .iter()
+        .find_map(|suffix| name.strip_suffix(suffix))
+        .unwrap_or(name);
+    format!("{} [{unit}]", stem.replace('_', " "))
 }
 
 #[cfg(test)]
@@ -406,6 +411,22 @@ mod tests {
         assert!((extrapolate(&ns, &g, &o).unwrap() - 2.0).abs() < 1e-12);
         // Differences that grow: no order.
         assert_eq!(observed_orders(&ns, &[1.0, 1.1, 1.5]), vec![None]);
+    }
+
+    /// The axes say what and in which unit, the unit's suffix not repeated.
+    #[test]
+    fn axis_labels_carry_units() {
+        assert_eq!(
+            figure_label("max_von_mises_turn_average_mpa"),
+            "max von mises turn average [MPa]"
+        );
+        assert_eq!(figure_label("bounce_frequency_hz"), "bounce frequency [Hz]");
+        assert_eq!(
+            figure_label("contact_force_ripple"),
+            "contact force ripple [N]"
+        );
+        assert_eq!(figure_label("energy_final"), "energy final [J]");
+        assert_eq!(rung_label("wheel.rim_nodes"), "rim nodes (wheel.rim_nodes)");
     }
 
     /// The figure draws a limit only in the asymptotic range: a second-order sequence is

@@ -10,6 +10,7 @@
 //! * [`line_plot`] / [`panels`]: x–y line plots (one [`Panel`] or a grid of
 //!   panels whose axes are aligned per row and column) of [`Series`] drawn
 //!   in a [`SeriesStyle`], with optional logarithmic axes, reference lines
+//!   (horizontal and vertical), shaded bands, a note under the axes
 //!   and a legend placed where it hides no data: inside if possible, else
 //!   outside to the right of the axes if there is room, else inside with
 //!   head room added above the data (only when the y range is automatic).
@@ -335,7 +336,7 @@ pub struct MeshOptions {
 /// pixels.
 ///
 /// A legend is drawn when there is more than one labelled entry or any
-/// labelled reference line.
+/// labelled reference line (horizontal or vertical).
 pub fn line_plot(path: &Path, panel: &Panel, size: (u32, u32)) -> Result<(), PlotError> {
     let run = || -> Result<Vec<u8>, Fail> {
         validate_panel(panel)?;

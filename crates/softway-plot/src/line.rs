@@ -435,7 +435,7 @@ pub(crate) fn layout_panel(
     let l = layout_panel_with(cell, p, st, forced, 0.0, seen)?;
     if l.legend_score > 0 && p.y_range.is_none() {
         let h = (l.lg.h + 2.0 * st.pad) / l.plot.h();
-        if h < 0.4 {
+        if h < 0.5 {
             return layout_panel_with(cell, p, st, forced, h, seen);
         }
     }
@@ -855,10 +855,18 @@ fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayou
             TEXT,
         )?;
     }
+    // The y label centred on the axes when it fits there, else moved to stay in the cell.
+    let yl_w = text_w(&p.y_label, lay.y_label_fs);
+    let (lo, hi) = (cell.y0 + pad + 0.5 * yl_w, cell.y1 - pad - 0.5 * yl_w);
+    let yl_c = if lo > hi {
+        cell.cy()
+    } else {
+        plot.cy().clamp(lo, hi)
+    };
     draw_text(
         area,
         &p.y_label,
-        (cell.x0 + pad, plot.cy()),
+        (cell.x0 + pad, yl_c),
         lay.y_label_fs,
         HA::Center,
         VA::Top,
@@ -1520,6 +1528,8 @@ mod tests {
             let mut p = sine_panel(50);
             p.title = format!("space-time, mass redistribution, run number {i} with a long title");
             p.x_label = "time since the first impact of the bar on the wall t [s]".into();
+            // Longer than the axes are high (the converge figure's max von Mises).
+            p.y_label = "max von mises turn average of the rim and the hub [MPa]".into();
             p.note = "not in the asymptotic range: the series is not monotone, so no order and no limit are drawn".into();
             ps.push(p);
         }
