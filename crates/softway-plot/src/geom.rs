@@ -274,7 +274,30 @@ pub(crate) fn draw_polyline(area: &Area, pts: &[Pt], color: RGBAColor, width: f6
     if pts.len() < 2 {
         return Ok(());
     }
-    let hw = 0.5 * width.max(1.0);
+    if width < 1.5 {
+        // One pixel wide: plotters' lines (no polygon, nothing to join), cut to the clip.
+        let style = ShapeStyle {
+            color,
+            filled: false,
+            stroke_width: 1,
+        };
+        for w in pts.windows(2) {
+            let (a, b) = match audit::clip() {
+                Some(r) => match clip_segment(w[0], w[1], &r) {
+                    Some((a, b, _, _)) => (a, b),
+                    None => continue,
+                },
+                None => (w[0], w[1]),
+            };
+            if let Some(bb) = Rect::bounding(&[a, b]) {
+                audit::check(|| "a line".to_string(), bb);
+            }
+            area.draw(&PathElement::new(vec![ipt(a), ipt(b)], style))
+                .map_err(de)?;
+        }
+        return Ok(());
+    }
+    let hw = 0.5 * width;
     // Joins only where the direction turns by more than ~10 degrees; a translucent line
     // gets none (they would darken its bends).
     let joins = color.3 >= 1.0;
