@@ -396,6 +396,16 @@ fn velocity_fields_figure<'a>(
             let l = 0.45 * base.radius;
             [[cx - l * ey, cy + l * ex], [cx + l * ey, cy - l * ex]]
         };
+        let angle = "The base angle is measured from the downward vertical (0 deg: below the \
+                     axle), anticlockwise: the base turns about the wheel at omega in the \
+                     wheel's frame.";
+        let arrows = "Arrows: the velocity at evenly spread nodes, centred on them, one scale \
+                      for all panels.";
+        let note = if wm.zone.is_none() {
+            format!("The base (red line) is drawn where it is at each instant. {angle} {arrows}")
+        } else {
+            format!("{angle} Each panel is drawn in the zone's frame. {arrows}")
+        };
         let frames: Vec<MeshVectorField> = vecs
             .iter()
             .zip(&r.snapshots.t)
@@ -424,12 +434,7 @@ fn velocity_fields_figure<'a>(
                 } else {
                     Vec::new()
                 },
-                note: "The base (red line) is drawn where it is at each instant; its angle is \
-                       measured from the downward vertical (0 deg: below the axle), \
-                       anticlockwise: it turns about the wheel at omega in the wheel's frame. \
-                       Arrows: the velocity at evenly spread nodes, centred on them, one scale \
-                       for all panels."
-                    .into(),
+                note: note.clone(),
             })
             .collect();
         let png = out.join("velocity_fields.png");
