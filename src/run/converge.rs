@@ -304,7 +304,7 @@ fn write_tables(
     if !shown.is_empty() && points.len() == xs.len() {
         let mut ps = Vec::new();
         for l in &shown {
-            let mut p = Panel::new(l.name.clone(), key.to_string(), l.name.clone());
+            let mut p = Panel::new(l.name.clone(), rung_label(key), figure_label(&l.name));
             p.x_log = true;
             p.series.push(Series::new(
                 "computed",
@@ -312,10 +312,17 @@ fn write_tables(
                 l.values.clone(),
                 SeriesStyle::LineMarkers,
             ));
-            if let Some(e) = l.extrapolated {
-                let p_last = order(*l.orders.last().unwrap_or(&None));
-                p.hlines
-                    .push((e, format!("extrapolated (observed order {p_last})")));
+            match (l.extrapolated, asymptotic(l)) {
+                (Some(e), Ok(())) => {
+                    let p_last = order(*l.orders.last().unwrap_or(&None));
+                    p.hlines
+                        .push((e, format!("Richardson limit (observed order {p_last})")));
+                }
+                (_, Err(why)) => {
+                    p.note =
+                        format!("not in the asymptotic range ({why}): no order or limit drawn");
+                }
+                (None, Ok(())) => {}
             }
             ps.push(p);
         }
@@ -333,6 +340,84 @@ fn write_tables(
         files.push(png);
     }
     Ok(files)
+}
+
+/// Whether a ladder is in its asymptotic range, where an observed order and a Richardson
+/// limit mean something: the values monotone in the rung, the differences shrinking, the
+/// last two observed orders (with four rungs or more) within a factor 1.5 of each other,
+/// and the limit of the same sign as values that all share one. Else why not, in words
+/// (the figure says so instead of drawing a limit; the tables keep the numbers).
+fn asymptotic(l: &FigureLadder) -> Result<(), String> {
+    let d: Vec<f64> = l.values.windows(2).map(|w| w[1] - w[0]).collect();
+    if d.iter().any(|x| !x.is_finite()) {
+        return Err("a rung has no value".into());
+    }
+    let up = d.iter().all(|&x| x > 0.0);
+    let down = d.iter().all(|&x| x < 0.0);
+    if !(up || down) {
+        return Err("not monotone".into());
+    }
+    if d.windows(2).any(|w| w[1].abs() >= w[0].abs()) {
+        return Err("the differences do not shrink".into());
+    }
+    let known: Vec<f64> = l.orders.iter().flatten().copied().collect();
+    if let [.., a, b] = known[..] {
+        if (b / a).ln().abs() > 1.5f64.ln() {
+            return Err(format!("observed orders {a:.2} and {b:.2} disagree"));
+        }
+    }
+    if let Some(e) = l.extrapolated {
+        let pos = l.values.iter().all(|&v| v > 0.0);
+        let neg = l.values.iter().all(|&v| v < 0.0);
+        if (pos && e <= 0.0) || (neg && e >= 0.0) {
+            return Err(format!("the limit {e:.3e} changes sign"));
+        }
+    }
+    Ok(())
+}
+
+/// The x axis of a ladder: the swept key in words with its unit.
+fn rung_label(key: &str) -> String {
+    match key {
+        "wheel.rim_nodes" => "rim nodes (wheel.rim_nodes)".into(),
+        "time.h" => "time step h [s] (time.h)".into(),
+        "rolling.omega" => "spin omega [rad/s] (rolling.omega)".into(),
+        k if k.ends_with("elements") => format!("elements ({k})"),
+        k => k.to_string(),
+    }
+}
+
+/// The y axis of a figure of the summary: its name with the unit its name or kind implies.
+fn figure_label(name: &str) -> String {
+    let unit = if name.ends_with("_hz") {
+        "Hz"
+    } else if name.ends_with("_mpa2") {
+        "MPa²"
+    } else if name.ends_with("_mpa") {
+        "MPa"
+    } else if name.ends_with("_us") {
+        "µs"
+    } else if name.ends_with("_s") {
+        "s"
+    } else if name.ends_with("_m") || name.ends_with("penetration") {
+        "m"
+    } else if name.contains("contact_force") || name.ends_with("force") {
+        "N"
+    } else if name.starts_with("energy") {
+        "J"
+    } else if name.ends_with("per_turn") {
+        "cycles per turn"
+    } else if name.contains("nodes") {
+        "nodes"
+    } else {
+        "-"
+    };
+    // The unit's suffix is not repeated in words.
+    let stem = ["_hz", "_mpa2", "_mpa", "_us", "_s", "_m"]
+        .iter()
+        .find_map(|suffix| name.strip_suffix(suffix))
+        .unwrap_or(name);
+    format!("{} [{unit}]", stem.replace('_', " "))
 }
 
 #[cfg(test)]
@@ -359,5 +444,49 @@ mod tests {
         assert!((extrapolate(&ns, &g, &o).unwrap() - 2.0).abs() < 1e-12);
         // Differences that grow: no order.
         assert_eq!(observed_orders(&ns, &[1.0, 1.1, 1.5]), vec![None]);
+    }
+
+    /// The axes say what and in which unit, the unit's suffix not repeated.
+    #[test]
+    fn axis_labels_carry_units() {
+        assert_eq!(
+            figure_label("max_von_mises_turn_average_mpa"),
+            "max von mises turn average [MPa]"
+        );
+        assert_eq!(figure_label("bounce_frequency_hz"), "bounce frequency [Hz]");
+        assert_eq!(
+            figure_label("contact_force_ripple"),
+            "contact force ripple [N]"
+        );
+        assert_eq!(figure_label("energy_final"), "energy final [J]");
+        assert_eq!(rung_label("wheel.rim_nodes"), "rim nodes (wheel.rim_nodes)");
+    }
+
+    /// The figure draws a limit only in the asymptotic range: a second-order sequence is
+    /// in it; the bounce of issue 34 (7,263 -> 7,324 -> 7,301 Hz, not monotone), a ladder
+    /// whose orders disagree (0.76 then 2.35) and one whose limit changes sign are not.
+    #[test]
+    fn asymptotic_range_of_a_ladder() {
+        let ladder = |xs: &[f64], v: &[f64]| {
+            let orders = observed_orders(xs, v);
+            FigureLadder {
+                name: "f".into(),
+                extrapolated: extrapolate(xs, v, &orders),
+                values: v.to_vec(),
+                orders,
+            }
+        };
+        let ns = [72.0, 144.0, 288.0, 576.0];
+        let second: Vec<f64> = ns.iter().map(|n| 5.0 + 1e3 / (n * n)).collect();
+        assert_eq!(asymptotic(&ladder(&ns, &second)), Ok(()));
+        let bounce = ladder(&ns[..3], &[7263.3, 7324.3, 7301.2]);
+        assert!(asymptotic(&bounce).unwrap_err().contains("monotone"));
+        let ripple = ladder(&ns, &[1.42909e5, 6.081452e4, 1.249262e4, 2.984398e3]);
+        assert!(asymptotic(&ripple).unwrap_err().contains("disagree"));
+        // Positive values whose differences shrink too slowly for a positive limit.
+        let sign = ladder(&ns[..3], &[10.0, 4.0, 0.5]);
+        let e = sign.extrapolated.unwrap();
+        assert!(e < 0.0, "{e}");
+        assert!(asymptotic(&sign).unwrap_err().contains("sign"));
     }
 }

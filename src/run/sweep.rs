@@ -388,11 +388,44 @@ fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
                 .unwrap_or(f64::NAN)
         })
         .collect();
+    let (xs, x_label) = sweep_axis(key, points, xs);
+    let xs = &xs[..];
     let mut p1 = Panel::new(
         "Oscillations of the contact force per turn (Fig. 15)",
-        axis_label(key),
+        x_label,
         "cycles per turn",
     );
+    // A component found at some speeds only is drawn as points, not as a broken line,
+    // and the note says where it is missing.
+    let found = |v: &[f64]| v.iter().filter(|x| x.is_finite()).count();
+    let style_of = |v: &[f64]| {
+        if found(v) == v.len() {
+            SeriesStyle::LineMarkers
+        } else {
+            SeriesStyle::Markers
+        }
+    };
+    let mut missing = Vec::new();
+    for (what, v) in [
+        (
+            "the bounce rolling (fixed_frequency_cycles_per_turn)",
+            &fixed,
+        ),
+        ("a component locked to the rotation", &locked),
+    ] {
+        if found(v) < v.len() {
+            missing.push(format!("{what} at {} of {} points", found(v), v.len()));
+        }
+    }
+    if !missing.is_empty() {
+        p1.note = format!(
+            "Found: {}; at the other points the contact force's spectrum has no such \
+             component above the classification's threshold (null in summary.json), so \
+             those series are drawn as points.",
+            missing.join(", ")
+        );
+    }
+    let (fixed_style, locked_style) = (style_of(&fixed), style_of(&locked));
     p1.series.push(Series::new(
         "peaks counted (the paper's rule, mean of turns 2..)",
         xs.to_vec(),
@@ -403,7 +436,7 @@ fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
         "fixed-frequency component (bounce), rolling",
         xs.to_vec(),
         fixed,
-        SeriesStyle::LineMarkers,
+        fixed_style,
     ));
     p1.series.push(Series::new(
         "bounce with the contact held, f_b 2 pi / omega",
@@ -415,9 +448,31 @@ fn oscillations_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
         "strongest component locked to the rotation",
         xs.to_vec(),
         locked,
-        SeriesStyle::LineMarkers,
+        locked_style,
     ));
     p1
+}
+
+/// The x axis of the wheel's sweep figure: the speed in km/h (with the spin's range in
+/// rad/s) for a sweep of `rolling.omega`, else the swept values under the key's name.
+fn sweep_axis(key: &str, points: &[SweepPoint], xs: &[f64]) -> (Vec<f64>, String) {
+    let kmh: Vec<f64> = points
+        .iter()
+        .map(|p| p.summary["speed_km_h"].as_f64().unwrap_or(f64::NAN))
+        .collect();
+    if key == "rolling.omega" && kmh.iter().all(|v| v.is_finite()) {
+        let (lo, hi) = xs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        (
+            kmh,
+            format!("rolling speed [km/h] (spin omega = {lo} ... {hi} rad/s, rolling.omega)"),
+        )
+    } else {
+        (xs.to_vec(), axis_label(key))
+    }
 }
 
 /// The swept key with its unit, for an axis.
@@ -440,9 +495,11 @@ fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
     };
     // The maximal force with the mean and the minimum beside it, so that its change with
     // the speed reads against the force itself.
+    let (xs, x_label) = sweep_axis(key, points, xs);
+    let xs = &xs[..];
     let mut p2 = Panel::new(
         "Contact force over the turns: maximum, mean and minimum",
-        axis_label(key),
+        x_label,
         "contact force [N]",
     );
     for (label, k) in [

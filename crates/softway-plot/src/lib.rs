@@ -10,6 +10,7 @@
 //! * [`line_plot`] / [`panels`]: x–y line plots (one [`Panel`] or a grid of
 //!   panels whose axes are aligned per row and column) of [`Series`] drawn
 //!   in a [`SeriesStyle`], with optional logarithmic axes, reference lines
+//!   (horizontal and vertical), shaded bands, a note under the axes
 //!   and a legend placed where it hides no data: inside if possible, else
 //!   outside to the right of the axes if there is room, else inside with
 //!   head room added above the data (only when the y range is automatic).
@@ -55,6 +56,52 @@
 //! out of range, a grid too small for the panels) gives [`PlotError::Draw`].
 //! No function of this crate panics on bad data.
 //!
+//! # Regions, clipping and the audit
+//!
+//! Every figure is drawn in nested regions: the canvas, each panel's cell (title, axis
+//! labels, ticks, legend, note), each panel's axes (its data). Data (lines, markers, bands,
+//! reference lines, mesh triangles, arrows) is cut to its axes before it reaches plotters,
+//! polygon by polygon. Lines are stroked here, each segment a rectangle and each bend a
+//! disk of the line's width, so no painted point lies farther than half the width from
+//! the data. Text is never cut: a title or axis label too long for its panel is wrapped
+//! (titles, notes) or set smaller (down to 60 %, then the lines are allowed to run long),
+//! and kept inside its cell. A figure also records anything painted outside its region
+//! (a label beyond its panel, a title beyond the canvas): with the environment variable
+//! `SOFTWAY_PLOT_STRICT=1` (and in this crate's tests) that is an error naming what and
+//! where, instead of a figure written with it. The tests check the pixels as well: no
+//! pixel of a series' colour outside its axes, on spiky data on log axes and data cut by
+//! fixed ranges.
+//!
+//! In a grid of panels ([`panels`]) a legend entry already listed by an earlier panel is
+//! not listed again (twenty panels of one comparison share one legend).
+//!
+//! # Its own axes over plotters' primitives, or plotters' chart API (decided again)
+//!
+//! Issue 34 put the question with the figures in front of us: lines through the tick
+//! labels of `spectrum.png`, `contact_force_zoom.png` and `compare_force.png`, titles cut
+//! at the edge, `energy [ J]`. Each defect was traced to its cause before deciding:
+//!
+//! * The lines outside the axes were not a clipping gap (the series were clipped) but
+//!   plotters' wide strokes: `PathElement` with a width above one pixel becomes *one*
+//!   polygon offset from the whole path, whose inner joins at a sharp bend (every spike of
+//!   a spectrum or of a force history) are not limited, and whose self-intersections fill
+//!   the space between spikes. plotters' chart API draws its `LineSeries` with the same
+//!   `PathElement`, so moving to it would have kept this defect. Stroking here (rectangles
+//!   and round joins, cut to the axes) removed it, and a test pins it (it fails with
+//!   plotters' strokes: thirty thousand pixels outside the axes).
+//! * `energy [ J]` was plotters' text drawing, which places every glyph's box at the pen
+//!   and drops its side bearing (the `J` hooks left of its origin). The chart API draws its
+//!   text the same way. Text is drawn here with `ab_glyph` (the rasterizer plotters itself
+//!   uses), each glyph at its own bearing.
+//! * The cut titles and the repeated legends were layout: fitted text and the shared legend
+//!   above. The chart API would have given axes, ticks and legends, but not text that fits
+//!   its panel, grids with aligned axes, legends placed where they hide no data, common
+//!   factors on the ticks, shaded bands, mesh colour maps and vector fields, which this
+//!   crate has and the solver's figures use.
+//!
+//! So the crate stays, with its clipping, strokes, text and layout tested; plotters
+//! remains its pixel backend (bitmap, polygons, PNG encoding).
+//!
 //! # Why a separate crate
 //!
 //! The plotting layer is about a fifth of the code of `softway` but has
@@ -74,6 +121,7 @@
 //! `line` (layout and painting of line-plot panels, legends), `mesh`
 //! (colour maps, colour bars, vector fields).
 
+mod audit;
 mod axes;
 mod geom;
 mod line;
@@ -86,7 +134,7 @@ mod test_util;
 use std::path::{Path, PathBuf};
 
 use geom::Rect;
-use line::{draw_no_data, draw_panel, layout_panel, paint_panel, validate_panel};
+use line::{draw_no_data, draw_panel, layout_panel, legend_keys, paint_panel, validate_panel};
 use mesh::{render_color_map, render_vector_fields};
 use render::{render, save_png, Fail};
 use style::Sty;
@@ -180,6 +228,17 @@ pub struct Panel {
     /// in a light tint behind the data (one tint per distinct label, in order of first
     /// appearance), each label listed once in the legend (unless empty).
     pub vspans: Vec<(f64, f64, String)>,
+    /// Vertical reference lines `(x, label)`, e.g. the frequencies of a spectrum's
+    /// expected components: drawn thin and dashed, one colour per distinct label (in order
+    /// of first appearance), each label listed once in the legend (unless empty).
+    pub vlines: Vec<(f64, String)>,
+    /// A note printed under the axes in a smaller font (wrapped to the panel's width), for
+    /// what the reader must know to read the panel: a clipped range, a convention, a
+    /// pattern that belongs to the mesh.
+    pub note: String,
+    /// No legend for this panel (in a grid, a legend equal to an earlier panel's is left
+    /// out anyway).
+    pub no_legend: bool,
 }
 
 impl Panel {
@@ -217,6 +276,9 @@ pub struct MeshColorMap<'a> {
     /// Name of the displayed length unit, e.g. `"cm"` (axes become
     /// `x [cm]`, `y [cm]`).
     pub length_unit: String,
+    /// A note printed under the figure (may be empty), e.g. how the colour scale is
+    /// clipped.
+    pub note: String,
 }
 
 /// A nodal vector field (e.g. velocity) on a 2-D triangle mesh: one stage
@@ -238,6 +300,11 @@ pub struct MeshVectorField<'a> {
     pub length_unit_scale: f64,
     /// Name of the displayed length unit, e.g. `"cm"`.
     pub length_unit: String,
+    /// Line segments drawn over the frame, in the coordinates of `points` (e.g. the
+    /// obstacle in contact), cut to the panel.
+    pub overlay: Vec<[[f64; 2]; 2]>,
+    /// A note printed under the figure (the first frame's), e.g. an angle's convention.
+    pub note: String,
 }
 
 /// Whether element edges are drawn on mesh plots.
@@ -269,7 +336,7 @@ pub struct MeshOptions {
 /// pixels.
 ///
 /// A legend is drawn when there is more than one labelled entry or any
-/// labelled reference line.
+/// labelled reference line (horizontal or vertical).
 pub fn line_plot(path: &Path, panel: &Panel, size: (u32, u32)) -> Result<(), PlotError> {
     let run = || -> Result<Vec<u8>, Fail> {
         validate_panel(panel)?;
@@ -324,13 +391,32 @@ pub fn panels(
                 let (r, c) = ((i / cols) as f64, (i % cols) as f64);
                 Rect::new(c * cw, r * ch, (c + 1.0) * cw, (r + 1.0) * ch)
             };
+            // A legend entry listed by an earlier panel is not repeated.
+            let mut listed: Vec<String> = Vec::new();
+            let seen: Vec<Vec<String>> = panels
+                .iter()
+                .map(|p| {
+                    let before = listed.clone();
+                    // Listed only where a legend is drawn (not for a lone series).
+                    let keys = legend_keys(p);
+                    let drawn = keys.len() > 1 || !p.hlines.is_empty() || !p.vlines.is_empty();
+                    if !p.no_legend && drawn {
+                        for k in keys {
+                            if !listed.contains(&k) {
+                                listed.push(k);
+                            }
+                        }
+                    }
+                    before
+                })
+                .collect();
             // First pass: natural layouts; then align the plot rectangles of
             // each column (left/right) and each row (top/bottom).
             let mut col_x = vec![(f64::NEG_INFINITY, f64::INFINITY); cols];
             let mut row_y = vec![(f64::NEG_INFINITY, f64::INFINITY); rows];
             for (i, p) in panels.iter().enumerate() {
                 let cell = cell_of(i);
-                match layout_panel(cell, p, &st, None) {
+                match layout_panel(cell, p, &st, None, &seen[i]) {
                     Ok(l) => {
                         let (cx, ry) = (&mut col_x[i % cols], &mut row_y[i / cols]);
                         cx.0 = cx.0.max(l.plot.x0 - cell.x0);
@@ -349,7 +435,7 @@ pub fn panels(
                 let forced =
                     (x0.is_finite() && y0.is_finite() && x1 - x0 >= 20.0 && y1 - y0 >= 20.0)
                         .then(|| Rect::new(cell.x0 + x0, cell.y0 + y0, cell.x0 + x1, cell.y0 + y1));
-                match layout_panel(cell, p, &st, forced) {
+                match layout_panel(cell, p, &st, forced, &seen[i]) {
                     Ok(l) => paint_panel(area, cell, p, &st, &l)?,
                     Err(Fail::Empty(_)) => draw_no_data(area, cell, p, &st)?,
                     Err(e) => return Err(e),
@@ -388,7 +474,10 @@ pub fn mesh_color_map_with(
 /// (about 12 across). All frames share the colour scale (0 to the largest
 /// magnitude), the arrow scale (the largest arrow over all frames is 1/8 of
 /// a panel width), the axes extent (union of all frames) and one colour bar.
-/// The length unit and the colour-bar label are taken from the first frame.
+/// The length unit, the colour-bar label and the note are taken from the first frame. An
+/// arrow of a round value under the grid gives the arrows' scale (in the colour bar's unit,
+/// the text between `[` and `]` of its label). Colour maps whose values exceed a fixed
+/// colour range show it with a triangle at that end of the colour bar.
 pub fn mesh_vector_fields(
     path: &Path,
     frames: &[MeshVectorField],

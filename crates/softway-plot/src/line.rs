@@ -3,6 +3,7 @@
 
 use plotters::prelude::*;
 
+use crate::audit;
 use crate::axes::{extend, make_ticks, resolve_range, valid, Scale, Ticks};
 use crate::geom::{
     clip_polylines, clip_segment, dash_polyline, draw_line, draw_marker, draw_polyline, fill_rect,
@@ -10,7 +11,8 @@ use crate::geom::{
 };
 use crate::render::{Area, Fail, Res};
 use crate::style::{
-    draw_text, series_color, text_w, Sty, CAP, DESC, GRID_MAJOR, GRID_MINOR, HA, REF_LINE, TEXT, VA,
+    draw_text, fit_text, series_color, text_w, Sty, CAP, DESC, GRID_MAJOR, GRID_MINOR, HA, NOTE,
+    REF_LINE, TEXT, VA,
 };
 use crate::{Panel, Series, SeriesStyle};
 
@@ -87,6 +89,31 @@ enum EntryKind {
     },
     Reference,
     Span(RGBAColor),
+    VLine(RGBColor),
+}
+
+/// The colour of the `i`-th distinct vertical-line label.
+fn vline_color(i: usize) -> RGBColor {
+    const C: [RGBColor; 6] = [
+        RGBColor(213, 94, 0),
+        RGBColor(0, 158, 115),
+        RGBColor(204, 121, 167),
+        RGBColor(86, 180, 233),
+        RGBColor(230, 159, 0),
+        RGBColor(120, 120, 120),
+    ];
+    C[i % C.len()]
+}
+
+/// The distinct labels of a panel's vertical lines, in order of first appearance.
+fn vline_labels(p: &Panel) -> Vec<&str> {
+    let mut labels: Vec<&str> = Vec::new();
+    for (_, l) in &p.vlines {
+        if !labels.contains(&l.as_str()) {
+            labels.push(l);
+        }
+    }
+    labels
 }
 
 /// The tint of the `i`-th distinct span label: the series palette, light.
@@ -177,6 +204,11 @@ fn draw_legend(area: &Area, r: Rect, entries: &[Entry], g: &LegendGeom, st: &Sty
             EntryKind::Reference => {
                 for d in dash_polyline(&[a, b], 4.0 * st.thin, 3.0 * st.thin) {
                     draw_polyline(area, &d, REF_LINE.to_rgba(), 1.3 * st.thin)?;
+                }
+            }
+            EntryKind::VLine(c) => {
+                for d in dash_polyline(&[a, b], 2.5 * st.thin, 2.0 * st.thin) {
+                    draw_polyline(area, &d, c.to_rgba(), 1.5 * st.thin)?;
                 }
             }
         }
@@ -272,11 +304,12 @@ pub(crate) fn draw_no_data(area: &Area, cell: Rect, p: &Panel, st: &Sty) -> Res<
         return Ok(());
     }
     stroke_rect(area, r, RGBColor(150, 150, 150), st.frame)?;
+    let (title, ft) = fit_text(&p.title, st.ft, cell.w() - 2.0 * st.pad, 1);
     draw_text(
         area,
-        &p.title,
-        (r.cx(), r.y0 - 0.6 * st.pad),
-        st.ft,
+        &title.join(" "),
+        (cell.cx(), r.y0 - 0.6 * st.pad),
+        ft,
         HA::Center,
         VA::Baseline,
         false,
@@ -308,6 +341,42 @@ pub(crate) struct PanelLayout {
     /// How much data the legend hides (0 when outside or free).
     legend_score: usize,
     title_top: f64,
+    /// The title's lines and font size (wrapped or shrunk to the cell's width).
+    title: (Vec<String>, f64),
+    /// The axis labels' font sizes (shrunk to fit).
+    x_label_fs: f64,
+    y_label_fs: f64,
+    /// The note's lines and font size.
+    note: (Vec<String>, f64),
+}
+
+/// The centre nearest `cx` of a text `w` wide kept inside `cell` (less `pad` each side).
+fn centre_in(cx: f64, w: f64, cell: &Rect, pad: f64) -> f64 {
+    let (lo, hi) = (cell.x0 + pad + 0.5 * w, cell.x1 - pad - 0.5 * w);
+    if lo > hi {
+        cell.cx()
+    } else {
+        cx.clamp(lo, hi)
+    }
+}
+
+/// Line height of text at font size `f`.
+fn line_h(f: f64) -> f64 {
+    1.15 * (CAP + DESC) * f
+}
+
+/// Height of the note block under the x label (0 without a note).
+fn note_block(note: &(Vec<String>, f64), pad: f64) -> f64 {
+    if note.0.iter().all(|l| l.is_empty()) {
+        0.0
+    } else {
+        note.0.len() as f64 * line_h(note.1) + 0.4 * pad
+    }
+}
+
+/// The entries of a panel's legend, each as text (equal for equal entries).
+pub(crate) fn legend_keys(p: &Panel) -> Vec<String> {
+    legend_entries(p).iter().map(|e| format!("{e:?}")).collect()
 }
 
 fn legend_entries(p: &Panel) -> Vec<Entry> {
@@ -340,6 +409,14 @@ fn legend_entries(p: &Panel) -> Vec<Entry> {
             });
         }
     }
+    for (i, l) in vline_labels(p).into_iter().enumerate() {
+        if !l.is_empty() {
+            entries.push(Entry {
+                label: l.to_string(),
+                kind: EntryKind::VLine(vline_color(i)),
+            });
+        }
+    }
     entries
 }
 
@@ -353,12 +430,13 @@ pub(crate) fn layout_panel(
     p: &Panel,
     st: &Sty,
     forced: Option<Rect>,
+    seen: &[String],
 ) -> Res<PanelLayout> {
-    let l = layout_panel_with(cell, p, st, forced, 0.0)?;
+    let l = layout_panel_with(cell, p, st, forced, 0.0, seen)?;
     if l.legend_score > 0 && p.y_range.is_none() {
         let h = (l.lg.h + 2.0 * st.pad) / l.plot.h();
-        if h < 0.4 {
-            return layout_panel_with(cell, p, st, forced, h);
+        if h < 0.5 {
+            return layout_panel_with(cell, p, st, forced, h, seen);
         }
     }
     Ok(l)
@@ -372,6 +450,7 @@ fn layout_panel_with(
     st: &Sty,
     forced: Option<Rect>,
     headroom: f64,
+    seen: &[String],
 ) -> Res<PanelLayout> {
     validate_panel(p)?;
     let ((xlo, xhi), (ylo, mut yhi)) = panel_ranges(p)?;
@@ -404,6 +483,16 @@ fn layout_panel_with(
     let xticks = |plot: &Rect| make_ticks(xlo, xhi, p.x_log, plot.w(), fs, true);
     let yticks = |plot: &Rect| make_ticks(ylo, yhi, p.y_log, plot.h(), fs, false);
     let title_top = cell.y0 + pad;
+    let text_w_max = cell.w() - 2.0 * pad;
+    let title = fit_text(&p.title, ft, text_w_max, 3);
+    let x_label_fs = fit_text(&p.x_label, fl, text_w_max, 1).1;
+    let y_label_fs = fit_text(&p.y_label, fl, cell.h() - 2.0 * pad, 1).1;
+    let note = fit_text(&p.note, 0.85 * fs, text_w_max, 4);
+    let note = if p.note.is_empty() {
+        (Vec::new(), note.1)
+    } else {
+        note
+    };
 
     let mut plot = match forced {
         Some(r) => r,
@@ -412,14 +501,16 @@ fn layout_panel_with(
             // the band of a common y factor).
             let mut top = title_top;
             if !p.title.is_empty() {
-                top += (CAP + DESC) * ft + 0.8 * pad;
+                top += title.0.len() as f64 * line_h(title.1) - 0.15 * (CAP + DESC) * title.1
+                    + 0.8 * pad;
             }
             let label_block = if p.x_label.is_empty() {
                 0.0
             } else {
-                (CAP + DESC) * fl + 0.8 * pad
+                (CAP + DESC) * x_label_fs + 0.8 * pad
             };
-            let bottom = cell.y1 - pad - label_block - CAP * fs - 0.6 * pad - tick;
+            let bottom =
+                cell.y1 - pad - note_block(&note, pad) - label_block - CAP * fs - 0.6 * pad - tick;
             let mut plot = Rect::new(cell.x0, top + 0.5 * CAP * fs, cell.x1, bottom);
             if yticks(&plot).offset.is_some() {
                 plot.y0 = top + CAP * fs + 0.8 * pad;
@@ -428,7 +519,7 @@ fn layout_panel_with(
             let ylabel_block = if p.y_label.is_empty() {
                 0.0
             } else {
-                (CAP + DESC) * fl + 0.8 * pad
+                (CAP + DESC) * y_label_fs + 0.8 * pad
             };
             plot.x0 =
                 cell.x0 + pad + ylabel_block + yticks(&plot).max_label_w(fs) + 0.6 * pad + tick;
@@ -470,11 +561,17 @@ fn layout_panel_with(
 
     // Legend placement: the inside position hiding the least data, or
     // outside on the right when every inside position hides something.
-    let entries = legend_entries(p);
+    // Entries listed by an earlier panel of the grid (`seen`) are not repeated.
+    let all = legend_entries(p);
+    let wanted = all.len() > 1 || !p.hlines.is_empty() || !p.vlines.is_empty();
+    let entries: Vec<Entry> = all
+        .into_iter()
+        .filter(|e| !seen.contains(&format!("{e:?}")))
+        .collect();
     let lg = legend_geom(&entries, st);
     let mut legend = None;
     let mut legend_score = 0;
-    if !entries.is_empty() && (entries.len() > 1 || !p.hlines.is_empty()) {
+    if !p.no_legend && !entries.is_empty() && wanted {
         let (_, ys) = scales(&plot);
         let hl: Vec<f64> = p
             .hlines
@@ -548,11 +645,15 @@ fn layout_panel_with(
         legend,
         legend_score,
         title_top,
+        title,
+        x_label_fs,
+        y_label_fs,
+        note,
     })
 }
 
 pub(crate) fn draw_panel(area: &Area, cell: Rect, p: &Panel, st: &Sty) -> Res<()> {
-    let lay = layout_panel(cell, p, st, None)?;
+    let lay = layout_panel(cell, p, st, None, &[])?;
     paint_panel(area, cell, p, st, &lay)
 }
 
@@ -563,9 +664,12 @@ pub(crate) fn paint_panel(
     st: &Sty,
     lay: &PanelLayout,
 ) -> Res<()> {
-    let (fs, fl, ft, pad, tick) = (st.fs, st.fl, st.ft, st.pad, st.tick);
-    let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
+    audit::with_bounds(cell, "its panel", || paint_panel_in(area, cell, p, st, lay))
+}
 
+/// The data of a panel: bands, grid, reference lines, series (cut to the plot rectangle).
+fn paint_data(area: &Area, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
+    let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
     // Shaded x bands, behind the grid.
     let labels = span_labels(p);
     for (x0, x1, l) in &p.vspans {
@@ -616,6 +720,20 @@ pub(crate) fn paint_panel(
             }
         }
     }
+    let vlabels = vline_labels(p);
+    for (x, l) in &p.vlines {
+        if valid(*x, p.x_log) && *x >= xs.lo && *x <= xs.hi {
+            let xx = xs.px(*x);
+            let c = vline_color(vlabels.iter().position(|s| s == l).unwrap_or(0));
+            for d in dash_polyline(
+                &[(xx, plot.y1), (xx, plot.y0)],
+                2.5 * st.thin,
+                2.0 * st.thin,
+            ) {
+                draw_polyline(area, &d, c.to_rgba(), 1.5 * st.thin)?;
+            }
+        }
+    }
 
     // Series.
     for (i, (s, sp)) in p.series.iter().zip(&lay.px).enumerate() {
@@ -642,6 +760,15 @@ pub(crate) fn paint_panel(
             draw_marker(area, q, i, 2.2 * st.lw, color)?;
         }
     }
+    Ok(())
+}
+
+fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
+    let (fs, pad, tick) = (st.fs, st.pad, st.tick);
+    let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
+    audit::with_bounds(plot, "its axes", || {
+        audit::with_clip(plot, || paint_data(area, p, st, lay))
+    })?;
 
     // Frame and ticks.
     stroke_rect(area, plot, TEXT, st.frame)?;
@@ -686,18 +813,44 @@ pub(crate) fn paint_panel(
         }
     }
 
-    // Labels, title, common factors.
-    let xlabel_base = cell.y1 - pad - DESC * fl;
+    // Labels, note, title, common factors.
+    // The x label under the tick labels, the note under it (both follow the axes, which in
+    // a grid are aligned with the row's).
+    let fl = lay.x_label_fs;
+    let ticks_bottom = plot.y1 + tick + 0.6 * pad + CAP * fs;
+    let xlabel_base = ticks_bottom + 0.8 * pad + CAP * fl;
     draw_text(
         area,
         &p.x_label,
-        (plot.cx(), xlabel_base),
+        (
+            centre_in(plot.cx(), text_w(&p.x_label, fl), &cell, pad),
+            xlabel_base,
+        ),
         fl,
         HA::Center,
         VA::Baseline,
         false,
         TEXT,
     )?;
+    let note_top = if p.x_label.is_empty() {
+        ticks_bottom
+    } else {
+        xlabel_base + DESC * fl
+    };
+    let (note_lines, nf) = &lay.note;
+    for (i, l) in note_lines.iter().enumerate() {
+        let base = note_top + 0.4 * pad + CAP * nf + i as f64 * line_h(*nf);
+        draw_text(
+            area,
+            l,
+            (cell.cx(), base),
+            *nf,
+            HA::Center,
+            VA::Baseline,
+            false,
+            NOTE,
+        )?;
+    }
     if let Some(o) = &xt.offset {
         draw_text(
             area,
@@ -710,11 +863,19 @@ pub(crate) fn paint_panel(
             TEXT,
         )?;
     }
+    // The y label centred on the axes when it fits there, else moved to stay in the cell.
+    let yl_w = text_w(&p.y_label, lay.y_label_fs);
+    let (lo, hi) = (cell.y0 + pad + 0.5 * yl_w, cell.y1 - pad - 0.5 * yl_w);
+    let yl_c = if lo > hi {
+        cell.cy()
+    } else {
+        plot.cy().clamp(lo, hi)
+    };
     draw_text(
         area,
         &p.y_label,
-        (cell.x0 + pad, plot.cy()),
-        fl,
+        (cell.x0 + pad, yl_c),
+        lay.y_label_fs,
         HA::Center,
         VA::Top,
         true,
@@ -732,16 +893,21 @@ pub(crate) fn paint_panel(
             TEXT,
         )?;
     }
-    draw_text(
-        area,
-        &p.title,
-        (plot.cx(), lay.title_top),
-        ft,
-        HA::Center,
-        VA::Top,
-        false,
-        TEXT,
-    )?;
+    let (title_lines, tf) = &lay.title;
+    // A title centred on the plot when it fits there, else on the cell.
+    for (i, l) in title_lines.iter().enumerate() {
+        let cx = centre_in(plot.cx(), text_w(l, *tf), &cell, pad);
+        draw_text(
+            area,
+            l,
+            (cx, lay.title_top + i as f64 * line_h(*tf)),
+            *tf,
+            HA::Center,
+            VA::Top,
+            false,
+            TEXT,
+        )?;
+    }
     if let Some(r) = lay.legend {
         draw_legend(area, r, &lay.entries, &lay.lg, st)?;
     }
@@ -1254,6 +1420,153 @@ mod tests {
         let span = (changed[changed.len() - 1] - changed[0] + 1) as f64;
         assert!(span <= changed.len() as f64 + 4.0, "{changed:?}");
         assert!(legend_entries(&p).iter().any(|e| e.label == "stick"));
+    }
+
+    /// Regression (issue 34: the spectrum's and the contact force's spikes crossed the
+    /// axes and the tick labels): no pixel of a series' colour lies outside its axes, on a
+    /// spiky series on log axes, a dense zigzag cut by fixed ranges and markers at the
+    /// edges. plotters' wide paths (one polygon offset from the whole path) failed this
+    /// with spikes reaching the canvas' edge. Every drawing stays in its region too (the
+    /// tests draw strictly: a label, legend or title outside its panel is an error).
+    #[test]
+    fn no_series_pixel_outside_its_axes() {
+        let n = 3000;
+        let x: Vec<f64> = (0..n).map(|i| 30.0 * 1.003f64.powi(i)).collect();
+        // Alternating 1e-3 and 1e3 (six decades) with a few outliers far below the range.
+        let y: Vec<f64> = (0..n)
+            .map(|i| match i % 7 {
+                0 => 1e-9,
+                k if k % 2 == 0 => 1e3,
+                _ => 1e-3,
+            })
+            .collect();
+        let mut spiky = Panel::new(
+            "A spectrum with spikes, and a title long enough to be wrapped onto a second line \
+             rather than cut at the right edge of the figure",
+            "frequency [Hz]",
+            "amplitude [N]",
+        );
+        spiky.x_log = true;
+        spiky.y_log = true;
+        spiky.y_range = Some((1e-4, 1e4));
+        spiky
+            .series
+            .push(Series::new("amplitude", x.clone(), y, SeriesStyle::Line));
+        spiky.vlines.push((1e3, "a component".into()));
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
+        let zig: Vec<f64> = (0..n)
+            .map(|i| if i % 2 == 0 { -5.0 } else { 5.0 } * (1.0 + (i % 13) as f64))
+            .collect();
+        let mut cut = Panel::new("Zigzag cut by fixed ranges", "t [s]", "q [-]");
+        cut.series.push(Series::new(
+            "zigzag",
+            t.clone(),
+            zig.clone(),
+            SeriesStyle::Line,
+        ));
+        cut.series.push(Series::new(
+            "markers",
+            t.iter().step_by(50).copied().collect(),
+            zig.iter().step_by(50).copied().collect(),
+            SeriesStyle::Markers,
+        ));
+        cut.x_range = Some((0.2, 0.4));
+        cut.y_range = Some((-20.0, 20.0));
+        let dir = out_dir("no_pixel_outside");
+        for (k, p) in [spiky, cut].iter().enumerate() {
+            let size = (900, 500);
+            let path = dir.join(format!("panel{k}.png"));
+            line_plot(&path, p, size).unwrap();
+            let img = decode_png(&path);
+            // The layout as line_plot made it (super-sampled by 2), in output pixels.
+            let fig = crate::render::Fig {
+                k: 2.0,
+                out: (900.0, 500.0),
+                w: 1800.0,
+                h: 1000.0,
+            };
+            let st = Sty::new(&fig, (fig.w, fig.h));
+            let lay = layout_panel(Rect::new(0.0, 0.0, fig.w, fig.h), p, &st, None, &[]).unwrap();
+            let plot = Rect::new(
+                lay.plot.x0 / 2.0,
+                lay.plot.y0 / 2.0,
+                lay.plot.x1 / 2.0,
+                lay.plot.y1 / 2.0,
+            )
+            .grow(1.0);
+            let legend = lay
+                .legend
+                .map(|r| Rect::new(r.x0 / 2.0, r.y0 / 2.0, r.x1 / 2.0, r.y1 / 2.0).grow(1.0));
+            let w = img.width as usize;
+            let mut outside = Vec::new();
+            for (i, px) in img.rgb.chunks(3).enumerate() {
+                let (xx, yy) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
+                let c = RGBColor(px[0], px[1], px[2]);
+                let series = (0..p.series.len()).any(|s| series_color(s) == c);
+                let in_legend = legend.is_some_and(|r| r.contains((xx, yy)));
+                if series && !plot.contains((xx, yy)) && !in_legend {
+                    outside.push((xx, yy));
+                }
+            }
+            assert!(
+                outside.is_empty(),
+                "panel {k}: {} series pixels outside the axes, e.g. {:?}",
+                outside.len(),
+                &outside[..outside.len().min(5)]
+            );
+            // Something was drawn inside, and the long title was wrapped, not cut.
+            assert!(img
+                .rgb
+                .chunks(3)
+                .any(|px| RGBColor(px[0], px[1], px[2]) == series_color(0)));
+            if k == 0 {
+                assert_eq!(lay.title.0.len(), 2, "{:?}", lay.title);
+            }
+        }
+    }
+
+    /// A title, an axis label or a note too long for its panel is an error when drawn
+    /// strictly, unless fitted: every text of a grid of small panels with long texts stays
+    /// inside its panel (the audit records none outside), and the legend shared by all
+    /// panels is drawn once.
+    #[test]
+    fn long_texts_stay_inside_small_panels() {
+        let mut ps = Vec::new();
+        for i in 0..6 {
+            let mut p = sine_panel(50);
+            p.title = format!("space-time, mass redistribution, run number {i} with a long title");
+            p.x_label = "time since the first impact of the bar on the wall t [s]".into();
+            // Longer than the axes are high (the converge figure's max von Mises).
+            p.y_label = "max von mises turn average of the rim and the hub [MPa]".into();
+            // A note on some panels only: the axes of a row stay aligned, each x label
+            // under its own axes.
+            if i % 2 == 1 {
+                p.note = "not in the asymptotic range: the series is not monotone, so no order and no limit are drawn".into();
+            }
+            ps.push(p);
+        }
+        let dir = out_dir("long_texts");
+        let path = dir.join("grid.png");
+        panels(&path, &ps, 2, 3, (900, 500)).unwrap();
+        assert_png(&path, (900, 500));
+        // Only the first panel keeps the legend: the others list nothing new.
+        let fig = crate::render::Fig {
+            k: 2.0,
+            out: (900.0, 500.0),
+            w: 1800.0,
+            h: 1000.0,
+        };
+        let st = Sty::new(&fig, (600.0, 500.0));
+        let cell = Rect::new(0.0, 0.0, 600.0, 500.0);
+        let seen = legend_keys(&ps[0]);
+        assert!(layout_panel(cell, &ps[0], &st, None, &[])
+            .unwrap()
+            .legend
+            .is_some());
+        assert!(layout_panel(cell, &ps[1], &st, None, &seen)
+            .unwrap()
+            .legend
+            .is_none());
     }
 
     /// The automatic linear range of the data extent `lo..hi`.

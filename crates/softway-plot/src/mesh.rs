@@ -5,10 +5,29 @@ use std::collections::HashMap;
 
 use plotters::prelude::*;
 
+use crate::audit;
 use crate::axes::{auto_range, extend, is_const, linear_ticks, Scale, Ticks};
-use crate::geom::{draw_line, draw_polyline, fill_polygon, fill_rect, stroke_rect, Pt, Rect};
-use crate::render::{de, render, Area, Fail, Res};
-use crate::style::{draw_text, ipt, viridis, Sty, CAP, DESC, HA, NO_DATA, TEXT, VA};
+use crate::geom::{
+    draw_line, draw_polyline, fill_polygon, fill_polygon_rgba, fill_rect, stroke_rect, Pt, Rect,
+};
+use crate::render::Fig;
+use crate::render::{render, Area, Fail, Res};
+use crate::style::{
+    draw_text, fit_text, text_w, viridis, Sty, CAP, DESC, HA, NOTE, NO_DATA, TEXT, VA,
+};
+
+/// Colour of the overlay segments (the obstacle), a dark red.
+const OVERLAY: RGBColor = RGBColor(200, 30, 30);
+
+/// A round value printed short: `0.5`, `2`, `1e-3`.
+fn fmt_value(v: f64) -> String {
+    if (1e-3..1e5).contains(&v.abs()) {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:e}")
+    }
+}
 use crate::{EdgeMode, MeshColorMap, MeshOptions, MeshVectorField};
 
 fn unit_scale(s: f64) -> f64 {
@@ -234,14 +253,32 @@ fn colorbar_width(t: &Ticks, label: &str, st: &Sty) -> f64 {
 }
 
 /// Draws a vertical colour bar in `r` for values `vmin..vmax`.
+/// `extend`: values below / above the range are drawn in its end colours, shown (as
+/// matplotlib does) by a triangle at that end of the bar.
 fn draw_colorbar(
     area: &Area,
     r: Rect,
     (vmin, vmax): (f64, f64),
     t: &Ticks,
     label: &str,
+    extend: (bool, bool),
     st: &Sty,
 ) -> Res<()> {
+    let tri_h = 0.9 * r.w();
+    if extend.1 {
+        fill_polygon(
+            area,
+            &[(r.x0, r.y0), (r.x1, r.y0), (r.cx(), r.y0 - tri_h)],
+            viridis(1.0),
+        )?;
+    }
+    if extend.0 {
+        fill_polygon(
+            area,
+            &[(r.x0, r.y1), (r.x1, r.y1), (r.cx(), r.y1 + tri_h)],
+            viridis(0.0),
+        )?;
+    }
     let h = r.h();
     let n = h.ceil().max(1.0) as usize;
     for i in 0..n {
@@ -273,10 +310,11 @@ fn draw_colorbar(
         )?;
     }
     if let Some(o) = &t.offset {
+        let above = if extend.1 { tri_h } else { 0.0 };
         draw_text(
             area,
             o,
-            (r.x0, r.y0 - 0.6 * st.pad),
+            (r.x0, r.y0 - above - 0.6 * st.pad),
             st.fs,
             HA::Left,
             VA::Baseline,
@@ -382,13 +420,20 @@ pub(crate) fn render_color_map(
     render(size, |area, fig| {
         let st = Sty::new(fig, fig.out);
         let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+        let (title, ft) = fit_text(&map.title, st.ft, fig.w - 2.0 * pad, 2);
         let top = pad
             + if map.title.is_empty() {
                 0.5 * CAP * fs
             } else {
-                (CAP + DESC) * st.ft + pad
+                title.len() as f64 * 1.15 * (CAP + DESC) * ft + pad
             };
-        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad;
+        let (note, nf) = fit_text(&map.note, 0.85 * fs, fig.w - 2.0 * pad, 3);
+        let note_h = if map.note.is_empty() {
+            0.0
+        } else {
+            note.len() as f64 * 1.15 * (CAP + DESC) * nf + 0.5 * pad
+        };
+        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad + note_h;
         let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
         let mut cb_w = 6.0 * fs;
         let mut layout = None;
@@ -431,29 +476,31 @@ pub(crate) fn render_color_map(
             return Err(Fail::Draw("layout failed".into()));
         };
         let v = MeshView { bb, r, unit };
-        let size_px = fill_triangles(area, &v, map.points, map.triangles, |i| {
-            let val = map.cell_values[i];
-            if val.is_finite() {
-                viridis((val - vr.0) / (vr.1 - vr.0))
-            } else {
-                NO_DATA
-            }
+        audit::with_clip(r, || -> Res<()> {
+            let size_px = fill_triangles(area, &v, map.points, map.triangles, |i| {
+                let val = map.cell_values[i];
+                if val.is_finite() {
+                    viridis((val - vr.0) / (vr.1 - vr.0))
+                } else {
+                    NO_DATA
+                }
+            })?;
+            let inner = match opts.edges {
+                EdgeMode::Always => true,
+                EdgeMode::Never => false,
+                EdgeMode::Auto => size_px >= 12.0 * fig.k,
+            };
+            draw_edges(
+                area,
+                &v,
+                map.points,
+                map.triangles,
+                inner,
+                false,
+                BLACK.mix(0.3),
+                &st,
+            )
         })?;
-        let inner = match opts.edges {
-            EdgeMode::Always => true,
-            EdgeMode::Never => false,
-            EdgeMode::Auto => size_px >= 12.0 * fig.k,
-        };
-        draw_edges(
-            area,
-            &v,
-            map.points,
-            map.triangles,
-            inner,
-            false,
-            BLACK.mix(0.3),
-            &st,
-        )?;
         draw_mesh_axes(area, &v, &xt, &yt, true, true, &st)?;
         // Axis labels and title.
         draw_text(
@@ -477,18 +524,68 @@ pub(crate) fn render_color_map(
             true,
             TEXT,
         )?;
+        for (i, l) in title.iter().enumerate() {
+            draw_text(
+                area,
+                l,
+                (0.5 * fig.w, pad + i as f64 * 1.15 * (CAP + DESC) * ft),
+                ft,
+                HA::Center,
+                VA::Top,
+                false,
+                TEXT,
+            )?;
+        }
+        if !map.note.is_empty() {
+            draw_note(area, &note, nf, fig, &st)?;
+        }
+        let finite = || map.cell_values.iter().filter(|v| v.is_finite());
+        let extend = (
+            finite().any(|&v| v < vr.0 - 1e-9 * vr.0.abs()),
+            finite().any(|&v| v > vr.1 + 1e-9 * vr.1.abs()),
+        );
+        draw_colorbar(area, cb, vr, &ct, &map.colorbar_label, extend, &st)
+    })
+}
+
+/// The lines of a figure's note, centred at the bottom of the canvas.
+fn draw_note(area: &Area, lines: &[String], nf: f64, fig: &Fig, st: &Sty) -> Res<()> {
+    for (i, l) in lines.iter().enumerate() {
+        let base =
+            fig.h - st.pad - DESC * nf - (lines.len() - 1 - i) as f64 * 1.15 * (CAP + DESC) * nf;
         draw_text(
             area,
-            &map.title,
-            (r.cx(), pad),
-            st.ft,
+            l,
+            (0.5 * fig.w, base),
+            nf,
             HA::Center,
-            VA::Top,
+            VA::Baseline,
             false,
-            TEXT,
+            NOTE,
         )?;
-        draw_colorbar(area, cb, vr, &ct, &map.colorbar_label, &st)
-    })
+    }
+    Ok(())
+}
+
+/// A round value (1, 2 or 5 times a power of ten) at most `v`.
+fn round_below(v: f64) -> f64 {
+    if !(v > 0.0 && v.is_finite()) {
+        return 0.0;
+    }
+    let p = 10f64.powf(v.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&x| x <= v * (1.0 + 1e-12))
+        .unwrap_or(p)
+}
+
+/// The text between `[` and `]` of a label (its unit), or empty.
+fn unit_of(label: &str) -> &str {
+    match (label.rfind('['), label.rfind(']')) {
+        (Some(a), Some(b)) if b > a => &label[a + 1..b],
+        _ => "",
+    }
 }
 
 /// Evenly spread subset of the nodes used by drawable triangles: in each
@@ -565,11 +662,7 @@ fn draw_arrow(area: &Area, from: Pt, to: Pt, st: &Sty) -> Res<()> {
         white,
         shaft + 2.0 * halo,
     )?;
-    area.draw(&Polygon::new(
-        tri(halo).iter().map(|&p| ipt(p)).collect::<Vec<_>>(),
-        white.filled(),
-    ))
-    .map_err(de)?;
+    fill_polygon_rgba(area, &tri(halo), white)?;
     draw_polyline(area, &[from, base], BLACK.to_rgba(), shaft)?;
     fill_polygon(area, &tri(0.0), BLACK)
 }
@@ -651,7 +744,14 @@ pub(crate) fn render_vector_fields(
         let hgap = 1.2 * fs;
         let vgap = 1.2 * pad;
         let top = pad;
-        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad;
+        let note_text = &frames[0].note;
+        let (note, nf) = fit_text(note_text, 0.85 * fs, fig.w - 2.0 * pad, 3);
+        let note_h = if note_text.is_empty() {
+            0.0
+        } else {
+            note.len() as f64 * 1.15 * (CAP + DESC) * nf + 0.5 * pad
+        };
+        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad + note_h;
         let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
         let mut cb_w = 6.0 * fs;
         let mut layout = None;
@@ -702,46 +802,56 @@ pub(crate) fn render_vector_fields(
                 unit,
             };
             let m = &mags[i];
-            let size_px = fill_triangles(area, &v, f.points, f.triangles, |t| {
-                let tri = f.triangles[t];
-                let mean = (m[tri[0]] + m[tri[1]] + m[tri[2]]) / 3.0;
-                if mean.is_finite() {
-                    viridis((mean - vr.0) / (vr.1 - vr.0))
-                } else {
-                    NO_DATA
+            audit::with_clip(v.r, || -> Res<()> {
+                let size_px = fill_triangles(area, &v, f.points, f.triangles, |t| {
+                    let tri = f.triangles[t];
+                    let mean = (m[tri[0]] + m[tri[1]] + m[tri[2]]) / 3.0;
+                    if mean.is_finite() {
+                        viridis((mean - vr.0) / (vr.1 - vr.0))
+                    } else {
+                        NO_DATA
+                    }
+                })?;
+                let inner = match opts.edges {
+                    EdgeMode::Always => true,
+                    EdgeMode::Never => false,
+                    EdgeMode::Auto => size_px >= 10.0 * fig.k,
+                };
+                draw_edges(
+                    area,
+                    &v,
+                    f.points,
+                    f.triangles,
+                    inner,
+                    true,
+                    WHITE.mix(0.35),
+                    &st,
+                )?;
+                for seg in &f.overlay {
+                    let (a, b) = (v.px(seg[0]), v.px(seg[1]));
+                    if a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite() {
+                        draw_polyline(area, &[a, b], OVERLAY.to_rgba(), 2.5 * st.thin)?;
+                    }
                 }
+                for node in arrow_nodes(f.points, f.triangles, unit, bb, 12.0) {
+                    let vec = f.vectors[node];
+                    if !(vec[0].is_finite() && vec[1].is_finite()) {
+                        continue;
+                    }
+                    let c = v.px(f.points[node]);
+                    let (hx, hy) = (0.5 * vec[0] * arrow_scale, -0.5 * vec[1] * arrow_scale);
+                    draw_arrow(area, (c.0 - hx, c.1 - hy), (c.0 + hx, c.1 + hy), &st)?;
+                }
+                Ok(())
             })?;
-            let inner = match opts.edges {
-                EdgeMode::Always => true,
-                EdgeMode::Never => false,
-                EdgeMode::Auto => size_px >= 10.0 * fig.k,
-            };
-            draw_edges(
-                area,
-                &v,
-                f.points,
-                f.triangles,
-                inner,
-                true,
-                WHITE.mix(0.35),
-                &st,
-            )?;
-            for node in arrow_nodes(f.points, f.triangles, unit, bb, 12.0) {
-                let vec = f.vectors[node];
-                if !(vec[0].is_finite() && vec[1].is_finite()) {
-                    continue;
-                }
-                let c = v.px(f.points[node]);
-                let (hx, hy) = (0.5 * vec[0] * arrow_scale, -0.5 * vec[1] * arrow_scale);
-                draw_arrow(area, (c.0 - hx, c.1 - hy), (c.0 + hx, c.1 + hy), &st)?;
-            }
             let bottom_of_column = i + cols >= n;
             draw_mesh_axes(area, &v, &xt, &yt, bottom_of_column, c == 0, &st)?;
+            let (tl, tf) = fit_text(&f.title, fs, pw + hgap - pad, 1);
             draw_text(
                 area,
-                &f.title,
+                &tl.join(" "),
                 (v.r.cx(), py0 - 0.6 * pad - DESC * fs),
-                fs,
+                tf,
                 HA::Center,
                 VA::Baseline,
                 false,
@@ -780,7 +890,35 @@ pub(crate) fn render_vector_fields(
             x0 + gw + 2.3 * fs,
             grid_bottom,
         );
-        draw_colorbar(area, cb, vr, &ct, &cb_label, &st)
+        // The arrows' scale: an arrow of a round value, bottom left under the grid.
+        let key = round_below(0.5 * max_mag);
+        if key > 0.0 && arrow_scale > 0.0 {
+            let len = key * arrow_scale;
+            let y = grid_bottom + tick + 0.6 * pad + CAP * fs + pad + 0.5 * CAP * fl;
+            let label = "arrows:";
+            let x = x0;
+            draw_text(area, label, (x, y), fs, HA::Left, VA::Center, false, TEXT)?;
+            let ax = x + text_w(label, fs) + 0.5 * fs;
+            draw_arrow(area, (ax, y), (ax + len, y), &st)?;
+            let unit = unit_of(&cb_label);
+            draw_text(
+                area,
+                &format!("{} {unit}", fmt_value(key)),
+                (ax + len + 0.5 * fs, y),
+                fs,
+                HA::Left,
+                VA::Center,
+                false,
+                TEXT,
+            )?;
+        }
+        if !note_text.is_empty() {
+            draw_note(area, &note, nf, fig, &st)?;
+        }
+        let over = opts
+            .value_range
+            .is_some_and(|_| mags.iter().flatten().any(|&m| m > vr.1 * (1.0 + 1e-9)));
+        draw_colorbar(area, cb, vr, &ct, &cb_label, (false, over), &st)
     })
 }
 
@@ -813,6 +951,7 @@ mod tests {
             colorbar_label: "J2 [MPa²]".into(),
             length_unit_scale: 100.0,
             length_unit: "cm".into(),
+            note: String::new(),
         };
         let p = dir.join("disk_j2.png");
         mesh_color_map(&p, &map, (1200, 800)).unwrap();
@@ -834,6 +973,7 @@ mod tests {
             colorbar_label: "ε [-]".into(),
             length_unit_scale: 1000.0,
             length_unit: "mm".into(),
+            note: String::new(),
         };
         let p = dir.join("disk_fine.png");
         mesh_color_map(&p, &map2, (800, 800)).unwrap();
@@ -856,6 +996,7 @@ mod tests {
             colorbar_label: "σxx [MPa]".into(),
             length_unit_scale: 1.0,
             length_unit: "m".into(),
+            note: String::new(),
         };
         let p = dir.join("bar.png");
         mesh_color_map(&p, &bar, (1200, 800)).unwrap();
@@ -933,6 +1074,8 @@ mod tests {
                 colorbar_label: "|v| [m/s]".into(),
                 length_unit_scale: 100.0,
                 length_unit: "cm".into(),
+                note: String::new(),
+                overlay: Vec::new(),
             })
             .collect();
         let p = dir.join("velocity_2x3.png");
@@ -968,6 +1111,8 @@ mod tests {
                 colorbar_label: "|v| [m/s]".into(),
                 length_unit_scale: 100.0,
                 length_unit: "cm".into(),
+                note: String::new(),
+                overlay: Vec::new(),
             })
             .collect();
         let p = dir.join("bar_3x2.png");
@@ -1013,6 +1158,7 @@ mod tests {
             colorbar_label: "s [-]".into(),
             length_unit_scale: 1.0,
             length_unit: "m".into(),
+            note: String::new(),
         };
         let grey = |buf: &[u8]| {
             buf.chunks(3)

@@ -8,6 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::register_font;
 
+use crate::audit;
 use crate::PlotError;
 
 /// Internal error, turned into a [`PlotError`] once the path is known.
@@ -71,6 +72,14 @@ pub(crate) struct Fig {
     pub(crate) h: f64,
 }
 
+/// Whether a figure that paints outside its regions (a label beyond its panel, a title
+/// beyond the canvas) is an error rather than written as it is: in this crate's tests, and
+/// when the environment variable `SOFTWAY_PLOT_STRICT` is set to anything but `0` (the
+/// solver's figure tests).
+fn strict() -> bool {
+    cfg!(test) || std::env::var_os("SOFTWAY_PLOT_STRICT").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
 const MIN_SIZE: (u32, u32) = (120, 90);
 const MAX_PIXELS: u64 = 100_000_000;
 
@@ -107,10 +116,19 @@ where
             h: f64::from(sh),
         };
         // Last line of defence: plotting must never bring the solver down.
+        audit::begin(fig.w, fig.h);
         let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| draw(&area, &fig)));
+        let outside = audit::take();
         match result {
             Ok(r) => r?,
             Err(_) => return Err(Fail::Draw("internal error while drawing".into())),
+        }
+        if strict() && !outside.is_empty() {
+            return Err(Fail::Draw(format!(
+                "{} drawing(s) outside their region (SOFTWAY_PLOT_STRICT): {}",
+                outside.len(),
+                outside[..outside.len().min(3)].join("; ")
+            )));
         }
         area.present().map_err(de)?;
     }

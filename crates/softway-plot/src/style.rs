@@ -2,7 +2,11 @@
 
 use plotters::prelude::*;
 
-use crate::render::{de, Area, Fig, Res, FONT_FAMILY};
+use crate::audit;
+use crate::geom::Rect;
+use crate::render::{de, Area, Fail, Fig, Res, FONT_FAMILY};
+use ab_glyph::{point, Font, FontRef, ScaleFont};
+use std::sync::OnceLock;
 
 /// Sizes in super-sampled pixels, derived from the figure and cell sizes.
 #[derive(Debug, Clone, Copy)]
@@ -69,6 +73,7 @@ pub(crate) const GRID_MAJOR: RGBColor = RGBColor(222, 222, 222);
 pub(crate) const GRID_MINOR: RGBColor = RGBColor(244, 244, 244);
 pub(crate) const REF_LINE: RGBColor = RGBColor(110, 110, 110);
 pub(crate) const TEXT: RGBColor = RGBColor(0, 0, 0);
+pub(crate) const NOTE: RGBColor = RGBColor(70, 70, 70);
 pub(crate) const NO_DATA: RGBColor = RGBColor(205, 205, 205);
 
 pub(crate) fn series_color(i: usize) -> RGBColor {
@@ -103,10 +108,6 @@ pub(crate) fn viridis(t: f64) -> RGBColor {
     RGBColor(l(a.0, b.0), l(a.1, b.1), l(a.2, b.2))
 }
 
-pub(crate) fn sw(width: f64) -> u32 {
-    width.round().max(1.0) as u32
-}
-
 pub(crate) fn ipt((x, y): (f64, f64)) -> (i32, i32) {
     (x.round() as i32, y.round() as i32)
 }
@@ -114,6 +115,9 @@ pub(crate) fn ipt((x, y): (f64, f64)) -> (i32, i32) {
 /// DejaVu Sans metrics (fractions of the em size).
 pub(crate) const CAP: f64 = 0.729;
 pub(crate) const DESC: f64 = 0.236;
+/// Height of the tallest letters above the baseline (ascenders, accents on capitals
+/// excepted).
+pub(crate) const ASC: f64 = 0.76;
 
 #[derive(Clone, Copy)]
 pub(crate) enum HA {
@@ -175,15 +179,139 @@ pub(crate) fn draw_text(
     };
     // plotters' ab_glyph renderer puts the baseline `size / 2` below the
     // anchor of a left/top anchored text.
-    let style = TextStyle::from(font(size)).color(&color);
-    let (style, px, py) = if rotated {
-        (
-            style.transform(FontTransform::Rotate270),
-            x + b - 0.5 * size,
+    let bbox = if rotated {
+        let base = x + b;
+        Rect::new(
+            base - ASC * size,
+            y - along - w,
+            base + DESC * size,
             y - along,
         )
     } else {
-        (style, x + along, y + b - 0.5 * size)
+        let base = y + b;
+        Rect::new(
+            x + along,
+            base - ASC * size,
+            x + along + w,
+            base + DESC * size,
+        )
     };
-    area.draw_text(text, &style, ipt((px, py))).map_err(de)
+    audit::check(|| format!("the text {text:?}"), bbox);
+    let (bx, by) = if rotated {
+        (x + b, y - along)
+    } else {
+        (x + along, y + b)
+    };
+    draw_glyphs(area, text, (bx, by), size, rotated, color)
+}
+
+/// The embedded DejaVu Sans, parsed once.
+fn text_font() -> Option<&'static FontRef<'static>> {
+    static FONT: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
+    FONT.get_or_init(|| FontRef::try_from_slice(dejavu::sans::regular()).ok())
+        .as_ref()
+}
+
+/// Draws `text` with its pen starting at `(bx, by)` on the baseline: each glyph's coverage
+/// blended at its place, its side bearing included (horizontal, or reading bottom to top
+/// when `rotated`).
+fn draw_glyphs(
+    area: &Area,
+    text: &str,
+    (bx, by): (f64, f64),
+    size: f64,
+    rotated: bool,
+    color: RGBColor,
+) -> Res<()> {
+    let font = text_font().ok_or_else(|| Fail::Draw("cannot read the embedded font".into()))?;
+    let scaled = font.as_scaled(size as f32);
+    let (bx, by) = (bx as f32, by as f32);
+    let mut pen = 0f32;
+    let mut prev = None;
+    let mut failed = None;
+    for c in text.chars() {
+        let id = scaled.glyph_id(c);
+        if let Some(p) = prev {
+            pen += scaled.kern(p, id);
+        }
+        let glyph = id.with_scale_and_position(size as f32, point(pen, 0.0));
+        if let Some(outline) = scaled.outline_glyph(glyph) {
+            let r = outline.px_bounds();
+            outline.draw(|gx, gy, cov| {
+                let (u, v) = (r.min.x + gx as f32, r.min.y + gy as f32);
+                let (px, py) = if rotated {
+                    (bx + v, by - u)
+                } else {
+                    (bx + u, by + v)
+                };
+                if cov > 0.0 && failed.is_none() {
+                    let at = (px.round() as i32, py.round() as i32);
+                    if let Err(e) = area.draw_pixel(at, &color.mix(f64::from(cov.min(1.0)))) {
+                        failed = Some(de(e));
+                    }
+                }
+            });
+        }
+        pen += scaled.h_advance(id);
+        prev = Some(id);
+    }
+    failed.map_or(Ok(()), Err)
+}
+
+/// `text` set in lines no wider than `max_w` at font size `size`: as it is if it fits;
+/// else broken at spaces into as few lines as fit (at most `max_lines`); a line that still
+/// does not fit (one long word, or more text than lines) shrinks the font, down to 60 % of
+/// `size`. Returns the lines and the font size. A title is never cut at the edge of its
+/// figure.
+pub(crate) fn fit_text(text: &str, size: f64, max_w: f64, max_lines: usize) -> (Vec<String>, f64) {
+    if text.is_empty() || max_w <= 0.0 {
+        return (vec![text.to_string()], size);
+    }
+    if text_w(text, size) <= max_w {
+        return (vec![text.to_string()], size);
+    }
+    let words: Vec<&str> = text.split(' ').collect();
+    let wrap = |size: f64| -> Vec<String> {
+        let mut lines: Vec<String> = Vec::new();
+        let mut cur = String::new();
+        for w in &words {
+            let cand = if cur.is_empty() {
+                (*w).to_string()
+            } else {
+                format!("{cur} {w}")
+            };
+            if cur.is_empty() || text_w(&cand, size) <= max_w {
+                cur = cand;
+            } else {
+                lines.push(std::mem::take(&mut cur));
+                cur = (*w).to_string();
+            }
+        }
+        lines.push(cur);
+        lines
+    };
+    let fits = |lines: &[String], size: f64| {
+        lines.len() <= max_lines.max(1) && lines.iter().all(|l| text_w(l, size) <= max_w)
+    };
+    let mut s = size;
+    loop {
+        let lines = wrap(s);
+        if fits(&lines, s) || s <= 0.6 * size {
+            if !fits(&lines, s) {
+                // Still too long at the smallest size: the lines allowed, the font shrunk
+                // to the widest.
+                let mut lines = lines;
+                let keep = max_lines.max(1);
+                if lines.len() > keep {
+                    let tail = lines.split_off(keep - 1).join(" ");
+                    lines.push(tail);
+                }
+                let widest = lines.iter().map(|l| text_w(l, s)).fold(0.0, f64::max);
+                let s = s * (max_w / widest).min(1.0);
+                return (lines, s);
+            }
+            return (lines, s);
+        }
+        s *= 0.93;
+    }
 }

@@ -32,8 +32,8 @@ pub fn write(
 ) -> Result<Vec<PathBuf>, RunError> {
     let omega = summary.omega;
     let mut jobs: Vec<Job> = Vec::from(force_figures(out, summary, r));
-    jobs.extend(spectrum_figure(out, r));
-    jobs.extend(rim_profile_figure(out, omega, profile));
+    jobs.extend(spectrum_figure(out, r, summary, wm.rim.len()));
+    jobs.extend(rim_profile_figure(out, omega, profile, rim_beat(wm)));
     jobs.extend(turn_average_maps(out, wm, r, omega));
     // Fig. 17: velocity fields, the largest figure: drawn first.
     let mut first = None;
@@ -121,8 +121,15 @@ fn force_figures<'a>(out: &'a Path, summary: &WheelSummary, r: &WheelResults) ->
     ]
 }
 
-/// The amplitude spectrum of the contact force (none without one).
-fn spectrum_figure<'a>(out: &'a Path, r: &WheelResults) -> Option<Job<'a>> {
+/// The amplitude spectrum of the contact force (none without one), with the frequencies
+/// the summary names: the node passing and its harmonics, the bounce mode, the rotation's
+/// first harmonics, and each classified component at its amplitude.
+fn spectrum_figure<'a>(
+    out: &'a Path,
+    r: &WheelResults,
+    summary: &WheelSummary,
+    rim_nodes: usize,
+) -> Option<Job<'a>> {
     if r.forces.spectrum.frequency_hz.is_empty() {
         return None;
     }
@@ -154,6 +161,59 @@ fn spectrum_figure<'a>(out: &'a Path, r: &WheelResults) -> Option<Job<'a>> {
     ps.y_range = Some((amax * 1e-5, amax * 2.0));
     ps.series
         .push(Series::new("amplitude", f, a, SeriesStyle::Line));
+    // The expected frequencies, one legend entry per family.
+    let np_label = format!(
+        "node passing, {rim_nodes} per turn ({:.0} Hz) x 1..5",
+        node_pass_hz
+    );
+    for k in 1..=5 {
+        let fk = k as f64 * node_pass_hz;
+        if fk > hi {
+            break;
+        }
+        ps.vlines.push((fk, np_label.clone()));
+    }
+    if let Some(fb) = summary.bounce_frequency_hz {
+        ps.vlines
+            .push((fb, format!("bounce mode, contact held ({fb:.0} Hz)")));
+    }
+    let rot_label = format!("rotation ({rot_hz:.1} Hz) x 1..5");
+    for k in 1..=5 {
+        ps.vlines.push((k as f64 * rot_hz, rot_label.clone()));
+    }
+    // The classified components at their amplitude, one marker series per kind.
+    use crate::analysis::components::ComponentKind;
+    type IsKind = fn(&ComponentKind) -> bool;
+    let kinds: [(&str, IsKind); 4] = [
+        ("components: node passing", |k| {
+            matches!(k, ComponentKind::NodePassing { .. })
+        }),
+        ("components: mode (bounce)", |k| {
+            matches!(k, ComponentKind::Mode { .. })
+        }),
+        ("components: locked to the rotation", |k| {
+            matches!(k, ComponentKind::Locked { .. })
+        }),
+        ("components: unclassified", |k| {
+            matches!(k, ComponentKind::Unclassified)
+        }),
+    ];
+    for (label, is) in kinds {
+        let (cf, ca): (Vec<f64>, Vec<f64>) = summary
+            .spectral_components
+            .iter()
+            .filter(|c| is(&c.kind))
+            .map(|c| (c.hz, c.amplitude))
+            .unzip();
+        if !cf.is_empty() {
+            ps.series
+                .push(Series::new(label, cf, ca, SeriesStyle::Markers));
+        }
+    }
+    ps.note = "Markers: the components of summary.json's spectral_components (frequency, \
+               amplitude, kind); dashed lines: where the node passing, the bounce mode and \
+               the rotation's harmonics are expected."
+        .into();
     Some(Box::new(move || {
         let png = out.join("spectrum.png");
         line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
@@ -163,7 +223,12 @@ fn spectrum_figure<'a>(out: &'a Path, r: &WheelResults) -> Option<Job<'a>> {
 
 /// The rim profile of the turn-averaged J2 against the angle, as the departure from its
 /// mean (none without a profile).
-fn rim_profile_figure<'a>(out: &'a Path, omega: f64, profile: &RimProfile) -> Option<Job<'a>> {
+fn rim_profile_figure<'a>(
+    out: &'a Path,
+    omega: f64,
+    profile: &RimProfile,
+    beat: Option<(usize, usize)>,
+) -> Option<Job<'a>> {
     // The rim profile of the turn-averaged J2 and von Mises: at the rim nodes (recovered
     // from the elements round each), against the angle (where a corrugation pattern would
     // show).
@@ -196,6 +261,26 @@ fn rim_profile_figure<'a>(out: &'a Path, omega: f64, profile: &RimProfile) -> Op
     ));
     pr.hlines.push((0.0, "the mean".to_string()));
     pr.x_range = Some((-180.0, 180.0));
+    // The pattern's count per turn, and what it is.
+    let dev: Vec<f64> = j2_rim.iter().map(|j| j - m).collect();
+    if let Some(k) = dominant_harmonic(angles, &dev) {
+        let spacing = 360.0 / k as f64;
+        pr.note = match beat {
+            Some((rim, inner)) if rim - inner == k => format!(
+                "The pattern repeats {k} times per turn (every {spacing:.1} deg): it is the \
+                 mesh's, not the rolling's. The triangles under the rim join its {rim} nodes \
+                 to the {inner} of the next ring, which come into line {k} = {rim} - {inner} \
+                 times per turn; in steady rolling every rim point passes through the same \
+                 loading, so the wheel's own answer is a flat line."
+            ),
+            _ => format!(
+                "The strongest pattern repeats {k} times per turn (every {spacing:.1} deg). In \
+                 steady rolling every rim point passes through the same loading, so the \
+                 wheel's own answer is a flat line: a pattern fixed to the rim's angle belongs \
+                 to the mesh unless it stays when the mesh is refined."
+            ),
+        };
+    }
     Some(Box::new(move || {
         let png = out.join("j2_rim_profile.png");
         line_plot(&png, &pr, (1400, 600)).map_err(|e| RunError::output(&png, e))?;
@@ -244,10 +329,17 @@ fn turn_average_maps<'a>(
             };
             let title = format!("{title}, {omega} rad/s");
             let xy = planar(&wm.mesh);
-            let label = if clipped {
-                format!("{label}, clipped at {top:.0} (max {vmax:.0})")
+            let label = label.to_string();
+            let note = if clipped {
+                format!(
+                    "Colour scale clipped at the 97th percentile of the elements, {top:.3e} \
+                     ({:.0}% of the maximum {vmax:.3e}, in the few elements round the axle, \
+                     where the support concentrates the reaction): larger values are drawn \
+                     in the top colour (the triangle on the colour bar), so that the rim shows.",
+                    100.0 * top / vmax
+                )
             } else {
-                label.to_string()
+                String::new()
             };
             mesh_color_map_with(
                 &png,
@@ -259,6 +351,7 @@ fn turn_average_maps<'a>(
                     colorbar_label: label,
                     length_unit_scale: 100.0,
                     length_unit: "cm".into(),
+                    note,
                 },
                 (1100, 1000),
                 &opts,
@@ -293,6 +386,26 @@ fn velocity_fields_figure<'a>(
             .map(|v| v.chunks(2).map(|c| [c[0], c[1]]).collect())
             .collect();
         let xy = planar(&wm.mesh);
+        // The base at each instant: the line at `radius - flattening` from the axle,
+        // normal to the direction (sin a, -cos a) of the base angle a.
+        let base_line = |t: f64| -> [[f64; 2]; 2] {
+            let a = base.angle(t);
+            let (ex, ey) = (a.sin(), -a.cos());
+            let rho = base.radius - base.flattening.at(t);
+            let (cx, cy) = (base.centre[0] + rho * ex, base.centre[1] + rho * ey);
+            let l = 0.45 * base.radius;
+            [[cx - l * ey, cy + l * ex], [cx + l * ey, cy - l * ex]]
+        };
+        let angle = "The base angle is measured from the downward vertical (0 deg: below the \
+                     axle), anticlockwise: the base turns about the wheel at omega in the \
+                     wheel's frame.";
+        let arrows = "Arrows: the velocity at evenly spread nodes, centred on them, one scale \
+                      for all panels.";
+        let note = if wm.zone.is_none() {
+            format!("The base (red line) is drawn where it is at each instant. {angle} {arrows}")
+        } else {
+            format!("{angle} Each panel is drawn in the zone's frame. {arrows}")
+        };
         let frames: Vec<MeshVectorField> = vecs
             .iter()
             .zip(&r.snapshots.t)
@@ -315,6 +428,13 @@ fn velocity_fields_figure<'a>(
                 colorbar_label: "velocity in the wheel's frame [m/s]".into(),
                 length_unit_scale: 100.0,
                 length_unit: "cm".into(),
+                // The zone's frame turns with the base: the base is not drawn there.
+                overlay: if wm.zone.is_none() {
+                    vec![base_line(*t)]
+                } else {
+                    Vec::new()
+                },
+                note: note.clone(),
             })
             .collect();
         let png = out.join("velocity_fields.png");
@@ -405,6 +525,48 @@ fn rim_profile(wm: &WheelModel, j2: &[f64], vm: &[f64]) -> RimProfile {
         out.von_mises_mpa.push(v);
     }
     out
+}
+
+/// The whole number `k` of cycles per turn (1 up to half the samples) with the largest
+/// Fourier amplitude of `v` sampled at `angles_deg` round the rim; `None` for a flat `v`.
+fn dominant_harmonic(angles_deg: &[f64], v: &[f64]) -> Option<usize> {
+    let n = v.len();
+    let mut best: Option<(usize, f64)> = None;
+    for k in 1..=n / 2 {
+        let (mut c, mut s) = (0.0, 0.0);
+        for (&a, &x) in angles_deg.iter().zip(v) {
+            let t = k as f64 * a.to_radians();
+            c += x * t.cos();
+            s += x * t.sin();
+        }
+        let amp = c.hypot(s);
+        if amp > best.map_or(0.0, |b| b.1) {
+            best = Some((k, amp));
+        }
+    }
+    best.map(|b| b.0)
+}
+
+/// The node counts of the rim and of the ring of nodes next inside it, when the mesh's
+/// nodes lie on rings (the graded disk); `None` otherwise.
+fn rim_beat(wm: &WheelModel) -> Option<(usize, usize)> {
+    let radius = |n: usize| {
+        let p = wm.mesh.point(n);
+        p[0].hypot(p[1])
+    };
+    let r_rim = wm.rim.iter().map(|&n| radius(n)).fold(0.0, f64::max);
+    let tol = 1e-9 * r_rim;
+    let below: Vec<f64> = (0..wm.mesh.n_nodes())
+        .map(radius)
+        .filter(|&r| r < r_rim - 1e3 * tol)
+        .collect();
+    let r_in = below.iter().cloned().fold(0.0, f64::max);
+    let inner = below
+        .iter()
+        .filter(|&&r| (r - r_in).abs() <= 1e3 * tol)
+        .count();
+    // A ring: several nodes on one circle, fewer than the rim.
+    (inner >= 3 && inner < wm.rim.len()).then_some((wm.rim.len(), inner))
 }
 
 fn percentile(v: &[f64], q: f64) -> f64 {

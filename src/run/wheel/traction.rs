@@ -592,7 +592,14 @@ pub fn figures(
         }
     }
     p.x_range = Some((-1.5, 1.5));
-    p.y_range = Some((-0.25, 1.25));
+    // The range holds every computed value (the traction of a coarse patch can overshoot
+    // well below -0.25), with the Hertz and Carter curves' -0.25..1.25 at least.
+    let (lo, hi) = p.series[..2]
+        .iter()
+        .flat_map(|s| s.y.iter().copied())
+        .filter(|v| v.is_finite())
+        .fold((-0.2f64, 1.2f64), |(a, b), v| (a.min(v), b.max(v)));
+    p.y_range = Some((lo - 0.05, hi + 0.05));
     let png = out.join("traction.png");
     panels(&png, &[p], 1, 1, (1100, 650)).map_err(|e| RunError::output(&png, e))?;
     let [normal, traction, energy] = &prof.history;
