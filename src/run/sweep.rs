@@ -1,6 +1,10 @@
 //! Parameter sweeps: one scenario over a list of values of one key, run in parallel, with a
 //! table (`sweep.csv`, `sweep.md`) and, for the wheel, the paper's Fig. 15 (`sweep.png`:
-//! oscillations per turn and maximal contact force against omega).
+//! oscillations per turn and maximal contact force against omega). A sweep may also run in
+//! slices on several machines ([`shard`]: `softway sweep --shard I/N`) and be assembled
+//! into the same table and plot (`softway gather`).
+
+pub mod shard;
 
 use super::{run_scenario, Cancel, Par, RunError, RunOptions};
 use crate::build::resolve;
@@ -120,7 +124,7 @@ pub fn run_ladder(
 
 /// The folder of one point, `<key>=<value>` (quotes trimmed, path separators replaced by
 /// `_` so that a value never leads out of the sweep's folder).
-fn point_dir_name(key: &str, value: &str) -> String {
+pub(crate) fn point_dir_name(key: &str, value: &str) -> String {
     format!("{key}={}", value.trim_matches('"')).replace(['/', '\\'], "_")
 }
 
@@ -138,29 +142,44 @@ pub fn sweep(
     cancel: &Cancel,
 ) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
     let points = run_ladder(path, text, key, values, out, cancel)?;
+    let files = write_sweep(out, key, &points)?;
+    Ok((points, files))
+}
+
+/// Writes a sweep's table (`sweep.csv`, `sweep.md`) and plot (`sweep.png`, Fig. 15, for
+/// wheels over a numeric key; `creep_curve.png` and `.csv` over `rolling.creepage` with
+/// friction) into `out`, from the points' summaries in the order given; returns the files.
+///
+/// # Errors
+/// [`SweepError`] when a file cannot be written.
+pub fn write_sweep(
+    out: &Path,
+    key: &str,
+    points: &[SweepPoint],
+) -> Result<Vec<PathBuf>, SweepError> {
     // Table: the key figures (wheel), or every scalar number of the summaries.
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
     // With friction: the traction figures (nested in the summary's `traction`).
     let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
-    let cols = table_columns(&points, is_wheel, with_traction);
-    let mut files = write_tables(out, key, &cols, &points)?;
+    let cols = table_columns(points, is_wheel, with_traction);
+    let mut files = write_tables(out, key, &cols, points)?;
     // Fig. 15 for wheels.
     let xs: Vec<f64> = points
         .iter()
         .filter_map(|p| p.value.trim_matches('"').parse::<f64>().ok())
         .collect();
     if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
-        files.extend(creep_curve(out, &points, &xs)?);
+        files.extend(creep_curve(out, points, &xs)?);
     } else if is_wheel && xs.len() == points.len() {
         let png = out.join("sweep.png");
         let panes = [
-            oscillations_panel(key, &points, &xs),
-            force_panel(key, &points, &xs),
+            oscillations_panel(key, points, &xs),
+            force_panel(key, points, &xs),
         ];
         panels(&png, &panes, 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
     }
-    Ok((points, files))
+    Ok(files)
 }
 
 /// The table's columns: the wheel's key figures (and with friction its traction figures,
