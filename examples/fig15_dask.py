@@ -65,7 +65,7 @@ def main() -> None:
                 n_workers=args.workers,
                 threads_per_worker=1,
                 processes=True,
-                dashboard_address=None,
+                dashboard_address=":0",
             )
             client = Client(cluster)
             where = f"Dask LocalCluster, {args.workers} processes"

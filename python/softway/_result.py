@@ -18,6 +18,16 @@ from . import _native
 TIMING_KEYS = ("wall_time_s", "time_per_step_us", "peak_rss_mib")
 
 
+def without_timings(summary: Any) -> Any:
+    """``summary`` less the :data:`TIMING_KEYS`, at every depth (a bar scenario's runs
+    carry their own)."""
+    if isinstance(summary, dict):
+        return {k: without_timings(v) for k, v in summary.items() if k not in TIMING_KEYS}
+    if isinstance(summary, list):
+        return [without_timings(v) for v in summary]
+    return summary
+
+
 def _f64(b: bytes) -> np.ndarray:
     return np.frombuffer(b, dtype="<f8")
 

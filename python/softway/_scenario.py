@@ -46,9 +46,9 @@ def dotted(key: str) -> str:
 class Scenario:
     """A scenario, validated as the command line validates it.
 
-    ``Scenario(source)`` takes a path to a TOML file (``str`` or ``pathlib.Path``), TOML text
-    (a ``str`` holding a newline or ``=``), a ``dict`` of the same tables and keys, or another
-    ``Scenario``. Bad input raises :class:`ScenarioError` with the command line's one-line
+    ``Scenario(source)`` takes a path to a TOML file (a ``pathlib.Path``, or a ``str``
+    without a newline that names a file, ends in ``.toml`` or holds no ``=``), TOML text (any
+    other ``str``), a ``dict`` of the same tables and keys, or another ``Scenario``. Bad input raises :class:`ScenarioError` with the command line's one-line
     message (file, key, what is allowed); its ``key`` attribute is the dotted key at fault.
 
     A scenario given as text or a dict is named ``<string>`` or ``<dict>`` in messages (or
@@ -71,7 +71,9 @@ class Scenario:
             text = _native.json_to_toml(json.dumps(source, default=_json_default))
             name = "<dict>"
         elif isinstance(source, os.PathLike) or (
-            isinstance(source, str) and "\n" not in source and "=" not in source
+            isinstance(source, str)
+            and "\n" not in source
+            and ("=" not in source or source.endswith(".toml") or os.path.exists(source))
         ):
             name = os.fspath(source)
             text = _read_text(name)

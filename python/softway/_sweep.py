@@ -14,7 +14,7 @@ from typing import Any, Iterable, Mapping, Optional, Sequence
 
 import numpy as np
 
-from ._result import TIMING_KEYS
+from ._result import without_timings
 from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
 
 
@@ -43,7 +43,7 @@ def run_point(
     try:
         sc = Scenario(text, path=path).with_values(**point)
         r = run(sc, progress=False, threads=1)
-        out["summary"] = {k: v for k, v in r.summary.items() if k not in TIMING_KEYS}
+        out["summary"] = without_timings(r.summary)
         out["interrupted"] = r.interrupted
         h = r.history
         out["time"] = np.asarray(h["time"].values)
@@ -125,7 +125,7 @@ def _default_cluster(n_points: int):
         n_workers=max(1, min(n_points, cores)),
         threads_per_worker=1,
         processes=True,
-        dashboard_address=None,
+        dashboard_address=":0",
     )
     return cluster, Client(cluster)
 
@@ -199,7 +199,7 @@ def sweep(
                 executor.submit(run_point, sc.text, sc.path, p, hist, f)
                 for p, f in zip(pts, folders)
             ]
-            results = _gather(futures, progress)
+            results = _gather(futures, pts, progress)
         else:
             raise TypeError(
                 f"executor={executor!r}: a concurrent.futures.Executor, None or 'serial'"
@@ -226,13 +226,23 @@ def _progress(it, total: int, show: bool):
     return tqdm(it, total=total, desc="sweep", unit="point", leave=False)
 
 
-def _gather(futures: list, show: bool) -> list[dict]:
-    """The futures' results in submission order, waiting with a bar over completions."""
+def _gather(futures: list, pts: list[dict], show: bool) -> list[dict]:
+    """The futures' results in submission order, waiting with a bar over completions; a
+    future that failed outside :func:`run_point` (a worker lost, a task that could not be
+    sent) is a failed point like any other."""
     from concurrent.futures import as_completed
 
     for _ in _progress(as_completed(futures), len(futures), show):
         pass
-    return [f.result() for f in futures]
+    results = []
+    for f, p in zip(futures, pts):
+        try:
+            results.append(f.result())
+        except Exception as e:  # noqa: BLE001 - reported as the point's error
+            results.append(
+                {"point": p, "error": f"{type(e).__name__}: {e}", "summary": None, "histories": {}}
+            )
+    return results
 
 
 def _dataset(results, pts, values, mode, hist):

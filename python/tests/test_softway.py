@@ -65,7 +65,7 @@ def dask_executor():
     from dask.distributed import Client, LocalCluster
 
     with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
     ) as cluster, Client(cluster) as client:
         yield client.get_executor()
 
@@ -273,6 +273,25 @@ def test_grid_product_and_zip():
     with pytest.raises(ValueError, match="one length"):
         softway.sweep(bar, {"bar.speed": [1.0], "bar.elements": [8, 16]}, mode="zip",
                       executor="serial")
+
+
+def test_the_default_executor_is_a_local_dask_cluster():
+    """executor=None: a LocalCluster of processes, started and closed by the sweep. The
+    bar's impact comes at the first step past gap / speed (h = 0.01 s)."""
+    bar = {"kind": "bar_impact", "time": {"h": 0.01, "t_end": 2.0}, "bar": BAR}
+    speeds = [0.5, 1.0, 1.5]
+    ds = softway.sweep(bar, {"bar.speed": speeds}, progress=False)
+    serial = softway.sweep(bar, {"bar.speed": speeds}, executor="serial", progress=False)
+    xr.testing.assert_identical(ds, serial)
+    for v, t in zip(speeds, ds["impact_time"].values):
+        assert 0.5 / v <= t < 0.5 / v + 0.01 + 1e-12
+
+
+def test_a_path_with_an_equals_sign_is_a_path(tmp_path, one_turn):
+    d = tmp_path / "rolling.omega=300"
+    d.mkdir()
+    (d / "s.toml").write_text(one_turn.read_text())
+    assert softway.Scenario(str(d / "s.toml")).path == str(d / "s.toml")
 
 
 def test_scenario_from_dict_text_and_file_run_the_same(one_turn):
