@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import statistics
 import time
 from pathlib import Path
 
@@ -32,6 +33,7 @@ def main() -> None:
     ap.add_argument("--speeds", default="250,310,380,460", help="omega values, rad/s")
     ap.add_argument("--turns", type=int, default=None, help="turns per speed (default: the scenario's)")
     ap.add_argument("--skip-serial", action="store_true")
+    ap.add_argument("--rounds", type=int, default=1, help="alternated rounds (medians)")
     args = ap.parse_args()
 
     from dask.distributed import Client
@@ -46,19 +48,31 @@ def main() -> None:
         f"{len(workers)} workers: "
         + ", ".join(f"{a} ({w.get('nthreads', '?')} thread)" for a, w in workers.items())
     )
-    print(f"load before: {os.getloadavg()[0]:.2f}")
-    t0 = time.perf_counter()
-    on_cluster = softway.sweep(sc, grid, executor=client.get_executor(), progress=False)
-    t_cluster = time.perf_counter() - t0
+    times: dict[str, list[float]] = {"cluster": [], "serial": []}
+    results = {}
+    # Alternated rounds, so that a load that comes and goes on a shared machine falls on
+    # both alike; the medians are compared.
+    for _ in range(args.rounds):
+        for how in ("serial", "cluster"):
+            if how == "serial" and args.skip_serial:
+                continue
+            load = os.getloadavg()[0]
+            t0 = time.perf_counter()
+            results[how] = softway.sweep(
+                sc, grid, executor="serial" if how == "serial" else client.get_executor(),
+                progress=False,
+            )
+            times[how].append(time.perf_counter() - t0)
+            print(f"{how:>7}: {times[how][-1]:6.1f} s (load average before: {load:.2f})")
     client.close()
-    print(f"{sc.name}, {len(grid['rolling.omega'])} speeds on the cluster: {t_cluster:.1f} s")
+    t_cluster = statistics.median(times["cluster"])
+    print(f"{sc.name}, {len(grid['rolling.omega'])} speeds on the cluster: {t_cluster:.1f} s (median)")
     if args.skip_serial:
         return
-    t0 = time.perf_counter()
-    serial = softway.sweep(sc, grid, executor="serial", progress=False)
-    t_serial = time.perf_counter() - t0
-    print(f"{sc.name}, {len(grid['rolling.omega'])} speeds serially: {t_serial:.1f} s")
-    xr.testing.assert_identical(on_cluster, serial)
+    t_serial = statistics.median(times["serial"])
+    print(f"{sc.name}, {len(grid['rolling.omega'])} speeds serially: {t_serial:.1f} s (median)")
+    on_cluster = results["cluster"]
+    xr.testing.assert_identical(on_cluster, results["serial"])
     print(f"ratio serial / cluster: {t_serial / t_cluster:.2f}; the same Dataset, bit for bit")
     print(on_cluster[["speed_km_h", "mean_contact_force", "max_contact_force"]].to_dataframe())
 
