@@ -33,6 +33,7 @@ macro_rules! errln {
 }
 
 mod analysis;
+mod shard;
 
 use analysis::{matrix_command, modes_command, receptance_command, stability_command};
 
@@ -113,8 +114,24 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
+        /// I/N: run only slice I of N of the values (for a job array), into
+        /// out/<scenario name>-sweep-shard-I-of-N by default; `softway gather` joins them.
+        #[arg(long)]
+        shard: Option<String>,
         #[command(flatten)]
         guard: Guard,
+    },
+    /// Join the folders of `softway sweep --shard I/N` (every I of one N) into the table and
+    /// plot `softway sweep` writes.
+    Gather {
+        /// The shards' folders.
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// Output folder [default: out/<scenario name>-sweep].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        replace: Replace,
     },
     /// Run a scenario over a refinement ladder of one key (mesh or step) and report the
     /// observed order of every key figure: converge.csv, converge.md, converge.png.
@@ -264,8 +281,26 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             grid,
             out,
             jobs,
+            shard: Some(shard),
+            guard,
+        } => {
+            let _ = grid;
+            shard::shard_command(&scenario, set, out, jobs, &shard, guard, cancel)
+        }
+        Command::Sweep {
+            scenario,
+            set,
+            grid,
+            out,
+            jobs,
+            shard: None,
             guard,
         } => sweep_command(&scenario, &set, grid, out, jobs, guard, cancel),
+        Command::Gather {
+            shards,
+            out,
+            replace,
+        } => shard::gather_command(&shards, out, replace),
         Command::Converge {
             scenario,
             set,
@@ -398,6 +433,43 @@ fn sweep_command(
         return Ok(ExitCode::from(130));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The scenario of a sweep, its text, and the key and values of `--set` (or of its
+/// `[sweep]` table).
+type SweepValues = (
+    Scenario<crate::scenario::RunSpec>,
+    String,
+    String,
+    Vec<String>,
+);
+
+/// [`SweepValues`] of the scenario file at `scenario`.
+fn sweep_values(
+    scenario: &Path,
+    set: Vec<String>,
+) -> Result<SweepValues, Box<dyn std::error::Error>> {
+    let sc = Scenario::from_file(scenario)?;
+    let text = std::fs::read_to_string(scenario)
+        .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
+    if set.len() > 1 {
+        return Err(format!(
+            "{}: --shard slices a sweep of one key (--set KEY=V1,V2,...), not a grid of {}",
+            scenario.display(),
+            set.len()
+        )
+        .into());
+    }
+    let (key, values) = match set.into_iter().next() {
+        Some(s) => parse_set(&s)?,
+        None => sc.sweep.clone().ok_or_else(|| {
+            format!(
+                "{}: no [sweep] table and no --set KEY=V1,V2,...",
+                scenario.display()
+            )
+        })?,
+    };
+    Ok((sc, text, key, values))
 }
 
 /// `softway converge`: the scenario over the refinement ladder of `--set`.
@@ -607,7 +679,7 @@ fn usage_error(e: &clap::Error) -> ExitCode {
             return ExitCode::SUCCESS;
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            errln!("softway: error: no command given: softway run|sweep|converge|compare|modes|receptance|matrix|stability ... (see softway --help)");
+            errln!("softway: error: no command given: softway run|sweep|gather|converge|compare|modes|receptance|matrix|stability ... (see softway --help)");
             return ExitCode::from(2);
         }
         _ => {}

@@ -376,7 +376,7 @@ pub fn simulate(
         energy: 0.5 * a.rho_a * a.length * a.speed * a.speed,
     };
     let steps = (run.t_end / h).round() as usize;
-    let pb = progress_bar(steps as u64, &run.label, opts.progress);
+    let pb = progress_bar(steps as u64, &run.label, opts);
     let start = Instant::now();
     let (mesh, problem, bodies) = match &run.model {
         Model::BarImpact(b) => {

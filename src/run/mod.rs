@@ -113,6 +113,35 @@ pub struct RunOptions {
     /// What the divergence guard does ([`crate::guard`]): stop the run (the default), or
     /// record where it diverged and go on (the comparison lab's rows).
     pub guard: GuardMode,
+    /// A caller's view of the run's progress (steps done of the current run), for a caller
+    /// that draws its own bar (the Python package's); `None` (the default): none kept.
+    pub progress_watch: Option<ProgressWatch>,
+}
+
+/// The progress of a job as another thread sees it: the current run's label, its steps
+/// done and its steps in all, updated as the run goes (every 256 steps or so). Clones share
+/// one view; a fresh one has seen no run.
+#[derive(Debug, Clone, Default)]
+pub struct ProgressWatch(Arc<std::sync::Mutex<Option<indicatif::ProgressBar>>>);
+
+impl ProgressWatch {
+    /// A view that has seen no run yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The current run's `(label, steps done, steps)`; `None` before the first run starts.
+    pub fn get(&self) -> Option<(String, u64, u64)> {
+        let bar = self.0.lock().ok()?.clone()?;
+        Some((bar.prefix(), bar.position(), bar.length().unwrap_or(0)))
+    }
+
+    /// Watches `bar` from now on (each run of a scenario starts its own).
+    fn watch(&self, bar: &indicatif::ProgressBar) {
+        if let Ok(mut b) = self.0.lock() {
+            *b = Some(bar.clone());
+        }
+    }
 }
 
 impl RunOptions {
@@ -235,11 +264,20 @@ pub fn write_scenario_copy<R>(
     Ok(f)
 }
 
-/// A progress bar over `len` steps (hidden when not on a terminal or not asked for).
-pub(crate) fn progress_bar(len: u64, label: &str, show: bool) -> indicatif::ProgressBar {
+/// A progress bar over `len` steps (hidden when not on a terminal or not asked for by
+/// [`RunOptions::progress`]), handed to [`RunOptions::progress_watch`] when there is one.
+pub(crate) fn progress_bar(len: u64, label: &str, opts: &RunOptions) -> indicatif::ProgressBar {
     use std::io::IsTerminal;
-    if !show || !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
+    if !opts.progress || !std::io::stderr().is_terminal() {
+        let pb = indicatif::ProgressBar::with_draw_target(
+            Some(len),
+            indicatif::ProgressDrawTarget::hidden(),
+        );
+        if let Some(w) = &opts.progress_watch {
+            pb.set_prefix(label.to_string());
+            w.watch(&pb);
+        }
+        return pb;
     }
     let pb = indicatif::ProgressBar::new(len);
     pb.set_style(
@@ -250,6 +288,9 @@ pub(crate) fn progress_bar(len: u64, label: &str, show: bool) -> indicatif::Prog
         .progress_chars("=> "),
     );
     pb.set_prefix(label.to_string());
+    if let Some(w) = &opts.progress_watch {
+        w.watch(&pb);
+    }
     pb
 }
 

@@ -125,7 +125,7 @@ pub(crate) fn record(
     let mut acc = Rolling::default();
     let mut trace: (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
     let mut last = Last::default();
-    let pb = super::progress_bar(steps as u64, &run.label, opts.progress);
+    let pb = super::progress_bar(steps as u64, &run.label, opts);
     let start = Instant::now();
     let mut io_error = None;
     let stats = sim

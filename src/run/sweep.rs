@@ -1,6 +1,10 @@
 //! Parameter sweeps: one scenario over a list of values of one key, run in parallel, with a
 //! table (`sweep.csv`, `sweep.md`) and, for the wheel, the paper's Fig. 15 (`sweep.png`:
-//! oscillations per turn and maximal contact force against omega).
+//! oscillations per turn and maximal contact force against omega). A sweep may also run in
+//! slices on several machines ([`shard`]: `softway sweep --shard I/N`) and be assembled
+//! into the same table and plot (`softway gather`).
+
+pub mod shard;
 
 use super::{run_scenario, Cancel, Par, RunError, RunOptions};
 use crate::build::resolve;
@@ -191,6 +195,18 @@ pub fn sweep(
     cancel: &Cancel,
 ) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
     let points = run_points(path, text, points, out, cancel)?;
+    let files = write_sweep(out, &points)?;
+    Ok((points, files))
+}
+
+/// Writes a sweep's table (`sweep.csv`, `sweep.md`; a column per key) and plot
+/// (`sweep.png`, Fig. 15, for wheels over the one key that varies; `creep_curve.png` and
+/// `.csv` over `rolling.creepage` with friction) into `out`, from the points' summaries in
+/// the order given; returns the files.
+///
+/// # Errors
+/// [`SweepError`] when a file cannot be written.
+pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, SweepError> {
     let keys: Vec<String> = points
         .first()
         .map(|p| p.sets.iter().map(|o| o.key.clone()).collect())
@@ -199,8 +215,8 @@ pub fn sweep(
     let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
     // With friction: the traction figures (nested in the summary's `traction`).
     let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
-    let cols = table_columns(&points, is_wheel, with_traction);
-    let mut files = write_tables(out, &keys, &cols, &points)?;
+    let cols = table_columns(points, is_wheel, with_traction);
+    let mut files = write_tables(out, &keys, &cols, points)?;
     // Fig. 15 for wheels, over the one key that varies.
     let varying: Vec<usize> = (0..keys.len())
         .filter(|&i| {
@@ -210,7 +226,7 @@ pub fn sweep(
         })
         .collect();
     let [i] = varying[..] else {
-        return Ok((points, files));
+        return Ok(files);
     };
     let key = keys[i].as_str();
     let xs: Vec<f64> = points
@@ -218,17 +234,17 @@ pub fn sweep(
         .filter_map(|p| p.sets[i].value.trim_matches('"').parse::<f64>().ok())
         .collect();
     if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
-        files.extend(creep_curve(out, &points, &xs)?);
+        files.extend(creep_curve(out, points, &xs)?);
     } else if is_wheel && xs.len() == points.len() {
         let png = out.join("sweep.png");
         let panes = [
-            oscillations_panel(key, &points, &xs),
-            force_panel(key, &points, &xs),
+            oscillations_panel(key, points, &xs),
+            force_panel(key, points, &xs),
         ];
         panels(&png, &panes, 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
     }
-    Ok((points, files))
+    Ok(files)
 }
 
 /// The table's columns: the wheel's key figures (and with friction its traction figures,

@@ -246,7 +246,7 @@ fn roll(
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
     sim.set_par(opts.par());
     sim.set_guard(opts.guard);
-    let pb = super::progress_bar(steps as u64, &run.label, opts.progress);
+    let pb = super::progress_bar(steps as u64, &run.label, opts);
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
     let clock = Instant::now();
     let profile_at = |x: f64| wot.interface.search().profile().map_or(0.0, |p| p.at(x).0);

@@ -520,7 +520,7 @@ pub fn simulate(
     let mut average = TurnAverage::new(wm, timeline, last_turn);
     let mut snapshots =
         VelocitySnapshots::new(timeline, last_turn.0, ws.fields_per_turn, wm.mesh.n_dofs());
-    let mut progress = Progress::new(steps, &run.label, opts.progress);
+    let mut progress = Progress::new(steps, &run.label, opts);
     let mu = run.friction.filter(|l| l.is_active()).map(|l| l.static_mu);
     let mut traction = match mu {
         Some(_) => Some(TractionWatch::create(

@@ -20,7 +20,7 @@ use crate::analysis::signal::{
 use crate::analysis::trace::{Envelope, LatestWindow, ENVELOPE_CAP, SPECTRUM_WINDOW_CAP};
 use crate::contact::{PairState, RotatingLine};
 use crate::output::table::{Columns, Rows};
-use crate::run::{progress_bar, RunError};
+use crate::run::{progress_bar, RunError, RunOptions};
 use crate::wheel::WheelModel;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -609,9 +609,10 @@ impl Observer for VelocitySnapshots {
 pub struct Progress(indicatif::ProgressBar);
 
 impl Progress {
-    /// A bar over `steps` steps labelled `label`, shown when `show`.
-    pub fn new(steps: usize, label: &str, show: bool) -> Self {
-        Self(progress_bar(steps as u64, label, show))
+    /// A bar over `steps` steps labelled `label`, shown when `opts.progress` (and watched
+    /// through `opts.progress_watch`).
+    pub fn new(steps: usize, label: &str, opts: &RunOptions) -> Self {
+        Self(progress_bar(steps as u64, label, opts))
     }
 
     /// Clears the bar.

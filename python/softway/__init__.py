@@ -1,0 +1,130 @@
+"""softway: dynamic contact by the space-time finite element method in the velocity
+formulation, with Bajer's soft way, from Python.
+
+- :class:`Scenario`: a scenario from a TOML file, TOML text or a dict, validated as the
+  command line validates it (:class:`ScenarioError` carries the message and the key).
+- :func:`run`: one run, results in memory (:class:`Result`: summary, history as an xarray
+  Dataset, contact nodes, fields as numpy arrays); Ctrl-C stops it at the next step.
+- :func:`sweep`: a parameter grid on any ``concurrent.futures.Executor`` (Dask's
+  ``client.get_executor()`` included; by default a local Dask cluster), gathered into one
+  xarray Dataset written as NetCDF.
+
+The engine is the Rust crate ``softway`` (the same as the ``softway`` command line): the
+same scenario gives the same numbers here, bit for bit.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from typing import Any, Optional
+
+from . import _native
+from ._native import RunError, ScenarioError
+from ._result import TIMING_KEYS, FieldFrame, Fields, Result
+from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
+from ._sweep import sweep
+
+__version__ = _native.__version__
+
+__all__ = [
+    "Scenario",
+    "ScenarioError",
+    "RunError",
+    "RunInterrupted",
+    "Result",
+    "Fields",
+    "FieldFrame",
+    "run",
+    "sweep",
+    "toml_literal",
+    "TIMING_KEYS",
+]
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by Ctrl-C (KeyboardInterrupt) at its next step. ``result`` holds what
+    was computed (``result.interrupted`` is True); it is a KeyboardInterrupt, so code that
+    does not catch it stops as on any Ctrl-C."""
+
+    def __init__(self, result: Result):
+        super().__init__("run interrupted; .result holds the steps computed")
+        self.result = result
+
+
+class _Bar:
+    """A tqdm.auto bar per run of the scenario (a notebook widget in Jupyter, text in a
+    terminal), fed by the engine's progress."""
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self.bar = None
+        self.label: Optional[str] = None
+
+    def __call__(self, label: str, done: int, total: int) -> None:
+        if not self.enabled or total == 0:
+            return
+        if self.bar is None or label != self.label:
+            self.close()
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, desc=label, unit="step", unit_scale=True, leave=False)
+            self.label = label
+        self.bar.update(max(0, done - self.bar.n))
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+def run(
+    scenario: ScenarioLike,
+    /,
+    *,
+    progress: bool = True,
+    threads: Optional[int] = None,
+    **overrides: Any,
+) -> Result:
+    """Runs a scenario and returns its results in memory.
+
+    Args:
+        scenario: a :class:`Scenario`, a path to a TOML file, TOML text or a dict.
+        progress: show a progress bar (tqdm.auto: a widget in a notebook); False for none.
+        threads: threads of the run (None: the cores; a model of 1,500 dofs or more is
+            solved on two). The results do not depend on it.
+        **overrides: dotted scenario keys to set first, as ``softway sweep --set`` does:
+            ``run("wheel.toml", **{"rolling.omega": 350.0})`` or ``rolling__omega=350.0``.
+
+    Returns:
+        :class:`Result`: ``summary``, ``history`` (xarray), ``contact_nodes``, ``fields``,
+        ``save(folder)``.
+
+    Raises:
+        ScenarioError: the scenario (or an override) is refused; the message is the command
+            line's, ``key`` the dotted key at fault.
+        RunError: the model cannot be built or the run failed (e.g. stopped by the
+            divergence guard).
+        RunInterrupted: Ctrl-C (KeyboardInterrupt, in a terminal or a notebook) stopped the
+            run at its next step; ``.result`` holds the steps computed.
+
+    The engine runs without the GIL on a thread of its own; other Python threads go on.
+    """
+    sc = as_scenario(scenario)
+    if overrides:
+        sc = sc.with_values(**overrides)
+    bar = _Bar(progress)
+    try:
+        native, raised = _native.run(sc.text, sc.path, threads, bar if progress else None)
+    finally:
+        bar.close()
+    result = Result(native)
+    if raised is not None:
+        if isinstance(raised, KeyboardInterrupt):
+            raise RunInterrupted(result) from None
+        raise raised
+    return result
+
+
+with contextlib.suppress(AttributeError):  # help() shows the engine's exceptions as ours
+    ScenarioError.__module__ = "softway"
+    RunError.__module__ = "softway"

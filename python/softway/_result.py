@@ -1,0 +1,246 @@
+"""A run's results in Python: the summary, the history as an xarray Dataset, the contact
+nodes as a pandas DataFrame, the fields as numpy arrays (and PyVista meshes)."""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Optional
+
+import numpy as np
+
+from . import _native
+
+#: Entries of ``summary.json`` that measure the machine, not the model (they differ from
+#: run to run): left out of comparisons and of a sweep's Dataset.
+TIMING_KEYS = ("wall_time_s", "time_per_step_us", "peak_rss_mib")
+
+
+def without_timings(summary: Any) -> Any:
+    """``summary`` less the :data:`TIMING_KEYS`, at every depth (a bar scenario's runs
+    carry their own)."""
+    if isinstance(summary, dict):
+        return {k: without_timings(v) for k, v in summary.items() if k not in TIMING_KEYS}
+    if isinstance(summary, list):
+        return [without_timings(v) for v in summary]
+    return summary
+
+
+def _f64(b: bytes) -> np.ndarray:
+    return np.frombuffer(b, dtype="<f8")
+
+
+def _table_to_dataset(tab: Any):
+    """A native table as an ``xarray.Dataset`` over ``time`` (from the ``t_s`` column, unit
+    s) or, without one, over ``row``; every column keeps its unit in ``attrs["units"]``;
+    the key column (the bar's ``run``) is a string variable along the same dimension."""
+    import xarray as xr
+
+    key, cols = tab
+    arrays = {name: (unit, _f64(b)) for name, unit, b in cols}
+    if "t_s" in arrays:
+        dim = "time"
+        unit, t = arrays.pop("t_s")
+        coords = {"time": ("time", t, {"units": unit, "long_name": "time", "csv_name": "t_s"})}
+    else:
+        dim, coords = "row", {}
+    data = {
+        name: (dim, values, {"units": unit, "csv_name": name})
+        for name, (unit, values) in arrays.items()
+    }
+    ds = xr.Dataset(data, coords=coords)
+    if key is not None:
+        kname, labels, codes = key
+        ds[kname] = (dim, np.asarray(labels, dtype=object)[_f64(codes).astype(np.int64)])
+        ds = ds[[kname, *arrays]]
+    return ds
+
+
+def _table_to_frame(tab: Any):
+    """A native table as a ``pandas.DataFrame`` (the CSV's columns, in order; a key column
+    of node indices as integers), units in ``attrs["units"]``."""
+    import pandas as pd
+
+    key, cols = tab
+    data: dict[str, Any] = {}
+    units: dict[str, str] = {}
+    if key is not None:
+        kname, labels, codes = key
+        lab = np.asarray(labels, dtype=object)
+        if all(str(x).isdigit() for x in labels):
+            lab = np.asarray([int(x) for x in labels], dtype=np.int64)
+        data[kname] = lab[_f64(codes).astype(np.int64)]
+        units[kname] = "1"
+    for name, unit, b in cols:
+        data[name] = _f64(b)
+        units[name] = unit
+    df = pd.DataFrame(data)
+    df.attrs["units"] = units
+    return df
+
+
+@dataclass
+class FieldFrame:
+    """One set of fields on the mesh (one VTU file of the command line)."""
+
+    #: The VTU file's name (e.g. ``velocity_003.vtu``).
+    name: str
+    #: The instant, s (None for an average over a window, such as the last turn).
+    time: Optional[float]
+    #: The displacement of every node, m, shape ``(nodes, dim)`` (None if not drawn).
+    displacement: Optional[np.ndarray]
+    #: Arrays on the nodes by name (unit in the name; ``velocity`` in m/s): shape
+    #: ``(nodes,)`` or ``(nodes, components)``.
+    point_data: dict[str, np.ndarray] = field(default_factory=dict)
+    #: Arrays on the cells by name.
+    cell_data: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+class Fields:
+    """The fields of a run on its mesh, as numpy arrays: ``points`` (reference coordinates,
+    m, ``(nodes, dim)``), ``cells`` (node indices, ``(cells, 3)`` triangles or ``(cells,
+    2)`` bars), ``frames`` (:class:`FieldFrame`). Empty (``points`` None) for a run with no
+    fields."""
+
+    def __init__(self, native: Any):
+        mesh, frames = native
+        self.points: Optional[np.ndarray] = None
+        self.cells: Optional[np.ndarray] = None
+        self.cell_type: Optional[str] = None
+        if mesh is not None:
+            dim, coords, kind, per, cells = mesh
+            self.points = _f64(coords).reshape(-1, dim)
+            self.cells = _f64(cells).astype(np.int64).reshape(-1, per)
+            self.cell_type = kind
+        self.frames: list[FieldFrame] = []
+        n = 0 if self.points is None else self.points.shape[0]
+        for name, t, disp, pdata, cdata in frames:
+
+            def arrays(items):
+                out = {}
+                for aname, comps, b in items:
+                    a = _f64(b)
+                    out[aname] = a.reshape(-1, comps) if comps > 1 else a
+                return out
+
+            d = None if disp is None else _f64(disp).reshape(n, -1)
+            self.frames.append(FieldFrame(name, t, d, arrays(pdata), arrays(cdata)))
+
+    def __len__(self) -> int:
+        return len(self.frames)
+
+    def __getitem__(self, i: int) -> FieldFrame:
+        return self.frames[i]
+
+    def __repr__(self) -> str:
+        if self.points is None:
+            return "Fields(none)"
+        return (
+            f"Fields({self.points.shape[0]} nodes, {self.cells.shape[0]} {self.cell_type}s, "
+            f"{len(self.frames)} frames: {', '.join(f.name for f in self.frames)})"
+        )
+
+    def to_pyvista(self, frame: int | str | None = None):
+        """The mesh as a ``pyvista.UnstructuredGrid`` with one frame's arrays (by index or
+        file name; the point array ``displacement`` as a 3-vector, for ``warp_by_vector``),
+        or with ``frame=None`` a ``pyvista.MultiBlock`` of every frame. Needs PyVista
+        (``pip install pyvista``)."""
+        try:
+            import pyvista as pv
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError(
+                "Fields.to_pyvista needs PyVista: pip install pyvista"
+            ) from e
+        if self.points is None:
+            raise ValueError("this run has no fields (no mesh)")
+        if frame is None:
+            mb = pv.MultiBlock()
+            for i, f in enumerate(self.frames):
+                mb[f.name] = self.to_pyvista(i)
+            return mb
+        if isinstance(frame, str):
+            matches = [f for f in self.frames if f.name == frame]
+            if not matches:
+                raise KeyError(f"no frame {frame!r}: {[f.name for f in self.frames]}")
+            fr = matches[0]
+        else:
+            fr = self.frames[frame]
+        vtk_type = {"triangle": 5, "line": 3}[self.cell_type]
+        per = self.cells.shape[1]
+        cells = np.hstack([np.full((self.cells.shape[0], 1), per), self.cells]).ravel()
+        pts = np.zeros((self.points.shape[0], 3))
+        pts[:, : self.points.shape[1]] = self.points
+        grid = pv.UnstructuredGrid(
+            cells, np.full(self.cells.shape[0], vtk_type, dtype=np.uint8), pts
+        )
+        if fr.displacement is not None:
+            d = np.zeros_like(pts)
+            d[:, : fr.displacement.shape[1]] = fr.displacement
+            grid.point_data["displacement"] = d
+        for k, v in fr.point_data.items():
+            grid.point_data[k] = v
+        for k, v in fr.cell_data.items():
+            grid.cell_data[k] = v
+        return grid
+
+
+class Result:
+    """The results of :func:`softway.run`, in memory.
+
+    Attributes:
+        summary: the key figures, ``summary.json``'s object (units in ``summary["units"]``
+            where the model gives them).
+        history: an ``xarray.Dataset`` over ``time`` (s), a variable per column of
+            ``history.csv`` with its unit in ``attrs["units"]``; ``history.to_pandas()``
+            gives a DataFrame. A bar scenario's runs follow each other, told apart by the
+            ``run`` variable.
+        contact_nodes: the wheel's per-node contact rows (``contact_nodes.csv``) as a
+            ``pandas.DataFrame``, or None.
+        traction_history: the wheel's traction over time with friction (an
+            ``xarray.Dataset``), or None.
+        rim_profile: the turn-averaged J2 at the rim nodes (``j2_rim_profile.csv``) as a
+            ``pandas.DataFrame``, or None.
+        fields: the fields on the mesh (:class:`Fields`: numpy arrays, ``to_pyvista()``).
+        interrupted: True when the run was stopped (Ctrl-C) before its end: the results
+            hold the steps computed.
+        warnings: the run's warnings.
+        lines: the command line's screen summary.
+    """
+
+    def __init__(self, native: Any):
+        self._native = native
+        self.kind: str = native.kind
+        self.summary: dict = json.loads(native.summary_json)
+        self.interrupted: bool = native.interrupted
+        self.warnings: list[str] = list(native.warnings)
+        self.lines: list[str] = list(native.lines)
+        self.history = _table_to_dataset(native.table("history"))
+        cn = native.table("contact_nodes")
+        self.contact_nodes = None if cn is None else _table_to_frame(cn)
+        th = native.table("traction_history")
+        self.traction_history = None if th is None else _table_to_dataset(th)
+        rp = native.table("rim_profile")
+        self.rim_profile = None if rp is None else _table_to_frame(rp)
+        self._fields: Optional[Fields] = None
+
+    @property
+    def fields(self) -> Fields:
+        """The fields on the mesh (built on first use)."""
+        if self._fields is None:
+            self._fields = Fields(self._native.fields())
+        return self._fields
+
+    def save(self, folder: str | os.PathLike[str]) -> list[Path]:
+        """Writes the command line's files into ``folder`` (created as needed): the same
+        ``history.csv``, ``summary.json``, ``contact_nodes.csv``, VTU and PNG files as
+        ``softway run`` writes, byte for byte but for the run's timings. Returns the paths."""
+        return [Path(p) for p in self._native.save(os.fspath(folder))]
+
+    def __repr__(self) -> str:
+        state = ", interrupted" if self.interrupted else ""
+        return (
+            f"Result(kind={self.kind!r}, {self.history.sizes.get('time', 0)} history rows"
+            f"{state})"
+        )

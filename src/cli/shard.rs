@@ -1,0 +1,107 @@
+//! `softway sweep --shard I/N` and `softway gather`: a sweep in slices on a cluster's job
+//! array, joined into the table and plot of `softway sweep` ([`crate::run::sweep::shard`]).
+
+use super::{
+    check_ladder_estimate, print_table, set_threads, sweep_values, CommandResult, Guard, Replace,
+};
+use crate::output::staging::StagedDir;
+use crate::run::sweep::shard::{gather, read_manifest, run_shard, Shard, MANIFEST};
+use crate::run::Cancel;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// `softway sweep --shard I/N`: slice `I` of the sweep into its own folder with its
+/// manifest. Every value of the whole sweep is validated first, as `softway sweep` does, so
+/// a bad value fails every slice at once rather than one of them at the end.
+pub(super) fn shard_command(
+    scenario: &Path,
+    set: Vec<String>,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    shard: &str,
+    Guard { force, yes }: Guard,
+    cancel: &Cancel,
+) -> CommandResult {
+    let shard: Shard = shard.parse()?;
+    let (sc, text, key, values) = sweep_values(scenario, set)?;
+    let points = crate::scenario::overrides::grid(
+        &[(key.clone(), values.clone())],
+        crate::scenario::overrides::Grid::Product,
+    )?;
+    check_ladder_estimate(scenario, &text, &points, yes)?;
+    let out = out.unwrap_or_else(|| {
+        PathBuf::from("out").join(format!(
+            "{}-sweep-shard-{}-of-{}",
+            sc.name, shard.index, shard.count
+        ))
+    });
+    set_threads("--jobs", jobs)?;
+    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
+    let (points, files) = run_shard(
+        scenario,
+        &text,
+        &sc.name,
+        &key,
+        &values,
+        shard,
+        stage.path(),
+        cancel,
+    )?;
+    for p in &points {
+        for w in &p.warnings {
+            errln!("softway: warning: {key} = {}: {w}", p.value);
+        }
+    }
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!(
+        "{}: {key}, shard {}/{}: {} of {} values",
+        sc.name,
+        shard.index,
+        shard.count,
+        points.len(),
+        values.len()
+    );
+    if points.is_empty() {
+        outln!("  (no value falls in this shard)");
+        for f in &files {
+            outln!("    {}", f.display());
+        }
+    } else {
+        print_table(&out.join("sweep.md"), &files);
+    }
+    if cancel.is_cancelled() {
+        return Ok(ExitCode::from(130));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `softway gather`: the shards' folders into the sweep's table and plot.
+pub(super) fn gather_command(
+    shards: &[PathBuf],
+    out: Option<PathBuf>,
+    Replace { force }: Replace,
+) -> CommandResult {
+    // The default folder is named after the scenario, which the first manifest gives.
+    let first = read_manifest(shards.first().ok_or("no shard folder given")?)?;
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", first.name)));
+    // The shards' folders are inputs: never replaced by the gathered one.
+    let manifests: Vec<PathBuf> = shards.iter().map(|d| d.join(MANIFEST)).collect();
+    let keep: Vec<&Path> = manifests.iter().map(PathBuf::as_path).collect();
+    let stage = StagedDir::begin_keeping(&out, force, &keep)?;
+    let (m, points, files) = gather(shards, stage.path())?;
+    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
+    stage.commit()?;
+    outln!(
+        "{}: {} swept over {} values, gathered from {} shards",
+        m.name,
+        m.key,
+        points.len(),
+        m.of
+    );
+    print_table(&out.join("sweep.md"), &files);
+    for p in &points {
+        outln!("    {}/", p.dir.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
