@@ -776,7 +776,7 @@ refused!(
 refused!(
     wheel_a_billion_turns,
     wheel_text().replace("turns = 5", "turns = 1e9"),
-    ["`time.h`", "days", "--yes"]
+    ["`time.h`", "steps", "with or without --yes"]
 );
 
 // ---------------------------------------------------------------- scenario: [[runs]]
