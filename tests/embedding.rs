@@ -115,9 +115,18 @@ fn warnings_come_back_in_the_report() {
             ],
         );
         let sc = softway::build::resolve(&Scenario::from_str(&text, &path).unwrap()).unwrap();
-        history(&sc, &format!("warn-{omega}"), &RunOptions::default())
+        let all = history(&sc, &format!("warn-{omega}"), &RunOptions::default())
             .0
-            .warnings
+            .warnings;
+        // The paper's 72-node rim has 1.6 pitches across Hertz's patch: warned about at
+        // every speed (`softway::run::wheel::load::coarse_rim_warning`).
+        assert!(
+            all.iter().any(|w| w.contains("the rim is coarse")),
+            "{all:?}"
+        );
+        all.into_iter()
+            .filter(|w| !w.contains("the rim is coarse"))
+            .collect::<Vec<_>>()
     };
     let at = warnings("510.0");
     assert!(

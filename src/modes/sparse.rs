@@ -37,8 +37,9 @@ use crate::linalg::{set_identity_rows, spmv_add, Factor, Pattern};
 const BLOCK: usize = 4;
 
 /// A Ritz pair is kept when its residual is below this times `|theta|` (self-adjoint
-/// operator) or times the largest `|theta|` found (the others: their
-/// accuracy is bounded by that of the solves, relative to the operator's norm).
+/// operator; at least a millionth of the largest `|theta|`, which a rigid mode makes large)
+/// or times the largest `|theta|` found (the others: their accuracy is bounded by that of
+/// the solves, relative to the operator's norm).
 const RITZ_TOLERANCE: f64 = 1e-11;
 
 /// The largest Krylov basis tried, vectors.
@@ -195,7 +196,7 @@ fn ritz_pairs(op: &Operator, want: usize, dim: usize) -> Result<Vec<Ritz>, Modes
             let res = ((op.dot)(&rre, &rre) + (op.dot)(&rim, &rim)).sqrt();
             let norm = ((op.dot)(&re, &re) + (op.dot)(&im, &im)).sqrt();
             let scale = if op.symmetric {
-                theta.norm()
+                theta.norm().max(1e-6 * theta_max)
             } else {
                 theta_max
             };
@@ -208,7 +209,8 @@ fn ritz_pairs(op: &Operator, want: usize, dim: usize) -> Result<Vec<Ritz>, Modes
             return Ok(out);
         }
         if m >= dim || target >= MAX_BASIS || stalled {
-            if converged {
+            // The whole space: the projection is the problem itself, to rounding.
+            if converged || m >= dim {
                 return Ok(out);
             }
             return Err(ModesError::SparseNoConvergence {
