@@ -414,7 +414,7 @@ fn the_command_rolls_the_wheel_and_writes_its_files() {
         (num("p2_hz") / num("p2_hertz_hz") - 1.0).abs() < 0.05,
         "{r}"
     );
-    assert!(num("ms_per_step") > 0.0 && num("s_per_metre") > 0.0);
+    assert!(num("time_per_step_us") > 0.0 && num("time_per_metre_s") > 0.0);
     // A measured profile: a 1 mm-deep dip 0.2 m long at 4.5 m from the start.
     let mut csv = String::from("x_m,r_m\n");
     for i in 0..=200 {

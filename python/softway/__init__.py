@@ -16,6 +16,7 @@ same scenario gives the same numbers here, bit for bit.
 from __future__ import annotations
 
 import contextlib
+import os
 from typing import Any, Optional
 
 from . import _native
@@ -83,6 +84,7 @@ def run(
     *,
     progress: bool = True,
     threads: Optional[int] = None,
+    irregularity: Any = None,
     **overrides: Any,
 ) -> Result:
     """Runs a scenario and returns its results in memory.
@@ -92,6 +94,10 @@ def run(
         progress: show a progress bar (tqdm.auto: a widget in a notebook); False for none.
         threads: threads of the run (None: the cores; a model of 1,500 dofs or more is
             solved on two). The results do not depend on it.
+        irregularity: for the wheel on a track (``kind = "track"``), the rail's roughness as
+            an array of shape (N, 2): the distance from the axle's start (m, increasing) and
+            the height of the rail's top there (m). It is passed to the engine as data (the
+            scenario's ``[irregularity] type = "measured"``), not as a Python callback.
         **overrides: dotted scenario keys to set first, as ``softway sweep --set`` does:
             ``run("wheel.toml", **{"rolling.omega": 350.0})`` or ``rolling__omega=350.0``.
 
@@ -112,17 +118,42 @@ def run(
     sc = as_scenario(scenario)
     if overrides:
         sc = sc.with_values(**overrides)
-    bar = _Bar(progress)
-    try:
-        native, raised = _native.run(sc.text, sc.path, threads, bar if progress else None)
-    finally:
-        bar.close()
+    with contextlib.ExitStack() as stack:
+        if irregularity is not None:
+            sc = _with_irregularity(sc, irregularity, stack)
+        bar = _Bar(progress)
+        try:
+            native, raised = _native.run(sc.text, sc.path, threads, bar if progress else None)
+        finally:
+            bar.close()
     result = Result(native)
     if raised is not None:
         if isinstance(raised, KeyboardInterrupt):
             raise RunInterrupted(result) from None
         raise raised
     return result
+
+
+def _with_irregularity(sc: Scenario, profile: Any, stack: contextlib.ExitStack) -> Scenario:
+    """The scenario with ``profile`` ((N, 2): x from the axle's start, m; r, m) as its
+    measured irregularity: written to a CSV file in a temporary folder that lives while the
+    run does, named by an absolute path in ``[irregularity]``."""
+    import numpy as np
+    import tempfile
+
+    arr = np.asarray(profile, dtype=float)
+    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 2:
+        raise ValueError(
+            f"irregularity: an array of shape (N, 2) with N >= 2 (x_m, r_m), not {arr.shape}"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise ValueError("irregularity: the values must be finite")
+    folder = stack.enter_context(tempfile.TemporaryDirectory(prefix="softway-irregularity-"))
+    path = os.path.join(folder, "irregularity.csv")
+    np.savetxt(path, arr, delimiter=",", header="x_m,r_m", comments="", fmt="%.17g")
+    return sc.with_values(
+        **{"irregularity.type": "measured", "irregularity.file": path}
+    )
 
 
 with contextlib.suppress(AttributeError):  # help() shows the engine's exceptions as ours

@@ -30,6 +30,7 @@ def run(
     *,
     progress: bool = True,
     threads: Optional[int] = None,
+    irregularity: Any = None,
     **overrides: Any,
 ) -> Result: ...
 def sweep(

@@ -81,9 +81,9 @@ struct RollingSummary {
     p2_above_sleeper_hz: Option<f64>,
     p2_hertz_hz: Option<f64>,
     pinned_pinned_hz: Option<f64>,
-    wall_s: f64,
-    ms_per_step: f64,
-    s_per_metre: f64,
+    wall_time_s: f64,
+    time_per_step_us: f64,
+    time_per_metre_s: f64,
     interrupted: bool,
 }
 
@@ -412,9 +412,9 @@ fn summarise(
         p2_above_sleeper_hz: p2_above,
         p2_hertz_hz: f.p2_hz,
         pinned_pinned_hz: f.pinned_pinned_hz,
-        wall_s: wall,
-        ms_per_step: 1e3 * wall / steps.max(1) as f64,
-        s_per_metre: wall / travelled.max(1e-12),
+        wall_time_s: wall,
+        time_per_step_us: 1e6 * wall / steps.max(1) as f64,
+        time_per_metre_s: wall / travelled.max(1e-12),
         interrupted,
     })
 }
@@ -436,8 +436,8 @@ fn screen_line(s: &RollingSummary) -> String {
         s.sleeper_passing_hz,
         hz(s.p2_hz),
         s.contact_stiffness_n_m,
-        s.ms_per_step,
-        s.s_per_metre,
+        1e-3 * s.time_per_step_us,
+        s.time_per_metre_s,
     )
 }
 
