@@ -335,8 +335,12 @@ def test_a_rail_irregularity_as_an_array_is_the_measured_profiles_run(tmp_path):
     assert np.max(np.abs(f_rough - f_smooth)) > 1e3
     assert float(rough.history["irregularity_m"].max()) == pytest.approx(20e-6, rel=1e-3)
     # The command line over the same profile as a file.
-    np.savetxt(tmp_path / "rough.csv", profile, delimiter=",", header="x_m,r_m", comments="", fmt="%.17g")
-    text = sc.with_values(**{"irregularity.type": "measured", "irregularity.file": "rough.csv"}).text
+    np.savetxt(
+        tmp_path / "rough.csv", profile, delimiter=",", header="x_m,r_m", comments="", fmt="%.17g"
+    )
+    text = sc.with_values(
+        **{"irregularity.type": "measured", "irregularity.file": str(tmp_path / "rough.csv")}
+    ).text
     (tmp_path / "rough.toml").write_text(text)
     out = tmp_path / "out"
     r = cli("run", tmp_path / "rough.toml", "--quiet", "--out", out)
