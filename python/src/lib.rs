@@ -16,7 +16,8 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 use softway::build::resolve;
 use softway::mesh::Cells;
 use softway::run::{Cancel, Columns, Par, ProgressWatch, Results, RunOptions};
-use softway::scenario::{set_key as set_scenario_key, Scenario, ScenarioError as ScError};
+use softway::scenario::overrides::{apply, Override};
+use softway::scenario::{Scenario, ScenarioError as ScError};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -117,11 +118,16 @@ fn check_file(path: PathBuf) -> PyResult<()> {
     Ok(())
 }
 
-/// Sets the dotted key `key` to the TOML literal `value` in the scenario text (as
-/// `softway sweep --set` does); the text is not validated here.
+/// Sets the dotted key `key` to the TOML literal `value` in the scenario text exactly as
+/// `softway run --set` and `softway sweep --set` write it (the same text, so the same
+/// `scenario_sha256`); the text is not validated here.
 #[pyfunction]
 fn set_key(text: &str, key: &str, value: &str) -> PyResult<String> {
-    set_scenario_key(text, key, value).map_err(|m| {
+    let set = [Override {
+        key: key.to_string(),
+        value: value.to_string(),
+    }];
+    apply(text, &set).map_err(|m| {
         let err = ScenarioError::new_err(format!("`{key}` = {value}: {m}"));
         Python::with_gil(|py| {
             let _ = err.value(py).setattr("key", key);
