@@ -62,6 +62,20 @@ pub(crate) fn parameters(ts: &TrackScenario) -> serde_json::Value {
     })
 }
 
+/// Copies the numbers of the first run's summary `first` to the top level of `json` (the
+/// columns of `softway sweep`'s table), but its step count.
+pub(super) fn lift_first_run(json: &mut serde_json::Value, first: &impl serde::Serialize) {
+    if let (Some(o), Ok(serde_json::Value::Object(first))) =
+        (json.as_object_mut(), serde_json::to_value(first))
+    {
+        for (k, v) in first {
+            if v.is_number() && k != "steps" {
+                o.insert(k, v);
+            }
+        }
+    }
+}
+
 /// The track scenario of a run.
 fn track_of(model: &Model) -> &TrackScenario {
     match model {
@@ -186,16 +200,7 @@ pub(crate) fn record(
         "parameters": parameters(first),
         "runs": sums,
     });
-    // The first run's figures at the top level too (the columns of `softway sweep`'s table).
-    if let (Some(o), Ok(serde_json::Value::Object(first))) =
-        (json.as_object_mut(), serde_json::to_value(&sums[0]))
-    {
-        for (k, v) in first {
-            if v.is_number() && k != "steps" {
-                o.insert(k, v);
-            }
-        }
-    }
+    lift_first_run(&mut json, &sums[0]);
     super::stamp_provenance(&mut json, sc);
     let lines = sums.iter().map(screen_line).collect();
     Ok(Results::with_panels(

@@ -183,15 +183,7 @@ pub(crate) fn record(
         "parameters": super::track::parameters(first),
         "runs": sums,
     });
-    if let (Some(o), Ok(serde_json::Value::Object(first))) =
-        (json.as_object_mut(), serde_json::to_value(&sums[0]))
-    {
-        for (k, v) in first {
-            if v.is_number() && k != "steps" {
-                o.insert(k, v);
-            }
-        }
-    }
+    super::track::lift_first_run(&mut json, &sums[0]);
     super::stamp_provenance(&mut json, sc);
     let lines = sums.iter().map(screen_line).collect();
     Ok(Results::with_panels(
