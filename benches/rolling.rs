@@ -9,9 +9,9 @@ use softway::contact::Treatment;
 use softway::mesh::generators::{disk_graded, DiskOptions};
 use softway::simulation::Simulation;
 use softway::time::{Coriolis, Integrator};
-use softway::track::rolling::{Vehicle, WheelOnTrack};
+use softway::track::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
 use softway::track::TrackSpec;
-use softway::wheel::{Support, WheelModel, WheelSpec};
+use softway::wheel::{Support, WheelSpec};
 use std::sync::atomic::AtomicBool;
 
 const SPEED: f64 = 100.0 / 3.6;
@@ -32,20 +32,10 @@ fn model(rim: usize) -> (WheelOnTrack, f64) {
         thickness: 0.02,
         plane: softway::material::PlaneModel::Strain,
         support: Support::Hub { radius: 0.1 },
-        omega: SPEED / 0.46,
         ..WheelSpec::paper()
     };
-    let r_s = WheelModel::new(mesh.clone(), spec.clone())
-        .unwrap()
-        .spinning_radius();
-    let wheel = WheelModel::new(
-        mesh,
-        WheelSpec {
-            omega: SPEED / r_s,
-            ..spec
-        },
-    )
-    .unwrap();
+    let wheel = wheel_at_speed(mesh, spec, SPEED).unwrap();
+    let r_s = wheel.spinning_radius();
     let vehicle = Vehicle {
         unsprung_mass: 800.0,
         axle_load: 100e3,

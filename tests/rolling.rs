@@ -18,7 +18,7 @@ use softway::mesh::generators::{disk_graded, DiskOptions};
 use softway::simulation::Simulation;
 use softway::time::{Coriolis, Integrator};
 use softway::track::receptance::p2_with;
-use softway::track::rolling::{Vehicle, WheelOnTrack};
+use softway::track::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
 use softway::track::{Ends, TrackSpec};
 use softway::wheel::{Support, WheelModel, WheelSpec};
 use std::f64::consts::PI;
@@ -77,20 +77,7 @@ fn wheel() -> WheelModel {
         },
         ..WheelSpec::paper()
     };
-    // omega = V / R_s, R_s the spun rim's radius (it moves by ~1e-7 with omega).
-    let mut omega = SPEED / 0.46;
-    for _ in 0..3 {
-        let w = WheelModel::new(
-            mesh.clone(),
-            WheelSpec {
-                omega,
-                ..spec.clone()
-            },
-        )
-        .unwrap();
-        omega = SPEED / w.spinning_radius();
-    }
-    WheelModel::new(mesh, WheelSpec { omega, ..spec }).unwrap()
+    wheel_at_speed(mesh, spec, SPEED).unwrap()
 }
 
 fn vehicle() -> Vehicle {

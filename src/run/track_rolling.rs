@@ -21,7 +21,7 @@ use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Run, Scenario, TrackScenario};
 use crate::simulation::Simulation;
 use crate::track::receptance::{frequencies, log_frequencies, p2_with, receptance, Wheel};
-use crate::track::rolling::{Vehicle, WheelOnTrack};
+use crate::track::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
 use crate::wheel::{Support, WheelModel, WheelSpec};
 use std::path::Path;
 use std::time::Instant;
@@ -130,19 +130,7 @@ fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
         material: Elastic { ..w.material },
         ..WheelSpec::paper()
     };
-    let mut omega = v.speed / v.wheel_radius;
-    for _ in 0..2 {
-        let m = WheelModel::new(
-            mesh.clone(),
-            WheelSpec {
-                omega,
-                ..spec.clone()
-            },
-        )
-        .map_err(|e| e.to_string())?;
-        omega = v.speed / m.spinning_radius();
-    }
-    WheelModel::new(mesh, WheelSpec { omega, ..spec }).map_err(|e| e.to_string())
+    wheel_at_speed(mesh, spec, v.speed).map_err(|e| e.to_string())
 }
 
 /// `softway run` of a track scenario with the wheel (module docs).

@@ -455,6 +455,31 @@ impl WheelOnTrack {
     }
 }
 
+/// The wheel of `spec` on `mesh` turning at `V / R_s`, `R_s` its spun rim's radius (which
+/// moves with `omega` by the centrifugal expansion: two rebuilds bring it to ~1e-12),
+/// as [`WheelOnTrack::new`] needs it.
+///
+/// # Errors
+/// [`crate::wheel::WheelError`].
+pub fn wheel_at_speed(
+    mesh: crate::mesh::Mesh,
+    spec: crate::wheel::WheelSpec,
+    speed: f64,
+) -> Result<WheelModel, crate::wheel::WheelError> {
+    let mut omega = speed / spec.radius;
+    for _ in 0..2 {
+        let m = WheelModel::new(
+            mesh.clone(),
+            crate::wheel::WheelSpec {
+                omega,
+                ..spec.clone()
+            },
+        )?;
+        omega = speed / m.spinning_radius();
+    }
+    WheelModel::new(mesh, crate::wheel::WheelSpec { omega, ..spec })
+}
+
 /// The raised-cosine ramp from 0 at `t = 0` to 1 at `t = settle` (1 after; 1 throughout
 /// when `settle` is 0).
 pub fn ramp(t: f64, settle: f64) -> f64 {
