@@ -303,12 +303,15 @@ mod tests {
         let status = "Name:\tsoftway\nVmPeak:\t  20480 kB\nVmHWM:\t    5120 kB\nVmRSS:\t 4096 kB\n";
         assert_eq!(parse_vm_hwm(status), Some(5.0));
         assert_eq!(parse_vm_hwm("Name: x\n"), None);
-        // On Linux the process's own peak is at least the memory it holds now.
-        if let Some(mib) = peak_rss_mib() {
+        // On Linux the process's own peak is at least the memory it holds now. The kernel
+        // batches the per-thread RSS counters, so two readings of a many-threaded test
+        // process may differ by a few hundred kB either way: only the 64 MiB just touched
+        // is asserted, with a margin for that batching.
+        if peak_rss_mib().is_some() {
             let big = vec![1u8; 64 << 20];
             std::hint::black_box(&big);
             let after = peak_rss_mib().unwrap();
-            assert!(after >= 64.0 && after >= mib, "{mib} -> {after}");
+            assert!(after >= 63.0, "peak {after} MiB after touching 64 MiB");
         }
     }
 }
