@@ -212,6 +212,7 @@ pub mod cli;
 pub mod contact;
 pub mod element;
 pub mod frame;
+pub mod growth;
 pub mod guard;
 pub mod linalg;
 pub mod material;
@@ -226,6 +227,7 @@ pub mod scenario;
 pub mod simulation;
 pub mod time;
 pub mod track;
+pub mod wear;
 pub mod wheel;
 
 pub use run::{run, Results, RunError, RunOptions};

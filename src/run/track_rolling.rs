@@ -184,14 +184,16 @@ pub(crate) fn record(
     ))
 }
 
-/// Runs one wheel passage, calling `row(k, columns)` at every step.
-fn roll(
+/// The wheel on the track of run `run` of `sc` ready to roll: the model, its simulation (the
+/// run's treatment, friction, threads and guard set) and the number of steps. `profile`
+/// replaces the scenario's irregularity when given (a growth study's rail profile).
+pub(crate) fn passage(
     sc: &Scenario,
     run: &Run,
     ts: &TrackScenario,
     opts: &RunOptions,
-    row: &mut dyn FnMut(usize, &[f64]) -> std::io::Result<()>,
-) -> Result<(RollingSummary, Vec<Rec>), RunError> {
+    profile: Option<crate::contact::profile::Profile>,
+) -> Result<(WheelOnTrack, Simulation, usize), RunError> {
     let input = |e: String| RunError::input(&sc.path, format!("run `{}`: {e}", run.label));
     let v = &ts.vehicle;
     let wheel = wheel_model(ts).map_err(input)?;
@@ -208,24 +210,43 @@ fn roll(
     let start = ts.start();
     let h = run.params.h;
     let steps = (ts.travel() / (v.speed * h)).round().max(1.0) as usize;
-    let profile = ts
-        .irregularity
-        .as_ref()
-        .map(|irr| irr.profile((start, start + ts.travel() + 1.0)))
-        .transpose()
-        .map_err(|e| input(e.to_string()))?;
+    let profile = match profile {
+        Some(p) => Some(p),
+        None => ts
+            .irregularity
+            .as_ref()
+            .map(|irr| irr.profile((start, start + ts.travel() + 1.0)))
+            .transpose()
+            .map_err(|e| input(e.to_string()))?,
+    };
     let wot = WheelOnTrack::new(wheel, &ts.spec, vehicle, start, profile)
         .map_err(|e| input(e.to_string()))?;
     let mut problem = wot.problem(run.integrator, h, steps);
     problem.treatment = run.contact;
     problem.friction = run.friction;
+    let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation {
+        run: run.label.clone(),
+        source,
+    })?;
+    sim.set_par(opts.par());
+    sim.set_guard(opts.guard);
+    Ok((wot, sim, steps))
+}
+
+/// Runs one wheel passage, calling `row(k, columns)` at every step.
+fn roll(
+    sc: &Scenario,
+    run: &Run,
+    ts: &TrackScenario,
+    opts: &RunOptions,
+    row: &mut dyn FnMut(usize, &[f64]) -> std::io::Result<()>,
+) -> Result<(RollingSummary, Vec<Rec>), RunError> {
+    let (wot, mut sim, steps) = passage(sc, run, ts, opts, None)?;
+    let start = ts.start();
     let sim_error = |source| RunError::Simulation {
         run: run.label.clone(),
         source,
     };
-    let mut sim = Simulation::new(problem).map_err(sim_error)?;
-    sim.set_par(opts.par());
-    sim.set_guard(opts.guard);
     let pb = super::progress_bar(steps as u64, &run.label, opts);
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
     let clock = Instant::now();

@@ -1,0 +1,480 @@
+//! The rail's side of a growth study: one pass is the wheel of a track scenario
+//! (`vehicle.model = "wheel"`, [`crate::track::rolling`]) rolling over the recorded bays
+//! of the track, whose rail top carries the study's profile in the contact gap; the rail
+//! wears under the rim nodes in contact.
+//!
+//! # The profile
+//!
+//! The grid runs over the recorded passage (from the end of the settling to the end of the
+//! run: `vehicle.travel_bays` bays) at `growth.dx`. The profile enters the search as the
+//! rail's irregularity ([`crate::contact::profile::Profile::sampled`]: the point of
+//! contact raised by `z` and the normal turned by `z'`), faded in and out by a raised
+//! cosine over [`FADE_BAYS`] bays at each end of the grid so that the wheel does not meet a
+//! step where the grid starts and ends (the growth analysis reads the inner part,
+//! [`TrackPass::inner`]).
+//!
+//! # The wear
+//!
+//! The wheel on the track is frictionless (its friction rows on the rail's beams are not
+//! built), so the tangential side of the contact is the classic one of roughness-growth
+//! models (Nielsen 2003, Hempelmann and Knothe 1996): a steady longitudinal creepage
+//! `gamma` (`growth.creepage`) and a traction `T = mu_t N` (`growth.traction_coefficient`),
+//! the rim sliding over the rail at `gamma V`. The law of `[wear]`
+//! ([`crate::wear::WearLaw`]) turns the pressure under a rail point, `T` and the slip speed
+//! into a depth rate. Where the pressure comes from is [`WearPatch`]:
+//!
+//! - **`hertz`** (the default): the step's contact force `F` (the dynamic force of the FE
+//!   contact) spread over Hertz's line-contact patch `p(s) = 2 P' sqrt(a^2 - s^2) / (pi a^2)`,
+//!   `P' = F / w` per unit width (`w` the wheel's thickness), `a = sqrt(4 P' R / (pi E*))`
+//!   with `R` the rim's radius and `E*` the wheel slice's own (`E / (1 - nu^2)` in plane
+//!   strain, `E` in plane stress: the rail's beam has no local compliance, so this is the
+//!   patch of the FE model), centred under the axle and moving with it over the step. Each
+//!   rail point gets the step's mean pressure over the part of the patch that passed over it,
+//!   integrated exactly (the patch's cumulative load is closed-form), so the wear does not
+//!   depend on how the grid and the step's travel fall.
+//! - **`nodes`**: each rim node in contact is a contact point of its own (its normal force,
+//!   its rim pitch times the thickness as its area), its worn volume laid around its point of
+//!   contact on the rail by a hat of half-width one pitch. It resolves the patch only as
+//!   well as the rim does: on the shipped rim (4 mm pitch, two nodes in a 10 mm patch) the
+//!   share of the force between the two nodes puts a ripple of 1-3% of the mean depth at
+//!   10-30 mm into the wear, ten times the force's own content there (`tests`), which would
+//!   read as growth at corrugation wavelengths; use it on rims with ten or more nodes in
+//!   the patch.
+//!
+//! Either way, under a steady load the worn depth of a rail point over a pass is the
+//! continuum's `k gamma P / (H w)` for Archard (a rail point spends `2a / V` in a patch of
+//! mean pressure `P / (2 a w)` sliding `gamma V`): `tests/growth_track.rs`.
+//!
+//! What the wear responds to is therefore the normal force's variation along the rail: the
+//! sleepers' passing, the P2 resonance, the pinned-pinned resonance, the profile itself
+//! through the contact's filter, all of them in the wheel's dynamic contact.
+
+use super::{PassResult, PassRunner, SurfaceProfile};
+use crate::contact::profile::Profile;
+use crate::run::{RunError, RunOptions};
+use crate::scenario::{Model, Scenario, TrackScenario, VehicleModel};
+use crate::wear::{ContactSample, WearLaw};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+/// The fade of the profile in the gap at each end of the grid, sleeper bays.
+pub const FADE_BAYS: f64 = 0.5;
+
+/// The tangential side of the rail's wear (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct RailSliding {
+    /// Longitudinal creepage `gamma` (> 0), dimensionless.
+    pub creepage: f64,
+    /// Traction coefficient `mu_t = T / N` (>= 0).
+    pub traction_coefficient: f64,
+    /// The rail's density, kg/m^3 (the mass-based wear laws).
+    pub density: f64,
+}
+
+/// Where the worn pressure comes from (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WearPatch {
+    /// The step's force over Hertz's patch under the axle.
+    Hertz,
+    /// The rim nodes' own forces.
+    Nodes,
+}
+
+/// Hertz's line contact of a force per unit width over a half-width `a` (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinePatch {
+    /// Load per unit width, N/m.
+    pub load: f64,
+    /// Half-width, m.
+    pub a: f64,
+}
+
+impl LinePatch {
+    /// The patch of `force` (N) over a width `w` (m) on a cylinder of radius `r` (m) with
+    /// contact modulus `e_star` (Pa).
+    pub fn new(force: f64, w: f64, r: f64, e_star: f64) -> Self {
+        let load = (force / w).max(0.0);
+        Self {
+            load,
+            a: (4.0 * load * r / (std::f64::consts::PI * e_star)).sqrt(),
+        }
+    }
+
+    /// The pressure at `s` from the centre, Pa.
+    pub fn pressure(&self, s: f64) -> f64 {
+        if self.a <= 0.0 || s.abs() >= self.a {
+            return 0.0;
+        }
+        2.0 * self.load * (self.a * self.a - s * s).sqrt()
+            / (std::f64::consts::PI * self.a * self.a)
+    }
+
+    /// The load per unit width from `-a` to `s`, N/m (0 below `-a`, `load` above `a`).
+    pub fn cumulative(&self, s: f64) -> f64 {
+        if self.a <= 0.0 {
+            return if s >= 0.0 { self.load } else { 0.0 };
+        }
+        let s = s.clamp(-self.a, self.a);
+        let a2 = self.a * self.a;
+        self.load / (std::f64::consts::PI * a2)
+            * (s * (a2 - s * s).max(0.0).sqrt() + a2 * (s / self.a).asin())
+            + 0.5 * self.load
+    }
+}
+
+/// One pass of the wheel over the track (module docs).
+#[derive(Debug, Clone)]
+pub struct TrackPass {
+    sc: Scenario,
+    ts: TrackScenario,
+    opts: RunOptions,
+    law: WearLaw,
+    sliding: RailSliding,
+    patch: WearPatch,
+    x0: f64,
+    dx: f64,
+    n: usize,
+    force: Vec<(f64, f64)>,
+}
+
+impl TrackPass {
+    /// The passes of the first run of the track scenario `sc` on a grid of spacing `dx` (m),
+    /// wearing by `law` with `sliding` under `patch`.
+    ///
+    /// # Errors
+    /// [`RunError::Input`]: not a track scenario with the wheel, a spacing not between the
+    /// step's travel and a tenth of a bay, a bad wear law or sliding.
+    pub fn new(
+        sc: &Scenario,
+        dx: f64,
+        law: WearLaw,
+        sliding: RailSliding,
+        patch: WearPatch,
+        opts: RunOptions,
+    ) -> Result<Self, RunError> {
+        let input = |m: String| RunError::input(&sc.path, m);
+        let run = sc.runs.first().ok_or_else(|| input("no run".into()))?;
+        let ts =
+            match &run.model {
+                Model::Track(t) if t.vehicle.model == VehicleModel::Wheel => (**t).clone(),
+                _ => return Err(input(
+                    "a rail's growth study needs kind = \"track\" with vehicle.model = \"wheel\""
+                        .into(),
+                )),
+            };
+        law.check().map_err(input)?;
+        if !(sliding.creepage.is_finite() && sliding.creepage > 0.0 && sliding.creepage < 1.0) {
+            return Err(input(format!(
+                "growth.creepage = {}: must be in (0, 1) (the rim's slip over the rolling speed)",
+                sliding.creepage
+            )));
+        }
+        if !(sliding.traction_coefficient.is_finite() && sliding.traction_coefficient >= 0.0) {
+            return Err(input(format!(
+                "growth.traction_coefficient = {}: must be finite and >= 0",
+                sliding.traction_coefficient
+            )));
+        }
+        let s = ts.spec.spacing;
+        let travel_step = ts.vehicle.speed * run.params.h;
+        if !(dx.is_finite() && dx > 0.0 && dx <= 0.1 * s) {
+            return Err(input(format!(
+                "growth.dx = {dx} m: must be > 0 and at most a tenth of a sleeper bay ({} m)",
+                0.1 * s
+            )));
+        }
+        if dx > ts.rim_passage() * ts.vehicle.speed {
+            return Err(input(format!(
+                "growth.dx = {dx} m: must be at most the rim's pitch ({:.3e} m), which the wear is laid over (the step's travel is {travel_step:.3e} m)",
+                ts.rim_passage() * ts.vehicle.speed
+            )));
+        }
+        let x0 = ts.start() + ts.settle_distance();
+        let length = ts.travel() - ts.settle_distance();
+        let n = (length / dx).floor() as usize + 1;
+        Ok(Self {
+            sc: sc.clone(),
+            ts,
+            opts,
+            law,
+            sliding,
+            patch,
+            x0,
+            dx,
+            n,
+            force: Vec::new(),
+        })
+    }
+
+    /// The samples of the grid away from the faded ends (`FADE_BAYS` bays each side).
+    pub fn inner(&self) -> std::ops::Range<usize> {
+        let fade = (FADE_BAYS * self.ts.spec.spacing / self.dx).ceil() as usize;
+        fade.min(self.n)..self.n.saturating_sub(fade).max(fade.min(self.n))
+    }
+
+    /// The last pass's contact force along the rail: `(x, F)` at every step from the grid's
+    /// start (`x` the rail's abscissa under the axle's centre, its drift included, where the
+    /// patch is centred, m; `F` the contact force, N).
+    pub fn last_force(&self) -> &[(f64, f64)] {
+        &self.force
+    }
+
+    /// The track scenario.
+    pub fn track(&self) -> &TrackScenario {
+        &self.ts
+    }
+
+    /// The profile the gap sees: `z` faded in and out over [`FADE_BAYS`] bays.
+    fn gap_profile(&self, z: &[f64]) -> Result<Profile, RunError> {
+        let fade = FADE_BAYS * self.ts.spec.spacing;
+        let len = (self.n - 1) as f64 * self.dx;
+        let w = |x: f64| -> f64 {
+            let d = x.min(len - x);
+            if d >= fade {
+                1.0
+            } else if d <= 0.0 {
+                0.0
+            } else {
+                0.5 * (1.0 - (std::f64::consts::PI * d / fade).cos())
+            }
+        };
+        let values = z
+            .iter()
+            .enumerate()
+            .map(|(i, &z)| z * w(i as f64 * self.dx))
+            .collect();
+        Profile::sampled(self.x0, self.dx, values)
+            .map_err(|e| RunError::input(&self.sc.path, format!("the rail's profile: {e}")))
+    }
+}
+
+impl PassRunner for TrackPass {
+    fn grid(&self) -> (f64, f64, usize, bool) {
+        (self.x0, self.dx, self.n, false)
+    }
+
+    fn speed(&self) -> f64 {
+        self.ts.vehicle.speed
+    }
+
+    fn run_pass(
+        &mut self,
+        profile: &SurfaceProfile,
+        _pass: usize,
+        interrupt: &AtomicBool,
+    ) -> Result<PassResult, RunError> {
+        if profile.z.len() != self.n {
+            return Err(RunError::input(
+                &self.sc.path,
+                format!(
+                    "the rail's profile has {} samples, the grid {}",
+                    profile.z.len(),
+                    self.n
+                ),
+            ));
+        }
+        let run = &self.sc.runs[0];
+        let gap = self.gap_profile(&profile.z)?;
+        let (wot, mut sim, steps) =
+            crate::run::track_rolling::passage(&self.sc, run, &self.ts, &self.opts, Some(gap))?;
+        let h = run.params.h;
+        let v = self.ts.vehicle.speed;
+        let wheel = &self.ts.vehicle.wheel;
+        let thickness = wheel.thickness;
+        let e_star = match wheel.plane {
+            crate::material::PlaneModel::Strain => {
+                wheel.material.young / (1.0 - wheel.material.poisson.powi(2))
+            }
+            crate::material::PlaneModel::Stress => wheel.material.young,
+        };
+        let pitch = 2.0 * std::f64::consts::PI * wot.rim_radius / wot.wheel.rim.len() as f64;
+        let reference = wot.wheel.mesh.reference_positions();
+        let slave = wot.interface.slave();
+        let rim: Vec<usize> = wot.interface.nodes().to_vec();
+        let (x0, dx, n) = (self.x0, self.dx, self.n);
+        let (law, sliding, patch) = (self.law, self.sliding, self.patch);
+        let slip = sliding.creepage * v;
+        // The depth rate at pressure `p` (the law reads `p` as a force over an area).
+        let rate = |p: f64| {
+            law.depth_rate(
+                &ContactSample {
+                    normal_force: p,
+                    tangential_force: sliding.traction_coefficient * p,
+                    slip_speed: slip,
+                    area: 1.0,
+                    rolling_speed: v,
+                },
+                sliding.density,
+            )
+        };
+        let mut depth = vec![0.0; n];
+        let mut volume = 0.0;
+        let mut lost = 0.0;
+        let (mut f_sum, mut f2_sum, mut f_max, mut f_min, mut count) =
+            (0.0, 0.0, f64::NEG_INFINITY, f64::INFINITY, 0usize);
+        let mut trace = std::mem::take(&mut self.force);
+        trace.clear();
+        trace.reserve(steps + 1);
+        // The patch's centre and force at the previous step.
+        let mut last: Option<(f64, f64)> = None;
+        let clock = Instant::now();
+        let stats = sim
+            .run(interrupt, |s| {
+                let st = s.state;
+                let (t, u) = (st.t, &st.state.u);
+                let under = wot.under_axle(t);
+                let f = s.contact_force;
+                let centre = under + wot.axle_ground(t, u)[0];
+                let before = last.replace((centre, f));
+                if under < x0 {
+                    return Ok(());
+                }
+                trace.push((centre, f));
+                f_sum += f;
+                f2_sum += f * f;
+                f_max = f_max.max(f);
+                f_min = f_min.min(f);
+                count += 1;
+                match patch {
+                    WearPatch::Hertz => {
+                        let Some((c0, f0)) = before else {
+                            return Ok(());
+                        };
+                        let travel = centre - c0;
+                        if travel.abs() <= 0.0 {
+                            return Ok(());
+                        }
+                        let lp = LinePatch::new(0.5 * (f0 + f), thickness, wot.rim_radius, e_star);
+                        let (lo, hi) = (c0.min(centre) - lp.a, c0.max(centre) + lp.a);
+                        let j0 = ((lo - x0) / dx).ceil().max(0.0) as usize;
+                        let j1 = ((hi - x0) / dx).floor();
+                        if j1 < 0.0 {
+                            return Ok(());
+                        }
+                        let j1 = (j1 as usize).min(n - 1);
+                        for (j, d) in depth.iter_mut().enumerate().take(j1 + 1).skip(j0) {
+                            let xj = x0 + j as f64 * dx;
+                            // The load per width that passed over x_j in the step, over
+                            // the step's travel: the step's mean pressure there.
+                            let (s0, s1) = (xj - centre, xj - c0);
+                            let passed =
+                                (lp.cumulative(s0.max(s1)) - lp.cumulative(s0.min(s1))).abs();
+                            let p_mean = passed / travel.abs();
+                            let dz = rate(p_mean) * h;
+                            *d += dz;
+                            volume += dz * dx * thickness;
+                        }
+                    }
+                    WearPatch::Nodes => {
+                        for (slot, ps) in st.pairs.iter().enumerate() {
+                            if ps.force <= 0.0 {
+                                continue;
+                            }
+                            let node = rim[slot];
+                            let local = [
+                                reference[2 * node] + u[2 * node],
+                                reference[2 * node + 1] + u[2 * node + 1],
+                                0.0,
+                            ];
+                            let x = under + slave.motion.place(t, local)[0];
+                            let area = pitch * thickness;
+                            let vol = rate(ps.force / area) * area * h;
+                            volume += vol;
+                            if !lay_hat(&mut depth, (x0, dx), x, pitch, vol / thickness) {
+                                lost += vol;
+                            }
+                        }
+                    }
+                }
+                Ok(())
+            })
+            .map_err(|source| RunError::Simulation {
+                run: run.label.clone(),
+                source,
+            })?;
+        let wall = clock.elapsed().as_secs_f64();
+        self.force = trace;
+        if stats.interrupted {
+            return Err(RunError::Simulation {
+                run: run.label.clone(),
+                source: crate::simulation::SimError::Unsupported("interrupted".into()),
+            });
+        }
+        let m = count.max(1) as f64;
+        let mean = f_sum / m;
+        let std = (f2_sum / m - mean * mean).max(0.0).sqrt();
+        Ok(PassResult {
+            wear_depth: depth,
+            plastic: vec![0.0; n],
+            scalars: vec![
+                ("contact_force_mean_N".into(), mean),
+                ("contact_force_std_N".into(), std),
+                ("contact_force_max_N".into(), f_max),
+                ("contact_force_min_N".into(), f_min),
+                ("worn_volume_m3".into(), volume),
+                ("worn_volume_off_grid_m3".into(), lost),
+                ("wall_time_s".into(), wall),
+            ],
+        })
+    }
+}
+
+/// Lays the area `area` (m^2: a volume over the contact's width) on the grid `(x0, dx)` of
+/// `depth` as a hat of half-width `b` centred at `x`, normalised on the grid's samples so
+/// that `sum(depth) dx` grows by exactly `area`. False (nothing laid) when the hat misses
+/// the grid.
+fn lay_hat(depth: &mut [f64], (x0, dx): (f64, f64), x: f64, b: f64, area: f64) -> bool {
+    let n = depth.len();
+    if n == 0 || !x.is_finite() {
+        return false;
+    }
+    let lo = ((x - b - x0) / dx).ceil().max(0.0);
+    let hi = ((x + b - x0) / dx).floor().min((n - 1) as f64);
+    if lo > hi {
+        return false;
+    }
+    let (lo, hi) = (lo as usize, hi as usize);
+    let w = |i: usize| (1.0 - ((x0 + i as f64 * dx) - x).abs() / b).max(0.0);
+    let total: f64 = (lo..=hi).map(w).sum();
+    if total <= 0.0 {
+        return false;
+    }
+    let scale = area / (total * dx);
+    for (i, d) in depth.iter_mut().enumerate().take(hi + 1).skip(lo) {
+        *d += w(i) * scale;
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_hat_lays_its_area_exactly_and_centred() {
+        let (x0, dx) = (2.0, 1e-3);
+        let mut d = vec![0.0; 200];
+        for &(x, b, a) in &[
+            (2.05, 4e-3, 3e-9),
+            (2.1234, 4.1e-3, 1e-9),
+            (2.0015, 4e-3, 2e-9),
+        ] {
+            let before: f64 = d.iter().sum::<f64>() * dx;
+            assert!(lay_hat(&mut d, (x0, dx), x, b, a));
+            let after: f64 = d.iter().sum::<f64>() * dx;
+            assert!(((after - before) / a - 1.0).abs() < 1e-12);
+        }
+        // Centred: the first hat's centroid is its centre.
+        let mut e = vec![0.0; 200];
+        lay_hat(&mut e, (x0, dx), 2.0504, 4e-3, 1.0);
+        let c: f64 = e
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| (x0 + i as f64 * dx) * v)
+            .sum::<f64>()
+            / e.iter().sum::<f64>();
+        assert!((c - 2.0504).abs() < 1e-9, "{c}");
+        assert!(!lay_hat(&mut e, (x0, dx), 1.0, 4e-3, 1.0));
+    }
+}

@@ -1,0 +1,194 @@
+//! The rail's side of a growth study ([`softway::growth::track`]): one pass of the wheel
+//! over the track lays the wear the continuum predicts.
+
+use softway::growth::track::{RailSliding, TrackPass, WearPatch};
+use softway::growth::{PassRunner, SurfaceProfile};
+use softway::run::RunOptions;
+use softway::scenario::Scenario;
+use softway::wear::{Archard, WearLaw};
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+fn scenario(speed_km_h: f64, travel_bays: usize) -> Scenario {
+    let text = format!(
+        r#"
+name = "rail-wear"
+kind = "track"
+[track]
+set = "uic60"
+bays = 40
+end_bays = 12
+elements_per_bay = 6
+[vehicle]
+model = "wheel"
+unsprung_mass = 800.0
+axle_load = 100e3
+wheel_radius = 0.46
+speed_km_h = {speed_km_h}
+travel_bays = {travel_bays}
+settle_bays = 4
+wheel_rim_nodes = 720
+wheel_thickness = 0.02
+[contact]
+method = "exact"
+[time]
+alpha = 0.8
+gamma = 0.0
+"#
+    );
+    let spec = Scenario::from_str(&text, Path::new("rail-wear.toml")).expect("scenario");
+    softway::build::resolve(&spec).expect("built")
+}
+
+/// The amplitude of `v`'s harmonic of wavelength `lambda` (m), sampled at `dx`, its mean
+/// removed (a least-squares fit of a sine and a cosine).
+fn amplitude(v: &[f64], dx: f64, lambda: f64) -> f64 {
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    let k = 2.0 * std::f64::consts::PI / lambda;
+    let (mut c, mut s, mut cc, mut ss) = (0.0, 0.0, 0.0, 0.0);
+    for (i, &x) in v.iter().enumerate() {
+        let (si, co) = (k * i as f64 * dx).sin_cos();
+        c += (x - m) * co;
+        s += (x - m) * si;
+        cc += co * co;
+        ss += si * si;
+    }
+    ((c / cc).powi(2) + (s / ss).powi(2)).sqrt()
+}
+
+/// The largest relative amplitude of `v` over the wavelengths 9-35 mm (the corrugation
+/// band and below it).
+fn short_content(v: &[f64], dx: f64) -> f64 {
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    (0..60)
+        .map(|i| 9e-3 * (35.0f64 / 9.0).powf(i as f64 / 59.0))
+        .map(|l| amplitude(v, dx, l) / m)
+        .fold(0.0, f64::max)
+}
+
+struct Pass {
+    depth: Vec<f64>,
+    force_at: Vec<f64>,
+    mean_force: f64,
+    dx: f64,
+}
+
+fn one_pass(patch: WearPatch, law: WearLaw, gamma: f64) -> Pass {
+    let sc = scenario(100.0, 4);
+    let sliding = RailSliding {
+        creepage: gamma,
+        traction_coefficient: 0.2,
+        density: 7850.0,
+    };
+    let opts = RunOptions {
+        progress: false,
+        ..RunOptions::default()
+    };
+    let mut pass = TrackPass::new(&sc, 1e-3, law, sliding, patch, opts).expect("pass");
+    let (x0, dx, n, periodic) = pass.grid();
+    assert!(!periodic);
+    let flat = SurfaceProfile {
+        x0,
+        dx,
+        z: vec![0.0; n],
+        periodic: false,
+    };
+    let r = pass
+        .run_pass(&flat, 0, &AtomicBool::new(false))
+        .expect("pass runs");
+    let scalar = |name: &str| {
+        r.scalars
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| *v)
+            .unwrap()
+    };
+    // The inner grid, less two patch lengths at its start (the passage begins with the
+    // patch on the grid's first point).
+    let inner = pass.inner();
+    let inner = inner.start + 20..inner.end - 20;
+    // The force when the axle was over each point of the grid.
+    let trace = pass.last_force();
+    let force_at = inner
+        .clone()
+        .map(|j| {
+            let x = x0 + j as f64 * dx;
+            let i = trace
+                .partition_point(|&(xt, _)| xt < x)
+                .clamp(1, trace.len() - 1);
+            let ((xa, fa), (xb, fb)) = (trace[i - 1], trace[i]);
+            fa + (fb - fa) * (x - xa) / (xb - xa)
+        })
+        .collect();
+    Pass {
+        depth: r.wear_depth[inner].to_vec(),
+        force_at,
+        mean_force: scalar("contact_force_mean_N"),
+        dx,
+    }
+}
+
+/// Archard's law over a flat rail: a rail point's worn depth over a pass is the
+/// continuum's `k gamma P / (H w)` (module docs of `growth::track`), as a mean over the
+/// passage against the mean contact force and point by point against the force when the
+/// axle was over it; the nodal wear carries a ripple at 9-35 mm the force does not have.
+#[test]
+fn a_pass_wears_the_rail_as_the_continuum_under_the_force_it_carries() {
+    let (k, hard, gamma, w) = (1e-4, 3e9, 0.01, 0.02);
+    let law = WearLaw::Archard(Archard {
+        k,
+        hardness: hard,
+        map: None,
+    });
+    let hz = one_pass(WearPatch::Hertz, law, gamma);
+    let scale = k * gamma / (hard * w);
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let mean_depth = mean(&hz.depth);
+    let continuum = scale * hz.mean_force;
+    println!(
+        "hertz: mean depth {mean_depth:.4e} m against k gamma P / (H w) = {continuum:.4e} m ({:+.3}%)",
+        100.0 * (mean_depth / continuum - 1.0)
+    );
+    assert!((mean_depth / continuum - 1.0).abs() < 0.005);
+    // Point by point: the depth is the force at that point through the patch's filter
+    // (10 mm long), which passes the force's content at long wavelengths; both smoothed
+    // over 12 mm (the node-passing ripple of the force, 4 mm, is the patch's to filter).
+    let smooth = |v: &[f64]| -> Vec<f64> {
+        let m = 6;
+        (m..v.len() - m)
+            .map(|i| v[i - m..=i + m].iter().sum::<f64>() / (2 * m + 1) as f64)
+            .collect()
+    };
+    let (sd, sf) = (smooth(&hz.depth), smooth(&hz.force_at));
+    let diff: Vec<f64> = sd
+        .iter()
+        .zip(&sf)
+        .map(|(d, f)| d / (scale * f) - 1.0)
+        .collect();
+    let rms = (diff.iter().map(|e| e * e).sum::<f64>() / diff.len() as f64).sqrt();
+    let fstd = {
+        let m = mean(&sf);
+        (sf.iter().map(|f| (f / m - 1.0).powi(2)).sum::<f64>() / sf.len() as f64).sqrt()
+    };
+    let (d_short, f_short) = (
+        short_content(&hz.depth, hz.dx),
+        short_content(&hz.force_at, hz.dx),
+    );
+    println!(
+        "hertz: depth against the force there: rms {rms:.2e} (the force's own rms variation {fstd:.2e}); 9-35 mm content: depth {d_short:.2e}, force {f_short:.2e}"
+    );
+    assert!(rms < 0.2 * fstd, "{rms} against {fstd}");
+    assert!(
+        d_short < 1.5 * f_short + 1e-4,
+        "{d_short} against {f_short}"
+    );
+
+    let nodes = one_pass(WearPatch::Nodes, law, gamma);
+    let nd = mean(&nodes.depth);
+    let n_short = short_content(&nodes.depth, nodes.dx);
+    println!(
+        "nodes: mean depth {nd:.4e} m ({:+.3}%); 9-35 mm content {n_short:.2e}",
+        100.0 * (nd / (scale * nodes.mean_force) - 1.0)
+    );
+    assert!((nd / (scale * nodes.mean_force) - 1.0).abs() < 0.01);
+}
