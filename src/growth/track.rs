@@ -220,6 +220,27 @@ impl TrackPass {
         &self.force
     }
 
+    /// The contact modulus `E*` of Hertz's patch (module docs), Pa.
+    pub fn contact_modulus(&self) -> f64 {
+        let wheel = &self.ts.vehicle.wheel;
+        match wheel.plane {
+            crate::material::PlaneModel::Strain => {
+                wheel.material.young / (1.0 - wheel.material.poisson.powi(2))
+            }
+            crate::material::PlaneModel::Stress => wheel.material.young,
+        }
+    }
+
+    /// Hertz's patch of the force `force` (N) on this wheel (module docs).
+    pub fn patch_of(&self, force: f64) -> LinePatch {
+        LinePatch::new(
+            force,
+            self.ts.vehicle.wheel.thickness,
+            self.ts.vehicle.wheel_radius,
+            self.contact_modulus(),
+        )
+    }
+
     /// The track scenario.
     pub fn track(&self) -> &TrackScenario {
         &self.ts
@@ -280,14 +301,8 @@ impl PassRunner for TrackPass {
             crate::run::track_rolling::passage(&self.sc, run, &self.ts, &self.opts, Some(gap))?;
         let h = run.params.h;
         let v = self.ts.vehicle.speed;
-        let wheel = &self.ts.vehicle.wheel;
-        let thickness = wheel.thickness;
-        let e_star = match wheel.plane {
-            crate::material::PlaneModel::Strain => {
-                wheel.material.young / (1.0 - wheel.material.poisson.powi(2))
-            }
-            crate::material::PlaneModel::Stress => wheel.material.young,
-        };
+        let thickness = self.ts.vehicle.wheel.thickness;
+        let e_star = self.contact_modulus();
         let pitch = 2.0 * std::f64::consts::PI * wot.rim_radius / wot.wheel.rim.len() as f64;
         let reference = wot.wheel.mesh.reference_positions();
         let slave = wot.interface.slave();
@@ -313,6 +328,8 @@ impl PassRunner for TrackPass {
         let mut lost = 0.0;
         let (mut f_sum, mut f2_sum, mut f_max, mut f_min, mut count) =
             (0.0, 0.0, f64::NEG_INFINITY, f64::INFINITY, 0usize);
+        // The contact's compression: the rail's deflection under the axle less the axle's.
+        let mut squeeze = 0.0;
         let mut trace = std::mem::take(&mut self.force);
         trace.clear();
         trace.reserve(steps + 1);
@@ -331,6 +348,10 @@ impl PassRunner for TrackPass {
                     return Ok(());
                 }
                 trace.push((centre, f));
+                squeeze += wot
+                    .rail_deflection(under, u)
+                    .map_err(|e| std::io::Error::other(e.to_string()))?
+                    - wot.axle_ground(t, u)[1];
                 f_sum += f;
                 f2_sum += f * f;
                 f_max = f_max.max(f);
@@ -412,6 +433,7 @@ impl PassRunner for TrackPass {
                 ("contact_force_std_N".into(), std),
                 ("contact_force_max_N".into(), f_max),
                 ("contact_force_min_N".into(), f_min),
+                ("contact_stiffness_N_m".into(), mean / (squeeze / m)),
                 ("worn_volume_m3".into(), volume),
                 ("worn_volume_off_grid_m3".into(), lost),
                 ("wall_time_s".into(), wall),
@@ -477,4 +499,80 @@ mod tests {
         assert!((c - 2.0504).abs() < 1e-9, "{c}");
         assert!(!lay_hat(&mut e, (x0, dx), 1.0, 4e-3, 1.0));
     }
+}
+
+/// The patch filter of Hertz's line contact at wavenumber `k` (rad/m) and half-width `a`:
+/// the Fourier transform of its normalised pressure, `2 J1(k a) / (k a)`
+/// (`(2 / pi) int_{-1}^{1} sqrt(1 - u^2) cos(k a u) du`, by 128-point Gauss-Chebyshev
+/// of the second kind, exact for this integrand's polynomial part and converged to 1e-12
+/// for `k a < 20`).
+pub fn hertz_filter(k: f64, a: f64) -> f64 {
+    let z = k * a;
+    if z == 0.0 {
+        return 1.0;
+    }
+    let n = 128;
+    let mut s = 0.0;
+    for i in 1..=n {
+        let th = i as f64 * std::f64::consts::PI / (n + 1) as f64;
+        let (u, w) = (th.cos(), th.sin().powi(2));
+        s += w * (z * u).cos();
+    }
+    2.0 / (n + 1) as f64 * s
+}
+
+/// The growth of a harmonic profile predicted from the receptances (module docs of
+/// [`crate::growth::track`]), at one wavelength.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PredictedGrowth {
+    /// Wavelength, m.
+    pub wavelength_m: f64,
+    /// `V / lambda`, Hz.
+    pub frequency_hz: f64,
+    /// The wear per pass in phase with the profile, per unit of its amplitude (> 0: the
+    /// crests wear more, the profile decays).
+    pub in_phase: f64,
+    /// The same in quadrature (the pattern's drift along the rail).
+    pub quadrature: f64,
+}
+
+/// The linear prediction of the rail's roughness growth from frequency-domain receptances,
+/// independent of the time-domain passes: a profile `r e^{i k x}` under the wheel at speed
+/// `V` is a displacement input at `f = V / lambda`; seen through the patch filter `F(k a)`,
+/// it changes the contact force by `dN = F r / alpha`, `alpha = alpha_R + 1 / k_c -
+/// 1 / (m_u omega^2)` (the rail's receptance averaged over a bay, the contact spring, the
+/// unsprung mass as a rigid body), and the wear, `s_w dN` per pass (`s_w` the depth per
+/// newton of the law: `k gamma / (H w)` for Archard), is laid through the same filter:
+/// `dz / r = s_w F^2 / alpha`. Its real part is [`PredictedGrowth::in_phase`].
+///
+/// # Errors
+/// [`crate::track::TrackError`] when a dynamic stiffness is singular.
+pub fn predicted_growth(
+    track: &crate::track::Track,
+    (unsprung_mass, contact_stiffness): (f64, f64),
+    speed: f64,
+    half_width: f64,
+    depth_per_newton: f64,
+    wavelengths: &[f64],
+) -> Result<Vec<PredictedGrowth>, crate::track::TrackError> {
+    let freqs: Vec<f64> = wavelengths.iter().map(|l| speed / l).collect();
+    let rail = crate::track::receptance::bay_averaged(track, &freqs, 8)?;
+    Ok(wavelengths
+        .iter()
+        .zip(&freqs)
+        .zip(&rail)
+        .map(|((&l, &f), &ar)| {
+            let w = 2.0 * std::f64::consts::PI * f;
+            let alpha =
+                ar + faer::c64::new(1.0 / contact_stiffness - 1.0 / (unsprung_mass * w * w), 0.0);
+            let filt = hertz_filter(2.0 * std::f64::consts::PI / l, half_width);
+            let g = faer::c64::new(depth_per_newton * filt * filt, 0.0) / alpha;
+            PredictedGrowth {
+                wavelength_m: l,
+                frequency_hz: f,
+                in_phase: g.re,
+                quadrature: g.im,
+            }
+        })
+        .collect())
 }

@@ -242,6 +242,33 @@ pub fn receptance(track: &Track, frequency_hz: &[f64]) -> Result<Receptance, Tra
     })
 }
 
+/// The rail's point receptance averaged over `points` evenly spaced abscissae across the
+/// bay after the middle sleeper (m/N, one per frequency): what a contact point moving along
+/// the rail sees on average ([`crate::growth::track`]'s prediction of growth).
+///
+/// # Errors
+/// [`TrackError::Solve`] when a dynamic stiffness is singular.
+pub fn bay_averaged(
+    track: &Track,
+    frequency_hz: &[f64],
+    points: usize,
+) -> Result<Vec<c64>, TrackError> {
+    let mut pencil = Pencil::new(track)?;
+    let (x0, s) = (track.middle(), track.spec.spacing);
+    let points = points.max(1);
+    frequency_hz
+        .iter()
+        .map(|&f| {
+            pencil.factor(2.0 * PI * f)?;
+            let mut sum = c64::new(0.0, 0.0);
+            for i in 0..points {
+                sum += pencil.point_receptance(track, x0 + s * (i as f64 + 0.5) / points as f64)?;
+            }
+            Ok(sum / points as f64)
+        })
+        .collect()
+}
+
 /// The first frequency (Hz) of a simply supported span of length `span` (m) of the rail:
 /// Euler-Bernoulli `omega = k^2 sqrt(EI / rho A)`; Timoshenko the lower root of
 /// `a omega^4 - b omega^2 + c = 0`, `a = rho^2 I / (kappa G)`,
