@@ -136,6 +136,19 @@ pub struct TrackPass {
     dx: f64,
     n: usize,
     force: Vec<(f64, f64)>,
+    flat: Option<FlatPass>,
+}
+
+/// What a pass over the smooth rail gives the prediction ([`predicted_growth`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FlatPass {
+    /// Mean contact force, N.
+    pub force_n: f64,
+    /// The contact spring (the force over the rail's deflection under the axle less the
+    /// axle's), N/m.
+    pub contact_stiffness_n_m: f64,
+    /// Mean worn depth of the inner grid per newton of mean force, m/N.
+    pub depth_per_newton_m_n: f64,
 }
 
 impl TrackPass {
@@ -204,6 +217,7 @@ impl TrackPass {
             dx,
             n,
             force: Vec::new(),
+            flat: None,
         })
     }
 
@@ -239,6 +253,51 @@ impl TrackPass {
             self.ts.vehicle.wheel_radius,
             self.contact_modulus(),
         )
+    }
+
+    /// The last pass over the smooth rail, if one was run.
+    pub fn flat(&self) -> Option<FlatPass> {
+        self.flat
+    }
+
+    /// The growth predicted from the receptances ([`predicted_growth`]) at `wavelengths`
+    /// (m), with the figures of a pass over the smooth rail (run here if none was).
+    ///
+    /// # Errors
+    /// [`RunError`]: the pass, or a singular dynamic stiffness.
+    pub fn prediction(
+        &mut self,
+        wavelengths: &[f64],
+        interrupt: &AtomicBool,
+    ) -> Result<(FlatPass, Vec<PredictedGrowth>), RunError> {
+        let flat = match self.flat {
+            Some(f) => f,
+            None => {
+                let smooth = SurfaceProfile {
+                    x0: self.x0,
+                    dx: self.dx,
+                    z: vec![0.0; self.n],
+                    periodic: false,
+                };
+                self.run_pass(&smooth, 0, interrupt)?;
+                self.flat.ok_or_else(|| {
+                    RunError::input(&self.sc.path, "the smooth rail's pass gave no figures")
+                })?
+            }
+        };
+        let err = |e: crate::track::TrackError| RunError::input(&self.sc.path, e.to_string());
+        let track = self.ts.spec.build().map_err(err)?;
+        let a = self.patch_of(flat.force_n).a;
+        let pred = predicted_growth(
+            &track,
+            (self.ts.vehicle.unsprung_mass, flat.contact_stiffness_n_m),
+            self.speed(),
+            a,
+            flat.depth_per_newton_m_n,
+            wavelengths,
+        )
+        .map_err(err)?;
+        Ok((flat, pred))
     }
 
     /// The track scenario.
@@ -425,6 +484,16 @@ impl PassRunner for TrackPass {
         let m = count.max(1) as f64;
         let mean = f_sum / m;
         let std = (f2_sum / m - mean * mean).max(0.0).sqrt();
+        let k_c = mean / (squeeze / m);
+        if profile.z.iter().all(|&z| z == 0.0) {
+            let inner = self.inner();
+            let d = depth[inner.clone()].iter().sum::<f64>() / inner.len().max(1) as f64;
+            self.flat = Some(FlatPass {
+                force_n: mean,
+                contact_stiffness_n_m: k_c,
+                depth_per_newton_m_n: d / mean,
+            });
+        }
         Ok(PassResult {
             wear_depth: depth,
             plastic: vec![0.0; n],
@@ -433,7 +502,7 @@ impl PassRunner for TrackPass {
                 ("contact_force_std_N".into(), std),
                 ("contact_force_max_N".into(), f_max),
                 ("contact_force_min_N".into(), f_min),
-                ("contact_stiffness_N_m".into(), mean / (squeeze / m)),
+                ("contact_stiffness_N_m".into(), k_c),
                 ("worn_volume_m3".into(), volume),
                 ("worn_volume_off_grid_m3".into(), lost),
                 ("wall_time_s".into(), wall),
@@ -575,4 +644,87 @@ pub fn predicted_growth(
             }
         })
         .collect())
+}
+
+impl PredictedGrowth {
+    /// The growth rate of the profile's amplitude, dB per 1e5 real passes (each real pass
+    /// multiplies it by `1 - in_phase`).
+    pub fn rate_db_per_1e5(&self) -> f64 {
+        1e5 * 20.0 * (1.0 - self.in_phase).abs().max(f64::MIN_POSITIVE).log10()
+    }
+}
+
+/// Writes `prediction.csv` and (with `plots`) `prediction.png` into `out`: the growth rate
+/// predicted from the receptances against wavelength, the study's band rates (`measured`:
+/// `(band centre wavelength m, dB per 1e5 real passes)`) beside it, and the track's
+/// frequencies at the run's speed (`marks`: `(frequency Hz, name)`).
+///
+/// # Errors
+/// The file that cannot be written.
+pub fn write_prediction(
+    out: &std::path::Path,
+    (flat, pred): (&FlatPass, &[PredictedGrowth]),
+    measured: &[(f64, f64)],
+    (speed, marks): (f64, &[(f64, String)]),
+    plots: bool,
+) -> Result<Vec<std::path::PathBuf>, RunError> {
+    let csv = out.join("prediction.csv");
+    let mut text = format!(
+        "# growth of the rail's roughness predicted from the track's receptance (bay-averaged), the contact spring {:.4e} N/m, the unsprung mass as a rigid body and Hertz's patch filter; wear {:.4e} m per N of contact force per pass; V = {:.3} m/s\nwavelength_m,frequency_Hz,in_phase_per_pass,quadrature_per_pass,growth_dB_per_1e5_passes\n",
+        flat.contact_stiffness_n_m, flat.depth_per_newton_m_n, speed
+    );
+    for p in pred {
+        text.push_str(&format!(
+            "{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}\n",
+            p.wavelength_m,
+            p.frequency_hz,
+            p.in_phase,
+            p.quadrature,
+            p.rate_db_per_1e5()
+        ));
+    }
+    crate::output::files::write_atomic(&csv, text.as_bytes())
+        .map_err(|e| RunError::output(&csv, e))?;
+    let mut files = vec![csv];
+    if plots {
+        use softway_plot::{line_plot, Panel, Series, SeriesStyle};
+        let mut p = Panel::new(
+            format!(
+                "Rail roughness growth at {:.0} km/h: passes against the receptance prediction",
+                3.6 * speed
+            ),
+            "wavelength [mm]",
+            "growth rate [dB per 1e5 real passes]",
+        );
+        p.x_log = true;
+        p.series.push(Series::new(
+            "predicted from the receptance (linear, frequency domain)",
+            pred.iter().map(|q| 1e3 * q.wavelength_m).collect(),
+            pred.iter().map(PredictedGrowth::rate_db_per_1e5).collect(),
+            SeriesStyle::Line,
+        ));
+        if !measured.is_empty() {
+            p.series.push(Series::new(
+                "the passes (one-third-octave bands)",
+                measured.iter().map(|m| 1e3 * m.0).collect(),
+                measured.iter().map(|m| m.1).collect(),
+                SeriesStyle::Markers,
+            ));
+        }
+        p.hlines.push((0.0, String::new()));
+        let (lo, hi) = pred.iter().fold((f64::INFINITY, 0.0f64), |(a, b), q| {
+            (a.min(q.wavelength_m), b.max(q.wavelength_m))
+        });
+        for (f, name) in marks {
+            let l = speed / f;
+            if l >= lo && l <= hi {
+                p.vlines.push((1e3 * l, format!("{name} {f:.0} Hz")));
+            }
+        }
+        p.note = "Growth > 0: the roughness at that wavelength deepens pass after pass. Frequency = V / wavelength.".into();
+        let png = out.join("prediction.png");
+        line_plot(&png, &p, (1200, 700)).map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    Ok(files)
 }
