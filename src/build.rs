@@ -52,6 +52,7 @@ pub fn resolve(sc: &Scenario<RunSpec>) -> Result<Scenario, ScenarioError> {
         source_sha256: sc.source_sha256.clone(),
         source_text: sc.source_text.clone(),
         overrides: sc.overrides.clone(),
+        growth: sc.growth.clone(),
     })
 }
 

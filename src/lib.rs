@@ -186,6 +186,8 @@
 //!   moving along it through the driver.
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
+//! - [`wear`]: wear laws (Archard with Jendel's map, frictional power, USFD) and
+//!   [`growth`]: the pass-by-pass growth of a surface profile by wear (`softway grow`).
 //! - [`guard`]: the divergence guard (the energy against the initial energy plus the work
 //!   done on the system), which stops a run that blows up.
 //! - [`scenario`]: TOML scenarios, parsed and validated (plain data, the allowed

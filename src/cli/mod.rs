@@ -94,6 +94,28 @@ enum Command {
         #[command(flatten)]
         guard: Guard,
     },
+    /// A growth study: passes of the scenario's run, each over the surface profile the wear
+    /// of the passes before left ([growth] and [wear] tables): spectra, growth rates, polygon
+    /// orders; a checkpoint after every pass.
+    Grow {
+        /// The scenario file (TOML, kind = "wheel" with [growth] and [wear]).
+        scenario: PathBuf,
+        /// Simulated passes in all [default: the scenario's growth.passes].
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+        passes: Option<u64>,
+        /// Go on from the output folder's checkpoint.json (same scenario text and --set).
+        #[arg(long)]
+        resume: bool,
+        /// KEY=VALUE: a dotted key set to a TOML value, as `run --set`; repeatable.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Output folder [default: out/<scenario name>-grow].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Threads of each pass [default: the number of cores].
+        #[arg(long)]
+        threads: Option<usize>,
+    },
     /// Run a scenario over the values of one key or a grid of several, in parallel (e.g. the
     /// paper's Fig. 15).
     Sweep {
@@ -275,6 +297,14 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             threads,
             guard,
         } => run_command(&scenario, &set, out, quiet, threads, guard, cancel),
+        Command::Grow {
+            scenario,
+            passes,
+            resume,
+            set,
+            out,
+            threads,
+        } => grow_command(&scenario, passes, resume, &set, out, threads, cancel),
         Command::Sweep {
             scenario,
             set,
@@ -376,6 +406,60 @@ fn run_command(
         report
             .interrupted
             .then_some("interrupted; the files above hold the steps computed so far"),
+    )
+}
+
+/// `softway grow`: a growth study into its folder, a line per pass, its summary at the end.
+fn grow_command(
+    scenario: &Path,
+    passes: Option<u64>,
+    resume: bool,
+    set: &[String],
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    cancel: &Cancel,
+) -> CommandResult {
+    set_threads("--threads", threads)?;
+    let sc = resolve(&read_scenario(scenario, set)?)?;
+    for w in &sc.warnings {
+        errln!("softway: warning: {w}");
+    }
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-grow", sc.name)));
+    let opts = crate::run::grow::GrowOptions {
+        passes: passes.map(|p| p as usize),
+        resume,
+        plots: sc.plots,
+        par: threads.map(Par::threads).unwrap_or_else(Par::current),
+    };
+    outln!(
+        "{} ({}): growth study into {}",
+        sc.name,
+        scenario.display(),
+        out.display()
+    );
+    let report = crate::run::grow::grow(&sc, &out, &opts, cancel, |l| {
+        let force = l
+            .scalars
+            .iter()
+            .find(|s| s.0 == "mean_force_n")
+            .map(|s| format!(", mean force {:.4e} N", s.1))
+            .unwrap_or_default();
+        outln!(
+            "  pass {}/{}: RMS roughness {:.5} um, uniform loss {:.3e} m{force}, {:.2} s",
+            l.pass + 1,
+            l.target,
+            l.rms * 1e6,
+            l.uniform_loss,
+            l.wall_s
+        );
+    })?;
+    print_report(
+        Some(format!("{} ({})", sc.name, scenario.display())),
+        &crate::run::grow::summary_lines(&report.summary),
+        &report.files,
+        report
+            .interrupted
+            .then_some("interrupted; the finished passes are kept: go on with --resume"),
     )
 }
 

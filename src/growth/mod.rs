@@ -1,45 +1,499 @@
-//! Growth studies (placeholder of the interface; the driver lands from its own branch).
+//! Growth studies: the pass-by-pass feedback between a surface profile, the dynamic contact
+//! it excites, and the wear (and plastic flow) that contact leaves on the profile (issue
+//! 31; DESIGN §7).
+//!
+//! **The loop.** A study holds a [`SurfaceProfile`] `z_p` over the rolling coordinate (the
+//! wheel's rim, [`wheel`]; a rail, the track's runner). Each simulated pass `p` runs one
+//! dynamic pass over `z_p` ([`PassRunner::run_pass`]) and returns the depth worn per sample
+//! `w_p` and the permanent plastic displacement `d_p`; then
+//! $$z_{p+1} = z_p - N_w\,\big(S[w_p] - \overline{S[w_p]}\big) + d_p$$
+//! with `N_w` real passes per simulated pass (`growth.passes_per_pass`, the wear step) and
+//! `S` the smoothing below. The mean `N_w mean(S[w_p])` is a uniform loss (a radius or a
+//! rail height worn evenly): it is taken out of the profile and reported separately
+//! (`uniform_loss_m`), so that the profile is the roughness alone.
+//!
+//! **Smoothing** ([`spectrum::smooth`]): a centred moving average over `growth.smoothing`
+//! metres, i.e. over the odd number of samples `m = 2 floor(w / (2 dx)) + 1` (periodic
+//! profiles wrap round; an open one averages what lies inside it near its ends). On a
+//! periodic profile of `n` samples it multiplies the harmonic of order `k` (wavelength
+//! `n dx / k`) by `sin(pi m k / n) / (m sin(pi k / n))`: 1 at long wavelengths, 0 at the
+//! wavelength `m dx`, small and alternating below (a test checks this gain). It stands
+//! for what one wear step must not do: amplify the sample-to-sample noise of a pass (the
+//! node-by-node stick/slip, the rim pitch) `N_w` times. Choose `w` below the contact patch
+//! length `2a` (the contact filter removes shorter wavelengths anyway) and state it.
+//!
+//! **Reference pass** (`growth.reference = true`): before the first pass the runner runs
+//! once on the smooth profile (`z = 0`); the wear pattern it leaves (minus its mean) is
+//! what the discretisation makes on a perfectly even surface (the mesh's rim pitch, its
+//! interior pattern): it is subtracted from every pass's wear, so that the profile grows by
+//! the feedback of its own roughness alone. Its RMS is reported (`reference_wear_rms_m`).
+//!
+//! **Initial roughness** ([`roughness`]): a harmonic, a CSV of `x_m,z_m`, a spectrum of
+//! one-third-octave band levels (dB re 1 um) with a seed, or EN ISO 3095's limit spectrum.
+//!
+//! **Checkpoints.** After every pass the study's state ([`StudyState`]: every profile so
+//! far, the uniform loss, the reference wear, bit for bit as `u64` so that JSON keeps every
+//! bit) is written atomically to `checkpoint.json` in the output folder; `--resume` reads it
+//! and goes on, giving the same bits as an uninterrupted study (`tests/growth.rs`). An
+//! interrupted pass (Ctrl-C) is dropped whole; the finished ones stay.
+//!
+//! **What a researcher reads** ([`report`]): per pass the roughness spectrum in one-third
+//! octave bands (dB re 1 um against the band's centre wavelength), the growth rate per band
+//! (dB per 1e5 real passes: the least-squares slope of the band level against the real
+//! passes), the profile; at the end the growth rate against wavelength, the wavelength of
+//! fastest growth and its frequency `V / lambda`, and for a periodic profile (the wheel)
+//! the polygon orders (harmonics per revolution, by DFT) and their growth.
 
+pub mod config;
+pub mod report;
+pub mod roughness;
+pub mod spectrum;
 pub mod track;
+pub mod wheel;
+
+pub use config::{GrowthConfig, Roughness};
+
+use crate::output::files::write_atomic;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
 
 /// A surface profile over the rolling coordinate: evenly spaced samples. Positive `z` is
 /// material standing proud (a bump on the wheel's rim, a rail surface higher), m.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SurfaceProfile {
-    /// First sample's abscissa, m.
+    /// Abscissa of the first sample, m.
     pub x0: f64,
-    /// Spacing, m.
+    /// Sample spacing, m.
     pub dx: f64,
     /// Heights, m.
     pub z: Vec<f64>,
-    /// Periodic (a wheel's rim).
+    /// The profile closes on itself (a wheel's rim): sample `n` is sample 0.
     pub periodic: bool,
+}
+
+impl SurfaceProfile {
+    /// The abscissa of sample `i`, m.
+    pub fn x(&self, i: usize) -> f64 {
+        self.x0 + i as f64 * self.dx
+    }
+
+    /// Length covered, m: `n dx` for a periodic profile (one period), `(n - 1) dx` else.
+    pub fn length(&self) -> f64 {
+        let n = self.z.len() as f64;
+        if self.periodic {
+            n * self.dx
+        } else {
+            (n - 1.0).max(0.0) * self.dx
+        }
+    }
+
+    /// Root mean square of the heights, m.
+    pub fn rms(&self) -> f64 {
+        spectrum::rms(&self.z)
+    }
 }
 
 /// What one simulated pass gives, per sample of the profile's grid.
 pub struct PassResult {
     /// Depth worn in this one simulated pass, m (>= 0), before the wear step's scaling.
     pub wear_depth: Vec<f64>,
-    /// Permanent surface displacement of plastic flow in this pass, m (+ = proud).
+    /// Permanent surface displacement of plastic flow in this pass, m (+ = proud); zeros without plasticity.
     pub plastic: Vec<f64>,
-    /// Scalars of the pass for the per-pass table (name, value).
+    /// Scalars of the pass for the per-pass table (name, value), e.g. mean force, max force.
     pub scalars: Vec<(String, f64)>,
 }
 
-/// Where a pass runs.
+/// Where a pass runs: the wheel on its rigid base ([`wheel::WheelPassRunner`]), a wheel on a
+/// track.
 pub trait PassRunner {
     /// The profile's grid: (x0, dx, n, periodic), fixed for the study.
     fn grid(&self) -> (f64, f64, usize, bool);
-    /// The rolling speed of the pass, m/s.
+    /// The rolling speed of the pass, m/s (for wavelength -> frequency).
     fn speed(&self) -> f64;
-    /// Runs one pass over `profile`.
-    ///
-    /// # Errors
-    /// [`crate::run::RunError`].
+    /// Runs one pass over `profile`; `pass` counts from 0; stops within a step when `interrupt` is set.
     fn run_pass(
         &mut self,
         profile: &SurfaceProfile,
         pass: usize,
         interrupt: &std::sync::atomic::AtomicBool,
     ) -> Result<PassResult, crate::run::RunError>;
+}
+
+/// Errors of a study.
+#[derive(Debug, thiserror::Error)]
+pub enum GrowthError {
+    /// A pass failed.
+    #[error(transparent)]
+    Run(#[from] crate::run::RunError),
+    /// The initial roughness could not be made.
+    #[error("{0}")]
+    Roughness(String),
+    /// The checkpoint cannot be resumed.
+    #[error("{path}: {message}")]
+    Checkpoint {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+    /// A runner's result does not fit the grid.
+    #[error("pass {pass}: the runner returned {got} samples of {what} for a grid of {n}")]
+    Shape {
+        /// Pass.
+        pass: usize,
+        /// Which vector.
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// The grid's.
+        n: usize,
+    },
+    /// An output file could not be written.
+    #[error("cannot write {path}: {message}")]
+    Output {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+}
+
+impl GrowthError {
+    pub(crate) fn output(path: &Path, e: impl std::fmt::Display) -> Self {
+        GrowthError::Output {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Floats kept bit for bit through JSON (each as its `u64` bits).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Bits(pub Vec<f64>);
+
+impl Serialize for Bits {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.0.iter().map(|x| x.to_bits()))
+    }
+}
+
+impl<'de> Deserialize<'de> for Bits {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v: Vec<u64> = Vec::deserialize(d)?;
+        Ok(Bits(v.into_iter().map(f64::from_bits).collect()))
+    }
+}
+
+/// One finished pass in the study's state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PassRecord {
+    /// The profile after the pass, m.
+    pub z: Bits,
+    /// The uniform loss of this pass (`N_w` times the mean smoothed wear), m.
+    pub uniform_loss: Bits,
+    /// The smoothed wear of the one simulated pass, after the reference's subtraction, m.
+    pub wear: Bits,
+    /// The runner's scalars (names, values bit for bit).
+    pub scalar_names: Vec<String>,
+    /// Their values.
+    pub scalar_values: Bits,
+    /// Wall-clock time of the pass, s (not part of the physics).
+    pub wall_s: f64,
+}
+
+/// The state of a study, as checkpointed after every pass (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StudyState {
+    /// Format version.
+    pub version: u32,
+    /// SHA-256 of the scenario text the study runs (a resume refuses another).
+    pub scenario_sha256: String,
+    /// Grid: x0, dx (bits), n, periodic.
+    pub x0: Bits,
+    /// Sample spacing (bits).
+    pub dx: Bits,
+    /// Samples.
+    pub n: usize,
+    /// Periodic.
+    pub periodic: bool,
+    /// The initial profile, m.
+    pub initial: Bits,
+    /// The reference wear (the smooth surface's, minus its mean), m, when asked for.
+    pub reference: Option<Bits>,
+    /// The finished passes, in order.
+    pub passes: Vec<PassRecord>,
+}
+
+/// The checkpoint's format version.
+pub const CHECKPOINT_VERSION: u32 = 1;
+/// The checkpoint's file name in the output folder.
+pub const CHECKPOINT: &str = "checkpoint.json";
+
+impl StudyState {
+    /// The profile after the last finished pass (the initial one before any).
+    pub fn current(&self) -> SurfaceProfile {
+        SurfaceProfile {
+            x0: self.x0.0[0],
+            dx: self.dx.0[0],
+            z: self
+                .passes
+                .last()
+                .map(|p| p.z.0.clone())
+                .unwrap_or_else(|| self.initial.0.clone()),
+            periodic: self.periodic,
+        }
+    }
+
+    /// Every profile so far: the initial one, then after each pass.
+    pub fn profiles(&self) -> Vec<&[f64]> {
+        std::iter::once(self.initial.0.as_slice())
+            .chain(self.passes.iter().map(|p| p.z.0.as_slice()))
+            .collect()
+    }
+
+    /// The uniform loss accumulated over the passes, m.
+    pub fn uniform_loss(&self) -> f64 {
+        self.passes.iter().map(|p| p.uniform_loss.0[0]).sum()
+    }
+
+    /// Reads a checkpoint.
+    ///
+    /// # Errors
+    /// [`GrowthError::Checkpoint`].
+    pub fn read(path: &Path) -> Result<Self, GrowthError> {
+        let err = |message: String| GrowthError::Checkpoint {
+            path: path.to_path_buf(),
+            message,
+        };
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| err(format!("cannot read the checkpoint to resume from: {e}")))?;
+        let s: Self = serde_json::from_str(&text)
+            .map_err(|e| err(format!("not a growth checkpoint: {e}")))?;
+        if s.version != CHECKPOINT_VERSION {
+            return Err(err(format!(
+                "checkpoint version {} (this softway reads {CHECKPOINT_VERSION})",
+                s.version
+            )));
+        }
+        Ok(s)
+    }
+
+    /// Writes the checkpoint atomically.
+    ///
+    /// # Errors
+    /// [`GrowthError::Output`].
+    pub fn write(&self, path: &Path) -> Result<(), GrowthError> {
+        let text = serde_json::to_string(self).map_err(|e| GrowthError::output(path, e))?;
+        write_atomic(path, text.as_bytes()).map_err(|e| GrowthError::output(path, e))
+    }
+}
+
+/// How a study ended.
+#[derive(Debug, Clone)]
+pub struct StudyOutcome {
+    /// The state (every finished pass).
+    pub state: StudyState,
+    /// Passes run by this call (not counting those resumed from).
+    pub passes_run: usize,
+    /// Stopped by the interrupt before reaching the target.
+    pub interrupted: bool,
+    /// Wall-clock time of the reference pass, s (0 when none was run by this call).
+    pub reference_wall_s: f64,
+}
+
+/// One line of progress after a pass.
+#[derive(Debug, Clone)]
+pub struct PassLine {
+    /// The pass just finished (from 0).
+    pub pass: usize,
+    /// Passes asked for in all.
+    pub target: usize,
+    /// RMS roughness after it, m.
+    pub rms: f64,
+    /// Uniform loss so far, m.
+    pub uniform_loss: f64,
+    /// Wall-clock time of the pass, s.
+    pub wall_s: f64,
+    /// The runner's scalars.
+    pub scalars: Vec<(String, f64)>,
+}
+
+/// A new state: the initial roughness of `config` on the runner's grid.
+///
+/// # Errors
+/// [`GrowthError::Roughness`].
+pub fn new_state(
+    config: &GrowthConfig,
+    grid: (f64, f64, usize, bool),
+    scenario_sha256: &str,
+) -> Result<StudyState, GrowthError> {
+    let (x0, dx, n, periodic) = grid;
+    let z = roughness::realise(&config.roughness, grid).map_err(GrowthError::Roughness)?;
+    Ok(StudyState {
+        version: CHECKPOINT_VERSION,
+        scenario_sha256: scenario_sha256.to_string(),
+        x0: Bits(vec![x0]),
+        dx: Bits(vec![dx]),
+        n,
+        periodic,
+        initial: Bits(z),
+        reference: None,
+        passes: Vec::new(),
+    })
+}
+
+/// Runs the study until `target` passes are finished (or the interrupt), checkpointing into
+/// `out/checkpoint.json` and calling `after_pass` after each pass (the outputs, the
+/// progress line). With `resume` the state is read from the checkpoint (same scenario text
+/// and grid required) and the study goes on from its last finished pass.
+///
+/// # Errors
+/// [`GrowthError`].
+#[allow(clippy::too_many_arguments)]
+pub fn run_study<R: PassRunner>(
+    runner: &mut R,
+    config: &GrowthConfig,
+    target: usize,
+    out: &Path,
+    resume: bool,
+    scenario_sha256: &str,
+    interrupt: &AtomicBool,
+    mut after_pass: impl FnMut(&StudyState, &PassLine) -> Result<(), GrowthError>,
+) -> Result<StudyOutcome, GrowthError> {
+    let grid = runner.grid();
+    let ck = out.join(CHECKPOINT);
+    let mut state = if resume {
+        let s = StudyState::read(&ck)?;
+        let err = |message: String| GrowthError::Checkpoint {
+            path: ck.clone(),
+            message,
+        };
+        if s.scenario_sha256 != scenario_sha256 {
+            return Err(err(format!(
+                "written for another scenario text (SHA-256 {}, this one {scenario_sha256}): resume with the same file and --set values, or start afresh without --resume",
+                s.scenario_sha256
+            )));
+        }
+        if (s.x0.0[0], s.dx.0[0], s.n, s.periodic) != grid {
+            return Err(err(format!(
+                "its grid ({}, {}, {}, periodic {}) is not the runner's {grid:?}",
+                s.x0.0[0], s.dx.0[0], s.n, s.periodic
+            )));
+        }
+        s
+    } else {
+        new_state(config, grid, scenario_sha256)?
+    };
+    let n = grid.2;
+    let mut reference_wall_s = 0.0;
+    if config.reference && state.reference.is_none() {
+        let flat = SurfaceProfile {
+            z: vec![0.0; n],
+            ..state.current()
+        };
+        let start = Instant::now();
+        let r = runner.run_pass(&flat, 0, interrupt)?;
+        reference_wall_s = start.elapsed().as_secs_f64();
+        if interrupt.load(Ordering::Relaxed) {
+            return Ok(StudyOutcome {
+                state,
+                passes_run: 0,
+                interrupted: true,
+                reference_wall_s,
+            });
+        }
+        check_shape(&r, 0, n)?;
+        let mut w = spectrum::smooth(&r.wear_depth, grid.1, config.smoothing_m, grid.3);
+        let mean = spectrum::mean(&w);
+        w.iter_mut().for_each(|x| *x -= mean);
+        state.reference = Some(Bits(w));
+        state.write(&ck)?;
+    } else if !resume {
+        state.write(&ck)?;
+    }
+    let mut passes_run = 0;
+    let mut interrupted = false;
+    while state.passes.len() < target {
+        let pass = state.passes.len();
+        let profile = state.current();
+        let start = Instant::now();
+        let r = runner.run_pass(&profile, pass, interrupt)?;
+        let wall_s = start.elapsed().as_secs_f64();
+        if interrupt.load(Ordering::Relaxed) {
+            interrupted = true;
+            break;
+        }
+        check_shape(&r, pass, n)?;
+        let record = advance(config, &state, &profile, &r, wall_s);
+        state.passes.push(record);
+        state.write(&ck)?;
+        passes_run += 1;
+        let line = PassLine {
+            pass,
+            target,
+            rms: state.current().rms(),
+            uniform_loss: state.uniform_loss(),
+            wall_s,
+            scalars: r.scalars,
+        };
+        after_pass(&state, &line)?;
+    }
+    Ok(StudyOutcome {
+        state,
+        passes_run,
+        interrupted,
+        reference_wall_s,
+    })
+}
+
+/// The wear step (module docs): the profile after a pass.
+fn advance(
+    config: &GrowthConfig,
+    state: &StudyState,
+    profile: &SurfaceProfile,
+    r: &PassResult,
+    wall_s: f64,
+) -> PassRecord {
+    let mut w = spectrum::smooth(
+        &r.wear_depth,
+        profile.dx,
+        config.smoothing_m,
+        profile.periodic,
+    );
+    if let Some(reference) = &state.reference {
+        w.iter_mut().zip(&reference.0).for_each(|(x, r)| *x -= r);
+    }
+    let mean = spectrum::mean(&w);
+    let nw = config.passes_per_pass;
+    let z: Vec<f64> = profile
+        .z
+        .iter()
+        .zip(&w)
+        .zip(&r.plastic)
+        .map(|((z, w), d)| z - nw * (w - mean) + d)
+        .collect();
+    PassRecord {
+        z: Bits(z),
+        uniform_loss: Bits(vec![nw * mean]),
+        wear: Bits(w),
+        scalar_names: r.scalars.iter().map(|s| s.0.clone()).collect(),
+        scalar_values: Bits(r.scalars.iter().map(|s| s.1).collect()),
+        wall_s,
+    }
+}
+
+fn check_shape(r: &PassResult, pass: usize, n: usize) -> Result<(), GrowthError> {
+    for (what, v) in [("wear_depth", &r.wear_depth), ("plastic", &r.plastic)] {
+        if v.len() != n {
+            return Err(GrowthError::Shape {
+                pass,
+                what,
+                got: v.len(),
+                n,
+            });
+        }
+    }
+    Ok(())
 }

@@ -7,6 +7,7 @@
 pub mod bar;
 pub(crate) mod compare;
 pub(crate) mod converge;
+pub mod grow;
 pub(crate) mod matrix;
 pub(crate) mod on_block;
 pub mod results;

@@ -550,6 +550,8 @@ pub struct Scenario<R = Run> {
     /// The command line's `--set KEY=VALUE` overrides written into the text, in order (a
     /// sweep's or a ladder's point among them).
     pub overrides: Vec<Override>,
+    /// The growth study of `[growth]` and `[wear]` (`softway grow`; [`crate::growth`]).
+    pub growth: Option<crate::growth::GrowthConfig>,
 }
 
 impl<R> Scenario<R> {

@@ -33,6 +33,9 @@ pub(super) struct RawScenario {
     pub runs: Vec<RawRun>,
     pub output: Option<RawOutput>,
     pub sweep: Option<RawSweep>,
+    /// `[growth]` and `[wear]`: validated by [`crate::growth::config`].
+    pub growth: Option<toml::Table>,
+    pub wear: Option<toml::Table>,
 }
 
 /// `[sweep]`.

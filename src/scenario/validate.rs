@@ -53,7 +53,10 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         runs: raw_runs,
         output,
         sweep,
+        growth,
+        wear,
     } = raw;
+    let growth = crate::growth::config::validate(growth, wear, path)?;
     let name = match name {
         Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) && n != "." && n != ".." => {
             n
@@ -250,6 +253,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         source_sha256: String::new(),
         source_text: String::new(),
         overrides: Vec::new(),
+        growth,
     })
 }
 

@@ -1,0 +1,575 @@
+//! The scenario's `[growth]` and `[wear]` tables, validated (unknown keys and bad values
+//! refused naming the file and the key).
+//!
+//! ```toml
+//! [growth]
+//! passes = 20               # simulated passes (softway grow --passes overrides)
+//! passes_per_pass = 2e4     # N_w: real passes one simulated pass stands for (the wear step)
+//! smoothing = 4e-3          # m: moving-average width of the wear (0: none)
+//! reference = true          # subtract the smooth surface's wear pattern (default false)
+//! roughness = "random"      # "harmonic" | "csv" | "spectrum" | "random" | "iso3095" | "none"
+//! level = -20.0             # random: dB re 1 um in every band ...
+//! min_wavelength = 5e-3     # ... whose centre lies in [min, max], m
+//! max_wavelength = 0.2
+//! seed = 1
+//! # harmonic: amplitude (m), wavelength (m; on a periodic profile rounded to whole orders)
+//! # csv: file = "rough.csv" (x_m,z_m; relative to the scenario's folder)
+//! # spectrum: band_wavelengths = [m, ...], band_levels = [dB, ...], seed
+//! # iso3095: offset = dB added to EN ISO 3095's limit spectrum (default 0), seed
+//!
+//! [wear]
+//! law = "archard"           # "archard" | "frictional_power" | "usfd"
+//! k = 1e-4                  # archard: dimensionless
+//! hardness = 3e9            # archard: Pa
+//! map = "jendel"            # archard: k from Jendel's map (k1..k4 override its values)
+//! # frictional_power: k_mass (kg/J, default 5.3e-9)
+//! # usfd: k1, x1, k2, x2, k3, c3 (default R8T, crate::wear)
+//! density = 7830.0          # kg/m^3 of the worn material (default: the body's)
+//! ```
+
+use super::roughness::ISO3095_LIMIT;
+use crate::scenario::ScenarioError;
+use crate::wear::{Archard, FrictionalPower, JendelMap, Usfd, WearLaw};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A validated growth study (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GrowthConfig {
+    /// Simulated passes when the command line does not say (default 10).
+    pub passes: usize,
+    /// Real passes per simulated pass, `N_w` (the wear step; default 1e4).
+    pub passes_per_pass: f64,
+    /// Moving-average width of the wear, m (0: none; the default).
+    pub smoothing_m: f64,
+    /// Subtract the smooth surface's wear pattern (default false).
+    pub reference: bool,
+    /// The initial roughness.
+    pub roughness: Roughness,
+    /// The wear law.
+    pub wear: WearLaw,
+    /// Density of the worn material, kg/m^3 (`None`: the body's).
+    pub wear_density: Option<f64>,
+}
+
+/// The initial roughness of a study.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Roughness {
+    /// A smooth surface.
+    None,
+    /// `amplitude sin(2 pi x / wavelength)`.
+    Harmonic {
+        /// m.
+        amplitude: f64,
+        /// m.
+        wavelength: f64,
+    },
+    /// `x_m,z_m` rows of a file.
+    Csv {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Band levels: `(centre wavelength m, dB re 1 um)`, random phases from the seed.
+    Spectrum {
+        /// The bands.
+        bands: Vec<(f64, f64)>,
+        /// The seed.
+        seed: u64,
+    },
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawGrowth {
+    passes: Option<i64>,
+    passes_per_pass: Option<f64>,
+    smoothing: Option<f64>,
+    reference: Option<bool>,
+    roughness: Option<String>,
+    amplitude: Option<f64>,
+    wavelength: Option<f64>,
+    file: Option<String>,
+    band_wavelengths: Option<Vec<f64>>,
+    band_levels: Option<Vec<f64>>,
+    level: Option<f64>,
+    min_wavelength: Option<f64>,
+    max_wavelength: Option<f64>,
+    offset: Option<f64>,
+    seed: Option<i64>,
+}
+
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawWear {
+    law: Option<String>,
+    k: Option<f64>,
+    hardness: Option<f64>,
+    map: Option<String>,
+    k1: Option<f64>,
+    k2: Option<f64>,
+    k3: Option<f64>,
+    k4: Option<f64>,
+    k_mass: Option<f64>,
+    x1: Option<f64>,
+    x2: Option<f64>,
+    c3: Option<f64>,
+    density: Option<f64>,
+}
+
+/// Default simulated passes.
+pub const DEFAULT_PASSES: usize = 10;
+/// Default real passes per simulated pass.
+pub const DEFAULT_PASSES_PER_PASS: f64 = 1e4;
+
+/// Validates the `[growth]` and `[wear]` tables of the scenario `path` (`None` when
+/// neither is given; `[wear]` alone is refused, as is `[growth]` without `[wear]`).
+///
+/// # Errors
+/// [`ScenarioError`] naming the file and the key.
+pub fn validate(
+    growth: Option<toml::Table>,
+    wear: Option<toml::Table>,
+    path: &Path,
+) -> Result<Option<GrowthConfig>, ScenarioError> {
+    let (g, w) = match (growth, wear) {
+        (None, None) => return Ok(None),
+        (Some(_), None) => {
+            return Err(ScenarioError::Missing {
+                path: path.to_path_buf(),
+                key: "wear".into(),
+                why: "a growth study needs its wear law ([wear] law = \"archard\" | \"frictional_power\" | \"usfd\")".into(),
+            })
+        }
+        (None, Some(_)) => {
+            return Err(ScenarioError::Missing {
+                path: path.to_path_buf(),
+                key: "growth".into(),
+                why: "[wear] is read by the growth study (softway grow): give its [growth] table".into(),
+            })
+        }
+        (Some(g), Some(w)) => (g, w),
+    };
+    let parse = |table: &str, e: toml::de::Error| ScenarioError::Parse {
+        path: path.to_path_buf(),
+        message: format!("[{table}]: {}", e.message()),
+    };
+    let g: RawGrowth = toml::Value::Table(g)
+        .try_into()
+        .map_err(|e| parse("growth", e))?;
+    let w: RawWear = toml::Value::Table(w)
+        .try_into()
+        .map_err(|e| parse("wear", e))?;
+    let invalid = |key: &str, value: String, allowed: &str| ScenarioError::Invalid {
+        path: path.to_path_buf(),
+        key: key.to_string(),
+        value,
+        allowed: allowed.to_string(),
+    };
+    let positive = |key: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(invalid(key, v.to_string(), "must be finite and > 0"))
+        }
+    };
+    let passes = match g.passes {
+        None => DEFAULT_PASSES,
+        Some(p) if (1..=100_000).contains(&p) => p as usize,
+        Some(p) => {
+            return Err(invalid(
+                "growth.passes",
+                p.to_string(),
+                "between 1 and 100000",
+            ))
+        }
+    };
+    let passes_per_pass = positive(
+        "growth.passes_per_pass",
+        g.passes_per_pass.unwrap_or(DEFAULT_PASSES_PER_PASS),
+    )?;
+    let smoothing_m = match g.smoothing {
+        None => 0.0,
+        Some(s) if s.is_finite() && s >= 0.0 => s,
+        Some(s) => {
+            return Err(invalid(
+                "growth.smoothing",
+                s.to_string(),
+                "must be >= 0 m (0: no smoothing)",
+            ))
+        }
+    };
+    let seed = match g.seed {
+        None => 1,
+        Some(s) if s >= 0 => s as u64,
+        Some(s) => return Err(invalid("growth.seed", s.to_string(), "must be >= 0")),
+    };
+    let kind = g.roughness.clone().unwrap_or_else(|| "none".into());
+    // The keys each roughness reads; any other roughness key given is refused.
+    let given: Vec<(&str, bool)> = vec![
+        ("amplitude", g.amplitude.is_some()),
+        ("wavelength", g.wavelength.is_some()),
+        ("file", g.file.is_some()),
+        ("band_wavelengths", g.band_wavelengths.is_some()),
+        ("band_levels", g.band_levels.is_some()),
+        ("level", g.level.is_some()),
+        ("min_wavelength", g.min_wavelength.is_some()),
+        ("max_wavelength", g.max_wavelength.is_some()),
+        ("offset", g.offset.is_some()),
+        ("seed", g.seed.is_some()),
+    ];
+    let reads: &[&str] = match kind.as_str() {
+        "none" => &[],
+        "harmonic" => &["amplitude", "wavelength"],
+        "csv" => &["file"],
+        "spectrum" => &["band_wavelengths", "band_levels", "seed"],
+        "random" => &["level", "min_wavelength", "max_wavelength", "seed"],
+        "iso3095" => &["offset", "seed"],
+        other => {
+            return Err(invalid(
+                "growth.roughness",
+                format!("\"{other}\""),
+                "one of \"none\", \"harmonic\", \"csv\", \"spectrum\", \"random\", \"iso3095\"",
+            ))
+        }
+    };
+    if let Some((k, _)) = given.iter().find(|(k, on)| *on && !reads.contains(k)) {
+        return Err(invalid(
+            &format!("growth.{k}"),
+            "(given)".into(),
+            &format!(
+                "not read with roughness = \"{kind}\" (it reads {}): remove it",
+                if reads.is_empty() {
+                    "no other key".to_string()
+                } else {
+                    reads.join(", ")
+                }
+            ),
+        ));
+    }
+    let need = |key: &str, v: Option<f64>, why: &str| {
+        v.ok_or_else(|| ScenarioError::Missing {
+            path: path.to_path_buf(),
+            key: format!("growth.{key}"),
+            why: why.to_string(),
+        })
+    };
+    let roughness = match kind.as_str() {
+        "none" => Roughness::None,
+        "harmonic" => {
+            let amplitude = need("amplitude", g.amplitude, "the harmonic's amplitude, m")?;
+            if !amplitude.is_finite() {
+                return Err(invalid(
+                    "growth.amplitude",
+                    amplitude.to_string(),
+                    "must be finite",
+                ));
+            }
+            Roughness::Harmonic {
+                amplitude,
+                wavelength: positive(
+                    "growth.wavelength",
+                    need("wavelength", g.wavelength, "the harmonic's wavelength, m")?,
+                )?,
+            }
+        }
+        "csv" => {
+            let f = g.file.clone().unwrap_or_default();
+            if f.is_empty() {
+                return Err(ScenarioError::Missing {
+                    path: path.to_path_buf(),
+                    key: "growth.file".into(),
+                    why: "the CSV of x_m,z_m rows".into(),
+                });
+            }
+            let p = PathBuf::from(&f);
+            let p = if p.is_relative() {
+                path.parent().unwrap_or(Path::new(".")).join(p)
+            } else {
+                p
+            };
+            Roughness::Csv { path: p }
+        }
+        "spectrum" => {
+            let (Some(l), Some(d)) = (&g.band_wavelengths, &g.band_levels) else {
+                return Err(ScenarioError::Missing {
+                    path: path.to_path_buf(),
+                    key: "growth.band_wavelengths / growth.band_levels".into(),
+                    why: "the bands' centre wavelengths (m) and levels (dB re 1 um), one each"
+                        .into(),
+                });
+            };
+            if l.len() != d.len() || l.is_empty() {
+                return Err(invalid(
+                    "growth.band_levels",
+                    format!("{} values", d.len()),
+                    &format!("one per band wavelength ({} given), at least one", l.len()),
+                ));
+            }
+            for &x in l {
+                positive("growth.band_wavelengths", x)?;
+            }
+            if let Some(x) = d.iter().find(|x| !x.is_finite()) {
+                return Err(invalid(
+                    "growth.band_levels",
+                    x.to_string(),
+                    "must be finite dB re 1 um",
+                ));
+            }
+            Roughness::Spectrum {
+                bands: l.iter().copied().zip(d.iter().copied()).collect(),
+                seed,
+            }
+        }
+        "random" => {
+            let level = need("level", g.level, "the level of every band, dB re 1 um")?;
+            if !level.is_finite() {
+                return Err(invalid(
+                    "growth.level",
+                    level.to_string(),
+                    "must be finite dB re 1 um",
+                ));
+            }
+            let lo = positive(
+                "growth.min_wavelength",
+                need(
+                    "min_wavelength",
+                    g.min_wavelength,
+                    "the shortest band centre, m",
+                )?,
+            )?;
+            let hi = positive(
+                "growth.max_wavelength",
+                need(
+                    "max_wavelength",
+                    g.max_wavelength,
+                    "the longest band centre, m",
+                )?,
+            )?;
+            let bands = preferred_bands(lo, hi);
+            if bands.is_empty() {
+                return Err(invalid(
+                    "growth.max_wavelength",
+                    hi.to_string(),
+                    &format!("no one-third-octave band centre (10^(j/10) mm) lies in [{lo}, {hi}] m: widen the range"),
+                ));
+            }
+            Roughness::Spectrum {
+                bands: bands.into_iter().map(|c| (c, level)).collect(),
+                seed,
+            }
+        }
+        _ => {
+            let offset = g.offset.unwrap_or(0.0);
+            if !offset.is_finite() {
+                return Err(invalid(
+                    "growth.offset",
+                    offset.to_string(),
+                    "must be finite dB",
+                ));
+            }
+            Roughness::Spectrum {
+                bands: ISO3095_LIMIT
+                    .iter()
+                    .map(|&(cm, db)| (cm * 1e-2, db + offset))
+                    .collect(),
+                seed,
+            }
+        }
+    };
+    let wear = wear_law(&w, path)?;
+    let wear_density = match w.density {
+        None => None,
+        Some(d) => Some(positive("wear.density", d)?),
+    };
+    Ok(Some(GrowthConfig {
+        passes,
+        passes_per_pass,
+        smoothing_m,
+        reference: g.reference.unwrap_or(false),
+        roughness,
+        wear,
+        wear_density,
+    }))
+}
+
+/// The one-third-octave centres `10^(j/10)` mm within `[lo, hi]` m, longest first.
+pub fn preferred_bands(lo: f64, hi: f64) -> Vec<f64> {
+    let j_lo = (10.0 * (lo * 1e3).log10() - 1e-9).ceil() as i64;
+    let j_hi = (10.0 * (hi * 1e3).log10() + 1e-9).floor() as i64;
+    (j_lo..=j_hi)
+        .rev()
+        .map(|j| 10f64.powf(j as f64 / 10.0) * 1e-3)
+        .collect()
+}
+
+fn wear_law(w: &RawWear, path: &Path) -> Result<WearLaw, ScenarioError> {
+    let invalid = |key: &str, value: String, allowed: &str| ScenarioError::Invalid {
+        path: path.to_path_buf(),
+        key: key.to_string(),
+        value,
+        allowed: allowed.to_string(),
+    };
+    let law = w.law.clone().ok_or_else(|| ScenarioError::Missing {
+        path: path.to_path_buf(),
+        key: "wear.law".into(),
+        why: "\"archard\", \"frictional_power\" or \"usfd\"".into(),
+    })?;
+    let given: Vec<(&str, bool)> = vec![
+        ("k", w.k.is_some()),
+        ("hardness", w.hardness.is_some()),
+        ("map", w.map.is_some()),
+        ("k1", w.k1.is_some()),
+        ("k2", w.k2.is_some()),
+        ("k3", w.k3.is_some()),
+        ("k4", w.k4.is_some()),
+        ("k_mass", w.k_mass.is_some()),
+        ("x1", w.x1.is_some()),
+        ("x2", w.x2.is_some()),
+        ("c3", w.c3.is_some()),
+    ];
+    let jendel = w.map.as_deref() == Some("jendel");
+    let reads: &[&str] = match (law.as_str(), jendel) {
+        ("archard", false) => &["k", "hardness", "map"],
+        ("archard", true) => &["hardness", "map", "k1", "k2", "k3", "k4"],
+        ("frictional_power", _) => &["k_mass"],
+        ("usfd", _) => &["k1", "x1", "k2", "x2", "k3", "c3"],
+        (other, _) => {
+            return Err(invalid(
+                "wear.law",
+                format!("\"{other}\""),
+                "one of \"archard\", \"frictional_power\", \"usfd\"",
+            ))
+        }
+    };
+    if let Some((k, _)) = given.iter().find(|(k, on)| *on && !reads.contains(k)) {
+        return Err(invalid(
+            &format!("wear.{k}"),
+            "(given)".into(),
+            &format!(
+                "not read by law = \"{law}\"{} (it reads {}): remove it",
+                if jendel { " with map = \"jendel\"" } else { "" },
+                reads.join(", ")
+            ),
+        ));
+    }
+    let out = match law.as_str() {
+        "archard" => {
+            let map = match w.map.as_deref() {
+                None | Some("none") => None,
+                Some("jendel") => {
+                    let d = JendelMap::DRY;
+                    Some(JendelMap {
+                        k1: w.k1.unwrap_or(d.k1),
+                        k2: w.k2.unwrap_or(d.k2),
+                        k3: w.k3.unwrap_or(d.k3),
+                        k4: w.k4.unwrap_or(d.k4),
+                    })
+                }
+                Some(other) => {
+                    return Err(invalid(
+                        "wear.map",
+                        format!("\"{other}\""),
+                        "\"none\" or \"jendel\"",
+                    ))
+                }
+            };
+            let hardness = w.hardness.ok_or_else(|| ScenarioError::Missing {
+                path: path.to_path_buf(),
+                key: "wear.hardness".into(),
+                why: "the worn surface's hardness, Pa (Archard's H)".into(),
+            })?;
+            let k = match (map.is_some(), w.k) {
+                (true, _) => 0.0,
+                (false, Some(k)) => k,
+                (false, None) => {
+                    return Err(ScenarioError::Missing {
+                        path: path.to_path_buf(),
+                        key: "wear.k".into(),
+                        why: "Archard's dimensionless wear coefficient (or map = \"jendel\")"
+                            .into(),
+                    })
+                }
+            };
+            WearLaw::Archard(Archard { k, hardness, map })
+        }
+        "frictional_power" => WearLaw::FrictionalPower(FrictionalPower {
+            k_mass: w.k_mass.unwrap_or(FrictionalPower::DEFAULT_K_MASS),
+        }),
+        _ => {
+            let d = Usfd::R8T;
+            WearLaw::Usfd(Usfd {
+                k1: w.k1.unwrap_or(d.k1),
+                x1: w.x1.unwrap_or(d.x1),
+                k2: w.k2.unwrap_or(d.k2),
+                x2: w.x2.unwrap_or(d.x2),
+                k3: w.k3.unwrap_or(d.k3),
+                c3: w.c3.unwrap_or(d.c3),
+            })
+        }
+    };
+    out.check().map_err(|m| {
+        let key = m.split(' ').next().unwrap_or("wear").to_string();
+        ScenarioError::Invalid {
+            path: path.to_path_buf(),
+            key,
+            value: m
+                .split(" = ")
+                .nth(1)
+                .and_then(|s| s.split(':').next())
+                .unwrap_or("")
+                .to_string(),
+            allowed: m.split(": ").nth(1).unwrap_or(&m).to_string(),
+        }
+    })?;
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tables(g: &str, w: &str) -> (Option<toml::Table>, Option<toml::Table>) {
+        (Some(g.parse().unwrap()), Some(w.parse().unwrap()))
+    }
+
+    #[test]
+    fn defaults_and_errors_name_the_key() {
+        let p = Path::new("s.toml");
+        let (g, w) = tables("", "law = \"frictional_power\"");
+        let c = validate(g, w, p).unwrap().unwrap();
+        assert_eq!(c.passes, DEFAULT_PASSES);
+        assert_eq!(c.passes_per_pass, DEFAULT_PASSES_PER_PASS);
+        assert_eq!(c.smoothing_m, 0.0);
+        assert!(!c.reference);
+        assert_eq!(c.roughness, Roughness::None);
+        let (g, w) = tables("pases = 3", "law = \"usfd\"");
+        let e = validate(g, w, p).unwrap_err().to_string();
+        assert!(e.contains("s.toml") && e.contains("pases"), "{e}");
+        let (g, w) = tables("passes_per_pass = -1.0", "law = \"usfd\"");
+        let e = validate(g, w, p).unwrap_err().to_string();
+        assert!(e.contains("growth.passes_per_pass"), "{e}");
+        let (g, w) = tables("", "law = \"archard\"\nk = 1e-4");
+        let e = validate(g, w, p).unwrap_err().to_string();
+        assert!(e.contains("wear.hardness"), "{e}");
+        let (g, w) = tables("", "law = \"usfd\"\nk_mass = 1.0");
+        let e = validate(g, w, p).unwrap_err().to_string();
+        assert!(e.contains("wear.k_mass"), "{e}");
+        let (g, w) = tables(
+            "roughness = \"harmonic\"\namplitude = 1e-6\nlevel = 3.0",
+            "law = \"usfd\"",
+        );
+        let e = validate(g, w, p).unwrap_err().to_string();
+        assert!(e.contains("growth.level"), "{e}");
+        let (g, w) = tables("", "law = \"archard\"\nhardness = -3.0\nk = 1e-4");
+        let e = validate(g, w, p).unwrap_err().to_string();
+        assert!(e.contains("wear.hardness"), "{e}");
+    }
+
+    #[test]
+    fn preferred_centres() {
+        let c = preferred_bands(5e-3, 0.1);
+        assert!((c[0] - 0.1).abs() < 1e-12);
+        assert!((c[c.len() - 1] - 5.0119e-3).abs() < 1e-6);
+        assert_eq!(c.len(), 14);
+    }
+}

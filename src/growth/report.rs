@@ -1,0 +1,498 @@
+//! What a study writes, after every pass (each file rewritten whole, atomically) and at the
+//! end: `passes.csv`, `bands.csv`, `orders.csv` (periodic profiles), `profile.csv`,
+//! `spectrum.png`, `growth_rate.png`, `profile.png`, `orders.png` (periodic) and
+//! `summary.json` ([`GrowthSummary`]). Everything is computed from the [`StudyState`]
+//! alone, so a resumed study writes the same numbers.
+
+use super::spectrum::{band_levels, bands, order_amplitudes, slope, Band};
+use super::{GrowthConfig, GrowthError, StudyState};
+use crate::output::files::write_atomic;
+use serde::Serialize;
+use softway_plot::{line_plot, Panel, Series, SeriesStyle};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A band's figures.
+#[derive(Debug, Clone, Serialize)]
+pub struct BandFigures {
+    /// Centre wavelength, m.
+    pub centre_wavelength_m: f64,
+    /// `V / lambda_c`, Hz.
+    pub frequency_hz: f64,
+    /// Orders (or DFT lines) in the band: first and last.
+    pub orders: (usize, usize),
+    /// Level of the initial profile, dB re 1 um.
+    pub level_initial_db: f64,
+    /// Level of the last profile, dB re 1 um.
+    pub level_final_db: f64,
+    /// Growth rate over the passes (least-squares slope), dB per 1e5 real passes.
+    pub rate_db_per_1e5: f64,
+}
+
+/// A polygon order's figures (periodic profiles).
+#[derive(Debug, Clone, Serialize)]
+pub struct OrderFigures {
+    /// Harmonics per revolution.
+    pub order: usize,
+    /// Wavelength on the surface, m.
+    pub wavelength_m: f64,
+    /// `V / lambda`, Hz.
+    pub frequency_hz: f64,
+    /// Amplitude of the initial profile, m.
+    pub amplitude_initial_m: f64,
+    /// Amplitude of the last profile, m.
+    pub amplitude_final_m: f64,
+    /// Growth rate over the passes (least-squares slope of `20 log10 A`), dB per 1e5 real
+    /// passes.
+    pub rate_db_per_1e5: f64,
+    /// Growth rate of the last pass alone, dB per 1e5 real passes.
+    pub rate_last_db_per_1e5: f64,
+}
+
+/// `summary.json` of a study.
+#[derive(Debug, Clone, Serialize)]
+pub struct GrowthSummary {
+    /// Simulated passes finished.
+    pub passes: usize,
+    /// Real passes they stand for.
+    pub real_passes: f64,
+    /// `N_w`.
+    pub passes_per_pass: f64,
+    /// Rolling speed, m/s.
+    pub speed_m_s: f64,
+    /// The profile's length (one period of a periodic one), m.
+    pub length_m: f64,
+    /// Samples.
+    pub samples: usize,
+    /// Periodic (a wheel's rim).
+    pub periodic: bool,
+    /// Moving-average width of the wear, m (0: none), and its samples.
+    pub smoothing_m: f64,
+    /// Samples of the moving average.
+    pub smoothing_samples: usize,
+    /// RMS of the reference wear pattern (the smooth surface's, one simulated pass), m.
+    pub reference_wear_rms_m: Option<f64>,
+    /// RMS roughness, initial and final, m.
+    pub rms_initial_m: f64,
+    /// Final RMS roughness, m.
+    pub rms_final_m: f64,
+    /// Uniform loss (radius or height worn evenly), m, over all real passes.
+    pub uniform_loss_m: f64,
+    /// The band of fastest growth.
+    pub fastest_band: Option<BandFigures>,
+    /// The order of fastest growth (periodic profiles).
+    pub fastest_order: Option<OrderFigures>,
+    /// Every band.
+    pub bands: Vec<BandFigures>,
+    /// Every order (periodic profiles).
+    pub orders: Vec<OrderFigures>,
+    /// The last pass's scalars.
+    pub last_pass: Vec<(String, f64)>,
+    /// Mean wall-clock time of a pass over those run, s.
+    pub mean_pass_wall_s: f64,
+    /// SHA-256 of the scenario text.
+    pub scenario_sha256: String,
+}
+
+/// The figures of a state: bands and orders with their levels per profile.
+struct Figures {
+    bands: Vec<Band>,
+    levels: Vec<Vec<f64>>,
+    amplitudes: Vec<Vec<f64>>,
+    real: Vec<f64>,
+    length: f64,
+}
+
+fn figures(state: &StudyState, config: &GrowthConfig) -> Figures {
+    let profiles = state.profiles();
+    let n = state.n;
+    let length = n as f64 * state.dx.0[0];
+    let b = bands(n, length);
+    let amplitudes: Vec<Vec<f64>> = profiles.iter().map(|z| order_amplitudes(z)).collect();
+    let levels = amplitudes.iter().map(|a| band_levels(a, &b)).collect();
+    let real = (0..profiles.len())
+        .map(|p| p as f64 * config.passes_per_pass)
+        .collect();
+    Figures {
+        bands: b,
+        levels,
+        amplitudes,
+        real,
+        length,
+    }
+}
+
+/// The summary of a state (module docs).
+pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthSummary {
+    let f = figures(state, config);
+    let per_1e5 = 1e5;
+    let last = f.levels.len() - 1;
+    let band_figs: Vec<BandFigures> = f
+        .bands
+        .iter()
+        .enumerate()
+        .map(|(j, b)| {
+            let y: Vec<f64> = f.levels.iter().map(|l| l[j]).collect();
+            BandFigures {
+                centre_wavelength_m: b.centre,
+                frequency_hz: speed / b.centre,
+                orders: (b.k_first, b.k_last),
+                level_initial_db: y[0],
+                level_final_db: y[last],
+                rate_db_per_1e5: slope(&f.real, &y) * per_1e5,
+            }
+        })
+        .collect();
+    let orders: Vec<OrderFigures> = if state.periodic {
+        (1..=f.amplitudes[0].len())
+            .map(|k| {
+                let y: Vec<f64> = f
+                    .amplitudes
+                    .iter()
+                    .map(|a| 20.0 * a[k - 1].log10())
+                    .collect();
+                let last_rate = if last >= 1 {
+                    (y[last] - y[last - 1]) / config.passes_per_pass * per_1e5
+                } else {
+                    f64::NAN
+                };
+                let lambda = f.length / k as f64;
+                OrderFigures {
+                    order: k,
+                    wavelength_m: lambda,
+                    frequency_hz: speed / lambda,
+                    amplitude_initial_m: f.amplitudes[0][k - 1],
+                    amplitude_final_m: f.amplitudes[last][k - 1],
+                    rate_db_per_1e5: slope(&f.real, &y) * per_1e5,
+                    rate_last_db_per_1e5: last_rate,
+                }
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let fastest_band = band_figs
+        .iter()
+        .filter(|b| b.rate_db_per_1e5.is_finite())
+        .max_by(|a, b| a.rate_db_per_1e5.total_cmp(&b.rate_db_per_1e5))
+        .cloned();
+    let fastest_order = orders
+        .iter()
+        .filter(|o| o.rate_db_per_1e5.is_finite())
+        .max_by(|a, b| a.rate_db_per_1e5.total_cmp(&b.rate_db_per_1e5))
+        .cloned();
+    let profiles = state.profiles();
+    let walls: Vec<f64> = state.passes.iter().map(|p| p.wall_s).collect();
+    GrowthSummary {
+        passes: state.passes.len(),
+        real_passes: state.passes.len() as f64 * config.passes_per_pass,
+        passes_per_pass: config.passes_per_pass,
+        speed_m_s: speed,
+        length_m: f.length,
+        samples: state.n,
+        periodic: state.periodic,
+        smoothing_m: config.smoothing_m,
+        smoothing_samples: super::spectrum::window_samples(state.dx.0[0], config.smoothing_m),
+        reference_wear_rms_m: state.reference.as_ref().map(|r| super::spectrum::rms(&r.0)),
+        rms_initial_m: super::spectrum::rms(profiles[0]),
+        rms_final_m: super::spectrum::rms(profiles[profiles.len() - 1]),
+        uniform_loss_m: state.uniform_loss(),
+        fastest_band,
+        fastest_order,
+        bands: band_figs,
+        orders,
+        last_pass: state
+            .passes
+            .last()
+            .map(|p| {
+                p.scalar_names
+                    .iter()
+                    .cloned()
+                    .zip(p.scalar_values.0.iter().copied())
+                    .collect()
+            })
+            .unwrap_or_default(),
+        mean_pass_wall_s: if walls.is_empty() {
+            0.0
+        } else {
+            walls.iter().sum::<f64>() / walls.len() as f64
+        },
+        scenario_sha256: state.scenario_sha256.clone(),
+    }
+}
+
+fn write(path: &Path, text: &str) -> Result<(), GrowthError> {
+    write_atomic(path, text.as_bytes()).map_err(|e| GrowthError::output(path, e))
+}
+
+/// Writes every file of the study into `out` (module docs); returns their paths. With
+/// `plots` false the PNGs are left out.
+///
+/// # Errors
+/// [`GrowthError::Output`].
+pub fn write_all(
+    out: &Path,
+    state: &StudyState,
+    config: &GrowthConfig,
+    speed: f64,
+    plots: bool,
+) -> Result<Vec<PathBuf>, GrowthError> {
+    let s = summary(state, config, speed);
+    let f = figures(state, config);
+    let mut files = Vec::new();
+    let mut put = |name: &str, text: String| -> Result<(), GrowthError> {
+        let p = out.join(name);
+        write(&p, &text)?;
+        files.push(p);
+        Ok(())
+    };
+    // passes.csv
+    let mut t = String::from("pass,real_passes,rms_m,uniform_loss_m,wall_s");
+    let names: Vec<String> = state
+        .passes
+        .first()
+        .map(|p| p.scalar_names.clone())
+        .unwrap_or_default();
+    for n in &names {
+        let _ = write!(t, ",{n}");
+    }
+    t.push('\n');
+    let mut loss = 0.0;
+    for (p, rec) in state.passes.iter().enumerate() {
+        loss += rec.uniform_loss.0[0];
+        let _ = write!(
+            t,
+            "{},{:e},{:e},{:e},{:.4}",
+            p,
+            (p + 1) as f64 * config.passes_per_pass,
+            super::spectrum::rms(&rec.z.0),
+            loss,
+            rec.wall_s
+        );
+        for v in &rec.scalar_values.0 {
+            let _ = write!(t, ",{v:e}");
+        }
+        t.push('\n');
+    }
+    put("passes.csv", t)?;
+    // bands.csv
+    let mut t = String::from("centre_wavelength_m,frequency_hz,first_order,last_order");
+    for p in 0..f.levels.len() {
+        let _ = write!(t, ",level_after_{p}_passes_db");
+    }
+    t.push_str(",rate_db_per_1e5\n");
+    for (j, b) in s.bands.iter().enumerate() {
+        let _ = write!(
+            t,
+            "{:e},{:e},{},{}",
+            b.centre_wavelength_m, b.frequency_hz, b.orders.0, b.orders.1
+        );
+        for l in &f.levels {
+            let _ = write!(t, ",{:.4}", l[j]);
+        }
+        let _ = writeln!(t, ",{:.4}", b.rate_db_per_1e5);
+    }
+    put("bands.csv", t)?;
+    // orders.csv
+    if state.periodic {
+        let mut t = String::from("order,wavelength_m,frequency_hz");
+        for p in 0..f.amplitudes.len() {
+            let _ = write!(t, ",amplitude_after_{p}_passes_m");
+        }
+        t.push_str(",rate_db_per_1e5,rate_last_db_per_1e5\n");
+        for o in &s.orders {
+            let _ = write!(t, "{},{:e},{:e}", o.order, o.wavelength_m, o.frequency_hz);
+            for a in &f.amplitudes {
+                let _ = write!(t, ",{:e}", a[o.order - 1]);
+            }
+            let _ = writeln!(t, ",{:.4},{:.4}", o.rate_db_per_1e5, o.rate_last_db_per_1e5);
+        }
+        put("orders.csv", t)?;
+    }
+    // profile.csv
+    let profiles = state.profiles();
+    let (z0, zl) = (profiles[0], profiles[profiles.len() - 1]);
+    let wear_last = state.passes.last().map(|p| p.wear.0.as_slice());
+    let mut t = String::from("x_m,z_initial_m,z_m,wear_last_pass_m\n");
+    for i in 0..state.n {
+        let _ = writeln!(
+            t,
+            "{:e},{:e},{:e},{:e}",
+            state.x0.0[0] + i as f64 * state.dx.0[0],
+            z0[i],
+            zl[i],
+            wear_last.map(|w| w[i]).unwrap_or(0.0)
+        );
+    }
+    put("profile.csv", t)?;
+    let json = serde_json::to_string_pretty(&s).map_err(|e| GrowthError::output(out, e))?;
+    put("summary.json", json)?;
+    if plots {
+        files.extend(plot_all(out, state, &s, &f)?);
+    }
+    Ok(files)
+}
+
+fn plot_all(
+    out: &Path,
+    state: &StudyState,
+    s: &GrowthSummary,
+    f: &Figures,
+) -> Result<Vec<PathBuf>, GrowthError> {
+    let mut files = Vec::new();
+    let png = |name: &str| out.join(name);
+    let lam_mm: Vec<f64> = f.bands.iter().map(|b| b.centre * 1e3).collect();
+    // spectrum.png: the band levels, initial, a few passes between and the last.
+    let mut p = Panel::new(
+        format!(
+            "Roughness spectrum over {} passes ({:.3e} real passes)",
+            s.passes, s.real_passes
+        ),
+        "wavelength [mm] (one-third-octave band centres)",
+        "level [dB re 1 um]",
+    );
+    p.x_log = true;
+    let last = f.levels.len() - 1;
+    let mut shown: Vec<usize> = vec![0];
+    for q in [last / 3, 2 * last / 3, last] {
+        if !shown.contains(&q) {
+            shown.push(q);
+        }
+    }
+    for &q in &shown {
+        p.series.push(Series::new(
+            format!("after {q} passes"),
+            lam_mm.clone(),
+            f.levels[q].clone(),
+            SeriesStyle::LineMarkers,
+        ));
+    }
+    p.note = format!(
+        "V = {:.2} m/s; frequency = V / wavelength. Wear smoothed over {:.2} mm ({} samples).",
+        s.speed_m_s,
+        s.smoothing_m * 1e3,
+        s.smoothing_samples
+    );
+    let path = png("spectrum.png");
+    line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
+    files.push(path);
+    // growth_rate.png: the rate per band (and per order) against wavelength.
+    if s.passes >= 1 {
+        let mut p = Panel::new(
+            "Growth rate against wavelength",
+            "wavelength [mm]",
+            "growth rate [dB per 1e5 real passes]",
+        );
+        p.x_log = true;
+        p.series.push(Series::new(
+            "one-third-octave bands",
+            lam_mm.clone(),
+            s.bands.iter().map(|b| b.rate_db_per_1e5).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        if !s.orders.is_empty() {
+            p.series.push(Series::new(
+                "polygon orders",
+                s.orders.iter().map(|o| o.wavelength_m * 1e3).collect(),
+                s.orders.iter().map(|o| o.rate_db_per_1e5).collect(),
+                SeriesStyle::Markers,
+            ));
+        }
+        p.hlines.push((0.0, String::new()));
+        if let Some(b) = &s.fastest_band {
+            p.vlines.push((
+                b.centre_wavelength_m * 1e3,
+                format!(
+                    "fastest band {:.1} mm ({:.0} Hz)",
+                    b.centre_wavelength_m * 1e3,
+                    b.frequency_hz
+                ),
+            ));
+        }
+        if s.smoothing_m > 0.0 {
+            p.vlines
+                .push((s.smoothing_m * 1e3, "smoothing width".into()));
+        }
+        p.note = format!(
+            "Least-squares slope of each level over {} passes of {:.3e} real passes each.",
+            s.passes, s.passes_per_pass
+        );
+        let path = png("growth_rate.png");
+        line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
+        files.push(path);
+    }
+    // profile.png
+    let profiles = state.profiles();
+    let x_mm: Vec<f64> = (0..state.n)
+        .map(|i| (state.x0.0[0] + i as f64 * state.dx.0[0]) * 1e3)
+        .collect();
+    let mut p = Panel::new(
+        "Surface profile (mean removed; the uniform loss is reported apart)",
+        "x [mm] (rolling coordinate)",
+        "z [um]",
+    );
+    p.series.push(Series::new(
+        "initial",
+        x_mm.clone(),
+        profiles[0].iter().map(|z| z * 1e6).collect(),
+        SeriesStyle::Line,
+    ));
+    p.series.push(Series::new(
+        format!("after {} passes", s.passes),
+        x_mm,
+        profiles[profiles.len() - 1]
+            .iter()
+            .map(|z| z * 1e6)
+            .collect(),
+        SeriesStyle::Line,
+    ));
+    p.note = format!(
+        "RMS {:.4} um -> {:.4} um; uniform loss {:.3e} m.",
+        s.rms_initial_m * 1e6,
+        s.rms_final_m * 1e6,
+        s.uniform_loss_m
+    );
+    let path = png("profile.png");
+    line_plot(&path, &p, (1200, 600)).map_err(|e| GrowthError::output(&path, e))?;
+    files.push(path);
+    // orders.png
+    if !s.orders.is_empty() && s.passes >= 1 {
+        let mut p = Panel::new(
+            "Polygon orders: growth rate",
+            "order (harmonics per revolution)",
+            "growth rate [dB per 1e5 real passes]",
+        );
+        p.series.push(Series::new(
+            "over all passes",
+            s.orders.iter().map(|o| o.order as f64).collect(),
+            s.orders.iter().map(|o| o.rate_db_per_1e5).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        p.series.push(Series::new(
+            "last pass",
+            s.orders.iter().map(|o| o.order as f64).collect(),
+            s.orders.iter().map(|o| o.rate_last_db_per_1e5).collect(),
+            SeriesStyle::Dashed,
+        ));
+        p.hlines.push((0.0, String::new()));
+        if let Some(o) = &s.fastest_order {
+            p.vlines.push((
+                o.order as f64,
+                format!(
+                    "fastest: order {} ({:.1} mm, {:.0} Hz)",
+                    o.order,
+                    o.wavelength_m * 1e3,
+                    o.frequency_hz
+                ),
+            ));
+        }
+        p.note = format!(
+            "Amplitudes by DFT of the rim profile; V = {:.2} m/s.",
+            s.speed_m_s
+        );
+        let path = png("orders.png");
+        line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
+        files.push(path);
+    }
+    Ok(files)
+}

@@ -1,0 +1,165 @@
+//! The growth job (`softway grow`): a built scenario with a `[growth]` and a `[wear]` table,
+//! its pass runner (the wheel on its rigid base for `kind = "wheel"`), the pass-by-pass
+//! study of [`crate::growth`] into an output folder that keeps its checkpoint (so that
+//! `--resume` goes on from it), and the files of [`crate::growth::report`].
+
+use super::{Cancel, RunError};
+use crate::growth::report::{self, GrowthSummary};
+use crate::growth::wheel::WheelPassRunner;
+use crate::growth::{run_study, GrowthError, PassLine, PassRunner};
+use crate::linalg::team::Par;
+use crate::scenario::{Model, Scenario};
+use std::path::{Path, PathBuf};
+
+/// Options of a growth job.
+#[derive(Debug, Clone)]
+pub struct GrowOptions {
+    /// Simulated passes in all (`None`: the scenario's `growth.passes`).
+    pub passes: Option<usize>,
+    /// Go on from the output folder's checkpoint.
+    pub resume: bool,
+    /// Draw the PNGs.
+    pub plots: bool,
+    /// Threads of each pass.
+    pub par: Par,
+}
+
+/// What a growth job reports back.
+#[derive(Debug, Clone)]
+pub struct GrowReport {
+    /// The summary.
+    pub summary: GrowthSummary,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// Stopped by Ctrl-C.
+    pub interrupted: bool,
+    /// Passes run by this call.
+    pub passes_run: usize,
+    /// Wall-clock time of the reference pass run by this call, s.
+    pub reference_wall_s: f64,
+}
+
+/// Runs the growth study of `sc` into `out` (module docs), calling `progress` with a line
+/// after every pass.
+///
+/// # Errors
+/// [`GrowthError`]: a scenario without `[growth]`, a model that cannot be built, a pass that
+/// fails, a checkpoint that cannot be resumed, an output that cannot be written.
+pub fn grow(
+    sc: &Scenario,
+    out: &Path,
+    opts: &GrowOptions,
+    cancel: &Cancel,
+    mut progress: impl FnMut(&PassLine),
+) -> Result<GrowReport, GrowthError> {
+    let config = sc.growth.clone().ok_or_else(|| {
+        GrowthError::Run(RunError::input(
+            &sc.path,
+            "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
+        ))
+    })?;
+    let run = sc
+        .runs
+        .first()
+        .ok_or_else(|| GrowthError::Run(RunError::input(&sc.path, "the scenario has no run")))?;
+    let mut runner: Box<dyn PassRunner> = match &run.model {
+        Model::Wheel(_) => Box::new(WheelPassRunner::new(
+            sc,
+            config.wear,
+            config.wear_density,
+            opts.par,
+        )?),
+        _ => {
+            return Err(GrowthError::Run(RunError::input(
+                &sc.path,
+                "softway grow runs kind = \"wheel\" (the wheel on its rigid base)",
+            )))
+        }
+    };
+    std::fs::create_dir_all(out).map_err(|e| GrowthError::output(out, e))?;
+    let target = opts.passes.unwrap_or(config.passes);
+    let speed = runner.speed();
+    let mut files = vec![super::write_scenario_copy(sc, out)?];
+    let outcome = run_study(
+        &mut BoxRunner(&mut runner),
+        &config,
+        target,
+        out,
+        opts.resume,
+        &sc.source_sha256,
+        cancel.flag(),
+        |state, line| {
+            report::write_all(out, state, &config, speed, opts.plots)?;
+            progress(line);
+            Ok(())
+        },
+    )?;
+    files.push(out.join(crate::growth::CHECKPOINT));
+    files.extend(report::write_all(
+        out,
+        &outcome.state,
+        &config,
+        speed,
+        opts.plots,
+    )?);
+    Ok(GrowReport {
+        summary: report::summary(&outcome.state, &config, speed),
+        files,
+        interrupted: outcome.interrupted,
+        passes_run: outcome.passes_run,
+        reference_wall_s: outcome.reference_wall_s,
+    })
+}
+
+/// A boxed runner as a runner.
+struct BoxRunner<'a>(&'a mut Box<dyn PassRunner>);
+
+impl PassRunner for BoxRunner<'_> {
+    fn grid(&self) -> (f64, f64, usize, bool) {
+        self.0.grid()
+    }
+    fn speed(&self) -> f64 {
+        self.0.speed()
+    }
+    fn run_pass(
+        &mut self,
+        profile: &crate::growth::SurfaceProfile,
+        pass: usize,
+        interrupt: &std::sync::atomic::AtomicBool,
+    ) -> Result<crate::growth::PassResult, RunError> {
+        self.0.run_pass(profile, pass, interrupt)
+    }
+}
+
+/// Screen lines of a study's summary.
+pub fn summary_lines(s: &GrowthSummary) -> Vec<String> {
+    let mut l = vec![format!(
+        "{} passes x {:.3e} = {:.3e} real passes at V = {:.2} m/s; RMS roughness {:.4} -> {:.4} um; uniform loss {:.3e} m; {:.2} s a pass",
+        s.passes,
+        s.passes_per_pass,
+        s.real_passes,
+        s.speed_m_s,
+        s.rms_initial_m * 1e6,
+        s.rms_final_m * 1e6,
+        s.uniform_loss_m,
+        s.mean_pass_wall_s
+    )];
+    if let Some(b) = &s.fastest_band {
+        l.push(format!(
+            "fastest band: {:.2} mm ({:.0} Hz at V), {:+.3} dB per 1e5 passes",
+            b.centre_wavelength_m * 1e3,
+            b.frequency_hz,
+            b.rate_db_per_1e5
+        ));
+    }
+    if let Some(o) = &s.fastest_order {
+        l.push(format!(
+            "fastest polygon order: {} ({:.2} mm, {:.0} Hz at V), {:+.3} dB per 1e5 passes",
+            o.order,
+            o.wavelength_m * 1e3,
+            o.frequency_hz,
+            o.rate_db_per_1e5
+        ));
+    }
+    l
+}
