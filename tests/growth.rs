@@ -90,6 +90,7 @@ fn config(roughness: Roughness, smoothing_m: f64, reference: bool) -> GrowthConf
         roughness,
         wear: WearLaw::FrictionalPower(FrictionalPower { k_mass: 5.3e-9 }),
         wear_density: None,
+        rail: Default::default(),
     }
 }
 

@@ -50,6 +50,41 @@ pub struct GrowthConfig {
     pub wear: WearLaw,
     /// Density of the worn material, kg/m^3 (`None`: the body's).
     pub wear_density: Option<f64>,
+    /// The keys of a rail's study (`kind = "track"`; refused on the wheel).
+    pub rail: RailKeys,
+}
+
+/// The `[growth]` keys of a rail's study ([`crate::growth::track`]), as given.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RailKeys {
+    /// `growth.dx`: the rail profile's spacing, m.
+    pub dx: Option<f64>,
+    /// `growth.creepage`: the rim's steady slip over the rolling speed.
+    pub creepage: Option<f64>,
+    /// `growth.traction_coefficient`: `T / N`.
+    pub traction_coefficient: Option<f64>,
+    /// `growth.patch`: where the worn pressure comes from.
+    pub patch: Option<crate::growth::track::WearPatch>,
+}
+
+impl RailKeys {
+    /// The keys given, by name.
+    pub fn given(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        if self.dx.is_some() {
+            v.push("growth.dx");
+        }
+        if self.creepage.is_some() {
+            v.push("growth.creepage");
+        }
+        if self.traction_coefficient.is_some() {
+            v.push("growth.traction_coefficient");
+        }
+        if self.patch.is_some() {
+            v.push("growth.patch");
+        }
+        v
+    }
 }
 
 /// The initial roughness of a study.
@@ -96,6 +131,10 @@ struct RawGrowth {
     max_wavelength: Option<f64>,
     offset: Option<f64>,
     seed: Option<i64>,
+    dx: Option<f64>,
+    creepage: Option<f64>,
+    traction_coefficient: Option<f64>,
+    patch: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -202,6 +241,41 @@ pub fn validate(
         None => 1,
         Some(s) if s >= 0 => s as u64,
         Some(s) => return Err(invalid("growth.seed", s.to_string(), "must be >= 0")),
+    };
+    let rail = RailKeys {
+        dx: g.dx.map(|v| positive("growth.dx", v)).transpose()?,
+        creepage: match g.creepage {
+            Some(c) if !(c.is_finite() && c > 0.0 && c < 1.0) => {
+                return Err(invalid(
+                    "growth.creepage",
+                    c.to_string(),
+                    "must be in (0, 1): the rim's slip over the rolling speed",
+                ))
+            }
+            c => c,
+        },
+        traction_coefficient: match g.traction_coefficient {
+            Some(c) if !(c.is_finite() && c >= 0.0) => {
+                return Err(invalid(
+                    "growth.traction_coefficient",
+                    c.to_string(),
+                    "must be finite and >= 0",
+                ))
+            }
+            c => c,
+        },
+        patch: match g.patch.as_deref() {
+            None => None,
+            Some("hertz") => Some(crate::growth::track::WearPatch::Hertz),
+            Some("nodes") => Some(crate::growth::track::WearPatch::Nodes),
+            Some(other) => {
+                return Err(invalid(
+                    "growth.patch",
+                    format!("\"{other}\""),
+                    "\"hertz\" (the contact force over Hertz's patch) or \"nodes\" (the rim nodes' own forces)",
+                ))
+            }
+        },
     };
     let kind = g.roughness.clone().unwrap_or_else(|| "none".into());
     // The keys each roughness reads; any other roughness key given is refused.
@@ -389,6 +463,7 @@ pub fn validate(
         roughness,
         wear,
         wear_density,
+        rail,
     }))
 }
 

@@ -119,6 +119,22 @@ pub trait PassRunner {
         pass: usize,
         interrupt: &std::sync::atomic::AtomicBool,
     ) -> Result<PassResult, crate::run::RunError>;
+
+    /// Files of the runner's own written into `out` after the study (the track's
+    /// prediction from its receptance), given the study's band rates `(centre wavelength m,
+    /// dB per 1e5 real passes)`; none by default.
+    ///
+    /// # Errors
+    /// [`crate::run::RunError`].
+    fn extra_outputs(
+        &mut self,
+        _out: &std::path::Path,
+        _bands: &[(f64, f64)],
+        _plots: bool,
+        _interrupt: &std::sync::atomic::AtomicBool,
+    ) -> Result<Vec<std::path::PathBuf>, crate::run::RunError> {
+        Ok(Vec::new())
+    }
 }
 
 /// Errors of a study.

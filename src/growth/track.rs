@@ -338,6 +338,47 @@ impl PassRunner for TrackPass {
         self.ts.vehicle.speed
     }
 
+    fn extra_outputs(
+        &mut self,
+        out: &std::path::Path,
+        bands: &[(f64, f64)],
+        plots: bool,
+        interrupt: &AtomicBool,
+    ) -> Result<Vec<std::path::PathBuf>, RunError> {
+        let (lo, hi) = (self.dx.max(8e-3), (self.n as f64 * self.dx / 4.0).min(1.0));
+        let m = 160;
+        let lams: Vec<f64> = (0..m)
+            .map(|i| lo * (hi / lo).powf(i as f64 / (m - 1) as f64))
+            .collect();
+        let (flat, pred) = self.prediction(&lams, interrupt)?;
+        let err = |e: crate::track::TrackError| RunError::input(&self.sc.path, e.to_string());
+        let track = self.ts.spec.build().map_err(err)?;
+        let r = crate::track::receptance::receptance(
+            &track,
+            &crate::track::receptance::log_frequencies(20.0, 3000.0, 200),
+        )
+        .map_err(err)?;
+        let v = &self.ts.vehicle;
+        let f = crate::track::receptance::frequencies(
+            &track,
+            &r,
+            &crate::track::receptance::Wheel {
+                unsprung_mass: v.unsprung_mass,
+                load: v.axle_load,
+                radius: v.wheel_radius,
+            },
+        )
+        .map_err(err)?;
+        let mut marks = Vec::new();
+        if let Some(pp) = f.pinned_pinned_hz {
+            marks.push((pp, "pinned-pinned".to_string()));
+        }
+        if let Some(p2) = f.p2_hz {
+            marks.push((p2, "P2".to_string()));
+        }
+        write_prediction(out, (&flat, &pred), bands, (v.speed, &marks), plots)
+    }
+
     fn run_pass(
         &mut self,
         profile: &SurfaceProfile,
@@ -703,18 +744,24 @@ pub fn write_prediction(
             pred.iter().map(PredictedGrowth::rate_db_per_1e5).collect(),
             SeriesStyle::Line,
         ));
-        if !measured.is_empty() {
+        let (lo, hi) = pred.iter().fold((f64::INFINITY, 0.0f64), |(a, b), q| {
+            (a.min(q.wavelength_m), b.max(q.wavelength_m))
+        });
+        // The study's bands over the prediction's range (shorter ones are the patch's and
+        // the mesh's, longer ones hold a few periods of the profile).
+        let shown: Vec<&(f64, f64)> = measured
+            .iter()
+            .filter(|m| m.0 >= lo && m.0 <= hi && m.1.is_finite())
+            .collect();
+        if !shown.is_empty() {
             p.series.push(Series::new(
                 "the passes (one-third-octave bands)",
-                measured.iter().map(|m| 1e3 * m.0).collect(),
-                measured.iter().map(|m| m.1).collect(),
+                shown.iter().map(|m| 1e3 * m.0).collect(),
+                shown.iter().map(|m| m.1).collect(),
                 SeriesStyle::Markers,
             ));
         }
         p.hlines.push((0.0, String::new()));
-        let (lo, hi) = pred.iter().fold((f64::INFINITY, 0.0f64), |(a, b), q| {
-            (a.min(q.wavelength_m), b.max(q.wavelength_m))
-        });
         for (f, name) in marks {
             let l = speed / f;
             if l >= lo && l <= hi {

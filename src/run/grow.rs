@@ -3,8 +3,9 @@
 //! study of [`crate::growth`] into an output folder that keeps its checkpoint (so that
 //! `--resume` goes on from it), and the files of [`crate::growth::report`].
 
-use super::{Cancel, RunError};
+use super::{Cancel, RunError, RunOptions};
 use crate::growth::report::{self, GrowthSummary};
+use crate::growth::track::{RailSliding, TrackPass, WearPatch};
 use crate::growth::wheel::WheelPassRunner;
 use crate::growth::{run_study, GrowthError, PassLine, PassRunner};
 use crate::linalg::team::Par;
@@ -63,16 +64,53 @@ pub fn grow(
         .first()
         .ok_or_else(|| GrowthError::Run(RunError::input(&sc.path, "the scenario has no run")))?;
     let mut runner: Box<dyn PassRunner> = match &run.model {
-        Model::Wheel(_) => Box::new(WheelPassRunner::new(
-            sc,
-            config.wear,
-            config.wear_density,
-            opts.par,
-        )?),
+        Model::Wheel(_) => {
+            if let Some(k) = config.rail.given().first() {
+                return Err(GrowthError::Run(RunError::input(
+                    &sc.path,
+                    format!("{k} is a rail's key (kind = \"track\"): the wheel on its rigid base slides by rolling.creepage under contact.friction; remove it"),
+                )));
+            }
+            Box::new(WheelPassRunner::new(
+                sc,
+                config.wear,
+                config.wear_density,
+                opts.par,
+            )?)
+        }
+        Model::Track(_) => {
+            let need = |key: &str, v: Option<f64>, what: &str| {
+                v.ok_or_else(|| {
+                    GrowthError::Run(RunError::input(
+                        &sc.path,
+                        format!("growth.{key} is missing: {what}"),
+                    ))
+                })
+            };
+            let r = &config.rail;
+            let sliding = RailSliding {
+                creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (the wheel on the track is frictionless; e.g. 0.005)")?,
+                traction_coefficient: need("traction_coefficient", r.traction_coefficient, "T / N of the steady creep force (e.g. 0.3)")?,
+                density: config.wear_density.unwrap_or(7850.0),
+            };
+            let pass = TrackPass::new(
+                sc,
+                r.dx.unwrap_or(1e-3),
+                config.wear,
+                sliding,
+                r.patch.unwrap_or(WearPatch::Hertz),
+                RunOptions {
+                    progress: false,
+                    par: Some(opts.par),
+                    ..RunOptions::default()
+                },
+            )?;
+            Box::new(pass)
+        }
         _ => {
             return Err(GrowthError::Run(RunError::input(
                 &sc.path,
-                "softway grow runs kind = \"wheel\" (the wheel on its rigid base)",
+                "softway grow runs kind = \"wheel\" (the wheel on its rigid base) or kind = \"track\" with vehicle.model = \"wheel\"",
             )))
         }
     };
@@ -102,8 +140,17 @@ pub fn grow(
         speed,
         opts.plots,
     )?);
+    let summary = report::summary(&outcome.state, &config, speed);
+    if !outcome.interrupted {
+        let bands: Vec<(f64, f64)> = summary
+            .bands
+            .iter()
+            .map(|b| (b.centre_wavelength_m, b.rate_db_per_1e5))
+            .collect();
+        files.extend(runner.extra_outputs(out, &bands, opts.plots, cancel.flag())?);
+    }
     Ok(GrowReport {
-        summary: report::summary(&outcome.state, &config, speed),
+        summary,
         files,
         interrupted: outcome.interrupted,
         passes_run: outcome.passes_run,
@@ -128,6 +175,15 @@ impl PassRunner for BoxRunner<'_> {
         interrupt: &std::sync::atomic::AtomicBool,
     ) -> Result<crate::growth::PassResult, RunError> {
         self.0.run_pass(profile, pass, interrupt)
+    }
+    fn extra_outputs(
+        &mut self,
+        out: &Path,
+        bands: &[(f64, f64)],
+        plots: bool,
+        interrupt: &std::sync::atomic::AtomicBool,
+    ) -> Result<Vec<PathBuf>, RunError> {
+        self.0.extra_outputs(out, bands, plots, interrupt)
     }
 }
 
