@@ -86,6 +86,7 @@ fn config(roughness: Roughness, smoothing_m: f64, reference: bool) -> GrowthConf
         passes: 5,
         passes_per_pass: 50.0,
         smoothing_m,
+        cutoff_m: 0.0,
         reference,
         roughness,
         wear: WearLaw::FrictionalPower(FrictionalPower { k_mass: 5.3e-9 }),
@@ -159,6 +160,23 @@ fn growth_rate_of_a_harmonic_is_the_closed_form_with_and_without_smoothing() {
         }
         let _ = std::fs::remove_dir_all(&out);
     }
+    // A cutoff above the harmonic's wavelength: its wear is removed, it does not change.
+    let mut r = Synthetic::new(2e-3);
+    let mut c = config(
+        Roughness::Harmonic {
+            amplitude: 1e-6,
+            wavelength: length / k as f64,
+        },
+        0.0,
+        true,
+    );
+    c.cutoff_m = 1.01 * length / k as f64;
+    let out = tmp("cutoff");
+    let o = study(&mut r, &c, 3, &out, false);
+    let s = summary(&o.state, &c, 30.0);
+    assert!(s.orders[k - 1].rate_db_per_1e5.abs() < 1e-9);
+    assert!((s.orders[k - 1].amplitude_final_m / 1e-6 - 1.0).abs() < 1e-12);
+    let _ = std::fs::remove_dir_all(&out);
     // Without the reference the fixed pattern grows linearly: N_w mesh_amp per pass.
     let mut r = Synthetic::new(0.0);
     let c = config(Roughness::None, 0.0, false);

@@ -5,7 +5,8 @@
 //! [growth]
 //! passes = 20               # simulated passes (softway grow --passes overrides)
 //! passes_per_pass = 2e4     # N_w: real passes one simulated pass stands for (the wear step)
-//! smoothing = 4e-3          # m: moving-average width of the wear (0: none)
+//! smoothing = 4e-3          # m: triangular window of the wear (0: none)
+//! cutoff = 1e-2             # m: wear shorter than this wavelength removed (0: none)
 //! reference = true          # subtract the smooth surface's wear pattern (default false)
 //! roughness = "random"      # "harmonic" | "csv" | "spectrum" | "random" | "iso3095" | "none"
 //! level = -20.0             # random: dB re 1 um in every band ...
@@ -44,6 +45,8 @@ pub struct GrowthConfig {
     pub smoothing_m: f64,
     /// Subtract the smooth surface's wear pattern (default false).
     pub reference: bool,
+    /// The wear's low-pass wavelength, m (0: none; the default).
+    pub cutoff_m: f64,
     /// The initial roughness.
     pub roughness: Roughness,
     /// The wear law.
@@ -119,6 +122,7 @@ struct RawGrowth {
     passes: Option<i64>,
     passes_per_pass: Option<f64>,
     smoothing: Option<f64>,
+    cutoff: Option<f64>,
     reference: Option<bool>,
     roughness: Option<String>,
     amplitude: Option<f64>,
@@ -234,6 +238,17 @@ pub fn validate(
                 "growth.smoothing",
                 s.to_string(),
                 "must be >= 0 m (0: no smoothing)",
+            ))
+        }
+    };
+    let cutoff_m = match g.cutoff {
+        None => 0.0,
+        Some(s) if s.is_finite() && s >= 0.0 => s,
+        Some(s) => {
+            return Err(invalid(
+                "growth.cutoff",
+                s.to_string(),
+                "must be >= 0 m (0: no low-pass)",
             ))
         }
     };
@@ -460,6 +475,7 @@ pub fn validate(
         passes_per_pass,
         smoothing_m,
         reference: g.reference.unwrap_or(false),
+        cutoff_m,
         roughness,
         wear,
         wear_density,
@@ -615,6 +631,7 @@ mod tests {
         assert_eq!(c.passes, DEFAULT_PASSES);
         assert_eq!(c.passes_per_pass, DEFAULT_PASSES_PER_PASS);
         assert_eq!(c.smoothing_m, 0.0);
+        assert_eq!(c.cutoff_m, 0.0);
         assert!(!c.reference);
         assert_eq!(c.roughness, Roughness::None);
         let (g, w) = tables("pases = 3", "law = \"usfd\"");

@@ -70,6 +70,9 @@ pub struct GrowthSummary {
     pub smoothing_m: f64,
     /// Samples of the moving average.
     pub smoothing_samples: usize,
+    /// The wear's low-pass wavelength, m (0: none): the fastest growth is sought at or
+    /// above it.
+    pub cutoff_m: f64,
     /// RMS of the reference wear pattern (the smooth surface's, one simulated pass), m.
     pub reference_wear_rms_m: Option<f64>,
     /// RMS roughness, initial and final, m.
@@ -127,12 +130,22 @@ pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthS
     let f = figures(state, config);
     let per_1e5 = 1e5;
     let last = f.levels.len() - 1;
+    // Likewise a band 180 dB below the initial profile's loudest.
+    let l_max = f.levels[0]
+        .iter()
+        .cloned()
+        .fold(f64::NEG_INFINITY, f64::max);
     let band_figs: Vec<BandFigures> = f
         .bands
         .iter()
         .enumerate()
         .map(|(j, b)| {
-            let y: Vec<f64> = f.levels.iter().map(|l| l[j]).collect();
+            let held = f.levels[0][j] > l_max - 180.0;
+            let y: Vec<f64> = f
+                .levels
+                .iter()
+                .map(|l| if held { l[j] } else { f64::NAN })
+                .collect();
             BandFigures {
                 centre_wavelength_m: b.centre,
                 frequency_hz: speed / b.centre,
@@ -143,13 +156,23 @@ pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthS
             }
         })
         .collect();
+    // An order the initial profile does not hold (below 1e-9 of its largest amplitude)
+    // has no rate: its level would follow the rounding errors.
+    let a_max = f.amplitudes[0].iter().cloned().fold(0.0, f64::max);
     let orders: Vec<OrderFigures> = if state.periodic {
         (1..=f.amplitudes[0].len())
             .map(|k| {
+                let held = f.amplitudes[0][k - 1] > 1e-9 * a_max;
                 let y: Vec<f64> = f
                     .amplitudes
                     .iter()
-                    .map(|a| 20.0 * a[k - 1].log10())
+                    .map(|a| {
+                        if held {
+                            20.0 * a[k - 1].log10()
+                        } else {
+                            f64::NAN
+                        }
+                    })
                     .collect();
                 let last_rate = if last >= 1 {
                     (y[last] - y[last - 1]) / config.passes_per_pass * per_1e5
@@ -173,12 +196,12 @@ pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthS
     };
     let fastest_band = band_figs
         .iter()
-        .filter(|b| b.rate_db_per_1e5.is_finite())
+        .filter(|b| b.rate_db_per_1e5.is_finite() && b.centre_wavelength_m >= config.cutoff_m)
         .max_by(|a, b| a.rate_db_per_1e5.total_cmp(&b.rate_db_per_1e5))
         .cloned();
     let fastest_order = orders
         .iter()
-        .filter(|o| o.rate_db_per_1e5.is_finite())
+        .filter(|o| o.rate_db_per_1e5.is_finite() && o.wavelength_m >= config.cutoff_m)
         .max_by(|a, b| a.rate_db_per_1e5.total_cmp(&b.rate_db_per_1e5))
         .cloned();
     let profiles = state.profiles();
@@ -193,6 +216,7 @@ pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthS
         periodic: state.periodic,
         smoothing_m: config.smoothing_m,
         smoothing_samples: super::spectrum::window_samples(state.dx.0[0], config.smoothing_m),
+        cutoff_m: config.cutoff_m,
         reference_wear_rms_m: state.reference.as_ref().map(|r| super::spectrum::rms(&r.0)),
         rms_initial_m: super::spectrum::rms(profiles[0]),
         rms_final_m: super::spectrum::rms(profiles[profiles.len() - 1]),
@@ -368,10 +392,11 @@ fn plot_all(
         ));
     }
     p.note = format!(
-        "V = {:.2} m/s; frequency = V / wavelength. Wear smoothed over {:.2} mm ({} samples).",
+        "V = {:.2} m/s; frequency = V / wavelength. Wear smoothed over {:.2} mm (triangle of twice {} samples), cut below {:.2} mm.",
         s.speed_m_s,
         s.smoothing_m * 1e3,
-        s.smoothing_samples
+        s.smoothing_samples,
+        s.cutoff_m * 1e3
     );
     let path = png("spectrum.png");
     line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
@@ -412,6 +437,10 @@ fn plot_all(
         if s.smoothing_m > 0.0 {
             p.vlines
                 .push((s.smoothing_m * 1e3, "smoothing width".into()));
+        }
+        if s.cutoff_m > 0.0 {
+            p.vlines
+                .push((s.cutoff_m * 1e3, "cutoff (wear removed below)".into()));
         }
         p.note = format!(
             "Least-squares slope of each level over {} passes of {:.3e} real passes each.",

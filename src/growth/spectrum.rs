@@ -43,12 +43,19 @@ pub fn window_samples(dx: f64, width_m: f64) -> usize {
     2 * (width_m / (2.0 * dx)).floor() as usize + 1
 }
 
-/// The centred moving average of `v` over `width_m` metres (module docs of
-/// [`crate::growth`]): periodic profiles wrap round, open ones average what lies inside
-/// the window near their ends.
+/// The smoothing of the wear step (module docs of [`crate::growth`]): the centred moving
+/// average of `v` over `m = window_samples(dx, width_m)` samples applied twice, i.e. a
+/// triangular window spanning `2 m - 1` samples. Periodic profiles wrap round, open ones
+/// average what lies inside the window near their ends.
 pub fn smooth(v: &[f64], dx: f64, width_m: f64, periodic: bool) -> Vec<f64> {
-    let n = v.len();
     let m = window_samples(dx, width_m);
+    let once = moving_average(v, m, periodic);
+    moving_average(&once, m, periodic)
+}
+
+/// The centred moving average of `v` over the odd number `m` of samples.
+pub fn moving_average(v: &[f64], m: usize, periodic: bool) -> Vec<f64> {
+    let n = v.len();
     if m <= 1 || n == 0 {
         return v.to_vec();
     }
@@ -73,13 +80,37 @@ pub fn smooth(v: &[f64], dx: f64, width_m: f64, periodic: bool) -> Vec<f64> {
 }
 
 /// The gain of [`smooth`] on the periodic harmonic of order `k` of `n` samples with a
-/// window of `m` samples: `sin(pi m k / n) / (m sin(pi k / n))`.
+/// window of `m` samples: `(sin(pi m k / n) / (m sin(pi k / n)))^2`, never negative (a
+/// single moving average's gain, the square root, turns negative beyond `k = n / m`, where
+/// it would turn a wear that flattens the profile into one that roughens it).
 pub fn smoothing_gain(m: usize, k: usize, n: usize) -> f64 {
     let x = std::f64::consts::PI * k as f64 / n as f64;
     if k % n == 0 {
         return 1.0;
     }
-    (m as f64 * x).sin() / (m as f64 * x.sin())
+    let g = (m as f64 * x).sin() / (m as f64 * x.sin());
+    g * g
+}
+
+/// The ideal low-pass of the wear step at the wavelength `cutoff_m` (m; 0: none): the DFT
+/// components of `v` whose wavelength `n dx / k` is shorter than the cutoff removed, the
+/// rest kept exactly (an open profile is taken as one period of `n dx`).
+pub fn low_pass(v: &[f64], dx: f64, cutoff_m: f64) -> Vec<f64> {
+    let n = v.len();
+    if cutoff_m.is_nan() || cutoff_m <= 0.0 || n < 3 {
+        return v.to_vec();
+    }
+    let length = n as f64 * dx;
+    let mut z = dft(v);
+    for k in 1..n {
+        let order = k.min(n - k);
+        if length / (order as f64) < cutoff_m {
+            z[k] = Complex::new(0.0, 0.0);
+        }
+    }
+    let mut planner = rustfft::FftPlanner::<f64>::new();
+    planner.plan_fft_inverse(n).process(&mut z);
+    z.iter().map(|c| c.re / n as f64).collect()
 }
 
 /// The DFT `Z_k` of `v`, `k = 0..n`.
@@ -247,6 +278,22 @@ mod tests {
         assert!((levels[i] - level_db(a / 2f64.sqrt())).abs() < 1e-9);
         let lam = length / k as f64;
         assert!(b[i].lo <= lam && lam < b[i].hi);
+    }
+
+    /// The low-pass keeps the orders at or above the cutoff wavelength and removes the
+    /// others.
+    #[test]
+    fn low_pass_cuts_at_the_wavelength() {
+        let n = 100;
+        let dx = 1e-3; // period 0.1 m: order k has the wavelength 0.1 / k
+        let wave = |k: usize, i: usize| (2.0 * PI * (k * i) as f64 / n as f64 + 0.4).sin();
+        let v: Vec<f64> = (0..n)
+            .map(|i| 0.3 + wave(4, i) + 0.5 * wave(30, i))
+            .collect();
+        let f = low_pass(&v, dx, 0.01); // keeps k <= 10
+        for i in 0..n {
+            assert!((f[i] - 0.3 - wave(4, i)).abs() < 1e-12);
+        }
     }
 
     #[test]
