@@ -329,3 +329,62 @@ fn the_rails_linear_growth_follows_the_receptances() {
         "{agree} of {growing}"
     );
 }
+
+/// `softway grow` on a track refuses a study without its sliding, and on the wheel a rail's
+/// key, naming the file and the key.
+#[test]
+fn a_rails_study_names_its_missing_and_misplaced_keys() {
+    let dir = std::env::temp_dir().join(format!("softway-rail-keys-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let track = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/corrugation.toml"
+    ))
+    .unwrap();
+    let no_creep: String = track
+        .lines()
+        .filter(|l| !l.starts_with("creepage"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let f = dir.join("no-creep.toml");
+    std::fs::write(&f, no_creep).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+        .args([
+            "grow",
+            f.to_str().unwrap(),
+            "--out",
+            dir.join("o1").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("no-creep.toml") && err.contains("growth.creepage"),
+        "{err}"
+    );
+    let wheel = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/polygon.toml"
+    ))
+    .unwrap();
+    let f = dir.join("wheel-dx.toml");
+    std::fs::write(&f, wheel.replace("[growth]\n", "[growth]\ndx = 1e-3\n")).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+        .args([
+            "grow",
+            f.to_str().unwrap(),
+            "--out",
+            dir.join("o2").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("wheel-dx.toml") && err.contains("growth.dx"),
+        "{err}"
+    );
+    assert!(!dir.join("o2").join("summary.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

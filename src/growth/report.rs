@@ -125,6 +125,10 @@ fn figures(state: &StudyState, config: &GrowthConfig) -> Figures {
     }
 }
 
+/// The fewest periods of a band's wavelength an open profile must hold for the band to be
+/// the fastest-growing one ([`summary`]).
+pub const OPEN_MIN_PERIODS: f64 = 8.0;
+
 /// The summary of a state (module docs).
 pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthSummary {
     let f = figures(state, config);
@@ -194,9 +198,20 @@ pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthS
     } else {
         Vec::new()
     };
+    // On an open profile (a rail) a band counts for the fastest growth when the record
+    // holds at least OPEN_MIN_PERIODS of its wavelength (a longer one's rate is the ends').
+    let longest = if state.periodic {
+        f64::INFINITY
+    } else {
+        f.length / OPEN_MIN_PERIODS
+    };
     let fastest_band = band_figs
         .iter()
-        .filter(|b| b.rate_db_per_1e5.is_finite() && b.centre_wavelength_m >= config.cutoff_m)
+        .filter(|b| {
+            b.rate_db_per_1e5.is_finite()
+                && b.centre_wavelength_m >= config.cutoff_m
+                && b.centre_wavelength_m <= longest
+        })
         .max_by(|a, b| a.rate_db_per_1e5.total_cmp(&b.rate_db_per_1e5))
         .cloned();
     let fastest_order = orders
