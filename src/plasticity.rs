@@ -503,16 +503,16 @@ impl InternalForce for PlasticBody {
             let st0 = Self::point(s0, e);
             let r = self.material.update(self.plane, eps, &st0);
             r.state.write(&mut s1[e * STATE_LEN..(e + 1) * STATE_LEN]);
-            let se = self.elastic_stress(eps);
-            self.scatter(
-                e,
-                [
+            // No plastic strain: sigma = D eps, nothing to add to the pseudo-load.
+            if r.state.eq != 0.0 {
+                let se = self.elastic_stress(eps);
+                let sp = [
                     se[0] - r.stress[0],
                     se[1] - r.stress[1],
                     se[2] - r.stress[2],
-                ],
-                f_nl,
-            );
+                ];
+                self.scatter(e, sp, f_nl);
+            }
             self.scatter(e, r.stress, f_int);
             plastic += usize::from(r.plastic);
         }
