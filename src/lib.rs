@@ -223,6 +223,7 @@ pub mod model;
 pub mod models;
 pub mod modes;
 pub(crate) mod output;
+pub mod plasticity;
 pub mod problems;
 pub mod run;
 pub mod scenario;

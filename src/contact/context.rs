@@ -19,7 +19,7 @@ use super::obstacle::{HalfSpace, Obstacle};
 use super::pair::{Geometry, Pair};
 use super::rows::RowSolver;
 use crate::linalg::LinalgError;
-use crate::model::{LinearModel, LoadFn, State};
+use crate::model::{LinearModel, LoadFn, Nonlinear, State};
 use crate::time::integrator::{Step, TimeIntegrator};
 
 /// The events a treatment counts (the driver reports them in its run statistics).
@@ -135,6 +135,9 @@ pub struct Context<'a> {
     pub counts: &'a mut Counts,
     /// The driver's scratch.
     pub scratch: &'a mut Scratch,
+    /// A nonlinear internal force and its iteration ([`crate::model::internal`]), run by
+    /// [`Context::predict`], [`Context::solve`] and [`Context::finish`]; `None`: linear.
+    pub nonlinear: Option<&'a mut Nonlinear>,
 }
 
 impl std::fmt::Debug for Context<'_> {
@@ -205,12 +208,19 @@ impl Context<'_> {
     /// Predicts the step from `(t0, s0)` (loads plus [`Context::extra`]) into
     /// [`Context::pred`] and [`Context::xfree`]; returns the step, for [`Context::finish`]
     /// and the rows' maps.
+    ///
+    /// With a nonlinear internal force, the load holds its pseudo-load of the state at `t0`
+    /// ([`Nonlinear::begin`]).
     pub fn predict(&mut self, t0: f64, s0: &State) -> Step {
+        let extra: &[f64] = match self.nonlinear.as_deref_mut() {
+            Some(nl) => nl.begin(t0, s0, self.extra),
+            None => self.extra,
+        };
         self.integ.0.predict(
             t0,
             s0,
             self.load,
-            self.extra,
+            extra,
             &mut self.scratch.f,
             self.pred,
             self.xfree,
@@ -218,15 +228,42 @@ impl Context<'_> {
     }
 
     /// Solves the rows in [`Context::rows`] from `xfree` into `x`; returns the active-set
-    /// changes.
+    /// changes. With a nonlinear internal force, the initial-stress iteration
+    /// ([`Nonlinear::iterate`]): the rows are solved again after each correction of the
+    /// pseudo-load, on the same factor.
     pub fn solve(&mut self, tol: f64) -> usize {
-        self.x.copy_from_slice(self.xfree);
-        self.rows.solve(&mut *self.integ.0, self.x, tol)
+        match self.nonlinear.as_deref_mut() {
+            None => {
+                self.x.copy_from_slice(self.xfree);
+                self.rows.solve(&mut *self.integ.0, self.x, tol)
+            }
+            Some(nl) => {
+                let rows = &mut *self.rows;
+                nl.iterate(
+                    &mut *self.integ.0,
+                    self.load,
+                    self.extra,
+                    &mut self.scratch.f,
+                    self.pred,
+                    self.xfree,
+                    self.x,
+                    |integ, xfree, x| {
+                        x.copy_from_slice(xfree);
+                        rows.solve(integ, x, tol)
+                    },
+                )
+            }
+        }
     }
 
-    /// The end state of `step` (returned by [`Context::predict`]) from `pred` and `x`.
-    pub fn finish(&self, step: &Step, s0: &State, s1: &mut State) {
+    /// The end state of `step` (returned by [`Context::predict`]) from `pred` and `x`; with
+    /// a nonlinear internal force, its state of the last solve is committed to the step's
+    /// end ([`Nonlinear::commit`]).
+    pub fn finish(&mut self, step: &Step, s0: &State, s1: &mut State) {
         self.integ.0.finish(step, s0, self.pred, self.x, s1);
+        if let Some(nl) = self.nonlinear.as_deref_mut() {
+            nl.commit(step.t0 + step.h);
+        }
     }
 
     /// Switches the integrator to the step `h` (a numeric refactorization at most; the

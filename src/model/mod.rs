@@ -8,10 +8,15 @@
 //!   its step index, time and the contact pairs' states ([`PairState`], [`PairMode`]).
 //! - [`Terms`]: the coefficients `c` of a constraint row on a few dofs (a contact pair's
 //!   normal or tangent on its nodes' dofs).
+//! - [`InternalForce`]: a nonlinear internal force `K u - f_nl(u; s)` (a plastic body), and
+//!   [`Nonlinear`]: its initial-stress iteration on the elastic factor, with the states of
+//!   the driver's three snapshots.
 
+pub mod internal;
 mod state;
 mod terms;
 
+pub use internal::{InternalForce, Nonlinear, NonlinearStats, DEFAULT_MAX_ITERATIONS, DEFAULT_TOL};
 pub use state::{PairMode, PairState, Snapshot, State};
 pub use terms::{Terms, MAX_TERMS};
 

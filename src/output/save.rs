@@ -63,6 +63,9 @@ impl Results {
         }
         files.extend(write_fields(out, &self.fields)?);
         files.extend(figures::write_rim_profile(out, &w.profile)?);
+        if let Some(rim) = &w.plastic_rim {
+            files.push(table(out, "rim_permanent_displacement.csv", rim)?);
+        }
         if self.plots {
             files.extend(figures::write(
                 out, &w.wm, &w.summary, &w.results, &w.profile,

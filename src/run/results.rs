@@ -143,6 +143,9 @@ pub(crate) struct WheelDetail {
     pub summary: WheelSummary,
     pub profile: RimProfile,
     pub traction: Option<(TractionSummary, TractionProfile)>,
+    /// The plastic wheel's rim permanent radial displacement
+    /// (`rim_permanent_displacement.csv`).
+    pub plastic_rim: Option<Columns>,
 }
 
 /// The history of a scenario's runs, one row every `history_stride` steps keyed by the

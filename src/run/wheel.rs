@@ -163,6 +163,45 @@ pub struct WheelSummary {
     /// Traction with friction (`contact.friction > 0`): creep force, stick and slip, Carter.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub traction: Option<TractionSummary>,
+    /// The plastic wheel (`material.model = "j2"`): the iteration's cost, the plastic
+    /// strain and the rim's permanent radial displacement.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plastic: Option<PlasticSummary>,
+}
+
+/// The plastic wheel's figures (`summary.json`, `plastic`).
+#[derive(Debug, Clone, Serialize)]
+pub struct PlasticSummary {
+    /// The iteration's tolerance (residual over internal force).
+    pub tolerance: f64,
+    /// Corrections of the initial-stress iteration over the run (a right-hand side and a
+    /// solve on the elastic factor each; [`crate::model::internal`]).
+    pub plastic_iterations: usize,
+    /// `plastic_iterations` per step.
+    pub plastic_iterations_per_step: f64,
+    /// Most corrections in one solve.
+    pub plastic_max_in_one_solve: usize,
+    /// Solves stopped at the cap without reaching the tolerance.
+    pub plastic_unconverged: usize,
+    /// Largest equivalent plastic strain of an element at the end.
+    pub max_equivalent_plastic_strain: f64,
+    /// Elements with plastic strain at the end.
+    pub plastic_elements: usize,
+    /// The rim's permanent radial displacement (load taken off;
+    /// [`crate::plasticity::permanent_radial_displacement`]): smallest and largest, m.
+    pub rim_permanent_radial_displacement_min_m: f64,
+    /// Largest, m.
+    pub rim_permanent_radial_displacement_max_m: f64,
+}
+
+/// The plastic wheel's state at the end of a run.
+#[derive(Debug, Clone)]
+pub struct PlasticRecord {
+    /// Equivalent plastic strain per element.
+    pub equivalent_plastic_strain: Vec<f64>,
+    /// The rim's permanent radial displacement: `(arc length m, displacement m)` per rim
+    /// node.
+    pub rim: Vec<(f64, f64)>,
 }
 
 /// Builds the wheel model of a scenario.
@@ -357,6 +396,20 @@ pub fn check_disk(mesh: &Mesh, tags: &[u64], radius: f64) -> Result<(), String> 
 /// Screen lines of a summary.
 pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
     let mut lines = base_lines(s);
+    if let Some(p) = &s.plastic {
+        lines.push(format!(
+            "plastic: {} iterations ({:.2} per step, at most {} in one solve, {} unconverged, tolerance {:e}); max equivalent plastic strain {:.3e} in {} elements; rim's permanent radial displacement {:.3e} to {:.3e} m",
+            p.plastic_iterations,
+            p.plastic_iterations_per_step,
+            p.plastic_max_in_one_solve,
+            p.plastic_unconverged,
+            p.tolerance,
+            p.max_equivalent_plastic_strain,
+            p.plastic_elements,
+            p.rim_permanent_radial_displacement_min_m,
+            p.rim_permanent_radial_displacement_max_m
+        ));
+    }
     if let Some(t) = &s.traction {
         lines.push(format!(
             "traction (mu = {}, creepage {:.3e}): Q = {:.4e} N, P = {:.4e} N, Q/(mu P) = {:.4} (Carter {:.4}); {:.2} nodes in stick, {:.2} in slip; stick half-width {:.3} mm (Hertz a = {:.3} mm); friction energy {:.3e} J",
@@ -471,6 +524,8 @@ pub struct WheelRecord {
     pub profile: figures::RimProfile,
     /// The traction's figures and steady profile (with friction).
     pub traction: Option<(TractionSummary, TractionProfile)>,
+    /// The plastic state at the end (`material.model = "j2"`).
+    pub plastic: Option<PlasticRecord>,
 }
 
 /// Runs one wheel run: build the observers, attach them to the step loop ([`drive`]),
@@ -547,7 +602,7 @@ pub fn simulate(
     if let Some(t) = traction.as_mut() {
         watchers.push(t);
     }
-    let outcome = drive(
+    let (outcome, plastic_state) = drive(
         wm,
         ws,
         run,
@@ -589,6 +644,14 @@ pub fn simulate(
     };
     let mut summary = summarise(wm, ws, run, &results, bounce);
     summary.warnings = warnings;
+    let plastic = match (ws.plastic, plastic_state) {
+        (Some(pl), Some(state)) => {
+            let (record, ps) = plastic_results(wm, ws, pl, &state, &outcome, sc_path_of(sc))?;
+            summary.plastic = Some(ps);
+            Some(record)
+        }
+        _ => None,
+    };
     let (traction, traction_history) = match traction {
         Some((ts, profile, table)) => {
             summary.traction = Some(ts.clone());
@@ -604,7 +667,77 @@ pub fn simulate(
         summary,
         results,
         traction,
+        plastic,
     })
+}
+
+/// The scenario's path (errors name it).
+fn sc_path_of(sc: &Scenario) -> &Path {
+    &sc.path
+}
+
+/// The plastic wheel's record and figures from its state at the end of the run.
+///
+/// # Errors
+/// [`RunError`] when the elastic stiffness with the support is singular.
+fn plastic_results(
+    wm: &WheelModel,
+    ws: &WheelScenario,
+    pl: crate::scenario::Plastic,
+    state: &[f64],
+    o: &LoopOutcome,
+    sc_path: &Path,
+) -> Result<(PlasticRecord, PlasticSummary), RunError> {
+    let body = plastic_body(wm, ws, pl);
+    let mut eq = vec![0.0; wm.triangles.len()];
+    body.equivalent_plastic_strain_into(state, &mut eq);
+    let rim = crate::plasticity::permanent_radial_displacement(
+        &body,
+        state,
+        (wm.model.pattern(), &wm.k_elastic, &wm.fixed_dofs),
+        &wm.mesh.reference_positions(),
+        &wm.rim,
+    )
+    .map_err(|e| RunError::input(sc_path, e))?;
+    let summary = PlasticSummary {
+        tolerance: pl.tolerance,
+        plastic_iterations: o.plastic_iterations,
+        plastic_iterations_per_step: o.plastic_iterations as f64 / o.steps.max(1) as f64,
+        plastic_max_in_one_solve: o.plastic_max_in_one_solve,
+        plastic_unconverged: o.plastic_unconverged,
+        max_equivalent_plastic_strain: eq.iter().fold(0.0, |m: f64, v| m.max(*v)),
+        plastic_elements: eq.iter().filter(|&&v| v > 0.0).count(),
+        rim_permanent_radial_displacement_min_m: rim
+            .iter()
+            .map(|r| r.1)
+            .fold(f64::INFINITY, f64::min),
+        rim_permanent_radial_displacement_max_m: rim
+            .iter()
+            .map(|r| r.1)
+            .fold(f64::NEG_INFINITY, f64::max),
+    };
+    Ok((
+        PlasticRecord {
+            equivalent_plastic_strain: eq,
+            rim,
+        },
+        summary,
+    ))
+}
+
+/// The plastic body of the wheel's triangles.
+fn plastic_body(
+    wm: &WheelModel,
+    ws: &WheelScenario,
+    pl: crate::scenario::Plastic,
+) -> crate::plasticity::PlasticBody {
+    crate::plasticity::PlasticBody::new(
+        pl.material,
+        ws.spec.plane,
+        ws.spec.thickness,
+        wm.triangles.clone(),
+        wm.geometry.clone(),
+    )
 }
 
 /// What the step loop reports back, in the job's terms.
@@ -626,11 +759,19 @@ pub struct LoopOutcome {
     pub relocations: usize,
     /// Wall-clock time of the loop, s.
     pub wall_time_s: f64,
+    /// Corrections of the plastic iteration (0 when elastic).
+    pub plastic_iterations: usize,
+    /// Solves whose plastic iteration stopped at the cap.
+    pub plastic_unconverged: usize,
+    /// Most plastic corrections in one solve.
+    pub plastic_max_in_one_solve: usize,
 }
 
 /// Runs the wheel's step loop with the observers attached: the one place that speaks to
 /// the driver (the [`crate::simulation::Problem`] of [`WheelModel::problem`],
-/// [`crate::simulation::Simulation`], its step view and counters).
+/// [`crate::simulation::Simulation`], its step view and counters). With a plastic wheel
+/// (`material.model = "j2"`) the plastic body is the driver's internal force, and its state
+/// at the end is returned beside the counters.
 ///
 /// # Errors
 /// [`RunError::Simulation`] (an observer's I/O error included).
@@ -641,7 +782,7 @@ pub fn drive(
     (steps, timeline, stride): (usize, Timeline, usize),
     observers: &mut [&mut dyn Observer],
     opts: &RunOptions,
-) -> Result<LoopOutcome, RunError> {
+) -> Result<(LoopOutcome, Option<Vec<f64>>), RunError> {
     use crate::simulation::Simulation;
     let sim_error = |source| RunError::Simulation {
         run: run.label.clone(),
@@ -658,6 +799,14 @@ pub fn drive(
     problem.friction = run.friction;
     let mut sim = Simulation::new(problem).map_err(sim_error)?;
     sim.set_par(opts.par());
+    if let Some(pl) = ws.plastic {
+        sim.set_internal_force(
+            Box::new(plastic_body(wm, ws, pl)),
+            pl.tolerance,
+            crate::model::DEFAULT_MAX_ITERATIONS,
+        )
+        .map_err(sim_error)?;
+    }
     if let Some((sources, step)) = &wm.zone {
         sim.set_relocation(crate::simulation::Relocation {
             sources: sources.clone(),
@@ -716,16 +865,23 @@ pub fn drive(
             observers.iter_mut().try_for_each(|o| o.observe(&step))
         })
         .map_err(sim_error)?;
-    Ok(LoopOutcome {
-        steps: stats.steps,
-        brakings: stats.brakings,
-        releases: stats.releases,
-        interrupted: stats.interrupted,
-        factorizations: stats.factorizations,
-        stick_slip_changes: stats.stick_slip_changes,
-        relocations: stats.relocations,
-        wall_time_s: start.elapsed().as_secs_f64(),
-    })
+    let plastic_state = sim.nonlinear().map(|nl| nl.state(1).to_vec());
+    Ok((
+        LoopOutcome {
+            steps: stats.steps,
+            brakings: stats.brakings,
+            releases: stats.releases,
+            interrupted: stats.interrupted,
+            factorizations: stats.factorizations,
+            stick_slip_changes: stats.stick_slip_changes,
+            relocations: stats.relocations,
+            wall_time_s: start.elapsed().as_secs_f64(),
+            plastic_iterations: stats.plastic_iterations,
+            plastic_unconverged: stats.plastic_unconverged,
+            plastic_max_in_one_solve: stats.plastic_max_in_one_solve,
+        },
+        plastic_state,
+    ))
 }
 
 /// The observers' results of a run.
@@ -814,6 +970,7 @@ fn summarise(
         interrupted: o.interrupted,
         warnings: Vec::new(),
         traction: None,
+        plastic: None,
     }
 }
 

@@ -53,6 +53,14 @@
 //! friction = 0.3               # Coulomb coefficient mu, >= 0 (default 0: frictionless);
 //!                              # 2D models only (the wheel), refused for bars
 //!
+//! [material]                   # kind = "wheel": young, poisson, density, and plasticity
+//! model = "j2"                 # "elastic" (default) | "j2" (von Mises, crate::plasticity)
+//! yield_stress = 500e6         # Pa (j2)
+//! hardening = "isotropic"      # "none" (default) | "isotropic" (hardening_modulus, Pa;
+//!                              # voce_q Pa, voce_b) | "kinematic" (Prager: hardening_modulus)
+//!                              # | "armstrong_frederick" (af_c Pa, af_gamma)
+//! plastic_tolerance = 1e-8     # the step's residual relative to the internal force
+//!
 //! [block]                      # kind = "wheel" only: an elastic block as the base
 //! young = 2.05e11              # Pa (default: the wheel's material)
 //! poisson = 0.3
@@ -205,6 +213,19 @@ pub struct WheelScenario {
     /// of the spinning wheel carries this load ([`crate::run::wheel::load`]); until then it
     /// is NaN.
     pub load: Option<f64>,
+    /// The wheel's J2 elastic-plastic material (`material.model = "j2"`,
+    /// [`crate::plasticity`]); `None`: elastic.
+    pub plastic: Option<Plastic>,
+}
+
+/// The wheel's plasticity (`[material]` with `model = "j2"`).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Plastic {
+    /// The material (its elastic constants are the wheel's).
+    pub material: crate::plasticity::J2Material,
+    /// The iteration's tolerance: the residual relative to the internal force
+    /// (`material.plastic_tolerance`, default [`crate::model::DEFAULT_TOL`]).
+    pub tolerance: f64,
 }
 
 impl WheelScenario {

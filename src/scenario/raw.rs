@@ -205,6 +205,15 @@ pub(super) struct RawMaterial {
     pub young: f64,
     pub poisson: f64,
     pub density: f64,
+    pub model: Option<String>,
+    pub yield_stress: Option<f64>,
+    pub hardening: Option<String>,
+    pub hardening_modulus: Option<f64>,
+    pub voce_q: Option<f64>,
+    pub voce_b: Option<f64>,
+    pub af_c: Option<f64>,
+    pub af_gamma: Option<f64>,
+    pub plastic_tolerance: Option<f64>,
 }
 
 /// `[rolling]`.

@@ -33,7 +33,7 @@ use crate::guard::{Diverged, DivergenceGuard, GuardMode};
 use crate::linalg::team::{Par, Team};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
-use crate::model::{LinearModel, PairState, State};
+use crate::model::{InternalForce, LinearModel, Nonlinear, PairState, State};
 pub use crate::model::{LoadFn, Snapshot};
 
 mod relocation;
@@ -199,6 +199,8 @@ pub struct Engine {
     x: Vec<f64>,
     /// The context's scratch (load vector, the obstacles' half-spaces of one instant).
     scratch: Scratch,
+    /// A nonlinear internal force and its iteration ([`Simulation::set_internal_force`]).
+    nonlinear: Option<Nonlinear>,
 }
 
 impl std::fmt::Debug for Engine {
@@ -256,6 +258,7 @@ impl Engine {
             gap_tol: self.gap_tol,
             counts: &mut self.counts,
             scratch: &mut self.scratch,
+            nonlinear: self.nonlinear.as_mut(),
         }
     }
 }
@@ -418,6 +421,7 @@ impl Simulation {
             stats: RunStats::default(),
             counts: Counts::default(),
             scratch: Scratch::new(n, n_obstacles),
+            nonlinear: None,
         };
         if !integrator.is_space_time() {
             for &(d, _) in &dirichlet {
@@ -465,6 +469,11 @@ impl Simulation {
                 "a moving refined zone needs a 2D model, a source for every node and a turning obstacle".into(),
             ));
         }
+        if eng.nonlinear.is_some() {
+            return Err(SimError::Unsupported(
+                "a plastic body in a moving refined zone is not built (the zone's relabelling carries nodal states, not element states)".into(),
+            ));
+        }
         if !eng.interfaces.is_empty() {
             return Err(SimError::Unsupported(
                 "a moving refined zone is for one body against its base, not for contact between bodies".into(),
@@ -509,6 +518,54 @@ impl Simulation {
             spec,
         });
         Ok(())
+    }
+
+    /// Adds a nonlinear internal force `K u - f_nl(u; s)` (a plastic body:
+    /// [`crate::plasticity::PlasticBody`]), solved on the elastic factor by the
+    /// initial-stress iteration of [`crate::model::internal`] to the relative tolerance
+    /// `tol` with at most `max_iterations` corrections a solve. Its states travel with the
+    /// snapshots (a step back restores them).
+    ///
+    /// # Errors
+    /// [`SimError::Unsupported`] with a moving refined zone (its relabelling does not carry
+    /// element states), the subdivision (its sub-steps do not start at snapshots), a
+    /// tolerance that is not positive, or a force on another number of dofs.
+    pub fn set_internal_force(
+        &mut self,
+        force: Box<dyn InternalForce>,
+        tol: f64,
+        max_iterations: usize,
+    ) -> Result<(), SimError> {
+        if self.relocation.is_some() {
+            return Err(SimError::Unsupported(
+                "a plastic body in a moving refined zone is not built (the zone's relabelling carries nodal states, not element states)".into(),
+            ));
+        }
+        if matches!(self.choice, Treatment::Subdivision) {
+            return Err(SimError::Unsupported(
+                "a plastic body with the subdivision treatment is not built (its sub-steps do not start at the snapshots that carry the plastic state)".into(),
+            ));
+        }
+        if !(tol > 0.0 && tol.is_finite()) {
+            return Err(SimError::Unsupported(format!(
+                "the plastic iteration's tolerance must be positive and finite, not {tol}"
+            )));
+        }
+        let n = self.engine.model.n();
+        self.engine.nonlinear = Some(Nonlinear::new(
+            force,
+            n,
+            self.snaps[1].t,
+            tol,
+            max_iterations,
+        ));
+        Ok(())
+    }
+
+    /// The nonlinear internal force's iteration, when set ([`Simulation::set_internal_force`];
+    /// after [`Simulation::run`], its slot 1 holds the state of the last step).
+    pub fn nonlinear(&self) -> Option<&Nonlinear> {
+        self.engine.nonlinear.as_ref()
     }
 
     /// Relocates the zone when the obstacle at the newest state has turned half a sector
@@ -611,6 +668,9 @@ impl Simulation {
             self.emit(1, false, &mut observer)?;
             self.relocate_if_due();
             self.snaps.rotate_left(1);
+            if let Some(nl) = self.engine.nonlinear.as_mut() {
+                nl.rotate();
+            }
             have_prev = true;
             self.engine.stats.steps += 1;
         }
@@ -628,17 +688,30 @@ impl Simulation {
         stats.symbolic_analyses = factors.symbolic;
         stats.stick_slip_changes = self.engine.rows.stick_slip_changes();
         stats.diverged_at_s = self.guard.first().map(|d| d.t);
+        if let Some(nl) = &self.engine.nonlinear {
+            let ns = nl.stats();
+            stats.plastic_iterations = ns.iterations;
+            stats.plastic_unconverged = ns.unconverged;
+            stats.plastic_max_in_one_solve = ns.max_in_one_solve;
+        }
         Ok(stats)
     }
 
-    /// The energy of snapshot `i` (kinetic, strain on the energy stiffness, penalty), J.
+    /// The energy of snapshot `i` (kinetic, strain on the energy stiffness, penalty, the
+    /// nonlinear force's correction of the strain energy), J.
     fn energy(&self, i: usize) -> f64 {
         let s = &self.snaps[i];
         let m = &self.engine.model;
         let k = self.energy_stiffness.as_deref().unwrap_or(&m.k);
+        let correction = self
+            .engine
+            .nonlinear
+            .as_ref()
+            .map_or(0.0, |nl| nl.energy_correction(i, &s.state.u));
         0.5 * quadratic_form(m.pattern(), &m.m, &s.state.v)
             + 0.5 * quadratic_form(m.pattern(), k, &s.state.u)
             + self.treatment.stored_energy(s)
+            + correction
     }
 
     /// The divergence guard on the final step `snaps[1]` ([`crate::guard`]): its work bound
@@ -700,6 +773,7 @@ impl Simulation {
             slip_power,
             friction_dissipated,
             team: &self.team,
+            internal: self.engine.nonlinear.as_ref().map(|nl| (nl, i)),
         })
     }
 }

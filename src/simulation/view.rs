@@ -3,7 +3,7 @@
 
 use crate::linalg::quadratic_form;
 use crate::linalg::team::Team;
-use crate::model::{LinearModel, Snapshot};
+use crate::model::{LinearModel, Nonlinear, Snapshot};
 
 /// What an observer sees of a final step. The energies are computed when asked
 /// ([`StepView::kinetic`], [`StepView::strain`]: one sparse quadratic form each), so an
@@ -32,6 +32,9 @@ pub struct StepView<'a> {
     pub friction_dissipated: f64,
     /// The run's threads ([`super::Simulation::set_par`]), for [`StepView::energies`].
     pub(super) team: &'a Team,
+    /// The nonlinear internal force and the ring slot of this step's state, when set
+    /// ([`StepView::internal_state`]).
+    pub(super) internal: Option<(&'a Nonlinear, usize)>,
 }
 
 impl StepView<'_> {
@@ -40,9 +43,21 @@ impl StepView<'_> {
         0.5 * quadratic_form(self.model.pattern(), &self.model.m, &self.state.v)
     }
 
-    /// Strain energy `u^T K u / 2`, J (`K`: the energy stiffness of the problem).
+    /// Strain energy `u^T K u / 2`, J (`K`: the energy stiffness of the problem), with a
+    /// nonlinear internal force's correction (a plastic body: the elastic part of the
+    /// strain only, [`crate::model::InternalForce::energy_correction`]).
     pub fn strain(&self) -> f64 {
+        let correction = self
+            .internal
+            .map_or(0.0, |(nl, i)| nl.energy_correction(i, &self.state.u));
         0.5 * quadratic_form(self.model.pattern(), self.energy_stiffness, &self.state.u)
+            + correction
+    }
+
+    /// The state of the nonlinear internal force at this step (a plastic body:
+    /// [`crate::plasticity::STATE_LEN`] numbers per element), when there is one.
+    pub fn internal_state(&self) -> Option<&[f64]> {
+        self.internal.map(|(nl, i)| nl.state(i))
     }
 
     /// `(kinetic, strain)`: from `ENERGIES_SIDE_BY_SIDE_MIN` dofs on, side by side on two
@@ -88,8 +103,23 @@ pub struct RunStats {
     pub relocations: usize,
     /// True when the run stopped on an interrupt.
     pub interrupted: bool,
+    /// Corrections of the plastic (nonlinear internal force) iteration over the run, each
+    /// a prediction and a solve on the elastic factor ([`crate::model::internal`]); not
+    /// written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub plastic_iterations: usize,
+    /// Solves whose plastic iteration stopped at its cap; not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub plastic_unconverged: usize,
+    /// Most plastic corrections in one solve; not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub plastic_max_in_one_solve: usize,
     /// When the divergence guard found the energy past its bound, in
     /// [`crate::guard::GuardMode::Record`] (the run went on), s; not written when none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub diverged_at_s: Option<f64>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }

@@ -55,6 +55,13 @@ pub(crate) fn record(
         }
         t
     });
+    let plastic_rim = rec.plastic.as_ref().map(|p| {
+        let mut t = Columns::new(&[("arc_length_m", "m"), ("radial_displacement_m", "m")]);
+        for &(s, d) in &p.rim {
+            t.push(0, &[s, d]);
+        }
+        t
+    });
     Ok(Results {
         kind: "wheel",
         summary: json,
@@ -62,7 +69,7 @@ pub(crate) fn record(
         contact_nodes: Some(rec.contact_nodes),
         traction_history: rec.traction_history,
         rim_profile,
-        fields: fields_of(&wm, &rec.results),
+        fields: fields_of(&wm, &rec.results, rec.plastic.as_ref()),
         lines: summary_lines(&rec.summary),
         interrupted: rec.summary.interrupted,
         warnings: rec.summary.warnings.clone(),
@@ -73,14 +80,16 @@ pub(crate) fn record(
             summary: rec.summary,
             profile: rec.profile,
             traction: rec.traction,
+            plastic_rim,
         })),
     })
 }
 
 /// Fields for ParaView: the turn averages (`j2_turn_average.vtu`, on the cells) and the
 /// velocity snapshots (`velocity_NNN.vtu`: velocity and speed on the points, drawn
-/// displaced; listed in `velocity.pvd`).
-fn fields_of(wm: &WheelModel, r: &WheelResults) -> Fields {
+/// displaced; listed in `velocity.pvd`) and, for a plastic wheel, the equivalent plastic
+/// strain at the end (`plastic_strain.vtu`, on the cells).
+fn fields_of(wm: &WheelModel, r: &WheelResults, plastic: Option<&super::PlasticRecord>) -> Fields {
     let array = |name: &str, components: usize, values: Vec<f64>| FieldArray {
         name: name.into(),
         components,
@@ -101,6 +110,19 @@ fn fields_of(wm: &WheelModel, r: &WheelResults) -> Fields {
                     r.fields.von_mises_mpa.clone(),
                 ),
             ],
+        });
+    }
+    if let Some(p) = plastic {
+        frames.push(FieldFrame {
+            file: "plastic_strain.vtu".into(),
+            time: None,
+            displacement: None,
+            point_data: Vec::new(),
+            cell_data: vec![array(
+                "equivalent_plastic_strain",
+                1,
+                p.equivalent_plastic_strain.clone(),
+            )],
         });
     }
     let sn = &r.snapshots;

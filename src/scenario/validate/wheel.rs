@@ -36,6 +36,7 @@ pub(super) fn wheel_model(
     let radius = cx.positive("wheel.radius", w.radius)?;
     let thickness = cx.positive("wheel.thickness", w.thickness)?;
     let material = wheel_material(cx, &m)?;
+    let plastic = plasticity(cx, &m, material)?;
     let mesh = disk_mesh(cx, &w)?;
     let plane = plane_model(cx, &w)?;
     let lumped = wheel_mass(cx, &w)?;
@@ -81,7 +82,166 @@ pub(super) fn wheel_model(
         fields_per_turn,
         block: None,
         load,
+        plastic,
     })
+}
+
+/// `[material]`'s plasticity: `model`, `yield_stress`, `hardening` and its constants, each
+/// key refused where the model or the hardening does not use it.
+fn plasticity(
+    cx: &Ctx,
+    m: &RawMaterial,
+    elastic: Elastic,
+) -> Result<Option<super::super::Plastic>, ScenarioError> {
+    use crate::plasticity::{Isotropic, J2Material, Kinematic};
+    let unused = |key: &str, given: bool, why: &str| -> Result<(), ScenarioError> {
+        if given {
+            Err(cx.invalid(&format!("material.{key}"), "(given)", why))
+        } else {
+            Ok(())
+        }
+    };
+    let keys = [
+        ("yield_stress", m.yield_stress.is_some()),
+        ("hardening", m.hardening.is_some()),
+        ("hardening_modulus", m.hardening_modulus.is_some()),
+        ("voce_q", m.voce_q.is_some()),
+        ("voce_b", m.voce_b.is_some()),
+        ("af_c", m.af_c.is_some()),
+        ("af_gamma", m.af_gamma.is_some()),
+        ("plastic_tolerance", m.plastic_tolerance.is_some()),
+    ];
+    match m.model.as_deref().unwrap_or("elastic") {
+        "elastic" => {
+            for (k, given) in keys {
+                unused(
+                    k,
+                    given,
+                    "a key of the plastic material, used with material.model = \"j2\" only",
+                )?;
+            }
+            return Ok(None);
+        }
+        "j2" => {}
+        o => {
+            return Err(cx.invalid(
+                "material.model",
+                format!("\"{o}\""),
+                "allowed: \"elastic\", \"j2\"",
+            ))
+        }
+    }
+    let sy = m.yield_stress.ok_or_else(|| {
+        cx.missing(
+            "material.yield_stress",
+            "material.model = \"j2\" needs the yield stress, Pa",
+        )
+    })?;
+    let yield_stress = cx.positive("material.yield_stress", sy)?;
+    let hardening = m.hardening.as_deref().unwrap_or("none");
+    let modulus = |why: &str| {
+        m.hardening_modulus
+            .ok_or_else(|| cx.missing("material.hardening_modulus", why))
+            .and_then(|h| cx.non_negative("material.hardening_modulus", h))
+    };
+    let (mut isotropic, mut kinematic) = (
+        Isotropic {
+            modulus: 0.0,
+            voce_q: 0.0,
+            voce_b: 0.0,
+        },
+        Kinematic { c: 0.0, gamma: 0.0 },
+    );
+    let only = |h: &str| format!("used with material.hardening = \"{h}\" only");
+    match hardening {
+        "none" => {
+            unused(
+                "hardening_modulus",
+                m.hardening_modulus.is_some(),
+                "a hardening constant, not used with material.hardening = \"none\"",
+            )?;
+        }
+        "isotropic" => {
+            isotropic.modulus = modulus("hardening = \"isotropic\" needs hardening_modulus, Pa (0 with voce_q for Voce's law alone)")?;
+            isotropic.voce_q = cx.non_negative("material.voce_q", m.voce_q.unwrap_or(0.0))?;
+            if isotropic.voce_q > 0.0 {
+                let b = m.voce_b.ok_or_else(|| {
+                    cx.missing(
+                        "material.voce_b",
+                        "Voce's law (voce_q > 0) needs its rate voce_b",
+                    )
+                })?;
+                isotropic.voce_b = cx.positive("material.voce_b", b)?;
+            } else {
+                unused(
+                    "voce_b",
+                    m.voce_b.is_some(),
+                    "Voce's rate, used with voce_q > 0 only",
+                )?;
+            }
+        }
+        "kinematic" => {
+            kinematic.c =
+                modulus("hardening = \"kinematic\" (Prager) needs hardening_modulus, Pa")?;
+        }
+        "armstrong_frederick" => {
+            unused(
+                "hardening_modulus",
+                m.hardening_modulus.is_some(),
+                "Armstrong-Frederick's constants are af_c and af_gamma",
+            )?;
+            let c = m.af_c.ok_or_else(|| {
+                cx.missing(
+                    "material.af_c",
+                    "hardening = \"armstrong_frederick\" needs af_c, Pa",
+                )
+            })?;
+            let g = m.af_gamma.ok_or_else(|| {
+                cx.missing(
+                    "material.af_gamma",
+                    "hardening = \"armstrong_frederick\" needs af_gamma (dimensionless)",
+                )
+            })?;
+            kinematic.c = cx.positive("material.af_c", c)?;
+            kinematic.gamma = cx.non_negative("material.af_gamma", g)?;
+        }
+        o => {
+            return Err(cx.invalid(
+                "material.hardening",
+                format!("\"{o}\""),
+                "allowed: \"none\", \"isotropic\", \"kinematic\", \"armstrong_frederick\"",
+            ))
+        }
+    }
+    if hardening != "isotropic" {
+        unused("voce_q", m.voce_q.is_some(), &only("isotropic"))?;
+        unused("voce_b", m.voce_b.is_some(), &only("isotropic"))?;
+    }
+    if hardening != "armstrong_frederick" {
+        unused("af_c", m.af_c.is_some(), &only("armstrong_frederick"))?;
+        unused(
+            "af_gamma",
+            m.af_gamma.is_some(),
+            &only("armstrong_frederick"),
+        )?;
+    }
+    let tolerance = m.plastic_tolerance.unwrap_or(crate::model::DEFAULT_TOL);
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return Err(cx.invalid(
+            "material.plastic_tolerance",
+            tolerance,
+            "the residual relative to the internal force, in (0, 1)",
+        ));
+    }
+    Ok(Some(super::super::Plastic {
+        material: J2Material {
+            elastic,
+            yield_stress,
+            isotropic,
+            kinematic,
+        },
+        tolerance,
+    }))
 }
 
 /// The wheel's `[material]`: Young's modulus, Poisson's ratio, density.
@@ -588,6 +748,26 @@ pub(super) fn check_wheel_run(
                 "block",
                 "(given)",
                 &format!("an elastic block does not work with {why}"),
+            ));
+        }
+    }
+    if w.plastic.is_some() {
+        let why = if matches!(w.mesh, MeshSource::Zone(_)) {
+            Some("a moving refined zone (wheel.zone_rim_nodes): its relabelling carries nodal states, not the elements' plastic states")
+        } else if w.block.is_some() {
+            Some("an elastic block ([block]): the plastic wheel rolls on the rigid base")
+        } else if w.spec.coupling == Coupling::Uncoupled {
+            Some("rolling.coupling = \"uncoupled\": its twin disk would carry half the strain")
+        } else if matches!(run_contact, Treatment::Subdivision) {
+            Some("contact.method = \"subdivision\": its sub-steps do not start at the snapshots that carry the plastic state")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(cx.invalid(
+                "material.model",
+                "\"j2\"",
+                &format!("the plastic wheel is not built with {why}"),
             ));
         }
     }
