@@ -131,7 +131,8 @@ fn a_moving_zone_reaches_the_uniformly_refined_rim_with_fewer_unknowns() {
 }
 
 /// The zone's keys are checked: a rim that is not the sectors times a power of two, a zone
-/// pitch that is not the rim's times one, a zone with friction or a pinned centre.
+/// pitch that is not the rim's times one, a zone with the uncoupled problem, a depth that is
+/// not a length, or a pinned centre.
 #[test]
 fn zone_keys_are_checked() {
     let with = |pairs: &[(&str, &str)]| {
@@ -153,8 +154,17 @@ fn zone_keys_are_checked() {
         ("wheel.rim_nodes", "144"),
         ("wheel.zone_rim_nodes", "576"),
         ("contact.friction", "0.3"),
+        ("rolling.coupling", "\"uncoupled\""),
     ]);
-    assert!(e.contains("contact.friction"), "{e}");
+    assert!(e.contains("uncoupled"), "{e}");
+    let e = with(&[
+        ("wheel.rim_nodes", "144"),
+        ("wheel.zone_rim_nodes", "576"),
+        ("wheel.zone_depth", "-1e-3"),
+    ]);
+    assert!(e.contains("wheel.zone_depth"), "{e}");
+    let e = with(&[("wheel.zone_depth", "1e-3")]);
+    assert!(e.contains("wheel.zone_rim_nodes"), "{e}");
     let e = with(&[
         ("wheel.rim_nodes", "144"),
         ("wheel.zone_rim_nodes", "576"),
@@ -208,4 +218,141 @@ fn a_zone_run_writes_its_outputs_without_turn_averages() {
     assert!(s["max_j2_turn_average_mpa2"].is_null(), "{s}");
     assert!(s["relocations"].as_u64().unwrap() >= 3, "{s}");
     std::fs::remove_dir_all(sc.parent().unwrap()).ok();
+}
+
+/// scenarios/creep-curve.toml (mu = 0.3, the 4 cm hub) on the zone family: `rim_nodes`
+/// outside the zone, `zone` inside, at creepage `xi`, `turns` after settling.
+fn creep_scenario(rim_nodes: usize, zone: usize, xi: f64, turns: f64) -> Scenario {
+    let (rim_nodes, zone, xi, turns) = (
+        rim_nodes.to_string(),
+        zone.to_string(),
+        xi.to_string(),
+        turns.to_string(),
+    );
+    let (path, text) = common::shipped(
+        "creep-curve",
+        &[
+            ("wheel.rim_nodes", &rim_nodes),
+            ("wheel.zone_rim_nodes", &zone),
+            ("rolling.creepage", &xi),
+            ("rolling.turns", &turns),
+            ("output.plots", "false"),
+        ],
+    );
+    resolve(&Scenario::from_str(&text, &path).unwrap()).unwrap()
+}
+
+/// With friction the relocation carries the pairs' tangential states as it carries the
+/// normal ones: on a mesh of the family without a zone the driven wheel (creepage 1 %,
+/// stick and slip in the patch) gives, with and without relocations, the same contact
+/// force, the same creep force and the same friction energy at every step (to round-off),
+/// through settling, arrivals, stick/slip changes and releases.
+#[test]
+fn relocation_with_friction_is_an_exact_relabelling() {
+    let sc = creep_scenario(144, 144, 0.01, 0.05);
+    let run = &sc.runs[0];
+    let Model::Wheel(ws) = &run.model else {
+        panic!("a wheel")
+    };
+    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let (sources, step) = wm.zone.clone().unwrap();
+    let steps = 3_000;
+    let series = |relocate: bool| {
+        let mut pb = wm.problem(run.integrator, run.params.h, vec![], run.contact, steps);
+        pb.friction = run.friction;
+        let mut sim = Simulation::new(pb).unwrap();
+        if relocate {
+            sim.set_relocation(Relocation {
+                sources: sources.clone(),
+                step,
+                omega: ws.spec.omega,
+                angle0: 0.0,
+            })
+            .unwrap();
+        }
+        let mut f = Vec::new();
+        let stats = sim
+            .run(&AtomicBool::new(false), |s| {
+                let q: f64 = s.state.pairs.iter().map(|p| p.tangential_force).sum();
+                let slipping = s.state.pairs.iter().filter(|p| p.held && p.sliding).count();
+                f.push((s.contact_force, q, s.friction_dissipated, slipping));
+                Ok(())
+            })
+            .unwrap();
+        (f, stats)
+    };
+    let (plain, s0) = series(false);
+    let (moved, s1) = series(true);
+    assert_eq!(s0.relocations, 0);
+    assert!(s1.relocations >= 15, "{s1:?}");
+    assert!(s1.brakings > 10 && s1.releases > 10, "{s1:?}");
+    assert!(s1.stick_slip_changes > 10, "{s1:?}");
+    let last = plain.last().unwrap();
+    let (scale_n, scale_t, energy) = (
+        plain.iter().map(|x| x.0).fold(0.0, f64::max),
+        plain.iter().map(|x| x.1.abs()).fold(0.0, f64::max),
+        last.2,
+    );
+    assert!(scale_t > 0.1 * 0.3 * scale_n, "{scale_t} of {scale_n}");
+    let slipping = plain.iter().map(|x| x.3).max().unwrap_or(0);
+    assert!(
+        energy > 0.0 && slipping > 0,
+        "{last:?}, {slipping} slipping"
+    );
+    let worst = |k: fn(&(f64, f64, f64, usize)) -> f64| {
+        plain
+            .iter()
+            .zip(&moved)
+            .map(|(a, b)| (k(a) - k(b)).abs())
+            .fold(0.0, f64::max)
+    };
+    let (wn, wt, we) = (worst(|x| x.0), worst(|x| x.1), worst(|x| x.2));
+    eprintln!(
+        "worst: normal {wn} N of {scale_n}, tangential {wt} N of {scale_t}, friction energy {we} J of {energy}; {s1:?}"
+    );
+    assert!(wn < 1e-7 * scale_n, "normal {wn} N of {scale_n} N");
+    assert!(wt < 1e-7 * scale_t, "tangential {wt} N of {scale_t} N");
+    assert!(we < 1e-7 * energy, "friction energy {we} J of {energy} J");
+    assert!(plain.iter().zip(&moved).all(|(a, b)| a.3 == b.3));
+}
+
+/// With friction in the zone: a 144-node rim refined to 576 nodes in the moving zone gives
+/// the creep force of the uniform 576-node rim within 1 % (driven at 1 %, partial slip),
+/// and the friction energy carried through the relocations within 2 %.
+#[test]
+fn a_moving_zone_with_friction_gives_the_creep_force_of_the_fine_rim() {
+    let summary = |rim: usize, zone: usize| {
+        let dir = std::env::temp_dir().join(format!(
+            "softway-zone-creep-{}-{rim}-{zone}",
+            std::process::id()
+        ));
+        run_scenario(
+            &creep_scenario(rim, zone, 0.01, 0.1),
+            &dir,
+            &RunOptions::default(),
+        )
+        .unwrap();
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
+                .unwrap();
+        std::fs::remove_dir_all(&dir).ok();
+        s
+    };
+    let uniform = summary(576, 576);
+    let zone = summary(144, 576);
+    let t = |s: &serde_json::Value, k: &str| s["traction"][k].as_f64().unwrap();
+    let (qu, qz) = (t(&uniform, "traction"), t(&zone, "traction"));
+    let (eu, ez) = (t(&uniform, "friction_energy"), t(&zone, "friction_energy"));
+    eprintln!(
+        "uniform 576: Q {qu} N (Q/mu P {}), friction energy {eu} J, {} dofs; zone: Q {qz} N ({}), {ez} J, {} dofs, {} relocations",
+        t(&uniform, "traction_ratio"),
+        uniform["dofs"],
+        t(&zone, "traction_ratio"),
+        zone["dofs"],
+        zone["relocations"]
+    );
+    assert!(zone["relocations"].as_f64().unwrap() > 10.0);
+    assert!(qu > 0.2 * 0.3 * t(&uniform, "normal"), "{qu}");
+    assert!((qz / qu - 1.0).abs() < 0.01, "{qz} vs {qu}");
+    assert!((ez / eu - 1.0).abs() < 0.02, "{ez} vs {eu}");
 }

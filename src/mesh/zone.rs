@@ -7,7 +7,14 @@
 //! than the size wanted at its centre,
 //! `s(x) = min(s_c + g (R - r), s_f + g dist(x, zone))`, with `s_c = 2 pi R / rim_nodes` the
 //! pitch of the rim outside the zone, `s_f = 2 pi R / zone_rim_nodes` its pitch inside,
-//! `dist(x, zone)` the distance to the zone's arc of the rim and `g` the grading. A leaf cell
+//! `dist(x, zone)` the distance to the zone's arc of the rim and `g` the grading. With
+//! `depth = Some(l)` the zone is refined in depth as well: the size wanted near the zone is
+//! `min(s_f + g d, s_f (1 + (d / l)^2))` (`d = dist(x, zone)`), so that the elements at a
+//! depth `d ~ l` below the contact are about twice the zone's pitch, not `g d`: they shrink
+//! with it, and a ladder of zone pitches converges at every depth the contact's stresses
+//! reach (the graded rule's elements at depth `a` are `g a` whatever the pitch, an error
+//! that does not go with the pitch). About `(pi w / 4 + pi l) l / s_f^2` cells more, `w` the
+//! zone's arc length. A leaf cell
 //! whose sides carry only its four corners is two triangles (always the same diagonal); one
 //! with nodes of finer neighbours on its sides is a fan from a node at its centre. Every node
 //! sits on the lattice of the finest level, `(j, i)`: radius `r_h q^(j / 2^L)`, angle
@@ -48,6 +55,11 @@ pub struct ZoneOptions {
     pub zone_width: f64,
     /// Growth of the cell size with the distance from the rim and from the zone (`g`).
     pub grading: f64,
+    /// The zone refined in depth as well (m; `None`: not): within the distance `l` of the
+    /// zone's arc the cells keep the zone's pitch's scale, `s_f (1 + (d / l)^2)`, so that the
+    /// elements at a depth `d ~ l` shrink with the zone's pitch (module docs). For creep
+    /// studies, `l` about the contact's half-width `a`.
+    pub depth: Option<f64>,
 }
 
 /// Where the state of a node after a relocation comes from (module docs, Relocation).
@@ -163,6 +175,16 @@ fn check_options(o: &ZoneOptions) -> Result<(u32, f64), MeshError> {
             max: 2.0,
         });
     }
+    if let Some(l) = o.depth {
+        if !(l.is_finite() && l > 0.0 && l < o.radius - o.hub_radius) {
+            return Err(MeshError::OutOfRange {
+                name: "depth (the zone's refinement in depth, m)",
+                value: l,
+                min: 0.0,
+                max: o.radius - o.hub_radius,
+            });
+        }
+    }
     if o.zone_rim_nodes > super::generators::MAX_NODES / 8 {
         return Err(MeshError::TooLarge {
             name: "zone_rim_nodes",
@@ -190,7 +212,12 @@ fn quadtree_leaves(o: &ZoneOptions, lat: &Lattice) -> Result<Vec<Cell>, MeshErro
             let (ex, ey) = (o.radius * e.cos(), o.radius * e.sin());
             ((r * th.cos() - ex).powi(2) + (r * th.sin() - ey).powi(2)).sqrt()
         };
-        coarse.min(s_f + o.grading * dist)
+        let zone = s_f + o.grading * dist;
+        let zone = match o.depth {
+            Some(l) => zone.min(s_f * (1.0 + (dist / l).powi(2))),
+            None => zone,
+        };
+        coarse.min(zone)
     };
     let mut leaves: Vec<Cell> = Vec::new();
     let mut stack: Vec<Cell> = Vec::new();
@@ -494,6 +521,7 @@ mod tests {
             zone_rim_nodes: 1152,
             zone_width: 20f64.to_radians(),
             grading: 0.3,
+            depth: None,
         }
     }
 
@@ -581,6 +609,54 @@ mod tests {
         }
     }
 
+    /// Refined in depth (`depth = Some(l)`), the elements at depth `l` under the zone's
+    /// centre shrink with the zone's pitch (about twice it); graded by `g` alone they stay
+    /// about `g l` whatever the pitch.
+    #[test]
+    fn a_zone_refined_in_depth_follows_its_pitch_at_depth() {
+        let l = 1e-3;
+        let largest_at_depth = |zone_rim_nodes: usize, depth: Option<f64>| {
+            let o = ZoneOptions {
+                radius: 0.1,
+                hub_radius: 0.04,
+                sectors: 288,
+                rim_nodes: 288,
+                zone_rim_nodes,
+                zone_width: 4f64.to_radians(),
+                grading: 0.3,
+                depth,
+            };
+            let z = disk_zone(&o).unwrap();
+            let Cells::Tri3(tris) = &z.mesh.cells else {
+                unreachable!()
+            };
+            let mut largest: f64 = 0.0;
+            for t in tris {
+                let p: Vec<&[f64]> = t.iter().map(|&n| z.mesh.point(n)).collect();
+                let c = [
+                    (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                    (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+                ];
+                // Below the zone's centre (the contact at -y), between 0.8 l and 1.2 l deep.
+                let d = 0.1 - c[0].hypot(c[1]);
+                if c[0].abs() < 0.5 * l && (0.8 * l..1.2 * l).contains(&d) {
+                    for k in 0..3 {
+                        let (a, b) = (p[k], p[(k + 1) % 3]);
+                        largest = largest.max((a[0] - b[0]).hypot(a[1] - b[1]));
+                    }
+                }
+            }
+            (largest, 2.0 * PI * 0.1 / zone_rim_nodes as f64)
+        };
+        for n in [2304, 4608] {
+            let (e, s_f) = largest_at_depth(n, Some(l));
+            eprintln!("zone {n}: largest edge at depth l {e:.3e} m, pitch {s_f:.3e} m");
+            assert!(e < 3.5 * s_f, "{e} vs pitch {s_f}");
+            let (e, _) = largest_at_depth(n, None);
+            assert!(e > 0.15 * l, "graded alone: {e}");
+        }
+    }
+
     #[test]
     fn bad_options_are_refused() {
         let o = options();
@@ -598,6 +674,10 @@ mod tests {
                 ..o
             },
             ZoneOptions { sectors: 4, ..o },
+            ZoneOptions {
+                depth: Some(-1e-3),
+                ..o
+            },
             ZoneOptions {
                 zone_width: 0.01,
                 ..o

@@ -274,6 +274,7 @@ fn table_columns(points: &[SweepPoint], is_wheel: bool, with_traction: bool) -> 
     if with_traction {
         for c in [
             "traction/creepage",
+            "traction/creepage_undeformed",
             "traction/normal",
             "traction/traction",
             "traction/traction_ratio",
@@ -538,7 +539,10 @@ fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
 /// ([`crate::run::wheel::traction::carter_traction_ratio`], the Hertz half-width of the mean
 /// normal force) twice: as it stands, and shifted to the measured free-rolling creepage
 /// `xi0` (where `Q` crosses zero, linearly interpolated), which an elastic wheel on a rigid
-/// base has and Carter's elastically similar bodies do not.
+/// base has and Carter's elastically similar bodies do not. The CSV gives every creepage
+/// and `xi0` in both references: `creepage` on the rolling radius `rho = R_s - d` (the
+/// scenario's `rolling.creepage`), `creepage_undeformed` on the undeformed radius `R_s`
+/// (Carter's, Kalker's and the half-space codes': their rigid velocity is `omega R`).
 fn creep_curve(out: &Path, points: &[SweepPoint], xs: &[f64]) -> Result<Vec<PathBuf>, SweepError> {
     use crate::run::wheel::traction::carter_traction_ratio;
     let num = |p: &SweepPoint, k: &str| {
@@ -619,18 +623,42 @@ fn creep_curve(out: &Path, points: &[SweepPoint], xs: &[f64]) -> Result<Vec<Path
     panel.y_range = Some((-1.15, 1.15));
     let png = out.join("creep_curve.png");
     panels(&png, &[panel], 1, 1, (1100, 700)).map_err(|e| RunError::output(&png, e))?;
-    let mut csv = String::from("creepage,traction_ratio,carter,carter_shifted\n");
-    for p in &pts {
+    // The creepage referred to the undeformed radius (the half-space codes' and Carter's
+    // reference) beside the one given (referred to the rolling radius rho = R_s - d).
+    let mut on_r: Vec<(f64, f64)> = points
+        .iter()
+        .zip(xs)
+        .map(|(p, &x)| {
+            let xr = num(p, "creepage_undeformed");
+            (x, if xr.is_finite() { xr } else { x })
+        })
+        .collect();
+    on_r.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let xi0_r = free_rolling_creepage(
+        &on_r
+            .iter()
+            .zip(&pts)
+            .map(|(r, p)| (r.1, p.1))
+            .collect::<Vec<_>>(),
+    );
+    let mut csv = String::from(
+        "creepage,creepage_undeformed,traction_ratio,carter,carter_shifted,\
+         free_rolling_creepage,free_rolling_creepage_undeformed\n",
+    );
+    for (p, r) in pts.iter().zip(&on_r) {
         let shifted = xi0.map_or(f64::NAN, |x0| {
             carter_traction_ratio(p.0 - x0, mu, a, radius)
         });
         let _ = writeln!(
             csv,
-            "{:e},{:e},{:e},{:e}",
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
             p.0,
+            r.1,
             p.1,
             carter_traction_ratio(p.0, mu, a, radius),
-            shifted
+            shifted,
+            xi0.unwrap_or(f64::NAN),
+            xi0_r.unwrap_or(f64::NAN)
         );
     }
     let f = out.join("creep_curve.csv");

@@ -861,6 +861,7 @@ pub fn drive(
                 pairs: &st.pairs,
                 slip_power: s.slip_power,
                 friction_dissipated: s.friction_dissipated,
+                frame_angle: s.frame_angle,
             };
             observers.iter_mut().try_for_each(|o| o.observe(&step))
         })

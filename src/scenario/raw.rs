@@ -108,6 +108,7 @@ pub(super) struct RawWheel {
     pub zone_rim_nodes: Option<i64>,
     pub zone_width: Option<f64>,
     pub zone_sectors: Option<i64>,
+    pub zone_depth: Option<f64>,
     pub load: Option<f64>,
 }
 

@@ -500,7 +500,7 @@ impl Simulation {
                 node_map[m] = Some(n);
             }
         }
-        let pairs = eng
+        let pairs: Vec<Option<usize>> = eng
             .pairs
             .iter()
             .map(|pair| match spec.sources[pair.nodes().0[0]] {
@@ -508,8 +508,19 @@ impl Simulation {
                 Source::Triangle { .. } => None,
             })
             .collect();
+        // The pairs no pair takes its state from (left behind by the zone) and those that
+        // start fresh (ahead of it): as many of each, a relabelling of the rim.
+        let mut taken = vec![false; eng.pairs.len()];
+        for q in pairs.iter().flatten() {
+            taken[*q] = true;
+        }
+        let dropped = (0..taken.len()).filter(|&q| !taken[q]).collect();
+        let fresh = (0..pairs.len()).filter(|&p| pairs[p].is_none()).collect();
         let (c, s) = (spec.step.cos(), spec.step.sin());
         self.relocation = Some(Relocating {
+            dropped,
+            fresh,
+            done: 0,
             pairs,
             node_map,
             rot: [[c, s], [-s, c]],
@@ -588,6 +599,7 @@ impl Simulation {
             o.turn_frame(rel.spec.step);
         }
         rel.spec.angle0 -= rel.spec.step;
+        rel.done += 1;
         self.engine.stats.relocations += 1;
     }
 
@@ -762,6 +774,10 @@ impl Simulation {
         let held = s.pairs.iter().filter(|p| p.held).count();
         let slip_power = s.pairs.iter().map(|p| p.slip_power).sum();
         let friction_dissipated = s.pairs.iter().map(|p| p.dissipated).sum();
+        let frame_angle = self
+            .relocation
+            .as_ref()
+            .map_or(0.0, |r| r.spec.step * r.done as f64);
         observer(&StepView {
             state: s,
             model: m,
@@ -772,6 +788,7 @@ impl Simulation {
             held,
             slip_power,
             friction_dissipated,
+            frame_angle,
             team: &self.team,
             internal: self.engine.nonlinear.as_ref().map(|nl| (nl, i)),
         })

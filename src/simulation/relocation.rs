@@ -10,6 +10,14 @@ use crate::model::{PairMode, PairState};
 /// pair at that node (a fresh state if there is none), and the obstacles turn by `-step`
 /// ([`crate::contact::Obstacle::turn_frame`]). The matrices and their factors do not change.
 /// 2D models of node pairs only.
+///
+/// **Friction.** A pair's whole state goes with its node: the normal mode and rows, and the
+/// tangential ones (the friction force along the pair's tangent, a scalar that a turn of the
+/// frame leaves as it is, whether it slid, its slip power and the energy it dissipated); the
+/// tangential rows of the next step are posed from the relabelled state, as the normal ones
+/// are. The energy dissipated at the pairs the zone leaves behind (their material leaves the
+/// refined arc, where the rim has fewer nodes) is handed to the pairs that start fresh ahead
+/// of it, as many as those: the total friction energy is carried through exactly.
 #[derive(Debug, Clone)]
 pub struct Relocation {
     /// Per node, the source of its state.
@@ -28,6 +36,12 @@ pub(super) struct Relocating {
     pub(super) spec: Relocation,
     /// Pair `p` takes the state of pair `pairs[p]`.
     pub(super) pairs: Vec<Option<usize>>,
+    /// Pairs whose state no pair takes (left behind).
+    pub(super) dropped: Vec<usize>,
+    /// Pairs that start fresh (no pair at their source).
+    pub(super) fresh: Vec<usize>,
+    /// Relocations done.
+    pub(super) done: usize,
     /// The new label of each old node (`None`: dropped).
     pub(super) node_map: Vec<Option<usize>>,
     pub(super) rot: [[f64; 2]; 2],
@@ -73,6 +87,14 @@ impl Relocating {
                     st
                 }
             };
+        }
+        // The friction energy of the pairs left behind, to the fresh ones (type docs).
+        if !self.dropped.is_empty() {
+            let last = self.fresh.len().saturating_sub(1);
+            for (k, &q) in self.dropped.iter().enumerate() {
+                let to = self.fresh.get(k.min(last)).copied().unwrap_or(0);
+                self.pair_scratch[to].dissipated += states[q].dissipated;
+            }
         }
         states.copy_from_slice(&self.pair_scratch);
     }

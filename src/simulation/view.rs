@@ -30,6 +30,11 @@ pub struct StepView<'a> {
     /// Energy dissipated by friction since the start, summed over the pairs, J
     /// ([`crate::model::PairState::dissipated`]).
     pub friction_dissipated: f64,
+    /// The angle the mesh's frame has turned by with a moving refined zone, rad (the
+    /// relocations so far times their step, [`super::Relocation`]; 0 without a zone): the
+    /// obstacles are turned back by it, so a direction `e(t)` of the base in the laboratory's
+    /// wheel frame is `e(t)` turned by `-frame_angle` in the mesh's.
+    pub frame_angle: f64,
     /// The run's threads ([`super::Simulation::set_par`]), for [`StepView::energies`].
     pub(super) team: &'a Team,
     /// The nonlinear internal force and the ring slot of this step's state, when set

@@ -23,6 +23,16 @@ use std::f64::consts::PI;
 /// # Errors
 /// A message when the stiffness with the supports is singular.
 pub fn static_contact(wm: &WheelModel, depth: f64) -> Result<(f64, Vec<(usize, f64)>), String> {
+    let sol = static_solution(wm, depth)?;
+    Ok((sol.active.iter().map(|a| a.1).sum(), sol.active))
+}
+
+/// The static contact of [`static_contact`] in full: the displacement (from the unloaded,
+/// unspun reference) and the active rim nodes with their forces.
+///
+/// # Errors
+/// A message when the stiffness with the supports is singular.
+pub fn static_solution(wm: &WheelModel, depth: f64) -> Result<statics::StaticContact, String> {
     // The base at its starting angle (where a refined zone is centred; the zone's frame
     // keeps the contact there), pressed to `depth`.
     let mut base = wm.base();
@@ -58,7 +68,7 @@ pub fn static_contact(wm: &WheelModel, depth: f64) -> Result<(f64, Vec<(usize, f
         hs,
     )
     .map_err(|e| format!("the static contact solve for wheel.load: {e}"))?;
-    Ok((sol.active.iter().map(|a| a.1).sum(), sol.active))
+    Ok(sol)
 }
 
 /// The flattening found for a load, and the static patch it gives.

@@ -54,6 +54,9 @@ pub struct WheelStep<'a> {
     pub slip_power: f64,
     /// Energy dissipated by friction since the start, J.
     pub friction_dissipated: f64,
+    /// The angle the mesh's frame has turned by with a moving refined zone, rad
+    /// ([`crate::simulation::StepView::frame_angle`]; 0 without one).
+    pub frame_angle: f64,
 }
 
 /// A per-step observer of the wheel run.
@@ -648,6 +651,7 @@ mod tests {
             pairs: &[],
             slip_power: 0.0,
             friction_dissipated: 0.0,
+            frame_angle: 0.0,
         }
     }
 

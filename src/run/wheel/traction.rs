@@ -58,6 +58,13 @@ pub fn carter_traction_ratio(xi: f64, mu: f64, a: f64, radius: f64) -> f64 {
     xi.signum() * (1.0 - (1.0 - x) * (1.0 - x))
 }
 
+/// A creepage `xi` referred to the rolling radius `rho` (the rail's speed `V = omega rho (1 -
+/// xi)`) referred instead to the undeformed radius `r_s`: `(omega r_s - V) / (omega r_s) =
+/// 1 - (rho / r_s) (1 - xi)` (module docs of [`crate::contact::RotatingLine`]).
+pub fn creepage_undeformed(xi: f64, rho: f64, r_s: f64) -> f64 {
+    1.0 - rho / r_s * (1.0 - xi)
+}
+
 /// Carter's tangential traction at `s` (module docs) for peak pressure `p0`, half-width `a`,
 /// stick half-width `c` (`0 <= c <= a`) and friction `mu`, Pa, for a driving traction (the
 /// braking one is its negative).
@@ -124,8 +131,18 @@ pub struct TractionSummary {
     pub coupling: crate::wheel::Coupling,
     /// Coulomb coefficient.
     pub friction: f64,
-    /// Creepage `xi`.
+    /// Creepage `xi = (omega rho - V) / (omega rho)` as given (`rolling.creepage`), referred
+    /// to the rolling radius `rho = R_s - d` (the distance from the axle to the base).
     pub creepage: f64,
+    /// The same creepage referred to the undeformed radius `R_s` (the rim of the wheel
+    /// spinning free, before the contact flattens it): `xi_R = (omega R_s - V) / (omega R_s)
+    /// = 1 - (rho / R_s) (1 - xi)`. Carter, Kalker and the half-space codes use this one
+    /// (their rigid velocity is `omega R`): it is larger than `xi` by `(d / R_s) (1 - xi)`.
+    pub creepage_undeformed: f64,
+    /// The rolling radius `rho = R_s - d` at the end of the run, m.
+    pub rolling_radius: f64,
+    /// The undeformed radius `R_s` (the rim of the wheel spinning free), m.
+    pub undeformed_radius: f64,
     /// Wheel radius `R`, m.
     pub radius: f64,
     /// Mean creep force `Q` over the averaging window (last half of the rolling phase), N
@@ -340,6 +357,9 @@ impl TractionWatch {
             .filter(|((_, &pp), &st)| pp > 0.01 * pmax && st > 0.5)
             .map(|((&s, _), _)| s)
             .collect();
+        let t_end = self.timeline.t_settle + self.timeline.turns * self.timeline.turn_time;
+        let r_s = self.base.radius;
+        let rho = r_s - self.base.flattening.at(t_end);
         let ratio = if mu > 0.0 && p > 0.0 {
             q / (mu * p)
         } else {
@@ -371,6 +391,9 @@ impl TractionWatch {
             coupling: self.coupling,
             friction: mu,
             creepage: xi,
+            creepage_undeformed: creepage_undeformed(xi, rho, r_s),
+            rolling_radius: rho,
+            undeformed_radius: r_s,
             radius,
             traction: q,
             normal: p,
@@ -442,8 +465,12 @@ impl Observer for TractionWatch {
         self.window_samples += 1.0;
         self.window_q += traction;
         self.window_p += normal;
-        // The profile in the patch's frame: s = -t . (x - centre), t the base's tangent.
+        // The profile in the patch's frame: s = -t . (x - centre), t the base's tangent;
+        // with a moving zone the base's direction in the mesh's frame, turned back by the
+        // frame's angle.
         let e = self.base.direction(s.t);
+        let (c, sn) = (s.frame_angle.cos(), s.frame_angle.sin());
+        let e = [c * e[0] + sn * e[1], -sn * e[0] + c * e[1]];
         // t = (-n_y, n_x) with n = -e: t = (e_y, -e_x); the contact travels along -t.
         let along = [-e[1], e[0]];
         for (k, ps) in s.pairs.iter().enumerate() {
@@ -665,6 +692,24 @@ mod tests {
         let ratio = carter_traction_ratio(xi, mu, a, r);
         let c_over_a = (1.0 - ratio).sqrt();
         assert!((xi - mu * a / r * (1.0 - c_over_a)).abs() < 1e-15);
+    }
+
+    /// The two references give the same rail speed: `omega rho (1 - xi) = omega R_s (1 -
+    /// xi_R)`; free rolling on `rho` is a creepage `d / R_s` on `R_s`.
+    #[test]
+    fn creepage_on_the_undeformed_radius_gives_the_same_rail_speed() {
+        let (r_s, d, omega) = (0.1, 2e-5, 50.0);
+        let rho = r_s - d;
+        for xi in [-0.01, 0.0, 1e-3, 0.02] {
+            let xr = creepage_undeformed(xi, rho, r_s);
+            let v_rho = omega * rho * (1.0 - xi);
+            let v_r = omega * r_s * (1.0 - xr);
+            assert!(
+                (v_rho - v_r).abs() < 1e-14 * v_rho,
+                "{xi}: {v_rho} vs {v_r}"
+            );
+        }
+        assert!((creepage_undeformed(0.0, rho, r_s) - d / r_s).abs() < 1e-15);
     }
 
     #[test]

@@ -398,6 +398,7 @@ fn zone_mesh(
             for (k, given) in [
                 ("wheel.zone_width", w.zone_width.is_some()),
                 ("wheel.zone_sectors", w.zone_sectors.is_some()),
+                ("wheel.zone_depth", w.zone_depth.is_some()),
             ] {
                 if given {
                     return Err(cx.invalid(
@@ -453,6 +454,17 @@ fn zone_mesh(
                     &format!("the zone's arc of the rim in degrees, from two sectors ({min}) to 180"),
                 ));
             }
+            let depth = match w.zone_depth {
+                None => None,
+                Some(l) if l.is_finite() && l > 0.0 && l < radius - hub_radius => Some(l),
+                Some(l) => {
+                    return Err(cx.invalid(
+                        "wheel.zone_depth",
+                        l,
+                        &format!("the depth (m) to which the zone keeps its pitch's scale, above 0 and below the rim's depth over the hub ({} m); about the contact's half-width", radius - hub_radius),
+                    ))
+                }
+            };
             MeshSource::Zone(crate::mesh::zone::ZoneOptions {
                 radius,
                 hub_radius,
@@ -461,6 +473,7 @@ fn zone_mesh(
                 zone_rim_nodes: zn,
                 zone_width: width.to_radians(),
                 grading: 0.3,
+                depth,
             })
         }
         (Some(z), _) => {
@@ -689,9 +702,7 @@ pub(super) fn check_wheel_run(
     integrator: &Integrator,
 ) -> Result<(), ScenarioError> {
     if let MeshSource::Zone(_) = w.mesh {
-        let why = if friction.is_some_and(|law| law.is_active()) {
-            Some("contact.friction: the traction outputs follow rim nodes, which a moving zone relabels (not yet)")
-        } else if w.spec.coupling == Coupling::Uncoupled {
+        let why = if w.spec.coupling == Coupling::Uncoupled {
             Some("rolling.coupling = \"uncoupled\": its twin disk is not relabelled (not yet)")
         } else if w.spec.surface != ContactSurface::Nodes {
             Some("wheel.contact_surface = \"segments\": a moving zone relabels node pairs only")
