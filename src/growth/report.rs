@@ -457,6 +457,15 @@ fn plot_all(
             p.vlines
                 .push((s.cutoff_m * 1e3, "cutoff (wear removed below)".into()));
         }
+        let longest_band = lam_mm.iter().copied().fold(0.0, f64::max);
+        let few = s.length_m / OPEN_MIN_PERIODS * 1e3;
+        if !s.periodic && longest_band > few {
+            p.vspans.push((
+                few,
+                longest_band * 1.12,
+                format!("under {OPEN_MIN_PERIODS:.0} periods in the record: the ends' rates"),
+            ));
+        }
         p.note = format!(
             "Least-squares slope of each level over {} passes of {:.3e} real passes each.",
             s.passes, s.passes_per_pass
