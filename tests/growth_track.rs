@@ -124,7 +124,7 @@ fn one_pass(patch: WearPatch, law: WearLaw, gamma: f64) -> Pass {
     Pass {
         depth: r.wear_depth[inner].to_vec(),
         force_at,
-        mean_force: scalar("contact_force_mean_N"),
+        mean_force: scalar("mean_force_n"),
         dx,
     }
 }
@@ -233,10 +233,7 @@ fn the_rails_linear_growth_follows_the_receptances() {
             .map(|(_, v)| *v)
             .unwrap()
     };
-    let (force, k_c) = (
-        scalar("contact_force_mean_N"),
-        scalar("contact_stiffness_N_m"),
-    );
+    let (force, k_c) = (scalar("mean_force_n"), scalar("contact_stiffness_n_m"));
     let m = 48;
     let lams: Vec<f64> = (0..m)
         .map(|i| 0.010 * 40f64.powf(i as f64 / (m - 1) as f64))

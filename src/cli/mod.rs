@@ -424,6 +424,13 @@ fn grow_command(
     for w in &sc.warnings {
         errln!("softway: warning: {w}");
     }
+    if sc.growth.is_none() {
+        return Err(crate::run::RunError::input(
+            scenario,
+            "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
+        )
+        .into());
+    }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-grow", sc.name)));
     let opts = crate::run::grow::GrowOptions {
         passes: passes.map(|p| p as usize),
