@@ -548,41 +548,61 @@ impl InternalForce for PlasticBody {
     }
 }
 
-/// The rim's permanent radial surface displacement after a pass, with the load taken off:
-/// the residual displacement `u_r = K^{-1} f_p` of the plastic state `state` (its
-/// pseudo-load [`InternalForce::pseudo_load`], no contact, no spin load) on the elastic
-/// stiffness `k` (on `pattern`) with the supported dofs `fixed` held, read radially at the
-/// rim nodes `rim` (ordered by angle; node `i` at `reference[2 i..2 i + 2]` from the wheel's
-/// centre): `(arc length from the first rim node along the undeformed rim, m; u_r . X / |X|,
-/// m, positive outwards)`, one per rim node. The growth driver's input after a pass: the
-/// elastic flattening under the contact is not in it, only what the plastic strain left.
-/// Allocates (call between passes, not in the time loop).
+/// The residual displacement of the plastic state `state` with the load taken off: `u =
+/// K^{-1} f_p`, its pseudo-load [`InternalForce::pseudo_load`] on the stiffness `k` (on
+/// `pattern`) with the supported dofs `fixed` held (no contact, no other load). With the
+/// elastic stiffness it is what the plastic strain leaves at rest; with a spinning wheel's
+/// effective stiffness, the displacement to add to the spinning equilibrium so that a run
+/// starting from `state` starts in equilibrium. Allocates (not for the time loop).
 ///
 /// # Errors
 /// [`LinalgError`] when `k` with `fixed` held is singular.
-pub fn permanent_radial_displacement(
+pub fn residual_displacement(
     body: &PlasticBody,
     state: &[f64],
     (pattern, k, fixed): (&Pattern, &[f64], &[usize]),
-    reference: &[f64],
-    rim: &[usize],
-) -> Result<Vec<(f64, f64)>, LinalgError> {
+) -> Result<Vec<f64>, LinalgError> {
     let n = pattern.nrows();
     let mut is_fixed = vec![false; n];
     for &d in fixed {
         is_fixed[d] = true;
     }
+    let mut u = vec![0.0; n];
+    body.pseudo_load(state, &mut u);
+    if u.iter().all(|&x| x == 0.0) {
+        return Ok(u);
+    }
     let mut a = k.to_vec();
     crate::linalg::set_identity_rows(pattern, &mut a, &is_fixed);
     let mut lu = SparseLu::new(pattern, &a)?;
-    let mut u = vec![0.0; n];
-    body.pseudo_load(state, &mut u);
     for (ui, &fx) in u.iter_mut().zip(&is_fixed) {
         if fx {
             *ui = 0.0;
         }
     }
     lu.solve_in_place(&mut u);
+    Ok(u)
+}
+
+/// The rim's permanent radial surface displacement after a pass, with the load taken off:
+/// the residual displacement ([`residual_displacement`]) of the plastic state `state` on
+/// the elastic stiffness `k` (on `pattern`) with the supported dofs `fixed` held, read
+/// radially at the rim nodes `rim` (ordered by angle; node `i` at `reference[2 i..2 i + 2]`
+/// from the wheel's centre): `(arc length from the first rim node along the undeformed rim,
+/// m; u_r . X / |X|, m, positive outwards)`, one per rim node. The growth driver's input
+/// after a pass: the elastic flattening under the contact is not in it, only what the
+/// plastic strain left. Allocates (call between passes, not in the time loop).
+///
+/// # Errors
+/// [`LinalgError`] when `k` with `fixed` held is singular.
+pub fn permanent_radial_displacement(
+    body: &PlasticBody,
+    state: &[f64],
+    stiffness: (&Pattern, &[f64], &[usize]),
+    reference: &[f64],
+    rim: &[usize],
+) -> Result<Vec<(f64, f64)>, LinalgError> {
+    let u = residual_displacement(body, state, stiffness)?;
     let mut out = Vec::with_capacity(rim.len());
     let mut s = 0.0;
     let mut prev: Option<[f64; 2]> = None;

@@ -12,6 +12,13 @@
 //! rail height worn evenly): it is taken out of the profile and reported separately
 //! (`uniform_loss_m`), so that the profile is the roughness alone.
 //!
+//! **Plastic flow** (`d_p`, a plastic wheel: [`wheel`]) is the change of the rim's
+//! permanent displacement over the pass, with its mean taken out (reported as
+//! `plastic_mean_m`); it is not scaled by `N_w` nor smoothed: the runner carries the
+//! plastic state itself from pass to pass ([`PassRunner::carried_state`], checkpointed), so
+//! a simulated pass is one real pass for the plastic flow and the state's residual stresses
+//! decide whether the next pass flows again (shakedown) or not (ratcheting).
+//!
 //! **Smoothing** ([`spectrum::smooth`]): a triangular window, the centred moving average
 //! over `m = 2 floor(w / (2 dx)) + 1` samples (`w` = `growth.smoothing`, metres) applied
 //! twice (periodic profiles wrap round; an open one averages what lies inside the window
@@ -131,6 +138,39 @@ pub trait PassRunner {
         pass: usize,
         interrupt: &std::sync::atomic::AtomicBool,
     ) -> Result<PassResult, crate::run::RunError>;
+
+    /// Runs the reference pass on the smooth profile (`growth.reference`): like
+    /// [`PassRunner::run_pass`], but a runner that carries a state from pass to pass (a
+    /// plastic wheel) leaves it as it was.
+    ///
+    /// # Errors
+    /// [`crate::run::RunError`].
+    fn run_reference(
+        &mut self,
+        profile: &SurfaceProfile,
+        interrupt: &std::sync::atomic::AtomicBool,
+    ) -> Result<PassResult, crate::run::RunError> {
+        self.run_pass(profile, 0, interrupt)
+    }
+
+    /// The state the runner carries from pass to pass (a plastic wheel's plastic state),
+    /// checkpointed bit for bit after every pass; `None` (the default) for a runner whose
+    /// passes depend on the profile alone.
+    fn carried_state(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// Restores the carried state from a checkpoint before a resumed study goes on.
+    ///
+    /// # Errors
+    /// A message when `state` does not fit the runner (its length, or a state where the
+    /// runner carries none, or none where it carries one).
+    fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
+        match state {
+            None => Ok(()),
+            Some(_) => Err("the checkpoint carries a runner state (a plastic wheel's) that this scenario's runner does not have".into()),
+        }
+    }
 
     /// Files of the runner's own written into `out` after the study (the track's
     /// prediction from its receptance), given the study's band rates `(centre wavelength m,
@@ -252,6 +292,10 @@ pub struct StudyState {
     pub reference: Option<Bits>,
     /// The finished passes, in order.
     pub passes: Vec<PassRecord>,
+    /// The runner's carried state after the last finished pass ([`PassRunner::carried_state`]:
+    /// a plastic wheel's plastic state), when it carries one.
+    #[serde(default)]
+    pub runner: Option<Bits>,
 }
 
 /// The checkpoint's format version.
@@ -369,6 +413,7 @@ pub fn new_state(
         initial: Bits(z),
         reference: None,
         passes: Vec::new(),
+        runner: None,
     })
 }
 
@@ -410,6 +455,9 @@ pub fn run_study<R: PassRunner>(
                 s.x0.0[0], s.dx.0[0], s.n, s.periodic
             )));
         }
+        runner
+            .restore_state(s.runner.as_ref().map(|b| b.0.as_slice()))
+            .map_err(err)?;
         s
     } else {
         new_state(config, grid, scenario_sha256)?
@@ -422,7 +470,7 @@ pub fn run_study<R: PassRunner>(
             ..state.current()
         };
         let start = Instant::now();
-        let r = runner.run_pass(&flat, 0, interrupt)?;
+        let r = runner.run_reference(&flat, interrupt)?;
         reference_wall_s = start.elapsed().as_secs_f64();
         if interrupt.load(Ordering::Relaxed) {
             return Ok(StudyOutcome {
@@ -460,6 +508,7 @@ pub fn run_study<R: PassRunner>(
         check_shape(&r, pass, n)?;
         let record = advance(config, &state, &profile, &r, wall_s);
         state.passes.push(record);
+        state.runner = runner.carried_state().map(Bits);
         state.write(&ck)?;
         passes_run += 1;
         let line = PassLine {

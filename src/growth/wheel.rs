@@ -18,6 +18,26 @@
 //! thickness), through the scenario's [`WearLaw`], times the step `h`. Friction with a
 //! creepage is needed for any wear (`contact.friction`, `rolling.creepage`: a node in
 //! stick does not slip).
+//!
+//! **Plastic flow** (`material.model = "j2"`, [`crate::plasticity`]): the wheel's plastic
+//! state (per triangle: plastic strain, backstress, equivalent plastic strain) is carried
+//! from pass to pass and checkpointed with the study ([`PassRunner::carried_state`]), so the
+//! residual stresses of earlier passes are there in the next one and a wheel below its
+//! shakedown limit stops flowing. A pass starts from the carried state in equilibrium: the
+//! spinning equilibrium plus the state's residual displacement on the spinning stiffness
+//! ([`crate::plasticity::residual_displacement`]), and the driver's iteration starts from
+//! the state ([`crate::simulation::Simulation::set_internal_state`]). The pass's plastic
+//! increment `d_p` is the change of the rim's permanent radial displacement
+//! ([`crate::plasticity::permanent_radial_displacement`], load off, at rest) from the start
+//! state to the end state, on the pass's mesh; its mean (a uniform change of radius) is
+//! reported (`plastic_mean_m`) and taken out, like the wear's. The profile holds both
+//! (`z = wear part + sum of d_p`), but the rim's nodes are moved by the wear part alone
+//! (`z` less the carried sum of `d_p`): the plastic part is in the carried state's residual
+//! displacement, and moving the nodes by it too would count it twice. Plastic flow is not
+//! scaled by the wear step: a simulated pass is one real pass for it (ratcheting under
+//! repeated passes is what the carried state gives, pass by pass); the smoothing and the
+//! cutoff, which tame the wear step's amplification, do not touch it. The reference pass
+//! (`growth.reference`) runs from the carried state and leaves it as it was.
 
 use super::{PassResult, PassRunner, SurfaceProfile};
 use crate::contact::obstacle::RotatingLine;
@@ -44,6 +64,16 @@ pub struct WheelPassRunner {
     density: f64,
     par: Par,
     dx: f64,
+    plastic: Option<Carried>,
+}
+
+/// A plastic wheel's state carried from pass to pass (module docs).
+struct Carried {
+    pl: crate::scenario::Plastic,
+    /// The plastic state (`crate::plasticity::STATE_LEN` per triangle).
+    state: Vec<f64>,
+    /// The sum of the passes' plastic increments `d_p` (zero-mean), per rim node, m.
+    profile: Vec<f64>,
 }
 
 impl WheelPassRunner {
@@ -105,7 +135,13 @@ impl WheelPassRunner {
         }
         let base_radius = smooth.base().radius;
         let density = density.unwrap_or(ws.spec.material.density);
+        let plastic = ws.plastic.map(|pl| Carried {
+            pl,
+            state: vec![0.0; smooth.triangles.len() * crate::plasticity::STATE_LEN],
+            profile: vec![0.0; n],
+        });
         Ok(Self {
+            plastic,
             ws: (**ws).clone(),
             smooth,
             run,
@@ -118,10 +154,50 @@ impl WheelPassRunner {
         })
     }
 
+    /// The surface the next pass over `profile` meets, with the load off and at rest: per
+    /// rim node, its radius on the pass's mesh plus the permanent radial displacement of
+    /// the carried plastic state (none for an elastic wheel), m. It is the smooth rim's
+    /// radius plus `profile.z` plus the plastic flow's accumulated mean radius change
+    /// (module docs: the plastic part is counted once).
+    ///
+    /// # Errors
+    /// [`RunError::Input`] when the model cannot be built or its stiffness is singular.
+    pub fn rim_surface_at_rest(&self, profile: &SurfaceProfile) -> Result<Vec<f64>, RunError> {
+        let wm = self.model(profile)?;
+        let reference = wm.mesh.reference_positions();
+        let radius = |node: usize| reference[2 * node].hypot(reference[2 * node + 1]);
+        let mut out: Vec<f64> = wm.rim.iter().map(|&node| radius(node)).collect();
+        if let Some(c) = &self.plastic {
+            let body = crate::run::wheel::plastic_body(&wm, &self.ws, c.pl);
+            let d = crate::plasticity::permanent_radial_displacement(
+                &body,
+                &c.state,
+                (wm.model.pattern(), &wm.k_elastic, &wm.fixed_dofs),
+                &reference,
+                &wm.rim,
+            )
+            .map_err(|e| RunError::input(&self.path, e))?;
+            out.iter_mut().zip(&d).for_each(|(r, d)| *r += d.1);
+        }
+        Ok(out)
+    }
+
+    /// The radius of the smooth rim's nodes, m.
+    pub fn smooth_rim_radii(&self) -> Vec<f64> {
+        let reference = self.smooth.mesh.reference_positions();
+        self.smooth
+            .rim
+            .iter()
+            .map(|&node| reference[2 * node].hypot(reference[2 * node + 1]))
+            .collect()
+    }
+
     /// The model with the rim moved radially by the profile.
     fn model(&self, profile: &SurfaceProfile) -> Result<WheelModel, RunError> {
         let mut mesh = self.smooth.mesh.clone();
-        for (&node, &z) in self.smooth.rim.iter().zip(&profile.z) {
+        for (k, (&node, &z)) in self.smooth.rim.iter().zip(&profile.z).enumerate() {
+            // The plastic part of the profile is in the carried state (module docs).
+            let z = z - self.plastic.as_ref().map_or(0.0, |c| c.profile[k]);
             let (x, y) = (mesh.coords[2 * node], mesh.coords[2 * node + 1]);
             let r = x.hypot(y);
             let s = (r + z) / r;
@@ -147,6 +223,51 @@ impl PassRunner for WheelPassRunner {
         _pass: usize,
         interrupt: &AtomicBool,
     ) -> Result<PassResult, RunError> {
+        self.pass(profile, interrupt, true)
+    }
+
+    fn run_reference(
+        &mut self,
+        profile: &SurfaceProfile,
+        interrupt: &AtomicBool,
+    ) -> Result<PassResult, RunError> {
+        self.pass(profile, interrupt, false)
+    }
+
+    fn carried_state(&self) -> Option<Vec<f64>> {
+        self.plastic.as_ref().map(|c| {
+            let mut s = c.state.clone();
+            s.extend_from_slice(&c.profile);
+            s
+        })
+    }
+
+    fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
+        match (self.plastic.as_mut(), state) {
+            (None, None) => Ok(()),
+            (Some(c), Some(s)) => {
+                let (m, n) = (c.state.len(), c.profile.len());
+                if s.len() != m + n {
+                    return Err(format!("the checkpoint's plastic state has {} numbers, this wheel's {} ({} per triangle and one per rim node)", s.len(), m + n, crate::plasticity::STATE_LEN));
+                }
+                c.state.copy_from_slice(&s[..m]);
+                c.profile.copy_from_slice(&s[m..]);
+                Ok(())
+            }
+            (Some(_), None) => Err("the checkpoint has no plastic state, but material.model = \"j2\": it was written by an elastic study (start afresh without --resume)".into()),
+            (None, Some(_)) => Err("the checkpoint carries a plastic state, but this wheel is elastic (material.model): resume with the scenario that wrote it".into()),
+        }
+    }
+}
+
+impl WheelPassRunner {
+    /// One pass over `profile`; a plastic wheel's carried state advances when `commit`.
+    fn pass(
+        &mut self,
+        profile: &SurfaceProfile,
+        interrupt: &AtomicBool,
+        commit: bool,
+    ) -> Result<PassResult, RunError> {
         let build_start = Instant::now();
         let wm = self.model(profile)?;
         let h = self.run.params.h;
@@ -167,8 +288,32 @@ impl PassRunner for WheelPassRunner {
             run: self.run.label.clone(),
             source,
         };
+        let linalg = |e: crate::linalg::LinalgError| RunError::input(&self.path, e);
+        let body = self
+            .plastic
+            .as_ref()
+            .map(|c| crate::run::wheel::plastic_body(&wm, &self.ws, c.pl));
+        if let (Some(c), Some(body)) = (&self.plastic, &body) {
+            // Start in equilibrium with the carried state (module docs).
+            let up = crate::plasticity::residual_displacement(
+                body,
+                &c.state,
+                (wm.model.pattern(), &wm.model.k, &wm.fixed_dofs),
+            )
+            .map_err(linalg)?;
+            problem.u0.iter_mut().zip(&up).for_each(|(u, d)| *u += d);
+        }
         let mut sim = Simulation::new(problem).map_err(sim_error)?;
         sim.set_par(self.par);
+        if let (Some(c), Some(body)) = (&self.plastic, &body) {
+            sim.set_internal_force(
+                Box::new(body.clone()),
+                c.pl.tolerance,
+                crate::model::DEFAULT_MAX_ITERATIONS,
+            )
+            .map_err(sim_error)?;
+            sim.set_internal_state(&c.state).map_err(sim_error)?;
+        }
         let build_s = build_start.elapsed().as_secs_f64();
         let n = wm.rim.len();
         let area = self.dx * self.ws.spec.thickness;
@@ -217,20 +362,78 @@ impl PassRunner for WheelPassRunner {
             .map_err(sim_error)?;
         let loop_s = loop_start.elapsed().as_secs_f64();
         let m = samples.max(1) as f64;
+        let mut plastic = vec![0.0; n];
+        let mut plastic_scalars = Vec::new();
+        if let (Some(c), Some(body)) = (self.plastic.as_mut(), &body) {
+            let end = sim
+                .nonlinear()
+                .map(|nl| nl.state(1).to_vec())
+                .unwrap_or_default();
+            if !stats.interrupted && end.len() == c.state.len() {
+                let reference = wm.mesh.reference_positions();
+                let stiffness = (wm.model.pattern(), &wm.k_elastic[..], &wm.fixed_dofs[..]);
+                let before = crate::plasticity::permanent_radial_displacement(
+                    body, &c.state, stiffness, &reference, &wm.rim,
+                )
+                .map_err(linalg)?;
+                let after = crate::plasticity::permanent_radial_displacement(
+                    body, &end, stiffness, &reference, &wm.rim,
+                )
+                .map_err(linalg)?;
+                for (d, (a, b)) in plastic.iter_mut().zip(after.iter().zip(&before)) {
+                    *d = a.1 - b.1;
+                }
+                let mean = super::spectrum::mean(&plastic);
+                plastic.iter_mut().for_each(|d| *d -= mean);
+                let mut eq = vec![0.0; wm.triangles.len()];
+                body.equivalent_plastic_strain_into(&end, &mut eq);
+                plastic_scalars = vec![
+                    (
+                        "plastic_increment_rms_m".into(),
+                        super::spectrum::rms(&plastic),
+                    ),
+                    ("plastic_mean_m".into(), mean),
+                    (
+                        "max_equivalent_plastic_strain".into(),
+                        eq.iter().fold(0.0, |a: f64, &b| a.max(b)),
+                    ),
+                    (
+                        "plastic_iterations_per_step".into(),
+                        stats.plastic_iterations as f64 / stats.steps.max(1) as f64,
+                    ),
+                    (
+                        "plastic_unconverged".into(),
+                        stats.plastic_unconverged as f64,
+                    ),
+                ];
+                if commit {
+                    c.state = end;
+                    c.profile
+                        .iter_mut()
+                        .zip(&plastic)
+                        .for_each(|(p, d)| *p += d);
+                } else {
+                    // The reference pass leaves the profile and the state as they were.
+                    plastic.fill(0.0);
+                }
+            }
+        }
+        let mut scalars: Vec<(String, f64)> = vec![
+            ("mean_force_n".into(), f_sum / m),
+            ("max_force_n".into(), f_max),
+            ("min_force_n".into(), f_min),
+            ("mean_tangential_force_n".into(), -q_sum / m),
+            ("steps".into(), stats.steps as f64),
+            ("brakings".into(), stats.brakings as f64),
+            ("build_s".into(), build_s),
+            ("loop_s".into(), loop_s),
+            ("wear_bookkeeping_s".into(), bookkeeping.as_secs_f64()),
+        ];
+        scalars.extend(plastic_scalars);
         Ok(PassResult {
             wear_depth: wear,
-            plastic: vec![0.0; n],
-            scalars: vec![
-                ("mean_force_n".into(), f_sum / m),
-                ("max_force_n".into(), f_max),
-                ("min_force_n".into(), f_min),
-                ("mean_tangential_force_n".into(), -q_sum / m),
-                ("steps".into(), stats.steps as f64),
-                ("brakings".into(), stats.brakings as f64),
-                ("build_s".into(), build_s),
-                ("loop_s".into(), loop_s),
-                ("wear_bookkeeping_s".into(), bookkeeping.as_secs_f64()),
-            ],
+            plastic,
+            scalars,
         })
     }
 }

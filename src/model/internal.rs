@@ -168,6 +168,17 @@ impl Nonlinear {
         }
     }
 
+    /// Sets every slot of the ring to the state `s` (a body that starts with the state a
+    /// previous run left: a plastic wheel's next pass in a growth study).
+    ///
+    /// # Panics
+    /// If `s` is not [`InternalForce::state_len`] long.
+    pub fn set_states(&mut self, s: &[f64]) {
+        for slot in &mut self.ring {
+            slot.copy_from_slice(s);
+        }
+    }
+
     /// The counters.
     pub fn stats(&self) -> NonlinearStats {
         self.stats

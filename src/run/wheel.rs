@@ -726,7 +726,7 @@ fn plastic_results(
 }
 
 /// The plastic body of the wheel's triangles.
-fn plastic_body(
+pub(crate) fn plastic_body(
     wm: &WheelModel,
     ws: &WheelScenario,
     pl: crate::scenario::Plastic,

@@ -573,6 +573,30 @@ impl Simulation {
         Ok(())
     }
 
+    /// Starts the nonlinear internal force from the state `s` instead of zero (a plastic
+    /// body carried over from a previous run); call after [`Simulation::set_internal_force`]
+    /// and before [`Simulation::run`]. The initial displacement must be in equilibrium with
+    /// it (the residual displacement of its pseudo-load added to the problem's `u0`).
+    ///
+    /// # Errors
+    /// [`SimError::Unsupported`] without an internal force, or for a state of another length.
+    pub fn set_internal_state(&mut self, s: &[f64]) -> Result<(), SimError> {
+        let Some(nl) = self.engine.nonlinear.as_mut() else {
+            return Err(SimError::Unsupported(
+                "an internal state without an internal force (set_internal_force first)".into(),
+            ));
+        };
+        let m = nl.force().state_len();
+        if s.len() != m {
+            return Err(SimError::Unsupported(format!(
+                "the internal state has {} numbers, the internal force {m}",
+                s.len()
+            )));
+        }
+        nl.set_states(s);
+        Ok(())
+    }
+
     /// The nonlinear internal force's iteration, when set ([`Simulation::set_internal_force`];
     /// after [`Simulation::run`], its slot 1 holds the state of the last step).
     pub fn nonlinear(&self) -> Option<&Nonlinear> {
