@@ -223,7 +223,7 @@ impl Profile {
             for j in 0..per_band {
                 let f = (j as f64 + 0.5) / per_band as f64;
                 let wl = l * lo * 2f64.powf(f / 3.0);
-                harmonics.push((amp, wl, 2.0 * std::f64::consts::PI * rng.next()));
+                harmonics.push((amp, wl, 2.0 * std::f64::consts::PI * rng.next_f64()));
             }
         }
         let values = (0..n)
@@ -288,12 +288,15 @@ impl Profile {
     }
 }
 
-/// SplitMix64: a small, well-mixed seeded generator for the phases (reproducible bits on
-/// every platform), uniform in `[0, 1)`.
-struct SplitMix(u64);
+/// SplitMix64: a small, well-mixed seeded generator for random phases (reproducible bits on
+/// every platform); [`SplitMix::next_f64`] is uniform in `[0, 1)`. The rail's random
+/// profiles here and the growth study's initial roughness
+/// ([`crate::growth::roughness`]) draw from it.
+pub struct SplitMix(pub u64);
 
 impl SplitMix {
-    fn next(&mut self) -> f64 {
+    /// The next number in `[0, 1)`.
+    pub fn next_f64(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

@@ -46,20 +46,7 @@ pub const ISO3095_LIMIT: [(f64, f64); 20] = [
     (0.315, -8.3),
 ];
 
-/// SplitMix64: a small, well-mixed generator; `next` is uniform in [0, 1).
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    /// The next number in [0, 1).
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+pub use crate::contact::profile::SplitMix;
 
 /// The roughness on the grid `(x0, dx, n, periodic)`, m.
 ///

@@ -149,6 +149,8 @@ pub struct FlatPass {
     pub contact_stiffness_n_m: f64,
     /// Mean worn depth of the inner grid per newton of mean force, m/N.
     pub depth_per_newton_m_n: f64,
+    /// The wheel's rim radius in the pass (spun, as its Hertz patch used), m.
+    pub rim_radius_m: f64,
 }
 
 impl TrackPass {
@@ -270,6 +272,21 @@ impl TrackPass {
         wavelengths: &[f64],
         interrupt: &AtomicBool,
     ) -> Result<(FlatPass, Vec<PredictedGrowth>), RunError> {
+        let track = self
+            .ts
+            .spec
+            .build()
+            .map_err(|e| RunError::input(&self.sc.path, e.to_string()))?;
+        self.prediction_on(&track, wavelengths, interrupt)
+    }
+
+    /// [`TrackPass::prediction`] on the built `track`.
+    fn prediction_on(
+        &mut self,
+        track: &crate::track::Track,
+        wavelengths: &[f64],
+        interrupt: &AtomicBool,
+    ) -> Result<(FlatPass, Vec<PredictedGrowth>), RunError> {
         let flat = match self.flat {
             Some(f) => f,
             None => {
@@ -286,10 +303,16 @@ impl TrackPass {
             }
         };
         let err = |e: crate::track::TrackError| RunError::input(&self.sc.path, e.to_string());
-        let track = self.ts.spec.build().map_err(err)?;
-        let a = self.patch_of(flat.force_n).a;
+        // Hertz's patch on the rim radius the pass's patch used.
+        let a = LinePatch::new(
+            flat.force_n,
+            self.ts.vehicle.wheel.thickness,
+            flat.rim_radius_m,
+            self.contact_modulus(),
+        )
+        .a;
         let pred = predicted_growth(
-            &track,
+            track,
             (self.ts.vehicle.unsprung_mass, flat.contact_stiffness_n_m),
             self.speed(),
             a,
@@ -350,9 +373,10 @@ impl PassRunner for TrackPass {
         let lams: Vec<f64> = (0..m)
             .map(|i| lo * (hi / lo).powf(i as f64 / (m - 1) as f64))
             .collect();
-        let (flat, pred) = self.prediction(&lams, interrupt)?;
-        let err = |e: crate::track::TrackError| RunError::input(&self.sc.path, e.to_string());
+        let path = self.sc.path.clone();
+        let err = |e: crate::track::TrackError| RunError::input(&path, e.to_string());
         let track = self.ts.spec.build().map_err(err)?;
+        let (flat, pred) = self.prediction_on(&track, &lams, interrupt)?;
         let r = crate::track::receptance::receptance(
             &track,
             &crate::track::receptance::log_frequencies(20.0, 3000.0, 200),
@@ -536,6 +560,7 @@ impl PassRunner for TrackPass {
                 force_n: mean,
                 contact_stiffness_n_m: k_c,
                 depth_per_newton_m_n: d / mean,
+                rim_radius_m: wot.rim_radius,
             });
         }
         Ok(PassResult {
