@@ -416,8 +416,12 @@ fn plot_all(
     let path = png("spectrum.png");
     line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
-    // growth_rate.png: the rate per band (and per order) against wavelength.
-    if s.passes >= 1 {
+    // growth_rate.png: the rate per band (and per order) against wavelength, when there is
+    // one (a study from a smooth surface, `roughness = "none"`, has no level to grow from
+    // until its profile has one: its rates are not finite).
+    let finite_rate = s.bands.iter().any(|b| b.rate_db_per_1e5.is_finite())
+        || s.orders.iter().any(|o| o.rate_db_per_1e5.is_finite());
+    if s.passes >= 1 && finite_rate {
         let mut p = Panel::new(
             "Growth rate against wavelength",
             "wavelength [mm]",
@@ -509,7 +513,11 @@ fn plot_all(
     line_plot(&path, &p, (1200, 600)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
     // orders.png
-    if !s.orders.is_empty() && s.passes >= 1 {
+    let finite_order = s
+        .orders
+        .iter()
+        .any(|o| o.rate_db_per_1e5.is_finite() || o.rate_last_db_per_1e5.is_finite());
+    if finite_order && s.passes >= 1 {
         let mut p = Panel::new(
             "Polygon orders: growth rate",
             "order (harmonics per revolution)",

@@ -17,7 +17,8 @@
 //! slip speed `slip_power / |T|`, over the node's tributary area (`dx` times the wheel's
 //! thickness), through the scenario's [`WearLaw`], times the step `h`. Friction with a
 //! creepage is needed for any wear (`contact.friction`, `rolling.creepage`: a node in
-//! stick does not slip).
+//! stick does not slip); a plastic wheel may roll without friction (plastic flow alone,
+//! the free rolling of Johnson's shakedown analysis).
 //!
 //! **Plastic flow** (`material.model = "j2"`, [`crate::plasticity`]): the wheel's plastic
 //! state (per triangle: plastic strain, backstress, equivalent plastic strain) is carried
@@ -30,7 +31,9 @@
 //! increment `d_p` is the change of the rim's permanent radial displacement
 //! ([`crate::plasticity::permanent_radial_displacement`], load off, at rest) from the start
 //! state to the end state, on the pass's mesh; its mean (a uniform change of radius) is
-//! reported (`plastic_mean_m`) and taken out, like the wear's. The profile holds both
+//! reported (`plastic_mean_m`) and taken out, like the wear's; the largest growth of an
+//! element's equivalent plastic strain over the pass is `plastic_strain_increment_max`
+//! (zero once the wheel has shaken down). The profile holds both
 //! (`z = wear part + sum of d_p`), but the rim's nodes are moved by the wear part alone
 //! (`z` less the carried sum of `d_p`): the plastic part is in the carried state's residual
 //! displacement, and moving the nodes by it too would count it twice. Plastic flow is not
@@ -114,8 +117,8 @@ impl WheelPassRunner {
             return Err(RunError::input(&path, "rolling.coupling = \"uncoupled\": the growth study runs the coupled wheel; remove it"));
         }
         let friction = run.friction.is_some_and(|l| l.is_active());
-        if !friction {
-            return Err(RunError::input(&path, "contact.friction: the wear laws need the friction force and the slip (give contact.friction > 0 and a rolling.creepage)"));
+        if !friction && ws.plastic.is_none() {
+            return Err(RunError::input(&path, "contact.friction: the wear laws need the friction force and the slip (give contact.friction > 0 and a rolling.creepage; a frictionless study needs a plastic wheel, material.model = \"j2\")"));
         }
         let smooth = build(ws, &path)?;
         let n = smooth.rim.len();
@@ -387,7 +390,11 @@ impl WheelPassRunner {
                 plastic.iter_mut().for_each(|d| *d -= mean);
                 let mut eq = vec![0.0; wm.triangles.len()];
                 body.equivalent_plastic_strain_into(&end, &mut eq);
+                let mut eq0 = vec![0.0; wm.triangles.len()];
+                body.equivalent_plastic_strain_into(&c.state, &mut eq0);
+                let flow = eq.iter().zip(&eq0).fold(0.0, |m: f64, (a, b)| m.max(a - b));
                 plastic_scalars = vec![
+                    ("plastic_strain_increment_max".into(), flow),
                     (
                         "plastic_increment_rms_m".into(),
                         super::spectrum::rms(&plastic),
