@@ -3,6 +3,7 @@ results as xarray Datasets and numpy arrays."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import time
@@ -25,6 +26,9 @@ _SUFFIX_UNITS = (
     ("_hz", "Hz"),
     ("_db", "dB re 1 um"),
 )
+
+
+_AFTER_ATTRS = {"long_name": "passes finished (0: the initial profile)", "units": "1"}
 
 
 def _unit(name: str) -> str:
@@ -78,8 +82,6 @@ class GrowthResult:
     """
 
     def __init__(self, native: Any, out: Path):
-        import xarray as xr
-
         self._native = native
         self.out = Path(out)
         self.summary: dict = json.loads(native.summary_json)
@@ -87,22 +89,8 @@ class GrowthResult:
         self.files: list[Path] = [Path(f) for f in native.files]
         self.interrupted: bool = native.interrupted
         self.passes_run: int = native.passes_run
-
-        cols = [(name, _f64(b)) for name, b in native.passes()]
-        pass_no = cols[0][1].astype(np.int64)
-        self.passes = xr.Dataset(
-            {
-                name: ("pass", v, {"units": _unit(name), "csv_name": name})
-                for name, v in cols[1:]
-            },
-            coords={"pass": ("pass", pass_no, {"long_name": "pass, from 0", "units": "1"})},
-        )
-        self.passes["real_passes"].attrs["units"] = "1"
-        self.passes["real_passes"].attrs["long_name"] = "real passes after this pass"
-
-        x0, dx, n, periodic, profiles, wear = native.profiles()
+        x0, dx, n, self._periodic, profiles, wear = native.profiles()
         self.profiles: np.ndarray = _f64(profiles).reshape(-1, n)
-        after = np.arange(self.profiles.shape[0])
         self.profile = Profile(
             x_m=x0 + np.arange(n) * dx,
             z_initial_m=self.profiles[0],
@@ -110,15 +98,44 @@ class GrowthResult:
             wear_last_pass_m=_f64(wear) if wear is not None else np.zeros(n),
         )
 
-        centre, first, last, levels = native.bands()
+    # The Datasets are built on first use: the first xarray Dataset of a Python session
+    # costs about a second (xarray's lazy imports), which GrowthInterrupted raised on
+    # Ctrl-C should not wait for.
+    @functools.cached_property
+    def passes(self):
+        import xarray as xr
+
+        cols = [(name, _f64(b)) for name, b in self._native.passes()]
+        ds = xr.Dataset(
+            {
+                name: ("pass", v, {"units": _unit(name), "csv_name": name})
+                for name, v in cols[1:]
+            },
+            coords={
+                "pass": (
+                    "pass",
+                    cols[0][1].astype(np.int64),
+                    {"long_name": "pass, from 0", "units": "1"},
+                )
+            },
+        )
+        ds["real_passes"].attrs["units"] = "1"
+        ds["real_passes"].attrs["long_name"] = "real passes after this pass"
+        return ds
+
+    @functools.cached_property
+    def bands(self):
+        import xarray as xr
+
+        centre, first, last, levels = self._native.bands()
         centre = _f64(centre)
+        after = np.arange(self.profiles.shape[0])
         # summary.json's bands are the same bands, in the same order.
         sb = self.summary["bands"]
         assert len(sb) == len(centre)
         rate = np.array([_nan(b["rate_db_per_1e5"]) for b in sb], dtype=float)
         freq = np.array([_nan(b["frequency_hz"]) for b in sb], dtype=float)
-        after_attrs = {"long_name": "passes finished (0: the initial profile)", "units": "1"}
-        self.bands = xr.Dataset(
+        return xr.Dataset(
             {
                 "level_db": (
                     ("after_passes", "wavelength"),
@@ -132,7 +149,7 @@ class GrowthResult:
                 ),
             },
             coords={
-                "after_passes": ("after_passes", after, after_attrs),
+                "after_passes": ("after_passes", after, _AFTER_ATTRS),
                 "wavelength": (
                     "wavelength",
                     centre,
@@ -144,34 +161,39 @@ class GrowthResult:
             },
         )
 
-        self.orders = None
-        if periodic and self.summary["orders"]:
-            o = self.summary["orders"]
-            amp = _f64(native.orders()).reshape(len(after), -1)
-            self.orders = xr.Dataset(
-                {
-                    "amplitude_m": (("after_passes", "order"), amp, {"units": "m"}),
-                    "rate_db_per_1e5": (
-                        "order",
-                        np.array([_nan(x["rate_db_per_1e5"]) for x in o], dtype=float),
-                        {"units": "dB per 1e5 real passes"},
-                    ),
-                    "rate_last_db_per_1e5": (
-                        "order",
-                        np.array([_nan(x["rate_last_db_per_1e5"]) for x in o], dtype=float),
-                        {"units": "dB per 1e5 real passes"},
-                    ),
-                },
-                coords={
-                    "after_passes": ("after_passes", after, after_attrs),
-                    "order": ("order", np.array([x["order"] for x in o], dtype=np.int64)),
-                    "wavelength_m": (
-                        "order",
-                        np.array([x["wavelength_m"] for x in o], dtype=float),
-                        {"units": "m"},
-                    ),
-                },
-            )
+    @functools.cached_property
+    def orders(self):
+        if not (self._periodic and self.summary["orders"]):
+            return None
+        import xarray as xr
+
+        o = self.summary["orders"]
+        after = np.arange(self.profiles.shape[0])
+        amp = _f64(self._native.orders()).reshape(len(after), -1)
+        return xr.Dataset(
+            {
+                "amplitude_m": (("after_passes", "order"), amp, {"units": "m"}),
+                "rate_db_per_1e5": (
+                    "order",
+                    np.array([_nan(x["rate_db_per_1e5"]) for x in o], dtype=float),
+                    {"units": "dB per 1e5 real passes"},
+                ),
+                "rate_last_db_per_1e5": (
+                    "order",
+                    np.array([_nan(x["rate_last_db_per_1e5"]) for x in o], dtype=float),
+                    {"units": "dB per 1e5 real passes"},
+                ),
+            },
+            coords={
+                "after_passes": ("after_passes", after, _AFTER_ATTRS),
+                "order": ("order", np.array([x["order"] for x in o], dtype=np.int64)),
+                "wavelength_m": (
+                    "order",
+                    np.array([x["wavelength_m"] for x in o], dtype=float),
+                    {"units": "m"},
+                ),
+            },
+        )
 
     def save(self, folder: Union[str, os.PathLike[str]]) -> list[Path]:
         """Writes this result's files into ``folder`` (created as needed), as ``softway
@@ -217,6 +239,7 @@ class _PassBar:
             self.bar.start_t = self.t0
         self.bar.set_postfix(rms_um=f"{rms * 1e6:.4f}", pass_s=f"{wall:.2f}", refresh=False)
         self.bar.update(p + 1 - self.bar.n)
+        self.bar.refresh()  # every pass shown (tqdm skips updates closer than 0.1 s)
 
     def close(self) -> None:
         if self.bar is not None:

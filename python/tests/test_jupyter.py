@@ -74,21 +74,31 @@ def stdout_of(messages) -> str:
 
 
 def test_interrupting_a_cell_stops_the_run_within_a_step(kernel):
-    """The mesh-converged wheel (scenarios/wheel.toml) rolling 40 turns (minutes): the
-    kernel is interrupted (SIGINT, as the notebook's stop button sends it) two seconds
-    into the run; the cell ends within two seconds more with RunInterrupted, whose result
-    holds the steps computed, marked interrupted."""
+    """The mesh-converged wheel (scenarios/wheel.toml) rolling 40 turns (a minute or more):
+    once the run is 1,000 steps into its time loop (the cell prints it from the progress
+    callback), the kernel is interrupted (SIGINT, as the notebook's stop button sends it);
+    the cell ends within a second with RunInterrupted, whose result holds the steps
+    computed (a small part of the run), marked interrupted. (A signal during the model's
+    set-up, before the steps, takes effect when they start: README.)"""
     km, kc = kernel
     started = {}
 
     def watch(msg):
-        if msg["msg_type"] == "stream" and "RUN STARTS" in msg["content"].get("text", ""):
+        if msg["msg_type"] == "stream" and "IN THE TIME LOOP" in msg["content"].get("text", ""):
             started.setdefault("t", time.monotonic())
 
+    # xarray and pandas imported first, as a notebook that reads results has them: the
+    # first Result of a session imports them (1-3 s on a loaded machine), which is not
+    # the run's stop.
     setup = (
-        "import softway, sys\n"
+        "import softway, sys, xarray, pandas\n"
         f"sc = softway.Scenario({str(SCENARIOS / 'wheel.toml')!r}).with_values("
         "**{'rolling.turns': 40})\n"
+        "def tell(self, label, done, total):\n"
+        "    if done >= 1000 and not getattr(self, 'told', False):\n"
+        "        self.told = True\n"
+        "        print('IN THE TIME LOOP', done, flush=True)\n"
+        "softway._Bar.__call__ = tell\n"
     )
     content, _ = execute(kc, setup)
     assert content["status"] == "ok", content
@@ -101,21 +111,36 @@ def test_interrupting_a_cell_stops_the_run_within_a_step(kernel):
 
     def interrupt():
         while "t" not in started:
-            time.sleep(0.05)
-        time.sleep(2.0)
+            time.sleep(0.01)
         fired["t"] = time.monotonic()
         km.interrupt_kernel()
 
     t = threading.Thread(target=interrupt, daemon=True)
     t.start()
-    cell = "print('RUN STARTS', flush=True)\nr = softway.run(sc, progress=False)\n"
+    # The cell notes when the exception reaches it (CLOCK_MONOTONIC: one clock for the
+    # kernel's process and this one) and raises it on.
+    cell = (
+        "import time\n"
+        "try:\n"
+        "    r = softway.run(sc, progress=True)\n"
+        "except softway.RunInterrupted:\n"
+        "    print('RAISED AT', repr(time.monotonic()), flush=True)\n"
+        "    raise\n"
+    )
     content, messages = execute(kc, cell, on_message=watch, timeout=600)
     ended = time.monotonic()
     t.join(timeout=5)
     assert "t" in fired, "the run ended before the interrupt"
     assert content["status"] == "error", content
     assert content["ename"] == "RunInterrupted", content
-    assert ended - fired["t"] < 2.0, ended - fired["t"]
+    raised = float(stdout_of(messages).split("RAISED AT")[1].split()[0])
+    # The run stops and its exception reaches the cell within a second of the signal;
+    # the cell ends within seconds (IPython formats the traceback, the first time in a
+    # kernel importing what it needs for that).
+    print(f"signal -> RunInterrupted {raised - fired['t']:.3f} s, -> cell ended "
+          f"{ended - fired['t']:.3f} s")
+    assert 0 < raised - fired["t"] < 1.0, raised - fired["t"]
+    assert ended - fired["t"] < 10.0, ended - fired["t"]
 
     # The exception the cell raised holds the partial result.
     check = (
@@ -137,7 +162,7 @@ def test_interrupting_a_cell_stops_the_run_within_a_step(kernel):
     import math
 
     full = round((5e-3 + 40 * 2 * math.pi / 300.0) / 2e-6)
-    assert 0 < got["steps"] < full, got
+    assert 1000 <= got["steps"] < full // 4, got
     assert 0 < got["rows"] <= got["steps"] // 5 + 1, got
 
 
