@@ -1,7 +1,7 @@
 //! `softway sweep --shard I/N` + `softway gather` against `softway sweep`: the same table
 //! (but for the wall-clock column) and the same plot, byte for byte, whatever the order the
-//! shards are given in; shards of different sweeps, a missing or a repeated shard are
-//! refused on one line.
+//! shards are given in, for a sweep of one key and for grids of several (product and zip);
+//! shards of different sweeps, a missing or a repeated shard are refused on one line.
 
 mod common;
 
@@ -20,18 +20,40 @@ fn small_wheel(dir: &Path) -> std::path::PathBuf {
     p
 }
 
-/// A table less its `wall_time_s` column (the only one that measures the machine).
-fn without_wall_time(p: &Path) -> Vec<String> {
+/// The fields of a CSV line (a field in quotes may hold commas; `""` is a quote).
+fn csv_fields(line: &str) -> Vec<String> {
+    let (mut fields, mut cur, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => fields.push(std::mem::take(&mut cur)),
+            _ => cur.push(c),
+        }
+    }
+    fields.push(cur);
+    fields
+}
+
+/// A table less its wall-clock columns (named `wall_time...`: the only ones that measure
+/// the machine), the columns found by name, a row per line.
+fn without_wall_time(p: &Path) -> Vec<Vec<String>> {
     let text = std::fs::read_to_string(p).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let wall = head.iter().position(|c| *c == "wall_time_s").unwrap();
-    std::iter::once(head.join(","))
-        .chain(lines.map(|l| {
-            let mut cells: Vec<&str> = l.split(',').collect();
-            cells.remove(wall);
-            cells.join(",")
-        }))
+    let rows: Vec<Vec<String>> = text.lines().map(csv_fields).collect();
+    let keep: Vec<usize> = (0..rows[0].len())
+        .filter(|&i| !rows[0][i].starts_with("wall_time"))
+        .collect();
+    assert!(
+        keep.len() < rows[0].len(),
+        "no wall-clock column: {:?}",
+        rows[0]
+    );
+    rows.iter()
+        .map(|r| keep.iter().map(|&i| r[i].clone()).collect())
         .collect()
 }
 
@@ -140,4 +162,131 @@ fn a_bad_shard_is_refused_on_one_line() {
         assert!(o.stderr.contains("expected I/N"), "{bad}: {}", o.stderr);
         assert!(!dir.join("x").exists());
     }
+}
+
+/// Runs `softway sweep` over `sets` (each `--set KEY=V1,...`) with `extra` arguments whole,
+/// then in `shards` slices, gathers the slices given in reverse order, and returns the
+/// whole sweep's and the gathered folders.
+fn whole_and_gathered(
+    dir: &Path,
+    sc: &str,
+    sets: &[&str],
+    extra: &[&str],
+    shards: usize,
+) -> (std::path::PathBuf, std::path::PathBuf) {
+    let d = |s: &str| dir.join(s).to_str().unwrap().to_string();
+    let mut base: Vec<String> = vec!["sweep".into(), sc.into()];
+    for s in sets {
+        base.extend(["--set".to_string(), s.to_string()]);
+    }
+    base.extend(extra.iter().map(|s| s.to_string()));
+    let whole =
+        cli(base
+            .iter()
+            .cloned()
+            .chain(["--out".into(), d("whole"), "--jobs".into(), "2".into()]));
+    assert_eq!(whole.code, 0, "{}", whole.stderr);
+    let mut dirs = Vec::new();
+    for i in 1..=shards {
+        let out = d(&format!("s{i}"));
+        let o = cli(base.iter().cloned().chain([
+            "--shard".into(),
+            format!("{i}/{shards}"),
+            "--out".into(),
+            out.clone(),
+            "--jobs".into(),
+            "1".into(),
+        ]));
+        assert_eq!(o.code, 0, "{}", o.stderr);
+        dirs.push(out);
+    }
+    dirs.reverse();
+    let g = cli(["gather".to_string()]
+        .into_iter()
+        .chain(dirs)
+        .chain(["--out".into(), d("gathered")]));
+    assert_eq!(g.code, 0, "{}", g.stderr);
+    (dir.join("whole"), dir.join("gathered"))
+}
+
+/// A 2 x 2 product grid (two speeds x two flattenings) in 3 slices: the points dealt in the
+/// grid's order (the first key outermost) and gathered into the whole sweep's table.
+#[test]
+fn a_product_grid_in_three_shards_gathers_into_the_sweep() {
+    let dir = TestDir::new("shard", "grid");
+    let sc = small_wheel(&dir);
+    let (a, b) = whole_and_gathered(
+        &dir,
+        sc.to_str().unwrap(),
+        &[
+            "rolling.omega=250.0,350.0",
+            "rolling.flattening=0.8e-3,1e-3",
+        ],
+        &[],
+        3,
+    );
+    // Slice 1 holds points 0 and 3, slice 2 point 1, slice 3 point 2.
+    let has = |s: &str, p: &str| dir.join(s).join(p).join("summary.json").is_file();
+    assert!(has("s1", "rolling.omega=250.0,rolling.flattening=0.8e-3"));
+    assert!(has("s1", "rolling.omega=350.0,rolling.flattening=1e-3"));
+    assert!(has("s2", "rolling.omega=250.0,rolling.flattening=1e-3"));
+    assert!(has("s3", "rolling.omega=350.0,rolling.flattening=0.8e-3"));
+    assert!(!dir
+        .join("s2/rolling.omega=350.0,rolling.flattening=1e-3")
+        .exists());
+    let table = without_wall_time(&a.join("sweep.csv"));
+    assert_eq!(table.len(), 5, "{table:?}");
+    assert_eq!(&table[0][..2], ["rolling.omega", "rolling.flattening"]);
+    // The rows in the grid's order: the speed outermost.
+    let first_two: Vec<&str> = table[1..].iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(first_two, ["250.0", "250.0", "350.0", "350.0"]);
+    assert_eq!(table, without_wall_time(&b.join("sweep.csv")));
+    // Two keys vary: no Fig. 15 for either.
+    assert!(!a.join("sweep.png").exists() && !b.join("sweep.png").exists());
+    // A slice of another grid mode is refused.
+    let d = |s: &str| dir.join(s).to_str().unwrap().to_string();
+    let zip = cli([
+        "sweep",
+        sc.to_str().unwrap(),
+        "--set",
+        "rolling.omega=250.0,350.0",
+        "--set",
+        "rolling.flattening=0.8e-3,1e-3",
+        "--grid",
+        "zip",
+        "--shard",
+        "2/3",
+        "--out",
+        &d("zip2"),
+    ]);
+    assert_eq!(zip.code, 0, "{}", zip.stderr);
+    let mixed = cli(["gather", &d("s1"), &d("zip2"), &d("s3"), "--out", &d("g")]);
+    assert_eq!(mixed.code, 2);
+    assert!(
+        mixed.stderr.contains("grid not the same"),
+        "{}",
+        mixed.stderr
+    );
+    assert_eq!(mixed.stderr.trim().lines().count(), 1, "{}", mixed.stderr);
+}
+
+/// A zip grid of two keys, one of which varies, in 2 slices: the same table and the same
+/// Fig. 15 plot, byte for byte.
+#[test]
+fn a_zip_grid_in_shards_gives_the_same_plot() {
+    let dir = TestDir::new("shard", "zip");
+    let sc = small_wheel(&dir);
+    let (a, b) = whole_and_gathered(
+        &dir,
+        sc.to_str().unwrap(),
+        &["rolling.omega=250.0,300.0,350.0", "rolling.turns=1,1,1"],
+        &["--grid", "zip"],
+        2,
+    );
+    let table = without_wall_time(&a.join("sweep.csv"));
+    assert_eq!(table.len(), 4, "{table:?}");
+    assert_eq!(table, without_wall_time(&b.join("sweep.csv")));
+    let png = std::fs::read(a.join("sweep.png")).unwrap();
+    assert!(png.len() > 10_000);
+    assert_eq!(png, std::fs::read(b.join("sweep.png")).unwrap());
 }

@@ -5,6 +5,9 @@ formulation, with Bajer's soft way, from Python.
   command line validates it (:class:`ScenarioError` carries the message and the key).
 - :func:`run`: one run, results in memory (:class:`Result`: summary, history as an xarray
   Dataset, contact nodes, fields as numpy arrays); Ctrl-C stops it at the next step.
+- :func:`grow`: a growth study (``softway grow``: wear pass by pass, checkpointed,
+  resumable), its results as xarray (:class:`GrowthResult`: per-pass table, band spectrum
+  per pass, profile); Ctrl-C stops it within a step, the finished passes kept.
 - :func:`sweep`: a parameter grid on any ``concurrent.futures.Executor`` (Dask's
   ``client.get_executor()`` included; by default a local Dask cluster), gathered into one
   xarray Dataset written as NetCDF.
@@ -23,6 +26,7 @@ from . import _native
 from ._native import RunError, ScenarioError
 from ._result import TIMING_KEYS, FieldFrame, Fields, Result
 from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
+from ._growth import GrowthResult, Profile, grow
 from ._sweep import sweep
 
 __version__ = _native.__version__
@@ -36,6 +40,10 @@ __all__ = [
     "Fields",
     "FieldFrame",
     "run",
+    "grow",
+    "GrowthResult",
+    "GrowthInterrupted",
+    "Profile",
     "sweep",
     "toml_literal",
     "TIMING_KEYS",
@@ -49,6 +57,22 @@ class RunInterrupted(KeyboardInterrupt):
 
     def __init__(self, result: Result):
         super().__init__("run interrupted; .result holds the steps computed")
+        self.result = result
+
+
+class GrowthInterrupted(KeyboardInterrupt):
+    """A growth study stopped by Ctrl-C (KeyboardInterrupt) within a step of the pass under
+    way: that pass is dropped, the finished ones are kept. ``result`` holds them
+    (``result.interrupted`` is True), and so does the checkpoint in the study's folder:
+    ``grow(..., resume=True)`` goes on from it, giving the bits of a study run without a
+    stop. It is a KeyboardInterrupt, so code that does not catch it stops as on any
+    Ctrl-C."""
+
+    def __init__(self, result: GrowthResult):
+        super().__init__(
+            f"growth study interrupted after {result.summary['passes']} finished passes; "
+            ".result holds them, resume=True goes on"
+        )
         self.result = result
 
 

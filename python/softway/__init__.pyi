@@ -9,6 +9,8 @@ import xarray
 
 from ._native import RunError as RunError
 from ._native import ScenarioError as ScenarioError
+from ._growth import GrowthResult as GrowthResult
+from ._growth import Profile as Profile
 from ._result import TIMING_KEYS as TIMING_KEYS
 from ._result import FieldFrame as FieldFrame
 from ._result import Fields as Fields
@@ -33,6 +35,21 @@ def run(
     irregularity: Any = None,
     **overrides: Any,
 ) -> Result: ...
+class GrowthInterrupted(KeyboardInterrupt):
+    result: GrowthResult
+    def __init__(self, result: GrowthResult) -> None: ...
+
+def grow(
+    scenario: ScenarioLike,
+    /,
+    *,
+    passes: Optional[int] = None,
+    out: Union[str, os.PathLike[str], None] = None,
+    resume: bool = False,
+    progress: bool = True,
+    threads: Optional[int] = None,
+    **overrides: Any,
+) -> GrowthResult: ...
 def sweep(
     scenario: ScenarioLike,
     grid: Mapping[str, Iterable[Any]],

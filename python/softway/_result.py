@@ -3,6 +3,7 @@ nodes as a pandas DataFrame, the fields as numpy arrays (and PyVista meshes)."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 from dataclasses import dataclass, field
@@ -216,14 +217,34 @@ class Result:
         self.interrupted: bool = native.interrupted
         self.warnings: list[str] = list(native.warnings)
         self.lines: list[str] = list(native.lines)
-        self.history = _table_to_dataset(native.table("history"))
-        cn = native.table("contact_nodes")
-        self.contact_nodes = None if cn is None else _table_to_frame(cn)
-        th = native.table("traction_history")
-        self.traction_history = None if th is None else _table_to_dataset(th)
-        rp = native.table("rim_profile")
-        self.rim_profile = None if rp is None else _table_to_frame(rp)
         self._fields: Optional[Fields] = None
+
+    # The tables are built on first use: the first xarray Dataset or pandas DataFrame of a
+    # Python session costs about a second (their lazy imports), which a RunInterrupted
+    # raised on Ctrl-C should not wait for.
+    @functools.cached_property
+    def history(self):
+        """The history (``history.csv``): an ``xarray.Dataset`` over ``time``, units in
+        ``attrs["units"]``."""
+        return _table_to_dataset(self._native.table("history"))
+
+    @functools.cached_property
+    def contact_nodes(self):
+        """``contact_nodes.csv`` as a ``pandas.DataFrame`` (None when the run has none)."""
+        cn = self._native.table("contact_nodes")
+        return None if cn is None else _table_to_frame(cn)
+
+    @functools.cached_property
+    def traction_history(self):
+        """The traction history as an ``xarray.Dataset`` (None when the run has none)."""
+        th = self._native.table("traction_history")
+        return None if th is None else _table_to_dataset(th)
+
+    @functools.cached_property
+    def rim_profile(self):
+        """The rim profile as a ``pandas.DataFrame`` (None when the run has none)."""
+        rp = self._native.table("rim_profile")
+        return None if rp is None else _table_to_frame(rp)
 
     @property
     def fields(self) -> Fields:

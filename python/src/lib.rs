@@ -7,14 +7,17 @@
 //! handle its signals: a KeyboardInterrupt cancels the run's token ([`Cancel`]), which stops
 //! it at its next step with what it has computed. The tables and fields cross as raw
 //! little-endian `f64` bytes that the Python side views as numpy arrays (no copy of the
-//! numbers beyond one into `bytes`).
+//! numbers beyond one into `bytes`). A growth study ([`softway::run::grow::grow`], the
+//! command line's `softway grow`) runs the same way, its passes reported as they finish.
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 use softway::build::resolve;
+use softway::growth::{report, spectrum, GrowthConfig, PassLine, StudyState};
 use softway::mesh::Cells;
+use softway::run::grow::GrowOptions;
 use softway::run::{Cancel, Columns, Par, ProgressWatch, Results, RunOptions};
 use softway::scenario::overrides::{apply, Override};
 use softway::scenario::{Scenario, ScenarioError as ScError};
@@ -347,6 +350,315 @@ fn run(
     Ok((NativeResults(results), raised))
 }
 
+/// What the study's thread sends the waiting thread.
+enum GrowMsg {
+    /// A pass finished: its line.
+    Pass(PassLine),
+    /// The study ended.
+    Done,
+}
+
+/// A growth study's results, held by Rust; the Python class `softway.GrowthResult` reads
+/// them. The state is the study's checkpoint (every profile, bit for bit).
+#[pyclass(module = "softway._native", frozen)]
+struct NativeGrowth {
+    summary_json: String,
+    lines: Vec<String>,
+    files: Vec<PathBuf>,
+    interrupted: bool,
+    passes_run: usize,
+    passes_per_pass: f64,
+    state: StudyState,
+    config: GrowthConfig,
+    speed_m_s: f64,
+    plots: bool,
+    scenario_copy: String,
+}
+
+#[pymethods]
+impl NativeGrowth {
+    /// `summary.json`'s object as JSON text.
+    #[getter]
+    fn summary_json(&self) -> &str {
+        &self.summary_json
+    }
+
+    /// The screen summary's lines.
+    #[getter]
+    fn lines(&self) -> Vec<String> {
+        self.lines.clone()
+    }
+
+    /// The files the study wrote (the command line's).
+    #[getter]
+    fn files(&self) -> Vec<PathBuf> {
+        self.files.clone()
+    }
+
+    /// True when Ctrl-C stopped the study (the finished passes are kept).
+    #[getter]
+    fn interrupted(&self) -> bool {
+        self.interrupted
+    }
+
+    /// Passes run by this call (not those resumed from).
+    #[getter]
+    fn passes_run(&self) -> usize {
+        self.passes_run
+    }
+
+    /// Writes the command line's files of this state into `folder` (created as needed):
+    /// `scenario.toml`, `checkpoint.json` (a study resumed from `folder` goes on from this
+    /// state), the tables, `summary.json` and the plots, as `softway grow` writes them;
+    /// the runner's own outputs written at the end of a study (the track's prediction) are
+    /// copied from the study's folder. Returns their paths.
+    fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<Vec<PathBuf>> {
+        py.allow_threads(|| -> Result<Vec<PathBuf>, String> {
+            std::fs::create_dir_all(&folder)
+                .map_err(|e| format!("cannot write {}: {e}", folder.display()))?;
+            let copy = folder.join(softway::run::SCENARIO_COPY);
+            std::fs::write(&copy, &self.scenario_copy)
+                .map_err(|e| format!("cannot write {}: {e}", copy.display()))?;
+            let ck = folder.join(softway::growth::CHECKPOINT);
+            self.state.write(&ck).map_err(|e| e.to_string())?;
+            let mut files = vec![copy, ck];
+            files.extend(
+                report::write_all(
+                    &folder,
+                    &self.state,
+                    &self.config,
+                    self.speed_m_s,
+                    self.plots,
+                )
+                .map_err(|e| e.to_string())?,
+            );
+            for f in &self.files {
+                let Some(name) = f.file_name() else { continue };
+                let to = folder.join(name);
+                if files.contains(&to) || !f.is_file() || to == *f {
+                    continue;
+                }
+                std::fs::copy(f, &to).map_err(|e| format!("cannot write {}: {e}", to.display()))?;
+                files.push(to);
+            }
+            Ok(files)
+        })
+        .map_err(RunError::new_err)
+    }
+
+    /// `passes.csv`'s columns: `[(name, bytes)]`, a row per finished pass.
+    fn passes(&self, py: Python<'_>) -> PyResult<PyObject> {
+        let st = &self.state;
+        let mut loss = 0.0;
+        let mut cols: Vec<(String, Vec<f64>)> =
+            ["pass", "real_passes", "rms_m", "uniform_loss_m", "wall_s"]
+                .iter()
+                .map(|n| (n.to_string(), Vec::new()))
+                .collect();
+        if let Some(first) = st.passes.first() {
+            cols.extend(first.scalar_names.iter().map(|n| (n.clone(), Vec::new())));
+        }
+        for (p, rec) in st.passes.iter().enumerate() {
+            loss += rec.uniform_loss.0[0];
+            let row = [
+                p as f64,
+                (p + 1) as f64 * self.passes_per_pass,
+                spectrum::rms(&rec.z.0),
+                loss,
+                rec.wall_s,
+            ];
+            for (c, v) in cols.iter_mut().zip(row.iter().chain(&rec.scalar_values.0)) {
+                c.1.push(*v);
+            }
+        }
+        let out = PyList::empty(py);
+        for (name, v) in &cols {
+            out.append((name.clone(), f64_bytes(py, v)))?;
+        }
+        Ok(out.into_any().unbind())
+    }
+
+    /// The profiles: `(x0, dx, n, periodic, profiles, wear_last)`; `profiles` the initial
+    /// one then one after each pass (`(passes + 1) x n` values), `wear_last` the last
+    /// pass's smoothed wear (None before any pass).
+    fn profiles(&self, py: Python<'_>) -> PyResult<PyObject> {
+        let st = &self.state;
+        let flat: Vec<f64> = st.profiles().concat();
+        let wear = st.passes.last().map(|p| f64_bytes(py, &p.wear.0));
+        Ok((
+            st.x0.0[0],
+            st.dx.0[0],
+            st.n,
+            st.periodic,
+            f64_bytes(py, &flat),
+            wear,
+        )
+            .into_pyobject(py)?
+            .into_any()
+            .unbind())
+    }
+
+    /// The one-third-octave band levels of every profile (`bands.csv`'s, before its
+    /// rounding): `(centre wavelengths, first orders, last orders, levels)` with `levels`
+    /// `(passes + 1) x bands` values, dB re 1 um.
+    fn bands(&self, py: Python<'_>) -> PyResult<PyObject> {
+        let st = &self.state;
+        let b = spectrum::bands(st.n, st.n as f64 * st.dx.0[0]);
+        let levels: Vec<f64> = st
+            .profiles()
+            .iter()
+            .flat_map(|z| spectrum::band_levels(&spectrum::order_amplitudes(z), &b))
+            .collect();
+        let centre: Vec<f64> = b.iter().map(|b| b.centre).collect();
+        let first: Vec<f64> = b.iter().map(|b| b.k_first as f64).collect();
+        let last: Vec<f64> = b.iter().map(|b| b.k_last as f64).collect();
+        Ok((
+            f64_bytes(py, &centre),
+            f64_bytes(py, &first),
+            f64_bytes(py, &last),
+            f64_bytes(py, &levels),
+        )
+            .into_pyobject(py)?
+            .into_any()
+            .unbind())
+    }
+
+    /// The polygon orders' amplitudes of every profile (`orders.csv`'s; periodic profiles):
+    /// `(passes + 1) x orders` values, m (empty bytes for an open profile).
+    fn orders<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        let st = &self.state;
+        let a: Vec<f64> = if st.periodic {
+            st.profiles()
+                .iter()
+                .flat_map(|z| spectrum::order_amplitudes(z))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        f64_bytes(py, &a)
+    }
+}
+
+/// Runs the growth study of the scenario text `text` (named `path`) into the folder `out`
+/// (`softway grow`'s files and checkpoint; with `resume` it goes on from the checkpoint
+/// there) to `passes` passes in all (None: `growth.passes`), on a thread of its own, and
+/// waits without the GIL, waking every `poll_s` seconds to handle Python's signals and
+/// calling `progress(pass, target, rms_m, uniform_loss_m, wall_s, scalars)` after every
+/// pass. A signal's exception (KeyboardInterrupt) cancels the study: the pass under way
+/// stops within a step and is dropped, the finished ones stay in the checkpoint. Returns
+/// `(results, exception or None)`.
+#[pyfunction]
+#[pyo3(signature = (text, path, out, passes=None, resume=false, threads=None, progress=None, poll_s=0.1))]
+#[allow(clippy::too_many_arguments)]
+fn grow(
+    py: Python<'_>,
+    text: &str,
+    path: &str,
+    out: PathBuf,
+    passes: Option<usize>,
+    resume: bool,
+    threads: Option<usize>,
+    progress: Option<PyObject>,
+    poll_s: f64,
+) -> PyResult<(NativeGrowth, Option<PyErr>)> {
+    let sc = build(text, path)?;
+    let Some(config) = sc.growth.clone() else {
+        let err = ScenarioError::new_err(
+            softway::run::RunError::Input {
+                path: sc.path.clone(),
+                message: "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")".into(),
+            }
+            .to_string(),
+        );
+        err.value(py).setattr("key", "growth")?;
+        return Err(err);
+    };
+    if passes == Some(0) {
+        return Err(PyValueError::new_err("passes: at least 1"));
+    }
+    let cancel = Cancel::new();
+    let (plots, scenario_copy) = (sc.plots, sc.provenance_text());
+    let opts = GrowOptions {
+        passes,
+        resume,
+        plots,
+        par: threads.map(Par::threads).unwrap_or_else(Par::current),
+    };
+    let (tx, rx) = mpsc::channel();
+    let worker = {
+        let (cancel, out) = (cancel.clone(), out.clone());
+        std::thread::Builder::new()
+            .name("softway-grow".into())
+            .spawn(move || {
+                let pass_tx = tx.clone();
+                let r = softway::run::grow::grow(&sc, &out, &opts, &cancel, |l| {
+                    let _ = pass_tx.send(GrowMsg::Pass(l.clone()));
+                });
+                let _ = tx.send(GrowMsg::Done);
+                r
+            })
+            .map_err(|e| RunError::new_err(format!("cannot start the study's thread: {e}")))?
+    };
+    let poll = Duration::from_secs_f64(poll_s.clamp(0.01, 10.0));
+    let rx = std::sync::Mutex::new(rx);
+    let mut raised: Option<PyErr> = None;
+    loop {
+        let msg = py.allow_threads(|| match rx.lock() {
+            Ok(rx) => rx.recv_timeout(poll),
+            Err(_) => Err(mpsc::RecvTimeoutError::Disconnected),
+        });
+        match msg {
+            Ok(GrowMsg::Pass(l)) => {
+                if let Some(cb) = &progress {
+                    let scalars = PyDict::new(py);
+                    for (k, v) in &l.scalars {
+                        scalars.set_item(k, v)?;
+                    }
+                    let args = (l.pass, l.target, l.rms, l.uniform_loss, l.wall_s, scalars);
+                    if let Err(e) = cb.call1(py, args) {
+                        cancel.cancel();
+                        raised.get_or_insert(e);
+                    }
+                }
+            }
+            Ok(GrowMsg::Done) | Err(mpsc::RecvTimeoutError::Disconnected) => break,
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+        }
+        if let Err(e) = py.check_signals() {
+            cancel.cancel();
+            raised.get_or_insert(e);
+        }
+    }
+    let report = py
+        .allow_threads(|| worker.join())
+        .map_err(|_| RunError::new_err("the study's thread panicked"))?
+        .map_err(|e| RunError::new_err(e.to_string()))?;
+    // The state is the checkpoint the study wrote after its last finished pass (none when
+    // Ctrl-C stopped a new study's reference pass: the exception alone, then).
+    let state = match StudyState::read(&out.join(softway::growth::CHECKPOINT)) {
+        Ok(s) => s,
+        Err(e) => return Err(raised.unwrap_or_else(|| RunError::new_err(e.to_string()))),
+    };
+    let summary_json =
+        serde_json::to_string(&report.summary).map_err(|e| RunError::new_err(e.to_string()))?;
+    Ok((
+        NativeGrowth {
+            summary_json,
+            lines: softway::run::grow::summary_lines(&report.summary),
+            files: report.files,
+            interrupted: report.interrupted,
+            passes_run: report.passes_run,
+            passes_per_pass: config.passes_per_pass,
+            state,
+            config,
+            speed_m_s: report.summary.speed_m_s,
+            plots,
+            scenario_copy,
+        },
+        raised,
+    ))
+}
+
 /// The engine of the Python package `softway`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -359,5 +671,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_file, m)?)?;
     m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_class::<NativeGrowth>()?;
+    m.add_function(wrap_pyfunction!(grow, m)?)?;
     Ok(())
 }

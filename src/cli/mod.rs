@@ -136,7 +136,8 @@ enum Command {
         /// Runs at once [default: the number of cores].
         #[arg(long)]
         jobs: Option<usize>,
-        /// I/N: run only slice I of N of the values (for a job array), into
+        /// I/N: run only slice I of N of the grid's points (the k-th point, in the grid's
+        /// order, when k mod N = I - 1; for a job array), into
         /// out/<scenario name>-sweep-shard-I-of-N by default; `softway gather` joins them.
         #[arg(long)]
         shard: Option<String>,
@@ -313,10 +314,7 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             jobs,
             shard: Some(shard),
             guard,
-        } => {
-            let _ = grid;
-            shard::shard_command(&scenario, set, out, jobs, &shard, guard, cancel)
-        }
+        } => shard::shard_command(&scenario, set, grid, out, jobs, &shard, guard, cancel),
         Command::Sweep {
             scenario,
             set,
@@ -526,13 +524,12 @@ fn sweep_command(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The scenario of a sweep, its text, and the key and values of `--set` (or of its
-/// `[sweep]` table).
+/// The scenario of a sweep, its text, and the keys with their values of `--set` (or of
+/// its `[sweep]` table).
 type SweepValues = (
     Scenario<crate::scenario::RunSpec>,
     String,
-    String,
-    Vec<String>,
+    Vec<(String, Vec<String>)>,
 );
 
 /// [`SweepValues`] of the scenario file at `scenario`.
@@ -543,24 +540,17 @@ fn sweep_values(
     let sc = Scenario::from_file(scenario)?;
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-    if set.len() > 1 {
-        return Err(format!(
-            "{}: --shard slices a sweep of one key (--set KEY=V1,V2,...), not a grid of {}",
-            scenario.display(),
-            set.len()
-        )
-        .into());
-    }
-    let (key, values) = match set.into_iter().next() {
-        Some(s) => parse_set(&s)?,
-        None => sc.sweep.clone().ok_or_else(|| {
+    let keys = if set.is_empty() {
+        vec![sc.sweep.clone().ok_or_else(|| {
             format!(
                 "{}: no [sweep] table and no --set KEY=V1,V2,...",
                 scenario.display()
             )
-        })?,
+        })?]
+    } else {
+        set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?
     };
-    Ok((sc, text, key, values))
+    Ok((sc, text, keys))
 }
 
 /// `softway converge`: the scenario over the refinement ladder of `--set`.

@@ -1,5 +1,6 @@
 //! `softway sweep --shard I/N` and `softway gather`: a sweep in slices on a cluster's job
-//! array, joined into the table and plot of `softway sweep` ([`crate::run::sweep::shard`]).
+//! array (any grid of `softway sweep`: one key, or several by product or zip), joined into
+//! the table and plot of `softway sweep` ([`crate::run::sweep::shard`]).
 
 use super::{
     check_ladder_estimate, print_table, set_threads, sweep_values, CommandResult, Guard, Replace,
@@ -7,15 +8,19 @@ use super::{
 use crate::output::staging::StagedDir;
 use crate::run::sweep::shard::{gather, read_manifest, run_shard, Shard, MANIFEST};
 use crate::run::Cancel;
+use crate::scenario::overrides::Grid;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// `softway sweep --shard I/N`: slice `I` of the sweep into its own folder with its
-/// manifest. Every value of the whole sweep is validated first, as `softway sweep` does, so
-/// a bad value fails every slice at once rather than one of them at the end.
+/// `softway sweep --shard I/N`: slice `I` of the sweep's grid (one key or several,
+/// `--grid product` or `zip`) into its own folder with its manifest. Every point of the
+/// whole sweep is validated first, as `softway sweep` does, so a bad value fails every
+/// slice at once rather than one of them at the end.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn shard_command(
     scenario: &Path,
     set: Vec<String>,
+    how: Grid,
     out: Option<PathBuf>,
     jobs: Option<usize>,
     shard: &str,
@@ -23,11 +28,8 @@ pub(super) fn shard_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let shard: Shard = shard.parse()?;
-    let (sc, text, key, values) = sweep_values(scenario, set)?;
-    let points = crate::scenario::overrides::grid(
-        &[(key.clone(), values.clone())],
-        crate::scenario::overrides::Grid::Product,
-    )?;
+    let (sc, text, keys) = sweep_values(scenario, set)?;
+    let points = crate::scenario::overrides::grid(&keys, how)?;
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| {
         PathBuf::from("out").join(format!(
@@ -37,33 +39,35 @@ pub(super) fn shard_command(
     });
     set_threads("--jobs", jobs)?;
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (points, files) = run_shard(
+    let (mine, files) = run_shard(
         scenario,
         &text,
         &sc.name,
-        &key,
-        &values,
+        &keys,
+        how,
         shard,
         stage.path(),
         cancel,
     )?;
-    for p in &points {
+    for p in &mine {
         for w in &p.warnings {
-            errln!("softway: warning: {key} = {}: {w}", p.value);
+            errln!("softway: warning: {}: {w}", p.label());
         }
     }
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
+    let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
     outln!(
-        "{}: {key}, shard {}/{}: {} of {} values",
+        "{}: {}, shard {}/{}: {} of {} points",
         sc.name,
+        names.join(", "),
         shard.index,
         shard.count,
-        points.len(),
-        values.len()
+        mine.len(),
+        points.len()
     );
-    if points.is_empty() {
-        outln!("  (no value falls in this shard)");
+    if mine.is_empty() {
+        outln!("  (no point falls in this shard)");
         for f in &files {
             outln!("    {}", f.display());
         }
@@ -93,9 +97,9 @@ pub(super) fn gather_command(
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     outln!(
-        "{}: {} swept over {} values, gathered from {} shards",
+        "{}: {} swept over {} points, gathered from {} shards",
         m.name,
-        m.key,
+        m.key_names(),
         points.len(),
         m.of
     );

@@ -2,15 +2,18 @@
 //! --shard I/N` runs the points of slice `I` of `N` into a folder of their own with a
 //! manifest (`shard.json`), and `softway gather` reads the `N` folders and writes the one
 //! table and plot that `softway sweep` writes for the whole sweep ([`super::write_sweep`],
-//! from the points' `summary.json` in the order of the values).
+//! from the points' `summary.json` in the sweep's order).
 //!
-//! Slice `I` holds the points `k` (0-based, in the order of the values) with
-//! `k mod N = I - 1`: neighbouring values, whose runs cost about the same, fall into
-//! different slices, so the slices take about equal times.
+//! The sweep is any grid of `softway sweep` (one key, or several keys combined by
+//! `--grid product` or `zip`, [`crate::scenario::overrides::grid`]). Its points are taken
+//! in the grid's fixed order (product: the first key outermost) and slice `I` holds the
+//! points `k` (0-based) with `k mod N = I - 1`: neighbouring points, whose runs cost about
+//! the same, fall into different slices, so the slices take about equal times.
 
-use super::{point_dir_name, run_ladder, write_sweep, SweepError, SweepPoint};
+use super::{point_dir_name, run_points, write_sweep, Override, SweepError, SweepPoint};
 use crate::output::files::write_json;
 use crate::run::{Cancel, RunError};
+use crate::scenario::overrides::{grid, Grid};
 use std::path::{Path, PathBuf};
 
 /// The manifest a shard writes beside its points.
@@ -45,15 +48,23 @@ impl std::str::FromStr for Shard {
 }
 
 impl Shard {
-    /// The values of this slice, in their order: the `k`-th value when
+    /// The items of this slice, in their order: the `k`-th item when
     /// `k mod count = index - 1`.
-    pub fn values(&self, values: &[String]) -> Vec<String> {
-        values
+    pub fn pick<T: Clone>(&self, items: &[T]) -> Vec<T> {
+        items
             .iter()
             .enumerate()
             .filter(|(k, _)| k % self.count == self.index - 1)
             .map(|(_, v)| v.clone())
             .collect()
+    }
+}
+
+/// `product` or `zip`, as the manifest writes a [`Grid`].
+fn grid_name(how: Grid) -> &'static str {
+    match how {
+        Grid::Product => "product",
+        Grid::Zip => "zip",
     }
 }
 
@@ -65,60 +76,93 @@ pub struct Manifest {
     pub name: String,
     /// SHA-256 of the scenario text the sweep set its values into.
     pub scenario_sha256: String,
-    /// The swept key.
-    pub key: String,
-    /// All the sweep's values, in order (TOML literals).
-    pub values: Vec<String>,
+    /// The swept keys, each with all its values in order (TOML literals).
+    pub keys: Vec<(String, Vec<String>)>,
+    /// How the keys' values combine: `product` or `zip`.
+    pub grid: String,
     /// This slice, 1-based.
     pub shard: usize,
     /// Slices in all.
     pub of: usize,
-    /// This slice's points: `(value, folder name)`.
-    pub points: Vec<(String, String)>,
+    /// This slice's points: `(values in the keys' order, folder name)`.
+    pub points: Vec<(Vec<String>, String)>,
 }
 
-/// Runs slice `shard` of the sweep of the scenario text at `path` over `values` of `key`
-/// into `out/<key>=<value>/`, writes the slice's own table (`sweep.csv`, `sweep.md`) and
-/// its manifest [`MANIFEST`]; returns the slice's points and the files. A slice with no
-/// point (more slices than values) writes its manifest only.
+impl Manifest {
+    /// The sweep's keys, comma-separated (for messages).
+    pub fn key_names(&self) -> String {
+        self.keys
+            .iter()
+            .map(|(k, _)| k.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Every point of the whole sweep, in the grid's order.
+    ///
+    /// # Errors
+    /// A one-line message: a grid that [`grid`] refuses or an unknown `grid`.
+    pub fn all_points(&self) -> Result<Vec<Vec<Override>>, String> {
+        let how = match self.grid.as_str() {
+            "product" => Grid::Product,
+            "zip" => Grid::Zip,
+            g => return Err(format!("grid `{g}`: expected product or zip")),
+        };
+        grid(&self.keys, how)
+    }
+}
+
+fn values_of(sets: &[Override]) -> Vec<String> {
+    sets.iter().map(|o| o.value.clone()).collect()
+}
+
+/// Runs slice `shard` of the sweep of the scenario text at `path` over the grid of `keys`
+/// combined by `how` (every point validated and built first, as `softway sweep` does)
+/// into `out/<key>=<value>,.../`, writes the slice's own table (`sweep.csv`, `sweep.md`)
+/// and its manifest [`MANIFEST`]; returns the slice's points and the files. A slice with
+/// no point (more slices than points) writes its manifest only.
 ///
 /// # Errors
-/// [`SweepError`]: a value that cannot be set or built (every value of the slice is built
-/// before a run starts), a failed run, a file not written.
+/// [`SweepError`]: a grid that cannot be made, a point that cannot be set or built, a
+/// failed run, a file not written.
 #[allow(clippy::too_many_arguments)]
 pub fn run_shard(
     path: &Path,
     text: &str,
     name: &str,
-    key: &str,
-    values: &[String],
+    keys: &[(String, Vec<String>)],
+    how: Grid,
     shard: Shard,
     out: &Path,
     cancel: &Cancel,
 ) -> Result<(Vec<SweepPoint>, Vec<PathBuf>), SweepError> {
-    let mine = shard.values(values);
-    let points = run_ladder(path, text, key, &mine, out, cancel)?;
+    let all = grid(keys, how).map_err(|message| SweepError::Value {
+        key: keys
+            .iter()
+            .map(|(k, _)| k.as_str())
+            .collect::<Vec<_>>()
+            .join(","),
+        value: String::new(),
+        message,
+    })?;
+    let mine = shard.pick(&all);
+    let points = run_points(path, text, &mine, out, cancel)?;
+    let names: Vec<String> = keys.iter().map(|(k, _)| k.clone()).collect();
     let mut files = if points.is_empty() {
         Vec::new()
     } else {
-        super::write_tables(out, &[key.to_string()], &table_columns_of(&points), &points)?
+        super::write_tables(out, &names, &table_columns_of(&points), &points)?
     };
     let manifest = Manifest {
         name: name.to_string(),
         scenario_sha256: crate::scenario::sha256_hex(text.as_bytes()),
-        key: key.to_string(),
-        values: values.to_vec(),
+        keys: keys.to_vec(),
+        grid: grid_name(how).to_string(),
         shard: shard.index,
         of: shard.count,
         points: mine
             .iter()
-            .map(|v| {
-                let set = [super::Override {
-                    key: key.to_string(),
-                    value: v.clone(),
-                }];
-                (v.clone(), point_dir_name(&set))
-            })
+            .map(|sets| (values_of(sets), point_dir_name(sets)))
             .collect(),
     };
     let f = out.join(MANIFEST);
@@ -174,11 +218,11 @@ pub fn read_manifest(dir: &Path) -> Result<Manifest, GatherError> {
 /// Assembles the shards in `dirs` (the folders of `softway sweep --shard I/N` for every
 /// `I` of one `N`, in any order) into `out`: the table and plot of the whole sweep, the
 /// same files as `softway sweep` writes. Returns the manifest of the first shard (name,
-/// key, values), the points in the order of the values, and the files.
+/// keys, grid), the points in the order of the values, and the files.
 ///
 /// # Errors
 /// [`GatherError`]: a folder without a manifest, shards of different sweeps (scenario text,
-/// key, values or count), a slice missing or given twice, a point's `summary.json` missing.
+/// keys, values, grid or count), a slice missing or given twice, a point's `summary.json` missing.
 pub fn gather(
     dirs: &[PathBuf],
     out: &Path,
@@ -196,10 +240,17 @@ pub fn gather(
     for (j, (d, m)) in dirs.iter().zip(&manifests).enumerate() {
         let differs = if m.scenario_sha256 != first.scenario_sha256 {
             Some("scenario text")
-        } else if m.key != first.key {
-            Some("key")
-        } else if m.values != first.values {
+        } else if m
+            .keys
+            .iter()
+            .map(|k| &k.0)
+            .ne(first.keys.iter().map(|k| &k.0))
+        {
+            Some("keys")
+        } else if m.keys != first.keys {
             Some("values")
+        } else if m.grid != first.grid {
+            Some("grid")
         } else if m.of != first.of {
             Some("number of shards")
         } else {
@@ -238,27 +289,30 @@ pub fn gather(
         .collect();
     if !missing.is_empty() {
         return Err(GatherError::Mismatch(format!(
-            "shard {} of the sweep of {} over {} values not given (run softway sweep --shard I/N for it)",
+            "shard {} of the sweep of {} not given (run softway sweep --shard I/N for it)",
             missing.join(", "),
-            first.key,
-            first.values.len()
+            first.key_names(),
         )));
     }
-    let mut points = Vec::with_capacity(first.values.len());
-    for v in &first.values {
+    let all = first
+        .all_points()
+        .map_err(|m| GatherError::Mismatch(format!("{}: {m}", dirs[0].join(MANIFEST).display())))?;
+    let mut points = Vec::with_capacity(all.len());
+    for sets in all {
+        let v = values_of(&sets);
         let (d, folder) = dirs
             .iter()
             .zip(&manifests)
             .find_map(|(d, m)| {
                 m.points
                     .iter()
-                    .find(|(value, _)| value == v)
+                    .find(|(value, _)| *value == v)
                     .map(|(_, f)| (d, f))
             })
             .ok_or_else(|| {
                 GatherError::Mismatch(format!(
-                    "no shard lists the point {} = {v}: gather the folders of every shard",
-                    first.key
+                    "no shard lists the point {}: gather the folders of every shard",
+                    super::point_label(&sets)
                 ))
             })?;
         let dir = d.join(folder);
@@ -275,11 +329,8 @@ pub fn gather(
                 })
             })?;
         points.push(SweepPoint {
-            sets: vec![super::Override {
-                key: first.key.clone(),
-                value: v.clone(),
-            }],
-            value: v.clone(),
+            value: v.join(","),
+            sets,
             dir,
             summary,
             warnings: Vec::new(),
@@ -301,17 +352,61 @@ mod tests {
             let e = bad.parse::<Shard>().unwrap_err();
             assert!(e.contains("expected I/N"), "{bad}: {e}");
         }
-        // Every value in exactly one slice, in order within each, for any count.
+        // Every point in exactly one slice, in order within each, for any count.
         let values: Vec<String> = (0..7).map(|i| format!("{}", 100 + i)).collect();
         for count in 1..=9 {
             let mut seen: Vec<String> = Vec::new();
             for index in 1..=count {
-                let mine = Shard { index, count }.values(&values);
+                let mine = Shard { index, count }.pick(&values);
                 assert!(mine.windows(2).all(|w| w[0] < w[1]));
                 seen.extend(mine);
             }
             seen.sort();
             assert_eq!(seen, values, "count {count}");
         }
+    }
+
+    /// A 2 x 2 product grid in 3 slices: the points in the grid's order (the first key
+    /// outermost) dealt round the slices, and the manifest gives the whole grid back.
+    #[test]
+    fn a_grid_is_sliced_in_its_order() {
+        let keys = vec![
+            ("a".to_string(), vec!["1".to_string(), "2".to_string()]),
+            ("b".to_string(), vec!["x".to_string(), "y".to_string()]),
+        ];
+        let all = grid(&keys, Grid::Product).unwrap();
+        let vals = |pts: &[Vec<Override>]| -> Vec<Vec<String>> {
+            pts.iter().map(|s| values_of(s)).collect()
+        };
+        let v = |a: &str, b: &str| vec![a.to_string(), b.to_string()];
+        let s1 = Shard { index: 1, count: 3 }.pick(&all);
+        let s2 = Shard { index: 2, count: 3 }.pick(&all);
+        let s3 = Shard { index: 3, count: 3 }.pick(&all);
+        assert_eq!(vals(&s1), vec![v("1", "x"), v("2", "y")]);
+        assert_eq!(vals(&s2), vec![v("1", "y")]);
+        assert_eq!(vals(&s3), vec![v("2", "x")]);
+        let m = Manifest {
+            name: "n".into(),
+            scenario_sha256: String::new(),
+            keys: keys.clone(),
+            grid: "zip".into(),
+            shard: 1,
+            of: 3,
+            points: Vec::new(),
+        };
+        assert_eq!(
+            vals(&m.all_points().unwrap()),
+            vec![v("1", "x"), v("2", "y")]
+        );
+        let m = Manifest {
+            grid: "product".into(),
+            ..m
+        };
+        assert_eq!(m.all_points().unwrap(), all);
+        let m = Manifest {
+            grid: "diagonal".into(),
+            ..m
+        };
+        assert!(m.all_points().unwrap_err().contains("product or zip"));
     }
 }
