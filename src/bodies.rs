@@ -27,7 +27,7 @@
 //! `d(t)` along `e` ([`Motion::Pressed`]: the base block of the wheel, carrying the paper's
 //! kinematic load) has its material at `x = o(t) + X + u` with `o'' = d''(t) e`; its
 //! equations in the frame carry the inertial load
-//! $$f_{frame}(t) = -M\\,\mathbf{1}\_e\\,d''(t)$$
+//! $$f_{frame}(t) = -M\\,\mathbf{1}\_e\\,d\'\'(t)$$
 //! (`1_e` the unit translation along `e`), which [`load_fn`] adds to the constant loads.
 
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};

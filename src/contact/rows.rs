@@ -24,7 +24,7 @@
 //!
 //! With `x = x_free + sum_q z_q lambda_q`, `z_q = A^{-1} c_q^T`, the conditions are a small
 //! linear complementarity problem `y = y0' + W lambda`:
-//! $$y'_{0,p} = y_{0,p} + \mu_p c_p\cdot x_{free},\qquad W_{pq} = \mu_p\\, c_p\cdot z_q +
+//! $$y\'\_{0,p} = y_{0,p} + \mu_p c_p\cdot x_{free},\qquad W_{pq} = \mu_p\\, c_p\cdot z_q +
 //!   \delta_{pq} r_p,$$
 //! solved exactly by an active set: equality rows always active; a unilateral row enters
 //! when violated (`y < -tol`) and leaves when its multiplier turns negative, one change at a

@@ -7,7 +7,7 @@
 //! `u` (m), the deflection `w` (m, along the local `y`, the axis turned +90 degrees from `x`)
 //! and the rotation `theta` (rad, counter-clockwise) of the cross-section. With the shear
 //! strain `gamma = w' - theta` and the curvature `theta'`, the strain and kinetic energies are
-//! $$U = \tfrac12\int_0^l \big(EA\\,u'^2 + EI\\,\theta'^2 + \kappa G A\\,(w'-\theta)^2\big)\\,dx,
+//! $$U = \tfrac12\int_0^l \big(EA\\,u\'^2 + EI\\,\theta\'^2 + \kappa G A\\,(w\'-\theta)^2\big)\\,dx,
 //!   \qquad T = \tfrac12\int_0^l \big(\rho A\\,(\dot u^2 + \dot w^2) + \rho I\\,\dot\theta^2\big)\\,dx,$$
 //! with `E` Young's modulus (Pa), `G` the shear modulus (Pa), `A` the area (m^2), `I` the
 //! second moment of area (m^4), `rho` the density (kg/m^3) and `kappa` the shear coefficient.

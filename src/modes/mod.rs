@@ -35,7 +35,7 @@
 //! $$\big(K_{\rm eff} + \lambda C + \lambda^2 M\big)\varphi = 0 .$$
 //! It is solved in the state-space form of size `2n`: with `q = L^T u`,
 //! `\tilde K = L^{-1} K_eff L^{-T}`, `\tilde C = L^{-1} C L^{-T}` and `z = [a q, q']`,
-//! $$z' = A z,\qquad A = \begin{pmatrix} 0 & a I \\\\ -\tilde K / a & -\tilde C \end{pmatrix},$$
+//! $$z\' = A z,\qquad A = \begin{pmatrix} 0 & a I \\\\ -\tilde K / a & -\tilde C \end{pmatrix},$$
 //! where the scale `a = sqrt(max diag K~)` balances the two blocks (the eigenvalues do not
 //! depend on it). `faer`'s dense real eigensolver gives the `2n` eigenvalues `lambda`; the
 //! frequency in the rotating frame is `|Im lambda| / (2 pi)` and `Re lambda` is the growth
