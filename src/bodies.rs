@@ -1,4 +1,4 @@
-//! A model as a set of bodies (DESIGN §7): each body a mesh with its own semi-discrete
+//! A model as a set of bodies: each body a mesh with its own semi-discrete
 //! model `M v' + C v + K u = f` (its frame's terms included: [`crate::frame`] for a body
 //! seen in a rotating frame), its supports, its constant load, its initial state, and the
 //! rigid motion of its frame against the ground ([`Motion`]), by which the contact search
@@ -27,7 +27,7 @@
 //! `d(t)` along `e` ([`Motion::Pressed`]: the base block of the wheel, carrying the paper's
 //! kinematic load) has its material at `x = o(t) + X + u` with `o'' = d''(t) e`; its
 //! equations in the frame carry the inertial load
-//! $$f_{frame}(t) = -M\,\mathbf{1}_e\,d''(t)$$
+//! $$f_{frame}(t) = -M\\,\mathbf{1}\_e\\,d\'\'(t)$$
 //! (`1_e` the unit translation along `e`), which [`load_fn`] adds to the constant loads.
 
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};

@@ -1,5 +1,5 @@
 //! The divergence guard: a run whose energy grows beyond what the work done on the system
-//! can explain is stopped, never reported as a result (issue 33).
+//! can explain is stopped, never reported as a result.
 //!
 //! **The bound.** The energy of a run obeys the balance
 //! $$E(t) = E(t_0) + W(t) - D(t) + E_{num}(t),$$
@@ -9,10 +9,10 @@
 //! `E_num` what the discretization creates. `|W|` is bounded by the accumulated absolute
 //! power
 //! $$W^+(t) = \sum_k \Big(\big|f(t_k) \cdot (u_k - u_{k-1})\big| +
-//!   h \sum_p |F_p|\,|w_p| + h \sum_p |F_{t,p}|\,|w_{t,p}|\Big)$$
+//!   h \sum_p |F_p|\\,|w_p| + h \sum_p |F_{t,p}|\\,|w_{t,p}|\Big)$$
 //! (`F_p` a pair's normal force, `w_p` its obstacle's normal velocity at the pair, `F_t`,
 //! `w_t` the tangential ones: a fixed obstacle does no work). The guard stops the run when
-//! $$E(t_k) > \kappa\,\big(E(t_0) + W^+(t_k)\big) + E_{floor},\qquad \kappa = 2,$$
+//! $$E(t_k) > \kappa\\,\big(E(t_0) + W^+(t_k)\big) + E_{floor},\qquad \kappa = 2,$$
 //! checked every [`CHECK_STRIDE`] steps and at the last. `kappa = 2` because the largest
 //! energy excursion a treatment is documented to make is the penalty spring's (+40% in
 //! tests/on_block.rs; the exact hold's +10%), while a run past its stability limit grows

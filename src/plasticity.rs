@@ -8,8 +8,8 @@
 //! elasticity $\sigma = \lambda\,\mathrm{tr}\,\varepsilon^e I + 2\mu\,\varepsilon^e$, the
 //! yield function with the backstress $\beta$ (deviatoric) and the equivalent plastic strain
 //! $\bar\varepsilon^p$
-//! $$f = \lVert s - \beta \rVert - \sqrt{\tfrac23}\,\sigma_Y(\bar\varepsilon^p),\qquad
-//!   \sigma_Y = \sigma_y + H\bar\varepsilon^p + Q\,(1 - e^{-b\bar\varepsilon^p}),$$
+//! $$f = \lVert s - \beta \rVert - \sqrt{\tfrac23}\\,\sigma_Y(\bar\varepsilon^p),\qquad
+//!   \sigma_Y = \sigma_y + H\bar\varepsilon^p + Q\\,(1 - e^{-b\bar\varepsilon^p}),$$
 //! (linear isotropic hardening `H`, Voce's `Q`, `b`; none: `H = Q = 0`), associated flow
 //! $\dot\varepsilon^p = \dot\lambda\, n$, $n = (s-\beta)/\lVert s-\beta\rVert$,
 //! $\dot{\bar\varepsilon}{}^p = \sqrt{2/3}\,\dot\lambda$, and the Armstrong-Frederick
@@ -25,7 +25,7 @@
 //! with $\eta = s^{tr} - \theta\beta_n$: $n = \eta/\lVert\eta\rVert$ and $\Delta\lambda$ is
 //! the root of the scalar
 //! $$g(\Delta\lambda) = \lVert\eta\rVert - (2\mu + \tfrac23\theta C)\Delta\lambda -
-//!   \sqrt{\tfrac23}\,\sigma_Y(\bar\varepsilon^p_n + \sqrt{\tfrac23}\Delta\lambda) = 0.$$
+//!   \sqrt{\tfrac23}\\,\sigma_Y(\bar\varepsilon^p_n + \sqrt{\tfrac23}\Delta\lambda) = 0.$$
 //! Linear hardening ($\gamma = 0$, $Q = 0$): closed form
 //! $\Delta\lambda = f^{tr}/(2\mu + \tfrac23 C + \tfrac23 H)$. Otherwise a safeguarded scalar
 //! Newton (bisection when a step leaves the bracket) to $|g| \le$ [`RETURN_TOL`]

@@ -1,4 +1,4 @@
-//! The elastic wheel on a rigid base, in the wheel's rotating frame (paper §4, DESIGN §3).
+//! The elastic wheel on a rigid base, in the wheel's rotating frame (paper §4).
 //!
 //! The wheel (a disk of plane-stress triangles) does not turn; the base line turns about
 //! its centre at `omega` and presses it to the flattening `d(t)`

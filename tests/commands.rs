@@ -253,13 +253,18 @@ fn speed_in_km_h_sets_omega() {
 }
 
 /// A sweep over two keys: the product's four points and the zip's two, a folder and a row
-/// each with a column per key, each folder's copy holding its values; lists in `sweep.csv`
-/// as JSON.
+/// each with a column per key (the step's with its unit, `time.h_s`), each folder's copy
+/// holding its values; lists in `sweep.csv` as JSON. A zip broadcasts a key's single value
+/// to every point.
 #[test]
 fn sweeps_over_several_keys() {
     let p = scenario("grid", BAR);
-    for (grid, n) in [("product", 4), ("zip", 2)] {
-        let out = fresh_dir("cmd", &format!("grid-{grid}")).join("out");
+    for (grid, hs, n) in [
+        ("product", "0.1,0.05", 4),
+        ("zip", "0.1,0.05", 2),
+        ("zip", "0.05", 2),
+    ] {
+        let out = fresh_dir("cmd", &format!("grid-{grid}-{}", hs.len())).join("out");
         let o = cli(args(&[
             "sweep",
             p.to_str().unwrap(),
@@ -268,7 +273,7 @@ fn sweeps_over_several_keys() {
             "--set",
             "bar.elements=8,16",
             "--set",
-            "time.h=0.1,0.05",
+            &format!("time.h={hs}"),
             "--grid",
             grid,
         ]));
@@ -276,7 +281,7 @@ fn sweeps_over_several_keys() {
         let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
         let mut lines = csv.lines();
         assert!(
-            lines.next().unwrap().starts_with("bar.elements,time.h,"),
+            lines.next().unwrap().starts_with("bar.elements,time.h_s,"),
             "{csv}"
         );
         let rows: Vec<&str> = lines.collect();
@@ -288,7 +293,9 @@ fn sweeps_over_several_keys() {
             .collect();
         dirs.sort();
         assert_eq!(dirs.len(), n);
-        for (row, (e, h)) in rows.iter().zip(if grid == "zip" {
+        for (row, (e, h)) in rows.iter().zip(if hs == "0.05" {
+            vec![("8", "0.05"), ("16", "0.05")]
+        } else if grid == "zip" {
             vec![("8", "0.1"), ("16", "0.05")]
         } else {
             vec![("8", "0.1"), ("8", "0.05"), ("16", "0.1"), ("16", "0.05")]

@@ -47,10 +47,10 @@ fn the_period_converges_at_second_order_to_the_exact_period() {
         head,
         [
             "figure",
-            "time.h=0.08",
-            "time.h=0.04",
-            "time.h=0.02",
-            "time.h=0.01",
+            "time.h_s=0.08",
+            "time.h_s=0.04",
+            "time.h_s=0.02",
+            "time.h_s=0.01",
             "order@0.02",
             "order@0.01",
             "extrapolated"
@@ -58,7 +58,7 @@ fn the_period_converges_at_second_order_to_the_exact_period() {
     );
     let row: Vec<&str> = csv
         .lines()
-        .find(|l| l.starts_with("period_measured,"))
+        .find(|l| l.starts_with("period_measured_s,"))
         .unwrap()
         .split(',')
         .collect();

@@ -158,3 +158,12 @@ fn convergence_figure_stays_in_its_panels() {
     );
     assert_figure(&out.join("converge.png"));
 }
+
+/// `softway modes` on the shipped wheel: `modes.png`, the rest and the spinning rows.
+#[test]
+fn mode_shapes_figure_stays_in_its_panels() {
+    let d = dir("modes");
+    let out = d.join("wheel");
+    softway(&["modes", &scenario("wheel"), "--count", "6"], &out);
+    assert_figure(&out.join("modes.png"));
+}

@@ -13,8 +13,8 @@
 //! $f_k = k / (N \Delta t)$, $k = 0, \dots, \lfloor N/2 \rfloor$, is corrected for the window's
 //! coherent gain $\sum_n w_n$:
 //!
-//! $$A_k = \frac{c_k\,|Y_k|}{\sum_n w_n},\qquad c_k = \begin{cases}
-//!   1 & k = 0 \text{ or } k = N/2,\\ 2 & \text{otherwise,}\end{cases}$$
+//! $$A_k = \frac{c_k\\,|Y_k|}{\sum_n w_n},\qquad c_k = \begin{cases}
+//!   1 & k = 0 \text{ or } k = N/2,\\\\ 2 & \text{otherwise,}\end{cases}$$
 //!
 //! so that a sine $a \sin(2\pi f t)$ with $f$ on a bin gives $A_k = a$ there. Off a bin the
 //! peak bin reads low by the Hann scalloping loss (at most about 15 %, half a bin off);
@@ -25,14 +25,14 @@
 //! Around the peak bin $k$ with $\alpha, \beta, \gamma = \ln A_{k-1}, \ln A_k, \ln A_{k+1}$,
 //! a parabola through the log-amplitudes (Gaussian interpolation) puts the peak at
 //!
-//! $$\delta = \frac12\,\frac{\alpha - \gamma}{\alpha - 2\beta + \gamma},\qquad
-//!   f = (k + \delta)\,\Delta f,\qquad |\delta| \le \tfrac12.$$
+//! $$\delta = \frac12\\,\frac{\alpha - \gamma}{\alpha - 2\beta + \gamma},\qquad
+//!   f = (k + \delta)\\,\Delta f,\qquad |\delta| \le \tfrac12.$$
 //!
 //! [`dominant_peak`] then undoes the scalloping loss with the Hann window's response to a sine
 //! $\delta$ bins off centre (large-$N$ limit),
 //!
 //! $$A = \frac{A_k}{W(\delta)},\qquad
-//!   W(\delta) = \frac{\sin \pi\delta}{\pi\delta\,(1 - \delta^2)}.$$
+//!   W(\delta) = \frac{\sin \pi\delta}{\pi\delta\\,(1 - \delta^2)}.$$
 //!
 //! For an isolated sine the frequency comes out within about 0.02 bin and the amplitude
 //! within 1 %, wherever the sine falls between bins.

@@ -9,7 +9,8 @@ use crate::time::sdof::analyse;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU.
+/// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU and
+/// drawn in `modes.png`.
 pub(super) fn modes_command(
     scenario: &Path,
     set: &[String],
@@ -33,6 +34,9 @@ pub(super) fn modes_command(
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
     let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
     let mut files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+    if sc.plots {
+        files.extend(crate::modes::write_modes_figure(&wm, &rep, stage.path())?);
+    }
     files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
     stage.commit()?;
     let mut text = modes_text(&sc.name, &rep, &wm.spec.support, ws.spec.omega);

@@ -127,7 +127,8 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=V1,V2,...")]
         set: Vec<String>,
         /// How the keys' values combine: every combination (product), or the i-th value of
-        /// each key together (zip; lists of one length).
+        /// each key together (zip; lists of one length, a key with one value set at every
+        /// point).
         #[arg(long, value_enum, default_value_t = crate::scenario::overrides::Grid::Product)]
         grid: crate::scenario::overrides::Grid,
         /// Output folder [default: out/<scenario name>-sweep].

@@ -6,10 +6,11 @@
 //! [`Context::tangent`], [`Context::gap`], [`Context::gaps_into`]), the constraint rows and
 //! their solver ([`RowSolver`]), the integrator through a handle ([`Integ`]: the step
 //! length, the [`Step`] of an instant, the stiffness point) and the step's three calls of
-//! the integrator contract ([`crate::time::integrator`]):
-//! $$x_{free} = A^{-1} b\ \ (\text{[`Context::predict`]}),\qquad
-//!   x = x_{free} + \sum_q z_q \lambda_q\ \ (\text{[`Context::solve`]}),\qquad
-//!   u_1 = U + \mu_u x,\ v_1 = V + \mu_v x\ \ (\text{[`Context::finish`]}),$$
+//! the integrator contract ([`crate::time::integrator`]), the prediction
+//! ([`Context::predict`]), the solve with the contact rows ([`Context::solve`]) and the
+//! update of the state ([`Context::finish`]):
+//! $$x_{free} = A^{-1} b,\qquad x = x_{free} + \sum_q z_q \lambda_q,\qquad
+//!   u_1 = U + \mu_u x,\ v_1 = V + \mu_v x,$$
 //! the extra nodal forces of the next prediction (the soft way's restore), the run's step,
 //! the gap tolerance, and the counters it keeps ([`Counts`]). Errors are
 //! [`ContactError`]s.

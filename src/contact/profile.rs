@@ -4,7 +4,7 @@
 //! ([`super::search::Search::with_profile`]): the surface point under a node is raised by
 //! `r(X)` and its normal turned by the slope `r'(X)`,
 //! $$x_s = \big(X,\ Y + w(X) + r(X)\big),\qquad
-//!   n \propto \big(-(w' + r'),\ 1\big)$$
+//!   n \propto \big(-(w\' + r\'),\ 1\big)$$
 //! so that a node sliding along the surface at the relative speed `V` sees the normal
 //! velocity `V r'(X)` through the frozen row's drift term (the search's module docs), as it
 //! sees the beam's own slope.

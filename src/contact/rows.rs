@@ -1,5 +1,5 @@
 //! Constraint rows and their solution through the factored matrix of any integrator
-//! (DESIGN §2; the integrator contract of [`crate::time::integrator`]).
+//! (the integrator contract of [`crate::time::integrator`]).
 //!
 //! # Rows
 //!
@@ -7,7 +7,7 @@
 //! node's dofs; for two bodies, `-n` on one node and `+n` on the other). Its reaction enters
 //! the step as `c_p^T lambda_p`, and its condition is written on the integrator's unknown `x`
 //! (`x = v1` for the space-time scheme, `a1` for the generalized-alpha family):
-//! $$y_p = y_{0,p} + \mu_p\, c_p \cdot x + r_p \lambda_p,$$
+//! $$y_p = y_{0,p} + \mu_p\\, c_p \cdot x + r_p \lambda_p,$$
 //! with one of three kinds:
 //! - [`RowKind::Equality`]: `y_p = 0`, `lambda_p` free (a braked or held node);
 //! - [`RowKind::Unilateral`]: `y_p >= 0`, `lambda_p >= 0`, `y_p lambda_p = 0` (Signorini,
@@ -24,7 +24,7 @@
 //!
 //! With `x = x_free + sum_q z_q lambda_q`, `z_q = A^{-1} c_q^T`, the conditions are a small
 //! linear complementarity problem `y = y0' + W lambda`:
-//! $$y'_{0,p} = y_{0,p} + \mu_p c_p\cdot x_{free},\qquad W_{pq} = \mu_p\, c_p\cdot z_q +
+//! $$y\'\_{0,p} = y_{0,p} + \mu_p c_p\cdot x_{free},\qquad W_{pq} = \mu_p\\, c_p\cdot z_q +
 //!   \delta_{pq} r_p,$$
 //! solved exactly by an active set: equality rows always active; a unilateral row enters
 //! when violated (`y < -tol`) and leaves when its multiplier turns negative, one change at a

@@ -1,5 +1,5 @@
 //! Contact search between bodies: a body's contact nodes against another body's surface
-//! segments, each body in a frame of its own (DESIGN §7).
+//! segments, each body in a frame of its own ([`crate::bodies`]).
 //!
 //! # Frames
 //!
@@ -8,7 +8,7 @@
 //! passes under the wheel), or turning about a centre `c` at `omega` (the wheel, seen in the
 //! frame that turns with it, as the paper does). A material point with reference position
 //! `X` and displacement `u` is in the ground at
-//! $$x = c + R(\theta(t))\,(X + u),\qquad \theta(t) = \theta_0 + \omega t$$
+//! $$x = c + R(\theta(t))\\,(X + u),\qquad \theta(t) = \theta_0 + \omega t$$
 //! (`R` the rotation about z; a translating frame: `x = x_0 + V t + X + u`). Its velocity
 //! is `R v` plus the drift of the frame at that point, `omega e_z x R(X + u)` or `V`.
 //!

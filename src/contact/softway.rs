@@ -11,7 +11,7 @@
 //! `p = n . x`, `q = n . v`, Eq. (10) twice gives
 //! `p_1 = p_{-1} + h (1 - beta) q_{-1} + h q_0 + h beta q_1`. Asking `p_1 = c` (on the
 //! surface at `t_i`) and `q_1 = w` (no relative normal velocity) gives
-//! $$q_0 = \frac{c - p_{-1}}{h} - (1-\beta)\, q_{-1} - \beta w,$$
+//! $$q_0 = \frac{c - p_{-1}}{h} - (1-\beta)\\, q_{-1} - \beta w,$$
 //! which for a fixed obstacle (`w = 0`) is Eq. (26), and the position at `t_{i-1}` is then
 //! Eq. (27). Only the normal component is prescribed: the tangential motion stays free.
 //!
@@ -22,7 +22,7 @@
 //! `beta < 1/2`), so round-off grows into a spurious tension and the node chatters. The
 //! holding velocity is therefore the surface velocity plus a deadbeat drift correction:
 //! with `g* = n.x_0 + h[(1-beta) n.v_0 + beta w] - c_1`, the gap at `t_1` if `n.v_1 = w`,
-//! $$n_1 \cdot v_1 = w - g^*/h .$$
+//! $$n_1 \cdot v_1 = w - g^\*/h .$$
 //! The gap and velocity errors `(g, h e)` then evolve with the matrix
 //! `[[1-beta, (1-beta)^2], [-1, -(1-beta)]]`, whose eigenvalues are both 0 (nilpotent): any
 //! drift is gone after two steps, for every `beta` in `[0, 1]`. After a braking step

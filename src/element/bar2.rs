@@ -2,8 +2,8 @@
 //!
 //! With length `l`, axial stiffness `EA` (N) and mass per unit length `rho A` (kg/m):
 //!
-//! $$K_e = \frac{EA}{l}\begin{bmatrix}1&-1\\-1&1\end{bmatrix},\quad
-//!   M_e = \frac{\rho A l}{6}\begin{bmatrix}2&1\\1&2\end{bmatrix}\ \text{(consistent)},\quad
+//! $$K_e = \frac{EA}{l}\begin{bmatrix}1&-1\\\\-1&1\end{bmatrix},\quad
+//!   M_e = \frac{\rho A l}{6}\begin{bmatrix}2&1\\\\1&2\end{bmatrix}\ \text{(consistent)},\quad
 //!   M_e = \frac{\rho A l}{2} I\ \text{(lumped)}.$$
 
 /// Fills `out` with the bar stiffness matrix.

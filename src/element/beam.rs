@@ -1,5 +1,5 @@
 //! Two-node beam element in 2D: Euler-Bernoulli and Timoshenko, with a rotational dof per
-//! node (for a rail; issue 29).
+//! node (for a rail).
 //!
 //! # Kinematics and energy
 //!
@@ -7,8 +7,8 @@
 //! `u` (m), the deflection `w` (m, along the local `y`, the axis turned +90 degrees from `x`)
 //! and the rotation `theta` (rad, counter-clockwise) of the cross-section. With the shear
 //! strain `gamma = w' - theta` and the curvature `theta'`, the strain and kinetic energies are
-//! $$U = \tfrac12\int_0^l \big(EA\,u'^2 + EI\,\theta'^2 + \kappa G A\,(w'-\theta)^2\big)\,dx,
-//!   \qquad T = \tfrac12\int_0^l \big(\rho A\,(\dot u^2 + \dot w^2) + \rho I\,\dot\theta^2\big)\,dx,$$
+//! $$U = \tfrac12\int_0^l \big(EA\\,u\'^2 + EI\\,\theta\'^2 + \kappa G A\\,(w\'-\theta)^2\big)\\,dx,
+//!   \qquad T = \tfrac12\int_0^l \big(\rho A\\,(\dot u^2 + \dot w^2) + \rho I\\,\dot\theta^2\big)\\,dx,$$
 //! with `E` Young's modulus (Pa), `G` the shear modulus (Pa), `A` the area (m^2), `I` the
 //! second moment of area (m^4), `rho` the density (kg/m^3) and `kappa` the shear coefficient.
 //! Euler-Bernoulli is the limit `kappa G A -> infinity` (`theta = w'`) without rotary inertia
@@ -24,13 +24,13 @@
 //! coefficients tied so that the shear strain is constant and the homogeneous static
 //! equations `EI theta'' + kappa G A (w' - theta) = 0`, `(kappa G A (w' - theta))' = 0` hold
 //! inside the element. With
-//! $$\Phi = \frac{12\,EI}{\kappa G A\,l^2}$$
+//! $$\Phi = \frac{12\\,EI}{\kappa G A\\,l^2}$$
 //! and `xi = x / l`, the shape functions for `(w1, theta1, w2, theta2)` are
-//! $$N_w = \tfrac{1}{1+\Phi}\big[\,2\xi^3-3\xi^2-\Phi\xi+1+\Phi,\;
-//!   l(\xi^3-(2+\tfrac\Phi2)\xi^2+(1+\tfrac\Phi2)\xi),\;
-//!   -2\xi^3+3\xi^2+\Phi\xi,\; l(\xi^3-(1-\tfrac\Phi2)\xi^2-\tfrac\Phi2\xi)\big],$$
-//! $$N_\theta = \tfrac{1}{1+\Phi}\big[\,\tfrac6l(\xi^2-\xi),\; 3\xi^2-(4+\Phi)\xi+1+\Phi,\;
-//!   -\tfrac6l(\xi^2-\xi),\; 3\xi^2-(2-\Phi)\xi\big].$$
+//! $$N_w = \tfrac{1}{1+\Phi}\big[\\,2\xi^3-3\xi^2-\Phi\xi+1+\Phi,\\;
+//!   l(\xi^3-(2+\tfrac\Phi2)\xi^2+(1+\tfrac\Phi2)\xi),\\;
+//!   -2\xi^3+3\xi^2+\Phi\xi,\\; l(\xi^3-(1-\tfrac\Phi2)\xi^2-\tfrac\Phi2\xi)\big],$$
+//! $$N_\theta = \tfrac{1}{1+\Phi}\big[\\,\tfrac6l(\xi^2-\xi),\\; 3\xi^2-(4+\Phi)\xi+1+\Phi,\\;
+//!   -\tfrac6l(\xi^2-\xi),\\; 3\xi^2-(2-\Phi)\xi\big].$$
 //! It is chosen over the linear element with reduced integration because it is exact for
 //! static loads at the nodes (one element gives a cantilever's tip deflection
 //! `P L^3 / 3EI + P L / kappa G A`), it is free of shear locking by construction
@@ -40,12 +40,12 @@
 //! `L/h = 5`, orders 2.00-2.09, and the UIC60 rail's pinned-pinned mode) and at the Hermite
 //! element's fourth order in the slender limit. Its matrices (the energies above integrated
 //! exactly) are
-//! $$K_b = \frac{EI}{(1+\Phi)l^3}\begin{bmatrix}12&6l&-12&6l\\6l&(4+\Phi)l^2&-6l&(2-\Phi)l^2\\
-//!   -12&-6l&12&-6l\\6l&(2-\Phi)l^2&-6l&(4+\Phi)l^2\end{bmatrix},$$
-//! $$M_{\rho A} = \frac{\rho A l}{210(1+\Phi)^2}\begin{bmatrix}m_1&m_2&m_3&m_4\\m_2&m_5&-m_4&m_6\\
-//!   m_3&-m_4&m_1&-m_2\\m_4&m_6&-m_2&m_5\end{bmatrix},\quad
-//!   M_{\rho I} = \frac{\rho I}{30(1+\Phi)^2 l}\begin{bmatrix}36&m_8&-36&m_8\\m_8&m_9&-m_8&m_{10}\\
-//!   -36&-m_8&36&-m_8\\m_8&m_{10}&-m_8&m_9\end{bmatrix},$$
+//! $$K_b = \frac{EI}{(1+\Phi)l^3}\begin{bmatrix}12&6l&-12&6l\\\\6l&(4+\Phi)l^2&-6l&(2-\Phi)l^2\\\\
+//!   -12&-6l&12&-6l\\\\6l&(2-\Phi)l^2&-6l&(4+\Phi)l^2\end{bmatrix},$$
+//! $$M_{\rho A} = \frac{\rho A l}{210(1+\Phi)^2}\begin{bmatrix}m_1&m_2&m_3&m_4\\\\m_2&m_5&-m_4&m_6\\\\
+//!   m_3&-m_4&m_1&-m_2\\\\m_4&m_6&-m_2&m_5\end{bmatrix},\quad
+//!   M_{\rho I} = \frac{\rho I}{30(1+\Phi)^2 l}\begin{bmatrix}36&m_8&-36&m_8\\\\m_8&m_9&-m_8&m_{10}\\\\
+//!   -36&-m_8&36&-m_8\\\\m_8&m_{10}&-m_8&m_9\end{bmatrix},$$
 //! with `m1 = 70 Phi^2 + 147 Phi + 78`, `m2 = (35 Phi^2 + 77 Phi + 44) l / 4`,
 //! `m3 = 35 Phi^2 + 63 Phi + 27`, `m4 = -(35 Phi^2 + 63 Phi + 26) l / 4`,
 //! `m5 = (7 Phi^2 + 14 Phi + 8) l^2 / 4`, `m6 = -(7 Phi^2 + 14 Phi + 6) l^2 / 4`,

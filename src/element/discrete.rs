@@ -1,10 +1,10 @@
 //! Discrete elements: point masses, spring-dampers (translational and rotational) and the
-//! rigid hub (or axle) node that carries a mass and a load (issue 29).
+//! rigid hub (or axle) node that carries a mass and a load.
 //!
 //! Each element acts on one dof (against the ground) or two dofs (between them). On dofs
 //! `a` (and `b`) a spring-damper of stiffness `k` and damping `c` adds
-//! $$K_e = k\begin{bmatrix}1&-1\\-1&1\end{bmatrix},\quad
-//!   C_e = c\begin{bmatrix}1&-1\\-1&1\end{bmatrix}\qquad\text{(between } a, b),\qquad
+//! $$K_e = k\begin{bmatrix}1&-1\\\\-1&1\end{bmatrix},\quad
+//!   C_e = c\begin{bmatrix}1&-1\\\\-1&1\end{bmatrix}\qquad\text{(between } a, b),\qquad
 //!   K_e = \[k\],\ C_e = \[c\]\qquad\text{(to the ground)},$$
 //! the force on `a` being `-k (u_a - u_b) - c (v_a - v_b)`: units N/m and N s/m on
 //! translations, N m/rad and N m s/rad on rotations (a rotational spring is the same matrix

@@ -21,9 +21,9 @@
 //! The element DOFs are ordered $u_e = [u_{0x}, u_{0y}, u_{1x}, u_{1y}, u_{2x}, u_{2y}]^T$ and
 //! the strain is constant, in Voigt form
 //!
-//! $$\varepsilon = [\varepsilon_{xx}, \varepsilon_{yy}, \gamma_{xy}]^T = B\, u_e,\qquad
+//! $$\varepsilon = [\varepsilon_{xx}, \varepsilon_{yy}, \gamma_{xy}]^T = B\\, u_e,\qquad
 //!   B = [B_0\ B_1\ B_2],\quad
-//!   B_i = \begin{bmatrix} N_{i,x} & 0 \\ 0 & N_{i,y} \\ N_{i,y} & N_{i,x} \end{bmatrix},$$
+//!   B_i = \begin{bmatrix} N_{i,x} & 0 \\\\ 0 & N_{i,y} \\\\ N_{i,y} & N_{i,x} \end{bmatrix},$$
 //!
 //! with the engineering shear strain $\gamma_{xy} = 2\varepsilon_{xy}$. The stress is
 //! $\sigma = [\sigma_{xx}, \sigma_{yy}, \tau_{xy}]^T = D\,\varepsilon$ with the elasticity
@@ -34,16 +34,16 @@
 //! With the thickness $t$ (plane strain: the length of the slice, usually 1) and density
 //! $\rho$:
 //!
-//! $$K_e = t A\, B^T D B,$$
+//! $$K_e = t A\\, B^T D B,$$
 //!
-//! $$M_e^{\text{cons}}(ia, jb) = \delta_{ab}\,\frac{\rho t A}{12}\,(1 + \delta_{ij}),\qquad
-//!   M_e^{\text{lump}} = \frac{\rho t A}{3}\, I_6,$$
+//! $$M_e^{\text{cons}}(ia, jb) = \delta_{ab}\\,\frac{\rho t A}{12}\\,(1 + \delta_{ij}),\qquad
+//!   M_e^{\text{lump}} = \frac{\rho t A}{3}\\, I_6,$$
 //!
 //! where $i, j$ are nodes and $a, b \in \{x, y\}$ are components. The geometric
 //! (initial-stress) stiffness of a uniform in-plane stress
 //! $S = \begin{bmatrix}\sigma_{xx} & \tau_{xy}\\ \tau_{xy} & \sigma_{yy}\end{bmatrix}$ is
 //!
-//! $$K_\sigma(ia, jb) = \delta_{ab}\, t A\, \nabla N_i \cdot S\, \nabla N_j,$$
+//! $$K_\sigma(ia, jb) = \delta_{ab}\\, t A\\, \nabla N_i \cdot S\\, \nabla N_j,$$
 //!
 //! so that $u^T K_\sigma u = t A \sum_a \nabla u_a \cdot S\, \nabla u_a$.
 //!

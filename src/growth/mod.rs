@@ -1,12 +1,12 @@
 //! Growth studies: the pass-by-pass feedback between a surface profile, the dynamic contact
-//! it excites, and the wear (and plastic flow) that contact leaves on the profile (issue
-//! 31; DESIGN §7).
+//! it excites, and the wear (and plastic flow) that contact leaves on the profile, each
+//! body in a frame of its own ([`crate::bodies`]).
 //!
 //! **The loop.** A study holds a [`SurfaceProfile`] `z_p` over the rolling coordinate (the
 //! wheel's rim, [`wheel`]; a rail, the track's runner). Each simulated pass `p` runs one
 //! dynamic pass over `z_p` ([`PassRunner::run_pass`]) and returns the depth worn per sample
 //! `w_p` and the permanent plastic displacement `d_p`; then
-//! $$z_{p+1} = z_p - N_w\,\big(S(w_p) - \overline{S(w_p)}\big) + d_p$$
+//! $$z_{p+1} = z_p - N_w\\,\big(S(w_p) - \overline{S(w_p)}\big) + d_p$$
 //! with `N_w` real passes per simulated pass (`growth.passes_per_pass`, the wear step) and
 //! `S` the smoothing and the cutoff below. The mean `N_w mean(S[w_p])` is a uniform loss (a radius or a
 //! rail height worn evenly): it is taken out of the profile and reported separately

@@ -1,6 +1,6 @@
 //! Gaussian elimination with partial pivoting on the small dense systems of the contact rows
 //! (the multipliers' system `C A^{-1} C^T lambda = g - C A^{-1} b` of the active constraints,
-//! DESIGN §2) and of the static contact iteration.
+//! [`crate::contact::rows`]) and of the static contact iteration.
 
 /// Gaussian elimination with partial pivoting on a small dense row-major `k x k` system;
 /// the solution replaces `r`. A singular system (two identical constraints) gets the

@@ -21,7 +21,7 @@ pub enum LinalgError {
 /// Its work splits in two: a symbolic analysis of the pattern (the fill-reducing ordering
 /// and, for Cholesky, the elimination tree and the structure of the factor), made once, and
 /// a numeric factorization of each matrix on that pattern. The step matrix
-/// `A = M + alpha h C + alpha^2 h^2/2 K` (paper Eq. 18, DESIGN §1) keeps the pattern of `M`,
+/// `A = M + alpha h C + alpha^2 h^2/2 K` (paper Eq. 18; [`crate::time::step`]) keeps the pattern of `M`,
 /// `C` and `K` for every step length `h`: another `h` (the subdivision's contact events) is a
 /// numeric factorization on the run's one analysis ([`Factorization::refactor`],
 /// [`Factorization::with_values`]). The solve runs in place on memory allocated when

@@ -1,5 +1,5 @@
 //! The model below the driver: what `time/` and `contact/` share, with no dependence on
-//! either (issue 29, "contracts below the driver").
+//! either.
 //!
 //! - [`LinearModel`]: the semi-discrete model `M v' + C v + K u = f` on one sparsity
 //!   pattern (paper Eq. 22: `C` holds `eta_z` and, in a rotating frame, the Coriolis terms).

@@ -24,8 +24,8 @@
 //! **Hertz's line contact.** Two cylinders' axes parallel, radii `R_1`, `R_2` (a flat block:
 //! `R_2 = infinity`), pressed by the force `P'` per unit length, touch on a strip of
 //! half-width
-//! $$a = \sqrt{\frac{4 P' R}{\pi E^*}},\qquad \frac1R = \frac1{R_1} + \frac1{R_2},\qquad
-//!   \frac1{E^*} = \frac{1-\nu_1^2}{E_1} + \frac{1-\nu_2^2}{E_2}$$
+//! $$a = \sqrt{\frac{4 P\' R}{\pi E^\*}},\qquad \frac1R = \frac1{R_1} + \frac1{R_2},\qquad
+//!   \frac1{E^\*} = \frac{1-\nu_1^2}{E_1} + \frac{1-\nu_2^2}{E_2}$$
 //! in plane strain (Johnson, Contact Mechanics, Eq. 4.43 with 5.2b); in plane stress the
 //! factors `1 - nu^2` are 1 ([`hertz_half_width`]). For two identical plane-strain bodies
 //! `E* = E / (2 (1 - nu^2))`. The half-width of a computed patch is read from its nodal forces

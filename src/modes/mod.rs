@@ -35,7 +35,7 @@
 //! $$\big(K_{\rm eff} + \lambda C + \lambda^2 M\big)\varphi = 0 .$$
 //! It is solved in the state-space form of size `2n`: with `q = L^T u`,
 //! `\tilde K = L^{-1} K_eff L^{-T}`, `\tilde C = L^{-1} C L^{-T}` and `z = [a q, q']`,
-//! $$z' = A z,\qquad A = \begin{pmatrix} 0 & a I \\ -\tilde K / a & -\tilde C \end{pmatrix},$$
+//! $$z\' = A z,\qquad A = \begin{pmatrix} 0 & a I \\\\ -\tilde K / a & -\tilde C \end{pmatrix},$$
 //! where the scale `a = sqrt(max diag K~)` balances the two blocks (the eigenvalues do not
 //! depend on it). `faer`'s dense real eigensolver gives the `2n` eigenvalues `lambda`; the
 //! frequency in the rotating frame is `|Im lambda| / (2 pi)` and `Re lambda` is the growth
@@ -45,7 +45,7 @@
 //! **Splitting of paired modes.** A disk has pairs of equal rest frequencies (modes with
 //! `n >= 1` waves around the circumference, `cos n theta` and `sin n theta`). Premultiplying
 //! the quadratic problem by `phi^H` at `lambda = i omega` gives
-//! $$\omega^2 m + 2\Omega h\,\omega - k = 0,\qquad m = \varphi^H M \varphi,\quad
+//! $$\omega^2 m + 2\Omega h\\,\omega - k = 0,\qquad m = \varphi^H M \varphi,\quad
 //!   h = \operatorname{Im}\varphi^H (M_s\otimes J)\varphi,\quad k = \varphi^H K_{\rm eff}\varphi,$$
 //! so a mode whose material points orbit (in the rotating frame) in the sense of the frame
 //! rotation (`Omega h > 0`, **forward** whirl) is lowered by about `Omega h / m`, and the
@@ -110,10 +110,12 @@ use crate::output::vtk::{write_vtu, Field, PvdWriter, VtkError};
 use crate::wheel::WheelModel;
 
 mod bounce;
+mod figure;
 mod sparse;
 mod spinning;
 
 pub use bounce::{bounce_mode, Bounce, BOUNCE_SUBSPACE};
+pub use figure::{mode_label, write_modes_figure, FIGURE_MODES, SHAPE_SCALE};
 pub use sparse::{natural_modes_sparse, natural_modes_sparse_of, spinning_modes_sparse};
 use spinning::rigid_kind;
 pub use spinning::{spinning_analysis, spinning_modes, SpinAnalysis, SpinMode, Whirl};
@@ -265,6 +267,9 @@ pub enum ModesError {
     /// Writing a VTK file failed.
     #[error(transparent)]
     Vtk(#[from] VtkError),
+    /// Drawing `modes.png` failed.
+    #[error(transparent)]
+    Plot(#[from] crate::output::plot::PlotError),
 }
 
 /// The matrices of a generic model for [`natural_modes_of`]: `M` and `K` on the pattern of

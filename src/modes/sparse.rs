@@ -13,8 +13,8 @@
 //!
 //! **Spinning** ([`spinning_modes_sparse`]): `(K_eff + lambda C + lambda^2 M) phi = 0` in
 //! its first companion form on `z = [phi, lambda phi]`,
-//! $$\begin{pmatrix}0 & I\\ -K_{\rm eff} & -C\end{pmatrix} z
-//!   = \lambda \begin{pmatrix}I & 0\\ 0 & M\end{pmatrix} z .$$
+//! $$\begin{pmatrix}0 & I\\\\ -K_{\rm eff} & -C\end{pmatrix} z
+//!   = \lambda \begin{pmatrix}I & 0\\\\ 0 & M\end{pmatrix} z .$$
 //! With a real shift `sigma < 0`, `(A - sigma B)^-1 B y` is, for `y = [y1, y2]`,
 //! `x1 = -Q(sigma)^-1 (M y2 + (C + sigma M) y1)`, `x2 = y1 + sigma x1`, with
 //! `Q(sigma) = K_eff + sigma C + sigma^2 M` factored once (LU: `C` is skew), `sigma` half the

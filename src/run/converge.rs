@@ -260,7 +260,8 @@ fn write_tables(
     };
     let order = |o: Option<f64>| o.map_or("-".to_string(), |p| format!("{p:.2}"));
     let mut head = vec!["figure".to_string()];
-    head.extend(values.iter().map(|v| format!("{key}={v}")));
+    let key_col = super::sweep::key_column(key);
+    head.extend(values.iter().map(|v| format!("{key_col}={v}")));
     head.extend((2..values.len()).map(|i| format!("order@{}", values[i])));
     head.push("extrapolated".into());
     let mut csv = format!("{}\n", head.join(","));
@@ -270,7 +271,7 @@ fn write_tables(
         vec!["---"; head.len()].join("|")
     );
     for l in ladders {
-        let mut row = vec![l.name.clone()];
+        let mut row = vec![super::sweep::column_name(&l.name).to_string()];
         row.extend(l.values.iter().map(|&x| fmt(x)));
         row.extend(l.orders.iter().map(|&o| order(o)));
         row.push(l.extrapolated.map_or("-".into(), fmt));

@@ -247,6 +247,112 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
     Ok(files)
 }
 
+/// The CSV (and Markdown) names of the tables' columns whose summary key does not name its
+/// unit: `(summary key, column)`, the column the key with its unit appended as
+/// `history.csv` writes units (`_N`, `_J`, `_m`, `_Pa`, `_s`, `_m_s`, `_rad_s`). A key not
+/// listed keeps its name: it names its unit already (`wall_time_s`, `speed_km_h`,
+/// `bounce_frequency_hz`, `max_von_mises_turn_average_mpa`, the track's `_n`, `_m`, `_hz`),
+/// or it is a count or a ratio (`steps`, `dofs`, `mean_nodes_in_contact`,
+/// `traction/traction_ratio`, `errors.*` relative errors, ...). `sweep.csv` and
+/// `converge.csv` (its `figure` column) both rename through this one list.
+pub const COLUMN_NAMES: [(&str, &str); 41] = [
+    // The wheel (and the wheel on a block).
+    ("mean_contact_force", "mean_contact_force_N"),
+    ("min_contact_force", "min_contact_force_N"),
+    ("max_contact_force", "max_contact_force_N"),
+    ("contact_force_ripple", "contact_force_ripple_N"),
+    ("energy_after_settling", "energy_after_settling_J"),
+    ("energy_initial", "energy_initial_J"),
+    ("energy_final", "energy_final_J"),
+    ("omega", "omega_rad_s"),
+    ("h", "h_s"),
+    // With friction.
+    ("traction/normal", "traction/normal_N"),
+    ("traction/traction", "traction/traction_N"),
+    (
+        "traction/measured_stick_half_width",
+        "traction/measured_stick_half_width_m",
+    ),
+    ("traction/hertz_half_width", "traction/hertz_half_width_m"),
+    ("traction/friction_energy", "traction/friction_energy_J"),
+    // The wheel on a block.
+    ("block_speed", "block_speed_m_s"),
+    ("block_length", "block_length_m"),
+    ("block_depth", "block_depth_m"),
+    ("block_young", "block_young_Pa"),
+    ("contact_modulus", "contact_modulus_Pa"),
+    ("mean_half_width", "mean_half_width_m"),
+    ("hertz_half_width", "hertz_half_width_m"),
+    // The bars (one run's figures in `converge.csv`).
+    ("impact_time", "impact_time_s"),
+    ("release_time", "release_time_s"),
+    ("contact_duration", "contact_duration_s"),
+    ("peak_contact_force", "peak_contact_force_N"),
+    ("peak_braking_force", "peak_braking_force_N"),
+    ("rebound_velocity", "rebound_velocity_m_s"),
+    ("velocity_left_behind", "velocity_left_behind_m_s"),
+    ("max_penetration", "max_penetration_m"),
+    ("penetration_at_release", "penetration_at_release_m"),
+    ("errors.impact_time", "errors.impact_time_s"),
+    // The oscillator.
+    ("period_exact", "period_exact_s"),
+    ("period_measured", "period_measured_s"),
+    ("max_displacement_error", "max_displacement_error_m"),
+    // Inputs a sweep may carry in its summaries.
+    ("speed", "speed_m_s"),
+    ("gap", "gap_m"),
+    ("length", "length_m"),
+    ("radius", "radius_m"),
+    ("flattening", "flattening_m"),
+    ("load", "load_N"),
+    ("t_end", "t_end_s"),
+];
+
+/// The units of the scenario keys a sweep or a ladder may vary, `(key, unit suffix)`: the
+/// swept key's column is `<key>_<unit>` (`time.h_s`, `rolling.omega_rad_s`). A key not
+/// listed names its unit (`rolling.speed_km_h`) or has none (`wheel.rings`,
+/// `rolling.creepage`, `contact.friction`).
+pub const KEY_UNITS: [(&str, &str); 22] = [
+    ("time.h", "s"),
+    ("time.t_end", "s"),
+    ("rolling.omega", "rad_s"),
+    ("rolling.flattening", "m"),
+    ("rolling.settle_time", "s"),
+    ("wheel.radius", "m"),
+    ("wheel.thickness", "m"),
+    ("wheel.hub_radius", "m"),
+    ("wheel.load", "N"),
+    ("wheel.zone_width", "m"),
+    ("wheel.zone_depth", "m"),
+    ("material.young", "Pa"),
+    ("material.density", "kg_m3"),
+    ("material.yield_stress", "Pa"),
+    ("bar.length", "m"),
+    ("bar.speed", "m_s"),
+    ("bar.gap", "m"),
+    ("sdof.mass", "kg"),
+    ("sdof.stiffness", "N_m"),
+    ("vehicle.speed", "m_s"),
+    ("vehicle.axle_load", "N"),
+    ("track.spacing", "m"),
+];
+
+/// The column name of a summary key ([`COLUMN_NAMES`]).
+pub fn column_name(key: &str) -> &str {
+    COLUMN_NAMES
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or(key, |(_, c)| c)
+}
+
+/// The column name of a swept scenario key, with its unit ([`KEY_UNITS`]).
+pub fn key_column(key: &str) -> String {
+    KEY_UNITS
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or_else(|| key.to_string(), |(k, u)| format!("{k}_{u}"))
+}
+
 /// The table's columns: the wheel's key figures (and with friction its traction figures,
 /// `traction/...`), or every scalar number of the summaries of other models.
 fn table_columns(points: &[SweepPoint], is_wheel: bool, with_traction: bool) -> Vec<String> {
@@ -339,7 +445,11 @@ fn write_tables(
     points: &[SweepPoint],
 ) -> Result<Vec<PathBuf>, RunError> {
     let mut files = Vec::new();
-    let head: Vec<String> = keys.iter().chain(cols).cloned().collect();
+    let head: Vec<String> = keys
+        .iter()
+        .map(|k| key_column(k))
+        .chain(cols.iter().map(|c| column_name(c).to_string()))
+        .collect();
     let mut csv = format!("{}\n", head.join(","));
     let mut md = format!(
         "| {} |\n|{}|\n",
@@ -674,4 +784,59 @@ pub fn free_rolling_creepage(pts: &[(f64, f64)]) -> Option<f64> {
         let ((x0, y0), (x1, y1)) = (w[0], w[1]);
         (y0 <= 0.0 && y1 > 0.0).then(|| x0 - y0 * (x1 - x0) / (y1 - y0))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every column of a wheel sweep with friction names its unit, or is a count or a
+    /// ratio; no two keys share a column; the swept step and spin carry theirs.
+    #[test]
+    fn every_wheel_column_names_its_unit() {
+        let units = [
+            "_N",
+            "_J",
+            "_m",
+            "_s",
+            "_us",
+            "_hz",
+            "_mpa",
+            "_km_h",
+            "_per_turn",
+        ];
+        let unitless = [
+            "steps",
+            "oscillations_per_turn",
+            "traction/creepage",
+            "traction/creepage_undeformed",
+            "traction/traction_ratio",
+            "traction/carter_traction_ratio",
+            "traction/mean_stick_nodes",
+            "traction/mean_slip_nodes",
+        ];
+        let point = SweepPoint {
+            sets: Vec::new(),
+            value: String::new(),
+            dir: PathBuf::new(),
+            summary: serde_json::json!({"kind": "wheel", "traction": {}}),
+            warnings: Vec::new(),
+        };
+        for c in table_columns(&[point], true, true) {
+            let name = column_name(&c);
+            assert!(
+                units.iter().any(|u| name.ends_with(u)) || unitless.contains(&name),
+                "{c} -> {name}"
+            );
+        }
+        let mut names: Vec<&str> = COLUMN_NAMES.iter().map(|(_, c)| *c).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), COLUMN_NAMES.len());
+        assert!(COLUMN_NAMES.iter().all(|(k, c)| c.starts_with(k) && c != k));
+        assert_eq!(key_column("time.h"), "time.h_s");
+        assert_eq!(key_column("rolling.omega"), "rolling.omega_rad_s");
+        assert_eq!(key_column("rolling.speed_km_h"), "rolling.speed_km_h");
+        assert_eq!(key_column("wheel.rings"), "wheel.rings");
+    }
 }

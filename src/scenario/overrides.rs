@@ -85,7 +85,8 @@ pub enum Grid {
     /// Every combination of the keys' values (the first key outermost).
     #[default]
     Product,
-    /// The keys' values taken together, the i-th of each (the lists of equal length).
+    /// The keys' values taken together, the i-th of each (the lists of equal length; a key
+    /// with a single value is set at every point, as numpy broadcasts a length-1 axis).
     Zip,
 }
 
@@ -94,7 +95,7 @@ pub enum Grid {
 ///
 /// # Errors
 /// A one-line message: no keys, a key without values or given twice, lists of different
-/// lengths for [`Grid::Zip`], more than 10,000 points.
+/// lengths (other than one) for [`Grid::Zip`], more than 10,000 points.
 pub fn grid(keys: &[(String, Vec<String>)], how: Grid) -> Result<Vec<Vec<Override>>, String> {
     if keys.is_empty() {
         return Err("no key to sweep: give --set KEY=V1,V2,...".into());
@@ -120,15 +121,21 @@ pub fn grid(keys: &[(String, Vec<String>)], how: Grid) -> Result<Vec<Vec<Overrid
     };
     match how {
         Grid::Zip => {
-            let n = keys[0].1.len();
-            if let Some((k, vs)) = keys.iter().find(|(_, vs)| vs.len() != n) {
+            // A key with a single value is broadcast (as numpy broadcasts a length-1 axis):
+            // set at every point. The other lists go side by side and share one length.
+            let (first, n) = keys
+                .iter()
+                .find(|(_, vs)| vs.len() > 1)
+                .map_or((&keys[0].0, 1), |(k, vs)| (k, vs.len()));
+            if let Some((k, vs)) = keys.iter().find(|(_, vs)| vs.len() != 1 && vs.len() != n) {
                 return Err(format!(
-                    "--grid zip: {} has {n} values and {k} {}: zip takes the lists side by side, give them the same length (or --grid product)",
-                    keys[0].0,
+                    "--grid zip: {first} has {n} values and {k} {}: zip takes the lists side by side, give them the same length (a key with one value is set at every point; or --grid product)",
                     vs.len()
                 ));
             }
-            Ok((0..n).map(|j| point(&|_| j)).collect())
+            Ok((0..n)
+                .map(|j| point(&|i| if keys[i].1.len() == 1 { 0 } else { j }))
+                .collect())
         }
         Grid::Product => {
             let total = keys
@@ -383,7 +390,8 @@ mod tests {
     }
 
     /// The product's points in order (the first key outermost), the zip's side by side;
-    /// zip refuses lists of different lengths, both a key given twice.
+    /// zip broadcasts a single value and refuses other lists of different lengths, both a
+    /// key given twice.
     #[test]
     fn sweep_grids_by_product_and_zip() {
         let keys = vec![
@@ -406,6 +414,29 @@ mod tests {
             args(&grid(&zipped, Grid::Zip).unwrap()),
             ["a=1 b=x", "a=2 b=y"]
         );
+        // A single value is broadcast over the zip, in any position; lengths 2 and 3 are
+        // still refused when a third key has one value.
+        let one = ("c".to_string(), vec!["7".to_string()]);
+        assert_eq!(
+            args(
+                &grid(
+                    &[one.clone(), zipped[0].clone(), zipped[1].clone()],
+                    Grid::Zip
+                )
+                .unwrap()
+            ),
+            ["c=7 a=1 b=x", "c=7 a=2 b=y"]
+        );
+        assert_eq!(
+            args(&grid(&[keys[1].clone(), one.clone()], Grid::Zip).unwrap()),
+            ["b=x c=7", "b=y c=7", "b=z c=7"]
+        );
+        assert_eq!(
+            args(&grid(std::slice::from_ref(&one), Grid::Zip).unwrap()),
+            ["c=7"]
+        );
+        let e = grid(&[one, keys[0].clone(), keys[1].clone()], Grid::Zip).unwrap_err();
+        assert!(e.contains("a has 2 values and b 3"), "{e}");
         let twice = vec![keys[0].clone(), keys[0].clone()];
         assert!(grid(&twice, Grid::Product)
             .unwrap_err()

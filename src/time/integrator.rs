@@ -1,5 +1,6 @@
 //! The integrator contract: what every time integrator of softway provides to the driver
-//! ([`crate::simulation`]), after MFEM's `ODESolver` (`Init`, then `Step`).
+//! ([`crate::simulation`]): set up once for a model and a step length, then a step per
+//! call (the structure of MFEM's `ODESolver`, `Init` then `Step`).
 //!
 //! # One step as one factored linear system
 //!

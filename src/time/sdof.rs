@@ -4,7 +4,7 @@
 //! For `m v' + k x = 0` with `Omega = omega h`, `omega^2 = k/m`, one step reads
 //!
 //! $$v_1 = \frac{1 - \Omega^2(\alpha - \alpha^2/2)}{1 + \alpha^2\Omega^2/2} v_0
-//!        - \frac{\omega\,\Omega}{1 + \alpha^2\Omega^2/2} x_0 \qquad \text{(Eq. 9)}$$
+//!        - \frac{\omega\\,\Omega}{1 + \alpha^2\Omega^2/2} x_0 \qquad \text{(Eq. 9)}$$
 //! $$x_1 = x_0 + h[(1-\beta) v_0 + \beta v_1] \qquad \text{(Eq. 10)}.$$
 //!
 //! In the scaled state `z = (omega x, v)` the step is `z1 = G(Omega) z0` with `G` depending

@@ -1,4 +1,4 @@
-//! The multi-degree-of-freedom space-time step (DESIGN §1, paper Eqs. 6-10, 18-24).
+//! The multi-degree-of-freedom space-time step (paper Eqs. 6-10, 18-24).
 //!
 //! For `M v' + C v + K u = f(t) + r` with velocity linear over `[t0, t0 + h]` and the
 //! virtual velocity a Dirac at `t0 + alpha h` (Eq. 8), the step is
@@ -41,7 +41,7 @@
 //! identity and lifting the prescribed values into `b`.
 //!
 //! **Velocity constraints** `c_p^T v_1 = g_p` (contact: a node's normal velocity) are imposed
-//! by Lagrange multipliers through the factored `A` (DESIGN §2):
+//! by Lagrange multipliers through the factored `A` ([`crate::contact::rows`]):
 //! `A v = b + C^T lambda`, `C v = g`, hence
 //! $$\lambda = (C A^{-1} C^T)^{-1} (g - C A^{-1} b),\qquad v = A^{-1} b + A^{-1} C^T \lambda.$$
 //! The columns `A^{-1} e_d` of the constrained nodes' dofs are computed once and cached while

@@ -9,15 +9,15 @@
 //! (`a` along the smaller relative curvature), eccentricity `e = sqrt(1 - b^2/a^2)`, with the
 //! semi-ellipsoidal pressure of peak `p0 = 3 P / (2 pi a b)`; K. L. Johnson, *Contact
 //! Mechanics*, Cambridge University Press 1985, §4.2, Eq. (4.39):
-//! $$A = \frac{p_0\,b}{E^* e^2 a^2}\big[K(e) - E(e)\big],\qquad
-//!   B = \frac{p_0\,b}{E^* e^2 a^2}\Big[\frac{a^2}{b^2}E(e) - K(e)\Big],\qquad
-//!   \delta = \frac{p_0\,b}{E^*}K(e),$$
+//! $$A = \frac{p_0\\,b}{E^\* e^2 a^2}\big[K(e) - E(e)\big],\qquad
+//!   B = \frac{p_0\\,b}{E^\* e^2 a^2}\Big[\frac{a^2}{b^2}E(e) - K(e)\Big],\qquad
+//!   \delta = \frac{p_0\\,b}{E^\*}K(e),$$
 //! with `K`, `E` the complete elliptic integrals of the first and second kind (modulus `e`)
 //! and `delta` the approach of the two bodies. The ratio `B / A` fixes `e` (solved by
 //! bisection); then `a^3 = 3 P (K - E) / (2 pi e^2 E* A)` and
 //! `delta = 3 P K / (2 pi a E*)`. Since `delta ∝ P^(2/3)`, the contact spring linearised
 //! about `P` is
-//! $$k_H = \frac{dP}{d\delta} = \frac{3P}{2\,\delta}.$$
+//! $$k_H = \frac{dP}{d\delta} = \frac{3P}{2\\,\delta}.$$
 //! (Written with an empirical constant `G` in `delta = G P^(2/3)`, as Jenkins et al. 1974 do
 //! for worn wheels and rails, the same derivative reads `k_H = 3/2 P^(1/3) / G`.) For a
 //! circle (`A = B = 1/(2R)`) this is `a^3 = 3 P R / (4 E*)`, `delta = a^2 / R` (Johnson

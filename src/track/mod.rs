@@ -1,4 +1,4 @@
-//! The track: a rail of beams on discrete pads, half-sleepers and ballast (DESIGN §7), its
+//! The track: a rail of beams on discrete pads, half-sleepers and ballast, its
 //! receptance ([`receptance`]), the wheel's Hertz spring on it ([`hertz`]) and a constant
 //! load moving along it ([`moving`]).
 //!

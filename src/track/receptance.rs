@@ -1,6 +1,6 @@
 //! The track's receptance: the rail's displacement per unit harmonic force, from the
 //! assembled `M`, `C`, `K` of the track ([`super::Track`]):
-//! $$\big(K - \omega^2 M + i\omega C\big)\,\hat u = N_w(x)\qquad
+//! $$\big(K - \omega^2 M + i\omega C\big)\\,\hat u = N_w(x)\qquad
 //!   \alpha(x, \omega) = N_w(x)^T \hat u\quad\text{(m/N)},$$
 //! with `N_w(x)` the beam's own deflection shape functions at the point `x` (a point between
 //! nodes is loaded and read through them). Each frequency is one complex sparse LU of the

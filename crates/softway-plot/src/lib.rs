@@ -21,6 +21,8 @@
 //!   panels (successive stages), each showing a nodal vector field
 //!   ([`MeshVectorField`]) as arrows over its magnitude colour map, with one
 //!   shared colour scale.
+//! * [`mode_shapes`]: a grid of panels, each a nodal displacement ([`ModeShape`], a mode
+//!   shape) drawn as the deformed mesh over the undeformed outline.
 //! * [`MeshOptions`] / [`EdgeMode`]: element edges and a fixed colour range
 //!   for the mesh plots.
 //! * [`PlotError`]: every function returns `Result<(), PlotError>`.
@@ -135,7 +137,7 @@ use std::path::{Path, PathBuf};
 
 use geom::Rect;
 use line::{draw_no_data, draw_panel, layout_panel, legend_keys, paint_panel, validate_panel};
-use mesh::{render_color_map, render_vector_fields};
+use mesh::{render_color_map, render_mode_shapes, render_vector_fields};
 use render::{render, save_png, Fail};
 use style::Sty;
 
@@ -304,6 +306,35 @@ pub struct MeshVectorField<'a> {
     /// obstacle in contact), cut to the panel.
     pub overlay: Vec<[[f64; 2]; 2]>,
     /// A note printed under the figure (the first frame's), e.g. an angle's convention.
+    pub note: String,
+}
+
+/// One panel of [`mode_shapes`]: a nodal displacement (a mode shape) on a 2-D triangle
+/// mesh, drawn as the deformed mesh over the undeformed outline.
+#[derive(Debug, Clone)]
+pub struct ModeShape<'a> {
+    /// Undeformed node coordinates (in the solver's length unit, e.g. metres).
+    pub points: &'a [[f64; 2]],
+    /// Triangles as node indices into `points`.
+    pub triangles: &'a [[usize; 3]],
+    /// The displacement of each node as it is to be drawn (already scaled for display), in
+    /// the unit of `points`; same length as `points`.
+    pub displacement: &'a [[f64; 2]],
+    /// Material lines drawn deformed (thin, dark), given in undeformed coordinates, e.g.
+    /// a few rings and spokes of a wheel so that a torsion shows: each point is carried by
+    /// the displacement interpolated linearly in the triangle that holds it (a point in no
+    /// triangle breaks its line).
+    pub lines: Vec<Vec<[f64; 2]>>,
+    /// Panel title, e.g. the mode's frequency and kind: two lines if it holds a `\n`
+    /// (each set smaller if it does not fit), else wrapped to two lines if needed.
+    pub title: String,
+    /// Factor applied to coordinates for the axes (non-positive means 1).
+    pub length_unit_scale: f64,
+    /// Name of the displayed length unit, e.g. `"cm"`.
+    pub length_unit: String,
+    /// Colour-bar label (the first panel's is used), e.g. `"|u| / max |u|"`.
+    pub colorbar_label: String,
+    /// A note printed under the figure (the first panel's), e.g. the displacement scale.
     pub note: String,
 }
 
@@ -497,5 +528,22 @@ pub fn mesh_vector_fields_with(
     opts: &MeshOptions,
 ) -> Result<(), PlotError> {
     let buf = render_vector_fields(frames, cols, size, opts).map_err(|f| f.at(path))?;
+    save_png(path, size, &buf)
+}
+
+/// Draws a grid (`cols` columns, 0 = automatic) of mode shapes, one per panel in row-major
+/// order: the undeformed outline (grey, dashed), the deformed mesh (its triangles coloured
+/// by the displacement's magnitude over that panel's largest, 0 to 1 on one shared colour
+/// bar, its element edges when they are large enough to see, its material lines and its
+/// outline dark). All panels
+/// share the axes extent (the union of the undeformed and deformed meshes) at an equal
+/// aspect ratio. The length unit, the colour-bar label and the note are the first panel's.
+pub fn mode_shapes(
+    path: &Path,
+    shapes: &[ModeShape],
+    cols: usize,
+    size: (u32, u32),
+) -> Result<(), PlotError> {
+    let buf = render_mode_shapes(shapes, cols, size).map_err(|f| f.at(path))?;
     save_png(path, size, &buf)
 }

@@ -1,4 +1,5 @@
-//! The right-hand side of the space-time step as an operator (paper Eqs. 18-19, DESIGN §1):
+//! The right-hand side of the space-time step as an operator (paper Eqs. 18-19;
+//! [`crate::time::step`]):
 //! `b = B v0 - h K u0 + h f`, with `B = M - (1 - alpha) h C - (alpha - alpha^2/2) h^2 K`,
 //! and with the Coriolis term on the right-hand side `- h G (v0 + alpha h a0)`
 //! ([`RhsOperator`]), formed by the tuned kernels (module `kernels`: rows by pairs, blocks

@@ -1,4 +1,4 @@
-//! Every key of a scenario is used or refused (issue 33): a table the kind does not read, a
+//! Every key of a scenario is used or refused: a table the kind does not read, a
 //! run's own setting its integrator, treatment or model does not use, and a top-level setting
 //! ([`SETTINGS`]) that no run uses (each run overrides it, or none runs the integrator or the
 //! treatment it belongs to) are refused with one line naming the file, the key and what it

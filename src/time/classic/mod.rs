@@ -15,8 +15,8 @@
 //! Writing the predictors `u* = u0 + h v0 + h^2 (1/2 - beta) a0`, `v* = v0 + h (1 - gamma) a0`,
 //! the unknown is the end acceleration `a1`:
 //! $$A a_1 = b,\qquad A = (1-\alpha_m) M + (1-\alpha_f)(\gamma h C + \beta h^2 K),$$
-//! $$b = (1-\alpha_f) f_1 + \alpha_f f_0 - \alpha_m M a_0 - C[\alpha_f v_0 + (1-\alpha_f) v^*]
-//!   \;-\; K[\alpha_f u_0 + (1-\alpha_f) u^*] + r,$$
+//! $$b = (1-\alpha_f) f_1 + \alpha_f f_0 - \alpha_m M a_0 - C[\alpha_f v_0 + (1-\alpha_f) v^\*]
+//!   \\;-\\; K[\alpha_f u_0 + (1-\alpha_f) u^\*] + r,$$
 //! then `u1 = u* + beta h^2 a1`, `v1 = v* + gamma h a1`.
 //!
 //! | method | `alpha_m` | `alpha_f` | `beta` | `gamma` |
