@@ -9,6 +9,10 @@
 //! (`m_i a(t)` per node), so the block's centre of mass obeys `m a_x = F - friction`
 //! whatever its (tiny) deformation. The tangent of the floor (normal `+y` turned by +90
 //! degrees) is `-x`.
+//!
+//! Every run ([`run`]) also asserts at every step that friction dissipates (issue 33): no
+//! pair's `slip_power` is negative and the friction energy never falls, beyond a round-off
+//! floor ([`dissipation_floor`]).
 
 use softway::assembly::{assemble_mass_stiffness, Assembler};
 use softway::contact::{FrictionLaw, HalfSpace, Obstacle, Pair, Plane, Restore, Treatment};
