@@ -9,6 +9,10 @@
 //! (`m_i a(t)` per node), so the block's centre of mass obeys `m a_x = F - friction`
 //! whatever its (tiny) deformation. The tangent of the floor (normal `+y` turned by +90
 //! degrees) is `-x`.
+//!
+//! Every run ([`run`]) also asserts at every step that friction dissipates (issue 33): no
+//! pair's `slip_power` is negative and the friction energy never falls, beyond a round-off
+//! floor ([`dissipation_floor`]).
 
 use softway::assembly::{assemble_mass_stiffness, Assembler};
 use softway::contact::{FrictionLaw, HalfSpace, Obstacle, Pair, Plane, Restore, Treatment};
@@ -151,7 +155,30 @@ fn block(
     }
 }
 
+/// The speed scale of the block's runs, m/s: no run here goes faster than 2 m/s.
+const V_REF: f64 = 10.0;
+
+/// The round-off floor of a pair's dissipation per unit friction force, m/s: a sticking
+/// pair's `slip_power / |F_t|` is its slip rate at the step's end, held at 0 by its row to
+/// the round-off of the rows' solve, `1e3 eps V_REF` (the residual measured here and on the
+/// wheel is 1-30 `eps` times the speed scale). With an elastic stick the stored energy's
+/// growth `(F^2 - F0^2) / (2 k_t h)` is subtracted: its round-off per unit force is `eps
+/// |F| / (k_t h)`, counted with the same factor.
+fn dissipation_floor(pb: &Problem) -> (f64, f64) {
+    let kt = match (pb.friction.map(|l| l.tangential_stiffness), pb.treatment) {
+        (Some(k), _) if k > 0.0 => k,
+        (_, Treatment::Penalty { stiffness }) => stiffness,
+        _ => f64::INFINITY,
+    };
+    (1e3 * f64::EPSILON * V_REF, 1e3 * f64::EPSILON / (kt * pb.h))
+}
+
+/// Runs the problem and asserts at every step that friction dissipates (issue 33): every
+/// pair's `slip_power >= 0` and the friction energy never decreases, to the round-off floor
+/// of [`dissipation_floor`].
 fn run(pb: Problem) -> Result<Trace, SimError> {
+    let (floor_v, floor_f) = dissipation_floor(&pb);
+    let h = pb.h;
     let n = pb.model.n();
     let mut nodal = vec![0.0; n];
     spmv_add(
@@ -162,9 +189,32 @@ fn run(pb: Problem) -> Result<Trace, SimError> {
         &mut nodal,
     );
     let mut sim = Simulation::new(pb)?;
-    let mut samples = Vec::new();
+    let mut samples: Vec<Sample> = Vec::new();
     let stats = sim.run(&AtomicBool::new(false), |view| {
         let s = view.state;
+        let mut allowed = 0.0;
+        for (p, ps) in s.pairs.iter().enumerate() {
+            let f = ps.tangential_force.abs();
+            let floor = f * (floor_v + f * floor_f);
+            assert!(
+                ps.slip_power >= -floor,
+                "t {}: pair {p} dissipates {:e} W (floor {floor:e} W, force {:e} N, sliding {})",
+                s.t,
+                ps.slip_power,
+                ps.tangential_force,
+                ps.sliding
+            );
+            allowed += floor * h;
+        }
+        if let Some(prev) = samples.last() {
+            assert!(
+                view.friction_dissipated >= prev.dissipated - allowed,
+                "t {}: the friction energy falls from {:e} to {:e} J",
+                s.t,
+                prev.dissipated,
+                view.friction_dissipated
+            );
+        }
         let (mut x, mut v) = (0.0, 0.0);
         for i in 0..n / 2 {
             x += nodal[2 * i] * s.u[2 * i];
@@ -273,7 +323,17 @@ fn ramp_sticks_below_mu_n_and_slides_with_the_exact_acceleration() {
 }
 
 /// Launched at 2 m/s along the plane, the block stops after `v0^2 / (2 mu g) = 2/3 m`, and
-/// friction dissipates the kinetic energy lost (500 J) less the small elastic energy left.
+/// friction dissipates the kinetic energy lost (500 J) less the small elastic energy left
+/// and less the kinetic energy of the impulses' velocity jumps. Friction dissipates
+/// `-F_t s_1 h` a step, on the slip rate at the step's end that its row holds
+/// (`softway::contact::treatment::record_friction`); the kinetic energy of a rigid block
+/// whose velocity the friction impulse `J = -mu m g h` changes, `m (v1 - v0) = J`, changes by
+/// `J (v0 + v1) / 2 = J v1 - J^2 / (2 m)`: each step loses `J^2 / (2 m)` beyond the
+/// friction's `-J v1`, over the `v0 / (mu g h)` steps of the slide `mu m g h v0 / 2`, the
+/// fraction `mu g h / v0` of the initial kinetic energy (0.6% at h = 4 ms, 0.15% at 1 ms).
+/// That is the scheme's, not friction's: the balance `(D - lost) / KE0` is asserted to be
+/// `-mu g h / v0` within 1e-3 (exact for the rigid block; the elastic block's bottom nodes
+/// slide together).
 #[test]
 fn launched_block_stops_after_v0_squared_over_2_mu_g_and_friction_dissipates_its_energy() {
     let exact = 4.0 / (2.0 * MU * G);
@@ -290,7 +350,11 @@ fn launched_block_stops_after_v0_squared_over_2_mu_g_and_friction_dissipates_its
             );
             assert!(err.abs() < 0.01, "{name} {h}: {err}");
             assert!(l.v.abs() < 1e-3, "{name} {h}: {}", l.v);
-            assert!(balance.abs() < 0.005, "{name} {h}: {balance}");
+            let impulses = -MU * G * h / 2.0;
+            assert!(
+                (balance - impulses).abs() < 1e-3,
+                "{name} {h}: {balance} (the impulses' {impulses})"
+            );
             assert_eq!(tr.stats.factorizations, 1);
         }
     }

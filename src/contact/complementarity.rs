@@ -276,7 +276,8 @@ impl Complementarity {
         for (i, row) in ctx.rows.rows().iter().enumerate() {
             let lam = ctx.rows.lambda()[i];
             if let RowKind::Bounded { .. } = row.kind {
-                let slip = (row.terms.dot(&ts.u) - row.terms.dot(&fs.u)) / h - self.wt[row.pair];
+                // The slip rate at t1 on which the row posed the law (the row's `y`).
+                let slip = row.terms.dot(&ts.v) - self.wt[row.pair];
                 let sliding = ctx.rows.is_sliding(i);
                 let spring = (kt, fs.pairs[row.pair].tangential_force);
                 record_friction(

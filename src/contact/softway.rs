@@ -48,7 +48,9 @@
 //! the tangential direction: only the relative normal velocity jumps at an impact (the
 //! tangential velocity is continuous, nothing to brake or to give back), so a braked pair
 //! carries no friction row and friction starts with the first held step. A released pair
-//! loses its friction row with its normal row.
+//! loses its friction row with its normal row. The dissipation recorded is the friction
+//! force times the slip rate at `t1` that the row holds, `-F_t s_1 >= 0`
+//! ([`super::treatment::record_friction`]).
 
 use super::context::{ContactError, Context};
 use super::friction::{spring_energy, stick_spring, FrictionLaw};
@@ -243,7 +245,8 @@ impl SoftWay {
                 dissipated: prev.dissipated,
             };
             if let Some((terms, wt)) = self.friction_row[p] {
-                let slip = (terms.dot(&ts.u) - terms.dot(&fs.u)) / h - wt;
+                // The slip rate at t1 on which the row posed the law (module docs, Friction).
+                let slip = terms.dot(&ts.v) - wt;
                 let force = self.lambda_t[p] * unit_force;
                 let kt = self.stick_stiffness();
                 let spring = (kt, prev.tangential_force);

@@ -33,7 +33,9 @@
 //! no friction row, and nothing tangential is braked or given back (the tangential motion is
 //! no impact: it is continuous through the arrival, and friction acts from the first held
 //! step on). A treatment records the tangential force, sliding flag, slip power and
-//! dissipated energy of each pair ([`PairState`], [`record_friction`]).
+//! dissipated energy of each pair ([`PairState`], [`record_friction`]): the power is that of
+//! the force on the slip rate at the step's end that the row holds, `-F_t s_1`, never
+//! negative (the mean slip of the step is not the row's and is not used).
 
 use super::context::{ContactError, Context};
 use super::friction::spring_energy;
@@ -235,11 +237,31 @@ pub enum Restore {
 }
 
 /// Records the friction of pair state `st` for a step of length `h`: the tangential force
-/// `force` (N), whether it slides, and the dissipation `-force s` (W) with `s` the mean slip
-/// velocity of the step (`(c_t.(u1 - u0))/h - w_t`, m/s), less the growth over the step of
-/// the energy in the stick's spring of stiffness `kt` from its force `f0` at the step start
-/// (0: a rigid stick; [`super::friction`]), added to the dissipated energy (`st.dissipated`
-/// holds the value at the start of the step on entry).
+/// `force` (N), whether it slides, and the dissipation (W) from `slip`, the slip rate at the
+/// step's end `s_1 = c_t.v1 - w_t` (m/s) with the row's own `c_t` and `w_t`, the quantity the
+/// friction row bounds ([`super::rows::RowKind::Bounded`]), added to the dissipated energy
+/// (`st.dissipated` holds the value at the start of the step on entry).
+///
+/// **The dissipation of the discrete law.** The friction impulse `lambda_t` of a step is the
+/// multiplier of a row on the end velocity `v1` (the space-time scheme's velocity unknown,
+/// Eqs. 18-24; the generalized-alpha family's rows likewise), so the law is Coulomb's at
+/// `t1`: `|lambda_t| <= mu lambda_n`, `s_1 = 0` inside the bound, `lambda_t s_1 <= 0` on it.
+/// Its dissipation is `D = -F_t s_1 h >= 0` per pair and step (the discrete form of the
+/// maximum dissipation principle: `-lambda_t s_1 = mu lambda_n |s_1|` sliding, 0 sticking).
+/// With an elastic stick (`kt > 0`, spring force `f0` at the step start; [`super::friction`])
+/// the growth of the spring's energy over the step is taken out: `D = -F_t s_1 h - (F_t^2 -
+/// f0^2)/(2 kt)`, which is `(F_t - f0)^2/(2 kt) >= 0` sticking (`s_1 h = -(F_t - f0)/kt`)
+/// and that plus `|F_t|` times the plastic slip sliding (the return mapping's dissipation).
+///
+/// The mean slip of the step, `c_t.(u1 - u0)/h - w_t`, is not this rate and not a
+/// dissipation: with `u1 = u0 + h[(1 - beta) v0 + beta v1]` (Eq. 10) it is `beta s_1 + (1 -
+/// beta)(c_t.v0 - w_t)`, and a node that stuck in the previous step has `c_t.v0` equal to
+/// that step's `w_t`, not this one's. On the rolling wheel the rail's tangential velocity
+/// seen from the wheel's frame changes with the distance from the axle (`-omega e.(x - c)`,
+/// [`super::RotatingLine`]) while a held node follows the turning base's normal motion
+/// (`omega s`), so `w_t` changes by about `omega^2 s h` per step and the mean read `(1 -
+/// beta)` of it as slip of every sticking node: a power of either sign, negative in the
+/// majority of the steps (issue 33).
 pub fn record_friction(
     st: &mut PairState,
     force: f64,

@@ -96,9 +96,12 @@ pub struct PairState {
     pub tangential_force: f64,
     /// Sliding (the friction force on the Coulomb bound) in the step that ended here.
     pub sliding: bool,
-    /// Frictional dissipation in the step that ended here, W: `-F_t s` with `F_t` the
-    /// tangential force and `s` the mean slip velocity of the step, `(c_t.(u1 - u0))/h - w_t`
-    /// (>= 0).
+    /// Frictional dissipation in the step that ended here, W: `-F_t s_1` with `F_t` the
+    /// tangential force and `s_1 = c_t.v1 - w_t` the slip rate at the step's end, the one
+    /// the friction row holds (stick: `s_1 = 0`; slip: `F_t` opposes `s_1`), less the
+    /// growth of an elastic stick's spring energy over `h`
+    /// ([`crate::contact::treatment::record_friction`]). `>= 0` by construction of the
+    /// discrete Coulomb law, but for the round-off residual `s_1` of a sticking pair.
     pub slip_power: f64,
     /// Energy dissipated by friction at this pair since the start, J (the sum of
     /// `slip_power h` over the final steps; it is part of the state, so a repeated step

@@ -117,6 +117,10 @@ pub struct TractionWatch {
     window_p: f64,
     window_samples: f64,
     friction_energy: f64,
+    /// The least `slip_power / |tangential_force|` of any pair at any step, m/s.
+    min_slip_speed: f64,
+    /// The largest decrease of the friction energy from one step to the next, J.
+    max_energy_drop: f64,
     history: Rows,
     stride: usize,
     /// The history rows kept for the figure, as envelopes of bounded size
@@ -158,6 +162,14 @@ pub struct TractionSummary {
     pub mean_slip_nodes: f64,
     /// Energy dissipated by friction over the run, J.
     pub friction_energy: f64,
+    /// The least slip speed that a pair's dissipation implies, `slip_power / |F_t|` over
+    /// every pair carrying a friction force at every step, m/s: the dissipation is `-F_t
+    /// s_1 >= 0` ([`crate::model::PairState::slip_power`]), so this is `>= 0` but for the
+    /// round-off residual `s_1` of a sticking pair (of order `1e-16 omega R`).
+    pub min_slip_speed: f64,
+    /// The largest decrease of the friction energy from one step to the next over the run,
+    /// J (0 when it never decreases: the sum of the pairs' round-off residuals at most).
+    pub max_friction_energy_drop: f64,
     /// Hertz half-width for the mean normal force, m.
     pub hertz_half_width: f64,
     /// Hertz peak pressure, Pa.
@@ -279,6 +291,8 @@ impl TractionWatch {
             window_p: 0.0,
             window_samples: 0.0,
             friction_energy: 0.0,
+            min_slip_speed: f64::INFINITY,
+            max_energy_drop: 0.0,
             history,
             stride: stride.max(1),
             series: std::array::from_fn(|_| Envelope::new(ENVELOPE_CAP, rows)),
@@ -401,6 +415,12 @@ impl TractionWatch {
             mean_stick_nodes: self.sum_stick / self.samples.max(1.0),
             mean_slip_nodes: self.sum_slip / self.samples.max(1.0),
             friction_energy: self.friction_energy,
+            min_slip_speed: if self.min_slip_speed.is_finite() {
+                self.min_slip_speed
+            } else {
+                0.0
+            },
+            max_friction_energy_drop: self.max_energy_drop,
             hertz_half_width: a,
             hertz_peak_pressure: p0,
             measured_half_width: half(&loaded),
@@ -423,6 +443,10 @@ impl Observer for TractionWatch {
         for ps in s.pairs {
             normal += ps.force;
             traction -= ps.tangential_force;
+            if ps.tangential_force != 0.0 {
+                let speed = ps.slip_power / ps.tangential_force.abs();
+                self.min_slip_speed = self.min_slip_speed.min(speed);
+            }
             if ps.held {
                 if ps.sliding {
                     slip += 1;
@@ -431,6 +455,8 @@ impl Observer for TractionWatch {
                 }
             }
         }
+        let drop = self.friction_energy - s.friction_dissipated;
+        self.max_energy_drop = self.max_energy_drop.max(drop);
         self.friction_energy = s.friction_dissipated;
         if s.k % self.stride == 0 {
             self.history.push(
