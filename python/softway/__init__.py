@@ -11,6 +11,9 @@ formulation, with Bajer's soft way, from Python.
 - :func:`sweep`: a parameter grid on any ``concurrent.futures.Executor`` (Dask's
   ``client.get_executor()`` included; by default a local Dask cluster), gathered into one
   xarray Dataset written as NetCDF.
+- :func:`grow_sweep`: growth studies over a grid (the polygon's growth at several speeds)
+  on any executor likewise, each study checkpointed in its own folder, the per-pass scalars
+  and band tables gathered into one xarray Dataset.
 
 The engine is the Rust crate ``softway`` (the same as the ``softway`` command line): the
 same scenario gives the same numbers here, bit for bit.
@@ -28,6 +31,7 @@ from ._result import TIMING_KEYS, FieldFrame, Fields, Result
 from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
 from ._growth import GrowthResult, Profile, grow
 from ._sweep import sweep
+from ._grow_sweep import grow_sweep
 
 __version__ = _native.__version__
 
@@ -45,6 +49,7 @@ __all__ = [
     "GrowthInterrupted",
     "Profile",
     "sweep",
+    "grow_sweep",
     "toml_literal",
     "TIMING_KEYS",
 ]

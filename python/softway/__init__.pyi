@@ -60,3 +60,14 @@ def sweep(
     out: Union[str, os.PathLike[str], None] = None,
     progress: bool = True,
 ) -> xarray.Dataset: ...
+def grow_sweep(
+    scenario: ScenarioLike,
+    grid: Mapping[str, Iterable[Any]],
+    *,
+    passes: Optional[int] = None,
+    grid_mode: str = "product",
+    executor: Union[Executor, str, None] = None,
+    out: Union[str, os.PathLike[str], None] = None,
+    resume: bool = False,
+    progress: bool = True,
+) -> xarray.Dataset: ...

@@ -218,21 +218,21 @@ def sweep(
     return ds
 
 
-def _progress(it, total: int, show: bool):
+def _progress(it, total: int, show: bool, desc: str = "sweep"):
     if not show:
         return it
     from tqdm.auto import tqdm
 
-    return tqdm(it, total=total, desc="sweep", unit="point", leave=False)
+    return tqdm(it, total=total, desc=desc, unit="point", leave=False)
 
 
-def _gather(futures: list, pts: list[dict], show: bool) -> list[dict]:
+def _gather(futures: list, pts: list[dict], show: bool, desc: str = "sweep") -> list[dict]:
     """The futures' results in submission order, waiting with a bar over completions; a
     future that failed outside :func:`run_point` (a worker lost, a task that could not be
     sent) is a failed point like any other."""
     from concurrent.futures import as_completed
 
-    for _ in _progress(as_completed(futures), len(futures), show):
+    for _ in _progress(as_completed(futures), len(futures), show, desc):
         pass
     results = []
     for f, p in zip(futures, pts):
