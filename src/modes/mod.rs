@@ -139,6 +139,17 @@ pub const ZERO_FREQUENCY_RATIO: f64 = 1e-6;
 /// eigenvalue, e.g. the `cos n theta` / `sin n theta` modes of a disk).
 pub const PAIR_TOLERANCE: f64 = 1e-6;
 
+/// Whether two rest modes of circular frequencies `w` and `wk` (rad/s) pair into a whirling
+/// pair on a disk spinning at `omega_frame` (rad/s): equal to [`PAIR_TOLERANCE`], or split
+/// by less than the spin's Coriolis coupling `2 |omega_frame|`. A mesh without the disk's
+/// rotational symmetry splits a doublet slightly (3e-4 of 6.4 kHz on `wheel.toml`'s graded
+/// disk, 12 rad/s); the spin at 300 rad/s still turns such a pair into a forward and a
+/// backward wave, while a split larger than the coupling leaves two standing modes.
+pub fn paired(w: f64, wk: f64, omega_frame: f64) -> bool {
+    let d = (w - wk).abs();
+    w > 0.0 && (d <= PAIR_TOLERANCE * w || d <= 2.0 * omega_frame.abs())
+}
+
 /// One natural mode at rest.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Mode {

@@ -515,7 +515,12 @@ pub fn spinning_modes_sparse(
             .unwrap_or(0);
         let fb = rest.get(best).map_or(0.0, |r| r.frequency_hz);
         let paired = rest.iter().enumerate().any(|(k, r)| {
-            k != best && fb > 0.0 && (r.frequency_hz - fb).abs() <= PAIR_TOLERANCE * fb
+            k != best
+                && super::paired(
+                    2.0 * std::f64::consts::PI * fb,
+                    2.0 * std::f64::consts::PI * r.frequency_hz,
+                    omega_frame,
+                )
         });
         let j = angular_momentum(asm, &lm.m, ure, uim, model.mesh.dim);
         let whirl = if !paired || omega_frame == 0.0 || j == 0.0 {

@@ -41,7 +41,7 @@ pub struct SpinMode {
     /// Index of that rest mode in the list of all rest modes of the model sorted by
     /// frequency, rigid modes included (`None` for a zero-frequency spinning mode).
     pub rest_index: Option<usize>,
-    /// Whether that rest mode is one of a pair of equal frequencies ([`PAIR_TOLERANCE`]).
+    /// Whether that rest mode is one of a pair that whirls ([`super::paired`]).
     pub paired: bool,
     /// Forward or backward whirl of a split pair, or standing.
     pub whirl: Whirl,
@@ -148,7 +148,7 @@ pub fn spinning_analysis(model: &WheelModel, count: usize) -> Result<SpinAnalysi
         let z = state.eigenvector(i)?;
         // q = y1 / a (the scale does not matter for the ratios below).
         let qre = z.subrows(0, free.len()).to_owned();
-        let (best, paired) = rest.nearest(qre.as_ref());
+        let (best, paired) = rest.nearest(qre.as_ref(), omega_frame);
         let wb = rest.w[best];
         let j = shape_angular_momentum(model, l.as_ref(), &free, qre, par);
         let whirl = if !paired || omega_frame == 0.0 || j == 0.0 {
@@ -214,7 +214,7 @@ impl RestModes {
 
     /// The rest mode with the largest share `|X^T q|^2` of `q = [Re q, Im q]`, and whether
     /// it is one of a pair of (nearly) equal frequencies.
-    fn nearest(&self, qre: MatRef<'_, f64>) -> (usize, bool) {
+    fn nearest(&self, qre: MatRef<'_, f64>, omega_frame: f64) -> (usize, bool) {
         let nf = self.w.len();
         // Share of each rest mode: |X^T q|^2.
         let proj = self.evd.U().transpose() * qre;
@@ -226,7 +226,7 @@ impl RestModes {
             })
             .unwrap_or(0);
         let wb = self.w[best];
-        let near = |k: usize| (self.w[k] - wb).abs() <= PAIR_TOLERANCE * wb;
+        let near = |k: usize| super::paired(wb, self.w[k], omega_frame);
         let paired = (best > 0 && near(best - 1)) || (best + 1 < nf && near(best + 1));
         (best, paired)
     }
