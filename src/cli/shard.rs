@@ -55,12 +55,13 @@ pub(super) fn shard_command(
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     outln!(
-        "{}: {key}, shard {}/{}: {} of {} values",
+        "{}: {key}, shard {}/{}: {} of {} values{}",
         sc.name,
         shard.index,
         shard.count,
         points.len(),
-        values.len()
+        values.len(),
+        super::incomplete_note(&points)
     );
     if points.is_empty() {
         outln!("  (no value falls in this shard)");
@@ -70,6 +71,7 @@ pub(super) fn shard_command(
     } else {
         print_table(&out.join("sweep.md"), &files);
     }
+    super::failed_points(scenario, &points)?;
     if cancel.is_cancelled() {
         return Ok(ExitCode::from(130));
     }
@@ -93,15 +95,17 @@ pub(super) fn gather_command(
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     outln!(
-        "{}: {} swept over {} values, gathered from {} shards",
+        "{}: {} swept over {} values, gathered from {} shards{}",
         m.name,
         m.key,
         points.len(),
-        m.of
+        m.of,
+        super::incomplete_note(&points)
     );
     print_table(&out.join("sweep.md"), &files);
     for p in &points {
         outln!("    {}/", p.dir.display());
     }
+    super::failed_points(&shards[0], &points)?;
     Ok(ExitCode::SUCCESS)
 }
