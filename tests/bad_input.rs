@@ -2058,3 +2058,119 @@ fn a_missing_scenario_path_is_named() {
     assert_nothing_written(&out);
     assert!(Path::new(&dir).exists());
 }
+
+// ---------------------------------------------------------------- issue 33: messages
+
+/// The shipped converged wheel (`scenarios/wheel.toml`: 288 rim nodes, a hub of 1 cm).
+fn hub_wheel_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/wheel.toml")).unwrap()
+}
+
+/// A hub that leaves the graded disk no room (its limit is `R (1 - 4 pi / N)` = 95.6 mm for
+/// 288 rim nodes) is the scenario's key, not the mesh generator's parameter.
+#[test]
+fn wheel_hub_without_room_names_the_key() {
+    let (c, e) = run_err(
+        "wheel_hub_without_room",
+        &hub_wheel_text().replace("hub_radius = 0.01 ", "hub_radius = 0.0999 "),
+    );
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "wheel_hub_without_room.toml",
+            "`wheel.hub_radius` = 0.0999",
+            "wheel.rim_nodes",
+            "0.095637",
+        ],
+    );
+    assert!(!e.contains("mesh parameter"), "{e}");
+}
+
+/// A wheel's step too long for the rim's passage names the key the step came from (the
+/// run's own `runs[0].h`, or `time.h`) and `rolling.omega`, never keys the wheel has not
+/// (`time.t_end`).
+#[test]
+fn wheel_step_too_long_names_the_key_it_came_from() {
+    let from_runs = wheel_text().replace("h = 2e-6", "") + "\n[[runs]]\nh = 0.05\n";
+    let (c, e) = run_err("wheel_step_from_runs", &from_runs);
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "wheel_step_from_runs.toml",
+            "`runs[0].h` = 5e-2",
+            "rolling.omega",
+            "rim node",
+        ],
+    );
+    assert!(!e.contains("time.h") && !e.contains("t_end"), "{e}");
+    let (c, e) = run_err(
+        "wheel_step_from_time",
+        &wheel_text().replace("h = 2e-6", "h = 2e-4"),
+    );
+    assert_one_line_error(
+        c,
+        &e,
+        &[
+            "wheel_step_from_time.toml",
+            "`time.h` = 2e-4",
+            "rolling.omega",
+        ],
+    );
+    assert!(!e.contains("runs[") && !e.contains("t_end"), "{e}");
+}
+
+/// A name with a NUL byte (no file may have one) is refused with the byte escaped: the
+/// message holds `\0`, never the raw byte.
+#[test]
+fn a_nul_byte_in_the_name_is_refused_and_shown_escaped() {
+    let (c, e) = run_err(
+        "name_nul",
+        &BAR.replace("kind =", "name = \"a\\u0000b\"\nkind ="),
+    );
+    assert_one_line_error(c, &e, &["name_nul.toml", "`name` = \"a\\0b\"", "NUL"]);
+    assert!(!e.contains('\0'), "{e:?}");
+}
+
+/// A name longer than a folder's name may be (255 bytes) is refused as the key `name`.
+#[test]
+fn a_name_longer_than_255_bytes_is_refused() {
+    let long = "n".repeat(256);
+    let (c, e) = run_err(
+        "name_256",
+        &BAR.replace("kind =", &format!("name = \"{long}\"\nkind =")),
+    );
+    assert_one_line_error(c, &e, &["name_256.toml", "`name`", "255 bytes", "256"]);
+}
+
+/// A sweep value whose point folder (`<key>=<value>`) would be longer than a folder's name
+/// may be is refused before any run, naming the key, with no temporary folder left (before:
+/// the run failed at the end naming the deleted staging folder).
+#[test]
+fn a_sweep_value_too_long_for_a_folder_name_is_refused_before_any_run() {
+    let p = scenario("sweep_long_value", BAR);
+    let out = p.with_extension("out");
+    let long = "x".repeat(250);
+    let o = cli([
+        "sweep".as_ref(),
+        p.as_os_str(),
+        "--set".as_ref(),
+        format!("description=a,{long}").as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_one_line_error(
+        o.code,
+        &o.stderr,
+        &[
+            "sweep_long_value.toml",
+            "description",
+            "folder",
+            "255",
+            "sweep shorter values",
+        ],
+    );
+    assert!(!o.stderr.contains("softway-tmp"), "{}", o.stderr);
+    assert_nothing_written(&out);
+}

@@ -28,6 +28,7 @@ fn run(bar: BarImpact, h: f64, restore: Restore) -> BarSummary {
         contact: Treatment::SoftWay { restore },
         friction: None,
         t_end,
+        step_key: "time.h".into(),
     };
     simulate(&r, None, 1, &Default::default()).unwrap().0
 }

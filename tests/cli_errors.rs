@@ -373,3 +373,49 @@ fn thousands_of_threads_are_refused() {
         assert_one_line_error(o.code, &o.stderr, &[flag, "20000", "at most 256"]);
     }
 }
+
+/// A name of 230 to 255 bytes is a legal folder name: the run writes `out/<name>` (the
+/// staging folder beside it has a short name of its own).
+#[test]
+fn names_up_to_255_bytes_name_the_output_folder() {
+    let dir = common::TestDir::new("cli", "long_names");
+    for n in [230, 255] {
+        let name = "n".repeat(n);
+        let p = dir.join(format!("long{n}.toml"));
+        std::fs::write(
+            &p,
+            BAR.replace("kind =", &format!("name = \"{name}\"\nkind =")),
+        )
+        .unwrap();
+        let o = softway()
+            .current_dir(&dir)
+            .args(["run", "--quiet"])
+            .arg(&p)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{n}: {o:?}");
+        assert!(dir.join("out").join(&name).join("summary.json").is_file());
+        for e in std::fs::read_dir(dir.join("out")).unwrap() {
+            let f = e.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(!f.contains("softway-tmp"), "left: {f}");
+        }
+    }
+}
+
+/// `cfl` alone sets the central difference's step (no `time.h` demanded); with a `time.h`
+/// beside it, the `time.h` it would override is refused by its key.
+#[test]
+fn cfl_alone_sets_the_step_and_an_overridden_h_is_refused() {
+    let cd = BAR
+        .replace("alpha = 0.8\n", "")
+        .replace("h = 0.1", "integrator = \"central_difference\"\ncfl = 0.5")
+        + "[contact]\nmethod = \"exact\"\n";
+    let p = scenario("cfl_alone", &cd);
+    let (_, s) = run_ok(&p);
+    // 8 elements of length 1/8, c = 1: the stable step 2/omega_max = 1/8 (lumped mass), half
+    // of it taken.
+    let h = s["runs"][0]["h"].as_f64().unwrap();
+    assert!((h - 0.0625).abs() < 1e-12, "h = {h}: {s}");
+    let (c, e) = run_err("cfl_and_h", &cd.replace("cfl = 0.5", "cfl = 0.5\nh = 0.01"));
+    assert_one_line_error(c, &e, &["cfl_and_h.toml", "`time.h` = 0.01", "time.cfl"]);
+}

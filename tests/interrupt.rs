@@ -151,7 +151,7 @@ fn sigint_and_sigterm_at_any_moment_leave_complete_results() {
 fn history_written(dir: &Path) -> bool {
     let staged = std::fs::read_dir(dir).into_iter().flatten().flatten();
     staged
-        .filter(|e| e.file_name().to_string_lossy().starts_with(".out."))
+        .filter(|e| e.file_name().to_string_lossy().starts_with(".softway-tmp-"))
         .flat_map(|e| std::fs::read_dir(e.path()).into_iter().flatten().flatten())
         .any(|f| {
             f.file_name().to_string_lossy().contains("history.csv")
@@ -225,7 +225,7 @@ fn sigkill_leaves_only_temporary_names_and_the_next_run_cleans_them() {
         for e in std::fs::read_dir(&dir).unwrap() {
             let name = e.unwrap().file_name().to_string_lossy().into_owned();
             assert!(
-                name == "long.toml" || name.starts_with(".out.softway-tmp-"),
+                name == "long.toml" || name.starts_with(".softway-tmp-"),
                 "{name}"
             );
         }
@@ -330,4 +330,111 @@ fn a_closed_stderr_is_not_a_panic() {
             .count(),
         4
     );
+}
+
+/// Runs `softway ARGS` (a sweep of `time.t_end` = 0.5, 60, 61 s over [`LONG_BAR`], one job:
+/// the points in order) and sends SIGINT once the first point is done; returns the exit
+/// status and standard error.
+fn interrupt_sweep(args: &[&std::ffi::OsStr]) -> (std::process::ExitStatus, String) {
+    let mut child = softway()
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Interrupt once the first point is done (its line on standard error) and the second
+    // has started, or after two minutes in any case.
+    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut seen = String::new();
+    let started = std::time::Instant::now();
+    while started.elapsed() < Duration::from_secs(120) {
+        let mut line = String::new();
+        if std::io::BufRead::read_line(&mut err, &mut line).unwrap() == 0 {
+            break;
+        }
+        seen.push_str(&line);
+        if line.contains("time.t_end = 0.5: done") {
+            break;
+        }
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    signal(child.id(), "-INT");
+    std::io::Read::read_to_string(&mut err, &mut seen).unwrap();
+    (child.wait().unwrap(), seen)
+}
+
+/// Asserts the table of the interrupted sweep in `out`: the first point `complete` with its
+/// figures, the other two `interrupted` with every figure cell empty (never the zeros of a
+/// run that did not happen), in `sweep.csv` and `sweep.md`.
+fn assert_interrupted_table(out: &Path) {
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    let col = |name: &str| {
+        rows[0]
+            .iter()
+            .position(|c| *c == name)
+            .unwrap_or_else(|| panic!("no column {name}: {csv}"))
+    };
+    let (status, steps, energy) = (col("status"), col("steps"), col("energy_final_J"));
+    assert_eq!(rows.len(), 4, "{csv}");
+    assert!(rows.iter().all(|r| r.len() == rows[0].len()), "{csv}");
+    assert_eq!(rows[1][status], "complete", "{csv}");
+    // The first point ran to t_end = 0.5 s at h = 2e-4: 2,500 steps.
+    assert_eq!(rows[1][steps], "2500", "{csv}");
+    assert!(rows[1][energy].parse::<f64>().unwrap() > 0.0, "{csv}");
+    for r in &rows[2..] {
+        assert_eq!(r[status], "interrupted", "{csv}");
+        assert!(
+            r.iter()
+                .enumerate()
+                .all(|(j, c)| j == 0 || j == status || c.is_empty()),
+            "{csv}"
+        );
+    }
+    let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
+    assert_eq!(md.matches("| interrupted |").count(), 2, "{md}");
+}
+
+/// SIGINT during `softway sweep`: the point that finished is `complete`, the one running and
+/// the one not started are `interrupted`, their figures left empty; exit 130. The point that
+/// ran wrote its (interrupted) summary, the one not started nothing. The same sweep as a
+/// shard (`--shard 1/1`), gathered: `softway gather` carries the column.
+#[test]
+fn sigint_during_a_sweep_marks_the_points_that_did_not_complete() {
+    let dir = TestDir::new("int", "sweep");
+    let sc = dir.join("long.toml");
+    std::fs::write(&sc, LONG_BAR).unwrap();
+    let out = dir.join("out");
+    let shard = dir.join("shard");
+    for (folder, extra) in [(&out, &[][..]), (&shard, &["--shard", "1/1"][..])] {
+        let mut args: Vec<&std::ffi::OsStr> = ["sweep", "--set", "time.t_end=0.5,60,61"]
+            .iter()
+            .chain(["--jobs", "1"].iter())
+            .chain(extra)
+            .map(std::ffi::OsStr::new)
+            .collect();
+        args.push(sc.as_os_str());
+        args.push("--out".as_ref());
+        args.push(folder.as_os_str());
+        let (status, err) = interrupt_sweep(&args);
+        assert_eq!(status.code(), Some(130), "{status:?}\n{err}");
+        assert_interrupted_table(folder);
+        let running: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(folder.join("time.t_end=60/summary.json")).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(running["interrupted"], true);
+        assert!(!folder.join("time.t_end=61").exists());
+    }
+    let gathered = dir.join("gathered");
+    let o = softway()
+        .arg("gather")
+        .arg(&shard)
+        .arg("--out")
+        .arg(&gathered)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{o:?}");
+    assert_interrupted_table(&gathered);
+    assert_no_temporaries(&dir);
 }

@@ -236,7 +236,10 @@ fn a_product_grid_in_three_shards_gathers_into_the_sweep() {
         .exists());
     let table = without_wall_time(&a.join("sweep.csv"));
     assert_eq!(table.len(), 5, "{table:?}");
-    assert_eq!(&table[0][..2], ["rolling.omega_rad_s", "rolling.flattening_m"]);
+    assert_eq!(
+        &table[0][..2],
+        ["rolling.omega_rad_s", "rolling.flattening_m"]
+    );
     // The rows in the grid's order: the speed outermost.
     let first_two: Vec<&str> = table[1..].iter().map(|r| r[0].as_str()).collect();
     assert_eq!(first_two, ["250.0", "250.0", "350.0", "350.0"]);

@@ -162,10 +162,13 @@ def sweep(
 
     Returns:
         ``xarray.Dataset`` indexed by the grid: every number of the points' summaries
-        (timings left out: the Dataset is the same bits whatever the executor), ``error``
-        (the message of a failed point, "" for the others, whose values are kept),
-        ``interrupted``, ``summary_json`` (the whole summary) and the histories asked for.
-        A failed point is also reported by a warning.
+        (timings left out: the Dataset is the same bits whatever the executor; NaN at a
+        point that did not complete, whose numbers are not results), ``status``
+        (``"complete"``, ``"interrupted"`` or ``"failed: <message>"``, as the ``status``
+        column of ``softway sweep``'s ``sweep.csv``), ``error`` (the message of a failed
+        point, "" for the others), ``interrupted``, ``summary_json`` (the whole summary,
+        as written, interrupted or not) and the histories asked for. A failed point is
+        also reported by a warning.
 
     Each point runs on one thread (as ``softway sweep`` does); the same values give the
     numbers of ``softway sweep``, bit for bit.
@@ -258,6 +261,7 @@ def _dataset(results, pts, values, mode, hist):
         shape = (len(pts),)
         coords = {k: ("point", np.asarray(values[k])) for k in keys}
     n = len(pts)
+    status = [_status(r) for r in results]
     # Every scalar number of any summary, in the order first met.
     names: list[str] = []
     for r in results:
@@ -269,9 +273,10 @@ def _dataset(results, pts, values, mode, hist):
         a = np.full(n, np.nan)
         for i, r in enumerate(results):
             v = (r["summary"] or {}).get(name)
-            if _is_number(v):
+            if _is_number(v) and status[i] == "complete":
                 a[i] = float(v)
         data[name] = (dims, a.reshape(shape))
+    data["status"] = (dims, np.asarray(status, dtype=object).reshape(shape))
     data["error"] = (dims, np.asarray([r["error"] or "" for r in results], dtype=object).reshape(shape))
     data["interrupted"] = (
         dims,
@@ -311,6 +316,16 @@ def _dataset(results, pts, values, mode, hist):
     ds.attrs["softway_grid_mode"] = mode
     ds.attrs["softway_failed_points"] = int(sum(1 for r in results if r["error"]))
     return ds
+
+
+def _status(r: Mapping[str, Any]) -> str:
+    """A point's status as ``softway sweep`` writes it: ``complete``, ``interrupted`` or
+    ``failed: <message>`` (on one line)."""
+    if r.get("error"):
+        return "failed: " + " ".join(str(r["error"]).splitlines())
+    if r.get("interrupted", False):
+        return "interrupted"
+    return "complete"
 
 
 def _is_number(v: Any) -> bool:

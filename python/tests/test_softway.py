@@ -265,6 +265,10 @@ def test_a_failing_point_is_reported_and_the_others_kept(one_turn, dask_executor
     assert np.isnan(ds["mean_contact_force"].values[1])
     assert np.all(ds["mean_contact_force"].values[[0, 2, 3]] > 5e5)
     assert ds.attrs["softway_failed_points"] == 1
+    # The status column of `softway sweep`'s sweep.csv, the same words.
+    st = ds["status"].values
+    assert list(st[[0, 2, 3]]) == ["complete"] * 3
+    assert st[1].startswith("failed: ScenarioError") and "\n" not in st[1]
 
 
 def test_grid_product_and_zip():

@@ -279,7 +279,11 @@ pub fn main() -> ExitCode {
     match try_main(cli, &cancel) {
         Ok(code) => code,
         Err(e) => {
-            errln!("softway: error: {e}");
+            // Never the staging folder (removed by now): the output folder asked for.
+            errln!(
+                "softway: error: {}",
+                crate::output::staging::public_message(&e.to_string())
+            );
             ExitCode::from(2)
         }
     }
@@ -510,19 +514,76 @@ fn sweep_command(
     stage.commit()?;
     let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
     outln!(
-        "{}: {} swept over {} points",
+        "{}: {} swept over {} points{}",
         sc.name,
         names.join(", "),
-        points.len()
+        points.len(),
+        incomplete_note(&points)
     );
     print_table(&out.join("sweep.md"), &files);
-    for d in dirs {
-        outln!("    {}/", d.display());
+    for (d, p) in dirs.iter().zip(&points) {
+        if d.exists() {
+            outln!("    {}/", d.display());
+        } else {
+            outln!("    {}/ ({})", d.display(), p.status);
+        }
     }
+    failed_points(scenario, &points)?;
     if cancel.is_cancelled() {
         return Ok(ExitCode::from(130));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// ` (N interrupted, M failed: ...)` after a sweep's count of points when some did not
+/// complete, else nothing.
+pub(super) fn incomplete_note(points: &[crate::run::sweep::SweepPoint]) -> String {
+    use crate::run::sweep::PointStatus;
+    let interrupted = points
+        .iter()
+        .filter(|p| p.status == PointStatus::Interrupted)
+        .count();
+    let failed = points
+        .iter()
+        .filter(|p| matches!(p.status, PointStatus::Failed(_)))
+        .count();
+    if interrupted + failed == 0 {
+        return String::new();
+    }
+    format!(
+        " ({interrupted} interrupted, {failed} failed: their rows say so in the status column, \
+         their figures are left empty)"
+    )
+}
+
+/// The error of a sweep some of whose points failed (exit 2, after the table is written):
+/// how many, and the first one's value and message.
+///
+/// # Errors
+/// When a point failed.
+pub(super) fn failed_points(
+    scenario: &Path,
+    points: &[crate::run::sweep::SweepPoint],
+) -> Result<(), String> {
+    use crate::run::sweep::PointStatus;
+    let failed: Vec<_> = points
+        .iter()
+        .filter_map(|p| match &p.status {
+            PointStatus::Failed(m) => Some((p, m)),
+            _ => None,
+        })
+        .collect();
+    match failed.first() {
+        None => Ok(()),
+        Some((p, m)) => Err(format!(
+            "{}: {} of {} points failed (the others are written; status column of sweep.csv); first: {}: {}",
+            scenario.display(),
+            failed.len(),
+            points.len(),
+            p.label(),
+            m.replace(['\n', '\r'], " ")
+        )),
+    }
 }
 
 /// The scenario of a sweep, its text, and the keys with their values of `--set` (or of

@@ -58,13 +58,14 @@ pub(super) fn shard_command(
     stage.commit()?;
     let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
     outln!(
-        "{}: {}, shard {}/{}: {} of {} points",
+        "{}: {}, shard {}/{}: {} of {} points{}",
         sc.name,
         names.join(", "),
         shard.index,
         shard.count,
         mine.len(),
-        points.len()
+        points.len(),
+        super::incomplete_note(&mine)
     );
     if mine.is_empty() {
         outln!("  (no point falls in this shard)");
@@ -74,6 +75,7 @@ pub(super) fn shard_command(
     } else {
         print_table(&out.join("sweep.md"), &files);
     }
+    super::failed_points(scenario, &mine)?;
     if cancel.is_cancelled() {
         return Ok(ExitCode::from(130));
     }
@@ -97,15 +99,17 @@ pub(super) fn gather_command(
     let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
     stage.commit()?;
     outln!(
-        "{}: {} swept over {} points, gathered from {} shards",
+        "{}: {} swept over {} points, gathered from {} shards{}",
         m.name,
         m.key_names(),
         points.len(),
-        m.of
+        m.of,
+        super::incomplete_note(&points)
     );
     print_table(&out.join("sweep.md"), &files);
     for p in &points {
         outln!("    {}/", p.dir.display());
     }
+    super::failed_points(&shards[0], &points)?;
     Ok(ExitCode::SUCCESS)
 }

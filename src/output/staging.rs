@@ -1,8 +1,10 @@
 //! Output folders written whole or not at all.
 //!
 //! A command never writes into its output folder directly: it writes into a fresh staging
-//! folder beside it (`.<name>.softway-tmp-<pid>-<n>`), and [`StagedDir::commit`] swaps it
-//! in at the end (the older folder, if any, is renamed aside and removed). So an output
+//! folder beside it (`.softway-tmp-<pid>-<n>`: a short name, so that an output folder may
+//! have any name the filesystem allows, up to [`NAME_MAX`] bytes), and [`StagedDir::commit`]
+//! swaps it in at the end (the older folder, if any, is renamed aside, as
+//! `.softway-old-<pid>-<n>`, and removed). So an output
 //! folder never mixes the files of an older run with those of a newer one, a failed run
 //! leaves the older results as they were, and a killed process leaves at most a folder
 //! under a temporary name (removed by the next command writing beside it).
@@ -20,12 +22,55 @@
 //! A target that is a symbolic link to a folder is written through: the folder it points to
 //! is the one replaced (by the same rules) and the link is kept, so the link shows the new
 //! results and no older results are left where it pointed. A link to nothing is refused.
+//!
+//! The staging folder is an implementation detail: [`public_message`] rewrites a message
+//! that names it (an error of a file written into it) to name the output folder instead,
+//! and every path in a message is shown with its control characters escaped.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The marker file of a folder written by softway (holds the version that wrote it).
 pub const MARKER: &str = ".softway";
+
+/// The longest name of a file or folder, bytes (`NAME_MAX` of Linux's filesystems, macOS's
+/// and Windows' 255 characters).
+pub const NAME_MAX: usize = 255;
+
+/// `path` as a message shows it: control characters (a NUL, a newline) escaped, so that an
+/// error stays one line and shows what was given.
+pub fn shown(path: &Path) -> String {
+    escape_controls(&path.to_string_lossy())
+}
+
+/// `text` with its control characters escaped (`\0`, `\n`, `\u{1b}`).
+pub fn escape_controls(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_debug().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// The staging folders made by this process and their output folders (kept after the
+/// staging folder is gone: an error is printed after the stage is dropped).
+static STAGED: std::sync::Mutex<Vec<(String, String)>> = std::sync::Mutex::new(Vec::new());
+
+/// `message` with every staging folder of this process it names replaced by its output
+/// folder (a user knows the folder they asked for; the staging folder is removed by the
+/// time the message is read).
+pub fn public_message(message: &str) -> String {
+    let staged = STAGED.lock().map(|v| v.clone()).unwrap_or_default();
+    let mut m = message.to_string();
+    for (staging, target) in staged.iter().rev() {
+        m = m.replace(staging.as_str(), target);
+    }
+    m
+}
 
 /// Files of older softway versions (before the marker) that mark a folder as softway's.
 const KNOWN_OUTPUTS: [&str; 6] = [
@@ -41,13 +86,13 @@ const KNOWN_OUTPUTS: [&str; 6] = [
 #[derive(Debug, thiserror::Error)]
 pub enum StagingError {
     /// The target exists and is not a folder.
-    #[error("--out {}: is a file, not a folder; give a folder to write into", .0.display())]
+    #[error("--out {}: is a file, not a folder; give a folder to write into", shown(.0))]
     NotAFolder(PathBuf),
     /// The target holds files that softway did not write.
     #[error(
         "--out {}: the folder exists and holds files not written by softway; \
          give another --out, or --force to replace the folder and everything in it",
-        .0.display()
+        shown(.0)
     )]
     Foreign(PathBuf),
     /// The target is, or holds, a folder never replaced (module docs).
@@ -55,7 +100,7 @@ pub enum StagingError {
         "--out {}: the folder is or holds {what} ({}); softway never replaces the current folder, \
          the home folder, the scenario's folder or a folder holding one of them, even with \
          --force: give a new folder",
-        .path.display(), .holds.display()
+        shown(.path), shown(.holds)
     )]
     Protected {
         /// The output folder asked for.
@@ -69,11 +114,11 @@ pub enum StagingError {
     #[error(
         "--out {}: is a symbolic link to {}, which does not exist; create that folder, or \
          give another --out",
-        .0.display(), .1.display()
+        shown(.0), shown(.1)
     )]
     DanglingLink(PathBuf, PathBuf),
     /// A folder cannot be created, read, renamed or removed.
-    #[error("--out {}: {what}: {source}", .path.display())]
+    #[error("--out {}: {what}: {source}", shown(.path))]
     Io {
         /// The output folder asked for.
         path: PathBuf,
@@ -146,6 +191,18 @@ impl StagedDir {
             })?
             .to_string_lossy()
             .into_owned();
+        if name.len() > NAME_MAX {
+            return Err(io(
+                &format!(
+                    "its name is {} bytes, more than the {NAME_MAX} a folder's name may have",
+                    name.len()
+                ),
+                std::io::Error::new(
+                    std::io::ErrorKind::InvalidInput,
+                    "give a shorter --out (or a shorter `name` in the scenario)",
+                ),
+            ));
+        }
         // The folder that would be replaced, canonical, checked (None: nothing there yet).
         let check = |path: &Path| -> Result<Option<PathBuf>, StagingError> {
             let Ok(link) = std::fs::symlink_metadata(path) else {
@@ -220,11 +277,17 @@ impl StagedDir {
         remove_stale(&parent, &name);
         static SERIAL: AtomicU64 = AtomicU64::new(0);
         let staging = parent.join(format!(
-            ".{name}.softway-tmp-{}-{}",
+            ".softway-tmp-{}-{}",
             std::process::id(),
             SERIAL.fetch_add(1, Ordering::Relaxed)
         ));
         std::fs::create_dir(&staging).map_err(|e| io("cannot create a folder beside it", e))?;
+        if let Ok(mut v) = STAGED.lock() {
+            v.push((
+                staging.to_string_lossy().into_owned(),
+                target.to_string_lossy().into_owned(),
+            ));
+        }
         let dir = StagedDir {
             target: target.to_path_buf(),
             real,
@@ -363,8 +426,10 @@ fn replaceable(dir: &Path) -> std::io::Result<bool> {
     Ok(empty)
 }
 
-/// Removes staging and set-aside folders of `name` in `parent` left by processes that no
-/// longer run (killed, e.g. by SIGKILL). Only where `/proc` tells which processes run.
+/// Removes staging and set-aside folders in `parent` left by processes that no longer run
+/// (killed, e.g. by SIGKILL): `.softway-tmp-<pid>-<n>`, `.softway-old-<pid>-<n>`, and those
+/// of `name` as older versions named them (`.<name>.softway-tmp-<pid>-<n>`). Only where
+/// `/proc` tells which processes run.
 fn remove_stale(parent: &Path, name: &str) {
     let proc = Path::new("/proc/self");
     if !proc.exists() {
@@ -375,9 +440,10 @@ fn remove_stale(parent: &Path, name: &str) {
     };
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
-        let rest = [".softway-tmp-", ".softway-old-"]
-            .iter()
-            .find_map(|k| file.strip_prefix(&format!(".{name}{k}")));
+        let rest = [".softway-tmp-", ".softway-old-"].iter().find_map(|k| {
+            file.strip_prefix(*k)
+                .or_else(|| file.strip_prefix(&format!(".{name}{k}")))
+        });
         let Some(pid) = rest.and_then(|r| r.split('-').next()?.parse::<u32>().ok()) else {
             continue;
         };
@@ -536,13 +602,62 @@ mod tests {
     #[test]
     fn stale_folders_of_dead_processes_are_removed() {
         let d = tmp("stale");
-        // No process has pid 4294967295 (above pid_max).
-        let stale = d.join(".out.softway-tmp-4294967295-0");
-        std::fs::create_dir_all(&stale).unwrap();
+        // No process has pid 4294967295 (above pid_max): its folders, named as now and as
+        // older versions named them, are removed; a live process's (this one's) are kept.
+        let stale = [
+            d.join(".softway-tmp-4294967295-0"),
+            d.join(".softway-old-4294967295-3"),
+            d.join(".out.softway-tmp-4294967295-0"),
+        ];
+        let live = d.join(format!(".softway-tmp-{}-999999", std::process::id()));
+        for f in stale.iter().chain([&live]) {
+            std::fs::create_dir_all(f).unwrap();
+        }
         let s = StagedDir::begin(&d.join("out"), false).unwrap();
         if Path::new("/proc/self").exists() {
-            assert!(!stale.exists());
+            assert!(stale.iter().all(|f| !f.exists()));
         }
+        assert!(live.exists());
         s.commit().unwrap();
+    }
+
+    #[test]
+    fn a_name_of_255_bytes_is_staged_and_one_longer_refused() {
+        let d = tmp("long");
+        let ok = d.join("n".repeat(NAME_MAX));
+        let s = StagedDir::begin(&ok, false).unwrap();
+        // The staging folder's name is short whatever the target's.
+        let staged = s.path().file_name().unwrap().len();
+        assert!(staged < 40, "{}", s.path().display());
+        std::fs::write(s.path().join("a.txt"), "a").unwrap();
+        s.commit().unwrap();
+        assert!(ok.join("a.txt").is_file());
+        let e = StagedDir::begin(&d.join("n".repeat(NAME_MAX + 1)), false).unwrap_err();
+        let m = e.to_string();
+        assert!(m.contains("256 bytes") && m.contains("255"), "{m}");
+        assert_eq!(entries(&d), ["n".repeat(NAME_MAX)]);
+    }
+
+    #[test]
+    fn messages_name_the_output_folder_not_the_staging_folder() {
+        let d = tmp("public");
+        let out = d.join("results");
+        let s = StagedDir::begin(&out, false).unwrap();
+        let inside = s.path().join("history.csv");
+        let m = format!("cannot write {}: disk full", inside.display());
+        drop(s);
+        assert_eq!(
+            public_message(&m),
+            format!(
+                "cannot write {}: disk full",
+                out.join("history.csv").display()
+            )
+        );
+        // Control characters in a path are shown escaped, on one line.
+        let e = StagingError::NotAFolder(PathBuf::from("a\nb\0c"));
+        assert_eq!(
+            e.to_string(),
+            "--out a\\nb\\0c: is a file, not a folder; give a folder to write into"
+        );
     }
 }

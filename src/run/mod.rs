@@ -187,8 +187,14 @@ pub fn run(scenario: &Scenario, options: &RunOptions) -> Result<Results, RunErro
 /// [`RunError`].
 pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
-    let results = record(sc, opts, Some(out))?;
-    let mut files = results.save(out)?;
+    // A run that fails (the divergence guard, a singular step) or whose results cannot be
+    // written names the scenario file too.
+    let named = |e: RunError| match e {
+        RunError::Simulation { .. } | RunError::Output { .. } => RunError::input(&sc.path, e),
+        e => e,
+    };
+    let results = record(sc, opts, Some(out)).map_err(named)?;
+    let mut files = results.save(out).map_err(named)?;
     files.push(write_scenario_copy(sc, out)?);
     Ok(RunReport {
         lines: results.lines,

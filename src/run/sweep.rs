@@ -29,6 +29,68 @@ pub struct SweepPoint {
     pub summary: serde_json::Value,
     /// Its run's warnings ([`super::RunReport::warnings`]).
     pub warnings: Vec<String>,
+    /// Whether its run completed: the table's `status` column; the figures of a point
+    /// that did not complete are left empty in the table and out of the plot.
+    pub status: PointStatus,
+}
+
+/// How a sweep's point ended (the table's `status` column).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PointStatus {
+    /// The run reached its end: its figures are results.
+    Complete,
+    /// Stopped (SIGINT, SIGTERM) before its end, or not started: its figures are not
+    /// results.
+    Interrupted,
+    /// The run failed (the divergence guard, an output error): the message.
+    Failed(String),
+}
+
+impl PointStatus {
+    /// [`PointStatus::Complete`] or [`PointStatus::Interrupted`] as a point's
+    /// `summary.json` records it (its `interrupted` flag; a summary without the flag is an
+    /// older one, written only at a run's end).
+    pub fn of_summary(summary: &serde_json::Value) -> Self {
+        if summary["interrupted"].as_bool() == Some(true) {
+            Self::Interrupted
+        } else {
+            Self::Complete
+        }
+    }
+
+    /// True for [`PointStatus::Complete`].
+    pub fn is_complete(&self) -> bool {
+        *self == Self::Complete
+    }
+}
+
+impl std::fmt::Display for PointStatus {
+    /// `complete`, `interrupted` or `failed: <message>` (one line).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Complete => f.write_str("complete"),
+            Self::Interrupted => f.write_str("interrupted"),
+            Self::Failed(m) => write!(f, "failed: {}", m.replace(['\n', '\r'], " ")),
+        }
+    }
+}
+
+impl std::str::FromStr for PointStatus {
+    type Err = String;
+
+    /// The inverse of `Display`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "complete" => Ok(Self::Complete),
+            "interrupted" => Ok(Self::Interrupted),
+            _ => s
+                .strip_prefix("failed: ")
+                .map(|m| Self::Failed(m.to_string()))
+                .ok_or_else(|| {
+                    format!("status `{s}`: expected complete, interrupted or failed: MESSAGE")
+                }),
+        }
+    }
 }
 
 impl SweepPoint {
@@ -91,11 +153,15 @@ pub fn run_ladder(
 /// Validates and builds the scenario text at `path` for every point (its overrides written
 /// into the text as `--set` writes them; all before any run starts), then runs them in
 /// parallel (rayon, in the caller's pool; each run on one thread, [`Par::Seq`]) into
-/// `out/<key>=<value>,.../`; returns the points in their order. `cancel` stops every run at
-/// its next step.
+/// `out/<key>=<value>,.../`; returns the points in their order, each with its
+/// [`PointStatus`]. `cancel` stops every run at its next step; a point not started by then
+/// is not run (interrupted, no folder). A run that fails is that point's status (its
+/// message naming files relative to `out`), not an error of the sweep: the other points
+/// go on.
 ///
 /// # Errors
-/// [`SweepError`].
+/// [`SweepError`]: a point that cannot be set or built (before any run starts), `out` not
+/// created.
 pub fn run_points(
     path: &Path,
     text: &str,
@@ -119,7 +185,16 @@ pub fn run_points(
                 .join(","),
             message,
         };
-        if !dirs.insert(point_dir_name(sets)) {
+        let name = point_dir_name(sets);
+        if name.len() > crate::output::staging::NAME_MAX {
+            return Err(bad(format!(
+                "{}: the point's folder `<key>=<value>` would have a name of {} bytes, more than the {} a folder's name may have: sweep shorter values",
+                path.display(),
+                name.len(),
+                crate::output::staging::NAME_MAX
+            )));
+        }
+        if !dirs.insert(name) {
             return Err(bad("given twice: give every value once".into()));
         }
         let sc = read_with(text, path, sets)
@@ -136,39 +211,60 @@ pub fn run_points(
         cancel: cancel.clone(),
         ..RunOptions::default()
     };
-    let results: Vec<Result<SweepPoint, SweepError>> = scs
+    let results: Vec<SweepPoint> = scs
         .par_iter()
         .map(|(sets, sc)| {
             let dir = out.join(point_dir_name(sets));
-            let rep = run_scenario(sc, &dir, &opts)?;
-            let sj = dir.join("summary.json");
-            let summary = std::fs::read_to_string(&sj)
-                .ok()
-                .and_then(|s| serde_json::from_str(&s).ok())
-                .unwrap_or(serde_json::Value::Null);
-            crate::output::note(format_args!(
-                "  {}: done{}",
-                point_label(sets),
-                if rep.interrupted {
-                    " (interrupted)"
-                } else {
-                    ""
-                }
-            ));
-            Ok(SweepPoint {
+            let mut point = SweepPoint {
                 sets: sets.clone(),
                 value: sets
                     .iter()
                     .map(|o| o.value.as_str())
                     .collect::<Vec<_>>()
                     .join(","),
-                dir,
-                summary,
-                warnings: rep.warnings,
-            })
+                dir: dir.clone(),
+                summary: serde_json::Value::Null,
+                warnings: Vec::new(),
+                status: PointStatus::Interrupted,
+            };
+            if cancel.is_cancelled() {
+                crate::output::note(format_args!("  {}: not started", point_label(sets)));
+                return point;
+            }
+            match run_scenario(sc, &dir, &opts) {
+                Ok(rep) => {
+                    point.summary = std::fs::read_to_string(dir.join("summary.json"))
+                        .ok()
+                        .and_then(|s| serde_json::from_str(&s).ok())
+                        .unwrap_or(serde_json::Value::Null);
+                    point.warnings = rep.warnings;
+                    point.status = if rep.interrupted {
+                        PointStatus::Interrupted
+                    } else {
+                        PointStatus::Complete
+                    };
+                }
+                Err(e) => {
+                    // Paths inside the sweep's folder named from it (the folder may be a
+                    // staging folder renamed at the end); what the run wrote before it
+                    // failed is not a result.
+                    let m = e.to_string().replace(&format!("{}/", out.display()), "");
+                    point.status = PointStatus::Failed(m);
+                    let _ = std::fs::remove_dir_all(&dir);
+                }
+            }
+            crate::output::note(format_args!(
+                "  {}: {}",
+                point_label(sets),
+                match &point.status {
+                    PointStatus::Complete => "done".to_string(),
+                    s => s.to_string(),
+                }
+            ));
+            point
         })
         .collect();
-    results.into_iter().collect()
+    Ok(results)
 }
 
 /// The folder of one point, `<key>=<value>,<key>=<value>` (quotes trimmed, path separators
@@ -211,10 +307,7 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
         .first()
         .map(|p| p.sets.iter().map(|o| o.key.clone()).collect())
         .unwrap_or_default();
-    // Table: the key figures (wheel), or every scalar number of the summaries.
-    let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
-    // With friction: the traction figures (nested in the summary's `traction`).
-    let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
+    let (is_wheel, with_traction) = model_of(points);
     let cols = table_columns(points, is_wheel, with_traction);
     let mut files = write_tables(out, &keys, &cols, points)?;
     // Fig. 15 for wheels, over the one key that varies.
@@ -229,18 +322,44 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
         return Ok(files);
     };
     let key = keys[i].as_str();
-    let xs: Vec<f64> = points
+    let x_of = |p: &SweepPoint| p.sets[i].value.trim_matches('"').parse::<f64>().ok();
+    if points.iter().any(|p| x_of(p).is_none()) {
+        return Ok(files);
+    }
+    // The figures draw the points that completed; the others are marked where they are
+    // (a dashed line) and named in a note, never drawn as values.
+    let shown: Vec<SweepPoint> = points
         .iter()
-        .filter_map(|p| p.sets[i].value.trim_matches('"').parse::<f64>().ok())
+        .filter(|p| p.status.is_complete())
+        .cloned()
         .collect();
-    if with_traction && key == "rolling.creepage" && xs.len() == points.len() {
-        files.extend(creep_curve(out, points, &xs)?);
-    } else if is_wheel && xs.len() == points.len() {
+    let xs: Vec<f64> = shown.iter().filter_map(x_of).collect();
+    let left_out: Vec<(f64, &PointStatus, &str)> = points
+        .iter()
+        .filter(|p| !p.status.is_complete())
+        .filter_map(|p| Some((x_of(p)?, &p.status, p.sets[i].value.as_str())))
+        .collect();
+    if shown.is_empty() {
+        return Ok(files);
+    }
+    let mark = |panel: &mut Panel, to_axis: &dyn Fn(f64) -> f64| {
+        mark_left_out(panel, key, &left_out, to_axis);
+    };
+    if with_traction && key == "rolling.creepage" {
+        files.extend(creep_curve(out, &shown, &xs, &|p| mark(p, &|x| x))?);
+    } else if is_wheel {
         let png = out.join("sweep.png");
-        let panes = [
-            oscillations_panel(key, points, &xs),
-            force_panel(key, points, &xs),
+        // The axis of a sweep of omega is the speed: omega's points at the same scale.
+        let (axis, _) = sweep_axis(key, &shown, &xs);
+        let scale = axis[0] / xs[0];
+        let to_axis = |x: f64| if scale.is_finite() { x * scale } else { x };
+        let mut panes = [
+            oscillations_panel(key, &shown, &xs),
+            force_panel(key, &shown, &xs),
         ];
+        for p in &mut panes {
+            mark(p, &to_axis);
+        }
         panels(&png, &panes, 2, 1, (1200, 1100)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
     }
@@ -353,6 +472,53 @@ pub fn key_column(key: &str) -> String {
         .map_or_else(|| key.to_string(), |(k, u)| format!("{k}_{u}"))
 }
 
+/// Marks the points of a sweep that did not complete on a panel: a dashed vertical line
+/// at each (`to_axis` maps the swept value to the panel's x) and a note naming them.
+fn mark_left_out(
+    panel: &mut Panel,
+    key: &str,
+    left_out: &[(f64, &PointStatus, &str)],
+    to_axis: &dyn Fn(f64) -> f64,
+) {
+    if left_out.is_empty() {
+        return;
+    }
+    for (x, status, _) in left_out {
+        let what = match status {
+            PointStatus::Failed(_) => "failed run (no result)",
+            _ => "interrupted run (no result)",
+        };
+        panel.vlines.push((to_axis(*x), what.to_string()));
+    }
+    let names: Vec<String> = left_out
+        .iter()
+        .map(|(_, s, v)| match s {
+            PointStatus::Failed(_) => format!("{v} (failed)"),
+            _ => format!("{v} ({s})"),
+        })
+        .collect();
+    let note = format!(
+        "Not drawn: {key} = {}: these runs did not complete (status column of sweep.csv).",
+        names.join(", ")
+    );
+    panel.note = if panel.note.is_empty() {
+        note
+    } else {
+        format!("{} {note}", panel.note)
+    };
+}
+
+/// Whether the points are wheels, and wheels with friction, by the summaries they have (a
+/// point that failed or was not started has none): the table's key figures (wheel), or
+/// every scalar number of the summaries; with friction the traction figures (nested in the
+/// summary's `traction`).
+fn model_of(points: &[SweepPoint]) -> (bool, bool) {
+    let run: Vec<&SweepPoint> = points.iter().filter(|p| p.summary.is_object()).collect();
+    let is_wheel = !run.is_empty() && run.iter().all(|p| p.summary["kind"] == "wheel");
+    let with_traction = is_wheel && run.iter().all(|p| p.summary["traction"].is_object());
+    (is_wheel, with_traction)
+}
+
 /// The table's columns: the wheel's key figures (and with friction its traction figures,
 /// `traction/...`), or every scalar number of the summaries of other models.
 fn table_columns(points: &[SweepPoint], is_wheel: bool, with_traction: bool) -> Vec<String> {
@@ -436,8 +602,9 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-/// Writes the table, a row per point (a column per swept key, then the figures), as
-/// `sweep.csv` and `sweep.md` into `out`.
+/// Writes the table, a row per point (a column per swept key, the point's `status`
+/// ([`PointStatus`]), then the figures: empty cells for a point that did not complete, whose
+/// numbers are not results), as `sweep.csv` and `sweep.md` into `out`.
 fn write_tables(
     out: &Path,
     keys: &[String],
@@ -445,9 +612,11 @@ fn write_tables(
     points: &[SweepPoint],
 ) -> Result<Vec<PathBuf>, RunError> {
     let mut files = Vec::new();
+    let status = ["status".to_string()];
     let head: Vec<String> = keys
         .iter()
         .map(|k| key_column(k))
+        .chain(status.iter().cloned())
         .chain(cols.iter().map(|c| column_name(c).to_string()))
         .collect();
     let mut csv = format!("{}\n", head.join(","));
@@ -461,11 +630,19 @@ fn write_tables(
             .sets
             .iter()
             .map(|o| o.value.clone())
-            .chain(cols.iter().map(|c| table_cell(p, c)))
+            .chain([p.status.to_string()])
+            .chain(cols.iter().map(|c| {
+                if p.status.is_complete() {
+                    table_cell(p, c)
+                } else {
+                    String::new()
+                }
+            }))
             .collect();
         let quoted: Vec<String> = row.iter().map(|c| csv_field(c)).collect();
         let _ = writeln!(csv, "{}", quoted.join(","));
-        let _ = writeln!(md, "| {} |", row.join(" | "));
+        let md_row: Vec<String> = row.iter().map(|c| c.replace('|', "\\|")).collect();
+        let _ = writeln!(md, "| {} |", md_row.join(" | "));
     }
     for (name, body) in [("sweep.csv", csv), ("sweep.md", md)] {
         let f = out.join(name);
@@ -653,7 +830,12 @@ fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
 /// and `xi0` in both references: `creepage` on the rolling radius `rho = R_s - d` (the
 /// scenario's `rolling.creepage`), `creepage_undeformed` on the undeformed radius `R_s`
 /// (Carter's, Kalker's and the half-space codes': their rigid velocity is `omega R`).
-fn creep_curve(out: &Path, points: &[SweepPoint], xs: &[f64]) -> Result<Vec<PathBuf>, SweepError> {
+fn creep_curve(
+    out: &Path,
+    points: &[SweepPoint],
+    xs: &[f64],
+    mark: &dyn Fn(&mut Panel),
+) -> Result<Vec<PathBuf>, SweepError> {
     use crate::run::wheel::traction::carter_traction_ratio;
     let num = |p: &SweepPoint, k: &str| {
         p.summary
@@ -731,6 +913,7 @@ fn creep_curve(out: &Path, points: &[SweepPoint], xs: &[f64]) -> Result<Vec<Path
     }
     panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
     panel.y_range = Some((-1.15, 1.15));
+    mark(&mut panel);
     let png = out.join("creep_curve.png");
     panels(&png, &[panel], 1, 1, (1100, 700)).map_err(|e| RunError::output(&png, e))?;
     // The creepage referred to the undeformed radius (the half-space codes' and Carter's
@@ -821,6 +1004,7 @@ mod tests {
             dir: PathBuf::new(),
             summary: serde_json::json!({"kind": "wheel", "traction": {}}),
             warnings: Vec::new(),
+            status: PointStatus::Complete,
         };
         for c in table_columns(&[point], true, true) {
             let name = column_name(&c);

@@ -1010,8 +1010,9 @@ fn step_adequacy(
         return Err(RunError::input(
             &sc.path,
             format!(
-                "run `{}`: the step `time.h` (or `runs[].h`) = {h:e} s is longer than half a rim node's passage under the base ({t_pass:.3e} s: {passing} rim nodes at omega = {} rad/s): the contact would jump nodes between steps; take h <= {:.3e} s",
+                "run `{}`: the step `{}` = {h:e} s is longer than half a rim node's passage under the base ({t_pass:.3e} s: {passing} rim nodes at `rolling.omega` = {} rad/s): the contact would jump nodes between steps; take h <= {:.3e} s",
                 run.label,
+                run.step_key,
                 ws.spec.omega,
                 t_pass / STEPS_PER_PASSAGE_MIN
             ),

@@ -478,6 +478,9 @@ pub struct Run {
     pub friction: Option<FrictionLaw>,
     /// End time, s.
     pub t_end: f64,
+    /// The key the step comes from (`time.h`, `runs[1].h`, `time.cfl`, ...), for messages
+    /// about the step.
+    pub step_key: String,
 }
 
 /// The contact treatment of a run.
@@ -523,6 +526,9 @@ pub struct RunSpec {
     pub friction: Option<FrictionLaw>,
     /// End time, s.
     pub t_end: f64,
+    /// The key the step comes from (`time.h`, `runs[1].h`, `time.cfl`, ...), for messages
+    /// about the step.
+    pub step_key: String,
 }
 
 impl RunSpec {

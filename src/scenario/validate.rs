@@ -58,14 +58,20 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
     } = raw;
     let growth = crate::growth::config::validate(growth, wear, path)?;
     let name = match name {
-        Some(n) if !n.trim().is_empty() && !n.contains(['/', '\\']) && n != "." && n != ".." => {
+        Some(n)
+            if !n.trim().is_empty()
+                && !n.contains(['/', '\\', '\0'])
+                && n != "."
+                && n != ".."
+                && n.len() <= crate::output::staging::NAME_MAX =>
+        {
             n
         }
         Some(n) => {
             return Err(cx.invalid(
                 "name",
-                format!("\"{n}\""),
-                "must be a non-empty name without slashes, not \".\" or \"..\" (it names the output folder out/<name>)",
+                format!("\"{}\"", n.escape_debug()),
+                &format!("must be a non-empty name of at most {} bytes (this one: {}) without slashes or NUL, not \".\" or \"..\" (it names the output folder out/<name>)", crate::output::staging::NAME_MAX, n.len()),
             ))
         }
         None => path

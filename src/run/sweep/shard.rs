@@ -10,7 +10,9 @@
 //! points `k` (0-based) with `k mod N = I - 1`: neighbouring points, whose runs cost about
 //! the same, fall into different slices, so the slices take about equal times.
 
-use super::{point_dir_name, run_points, write_sweep, Override, SweepError, SweepPoint};
+use super::{
+    point_dir_name, run_points, write_sweep, Override, PointStatus, SweepError, SweepPoint,
+};
 use crate::output::files::write_json;
 use crate::run::{Cancel, RunError};
 use crate::scenario::overrides::{grid, Grid};
@@ -86,6 +88,11 @@ pub struct Manifest {
     pub of: usize,
     /// This slice's points: `(values in the keys' order, folder name)`.
     pub points: Vec<(Vec<String>, String)>,
+    /// Each point's status ([`PointStatus`] as the table writes it: `complete`,
+    /// `interrupted`, `failed: <message>`), in the order of `points`. Empty in the
+    /// manifests of older versions: the status is then the summaries' `interrupted` flag.
+    #[serde(default)]
+    pub status: Vec<String>,
 }
 
 impl Manifest {
@@ -164,6 +171,7 @@ pub fn run_shard(
             .iter()
             .map(|sets| (values_of(sets), point_dir_name(sets)))
             .collect(),
+        status: points.iter().map(|p| p.status.to_string()).collect(),
     };
     let f = out.join(MANIFEST);
     write_json(&f, &manifest).map_err(|e| RunError::output(&f, e))?;
@@ -173,8 +181,7 @@ pub fn run_shard(
 
 /// The table's columns for `points`, as [`super::write_sweep`] chooses them.
 fn table_columns_of(points: &[SweepPoint]) -> Vec<String> {
-    let is_wheel = points.iter().all(|p| p.summary["kind"] == "wheel");
-    let with_traction = is_wheel && points.iter().all(|p| p.summary["traction"].is_object());
+    let (is_wheel, with_traction) = super::model_of(points);
     super::table_columns(points, is_wheel, with_traction)
 }
 
@@ -222,7 +229,9 @@ pub fn read_manifest(dir: &Path) -> Result<Manifest, GatherError> {
 ///
 /// # Errors
 /// [`GatherError`]: a folder without a manifest, shards of different sweeps (scenario text,
-/// keys, values, grid or count), a slice missing or given twice, a point's `summary.json` missing.
+/// keys, values, grid or count), a slice missing or given twice, the `summary.json` of a
+/// point that completed missing. A point that was interrupted or failed keeps its status
+/// (its figures are left out of the table and plot, as `softway sweep` leaves them).
 pub fn gather(
     dirs: &[PathBuf],
     out: &Path,
@@ -300,14 +309,12 @@ pub fn gather(
     let mut points = Vec::with_capacity(all.len());
     for sets in all {
         let v = values_of(&sets);
-        let (d, folder) = dirs
+        let (d, folder, status) = dirs
             .iter()
             .zip(&manifests)
             .find_map(|(d, m)| {
-                m.points
-                    .iter()
-                    .find(|(value, _)| *value == v)
-                    .map(|(_, f)| (d, f))
+                let k = m.points.iter().position(|(value, _)| *value == v)?;
+                Some((d, &m.points[k].1, m.status.get(k)))
             })
             .ok_or_else(|| {
                 GatherError::Mismatch(format!(
@@ -316,8 +323,33 @@ pub fn gather(
                 ))
             })?;
         let dir = d.join(folder);
+        let status = match status.map(|s| s.parse::<PointStatus>()) {
+            None => None,
+            Some(Ok(s)) => Some(s),
+            Some(Err(m)) => {
+                return Err(GatherError::Read {
+                    path: d.join(MANIFEST),
+                    message: format!("{}: {m}", super::point_label(&sets)),
+                })
+            }
+        };
         let sj = dir.join("summary.json");
-        let summary = std::fs::read_to_string(&sj)
+        if let Some(s @ (PointStatus::Interrupted | PointStatus::Failed(_))) = &status {
+            let summary = std::fs::read_to_string(&sj)
+                .ok()
+                .and_then(|t| serde_json::from_str(&t).ok())
+                .unwrap_or(serde_json::Value::Null);
+            points.push(SweepPoint {
+                value: v.join(","),
+                sets,
+                dir,
+                summary,
+                warnings: Vec::new(),
+                status: s.clone(),
+            });
+            continue;
+        }
+        let summary: serde_json::Value = std::fs::read_to_string(&sj)
             .map_err(|e| GatherError::Read {
                 path: sj.clone(),
                 message: format!("cannot read the point's summary ({e}); did its run finish?"),
@@ -332,6 +364,7 @@ pub fn gather(
             value: v.join(","),
             sets,
             dir,
+            status: PointStatus::of_summary(&summary),
             summary,
             warnings: Vec::new(),
         });
@@ -393,6 +426,7 @@ mod tests {
             shard: 1,
             of: 3,
             points: Vec::new(),
+            status: Vec::new(),
         };
         assert_eq!(
             vals(&m.all_points().unwrap()),

@@ -636,7 +636,11 @@ pub fn figures(
     // The zones, shaded: runs of loaded bins in stick (more than half of the samples) or in
     // slip, each bin a quarter pitch wide.
     let pmax = prof.p.iter().cloned().fold(0.0, f64::max);
-    let half_bin = 0.5 * (prof.s.get(1).copied().unwrap_or(0.0) - prof.s[0]).abs() / a;
+    // (An empty profile, a patch that no bin saw, shades nothing.)
+    let half_bin = match (prof.s.first(), prof.s.get(1)) {
+        (Some(s0), Some(s1)) => 0.5 * (s1 - s0).abs() / a,
+        _ => 0.0,
+    };
     for ((&s, &pp), &st) in x.iter().zip(&prof.p).zip(&prof.stick) {
         if pp > 0.01 * pmax {
             let label = if st > 0.5 { "stick zone" } else { "slip zone" };

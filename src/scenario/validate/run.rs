@@ -86,6 +86,7 @@ pub(super) fn run_spec(
         contact: run_contact,
         friction,
         t_end: base.t_end,
+        step_key: step_key.clone(),
     };
     Ok((spec, uses))
 }

@@ -40,7 +40,7 @@ pub(super) fn wheel_model(
     let mesh = disk_mesh(cx, &w)?;
     let plane = plane_model(cx, &w)?;
     let lumped = wheel_mass(cx, &w)?;
-    let support = support(cx, &w, radius)?;
+    let support = support(cx, &w, radius, &mesh)?;
     let mesh = zone_mesh(cx, &w, mesh, support, radius)?;
     let load = w.load.map(|p| cx.positive("wheel.load", p)).transpose()?;
     let rolling = rolling(cx, &r, radius, load)?;
@@ -347,8 +347,15 @@ fn wheel_mass(cx: &Ctx, w: &RawWheel) -> Result<bool, ScenarioError> {
 }
 
 /// `wheel.support` and `wheel.hub_radius`: the pinned centre or a clamped hub (default, a
-/// tenth of the radius).
-fn support(cx: &Ctx, w: &RawWheel, radius: f64) -> Result<Support, ScenarioError> {
+/// tenth of the radius). On the graded disk of `wheel.rim_nodes` the hub leaves room for
+/// two rim pitches of elements: `hub_radius < radius (1 - 4 pi / rim_nodes)`
+/// ([`crate::mesh::generators::disk_graded`]).
+fn support(
+    cx: &Ctx,
+    w: &RawWheel,
+    radius: f64,
+    mesh: &MeshSource,
+) -> Result<Support, ScenarioError> {
     // Default: a hub clamped over a tenth of the radius (the pinned centre is a point
     // support whose stiffness vanishes as the mesh is refined; `softway::wheel`).
     Ok(match w.support.as_deref().unwrap_or("hub") {
@@ -371,6 +378,16 @@ fn support(cx: &Ctx, w: &RawWheel, radius: f64) -> Result<Support, ScenarioError
                     hr,
                     &format!("must be smaller than wheel.radius = {radius}"),
                 ));
+            }
+            if let MeshSource::Graded { rim_nodes, .. } = *mesh {
+                let max = radius * (1.0 - 2.0 * std::f64::consts::TAU / rim_nodes as f64);
+                if hr >= max {
+                    return Err(cx.invalid(
+                        "wheel.hub_radius",
+                        hr,
+                        &format!("must be below wheel.radius (1 - 4 pi / wheel.rim_nodes) = {max:.6} m: the graded disk keeps two rim pitches of elements between the hub and the rim"),
+                    ));
+                }
             }
             Support::Hub { radius: hr }
         }
