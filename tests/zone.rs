@@ -333,7 +333,7 @@ fn a_moving_zone_with_friction_gives_the_creep_force_of_the_fine_rim() {
                 .unwrap();
         std::fs::remove_dir_all(&dir).ok();
         // `rolling.omega` of scenarios/creep-curve.toml: 300 rad/s.
-        assert_dissipates(&s["traction"], 300.0, sc.runs[0].params.h);
+        common::assert_dissipates(&s["traction"], 300.0, sc.runs[0].params.h);
         s
     };
     let uniform = summary(576, 576);
@@ -353,25 +353,4 @@ fn a_moving_zone_with_friction_gives_the_creep_force_of_the_fine_rim() {
     assert!(qu > 0.2 * 0.3 * t(&uniform, "normal"), "{qu}");
     assert!((qz / qu - 1.0).abs() < 0.01, "{qz} vs {qu}");
     assert!((ez / eu - 1.0).abs() < 0.02, "{ez} vs {eu}");
-}
-
-/// Friction dissipates (issue 33), from a run's `traction` block: the least slip speed that
-/// a pair's dissipation implies (`min_slip_speed`, `slip_power / |F_t|`) is `>= 0` to the
-/// round-off floor `1e3 eps omega R` of a sticking pair's end slip rate (a difference of
-/// speeds of order `omega R`, held at 0 by its row; measured 1-30 `eps omega R`), and the
-/// friction energy never falls in a step by more than those floors on the friction forces,
-/// `h mu (2 P) 1e3 eps omega R` (`P` the mean normal force, doubled for the transients).
-fn assert_dissipates(t: &serde_json::Value, omega: f64, h: f64) {
-    let f = |k: &str| t[k].as_f64().unwrap();
-    let floor = 1e3 * f64::EPSILON * omega * f("radius");
-    let (speed, drop) = (f("min_slip_speed"), f("max_friction_energy_drop"));
-    assert!(
-        speed >= -floor,
-        "a pair's dissipation implies a slip speed of {speed:e} m/s (floor -{floor:e})"
-    );
-    let drop_floor = h * f("friction") * 2.0 * f("normal").abs() * floor;
-    assert!(
-        drop <= drop_floor,
-        "the friction energy falls by {drop:e} J in a step (floor {drop_floor:e})"
-    );
 }

@@ -213,3 +213,24 @@ pub fn run_in_process(path: &Path, text: &str, name: &str) -> (TestDir, serde_js
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     (dir, s)
 }
+
+/// Friction dissipates, from a run's `traction` block: the least slip speed that
+/// a pair's dissipation implies (`min_slip_speed`, `slip_power / |F_t|`) is `>= 0` to the
+/// round-off floor `1e3 eps omega R` of a sticking pair's end slip rate (a difference of
+/// speeds of order `omega R`, held at 0 by its row; measured 1-30 `eps omega R`), and the
+/// friction energy never falls in a step by more than those floors on the friction forces,
+/// `h mu (2 P) 1e3 eps omega R` (`P` the mean normal force, doubled for the transients).
+pub fn assert_dissipates(t: &serde_json::Value, omega: f64, h: f64) {
+    let f = |k: &str| t[k].as_f64().unwrap();
+    let floor = 1e3 * f64::EPSILON * omega * f("radius");
+    let (speed, drop) = (f("min_slip_speed"), f("max_friction_energy_drop"));
+    assert!(
+        speed >= -floor,
+        "a pair's dissipation implies a slip speed of {speed:e} m/s (floor -{floor:e})"
+    );
+    let drop_floor = h * f("friction") * 2.0 * f("normal").abs() * floor;
+    assert!(
+        drop <= drop_floor,
+        "the friction energy falls by {drop:e} J in a step (floor {drop_floor:e})"
+    );
+}
