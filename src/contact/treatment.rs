@@ -261,7 +261,7 @@ pub enum Restore {
 /// [`super::RotatingLine`]) while a held node follows the turning base's normal motion
 /// (`omega s`), so `w_t` changes by about `omega^2 s h` per step and the mean read `(1 -
 /// beta)` of it as slip of every sticking node: a power of either sign, negative in the
-/// majority of the steps (issue 33).
+/// majority of the steps.
 pub fn record_friction(
     st: &mut PairState,
     force: f64,
