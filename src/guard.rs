@@ -1,5 +1,5 @@
 //! The divergence guard: a run whose energy grows beyond what the work done on the system
-//! can explain is stopped, never reported as a result.
+//! can explain, or whose contact pulls, is stopped, never reported as a result.
 //!
 //! **The bound.** The energy of a run obeys the balance
 //! $$E(t) = E(t_0) + W(t) - D(t) + E_{num}(t),$$
@@ -21,6 +21,12 @@
 //! times its energy (a penalty of 1e30 N/m: x3). `E_floor` ([`ENERGY_FLOOR`]) keeps runs
 //! that start at rest from tripping on round-off before any work is done.
 //!
+//! **Forces that push.** A contact can only push: every step the pairs' tensile forces
+//! must sum to round-off ([`PULL_TOLERANCE`] of the largest compressive total so far, at
+//! least [`PULL_FLOOR`]), else the run is stopped as diverged ([`Cause::Pulled`]). The
+//! treatments release a tensile hold and never brake or give back by pulling, so a tension
+//! means a step or a rim the treatment cannot follow.
+//!
 //! The check costs two sparse quadratic forms every [`CHECK_STRIDE`] steps, and per step a
 //! dot product with the load and the rows of the pairs that carry a force.
 
@@ -33,21 +39,67 @@ pub const ENERGY_FACTOR: f64 = 2.0;
 /// The energy below which the guard never trips, J.
 pub const ENERGY_FLOOR: f64 = 1e-9;
 
-/// The run's energy beyond its bound (module docs).
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("the run diverged at step {step} (t = {t:e} s): its energy {energy:.4e} J exceeds {factor} x (initial energy + work done on it) = {bound:.4e} J; a step beyond the integrator's stability limit (`time.h`, `time.cfl`, `time.alpha`), a penalty too stiff for the step (`contact.penalty`), an integrator that does not suit the contact (`time.integrator` with `contact.method`) or an ill-posed material (`material.*`)")]
+/// The run's energy beyond its bound, or a contact that pulled (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Diverged {
     /// The step.
     pub step: usize,
     /// Its time, s.
     pub t: f64,
-    /// The energy, J.
-    pub energy: f64,
-    /// The bound it exceeded, J.
-    pub bound: f64,
-    /// `kappa`.
-    pub factor: f64,
+    /// What was found.
+    pub cause: Cause,
 }
+
+/// What the guard found (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cause {
+    /// The energy exceeded its bound.
+    Energy {
+        /// The energy, J.
+        energy: f64,
+        /// The bound it exceeded, J.
+        bound: f64,
+        /// `kappa`.
+        factor: f64,
+    },
+    /// The pairs' forces summed to a tension beyond round-off: a contact pulled.
+    Pulled {
+        /// The sum of the tensile pair forces, N (negative).
+        force: f64,
+        /// The largest compressive total force of the run so far, N.
+        peak: f64,
+    },
+}
+
+impl std::fmt::Display for Diverged {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (step, t) = (self.step, self.t);
+        match self.cause {
+            Cause::Energy {
+                energy,
+                bound,
+                factor,
+            } => write!(
+                f,
+                "the run diverged at step {step} (t = {t:e} s): its energy {energy:.4e} J exceeds {factor} x (initial energy + work done on it) = {bound:.4e} J; a step beyond the integrator's stability limit (`time.h`, `time.cfl`, `time.alpha`), a penalty too stiff for the step (`contact.penalty`), an integrator that does not suit the contact (`time.integrator` with `contact.method`) or an ill-posed material (`material.*`)"
+            ),
+            Cause::Pulled { force, peak } => write!(
+                f,
+                "the run diverged at step {step} (t = {t:e} s): its contact pulled with {:.4e} N (the largest compressive total so far {peak:.4e} N), and a contact can only push; a step too long for the contact's events (`time.h` against a rim node's passage), a rim too coarse for the contact patch (`wheel.rim_nodes`) or a treatment that does not suit them (`contact.method`)",
+                -force
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Diverged {}
+
+/// The tension a step's pairs may sum to before the guard stops the run, relative to the
+/// largest compressive total force so far (round-off of the multipliers).
+pub const PULL_TOLERANCE: f64 = 1e-9;
+
+/// The tension below which the guard never trips, N.
+pub const PULL_FLOOR: f64 = 1e-9;
 
 /// What the guard does when the bound is exceeded.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -69,6 +121,8 @@ pub struct DivergenceGuard {
     initial: Option<f64>,
     work: f64,
     steps: usize,
+    /// The largest compressive total contact force so far, N.
+    peak_force: f64,
     /// The load at the step's end (work memory).
     load: Vec<f64>,
 }
@@ -130,13 +184,46 @@ impl DivergenceGuard {
         if energy <= bound {
             return Ok(());
         }
-        let d = Diverged {
+        self.found(Diverged {
             step,
             t,
-            energy,
-            bound,
-            factor: ENERGY_FACTOR,
-        };
+            cause: Cause::Energy {
+                energy,
+                bound,
+                factor: ENERGY_FACTOR,
+            },
+        })
+    }
+
+    /// Checks the sign of step `step`'s pair forces at time `t`: `push` the sum of the
+    /// compressive ones and `pull` of the tensile ones (<= 0), N.
+    ///
+    /// # Errors
+    /// [`Diverged`] with [`Cause::Pulled`] when `pull` exceeds round-off
+    /// ([`PULL_TOLERANCE`] of the largest compressive total so far, [`PULL_FLOOR`]), in
+    /// [`GuardMode::Stop`] (in [`GuardMode::Record`] the first is kept instead).
+    pub fn check_forces(
+        &mut self,
+        step: usize,
+        t: f64,
+        push: f64,
+        pull: f64,
+    ) -> Result<(), Diverged> {
+        self.peak_force = self.peak_force.max(push);
+        if pull >= -(PULL_TOLERANCE * self.peak_force + PULL_FLOOR) {
+            return Ok(());
+        }
+        self.found(Diverged {
+            step,
+            t,
+            cause: Cause::Pulled {
+                force: pull,
+                peak: self.peak_force,
+            },
+        })
+    }
+
+    fn found(&mut self, d: Diverged) -> Result<(), Diverged> {
         match self.mode {
             GuardMode::Stop => Err(d),
             GuardMode::Record => {
@@ -176,5 +263,29 @@ mod tests {
         assert!(g.check(32, 2.0, 1e9).is_ok());
         assert!(g.check(48, 3.0, 1e10).is_ok());
         assert_eq!(g.first().map(|d| d.step), Some(32));
+    }
+
+    /// A tension beyond round-off of the largest compressive total so far stops the run;
+    /// round-off does not.
+    #[test]
+    fn a_contact_that_pulls_is_stopped() {
+        let mut g = DivergenceGuard::new(1);
+        assert!(g.check_forces(1, 0.1, 0.0, -0.5 * PULL_FLOOR).is_ok());
+        assert!(g.check_forces(2, 0.2, 1e5, 0.0).is_ok());
+        assert!(g.check_forces(3, 0.3, 5e4, -1e-5).is_ok());
+        let e = g.check_forces(4, 0.4, 5e4, -1e-3).unwrap_err();
+        assert_eq!(e.step, 4);
+        assert_eq!(
+            e.cause,
+            Cause::Pulled {
+                force: -1e-3,
+                peak: 1e5
+            }
+        );
+        let msg = e.to_string();
+        assert!(
+            msg.contains("pulled with 1.0000e-3 N") && msg.contains("time.h"),
+            "{msg}"
+        );
     }
 }

@@ -178,7 +178,7 @@ fn mutate(doc: &mut Value, rng: &mut SplitMix) -> String {
 }
 
 /// Makes a scenario's run short before it is mutated: one turn of the wheel on a coarse rim
-/// (96 rim nodes: on 48 the plastic wheel's contact force goes negative, an open finding)
+/// (96 rim nodes: on 48 the plastic wheel's base chord spans less than a pitch, refused)
 /// (and a step to match), at most 100 bar elements; a relative mesh path made absolute
 /// (the case runs from another folder).
 fn shrink(doc: &mut Table, dir: &Path) {
@@ -472,8 +472,8 @@ fn shipped() -> Vec<PathBuf> {
 
 /// Case 95 of the campaign (`creep-curve.toml` with `wheel.radius = 402.88`, a wheel of
 /// 400 m whose traction profile has no bin in the patch): it panicked in the traction
-/// plot (an index into the empty profile, exit 101); now it ends in one line naming the
-/// file (its spectrum has nothing to plot: found after the run, an open defect).
+/// plot (an index into the empty profile, exit 101); now it is refused before the run, in
+/// one line naming the file (its spin stretches the rim 97 times its radius).
 #[test]
 fn a_creep_curve_wheel_of_400_m_is_not_a_panic() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/creep-curve.toml");

@@ -763,8 +763,14 @@ impl Simulation {
         let (s0, s1) = (&self.snaps[0], &self.snaps[1]);
         let (t, u) = (s1.t, &s1.state.u);
         let mut power = 0.0;
+        let (mut push, mut pull) = (0.0, 0.0);
         for (p, ps) in e.pairs.iter().zip(&s1.pairs) {
             let (dim, r) = (e.dim, &e.reference);
+            if ps.force > 0.0 {
+                push += ps.force;
+            } else {
+                pull += ps.force;
+            }
             if ps.force != 0.0 {
                 let g = p.geometry(&e.obstacles, &e.interfaces, dim, r, u, t);
                 power += (ps.force * g.w).abs();
@@ -776,6 +782,7 @@ impl Simulation {
             }
         }
         let h = s1.t - s0.t;
+        self.guard.check_forces(s1.k, s1.t, push, pull)?;
         (e.load)(t, self.guard.load_mut());
         let due = self
             .guard
