@@ -94,8 +94,10 @@ fn check_ladder(bar: BarImpact) {
             s.errors.energy,
             s.errors.impact_time.unwrap()
         );
-        // One braking, one release: no chatter.
-        assert_eq!((s.brakings, s.releases), (1, 1));
+        // One arrival (braked, or held at once where the braking would pull:
+        // softway::contact::softway, Braking may only push), one release: no chatter.
+        assert_eq!((s.entries, s.releases), (1, 1));
+        assert!(s.brakings <= 1, "{} brakings", s.brakings);
         // The arrival is at most one step late.
         assert!(
             s.errors.impact_time.unwrap() >= -1e-12 && s.errors.impact_time.unwrap() <= h + 1e-12
