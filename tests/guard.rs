@@ -156,9 +156,9 @@ fn a_braking_that_would_pull_holds_at_once() {
         let text = BAR
             .replace("t_end = 1.0", "t_end = 3.0")
             .replace("gap = 0.5", &format!("gap = {gap}"));
-        let path = dir.join(&format!("bar{k}.toml"));
+        let path = dir.join(format!("bar{k}.toml"));
         std::fs::write(&path, text).unwrap();
-        let out = dir.join(&format!("out{k}"));
+        let out = dir.join(format!("out{k}"));
         let o = cli([
             "run",
             path.to_str().unwrap(),
