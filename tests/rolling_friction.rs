@@ -33,6 +33,8 @@ const BAYS: usize = 80;
 const DURATION: f64 = 0.3;
 const SETTLE: f64 = 0.05;
 const MU: f64 = 0.3;
+/// The space-time scheme's `gamma` of the friction runs.
+const GAMMA: f64 = 0.2;
 /// The window of the means, s: whole bays after the load and the suspension's horizontal
 /// transient (10 MN/m, critically damped on the 800 kg: a time constant of 9 ms).
 const WINDOW: (f64, f64) = (0.12, 0.3);
@@ -118,9 +120,11 @@ fn roll_on(rim: usize, xi: f64, friction: Option<FrictionLaw>, duration: f64) ->
     let pitch = 2.0 * PI * wot.rim_radius / rim as f64;
     let h = pitch / SPEED / 3.0;
     let steps = (duration / h).round() as usize;
+    // gamma = 0.2 (rho_inf = 0.875), as the rigid-base wheel's traction runs: with gamma = 0
+    // loaded nodes stick in full slip (module docs).
     let integrator = Integrator::SpaceTime {
         alpha: 0.8,
-        gamma: 0.0,
+        gamma: GAMMA,
         coriolis: Coriolis::Implicit,
     };
     let mut problem = wot.problem(integrator, h, steps);
@@ -223,17 +227,15 @@ fn a_rim_node_at_the_bottom_of_the_spun_rim_slips_at_v_xi_against_the_rail() {
 }
 
 /// Full slip at `xi = +-3%`: the mean tangential force is `mu` times the mean normal force
-/// within 1.5% (never above it), forward for traction and backward for braking, the same
-/// size at both signs within 1%; every pair dissipates (`slip_power / |F_t| >= 0` up to
+/// within 0.5% (never above it), forward for traction and backward for braking, the same
+/// size at both signs within 0.5%; every pair dissipates (`slip_power / |F_t| >= 0` up to
 /// round-off) and the friction energy never falls.
 ///
-/// Measured (exact treatment, 40 m/s): `Q / (mu P)` = +0.9928 / -0.9886 on 360 rim nodes,
-/// the deficit carried by a pair stuck in 3.5% of the steps. The stuck share grows as the
-/// rim is refined at this speed (720 nodes: +0.963 / -0.937; 1440: +0.904 / -0.786) and
-/// falls at a lower speed (1440 nodes at 27.8 m/s, k_s = 1 MN/m: +1.0000 / -0.988): loaded
-/// nodes in the patch stop slipping for a step or more although `V xi` is 1.2 m/s, which
-/// the rigid-base wheel does not show (tests/traction.rs: 0.99999 on 288 nodes); an open
-/// question (README, the track).
+/// With the scheme's `gamma = 0` (no numerical dissipation, the frictionless track runs'
+/// choice) loaded nodes in the patch stick for a step or more although `V xi` is 1.2 m/s:
+/// `Q / (mu P)` = +0.9928 / -0.9886 on 360 rim nodes, +0.963 / -0.937 on 720, +0.904 /
+/// -0.786 on 1440 (measured at 40 m/s); `gamma = 0.2` (or `alpha = 1`) removes it
+/// (1440 nodes, 40 m/s, -3%: -1.0000000 with either).
 #[test]
 fn in_full_slip_the_tangential_force_is_mu_times_the_normal_force_opposing_the_slip() {
     let mut q = Vec::new();
@@ -252,7 +254,7 @@ fn in_full_slip_the_tangential_force_is_mu_times_the_normal_force_opposing_the_s
         );
         let ratio = t.abs() / (MU * p);
         assert!(
-            ratio > 0.985 && ratio <= 1.0 + 1e-9,
+            ratio > 0.995 && ratio <= 1.0 + 1e-9,
             "xi {xi}: Q {t}, P {p}"
         );
         assert_eq!(t.signum(), xi.signum(), "Q opposes the rim's slip -V xi");
@@ -274,7 +276,7 @@ fn in_full_slip_the_tangential_force_is_mu_times_the_normal_force_opposing_the_s
         assert!(recs.last().unwrap().friction_energy > 0.0);
         q.push(t);
     }
-    assert!(((q[0] + q[1]) / (q[0] - q[1])).abs() < 0.01, "{q:?}");
+    assert!(((q[0] + q[1]) / (q[0] - q[1])).abs() < 5e-3, "{q:?}");
 }
 
 /// Small creepages: the creep force grows monotonically with the creepage, below the
@@ -354,10 +356,8 @@ fn the_command_runs_the_traction_scenario() {
     let r = &s["runs"][0];
     let t = &r["traction"];
     let f = |k: &str| t[k].as_f64().unwrap_or_else(|| panic!("{k}: {t}"));
-    // Full slip at 1% on 720 rim nodes at 100 km/h: 0.994 measured (the stuck share of the
-    // full-slip test above).
     let ratio = f("traction_ratio");
-    assert!(ratio > 0.95 && ratio <= 1.0 + 1e-9, "{t}");
+    assert!((ratio - 1.0).abs() < 5e-3 && ratio <= 1.0 + 1e-9, "{t}");
     // The axle sits Q / k_s ahead of its nominal position.
     let k_s = s["parameters"]["vehicle"]["suspension_stiffness_N_m"]
         .as_f64()
