@@ -504,9 +504,18 @@ refused!(
     ]
 );
 refused!(
-    rolling_with_friction,
+    rolling_with_friction_and_no_suspension,
     rolling_text().replace("method = \"exact\"", "method = \"exact\"\nfriction = 0.3"),
-    ["`contact.friction` = 0.3", "frictionless"]
+    [
+        "`contact.friction` = 0.3",
+        "vehicle.suspension_stiffness > 0",
+        "along the track"
+    ]
+);
+refused!(
+    rolling_creepage_out_of_range,
+    rolling_text().replace("speed_km_h = 100.0", "speed_km_h = 100.0\ncreepage = 2.0"),
+    ["`vehicle.creepage` = 2", "[-0.5, 0.5]"]
 );
 refused!(
     rolling_with_two_speeds,

@@ -89,6 +89,7 @@ fn vehicle() -> Vehicle {
         suspension_damping: 0.0,
         gravity: 9.81,
         settle: SETTLE,
+        creepage: 0.0,
     }
 }
 
@@ -384,7 +385,7 @@ fn the_command_rolls_the_wheel_and_writes_its_files() {
     );
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
     assert!(history.starts_with(
-        "run,t_s,distance_m,rail_x_m,settling,contact_force_N,nodes_in_contact,axle_displacement_m,axle_drift_m,rail_deflection_m,irregularity_m,pad_force_nearest_N,nearest_sleeper\n"
+        "run,t_s,distance_m,rail_x_m,settling,contact_force_N,nodes_in_contact,axle_displacement_m,axle_drift_m,rail_deflection_m,irregularity_m,pad_force_nearest_N,nearest_sleeper,tangential_force_N,slip_power_W,friction_energy_J\n"
     ));
     assert!(out.join("track.png").exists());
     let s: serde_json::Value =

@@ -5,12 +5,22 @@
 //! Files: `history.csv` (every `output.history_stride` steps: time, distance travelled, the
 //! rail's abscissa under the axle, a settling flag, the contact force, the rim nodes in
 //! contact, the axle's vertical displacement and its drift along the track in the ground,
-//! the rail's deflection under the axle, the irregularity there, the nearest pad's force),
+//! the rail's deflection under the axle, the irregularity there, the nearest pad's force,
+//! and with friction the tangential force, the slip power and the friction energy),
 //! `track.png` (the contact force against the distance with the static load; the axle and
 //! the rail under it; the force's spectrum against the wavelength with the sleeper spacing,
-//! P2 and pinned-pinned wavelengths at the run's speed marked; the pad forces) and
+//! P2 and pinned-pinned wavelengths at the run's speed marked; the pad forces; with
+//! friction, the tangential force against `mu` times the normal force) and
 //! `summary.json` (the passage's force statistics, the measured contact spring, the track's
-//! frequencies, the cost per step and per metre).
+//! frequencies, the cost per step and per metre; with friction the `traction` figures).
+//!
+//! **The tangential force** `tangential_force_N` is the rail's force on the wheel along the
+//! direction of travel (the ground's +x): `Q = -sum F_t` over the rim's pairs, `F_t` each
+//! pair's friction force along its tangent `t = (-1, 0)` on the flat rail
+//! ([`crate::track::rolling`], Friction and creepage). `Q > 0` drives the wheel forward
+//! (creepage `xi > 0`), `Q < 0` brakes it. `slip_power_W` is the pairs' frictional
+//! dissipation of the step ([`crate::model::PairState::slip_power`], `>= 0`),
+//! `friction_energy_J` its integral since the start.
 
 use super::results::Results;
 use super::{RunError, RunOptions};
@@ -27,7 +37,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The columns of `history.csv`: `run` (the run's label), then these.
-pub const HISTORY: [(&str, &str); 12] = [
+pub const HISTORY: [(&str, &str); 15] = [
     ("t_s", "s"),
     ("distance_m", "m"),
     ("rail_x_m", "m"),
@@ -40,6 +50,9 @@ pub const HISTORY: [(&str, &str); 12] = [
     ("irregularity_m", "m"),
     ("pad_force_nearest_N", "N"),
     ("nearest_sleeper", "1"),
+    ("tangential_force_N", "N"),
+    ("slip_power_W", "W"),
+    ("friction_energy_J", "J"),
 ];
 
 /// One run's key figures (`summary.json`, `runs[i]`).
@@ -81,10 +94,43 @@ struct RollingSummary {
     p2_above_sleeper_hz: Option<f64>,
     p2_hertz_hz: Option<f64>,
     pinned_pinned_hz: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    traction: Option<TractionSummary>,
     wall_time_s: f64,
     time_per_step_us: f64,
     time_per_metre_s: f64,
     interrupted: bool,
+}
+
+/// The friction figures of a run with friction (`summary.json`, `runs[i].traction`; the
+/// means over the passage's whole bays, as the contact force's).
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+struct TractionSummary {
+    /// The static friction coefficient.
+    friction: f64,
+    /// The creepage `xi`, referred to the spun rim's radius.
+    creepage: f64,
+    /// The spun rim's radius `R_s`, m.
+    radius: f64,
+    /// The mean normal (contact) force `P`, N.
+    normal: f64,
+    /// The mean tangential force `Q` on the wheel along the travel, N (module docs).
+    traction: f64,
+    /// `Q / (mu P)`.
+    traction_ratio: f64,
+    /// The imposed slip speed `V xi` of a rim node at rest in the wheel's frame, m/s.
+    slip_speed_imposed: f64,
+    /// The mean slip power over the passage, W.
+    slip_power_mean: f64,
+    /// The friction energy at the end, J.
+    friction_energy: f64,
+    /// The least `slip_power / |F_t|` of any pair at any step, m/s (`>= 0` up to round-off).
+    min_slip_speed: f64,
+    /// The largest decrease of the friction energy from one step to the next, J.
+    max_friction_energy_drop: f64,
+    /// The axle's mean drift along the track over the passage, m (`Q / k_s` in the steady
+    /// state).
+    axle_drift_mean_m: f64,
 }
 
 /// One step's record.
@@ -98,6 +144,9 @@ struct Rec {
     axle_x: f64,
     rail_w: f64,
     pad: f64,
+    tangential: f64,
+    slip_power: f64,
+    friction_energy: f64,
 }
 
 fn track_of(model: &Model) -> &TrackScenario {
@@ -107,7 +156,8 @@ fn track_of(model: &Model) -> &TrackScenario {
     }
 }
 
-/// The wheel of `ts` turning at `V / R_s` (`R_s` the spun rim's radius: two rebuilds).
+/// The wheel of `ts` turning at `V (1 + xi) / R_s` (`R_s` the spun rim's radius: two
+/// rebuilds; `xi` the creepage).
 fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
     let v = &ts.vehicle;
     let w = &v.wheel;
@@ -130,7 +180,7 @@ fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
         material: Elastic { ..w.material },
         ..WheelSpec::paper()
     };
-    wheel_at_speed(mesh, spec, v.speed).map_err(|e| e.to_string())
+    wheel_at_speed(mesh, spec, v.speed * (1.0 + v.creepage)).map_err(|e| e.to_string())
 }
 
 /// `softway run` of a track scenario with the wheel (module docs).
@@ -164,6 +214,11 @@ pub(crate) fn record(
         }
     }
     let history = csv.finish().map_err(at)?;
+    let size = if panels.traction.is_some() {
+        (1400, 1900)
+    } else {
+        (1400, 1500)
+    };
     let mut json = serde_json::json!({
         "scenario": sc.name, "kind": "track", "vehicle_model": "wheel", "interrupted": interrupted,
         "units": {"time": "s", "length": "m", "force": "N", "frequency": "Hz", "stiffness": "N/m", "mass": "kg"},
@@ -180,7 +235,7 @@ pub(crate) fn record(
         lines,
         interrupted,
         sc.plots,
-        ("track.png", panels.into_vec(), (1400, 1500)),
+        ("track.png", panels.into_vec(), size),
     ))
 }
 
@@ -206,6 +261,7 @@ pub(crate) fn passage(
         suspension_damping: v.suspension_damping,
         gravity: v.gravity,
         settle: settle_time,
+        creepage: v.creepage,
     };
     let start = ts.start();
     let h = run.params.h;
@@ -251,6 +307,8 @@ fn roll(
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
     let clock = Instant::now();
     let profile_at = |x: f64| wot.interface.search().profile().map_or(0.0, |p| p.at(x).0);
+    // The dissipation's checks over every pair and step (module docs).
+    let (mut min_slip_speed, mut max_drop, mut last_energy) = (f64::INFINITY, 0.0_f64, 0.0);
     let stats = sim
         .run(opts.cancel.flag(), |s| {
             let st = s.state;
@@ -258,6 +316,15 @@ fn roll(
             let x = wot.under_axle(t);
             let axle = wot.axle_ground(t, u);
             let nearest = wot.sleeper_near(x);
+            let mut tangential = 0.0;
+            for ps in &st.pairs {
+                tangential -= ps.tangential_force;
+                if ps.tangential_force != 0.0 {
+                    min_slip_speed = min_slip_speed.min(ps.slip_power / ps.tangential_force.abs());
+                }
+            }
+            max_drop = max_drop.max(last_energy - s.friction_dissipated);
+            last_energy = s.friction_dissipated;
             let rail_w = wot
                 .rail_deflection(x, u)
                 .map_err(|e| std::io::Error::other(e.to_string()))?;
@@ -270,6 +337,9 @@ fn roll(
                 axle_x: axle[0],
                 rail_w,
                 pad: wot.pad_force(nearest, u, vel),
+                tangential,
+                slip_power: s.slip_power,
+                friction_energy: s.friction_dissipated,
             };
             row(
                 st.k,
@@ -286,6 +356,9 @@ fn roll(
                     profile_at(x),
                     rec.pad,
                     nearest as f64,
+                    rec.tangential,
+                    rec.slip_power,
+                    rec.friction_energy,
                 ],
             )?;
             if st.k % 64 == 0 {
@@ -297,7 +370,15 @@ fn roll(
         .map_err(sim_error)?;
     pb.finish_and_clear();
     let wall = clock.elapsed().as_secs_f64();
-    let sum = summarise(run, ts, &wot, &recs, (stats.interrupted, wall))?;
+    let mut sum = summarise(run, ts, &wot, &recs, (stats.interrupted, wall))?;
+    if let Some(t) = sum.traction.as_mut() {
+        t.min_slip_speed = if min_slip_speed.is_finite() {
+            min_slip_speed
+        } else {
+            0.0
+        };
+        t.max_friction_energy_drop = max_drop;
+    }
     Ok((sum, recs))
 }
 
@@ -347,6 +428,23 @@ fn summarise(
         })
         .flatten();
     let k_c = load / (rail - axle);
+    let traction = run.friction.filter(|law| law.is_active()).map(|law| {
+        let q = mean(&|r| r.tangential);
+        TractionSummary {
+            friction: law.static_mu,
+            creepage: v.creepage,
+            radius: wot.rim_radius,
+            normal: force,
+            traction: q,
+            traction_ratio: q / (law.static_mu * force),
+            slip_speed_imposed: v.speed * v.creepage,
+            slip_power_mean: mean(&|r| r.slip_power),
+            friction_energy: recs.last().map_or(0.0, |r| r.friction_energy),
+            min_slip_speed: 0.0,
+            max_friction_energy_drop: 0.0,
+            axle_drift_mean_m: mean(&|r| r.axle_x),
+        }
+    });
     // The track's frequencies: the receptance's (Hertz's 3D spring) and P2 on the measured
     // contact spring.
     let err = |e: crate::track::TrackError| RunError::Simulation {
@@ -413,6 +511,7 @@ fn summarise(
         p2_above_sleeper_hz: p2_above,
         p2_hertz_hz: f.p2_hz,
         pinned_pinned_hz: f.pinned_pinned_hz,
+        traction,
         wall_time_s: wall,
         time_per_step_us: 1e6 * wall / steps.max(1) as f64,
         time_per_metre_s: wall / travelled.max(1e-12),
@@ -423,8 +522,16 @@ fn summarise(
 /// The screen line of one run.
 fn screen_line(s: &RollingSummary) -> String {
     let hz = |f: Option<f64>| f.map_or_else(|| "-".to_string(), |f| format!("{f:.1} Hz"));
+    let traction = s.traction.map_or_else(String::new, |t| {
+        format!(
+            "; creepage {:+.3}%: tangential force {:+.2} kN mean, Q/(mu P) = {:+.4}",
+            1e2 * t.creepage,
+            1e-3 * t.traction,
+            t.traction_ratio
+        )
+    });
     format!(
-        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {:.3e} N/m; {:.2} ms a step, {:.2} s a metre",
+        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {:.3e} N/m{traction}; {:.2} ms a step, {:.2} s a metre",
         s.label,
         s.speed_km_h,
         s.travel_m,
@@ -442,12 +549,13 @@ fn screen_line(s: &RollingSummary) -> String {
     )
 }
 
-/// The four panels of `track.png`.
+/// The four panels of `track.png`, and a fifth with friction.
 struct Panels {
     force: Panel,
     motion: Panel,
     spectrum: Panel,
     pads: Panel,
+    traction: Option<Panel>,
 }
 
 impl Panels {
@@ -480,6 +588,7 @@ impl Panels {
                 "distance travelled [m]",
                 "pad force (compression) [kN]",
             ),
+            traction: None,
         }
     }
 
@@ -559,10 +668,42 @@ impl Panels {
         ));
         self.pads.series.push(Series::new(
             name("nearest pad"),
-            x,
+            x.clone(),
             col(&|r| 1e-3 * r.pad),
             style,
         ));
+        if let Some(t) = sum.traction {
+            let panel = self.traction.get_or_insert_with(|| {
+                let mut p = Panel::new(
+                    "Tangential force on the wheel (+: along the travel, traction)",
+                    "distance travelled [m]",
+                    "force [kN]",
+                );
+                let settle = ts.settle_distance();
+                if settle > 0.0 {
+                    p.vspans
+                        .push((0.0, settle, "load applied, settling".to_string()));
+                }
+                p
+            });
+            let tangential = moving_average(&col(&|r| 1e-3 * r.tangential), window);
+            panel.series.push(Series::new(
+                name(&format!(
+                    "tangential force Q, creepage {:+.2}% (mean over {window} steps)",
+                    1e2 * t.creepage
+                )),
+                x.clone(),
+                tangential,
+                style,
+            ));
+            let bound = t.traction.signum() * t.friction;
+            panel.series.push(Series::new(
+                name(&format!("{bound:+.2} x contact force (full slip)")),
+                x.clone(),
+                smooth.iter().map(|f| bound * f).collect(),
+                SeriesStyle::Dashed,
+            ));
+        }
         // The spectrum against the wavelength V / f, with the track's wavelengths marked.
         let forces: Vec<f64> = recs
             .iter()
@@ -625,6 +766,8 @@ impl Panels {
     }
 
     fn into_vec(self) -> Vec<Panel> {
-        vec![self.force, self.motion, self.spectrum, self.pads]
+        let mut v = vec![self.force, self.motion, self.spectrum, self.pads];
+        v.extend(self.traction);
+        v
     }
 }

@@ -279,6 +279,10 @@ pub struct Vehicle {
     /// Gravity, m/s^2 (default 9.81).
     #[serde(rename = "gravity_m_s2")]
     pub gravity: f64,
+    /// Longitudinal creepage, dimensionless (default 0; the wheel only): the wheel turns at
+    /// `omega = V (1 + xi) / R_s`, `R_s` the spun, unloaded rim's radius; positive:
+    /// traction, the wheel turning faster than it rolls ([`crate::track::rolling`]).
+    pub creepage: f64,
     /// The wheel's mesh and material (the wheel only).
     pub wheel: TrackWheel,
 }

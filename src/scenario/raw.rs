@@ -168,6 +168,7 @@ pub(super) struct RawVehicle {
     pub suspension_stiffness: Option<f64>,
     pub suspension_damping: Option<f64>,
     pub gravity: Option<f64>,
+    pub creepage: Option<f64>,
     pub wheel_rim_nodes: Option<i64>,
     pub wheel_thickness: Option<f64>,
     pub wheel_hub_radius: Option<f64>,

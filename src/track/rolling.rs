@@ -8,8 +8,8 @@
 //!
 //! The ground origin rides with the vehicle at the hub's nominal position. The wheel's dofs
 //! are displacements in the frame turning with it at `Omega = -omega` about the axle (the
-//! paper's frame: its material does not move in it; `omega = V / R_s`, `R_s` the spun
-//! rim's radius); the rail's and sleepers' are displacements in the track's frame, which
+//! paper's frame: its material does not move in it; `omega = V (1 + xi) / R_s`, `R_s` the
+//! spun rim's radius, `xi` the creepage below); the rail's and sleepers' are displacements in the track's frame, which
 //! runs under the vehicle at `-V`: at time `t` the rail's abscissa `X = x_0 + V t` is under
 //! the axle. The rail's top (its beam axis, `Y = 0`) is at `-R_s` in the ground: at `t = 0`
 //! it touches the spun rim's lowest point.
@@ -44,6 +44,41 @@
 //! Being isotropic, it holds the axle horizontally with the same stiffness as vertically (a
 //! real axle box is stiffer along the track); with `k_s = 0` only the contact holds the axle
 //! along the track (frictionless: a free drift the run reports as `axle_drift_m`).
+//!
+//! # Friction and creepage
+//!
+//! With friction (`contact.friction`) each rim node in contact carries a tangential force
+//! along the rail's top through the search's tangential row
+//! ([`crate::contact::search::Search::tangent_row`]): `c_t` the rail's normal turned by +90
+//! degrees (on a flat rail `t = (-1, 0)` in the ground, the direction of the rail's travel
+//! under the vehicle), whose wheel part is `t` turned back into the wheel's frame and whose
+//! rail part acts on the deflection dofs only (the rail is axially rigid: `t_x` goes into no
+//! dof), and `w_t = -t . (d_a - d_rail)` the drifts' difference, the wheel's
+//! `Omega x x` (`Omega = -omega`) against the rail's `(-V, 0)`. A rim node at the bottom of
+//! the spun rim (`x = (0, -R_s)`) drifts at `(-omega R_s, 0) = (-V (1 + xi), 0)`, so at
+//! rest in both frames it slips at `c_t . v - w_t = t . (d_a - d_rail) = V xi` along `t`:
+//! `xi > 0` (the wheel turning faster than it rolls, traction) slips the rim backwards
+//! against the rail and friction pushes the wheel forward.
+//!
+//! **The creepage** `xi` (`vehicle.creepage`, dimensionless, default 0) is referred to the
+//! spun, unloaded rim's radius `R_s`: `omega = V (1 + xi) / R_s`. Under load the rim is
+//! flattened and its surface strained, so its rolling radius `rho = V / omega` at free
+//! rolling (no mean tangential force) is not `R_s`: free rolling falls at a small `xi_0`,
+//! not at 0 (about -0.05% on the 360-node wheel of `tests/rolling_friction.rs`; the
+//! rigid-base wheel's `rolling.creepage` is referred to the measured rolling radius
+//! instead).
+//!
+//! **The axle along the track.** A tangential force moves the axle along the track, and
+//! only the suspension holds it there: without friction the axle drifts freely (above),
+//! with friction a mean traction `Q` would accelerate it for ever. A run with friction
+//! therefore needs `k_s > 0` (the scenario's check): the axle then sits `Q / k_s` ahead of
+//! its nominal position, and the damper `c_s` settles the horizontal transient.
+//!
+//! **The scheme.** In full slip every pair in the patch should slide; with the space-time
+//! scheme's `gamma = 0` (no numerical dissipation) loaded rim nodes stick for a step or
+//! more and the traction falls short of `mu P`, more so on finer rims (21% on 1440 rim
+//! nodes at 40 m/s and -3%); `gamma = 0.2` (or `alpha = 1`) removes it
+//! (`tests/rolling_friction.rs`, README).
 //!
 //! # What is not modelled
 //!
@@ -89,6 +124,10 @@ pub struct Vehicle {
     /// Time over which the static load is applied, s.
     #[serde(rename = "settle_s")]
     pub settle: f64,
+    /// Longitudinal creepage `xi`, dimensionless, referred to the spun rim's radius `R_s`:
+    /// the wheel turns at `omega = V (1 + xi) / R_s`; positive: traction (module docs,
+    /// Friction and creepage). 0 for rolling at `V / R_s`.
+    pub creepage: f64,
 }
 
 impl Vehicle {
@@ -159,8 +198,8 @@ pub struct WheelOnTrack {
 }
 
 impl WheelOnTrack {
-    /// The wheel `wheel` (a coupled wheel in its rotating frame, held by a hub: its
-    /// `omega` is replaced by `V / R_s`) on the track `track`, its axle over the rail's
+    /// The wheel `wheel` (a coupled wheel in its rotating frame, held by a hub, turning at
+    /// `V (1 + xi) / R_s`: [`wheel_at_speed`] at the speed `V (1 + xi)`) on the track `track`, its axle over the rail's
     /// abscissa `start` at `t = 0`, the rail's top carrying `profile`.
     ///
     /// # Errors
@@ -185,12 +224,15 @@ impl WheelOnTrack {
         }
         let r_s = wheel.spinning_radius();
         let v = vehicle.speed;
-        // The wheel's frame terms were built for its own omega: it must roll at V / R_s.
+        // The wheel's frame terms were built for its own omega: it must turn at
+        // V (1 + xi) / R_s.
         let omega = ws.omega;
-        let mismatch = (omega * r_s - v).abs();
-        if mismatch.is_nan() || mismatch > 1e-9 * v.abs().max(1.0) {
+        let xi = vehicle.creepage;
+        let rim_speed = v * (1.0 + xi);
+        let mismatch = (omega * r_s - rim_speed).abs();
+        if !xi.is_finite() || mismatch.is_nan() || mismatch > 1e-9 * v.abs().max(1.0) {
             return Err(RollingError::Unsupported(format!(
-                "the wheel turns at {omega} rad/s but rolls at {v} m/s on a radius of {r_s} m: build it with omega = V / R_s"
+                "the wheel turns at {omega} rad/s but rolls at {v} m/s with creepage {xi} on a radius of {r_s} m: build it with omega = V (1 + xi) / R_s"
             )));
         }
         let (rail, xs, phi) = track.rail()?;
@@ -455,7 +497,8 @@ impl WheelOnTrack {
     }
 }
 
-/// The wheel of `spec` on `mesh` turning at `V / R_s`, `R_s` its spun rim's radius (which
+/// The wheel of `spec` on `mesh` turning at `speed / R_s` (`speed = V (1 + xi)` with a
+/// creepage `xi`), `R_s` its spun rim's radius (which
 /// moves with `omega` by the centrifugal expansion: two rebuilds bring it to ~1e-12),
 /// as [`WheelOnTrack::new`] needs it.
 ///

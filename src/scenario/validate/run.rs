@@ -238,15 +238,26 @@ fn run_friction(
     // velocity), on a 2D model (the wheel), with a treatment that carries it
     // (crate::contact::Treatment::check_friction).
     let friction = friction_law(cx, &base.contact)?;
-    if let (Some(law), Model::Track(_)) = (friction, model) {
-        return Err(cx.invalid(
-            "contact.friction",
-            law.static_mu,
-            "the wheel on the track rolls frictionless (its tangential rows on the rail's beams are not checked yet): remove the key or set it to 0",
-        ));
+    // The wheel on the track: friction on its contact with the rail needs the axle held
+    // along the track by the suspension (crate::track::rolling, Friction and creepage).
+    if let (Some(law), Model::Track(t)) = (friction, model) {
+        if law.is_active() && t.vehicle.model != crate::scenario::VehicleModel::Wheel {
+            return Err(cx.invalid(
+                "contact.friction",
+                law.static_mu,
+                "vehicle.model = \"moving_load\" has no contact: remove the key or set it to 0",
+            ));
+        }
+        if law.is_active() && t.vehicle.suspension_stiffness <= 0.0 {
+            return Err(cx.invalid(
+                "contact.friction",
+                law.static_mu,
+                "friction on the track needs vehicle.suspension_stiffness > 0 (N/m): only the suspension holds the axle along the track, a traction force would accelerate it for ever",
+            ));
+        }
     }
     if let Some(law) = friction {
-        let dim = if matches!(model, Model::Wheel(_)) {
+        let dim = if matches!(model, Model::Wheel(_) | Model::Track(_)) {
             2
         } else {
             1

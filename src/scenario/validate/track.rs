@@ -206,6 +206,22 @@ fn ends(cx: &Ctx, t: &RawTrack, spec: TrackSpec) -> Result<Ends, ScenarioError> 
     }
 }
 
+/// `vehicle.creepage` (default 0): finite, in [-0.5, 0.5] (the wheel turns at `V (1 + xi) /
+/// R_s`, so forwards and no faster than 1.5 times rolling; measured creep curves saturate
+/// by a few per cent).
+fn creepage(cx: &Ctx, xi: Option<f64>) -> Result<f64, ScenarioError> {
+    let xi = xi.unwrap_or(0.0);
+    if xi.is_finite() && (-0.5..=0.5).contains(&xi) {
+        Ok(xi)
+    } else {
+        Err(cx.invalid(
+            "vehicle.creepage",
+            xi,
+            "must be in [-0.5, 0.5]: the longitudinal creepage xi, omega = V (1 + xi) / R_s (positive: traction)",
+        ))
+    }
+}
+
 /// `[vehicle]`: the wheel and its passage, which must stay between the absorbing zones.
 fn vehicle(cx: &Ctx, v: Option<RawVehicle>, spec: &TrackSpec) -> Result<Vehicle, ScenarioError> {
     let v = v.ok_or_else(|| {
@@ -250,6 +266,7 @@ fn vehicle(cx: &Ctx, v: Option<RawVehicle>, spec: &TrackSpec) -> Result<Vehicle,
         ),
         ("vehicle.suspension_damping", v.suspension_damping.is_some()),
         ("vehicle.gravity", v.gravity.is_some()),
+        ("vehicle.creepage", v.creepage.is_some()),
         ("vehicle.wheel_rim_nodes", v.wheel_rim_nodes.is_some()),
         ("vehicle.wheel_thickness", v.wheel_thickness.is_some()),
         ("vehicle.wheel_hub_radius", v.wheel_hub_radius.is_some()),
@@ -347,6 +364,7 @@ fn vehicle(cx: &Ctx, v: Option<RawVehicle>, spec: &TrackSpec) -> Result<Vehicle,
             v.suspension_damping.unwrap_or(0.0),
         )?,
         gravity: cx.non_negative("vehicle.gravity", v.gravity.unwrap_or(9.81))?,
+        creepage: creepage(cx, v.creepage)?,
         wheel,
     };
     if model == VehicleModel::Wheel && vehicle.settle_bays < 2 {
