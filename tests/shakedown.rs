@@ -235,3 +235,45 @@ fn keeps_flowing_above_the_limit() {
     assert!(hi < 1.2 * lo, "plateau {lo} .. {hi}");
     assert!(r[7].net_max < 0.5 * r[7].d_eq_max, "{:?}", r[7]);
 }
+
+/// `softway shakedown`: a load out of range is one line naming the option (exit 2); a run
+/// writes its table, the CSVs and the figure.
+#[test]
+fn the_command_line_runs_and_refuses_bad_input() {
+    let bin = env!("CARGO_BIN_EXE_softway");
+    let out = std::process::Command::new(bin)
+        .args(["shakedown", "--p0-over-k", "7"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("--p0-over-k 7") && err.contains("allowed"),
+        "{err}"
+    );
+    let dir = std::env::temp_dir().join(format!("softway-shakedown-{}", std::process::id()));
+    let out = std::process::Command::new(bin)
+        .args(["shakedown", "--p0-over-k", "2.8", "--passes", "1", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("shakedown.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    assert!(rows[1].starts_with("2.8,1,0e0,0e0,"), "{}", rows[1]);
+    assert!(std::fs::metadata(dir.join("shakedown.png")).unwrap().len() > 1000);
+    assert!(
+        std::fs::read_to_string(dir.join("residual.csv"))
+            .unwrap()
+            .lines()
+            .count()
+            > 10
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
