@@ -683,7 +683,8 @@ impl Shakedown {
         })
     }
 
-    /// One pass: the load put on at `-L`, moved to `+L`, taken off (module docs).
+    /// One pass: the load put on at `-L`, moved to `+L`, taken off (module docs). One
+    /// allocation (the result's profile), none in the increments.
     ///
     /// # Errors
     /// [`ShakedownError::NotConverged`] when an increment's iteration reaches its cap.
@@ -724,7 +725,7 @@ impl Shakedown {
             surface_ux: self.u[2 * self.centre_node],
             iterations,
             max_iterations: most,
-            residual_sxx: Vec::new(),
+            residual_sxx: Vec::with_capacity(self.column.len()),
         };
         for e in 0..self.space.triangles.len() {
             if !self.central[e] {
