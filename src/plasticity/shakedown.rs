@@ -779,3 +779,73 @@ impl Shakedown {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The documented defaults, and the increments a pass of them makes.
+    #[test]
+    fn the_defaults_are_the_documented_ones() {
+        let c = ShakedownConfig::default();
+        assert_eq!(
+            (c.a, c.elastic.young, c.elastic.poisson, c.yield_stress),
+            (1e-3, 210e9, 0.3, 1e9)
+        );
+        assert_eq!(
+            (
+                c.h_over_a,
+                c.path_over_a,
+                c.step_over_a,
+                c.far_over_a,
+                c.growth
+            ),
+            (0.125, 4.0, 0.1, 30.0, 1.25)
+        );
+        assert_eq!((c.ramp, c.tol, c.max_iterations), (4, 1e-9, 500));
+        assert!(c.validate().is_ok());
+        assert_eq!((c.moves(), c.increments_per_pass()), (80, 88));
+        assert!((c.p0() / c.k() - c.p0_over_k).abs() < 1e-15);
+    }
+
+    /// Uniform cells to the fine limit, then growing, ending exactly at `far`.
+    #[test]
+    fn graded_lines_are_uniform_then_grow_to_the_far_end() {
+        let v = graded_lines(0.125, 2.0, 30.0, 1.25);
+        assert_eq!(v[16], 2.0);
+        assert!(v[..=16]
+            .windows(2)
+            .all(|w| (w[1] - w[0] - 0.125).abs() < 1e-12));
+        assert!(v[16..v.len() - 1]
+            .windows(3)
+            .all(|w| (w[2] - w[1]) > (w[1] - w[0])));
+        assert_eq!(*v.last().unwrap(), 30.0);
+    }
+
+    /// Each parameter out of range is refused by name.
+    #[test]
+    fn bad_parameters_are_named() {
+        let bad = [
+            ShakedownConfig {
+                p0_over_k: f64::NAN,
+                ..Default::default()
+            },
+            ShakedownConfig {
+                h_over_a: 0.0,
+                ..Default::default()
+            },
+            ShakedownConfig {
+                far_over_a: 5.0,
+                ..Default::default()
+            },
+        ];
+        let names: Vec<_> = bad
+            .iter()
+            .map(|c| match c.validate() {
+                Err(ShakedownError::Parameter { name, .. }) => name,
+                other => panic!("{other:?}"),
+            })
+            .collect();
+        assert_eq!(names, ["p0_over_k", "h_over_a", "far_over_a"]);
+    }
+}
