@@ -55,6 +55,8 @@
 //! [`permanent_radial_displacement`] gives the rim's permanent radial surface displacement
 //! (the growth driver's input).
 
+pub mod shakedown;
+
 use crate::element::tri3::{strain, Tri3Geometry};
 use crate::linalg::{LinalgError, Pattern, SparseLu};
 use crate::material::{Elastic, PlaneModel};

@@ -33,6 +33,7 @@ macro_rules! errln {
 }
 
 mod analysis;
+mod shakedown;
 mod shard;
 
 use analysis::{matrix_command, modes_command, receptance_command, stability_command};
@@ -258,6 +259,10 @@ enum Command {
         #[command(flatten)]
         replace: Replace,
     },
+    /// Johnson's rolling shakedown: a Hertz pressure moved pass after pass over a
+    /// plane-strain elastic-perfectly-plastic half-space; the plastic strain increment per
+    /// pass (shakedown.csv, residual.csv, shakedown.png with --out).
+    Shakedown(shakedown::ShakedownArgs),
 }
 
 /// The command line's entry: parses the arguments, runs the subcommand, returns the exit
@@ -373,6 +378,7 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             json,
             replace,
         } => stability_command(alpha, gamma, out, spin_h, json, replace),
+        Command::Shakedown(args) => shakedown::shakedown_command(args),
     }
 }
 
