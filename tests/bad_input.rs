@@ -513,6 +513,16 @@ refused!(
     ]
 );
 refused!(
+    rolling_with_friction_and_no_numerical_dissipation,
+    rolling_text()
+        .replace("method = \"exact\"", "method = \"exact\"\nfriction = 0.3")
+        .replace(
+            "speed_km_h = 100.0",
+            "speed_km_h = 100.0\nsuspension_stiffness = 1e7"
+        ),
+    ["`time.gamma` = 0", "time.gamma > 0", "falls short of mu P"]
+);
+refused!(
     rolling_creepage_out_of_range,
     rolling_text().replace("speed_km_h = 100.0", "speed_km_h = 100.0\ncreepage = 2.0"),
     ["`vehicle.creepage` = 2", "[-0.5, 0.5]"]
