@@ -639,13 +639,31 @@ impl Panels {
             self.force.y_range = Some((cur_lo.min(0.0), cur_hi.max(hi + 0.6 * (hi - lo).max(1.0))));
         }
         if ri == 0 {
-            self.force.hlines.push((
-                1e-3 * sum.static_load_n,
-                format!(
-                    "static load F_axle + m_u g = {:.1} kN",
-                    1e-3 * sum.static_load_n
-                ),
-            ));
+            // A suspension spring about the axle's nominal position carries `-k_s z` of the
+            // load: the contact's share is the static load less it (the mean force's balance).
+            let k_s = ts.vehicle.suspension_stiffness;
+            let (line, label) = if k_s > 0.0 {
+                let share = sum.static_load_n + k_s * sum.axle_displacement_mean_m;
+                (
+                    share,
+                    format!(
+                        "static load less the suspension's share, F_axle + m_u g + k_s z = {:.1} kN",
+                        1e-3 * share
+                    ),
+                )
+            } else {
+                (
+                    sum.static_load_n,
+                    format!(
+                        "static load F_axle + m_u g = {:.1} kN",
+                        1e-3 * sum.static_load_n
+                    ),
+                )
+            };
+            if let Some((lo, hi)) = self.force.y_range {
+                self.force.y_range = Some((lo, hi.max(1.1e-3 * line)));
+            }
+            self.force.hlines.push((1e-3 * line, label));
             let settle = ts.settle_distance();
             if settle > 0.0 {
                 for p in [&mut self.force, &mut self.motion, &mut self.pads] {
