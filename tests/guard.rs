@@ -38,6 +38,21 @@ fn fields(line: &str) -> Vec<String> {
     out
 }
 
+/// Writes `text` as `<name>.toml` in `dir`, runs it with `--out <dir>/<name>` and returns
+/// what the command did and the output folder.
+fn run_text(dir: &TestDir, name: &str, text: &str) -> (common::Outcome, std::path::PathBuf) {
+    let path = dir.join(&format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let out = dir.join(name);
+    let o = cli([
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    (o, out)
+}
+
 /// A penalty of 1e30 N/m on the bar at h = 0.01: the spring is far past the step's stability
 /// and the energy settles at several times the initial one (x1.09 when the guard trips at
 /// h = 0.01; x3 at the end when it was let run).
@@ -156,15 +171,7 @@ fn a_braking_that_would_pull_holds_at_once() {
         let text = BAR
             .replace("t_end = 1.0", "t_end = 3.0")
             .replace("gap = 0.5", &format!("gap = {gap}"));
-        let path = dir.join(format!("bar{k}.toml"));
-        std::fs::write(&path, text).unwrap();
-        let out = dir.join(format!("out{k}"));
-        let o = cli([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (o, out) = run_text(&dir, &format!("bar{k}"), &text);
         assert_eq!(o.code, 0, "gap {gap}: {}", o.stderr);
         let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
         let mut lines = text.lines();
@@ -205,15 +212,7 @@ fn a_rim_that_loses_the_base_between_nodes_is_refused() {
     );
     let (_, text) = shipped("wheel-plastic", &[("wheel.rim_nodes", "52")]);
     let dir = TestDir::new("guard", "rim52");
-    let path = dir.join("rim52.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dir.join("out");
-    let o = cli([
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (o, _) = run_text(&dir, "rim52", &text);
     assert_eq!(o.code, 0, "{}", o.stderr);
     let (_, text) = shipped(
         "creep-curve",
@@ -244,15 +243,7 @@ fn a_wheel_that_turns_against_its_frame_says_so() {
         ("paper", &[("rolling.omega", "300")][..], None),
     ] {
         let (_, text) = shipped("wheel-sweep-paper-mesh", keys);
-        let path = dir.join(format!("{name}.toml"));
-        std::fs::write(&path, text).unwrap();
-        let out = dir.join(name);
-        let o = cli([
-            "run",
-            path.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (o, _) = run_text(&dir, name, &text);
         assert_eq!(o.code, 0, "{}", o.stderr);
         let said =
             o.stderr.contains("the wheel turned up to") && o.stderr.contains("wheel.support");
