@@ -41,7 +41,7 @@ fn fields(line: &str) -> Vec<String> {
 /// Writes `text` as `<name>.toml` in `dir`, runs it with `--out <dir>/<name>` and returns
 /// what the command did and the output folder.
 fn run_text(dir: &TestDir, name: &str, text: &str) -> (common::Outcome, std::path::PathBuf) {
-    let path = dir.join(&format!("{name}.toml"));
+    let path = dir.join(format!("{name}.toml"));
     std::fs::write(&path, text).unwrap();
     let out = dir.join(name);
     let o = cli([
