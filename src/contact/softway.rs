@@ -490,7 +490,6 @@ impl ContactTreatment for SoftWay {
             if self.brakes && have_prev && step_backs < 2 {
                 step_backs += 1;
                 ctx.counts.step_backs += 1;
-                ctx.counts.brakings += pen.len();
                 let h = ctx.integ.h();
                 let t_arrive = ring[2].t;
                 let bt = ctx.integ.step_at(ring[0].t).weight;
@@ -523,12 +522,11 @@ impl ContactTreatment for SoftWay {
                         tensile = true;
                     }
                 }
+                ctx.counts.brakings += pen
+                    .iter()
+                    .filter(|&&p| matches!(ring[0].pairs[p].mode, PairMode::Brake { .. }))
+                    .count();
                 if tensile {
-                    for &p in &pen {
-                        if !matches!(ring[0].pairs[p].mode, PairMode::Brake { .. }) {
-                            ctx.counts.brakings -= 1;
-                        }
-                    }
                     self.repeat_previous(ctx, ring)?;
                     for &p in &pen {
                         if !ring[1].pairs[p].braked {
