@@ -69,6 +69,17 @@ pub enum Cause {
         /// The largest compressive total force of the run so far, N.
         peak: f64,
     },
+    /// A pinned wheel turned against its frame so far that the linear model's error in the
+    /// rim's reach, `R theta^2 / 2`, passed a stated part of the flattening: its contact
+    /// force would be wrong by about as much (`softway::run::wheel`'s rotation watch).
+    Turned {
+        /// The rigid rotation, rad.
+        theta: f64,
+        /// `R theta^2 / 2` over the flattening.
+        reach: f64,
+        /// The part of the flattening beyond which the run is stopped.
+        limit: f64,
+    },
 }
 
 impl std::fmt::Display for Diverged {
@@ -87,6 +98,16 @@ impl std::fmt::Display for Diverged {
                 f,
                 "the run diverged at step {step} (t = {t:e} s): its contact pulled with {:.4e} N (the largest compressive total so far {peak:.4e} N), and a contact can only push; a step too long for the contact's events (`time.h` against a rim node's passage), a rim too coarse for the contact patch (`wheel.rim_nodes`) or a treatment that does not suit them (`contact.method`)",
                 -force
+            ),
+            Cause::Turned {
+                theta,
+                reach,
+                limit,
+            } => write!(
+                f,
+                "the run was stopped at step {step} (t = {t:e} s): the wheel turned {theta:.3e} rad against its frame (its rigid rotation about the pinned centre, which only the contact holds), and a linear model misses the rim's reach R theta^2 / 2 = {:.0}% of the flattening, beyond {:.0}%: its contact force would be wrong by about as much; hold the wheel by its hub (`wheel.support = \"hub\"`)",
+                100.0 * reach,
+                100.0 * limit
             ),
         }
     }

@@ -1330,6 +1330,26 @@ fn wheel_on_mesh(name: &str, bytes: &[u8]) -> (PathBuf, PathBuf) {
     (dir, p)
 }
 
+/// [`wheel_on_mesh`] held by a hub on the disk's first ring (r = R/3) instead of the pinned
+/// centre: the 18-node rim of the coarse test disks rocks its free rigid rotation past a
+/// quarter of the flattening within a millisecond, which stops a pinned run
+/// ([`softway::guard::Cause::Turned`]); the cases that must run are held.
+fn held_wheel_on_mesh(name: &str, bytes: &[u8]) -> (PathBuf, PathBuf) {
+    let (dir, p) = wheel_on_mesh(name, bytes);
+    let text = std::fs::read_to_string(&p).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("support = \"centre\""))
+        .unwrap()
+        .to_string();
+    std::fs::write(
+        &p,
+        text.replace(&line, "support = \"hub\"\nhub_radius = 0.0334"),
+    )
+    .unwrap();
+    (dir, p)
+}
+
 /// A mesh case: the scenario `$name.toml` names `mesh.msh` (holding `$bytes`) as its
 /// `wheel.mesh`; the message names the scenario, the key, the mesh file and `$must`.
 macro_rules! mesh_refused {
@@ -1630,7 +1650,7 @@ fn mesh_with_round_off_in_z_runs() {
         format!("\n{} {} 0\n", p[0], p[1]).as_bytes(),
         format!("\n{} {} 1e-13\n", p[0], p[1]).as_bytes(),
     );
-    let (_dir, p) = wheel_on_mesh("round_off_z", &bytes);
+    let (_dir, p) = held_wheel_on_mesh("round_off_z", &bytes);
     let out = p.with_extension("out");
     let o = cli([
         "run".as_ref(),
@@ -1652,7 +1672,7 @@ fn mesh_with_non_contiguous_tags_runs() {
         d.centre = f(d.centre);
         d.tris.iter_mut().flatten().for_each(|t| *t = f(*t));
     });
-    let (_dir, p) = wheel_on_mesh("sparse_tags", &ascii(&d));
+    let (_dir, p) = held_wheel_on_mesh("sparse_tags", &ascii(&d));
     let out = p.with_extension("out");
     let o = cli([
         "run".as_ref(),
@@ -1678,7 +1698,7 @@ fn mesh_without_a_rim_group_runs_as_with_it() {
     );
     let mut forces = Vec::new();
     for (name, bytes) in [("rim_group", with), ("no_rim_group", without)] {
-        let (_dir, p) = wheel_on_mesh(name, &bytes);
+        let (_dir, p) = held_wheel_on_mesh(name, &bytes);
         let out = p.with_extension("out");
         let o = cli([
             "run".as_ref(),

@@ -648,7 +648,7 @@ pub fn simulate(
     };
     let mut summary = summarise(wm, ws, run, &results, bounce);
     summary.warnings = warnings;
-    if let Some(w) = rotation.warning(wm, &run.label) {
+    if let Some(w) = rotation.warning(&run.label) {
         summary.warnings.push(w);
     }
     let plastic = match (ws.plastic, plastic_state) {
@@ -872,7 +872,7 @@ pub fn drive(
             };
             observers.iter_mut().try_for_each(|o| o.observe(&step))
         })
-        .map_err(sim_error)?;
+        .map_err(|e| sim_error(stopped_by_observer(e)))?;
     let plastic_state = sim.nonlinear().map(|nl| nl.state(1).to_vec());
     Ok((
         LoopOutcome {
@@ -892,18 +892,43 @@ pub fn drive(
     ))
 }
 
+/// An observer's stop ([`RotationWatch`]: a [`crate::guard::Diverged`] carried in the
+/// I/O error an observer returns) as the guard's own; other errors as they are.
+fn stopped_by_observer(e: crate::simulation::SimError) -> crate::simulation::SimError {
+    use crate::simulation::SimError;
+    match e {
+        SimError::Output(io) => {
+            match io
+                .get_ref()
+                .and_then(|x| x.downcast_ref::<crate::guard::Diverged>())
+            {
+                Some(d) => SimError::Diverged(*d),
+                None => SimError::Output(io),
+            }
+        }
+        e => e,
+    }
+}
+
 /// The wheel's rigid rotation about its centre against its frame, `theta = sum (x u_y -
 /// y u_x) / sum r^2` over the rim nodes, watched every step. The model is linear: a rotation
 /// `theta` shortens the rim's reach by `R theta^2 / 2`, which it does not see. A clamped hub
 /// holds the rotation; the paper's pinned centre does not, and the contact's lever arms
 /// rock the disk: about 2e-3 rad at 300 rad/s on the paper's mesh, 0.04 rad at 520 rad/s
-/// (Fig. 15's fastest point: 7% of the flattening) and at 100 rad/s. Past 1% of the
-/// flattening the run warns, with the figure.
+/// (Fig. 15's fastest point: 8% of the flattening) and at 100 rad/s. Past 1% of the
+/// flattening ([`ROTATION_REACH`]) the run warns, with the figure; past a quarter of it
+/// ([`ROTATION_STOP`]) the run is stopped ([`crate::guard::Cause::Turned`]): the contact
+/// force is then wrong by about as much (the penetration it sees is `d + R theta^2 / 2`
+/// for a flattening `d`), and such a run (a 24-node rim at 31 rad/s: 0.14 rad, 100% of the
+/// flattening, its energy up tenfold) is not a result.
 struct RotationWatch {
     /// The rim nodes' dofs and reference coordinates `(dof, x, y)`.
     rim: Vec<(usize, f64, f64)>,
     /// `sum r^2` over them.
     r2: f64,
+    /// The spun rim's radius and the flattening, m.
+    radius: f64,
+    depth: f64,
     /// The largest `|theta|` seen, rad, and its time, s.
     max: (f64, f64),
 }
@@ -911,6 +936,10 @@ struct RotationWatch {
 /// The rim's shortening by a rigid rotation, as a fraction of the flattening, beyond which
 /// a wheel run warns ([`RotationWatch`]).
 const ROTATION_REACH: f64 = 0.01;
+
+/// The rim's shortening by a rigid rotation, as a fraction of the flattening, beyond which
+/// a wheel run is stopped ([`RotationWatch`]).
+pub const ROTATION_STOP: f64 = 0.25;
 
 impl RotationWatch {
     fn new(wm: &WheelModel) -> Self {
@@ -926,13 +955,15 @@ impl RotationWatch {
         Self {
             rim,
             r2,
+            radius: wm.spinning_radius(),
+            depth: wm.spec.flattening.depth,
             max: (0.0, 0.0),
         }
     }
 
     /// The warning when the rotation passed [`ROTATION_REACH`] of the flattening.
-    fn warning(&self, wm: &WheelModel, label: &str) -> Option<String> {
-        let (radius, depth) = (wm.spinning_radius(), wm.spec.flattening.depth);
+    fn warning(&self, label: &str) -> Option<String> {
+        let (radius, depth) = (self.radius, self.depth);
         let (theta, t) = self.max;
         let reach = radius * theta * theta / 2.0;
         (depth > 0.0 && reach > ROTATION_REACH * depth).then(|| {
@@ -955,6 +986,18 @@ impl Observer for RotationWatch {
             let theta = (m / self.r2).abs();
             if theta > self.max.0 {
                 self.max = (theta, s.t);
+                let reach = self.radius * theta * theta / 2.0 / self.depth;
+                if self.depth > 0.0 && reach > ROTATION_STOP {
+                    return Err(std::io::Error::other(crate::guard::Diverged {
+                        step: s.k,
+                        t: s.t,
+                        cause: crate::guard::Cause::Turned {
+                            theta,
+                            reach,
+                            limit: ROTATION_STOP,
+                        },
+                    }));
+                }
             }
         }
         Ok(())
