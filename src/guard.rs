@@ -69,6 +69,13 @@ pub enum Cause {
         /// The largest compressive total force of the run so far, N.
         peak: f64,
     },
+    /// The plastic iteration of a step did not converge within its cap: the flow is beyond
+    /// what the step and the mesh resolve, or the support or material concentrates it
+    /// without bound (a hub of 2.7 um: 113 iterations a step, a plastic strain of 180).
+    Unconverged {
+        /// The cap, corrections a solve.
+        iterations: usize,
+    },
     /// A pinned wheel turned against its frame so far that the linear model's error in the
     /// rim's reach, `R theta^2 / 2`, passed a stated part of the flattening: its contact
     /// force would be wrong by about as much (`softway::run::wheel`'s rotation watch).
@@ -98,6 +105,10 @@ impl std::fmt::Display for Diverged {
                 f,
                 "the run diverged at step {step} (t = {t:e} s): its contact pulled with {:.4e} N (the largest compressive total so far {peak:.4e} N), and a contact can only push; a step too long for the contact's events (`time.h` against a rim node's passage), a rim too coarse for the contact patch (`wheel.rim_nodes`) or a treatment that does not suit them (`contact.method`)",
                 -force
+            ),
+            Cause::Unconverged { iterations } => write!(
+                f,
+                "the run was stopped at step {step} (t = {t:e} s): its plastic iteration did not converge within {iterations} corrections (`material.plastic_tolerance`): the plastic flow is beyond what the step and the mesh resolve (`time.h`, `wheel.rim_nodes`), or the support or the material concentrates it without bound (`wheel.hub_radius`, `material.yield_stress`)"
             ),
             Cause::Turned {
                 theta,

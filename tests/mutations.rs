@@ -481,6 +481,32 @@ fn a_creep_curve_wheel_of_400_m_is_not_a_panic() {
     case_of(95, &src, &dir, &mut Tally::default()).unwrap();
 }
 
+/// Cases of the 2,000-case campaign that ended outside bounds, now refused or stopped in one
+/// line naming the file:
+/// - 1185 (`polygon.toml` with `rolling.settle_time` = 6 ns): the base pressed 1 mm in within
+///   a step struck the wheel (0.67 mm of penetration, 0.002 J -> 523 J, exit 0); a settling
+///   shorter than one period of the wheel's bounce on its support and contact is refused;
+/// - 1649 (`wheel-plastic.toml` with `wheel.hub_radius` = 2.7 um): the hub concentrated the
+///   plastic flow without bound (113 iterations a step, 192 unconverged solves, a plastic
+///   strain of 180, 75 s instead of the estimated second); a solve whose plastic iteration
+///   does not converge stops the run;
+/// - 1801 (`bar-impact.toml` with `bar.gap` = 31 m): the bar never reached the wall before
+///   `t_end` and the summary's contact figures were null (exit 0); refused before the run.
+#[test]
+fn the_campaigns_cases_outside_bounds_are_refused() {
+    let dir = TestDir::new("mut", "campaign2000");
+    let scenarios = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
+    for (k, name) in [
+        (1185, "polygon.toml"),
+        (1649, "wheel-plastic.toml"),
+        (1801, "bar-impact.toml"),
+    ] {
+        let mut tally = Tally::default();
+        case_of(k, &scenarios.join(name), &dir, &mut tally).unwrap();
+        assert_eq!((tally.refused, tally.ok, tally.long), (1, 0, 0), "case {k}");
+    }
+}
+
 #[test]
 fn mutated_scenarios_end_in_a_physical_result_or_a_one_line_refusal() {
     let n: usize = std::env::var("SOFTWAY_MUTATIONS")

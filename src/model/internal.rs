@@ -184,6 +184,11 @@ impl Nonlinear {
         self.stats
     }
 
+    /// The most corrections a solve may take.
+    pub fn max_iterations(&self) -> usize {
+        self.max_iterations
+    }
+
     /// The state of the ring's slot `i` (0: `t_{k-2}`, 1: `t_{k-1}`, 2: `t_k`).
     pub fn state(&self, i: usize) -> &[f64] {
         &self.ring[i]

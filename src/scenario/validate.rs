@@ -179,6 +179,10 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
             }
             t.duration()
         }
+        // A bar that cannot reach its obstacle before the end: nothing would touch, and
+        // every contact figure of the summary would be empty.
+        Model::BarImpact(b) => reached(&cx, "bar", "obstacle", (b.gap, b.speed), t_end)?,
+        Model::TwoBars(b) => reached(&cx, "two_bars", "other bar", (b.gap, b.speed), t_end)?,
         _ => t_end,
     };
     let base = Base {
@@ -372,6 +376,28 @@ fn model(
             ))
         }
     })
+}
+
+/// `t_end` when the bar (table `table`, moving at `speed` towards `what` across `gap`)
+/// touches it before the end of the run, else the refusal naming `time.t_end`.
+fn reached(
+    cx: &Ctx,
+    table: &str,
+    what: &str,
+    (gap, speed): (f64, f64),
+    t_end: f64,
+) -> Result<f64, ScenarioError> {
+    let t_touch = gap / speed;
+    if t_touch < t_end {
+        return Ok(t_end);
+    }
+    Err(cx.invalid(
+        "time.t_end",
+        t_end,
+        &format!(
+            "the bar reaches the {what} at {table}.gap / {table}.speed = {gap} m / {speed} m/s = {t_touch:e} s, not before the run ends: nothing would touch; take time.t_end > {t_touch:e} s or a smaller {table}.gap"
+        ),
+    ))
 }
 
 /// What every run starts from: the top-level settings, validated on their own.

@@ -29,7 +29,7 @@ use crate::contact::pair::Pair;
 use crate::contact::rows::RowSolver;
 use crate::contact::treatment::{ContactTreatment, Treatment};
 use crate::contact::{FrictionLaw, Interface, InterfaceError, Obstacle};
-use crate::guard::{Diverged, DivergenceGuard, GuardMode};
+use crate::guard::{Cause, Diverged, DivergenceGuard, GuardMode};
 use crate::linalg::team::{Par, Team};
 use crate::linalg::{quadratic_form, LinalgError};
 use crate::mesh::zone::Source;
@@ -699,6 +699,17 @@ impl Simulation {
                     step: k,
                     t: self.snaps[2].t,
                 });
+            }
+            if let Some(nl) = self.engine.nonlinear.as_ref() {
+                if nl.stats().unconverged > 0 {
+                    return Err(SimError::Diverged(Diverged {
+                        step: k,
+                        t: self.snaps[2].t,
+                        cause: Cause::Unconverged {
+                            iterations: nl.max_iterations(),
+                        },
+                    }));
+                }
             }
             self.guard_step(have_prev, false)?;
             self.emit(1, false, &mut observer)?;
