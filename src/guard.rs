@@ -1,5 +1,6 @@
 //! The divergence guard: a run whose energy grows beyond what the work done on the system
-//! can explain, or whose contact pulls, is stopped, never reported as a result.
+//! can explain, whose contact pulls, or whose model leaves its validity, is stopped, never
+//! reported as a result.
 //!
 //! **The bound.** The energy of a run obeys the balance
 //! $$E(t) = E(t_0) + W(t) - D(t) + E_{num}(t),$$
@@ -26,6 +27,12 @@
 //! least [`PULL_FLOOR`]), else the run is stopped as diverged ([`Cause::Pulled`]). The
 //! treatments release a tensile hold and never brake or give back by pulling, so a tension
 //! means a step or a rim the treatment cannot follow.
+//!
+//! **A model outside its validity.** Two more stops share [`Diverged`]: a plastic solve
+//! whose iteration reaches its cap ([`Cause::Unconverged`], checked by the simulation after
+//! every step), and a pinned wheel whose rigid rotation against its frame makes the linear
+//! model's error in the rim's reach pass a quarter of the flattening ([`Cause::Turned`],
+//! the wheel run's rotation watch).
 //!
 //! The check costs two sparse quadratic forms every [`CHECK_STRIDE`] steps, and per step a
 //! dot product with the load and the rows of the pairs that carry a force.

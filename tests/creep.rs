@@ -4,12 +4,16 @@
 //!
 //! Frictionless and static (the quasi-static steady state of a roller at 5 m/s): the
 //! surface's shortening across the patch against Flamant's, and Bentall and Johnson's
-//! mu -> 0 free-rolling creepage. Rolling with friction: the coupled free-rolling creepage on
-//! a ladder of zone pitches. Measured: the ladder 2,304 / 4,608 / 9,216 gives free-rolling
-//! creepages of 1.232 / 1.569 / 1.714 e-3 on the undeformed radius (0.410 / 0.522 / 0.571
-//! mu a / R; observed order 1.2, Richardson limit 1.825e-3 = 0.607 mu a / R): the shipped mesh
-//! is 6 % short of the limit, not the 2 % the issue asks; [`TO_LIMIT`] asserts what it
-//! reaches. About 2 minutes on two free cores (9 runs of 2,500 steps, side by side by three).
+//! mu -> 0 free-rolling creepage. Rolling with friction (8 ms after settling, the creep
+//! force averaged over the last 4): the coupled free-rolling creepage on a ladder of zone
+//! pitches, against an independent half-space answer (`validation/halfspace_creep.py`).
+//! Measured: the ladder 2,304 / 4,608 / 9,216 gives free-rolling creepages of 0.417 /
+//! 0.529 / 0.578 mu a / R on the undeformed radius (observed order 1.17, Richardson limit
+//! 0.618), the half-space strip 0.6183: the limit agrees to 0.1 %, while the shipped mesh
+//! is 6.4 % short of it, not the 2 % the issue asks ([`TO_LIMIT`] asserts what it reaches).
+//! With 4 ms of rolling the start-up transient took another 1-1.5 % off every rung and the
+//! limit came out 0.607. About 4 minutes on two free cores (9 runs of 4,500 steps, side
+//! by side by three).
 
 mod common;
 
@@ -296,7 +300,7 @@ fn free_rolling(zone: &str, xis: [f64; 3]) -> (f64, f64) {
     let pts: Vec<(f64, f64, f64)> = std::thread::scope(|s| {
         let h: Vec<_> = xis
             .iter()
-            .map(|&xi| s.spawn(move || rolling(zone, xi, 4.0)))
+            .map(|&xi| s.spawn(move || rolling(zone, xi, ROLLING_MS)))
             .collect();
         h.into_iter()
             .map(|h| {
@@ -329,9 +333,20 @@ fn free_rolling(zone: &str, xis: [f64; 3]) -> (f64, f64) {
     (x, a)
 }
 
-/// How close the finest rung is asserted to be to the Richardson limit: 7 % (measured 6.1 %;
+/// How close the finest rung is asserted to be to the Richardson limit: 7 % (measured 6.4 %;
 /// the issue's 2 % needs the next rung, module docs).
 const TO_LIMIT: f64 = 0.07;
+
+/// The rolling after settling, ms: the shipped scenario's 8 (the creep force averaged over
+/// the last 4). At 4,608 rim nodes in the zone the free-rolling creepage is 0.5220 / 0.5270 /
+/// 0.5286 / 0.5293 mu a / R after 4 / 6 / 8 / 12 ms.
+const ROLLING_MS: f64 = 8.0;
+
+/// The coupled free-rolling creepage on the undeformed radius, mu a / R, of the half-space
+/// strip (`validation/halfspace_creep.py`: Hertz's pressure, 100 to 800 cells give 0.6183,
+/// 0.6183, 0.6182, 0.6183; checked there on Carter's curve, full slip and Bentall and
+/// Johnson's mu -> 0 limit).
+const HALF_SPACE_FREE_ROLLING: f64 = 0.6183;
 
 /// Creepages on `rho` about the ladder's free rolling (0.00146 on the shipped mesh, less on
 /// the coarser rungs).
@@ -339,7 +354,8 @@ const XIS: [f64; 3] = [0.0005, 0.001, 0.0015];
 
 /// The coupled free-rolling creepage converges on a ladder of the shipped family (the zone's
 /// pitch halved twice: 2,304 / 4,608 / 9,216 rim nodes in the zone) with an observed order
-/// and a Richardson limit; the finest rung is within 2 % of the limit.
+/// and a Richardson limit, the limit within 2 % of the half-space strip's; the finest rung is
+/// within [`TO_LIMIT`] of the limit.
 #[test]
 fn coupled_free_rolling_creepage_converges_on_the_zone_ladder() {
     let rungs = [
@@ -363,4 +379,11 @@ fn coupled_free_rolling_creepage_converges_on_the_zone_ladder() {
         "{x1} {x2} {x3} -> {limit}"
     );
     assert!((x3 / limit - 1.0).abs() < TO_LIMIT, "{x3} vs {limit}");
+    // The limit is the half-space's (an O(a / R) = 1 % difference of the finite wheel
+    // allowed for).
+    let limit_units = limit / (0.3 * a / r);
+    assert!(
+        (limit_units / HALF_SPACE_FREE_ROLLING - 1.0).abs() < 0.02,
+        "{limit_units} vs {HALF_SPACE_FREE_ROLLING}"
+    );
 }

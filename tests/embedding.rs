@@ -110,7 +110,7 @@ fn warnings_come_back_in_the_report() {
             &[
                 ("rolling.omega", omega),
                 ("rolling.turns", "0.005"),
-                ("rolling.settle_time", "1e-4"),
+                ("rolling.settle_time", "2e-4"),
                 ("output.plots", "false"),
             ],
         );

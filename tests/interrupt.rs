@@ -22,7 +22,7 @@ length = 1.0
 ea = 1.0
 rho_a = 1.0
 speed = 1.0
-gap = 0.5
+gap = 0.25
 elements = 2000
 "#;
 

@@ -456,7 +456,7 @@ fn a_node_passing_resonance_is_announced() {
         let text = wheel_text()
             .replace("omega = 300.0", &format!("omega = {omega}"))
             .replace("turns = 5", "turns = 0.05")
-            .replace("settle_time = 5e-3", "settle_time = 1e-4")
+            .replace("settle_time = 5e-3", "settle_time = 2e-4")
             .replace("history_stride = 5", "history_stride = 50\nplots = false");
         let sc = dir.join(format!("w{omega}.toml"));
         std::fs::write(&sc, text).unwrap();
