@@ -86,6 +86,19 @@ pub fn resolve_time_step(
                     ),
                 });
             }
+            // A step beyond the run computes nothing (no contact, its figures empty).
+            if cfl * hc > run.t_end {
+                return Err(ScenarioError::Invalid {
+                    path: sc.path.clone(),
+                    key: key.clone(),
+                    value: cfl.to_string(),
+                    allowed: format!(
+                        "the step it gives, {:.4e} s (cfl x the stable step {hc:.4e} s), exceeds the run, time.t_end = {} s: more elements (bar.elements) or a smaller cfl",
+                        cfl * hc,
+                        run.t_end
+                    ),
+                });
+            }
             cfl * hc
         }
         &TimeStep::Fixed(h) => {

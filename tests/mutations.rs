@@ -12,8 +12,11 @@
 //!
 //! - exit 2 with one error line naming the scenario file (warnings before it allowed), or
 //! - exit 0 with a summary whose figures are finite and physical: the energy of a model on
-//!   which nothing works (the oscillator, the bars against a fixed wall, the wheel after
-//!   settling on a base that only turns) not above `kappa` times its initial energy plus
+//!   which nothing works (the oscillator, the bars against a fixed wall, the wheel held by
+//!   its hub, frictionless and elastic, after settling on a base that only turns; the base
+//!   works on a pinned disk through its torque, on a plastic rim left out of round and
+//!   through friction, and there the guard's bound with that work is the run's own) not
+//!   above `kappa` times its initial energy plus
 //!   the floor, [`softway::guard::ENERGY_FACTOR`] and [`softway::guard::ENERGY_FLOOR`], the
 //!   divergence guard's own bound; contact forces that push (never pull); the penetration
 //!   within the treatment's bound: a penalty spring's peak force over its stiffness, or
@@ -288,8 +291,22 @@ fn check_summary(s: &serde_json::Value, doc: &Table) -> Result<(), String> {
             }
             "wheel" => {
                 let (e0, e1) = (finite("energy_after_settling")?, finite("energy_final")?);
+                // The turning base works on a wheel through friction, on a rim that plastic
+                // flow has left out of round, and on a pinned disk through its torque about
+                // the pin (its rigid rotation, which only the contact holds): for those the
+                // bound is the guard's, which counts that work (the run enforces it).
                 let friction = doc.get("contact").and_then(|c| c.get("friction")).is_some();
-                if !friction && e1 > ENERGY_FACTOR * e0 + ENERGY_FLOOR {
+                let plastic = doc
+                    .get("material")
+                    .and_then(|m| m.get("model"))
+                    .and_then(Value::as_str)
+                    .is_some_and(|m| m != "elastic");
+                let pinned = doc
+                    .get("wheel")
+                    .and_then(|w| w.get("support"))
+                    .and_then(Value::as_str)
+                    .is_some_and(|s| s == "centre" || s == "center");
+                if !(friction || plastic || pinned) && e1 > ENERGY_FACTOR * e0 + ENERGY_FLOOR {
                     return Err(format!(
                         "{label}: energy {e0:e} J after settling -> {e1:e} J at the end, on a base that only turns"
                     ));
@@ -491,7 +508,16 @@ fn a_creep_curve_wheel_of_400_m_is_not_a_panic() {
 ///   strain of 180, 75 s instead of the estimated second); a solve whose plastic iteration
 ///   does not converge stops the run;
 /// - 1801 (`bar-impact.toml` with `bar.gap` = 31 m): the bar never reached the wall before
-///   `t_end` and the summary's contact figures were null (exit 0); refused before the run.
+///   `t_end` and the summary's contact figures were null (exit 0); refused before the run;
+///
+/// and of the 5,000-case campaign:
+/// - 3266 (`compare-bar.toml` with `bar.length` = 375 km): the central difference's `cfl`
+///   step (8,447 s) exceeded the run (4 s), nothing was computed and the contact figures
+///   were null (exit 0); a `cfl` step beyond `t_end` is refused;
+/// - 4312 (`wheel-paper-mesh.toml` on 4 rings, `rolling.settle_time` = 1.4 us): the base
+///   struck the wheel (0.004 J -> 516 J) where the bounce's mode is not found (the rim too
+///   coarse to hold a node), so the settling is checked against the time a compression
+///   wave takes to cross the disk there.
 #[test]
 fn the_campaigns_cases_outside_bounds_are_refused() {
     let dir = TestDir::new("mut", "campaign2000");
@@ -500,6 +526,8 @@ fn the_campaigns_cases_outside_bounds_are_refused() {
         (1185, "polygon.toml"),
         (1649, "wheel-plastic.toml"),
         (1801, "bar-impact.toml"),
+        (3266, "compare-bar.toml"),
+        (4312, "wheel-paper-mesh.toml"),
     ] {
         let mut tally = Tally::default();
         case_of(k, &scenarios.join(name), &dir, &mut tally).unwrap();

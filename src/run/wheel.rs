@@ -1174,14 +1174,34 @@ fn step_adequacy(
     // catches them there (a penetration of the whole flattening), and the energy of the
     // blow stays in the run (a 96-node rim pressed 1 mm in 6 ns: 0.67 mm, 0.002 J -> 523 J).
     let settle = wm.spec.flattening.settle_time;
-    if let Some(b) = bounce.filter(|b| depth > 0.0 && b.frequency_hz > 0.0) {
-        let period = 1.0 / b.frequency_hz;
+    if depth > 0.0 {
+        // The bounce's period, or where its mode is not found (a rim too coarse for the
+        // patch to hold a node), the time a compression wave takes to cross the disk: a
+        // lower bound of any loading time.
+        let material = &wm.spec.material;
+        let (period, what) = match bounce.filter(|b| b.frequency_hz > 0.0) {
+            Some(b) => (
+                1.0 / b.frequency_hz,
+                format!(
+                    "one period of the wheel's bounce on its support and contact ({:.3e} s at {:.1} Hz)",
+                    1.0 / b.frequency_hz,
+                    b.frequency_hz
+                ),
+            ),
+            None => {
+                let t = 2.0 * wm.spec.radius / (material.young / material.density).sqrt();
+                (
+                    t,
+                    format!("the time a compression wave takes to cross the wheel ({t:.3e} s, 2 R / sqrt(E / rho))"),
+                )
+            }
+        };
         if settle < period {
             return Err(RunError::input(
                 &sc.path,
                 format!(
-                    "run `{}`: `rolling.settle_time` = {settle:e} s presses the base to the flattening {depth:e} m in less than one period of the wheel's bounce on its support and contact ({period:.3e} s at {:.1} Hz): the base would strike the wheel, not load it; take `rolling.settle_time` >= {period:.3e} s",
-                    run.label, b.frequency_hz
+                    "run `{}`: `rolling.settle_time` = {settle:e} s presses the base to the flattening {depth:e} m in less than {what}: the base would strike the wheel, not load it; take `rolling.settle_time` >= {period:.3e} s",
+                    run.label
                 ),
             ));
         }
