@@ -942,7 +942,7 @@ const ROTATION_REACH: f64 = 0.01;
 
 /// The rim's shortening by a rigid rotation, as a fraction of the flattening, beyond which
 /// a wheel run is stopped ([`RotationWatch`]).
-pub const ROTATION_STOP: f64 = 0.25;
+const ROTATION_STOP: f64 = 0.25;
 
 impl RotationWatch {
     fn new(wm: &WheelModel) -> Self {
