@@ -272,7 +272,7 @@ def test_a_failing_point_is_reported_and_the_others_kept(one_turn, dask_executor
 
 
 def test_grid_product_and_zip():
-    bar = {"kind": "bar_impact", "time": {"h": 0.1, "t_end": 1.0}, "bar": BAR}
+    bar = {"kind": "bar_impact", "time": {"h": 0.1, "t_end": 2.0}, "bar": BAR}
     ds = softway.sweep(bar, {"bar.speed": [0.5, 1.0, 2.0], "bar.elements": [8, 16]},
                        executor="serial", progress=False)
     assert ds["energy_initial"].dims == ("bar.speed", "bar.elements")
