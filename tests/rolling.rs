@@ -12,15 +12,16 @@
 //!   independent frequency-domain computation on the track alone, with the contact spring
 //!   measured in the smooth run).
 
+mod common;
+
 use softway::contact::profile::Profile;
 use softway::contact::{Restore, Treatment};
-use softway::mesh::generators::{disk_graded, DiskOptions};
 use softway::simulation::Simulation;
 use softway::time::{Coriolis, Integrator};
 use softway::track::receptance::p2_with;
-use softway::track::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
-use softway::track::{Ends, TrackSpec};
-use softway::wheel::{Support, WheelModel, WheelSpec};
+use softway::track::rolling::{Vehicle, WheelOnTrack};
+use softway::track::TrackSpec;
+use softway::wheel::WheelModel;
 use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
@@ -44,40 +45,12 @@ const SETTLE: f64 = 0.05;
 const WINDOW: (f64, f64) = (0.15, 0.5);
 
 fn track() -> TrackSpec {
-    TrackSpec {
-        bays: BAYS,
-        ends: Ends::Absorbing {
-            bays: 20,
-            damping: 1000.0,
-        },
-        ..TrackSpec::uic60()
-    }
+    common::absorbing_track(BAYS)
 }
 
 /// A 0.46 m steel wheel 20 mm thick (plane strain) on a 0.1 m hub, turning at `V / R_s`.
 fn wheel() -> WheelModel {
-    let mesh = disk_graded(
-        0.46,
-        RIM,
-        DiskOptions {
-            hub: Some(0.1),
-            grading: 1.3,
-        },
-    )
-    .unwrap();
-    let spec = WheelSpec {
-        radius: 0.46,
-        thickness: 0.02,
-        plane: softway::material::PlaneModel::Strain,
-        support: Support::Hub { radius: 0.1 },
-        material: softway::material::Elastic {
-            young: 2.1e11,
-            poisson: 0.3,
-            density: 7850.0,
-        },
-        ..WheelSpec::paper()
-    };
-    wheel_at_speed(mesh, spec, SPEED).unwrap()
+    common::steel_wheel_at(RIM, SPEED)
 }
 
 fn vehicle() -> Vehicle {

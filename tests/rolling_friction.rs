@@ -16,12 +16,11 @@
 mod common;
 
 use softway::contact::{FrictionLaw, Treatment};
-use softway::mesh::generators::{disk_graded, DiskOptions};
 use softway::simulation::Simulation;
 use softway::time::{Coriolis, Integrator};
-use softway::track::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
-use softway::track::{Ends, TrackSpec};
-use softway::wheel::{Support, WheelModel, WheelSpec};
+use softway::track::rolling::{Vehicle, WheelOnTrack};
+use softway::track::TrackSpec;
+use softway::wheel::WheelModel;
 use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
@@ -40,41 +39,13 @@ const GAMMA: f64 = 0.2;
 const WINDOW: (f64, f64) = (0.12, 0.3);
 
 fn track() -> TrackSpec {
-    TrackSpec {
-        bays: BAYS,
-        ends: Ends::Absorbing {
-            bays: 20,
-            damping: 1000.0,
-        },
-        ..TrackSpec::uic60()
-    }
+    common::absorbing_track(BAYS)
 }
 
 /// A 0.46 m steel wheel 20 mm thick (plane strain) on a 0.1 m hub, turning at
 /// `V (1 + xi) / R_s`.
 fn wheel(xi: f64, rim: usize) -> WheelModel {
-    let mesh = disk_graded(
-        0.46,
-        rim,
-        DiskOptions {
-            hub: Some(0.1),
-            grading: 1.3,
-        },
-    )
-    .unwrap();
-    let spec = WheelSpec {
-        radius: 0.46,
-        thickness: 0.02,
-        plane: softway::material::PlaneModel::Strain,
-        support: Support::Hub { radius: 0.1 },
-        material: softway::material::Elastic {
-            young: 2.1e11,
-            poisson: 0.3,
-            density: 7850.0,
-        },
-        ..WheelSpec::paper()
-    };
-    wheel_at_speed(mesh, spec, SPEED * (1.0 + xi)).unwrap()
+    common::steel_wheel_at(rim, SPEED * (1.0 + xi))
 }
 
 /// The axle held along the track by a stiff, critically damped suspension.

@@ -234,3 +234,45 @@ pub fn assert_dissipates(t: &serde_json::Value, omega: f64, h: f64) {
         "the friction energy falls by {drop:e} J in a step (floor {drop_floor:e})"
     );
 }
+
+/// The wheel-on-track tests' track (`tests/rolling.rs`, `tests/rolling_friction.rs`): UIC60
+/// on `bays` bays, 20 of them absorbing at each end.
+pub fn absorbing_track(bays: usize) -> softway::track::TrackSpec {
+    softway::track::TrackSpec {
+        bays,
+        ends: softway::track::Ends::Absorbing {
+            bays: 20,
+            damping: 1000.0,
+        },
+        ..softway::track::TrackSpec::uic60()
+    }
+}
+
+/// The wheel-on-track tests' wheel: 0.46 m of steel, 20 mm thick (plane strain), a graded
+/// disk of `rim` rim nodes (grading 1.3) on a 0.1 m hub, turning at `speed / R_s`.
+pub fn steel_wheel_at(rim: usize, speed: f64) -> softway::wheel::WheelModel {
+    use softway::mesh::generators::{disk_graded, DiskOptions};
+    use softway::wheel::{Support, WheelSpec};
+    let mesh = disk_graded(
+        0.46,
+        rim,
+        DiskOptions {
+            hub: Some(0.1),
+            grading: 1.3,
+        },
+    )
+    .unwrap();
+    let spec = WheelSpec {
+        radius: 0.46,
+        thickness: 0.02,
+        plane: softway::material::PlaneModel::Strain,
+        support: Support::Hub { radius: 0.1 },
+        material: softway::material::Elastic {
+            young: 2.1e11,
+            poisson: 0.3,
+            density: 7850.0,
+        },
+        ..WheelSpec::paper()
+    };
+    softway::track::rolling::wheel_at_speed(mesh, spec, speed).unwrap()
+}
