@@ -6,14 +6,18 @@
 //! surface's shortening across the patch against Flamant's, and Bentall and Johnson's
 //! mu -> 0 free-rolling creepage. Rolling with friction (8 ms after settling, the creep
 //! force averaged over the last 4): the coupled free-rolling creepage on a ladder of zone
-//! pitches, against an independent half-space answer (`validation/halfspace_creep.py`).
-//! Measured: the ladder 2,304 / 4,608 / 9,216 gives free-rolling creepages of 0.417 /
-//! 0.529 / 0.578 mu a / R on the undeformed radius (observed order 1.17, Richardson limit
-//! 0.618), the half-space strip 0.6183: the limit agrees to 0.1 %, while the shipped mesh
-//! is 6.4 % short of it, not the 2 % the issue asks ([`TO_LIMIT`] asserts what it reaches).
-//! With 4 ms of rolling the start-up transient took another 1-1.5 % off every rung and the
-//! limit came out 0.607. About 4 minutes on two free cores (9 runs of 4,500 steps, side
-//! by side by three).
+//! pitches, against an independent half-space answer with the pressure solved with the
+//! traction (`validation/halfspace_creep_coupled.py`).
+//!
+//! Measured: the ladder 4,608 / 9,216 / 18,432 (shipped) gives free-rolling creepages of
+//! 0.5603 / 0.5898 / 0.6044 mu a / R on the undeformed radius (observed order 1.01,
+//! Richardson limit 0.6187), and the half-space's 0.6276 less the wheel's own smooth strain
+//! at the contact (0.0096) is 0.6180: the limit agrees to 0.1 %. The shipped mesh is 2.3 %
+//! short of the limit, not the 2 % the issue asks ([`TO_LIMIT`] asserts what it reaches).
+//! The zone's chequerboard of diagonals matters here: with one diagonal in every cell the
+//! same ladder gave 0.529 / 0.578 / 0.5995, and the mirrored diagonal 0.606 / 0.599 (the
+//! other direction of rolling). About 9 minutes on two cores (9 runs of 4,500 steps, side
+//! by side by three; the 18,432 rung takes most).
 
 mod common;
 
@@ -151,8 +155,9 @@ fn free_rolling_mu0(rows: &[[f64; 4]], r: f64) -> f64 {
 /// plane strain: `(1 - 2 nu)(1 + nu) P' / E` between any two points outside the patch), at
 /// `x / a` = 1.5, 2, 2.5, 3, and the intercept at `x = 0` of the line through them: the
 /// wheel's own smooth strain (its curvature, its clamped hub) adds `2 x eps_c` to the
-/// half-space's constant; the intercept is the part from the pressure.
-fn shortening_over_flamant(wm: &softway::wheel::WheelModel) -> (Vec<f64>, f64, f64) {
+/// half-space's constant; the intercept is the part from the pressure. Returns the ratios,
+/// the intercept, the slope (per a) and `eps_c`.
+fn shortening_over_flamant(wm: &softway::wheel::WheelModel) -> (Vec<f64>, f64, f64, f64) {
     let (rows, total) = static_rim(wm, FLATTENING);
     let (e, nu, r) = (
         wm.spec.material.young,
@@ -171,35 +176,44 @@ fn shortening_over_flamant(wm: &softway::wheel::WheelModel) -> (Vec<f64>, f64, f
     let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
     let slope = sxy / sxx;
-    (ys, my - slope * mx, slope)
+    // The wheel's smooth strain: d(shortening)/dx = 2 eps_c (x in units of a).
+    let eps_c = 0.5 * slope * flamant / a;
+    (ys, my - slope * mx, slope, eps_c)
 }
 
 /// The mesh for creep studies removes the depth error: on the zone refined in depth
 /// (`wheel.zone_depth`), frictionless, the surface's shortening across the patch from the
-/// pressure is Flamant's within 1 % on the shipped mesh, and converges on the ladder of zone
-/// pitches (2,304 / 4,608 / 9,216 rim nodes in the zone) with successive differences that
-/// shrink by more than half.
+/// pressure is Flamant's within 1 % on the shipped mesh (18,432 rim nodes in the zone), and
+/// converges on the ladder of zone pitches (2,304 / 4,608 / 9,216 / 18,432) from below, the
+/// second difference less than half the first.
 #[test]
 fn the_depth_refined_zone_gives_flamants_surface_shortening() {
     let mut at_15 = Vec::new();
-    for zone in ["2304", "4608", "9216"] {
+    for zone in ["2304", "4608", "9216", "18432"] {
         let wm = wheel(&[("wheel.zone_rim_nodes", zone)], true);
-        let (ys, intercept, slope) = shortening_over_flamant(&wm);
+        let (ys, intercept, slope, _) = shortening_over_flamant(&wm);
         eprintln!(
             "zone {zone}: {} nodes; shortening / Flamant at 1.5, 2, 2.5, 3 a: {ys:.4?}; intercept {intercept:.4}, slope {slope:.4} per a",
             wm.mesh.n_nodes()
         );
         at_15.push(ys[0]);
-        if zone == "9216" {
+        if zone == "18432" {
             assert!((intercept - 1.0).abs() < 0.01, "intercept {intercept}");
         }
     }
-    let (d1, d2) = (at_15[1] - at_15[0], at_15[2] - at_15[1]);
-    assert!(d1 > 0.0 && d2 > 0.0 && d2 < 0.5 * d1, "{at_15:?}");
+    let (d1, d2, d3) = (
+        at_15[1] - at_15[0],
+        at_15[2] - at_15[1],
+        at_15[3] - at_15[2],
+    );
+    assert!(
+        d1 > 0.0 && d2 > 0.0 && d2 < 0.5 * d1 && d3 > 0.0,
+        "{at_15:?}"
+    );
     // Without the refinement in depth the zone's elements at depth ~a are g a = 0.3 a:
     // the surface comes out short by several per cent whatever the pitch.
     let wm = wheel(&[("wheel.zone_rim_nodes", "9216")], false);
-    let (ys, intercept, _) = shortening_over_flamant(&wm);
+    let (ys, intercept, _, _) = shortening_over_flamant(&wm);
     eprintln!("zone 9216 without zone_depth: {ys:.4?}; intercept {intercept:.4}");
     assert!(intercept < 0.98, "{intercept}");
 }
@@ -218,9 +232,10 @@ fn the_depth_refined_zone_gives_flamants_surface_shortening() {
 /// 3,000 m/s waves), with the wheel's own smooth strain at the contact (its curvature, its
 /// hub: the surface strain just outside the patch, where the half-space's is zero) taken off.
 ///
-/// Measured: -2.4 % on the shipped mesh (9,216 rim nodes in the zone), -1.7 % on the next
-/// rung (18,432); without taking the wheel's smooth strain off, -3.6 % and -2.8 %. Asserted:
-/// within 2 % on the finer rung, 3 % on the shipped one, and the error falling.
+/// Measured: -1.57 % on the shipped mesh (18,432 rim nodes in the zone), -2.07 % on the
+/// rung below (9,216); without taking the wheel's smooth strain off, -2.68 % and -3.25 %.
+/// (With one diagonal in every cell, before the chequerboard, -1.67 % and -2.44 %.)
+/// Asserted: within 2 % on the shipped mesh, 3 % on the rung below, and the error falling.
 #[test]
 fn bentall_johnson_free_rolling_creepage_as_mu_goes_to_zero() {
     let errors: Vec<f64> = ["9216", "18432"]
@@ -230,6 +245,14 @@ fn bentall_johnson_free_rolling_creepage_as_mu_goes_to_zero() {
     assert!(errors[0].abs() < 0.03, "{errors:?}");
     assert!(errors[1].abs() < 0.02, "{errors:?}");
     assert!(errors[1].abs() < errors[0].abs(), "{errors:?}");
+}
+
+/// The wheel's own smooth strain at the contact (its curvature, its hub), which the
+/// half-space does not have: from the slope of the frictionless surface shortening outside
+/// the patch, `d(shortening)/dx = 2 eps_c` ([`shortening_over_flamant`]). A creepage on the
+/// wheel is the half-space's less `eps_c`.
+fn smooth_strain(wm: &softway::wheel::WheelModel) -> f64 {
+    shortening_over_flamant(wm).3
 }
 
 /// The relative error of the free-rolling creepage as mu -> 0 (the wheel's smooth strain
@@ -254,11 +277,7 @@ fn bentall_johnson_error(zone: &str) -> f64 {
     };
     let bj = beta * a / r * (1.0 - c * c).sqrt();
     let xi0 = free_rolling_mu0(&rows, r);
-    let (_, _, slope) = shortening_over_flamant(&wm);
-    // The wheel's smooth strain: d(shortening)/dx = 2 eps_c.
-    let flamant =
-        -(1.0 - 2.0 * nu) * (1.0 + nu) * total / wm.spec.thickness / wm.spec.material.young;
-    let eps_c = 0.5 * slope * flamant / a;
+    let eps_c = smooth_strain(&wm);
     eprintln!(
         "zone {zone}: c/a {c:.4}; Bentall-Johnson xi0 {bj:.5e} ({:.4} beta a/R); wheel {xi0:.5e} ({:+.2}%), its smooth strain {eps_c:.3e}, without it {:.5e} ({:+.2}%)",
         bj / (beta * a / r),
@@ -333,9 +352,9 @@ fn free_rolling(zone: &str, xis: [f64; 3]) -> (f64, f64) {
     (x, a)
 }
 
-/// How close the finest rung is asserted to be to the Richardson limit: 7 % (measured 6.4 %;
-/// the issue's 2 % needs the next rung, module docs).
-const TO_LIMIT: f64 = 0.07;
+/// How close the finest rung is asserted to be to the Richardson limit: 2.5 % (measured
+/// 2.3 %: the issue's 2 % is not reached on the shipped mesh, module docs).
+const TO_LIMIT: f64 = 0.025;
 
 /// The rolling after settling, ms: the shipped scenario's 8 (the creep force averaged over
 /// the last 4). At 4,608 rim nodes in the zone the free-rolling creepage is 0.5220 / 0.5270 /
@@ -343,47 +362,57 @@ const TO_LIMIT: f64 = 0.07;
 const ROLLING_MS: f64 = 8.0;
 
 /// The coupled free-rolling creepage on the undeformed radius, mu a / R, of the half-space
-/// strip (`validation/halfspace_creep.py`: Hertz's pressure, 100 to 800 cells give 0.6183,
-/// 0.6183, 0.6182, 0.6183; checked there on Carter's curve, full slip and Bentall and
-/// Johnson's mu -> 0 limit).
-const HALF_SPACE_FREE_ROLLING: f64 = 0.6183;
+/// with the pressure solved with the traction (`validation/halfspace_creep_coupled.py`: 150
+/// and 300 cells over 3 a give 0.6273 and 0.6276). Holding the pressure at
+/// Hertz's instead (the Goodman simplification, `validation/halfspace_creep.py`) gives
+/// 0.6183: the traction's pull on the pressure moves free rolling by 1.5 %.
+const HALF_SPACE_FREE_ROLLING: f64 = 0.6276;
 
-/// Creepages on `rho` about the ladder's free rolling (0.00146 on the shipped mesh, less on
-/// the coarser rungs).
-const XIS: [f64; 3] = [0.0005, 0.001, 0.0015];
+/// Creepages on `rho` about the ladder's free rolling (1.56e-3 on the shipped mesh, 1.43e-3
+/// at 4,608 in the zone).
+const XIS: [f64; 3] = [0.001, 0.0015, 0.002];
 
 /// The coupled free-rolling creepage converges on a ladder of the shipped family (the zone's
-/// pitch halved twice: 2,304 / 4,608 / 9,216 rim nodes in the zone) with an observed order
-/// and a Richardson limit, the limit within 2 % of the half-space strip's; the finest rung is
-/// within [`TO_LIMIT`] of the limit.
+/// pitch halved twice: 4,608 / 9,216 / 18,432 rim nodes in the zone, the last the shipped
+/// one) with an observed order and a Richardson limit, the finest rung within 2 % of the
+/// limit ([`TO_LIMIT`]); the limit is the half-space's on a wheel: within 1 % of
+/// [`HALF_SPACE_FREE_ROLLING`] less the wheel's own smooth strain at the contact (its
+/// curvature and hub; the static solve's, as in Bentall and Johnson's check), which a
+/// half-space does not have.
 #[test]
 fn coupled_free_rolling_creepage_converges_on_the_zone_ladder() {
     let rungs = [
-        free_rolling("2304", XIS),
         free_rolling("4608", XIS),
         free_rolling("9216", XIS),
+        free_rolling("18432", XIS),
     ];
     let [x1, x2, x3] = rungs.map(|r| r.0);
     let ratio = (x3 - x2) / (x2 - x1);
     let order = -ratio.log2();
     let limit = x3 + (x3 - x2) / (2f64.powf(order) - 1.0);
     let (a, r) = (rungs[2].1, 0.1);
+    let unit = 0.3 * a / r;
+    let eps_c = smooth_strain(&wheel(&[("wheel.zone_rim_nodes", "18432")], true));
+    let reference = HALF_SPACE_FREE_ROLLING - eps_c / unit;
     eprintln!(
-        "free rolling {x1:.5e} / {x2:.5e} / {x3:.5e}: order {order:.2}, Richardson limit {limit:.5e} = {:.4} mu a / R; finest {:+.2}% from it",
-        limit / (0.3 * a / r),
-        100.0 * (x3 / limit - 1.0)
+        "free rolling {x1:.5e} / {x2:.5e} / {x3:.5e} = {:.4} / {:.4} / {:.4} mu a / R: order {order:.2}, Richardson limit {limit:.5e} = {:.4} mu a / R; finest {:+.2}% from it; the half-space's {HALF_SPACE_FREE_ROLLING} less the wheel's smooth strain {:.4}: {reference:.4} ({:+.2}%)",
+        x1 / unit,
+        x2 / unit,
+        x3 / unit,
+        limit / unit,
+        100.0 * (x3 / limit - 1.0),
+        eps_c / unit,
+        100.0 * (limit / unit / reference - 1.0)
     );
-    assert!(ratio > 0.0 && ratio < 0.9, "ratio {ratio}, order {order}");
+    assert!(ratio > 0.0 && ratio < 0.6, "ratio {ratio}, order {order}");
     assert!(
         x1 < x2 && x2 < x3 && x3 < limit,
         "{x1} {x2} {x3} -> {limit}"
     );
     assert!((x3 / limit - 1.0).abs() < TO_LIMIT, "{x3} vs {limit}");
-    // The limit is the half-space's (an O(a / R) = 1 % difference of the finite wheel
-    // allowed for).
-    let limit_units = limit / (0.3 * a / r);
     assert!(
-        (limit_units / HALF_SPACE_FREE_ROLLING - 1.0).abs() < 0.02,
-        "{limit_units} vs {HALF_SPACE_FREE_ROLLING}"
+        (limit / unit / reference - 1.0).abs() < 0.01,
+        "{} vs {reference}",
+        limit / unit
     );
 }
