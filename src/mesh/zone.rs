@@ -16,7 +16,7 @@
 //! that does not go with the pitch). About `(pi w / 4 + pi l) l / s_f^2` cells more, `w` the
 //! zone's arc length. A leaf cell
 //! whose sides carry only its four corners is two triangles, its diagonal alternating from
-//! cell to cell like a chequerboard ([`diagonal_flipped`]): one diagonal everywhere makes
+//! cell to cell like a chequerboard (`diagonal_flipped`): one diagonal everywhere makes
 //! the mesh chiral, and a wheel rolling one way then grows a creep force different from the
 //! same wheel rolling the other way (on the creep scenario's 9,216-node zone the free-rolling
 //! creepage moved by 3.5 % with the diagonal's direction). A cell with nodes of finer
