@@ -17,14 +17,15 @@ cells over [-1.5 a, 1.5 a] (a Hertz's half-width of the load P):
   found by an active-set loop (cells with p < 0 leave it, cells that would overlap the plane
   join it);
 - tangential, for a given p: `halfspace_creep.Strip.solve`'s regularized Coulomb law by
-  Newton's method, on the same cells;
+  Newton's method, on the same cells (continued below 1e-3 of the creepage scale as far as
+  Newton converges; the solves stopped there are counted and printed);
 - for a contact set the pressure is an affine map of the traction (the normal condition is
   linear in both), so the two are one Newton solve; the set is then updated until it holds
   (alternating the two problems instead cycles near full slip: a cell at the stick-slip
   boundary flips each time).
 
     python validation/halfspace_creep_coupled.py [cells ...]   (numpy; 150, 300, 600 cells
-                                                               by default: about 30 minutes)
+                                                               by default: about an hour)
 
 Checks inside: with q = 0 the pressure is Hertz's (peak and half-width); with the coupling
 left out of the pressure (the Goodman simplification) the curve is `halfspace_creep.py`'s.
