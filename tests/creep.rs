@@ -10,10 +10,10 @@
 //! traction (`validation/halfspace_creep_coupled.py`).
 //!
 //! Measured: the ladder 4,608 / 9,216 / 18,432 (shipped) gives free-rolling creepages of
-//! 0.5603 / 0.5898 / 0.6044 mu a / R on the undeformed radius (observed order 1.01,
-//! Richardson limit 0.6187), and the half-space's 0.6276 less the wheel's own smooth strain
-//! at the contact (0.0096) is 0.6180: the limit agrees to 0.1 %. The shipped mesh is 2.3 %
-//! short of the limit, not the 2 % the issue asks ([`TO_LIMIT`] asserts what it reaches).
+//! 0.5602 / 0.5898 / 0.6034 mu a / R on the undeformed radius (observed order 1.13,
+//! Richardson limit 0.6148), and the half-space's 0.6276 less the wheel's own smooth strain
+//! at the contact (0.0096) is 0.6180: the limit is 0.5 % below it. The shipped mesh is
+//! 1.86 % short of the limit ([`TO_LIMIT`]) and 2.4 % short of the half-space's.
 //! The zone's chequerboard of diagonals matters here: with one diagonal in every cell the
 //! same ladder gave 0.529 / 0.578 / 0.5995, and the mirrored diagonal 0.606 / 0.599 (the
 //! other direction of rolling). About 9 minutes on two cores (9 runs of 4,500 steps, side
@@ -157,8 +157,11 @@ fn free_rolling_mu0(rows: &[[f64; 4]], r: f64) -> f64 {
 /// wheel's own smooth strain (its curvature, its clamped hub) adds `2 x eps_c` to the
 /// half-space's constant; the intercept is the part from the pressure. Returns the ratios,
 /// the intercept, the slope (per a) and `eps_c`.
-fn shortening_over_flamant(wm: &softway::wheel::WheelModel) -> (Vec<f64>, f64, f64, f64) {
-    let (rows, total) = static_rim(wm, FLATTENING);
+fn shortening_over_flamant(
+    wm: &softway::wheel::WheelModel,
+    rows: &[[f64; 4]],
+    total: f64,
+) -> (Vec<f64>, f64, f64, f64) {
     let (e, nu, r) = (
         wm.spec.material.young,
         wm.spec.material.poisson,
@@ -169,7 +172,7 @@ fn shortening_over_flamant(wm: &softway::wheel::WheelModel) -> (Vec<f64>, f64, f
     let xs = [1.5, 2.0, 2.5, 3.0];
     let ys: Vec<f64> = xs
         .iter()
-        .map(|&k| shortening(&rows, r, k * a) / flamant)
+        .map(|&k| shortening(rows, r, k * a) / flamant)
         .collect();
     let n = xs.len() as f64;
     let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
@@ -191,7 +194,8 @@ fn the_depth_refined_zone_gives_flamants_surface_shortening() {
     let mut at_15 = Vec::new();
     for zone in ["2304", "4608", "9216", "18432"] {
         let wm = wheel(&[("wheel.zone_rim_nodes", zone)], true);
-        let (ys, intercept, slope, _) = shortening_over_flamant(&wm);
+        let (rows, total) = static_rim(&wm, FLATTENING);
+        let (ys, intercept, slope, _) = shortening_over_flamant(&wm, &rows, total);
         eprintln!(
             "zone {zone}: {} nodes; shortening / Flamant at 1.5, 2, 2.5, 3 a: {ys:.4?}; intercept {intercept:.4}, slope {slope:.4} per a",
             wm.mesh.n_nodes()
@@ -213,7 +217,8 @@ fn the_depth_refined_zone_gives_flamants_surface_shortening() {
     // Without the refinement in depth the zone's elements at depth ~a are g a = 0.3 a:
     // the surface comes out short by several per cent whatever the pitch.
     let wm = wheel(&[("wheel.zone_rim_nodes", "9216")], false);
-    let (ys, intercept, _, _) = shortening_over_flamant(&wm);
+    let (rows, total) = static_rim(&wm, FLATTENING);
+    let (ys, intercept, _, _) = shortening_over_flamant(&wm, &rows, total);
     eprintln!("zone 9216 without zone_depth: {ys:.4?}; intercept {intercept:.4}");
     assert!(intercept < 0.98, "{intercept}");
 }
@@ -252,7 +257,8 @@ fn bentall_johnson_free_rolling_creepage_as_mu_goes_to_zero() {
 /// the patch, `d(shortening)/dx = 2 eps_c` ([`shortening_over_flamant`]). A creepage on the
 /// wheel is the half-space's less `eps_c`.
 fn smooth_strain(wm: &softway::wheel::WheelModel) -> f64 {
-    shortening_over_flamant(wm).3
+    let (rows, total) = static_rim(wm, FLATTENING);
+    shortening_over_flamant(wm, &rows, total).3
 }
 
 /// The relative error of the free-rolling creepage as mu -> 0 (the wheel's smooth strain
@@ -277,7 +283,8 @@ fn bentall_johnson_error(zone: &str) -> f64 {
     };
     let bj = beta * a / r * (1.0 - c * c).sqrt();
     let xi0 = free_rolling_mu0(&rows, r);
-    let eps_c = smooth_strain(&wm);
+    // The same static solve gives the wheel's smooth strain ([`smooth_strain`]).
+    let eps_c = shortening_over_flamant(&wm, &rows, total).3;
     eprintln!(
         "zone {zone}: c/a {c:.4}; Bentall-Johnson xi0 {bj:.5e} ({:.4} beta a/R); wheel {xi0:.5e} ({:+.2}%), its smooth strain {eps_c:.3e}, without it {:.5e} ({:+.2}%)",
         bj / (beta * a / r),
@@ -352,9 +359,9 @@ fn free_rolling(zone: &str, xis: [f64; 3]) -> (f64, f64) {
     (x, a)
 }
 
-/// How close the finest rung is asserted to be to the Richardson limit: 2.5 % (measured
-/// 2.3 %: the issue's 2 % is not reached on the shipped mesh, module docs).
-const TO_LIMIT: f64 = 0.025;
+/// How close the finest rung is asserted to be to the Richardson limit: the issue's 2 %
+/// (measured 1.86 %; 2.4 % from the half-space's, module docs).
+const TO_LIMIT: f64 = 0.02;
 
 /// The rolling after settling, ms: the shipped scenario's 8 (the creep force averaged over
 /// the last 4). At 4,608 rim nodes in the zone the free-rolling creepage is 0.5220 / 0.5270 /
