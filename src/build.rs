@@ -50,6 +50,7 @@ pub fn resolve(sc: &Scenario<RunSpec>) -> Result<Scenario, ScenarioError> {
         plots: sc.plots,
         warnings,
         sweep: sc.sweep.clone(),
+        sweep_ladder: sc.sweep_ladder.clone(),
         source_sha256: sc.source_sha256.clone(),
         source_text: sc.source_text.clone(),
         overrides: sc.overrides.clone(),

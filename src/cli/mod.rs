@@ -493,12 +493,7 @@ fn sweep_command(
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
     let keys = if set.is_empty() {
-        vec![sc.sweep.clone().ok_or_else(|| {
-            format!(
-                "{}: no [sweep] table and no --set KEY=V1,V2,...",
-                scenario.display()
-            )
-        })?]
+        default_sweep(&sc, scenario)?
     } else {
         set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?
     };
@@ -527,6 +522,10 @@ fn sweep_command(
         incomplete_note(&points)
     );
     print_table(&out.join("sweep.md"), &files);
+    // A creepage sweep on a ladder: its creepages, orders and limits after the table.
+    if let Ok(ladder) = std::fs::read_to_string(out.join("creep_ladder.md")) {
+        outln!("{ladder}");
+    }
     for (d, p) in dirs.iter().zip(&points) {
         if d.exists() {
             outln!("    {}/", d.display());
@@ -539,6 +538,23 @@ fn sweep_command(
         return Ok(ExitCode::from(130));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The keys of the scenario's `[sweep]` table: its key, and its ladder's when given (the
+/// product of the two: every value on every rung).
+fn default_sweep(
+    sc: &Scenario<crate::scenario::RunSpec>,
+    scenario: &Path,
+) -> Result<Vec<(String, Vec<String>)>, String> {
+    let sweep = sc.sweep.clone().ok_or_else(|| {
+        format!(
+            "{}: no [sweep] table and no --set KEY=V1,V2,...",
+            scenario.display()
+        )
+    })?;
+    Ok(std::iter::once(sweep)
+        .chain(sc.sweep_ladder.clone())
+        .collect())
 }
 
 /// ` (N interrupted, M failed: ...)` after a sweep's count of points when some did not
@@ -609,12 +625,7 @@ fn sweep_values(
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
     let keys = if set.is_empty() {
-        vec![sc.sweep.clone().ok_or_else(|| {
-            format!(
-                "{}: no [sweep] table and no --set KEY=V1,V2,...",
-                scenario.display()
-            )
-        })?]
+        default_sweep(&sc, scenario)?
     } else {
         set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?
     };

@@ -26,6 +26,8 @@ pub use results::{FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+pub use sweep::creep::{creepage_at, ladder_rows, LadderRow, MAX_ORDER, MIN_ORDER, TARGETS};
+pub use sweep::{sweep, PointStatus, SweepError, SweepPoint};
 
 /// Errors of a job.
 #[derive(Debug, thiserror::Error)]

@@ -4,6 +4,7 @@
 //! slices on several machines ([`shard`]: `softway sweep --shard I/N`) and be assembled
 //! into the same table and plot (`softway gather`).
 
+pub mod creep;
 pub mod shard;
 
 use super::{run_scenario, Cancel, Par, RunError, RunOptions};
@@ -318,6 +319,22 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
                 .any(|p| p.sets[i].value != points[0].sets[i].value)
         })
         .collect();
+    // A creepage sweep on a refinement ladder: the creep curve per rung and its limit.
+    if let [i, j] = varying[..] {
+        let numeric = |k: usize| {
+            points
+                .iter()
+                .all(|p| p.sets[k].value.trim_matches('"').parse::<f64>().is_ok())
+        };
+        let creep = |k: usize| keys[k] == "rolling.creepage";
+        if with_traction && numeric(i) && numeric(j) && (creep(i) || creep(j)) {
+            let (c, r) = if creep(i) { (i, j) } else { (j, i) };
+            if points.iter().any(|p| p.status.is_complete()) {
+                files.extend(creep::creep_ladder(out, points, c, r)?);
+            }
+        }
+        return Ok(files);
+    }
     let [i] = varying[..] else {
         return Ok(files);
     };
@@ -822,7 +839,8 @@ fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel {
 }
 
 /// The creep curve of a creepage sweep (`creep_curve.png`, `creep_curve.csv`): the traction
-/// ratio `Q / (mu P)` against the creepage, with Carter's curve
+/// ratio `Q / (mu P)` of steady rolling (`traction.traction_ratio_steady`, the start-up
+/// transient extrapolated) against the creepage, with Carter's curve
 /// ([`crate::run::wheel::traction::carter_traction_ratio`], the Hertz half-width of the mean
 /// normal force) twice: as it stands, and shifted to the measured free-rolling creepage
 /// `xi0` (where `Q` crosses zero, linearly interpolated), which an elastic wheel on a rigid
@@ -847,9 +865,14 @@ fn creep_curve(
         .iter()
         .zip(xs)
         .map(|(p, &x)| {
+            let steady = num(p, "traction_ratio_steady");
             (
                 x,
-                num(p, "traction_ratio"),
+                if steady.is_finite() {
+                    steady
+                } else {
+                    num(p, "traction_ratio")
+                },
                 num(p, "friction"),
                 num(p, "hertz_half_width"),
             )

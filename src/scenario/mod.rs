@@ -571,6 +571,12 @@ pub struct Scenario<R = Run> {
     pub warnings: Vec<String>,
     /// A default sweep for `softway sweep`: the dotted key and its values (TOML literals).
     pub sweep: Option<(String, Vec<String>)>,
+    /// A refinement ladder the default sweep runs on (`[sweep] ladder = { key, values }`):
+    /// every value of the sweep's key on every rung (the grid's product), as
+    /// `softway sweep --set KEY=... --set RUNG_KEY=R1,R2,R3` does; a creepage sweep on a
+    /// mesh ladder gives the creep curve with its Richardson limit
+    /// ([`crate::run::sweep`]).
+    pub sweep_ladder: Option<(String, Vec<String>)>,
     /// SHA-256 of the scenario text as run (the file's bytes; a sweep's or a ladder's
     /// value set into it for that run), lowercase hex: recorded in `summary.json`.
     pub source_sha256: String,

@@ -44,6 +44,16 @@ pub(super) struct RawScenario {
 pub(super) struct RawSweep {
     pub key: String,
     pub values: Vec<toml::Value>,
+    /// `ladder = { key = "...", values = [...] }`: every value of `key` run on every rung.
+    pub ladder: Option<RawLadder>,
+}
+
+/// `[sweep] ladder`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawLadder {
+    pub key: String,
+    pub values: Vec<toml::Value>,
 }
 
 /// `[time]`.

@@ -244,12 +244,35 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         out.history_stride.unwrap_or(1),
         1_000_000_000,
     )?;
-    let sweep = match sweep {
+    let (sweep, sweep_ladder) = match sweep {
         Some(sw) if sw.values.is_empty() => {
             return Err(cx.invalid("sweep.values", "[]", "give at least one value"));
         }
-        Some(sw) => Some((sw.key, sw.values.iter().map(|v| v.to_string()).collect())),
-        None => None,
+        Some(sw) => {
+            let ladder = match sw.ladder {
+                Some(l) if l.values.len() < 2 => {
+                    return Err(cx.invalid(
+                        "sweep.ladder.values",
+                        format!("{} value(s)", l.values.len()),
+                        "a ladder of at least two rungs (three for an observed order), e.g. [4608, 9216, 18432]",
+                    ));
+                }
+                Some(l) if l.key == sw.key => {
+                    return Err(cx.invalid(
+                        "sweep.ladder.key",
+                        &l.key,
+                        "a key other than sweep.key (the ladder runs every value of sweep.key on each rung)",
+                    ));
+                }
+                Some(l) => Some((l.key, l.values.iter().map(|v| v.to_string()).collect())),
+                None => None,
+            };
+            (
+                Some((sw.key, sw.values.iter().map(|v| v.to_string()).collect())),
+                ladder,
+            )
+        }
+        None => (None, None),
     };
     Ok(Scenario {
         name,
@@ -260,6 +283,7 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         plots: out.plots.unwrap_or(true),
         warnings,
         sweep,
+        sweep_ladder,
         source_sha256: String::new(),
         source_text: String::new(),
         overrides: Vec::new(),

@@ -1,0 +1,440 @@
+//! The creep curve on a refinement ladder: a creepage sweep run on every rung of a mesh (or
+//! step) ladder (`[sweep] ladder = { key, values }`, or `softway sweep --set
+//! rolling.creepage=... --set wheel.zone_rim_nodes=4608,9216,18432`) gives the creep curve
+//! on each rung and, at the traction ratios `Q / (mu P)` = -0.5, 0 (free rolling) and +0.5,
+//! the creepage on each rung, its observed order and its Richardson limit
+//! ([`crate::run::converge`]'s): the converged creep curve with the estimate of the finest
+//! rung's remaining error.
+//!
+//! On each rung the creepage at a traction ratio `T` is the root, between the two sweep
+//! points that bracket `T`, of the parabola through them and the nearer third point
+//! ([`creepage_at`]); the traction ratio of a point is the steady one
+//! (`traction.traction_ratio_steady`: the start-up transient extrapolated,
+//! [`crate::run::wheel::traction::steady_ratio`]). The creepage is read on the undeformed
+//! radius (`traction.creepage_undeformed`, the half-space codes' reference) and given in
+//! units of `mu a / R` as well (`a` Hertz's half-width of the finest rung's mean normal
+//! force, `R` the wheel's radius), the unit in which Carter's curve saturates at 1.
+//!
+//! Files: `creep_curve.png` (a curve per rung, the limits marked), `creep_curve.csv` (every
+//! point, a row each, with its rung), `creep_ladder.csv` and `creep_ladder.md` (the
+//! creepages at the three traction ratios, the orders, the limits and the finest rung's
+//! distance from them).
+
+use super::{SweepError, SweepPoint};
+use crate::output::files::write_atomic;
+use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::run::converge::{extrapolate, observed_orders};
+use crate::run::RunError;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The traction ratios `Q / (mu P)` at which the ladder's creepages are compared.
+pub const TARGETS: [f64; 3] = [-0.5, 0.0, 0.5];
+
+/// The creepage at which the creep curve `pts` (`(creepage, Q/(mu P))`, sorted by
+/// creepage) reaches the traction ratio `target`: between the first two neighbouring points
+/// that bracket it, the root of the parabola through them and the nearer of their outer
+/// neighbours (the line through the two when there is no third point). `None` when no two
+/// neighbours bracket `target`.
+pub fn creepage_at(pts: &[(f64, f64)], target: f64) -> Option<f64> {
+    let k = pts.windows(2).position(|w| {
+        let (a, b) = (w[0].1 - target, w[1].1 - target);
+        a.is_finite() && b.is_finite() && a * b <= 0.0 && w[0].0 < w[1].0
+    })?;
+    let ((x0, y0), (x1, y1)) = (pts[k], pts[k + 1]);
+    if y0 == target {
+        return Some(x0);
+    }
+    if y1 == target {
+        return Some(x1);
+    }
+    // The third point: the outer neighbour nearer to the bracket.
+    let before = k.checked_sub(1).map(|i| pts[i]);
+    let after = pts.get(k + 2).copied();
+    let third = match (before, after) {
+        (Some(b), Some(a)) => Some(if x0 - b.0 <= a.0 - x1 { b } else { a }),
+        (b, a) => b.or(a),
+    }
+    .filter(|p| p.1.is_finite());
+    let f = |x: f64| -> f64 {
+        let line = y0 + (y1 - y0) * (x - x0) / (x1 - x0);
+        match third {
+            // Newton's form through (x0, y0), (x1, y1), (x2, y2).
+            Some((x2, y2)) => {
+                let f01 = (y1 - y0) / (x1 - x0);
+                let f12 = (y2 - y1) / (x2 - x1);
+                let f012 = if (x2 - x1).abs() > 0.0 && (x2 - x0).abs() > 0.0 {
+                    (f12 - f01) / (x2 - x0)
+                } else {
+                    0.0
+                };
+                line + f012 * (x - x0) * (x - x1) - target
+            }
+            None => line - target,
+        }
+    };
+    // Bisection on the bracket: the interpolant takes y0 and y1 at its ends.
+    let (mut lo, mut hi) = (x0, x1);
+    let mut f_lo = f(lo);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        let f_mid = f(mid);
+        if (f_mid <= 0.0) == (f_lo <= 0.0) {
+            lo = mid;
+            f_lo = f_mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(0.5 * (lo + hi))
+}
+
+/// The least observed order from which a limit is extrapolated: below it the differences
+/// shrink so slowly that the limit lies far beyond the ladder (an order of 0.3 on a ladder
+/// halving the pitch puts it 4 differences beyond the finest rung): the rungs are not yet
+/// in the asymptotic range.
+pub const MIN_ORDER: f64 = 0.5;
+
+/// The largest: beyond it the differences collapse faster than any discretization of the
+/// problem converges (a chance agreement of two rungs).
+pub const MAX_ORDER: f64 = 4.0;
+
+/// The ladder's creepages at one traction ratio.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LadderRow {
+    /// The traction ratio `Q / (mu P)`.
+    pub target: f64,
+    /// The creepage on the undeformed radius at each rung (NaN where the rung's curve does
+    /// not reach the target).
+    pub values: Vec<f64>,
+    /// The observed order from the last three rungs (`None`: fewer than three rungs, or
+    /// differences that do not shrink at an order within [`MIN_ORDER`] to [`MAX_ORDER`]:
+    /// not in the asymptotic range).
+    pub order: Option<f64>,
+    /// The Richardson limit from the last three rungs, when there is an order.
+    pub limit: Option<f64>,
+}
+
+impl LadderRow {
+    /// The finest rung's distance from the limit (its estimated remaining error), when
+    /// there is a limit.
+    pub fn finest_error(&self) -> Option<f64> {
+        Some(self.values.last()? - self.limit?)
+    }
+}
+
+/// The ladder's rows at [`TARGETS`] from the creep curves `curves` (one per rung, at the
+/// rung sizes `rungs`, each `(creepage, Q/(mu P))` sorted by creepage).
+pub fn ladder_rows(rungs: &[f64], curves: &[Vec<(f64, f64)>]) -> Vec<LadderRow> {
+    TARGETS
+        .iter()
+        .map(|&target| {
+            let values: Vec<f64> = curves
+                .iter()
+                .map(|c| creepage_at(c, target).unwrap_or(f64::NAN))
+                .collect();
+            let (order, limit) = if values.len() >= 3 && values.iter().all(|v| v.is_finite()) {
+                let orders = observed_orders(rungs, &values);
+                let order = orders.last().copied().flatten();
+                if order.is_some_and(|p| (MIN_ORDER..=MAX_ORDER).contains(&p)) {
+                    (order, extrapolate(rungs, &values, &orders))
+                } else {
+                    (None, None)
+                }
+            } else {
+                (None, None)
+            };
+            LadderRow {
+                target,
+                values,
+                order,
+                limit,
+            }
+        })
+        .collect()
+}
+
+/// One rung's points: `(creepage on rho, creepage on R, steady Q/(mu P), window-mean Q/(mu
+/// P), mu, a, R)`.
+type RungPoint = (f64, f64, f64, f64, f64, f64, f64);
+
+/// Writes the creep curve on the ladder (module docs) of a sweep whose key `i_creep` is
+/// `rolling.creepage` and whose key `i_rung` is the ladder's (numbers), from its complete
+/// points; returns the files.
+///
+/// # Errors
+/// [`SweepError`] when a file cannot be written.
+pub fn creep_ladder(
+    out: &Path,
+    points: &[SweepPoint],
+    i_creep: usize,
+    i_rung: usize,
+) -> Result<Vec<PathBuf>, SweepError> {
+    let num = |p: &SweepPoint, k: &str| {
+        p.summary
+            .pointer(&format!("/traction/{k}"))
+            .and_then(|v| v.as_f64())
+            .unwrap_or(f64::NAN)
+    };
+    let value = |p: &SweepPoint, i: usize| {
+        p.sets[i]
+            .value
+            .trim_matches('"')
+            .parse::<f64>()
+            .unwrap_or(f64::NAN)
+    };
+    let rung_key = points[0].sets[i_rung].key.clone();
+    // The rungs in the order given.
+    let mut rungs: Vec<f64> = Vec::new();
+    for p in points {
+        let r = value(p, i_rung);
+        if !rungs.contains(&r) {
+            rungs.push(r);
+        }
+    }
+    let curves: Vec<Vec<RungPoint>> = rungs
+        .iter()
+        .map(|&r| {
+            let mut c: Vec<RungPoint> = points
+                .iter()
+                .filter(|p| p.status.is_complete() && value(p, i_rung) == r)
+                .map(|p| {
+                    let window = num(p, "traction_ratio");
+                    let steady = num(p, "traction_ratio_steady");
+                    let xr = num(p, "creepage_undeformed");
+                    let x = value(p, i_creep);
+                    (
+                        x,
+                        if xr.is_finite() { xr } else { x },
+                        if steady.is_finite() { steady } else { window },
+                        window,
+                        num(p, "friction"),
+                        num(p, "hertz_half_width"),
+                        num(p, "radius"),
+                    )
+                })
+                .collect();
+            c.sort_by(|a, b| a.0.total_cmp(&b.0));
+            c
+        })
+        .collect();
+    // The unit mu a / R from the finest rung's points.
+    let finest = curves.iter().rev().find(|c| !c.is_empty());
+    let unit = finest.map_or(f64::NAN, |c| {
+        let n = c.len() as f64;
+        let (mu, a, r) = c.iter().fold((0.0, 0.0, 0.0), |s, p| {
+            (s.0 + p.4 / n, s.1 + p.5 / n, s.2 + p.6 / n)
+        });
+        mu * a / r
+    });
+    let on_r: Vec<Vec<(f64, f64)>> = curves
+        .iter()
+        .map(|c| c.iter().map(|p| (p.1, p.2)).collect())
+        .collect();
+    let rows = ladder_rows(&rungs, &on_r);
+    let mut files = Vec::new();
+
+    // creep_curve.csv: every point with its rung.
+    let mut csv = format!(
+        "{rung_key},creepage,creepage_undeformed,creepage_undeformed_mu_a_R,traction_ratio,traction_ratio_window\n"
+    );
+    for (r, c) in rungs.iter().zip(&curves) {
+        for p in c {
+            let _ = writeln!(
+                csv,
+                "{r},{:e},{:e},{:.6},{:e},{:e}",
+                p.0,
+                p.1,
+                p.1 / unit,
+                p.2,
+                p.3
+            );
+        }
+    }
+    let f = out.join("creep_curve.csv");
+    write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+    files.push(f);
+
+    // creep_ladder.csv and .md: the creepages at the targets.
+    let head: Vec<String> = rungs.iter().map(|r| format!("{rung_key}={r}")).collect();
+    let mut csv = String::from("traction_ratio");
+    for h in &head {
+        let _ = write!(csv, ",creepage_undeformed@{h},mu_a_R@{h}");
+    }
+    csv.push_str(",order,richardson_limit,richardson_limit_mu_a_R,finest_minus_limit_mu_a_R\n");
+    let fmt = |v: Option<f64>, digits: usize| {
+        v.filter(|x| x.is_finite())
+            .map_or(String::new(), |x| format!("{x:.digits$}"))
+    };
+    for row in &rows {
+        let _ = write!(csv, "{}", row.target);
+        for v in &row.values {
+            let _ = write!(csv, ",{v:e},{}", fmt(Some(v / unit), 6));
+        }
+        let _ = writeln!(
+            csv,
+            ",{},{},{},{}",
+            fmt(row.order, 4),
+            row.limit.map_or(String::new(), |l| format!("{l:e}")),
+            fmt(row.limit.map(|l| l / unit), 6),
+            fmt(row.finest_error().map(|e| e / unit), 6)
+        );
+    }
+    let f = out.join("creep_ladder.csv");
+    write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+    files.push(f);
+    let mut md = format!(
+        "Creepage on the undeformed radius in units of mu a / R = {unit:.4e}, at Q/(mu P) on each rung of {rung_key}; the Richardson limit from the last three rungs and the finest rung's distance from it\n\n| Q/(mu P) |"
+    );
+    for r in &rungs {
+        let _ = write!(md, " {r} |");
+    }
+    md.push_str(" order | limit | finest - limit |\n|---|");
+    for _ in &rungs {
+        md.push_str("---:|");
+    }
+    md.push_str("---:|---:|---:|\n");
+    for row in &rows {
+        let _ = write!(md, "| {:+.1} |", row.target);
+        for v in &row.values {
+            let _ = write!(md, " {} |", fmt(Some(v / unit), 4));
+        }
+        let err = row.finest_error().map(|e| {
+            format!(
+                "{:+.4} ({:+.2} %)",
+                e / unit,
+                100.0 * e / row.limit.unwrap_or(f64::NAN)
+            )
+        });
+        let _ = writeln!(
+            md,
+            " {} | {} | {} |",
+            row.order
+                .map_or("- (not asymptotic)".to_string(), |o| format!("{o:.2}")),
+            fmt(row.limit.map(|l| l / unit), 4),
+            err.unwrap_or_default()
+        );
+    }
+    let f = out.join("creep_ladder.md");
+    write_atomic(&f, md.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+    files.push(f);
+
+    // creep_curve.png: a curve per rung, the limits marked.
+    let mut panel = Panel::new(
+        format!(
+            "Creep curve on the ladder {rung_key} = {}: mu a / R = {unit:.3e}",
+            rungs
+                .iter()
+                .map(|r| r.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        "creepage on the undeformed radius, xi_R / (mu a / R)",
+        "Q / (mu P)",
+    );
+    for (r, c) in rungs.iter().zip(&curves) {
+        if c.is_empty() {
+            continue;
+        }
+        panel.series.push(Series::new(
+            format!("{rung_key} = {r}"),
+            c.iter().map(|p| p.1 / unit).collect(),
+            c.iter().map(|p| p.2).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+    }
+    let limits: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| Some((r.limit? / unit, r.target)))
+        .collect();
+    if !limits.is_empty() {
+        panel.series.push(Series::new(
+            "Richardson limit of the ladder",
+            limits.iter().map(|l| l.0).collect(),
+            limits.iter().map(|l| l.1).collect(),
+            SeriesStyle::Markers,
+        ));
+    }
+    panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
+    panel.y_range = Some((-1.15, 1.15));
+    panel.note = format!(
+        "Q/(mu P): the steady rolling's (the start-up transient extrapolated). Finest rung at Q/(mu P) = -0.5 / 0 / +0.5: {}",
+        rows.iter()
+            .map(|r| match (r.values.last(), r.limit) {
+                (Some(v), Some(l)) => format!("{:.4} (limit {:.4})", v / unit, l / unit),
+                (Some(v), None) => format!("{:.4} (no limit: not asymptotic)", v / unit),
+                _ => "-".into(),
+            })
+            .collect::<Vec<_>>()
+            .join(" / ")
+    );
+    let png = out.join("creep_curve.png");
+    panels(&png, &[panel], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
+    files.push(png);
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A quadratic creep curve is inverted exactly between any bracketing points (the
+    /// parabola through three of its points is itself); a cubic to the interpolation's
+    /// third order; a target outside the points has no creepage.
+    #[test]
+    fn creepage_at_inverts_the_curve_through_its_points() {
+        let quad = |x: f64| -0.8 + 3.0 * x - 0.9 * x * x;
+        let xs = [-0.2, 0.1, 0.3, 0.5, 0.8, 1.2];
+        let pts: Vec<(f64, f64)> = xs.iter().map(|&x| (x, quad(x))).collect();
+        for t in TARGETS {
+            // The root of -0.8 + 3x - 0.9x^2 = t on the rising branch.
+            let exact = (3.0 - (9.0 - 3.6 * (0.8 + t)).sqrt()) / 1.8;
+            let x = creepage_at(&pts, t).unwrap();
+            assert!((x - exact).abs() < 1e-12, "{t}: {x} vs {exact}");
+        }
+        assert!(creepage_at(&pts, 2.0).is_none());
+        // Two points: the line.
+        assert_eq!(creepage_at(&[(0.0, -1.0), (1.0, 1.0)], 0.0), Some(0.5));
+        let cubic = |x: f64| x * x * x + x;
+        let pts: Vec<(f64, f64)> = (0..=10)
+            .map(|i| 0.1 * i as f64 - 0.5)
+            .map(|x| (x, cubic(x)))
+            .collect();
+        let x = creepage_at(&pts, cubic(0.23)).unwrap();
+        assert!((x - 0.23).abs() < 2e-3, "{x}");
+    }
+
+    /// On a ladder whose creepages converge as `x* + C h^p` (h halved each rung) the rows
+    /// give back `p` and `x*`; a ladder whose differences grow has no order and no limit.
+    #[test]
+    fn ladder_rows_give_the_order_and_the_limit() {
+        let rungs: [f64; 3] = [4608.0, 9216.0, 18432.0];
+        // Curves Q/(mu P) = 2 (xi - x0) with x0 = 0.6 - 0.3 (4608 / n)^1.2.
+        let curves: Vec<Vec<(f64, f64)>> = rungs
+            .iter()
+            .map(|&n| {
+                let x0 = 0.6 - 0.3 * (4608.0f64 / n).powf(1.2);
+                (0..8)
+                    .map(|i| {
+                        let x = 0.2 * i as f64;
+                        (x, 2.0 * (x - x0))
+                    })
+                    .collect()
+            })
+            .collect();
+        let rows = ladder_rows(&rungs, &curves);
+        for row in &rows {
+            assert!((row.order.unwrap() - 1.2).abs() < 1e-9, "{row:?}");
+            let limit = 0.6 + row.target / 2.0;
+            assert!((row.limit.unwrap() - limit).abs() < 1e-12, "{row:?}");
+            let finest = row.finest_error().unwrap();
+            assert!((finest + 0.3 * 0.25f64.powf(1.2)).abs() < 1e-12, "{finest}");
+        }
+        let growing: Vec<Vec<(f64, f64)>> = [0.0, 0.1, 0.3]
+            .iter()
+            .map(|&x0| vec![(-1.0, 2.0 * (-1.0 - x0)), (2.0, 2.0 * (2.0 - x0))])
+            .collect();
+        let rows = ladder_rows(&rungs, &growing);
+        assert!(rows.iter().all(|r| r.order.is_none() && r.limit.is_none()));
+    }
+}
