@@ -211,6 +211,18 @@ bar_refused!(
     "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = []",
     ["`sweep.values`", "at least one value"]
 );
+bar_refused!(
+    sweep_ladder_of_one_rung,
+    "elements = 8",
+    "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = [1.0, 2.0]\nladder = { key = \"bar.elements\", values = [8] }",
+    ["`sweep.ladder.values`", "at least two rungs"]
+);
+bar_refused!(
+    sweep_ladder_on_the_swept_key,
+    "elements = 8",
+    "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = [1.0, 2.0]\nladder = { key = \"bar.speed\", values = [1, 2] }",
+    ["`sweep.ladder.key`", "other than sweep.key"]
+);
 
 /// A step of 1e-12 s: 1e12 steps, refused with the estimate (steps, time, memory, disk)
 /// and the key, unless `--yes`.

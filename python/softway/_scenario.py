@@ -109,6 +109,12 @@ class Scenario:
         return self.info["sweep"]
 
     @property
+    def sweep_ladder(self) -> tuple[str, list[str]] | None:
+        """The ladder of the scenario's ``[sweep]`` table (``ladder = { key, values }``): the
+        rung key and its values, each run with every value of :attr:`sweep`."""
+        return self.info["sweep_ladder"]
+
+    @property
     def sha256(self) -> str:
         """SHA-256 of the text (``summary.json``'s ``scenario_sha256``)."""
         return self.info["sha256"]

@@ -362,3 +362,19 @@ def test_a_rail_irregularity_as_an_array_is_the_measured_profiles_run(tmp_path):
     assert without_timings(from_cli["runs"][0]) == without_timings(rough.summary["runs"][0])
     with pytest.raises(ValueError, match="shape"):
         softway.run(sc, progress=False, irregularity=np.zeros(5))
+
+
+def test_the_sweep_table_and_its_ladder_as_the_command_line_reads_them():
+    """``[sweep]`` with ``ladder``: the key and values of each, as ``softway sweep`` runs
+    their product; a ladder of one rung is refused on the key at fault."""
+    sc = softway.Scenario(SCENARIOS / "creep-curve-coupled.toml")
+    key, values = sc.sweep
+    assert key == "rolling.creepage" and len(values) >= 3
+    assert sc.sweep_ladder == ("wheel.zone_rim_nodes", ["4608", "9216", "18432"])
+    assert softway.Scenario(SCENARIOS / "creep-curve.toml").sweep_ladder is None
+    text = (SCENARIOS / "creep-curve-coupled.toml").read_text().replace(
+        "values = [4608, 9216, 18432]", "values = [4608]"
+    )
+    with pytest.raises(softway.ScenarioError) as e:
+        softway.Scenario(text)
+    assert e.value.key == "sweep.ladder.values"

@@ -855,24 +855,14 @@ fn creep_curve(
     mark: &dyn Fn(&mut Panel),
 ) -> Result<Vec<PathBuf>, SweepError> {
     use crate::run::wheel::traction::carter_traction_ratio;
-    let num = |p: &SweepPoint, k: &str| {
-        p.summary
-            .pointer(&format!("/traction/{k}"))
-            .and_then(|v| v.as_f64())
-            .unwrap_or(f64::NAN)
-    };
+    let num = traction_figure;
     let mut pts: Vec<(f64, f64, f64, f64)> = points
         .iter()
         .zip(xs)
         .map(|(p, &x)| {
-            let steady = num(p, "traction_ratio_steady");
             (
                 x,
-                if steady.is_finite() {
-                    steady
-                } else {
-                    num(p, "traction_ratio")
-                },
+                steady_traction_ratio(p),
                 num(p, "friction"),
                 num(p, "hertz_half_width"),
             )
@@ -980,6 +970,25 @@ fn creep_curve(
     let f = out.join("creep_curve.csv");
     write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
     Ok(vec![png, f])
+}
+
+/// The figure `k` of a point's `traction` block (NaN where it has none).
+pub(crate) fn traction_figure(p: &SweepPoint, k: &str) -> f64 {
+    p.summary
+        .pointer(&format!("/traction/{k}"))
+        .and_then(|v| v.as_f64())
+        .unwrap_or(f64::NAN)
+}
+
+/// A point's steady `Q / (mu P)` (`traction_ratio_steady`; the window's mean
+/// `traction_ratio` in a summary written before it existed).
+pub(crate) fn steady_traction_ratio(p: &SweepPoint) -> f64 {
+    let steady = traction_figure(p, "traction_ratio_steady");
+    if steady.is_finite() {
+        steady
+    } else {
+        traction_figure(p, "traction_ratio")
+    }
 }
 
 /// The creepage where the traction ratio crosses zero, by linear interpolation between the

@@ -170,12 +170,7 @@ pub fn creep_ladder(
     i_creep: usize,
     i_rung: usize,
 ) -> Result<Vec<PathBuf>, SweepError> {
-    let num = |p: &SweepPoint, k: &str| {
-        p.summary
-            .pointer(&format!("/traction/{k}"))
-            .and_then(|v| v.as_f64())
-            .unwrap_or(f64::NAN)
-    };
+    let num = super::traction_figure;
     let value = |p: &SweepPoint, i: usize| {
         p.sets[i]
             .value
@@ -199,15 +194,13 @@ pub fn creep_ladder(
                 .iter()
                 .filter(|p| p.status.is_complete() && value(p, i_rung) == r)
                 .map(|p| {
-                    let window = num(p, "traction_ratio");
-                    let steady = num(p, "traction_ratio_steady");
                     let xr = num(p, "creepage_undeformed");
                     let x = value(p, i_creep);
                     (
                         x,
                         if xr.is_finite() { xr } else { x },
-                        if steady.is_finite() { steady } else { window },
-                        window,
+                        super::steady_traction_ratio(p),
+                        num(p, "traction_ratio"),
                         num(p, "friction"),
                         num(p, "hertz_half_width"),
                         num(p, "radius"),
