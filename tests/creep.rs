@@ -13,13 +13,15 @@
 //!
 //! Measured: the shipped scenario's sweep gives free-rolling creepages of 0.5623 / 0.5911 /
 //! 0.6046 mu a / R on the undeformed radius at 4,608 / 9,216 / 18,432 in the zone (observed
-//! order 1.10, Richardson limit 0.6164; this test's three creepages per rung give the same
-//! to the parabola's choice of points), and the half-space's 0.6276 less the wheel's own
-//! smooth strain at the contact (0.0096) is 0.6180. The shipped mesh is 1.9 % short of the
+//! order 1.10, Richardson limit 0.6164); this test's three creepages per rung (the parabola
+//! through 1, 1.5 and 2 e-3 on each) give 0.5607 / 0.5906 / 0.6041, order 1.15, limit
+//! 0.6151. The half-space's 0.6276 less the wheel's own smooth strain at the contact
+//! (0.0096) is 0.6180: the limit is 0.46 % below it. The shipped mesh is 1.8 % short of the
 //! limit ([`TO_LIMIT`]). The zone's chequerboard of diagonals matters here: with one diagonal
 //! in every cell the same ladder gave 0.529 / 0.578 / 0.5995 (8 ms, the mean), and the
-//! mirrored diagonal 0.606 / 0.599 (the other direction of rolling). About 5 minutes on two
-//! cores (9 runs of 2,500 steps, side by side by two; the 18,432 rung takes most).
+//! mirrored diagonal 0.606 / 0.599 (the other direction of rolling). The file's tests took
+//! 504 s on two cores beside another run (the ladder's 9 runs of 2,500 steps, side by side
+//! by two; the 18,432 rung takes most).
 
 mod common;
 
@@ -355,8 +357,8 @@ fn turns(ms: f64) -> String {
 /// gives the creep force that a run four times as long reaches: on the ladder's first rung
 /// at the braking side's creepage (`Q/(mu P)` about -0.5; the transient there starts at
 /// +0.3), within 5e-4 in `Q/(mu P)` of the last half's mean after 16 ms, where the 4 ms
-/// run's own mean is 0.03 away. Measured: -0.50359 (4 ms, extrapolated), -0.50341 (16 ms,
-/// the mean), -0.47141 (4 ms, the mean).
+/// run's own mean is 0.015 away. Measured: -0.50378 (4 ms, extrapolated; decay 0.32 a
+/// quarter), -0.50342 (16 ms, the mean; extrapolated -0.50347), -0.48853 (4 ms, the mean).
 #[test]
 fn the_start_up_transient_extrapolates_to_the_long_runs_creep_force() {
     let run = |ms: f64| {

@@ -262,7 +262,12 @@ pub fn creep_ladder(
     for row in &rows {
         let _ = write!(csv, "{}", row.target);
         for v in &row.values {
-            let _ = write!(csv, ",{v:e},{}", fmt(Some(v / unit), 6));
+            let abs = if v.is_finite() {
+                format!("{v:e}")
+            } else {
+                String::new()
+            };
+            let _ = write!(csv, ",{abs},{}", fmt(Some(v / unit), 6));
         }
         let _ = writeln!(
             csv,
@@ -398,7 +403,8 @@ mod tests {
     }
 
     /// On a ladder whose creepages converge as `x* + C h^p` (h halved each rung) the rows
-    /// give back `p` and `x*`; a ladder whose differences grow has no order and no limit.
+    /// give back `p` and `x*`; a ladder whose differences grow, or shrink at an order below
+    /// [`MIN_ORDER`], has no order and no limit.
     #[test]
     fn ladder_rows_give_the_order_and_the_limit() {
         let rungs: [f64; 3] = [4608.0, 9216.0, 18432.0];
@@ -428,6 +434,16 @@ mod tests {
             .map(|&x0| vec![(-1.0, 2.0 * (-1.0 - x0)), (2.0, 2.0 * (2.0 - x0))])
             .collect();
         let rows = ladder_rows(&rungs, &growing);
+        assert!(rows.iter().all(|r| r.order.is_none() && r.limit.is_none()));
+        // Differences that shrink at an order of 0.27 (below MIN_ORDER): no limit either.
+        let slow: Vec<Vec<(f64, f64)>> = rungs
+            .iter()
+            .map(|&n: &f64| {
+                let x0 = 0.6 - 0.3 * (4608.0f64 / n).powf(0.27);
+                vec![(-1.0, 2.0 * (-1.0 - x0)), (2.0, 2.0 * (2.0 - x0))]
+            })
+            .collect();
+        let rows = ladder_rows(&rungs, &slow);
         assert!(rows.iter().all(|r| r.order.is_none() && r.limit.is_none()));
     }
 }

@@ -82,7 +82,7 @@ pub const MAX_DECAY: f64 = 0.8;
 /// hub): on `creep-curve-coupled.toml` at free rolling it decays by about 0.47 a
 /// millisecond, and the last half's mean after 8 ms of rolling still lay 2e-3 in `Q/(mu P)`
 /// short of it: this extrapolation gives -0.0395 after 4 ms and -0.0393 after 8 ms where
-/// that mean is -0.0369; at `Q/(mu P)` about -0.5 it gives -0.5036 after 4 ms, and the mean
+/// that mean is -0.0369; at `Q/(mu P)` about -0.5 it gives -0.5038 after 4 ms, and the mean
 /// of a 16 ms run is -0.5034 (`tests/creep.rs`).
 pub fn steady_ratio(m: [f64; 3]) -> Option<(f64, f64)> {
     let (d1, d2) = (m[1] - m[0], m[2] - m[1]);
