@@ -149,39 +149,7 @@ pub fn converge(
         value: values.join(","),
         message,
     };
-    let xs: Vec<f64> = values
-        .iter()
-        .map(|v| v.trim_matches('"').parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad("a convergence ladder needs numbers".into()))?;
-    if xs.len() < 3 {
-        return Err(bad(
-            "a convergence ladder needs at least three rungs (an order needs two differences)"
-                .into(),
-        ));
-    }
-    if xs.iter().any(|&x| !(x.is_finite() && x > 0.0)) {
-        return Err(bad("the rungs must be positive".into()));
-    }
-    // The observed order compares successive differences at one ratio: the rungs must
-    // refine (or coarsen) monotonically by a constant ratio.
-    let ratios: Vec<f64> = xs.windows(2).map(|w| w[1] / w[0]).collect();
-    if ratios.contains(&1.0)
-        || !(ratios.iter().all(|&r| r > 1.0) || ratios.iter().all(|&r| r < 1.0))
-    {
-        return Err(bad(
-            "the rungs must increase (or decrease) from one to the next, e.g. 8,16,32".into(),
-        ));
-    }
-    let r0 = ratios[0];
-    if let Some(r) = ratios
-        .iter()
-        .find(|&&r| (r.ln() / r0.ln() - 1.0).abs() > 0.02)
-    {
-        return Err(bad(format!(
-            "the rungs must grow by a constant ratio (the observed order assumes it): {r0:.4} then {r:.4}; e.g. 8,16,32 or 1e-4,5e-5,2.5e-5"
-        )));
-    }
+    let xs = crate::scenario::overrides::ladder_rungs(values, 3).map_err(bad)?;
     let runs = crate::scenario::Scenario::from_str(text, path)
         .map(|sc| sc.runs.len())
         .unwrap_or(1);

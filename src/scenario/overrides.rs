@@ -90,6 +90,52 @@ pub enum Grid {
     Zip,
 }
 
+/// The rungs of a refinement ladder (`softway converge --set KEY=...`, `[sweep] ladder`),
+/// TOML literals, as numbers: at least `min` of them, positive, refining (or coarsening)
+/// monotonically by one constant ratio, which the observed order of successive differences
+/// assumes ([`crate::run::observed_orders`]).
+///
+/// # Errors
+/// A one-line message saying what the rungs must be.
+pub fn ladder_rungs(values: &[String], min: usize) -> Result<Vec<f64>, String> {
+    let xs: Vec<f64> = values
+        .iter()
+        .map(|v| v.trim_matches('"').parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| "a convergence ladder needs numbers".to_string())?;
+    if xs.len() < min {
+        return Err(if min >= 3 {
+            "a convergence ladder needs at least three rungs (an order needs two differences)"
+                .into()
+        } else {
+            "a ladder of at least two rungs (three for an observed order), e.g. [4608, 9216, 18432]"
+                .into()
+        });
+    }
+    if xs.iter().any(|&x| !(x.is_finite() && x > 0.0)) {
+        return Err("the rungs must be positive".into());
+    }
+    let ratios: Vec<f64> = xs.windows(2).map(|w| w[1] / w[0]).collect();
+    if ratios.contains(&1.0)
+        || !(ratios.iter().all(|&r| r > 1.0) || ratios.iter().all(|&r| r < 1.0))
+    {
+        return Err(
+            "the rungs must increase (or decrease) from one to the next, e.g. 8,16,32".into(),
+        );
+    }
+    if let (Some(&r0), Some(&r)) = (
+        ratios.first(),
+        ratios
+            .iter()
+            .find(|&&r| (r.ln() / ratios[0].ln() - 1.0).abs() > 0.02),
+    ) {
+        return Err(format!(
+            "the rungs must grow by a constant ratio (the observed order assumes it): {r0:.4} then {r:.4}; e.g. 8,16,32 or 1e-4,5e-5,2.5e-5"
+        ));
+    }
+    Ok(xs)
+}
+
 /// The points of a sweep over `keys` (each a dotted key and its values, TOML literals):
 /// each point a list of overrides, one per key, in the order of the keys.
 ///

@@ -250,13 +250,6 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         }
         Some(sw) => {
             let ladder = match sw.ladder {
-                Some(l) if l.values.len() < 2 => {
-                    return Err(cx.invalid(
-                        "sweep.ladder.values",
-                        format!("{} value(s)", l.values.len()),
-                        "a ladder of at least two rungs (three for an observed order), e.g. [4608, 9216, 18432]",
-                    ));
-                }
                 Some(l) if l.key == sw.key => {
                     return Err(cx.invalid(
                         "sweep.ladder.key",
@@ -264,7 +257,17 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
                         "a key other than sweep.key (the ladder runs every value of sweep.key on each rung)",
                     ));
                 }
-                Some(l) => Some((l.key, l.values.iter().map(|v| v.to_string()).collect())),
+                Some(l) => {
+                    let values: Vec<String> = l.values.iter().map(|v| v.to_string()).collect();
+                    super::overrides::ladder_rungs(&values, 2).map_err(|why| {
+                        cx.invalid(
+                            "sweep.ladder.values",
+                            format!("[{}]", values.join(", ")),
+                            &why,
+                        )
+                    })?;
+                    Some((l.key, values))
+                }
                 None => None,
             };
             (

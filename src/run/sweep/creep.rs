@@ -124,8 +124,13 @@ impl LadderRow {
 }
 
 /// The ladder's rows at [`TARGETS`] from the creep curves `curves` (one per rung, at the
-/// rung sizes `rungs`, each `(creepage, Q/(mu P))` sorted by creepage).
+/// rung sizes `rungs`, each `(creepage, Q/(mu P))` sorted by creepage). Orders and limits
+/// only where the rungs are a ladder (three or more at one ratio,
+/// [`crate::scenario::overrides::ladder_rungs`]).
 pub fn ladder_rows(rungs: &[f64], curves: &[Vec<(f64, f64)>]) -> Vec<LadderRow> {
+    // Orders only on three or more rungs at one ratio (a `--set` grid may be anything).
+    let strings: Vec<String> = rungs.iter().map(|r| r.to_string()).collect();
+    let regular = crate::scenario::overrides::ladder_rungs(&strings, 3).is_ok();
     TARGETS
         .iter()
         .map(|&target| {
@@ -133,7 +138,7 @@ pub fn ladder_rows(rungs: &[f64], curves: &[Vec<(f64, f64)>]) -> Vec<LadderRow> 
                 .iter()
                 .map(|c| creepage_at(c, target).unwrap_or(f64::NAN))
                 .collect();
-            let (order, limit) = if values.len() >= 3 && values.iter().all(|v| v.is_finite()) {
+            let (order, limit) = if regular && values.iter().all(|v| v.is_finite()) {
                 let orders = observed_orders(rungs, &values);
                 let order = orders.last().copied().flatten();
                 if order.is_some_and(|p| (MIN_ORDER..=MAX_ORDER).contains(&p)) {
@@ -434,6 +439,9 @@ mod tests {
             .map(|&x0| vec![(-1.0, 2.0 * (-1.0 - x0)), (2.0, 2.0 * (2.0 - x0))])
             .collect();
         let rows = ladder_rows(&rungs, &growing);
+        assert!(rows.iter().all(|r| r.order.is_none() && r.limit.is_none()));
+        // Rungs not at one ratio: no order (it would assume one).
+        let rows = ladder_rows(&[4608.0, 9216.0, 36864.0], &curves);
         assert!(rows.iter().all(|r| r.order.is_none() && r.limit.is_none()));
         // Differences that shrink at an order of 0.27 (below MIN_ORDER): no limit either.
         let slow: Vec<Vec<(f64, f64)>> = rungs

@@ -141,9 +141,9 @@ pub struct TractionWatch {
     window_q: f64,
     window_p: f64,
     window_samples: f64,
-    /// Sums of `(Q, P, samples)` over the rolling phase's second, third and fourth quarters
-    /// (the start-up transient's extrapolation, [`steady_ratio`]).
-    quarters: [[f64; 3]; 3],
+    /// Sums of `(Q, P)` over the rolling phase's second, third and fourth quarters (the
+    /// start-up transient's extrapolation, [`steady_ratio`]).
+    quarters: [[f64; 2]; 3],
     friction_energy: f64,
     /// The least `slip_power / |tangential_force|` of any pair at any step, m/s.
     min_slip_speed: f64,
@@ -326,7 +326,7 @@ impl TractionWatch {
             window_q: 0.0,
             window_p: 0.0,
             window_samples: 0.0,
-            quarters: [[0.0; 3]; 3],
+            quarters: [[0.0; 2]; 3],
             friction_energy: 0.0,
             min_slip_speed: f64::INFINITY,
             max_energy_drop: 0.0,
@@ -439,7 +439,7 @@ impl TractionWatch {
             0.0
         };
         let quarter = |k: usize| {
-            let [q, p, _] = self.quarters[k];
+            let [q, p] = self.quarters[k];
             if mu > 0.0 && p > 0.0 {
                 q / (mu * p)
             } else {
@@ -540,7 +540,6 @@ impl Observer for TractionWatch {
             let q = &mut self.quarters[quarter as usize - 1];
             q[0] += traction;
             q[1] += normal;
-            q[2] += 1.0;
         }
         if s.t < self.window_start {
             return Ok(());
