@@ -308,6 +308,18 @@ fn rim_nodes(mesh: &crate::scenario::MeshSource, file_nodes: Option<usize>) -> f
 pub const MAX_STEPS: f64 = 1e12;
 
 impl Estimate {
+    /// The runs repeated `times` times in turn (a growth study's passes): the steps and the
+    /// time scale, the memory is the one run's (a pass's model is built once), and no
+    /// per-step file is written (a pass keeps its profile's samples, not its history).
+    pub fn repeated(&self, times: f64) -> Estimate {
+        Estimate {
+            steps: self.steps * times,
+            seconds: self.seconds * times,
+            disk_bytes: 0.0,
+            ..self.clone()
+        }
+    }
+
     /// `None` when the run can be carried out at all, else why not, whatever the user
     /// confirms: more steps than [`MAX_STEPS`] (or not a number), or more memory than this
     /// machine has.

@@ -3,11 +3,11 @@
 
 use super::{print_report, print_result, CommandResult, Replace};
 use crate::build::resolve;
-use crate::output::staging::StagedDir;
+use crate::output::job::JobFolder;
+use crate::run::Cancel;
 use crate::scenario::Scenario;
 use crate::time::sdof::analyse;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 /// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU and
 /// drawn in `modes.png`.
@@ -17,6 +17,7 @@ pub(super) fn modes_command(
     count: usize,
     out: Option<PathBuf>,
     Replace { force }: Replace,
+    cancel: &Cancel,
 ) -> CommandResult {
     let sc = super::read_scenario(scenario, set)?;
     let crate::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
@@ -30,15 +31,16 @@ pub(super) fn modes_command(
         return Err("--count 0: ask for at least one mode".into());
     }
     let wm = crate::run::wheel::build(ws, &sc.path)?;
-    let rep = crate::modes::modes_report(&wm, count)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let mut files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.path())?;
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let rep = crate::modes::modes_report(&wm, count)?;
+    let mut files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.dir())?;
     if sc.plots {
-        files.extend(crate::modes::write_modes_figure(&wm, &rep, stage.path())?);
+        files.extend(crate::modes::write_modes_figure(&wm, &rep, stage.dir())?);
     }
-    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
-    stage.commit()?;
+    // The modes are one solve: a signal during it stops the command after the writing.
+    let interrupted = cancel.is_cancelled();
+    let files = stage.finish(&files, Some(&sc), interrupted)?;
     let mut text = modes_text(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
     text.push_str(&format!(
         "wrote {} files into {}\n",
@@ -46,7 +48,7 @@ pub(super) fn modes_command(
         out.display()
     ));
     print_result(&text)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(super::exit_code(interrupted))
 }
 
 /// The tables of `softway modes`: the rest modes, the spinning ones, the notes.
@@ -120,6 +122,7 @@ pub(super) fn receptance_command(
     scenario: &Path,
     out: Option<PathBuf>,
     Replace { force }: Replace,
+    cancel: &Cancel,
 ) -> CommandResult {
     let sc = Scenario::from_file(scenario)?;
     if !matches!(sc.runs[0].model, crate::scenario::Model::Track(_)) {
@@ -133,18 +136,15 @@ pub(super) fn receptance_command(
         errln!("softway: warning: {w}");
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let mut report = crate::run::track::receptance_job(&sc, stage.path(), sc.plots)?;
-    report
-        .files
-        .push(crate::run::write_scenario_copy(&sc, stage.path())?);
-    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let report = crate::run::track::receptance_job(&sc, stage.dir(), sc.plots, cancel.flag())?;
+    let interrupted = report.interrupted || cancel.is_cancelled();
+    let files = stage.finish(&report.files, Some(&sc), interrupted)?;
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
         &report.lines,
         &files,
-        None,
+        interrupted.then_some("interrupted: receptance.csv holds the frequencies computed so far"),
     )
 }
 
@@ -154,14 +154,15 @@ pub(super) fn matrix_command(
     out: Option<PathBuf>,
     steps: Option<u64>,
     Replace { force }: Replace,
+    cancel: &Cancel,
 ) -> CommandResult {
     let sc = resolve(&Scenario::from_file(scenario)?)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (rep, mut files) = crate::run::matrix::dump(&sc, stage.path(), steps.map(|s| s as usize))?;
-    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
-    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let (rep, files) =
+        crate::run::matrix::dump(&sc, stage.dir(), steps.map(|s| s as usize), cancel.flag())?;
+    let interrupted = cancel.is_cancelled();
+    let files = stage.finish(&files, Some(&sc), interrupted)?;
     let mut lines: Vec<String> = rep
         .factor_nnz
         .iter()
@@ -172,7 +173,13 @@ pub(super) fn matrix_command(
         "{}: {} dofs, nnz(A) = {}, symmetric: {}; softway factors it as {}",
         sc.name, rep.n, rep.nnz_a, rep.symmetric, rep.factor
     );
-    print_report(Some(head), &lines, &files, None)
+    print_report(
+        Some(head),
+        &lines,
+        &files,
+        interrupted
+            .then_some("interrupted: the matrices are written whole, the timing may be short"),
+    )
 }
 
 /// `softway stability`: the scheme's stability table, optionally written and with the
@@ -184,6 +191,7 @@ pub(super) fn stability_command(
     spin_h: Option<f64>,
     json: bool,
     Replace { force }: Replace,
+    cancel: &Cancel,
 ) -> CommandResult {
     if let Some(s) = spin_h {
         if !(s.is_finite() && s > 0.0 && s <= 0.1) {
@@ -203,11 +211,13 @@ pub(super) fn stability_command(
     let rep = analyse(alpha, gamma, 5);
     let files = match out {
         Some(dir) => {
-            let stage = StagedDir::begin(&dir, force)?;
-            let files = crate::output::stability::write(&rep, stage.path())?;
-            let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-            stage.commit()?;
-            files
+            let stage = JobFolder::begin(&dir, force, &[])?;
+            let files = crate::output::stability::write(&rep, stage.dir())?;
+            stage.finish(
+                &files,
+                None::<&Scenario<crate::scenario::RunSpec>>,
+                cancel.is_cancelled(),
+            )?
         }
         None => Vec::new(),
     };
@@ -232,5 +242,5 @@ pub(super) fn stability_command(
         }
         print_result(&text)?;
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(super::exit_code(cancel.is_cancelled()))
 }

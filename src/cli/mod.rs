@@ -4,7 +4,7 @@
 //! (the step from `cfl`), the jobs run it; the files are the output module's.
 
 use crate::build::resolve;
-use crate::output::staging::StagedDir;
+use crate::output::job::JobFolder;
 use clap::{Parser, Subcommand};
 
 /// The file by which the command line marks a folder it wrote (it replaces only such
@@ -116,6 +116,8 @@ enum Command {
         /// Threads of each pass [default: the number of cores].
         #[arg(long)]
         threads: Option<usize>,
+        #[command(flatten)]
+        guard: Guard,
     },
     /// Run a scenario over the values of one key or a grid of several, in parallel (e.g. the
     /// paper's Fig. 15).
@@ -315,7 +317,8 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             set,
             out,
             threads,
-        } => grow_command(&scenario, passes, resume, &set, out, threads, cancel),
+            guard,
+        } => grow_command(&scenario, passes, resume, &set, out, threads, guard, cancel),
         Command::Sweep {
             scenario,
             set,
@@ -338,7 +341,7 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             shards,
             out,
             replace,
-        } => shard::gather_command(&shards, out, replace),
+        } => shard::gather_command(&shards, out, replace, cancel),
         Command::Converge {
             scenario,
             set,
@@ -358,18 +361,18 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             count,
             out,
             replace,
-        } => modes_command(&scenario, &set, count, out, replace),
+        } => modes_command(&scenario, &set, count, out, replace, cancel),
         Command::Receptance {
             scenario,
             out,
             replace,
-        } => receptance_command(&scenario, out, replace),
+        } => receptance_command(&scenario, out, replace, cancel),
         Command::Matrix {
             scenario,
             out,
             steps,
             replace,
-        } => matrix_command(&scenario, out, steps, replace),
+        } => matrix_command(&scenario, out, steps, replace, cancel),
         Command::Stability {
             alpha,
             gamma,
@@ -377,8 +380,8 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             spin_h,
             json,
             replace,
-        } => stability_command(alpha, gamma, out, spin_h, json, replace),
-        Command::Shakedown(args) => shakedown::shakedown_command(args),
+        } => stability_command(alpha, gamma, out, spin_h, json, replace, cancel),
+        Command::Shakedown(args) => shakedown::shakedown_command(args, cancel),
     }
 }
 
@@ -395,30 +398,33 @@ fn run_command(
     set_threads("--threads", threads)?;
     let sc = open_scenario(scenario, set, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
     let opts = RunOptions {
         progress: !quiet,
         par: threads.map(Par::threads),
         cancel: cancel.clone(),
         ..RunOptions::default()
     };
-    let report = run_scenario(&sc, stage.path(), &opts)?;
+    let report = run_scenario(&sc, stage.dir(), &opts)?;
     for w in &report.warnings {
         errln!("softway: warning: {w}");
     }
-    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let interrupted = report.interrupted || cancel.is_cancelled();
+    let files = stage.finish(&report.files, Some(&sc), interrupted)?;
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
         &report.lines,
         &files,
-        report
-            .interrupted
-            .then_some("interrupted; the files above hold the steps computed so far"),
+        interrupted.then_some("interrupted; the files above hold the steps computed so far"),
     )
 }
 
 /// `softway grow`: a growth study into its folder, a line per pass, its summary at the end.
+/// The study's folder is claimed under the rules of every command (a new study: the folder
+/// rules of [`JobFolder`]; `--resume`: a folder softway wrote) and written in place, so
+/// that its checkpoint survives the process; its cost (every pass and the reference pass)
+/// is checked before anything is written.
+#[allow(clippy::too_many_arguments)]
 fn grow_command(
     scenario: &Path,
     passes: Option<u64>,
@@ -426,21 +432,39 @@ fn grow_command(
     set: &[String],
     out: Option<PathBuf>,
     threads: Option<usize>,
+    Guard { force, yes }: Guard,
     cancel: &Cancel,
 ) -> CommandResult {
+    use crate::output::job::StudyFolder;
     set_threads("--threads", threads)?;
     let sc = resolve(&read_scenario(scenario, set)?)?;
     for w in &sc.warnings {
         errln!("softway: warning: {w}");
     }
-    if sc.growth.is_none() {
+    let Some(growth) = &sc.growth else {
         return Err(crate::run::RunError::input(
             scenario,
             "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
         )
         .into());
+    };
+    // The whole study: every pass and the reference pass, each a run of the scenario.
+    let target = passes.map_or(growth.passes, |p| p as usize);
+    let runs = target + usize::from(growth.reference);
+    let est = estimate_of(&sc)?.repeated(runs as f64);
+    if let Some(why) = crate::output::job::admit(&est, yes) {
+        return Err(format!(
+            "{}: the growth study ({runs} passes): {why}",
+            sc.path.display()
+        )
+        .into());
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-grow", sc.name)));
+    let folder = if resume {
+        StudyFolder::resume(&out, &[scenario])?
+    } else {
+        StudyFolder::fresh(&out, force, &[scenario])?
+    };
     let opts = crate::run::grow::GrowOptions {
         passes: passes.map(|p| p as usize),
         resume,
@@ -453,7 +477,7 @@ fn grow_command(
         scenario.display(),
         out.display()
     );
-    let report = crate::run::grow::grow(&sc, &out, &opts, cancel, |l| {
+    let report = crate::run::grow::grow(&sc, &folder.path, &opts, cancel, |l| {
         let force = l
             .scalars
             .iter()
@@ -469,13 +493,17 @@ fn grow_command(
             l.wall_s
         );
     })?;
+    let interrupted = report.interrupted || cancel.is_cancelled();
+    if interrupted {
+        folder.mark_interrupted()?;
+    } else {
+        folder.mark_finished()?;
+    }
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
         &crate::run::grow::summary_lines(&report.summary),
         &report.files,
-        report
-            .interrupted
-            .then_some("interrupted; the finished passes are kept: go on with --resume"),
+        interrupted.then_some("interrupted; the finished passes are kept: go on with --resume"),
     )
 }
 
@@ -501,18 +529,18 @@ fn sweep_command(
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (points, mut files) =
-        crate::run::sweep::sweep(scenario, &text, &points, stage.path(), cancel)?;
-    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let (points, files) = crate::run::sweep::sweep(scenario, &text, &points, stage.dir(), cancel)?;
     for p in &points {
         for w in &p.warnings {
             errln!("softway: warning: {}: {w}", p.label());
         }
     }
-    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-    let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
-    stage.commit()?;
+    let dirs: Vec<PathBuf> = points
+        .iter()
+        .map(|p| out.join(p.dir.strip_prefix(stage.dir()).unwrap_or(&p.dir)))
+        .collect();
+    let files = stage.finish(&files, Some(&sc), cancel.is_cancelled())?;
     let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
     outln!(
         "{}: {} swept over {} points{}",
@@ -652,15 +680,13 @@ fn converge_command(
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
-    let (_, mut files, warnings) =
-        crate::run::converge::converge(scenario, &text, &key, &values, stage.path(), cancel)?;
-    files.push(crate::run::write_scenario_copy(&sc, stage.path())?);
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let (_, files, warnings) =
+        crate::run::converge::converge(scenario, &text, &key, &values, stage.dir(), cancel)?;
     for w in &warnings {
         errln!("softway: warning: {w}");
     }
-    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let files = stage.finish(&files, Some(&sc), cancel.is_cancelled())?;
     outln!(
         "{}: convergence of {key} over {} rungs",
         sc.name,
@@ -683,25 +709,30 @@ fn compare_command(
 ) -> CommandResult {
     let sc = open_scenario(scenario, set, yes)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
     let opts = RunOptions {
         cancel: cancel.clone(),
         ..RunOptions::default()
     };
-    let mut report = crate::run::compare::compare(&sc, stage.path(), &opts)?;
-    report
-        .files
-        .push(crate::run::write_scenario_copy(&sc, stage.path())?);
-    let files: Vec<PathBuf> = report.files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let report = crate::run::compare::compare(&sc, stage.dir(), &opts)?;
+    let interrupted = report.interrupted || cancel.is_cancelled();
+    let files = stage.finish(&report.files, Some(&sc), interrupted)?;
     print_report(
         None,
         &report.lines,
         &files,
-        report
-            .interrupted
-            .then_some("interrupted: the table holds the runs finished before"),
+        interrupted.then_some("interrupted: the table holds the runs finished before"),
     )
+}
+
+/// The exit code of a command that finished its work: 130 when a signal (SIGINT, SIGTERM,
+/// SIGHUP) came during it (its folder is then marked interrupted), else 0.
+pub(super) fn exit_code(interrupted: bool) -> ExitCode {
+    if interrupted {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 /// Prints `head` (if any), a job's report `lines` and the `files` it wrote (indented under
@@ -768,6 +799,16 @@ pub(super) fn read_scenario(
 /// unless `yes`; a wheel's Gmsh mesh is read here (so that its errors come before any
 /// output folder is made).
 fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), String> {
+    let est = estimate_of(sc)?;
+    match crate::output::job::admit(&est, yes) {
+        Some(why) => Err(format!("{}: {why}", sc.path.display())),
+        None => Ok(()),
+    }
+}
+
+/// The estimated cost of a built scenario's runs ([`crate::build::estimate`]); a wheel's
+/// Gmsh mesh is read here (so that its errors come before any output folder is made).
+fn estimate_of(sc: &crate::scenario::Scenario) -> Result<crate::build::Estimate, String> {
     let mut mesh_nodes = None;
     for run in &sc.runs {
         if let crate::scenario::Model::Wheel(ws) = &run.model {
@@ -778,14 +819,7 @@ fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), Strin
             }
         }
     }
-    let est = crate::build::estimate(sc, mesh_nodes);
-    if let Some(why) = est.impossible() {
-        return Err(format!("{}: {why}", sc.path.display()));
-    }
-    match est.check(&crate::build::Limits::default()) {
-        Some(why) if !yes => Err(format!("{}: {why}", sc.path.display())),
-        _ => Ok(()),
-    }
+    Ok(crate::build::estimate(sc, mesh_nodes))
 }
 
 /// [`check_estimate`] over a sweep or a ladder: every point validated, the costs summed.
@@ -823,9 +857,9 @@ fn check_ladder_estimate(
             }
         });
     }
-    match total.and_then(|t| t.check(&crate::build::Limits::default())) {
-        Some(why) if !yes => Err(format!("{}: the sweep: {why}", path.display())),
-        _ => Ok(()),
+    match total.and_then(|t| crate::output::job::admit(&t, yes)) {
+        Some(why) => Err(format!("{}: the sweep: {why}", path.display())),
+        None => Ok(()),
     }
 }
 

@@ -5,14 +5,13 @@
 
 use super::{print_result, CommandResult, Replace};
 use crate::output::files::write_atomic;
+use crate::output::job::JobFolder;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::output::staging::StagedDir;
 use crate::plasticity::shakedown::{
     first_yield, PassResult, Shakedown, ShakedownConfig, ShakedownError,
 };
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 /// The options of `softway shakedown`.
 #[derive(clap::Args, Debug)]
@@ -42,8 +41,10 @@ pub(super) struct ShakedownArgs {
     replace: Replace,
 }
 
-/// Runs `softway shakedown`.
-pub(super) fn shakedown_command(args: ShakedownArgs) -> CommandResult {
+/// Runs `softway shakedown`. A signal (SIGINT, SIGTERM, SIGHUP) stops it after the pass
+/// under way: the passes finished are reported and written (with `--out`, the folder marked
+/// interrupted), exit 130.
+pub(super) fn shakedown_command(args: ShakedownArgs, cancel: &crate::run::Cancel) -> CommandResult {
     let base = ShakedownConfig {
         h_over_a: args.h_over_a,
         path_over_a: args.path_over_a,
@@ -69,6 +70,11 @@ pub(super) fn shakedown_command(args: ShakedownArgs) -> CommandResult {
             other => other.to_string(),
         })?;
     }
+    // The folder is claimed before the work: a folder of the user's files is refused at once.
+    let stage = match &args.out {
+        Some(dir) => Some(JobFolder::begin(dir, args.replace.force, &[])?),
+        None => None,
+    };
     let fy = first_yield(base.elastic.poisson);
     let mut text = format!(
         "first yield of the exact field (von Mises, plane strain, nu = {}): p0/k = {:.4} at depth {:.4} a; Johnson's shakedown limit (free rolling): p0/k = 4.0\n",
@@ -77,6 +83,9 @@ pub(super) fn shakedown_command(args: ShakedownArgs) -> CommandResult {
     let mut runs: Vec<(f64, Vec<PassResult>)> = Vec::new();
     let a2 = base.a * base.a;
     for c in configs {
+        if cancel.is_cancelled() {
+            break;
+        }
         let mut s = Shakedown::new(c)?;
         let _ = writeln!(
             text,
@@ -88,6 +97,9 @@ pub(super) fn shakedown_command(args: ShakedownArgs) -> CommandResult {
         );
         let mut rows = Vec::new();
         for _ in 0..args.passes {
+            if cancel.is_cancelled() {
+                break;
+            }
             let r = s.run_pass()?;
             let _ = writeln!(
                 text,
@@ -101,18 +113,30 @@ pub(super) fn shakedown_command(args: ShakedownArgs) -> CommandResult {
             );
             rows.push(r);
         }
-        runs.push((c.p0_over_k, rows));
-    }
-    if let Some(dir) = args.out {
-        let stage = StagedDir::begin(&dir, args.replace.force)?;
-        let files = write(&runs, &base, stage.path())?;
-        for f in files {
-            let _ = writeln!(text, "wrote {}", stage.final_path(&f).display());
+        if !rows.is_empty() {
+            runs.push((c.p0_over_k, rows));
         }
-        stage.commit()?;
+    }
+    let interrupted = cancel.is_cancelled();
+    if interrupted {
+        let _ = writeln!(
+            text,
+            "\ninterrupted: the passes above are the ones finished"
+        );
+    }
+    if let Some(stage) = stage {
+        let files = write(&runs, &base, stage.dir())?;
+        let files = stage.finish(
+            &files,
+            None::<&crate::scenario::Scenario<crate::scenario::RunSpec>>,
+            interrupted,
+        )?;
+        for f in files {
+            let _ = writeln!(text, "wrote {}", f.display());
+        }
     }
     print_result(&text)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(super::exit_code(interrupted))
 }
 
 /// Writes the CSVs and the figure into `dir`; returns their paths.

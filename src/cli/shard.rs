@@ -5,7 +5,7 @@
 use super::{
     check_ladder_estimate, print_table, set_threads, sweep_values, CommandResult, Guard, Replace,
 };
-use crate::output::staging::StagedDir;
+use crate::output::job::JobFolder;
 use crate::run::sweep::shard::{gather, read_manifest, run_shard, Shard, MANIFEST};
 use crate::run::Cancel;
 use crate::scenario::overrides::Grid;
@@ -38,7 +38,7 @@ pub(super) fn shard_command(
         ))
     });
     set_threads("--jobs", jobs)?;
-    let stage = StagedDir::begin_keeping(&out, force, &[scenario])?;
+    let stage = JobFolder::begin(&out, force, &[scenario])?;
     let (mine, files) = run_shard(
         scenario,
         &text,
@@ -46,7 +46,7 @@ pub(super) fn shard_command(
         &keys,
         how,
         shard,
-        stage.path(),
+        stage.dir(),
         cancel,
     )?;
     for p in &mine {
@@ -54,8 +54,7 @@ pub(super) fn shard_command(
             errln!("softway: warning: {}: {w}", p.label());
         }
     }
-    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let files = stage.finish(&files, Some(&sc), cancel.is_cancelled())?;
     let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
     outln!(
         "{}: {}, shard {}/{}: {} of {} points{}",
@@ -87,6 +86,7 @@ pub(super) fn gather_command(
     shards: &[PathBuf],
     out: Option<PathBuf>,
     Replace { force }: Replace,
+    cancel: &Cancel,
 ) -> CommandResult {
     // The default folder is named after the scenario, which the first manifest gives.
     let first = read_manifest(shards.first().ok_or("no shard folder given")?)?;
@@ -94,10 +94,15 @@ pub(super) fn gather_command(
     // The shards' folders are inputs: never replaced by the gathered one.
     let manifests: Vec<PathBuf> = shards.iter().map(|d| d.join(MANIFEST)).collect();
     let keep: Vec<&Path> = manifests.iter().map(PathBuf::as_path).collect();
-    let stage = StagedDir::begin_keeping(&out, force, &keep)?;
-    let (m, points, files) = gather(shards, stage.path())?;
-    let files: Vec<PathBuf> = files.iter().map(|f| stage.final_path(f)).collect();
-    stage.commit()?;
+    let stage = JobFolder::begin(&out, force, &keep)?;
+    let (m, points, files) = gather(shards, stage.dir())?;
+    // Gathering is quick: a signal during it stops the command after the writing.
+    let interrupted = cancel.is_cancelled();
+    let files = stage.finish(
+        &files,
+        None::<&crate::scenario::Scenario<crate::scenario::RunSpec>>,
+        interrupted,
+    )?;
     outln!(
         "{}: {} swept over {} points, gathered from {} shards{}",
         m.name,
@@ -111,5 +116,5 @@ pub(super) fn gather_command(
         outln!("    {}/", p.dir.display());
     }
     super::failed_points(&shards[0], &points)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(super::exit_code(interrupted))
 }

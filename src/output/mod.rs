@@ -5,6 +5,7 @@
 //! failed run never leaves a half-written result behind.
 
 pub mod files;
+pub mod job;
 pub mod save;
 pub mod stability;
 pub mod staging;

@@ -72,16 +72,6 @@ pub fn public_message(message: &str) -> String {
     m
 }
 
-/// Files of older softway versions (before the marker) that mark a folder as softway's.
-const KNOWN_OUTPUTS: [&str; 6] = [
-    "summary.json",
-    "stability.csv",
-    "sweep.csv",
-    "converge.csv",
-    "compare.csv",
-    "modes.pvd",
-];
-
 /// Why an output folder cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum StagingError {
@@ -142,6 +132,7 @@ pub struct StagedDir {
 
 impl StagedDir {
     /// [`StagedDir::begin_keeping`] with no input to keep.
+    #[cfg(test)]
     ///
     /// # Errors
     /// As [`StagedDir::begin_keeping`].
@@ -302,6 +293,41 @@ impl StagedDir {
         Ok(dir)
     }
 
+    /// Checks that `target` is a folder softway wrote (it holds the [`MARKER`]) and is
+    /// neither, nor holds, a protected folder (module docs; `inputs` as in
+    /// [`StagedDir::begin_keeping`]): a folder to go on writing into in place (a resumed
+    /// study). Nothing is written.
+    ///
+    /// # Errors
+    /// [`StagingError::Io`] when it does not exist, [`StagingError::NotAFolder`],
+    /// [`StagingError::Protected`], [`StagingError::Foreign`] without the marker.
+    pub fn check_marked(target: &Path, inputs: &[&Path]) -> Result<(), StagingError> {
+        let io = |what: &str, source: std::io::Error| StagingError::Io {
+            path: target.to_path_buf(),
+            what: what.to_string(),
+            source,
+        };
+        let meta = std::fs::metadata(target).map_err(|e| io("cannot read it", e))?;
+        if !meta.is_dir() {
+            return Err(StagingError::NotAFolder(target.to_path_buf()));
+        }
+        let real = std::fs::canonicalize(target).map_err(|e| io("cannot read it", e))?;
+        if let Some((what, holds)) = protected(inputs)
+            .into_iter()
+            .find(|(_, p)| p.starts_with(&real))
+        {
+            return Err(StagingError::Protected {
+                path: target.to_path_buf(),
+                what,
+                holds,
+            });
+        }
+        if !real.join(MARKER).is_file() {
+            return Err(StagingError::Foreign(target.to_path_buf()));
+        }
+        Ok(())
+    }
+
     /// The folder to write into.
     pub fn path(&self) -> &Path {
         &self.staging
@@ -413,12 +439,14 @@ fn protected(inputs: &[&Path]) -> Vec<(&'static str, PathBuf)> {
     v
 }
 
-/// True when `dir` may be replaced without `--force`: empty, or written by softway.
+/// True when `dir` may be replaced without `--force`: empty, or written by softway (it
+/// holds the [`MARKER`]; a file with a familiar name, `summary.json` or `sweep.csv`, does
+/// not make a folder softway's: it may be a copy the user keeps among their own files).
 fn replaceable(dir: &Path) -> std::io::Result<bool> {
     let mut empty = true;
     for entry in std::fs::read_dir(dir)? {
         let name = entry?.file_name();
-        if name == MARKER || KNOWN_OUTPUTS.iter().any(|k| name == *k) {
+        if name == MARKER {
             return Ok(true);
         }
         empty = false;
@@ -496,13 +524,37 @@ mod tests {
         let d = tmp("drop");
         let out = d.join("out");
         std::fs::create_dir_all(&out).unwrap();
+        std::fs::write(out.join(MARKER), "softway\n").unwrap();
         std::fs::write(out.join("summary.json"), "{}").unwrap();
         {
             let s = StagedDir::begin(&out, false).unwrap();
             std::fs::write(s.path().join("half.csv"), "1,2").unwrap();
         }
         assert_eq!(entries(&d), ["out"]);
-        assert_eq!(entries(&out), ["summary.json"]);
+        assert_eq!(entries(&out), [MARKER, "summary.json"]);
+    }
+
+    /// A folder is softway's only by its marker: files with the names softway writes
+    /// (`summary.json`, `sweep.csv`, a subfolder of points) do not make it replaceable.
+    #[test]
+    fn familiar_names_without_the_marker_are_the_users() {
+        let d = tmp("familiar");
+        for name in [
+            "summary.json",
+            "sweep.csv",
+            "compare.csv",
+            "converge.csv",
+            "modes.pvd",
+        ] {
+            let out = d.join(name.replace('.', "-"));
+            std::fs::create_dir_all(out.join("sub")).unwrap();
+            std::fs::write(out.join(name), "mine").unwrap();
+            std::fs::write(out.join("sub").join("notes.txt"), "mine").unwrap();
+            let e = StagedDir::begin(&out, false).unwrap_err();
+            assert!(matches!(e, StagingError::Foreign(_)), "{name}: {e}");
+            assert_eq!(std::fs::read_to_string(out.join(name)).unwrap(), "mine");
+            assert_eq!(entries(&out), [name, "sub"]);
+        }
     }
 
     #[test]

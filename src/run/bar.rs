@@ -397,9 +397,7 @@ pub fn simulate(
         .or(mesh.node_sets.get("head"))
         .map(|v| v[0])
         .unwrap_or(0);
-    let mut sim = Simulation::new(problem).map_err(sim_err)?;
-    sim.set_par(opts.par());
-    sim.set_guard(opts.guard);
+    let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_err)?;
     let mut rec = Recorder::new(head, &sim.engine().model, bodies, csv, stride, pb);
     let stats = sim
         .run(opts.cancel.flag(), |s| {
@@ -536,9 +534,6 @@ pub(crate) fn record(
         "interrupted": interrupted,
         "runs": summaries,
     });
-    if let (Some(obj), Some(mib)) = (json.as_object_mut(), super::peak_rss_mib()) {
-        obj.insert("peak_rss_mib".into(), mib.into());
-    }
     if summaries.len() == 1 {
         if let (Some(obj), Ok(serde_json::Value::Object(one))) =
             (json.as_object_mut(), serde_json::to_value(&summaries[0]))

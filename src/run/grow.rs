@@ -117,7 +117,6 @@ pub fn grow(
     std::fs::create_dir_all(out).map_err(|e| GrowthError::output(out, e))?;
     let target = opts.passes.unwrap_or(config.passes);
     let speed = runner.speed();
-    let mut files = vec![super::write_scenario_copy(sc, out)?];
     let outcome = run_study(
         &mut BoxRunner(&mut runner),
         &config,
@@ -132,6 +131,9 @@ pub fn grow(
             Ok(())
         },
     )?;
+    // The as-run scenario once the study (a resumed one: its checkpoint) was accepted: a
+    // refused `--resume` leaves the folder's copy of the scenario it was run with.
+    let mut files = vec![super::write_scenario_copy(sc, out)?];
     files.push(out.join(crate::growth::CHECKPOINT));
     files.extend(report::write_all(
         out,

@@ -81,6 +81,7 @@ pub fn dump(
     sc: &Scenario,
     out: &Path,
     steps: Option<usize>,
+    interrupt: &std::sync::atomic::AtomicBool,
 ) -> Result<(MatrixReport, Vec<PathBuf>), RunError> {
     let run = &sc.runs[0];
     let StepInputs {
@@ -143,7 +144,7 @@ pub fn dump(
     // On the threads of a run (`Simulation::set_par`): a team of the caller's pool's size.
     let team = crate::linalg::team::Team::new(crate::linalg::team::Par::current());
     st.set_team(&team);
-    let rounds = time_free_step(&mut st, [&u0, &v0, &a0, &f], n, reps);
+    let rounds = time_free_step(&mut st, [&u0, &v0, &a0, &f], n, reps, interrupt);
     let report = MatrixReport {
         n,
         nnz_a,
@@ -155,7 +156,7 @@ pub fn dump(
             Some(_) => format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
             None => kind_name(st.factor_kind()),
         },
-        softway_step_us: rounds[2],
+        softway_step_us: rounds[rounds.len() / 2],
         factor_parts: st.factor_parts(),
         threads: team.par().count(),
         coriolis: st.coriolis().name().to_string(),
@@ -289,17 +290,28 @@ fn write_matrices(out: &Path, st: &Stepper, header: &str) -> Result<Vec<PathBuf>
 
 /// The time of one free step of `n` dofs (right-hand side and solve from
 /// `[u0, v0, a0, f]`) in each of five rounds of `reps` steps, microseconds, sorted.
+///
+/// Stops at the next step once `interrupt` is set: the rounds finished, and the one under
+/// way when it has at least one step (so never none).
 fn time_free_step(
     st: &mut Stepper,
     [u0, v0, a0, f]: [&[f64]; 4],
     n: usize,
     reps: usize,
+    interrupt: &std::sync::atomic::AtomicBool,
 ) -> Vec<f64> {
+    use std::sync::atomic::Ordering;
     let mut rhs = vec![0.0; n];
     let mut rounds = Vec::with_capacity(5);
-    for _ in 0..5 {
+    'rounds: for _ in 0..5 {
         let t = Instant::now();
-        for _ in 0..reps {
+        for k in 0..reps {
+            if interrupt.load(Ordering::Relaxed) {
+                if k > 0 || rounds.is_empty() {
+                    rounds.push(t.elapsed().as_secs_f64() / k.max(1) as f64 * 1e6);
+                }
+                break 'rounds;
+            }
             st.rhs_into(u0, v0, a0, f, &mut rhs);
             st.solve(&mut rhs);
         }

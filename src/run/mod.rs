@@ -148,6 +148,15 @@ impl ProgressWatch {
 }
 
 impl RunOptions {
+    /// What every run's simulation is set up with ([`crate::simulation::Settings`]): the
+    /// threads ([`RunOptions::par`]) and the guard's mode.
+    pub fn settings(&self) -> crate::simulation::Settings {
+        crate::simulation::Settings {
+            par: self.par(),
+            guard: self.guard,
+        }
+    }
+
     /// The threads of a run: [`RunOptions::par`], or those of the caller's pool.
     pub fn par(&self) -> Par {
         self.par.unwrap_or_else(Par::current)
@@ -241,9 +250,14 @@ fn parse_vm_hwm(status: &str) -> Option<f64> {
 /// Adds what makes a `summary.json` traceable to a JSON object: `softway_version` (the
 /// crate's version), `softway_git_commit` ([`crate::GIT_COMMIT`], when built from a git
 /// checkout) and `scenario_sha256` ([`Scenario::source_sha256`], the digest of the
-/// scenario text as run, which the folder's `scenario.toml` holds).
+/// scenario text as run, which the folder's `scenario.toml` holds); and `peak_rss_mib`
+/// ([`peak_rss_mib`], where the system tells it), promised for every run: every kind's
+/// summary is stamped here, after its run.
 pub(crate) fn stamp_provenance(json: &mut serde_json::Value, sc: &Scenario) {
     if let Some(o) = json.as_object_mut() {
+        if let Some(mib) = peak_rss_mib() {
+            o.insert("peak_rss_mib".into(), mib.into());
+        }
         o.insert(
             "softway_version".into(),
             env!("CARGO_PKG_VERSION").to_string().into(),

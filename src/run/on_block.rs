@@ -104,8 +104,7 @@ pub(crate) fn record(
     let t_settle = ws.spec.flattening.settle_time;
     let gamma_schedule = ws.gamma_schedule(run.params.gamma);
     let problem = wb.problem(run.integrator, h, gamma_schedule, run.contact, steps);
-    let mut sim = Simulation::new(problem).map_err(sim_error)?;
-    sim.set_par(opts.par());
+    let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
     let table = Columns::new(&[
         ("t", "s"),
         ("contact_force", "N"),

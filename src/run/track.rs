@@ -8,9 +8,7 @@ use super::{RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario, TrackScenario};
 use crate::track::moving::{self, MovingLoad, Passage, Sample};
-use crate::track::receptance::{
-    frequencies, log_frequencies, receptance, Frequencies, Receptance, Wheel,
-};
+use crate::track::receptance::{frequencies, log_frequencies, Frequencies, Receptance, Wheel};
 use crate::track::{hertz, Ends, Track, TrackSpec};
 use faer::c64;
 use std::path::{Path, PathBuf};
@@ -157,7 +155,7 @@ pub(crate) fn record(
         let mut samples: Vec<Sample> = Vec::with_capacity(passage.steps() + 1);
         let stride = sc.history_stride;
         let mut k = 0usize;
-        let stats = moving::run(&track, &passage, opts.cancel.flag(), |s| {
+        let stats = moving::run(&track, &passage, opts.settings(), opts.cancel.flag(), |s| {
             if k % stride == 0 {
                 csv.push(
                     ri as u32,
@@ -363,6 +361,8 @@ pub(crate) struct ReceptanceReport {
     pub lines: Vec<String>,
     /// Files written.
     pub files: Vec<PathBuf>,
+    /// Stopped by a signal before the last frequency.
+    pub interrupted: bool,
 }
 
 /// `softway receptance`: the receptance of the scenario's track (its first run's) at
@@ -374,6 +374,7 @@ pub(crate) fn receptance_job(
     sc: &Scenario<crate::scenario::RunSpec>,
     out: &Path,
     plots: bool,
+    interrupt: &std::sync::atomic::AtomicBool,
 ) -> Result<ReceptanceReport, RunError> {
     let Model::Track(ts) = &sc.runs[0].model else {
         return Err(RunError::input(
@@ -385,7 +386,10 @@ pub(crate) fn receptance_job(
     let track = ts.spec.build().map_err(input)?;
     let range = ts.receptance;
     let freqs = log_frequencies(range.f_min, range.f_max, range.points);
-    let r = receptance(&track, &freqs).map_err(input)?;
+    let r = crate::track::receptance::receptance_until(&track, &freqs, interrupt).map_err(input)?;
+    if r.frequency_hz.len() < freqs.len() {
+        return interrupted_receptance(sc, out, &r, freqs.len());
+    }
     let wheel = Wheel {
         unsprung_mass: ts.vehicle.unsprung_mass,
         load: ts.vehicle.axle_load,
@@ -455,7 +459,45 @@ pub(crate) fn receptance_job(
             hz(f.second_coupled_hz)
         ),
     ];
-    Ok(ReceptanceReport { lines, files })
+    Ok(ReceptanceReport {
+        lines,
+        files,
+        interrupted: false,
+    })
+}
+
+/// The files of a receptance stopped by a signal after `r`'s frequencies of `points`: the
+/// table of those, and a summary that says so (no frequency is read off a part of the
+/// range: a minimum at its end need not be one).
+fn interrupted_receptance(
+    sc: &Scenario<crate::scenario::RunSpec>,
+    out: &Path,
+    r: &Receptance,
+    points: usize,
+) -> Result<ReceptanceReport, RunError> {
+    std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
+    let csv = out.join("receptance.csv");
+    write_csv(&csv, r).map_err(|e| RunError::output(&csv, e))?;
+    let json = serde_json::json!({
+        "scenario": sc.name,
+        "kind": "track_receptance",
+        "interrupted": true,
+        "frequencies_computed": r.frequency_hz.len(),
+        "frequencies_asked": points,
+        "softway_version": env!("CARGO_PKG_VERSION"),
+        "scenario_sha256": sc.source_sha256,
+    });
+    let sj = out.join("summary.json");
+    crate::output::files::write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
+    Ok(ReceptanceReport {
+        lines: vec![format!(
+            "{} of {} frequencies computed before the interruption; no frequency is read off a part of the range",
+            r.frequency_hz.len(),
+            points
+        )],
+        files: vec![csv, sj],
+        interrupted: true,
+    })
 }
 
 /// The phase of a receptance, degrees.

@@ -280,12 +280,12 @@ pub(crate) fn passage(
     let mut problem = wot.problem(run.integrator, h, steps);
     problem.treatment = run.contact;
     problem.friction = run.friction;
-    let mut sim = Simulation::new(problem).map_err(|source| RunError::Simulation {
-        run: run.label.clone(),
-        source,
+    let sim = Simulation::with_settings(problem, opts.settings()).map_err(|source| {
+        RunError::Simulation {
+            run: run.label.clone(),
+            source,
+        }
     })?;
-    sim.set_par(opts.par());
-    sim.set_guard(opts.guard);
     Ok((wot, sim, steps))
 }
 

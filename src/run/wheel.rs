@@ -807,8 +807,7 @@ pub fn drive(
         steps,
     );
     problem.friction = run.friction;
-    let mut sim = Simulation::new(problem).map_err(sim_error)?;
-    sim.set_par(opts.par());
+    let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
     if let Some(pl) = ws.plastic {
         sim.set_internal_force(
             Box::new(plastic_body(wm, ws, pl)),

@@ -329,7 +329,42 @@ pub fn build_integrator(
     })
 }
 
+/// What every run gives its simulation, whatever its kind (the one set-up,
+/// [`Simulation::with_settings`]): its threads and what its divergence guard does. A run's
+/// options give them ([`crate::run::RunOptions::settings`]), so that no kind can leave one
+/// out (before this set-up, the wheel ignored a recording guard and the moving-load track
+/// its threads).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Settings {
+    /// The threads of the run's two-part work ([`Simulation::set_par`]).
+    pub par: Par,
+    /// What the divergence guard does past its bound ([`Simulation::set_guard`]).
+    pub guard: GuardMode,
+}
+
+impl Default for Settings {
+    /// The caller's pool ([`Par::current`]) and a guard that stops the run.
+    fn default() -> Self {
+        Settings {
+            par: Par::current(),
+            guard: GuardMode::default(),
+        }
+    }
+}
+
 impl Simulation {
+    /// [`Simulation::new`] with a run's [`Settings`] applied: the one set-up every kind's
+    /// run goes through.
+    ///
+    /// # Errors
+    /// As [`Simulation::new`].
+    pub fn with_settings(problem: Problem, settings: Settings) -> Result<Self, SimError> {
+        let mut sim = Self::new(problem)?;
+        sim.set_par(settings.par);
+        sim.set_guard(settings.guard);
+        Ok(sim)
+    }
+
     /// Checks the combination, lets the treatment adjust the model (mass redistribution),
     /// builds and factors the integrator, completes the initial state and allocates all work
     /// memory.

@@ -115,6 +115,7 @@ impl Passage {
 pub fn run(
     track: &Track,
     passage: &Passage,
+    settings: crate::simulation::Settings,
     cancel: &AtomicBool,
     mut observe: impl FnMut(&Sample) -> std::io::Result<()>,
 ) -> Result<RunStats, TrackError> {
@@ -139,7 +140,7 @@ pub fn run(
     problem.load = load_fn(track, load);
     problem.u0 = u0;
     problem.treatment = treatment;
-    let mut sim = Simulation::new(problem).map_err(sim_error)?;
+    let mut sim = Simulation::with_settings(problem, settings).map_err(sim_error)?;
     let middle = track.middle_sleeper();
     let mut failure = None;
     let stats = sim

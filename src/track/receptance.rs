@@ -224,17 +224,37 @@ pub struct Receptance {
 /// # Errors
 /// [`TrackError::Solve`] when a dynamic stiffness is singular.
 pub fn receptance(track: &Track, frequency_hz: &[f64]) -> Result<Receptance, TrackError> {
+    receptance_until(
+        track,
+        frequency_hz,
+        &std::sync::atomic::AtomicBool::new(false),
+    )
+}
+
+/// [`receptance`], stopped before the next frequency once `interrupt` is set: the result
+/// holds the frequencies computed so far (all of them when it was never set).
+///
+/// # Errors
+/// As [`receptance`].
+pub fn receptance_until(
+    track: &Track,
+    frequency_hz: &[f64],
+    interrupt: &std::sync::atomic::AtomicBool,
+) -> Result<Receptance, TrackError> {
     let mut pencil = Pencil::new(track)?;
     let (xm, xs) = (track.middle_span(), track.middle());
     let mut mid = Vec::with_capacity(frequency_hz.len());
     let mut above = Vec::with_capacity(frequency_hz.len());
     for &f in frequency_hz {
+        if interrupt.load(std::sync::atomic::Ordering::Relaxed) {
+            break;
+        }
         pencil.factor(2.0 * PI * f)?;
         mid.push(pencil.point_receptance(track, xm)?);
         above.push(pencil.point_receptance(track, xs)?);
     }
     Ok(Receptance {
-        frequency_hz: frequency_hz.to_vec(),
+        frequency_hz: frequency_hz[..mid.len()].to_vec(),
         mid_span_x: xm,
         above_sleeper_x: xs,
         mid_span: mid,

@@ -34,9 +34,6 @@ pub(crate) fn record(
     if let Some(o) = json.as_object_mut() {
         o.insert("scenario".into(), sc.name.clone().into());
         o.insert("kind".into(), "wheel".into());
-        if let Some(mib) = crate::run::peak_rss_mib() {
-            o.insert("peak_rss_mib".into(), mib.into());
-        }
         o.insert(
             "units".into(),
             serde_json::json!({"time": "s", "force": "N", "frequency": "Hz", "stress": "MPa", "energy": "J", "omega": "rad/s"}),
