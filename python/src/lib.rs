@@ -415,8 +415,8 @@ impl NativeGrowth {
     /// copied from the study's folder. Returns their paths.
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<Vec<PathBuf>> {
         py.allow_threads(|| -> Result<Vec<PathBuf>, String> {
-            std::fs::create_dir_all(&folder)
-                .map_err(|e| format!("cannot write {}: {e}", folder.display()))?;
+            // Marked as softway's: `softway grow --resume` goes on in it.
+            softway::run::grow::mark_study_folder(&folder).map_err(|e| e.to_string())?;
             let copy = folder.join(softway::run::SCENARIO_COPY);
             std::fs::write(&copy, &self.scenario_copy)
                 .map_err(|e| format!("cannot write {}: {e}", copy.display()))?;

@@ -114,7 +114,7 @@ pub fn grow(
             )))
         }
     };
-    std::fs::create_dir_all(out).map_err(|e| GrowthError::output(out, e))?;
+    mark_study_folder(out)?;
     let target = opts.passes.unwrap_or(config.passes);
     let speed = runner.speed();
     let outcome = run_study(
@@ -187,6 +187,25 @@ impl PassRunner for BoxRunner<'_> {
     ) -> Result<Vec<PathBuf>, RunError> {
         self.0.extra_outputs(out, bands, plots, interrupt)
     }
+}
+
+/// Creates the study folder `out` as needed and marks it as softway's (its marker, where it
+/// has none), so that `softway grow --resume` goes on in it: a study started from Python or
+/// the library, or a state saved from Python, is resumed by the command line as its own.
+///
+/// # Errors
+/// [`GrowthError::Output`] when the folder or its marker cannot be written.
+pub fn mark_study_folder(out: &Path) -> Result<(), GrowthError> {
+    std::fs::create_dir_all(out).map_err(|e| GrowthError::output(out, e))?;
+    let marker = out.join(crate::output::staging::MARKER);
+    if !marker.exists() {
+        crate::output::files::write_atomic(
+            &marker,
+            format!("softway {}\n", env!("CARGO_PKG_VERSION")).as_bytes(),
+        )
+        .map_err(|e| GrowthError::output(&marker, e))?;
+    }
+    Ok(())
 }
 
 /// Screen lines of a study's summary.
