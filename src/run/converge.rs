@@ -67,27 +67,7 @@ pub struct FigureLadder {
     pub extrapolated: Option<f64>,
 }
 
-/// The observed orders of `values` along the rungs `xs` (module docs).
-pub fn observed_orders(xs: &[f64], values: &[f64]) -> Vec<Option<f64>> {
-    (2..values.len())
-        .map(|i| {
-            let d0 = values[i - 1] - values[i - 2];
-            let d1 = values[i] - values[i - 1];
-            let r = (xs[i] / xs[i - 1]).ln().abs();
-            let q = (d0 / d1).abs();
-            (d0 != 0.0 && d1 != 0.0 && q.is_finite() && q > 1.0 && r > 0.0).then(|| q.ln() / r)
-        })
-        .collect()
-}
-
-/// The Richardson estimate of the limit from the last three rungs.
-pub fn extrapolate(xs: &[f64], values: &[f64], orders: &[Option<f64>]) -> Option<f64> {
-    let n = values.len();
-    let p = (*orders.last()?)?;
-    let r = (xs[n - 1] / xs[n - 2]).ln().abs().exp();
-    let d = values[n - 1] - values[n - 2];
-    Some(values[n - 1] + d / (r.powf(p) - 1.0))
-}
+pub use crate::analysis::richardson::{extrapolate, observed_orders};
 
 /// The numeric figures of one summary: the wheel's key figures, or every number of the only
 /// run of a bar or oscillator scenario.

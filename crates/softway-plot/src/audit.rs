@@ -14,7 +14,7 @@
 
 use std::cell::RefCell;
 
-use crate::geom::Rect;
+use crate::shape::Rect;
 
 /// Slack for rounding to whole pixels, in (super-sampled) pixels.
 const SLACK: f64 = 1.5;

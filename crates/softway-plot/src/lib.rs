@@ -129,6 +129,7 @@ mod geom;
 mod line;
 mod mesh;
 mod render;
+mod shape;
 mod style;
 #[cfg(test)]
 mod test_util;

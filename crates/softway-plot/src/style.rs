@@ -3,8 +3,8 @@
 use plotters::prelude::*;
 
 use crate::audit;
-use crate::geom::Rect;
 use crate::render::{de, Area, Fail, Fig, Res, FONT_FAMILY};
+use crate::shape::Rect;
 use ab_glyph::{point, Font, FontRef, ScaleFont};
 use std::sync::OnceLock;
 

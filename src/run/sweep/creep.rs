@@ -21,9 +21,9 @@
 //! distance from them).
 
 use super::{SweepError, SweepPoint};
+use crate::analysis::richardson::{extrapolate, observed_orders};
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::run::converge::{extrapolate, observed_orders};
 use crate::run::RunError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
