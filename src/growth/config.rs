@@ -57,6 +57,51 @@ pub struct GrowthConfig {
     pub rail: RailKeys,
 }
 
+impl GrowthConfig {
+    /// Checks the study against the profile's grid `(x0, dx, n, periodic)` of its runner,
+    /// before anything is run or written: each key that cannot be carried out on it is
+    /// refused by name (`key`, `value`, `allowed`). A smoothing window wider than the
+    /// profile (`growth.smoothing = 1e300` asked for a window of `usize::MAX` samples), a
+    /// cutoff longer than the profile, a harmonic shorter than two samples (aliased onto a
+    /// longer wavelength without a word).
+    ///
+    /// # Errors
+    /// `(key, value, allowed)` of the first key refused.
+    pub fn check_grid(
+        &self,
+        (_, dx, n, _): (f64, f64, usize, bool),
+    ) -> Result<(), (String, String, String)> {
+        let length = n as f64 * dx;
+        let refuse =
+            |key: &str, v: f64, allowed: String| Err((key.to_string(), v.to_string(), allowed));
+        if self.smoothing_m > length {
+            return refuse(
+                "growth.smoothing",
+                self.smoothing_m,
+                format!("at most the profile's length, {length:.4e} m ({n} samples of {dx:.4e} m); 0: no smoothing"),
+            );
+        }
+        if self.cutoff_m > length {
+            return refuse(
+                "growth.cutoff",
+                self.cutoff_m,
+                format!("at most the profile's length, {length:.4e} m; 0: no low-pass"),
+            );
+        }
+        let shortest = 2.0 * dx;
+        match &self.roughness {
+            Roughness::Harmonic { wavelength, .. } if *wavelength < shortest => refuse(
+                "growth.wavelength",
+                *wavelength,
+                format!("at least two samples of the profile, {shortest:.4e} m (a shorter harmonic is aliased)"),
+            ),
+            // A spectrum's bands keep the orders the grid holds and leave out a band that
+            // holds none (crate::growth::roughness): nothing is aliased there.
+            _ => Ok(()),
+        }
+    }
+}
+
 /// The `[growth]` keys of a rail's study ([`crate::growth::track`]), as given.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RailKeys {

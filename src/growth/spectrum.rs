@@ -40,7 +40,11 @@ pub fn window_samples(dx: f64, width_m: f64) -> usize {
     if width_m.is_nan() || dx.is_nan() || width_m <= 0.0 || dx <= 0.0 {
         return 1;
     }
-    2 * (width_m / (2.0 * dx)).floor() as usize + 1
+    // Saturating: an absurd width gives the widest window that can be counted, never an
+    // overflow (the study refuses a window wider than its profile first:
+    // `GrowthConfig::check_grid`).
+    let half = (width_m / (2.0 * dx)).floor().min((usize::MAX / 4) as f64) as usize;
+    2 * half + 1
 }
 
 /// The smoothing of the wear step (module docs of [`crate::growth`]): the centred moving

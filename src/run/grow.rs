@@ -64,7 +64,15 @@ pub fn grow(
         .first()
         .ok_or_else(|| GrowthError::Run(RunError::input(&sc.path, "the scenario has no run")))?;
     let mut runner: Box<dyn PassRunner> = match &run.model {
-        Model::Wheel(_) => {
+        Model::Wheel(ws) => {
+            // Every rim point passes the contact as often in a pass: whole turns (a part of
+            // a turn wore part of the rim and grew a polygon of its own, +10,000 dB).
+            if !(ws.turns >= 1.0 && ws.turns.fract() == 0.0) {
+                return Err(GrowthError::Run(RunError::input(
+                    &sc.path,
+                    format!("`rolling.turns` = {}: a growth study rolls whole turns, at least one (each rim point then passes the contact as often)", ws.turns),
+                )));
+            }
             if let Some(k) = config.rail.given().first() {
                 return Err(GrowthError::Run(RunError::input(
                     &sc.path,
@@ -114,6 +122,15 @@ pub fn grow(
             )))
         }
     };
+    // What the runner's grid cannot carry out is refused by its key before anything is
+    // written.
+    if let Err((key, value, allowed)) = config.check_grid(runner.grid()) {
+        // As the scenario's own refusals read (`ScenarioError::Invalid`).
+        return Err(GrowthError::Run(RunError::Input {
+            path: sc.path.clone(),
+            message: format!("`{key}` = {value}: {allowed}"),
+        }));
+    }
     mark_study_folder(out)?;
     let target = opts.passes.unwrap_or(config.passes);
     let speed = runner.speed();
