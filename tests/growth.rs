@@ -79,6 +79,29 @@ impl PassRunner for Synthetic {
             scalars: vec![("pass".into(), pass as f64)],
         })
     }
+
+    fn run_reference(
+        &mut self,
+        profile: &SurfaceProfile,
+        interrupt: &AtomicBool,
+    ) -> Result<PassResult, RunError> {
+        self.run_pass(profile, 0, interrupt)
+    }
+    fn carried_state(&self) -> Option<Vec<f64>> {
+        None
+    }
+    fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
+        softway::growth::no_carried_state(state)
+    }
+    fn extra_outputs(
+        &mut self,
+        _out: &Path,
+        _bands: &[(f64, f64)],
+        _plots: bool,
+        _interrupt: &AtomicBool,
+    ) -> Result<Vec<PathBuf>, RunError> {
+        Ok(Vec::new())
+    }
 }
 
 fn config(roughness: Roughness, smoothing_m: f64, reference: bool) -> GrowthConfig {

@@ -125,13 +125,43 @@ pub struct PassResult {
 }
 
 /// Where a pass runs: the wheel on its rigid base ([`wheel::WheelPassRunner`]), a wheel on a
-/// track.
+/// track ([`track::TrackPass`]).
+///
+/// **The contract.** [`run_study`] calls, in this order: [`PassRunner::grid`] once;
+/// [`PassRunner::restore_state`] once when resuming, before any pass; [`PassRunner::run_reference`]
+/// once when `growth.reference` asks for it and the state holds no reference wear yet;
+/// then per pass [`PassRunner::run_pass`] followed by [`PassRunner::carried_state`], whose
+/// value is checkpointed with the pass. The study's caller ([`crate::run::grow`]) then calls
+/// [`PassRunner::extra_outputs`] once after a study that was not interrupted. A runner must:
+///
+/// - `run_pass`: advance its carried state (if any) by the pass;
+/// - `run_reference`: leave its carried state exactly as it was (the reference pass
+///   measures the discretisation's wear on a smooth surface; it is not a pass of the study);
+/// - `carried_state`: return every number a resumed study needs to go on as an
+///   uninterrupted one would (bit for bit), or `None` when its passes depend on the profile
+///   alone;
+/// - `restore_state`: take back exactly what `carried_state` gave, and refuse a state that
+///   does not fit it ([`no_carried_state`] for a runner that carries none);
+/// - `extra_outputs`: write its own files, or none.
+///
+/// **No defaults.** Every method is required, on purpose: a default here is a place where
+/// an implementor, or a wrapper that forwards to another runner (a boxed one), silently
+/// gets a behaviour it did not choose. A wrapper that forwarded `run_pass` but not
+/// `run_reference` / `carried_state` / `restore_state` once made a plastic wheel's study
+/// through `softway grow` commit its reference pass's plastic flow and checkpoint no
+/// plastic state (so `--resume` went on from an unstrained wheel). With every method
+/// required such a partial forwarder does not compile; and [`run_study`] takes a
+/// `&mut dyn PassRunner` directly, so a boxed runner needs no wrapper at all.
 pub trait PassRunner {
     /// The profile's grid: (x0, dx, n, periodic), fixed for the study.
     fn grid(&self) -> (f64, f64, usize, bool);
     /// The rolling speed of the pass, m/s (for wavelength -> frequency).
     fn speed(&self) -> f64;
-    /// Runs one pass over `profile`; `pass` counts from 0; stops within a step when `interrupt` is set.
+    /// Runs one pass over `profile`, advancing the carried state (if any); `pass` counts
+    /// from 0; stops within a step when `interrupt` is set.
+    ///
+    /// # Errors
+    /// [`crate::run::RunError`].
     fn run_pass(
         &mut self,
         profile: &SurfaceProfile,
@@ -140,8 +170,8 @@ pub trait PassRunner {
     ) -> Result<PassResult, crate::run::RunError>;
 
     /// Runs the reference pass on the smooth profile (`growth.reference`): like
-    /// [`PassRunner::run_pass`], but a runner that carries a state from pass to pass (a
-    /// plastic wheel) leaves it as it was.
+    /// [`PassRunner::run_pass`], but the carried state (a plastic wheel's) is left exactly
+    /// as it was. A runner that carries no state may run its ordinary pass 0.
     ///
     /// # Errors
     /// [`crate::run::RunError`].
@@ -149,43 +179,45 @@ pub trait PassRunner {
         &mut self,
         profile: &SurfaceProfile,
         interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<PassResult, crate::run::RunError> {
-        self.run_pass(profile, 0, interrupt)
-    }
+    ) -> Result<PassResult, crate::run::RunError>;
 
     /// The state the runner carries from pass to pass (a plastic wheel's plastic state),
-    /// checkpointed bit for bit after every pass; `None` (the default) for a runner whose
-    /// passes depend on the profile alone.
-    fn carried_state(&self) -> Option<Vec<f64>> {
-        None
-    }
+    /// checkpointed bit for bit after every pass; `None` for a runner whose passes depend on
+    /// the profile alone.
+    fn carried_state(&self) -> Option<Vec<f64>>;
 
-    /// Restores the carried state from a checkpoint before a resumed study goes on.
+    /// Restores the carried state from a checkpoint before a resumed study goes on: what
+    /// [`PassRunner::carried_state`] returned, bit for bit.
     ///
     /// # Errors
     /// A message when `state` does not fit the runner (its length, or a state where the
     /// runner carries none, or none where it carries one).
-    fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
-        match state {
-            None => Ok(()),
-            Some(_) => Err("the checkpoint carries a runner state (a plastic wheel's) that this scenario's runner does not have".into()),
-        }
-    }
+    fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String>;
 
     /// Files of the runner's own written into `out` after the study (the track's
     /// prediction from its receptance), given the study's band rates `(centre wavelength m,
-    /// dB per 1e5 real passes)`; none by default.
+    /// dB per 1e5 real passes)`; an empty list for a runner that writes none.
     ///
     /// # Errors
     /// [`crate::run::RunError`].
     fn extra_outputs(
         &mut self,
-        _out: &std::path::Path,
-        _bands: &[(f64, f64)],
-        _plots: bool,
-        _interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<Vec<std::path::PathBuf>, crate::run::RunError> {
-        Ok(Vec::new())
+        out: &std::path::Path,
+        bands: &[(f64, f64)],
+        plots: bool,
+        interrupt: &std::sync::atomic::AtomicBool,
+    ) -> Result<Vec<std::path::PathBuf>, crate::run::RunError>;
+}
+
+/// [`PassRunner::restore_state`] of a runner that carries no state: accepts a checkpoint
+/// without one, refuses one with a runner state (a plastic wheel's).
+///
+/// # Errors
+/// The message naming the carried state the checkpoint has.
+pub fn no_carried_state(state: Option<&[f64]>) -> Result<(), String> {
+    match state {
+        None => Ok(()),
+        Some(_) => Err("the checkpoint carries a runner state (a plastic wheel's) that this scenario's runner does not have".into()),
     }
 }
 
@@ -420,12 +452,14 @@ pub fn new_state(
 /// Runs the study until `target` passes are finished (or the interrupt), checkpointing into
 /// `out/checkpoint.json` and calling `after_pass` after each pass (the outputs, the
 /// progress line). With `resume` the state is read from the checkpoint (same scenario text
-/// and grid required) and the study goes on from its last finished pass.
+/// and grid required) and the study goes on from its last finished pass. The runner is
+/// called as [`PassRunner`]'s contract states; a boxed runner is passed as it is
+/// (`&mut *boxed`, a `dyn PassRunner`).
 ///
 /// # Errors
 /// [`GrowthError`].
 #[allow(clippy::too_many_arguments)]
-pub fn run_study<R: PassRunner>(
+pub fn run_study<R: PassRunner + ?Sized>(
     runner: &mut R,
     config: &GrowthConfig,
     target: usize,

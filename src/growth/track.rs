@@ -361,6 +361,24 @@ impl PassRunner for TrackPass {
         self.ts.vehicle.speed
     }
 
+    /// The track carries no state from pass to pass: the reference is its ordinary pass 0.
+    fn run_reference(
+        &mut self,
+        profile: &SurfaceProfile,
+        interrupt: &AtomicBool,
+    ) -> Result<PassResult, RunError> {
+        self.run_pass(profile, 0, interrupt)
+    }
+
+    /// None: a pass depends on the rail's profile alone.
+    fn carried_state(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
+        super::no_carried_state(state)
+    }
+
     fn extra_outputs(
         &mut self,
         out: &std::path::Path,

@@ -261,6 +261,17 @@ impl PassRunner for WheelPassRunner {
             (None, Some(_)) => Err("the checkpoint carries a plastic state, but this wheel is elastic (material.model): resume with the scenario that wrote it".into()),
         }
     }
+
+    /// The wheel writes no files of its own.
+    fn extra_outputs(
+        &mut self,
+        _out: &std::path::Path,
+        _bands: &[(f64, f64)],
+        _plots: bool,
+        _interrupt: &AtomicBool,
+    ) -> Result<Vec<std::path::PathBuf>, RunError> {
+        Ok(Vec::new())
+    }
 }
 
 impl WheelPassRunner {

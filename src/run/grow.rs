@@ -135,7 +135,7 @@ pub fn grow(
     let target = opts.passes.unwrap_or(config.passes);
     let speed = runner.speed();
     let outcome = run_study(
-        &mut BoxRunner(&mut runner),
+        &mut *runner,
         &config,
         target,
         out,
@@ -175,35 +175,6 @@ pub fn grow(
         passes_run: outcome.passes_run,
         reference_wall_s: outcome.reference_wall_s,
     })
-}
-
-/// A boxed runner as a runner.
-struct BoxRunner<'a>(&'a mut Box<dyn PassRunner>);
-
-impl PassRunner for BoxRunner<'_> {
-    fn grid(&self) -> (f64, f64, usize, bool) {
-        self.0.grid()
-    }
-    fn speed(&self) -> f64 {
-        self.0.speed()
-    }
-    fn run_pass(
-        &mut self,
-        profile: &crate::growth::SurfaceProfile,
-        pass: usize,
-        interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<crate::growth::PassResult, RunError> {
-        self.0.run_pass(profile, pass, interrupt)
-    }
-    fn extra_outputs(
-        &mut self,
-        out: &Path,
-        bands: &[(f64, f64)],
-        plots: bool,
-        interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<Vec<PathBuf>, RunError> {
-        self.0.extra_outputs(out, bands, plots, interrupt)
-    }
 }
 
 /// Creates the study folder `out` as needed and marks it as softway's (its marker, where it
