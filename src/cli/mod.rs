@@ -460,16 +460,19 @@ fn grow_command(
         .into());
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-grow", sc.name)));
-    let folder = if resume {
-        StudyFolder::resume(&out, &[scenario])?
-    } else {
-        StudyFolder::fresh(&out, force, &[scenario])?
-    };
     let opts = crate::run::grow::GrowOptions {
         passes: passes.map(|p| p as usize),
         resume,
         plots: sc.plots,
         par: threads.map(Par::threads).unwrap_or_else(Par::current),
+    };
+    // The study built and checked (its model, its keys against its grid) before its folder
+    // is claimed: bad input writes nothing.
+    let study = crate::run::grow::Study::prepare(&sc, &opts)?;
+    let folder = if resume {
+        StudyFolder::resume(&out, &[scenario])?
+    } else {
+        StudyFolder::fresh(&out, force, &[scenario])?
     };
     outln!(
         "{} ({}): growth study into {}",
@@ -477,7 +480,7 @@ fn grow_command(
         scenario.display(),
         out.display()
     );
-    let report = crate::run::grow::grow(&sc, &folder.path, &opts, cancel, |l| {
+    let report = study.run(&folder.path, cancel, |l| {
         let force = l
             .scalars
             .iter()

@@ -41,7 +41,7 @@ pub struct GrowReport {
 }
 
 /// Runs the growth study of `sc` into `out` (module docs), calling `progress` with a line
-/// after every pass.
+/// after every pass: [`Study::prepare`], then [`Study::run`].
 ///
 /// # Errors
 /// [`GrowthError`]: a scenario without `[growth]`, a model that cannot be built, a pass that
@@ -51,19 +51,39 @@ pub fn grow(
     out: &Path,
     opts: &GrowOptions,
     cancel: &Cancel,
-    mut progress: impl FnMut(&PassLine),
+    progress: impl FnMut(&PassLine),
 ) -> Result<GrowReport, GrowthError> {
-    let config = sc.growth.clone().ok_or_else(|| {
+    Study::prepare(sc, opts)?.run(out, cancel, progress)
+}
+
+/// A growth study built and checked, nothing written yet: its pass runner (the model
+/// built) and its configuration checked against the runner's grid. The command line
+/// claims the output folder only once a study is prepared, so that bad input writes
+/// nothing.
+pub struct Study<'a> {
+    sc: &'a Scenario,
+    opts: GrowOptions,
+    config: crate::growth::GrowthConfig,
+    runner: Box<dyn PassRunner>,
+}
+
+impl<'a> Study<'a> {
+    /// Builds the pass runner of `sc` and checks the study against its grid.
+    ///
+    /// # Errors
+    /// [`GrowthError`]: a scenario without `[growth]`, a key the study cannot carry out
+    /// (named), a model that cannot be built.
+    pub fn prepare(sc: &'a Scenario, opts: &GrowOptions) -> Result<Self, GrowthError> {
+        let config = sc.growth.clone().ok_or_else(|| {
         GrowthError::Run(RunError::input(
             &sc.path,
             "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
         ))
     })?;
-    let run = sc
-        .runs
-        .first()
-        .ok_or_else(|| GrowthError::Run(RunError::input(&sc.path, "the scenario has no run")))?;
-    let mut runner: Box<dyn PassRunner> = match &run.model {
+        let run = sc.runs.first().ok_or_else(|| {
+            GrowthError::Run(RunError::input(&sc.path, "the scenario has no run"))
+        })?;
+        let runner: Box<dyn PassRunner> = match &run.model {
         Model::Wheel(ws) => {
             // Every rim point passes the contact as often in a pass: whole turns (a part of
             // a turn wore part of the rim and grew a polygon of its own, +10,000 dB).
@@ -122,59 +142,86 @@ pub fn grow(
             )))
         }
     };
-    // What the runner's grid cannot carry out is refused by its key before anything is
-    // written.
-    if let Err((key, value, allowed)) = config.check_grid(runner.grid()) {
-        // As the scenario's own refusals read (`ScenarioError::Invalid`).
-        return Err(GrowthError::Run(RunError::Input {
-            path: sc.path.clone(),
-            message: format!("`{key}` = {value}: {allowed}"),
-        }));
+        // What the runner's grid cannot carry out is refused by its key before anything is
+        // written.
+        if let Err((key, value, allowed)) = config.check_grid(runner.grid()) {
+            // As the scenario's own refusals read (`ScenarioError::Invalid`).
+            return Err(GrowthError::Run(RunError::Input {
+                path: sc.path.clone(),
+                message: format!("`{key}` = {value}: {allowed}"),
+            }));
+        }
+        Ok(Study {
+            sc,
+            opts: opts.clone(),
+            config,
+            runner,
+        })
     }
-    mark_study_folder(out)?;
-    let target = opts.passes.unwrap_or(config.passes);
-    let speed = runner.speed();
-    let outcome = run_study(
-        &mut *runner,
-        &config,
-        target,
-        out,
-        opts.resume,
-        &sc.source_sha256,
-        cancel.flag(),
-        |state, line| {
-            report::write_all(out, state, &config, speed, opts.plots)?;
-            progress(line);
-            Ok(())
-        },
-    )?;
-    // The as-run scenario once the study (a resumed one: its checkpoint) was accepted: a
-    // refused `--resume` leaves the folder's copy of the scenario it was run with.
-    let mut files = vec![super::write_scenario_copy(sc, out)?];
-    files.push(out.join(crate::growth::CHECKPOINT));
-    files.extend(report::write_all(
-        out,
-        &outcome.state,
-        &config,
-        speed,
-        opts.plots,
-    )?);
-    let summary = report::summary(&outcome.state, &config, speed);
-    if !outcome.interrupted {
-        let bands: Vec<(f64, f64)> = summary
-            .bands
-            .iter()
-            .map(|b| (b.centre_wavelength_m, b.rate_db_per_1e5))
-            .collect();
-        files.extend(runner.extra_outputs(out, &bands, opts.plots, cancel.flag())?);
+
+    /// Runs the study into `out` (created and marked as needed; with `opts.resume` from its
+    /// checkpoint), calling `progress` with a line after every pass.
+    ///
+    /// # Errors
+    /// [`GrowthError`]: a pass that fails, a checkpoint that cannot be resumed, an output
+    /// that cannot be written.
+    pub fn run(
+        self,
+        out: &Path,
+        cancel: &Cancel,
+        mut progress: impl FnMut(&PassLine),
+    ) -> Result<GrowReport, GrowthError> {
+        let Study {
+            sc,
+            opts,
+            config,
+            mut runner,
+        } = self;
+        mark_study_folder(out)?;
+        let target = opts.passes.unwrap_or(config.passes);
+        let speed = runner.speed();
+        let outcome = run_study(
+            &mut *runner,
+            &config,
+            target,
+            out,
+            opts.resume,
+            &sc.source_sha256,
+            cancel.flag(),
+            |state, line| {
+                report::write_all(out, state, &config, speed, opts.plots)?;
+                progress(line);
+                Ok(())
+            },
+        )?;
+        // The as-run scenario once the study (a resumed one: its checkpoint) was accepted: a
+        // refused `--resume` leaves the folder's copy of the scenario it was run with.
+        let mut files = vec![super::write_scenario_copy(sc, out)?];
+        files.push(out.join(crate::growth::CHECKPOINT));
+        files.extend(report::write_all(
+            out,
+            &outcome.state,
+            &config,
+            speed,
+            opts.plots,
+        )?);
+        let summary = report::summary(&outcome.state, &config, speed);
+        if !outcome.interrupted {
+            let bands: Vec<(f64, f64)> = summary
+                .bands
+                .iter()
+                .map(|b| (b.centre_wavelength_m, b.rate_db_per_1e5))
+                .collect();
+            files.extend(runner.extra_outputs(out, &bands, opts.plots, cancel.flag())?);
+        }
+        Ok(GrowReport {
+            summary,
+            files,
+            interrupted: outcome.interrupted,
+            passes_run: outcome.passes_run,
+            reference_wall_s: outcome.reference_wall_s,
+        })
     }
-    Ok(GrowReport {
-        summary,
-        files,
-        interrupted: outcome.interrupted,
-        passes_run: outcome.passes_run,
-        reference_wall_s: outcome.reference_wall_s,
-    })
 }
 
 /// Creates the study folder `out` as needed and marks it as softway's (its marker, where it
