@@ -85,3 +85,132 @@ fn growth_keys_the_grid_cannot_carry_out_are_refused_by_name() {
     assert_eq!(code, 0, "{err}");
     assert!(out.join("checkpoint.json").exists());
 }
+
+/// A wear step that makes the profile not finite stops the study by its keys (exit 2), not
+/// with NaN results and exit 0.
+#[test]
+fn a_wear_step_that_leaves_no_finite_profile_is_refused_by_its_keys() {
+    let dir = TestDir::new("growth-input", "nan");
+    let out = dir.join("out");
+    let (code, err, _) = grow(
+        &out,
+        &[
+            "wear.k_mass=1e300",
+            "growth.reference=false",
+            "rolling.settle_time=5e-4",
+        ],
+    );
+    // (The wear law's depth is itself infinite there; a finite depth times a huge
+    // growth.passes_per_pass is caught after the wear step, naming both keys.)
+    assert_one_line_error(code, &err, &["wear.k_mass", "pass 0"]);
+    // The checkpoint holds no pass of a non-finite profile.
+    if let Ok(t) = std::fs::read_to_string(out.join("checkpoint.json")) {
+        let s: serde_json::Value = serde_json::from_str(&t).unwrap();
+        assert_eq!(s["passes"].as_array().map(Vec::len), Some(0), "{t}");
+    }
+}
+
+/// A checkpoint is input: a damaged or edited one is refused on `--resume` naming its
+/// field, before anything is written (the folder's scenario copy stays the one it was run
+/// with); a FIFO in its place is refused, not read for ever.
+#[test]
+fn a_damaged_checkpoint_is_refused_naming_its_field() {
+    let dir = TestDir::new("growth-input", "checkpoint");
+    let out = dir.join("out");
+    let base: &[&str] = &["growth.reference=false", "rolling.settle_time=5e-4"];
+    let (code, err, _) = grow(&out, base);
+    assert_eq!(code, 0, "{err}");
+    let ck = out.join("checkpoint.json");
+    let good: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&ck).unwrap()).unwrap();
+    let copy = std::fs::read_to_string(out.join("scenario.toml")).unwrap();
+    let nan_bits = serde_json::json!(f64::NAN.to_bits());
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: Vec<(Edit, &str)> = vec![
+        (Box::new(|s| s["x0"] = serde_json::json!([])), "`x0`"),
+        (Box::new(|s| s["dx"] = serde_json::json!([])), "`dx`"),
+        (
+            Box::new(|s| s["passes"][0]["uniform_loss"] = serde_json::json!([])),
+            "`passes[0].uniform_loss`",
+        ),
+        (
+            Box::new(|s| {
+                let v = s["initial"].as_array().unwrap().clone();
+                s["initial"] = serde_json::json!(v[..v.len() / 2]);
+            }),
+            "`initial`",
+        ),
+        (
+            Box::new(|s| {
+                let mut v = s["passes"][0]["z"].as_array().unwrap().clone();
+                v.extend(v.clone());
+                s["passes"][0]["z"] = serde_json::json!(v);
+            }),
+            "`passes[0].z`",
+        ),
+        (
+            Box::new(move |s| s["passes"][0]["wear"][3] = nan_bits.clone()),
+            "`passes[0].wear`[3]",
+        ),
+    ];
+    for (k, (edit, field)) in cases.iter().enumerate() {
+        let mut s = good.clone();
+        edit(&mut s);
+        std::fs::write(&ck, serde_json::to_string(&s).unwrap()).unwrap();
+        let mut sets = base.to_vec();
+        sets.push("growth.passes=2");
+        let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
+        let o = softway()
+            .arg("grow")
+            .arg(&polygon)
+            .args([
+                "--passes",
+                "2",
+                "--resume",
+                "--set",
+                "wheel.rim_nodes=96",
+                "--out",
+            ])
+            .arg(&out)
+            .args(base.iter().flat_map(|s| ["--set", s]))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains("panicked"), "case {k}: {err}");
+        assert_one_line_error(
+            o.status.code().unwrap_or(-1),
+            &err,
+            &["checkpoint.json", field],
+        );
+        assert_eq!(
+            std::fs::read_to_string(out.join("scenario.toml")).unwrap(),
+            copy,
+            "case {k}: the scenario copy was overwritten"
+        );
+    }
+    // A FIFO where the checkpoint was.
+    std::fs::remove_file(&ck).unwrap();
+    let made = std::process::Command::new("mkfifo").arg(&ck).status();
+    if made.is_ok_and(|s| s.success()) {
+        let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
+        let start = Instant::now();
+        let o = softway()
+            .arg("grow")
+            .arg(&polygon)
+            .args([
+                "--passes",
+                "2",
+                "--resume",
+                "--set",
+                "wheel.rim_nodes=96",
+                "--out",
+            ])
+            .arg(&out)
+            .args(base.iter().flat_map(|s| ["--set", s]))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_one_line_error(o.status.code().unwrap_or(-1), &err, &["not a regular file"]);
+        assert!(start.elapsed() < Duration::from_secs(20));
+    }
+}

@@ -250,6 +250,14 @@ pub enum GrowthError {
         /// The grid's.
         n: usize,
     },
+    /// A pass or its wear step gave values that are not finite.
+    #[error("pass {pass}: {message}")]
+    NotFinite {
+        /// Pass (from 0).
+        pass: usize,
+        /// What, and the keys that set it.
+        message: String,
+    },
     /// An output file could not be written.
     #[error("cannot write {path}: {message}")]
     Output {
@@ -332,6 +340,10 @@ pub struct StudyState {
 
 /// The checkpoint's format version.
 pub const CHECKPOINT_VERSION: u32 = 1;
+/// The largest checkpoint read on `--resume`, bytes (16 GiB: 10,000 passes of a
+/// 10,000-sample profile, as JSON bits, are about 6 GB; a larger file is not one a study
+/// wrote).
+pub const MAX_CHECKPOINT_BYTES: u64 = 1 << 34;
 /// The checkpoint's file name in the output folder.
 pub const CHECKPOINT: &str = "checkpoint.json";
 
@@ -371,6 +383,22 @@ impl StudyState {
             path: path.to_path_buf(),
             message,
         };
+        // A regular file only: a FIFO or a device in its place would block the read, deaf
+        // to a signal.
+        match std::fs::metadata(path) {
+            Ok(m) if !m.is_file() => {
+                return Err(err(
+                    "not a regular file (a checkpoint is the checkpoint.json a study wrote)".into(),
+                ))
+            }
+            Ok(m) if m.len() > MAX_CHECKPOINT_BYTES => {
+                return Err(err(format!(
+                    "{} bytes, more than a study writes ({MAX_CHECKPOINT_BYTES} at most)",
+                    m.len()
+                )))
+            }
+            _ => {}
+        }
         let text = std::fs::read_to_string(path)
             .map_err(|e| err(format!("cannot read the checkpoint to resume from: {e}")))?;
         let s: Self = serde_json::from_str(&text)
@@ -381,7 +409,71 @@ impl StudyState {
                 s.version
             )));
         }
+        s.check().map_err(err)?;
         Ok(s)
+    }
+
+    /// Checks the state read from a checkpoint as the input it is (a damaged or edited file
+    /// must be refused, not panic or run to NaN): every field's length against the grid,
+    /// every value finite, the passes consistent with each other. The message names the
+    /// field.
+    ///
+    /// # Errors
+    /// The first field at fault, named.
+    pub fn check(&self) -> Result<(), String> {
+        let one = |name: &str, b: &Bits| -> Result<f64, String> {
+            match b.0.as_slice() {
+                [v] if v.is_finite() => Ok(*v),
+                [v] => Err(format!("`{name}` = {v}: must be finite")),
+                v => Err(format!("`{name}` holds {} values: one is written", v.len())),
+            }
+        };
+        one("x0", &self.x0)?;
+        let dx = one("dx", &self.dx)?;
+        if dx <= 0.0 {
+            return Err(format!("`dx` = {dx}: must be > 0"));
+        }
+        if self.n < 3 {
+            return Err(format!(
+                "`n` = {}: a profile has at least 3 samples",
+                self.n
+            ));
+        }
+        let n = self.n;
+        let profile = |name: String, b: &Bits| -> Result<(), String> {
+            if b.0.len() != n {
+                return Err(format!(
+                    "`{name}` holds {} samples; the grid's `n` is {n}",
+                    b.0.len()
+                ));
+            }
+            match b.0.iter().position(|v| !v.is_finite()) {
+                Some(i) => Err(format!("`{name}`[{i}] = {}: must be finite", b.0[i])),
+                None => Ok(()),
+            }
+        };
+        profile("initial".into(), &self.initial)?;
+        if let Some(r) = &self.reference {
+            profile("reference".into(), r)?;
+        }
+        for (k, p) in self.passes.iter().enumerate() {
+            profile(format!("passes[{k}].z"), &p.z)?;
+            profile(format!("passes[{k}].wear"), &p.wear)?;
+            one(&format!("passes[{k}].uniform_loss"), &p.uniform_loss)?;
+            if p.scalar_names.len() != p.scalar_values.0.len() {
+                return Err(format!(
+                    "`passes[{k}].scalar_values` holds {} values for {} names",
+                    p.scalar_values.0.len(),
+                    p.scalar_names.len()
+                ));
+            }
+        }
+        if let Some(r) = &self.runner {
+            if let Some(i) = r.0.iter().position(|v| !v.is_finite()) {
+                return Err(format!("`runner`[{i}] = {}: must be finite", r.0[i]));
+            }
+        }
+        Ok(())
     }
 
     /// Writes the checkpoint atomically.
@@ -541,6 +633,17 @@ pub fn run_study<R: PassRunner + ?Sized>(
         }
         check_shape(&r, pass, n)?;
         let record = advance(config, &state, &profile, &r, wall_s);
+        // A wear step that leaves the profile not finite ends the study by its keys, before
+        // the checkpoint takes it (`wear.k_mass = 1e300` ran to NaN results with exit 0).
+        if let Some(i) = record.z.0.iter().position(|v| !v.is_finite()) {
+            return Err(GrowthError::NotFinite {
+                pass,
+                message: format!(
+                    "the profile after the wear step is {} at sample {i} (the pass's wear {:e} m there, times growth.passes_per_pass = {:e}): lower wear.k_mass (or the law's coefficient) or growth.passes_per_pass",
+                    record.z.0[i], r.wear_depth[i], config.passes_per_pass
+                ),
+            });
+        }
         state.passes.push(record);
         state.runner = runner.carried_state().map(Bits);
         state.write(&ck)?;
@@ -611,6 +714,17 @@ fn check_shape(r: &PassResult, pass: usize, n: usize) -> Result<(), GrowthError>
                 what,
                 got: v.len(),
                 n,
+            });
+        }
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            let keys = if what == "wear_depth" {
+                "the wear law's coefficients (wear.k_mass, wear.k, wear.k1..k4 as the law reads them) or the load"
+            } else {
+                "the material's plasticity (material.yield_stress, the hardening) or the load"
+            };
+            return Err(GrowthError::NotFinite {
+                pass,
+                message: format!("the pass's {what} is {} at sample {i}: check {keys}", v[i]),
             });
         }
     }
