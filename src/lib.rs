@@ -235,8 +235,9 @@ pub mod wheel;
 
 pub use run::{run, Results, RunError, RunOptions};
 
-/// The git commit this build was compiled from (`git describe --always --dirty`: the short
-/// hash, `-dirty` when the work tree had changes at the build), or `None` when not built
+/// The git commit this build was compiled from (`git describe --always`: the short hash;
+/// `-dirty` when the crate's sources, `src/`, `crates/`, `build.rs`, `Cargo.toml` and
+/// `Cargo.lock`, differed from it at the build), or `None` when not built
 /// from a git checkout (a crates.io package, a tarball). Set by the build script; recorded
 /// in `summary.json` (`softway_git_commit`) and in each output folder's `scenario.toml`.
 pub const GIT_COMMIT: Option<&str> = option_env!("SOFTWAY_GIT_COMMIT");
