@@ -1394,13 +1394,26 @@ fn disk_with(f: impl FnOnce(&mut Disk)) -> Disk {
 #[test]
 fn the_disk_files_of_these_tests_are_valid_meshes() {
     // The unmodified ASCII and binary disks read as the generator's disk (37 nodes, 54
-    // triangles), so every refusal below is due to its one change.
+    // triangles, 6 * 3 = 18 nodes on its outermost ring at the radius 0.1 m: ring 3 of 3,
+    // the next ring in lies at 2/3 of the radius), so every refusal below is due to its one
+    // change. The ASCII file's "rim" group is that ring, counted independently of the group
+    // from the nodes' radii; the binary file has no physical groups (one surface entity).
     for (name, bytes) in [("a", ascii(&disk())), ("b", disk().binary())] {
         let p = fresh_dir("mesh", &format!("valid-{name}")).join("d.msh");
         std::fs::write(&p, bytes).unwrap();
         let m = softway::mesh::gmsh::read_msh(&p).unwrap();
         assert_eq!((m.n_nodes(), m.cells.len()), (37, 54));
-        assert_eq!(m.node_set("rim").map(|r| r.len()).unwrap_or(18), 18);
+        let outer: Vec<usize> = (0..m.n_nodes())
+            .filter(|&i| (m.point(i)[0].hypot(m.point(i)[1]) / 0.1 - 1.0).abs() < 1e-9)
+            .collect();
+        assert_eq!(outer.len(), 6 * 3, "{name}");
+        if name == "a" {
+            let mut rim = m.node_set("rim").expect("the rim group").to_vec();
+            rim.sort_unstable();
+            assert_eq!(rim, outer);
+        } else {
+            assert!(m.node_set("rim").is_none(), "the binary disk has no groups");
+        }
     }
 }
 
