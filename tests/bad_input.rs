@@ -822,6 +822,18 @@ refused!(
     format!("{BAR}\n[[runs]]\nh = 0.05\n[[runs]]\nh = -1.0\n"),
     ["`runs[1].h` = -1", "> 0"]
 );
+// A label is a column of history.csv and a line of a legend: a comma or a quote is written
+// quoted (tests/results.rs), a line break or another control character is refused.
+refused!(
+    runs_label_with_a_line_break,
+    format!("{BAR}\n[[runs]]\nlabel = \"h = 0.1, soft way\"\n[[runs]]\nlabel = \"two\\nlines\"\n"),
+    ["`runs[1].label` = \"two\\nlines\"", "one line of text"]
+);
+refused!(
+    runs_label_with_a_tab,
+    format!("{BAR}\n[[runs]]\nlabel = \"a\\tb\"\n"),
+    ["`runs[0].label`", "control character"]
+);
 refused!(
     runs_unknown_method,
     format!("{BAR}\n[[runs]]\nmethod = \"glue\"\n"),
