@@ -567,6 +567,37 @@ refused!(
     rolling_text().replace("settle_bays = 4", "settle_bays = 15"),
     ["`vehicle.settle_bays` = 15", "absorbing zones"]
 );
+/// A measured irregularity read from a CSV file whose every cell is quoted (as some
+/// spreadsheets export them, RFC 4180) gives the same points as the plain file.
+#[test]
+fn a_measured_irregularity_reads_quoted_cells() {
+    let dir = fresh_dir("irregularity", "quoted");
+    let points = |name: &str, body: &str| {
+        let f = dir.join(name);
+        std::fs::write(&f, body).unwrap();
+        let text = format!(
+            "{}\n[irregularity]\ntype = \"measured\"\nfile = \"{}\"\n",
+            rolling_text(),
+            f.display()
+        );
+        let sc = softway::scenario::Scenario::from_str(&text, &dir.join("t.toml")).unwrap();
+        let softway::scenario::Model::Track(t) = &sc.runs[0].model else {
+            panic!("a track")
+        };
+        match &t.irregularity {
+            Some(softway::scenario::Irregularity::Measured { points, .. }) => points.clone(),
+            other => panic!("{other:?}"),
+        }
+    };
+    let plain = points("plain.csv", "x_m,r_m\n0,0\n0.5,1e-5\n1.0,-2e-5\n");
+    let quoted = points(
+        "quoted.csv",
+        "\"x_m\",\"r_m\"\n\"0\",\"0\"\n\"0.5\", \"1e-5\"\n\"1.0\",\"-2e-5\"\n",
+    );
+    assert_eq!(plain, [(0.0, 0.0), (0.5, 1e-5), (1.0, -2e-5)]);
+    assert_eq!(quoted, plain);
+}
+
 refused!(
     rolling_irregularity_of_unknown_type,
     format!("{}\n[irregularity]\ntype = \"sawtooth\"\n", rolling_text()),

@@ -135,6 +135,11 @@ fn dissipative(i: &Integrator) -> bool {
     }
 }
 
+/// `|x| <= bound`; false for a NaN (a figure the run did not give fails).
+fn within(x: f64, bound: f64) -> bool {
+    x.abs() <= bound
+}
+
 /// The impulse of the contact force over the trace (steps of `t`), N s.
 fn impulse(tr: &BarTrace) -> f64 {
     let mut sum = 0.0;
@@ -173,18 +178,18 @@ fn check_bar(run: &Run, s: &BarSummary, tr: &BarTrace, bad: &mut Vec<String>) ->
         );
     }
     let t0 = s.impact_time.unwrap_or(f64::NAN);
-    if !((t0 - ex.impact_time).abs() <= h * (1.0 + 1e-9)) {
+    if !within(t0 - ex.impact_time, h * (1.0 + 1e-9)) {
         fail(format!("impact at {t0}, exact {}", ex.impact_time));
     }
-    if !(dur_err.abs() <= eps) {
+    if !within(dur_err, eps) {
         fail(format!("duration {dur} against {} exact", ex.duration));
     }
     let f = s.mean_contact_force.unwrap_or(f64::NAN);
     let f_err = f / ex.force - 1.0;
-    if !(f_err.abs() <= 1.5 * eps) {
+    if !within(f_err, 1.5 * eps) {
         fail(format!("mean force {f} against {} exact", ex.force));
     }
-    if !((s.energy_initial / ex.energy - 1.0).abs() <= 1e-12) {
+    if !within(s.energy_initial / ex.energy - 1.0, 1e-12) {
         fail(format!(
             "initial energy {} against {}",
             s.energy_initial, ex.energy
@@ -212,11 +217,11 @@ fn check_bar(run: &Run, s: &BarSummary, tr: &BarTrace, bad: &mut Vec<String>) ->
     let mut left = String::new();
     if ex.two_bars {
         let va = s.velocity_left_behind.unwrap_or(f64::NAN);
-        if !(va.abs() <= below * ex.speed) {
+        if !within(va, below * ex.speed) {
             fail(format!("A left at {va}, exact 0"));
         }
         let p = va + s.rebound_velocity - ex.speed;
-        if !(p.abs() <= 1e-9 * ex.speed) {
+        if !within(p, 1e-9 * ex.speed) {
             fail(format!("momentum: v_A + v_B - v0 = {p:e}"));
         }
         left = format!(", left {:+.2} eps, momentum {p:+.1e}", va / ex.speed / eps);

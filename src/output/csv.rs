@@ -65,6 +65,21 @@ where
     s
 }
 
+/// The cells of one line of a CSV file of numbers (a measured profile's `x_m,z_m` rows):
+/// split at the commas, since no number holds one, each with its surrounding blanks and the
+/// RFC 4180 quotes of a quoted cell (`"1.5e-3"`, as some spreadsheets write every field)
+/// taken off. The readers of the crate's input files of numbers (`growth.file`,
+/// `irregularity.file`) read their rows through it.
+pub fn number_cells(line: &str) -> impl Iterator<Item = &str> {
+    line.split(',').map(|c| {
+        let c = c.trim();
+        c.strip_prefix('"')
+            .and_then(|c| c.strip_suffix('"'))
+            .unwrap_or(c)
+            .trim()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -79,5 +94,13 @@ mod tests {
         assert_eq!(field("two\nlines"), "\"two\nlines\"");
         assert_eq!(field("cr\r"), "\"cr\r\"");
         assert_eq!(record(["a,b", "2", "", "c\"d"]), "\"a,b\",2,,\"c\"\"d\"\n");
+    }
+
+    #[test]
+    fn number_cells_take_off_blanks_and_quotes() {
+        let c: Vec<&str> = number_cells(" 1.5e-3 ,\"2\", \" -3 \",").collect();
+        assert_eq!(c, ["1.5e-3", "2", "-3", ""]);
+        let c: Vec<&str> = number_cells("\"x_m\",\"z_m\"").collect();
+        assert_eq!(c, ["x_m", "z_m"]);
     }
 }
