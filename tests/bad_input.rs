@@ -567,6 +567,37 @@ refused!(
     rolling_text().replace("settle_bays = 4", "settle_bays = 15"),
     ["`vehicle.settle_bays` = 15", "absorbing zones"]
 );
+/// A measured irregularity read from a CSV file whose every cell is quoted (as some
+/// spreadsheets export them, RFC 4180) gives the same points as the plain file.
+#[test]
+fn a_measured_irregularity_reads_quoted_cells() {
+    let dir = fresh_dir("irregularity", "quoted");
+    let points = |name: &str, body: &str| {
+        let f = dir.join(name);
+        std::fs::write(&f, body).unwrap();
+        let text = format!(
+            "{}\n[irregularity]\ntype = \"measured\"\nfile = \"{}\"\n",
+            rolling_text(),
+            f.display()
+        );
+        let sc = softway::scenario::Scenario::from_str(&text, &dir.join("t.toml")).unwrap();
+        let softway::scenario::Model::Track(t) = &sc.runs[0].model else {
+            panic!("a track")
+        };
+        match &t.irregularity {
+            Some(softway::scenario::Irregularity::Measured { points, .. }) => points.clone(),
+            other => panic!("{other:?}"),
+        }
+    };
+    let plain = points("plain.csv", "x_m,r_m\n0,0\n0.5,1e-5\n1.0,-2e-5\n");
+    let quoted = points(
+        "quoted.csv",
+        "\"x_m\",\"r_m\"\n\"0\",\"0\"\n\"0.5\", \"1e-5\"\n\"1.0\",\"-2e-5\"\n",
+    );
+    assert_eq!(plain, [(0.0, 0.0), (0.5, 1e-5), (1.0, -2e-5)]);
+    assert_eq!(quoted, plain);
+}
+
 refused!(
     rolling_irregularity_of_unknown_type,
     format!("{}\n[irregularity]\ntype = \"sawtooth\"\n", rolling_text()),
@@ -821,6 +852,18 @@ refused!(
     runs_negative_step,
     format!("{BAR}\n[[runs]]\nh = 0.05\n[[runs]]\nh = -1.0\n"),
     ["`runs[1].h` = -1", "> 0"]
+);
+// A label is a column of history.csv and a line of a legend: a comma or a quote is written
+// quoted (tests/results.rs), a line break or another control character is refused.
+refused!(
+    runs_label_with_a_line_break,
+    format!("{BAR}\n[[runs]]\nlabel = \"h = 0.1, soft way\"\n[[runs]]\nlabel = \"two\\nlines\"\n"),
+    ["`runs[1].label` = \"two\\nlines\"", "one line of text"]
+);
+refused!(
+    runs_label_with_a_tab,
+    format!("{BAR}\n[[runs]]\nlabel = \"a\\tb\"\n"),
+    ["`runs[0].label`", "control character"]
 );
 refused!(
     runs_unknown_method,
@@ -1394,13 +1437,26 @@ fn disk_with(f: impl FnOnce(&mut Disk)) -> Disk {
 #[test]
 fn the_disk_files_of_these_tests_are_valid_meshes() {
     // The unmodified ASCII and binary disks read as the generator's disk (37 nodes, 54
-    // triangles), so every refusal below is due to its one change.
+    // triangles, 6 * 3 = 18 nodes on its outermost ring at the radius 0.1 m: ring 3 of 3,
+    // the next ring in lies at 2/3 of the radius), so every refusal below is due to its one
+    // change. The ASCII file's "rim" group is that ring, counted independently of the group
+    // from the nodes' radii; the binary file has no physical groups (one surface entity).
     for (name, bytes) in [("a", ascii(&disk())), ("b", disk().binary())] {
         let p = fresh_dir("mesh", &format!("valid-{name}")).join("d.msh");
         std::fs::write(&p, bytes).unwrap();
         let m = softway::mesh::gmsh::read_msh(&p).unwrap();
         assert_eq!((m.n_nodes(), m.cells.len()), (37, 54));
-        assert_eq!(m.node_set("rim").map(|r| r.len()).unwrap_or(18), 18);
+        let outer: Vec<usize> = (0..m.n_nodes())
+            .filter(|&i| (m.point(i)[0].hypot(m.point(i)[1]) / 0.1 - 1.0).abs() < 1e-9)
+            .collect();
+        assert_eq!(outer.len(), 6 * 3, "{name}");
+        if name == "a" {
+            let mut rim = m.node_set("rim").expect("the rim group").to_vec();
+            rim.sort_unstable();
+            assert_eq!(rim, outer);
+        } else {
+            assert!(m.node_set("rim").is_none(), "the binary disk has no groups");
+        }
     }
 }
 

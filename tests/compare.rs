@@ -18,10 +18,13 @@ fn compare(scenario: &str) -> (Vec<String>, Vec<Vec<String>>, std::path::PathBuf
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let csv = std::fs::read_to_string(dir.join("compare.csv")).unwrap();
-    let mut lines = csv.lines().map(split_csv);
-    let head = lines.next().unwrap();
-    (head, lines.collect(), dir)
+    let mut r = csv::Reader::from_path(dir.join("compare.csv")).unwrap();
+    let head = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|x| x.unwrap().iter().map(String::from).collect())
+        .collect();
+    (head, rows, dir)
 }
 
 #[test]
@@ -75,23 +78,4 @@ fn two_bars_exchange_velocities() {
         let (l, e): (f64, f64) = (r[left].parse().unwrap(), r[reb].parse().unwrap());
         assert!(l.abs() < 0.025 && e.abs() < 0.025, "{r:?}");
     }
-}
-
-/// Splits one CSV line (RFC 4180 quoting, no line breaks inside fields).
-fn split_csv(line: &str) -> Vec<String> {
-    let mut out = vec![String::new()];
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match (c, quoted) {
-            ('"', true) if chars.peek() == Some(&'"') => {
-                chars.next();
-                out.last_mut().unwrap().push('"');
-            }
-            ('"', _) => quoted = !quoted,
-            (',', false) => out.push(String::new()),
-            _ => out.last_mut().unwrap().push(c),
-        }
-    }
-    out
 }

@@ -29,13 +29,14 @@ fn without_wall_clock(text: &str) -> String {
 /// same key text, every number formatted as the file's text and parsed back to the same
 /// bits. Returns the rows compared.
 fn assert_table_is_file(table: &Columns, path: &Path) -> usize {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next().unwrap(), table.header().join(","));
+    // An independent RFC 4180 parser (the `csv` crate): quoted keys read back whole.
+    let mut r = csv::Reader::from_path(path).unwrap();
+    assert_eq!(r.headers().unwrap(), table.header());
     let key = table.key();
     let mut n = 0;
-    for (i, line) in lines.enumerate() {
-        let mut cells = line.split(',');
+    for (i, row) in r.records().enumerate() {
+        let row = row.unwrap();
+        let mut cells = row.iter();
         if let Some(k) = key {
             assert_eq!(
                 cells.next().unwrap(),
@@ -250,4 +251,42 @@ fn a_short_wheel_with_friction_in_memory_is_the_command_lines_files() {
         .as_f64()
         .unwrap()
         .is_finite());
+}
+
+/// Run labels holding a comma and a double quote (as `scenarios/compare-bar.toml`'s do) are
+/// quoted in `history.csv` (RFC 4180): read back by an independent CSV parser, every row of
+/// the file has exactly the header's width and its `run` column reads back the run's label.
+/// The memory table and `save` agree with the streamed file (`run_both`).
+#[test]
+fn labels_with_commas_and_quotes_read_back_from_history_csv() {
+    let labels = ["h = 0.1, soft way", "the \"soft\" way, h = 0.4"];
+    let (path, text) = shipped("bar-impact", &[]);
+    let text = text
+        .replace("label = \"h = 0.1\"", "label = \"h = 0.1, soft way\"")
+        .replace("label = \"h = 0.4\"", "label = 'the \"soft\" way, h = 0.4'");
+    let r = run_both("labels", &path, &text);
+    let key = r.history.key().unwrap();
+    assert_eq!(key.labels, ["h = 0.01", labels[0], labels[1]]);
+    // The file of `save` (the same bytes as the command line's, `run_both`).
+    let dir = TestDir::new("results", "labels-file");
+    r.save(&dir).unwrap();
+    let mut rd = csv::ReaderBuilder::new()
+        .flexible(true)
+        .from_path(dir.join("history.csv"))
+        .unwrap();
+    let head = rd.headers().unwrap().clone();
+    assert_eq!(head.get(0), Some("run"));
+    let mut seen = std::collections::BTreeMap::new();
+    for (i, row) in rd.records().enumerate() {
+        let row = row.unwrap();
+        assert_eq!(row.len(), head.len(), "row {i}: {row:?}");
+        *seen.entry(row[0].to_string()).or_insert(0usize) += 1;
+    }
+    // Every run's rows under its own label: 501 at h = 0.01 and 51 at h = 0.1 (t = 0..5 s),
+    // as many as the table in memory holds at h = 0.4.
+    let held = |c: u32| key.codes.iter().filter(|&&k| k == c).count();
+    assert_eq!(seen.get("h = 0.01"), Some(&501), "{seen:?}");
+    assert_eq!(seen.get(labels[0]), Some(&51), "{seen:?}");
+    assert_eq!(seen.get(labels[1]), Some(&held(2)), "{seen:?}");
+    assert_eq!(seen.len(), 3, "{seen:?}");
 }

@@ -4,6 +4,7 @@
 //! residual `sigma_xx` at `x = 0` after the last pass) and `shakedown.png`.
 
 use super::{print_result, CommandResult, Replace};
+use crate::output::csv::{push_record, record};
 use crate::output::files::write_atomic;
 use crate::output::job::JobFolder;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
@@ -145,8 +146,20 @@ fn write(
     c: &ShakedownConfig,
     dir: &std::path::Path,
 ) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
-    let mut csv = String::from("p0_over_k,pass,d_eq_max,d_eq_integral_m2,net_max,net_integral_m2,eq_max,flowed,surface_ux_m,iterations,max_iterations\n");
-    let mut res = String::from("p0_over_k,depth_m,sigma_xx_pa\n");
+    let mut csv = record([
+        "p0_over_k",
+        "pass",
+        "d_eq_max",
+        "d_eq_integral_m2",
+        "net_max",
+        "net_integral_m2",
+        "eq_max",
+        "flowed",
+        "surface_ux_m",
+        "iterations",
+        "max_iterations",
+    ]);
+    let mut res = record(["p0_over_k", "depth_m", "sigma_xx_pa"]);
     let mut p1 = Panel::new(
         "Plastic strain increment per pass (central region)",
         "pass",
@@ -164,19 +177,21 @@ fn write(
     );
     for (p0k, rows) in runs {
         for r in rows {
-            let _ = writeln!(
-                csv,
-                "{p0k},{},{:e},{:e},{:e},{:e},{:e},{},{:e},{},{}",
-                r.pass,
-                r.d_eq_max,
-                r.d_eq_integral,
-                r.net_max,
-                r.net_integral,
-                r.eq_max,
-                r.flowed,
-                r.surface_ux,
-                r.iterations,
-                r.max_iterations
+            push_record(
+                &mut csv,
+                [
+                    format!("{p0k}"),
+                    format!("{}", r.pass),
+                    format!("{:e}", r.d_eq_max),
+                    format!("{:e}", r.d_eq_integral),
+                    format!("{:e}", r.net_max),
+                    format!("{:e}", r.net_integral),
+                    format!("{:e}", r.eq_max),
+                    format!("{}", r.flowed),
+                    format!("{:e}", r.surface_ux),
+                    format!("{}", r.iterations),
+                    format!("{}", r.max_iterations),
+                ],
             );
         }
         // A zero (no flow) is left off the log axis.
@@ -188,7 +203,10 @@ fn write(
         ));
         if let Some(last) = rows.last() {
             for &(z, s) in &last.residual_sxx {
-                let _ = writeln!(res, "{p0k},{z:e},{s:e}");
+                push_record(
+                    &mut res,
+                    [format!("{p0k}"), format!("{z:e}"), format!("{s:e}")],
+                );
             }
             let near: Vec<_> = last
                 .residual_sxx

@@ -6,10 +6,10 @@
 
 use super::spectrum::{band_levels, bands, order_amplitudes, slope, Band};
 use super::{GrowthConfig, GrowthError, StudyState};
+use crate::output::csv::{push_record, record};
 use crate::output::files::write_atomic;
 use serde::Serialize;
 use softway_plot::{line_plot, Panel, Series, SeriesStyle};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// A band's figures.
@@ -286,65 +286,72 @@ pub fn write_all(
         Ok(())
     };
     // passes.csv
-    let mut t = String::from("pass,real_passes,rms_m,uniform_loss_m,wall_s");
     let names: Vec<String> = state
         .passes
         .first()
         .map(|p| p.scalar_names.clone())
         .unwrap_or_default();
-    for n in &names {
-        let _ = write!(t, ",{n}");
-    }
-    t.push('\n');
+    let mut t = record(
+        ["pass", "real_passes", "rms_m", "uniform_loss_m", "wall_s"]
+            .into_iter()
+            .chain(names.iter().map(String::as_str)),
+    );
     let mut loss = 0.0;
     for (p, rec) in state.passes.iter().enumerate() {
         loss += rec.uniform_loss.0[0];
-        let _ = write!(
-            t,
-            "{},{:e},{:e},{:e},{:.4}",
-            p,
-            (p + 1) as f64 * config.passes_per_pass,
-            super::spectrum::rms(&rec.z.0),
-            loss,
-            rec.wall_s
-        );
-        for v in &rec.scalar_values.0 {
-            let _ = write!(t, ",{v:e}");
-        }
-        t.push('\n');
+        let mut cells = vec![
+            format!("{p}"),
+            format!("{:e}", (p + 1) as f64 * config.passes_per_pass),
+            format!("{:e}", super::spectrum::rms(&rec.z.0)),
+            format!("{loss:e}"),
+            format!("{:.4}", rec.wall_s),
+        ];
+        cells.extend(rec.scalar_values.0.iter().map(|v| format!("{v:e}")));
+        push_record(&mut t, &cells);
     }
     put("passes.csv", t)?;
     // bands.csv
-    let mut t = String::from("centre_wavelength_m,frequency_hz,first_order,last_order");
-    for p in 0..f.levels.len() {
-        let _ = write!(t, ",level_after_{p}_passes_db");
-    }
-    t.push_str(",rate_db_per_1e5\n");
+    let mut head: Vec<String> = [
+        "centre_wavelength_m",
+        "frequency_hz",
+        "first_order",
+        "last_order",
+    ]
+    .map(String::from)
+    .to_vec();
+    head.extend((0..f.levels.len()).map(|p| format!("level_after_{p}_passes_db")));
+    head.push("rate_db_per_1e5".into());
+    let mut t = record(&head);
     for (j, b) in s.bands.iter().enumerate() {
-        let _ = write!(
-            t,
-            "{:e},{:e},{},{}",
-            b.centre_wavelength_m, b.frequency_hz, b.orders.0, b.orders.1
-        );
-        for l in &f.levels {
-            let _ = write!(t, ",{:.4}", l[j]);
-        }
-        let _ = writeln!(t, ",{:.4}", b.rate_db_per_1e5);
+        let mut cells = vec![
+            format!("{:e}", b.centre_wavelength_m),
+            format!("{:e}", b.frequency_hz),
+            format!("{}", b.orders.0),
+            format!("{}", b.orders.1),
+        ];
+        cells.extend(f.levels.iter().map(|l| format!("{:.4}", l[j])));
+        cells.push(format!("{:.4}", b.rate_db_per_1e5));
+        push_record(&mut t, &cells);
     }
     put("bands.csv", t)?;
     // orders.csv
     if state.periodic {
-        let mut t = String::from("order,wavelength_m,frequency_hz");
-        for p in 0..f.amplitudes.len() {
-            let _ = write!(t, ",amplitude_after_{p}_passes_m");
-        }
-        t.push_str(",rate_db_per_1e5,rate_last_db_per_1e5\n");
+        let mut head: Vec<String> = ["order", "wavelength_m", "frequency_hz"]
+            .map(String::from)
+            .to_vec();
+        head.extend((0..f.amplitudes.len()).map(|p| format!("amplitude_after_{p}_passes_m")));
+        head.extend(["rate_db_per_1e5", "rate_last_db_per_1e5"].map(String::from));
+        let mut t = record(&head);
         for o in &s.orders {
-            let _ = write!(t, "{},{:e},{:e}", o.order, o.wavelength_m, o.frequency_hz);
-            for a in &f.amplitudes {
-                let _ = write!(t, ",{:e}", a[o.order - 1]);
-            }
-            let _ = writeln!(t, ",{:.4},{:.4}", o.rate_db_per_1e5, o.rate_last_db_per_1e5);
+            let mut cells = vec![
+                format!("{}", o.order),
+                format!("{:e}", o.wavelength_m),
+                format!("{:e}", o.frequency_hz),
+            ];
+            cells.extend(f.amplitudes.iter().map(|a| format!("{:e}", a[o.order - 1])));
+            cells.push(format!("{:.4}", o.rate_db_per_1e5));
+            cells.push(format!("{:.4}", o.rate_last_db_per_1e5));
+            push_record(&mut t, &cells);
         }
         put("orders.csv", t)?;
     }
@@ -352,15 +359,17 @@ pub fn write_all(
     let profiles = state.profiles();
     let (z0, zl) = (profiles[0], profiles[profiles.len() - 1]);
     let wear_last = state.passes.last().map(|p| p.wear.0.as_slice());
-    let mut t = String::from("x_m,z_initial_m,z_m,wear_last_pass_m\n");
+    let mut t = record(["x_m", "z_initial_m", "z_m", "wear_last_pass_m"]);
     for i in 0..state.n {
-        let _ = writeln!(
-            t,
-            "{:e},{:e},{:e},{:e}",
-            state.x0.0[0] + i as f64 * state.dx.0[0],
-            z0[i],
-            zl[i],
-            wear_last.map(|w| w[i]).unwrap_or(0.0)
+        push_record(
+            &mut t,
+            [
+                state.x0.0[0] + i as f64 * state.dx.0[0],
+                z0[i],
+                zl[i],
+                wear_last.map(|w| w[i]).unwrap_or(0.0),
+            ]
+            .map(|x| format!("{x:e}")),
         );
     }
     put("profile.csv", t)?;

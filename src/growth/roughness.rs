@@ -86,7 +86,7 @@ pub fn realise(
                 if line.trim().is_empty() {
                     continue;
                 }
-                let mut it = line.split(',').map(|s| s.trim().parse::<f64>());
+                let mut it = crate::output::csv::number_cells(line).map(|s| s.parse::<f64>());
                 match (it.next(), it.next()) {
                     (Some(Ok(a)), Some(Ok(b))) => pts.push((a, b)),
                     _ => {

@@ -758,18 +758,31 @@ pub fn write_prediction(
 ) -> Result<Vec<std::path::PathBuf>, RunError> {
     let csv = out.join("prediction.csv");
     let mut text = format!(
-        "# growth of the rail's roughness predicted from the track's receptance (bay-averaged), the contact spring {:.4e} N/m, the unsprung mass as a rigid body and Hertz's patch filter; wear {:.4e} m per N of contact force per pass; V = {:.3} m/s\nwavelength_m,frequency_Hz,in_phase_per_pass,quadrature_per_pass,growth_dB_per_1e5_passes\n",
+        "# growth of the rail's roughness predicted from the track's receptance (bay-averaged), the contact spring {:.4e} N/m, the unsprung mass as a rigid body and Hertz's patch filter; wear {:.4e} m per N of contact force per pass; V = {:.3} m/s\n",
         flat.contact_stiffness_n_m, flat.depth_per_newton_m_n, speed
     );
+    crate::output::csv::push_record(
+        &mut text,
+        [
+            "wavelength_m",
+            "frequency_Hz",
+            "in_phase_per_pass",
+            "quadrature_per_pass",
+            "growth_dB_per_1e5_passes",
+        ],
+    );
     for p in pred {
-        text.push_str(&format!(
-            "{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}\n",
-            p.wavelength_m,
-            p.frequency_hz,
-            p.in_phase,
-            p.quadrature,
-            p.rate_db_per_1e5()
-        ));
+        crate::output::csv::push_record(
+            &mut text,
+            [
+                p.wavelength_m,
+                p.frequency_hz,
+                p.in_phase,
+                p.quadrature,
+                p.rate_db_per_1e5(),
+            ]
+            .map(|x| format!("{x:.6e}")),
+        );
     }
     crate::output::files::write_atomic(&csv, text.as_bytes())
         .map_err(|e| RunError::output(&csv, e))?;

@@ -465,7 +465,7 @@ pub fn write_mode_shapes_of(
     })?;
     let mut written = Vec::with_capacity(modes.len() + 2);
     let mut pvd = PvdWriter::new();
-    let mut csv = String::from("index,frequency_hz,period_us,kind\n");
+    let mut csv = crate::output::csv::record(["index", "frequency_hz", "period_us", "kind"]);
     let width = modes.len().to_string().len().max(3);
     for (i, mode) in modes.iter().enumerate() {
         let number = i + 1;
@@ -479,12 +479,15 @@ pub fn write_mode_shapes_of(
         write_vtu(&path, mesh, None, &[field], &[])?;
         pvd.add(number as f64, name);
         written.push(path);
-        csv.push_str(&format!(
-            "{number},{:e},{:e},\"{}\"\n",
-            mode.frequency_hz,
-            mode.period_us,
-            mode.kind.replace('"', "\"\"")
-        ));
+        crate::output::csv::push_record(
+            &mut csv,
+            [
+                format!("{number}"),
+                format!("{:e}", mode.frequency_hz),
+                format!("{:e}", mode.period_us),
+                mode.kind.to_string(),
+            ],
+        );
     }
     let pvd_path = dir.join("modes.pvd");
     pvd.write(&pvd_path)?;

@@ -1,4 +1,4 @@
-//! Atomic file writing and a streaming CSV writer.
+//! Atomic file writing and a streaming CSV writer (its fields through [`super::csv`]).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -63,7 +63,7 @@ impl CsvWriter {
         let f = File::create(&tmp)
             .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", tmp.display())))?;
         let mut out = BufWriter::with_capacity(1 << 16, f);
-        writeln!(out, "{}", header.join(","))
+        out.write_all(super::csv::record(header).as_bytes())
             .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))?;
         Ok(Self {
             out,
@@ -74,7 +74,8 @@ impl CsvWriter {
         })
     }
 
-    /// Writes one row: a label (may be empty: then not written) and numbers.
+    /// Writes one row: a label (none: no key column; quoted per RFC 4180 when it holds a
+    /// comma, a quote or a line break, see [`super::csv`]) and numbers (`{:e}`).
     ///
     /// # Errors
     /// I/O errors.
@@ -82,7 +83,7 @@ impl CsvWriter {
         use std::fmt::Write as _;
         self.line.clear();
         if let Some(l) = label {
-            self.line.push_str(l);
+            super::csv::push_field(&mut self.line, l);
         }
         for (i, v) in values.iter().enumerate() {
             if i > 0 || label.is_some() {

@@ -1,9 +1,10 @@
-//! Outputs: CSV histories, JSON summaries, VTK files for ParaView, PNG plots; tables of
+//! Outputs: CSV histories (every CSV line through [`csv`]), JSON summaries, VTK files for ParaView, PNG plots; tables of
 //! results in memory ([`table`]) and the writing of a run's [`crate::Results`] ([`save`]).
 //!
 //! Every file is written atomically (to a temporary name, then renamed), so an interrupted or
 //! failed run never leaves a half-written result behind.
 
+pub mod csv;
 pub mod files;
 pub mod job;
 pub mod save;

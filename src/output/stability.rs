@@ -88,12 +88,22 @@ pub fn table_text(r: &StabilityReport) -> String {
 /// I/O or drawing errors.
 pub fn write(r: &StabilityReport, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
     std::fs::create_dir_all(dir)?;
-    let mut csv = String::from("omega_h,spectral_radius,damping_ratio,period_error\n");
+    let mut csv = super::csv::record([
+        "omega_h",
+        "spectral_radius",
+        "damping_ratio",
+        "period_error",
+    ]);
     for a in &r.table {
-        let _ = writeln!(
-            csv,
-            "{:e},{:e},{:e},{:e}",
-            a.omega_h, a.spectral_radius, a.damping_ratio, a.period_error
+        super::csv::push_record(
+            &mut csv,
+            [
+                a.omega_h,
+                a.spectral_radius,
+                a.damping_ratio,
+                a.period_error,
+            ]
+            .map(|x| format!("{x:e}")),
         );
     }
     let c = dir.join("stability.csv");

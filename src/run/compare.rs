@@ -7,7 +7,6 @@ use super::{RunError, RunOptions, RunReport};
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::scenario::{Model, Scenario};
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// The columns of the comparison, one row per run.
@@ -67,15 +66,6 @@ fn row(s: &BarSummary) -> Vec<String> {
     ]
 }
 
-/// A CSV field, quoted (RFC 4180) when it holds a comma, a quote or a line break.
-fn csv_field(c: &str) -> String {
-    if c.contains([',', '"', '\n']) {
-        format!("\"{}\"", c.replace('"', "\"\""))
-    } else {
-        c.to_string()
-    }
-}
-
 /// A Markdown table padded to its column widths (readable as plain text too).
 fn markdown(rows: &[Vec<String>]) -> String {
     let mut w: Vec<usize> = COLUMNS.iter().map(|c| c.len()).collect();
@@ -131,10 +121,9 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
             break;
         }
     }
-    let mut csv = format!("{}\n", COLUMNS.join(","));
+    let mut csv = crate::output::csv::record(COLUMNS);
     for r in &rows {
-        let cells: Vec<String> = r.iter().map(|c| csv_field(c)).collect();
-        let _ = writeln!(csv, "{}", cells.join(","));
+        crate::output::csv::push_record(&mut csv, r);
     }
     let md = markdown(&rows);
     let mut report = RunReport {

@@ -212,7 +212,7 @@ fn write_tables(
     head.extend(values.iter().map(|v| format!("{key_col}={v}")));
     head.extend((2..values.len()).map(|i| format!("order@{}", values[i])));
     head.push("extrapolated".into());
-    let mut csv = format!("{}\n", head.join(","));
+    let mut csv = crate::output::csv::record(&head);
     let mut md = format!(
         "| {} |\n|{}|\n",
         head.join(" | "),
@@ -223,7 +223,7 @@ fn write_tables(
         row.extend(l.values.iter().map(|&x| fmt(x)));
         row.extend(l.orders.iter().map(|&o| order(o)));
         row.push(l.extrapolated.map_or("-".into(), fmt));
-        let _ = writeln!(csv, "{}", row.join(","));
+        crate::output::csv::push_record(&mut csv, &row);
         let _ = writeln!(md, "| {} |", row.join(" | "));
     }
     let mut files = Vec::new();

@@ -612,15 +612,6 @@ fn table_cell(p: &SweepPoint, c: &str) -> String {
     }
 }
 
-/// A CSV field: quoted (inner quotes doubled) when it holds a comma or a quote.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
 /// Writes the table, a row per point (a column per swept key, the point's `status`
 /// ([`PointStatus`]), then the figures: empty cells for a point that did not complete, whose
 /// numbers are not results), as `sweep.csv` and `sweep.md` into `out`.
@@ -638,7 +629,7 @@ fn write_tables(
         .chain(status.iter().cloned())
         .chain(cols.iter().map(|c| column_name(c).to_string()))
         .collect();
-    let mut csv = format!("{}\n", head.join(","));
+    let mut csv = crate::output::csv::record(&head);
     let mut md = format!(
         "| {} |\n|{}|\n",
         head.join(" | "),
@@ -658,8 +649,7 @@ fn write_tables(
                 }
             }))
             .collect();
-        let quoted: Vec<String> = row.iter().map(|c| csv_field(c)).collect();
-        let _ = writeln!(csv, "{}", quoted.join(","));
+        crate::output::csv::push_record(&mut csv, &row);
         let md_row: Vec<String> = row.iter().map(|c| c.replace('|', "\\|")).collect();
         let _ = writeln!(md, "| {} |", md_row.join(" | "));
     }
@@ -949,24 +939,31 @@ fn creep_curve(
             .map(|(r, p)| (r.1, p.1))
             .collect::<Vec<_>>(),
     );
-    let mut csv = String::from(
-        "creepage,creepage_undeformed,traction_ratio,carter,carter_shifted,\
-         free_rolling_creepage,free_rolling_creepage_undeformed\n",
-    );
+    let mut csv = crate::output::csv::record([
+        "creepage",
+        "creepage_undeformed",
+        "traction_ratio",
+        "carter",
+        "carter_shifted",
+        "free_rolling_creepage",
+        "free_rolling_creepage_undeformed",
+    ]);
     for (p, r) in pts.iter().zip(&on_r) {
         let shifted = xi0.map_or(f64::NAN, |x0| {
             carter_traction_ratio(p.0 - x0, mu, a, radius)
         });
-        let _ = writeln!(
-            csv,
-            "{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-            p.0,
-            r.1,
-            p.1,
-            carter_traction_ratio(p.0, mu, a, radius),
-            shifted,
-            xi0.unwrap_or(f64::NAN),
-            xi0_r.unwrap_or(f64::NAN)
+        crate::output::csv::push_record(
+            &mut csv,
+            [
+                p.0,
+                r.1,
+                p.1,
+                carter_traction_ratio(p.0, mu, a, radius),
+                shifted,
+                xi0.unwrap_or(f64::NAN),
+                xi0_r.unwrap_or(f64::NAN),
+            ]
+            .map(|x| format!("{x:e}")),
         );
     }
     let f = out.join("creep_curve.csv");

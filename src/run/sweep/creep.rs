@@ -22,6 +22,7 @@
 
 use super::{SweepError, SweepPoint};
 use crate::analysis::richardson::{extrapolate, observed_orders};
+use crate::output::csv::{push_record, record};
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::run::RunError;
@@ -233,19 +234,26 @@ pub fn creep_ladder(
     let mut files = Vec::new();
 
     // creep_curve.csv: every point with its rung.
-    let mut csv = format!(
-        "{rung_key},creepage,creepage_undeformed,creepage_undeformed_mu_a_R,traction_ratio,traction_ratio_window\n"
-    );
+    let mut csv = record([
+        rung_key.as_str(),
+        "creepage",
+        "creepage_undeformed",
+        "creepage_undeformed_mu_a_R",
+        "traction_ratio",
+        "traction_ratio_window",
+    ]);
     for (r, c) in rungs.iter().zip(&curves) {
         for p in c {
-            let _ = writeln!(
-                csv,
-                "{r},{:e},{:e},{:.6},{:e},{:e}",
-                p.0,
-                p.1,
-                p.1 / unit,
-                p.2,
-                p.3
+            push_record(
+                &mut csv,
+                [
+                    format!("{r}"),
+                    format!("{:e}", p.0),
+                    format!("{:e}", p.1),
+                    format!("{:.6}", p.1 / unit),
+                    format!("{:e}", p.2),
+                    format!("{:e}", p.3),
+                ],
             );
         }
     }
@@ -255,33 +263,43 @@ pub fn creep_ladder(
 
     // creep_ladder.csv and .md: the creepages at the targets.
     let head: Vec<String> = rungs.iter().map(|r| format!("{rung_key}={r}")).collect();
-    let mut csv = String::from("traction_ratio");
+    let mut cells = vec!["traction_ratio".to_string()];
     for h in &head {
-        let _ = write!(csv, ",creepage_undeformed@{h},mu_a_R@{h}");
+        cells.push(format!("creepage_undeformed@{h}"));
+        cells.push(format!("mu_a_R@{h}"));
     }
-    csv.push_str(",order,richardson_limit,richardson_limit_mu_a_R,finest_minus_limit_mu_a_R\n");
+    cells.extend(
+        [
+            "order",
+            "richardson_limit",
+            "richardson_limit_mu_a_R",
+            "finest_minus_limit_mu_a_R",
+        ]
+        .map(String::from),
+    );
+    let mut csv = record(&cells);
     let fmt = |v: Option<f64>, digits: usize| {
         v.filter(|x| x.is_finite())
             .map_or(String::new(), |x| format!("{x:.digits$}"))
     };
     for row in &rows {
-        let _ = write!(csv, "{}", row.target);
+        let mut cells = vec![format!("{}", row.target)];
         for v in &row.values {
             let abs = if v.is_finite() {
                 format!("{v:e}")
             } else {
                 String::new()
             };
-            let _ = write!(csv, ",{abs},{}", fmt(Some(v / unit), 6));
+            cells.push(abs);
+            cells.push(fmt(Some(v / unit), 6));
         }
-        let _ = writeln!(
-            csv,
-            ",{},{},{},{}",
+        cells.extend([
             fmt(row.order, 4),
             row.limit.map_or(String::new(), |l| format!("{l:e}")),
             fmt(row.limit.map(|l| l / unit), 6),
-            fmt(row.finest_error().map(|e| e / unit), 6)
-        );
+            fmt(row.finest_error().map(|e| e / unit), 6),
+        ]);
+        push_record(&mut csv, &cells);
     }
     let f = out.join("creep_ladder.csv");
     write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;

@@ -474,9 +474,9 @@ pub fn write_rim_profile(out: &Path, p: &RimProfile) -> Result<Option<PathBuf>, 
         return Ok(None);
     }
     let csv = out.join("j2_rim_profile.csv");
-    let mut body = String::from("angle_deg,j2_mpa2,von_mises_mpa\n");
+    let mut body = crate::output::csv::record(["angle_deg", "j2_mpa2", "von_mises_mpa"]);
     for ((a, j), v) in angles.iter().zip(j2).zip(vm) {
-        body.push_str(&format!("{a:e},{j:e},{v:e}\n"));
+        crate::output::csv::push_record(&mut body, [a, j, v].map(|x| format!("{x:e}")));
     }
     crate::output::files::write_atomic(&csv, body.as_bytes())
         .map_err(|e| RunError::output(&csv, e))?;

@@ -23,6 +23,14 @@ pub(super) fn run_spec(
     top: &[(&str, String, String)],
 ) -> Result<(RunSpec, Vec<Use>), ScenarioError> {
     let keys = RunKeys(i);
+    // The label is a column of history.csv and a line of the plots' legends: one line.
+    if let Some(l) = r.label.as_deref().filter(|l| l.contains(char::is_control)) {
+        return Err(cx.invalid(
+            &keys.key("label"),
+            format!("{l:?}"),
+            "a run's label is one line of text: no line break, tab or other control character",
+        ));
+    }
     let (alpha, gamma) = run_time(cx, &keys, r, base)?;
     let mut model = run_model(cx, &keys, r, base)?;
     if matches!(&model, Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::MovingLoad)

@@ -494,14 +494,19 @@ fn irregularity(cx: &Ctx, i: RawIrregularity) -> Result<Irregularity, ScenarioEr
             let mut points = Vec::new();
             for (n, line) in text.lines().enumerate() {
                 let line = line.trim();
+                let mut cells = crate::output::csv::number_cells(line);
                 if line.is_empty()
                     || line.starts_with('#')
-                    || (n == 0 && line.starts_with(|c: char| c.is_alphabetic()))
+                    || (n == 0
+                        && cells
+                            .next()
+                            .is_some_and(|c| c.starts_with(|c: char| c.is_alphabetic())))
                 {
                     continue;
                 }
                 let parsed: Option<(f64, f64)> = (|| {
-                    let mut it = line.split(',').map(|v| v.trim().parse::<f64>().ok());
+                    let mut it =
+                        crate::output::csv::number_cells(line).map(|v| v.parse::<f64>().ok());
                     let x = it.next()??;
                     let r = it.next()??;
                     it.next().is_none().then_some((x, r))
