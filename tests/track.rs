@@ -7,6 +7,7 @@
 use faer::c64;
 use faer::linalg::solvers::Solve;
 use softway::element::beam::BeamTheory;
+use softway::simulation::Settings;
 use softway::time::{Coriolis, Integrator};
 use softway::track::moving::{run, MovingLoad, Passage, Sample};
 use softway::track::receptance::{
@@ -256,10 +257,16 @@ fn passage_at_speed(t: &Track) -> Vec<Sample> {
         static_reference: false,
     };
     let mut out = Vec::new();
-    run(t, &passage, &AtomicBool::new(false), |s| {
-        out.push(*s);
-        Ok(())
-    })
+    run(
+        t,
+        &passage,
+        Settings::default(),
+        &AtomicBool::new(false),
+        |s| {
+            out.push(*s);
+            Ok(())
+        },
+    )
     .unwrap();
     out
 }
@@ -336,14 +343,20 @@ fn a_slow_load_reproduces_the_static_deflection() {
     };
     let mut worst = 0.0f64;
     let mut range = (f64::INFINITY, 0.0f64);
-    run(&t, &passage, &AtomicBool::new(false), |s| {
-        worst = worst.max((s.deflection / s.static_deflection - 1.0).abs());
-        range = (
-            range.0.min(s.static_deflection),
-            range.1.max(s.static_deflection),
-        );
-        Ok(())
-    })
+    run(
+        &t,
+        &passage,
+        Settings::default(),
+        &AtomicBool::new(false),
+        |s| {
+            worst = worst.max((s.deflection / s.static_deflection - 1.0).abs());
+            range = (
+                range.0.min(s.static_deflection),
+                range.1.max(s.static_deflection),
+            );
+            Ok(())
+        },
+    )
     .unwrap();
     println!(
         "1 m/s over a bay: static deflection {:.4e}-{:.4e} m, largest relative difference {worst:.2e}",
