@@ -48,6 +48,14 @@ impl Override {
                 "--set {s}: `{key}` is not a key of the scenario (dotted words as in the file, e.g. wheel.rim_nodes)"
             ));
         }
+        // The as-run scenario names each `--set` on a comment line of its header: a line
+        // break in a value would end the comment and leave a copy that cannot be run again.
+        if v.chars().any(char::is_control) {
+            return Err(format!(
+                "--set {}: the value of `{key}` holds a line break, tab or other control character; give it on one line (a TOML string writes them as \\n, \\t)",
+                s.escape_debug()
+            ));
+        }
         Ok(Self {
             key: key.to_string(),
             value: v.trim().to_string(),
@@ -419,6 +427,19 @@ mod tests {
         assert_eq!(doc["contact"]["method"].as_str(), Some("exact"));
         assert_eq!(doc["name"].as_str(), Some("x"));
         assert_eq!(doc["runs"][0]["h"].as_float(), Some(1e-6));
+    }
+
+    /// A value with a line break (or a tab, any control character) is refused on one line:
+    /// the as-run scenario's header names each `--set` on a comment line, which a line break
+    /// would end, leaving a copy that cannot be run again.
+    #[test]
+    fn a_value_with_a_line_break_is_refused_on_one_line() {
+        for v in ["a\nb", "x\r", "tab\there", "nul\0"] {
+            let e = Override::parse(&format!("runs_label={v}")).unwrap_err();
+            assert!(e.contains("`runs_label`") && e.contains("control character"), "{e}");
+            assert!(!e.contains('\n') && !e.contains('\0'), "not one line: {e:?}");
+        }
+        assert_eq!(Override::parse("rolling.omega=250").unwrap().value, "250");
     }
 
     /// Where the line edit cannot reach (a key inside an array of tables' entry, a dotted
