@@ -271,3 +271,50 @@ fn a_wheel_that_turns_against_its_frame_says_so() {
         }
     }
 }
+
+/// A convergence ladder whose rung the guard stops: the rungs before it are written and the
+/// command ends in exit 2 naming the rung (it ended in exit 0 with an empty table before);
+/// a ladder whose first rung fails writes nothing.
+#[test]
+fn a_ladder_with_a_failed_rung_ends_in_exit_2_naming_it() {
+    let dir = TestDir::new("guard", "ladder");
+    let path = dir.join("penalty.toml");
+    let text = long_bar().replace(
+        "elements = 8",
+        "elements = 8\n[contact]\nmethod = \"penalty\"\npenalty = 1e4",
+    );
+    std::fs::write(&path, &text).unwrap();
+    // 1e30 N/m diverges at h = 0.01 (above); 1e4 and 1e-6 do not.
+    let out = dir.join("out");
+    let o = cli([
+        "converge",
+        path.to_str().unwrap(),
+        "--set",
+        "contact.penalty=1e-6,1e4,1e14,1e24,1e34",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("a rung failed") && o.stderr.contains("contact.penalty = 1e"),
+        "{}",
+        o.stderr
+    );
+    let csv = std::fs::read_to_string(out.join("converge.csv")).unwrap();
+    let head = fields(csv.lines().next().unwrap());
+    assert!(head.iter().any(|h| h.ends_with("=1e-6")), "{head:?}");
+    assert!(!head.iter().any(|h| h.ends_with("=1e34")), "{head:?}");
+    // The first rung failing: nothing to tabulate, nothing written.
+    let out = dir.join("none");
+    let o = cli([
+        "converge",
+        path.to_str().unwrap(),
+        "--set",
+        "contact.penalty=1e30,1e31,1e32",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert!(o.stderr.contains("contact.penalty"), "{}", o.stderr);
+    assert!(!out.exists());
+}

@@ -684,7 +684,7 @@ fn converge_command(
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
     set_threads("--jobs", jobs)?;
     let stage = JobFolder::begin(&out, force, &[scenario])?;
-    let (_, files, warnings) =
+    let (_, files, warnings, failed) =
         crate::run::converge::converge(scenario, &text, &key, &values, stage.dir(), cancel)?;
     for w in &warnings {
         errln!("softway: warning: {w}");
@@ -696,6 +696,13 @@ fn converge_command(
         values.len()
     );
     print_table(&out.join("converge.md"), &files);
+    if let Some(f) = failed {
+        return Err(format!(
+            "{}: a rung failed (the table holds the rungs before it): {f}",
+            scenario.display()
+        )
+        .into());
+    }
     if cancel.is_cancelled() {
         return Ok(ExitCode::from(130));
     }

@@ -107,10 +107,12 @@ fn figures(summary: &serde_json::Value) -> Vec<(String, f64)> {
 }
 
 /// What [`converge`] returns: the ladders, the files written and the runs' warnings.
-pub type Converged = (Vec<FigureLadder>, Vec<PathBuf>, Vec<String>);
+pub type Converged = (Vec<FigureLadder>, Vec<PathBuf>, Vec<String>, Option<String>);
 
 /// Runs the ladder and writes `converge.csv`, `converge.md` and `converge.png` into `out`;
-/// returns the ladders, the files and the runs' warnings (each prefixed with its rung).
+/// returns the ladders, the files, the runs' warnings (each prefixed with its rung) and the
+/// first rung that failed, when one did (the table then holds the rungs before it; the
+/// command line exits 2 naming it, as a sweep with a failed point does).
 /// `cancel` stops every run at its next step.
 ///
 /// # Errors
@@ -140,18 +142,43 @@ pub fn converge(
         )));
     }
     let mut points = run_ladder(path, text, key, values, out, cancel)?;
-    // A rung cut short (Ctrl-C) is no rung of the ladder: no order from it or after it.
+    // A rung cut short (Ctrl-C) or failed (the guard, a run error) is no rung of the
+    // ladder: no order from it or after it.
     let complete = points
         .iter()
-        .take_while(|p| p.summary["interrupted"] != serde_json::Value::Bool(true))
+        .take_while(|p| {
+            p.status == super::sweep::PointStatus::Complete
+                && p.summary["interrupted"] != serde_json::Value::Bool(true)
+        })
         .count();
     let mut cut = Vec::new();
+    let mut failed = None;
     if complete < points.len() {
-        cut.push(format!(
-            "{key} = {}: interrupted; it and the rungs after it are left out of the orders",
-            points[complete].value
-        ));
+        let why = match &points[complete].status {
+            super::sweep::PointStatus::Failed(m) => {
+                let m = format!(
+                    "{key} = {}: failed: {}",
+                    points[complete].value,
+                    m.replace(['\n', '\r'], " ")
+                );
+                failed = Some(m.clone());
+                m
+            }
+            _ => "interrupted".to_string(),
+        };
+        cut.push(if failed.is_some() {
+            format!("{why}; it and the rungs after it are left out of the orders")
+        } else {
+            format!(
+                "{key} = {}: {why}; it and the rungs after it are left out of the orders",
+                points[complete].value
+            )
+        });
         points.truncate(complete);
+    }
+    // A ladder left with no rung has no table to write: the study failed.
+    if points.is_empty() && !cancel.is_cancelled() {
+        return Err(bad(cut.concat()));
     }
     let xs = &xs[..points.len()];
     let warnings = cut
@@ -188,7 +215,7 @@ pub fn converge(
         })
         .collect();
     let files = write_tables(out, key, &values[..points.len()], xs, &ladders, &points)?;
-    Ok((ladders, files, warnings))
+    Ok((ladders, files, warnings, failed))
 }
 
 fn write_tables(

@@ -436,8 +436,14 @@ mod tests {
     fn a_value_with_a_line_break_is_refused_on_one_line() {
         for v in ["a\nb", "x\r", "tab\there", "nul\0"] {
             let e = Override::parse(&format!("runs_label={v}")).unwrap_err();
-            assert!(e.contains("`runs_label`") && e.contains("control character"), "{e}");
-            assert!(!e.contains('\n') && !e.contains('\0'), "not one line: {e:?}");
+            assert!(
+                e.contains("`runs_label`") && e.contains("control character"),
+                "{e}"
+            );
+            assert!(
+                !e.contains('\n') && !e.contains('\0'),
+                "not one line: {e:?}"
+            );
         }
         assert_eq!(Override::parse("rolling.omega=250").unwrap().value, "250");
     }
