@@ -11,14 +11,20 @@ use common::{assert_one_line_error, softway, TestDir};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// `softway grow scenarios/polygon.toml` (coarse: 96 rim nodes) with `sets`, into `out`:
-/// exit code and standard error, with the time it took.
+/// `softway grow scenarios/polygon.toml` (coarse: 96 rim nodes) with `sets`, into `out`,
+/// one pass: exit code and standard error, with the time it took.
 fn grow(out: &Path, sets: &[&str]) -> (i32, String, Duration) {
+    grow_with(out, &["--passes", "1"], sets)
+}
+
+/// [`grow`] with the command's own arguments `args` (`--passes N`, `--resume`).
+fn grow_with(out: &Path, args: &[&str], sets: &[&str]) -> (i32, String, Duration) {
     let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
     let mut cmd = softway();
     cmd.arg("grow")
         .arg(&polygon)
-        .args(["--passes", "1", "--set", "wheel.rim_nodes=96", "--out"])
+        .args(args)
+        .args(["--set", "wheel.rim_nodes=96", "--out"])
         .arg(out);
     for s in sets {
         cmd.args(["--set", s]);
@@ -157,31 +163,9 @@ fn a_damaged_checkpoint_is_refused_naming_its_field() {
         let mut s = good.clone();
         edit(&mut s);
         std::fs::write(&ck, serde_json::to_string(&s).unwrap()).unwrap();
-        let mut sets = base.to_vec();
-        sets.push("growth.passes=2");
-        let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
-        let o = softway()
-            .arg("grow")
-            .arg(&polygon)
-            .args([
-                "--passes",
-                "2",
-                "--resume",
-                "--set",
-                "wheel.rim_nodes=96",
-                "--out",
-            ])
-            .arg(&out)
-            .args(base.iter().flat_map(|s| ["--set", s]))
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr);
+        let (code, err, _) = grow_with(&out, &["--passes", "2", "--resume"], base);
         assert!(!err.contains("panicked"), "case {k}: {err}");
-        assert_one_line_error(
-            o.status.code().unwrap_or(-1),
-            &err,
-            &["checkpoint.json", field],
-        );
+        assert_one_line_error(code, &err, &["checkpoint.json", field]);
         assert_eq!(
             std::fs::read_to_string(out.join("scenario.toml")).unwrap(),
             copy,
@@ -192,25 +176,8 @@ fn a_damaged_checkpoint_is_refused_naming_its_field() {
     std::fs::remove_file(&ck).unwrap();
     let made = std::process::Command::new("mkfifo").arg(&ck).status();
     if made.is_ok_and(|s| s.success()) {
-        let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
-        let start = Instant::now();
-        let o = softway()
-            .arg("grow")
-            .arg(&polygon)
-            .args([
-                "--passes",
-                "2",
-                "--resume",
-                "--set",
-                "wheel.rim_nodes=96",
-                "--out",
-            ])
-            .arg(&out)
-            .args(base.iter().flat_map(|s| ["--set", s]))
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_one_line_error(o.status.code().unwrap_or(-1), &err, &["not a regular file"]);
-        assert!(start.elapsed() < Duration::from_secs(20));
+        let (code, err, took) = grow_with(&out, &["--passes", "2", "--resume"], base);
+        assert_one_line_error(code, &err, &["not a regular file"]);
+        assert!(took < Duration::from_secs(20), "{took:?}");
     }
 }

@@ -5,46 +5,10 @@
 
 mod common;
 
-use common::{softway, TestDir};
+use common::{assert_no_temporaries, softway, TestDir, LONG_BAR};
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
-
-/// A bar run of about a second (15,000 steps of 2,001 dofs).
-const LONG_BAR: &str = r#"
-kind = "bar_impact"
-[time]
-alpha = 0.8
-h = 2e-4
-t_end = 3.0
-[bar]
-length = 1.0
-ea = 1.0
-rho_a = 1.0
-speed = 1.0
-gap = 0.25
-elements = 2000
-"#;
-
-/// Asserts that no file or folder under `dir` (recursively) has a temporary name.
-fn assert_no_temporaries(dir: &Path) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let e = e.unwrap();
-        let name = e.file_name().to_string_lossy().into_owned();
-        assert!(
-            !(name.contains("softway-tmp")
-                || name.contains("softway-old")
-                || name.ends_with(".part")
-                || name.ends_with(".tmp")
-                || name.ends_with(".tmp.png")),
-            "temporary left: {}",
-            e.path().display()
-        );
-        if e.file_type().unwrap().is_dir() {
-            assert_no_temporaries(&e.path());
-        }
-    }
-}
 
 /// Asserts that every result in `dir` is complete and readable.
 fn assert_complete_outputs(dir: &Path) {

@@ -16,27 +16,17 @@
 
 mod common;
 
-use common::{softway, TestDir};
+use common::{assert_no_temporaries, softway, TestDir, LONG_BAR};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 
-/// A bar run of a few seconds (60,000 steps of 2,001 dofs).
-const LONG_BAR: &str = r#"
-kind = "bar_impact"
-[time]
-alpha = 0.8
-h = 5e-5
-t_end = 3.0
-[bar]
-length = 1.0
-ea = 1.0
-rho_a = 1.0
-speed = 1.0
-gap = 0.25
-elements = 2000
-"#;
+/// A bar run of a few seconds (60,000 steps of 2,001 dofs): [`LONG_BAR`] at a quarter of
+/// its step.
+fn long_bar() -> String {
+    LONG_BAR.replace("h = 2e-4", "h = 5e-5")
+}
 
 /// The inputs of the commands, in one folder of their own (`inputs`).
 struct Fixture {
@@ -51,7 +41,7 @@ impl Fixture {
         let inputs = root.join("inputs");
         std::fs::create_dir_all(&inputs).unwrap();
         std::fs::write(inputs.join("bar.toml"), common::BAR).unwrap();
-        std::fs::write(inputs.join("long.toml"), LONG_BAR).unwrap();
+        std::fs::write(inputs.join("long.toml"), long_bar()).unwrap();
         let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios");
         for name in ["polygon", "wheel", "track"] {
             std::fs::copy(
@@ -499,24 +489,6 @@ fn every_command_checks_its_cost_up_front() {
         checked += 1;
     }
     assert!(checked >= 6, "{checked}");
-}
-
-/// Asserts that no file or folder under `dir` (recursively) has a temporary name.
-fn assert_no_temporaries(dir: &Path) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let e = e.unwrap();
-        let name = e.file_name().to_string_lossy().into_owned();
-        assert!(
-            !(name.contains("softway-tmp")
-                || name.contains("softway-old")
-                || name.ends_with(".tmp")),
-            "temporary left: {}",
-            e.path().display()
-        );
-        if e.file_type().unwrap().is_dir() {
-            assert_no_temporaries(&e.path());
-        }
-    }
 }
 
 /// SIGTERM in the middle of every command that runs long enough: it stops at its next

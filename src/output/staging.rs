@@ -208,16 +208,7 @@ impl StagedDir {
                 Ok(m) if !m.is_dir() => return Err(StagingError::NotAFolder(target.to_path_buf())),
                 Ok(_) => std::fs::canonicalize(path).map_err(|e| io("cannot read it", e))?,
             };
-            if let Some((what, holds)) = protected(inputs)
-                .into_iter()
-                .find(|(_, p)| p.starts_with(&real))
-            {
-                return Err(StagingError::Protected {
-                    path: target.to_path_buf(),
-                    what,
-                    holds,
-                });
-            }
+            refuse_protected(target, &real, inputs)?;
             if !force && !replaceable(&real).map_err(|e| io("cannot read it", e))? {
                 return Err(StagingError::Foreign(target.to_path_buf()));
             }
@@ -312,16 +303,7 @@ impl StagedDir {
             return Err(StagingError::NotAFolder(target.to_path_buf()));
         }
         let real = std::fs::canonicalize(target).map_err(|e| io("cannot read it", e))?;
-        if let Some((what, holds)) = protected(inputs)
-            .into_iter()
-            .find(|(_, p)| p.starts_with(&real))
-        {
-            return Err(StagingError::Protected {
-                path: target.to_path_buf(),
-                what,
-                holds,
-            });
-        }
+        refuse_protected(target, &real, inputs)?;
         if !real.join(MARKER).is_file() {
             return Err(StagingError::Foreign(target.to_path_buf()));
         }
@@ -412,6 +394,22 @@ fn lexical(path: &Path) -> PathBuf {
         }
     }
     out
+}
+
+/// [`StagingError::Protected`] when the folder `real` (canonical; `target` as given) is, or
+/// holds, one of the folders never replaced ([`protected`]).
+fn refuse_protected(target: &Path, real: &Path, inputs: &[&Path]) -> Result<(), StagingError> {
+    match protected(inputs)
+        .into_iter()
+        .find(|(_, p)| p.starts_with(real))
+    {
+        Some((what, holds)) => Err(StagingError::Protected {
+            path: target.to_path_buf(),
+            what,
+            holds,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The folders never replaced, canonical, with what they are: the current folder, the

@@ -276,3 +276,39 @@ pub fn steel_wheel_at(rim: usize, speed: f64) -> softway::wheel::WheelModel {
     };
     softway::track::rolling::wheel_at_speed(mesh, spec, speed).unwrap()
 }
+
+/// A bar run of about a second (15,000 steps of 2,001 dofs).
+pub const LONG_BAR: &str = r#"
+kind = "bar_impact"
+[time]
+alpha = 0.8
+h = 2e-4
+t_end = 3.0
+[bar]
+length = 1.0
+ea = 1.0
+rho_a = 1.0
+speed = 1.0
+gap = 0.25
+elements = 2000
+"#;
+
+/// Asserts that no file or folder under `dir` (recursively) has a temporary name.
+pub fn assert_no_temporaries(dir: &Path) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let e = e.unwrap();
+        let name = e.file_name().to_string_lossy().into_owned();
+        assert!(
+            !(name.contains("softway-tmp")
+                || name.contains("softway-old")
+                || name.ends_with(".part")
+                || name.ends_with(".tmp")
+                || name.ends_with(".tmp.png")),
+            "temporary left: {}",
+            e.path().display()
+        );
+        if e.file_type().unwrap().is_dir() {
+            assert_no_temporaries(&e.path());
+        }
+    }
+}
