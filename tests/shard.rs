@@ -293,3 +293,51 @@ fn a_zip_grid_in_shards_gives_the_same_plot() {
     assert!(png.len() > 10_000);
     assert_eq!(png, std::fs::read(b.join("sweep.png")).unwrap());
 }
+
+/// A manifest is input: an edited count of shards (`of`) beyond what `--shard` takes, or
+/// zero, is refused on one line naming it, and nothing is written (an `of` of 1e18 aborted
+/// on an allocation before); a large one that `--shard` takes lists the shards missing in
+/// one short line.
+#[test]
+fn an_edited_manifest_count_is_refused_on_one_line() {
+    let dir = TestDir::new("shard", "manifest");
+    let sc = dir.join("bar.toml");
+    std::fs::write(&sc, common::BAR).unwrap();
+    let shard = dir.join("s1");
+    let o = cli([
+        "sweep",
+        sc.to_str().unwrap(),
+        "--set",
+        "time.h=0.1,0.05",
+        "--shard",
+        "1/1",
+        "--out",
+        shard.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let manifest = shard.join("shard.json");
+    let good: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&manifest).unwrap()).unwrap();
+    for of in [
+        serde_json::json!(1_000_000_000_000_000_000u64),
+        serde_json::json!(0),
+    ] {
+        let mut m = good.clone();
+        m["of"] = of.clone();
+        std::fs::write(&manifest, serde_json::to_string(&m).unwrap()).unwrap();
+        let out = dir.join("gathered");
+        let o = cli([
+            "gather",
+            shard.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.code, 2, "of = {of}: {}", o.stderr);
+        assert!(
+            o.stderr.contains("`of`") && o.stderr.lines().count() == 1,
+            "{}",
+            o.stderr
+        );
+        assert!(!out.exists());
+    }
+}

@@ -21,6 +21,10 @@ use std::path::{Path, PathBuf};
 /// The manifest a shard writes beside its points.
 pub const MANIFEST: &str = "shard.json";
 
+/// The most shards a sweep is split into (`--shard I/N`, a manifest's `of`): far beyond a
+/// cluster's job array (SLURM's default `MaxArraySize` is 1,001).
+pub const MAX_SHARDS: usize = 1_000_000;
+
 /// Slice `index` (1-based) of `count`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
@@ -44,6 +48,11 @@ impl std::str::FromStr for Shard {
         );
         if index == 0 || index > count {
             return Err(bad());
+        }
+        if count > MAX_SHARDS {
+            return Err(format!(
+                "--shard {s}: at most {MAX_SHARDS} shards (a job array's tasks; a shard with no point of the grid writes only its manifest)"
+            ));
         }
         Ok(Shard { index, count })
     }
@@ -245,6 +254,15 @@ pub fn gather(
             "no shard folder given: softway gather DIR1 DIR2 ...".into(),
         ));
     };
+    // A manifest is input: its count of shards is bounded as `--shard` bounds it (an
+    // edited `of` of 1e18 aborted on the allocation below).
+    if !(1..=MAX_SHARDS).contains(&first.of) {
+        return Err(GatherError::Mismatch(format!(
+            "{}: `of` = {}: the sweep's shards in all, from 1 to {MAX_SHARDS} (as --shard I/N takes them)",
+            dirs[0].join(MANIFEST).display(),
+            first.of,
+        )));
+    }
     let mut by_index: Vec<Option<usize>> = vec![None; first.of];
     for (j, (d, m)) in dirs.iter().zip(&manifests).enumerate() {
         let differs = if m.scenario_sha256 != first.scenario_sha256 {
@@ -297,9 +315,17 @@ pub fn gather(
         .map(|(i, _)| format!("{}/{}", i + 1, first.of))
         .collect();
     if !missing.is_empty() {
+        let listed = if missing.len() > 10 {
+            format!(
+                "{}, ... ({} in all)",
+                missing[..10].join(", "),
+                missing.len()
+            )
+        } else {
+            missing.join(", ")
+        };
         return Err(GatherError::Mismatch(format!(
-            "shard {} of the sweep of {} not given (run softway sweep --shard I/N for it)",
-            missing.join(", "),
+            "shard {listed} of the sweep of {} not given (run softway sweep --shard I/N for it)",
             first.key_names(),
         )));
     }
