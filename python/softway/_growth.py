@@ -195,14 +195,17 @@ class GrowthResult:
             },
         )
 
-    def save(self, folder: Union[str, os.PathLike[str]]) -> list[Path]:
-        """Writes this result's files into ``folder`` (created as needed), as ``softway
-        grow`` writes them: ``scenario.toml``, ``checkpoint.json`` (a study resumed from
-        ``folder`` goes on from this state), ``passes.csv``, ``bands.csv``, ``orders.csv``,
-        ``profile.csv``, ``summary.json`` and the plots; the runner's own outputs written
-        at the end of a study (the track's prediction) are copied from the study's
-        folder. Returns their paths."""
-        return [Path(p) for p in self._native.save(str(folder))]
+    def save(self, folder: Union[str, os.PathLike[str]], force: bool = False) -> list[Path]:
+        """Writes this result's files into ``folder``, as ``softway grow`` writes them:
+        ``scenario.toml``, ``checkpoint.json`` (a study resumed from ``folder`` goes on
+        from this state), ``passes.csv``, ``bands.csv``, ``orders.csv``, ``profile.csv``,
+        ``summary.json`` and the plots; the runner's own outputs written at the end of a
+        study (the track's prediction) are copied from the study's folder. The study's own
+        folder is written in place; another follows the command line's folder rules (a
+        folder of other files is refused unless ``force=True``, an older study there is
+        replaced whole, the current and the home folder are never replaced). Returns their
+        paths."""
+        return [Path(p) for p in self._native.save(str(folder), force)]
 
     def __repr__(self) -> str:
         s = self.summary

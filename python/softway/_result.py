@@ -253,11 +253,14 @@ class Result:
             self._fields = Fields(self._native.fields())
         return self._fields
 
-    def save(self, folder: str | os.PathLike[str]) -> list[Path]:
-        """Writes the command line's files into ``folder`` (created as needed): the same
-        ``history.csv``, ``summary.json``, ``contact_nodes.csv``, VTU and PNG files as
-        ``softway run`` writes, byte for byte but for the run's timings. Returns the paths."""
-        return [Path(p) for p in self._native.save(os.fspath(folder))]
+    def save(self, folder: str | os.PathLike[str], force: bool = False) -> list[Path]:
+        """Writes the command line's files into ``folder``: the same ``history.csv``,
+        ``summary.json``, ``contact_nodes.csv``, VTU and PNG files as ``softway run``
+        writes, byte for byte but for the run's timings, under the command line's folder
+        rules: the folder is written whole (or not at all) and marked as softway's; a
+        folder of other files is refused (``RunError``) unless ``force=True``; the current
+        and the home folder are never replaced. Returns the paths."""
+        return [Path(p) for p in self._native.save(os.fspath(folder), force)]
 
     def __repr__(self) -> str:
         state = ", interrupted" if self.interrupted else ""

@@ -270,13 +270,15 @@ impl NativeResults {
         Ok((mesh, frames).into_pyobject(py)?.into_any().unbind())
     }
 
-    /// Writes the command line's files into `folder` (created as needed); returns their
-    /// paths.
-    fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<Vec<PathBuf>> {
+    /// Writes the command line's files into `folder` under the command line's folder
+    /// rules (written whole; a folder of other files refused unless `force`; the current
+    /// and the home folder never replaced); returns their paths.
+    #[pyo3(signature = (folder, force=false))]
+    fn save(&self, py: Python<'_>, folder: PathBuf, force: bool) -> PyResult<Vec<PathBuf>> {
         py.allow_threads(|| {
-            std::fs::create_dir_all(&folder)
-                .map_err(|e| format!("cannot write {}: {e}", folder.display()))?;
-            self.0.save(&folder).map_err(|e| e.to_string())
+            self.0
+                .save_folder(&folder, force)
+                .map_err(|e| e.to_string())
         })
         .map_err(RunError::new_err)
     }
@@ -413,10 +415,23 @@ impl NativeGrowth {
     /// state), the tables, `summary.json` and the plots, as `softway grow` writes them;
     /// the runner's own outputs written at the end of a study (the track's prediction) are
     /// copied from the study's folder. Returns their paths.
-    fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<Vec<PathBuf>> {
+    #[pyo3(signature = (folder, force=false))]
+    fn save(&self, py: Python<'_>, folder: PathBuf, force: bool) -> PyResult<Vec<PathBuf>> {
         py.allow_threads(|| -> Result<Vec<PathBuf>, String> {
-            // Marked as softway's: `softway grow --resume` goes on in it.
-            softway::run::grow::mark_study_folder(&folder).map_err(|e| e.to_string())?;
+            // The study's own folder is written in place; another is claimed under the
+            // command line's folder rules (a folder of other files refused unless `force`,
+            // an older study there replaced whole). Either is marked as softway's:
+            // `softway grow --resume` goes on in it.
+            let own = self.files.first().and_then(|f| f.parent());
+            let same = |a: &std::path::Path, b: &std::path::Path| {
+                matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+            };
+            if own.is_some_and(|d| same(d, &folder)) {
+                softway::run::grow::mark_study_folder(&folder).map_err(|e| e.to_string())?;
+            } else {
+                softway::run::grow::claim_study_folder(&folder, force)
+                    .map_err(|e| e.to_string())?;
+            }
             let copy = folder.join(softway::run::SCENARIO_COPY);
             std::fs::write(&copy, &self.scenario_copy)
                 .map_err(|e| format!("cannot write {}: {e}", copy.display()))?;

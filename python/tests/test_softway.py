@@ -378,3 +378,25 @@ def test_the_sweep_table_and_its_ladder_as_the_command_line_reads_them():
     with pytest.raises(softway.ScenarioError) as e:
         softway.Scenario(text)
     assert e.value.key == "sweep.ladder.values"
+
+
+def test_save_keeps_the_command_lines_folder_rules(one_turn, tmp_path):
+    """``Result.save`` writes as ``softway run`` does: a folder of the user's files (one
+    holding a ``summary.json`` among them) is refused and left as it was, ``force=True``
+    replaces it, and the folder saved is marked as softway's, so saving again replaces it
+    without ``force``; the command line then replaces it as its own."""
+    r = softway.run(str(one_turn), progress=False)
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "summary.json").write_text('{"mine": true}')
+    (mine / "notes.txt").write_text("my notes")
+    with pytest.raises(softway.RunError, match="--force"):
+        r.save(mine)
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt", "summary.json"]
+    assert (mine / "notes.txt").read_text() == "my notes"
+    files = r.save(mine, force=True)
+    assert (mine / ".softway").is_file() and not (mine / "notes.txt").exists()
+    assert {f.name for f in files} >= {"history.csv", "summary.json"}
+    r.save(mine)
+    o = cli("run", one_turn, "--out", mine, "--quiet")
+    assert o.returncode == 0, o.stderr

@@ -40,6 +40,28 @@ impl Results {
         Ok(files)
     }
 
+    /// Writes the results into the folder `out` under the rules every command keeps
+    /// ([`crate::output::job`]): written whole or not at all, a folder of the user's files
+    /// refused unless `force`, the current and the home folder never replaced, the folder
+    /// marked as softway's (and `interrupted` when the run was). Returns the files as
+    /// [`Results::save`] lists them. What the Python package's `Result.save` calls.
+    ///
+    /// # Errors
+    /// [`RunError::Output`]: the folder refused (the message says why and names `--force`
+    /// for a folder of the user's files), a file that cannot be written.
+    pub fn save_folder(&self, out: &Path, force: bool) -> Result<Vec<PathBuf>, RunError> {
+        let stage = crate::output::job::JobFolder::begin(out, force, &[])
+            .map_err(|e| RunError::output(out, e))?;
+        let files = self.save(stage.dir())?;
+        stage
+            .finish(
+                &files,
+                None::<&crate::scenario::Scenario<crate::scenario::RunSpec>>,
+                self.interrupted,
+            )
+            .map_err(|e| RunError::output(out, e))
+    }
+
     /// `summary.json`.
     fn save_summary(&self, out: &Path) -> Result<PathBuf, RunError> {
         let sj = out.join("summary.json");
