@@ -40,9 +40,9 @@ impl Results {
         Ok(files)
     }
 
-    /// Writes the results into the folder `out` under the rules every command keeps
-    /// ([`crate::output::job`]): written whole or not at all, a folder of the user's files
-    /// refused unless `force`, the current and the home folder never replaced, the folder
+    /// Writes the results into the folder `out` under the rules every command keeps (the crate's
+    /// `output::job`, the command line's path): written whole or not at all, a folder of the user's
+    /// files refused unless `force`, the current and the home folder never replaced, the folder
     /// marked as softway's (and `interrupted` when the run was). Returns the files as
     /// [`Results::save`] lists them. What the Python package's `Result.save` calls.
     ///

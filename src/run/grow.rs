@@ -243,11 +243,11 @@ pub fn mark_study_folder(out: &Path) -> Result<(), GrowthError> {
     Ok(())
 }
 
-/// Claims the folder `out` for a new study's files under the rules every command keeps
-/// ([`crate::output::job`]): a folder of the user's files refused unless `force`, the
-/// current and the home folder never replaced; an older study there is replaced whole. The
-/// folder is then empty and marked (what the Python package's `GrowthResult.save` does
-/// before it writes a state).
+/// Claims the folder `out` for a new study's files under the rules every command keeps (the crate's
+/// `output::job`, the command line's path): a folder of the user's files refused unless `force`,
+/// the current and the home folder never replaced; an older study there is replaced whole. The
+/// folder is then empty and marked (what the Python package's `GrowthResult.save` does before it
+/// writes a state).
 ///
 /// # Errors
 /// [`GrowthError::Output`] naming the folder and why it is refused.
