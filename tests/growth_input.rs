@@ -181,3 +181,42 @@ fn a_damaged_checkpoint_is_refused_naming_its_field() {
         assert!(took < Duration::from_secs(20), "{took:?}");
     }
 }
+
+/// A study stopped before its first pass (here in its reference pass) has no checkpoint to
+/// go on from: the message says to run it again, not to `--resume` (which it advised), and
+/// the folder's marker says interrupted.
+#[test]
+fn a_study_stopped_before_a_pass_does_not_advise_resuming() {
+    let dir = TestDir::new("growth-input", "early");
+    let out = dir.join("out");
+    let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
+    let child = softway()
+        .arg("grow")
+        .arg(&polygon)
+        .args(["--passes", "3", "--set", "wheel.rim_nodes=96", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(150));
+    assert!(std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    if out.join("checkpoint.json").exists() {
+        // The reference pass finished before the signal (a fast machine): resumable.
+        assert!(err.contains("--resume"), "{err}");
+    } else {
+        assert!(
+            err.contains("nothing to go on from") && !err.contains("go on with --resume"),
+            "{err}"
+        );
+    }
+    let marker = std::fs::read_to_string(out.join(".softway")).unwrap();
+    assert!(marker.lines().any(|l| l == "interrupted"), "{marker}");
+}

@@ -502,11 +502,20 @@ fn grow_command(
     } else {
         folder.mark_finished()?;
     }
+    // `--resume` is advised only where a checkpoint holds a finished pass to go on from.
+    let resumable = std::fs::read_to_string(folder.path.join(crate::growth::CHECKPOINT))
+        .ok()
+        .and_then(|t| serde_json::from_str::<crate::growth::StudyState>(&t).ok())
+        .is_some_and(|s| !s.passes.is_empty() || s.reference.is_some());
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
         &crate::run::grow::summary_lines(&report.summary),
         &report.files,
-        interrupted.then_some("interrupted; the finished passes are kept: go on with --resume"),
+        interrupted.then_some(if resumable {
+            "interrupted; the finished passes are kept: go on with --resume"
+        } else {
+            "interrupted before a pass finished: nothing to go on from; run the study again (without --resume)"
+        }),
     )
 }
 
