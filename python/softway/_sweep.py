@@ -55,7 +55,10 @@ def run_point(
             out["histories"][name] = (np.asarray(h[name].values), h[name].attrs.get("units", ""))
         if folder is not None:
             os.makedirs(folder, exist_ok=True)
-            r.save(folder)
+            # The point's folder is the sweep's own (named by its values inside ``out``):
+            # replaced whole, whoever wrote it (a sweep of an older softway left no marker);
+            # the current and the home folder are still never replaced.
+            r.save(folder, force=True)
             _point_netcdf(r, Path(folder) / "point.nc")
     except BaseException as e:  # a failed point is reported, the others go on
         if isinstance(e, KeyboardInterrupt) and not hasattr(e, "result"):
