@@ -502,11 +502,9 @@ fn grow_command(
     } else {
         folder.mark_finished()?;
     }
-    // `--resume` is advised only where a checkpoint holds a finished pass to go on from.
-    let resumable = std::fs::read_to_string(folder.path.join(crate::growth::CHECKPOINT))
-        .ok()
-        .and_then(|t| serde_json::from_str::<crate::growth::StudyState>(&t).ok())
-        .is_some_and(|s| !s.passes.is_empty() || s.reference.is_some());
+    // `--resume` is advised only where there is a checkpoint to go on from: a study writes
+    // one once its reference pass (if any) is done, none when stopped before.
+    let resumable = folder.path.join(crate::growth::CHECKPOINT).is_file();
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
         &crate::run::grow::summary_lines(&report.summary),
@@ -548,10 +546,7 @@ fn sweep_command(
             errln!("softway: warning: {}: {w}", p.label());
         }
     }
-    let dirs: Vec<PathBuf> = points
-        .iter()
-        .map(|p| out.join(p.dir.strip_prefix(stage.dir()).unwrap_or(&p.dir)))
-        .collect();
+    let dirs: Vec<PathBuf> = points.iter().map(|p| stage.final_path(&p.dir)).collect();
     let files = stage.finish(&files, Some(&sc), cancel.is_cancelled())?;
     let names: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
     outln!(

@@ -4,14 +4,15 @@
 //!
 //! - **The folder rules** ([`crate::output::staging`]): a command writes into a staging
 //!   folder swapped in whole at the end; a folder is replaced only if softway wrote it (its
-//!   [`MARKER`], never a familiar file name) or with `--force`; the current folder, the home
+//!   [`MARKER`](super::staging::MARKER), never a familiar file name) or with `--force`; the current folder, the home
 //!   folder, the folder of an input (the scenario) and any folder holding one of them are
 //!   never replaced.
 //! - **The as-run scenario**: the folder of a command that read a scenario holds its text as
 //!   run (`scenario.toml`, with the `--set` values in its header).
 //! - **Interruption**: SIGINT, SIGTERM or SIGHUP stop the work at the next step, pass,
 //!   point or frequency; what was computed is written and the marker says `interrupted`
-//!   (its second line, [`INTERRUPTED`]); the command exits 130 (a second signal aborts at once).
+//!   (its second line, [`INTERRUPTED`](super::staging::INTERRUPTED)); the command exits
+//!   130 (a second signal aborts at once).
 //! - **The cost up front** ([`admit`]): time, memory and disk of the whole command (every
 //!   run, pass, point and body) are estimated before anything is written; beyond the
 //!   limits the command is refused unless `--yes`, beyond what can be run at all it is
@@ -21,12 +22,9 @@
 //! `--resume`) claims its folder with [`StudyFolder`] under the same rules and writes into it
 //! in place, each file atomically.
 
-use super::staging::{StagedDir, StagingError, MARKER};
+use super::staging::{write_marker, StagedDir, StagingError};
 use crate::build::{Estimate, Limits};
 use std::path::{Path, PathBuf};
-
-/// The marker's line that says the folder holds an interrupted command's results.
-pub const INTERRUPTED: &str = "interrupted";
 
 /// The output folder of a command: staged, written whole at [`JobFolder::finish`].
 #[derive(Debug)]
@@ -50,6 +48,11 @@ impl JobFolder {
     /// The folder to write into (the staging folder).
     pub fn dir(&self) -> &Path {
         self.stage.path()
+    }
+
+    /// `p` (a path inside [`JobFolder::dir`]) as it will be once the folder is finished.
+    pub fn final_path(&self, p: &Path) -> PathBuf {
+        self.stage.final_path(p)
     }
 
     /// Finishes the command's folder: writes the as-run `scenario` (when the command read
@@ -86,10 +89,7 @@ impl JobFolder {
 /// # Errors
 /// The marker cannot be written.
 pub fn mark_interrupted(dir: &Path) -> std::io::Result<()> {
-    crate::output::files::write_atomic(
-        &dir.join(MARKER),
-        format!("softway {}\n{INTERRUPTED}\n", env!("CARGO_PKG_VERSION")).as_bytes(),
-    )
+    write_marker(dir, true)
 }
 
 /// The folder of a resumable study (`softway grow`), written in place.
@@ -137,10 +137,7 @@ impl StudyFolder {
     /// # Errors
     /// The marker cannot be written.
     pub fn mark_finished(&self) -> std::io::Result<()> {
-        crate::output::files::write_atomic(
-            &self.path.join(MARKER),
-            format!("softway {}\n", env!("CARGO_PKG_VERSION")).as_bytes(),
-        )
+        write_marker(&self.path, false)
     }
 }
 

@@ -33,6 +33,24 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// The marker file of a folder written by softway (holds the version that wrote it).
 pub const MARKER: &str = ".softway";
 
+/// The marker's second line when the folder holds an interrupted command's results.
+pub const INTERRUPTED: &str = "interrupted";
+
+/// Writes the [`MARKER`] of the folder `dir` (atomically): the version that wrote it, and
+/// [`INTERRUPTED`] on a second line when its results are an interrupted command's. The one
+/// writer of the marker, for a staged folder and a study written in place alike.
+///
+/// # Errors
+/// The marker cannot be written.
+pub fn write_marker(dir: &Path, interrupted: bool) -> std::io::Result<()> {
+    let mut text = format!("softway {}\n", env!("CARGO_PKG_VERSION"));
+    if interrupted {
+        text.push_str(INTERRUPTED);
+        text.push('\n');
+    }
+    crate::output::files::write_atomic(&dir.join(MARKER), text.as_bytes())
+}
+
 /// The longest name of a file or folder, bytes (`NAME_MAX` of Linux's filesystems, macOS's
 /// and Windows' 255 characters).
 pub const NAME_MAX: usize = 255;
@@ -276,11 +294,8 @@ impl StagedDir {
             staging,
             committed: false,
         };
-        std::fs::write(
-            dir.staging.join(MARKER),
-            format!("softway {}\n", env!("CARGO_PKG_VERSION")),
-        )
-        .map_err(|e| io("cannot write into a folder beside it", e))?;
+        write_marker(&dir.staging, false)
+            .map_err(|e| io("cannot write into a folder beside it", e))?;
         Ok(dir)
     }
 

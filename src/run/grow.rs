@@ -75,73 +75,15 @@ impl<'a> Study<'a> {
     /// (named), a model that cannot be built.
     pub fn prepare(sc: &'a Scenario, opts: &GrowOptions) -> Result<Self, GrowthError> {
         let config = sc.growth.clone().ok_or_else(|| {
-        GrowthError::Run(RunError::input(
-            &sc.path,
-            "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
-        ))
-    })?;
+            GrowthError::Run(RunError::input(
+                &sc.path,
+                "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
+            ))
+        })?;
         let run = sc.runs.first().ok_or_else(|| {
             GrowthError::Run(RunError::input(&sc.path, "the scenario has no run"))
         })?;
-        let runner: Box<dyn PassRunner> = match &run.model {
-        Model::Wheel(ws) => {
-            // Every rim point passes the contact as often in a pass: whole turns (a part of
-            // a turn wore part of the rim and grew a polygon of its own, +10,000 dB).
-            if !(ws.turns >= 1.0 && ws.turns.fract() == 0.0) {
-                return Err(GrowthError::Run(RunError::input(
-                    &sc.path,
-                    format!("`rolling.turns` = {}: a growth study rolls whole turns, at least one (each rim point then passes the contact as often)", ws.turns),
-                )));
-            }
-            if let Some(k) = config.rail.given().first() {
-                return Err(GrowthError::Run(RunError::input(
-                    &sc.path,
-                    format!("{k} is a rail's key (kind = \"track\"): the wheel on its rigid base slides by rolling.creepage under contact.friction; remove it"),
-                )));
-            }
-            Box::new(WheelPassRunner::new(
-                sc,
-                config.wear,
-                config.wear_density,
-                opts.par,
-            )?)
-        }
-        Model::Track(_) => {
-            let need = |key: &str, v: Option<f64>, what: &str| {
-                v.ok_or_else(|| {
-                    GrowthError::Run(RunError::input(
-                        &sc.path,
-                        format!("growth.{key} is missing: {what}"),
-                    ))
-                })
-            };
-            let r = &config.rail;
-            let sliding = RailSliding {
-                creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (the wheel on the track is frictionless; e.g. 0.005)")?,
-                traction_coefficient: need("traction_coefficient", r.traction_coefficient, "T / N of the steady creep force (e.g. 0.3)")?,
-                density: config.wear_density.unwrap_or(7850.0),
-            };
-            let pass = TrackPass::new(
-                sc,
-                r.dx.unwrap_or(1e-3),
-                config.wear,
-                sliding,
-                r.patch.unwrap_or(WearPatch::Hertz),
-                RunOptions {
-                    progress: false,
-                    par: Some(opts.par),
-                    ..RunOptions::default()
-                },
-            )?;
-            Box::new(pass)
-        }
-        _ => {
-            return Err(GrowthError::Run(RunError::input(
-                &sc.path,
-                "softway grow runs kind = \"wheel\" (the wheel on its rigid base) or kind = \"track\" with vehicle.model = \"wheel\"",
-            )))
-        }
-    };
+        let runner = pass_runner(sc, run, &config, opts)?;
         // What the runner's grid cannot carry out is refused by its key before anything is
         // written.
         if let Err((key, value, allowed)) = config.check_grid(runner.grid()) {
@@ -224,6 +166,80 @@ impl<'a> Study<'a> {
     }
 }
 
+/// The pass runner of a growth study of `sc`'s run `run`: the wheel on its rigid base
+/// (`kind = "wheel"`, whole turns) or the wheel on the track (`kind = "track"`), each with
+/// the `[growth]` keys it reads and none that it does not.
+///
+/// # Errors
+/// [`GrowthError::Run`]: a key of the other runner, a key missing, another kind, a model
+/// that cannot be built.
+fn pass_runner(
+    sc: &Scenario,
+    run: &crate::scenario::Run,
+    config: &crate::growth::GrowthConfig,
+    opts: &GrowOptions,
+) -> Result<Box<dyn PassRunner>, GrowthError> {
+    Ok(match &run.model {
+        Model::Wheel(ws) => {
+            // Every rim point passes the contact as often in a pass: whole turns (a part of
+            // a turn wore part of the rim and grew a polygon of its own, +10,000 dB).
+            if !(ws.turns >= 1.0 && ws.turns.fract() == 0.0) {
+                return Err(GrowthError::Run(RunError::input(
+                    &sc.path,
+                    format!("`rolling.turns` = {}: a growth study rolls whole turns, at least one (each rim point then passes the contact as often)", ws.turns),
+                )));
+            }
+            if let Some(k) = config.rail.given().first() {
+                return Err(GrowthError::Run(RunError::input(
+                    &sc.path,
+                    format!("{k} is a rail's key (kind = \"track\"): the wheel on its rigid base slides by rolling.creepage under contact.friction; remove it"),
+                )));
+            }
+            Box::new(WheelPassRunner::new(
+                sc,
+                config.wear,
+                config.wear_density,
+                opts.par,
+            )?)
+        }
+        Model::Track(_) => {
+            let need = |key: &str, v: Option<f64>, what: &str| {
+                v.ok_or_else(|| {
+                    GrowthError::Run(RunError::input(
+                        &sc.path,
+                        format!("growth.{key} is missing: {what}"),
+                    ))
+                })
+            };
+            let r = &config.rail;
+            let sliding = RailSliding {
+                creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (the wheel on the track is frictionless; e.g. 0.005)")?,
+                traction_coefficient: need("traction_coefficient", r.traction_coefficient, "T / N of the steady creep force (e.g. 0.3)")?,
+                density: config.wear_density.unwrap_or(7850.0),
+            };
+            let pass = TrackPass::new(
+                sc,
+                r.dx.unwrap_or(1e-3),
+                config.wear,
+                sliding,
+                r.patch.unwrap_or(WearPatch::Hertz),
+                RunOptions {
+                    progress: false,
+                    par: Some(opts.par),
+                    ..RunOptions::default()
+                },
+            )?;
+            Box::new(pass)
+        }
+        _ => {
+            return Err(GrowthError::Run(RunError::input(
+                &sc.path,
+                "softway grow runs kind = \"wheel\" (the wheel on its rigid base) or kind = \"track\" with vehicle.model = \"wheel\"",
+            )))
+        }
+    })
+}
+
 /// Creates the study folder `out` as needed and marks it as softway's (its marker, where it
 /// has none), so that `softway grow --resume` goes on in it: a study started from Python or
 /// the library, or a state saved from Python, is resumed by the command line as its own.
@@ -234,11 +250,8 @@ pub fn mark_study_folder(out: &Path) -> Result<(), GrowthError> {
     std::fs::create_dir_all(out).map_err(|e| GrowthError::output(out, e))?;
     let marker = out.join(crate::output::staging::MARKER);
     if !marker.exists() {
-        crate::output::files::write_atomic(
-            &marker,
-            format!("softway {}\n", env!("CARGO_PKG_VERSION")).as_bytes(),
-        )
-        .map_err(|e| GrowthError::output(&marker, e))?;
+        crate::output::staging::write_marker(out, false)
+            .map_err(|e| GrowthError::output(&marker, e))?;
     }
     Ok(())
 }
