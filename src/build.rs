@@ -11,8 +11,7 @@
 //!
 //! The wheel's mesh is read later, by the wheel job ([`crate::run::wheel::build`]).
 
-use crate::problems::BarImpact;
-use crate::scenario::{Contact, Model, Run, RunSpec, Scenario, ScenarioError, TimeStep};
+use crate::scenario::{Contact, Run, RunSpec, Scenario, ScenarioError, TimeStep};
 use crate::time::SpaceTimeParams;
 
 /// Builds a validated scenario: every run's step resolved, the warnings of the build added
@@ -76,7 +75,7 @@ pub fn resolve_time_step(
     };
     let h = match &run.step {
         TimeStep::Cfl { cfl, key } => {
-            let hc = explicit_stable_step(&run.model, penalty);
+            let hc = run.model.explicit_stable_step(penalty);
             if !(hc.is_finite() && hc > 0.0) {
                 return Err(ScenarioError::Invalid {
                     path: sc.path.clone(),
@@ -104,7 +103,7 @@ pub fn resolve_time_step(
         }
         &TimeStep::Fixed(h) => {
             if explicit {
-                let hc = explicit_stable_step(&run.model, penalty);
+                let hc = run.model.explicit_stable_step(penalty);
                 if h > hc {
                     let with = if penalty.is_some() {
                         " with the penalty spring"
@@ -120,7 +119,7 @@ pub fn resolve_time_step(
         }
     };
     if let (Some(stiffness), true) = (penalty, explicit) {
-        let m = explicit_contact_mass(&run.model);
+        let m = run.model.explicit_contact_mass();
         if h * (stiffness / m).sqrt() >= 2.0 {
             warnings.push(format!(
                 "run {i}: penalty {stiffness:e} N/m on a node of {m:.3e} kg with the central difference: h sqrt(k/m) = {:.2} >= 2, the explicit penalty is unstable (keep k below {:.3e} N/m)",
@@ -184,32 +183,7 @@ fn physical_memory_bytes() -> Option<f64> {
     Some(kb * 1024.0)
 }
 
-/// Nodes of a wheel mesh known without building it (`None` for a Gmsh file): the
-/// hexagonal disk's `1 + 3 n (n + 1)`, the graded disk's `rim^2 / (4 pi)` when uniform
-/// (grading below 1.05), else `1.2 rim ln(rim)` (above the measured 1,715 nodes at 288 rim
-/// nodes and 10,811 at 1,440; [`crate::mesh::generators::disk_graded`]).
-pub fn wheel_nodes(mesh: &crate::scenario::MeshSource) -> Option<f64> {
-    use crate::scenario::MeshSource;
-    match mesh {
-        &MeshSource::Rings(n) => Some(1.0 + 3.0 * n as f64 * (n as f64 + 1.0)),
-        &MeshSource::Graded { rim_nodes, grading } => {
-            let r = rim_nodes as f64;
-            Some(if grading < 1.05 {
-                r * r / (4.0 * std::f64::consts::PI)
-            } else {
-                1.2 * r * r.ln()
-            })
-        }
-        MeshSource::Gmsh(_) => None,
-        // The coarse disk's nodes, plus the zone's square cells at the fine pitch down to
-        // its depth (about the zone's width).
-        MeshSource::Zone(z) => {
-            let r = z.rim_nodes as f64;
-            let zone = z.zone_rim_nodes as f64 * z.zone_width / (2.0 * std::f64::consts::PI);
-            Some(1.2 * r * r.ln() + zone * zone / 4.0)
-        }
-    }
-}
+pub use crate::kinds::wheel::wheel_nodes;
 
 /// Estimates the cost of a built scenario; `mesh_nodes` gives the nodes of a wheel whose
 /// mesh is a file (read by the caller).
@@ -226,48 +200,16 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
     for run in &sc.runs {
         let h = run.params.h;
         // The contact solver's dense blocks grow with the square of the rows it may hold
-        // (`crate::contact::rows::RowSolver`: two of `rows^2` values): one row a rim node,
-        // two with friction.
+        // (`crate::contact::rows::RowSolver`: two of `rows^2` values): one row a contact
+        // pair, two with friction.
         let per_pair = if run.friction.is_some() { 2.0 } else { 1.0 };
-        let rows = per_pair
-            * match &run.model {
-                Model::Wheel(w) => rim_nodes(&w.mesh, mesh_nodes),
-                Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::Wheel => {
-                    t.vehicle.wheel.rim_nodes as f64
-                }
-                _ => 2.0,
-            };
-        let (dofs, duration, size_key) = match &run.model {
-            Model::Sdof(_) => (1.0, run.t_end, None),
-            Model::BarImpact(b) => (b.elements as f64 + 1.0, run.t_end, Some("bar.elements")),
-            Model::TwoBars(b) => (
-                2.0 * (b.elements as f64 + 1.0),
-                run.t_end,
-                Some("two_bars.elements"),
-            ),
-            Model::Wheel(w) => {
-                let nodes = wheel_nodes(&w.mesh)
-                    .or(mesh_nodes.map(|n| n as f64))
-                    .unwrap_or(0.0);
-                let key = match w.mesh {
-                    crate::scenario::MeshSource::Rings(_) => "wheel.rings",
-                    crate::scenario::MeshSource::Graded { .. } => "wheel.rim_nodes",
-                    crate::scenario::MeshSource::Gmsh(_) => "wheel.mesh",
-                    crate::scenario::MeshSource::Zone(_) => "wheel.zone_rim_nodes",
-                };
-                (2.0 * nodes, w.duration(), Some(key))
-            }
-            Model::Track(t) => {
-                let s = &t.spec;
-                let mut dofs = 2.0 * (s.bays * s.elements_per_bay + 1) as f64 + (s.bays + 1) as f64;
-                if t.vehicle.model == crate::scenario::VehicleModel::Wheel {
-                    let w = &t.vehicle.wheel;
-                    let r = w.rim_nodes as f64;
-                    dofs += 2.0 * 1.2 * r * r.ln() + 2.0;
-                }
-                (dofs, t.duration(), Some("track.bays"))
-            }
-        };
+        let crate::kinds::Size {
+            dofs,
+            duration,
+            contact_pairs,
+            key: size_key,
+        } = run.model.size(run, mesh_nodes);
+        let rows = per_pair * contact_pairs;
         let steps = (duration / h).ceil().max(1.0);
         let seconds = steps * (2e-7 * dofs + 2e-6);
         e.steps += steps;
@@ -287,21 +229,6 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
         }
     }
     e
-}
-
-/// The rim nodes of a wheel mesh (the contact pairs): the rings' `6 n`, the graded disk's
-/// count, the zone's coarse rim plus its fine part, about `sqrt(4 pi N)` of a file's `N`.
-fn rim_nodes(mesh: &crate::scenario::MeshSource, file_nodes: Option<usize>) -> f64 {
-    use crate::scenario::MeshSource;
-    match mesh {
-        &MeshSource::Rings(n) => 6.0 * n as f64,
-        &MeshSource::Graded { rim_nodes, .. } => rim_nodes as f64,
-        MeshSource::Zone(z) => {
-            z.rim_nodes as f64
-                + z.zone_rim_nodes as f64 * z.zone_width / (2.0 * std::f64::consts::PI)
-        }
-        MeshSource::Gmsh(_) => (4.0 * std::f64::consts::PI * file_nodes.unwrap_or(0) as f64).sqrt(),
-    }
 }
 
 /// The most steps a run may take, confirmed or not: at a microsecond a step, eleven days.
@@ -388,49 +315,6 @@ fn human_bytes(b: f64) -> String {
         x /= 1000.0;
     }
     format!("{:.3e} TB", b / 1e12)
-}
-
-/// The bar carrying the contact node: the bar itself, or bar A of two bars.
-fn contact_bar(model: &Model) -> Option<BarImpact> {
-    match model {
-        Model::BarImpact(b) => Some(*b),
-        Model::TwoBars(b) => Some(b.bar_a()),
-        _ => None,
-    }
-}
-
-/// The stable step `2 / omega_max` (s) of the central difference on the contact bar
-/// (lumped), with a penalty spring `k` (N/m) on the contact dof when given (for two bars
-/// `2 k`: the spring between two equal facing nodes acts on their relative motion at twice
-/// the rate); infinite for a model without a contact bar.
-fn explicit_stable_step(model: &Model, penalty: Option<f64>) -> f64 {
-    let Some(mut bar) = contact_bar(model) else {
-        return f64::INFINITY;
-    };
-    bar.lumped = true;
-    let k = penalty.unwrap_or(0.0)
-        * if matches!(model, Model::TwoBars(_)) {
-            2.0
-        } else {
-            1.0
-        };
-    let mut m = bar.model(&bar.mesh());
-    let pattern = m.pattern().clone();
-    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-    let d = bar.elements;
-    for p in cp[d]..cp[d + 1] {
-        if ri[p] == d {
-            m.k[p] += k;
-        }
-    }
-    crate::time::classic::stable_step(&m, &[])
-}
-
-/// The lumped mass of the contact node, kg.
-fn explicit_contact_mass(model: &Model) -> f64 {
-    contact_bar(model)
-        .map(|b| b.rho_a * b.length / (2.0 * b.elements as f64))
-        .unwrap_or(f64::INFINITY)
 }
 
 #[cfg(test)]
@@ -550,10 +434,11 @@ mass = "lumped"
         .replace("kind = \"bar_impact\"", "kind = \"two_bars\"")
         .replace("[bar]", "[two_bars]");
         let h = resolve(&validated(&text)).unwrap().runs[0].params.h;
-        let b = match &validated(&text).runs[0].model {
-            Model::TwoBars(b) => b.bar_a(),
-            _ => unreachable!(),
-        };
+        let b = validated(&text).runs[0]
+            .model
+            .get::<crate::problems::TwoBars>()
+            .expect("two bars")
+            .bar_a();
         let exact = 0.8 * (b.length / b.elements as f64) / b.wave_speed();
         assert!(((h - exact) / exact).abs() < 1e-9, "{h:e} vs {exact:e}");
     }

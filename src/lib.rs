@@ -216,6 +216,7 @@ pub mod element;
 pub mod frame;
 pub mod growth;
 pub mod guard;
+pub mod kinds;
 pub mod linalg;
 pub mod material;
 pub mod mesh;

@@ -498,12 +498,12 @@ refused!(
         "{}\n[bar]\nlength = 1.0\nea = 1.0\nrho_a = 1.0\nspeed = 1.0\ngap = 0.5\nelements = 8\n",
         track_text()
     ),
-    ["`bar`", "not used with kind = \"track\""]
+    ["`bar`", "not by kind = \"track\""]
 );
 refused!(
     track_table_on_a_bar,
     format!("{}\n[vehicle]\nspeed = 30.0\n", common::BAR),
-    ["`vehicle`", "only used with kind = \"track\""]
+    ["`vehicle`", "read by kind = \"track\" only"]
 );
 
 refused!(
@@ -581,7 +581,7 @@ fn a_measured_irregularity_reads_quoted_cells() {
             f.display()
         );
         let sc = softway::scenario::Scenario::from_str(&text, &dir.join("t.toml")).unwrap();
-        let softway::scenario::Model::Track(t) = &sc.runs[0].model else {
+        let Some(t) = sc.runs[0].model.get::<softway::scenario::TrackScenario>() else {
             panic!("a track")
         };
         match &t.irregularity {

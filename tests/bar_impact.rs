@@ -19,7 +19,7 @@ fn run(bar: BarImpact, h: f64, restore: Restore) -> BarSummary {
             gamma: 0.0,
             h,
         },
-        model: Model::BarImpact(bar),
+        model: Model::new(bar),
         integrator: Integrator::SpaceTime {
             alpha: 0.8,
             gamma: 0.0,

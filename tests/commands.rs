@@ -4,7 +4,7 @@
 mod common;
 
 use common::{assert_one_line_error, cli, fresh_dir, scenario, BAR};
-use softway::scenario::{Model, Override, Scenario};
+use softway::scenario::{Override, Scenario};
 use std::path::{Path, PathBuf};
 
 fn summary(dir: &Path) -> serde_json::Value {
@@ -182,7 +182,7 @@ fn wheel_load_is_carried_statically_and_in_rolling() {
         "rolling.flattening=",
         "rolling.turns=1",
     ]);
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!()
     };
     assert_eq!(ws.load, Some(load));
@@ -237,7 +237,7 @@ fn wheel_load_is_carried_statically_and_in_rolling() {
 #[test]
 fn speed_in_km_h_sets_omega() {
     let sc = wheel_with(&["rolling.omega=", "rolling.speed_km_h=120"]);
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!()
     };
     assert!((ws.spec.omega - 120.0 / 3.6 / 0.1).abs() < 1e-12 * ws.spec.omega);

@@ -27,7 +27,7 @@ mod common;
 
 use softway::build::resolve;
 use softway::run::wheel::load::static_solution;
-use softway::scenario::{Model, Scenario};
+use softway::scenario::Scenario;
 
 /// The flattening of the shipped scenario's load (17,695 N: a = 1 mm), m (from its static
 /// solve on the shipped mesh; the tests read the force it gives).
@@ -50,7 +50,7 @@ fn wheel_at(keys: &[(&str, &str)], depth: bool, d: f64) -> softway::wheel::Wheel
         .collect();
     text = softway::scenario::set_key(&text, "rolling.flattening", &d.to_string()).unwrap();
     let sc = resolve(&Scenario::from_str(&text, &path).unwrap()).unwrap();
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     softway::run::wheel::build(ws, &sc.path).unwrap()

@@ -318,7 +318,7 @@ fn a_plastic_plate_in_tension_follows_the_exact_curve_through_the_driver() {
 
 #[test]
 fn plastic_keys_are_validated_with_the_file_and_the_key() {
-    use softway::scenario::{Model, Scenario};
+    use softway::scenario::Scenario;
     let base = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenarios/wheel-plastic.toml"
@@ -333,7 +333,7 @@ fn plastic_keys_are_validated_with_the_file_and_the_key() {
     };
     // The shipped file: J2 with Armstrong-Frederick's constants.
     let sc = load("shipped", &base).unwrap();
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let pl = ws.plastic.expect("plastic");

@@ -72,7 +72,7 @@ use softway::build::resolve;
 use softway::problems::BarImpact;
 use softway::run::bar::{simulate, BarSummary, BarTrace};
 use softway::run::{GuardMode, RunOptions};
-use softway::scenario::{Model, Run, Scenario};
+use softway::scenario::{Run, Scenario};
 use softway::time::{ClassicKind, Integrator};
 use std::path::Path;
 use std::process::Command;
@@ -102,9 +102,12 @@ struct Exact {
 }
 
 fn exact(run: &Run) -> Exact {
-    let (b, two_bars): (BarImpact, bool) = match &run.model {
-        Model::BarImpact(b) => (*b, false),
-        Model::TwoBars(t) => (t.bar_a(), true),
+    let (b, two_bars): (BarImpact, bool) = match (
+        run.model.get::<BarImpact>(),
+        run.model.get::<softway::problems::TwoBars>(),
+    ) {
+        (Some(b), _) => (*b, false),
+        (_, Some(t)) => (t.bar_a(), true),
         _ => panic!("{}: not a bar", run.label),
     };
     let c = (b.ea / b.rho_a).sqrt();
@@ -279,7 +282,7 @@ fn the_shipped_bars_meet_dalembert() {
 fn the_shipped_wheel_rolls_about_its_static_force_and_keeps_its_energy() {
     let path = manifest("scenarios/wheel-paper-mesh.toml");
     let sc = resolve(&Scenario::from_file(&path).unwrap()).unwrap();
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let wm = softway::run::wheel::build(ws, &sc.path).unwrap();

@@ -4,7 +4,7 @@
 //! splitting.
 
 use softway::modes::{natural_modes, natural_modes_sparse, spinning_modes, spinning_modes_sparse};
-use softway::scenario::{Model, Override, Scenario};
+use softway::scenario::{Override, Scenario};
 use softway::wheel::WheelModel;
 use std::path::Path;
 
@@ -18,7 +18,7 @@ fn shipped(name: &str, sets: &[&str]) -> WheelModel {
     let sc: Scenario<_> = softway::scenario::overrides::read_with(&text, &path, &sets)
         .unwrap()
         .0;
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("{name} is not a wheel")
     };
     softway::run::wheel::build(ws, &sc.path).unwrap()

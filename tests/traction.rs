@@ -21,7 +21,7 @@ mod common;
 
 use softway::build::resolve;
 use softway::run::{run_scenario, RunOptions};
-use softway::scenario::{set_key, Model, Scenario};
+use softway::scenario::{set_key, Scenario};
 use softway::simulation::Simulation;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -193,7 +193,7 @@ fn free_rolling_with_friction_does_not_slide_at_the_rolling_speed() {
 fn stick_slip_changes_cost_no_factorization() {
     let sc = scenario(0.01);
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
+    let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
@@ -250,7 +250,7 @@ fn friction_dissipates_at_every_pair_and_step_within_the_energy_the_base_supplie
     use softway::linalg::sparse::quadratic_form;
     let sc = scenario(0.01);
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
+    let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let wm = softway::run::wheel::build(ws, &sc.path).unwrap();

@@ -407,11 +407,11 @@ fn the_rolling_force_carries_the_bounce_mode() {
 /// node and refuses a hub radius.
 #[test]
 fn the_default_support_is_a_clamped_hub() {
-    use softway::scenario::{Model, Scenario, DEFAULT_HUB_FRACTION};
+    use softway::scenario::{Scenario, DEFAULT_HUB_FRACTION};
     assert_eq!(DEFAULT_HUB_FRACTION, 0.1);
     let t = wheel_text().replace("support = \"centre\"", "");
     let sc = Scenario::from_str(&t, std::path::Path::new("hub.toml")).unwrap();
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     match ws.spec.support {
@@ -430,7 +430,7 @@ fn the_default_support_is_a_clamped_hub() {
     // circle of 1 cm (every held node on it), not a centre node alone.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml");
     let sc = softway::build::resolve(&Scenario::from_file(&path).unwrap()).unwrap();
-    let Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let wm = softway::run::wheel::build(ws, &sc.path).unwrap();

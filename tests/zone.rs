@@ -13,7 +13,7 @@ mod common;
 
 use softway::build::resolve;
 use softway::run::{run_scenario, RunOptions};
-use softway::scenario::{Model, Scenario};
+use softway::scenario::Scenario;
 use softway::simulation::{Relocation, Simulation};
 use std::sync::atomic::AtomicBool;
 
@@ -42,7 +42,7 @@ fn scenario(rim_nodes: usize, zone: usize, turns: f64) -> Scenario {
 fn relocation_without_a_zone_is_an_exact_relabelling() {
     let sc = scenario(144, 144, 0.05);
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
+    let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
@@ -251,7 +251,7 @@ fn creep_scenario(rim_nodes: usize, zone: usize, xi: f64, turns: f64) -> Scenari
 fn relocation_with_friction_is_an_exact_relabelling() {
     let sc = creep_scenario(144, 144, 0.01, 0.05);
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
+    let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
     let wm = softway::run::wheel::build(ws, &sc.path).unwrap();

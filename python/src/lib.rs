@@ -94,13 +94,7 @@ fn check<'py>(py: Python<'py>, text: &str, path: &str) -> PyResult<Bound<'py, Py
     d.set_item("name", &sc.name)?;
     d.set_item(
         "kind",
-        match &sc.runs[0].model {
-            softway::scenario::Model::Sdof(_) => "sdof",
-            softway::scenario::Model::BarImpact(_) => "bar_impact",
-            softway::scenario::Model::TwoBars(_) => "two_bars",
-            softway::scenario::Model::Wheel(_) => "wheel",
-            softway::scenario::Model::Track(_) => "track",
-        },
+        sc.runs[0].model.kind(),
     )?;
     d.set_item("description", &sc.description)?;
     d.set_item("warnings", sc.warnings.clone())?;

@@ -20,7 +20,7 @@ pub(super) fn modes_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let sc = super::read_scenario(scenario, set)?;
-    let crate::scenario::Model::Wheel(ws) = &sc.runs[0].model else {
+    let Some(ws) = sc.runs[0].model.get::<crate::scenario::WheelScenario>() else {
         return Err(format!(
             "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
             scenario.display()
@@ -125,7 +125,11 @@ pub(super) fn receptance_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let sc = Scenario::from_file(scenario)?;
-    if !matches!(sc.runs[0].model, crate::scenario::Model::Track(_)) {
+    if sc.runs[0]
+        .model
+        .get::<crate::scenario::TrackScenario>()
+        .is_none()
+    {
         return Err(format!(
             "{}: `softway receptance` needs a track scenario (kind = \"track\")",
             scenario.display()

@@ -825,12 +825,8 @@ fn check_estimate(sc: &crate::scenario::Scenario, yes: bool) -> Result<(), Strin
 fn estimate_of(sc: &crate::scenario::Scenario) -> Result<crate::build::Estimate, String> {
     let mut mesh_nodes = None;
     for run in &sc.runs {
-        if let crate::scenario::Model::Wheel(ws) = &run.model {
-            if let crate::scenario::MeshSource::Gmsh(p) = &ws.mesh {
-                let mesh = crate::run::wheel::read_mesh_file(p, &ws.spec, &sc.path)
-                    .map_err(|e| e.to_string())?;
-                mesh_nodes = Some(mesh.n_nodes());
-            }
+        if let Some(n) = run.model.mesh_nodes(&sc.path).map_err(|e| e.to_string())? {
+            mesh_nodes = Some(n);
         }
     }
     Ok(crate::build::estimate(sc, mesh_nodes))

@@ -52,7 +52,7 @@
 use super::{PassResult, PassRunner, SurfaceProfile};
 use crate::contact::profile::Profile;
 use crate::run::{RunError, RunOptions};
-use crate::scenario::{Model, Scenario, TrackScenario, VehicleModel};
+use crate::scenario::{Scenario, TrackScenario, VehicleModel};
 use crate::wear::{ContactSample, WearLaw};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -172,7 +172,14 @@ impl TrackPass {
         let run = sc.runs.first().ok_or_else(|| input("no run".into()))?;
         let ts =
             match &run.model {
-                Model::Track(t) if t.vehicle.model == VehicleModel::Wheel => (**t).clone(),
+                m if m
+                    .get::<crate::scenario::TrackScenario>()
+                    .is_some_and(|t| t.vehicle.model == VehicleModel::Wheel) =>
+                {
+                    m.get::<crate::scenario::TrackScenario>()
+                        .cloned()
+                        .expect("checked")
+                }
                 _ => return Err(input(
                     "a rail's growth study needs kind = \"track\" with vehicle.model = \"wheel\""
                         .into(),

@@ -47,7 +47,7 @@ use crate::contact::obstacle::RotatingLine;
 use crate::linalg::team::Par;
 use crate::run::wheel::build;
 use crate::run::RunError;
-use crate::scenario::{Model, Run, Scenario, WheelScenario};
+use crate::scenario::{Run, Scenario, WheelScenario};
 use crate::simulation::Simulation;
 use crate::wear::{ContactSample, WearLaw};
 use crate::wheel::{Coupling, WheelModel};
@@ -98,7 +98,7 @@ impl WheelPassRunner {
             .first()
             .cloned()
             .ok_or_else(|| RunError::input(&path, "the scenario has no run"))?;
-        let Model::Wheel(ws) = &run.model else {
+        let Some(ws) = run.model.get::<crate::scenario::WheelScenario>() else {
             return Err(RunError::input(
                 &path,
                 "the wheel's growth runner needs kind = \"wheel\"",
@@ -145,7 +145,7 @@ impl WheelPassRunner {
         });
         Ok(Self {
             plastic,
-            ws: (**ws).clone(),
+            ws: ws.clone(),
             smooth,
             run,
             path,

@@ -6,7 +6,8 @@ use super::results::Results;
 use super::{progress_bar, RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::Rows;
-use crate::scenario::{Model, Run, Scenario};
+use crate::problems::{BarImpact, TwoBars};
+use crate::scenario::{Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
 use std::path::Path;
@@ -362,9 +363,11 @@ pub fn simulate(
         source,
     };
     // The exact answers of bar A (against a wall, or against bar B: half the force).
-    let (case, a, force, elements) = match &run.model {
-        Model::BarImpact(b) => ("bar_impact", *b, b.exact_contact_force(), b.elements),
-        Model::TwoBars(b) => ("two_bars", b.bar_a(), b.exact_contact_force(), b.elements),
+    let one = run.model.get::<BarImpact>();
+    let two = run.model.get::<TwoBars>();
+    let (case, a, force, elements) = match (one, two) {
+        (Some(b), _) => ("bar_impact", *b, b.exact_contact_force(), b.elements),
+        (_, Some(b)) => ("two_bars", b.bar_a(), b.exact_contact_force(), b.elements),
         _ => unreachable!("bar job on a bar scenario"),
     };
     let exact = BarExact {
@@ -378,13 +381,13 @@ pub fn simulate(
     let steps = (run.t_end / h).round() as usize;
     let pb = progress_bar(steps as u64, &run.label, opts);
     let start = Instant::now();
-    let (mesh, problem, bodies) = match &run.model {
-        Model::BarImpact(b) => {
+    let (mesh, problem, bodies) = match (one, two) {
+        (Some(b), _) => {
             let (m, p) = b.problem(run.integrator, run.contact, h, run.t_end);
             let n = p.model.n();
             (m, p, vec![std::ops::Range { start: 0, end: n }])
         }
-        Model::TwoBars(b) => {
+        (_, Some(b)) => {
             let (m, p) = b.problem(run.integrator, run.contact, h, run.t_end);
             let n = p.model.n();
             (m, p, vec![0..n / 2, n / 2..n])

@@ -6,7 +6,7 @@ use super::bar::{simulate, BarSummary, BarTrace};
 use super::{RunError, RunOptions, RunReport};
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
-use crate::scenario::{Model, Scenario};
+use crate::scenario::Scenario;
 use std::path::Path;
 
 /// The columns of the comparison, one row per run.
@@ -106,7 +106,7 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
         ..opts.clone()
     };
     for run in &sc.runs {
-        if !matches!(run.model, Model::BarImpact(_) | Model::TwoBars(_)) {
+        if !crate::kinds::bar::is_bar(&run.model) {
             return Err(RunError::input(
                 &sc.path,
                 "`softway compare` needs a bar scenario (kind = \"bar_impact\" or \"two_bars\")",

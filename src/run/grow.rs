@@ -3,13 +3,11 @@
 //! study of [`crate::growth`] into an output folder that keeps its checkpoint (so that
 //! `--resume` goes on from it), and the files of [`crate::growth::report`].
 
-use super::{Cancel, RunError, RunOptions};
+use super::{Cancel, RunError};
 use crate::growth::report::{self, GrowthSummary};
-use crate::growth::track::{RailSliding, TrackPass, WearPatch};
-use crate::growth::wheel::WheelPassRunner;
 use crate::growth::{run_study, GrowthError, PassLine, PassRunner};
 use crate::linalg::team::Par;
-use crate::scenario::{Model, Scenario};
+use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
 /// Options of a growth job.
@@ -179,65 +177,7 @@ fn pass_runner(
     config: &crate::growth::GrowthConfig,
     opts: &GrowOptions,
 ) -> Result<Box<dyn PassRunner>, GrowthError> {
-    Ok(match &run.model {
-        Model::Wheel(ws) => {
-            // Every rim point passes the contact as often in a pass: whole turns (a part of
-            // a turn wore part of the rim and grew a polygon of its own, +10,000 dB).
-            if !(ws.turns >= 1.0 && ws.turns.fract() == 0.0) {
-                return Err(GrowthError::Run(RunError::input(
-                    &sc.path,
-                    format!("`rolling.turns` = {}: a growth study rolls whole turns, at least one (each rim point then passes the contact as often)", ws.turns),
-                )));
-            }
-            if let Some(k) = config.rail.given().first() {
-                return Err(GrowthError::Run(RunError::input(
-                    &sc.path,
-                    format!("{k} is a rail's key (kind = \"track\"): the wheel on its rigid base slides by rolling.creepage under contact.friction; remove it"),
-                )));
-            }
-            Box::new(WheelPassRunner::new(
-                sc,
-                config.wear,
-                config.wear_density,
-                opts.par,
-            )?)
-        }
-        Model::Track(_) => {
-            let need = |key: &str, v: Option<f64>, what: &str| {
-                v.ok_or_else(|| {
-                    GrowthError::Run(RunError::input(
-                        &sc.path,
-                        format!("growth.{key} is missing: {what}"),
-                    ))
-                })
-            };
-            let r = &config.rail;
-            let sliding = RailSliding {
-                creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (the wheel on the track is frictionless; e.g. 0.005)")?,
-                traction_coefficient: need("traction_coefficient", r.traction_coefficient, "T / N of the steady creep force (e.g. 0.3)")?,
-                density: config.wear_density.unwrap_or(7850.0),
-            };
-            let pass = TrackPass::new(
-                sc,
-                r.dx.unwrap_or(1e-3),
-                config.wear,
-                sliding,
-                r.patch.unwrap_or(WearPatch::Hertz),
-                RunOptions {
-                    progress: false,
-                    par: Some(opts.par),
-                    ..RunOptions::default()
-                },
-            )?;
-            Box::new(pass)
-        }
-        _ => {
-            return Err(GrowthError::Run(RunError::input(
-                &sc.path,
-                "softway grow runs kind = \"wheel\" (the wheel on its rigid base) or kind = \"track\" with vehicle.model = \"wheel\"",
-            )))
-        }
-    })
+    run.model.growth_runner(sc, config, opts)
 }
 
 /// Creates the study folder `out` as needed and marks it as softway's (its marker, where it

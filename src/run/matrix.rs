@@ -28,7 +28,7 @@ use super::RunError;
 use crate::linalg::{write_matrix_market, FactorKind, Ordering};
 use crate::model::LinearModel;
 use crate::output::files::write_json;
-use crate::scenario::{Model, Scenario};
+use crate::scenario::Scenario;
 use crate::time::step::{FactorChoice, Stepper};
 use crate::time::SpaceTimeParams;
 use std::io::Write;
@@ -185,32 +185,34 @@ struct StepInputs {
 /// `1e-3 sin(i)`, or a bar's initial state without load.
 fn step_inputs(sc: &Scenario) -> Result<StepInputs, RunError> {
     let run = &sc.runs[0];
-    let (model, fixed, u0, v0, f): (LinearModel, Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) =
-        match &run.model {
-            Model::Wheel(ws) => {
-                let wm = super::wheel::build(ws, &sc.path)?;
-                let n = wm.model.n();
-                let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
-                (
-                    wm.model.clone(),
-                    wm.fixed_dofs.clone(),
-                    wm.u_spin.clone(),
-                    v,
-                    wm.load.clone(),
-                )
-            }
-            Model::BarImpact(b) => {
-                let (_, p) = b.problem(run.integrator, run.contact, run.params.h, run.t_end);
-                let n = p.model.n();
-                (p.model, vec![], p.u0, p.v0, vec![0.0; n])
-            }
-            _ => {
-                return Err(RunError::input(
-                    &sc.path,
-                    "`softway matrix` takes a wheel or a bar_impact scenario",
-                ))
-            }
-        };
+    let (model, fixed, u0, v0, f): (LinearModel, Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) = match (
+        run.model.get::<crate::scenario::WheelScenario>(),
+        run.model.get::<crate::problems::BarImpact>(),
+    ) {
+        (Some(ws), _) => {
+            let wm = super::wheel::build(ws, &sc.path)?;
+            let n = wm.model.n();
+            let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
+            (
+                wm.model.clone(),
+                wm.fixed_dofs.clone(),
+                wm.u_spin.clone(),
+                v,
+                wm.load.clone(),
+            )
+        }
+        (_, Some(b)) => {
+            let (_, p) = b.problem(run.integrator, run.contact, run.params.h, run.t_end);
+            let n = p.model.n();
+            (p.model, vec![], p.u0, p.v0, vec![0.0; n])
+        }
+        _ => {
+            return Err(RunError::input(
+                &sc.path,
+                "`softway matrix` takes a wheel or a bar_impact scenario",
+            ))
+        }
+    };
     Ok(StepInputs {
         model,
         fixed,

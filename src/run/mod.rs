@@ -20,7 +20,7 @@ pub mod wheel;
 pub use crate::guard::GuardMode;
 pub use crate::linalg::team::{Par, Team};
 pub use crate::output::table::{Column, Columns};
-use crate::scenario::{Model, Scenario};
+use crate::scenario::Scenario;
 pub use converge::observed_orders;
 pub use results::{FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
@@ -217,12 +217,7 @@ pub fn run_scenario(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunR
 
 /// Runs the scenario's model; tables are streamed into `stream` when given.
 fn record(sc: &Scenario, opts: &RunOptions, stream: Option<&Path>) -> Result<Results, RunError> {
-    match &sc.runs[0].model {
-        Model::Sdof(_) => sdof::record(sc, stream, opts),
-        Model::BarImpact(_) | Model::TwoBars(_) => bar::record(sc, stream, opts),
-        Model::Wheel(_) => wheel::record(sc, stream, opts),
-        Model::Track(_) => track::record(sc, stream, opts),
-    }
+    crate::kinds::record(sc, stream, opts)
 }
 
 /// The peak resident set size of this process so far, MiB (`VmHWM` of `/proc/self/status`;

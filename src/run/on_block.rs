@@ -16,7 +16,7 @@ use crate::mesh::{Cells, Mesh};
 use crate::models::wheel_on_block::{patch_half_width, WheelOnBlock};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::{Columns, Rows};
-use crate::scenario::{Model, Scenario, WheelScenario};
+use crate::scenario::{Scenario, WheelScenario};
 use crate::simulation::{RunStats, Simulation};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -83,7 +83,7 @@ pub(crate) fn record(
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
+    let Some(ws) = run.model.get::<crate::scenario::WheelScenario>() else {
         unreachable!("the wheel-on-block job on a wheel scenario")
     };
     let Some(spec) = ws.block.clone() else {

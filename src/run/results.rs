@@ -55,6 +55,27 @@ pub struct Results {
 }
 
 impl Results {
+    /// The results of a run of a kind of one's own ([`crate::kinds`]): its summary (stamped
+    /// with the provenance every `summary.json` carries: version, scenario SHA-256, peak
+    /// memory), its history and its screen lines; no figure, no per-node tables, no fields.
+    pub fn of_kind(
+        sc: &Scenario,
+        mut summary: serde_json::Value,
+        history: Columns,
+        lines: Vec<String>,
+        interrupted: bool,
+    ) -> Self {
+        super::stamp_provenance(&mut summary, sc);
+        Self::with_panels(
+            (sc.runs[0].model.kind(), summary),
+            history,
+            lines,
+            interrupted,
+            false,
+            ("figure.png", Vec::new(), (800, 600)),
+        )
+    }
+
     /// The results of a job with a history and one figure of panels (the oscillator, the
     /// bars, the track, the wheel on its block): no per-node tables, no fields, no warnings.
     pub(crate) fn with_panels(

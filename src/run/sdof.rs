@@ -4,7 +4,7 @@
 use super::results::Results;
 use super::{RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
-use crate::scenario::{Model, Scenario};
+use crate::scenario::Scenario;
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
 use std::path::Path;
@@ -75,7 +75,7 @@ pub(crate) fn record(
         "x - x_exact [m]",
     );
     for (ri, run) in sc.runs.iter().enumerate() {
-        let Model::Sdof(o) = run.model else {
+        let Some(&o) = run.model.get::<crate::scenario::Sdof>() else {
             unreachable!("sdof job on a sdof scenario")
         };
         let w = (o.stiffness / o.mass).sqrt();

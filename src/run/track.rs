@@ -76,10 +76,9 @@ pub(super) fn lift_first_run(json: &mut serde_json::Value, first: &impl serde::S
 
 /// The track scenario of a run.
 fn track_of(model: &Model) -> &TrackScenario {
-    match model {
-        Model::Track(t) => t,
-        _ => unreachable!("track job on a track scenario"),
-    }
+    model
+        .get::<TrackScenario>()
+        .expect("track job on a track scenario")
 }
 
 /// One run's key figures.
@@ -376,7 +375,7 @@ pub(crate) fn receptance_job(
     plots: bool,
     interrupt: &std::sync::atomic::AtomicBool,
 ) -> Result<ReceptanceReport, RunError> {
-    let Model::Track(ts) = &sc.runs[0].model else {
+    let Some(ts) = sc.runs[0].model.get::<TrackScenario>() else {
         return Err(RunError::input(
             &sc.path,
             "`softway receptance` needs a track scenario (kind = \"track\")",

@@ -150,10 +150,9 @@ struct Rec {
 }
 
 fn track_of(model: &Model) -> &TrackScenario {
-    match model {
-        Model::Track(t) => t,
-        _ => unreachable!("track job on a track scenario"),
-    }
+    model
+        .get::<TrackScenario>()
+        .expect("track job on a track scenario")
 }
 
 /// The wheel of `ts` turning at `V (1 + xi) / R_s` (`R_s` the spun rim's radius: two

@@ -42,15 +42,16 @@
 //! are sane (674.9, 675.0 kN). Penalty, mass redistribution and Moreau-Jean under `newmark`
 //! are sane too (648.9, 674.9, 672.9 kN).
 //!
-//! To allow a combination, delete (or narrow) the arm of [`check_combination`] that refuses
-//! it and update the table above; the test `allowed_set_is_the_documented_table` in this
+//! The model's rows are its kind's ([`crate::kinds::Spec::combination`]). To allow a
+//! combination, delete (or narrow) the arm of its kind that refuses it and update the table
+//! above; the test `allowed_set_is_the_documented_table` in this
 //! file holds the same table and must change with it.
 
-use crate::contact::Treatment;
 use crate::time::classic::ClassicParams;
 use crate::time::{ClassicKind, Integrator};
 
-use super::{Contact, Model};
+use super::Contact;
+use crate::kinds::Model;
 
 /// The factor by which a classic integrator carries the period-2h mode of displacement-level
 /// contact multipliers from one step to the next: its high-frequency spectral radius
@@ -67,34 +68,6 @@ pub fn constraint_mode_factor(params: ClassicParams) -> f64 {
 /// wheel: the mode must lose at least 0.5% a step (module docs: 0.996 and 0.998 blew up or
 /// doubled the peak force on the paper's wheel, 0.99 and below were sane).
 pub const MAX_CONSTRAINT_MODE_FACTOR: f64 = 0.995;
-
-/// The kind of model, as `kind` names it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModelKind {
-    /// `sdof`.
-    Sdof,
-    /// `bar_impact`.
-    BarImpact,
-    /// `two_bars`.
-    TwoBars,
-    /// `wheel`.
-    Wheel,
-    /// `track`.
-    Track,
-}
-
-impl ModelKind {
-    /// The kind of a model.
-    pub fn of(model: &Model) -> Self {
-        match model {
-            Model::Sdof(_) => ModelKind::Sdof,
-            Model::BarImpact(_) => ModelKind::BarImpact,
-            Model::TwoBars(_) => ModelKind::TwoBars,
-            Model::Wheel(_) => ModelKind::Wheel,
-            Model::Track(_) => ModelKind::Track,
-        }
-    }
-}
 
 /// The family of a time integrator, as far as the combinations care.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,80 +113,53 @@ pub struct Refusal {
     pub why: String,
 }
 
-fn refuse(culprit: Culprit, why: impl Into<String>) -> Result<(), Refusal> {
-    Err(Refusal {
-        culprit,
-        why: why.into(),
-    })
-}
-
-/// Whether a model kind runs with an integrator and a contact treatment: the list of
-/// allowed combinations (module docs). One arm per refused case, in the order the checks are
-/// made; everything that reaches the last arm is allowed.
+/// Whether a model runs with an integrator and a contact treatment: the model's kind's rows
+/// ([`crate::kinds::Spec::combination`]), else the treatment's own rule with the
+/// integrator ([`Treatment::check`]).
 ///
 /// # Errors
 /// [`Refusal`] naming the setting at fault and what is allowed instead.
 pub fn check_combination(
-    kind: ModelKind,
+    model: &Model,
     integrator: &Integrator,
     contact: &Contact,
 ) -> Result<(), Refusal> {
-    use Culprit::{Contact as Method, Integrator as Integ};
-    use Family::{Explicit, Implicit};
-    use ModelKind::{Sdof, Track, Wheel};
-    match (kind, Family::of(integrator)) {
-        (Sdof, Implicit | Explicit) => refuse(
-            Integ,
-            "the one-degree-of-freedom scheme is the space-time scheme's (Eqs. 9-10); use \"space_time\"",
-        ),
-        (Sdof, _) => Ok(()),
-        (Track, Explicit) => refuse(
-            Integ,
-            "the track's explicit step is bounded by its stiff pads and short rail elements (consistent mass); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"",
-        ),
-        (Track, _) if !matches!(
-            contact,
-            Treatment::Exact
-                | Treatment::SoftWay {
-                    restore: crate::contact::Restore::Nothing
-                }
-        ) =>
-        {
-            refuse(
-                Method,
-                "the wheel on the track rolls with \"exact\" (the default) or \"soft_way_no_restore\": the soft way's momentum back, given at each release of a rim node re-braked inside the loaded patch, misses the static load by 1-2% and blows up at three steps a rim node (tests/rolling.rs); the other treatments are not checked on it",
-            )
-        }
-        (Track, _) => Ok(()),
-        (Wheel, Explicit) => refuse(
-            Integ,
-            "the wheel's stable explicit step is about 1e-8 s (hundreds of millions of steps a turn); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"",
-        ),
-        (Wheel, Implicit) if matches!(contact, Treatment::Exact) => match integrator {
-            Integrator::Classic { params, .. }
-                if constraint_mode_factor(*params) > MAX_CONSTRAINT_MODE_FACTOR =>
-            {
-                refuse(
-                    Integ,
-                    format!(
-                        "with method = \"exact\" on the rolling wheel this integrator leaves the contact multipliers' period-2h mode undamped (displacement-level constraints under a trapezoidal rule without numerical dissipation: it carries {:.1}% of the mode to the next step) and the active set, changing at every node passing, feeds it (the paper's wheel: energy 327 J -> 2.1e10 J); use \"newmark_dissipative\", \"hht\" or \"generalized_alpha\" with their default damping, or \"space_time\", or method = \"mass_redistribution\", \"moreau_jean\" or \"penalty\"",
-                        100.0 * constraint_mode_factor(*params)
-                    ),
-                )
-            }
-            _ => contact
-                .check(integrator)
-                .map_err(|why| Refusal { culprit: Method, why }),
-        },
-        _ => contact
-            .check(integrator)
-            .map_err(|why| Refusal { culprit: Method, why }),
-    }
+    model.combination(integrator, contact).unwrap_or_else(|| {
+        contact.check(integrator).map_err(|why| Refusal {
+            culprit: Culprit::Contact,
+            why,
+        })
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The kinds, for the table's test.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    enum ModelKind {
+        Sdof,
+        BarImpact,
+        TwoBars,
+        Wheel,
+        Track,
+    }
+
+    /// A model of `kind`, through the parser.
+    fn model_of(kind: ModelKind) -> Model {
+        let text = match kind {
+            ModelKind::Track => "kind = \"track\"\n[vehicle]\nspeed = 30.0\n".to_string(),
+            k => scenario_text(k, "exact"),
+        };
+        let sc = crate::scenario::Scenario::from_str(&text, std::path::Path::new("k.toml"))
+            .unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+        sc.runs[0].model.clone()
+    }
+
+    fn check(kind: ModelKind, integrator: &Integrator, contact: &Contact) -> Result<(), Refusal> {
+        check_combination(&model_of(kind), integrator, contact)
+    }
     use crate::contact::{Restore, Treatment};
     use crate::time::classic::ClassicParams;
 
@@ -320,7 +266,7 @@ mod tests {
         for kind in kinds {
             for (iname, integ) in integrators() {
                 for (cname, contact) in contacts() {
-                    let got = check_combination(kind, &integ, &contact);
+                    let got = check(kind, &integ, &contact);
                     assert_eq!(
                         got.is_ok(),
                         documented(kind, iname, cname),
@@ -466,7 +412,7 @@ mod tests {
             ),
         ];
         for integ in &refused {
-            let r = check_combination(ModelKind::Wheel, integ, &Treatment::Exact).unwrap_err();
+            let r = check(ModelKind::Wheel, integ, &Treatment::Exact).unwrap_err();
             assert_eq!(r.culprit, Culprit::Integrator, "{integ:?}");
             assert!(
                 r.why.contains("period-2h") && r.why.contains("newmark_dissipative"),
@@ -474,9 +420,9 @@ mod tests {
                 r.why
             );
             for kind in [ModelKind::BarImpact, ModelKind::TwoBars] {
-                check_combination(kind, integ, &Treatment::Exact).unwrap();
+                check(kind, integ, &Treatment::Exact).unwrap();
             }
-            check_combination(ModelKind::Wheel, integ, &Treatment::MassRedistribution).unwrap();
+            check(ModelKind::Wheel, integ, &Treatment::MassRedistribution).unwrap();
         }
         let allowed = [
             classic(
@@ -494,7 +440,7 @@ mod tests {
             ),
         ];
         for integ in &allowed {
-            check_combination(ModelKind::Wheel, integ, &Treatment::Exact)
+            check(ModelKind::Wheel, integ, &Treatment::Exact)
                 .unwrap_or_else(|r| panic!("{integ:?}: {}", r.why));
         }
         let f = |p| constraint_mode_factor(p);
@@ -509,14 +455,14 @@ mod tests {
         let newmark = &integrators()[1].1;
         for kind in [ModelKind::Sdof, ModelKind::Wheel] {
             // The central difference.
-            let r = check_combination(kind, &integrators()[5].1, &Treatment::Exact);
+            let r = check(kind, &integrators()[5].1, &Treatment::Exact);
             assert_eq!(r.unwrap_err().culprit, Culprit::Integrator);
         }
-        let r = check_combination(ModelKind::BarImpact, newmark, &Treatment::SOFT_WAY);
+        let r = check(ModelKind::BarImpact, newmark, &Treatment::SOFT_WAY);
         let r = r.unwrap_err();
         assert_eq!(r.culprit, Culprit::Contact);
         assert!(r.why.contains("not one of newmark"), "{}", r.why);
-        let sdof = check_combination(ModelKind::Sdof, newmark, &Treatment::Exact);
+        let sdof = check(ModelKind::Sdof, newmark, &Treatment::Exact);
         assert_eq!(sdof.unwrap_err().culprit, Culprit::Integrator);
     }
 }

@@ -99,17 +99,17 @@
 //! ```
 
 use crate::contact::{FrictionLaw, Treatment};
-use crate::problems::{BarImpact, TwoBars};
 use crate::time::Integrator;
 use crate::time::SpaceTimeParams;
 use std::path::{Path, PathBuf};
 
 pub mod combinations;
 pub mod overrides;
-mod raw;
+pub(crate) mod raw;
 mod validate;
 
-pub use validate::DEFAULT_HUB_FRACTION;
+pub use crate::kinds::Model;
+pub use validate::{Ctx, DEFAULT_HUB_FRACTION};
 
 pub use overrides::Override;
 pub use raw::set_key;
@@ -449,21 +449,6 @@ impl TrackScenario {
     }
 }
 
-/// The physical model of a scenario.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Model {
-    /// One degree of freedom.
-    Sdof(Sdof),
-    /// Elastic bar against a rigid wall.
-    BarImpact(BarImpact),
-    /// Two elastic bars colliding (node-to-node contact).
-    TwoBars(TwoBars),
-    /// The elastic wheel rolling on a rigid base.
-    Wheel(Box<WheelScenario>),
-    /// A constant load moving along the track.
-    Track(Box<TrackScenario>),
-}
-
 /// One run of a built scenario (the scenario may list several): what the jobs run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Run {
@@ -649,10 +634,37 @@ impl Scenario<RunSpec> {
     /// # Errors
     /// [`ScenarioError`].
     pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
-        let mut sc = validate::validate(raw::parse(text, path)?, path)?;
+        Self::from_str_in(text, path, &crate::kinds::Registry::builtin())
+    }
+
+    /// Parses and validates scenario text whose kind is one of `kinds` (softway's own and
+    /// any added with [`crate::kinds::Registry::with`]); `path` names it in errors.
+    ///
+    /// # Errors
+    /// [`ScenarioError`].
+    pub fn from_str_in(
+        text: &str,
+        path: &Path,
+        kinds: &crate::kinds::Registry,
+    ) -> Result<Self, ScenarioError> {
+        let mut sc = validate::validate(raw::parse(text, path, kinds)?, (text, path), kinds, true)?;
         sc.source_sha256 = sha256_hex(text.as_bytes());
         sc.source_text = text.to_string();
         Ok(sc)
+    }
+}
+
+/// The parser's message for scenario `text` (TOML syntax, a wrong type, an unknown key,
+/// in the common tables or in its kind's), without the position; `None` when the parser
+/// takes it.
+pub(crate) fn parse_error(text: &str, kinds: &crate::kinds::Registry) -> Option<String> {
+    let raw = match raw::parse_message(text, kinds) {
+        Ok(raw) => raw,
+        Err(m) => return Some(m),
+    };
+    match validate::validate(raw, (text, Path::new("")), kinds, false) {
+        Err(ScenarioError::Parse { message, .. }) => Some(message),
+        _ => None,
     }
 }
 
@@ -772,9 +784,10 @@ method = "exact"
             ]
         );
         // The explicit integrator's lumped mass is a validated setting.
-        assert!(
-            matches!(sc.runs[0].model, Model::BarImpact(b) if b.lumped && b.elements == 1_000_000)
-        );
+        assert!(sc.runs[0]
+            .model
+            .get::<crate::problems::BarImpact>()
+            .is_some_and(|b| b.lumped && b.elements == 1_000_000));
         // Nothing built, so no stability warning yet (those come from crate::build).
         assert!(sc.warnings.is_empty(), "{:?}", sc.warnings);
         assert!(sc.runs.iter().all(|r| r.label.is_none()));

@@ -354,27 +354,34 @@ pub fn read_with(
         path: path.to_path_buf(),
         message,
     };
+    let kinds = crate::kinds::Registry::builtin();
     let run_text = match apply(text, sets) {
         Ok(t) => t,
         Err(m) => {
             // The file's own error first, with its line.
-            super::raw::parse(text, path)?;
+            super::raw::parse(text, path, &kinds)?;
             return Err(parse_error(m));
         }
     };
-    if let Err(e) = super::raw::parse(&run_text, path) {
-        // Which override is at fault: the first one that, alone on the file, the parser
-        // refuses (the file itself may be at fault: then its own message).
-        super::raw::parse(text, path)?;
-        for o in sets {
-            let one = apply(text, std::slice::from_ref(o)).map_err(parse_error)?;
-            if let Err(m) = super::raw::parse_message(&one) {
-                return Err(parse_error(format!("--set {}: {m}", o.to_arg())));
+    let mut sc = match super::Scenario::from_str_in(&run_text, path, &kinds) {
+        Err(e @ ScenarioError::Parse { .. }) => {
+            // Which override is at fault: the first one that, alone on the file, the
+            // parser refuses (the file itself may be at fault: then its own message).
+            if let Err(own @ ScenarioError::Parse { .. }) =
+                super::Scenario::from_str_in(text, path, &kinds)
+            {
+                return Err(own);
             }
+            for o in sets {
+                let one = apply(text, std::slice::from_ref(o)).map_err(parse_error)?;
+                if let Some(m) = super::parse_error(&one, &kinds) {
+                    return Err(parse_error(format!("--set {}: {m}", o.to_arg())));
+                }
+            }
+            return Err(e);
         }
-        return Err(e);
-    }
-    let mut sc = super::Scenario::from_str(&run_text, path)?;
+        other => other?,
+    };
     sc.overrides = sets.to_vec();
     Ok((sc, run_text))
 }

@@ -9,26 +9,31 @@ use super::ScenarioError;
 use serde::Deserialize;
 use std::path::Path;
 
-/// The whole file.
+/// The tables and keys every kind reads (the kinds' own tables are theirs:
+/// [`crate::kinds::Kind::tables`]).
+pub(crate) const COMMON: [&str; 10] = [
+    "name",
+    "kind",
+    "description",
+    "time",
+    "contact",
+    "runs",
+    "output",
+    "sweep",
+    "growth",
+    "wear",
+];
+
+/// The whole file, but for the kinds' own tables (read by each kind,
+/// [`crate::kinds::KindInput::tables`]); a top-level key that neither this nor a kind of
+/// the registry reads is refused by [`parse`].
 #[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(super) struct RawScenario {
     pub name: Option<String>,
     pub kind: String,
     pub description: Option<String>,
     pub time: Option<RawTime>,
-    pub bar: Option<RawBar>,
-    pub two_bars: Option<RawBar>,
-    pub sdof: Option<RawSdof>,
-    pub wheel: Option<RawWheel>,
-    pub material: Option<RawMaterial>,
-    pub rolling: Option<RawRolling>,
-    pub block: Option<RawBlock>,
     pub contact: Option<RawContact>,
-    pub track: Option<RawTrack>,
-    pub vehicle: Option<RawVehicle>,
-    pub receptance: Option<RawReceptance>,
-    pub irregularity: Option<RawIrregularity>,
     #[serde(default)]
     pub runs: Vec<RawRun>,
     pub output: Option<RawOutput>,
@@ -36,6 +41,9 @@ pub(super) struct RawScenario {
     /// `[growth]` and `[wear]`: validated by [`crate::growth::config`].
     pub growth: Option<toml::Table>,
     pub wear: Option<toml::Table>,
+    /// The top-level keys as written, in order.
+    #[serde(skip)]
+    pub keys: Vec<String>,
 }
 
 /// `[sweep]`.
@@ -76,7 +84,7 @@ pub(super) struct RawTime {
 /// `[bar]` and `[two_bars]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawBar {
+pub(crate) struct RawBar {
     pub length: f64,
     pub ea: f64,
     pub rho_a: f64,
@@ -90,7 +98,7 @@ pub(super) struct RawBar {
 /// `[sdof]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawSdof {
+pub(crate) struct RawSdof {
     pub mass: f64,
     pub stiffness: f64,
     pub x0: Option<f64>,
@@ -100,7 +108,7 @@ pub(super) struct RawSdof {
 /// `[wheel]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawWheel {
+pub(crate) struct RawWheel {
     pub radius: f64,
     pub thickness: f64,
     pub rings: Option<i64>,
@@ -125,7 +133,7 @@ pub(super) struct RawWheel {
 /// `[block]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawBlock {
+pub(crate) struct RawBlock {
     pub young: Option<f64>,
     pub poisson: Option<f64>,
     pub density: Option<f64>,
@@ -139,7 +147,7 @@ pub(super) struct RawBlock {
 /// `[track]`: a parameter set and any of its values overridden.
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawTrack {
+pub(crate) struct RawTrack {
     pub set: Option<String>,
     pub theory: Option<String>,
     pub young: Option<f64>,
@@ -166,7 +174,7 @@ pub(super) struct RawTrack {
 /// `[vehicle]`: the wheel on the track.
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawVehicle {
+pub(crate) struct RawVehicle {
     pub model: Option<String>,
     pub unsprung_mass: Option<f64>,
     pub axle_load: Option<f64>,
@@ -189,7 +197,7 @@ pub(super) struct RawVehicle {
 /// `[irregularity]`: the rail's roughness under the rolling wheel.
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawIrregularity {
+pub(crate) struct RawIrregularity {
     #[serde(rename = "type")]
     pub kind: Option<String>,
     pub amplitude: Option<f64>,
@@ -204,7 +212,7 @@ pub(super) struct RawIrregularity {
 /// `[receptance]`: the frequencies of `softway receptance`.
 #[derive(Debug, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawReceptance {
+pub(crate) struct RawReceptance {
     pub f_min: Option<f64>,
     pub f_max: Option<f64>,
     pub points: Option<i64>,
@@ -213,7 +221,7 @@ pub(super) struct RawReceptance {
 /// `[material]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawMaterial {
+pub(crate) struct RawMaterial {
     pub young: f64,
     pub poisson: f64,
     pub density: f64,
@@ -231,7 +239,7 @@ pub(super) struct RawMaterial {
 /// `[rolling]`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(super) struct RawRolling {
+pub(crate) struct RawRolling {
     pub omega: Option<f64>,
     pub speed_km_h: Option<f64>,
     pub flattening: Option<f64>,
@@ -285,22 +293,84 @@ pub(super) struct RawOutput {
     pub plots: Option<bool>,
 }
 
-/// Parses scenario text; `path` names it in errors.
+/// Parses scenario text; `path` names it in errors; `kinds` lists the kinds whose tables
+/// may appear at the top level.
 ///
 /// # Errors
 /// [`ScenarioError::Parse`]: TOML syntax, a wrong type or an unknown key, with the parser's
 /// message (line, column, the key) on one line.
-pub(super) fn parse(text: &str, path: &Path) -> Result<RawScenario, ScenarioError> {
-    toml::from_str(text).map_err(|e| ScenarioError::Parse {
+pub(super) fn parse(
+    text: &str,
+    path: &Path,
+    kinds: &crate::kinds::Registry,
+) -> Result<RawScenario, ScenarioError> {
+    parse_at(text, kinds, true).map_err(|message| ScenarioError::Parse {
         path: path.to_path_buf(),
-        message: one_line_message(text, e.message(), e.span()),
+        message,
     })
+}
+
+/// [`parse`]'s work, its message with the position (`positions`) or without it.
+fn parse_at(
+    text: &str,
+    kinds: &crate::kinds::Registry,
+    positions: bool,
+) -> Result<RawScenario, String> {
+    let message =
+        |e: toml::de::Error| one_line_message(text, e.message(), e.span().filter(|_| positions));
+    let mut raw: RawScenario = toml::from_str(text).map_err(message)?;
+    let doc = toml::de::DeTable::parse(text).map_err(message)?;
+    // A kind the registry does not know is the validation's refusal (naming `kind`), not
+    // its tables'.
+    let known = kinds.get(&raw.kind).is_some();
+    for (key, _) in doc.get_ref() {
+        let name = key.get_ref().as_ref();
+        if !known || COMMON.contains(&name) || kinds.kinds().any(|k| k.tables().contains(&name)) {
+            raw.keys.push(name.to_string());
+            continue;
+        }
+        let mut tables: Vec<&str> = Vec::new();
+        for k in kinds.kinds() {
+            for t in k.tables() {
+                if !COMMON.contains(t) && !tables.contains(t) {
+                    tables.push(t);
+                }
+            }
+        }
+        let why = format!(
+            "unknown key `{name}`, expected one of `{}` or a kind's table: `{}`",
+            COMMON.join("`, `"),
+            tables.join("`, `")
+        );
+        return Err(one_line_message(
+            text,
+            &why,
+            Some(key.span()).filter(|_| positions),
+        ));
+    }
+    Ok(raw)
+}
+
+/// A kind's tables `T` deserialized from the whole scenario text (each table's own struct
+/// denies unknown keys), the message with the position (`positions`) or without it.
+///
+/// # Errors
+/// The parser's message on one line.
+pub(crate) fn parse_tables<T: serde::de::DeserializeOwned>(
+    text: &str,
+    positions: bool,
+) -> Result<T, String> {
+    toml::from_str(text)
+        .map_err(|e| one_line_message(text, e.message(), e.span().filter(|_| positions)))
 }
 
 /// Parses scenario text as [`parse`] does; the error is the parser's message alone, on one
 /// line, without the position (a `--set` override is named by its argument instead).
-pub(super) fn parse_message(text: &str) -> Result<RawScenario, String> {
-    toml::from_str(text).map_err(|e| one_line_message(text, e.message(), None))
+pub(super) fn parse_message(
+    text: &str,
+    kinds: &crate::kinds::Registry,
+) -> Result<RawScenario, String> {
+    parse_at(text, kinds, false)
 }
 
 /// The parser's message on one line, after `line L, column C (`the line`)` of the byte span
@@ -378,9 +448,13 @@ mod tests {
     /// span past a multi-byte character or the end of the text is no panic.
     #[test]
     fn parse_errors_name_the_line_and_column_on_one_line() {
-        let e = parse("kind = \"x\"\n[time]\nh = \"0.1\"\n", Path::new("a.toml"))
-            .unwrap_err()
-            .to_string();
+        let e = parse(
+            "kind = \"x\"\n[time]\nh = \"0.1\"\n",
+            Path::new("a.toml"),
+            &crate::kinds::Registry::builtin(),
+        )
+        .unwrap_err()
+        .to_string();
         assert_eq!(
             e,
             "a.toml: line 3, column 5 (`h = \"0.1\"`): invalid type: string \"0.1\", expected f64"

@@ -5,56 +5,48 @@
 //! nothing is assembled and no file other than the scenario is read (a `cfl` stays a
 //! [`TimeStep::Cfl`] for [`crate::build`]).
 
-use super::raw::{
-    RawBar, RawContact, RawIrregularity, RawMaterial, RawReceptance, RawRolling, RawRun,
-    RawScenario, RawSdof, RawTime, RawTrack, RawVehicle, RawWheel,
-};
-use super::{Contact, Model, RunSpec, Scenario, ScenarioError, Sdof, TimeStep};
+use super::raw::{RawContact, RawRun, RawScenario, RawTime};
+use super::{Contact, RunSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{FrictionLaw, Restore, Treatment};
+use crate::kinds::{KindInput, Model, Registry};
 
 mod run;
-mod track;
 mod usage;
-mod wheel;
 
 /// Default hub radius of `support = "hub"`, as a fraction of the wheel's radius (1 cm for
 /// the paper's 10 cm wheel).
 pub const DEFAULT_HUB_FRACTION: f64 = 0.1;
-use crate::problems::{BarImpact, TwoBars};
 use crate::time::classic::ClassicParams;
 use crate::time::sdof::analyse;
 use crate::time::SpaceTimeParams;
 use crate::time::{ClassicKind, Coriolis, Integrator};
 use std::path::Path;
 
-/// Validates a parsed scenario; `path` names it in errors and anchors relative mesh paths.
+/// Validates a parsed scenario of `text` with the kinds of `kinds`; `path` names it in
+/// errors and anchors relative mesh paths; `positions`: whether a parse error of a kind's
+/// table names its line (not for a `--set` override's).
 ///
 /// # Errors
 /// [`ScenarioError::Invalid`] or [`ScenarioError::Missing`], naming the key.
-pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec>, ScenarioError> {
-    let cx = Ctx { path };
+pub(super) fn validate(
+    raw: RawScenario,
+    (text, path): (&str, &Path),
+    kinds: &Registry,
+    positions: bool,
+) -> Result<Scenario<RunSpec>, ScenarioError> {
+    let cx = Ctx { path, positions };
     let RawScenario {
         name,
         kind,
         description,
         time,
-        bar,
-        two_bars,
-        sdof,
-        wheel,
-        material,
-        rolling,
-        block,
         contact,
-        track,
-        vehicle,
-        receptance,
-        irregularity,
         runs: raw_runs,
         output,
         sweep,
         growth,
         wear,
+        keys,
     } = raw;
     let growth = crate::growth::config::validate(growth, wear, path)?;
     let name = match name {
@@ -92,99 +84,37 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         Some(h) => Some(cx.positive("time.h", h)?),
         None => None,
     };
-    let t_end = match (time.t_end, kind.as_str()) {
-        (Some(t), _) => cx.positive("time.t_end", t)?,
-        (None, "wheel" | "track") => f64::NAN,
-        (None, _) => return Err(cx.missing("time.t_end", "the end time of the run, s")),
+    let Some(the_kind) = kinds.get(&kind) else {
+        return Err(cx.invalid(
+            "kind",
+            format!("\"{kind}\""),
+            &format!("allowed: {}", kinds.names()),
+        ));
     };
-    usage::check_tables(
-        &cx,
-        &kind,
-        &[
-            ("sdof", sdof.is_some()),
-            ("bar", bar.is_some()),
-            ("two_bars", two_bars.is_some()),
-            ("wheel", wheel.is_some()),
-            ("material", material.is_some()),
-            ("rolling", rolling.is_some()),
-            ("block", block.is_some()),
-            ("contact", contact.is_some()),
-        ],
-    )?;
-    // The bar's table as written: its `elements` (a setting runs may override) and `mass`.
-    let bar_table = match kind.as_str() {
-        "bar_impact" => bar.as_ref().map(|b| ("bar", b.elements, b.mass.clone())),
-        "two_bars" => two_bars
-            .as_ref()
-            .map(|b| ("two_bars", b.elements, b.mass.clone())),
-        _ => None,
+    let every_run_explicit = {
+        let explicit = |i: Option<&String>| i.is_some_and(|i| i == "central_difference");
+        let top = explicit(time.integrator.as_ref());
+        if raw_runs.is_empty() {
+            top
+        } else {
+            raw_runs
+                .iter()
+                .all(|r| r.integrator.as_ref().map_or(top, |i| explicit(Some(i))))
+        }
     };
-    let fields_per_turn = rolling.as_ref().and_then(|r| r.fields_per_turn);
-    let mut model = model(
-        &cx,
-        &kind,
-        (sdof, bar, two_bars),
-        (wheel, material, rolling),
-        (track, vehicle, receptance, irregularity),
-    )?;
-    if let Some(b) = block {
-        let Model::Wheel(w) = &mut model else {
-            return Err(cx.invalid(
-                "block",
-                "(given)",
-                "an elastic block is a base for kind = \"wheel\"",
-            ));
-        };
-        if let Some(n) = fields_per_turn {
-            return Err(cx.invalid(
-                "rolling.fields_per_turn",
-                n,
-                "the velocity snapshots of the wheel on its rigid base, not written with a [block] (its run writes the last state's fields): remove it",
-            ));
-        }
-        if let Some(p) = w.load {
-            return Err(cx.invalid(
-                "wheel.load",
-                p,
-                "not with a [block] (the block is pressed to rolling.flattening): give rolling.flattening",
-            ));
-        }
-        w.block = Some(wheel::block_spec(&cx, b, &w.spec)?);
-    }
-    let t_end = match &model {
-        Model::Wheel(w) => {
-            if time.t_end.is_some() {
-                return Err(cx.invalid(
-                    "time.t_end",
-                    t_end,
-                    "a wheel run lasts rolling.settle_time + rolling.turns turns: remove time.t_end",
-                ));
-            }
-            w.duration()
-        }
-        Model::Track(t) => {
-            if time.t_end.is_some() {
-                return Err(cx.invalid(
-                    "time.t_end",
-                    t_end,
-                    "a track run lasts vehicle.travel_bays bays at vehicle.speed: remove time.t_end",
-                ));
-            }
-            if contact.is_some() && t.vehicle.model == crate::scenario::VehicleModel::MovingLoad {
-                return Err(cx.invalid(
-                    "contact",
-                    "(given)",
-                    "vehicle.model = \"moving_load\" has no contact (a constant load moves along the rail): remove [contact]",
-                ));
-            }
-            t.duration()
-        }
-        // A bar that cannot reach its obstacle before the end: nothing would touch, and
-        // every contact figure of the summary would be empty.
-        Model::BarImpact(b) => reached(&cx, "bar", "obstacle", (b.gap, b.speed), t_end)?,
-        Model::TwoBars(b) => reached(&cx, "two_bars", "other bar", (b.gap, b.speed), t_end)?,
-        _ => t_end,
+    usage::check_tables(&cx, the_kind, kinds, &keys, None)?;
+    let model = the_kind.model(&KindInput {
+        cx: &cx,
+        text,
+        every_run_explicit,
+    })?;
+    let given_end = match time.t_end {
+        Some(t) => Some(cx.positive("time.t_end", t)?),
+        None => None,
     };
+    usage::check_tables(&cx, the_kind, kinds, &keys, Some(&model))?;
+    let t_end = model.end_time(&cx, given_end)?;
+    model.check_scenario(&cx, raw_runs.len(), contact.is_some())?;
     let base = Base {
         alpha,
         gamma,
@@ -194,26 +124,22 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         time,
         contact: contact.unwrap_or_default(),
     };
-    if matches!(base.model, Model::Wheel(_)) && raw_runs.len() > 1 {
-        return Err(cx.invalid(
-            "runs[1]",
-            "(a second run)",
-            "a wheel scenario runs one run (runs[0]); the others would be dropped: give one [[runs]] entry, or vary a key with `softway sweep --set KEY=V1,V2,...`",
-        ));
-    }
     let raw_runs = if raw_runs.is_empty() {
         vec![RawRun::default()]
     } else {
         raw_runs
     };
-    // The top-level settings given that runs may override: (name, key, value).
+    // The top-level settings given that runs may override: (name, key, value); a bar's
+    // `elements` under its table.
+    let mut top_model = base.model.clone();
+    let elements = top_model.elements_mut().map(|(t, e)| (t, *e));
     let top: Vec<(&str, String, String)> = usage::SETTINGS
         .iter()
         .filter_map(|&(name, table, _)| {
-            let elements = bar_table.as_ref().and_then(|b| b.1);
-            let value = usage::top_value(&base.time, &base.contact, elements, name)?;
-            let table = match (table, &bar_table) {
-                ("", Some(b)) => b.0,
+            let given = elements.filter(|e| e.1 > 0).map(|e| e.1 as i64);
+            let value = usage::top_value(&base.time, &base.contact, given, name)?;
+            let table = match (table, elements) {
+                ("", Some((t, _))) => t,
                 _ => table,
             };
             Some((name, format!("{table}.{name}"), value))
@@ -229,15 +155,6 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         uses.push(used);
     }
     usage::check_top_used(&cx, &top, &uses)?;
-    if let Some((table, _, Some(mass))) = &bar_table {
-        if mass == "consistent" && runs.iter().all(|r| r.integrator.is_explicit()) {
-            return Err(cx.invalid(
-                &format!("{table}.mass"),
-                "\"consistent\"",
-                "every run's integrator = \"central_difference\" runs with the lumped mass: remove it (or set it to \"lumped\")",
-            ));
-        }
-    }
     let out = output.unwrap_or_default();
     let history_stride = cx.count(
         "output.history_stride",
@@ -292,139 +209,6 @@ pub(super) fn validate(raw: RawScenario, path: &Path) -> Result<Scenario<RunSpec
         overrides: Vec::new(),
         growth,
     })
-}
-
-/// The track's tables: `[track]`, `[vehicle]`, `[receptance]`, `[irregularity]`.
-type TrackTables = (
-    Option<RawTrack>,
-    Option<RawVehicle>,
-    Option<RawReceptance>,
-    Option<RawIrregularity>,
-);
-
-/// The model of `kind` from its tables, each value checked under its key; the track's
-/// tables are refused for the other kinds.
-fn model(
-    cx: &Ctx,
-    kind: &str,
-    (sdof, bar, two_bars): (Option<RawSdof>, Option<RawBar>, Option<RawBar>),
-    (wheel, material, rolling): (Option<RawWheel>, Option<RawMaterial>, Option<RawRolling>),
-    (track_table, vehicle, receptance, irregularity): TrackTables,
-) -> Result<Model, ScenarioError> {
-    if kind != "track" {
-        for (key, given) in [
-            ("track", track_table.is_some()),
-            ("vehicle", vehicle.is_some()),
-            ("receptance", receptance.is_some()),
-            ("irregularity", irregularity.is_some()),
-        ] {
-            if given {
-                return Err(cx.invalid(key, "(given)", "only used with kind = \"track\""));
-            }
-        }
-    }
-    Ok(match kind {
-        "sdof" => {
-            let s =
-                sdof.ok_or_else(|| cx.missing("sdof", "kind = \"sdof\" needs a [sdof] table"))?;
-            Model::Sdof(Sdof {
-                mass: cx.positive("sdof.mass", s.mass)?,
-                stiffness: cx.positive("sdof.stiffness", s.stiffness)?,
-                x0: finite(cx, "sdof.x0", s.x0.unwrap_or(1.0))?,
-                v0: finite(cx, "sdof.v0", s.v0.unwrap_or(0.0))?,
-            })
-        }
-        "bar_impact" => {
-            let b =
-                bar.ok_or_else(|| cx.missing("bar", "kind = \"bar_impact\" needs a [bar] table"))?;
-            let lumped = mass_kind(cx, "bar.mass", b.mass.as_deref())?;
-            Model::BarImpact(BarImpact {
-                length: cx.positive("bar.length", b.length)?,
-                ea: cx.positive("bar.ea", b.ea)?,
-                rho_a: cx.positive("bar.rho_a", b.rho_a)?,
-                speed: cx.positive("bar.speed", b.speed)?,
-                gap: cx.non_negative("bar.gap", b.gap)?,
-                elements: elements(cx, "bar.elements", b.elements)?,
-                lumped,
-                damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
-            })
-        }
-        "two_bars" => {
-            let b = two_bars.ok_or_else(|| {
-                cx.missing("two_bars", "kind = \"two_bars\" needs a [two_bars] table")
-            })?;
-            if b.damping.is_some() {
-                return Err(cx.invalid(
-                    "two_bars.damping",
-                    b.damping.unwrap_or_default(),
-                    "the two-bars case has no external damping",
-                ));
-            }
-            Model::TwoBars(TwoBars {
-                length: cx.positive("two_bars.length", b.length)?,
-                ea: cx.positive("two_bars.ea", b.ea)?,
-                rho_a: cx.positive("two_bars.rho_a", b.rho_a)?,
-                speed: cx.positive("two_bars.speed", b.speed)?,
-                gap: cx.non_negative("two_bars.gap", b.gap)?,
-                elements: elements(cx, "two_bars.elements", b.elements)?,
-                lumped: mass_kind(cx, "two_bars.mass", b.mass.as_deref())?,
-            })
-        }
-        "wheel" => Model::Wheel(Box::new(wheel::wheel_model(cx, wheel, material, rolling)?)),
-        "track" => {
-            for (key, given) in [
-                ("sdof", sdof.is_some()),
-                ("bar", bar.is_some()),
-                ("two_bars", two_bars.is_some()),
-                ("wheel", wheel.is_some()),
-                ("material", material.is_some()),
-                ("rolling", rolling.is_some()),
-            ] {
-                if given {
-                    return Err(cx.invalid(
-                        key,
-                        "(given)",
-                        "not used with kind = \"track\" (its tables: [track], [vehicle], [receptance], [irregularity], [contact], [time])",
-                    ));
-                }
-            }
-            Model::Track(Box::new(track::track_model(
-                cx,
-                track_table,
-                vehicle,
-                (receptance, irregularity),
-            )?))
-        }
-        other => {
-            return Err(cx.invalid(
-                "kind",
-                format!("\"{other}\""),
-                "allowed: \"sdof\", \"bar_impact\", \"two_bars\", \"wheel\", \"track\"",
-            ))
-        }
-    })
-}
-
-/// `t_end` when the bar (table `table`, moving at `speed` towards `what` across `gap`)
-/// touches it before the end of the run, else the refusal naming `time.t_end`.
-fn reached(
-    cx: &Ctx,
-    table: &str,
-    what: &str,
-    (gap, speed): (f64, f64),
-    t_end: f64,
-) -> Result<f64, ScenarioError> {
-    let t_touch = gap / speed;
-    if t_touch < t_end {
-        return Ok(t_end);
-    }
-    Err(cx.invalid(
-        "time.t_end",
-        t_end,
-        &format!(
-            "the bar reaches the {what} at {table}.gap / {table}.speed = {gap} m / {speed} m/s = {t_touch:e} s, not before the run ends: nothing would touch; take time.t_end > {t_touch:e} s or a smaller {table}.gap"
-        ),
-    ))
 }
 
 /// What every run starts from: the top-level settings, validated on their own.
@@ -489,12 +273,49 @@ fn one_line(text: &str) -> String {
         .collect()
 }
 
-struct Ctx<'a> {
+/// The checks of a scenario's values: each error names the file, the key, the value and
+/// what is allowed.
+pub struct Ctx<'a> {
     path: &'a Path,
+    /// Whether a parse error names its line (not for a `--set` override's).
+    positions: bool,
 }
 
-impl Ctx<'_> {
-    fn invalid(&self, key: &str, value: impl std::fmt::Display, allowed: &str) -> ScenarioError {
+impl<'a> Ctx<'a> {
+    /// The checks of the scenario file `path`.
+    pub fn new(path: &'a Path) -> Self {
+        Self {
+            path,
+            positions: true,
+        }
+    }
+
+    /// The scenario file.
+    pub fn path(&self) -> &Path {
+        self.path
+    }
+
+    /// A kind's tables `T` from the scenario text ([`crate::kinds::KindInput::tables`]).
+    ///
+    /// # Errors
+    /// [`ScenarioError::Parse`].
+    pub fn parse_tables<T: serde::de::DeserializeOwned>(
+        &self,
+        text: &str,
+    ) -> Result<T, ScenarioError> {
+        super::raw::parse_tables(text, self.positions).map_err(|message| ScenarioError::Parse {
+            path: self.path.to_path_buf(),
+            message,
+        })
+    }
+
+    /// The refusal of `value` under `key`, with what is allowed.
+    pub fn invalid(
+        &self,
+        key: &str,
+        value: impl std::fmt::Display,
+        allowed: &str,
+    ) -> ScenarioError {
         ScenarioError::Invalid {
             path: self.path.to_path_buf(),
             key: key.to_string(),
@@ -502,42 +323,60 @@ impl Ctx<'_> {
             allowed: allowed.to_string(),
         }
     }
-    fn missing(&self, key: &str, why: &str) -> ScenarioError {
+    /// A finite number under `key`.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`].
+    pub fn finite(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v, "must be a finite number"))
+        }
+    }
+
+    /// The refusal of a missing `key`, with what it is for.
+    pub fn missing(&self, key: &str, why: &str) -> ScenarioError {
         ScenarioError::Missing {
             path: self.path.to_path_buf(),
             key: key.to_string(),
             why: why.to_string(),
         }
     }
-    fn positive(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+    /// See the module's checks.
+    pub fn positive(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
             Err(self.invalid(key, v, "must be a finite number > 0"))
         }
     }
-    fn non_negative(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+    /// See the module's checks.
+    pub fn non_negative(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
         if v.is_finite() && v >= 0.0 {
             Ok(v)
         } else {
             Err(self.invalid(key, v, "must be a finite number >= 0"))
         }
     }
-    fn count(&self, key: &str, v: i64, max: i64) -> Result<usize, ScenarioError> {
+    /// See the module's checks.
+    pub fn count(&self, key: &str, v: i64, max: i64) -> Result<usize, ScenarioError> {
         if v >= 1 && v <= max {
             Ok(v as usize)
         } else {
             Err(self.invalid(key, v, &format!("must be a whole number from 1 to {max}")))
         }
     }
-    fn alpha(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+    /// See the module's checks.
+    pub fn alpha(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
         if v.is_finite() && v > 0.0 && v <= 1.0 {
             Ok(v)
         } else {
             Err(self.invalid(key, v, "alpha must be in (0, 1] (Eq. 8)"))
         }
     }
-    fn gamma(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+    /// See the module's checks.
+    pub fn gamma(&self, key: &str, v: f64) -> Result<f64, ScenarioError> {
         if v.is_finite() && (0.0..=1.0).contains(&v) {
             Ok(v)
         } else {
@@ -676,18 +515,6 @@ impl Ctx<'_> {
     }
 }
 
-fn mass_kind(cx: &Ctx, key: &str, v: Option<&str>) -> Result<bool, ScenarioError> {
-    match v.unwrap_or("consistent") {
-        "consistent" => Ok(false),
-        "lumped" => Ok(true),
-        other => Err(cx.invalid(
-            key,
-            format!("\"{other}\""),
-            "allowed: \"consistent\", \"lumped\"",
-        )),
-    }
-}
-
 /// The friction law of `[contact]`: `friction` the static (Coulomb) coefficient,
 /// `friction_kinetic` and `friction_velocity` the falling law's, `friction_viscosity` the
 /// viscoplastic overstress, `tangential_stiffness` the stick's spring
@@ -755,18 +582,4 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
         }
     }
     Ok(Some(law))
-}
-
-/// The bar's `elements` (key `key`), 0 when not given: then every run must give its own
-/// (`run::run_model`).
-fn elements(cx: &Ctx, key: &str, v: Option<i64>) -> Result<usize, ScenarioError> {
-    v.map_or(Ok(0), |e| cx.count(key, e, 1_000_000))
-}
-
-fn finite(cx: &Ctx, key: &str, v: f64) -> Result<f64, ScenarioError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(cx.invalid(key, v, "must be a finite number"))
-    }
 }

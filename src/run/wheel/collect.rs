@@ -5,7 +5,7 @@ use super::{build, simulate, summary_lines, WheelModel, WheelResults};
 use crate::output::table::Columns;
 use crate::run::results::{Detail, FieldArray, FieldFrame, Fields, Results, WheelDetail};
 use crate::run::{RunError, RunOptions};
-use crate::scenario::{Model, Scenario};
+use crate::scenario::Scenario;
 use std::path::Path;
 
 /// Runs a wheel scenario (its first run; a sweep runs a scenario per value); the history,
@@ -21,7 +21,7 @@ pub(crate) fn record(
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
     let run = &sc.runs[0];
-    let Model::Wheel(ws) = &run.model else {
+    let Some(ws) = run.model.get::<crate::scenario::WheelScenario>() else {
         unreachable!("wheel job on a wheel scenario")
     };
     if ws.block.is_some() {

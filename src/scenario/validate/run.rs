@@ -3,12 +3,13 @@
 //! their combination, friction, the wheel's refusals, the step and the use of every setting
 //! ([`super::usage`]).
 
-use super::super::combinations::{check_combination, Culprit, ModelKind};
+use super::super::combinations::{check_combination, Culprit};
 use super::super::raw::RawRun;
-use super::super::{Contact, Model, RunSpec, ScenarioError, TimeStep};
+use super::super::{Contact, RunSpec, ScenarioError, TimeStep};
 use super::usage::{run_uses, RunConfig, Use};
-use super::{friction_law, wheel, Base, Ctx};
+use super::{friction_law, Base, Ctx};
 use crate::contact::FrictionLaw;
+use crate::kinds::{Model, RunView};
 use crate::time::Integrator;
 
 /// Run `i` (`[[runs]]` entry `r`, or the top-level settings alone): its overrides over
@@ -33,19 +34,15 @@ pub(super) fn run_spec(
     }
     let (alpha, gamma) = run_time(cx, &keys, r, base)?;
     let mut model = run_model(cx, &keys, r, base)?;
-    if matches!(&model, Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::MovingLoad)
-    {
+    if let Some(why) = model.no_contact() {
+        let quoted = |m: &Option<String>| m.as_ref().map(|m| format!("\"{m}\""));
         for (k, given) in [
-            ("method", r.method.is_some()),
-            ("penalty", r.penalty.is_some()),
-            ("restitution", r.restitution.is_some()),
+            ("method", quoted(&r.method)),
+            ("penalty", r.penalty.map(|p| p.to_string())),
+            ("restitution", r.restitution.map(|e| e.to_string())),
         ] {
-            if given {
-                return Err(cx.invalid(
-                    &keys.key(k),
-                    "(given)",
-                    "vehicle.model = \"moving_load\" has no contact (a constant load moves along the rail)",
-                ));
+            if let Some(value) = given {
+                return Err(cx.invalid(&keys.key(k), value, why));
             }
         }
     }
@@ -65,7 +62,7 @@ pub(super) fn run_spec(
         top,
     )?;
     // The one table of allowed combinations (super::combinations).
-    check_combination(ModelKind::of(&model), &integrator, &run_contact).map_err(|refusal| {
+    check_combination(&model, &integrator, &run_contact).map_err(|refusal| {
         let (k, v) = match refusal.culprit {
             Culprit::Integrator => (&integ_key, &integ_name),
             Culprit::Contact => (&method_key, &method_name),
@@ -73,33 +70,25 @@ pub(super) fn run_spec(
         cx.invalid(k, format!("\"{v}\""), &refusal.why)
     })?;
     let friction = run_friction(cx, base, &model, &run_contact)?;
-    // The wheel on the track with friction under the space-time scheme without numerical
-    // dissipation: loaded rim nodes stick for steps in full slip, and the creep force falls
-    // short of mu P, more so on finer rims (README, The track).
-    if let (Some(law), Model::Track(_)) = (friction, &model) {
-        if law.is_active() && integ_name == "space_time" && gamma == 0.0 && alpha < 1.0 {
-            let key = if r.gamma.is_some() {
-                keys.key("gamma")
-            } else {
-                "time.gamma".to_string()
-            };
-            return Err(cx.invalid(
-                &key,
-                gamma,
-                "friction on the track needs time.gamma > 0 (0.2, as scenarios/track-traction.toml) or time.alpha = 1: with gamma = 0 loaded rim nodes stick for steps in full slip and the creep force falls short of mu P (by 21% on 1440 rim nodes at 40 m/s)",
-            ));
-        }
-    }
-    if let Model::Wheel(w) = &model {
-        wheel::check_wheel_run(cx, w, friction, &run_contact, &integrator)?;
-    }
-    // The central difference runs explicit: lumped mass, step from cfl if given.
+    let gamma_key = if r.gamma.is_some() {
+        keys.key("gamma")
+    } else {
+        "time.gamma".to_string()
+    };
+    model.check_run(
+        cx,
+        &RunView {
+            index: i,
+            integrator: (&integrator, &integ_name),
+            contact: &run_contact,
+            friction,
+            alpha_gamma: (alpha, gamma),
+            gamma_key,
+        },
+    )?;
+    // The central difference runs explicit: a lumped mass, the step from cfl if given.
     if integrator.is_explicit() {
-        match &mut model {
-            Model::BarImpact(b) => b.lumped = true,
-            Model::TwoBars(b) => b.lumped = true,
-            _ => {}
-        }
+        model.spec_mut().make_explicit();
     }
     let spec = RunSpec {
         label: r.label.clone(),
@@ -161,19 +150,11 @@ fn run_time(
 /// in the bar's table).
 fn run_model(cx: &Ctx, keys: &RunKeys, r: &RawRun, base: &Base) -> Result<Model, ScenarioError> {
     let mut model = base.model.clone();
-    let (table, elements) = match &mut model {
-        Model::BarImpact(b) => ("bar", &mut b.elements),
-        Model::TwoBars(b) => ("two_bars", &mut b.elements),
-        _ => {
-            if let Some(e) = r.elements {
-                return Err(cx.invalid(
-                    &keys.key("elements"),
-                    e,
-                    "only bar scenarios have elements",
-                ));
-            }
-            return Ok(model);
+    let Some((table, elements)) = model.spec_mut().elements_mut() else {
+        if let Some(e) = r.elements {
+            return Err(cx.invalid(&keys.key("elements"), e, "only bar scenarios have elements"));
         }
+        return Ok(model);
     };
     if let Some(e) = r.elements {
         *elements = cx.count(&keys.key("elements"), e, 1_000_000)?;
@@ -202,12 +183,7 @@ fn run_contact(
         (None, Some(m)) => ("contact.method".to_string(), m.clone()),
         (None, None) => (
             "contact.method".to_string(),
-            if matches!(model, Model::TwoBars(_) | Model::Track(_)) {
-                "exact"
-            } else {
-                "soft_way"
-            }
-            .to_string(),
+            model.default_method().to_string(),
         ),
     };
     let run_contact = cx.contact(
@@ -260,35 +236,13 @@ fn run_friction(
     run_contact: &Contact,
 ) -> Result<Option<FrictionLaw>, ScenarioError> {
     // Friction: finite coefficients >= 0 (the falling law: kinetic coefficient and Stribeck
-    // velocity), on a 2D model (the wheel), with a treatment that carries it
+    // velocity), the kind's own rules, a 2D model, a treatment that carries it
     // (crate::contact::Treatment::check_friction).
     let friction = friction_law(cx, &base.contact)?;
-    // The wheel on the track: friction on its contact with the rail needs the axle held
-    // along the track by the suspension (crate::track::rolling, Friction and creepage).
-    if let (Some(law), Model::Track(t)) = (friction, model) {
-        if law.is_active() && t.vehicle.model != crate::scenario::VehicleModel::Wheel {
-            return Err(cx.invalid(
-                "contact.friction",
-                law.static_mu,
-                "vehicle.model = \"moving_load\" has no contact: remove the key or set it to 0",
-            ));
-        }
-        if law.is_active() && t.vehicle.suspension_stiffness <= 0.0 {
-            return Err(cx.invalid(
-                "contact.friction",
-                law.static_mu,
-                "friction on the track needs vehicle.suspension_stiffness > 0 (N/m): only the suspension holds the axle along the track, a traction force would accelerate it for ever",
-            ));
-        }
-    }
     if let Some(law) = friction {
-        let dim = if matches!(model, Model::Wheel(_) | Model::Track(_)) {
-            2
-        } else {
-            1
-        };
+        model.check_friction(cx, law)?;
         run_contact
-            .check_friction(Some(law), dim)
+            .check_friction(Some(law), model.dim())
             .map_err(|why| cx.invalid("contact.friction", law.static_mu, &why))?;
     }
     Ok(friction)
@@ -331,13 +285,10 @@ fn run_step(
         (_, None, _, Some(h)) => (h, "time.h".to_string()),
         (Some(c), None, _, None) => return Err(cx.invalid(&keys.key("cfl"), c, NOT_EXPLICIT)),
         (None, None, Some(c), None) => return Err(cx.invalid("time.cfl", c, NOT_EXPLICIT)),
-        (None, None, None, None) if matches!(model, Model::Track(t) if t.vehicle.model == crate::scenario::VehicleModel::Wheel) =>
-        {
-            let Model::Track(t) = model else {
-                unreachable!("matched above")
-            };
-            (t.rim_passage() / 3.0, "time.h".to_string())
-        }
+        (None, None, None, None) if model.default_step().is_some() => (
+            model.default_step().unwrap_or_default(),
+            "time.h".to_string(),
+        ),
         _ => {
             return Err(cx.missing(
                 "time.h",
@@ -345,28 +296,9 @@ fn run_step(
             ))
         }
     };
-    if let Model::Track(t) = model {
-        let pass = t.rim_passage();
-        if t.vehicle.model == crate::scenario::VehicleModel::Wheel && h > 0.5 * pass {
-            return Err(cx.invalid(
-                &key,
-                h,
-                &format!(
-                    "a rim node passes the contact in {pass:.3e} s (the rim's pitch over the speed, vehicle.wheel_rim_nodes and vehicle.speed): the step must be at most half that, {:.3e} s (without time.h: a third)",
-                    0.5 * pass
-                ),
-            ));
-        }
-    }
+    model.check_step(cx, &key, h)?;
     if h > base.t_end {
-        let limit = match model {
-            Model::Wheel(_) => format!(
-                "the step must not exceed the run, rolling.settle_time + rolling.turns turns = {} s",
-                base.t_end
-            ),
-            _ => format!("the step must not exceed time.t_end = {}", base.t_end),
-        };
-        return Err(cx.invalid(&key, h, &limit));
+        return Err(cx.invalid(&key, h, &model.end_phrase(base.t_end)));
     }
     Ok((TimeStep::Fixed(h), key))
 }

@@ -6,55 +6,53 @@
 //! for the same reason as the file that sets it.
 
 use super::super::raw::{RawContact, RawRun, RawTime};
-use super::super::{Contact, Model, ScenarioError, TimeStep};
+use super::super::{Contact, ScenarioError, TimeStep};
 use super::Ctx;
 use crate::contact::Treatment;
+use crate::kinds::{Kind, Model, Registry};
 use crate::time::{ClassicKind, Integrator};
 
-/// The tables each known kind reads besides `[time]`, `[[runs]]`, `[output]` and `[sweep]`.
-const TABLES: [(&str, &[&str]); 4] = [
-    ("sdof", &["sdof"]),
-    ("bar_impact", &["bar", "contact"]),
-    ("two_bars", &["two_bars", "contact"]),
-    (
-        "wheel",
-        &["wheel", "material", "rolling", "block", "contact"],
-    ),
-];
-
-/// Refuses a table of `present` (its name, whether the file has it) that `kind` does not
-/// read. A kind not in [`TABLES`] is left to the model's validation.
+/// Refuses a top-level table of `keys` (the file's top-level keys) that `kind` does not
+/// read while another kind of `kinds` does: `[contact]` once the model is known (`model`,
+/// which says why it has no contact), the others before.
 ///
 /// # Errors
 /// [`ScenarioError::Invalid`] naming the table and the kinds that read it.
 pub(super) fn check_tables(
     cx: &Ctx,
-    kind: &str,
-    present: &[(&str, bool)],
+    kind: &dyn Kind,
+    kinds: &Registry,
+    keys: &[String],
+    model: Option<&Model>,
 ) -> Result<(), ScenarioError> {
-    let Some((_, reads)) = TABLES.iter().find(|(k, _)| *k == kind) else {
-        return Ok(());
-    };
-    for &(table, given) in present {
-        if !given || reads.contains(&table) {
+    let reads = kind.tables();
+    for table in keys {
+        let table = table.as_str();
+        if (table == "contact") != model.is_some() {
             continue;
         }
-        let readers: Vec<String> = TABLES
-            .iter()
-            .filter(|(_, r)| r.contains(&table))
-            .map(|(k, _)| format!("kind = \"{k}\""))
+        if super::super::raw::COMMON.contains(&table) && table != "contact" {
+            continue;
+        }
+        if reads.contains(&table) {
+            continue;
+        }
+        let readers: Vec<String> = kinds
+            .kinds()
+            .filter(|k| k.tables().contains(&table))
+            .map(|k| format!("kind = \"{}\"", k.name()))
             .collect();
-        let why = if table == "contact" && kind == "sdof" {
-            " (the oscillator has no contact)"
-        } else {
-            ""
+        let why = match model.and_then(|m| m.no_contact()) {
+            Some(why) if table == "contact" => format!(" ({why})"),
+            _ => String::new(),
         };
         return Err(cx.invalid(
             table,
             "(a table)",
             &format!(
-                "read by {} only, not by kind = \"{kind}\"{why}: remove [{table}] (this kind reads [{}])",
+                "read by {} only, not by kind = \"{}\"{why}: remove [{table}] (this kind reads [{}])",
                 readers.join(", "),
+                kind.name(),
                 reads.join("], [")
             ),
         ));
@@ -195,16 +193,10 @@ impl RunConfig<'_> {
                 "cfl sets the step of integrator = \"central_difference\" only, {}",
                 by_integ()
             )),
-            "coriolis" => match self.model {
-                _ if !integ.is_space_time() => Some(by_integ()),
-                Model::Wheel(w) if w.spec.rotating_frame => None,
-                Model::Wheel(_) => Some(
-                    "wheel.rotating_frame = false: the wheel's model has no Coriolis term".into(),
-                ),
-                _ => Some("only a rotating wheel (kind = \"wheel\") has a Coriolis term".into()),
-            },
-            "method" | "penalty" | "restitution" if matches!(self.model, Model::Sdof(_)) => {
-                Some("the oscillator has no contact".into())
+            "coriolis" if !integ.is_space_time() => Some(by_integ()),
+            "coriolis" => self.model.coriolis(),
+            "method" | "penalty" | "restitution" if self.model.no_contact().is_some() => {
+                self.model.no_contact().map(String::from)
             }
             "penalty" if !matches!(contact, Treatment::Penalty { .. }) => {
                 Some(format!("not used by method = \"{method_name}\""))

@@ -1,20 +1,20 @@
 //! The track's validation: `[track]` (a parameter set and its overrides), `[vehicle]` and
 //! `[receptance]` into a [`TrackScenario`], every value under its key.
 
-use super::super::raw::{RawIrregularity, RawReceptance, RawTrack, RawVehicle};
-use super::super::{
-    Irregularity, ReceptanceRange, ScenarioError, TrackScenario, TrackWheel, Vehicle, VehicleModel,
-};
-use super::Ctx;
 use crate::element::beam::BeamTheory;
 use crate::material::{Elastic, PlaneModel};
+use crate::scenario::raw::{RawIrregularity, RawReceptance, RawTrack, RawVehicle};
+use crate::scenario::Ctx;
+use crate::scenario::{
+    Irregularity, ReceptanceRange, ScenarioError, TrackScenario, TrackWheel, Vehicle, VehicleModel,
+};
 use crate::track::{Ends, TrackSpec, SETS};
 
 /// The largest rail of a track scenario, elements.
 const MAX_ELEMENTS: usize = 2_000_000;
 
 /// The track scenario of `[track]`, `[vehicle]` and `[receptance]` (module docs).
-pub(super) fn track_model(
+pub(crate) fn track_model(
     cx: &Ctx,
     t: Option<RawTrack>,
     v: Option<RawVehicle>,
@@ -480,7 +480,7 @@ fn irregularity(cx: &Ctx, i: RawIrregularity) -> Result<Irregularity, ScenarioEr
                 .file
                 .ok_or_else(|| cx.missing("irregularity.file", "a CSV file of x_m,r_m (m) rows"))?;
             let path = cx
-                .path
+                .path()
                 .parent()
                 .unwrap_or(std::path::Path::new("."))
                 .join(&file);

@@ -2,19 +2,20 @@
 //! [`WheelScenario`], the `[block]` under it, and the settings a wheel's run refuses in
 //! combination (a moving zone, the uncoupled problem, a block, a creepage).
 
-use super::super::raw::{RawBlock, RawMaterial, RawRolling, RawWheel};
-use super::super::{Contact, MeshSource, ScenarioError, WheelScenario};
-use super::{Ctx, DEFAULT_HUB_FRACTION};
 use crate::contact::obstacle::Flattening;
 use crate::contact::{FrictionLaw, Treatment};
 use crate::material::{Elastic, PlaneModel};
+use crate::scenario::raw::{RawBlock, RawMaterial, RawRolling, RawWheel};
+use crate::scenario::{
+    Contact, Ctx, MeshSource, ScenarioError, WheelScenario, DEFAULT_HUB_FRACTION,
+};
 use crate::time::Integrator;
 use crate::wheel::{ContactSurface, Coupling, Support, WheelSpec};
 use std::path::Path;
 
 /// The wheel of `[wheel]`, `[material]` and `[rolling]`, each value checked under its key
 /// (in the order of the keys' checks below: the first error found is the one reported).
-pub(super) fn wheel_model(
+pub(crate) fn wheel_model(
     cx: &Ctx,
     w: Option<RawWheel>,
     m: Option<RawMaterial>,
@@ -92,7 +93,7 @@ fn plasticity(
     cx: &Ctx,
     m: &RawMaterial,
     elastic: Elastic,
-) -> Result<Option<super::super::Plastic>, ScenarioError> {
+) -> Result<Option<crate::scenario::Plastic>, ScenarioError> {
     use crate::plasticity::{Isotropic, J2Material, Kinematic};
     let unused = |key: &str, given: bool, why: &str| -> Result<(), ScenarioError> {
         if given {
@@ -233,7 +234,7 @@ fn plasticity(
             "the residual relative to the internal force, in (0, 1)",
         ));
     }
-    Ok(Some(super::super::Plastic {
+    Ok(Some(crate::scenario::Plastic {
         material: J2Material {
             elastic,
             yield_stress,
@@ -306,7 +307,7 @@ fn disk_mesh(cx: &Ctx, w: &RawWheel) -> Result<MeshSource, ScenarioError> {
         (None, Some(f)) => {
             let p = Path::new(f);
             let p = if p.is_relative() {
-                cx.path.parent().unwrap_or(Path::new(".")).join(p)
+                cx.path().parent().unwrap_or(Path::new(".")).join(p)
             } else {
                 p.to_path_buf()
             };
@@ -658,7 +659,7 @@ fn contact_surface(cx: &Ctx, w: &RawWheel) -> Result<ContactSurface, ScenarioErr
 /// the rows' growth (default 1.2), the margins before and after the travel (default the
 /// depth: an end nearer than that softens the block under the patch) and the search's reach
 /// (default four columns).
-pub(super) fn block_spec(
+pub(crate) fn block_spec(
     cx: &Ctx,
     b: RawBlock,
     spec: &WheelSpec,
@@ -711,7 +712,7 @@ pub(super) fn block_spec(
 /// A wheel's run against what its wheel `w` does not work with: a moving zone, the
 /// uncoupled problem and an elastic block each refuse some of friction, creepage, coupling,
 /// contact surface, treatment and integrator; a creepage needs friction.
-pub(super) fn check_wheel_run(
+pub(crate) fn check_wheel_run(
     cx: &Ctx,
     w: &WheelScenario,
     friction: Option<FrictionLaw>,

@@ -1,0 +1,242 @@
+//! `kind = "wheel"`: the elastic wheel rolling in its rotating frame on a rigid base (the
+//! paper's §4, Figs. 10-17), or pressed into an elastic block (`[block]`). Its tables:
+//! `[wheel]`, `[material]`, `[rolling]`, `[block]`, `[contact]` ([`validate`]); its run:
+//! [`crate::run::wheel`].
+
+use super::{Kind, KindInput, Model, RunView, Size, Spec};
+use crate::contact::Treatment;
+use crate::growth::wheel::WheelPassRunner;
+use crate::growth::{GrowthConfig, GrowthError, PassRunner};
+use crate::run::grow::GrowOptions;
+use crate::run::{Results, RunError, RunOptions};
+use crate::scenario::combinations::{
+    constraint_mode_factor, Culprit, Family, Refusal, MAX_CONSTRAINT_MODE_FACTOR,
+};
+use crate::scenario::raw::{RawBlock, RawMaterial, RawRolling, RawWheel};
+use crate::scenario::{Ctx, MeshSource, Run, Scenario, ScenarioError, WheelScenario};
+use crate::time::Integrator;
+use std::path::Path;
+
+pub(crate) mod validate;
+
+/// The kind `wheel`.
+pub struct WheelKind;
+
+#[derive(serde::Deserialize)]
+struct Tables {
+    wheel: Option<RawWheel>,
+    material: Option<RawMaterial>,
+    rolling: Option<RawRolling>,
+    block: Option<RawBlock>,
+}
+
+impl Kind for WheelKind {
+    fn name(&self) -> &'static str {
+        "wheel"
+    }
+
+    fn tables(&self) -> &'static [&'static str] {
+        &["wheel", "material", "rolling", "block", "contact"]
+    }
+
+    fn model(&self, input: &KindInput) -> Result<Model, ScenarioError> {
+        let cx = input.cx;
+        let t = input.tables::<Tables>()?;
+        let fields_per_turn = t.rolling.as_ref().and_then(|r| r.fields_per_turn);
+        let mut w = validate::wheel_model(cx, t.wheel, t.material, t.rolling)?;
+        if let Some(b) = t.block {
+            if let Some(n) = fields_per_turn {
+                return Err(cx.invalid(
+                    "rolling.fields_per_turn",
+                    n,
+                    "the velocity snapshots of the wheel on its rigid base, not written with a [block] (its run writes the last state's fields): remove it",
+                ));
+            }
+            if let Some(p) = w.load {
+                return Err(cx.invalid(
+                    "wheel.load",
+                    p,
+                    "not with a [block] (the block is pressed to rolling.flattening): give rolling.flattening",
+                ));
+            }
+            w.block = Some(validate::block_spec(cx, b, &w.spec)?);
+        }
+        Ok(Model::new(w))
+    }
+}
+
+/// The rim's nodes of a wheel's mesh (a Gmsh file's from its `file_nodes`, as if uniform).
+fn rim_nodes(mesh: &MeshSource, file_nodes: Option<usize>) -> f64 {
+    match mesh {
+        &MeshSource::Rings(n) => 6.0 * n as f64,
+        &MeshSource::Graded { rim_nodes, .. } => rim_nodes as f64,
+        MeshSource::Zone(z) => {
+            z.rim_nodes as f64
+                + z.zone_rim_nodes as f64 * z.zone_width / (2.0 * std::f64::consts::PI)
+        }
+        MeshSource::Gmsh(_) => (4.0 * std::f64::consts::PI * file_nodes.unwrap_or(0) as f64).sqrt(),
+    }
+}
+
+/// The nodes of a wheel's generated mesh, without building it (`None` for a file): the
+/// hexagonal disk's `1 + 3 n (n + 1)`, the graded disk's `rim^2 / (4 pi)` when uniform
+/// (grading below 1.05), else `1.2 rim ln(rim)` (above the measured 1,715 nodes at 288 rim
+/// nodes and 10,811 at 1,440; [`crate::mesh::generators::disk_graded`]).
+pub fn wheel_nodes(mesh: &MeshSource) -> Option<f64> {
+    match mesh {
+        &MeshSource::Rings(n) => Some(1.0 + 3.0 * n as f64 * (n as f64 + 1.0)),
+        &MeshSource::Graded { rim_nodes, grading } => {
+            let r = rim_nodes as f64;
+            Some(if grading < 1.05 {
+                r * r / (4.0 * std::f64::consts::PI)
+            } else {
+                1.2 * r * r.ln()
+            })
+        }
+        MeshSource::Gmsh(_) => None,
+        // The coarse disk's nodes, plus the zone's square cells at the fine pitch down to
+        // its depth (about the zone's width).
+        MeshSource::Zone(z) => {
+            let r = z.rim_nodes as f64;
+            let zone = z.zone_rim_nodes as f64 * z.zone_width / (2.0 * std::f64::consts::PI);
+            Some(1.2 * r * r.ln() + zone * zone / 4.0)
+        }
+    }
+}
+
+impl Spec for WheelScenario {
+    crate::spec_plumbing!("wheel");
+
+    fn dim(&self) -> usize {
+        2
+    }
+
+    fn end_time(&self, cx: &Ctx, given: Option<f64>) -> Result<f64, ScenarioError> {
+        if let Some(t) = given {
+            return Err(cx.invalid(
+                "time.t_end",
+                t,
+                "a wheel run lasts rolling.settle_time + rolling.turns turns: remove time.t_end",
+            ));
+        }
+        Ok(self.duration())
+    }
+
+    fn end_phrase(&self, t_end: f64) -> String {
+        format!(
+            "the step must not exceed the run, rolling.settle_time + rolling.turns turns = {t_end} s"
+        )
+    }
+
+    fn check_scenario(&self, cx: &Ctx, runs: usize, _: bool) -> Result<(), ScenarioError> {
+        if runs > 1 {
+            return Err(cx.invalid(
+                "runs[1]",
+                "(a second run)",
+                "a wheel scenario runs one run (runs[0]); the others would be dropped: give one [[runs]] entry, or vary a key with `softway sweep --set KEY=V1,V2,...`",
+            ));
+        }
+        Ok(())
+    }
+
+    fn coriolis(&self) -> Option<String> {
+        (!self.spec.rotating_frame)
+            .then(|| "wheel.rotating_frame = false: the wheel's model has no Coriolis term".into())
+    }
+
+    fn combination(
+        &self,
+        integrator: &Integrator,
+        contact: &Treatment,
+    ) -> Option<Result<(), Refusal>> {
+        let refuse = |why: String| {
+            Some(Err(Refusal {
+                culprit: Culprit::Integrator,
+                why,
+            }))
+        };
+        match (Family::of(integrator), integrator) {
+            (Family::Explicit, _) => refuse(
+                "the wheel's stable explicit step is about 1e-8 s (hundreds of millions of steps a turn); use \"space_time\", \"newmark\", \"newmark_dissipative\", \"hht\" or \"generalized_alpha\"".into(),
+            ),
+            (Family::Implicit, Integrator::Classic { params, .. })
+                if matches!(contact, Treatment::Exact)
+                    && constraint_mode_factor(*params) > MAX_CONSTRAINT_MODE_FACTOR =>
+            {
+                refuse(format!(
+                    "with method = \"exact\" on the rolling wheel this integrator leaves the contact multipliers' period-2h mode undamped (displacement-level constraints under a trapezoidal rule without numerical dissipation: it carries {:.1}% of the mode to the next step) and the active set, changing at every node passing, feeds it (the paper's wheel: energy 327 J -> 2.1e10 J); use \"newmark_dissipative\", \"hht\" or \"generalized_alpha\" with their default damping, or \"space_time\", or method = \"mass_redistribution\", \"moreau_jean\" or \"penalty\"",
+                    100.0 * constraint_mode_factor(*params)
+                ))
+            }
+            _ => None,
+        }
+    }
+
+    fn check_run(&self, cx: &Ctx, run: &RunView) -> Result<(), ScenarioError> {
+        validate::check_wheel_run(cx, self, run.friction, run.contact, run.integrator.0)
+    }
+
+    fn size(&self, _: &Run, mesh_nodes: Option<usize>) -> Size {
+        let nodes = wheel_nodes(&self.mesh)
+            .or(mesh_nodes.map(|n| n as f64))
+            .unwrap_or(0.0);
+        let key = match self.mesh {
+            MeshSource::Rings(_) => "wheel.rings",
+            MeshSource::Graded { .. } => "wheel.rim_nodes",
+            MeshSource::Gmsh(_) => "wheel.mesh",
+            MeshSource::Zone(_) => "wheel.zone_rim_nodes",
+        };
+        Size {
+            dofs: 2.0 * nodes,
+            duration: self.duration(),
+            contact_pairs: rim_nodes(&self.mesh, mesh_nodes),
+            key: Some(key),
+        }
+    }
+
+    fn mesh_nodes(&self, scenario: &Path) -> Result<Option<usize>, RunError> {
+        match &self.mesh {
+            MeshSource::Gmsh(p) => Ok(Some(
+                crate::run::wheel::read_mesh_file(p, &self.spec, scenario)?.n_nodes(),
+            )),
+            _ => Ok(None),
+        }
+    }
+
+    fn growth_runner(
+        &self,
+        sc: &Scenario,
+        config: &GrowthConfig,
+        opts: &GrowOptions,
+    ) -> Result<Box<dyn PassRunner>, GrowthError> {
+        // Every rim point passes the contact as often in a pass: whole turns (a part of a
+        // turn wore part of the rim and grew a polygon of its own, +10,000 dB).
+        if !(self.turns >= 1.0 && self.turns.fract() == 0.0) {
+            return Err(GrowthError::Run(RunError::input(
+                &sc.path,
+                format!("`rolling.turns` = {}: a growth study rolls whole turns, at least one (each rim point then passes the contact as often)", self.turns),
+            )));
+        }
+        if let Some(k) = config.rail.given().first() {
+            return Err(GrowthError::Run(RunError::input(
+                &sc.path,
+                format!("{k} is a rail's key (kind = \"track\"): the wheel on its rigid base slides by rolling.creepage under contact.friction; remove it"),
+            )));
+        }
+        Ok(Box::new(WheelPassRunner::new(
+            sc,
+            config.wear,
+            config.wear_density,
+            opts.par,
+        )?))
+    }
+
+    fn record(
+        &self,
+        sc: &Scenario,
+        stream: Option<&Path>,
+        opts: &RunOptions,
+    ) -> Result<Results, RunError> {
+        crate::run::wheel::record(sc, stream, opts)
+    }
+}
