@@ -4,20 +4,19 @@
 //! command line's `run` ([`run_scenario`]) does both, streaming the long tables into the
 //! output folder as it goes so that a long run's memory stays flat.
 
-pub mod bar;
 pub(crate) mod compare;
 pub(crate) mod converge;
 pub mod grow;
 pub(crate) mod matrix;
 pub(crate) mod on_block;
 pub mod results;
-pub(crate) mod sdof;
 pub(crate) mod sweep;
 pub(crate) mod track;
 pub(crate) mod track_rolling;
 pub mod wheel;
 
 pub use crate::guard::GuardMode;
+pub use crate::kinds::bar::run as bar;
 pub use crate::linalg::team::{Par, Team};
 pub use crate::output::table::{Column, Columns};
 use crate::scenario::Scenario;

@@ -2,11 +2,11 @@
 //! d'Alembert solution: contact from `t = gap / v0` for `2 L / c`, constant force
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
-use super::results::Results;
-use super::{progress_bar, RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::Rows;
 use crate::problems::{BarImpact, TwoBars};
+use crate::run::results::Results;
+use crate::run::{progress_bar, RunError, RunOptions};
 use crate::scenario::{Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
@@ -513,7 +513,7 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let (mut csv, hist) = crate::run::results::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let mut summaries = Vec::new();
     let mut traces = Vec::new();
@@ -546,7 +546,7 @@ pub(crate) fn record(
             }
         }
     }
-    super::stamp_provenance(&mut json, sc);
+    crate::run::stamp_provenance(&mut json, sc);
     let lines = summaries.iter().map(summary_line).collect();
     let panes = match summaries.first() {
         Some(s) if !traces.is_empty() => trace_panels(&traces, &s.exact, kind == "two_bars"),

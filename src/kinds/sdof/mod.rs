@@ -1,6 +1,6 @@
 //! `kind = "sdof"`: the one-degree-of-freedom oscillator `m x'' + k x = 0` of the paper's
 //! Eqs. (9)-(10), run by the space-time scheme alone and compared with the exact solution
-//! ([`crate::run::sdof`]).
+//! ([`run`]).
 
 use super::{Kind, KindInput, Model, Size, Spec};
 use crate::contact::Treatment;
@@ -10,6 +10,8 @@ use crate::scenario::raw::RawSdof;
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError, Sdof};
 use crate::time::Integrator;
 use std::path::Path;
+
+pub(crate) mod run;
 
 /// The kind `sdof`.
 pub struct SdofKind;
@@ -83,6 +85,6 @@ impl Spec for Sdof {
         stream: Option<&Path>,
         opts: &RunOptions,
     ) -> Result<Results, RunError> {
-        crate::run::sdof::record(sc, stream, opts)
+        run::record(sc, stream, opts)
     }
 }

@@ -1,6 +1,6 @@
 //! `kind = "bar_impact"` (the elastic bar striking a rigid wall, the paper's Fig. 8) and
 //! `kind = "two_bars"` (two equal bars colliding, node to node), both against d'Alembert's
-//! exact answer ([`crate::run::bar`]).
+//! exact answer ([`run`]).
 
 use super::{Kind, KindInput, Model, Size, Spec};
 use crate::problems::{BarImpact, TwoBars};
@@ -8,6 +8,8 @@ use crate::run::{Results, RunError, RunOptions};
 use crate::scenario::raw::RawBar;
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
 use std::path::Path;
+
+pub mod run;
 
 /// The kind `bar_impact`.
 pub struct BarImpactKind;
@@ -163,7 +165,7 @@ fn node_mass(b: &BarImpact) -> f64 {
 }
 
 fn record(sc: &Scenario, stream: Option<&Path>, opts: &RunOptions) -> Result<Results, RunError> {
-    crate::run::bar::record(sc, stream, opts)
+    run::record(sc, stream, opts)
 }
 
 impl Spec for BarImpact {

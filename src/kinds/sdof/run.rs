@@ -1,9 +1,9 @@
 //! The one-degree-of-freedom oscillator `m x'' + k x = 0` by the scheme of Eqs. (9)-(10),
 //! against the exact solution `x = x0 cos(omega t) + v0/omega sin(omega t)`.
 
-use super::results::Results;
-use super::{RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
+use crate::run::results::Results;
+use crate::run::{RunError, RunOptions};
 use crate::scenario::Scenario;
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
@@ -60,7 +60,7 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let (mut csv, hist) = crate::run::results::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let mut interrupted = false;
     let mut sums = Vec::new();
@@ -151,7 +151,7 @@ pub(crate) fn record(
         "scenario": sc.name, "kind": "sdof", "interrupted": interrupted,
         "units": {"time": "s", "length": "m", "energy": "J"}, "runs": sums,
     });
-    super::stamp_provenance(&mut json, sc);
+    crate::run::stamp_provenance(&mut json, sc);
     let mut lines = Vec::new();
     for s in &sums {
         lines.push(format!(
