@@ -183,8 +183,6 @@ fn physical_memory_bytes() -> Option<f64> {
     Some(kb * 1024.0)
 }
 
-pub use crate::kinds::wheel::wheel_nodes;
-
 /// Estimates the cost of a built scenario; `mesh_nodes` gives the nodes of a wheel whose
 /// mesh is a file (read by the caller).
 pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
@@ -203,7 +201,7 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
         // (`crate::contact::rows::RowSolver`: two of `rows^2` values): one row a contact
         // pair, two with friction.
         let per_pair = if run.friction.is_some() { 2.0 } else { 1.0 };
-        let crate::kinds::Size {
+        let crate::scenario::kind::Size {
             dofs,
             duration,
             contact_pairs,

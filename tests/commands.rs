@@ -165,9 +165,14 @@ fn wheel_with(sets: &[&str]) -> Scenario<softway::scenario::RunSpec> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/wheel.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     let sets: Vec<Override> = sets.iter().map(|s| Override::parse(s).unwrap()).collect();
-    softway::scenario::overrides::read_with(&text, &path, &sets)
-        .unwrap()
-        .0
+    softway::scenario::overrides::read_with(
+        &text,
+        &path,
+        &sets,
+        &softway::kinds::Registry::builtin(),
+    )
+    .unwrap()
+    .0
 }
 
 /// `wheel.load`: the flattening found for it carries the load in an independent static

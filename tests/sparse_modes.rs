@@ -15,9 +15,14 @@ fn shipped(name: &str, sets: &[&str]) -> WheelModel {
         .join(name);
     let text = std::fs::read_to_string(&path).unwrap();
     let sets: Vec<Override> = sets.iter().map(|s| Override::parse(s).unwrap()).collect();
-    let sc: Scenario<_> = softway::scenario::overrides::read_with(&text, &path, &sets)
-        .unwrap()
-        .0;
+    let sc: Scenario<_> = softway::scenario::overrides::read_with(
+        &text,
+        &path,
+        &sets,
+        &softway::kinds::Registry::builtin(),
+    )
+    .unwrap()
+    .0;
     let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("{name} is not a wheel")
     };

@@ -846,10 +846,15 @@ fn check_ladder_estimate(
             .map(|o| format!("{} = {}", o.key, o.value))
             .collect::<Vec<_>>()
             .join(", ");
-        let sc = crate::scenario::overrides::read_with(text, path, p)
-            .map_err(|e| e.to_string())
-            .and_then(|(sc, _)| resolve(&sc).map_err(|e| e.to_string()))
-            .map_err(|e| format!("{at}: {e}"))?;
+        let sc = crate::scenario::overrides::read_with(
+            text,
+            path,
+            p,
+            &crate::kinds::Registry::builtin(),
+        )
+        .map_err(|e| e.to_string())
+        .and_then(|(sc, _)| resolve(&sc).map_err(|e| e.to_string()))
+        .map_err(|e| format!("{at}: {e}"))?;
         check_estimate(&sc, true)?;
         let e = crate::build::estimate(&sc, None);
         total = Some(match total {

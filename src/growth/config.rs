@@ -29,10 +29,20 @@
 //! ```
 
 use super::roughness::ISO3095_LIMIT;
-use crate::scenario::ScenarioError;
+use crate::scenario::error::ScenarioError;
 use crate::wear::{Archard, FrictionalPower, JendelMap, Usfd, WearLaw};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+
+/// Where the worn pressure comes from (the rail's growth study, `crate::growth::track`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WearPatch {
+    /// The step's force over Hertz's patch under the axle.
+    Hertz,
+    /// The rim nodes' own forces.
+    Nodes,
+}
 
 /// A validated growth study (module docs).
 #[derive(Debug, Clone, PartialEq)]
@@ -112,7 +122,7 @@ pub struct RailKeys {
     /// `growth.traction_coefficient`: `T / N`.
     pub traction_coefficient: Option<f64>,
     /// `growth.patch`: where the worn pressure comes from.
-    pub patch: Option<crate::growth::track::WearPatch>,
+    pub patch: Option<WearPatch>,
 }
 
 impl RailKeys {
@@ -326,8 +336,8 @@ pub fn validate(
         },
         patch: match g.patch.as_deref() {
             None => None,
-            Some("hertz") => Some(crate::growth::track::WearPatch::Hertz),
-            Some("nodes") => Some(crate::growth::track::WearPatch::Nodes),
+            Some("hertz") => Some(WearPatch::Hertz),
+            Some("nodes") => Some(WearPatch::Nodes),
             Some(other) => {
                 return Err(invalid(
                     "growth.patch",

@@ -78,6 +78,19 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+/// Options of a growth job.
+#[derive(Debug, Clone)]
+pub struct GrowOptions {
+    /// Simulated passes in all (`None`: the scenario's `growth.passes`).
+    pub passes: Option<usize>,
+    /// Go on from the output folder's checkpoint.
+    pub resume: bool,
+    /// Draw the PNGs.
+    pub plots: bool,
+    /// Threads of each pass.
+    pub par: crate::linalg::team::Par,
+}
+
 /// A surface profile over the rolling coordinate: evenly spaced samples. Positive `z` is
 /// material standing proud (a bump on the wheel's rim, a rail surface higher), m.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -161,25 +174,25 @@ pub trait PassRunner {
     /// from 0; stops within a step when `interrupt` is set.
     ///
     /// # Errors
-    /// [`crate::run::RunError`].
+    /// [`crate::run::error::RunError`].
     fn run_pass(
         &mut self,
         profile: &SurfaceProfile,
         pass: usize,
         interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<PassResult, crate::run::RunError>;
+    ) -> Result<PassResult, crate::run::error::RunError>;
 
     /// Runs the reference pass on the smooth profile (`growth.reference`): like
     /// [`PassRunner::run_pass`], but the carried state (a plastic wheel's) is left exactly
     /// as it was. A runner that carries no state may run its ordinary pass 0.
     ///
     /// # Errors
-    /// [`crate::run::RunError`].
+    /// [`crate::run::error::RunError`].
     fn run_reference(
         &mut self,
         profile: &SurfaceProfile,
         interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<PassResult, crate::run::RunError>;
+    ) -> Result<PassResult, crate::run::error::RunError>;
 
     /// The state the runner carries from pass to pass (a plastic wheel's plastic state),
     /// checkpointed bit for bit after every pass; `None` for a runner whose passes depend on
@@ -199,14 +212,14 @@ pub trait PassRunner {
     /// dB per 1e5 real passes)`; an empty list for a runner that writes none.
     ///
     /// # Errors
-    /// [`crate::run::RunError`].
+    /// [`crate::run::error::RunError`].
     fn extra_outputs(
         &mut self,
         out: &std::path::Path,
         bands: &[(f64, f64)],
         plots: bool,
         interrupt: &std::sync::atomic::AtomicBool,
-    ) -> Result<Vec<std::path::PathBuf>, crate::run::RunError>;
+    ) -> Result<Vec<std::path::PathBuf>, crate::run::error::RunError>;
 }
 
 /// [`PassRunner::restore_state`] of a runner that carries no state: accepts a checkpoint
@@ -226,7 +239,7 @@ pub fn no_carried_state(state: Option<&[f64]>) -> Result<(), String> {
 pub enum GrowthError {
     /// A pass failed.
     #[error(transparent)]
-    Run(#[from] crate::run::RunError),
+    Run(#[from] crate::run::error::RunError),
     /// The initial roughness could not be made.
     #[error("{0}")]
     Roughness(String),

@@ -51,7 +51,8 @@
 
 use super::{PassResult, PassRunner, SurfaceProfile};
 use crate::contact::profile::Profile;
-use crate::run::{RunError, RunOptions};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
 use crate::scenario::{Scenario, TrackScenario, VehicleModel};
 use crate::wear::{ContactSample, WearLaw};
 use std::sync::atomic::AtomicBool;
@@ -71,15 +72,7 @@ pub struct RailSliding {
     pub density: f64,
 }
 
-/// Where the worn pressure comes from (module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WearPatch {
-    /// The step's force over Hertz's patch under the axle.
-    Hertz,
-    /// The rim nodes' own forces.
-    Nodes,
-}
+pub use crate::growth::config::WearPatch;
 
 /// Hertz's line contact of a force per unit width over a half-width `a` (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]

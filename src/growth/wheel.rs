@@ -45,8 +45,8 @@
 use super::{PassResult, PassRunner, SurfaceProfile};
 use crate::contact::obstacle::RotatingLine;
 use crate::linalg::team::Par;
+use crate::run::error::RunError;
 use crate::run::wheel::build;
-use crate::run::RunError;
 use crate::scenario::{Run, Scenario, WheelScenario};
 use crate::simulation::Simulation;
 use crate::wear::{ContactSample, WearLaw};

@@ -70,9 +70,9 @@ impl JobFolder {
     ) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
         let mut files = files.to_vec();
         if let Some(sc) = scenario {
-            let copy = self.dir().join(crate::run::SCENARIO_COPY);
+            let copy = self.dir().join(crate::run::provenance::SCENARIO_COPY);
             if !files.contains(&copy) {
-                files.push(crate::run::write_scenario_copy(sc, self.dir())?);
+                files.push(crate::run::provenance::write_scenario_copy(sc, self.dir())?);
             }
         }
         if interrupted {

@@ -5,9 +5,8 @@
 use super::files::write_json;
 use super::table::Columns;
 use super::vtk::{write_vtu, Field, PvdWriter};
-use crate::run::results::{Detail, FieldArray, Fields, Results, WheelDetail};
-use crate::run::wheel::{figures, traction};
-use crate::run::RunError;
+use crate::run::error::RunError;
+use crate::run::results::{Detail, FieldArray, Fields, Results};
 use std::path::{Path, PathBuf};
 
 impl Results {
@@ -22,8 +21,8 @@ impl Results {
         std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
         let mut files = vec![table(out, "history.csv", &self.history)?];
         match &self.detail {
-            Detail::Wheel(w) => {
-                files.extend(self.save_wheel(out, w)?);
+            Detail::Own(w) => {
+                files.extend(w.save(self, out)?);
                 files.push(self.save_summary(out)?);
             }
             Detail::Panels { file, panes, size } => {
@@ -68,37 +67,10 @@ impl Results {
         write_json(&sj, &self.summary).map_err(|e| RunError::output(&sj, e))?;
         Ok(sj)
     }
-
-    /// The wheel's files after `history.csv`: contact nodes, traction, fields, rim profile,
-    /// figures.
-    fn save_wheel(&self, out: &Path, w: &WheelDetail) -> Result<Vec<PathBuf>, RunError> {
-        let mut files = Vec::new();
-        if let Some(nodes) = &self.contact_nodes {
-            files.push(table(out, "contact_nodes.csv", nodes)?);
-        }
-        if let (Some((ts, profile)), Some(history)) = (&w.traction, &self.traction_history) {
-            files.push(table(out, "traction_history.csv", history)?);
-            files.push(traction::write_profile(out, ts, profile)?);
-            if self.plots {
-                files.extend(traction::figures(out, ts, profile)?);
-            }
-        }
-        files.extend(write_fields(out, &self.fields)?);
-        files.extend(figures::write_rim_profile(out, &w.profile)?);
-        if let Some(rim) = &w.plastic_rim {
-            files.push(table(out, "rim_permanent_displacement.csv", rim)?);
-        }
-        if self.plots {
-            files.extend(figures::write(
-                out, &w.wm, &w.summary, &w.results, &w.profile,
-            )?);
-        }
-        Ok(files)
-    }
 }
 
 /// Writes `table` as `out/name`.
-fn table(out: &Path, name: &str, table: &Columns) -> Result<PathBuf, RunError> {
+pub(crate) fn table(out: &Path, name: &str, table: &Columns) -> Result<PathBuf, RunError> {
     let path = out.join(name);
     table
         .write_csv(&path)
@@ -108,7 +80,7 @@ fn table(out: &Path, name: &str, table: &Columns) -> Result<PathBuf, RunError> {
 
 /// The fields as VTU files, one per frame, and `velocity.pvd` listing the frames with an
 /// instant.
-fn write_fields(out: &Path, fields: &Fields) -> Result<Vec<PathBuf>, RunError> {
+pub(crate) fn write_fields(out: &Path, fields: &Fields) -> Result<Vec<PathBuf>, RunError> {
     let Some(mesh) = &fields.mesh else {
         return Ok(Vec::new());
     };

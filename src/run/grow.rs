@@ -6,22 +6,10 @@
 use super::{Cancel, RunError};
 use crate::growth::report::{self, GrowthSummary};
 use crate::growth::{run_study, GrowthError, PassLine, PassRunner};
-use crate::linalg::team::Par;
 use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
-/// Options of a growth job.
-#[derive(Debug, Clone)]
-pub struct GrowOptions {
-    /// Simulated passes in all (`None`: the scenario's `growth.passes`).
-    pub passes: Option<usize>,
-    /// Go on from the output folder's checkpoint.
-    pub resume: bool,
-    /// Draw the PNGs.
-    pub plots: bool,
-    /// Threads of each pass.
-    pub par: Par,
-}
+pub use crate::growth::GrowOptions;
 
 /// What a growth job reports back.
 #[derive(Debug, Clone)]

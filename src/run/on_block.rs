@@ -10,12 +10,13 @@
 //! and the body's index on the points) and `wheel_on_block.png` (the force over time; the
 //! last step's contact pressure against Hertz's ellipse).
 
-use super::results::{FieldArray, FieldFrame, Fields, Results};
-use super::{RunError, RunOptions};
 use crate::mesh::{Cells, Mesh};
 use crate::models::wheel_on_block::{patch_half_width, WheelOnBlock};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::{Columns, Rows};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::{FieldArray, FieldFrame, Fields, Results};
 use crate::scenario::{Scenario, WheelScenario};
 use crate::simulation::{RunStats, Simulation};
 use serde::Serialize;
@@ -193,7 +194,7 @@ pub(crate) fn record(
             serde_json::json!({"time": "s", "force": "N", "length": "m", "modulus": "Pa", "energy": "J", "omega": "rad/s"}),
         );
     }
-    super::stamp_provenance(&mut json, sc);
+    crate::run::provenance::stamp_provenance(&mut json, sc);
     let panes = figure(&wb, &trace, &last);
     Ok(Results {
         fields: fields(&wb, &last),

@@ -13,13 +13,8 @@
 
 use crate::mesh::Mesh;
 use crate::output::plot::Panel;
-use crate::output::table::{Columns, Rows};
-use crate::run::wheel::figures::RimProfile;
-use crate::run::wheel::traction::{TractionProfile, TractionSummary};
-use crate::run::wheel::{WheelResults, WheelSummary};
-use crate::run::RunError;
-use crate::scenario::Scenario;
-use crate::wheel::WheelModel;
+use crate::output::table::Columns;
+use crate::run::error::RunError;
 use std::path::{Path, PathBuf};
 
 /// The results of one scenario's run.
@@ -55,27 +50,6 @@ pub struct Results {
 }
 
 impl Results {
-    /// The results of a run of a kind of one's own ([`crate::kinds`]): its summary (stamped
-    /// with the provenance every `summary.json` carries: version, scenario SHA-256, peak
-    /// memory), its history and its screen lines; no figure, no per-node tables, no fields.
-    pub fn of_kind(
-        sc: &Scenario,
-        mut summary: serde_json::Value,
-        history: Columns,
-        lines: Vec<String>,
-        interrupted: bool,
-    ) -> Self {
-        super::stamp_provenance(&mut summary, sc);
-        Self::with_panels(
-            (sc.runs[0].model.kind(), summary),
-            history,
-            lines,
-            interrupted,
-            false,
-            ("figure.png", Vec::new(), (800, 600)),
-        )
-    }
-
     /// The results of a job with a history and one figure of panels (the oscillator, the
     /// bars, the track, the wheel on its block): no per-node tables, no fields, no warnings.
     pub(crate) fn with_panels(
@@ -139,11 +113,22 @@ pub struct FieldArray {
     pub values: Vec<f64>,
 }
 
+/// A kind's own files and figures, written by [`Results::save`] after `history.csv` and
+/// before `summary.json`.
+pub(crate) trait OwnFiles: std::fmt::Debug + Send + Sync {
+    /// Writes them into `out`; returns the files in the order the command line lists them.
+    ///
+    /// # Errors
+    /// [`RunError::Output`] naming the file.
+    fn save(&self, results: &Results, out: &Path) -> Result<Vec<PathBuf>, RunError>;
+}
+
 /// What each kind's figures and extra files need beyond the public items.
 #[derive(Debug)]
 pub(crate) enum Detail {
-    /// The wheel: its model and the observers' results.
-    Wheel(Box<WheelDetail>),
+    /// A kind's own files and figures after `history.csv` (the wheel's: the contact nodes,
+    /// the traction, the fields, the rim profile, its figures), then `summary.json`.
+    Own(Box<dyn OwnFiles>),
     /// Panels drawn one above the other into `file` (the oscillator's, the bar's, the
     /// wheel on a block's; none drawn when empty).
     Panels {
@@ -154,46 +139,4 @@ pub(crate) enum Detail {
         /// The image's size, pixels.
         size: (u32, u32),
     },
-}
-
-/// The wheel's model and its observers' results, for the figures and the profiles.
-#[derive(Debug)]
-pub(crate) struct WheelDetail {
-    pub wm: WheelModel,
-    pub results: WheelResults,
-    pub summary: WheelSummary,
-    pub profile: RimProfile,
-    pub traction: Option<(TractionSummary, TractionProfile)>,
-    /// The plastic wheel's rim permanent radial displacement
-    /// (`rim_permanent_displacement.csv`).
-    pub plastic_rim: Option<Columns>,
-}
-
-/// The history of a scenario's runs, one row every `history_stride` steps keyed by the
-/// run's label, with the columns `columns` (name, unit): streamed to `stream/history.csv`
-/// when given, else held, with room reserved for every run's rows. Returns the table and
-/// the path its errors name.
-///
-/// # Errors
-/// [`RunError`] when the file cannot be created.
-pub(crate) fn keyed_history(
-    sc: &Scenario,
-    stream: Option<&Path>,
-    columns: &[(&str, &str)],
-) -> Result<(Rows, PathBuf), RunError> {
-    let hist = stream.map(|out| out.join("history.csv"));
-    let labels = sc.runs.iter().map(|r| r.label.clone()).collect();
-    let rows: usize = sc
-        .runs
-        .iter()
-        .map(|r| (r.t_end / r.params.h).round() as usize / sc.history_stride.max(1) + 1)
-        .sum();
-    let name = hist.clone().unwrap_or_else(|| "history.csv".into());
-    let csv = Rows::open(
-        Columns::keyed("run", labels, columns),
-        hist.as_deref(),
-        rows,
-    )
-    .map_err(|e| RunError::output(&name, e))?;
-    Ok((csv, name))
 }

@@ -198,7 +198,7 @@ pub fn run_points(
         if !dirs.insert(name) {
             return Err(bad("given twice: give every value once".into()));
         }
-        let sc = read_with(text, path, sets)
+        let sc = read_with(text, path, sets, &crate::kinds::Registry::builtin())
             .map_err(|e| e.to_string())
             .and_then(|(sc, _)| resolve(&sc).map_err(|e| e.to_string()))
             .map_err(bad)?;

@@ -3,9 +3,10 @@
 //! receptance with its frequencies (`softway receptance`: `receptance.csv`,
 //! `receptance.png`, `summary.json`).
 
-use super::results::Results;
-use super::{RunError, RunOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
 use crate::scenario::{Model, Scenario, TrackScenario};
 use crate::track::moving::{self, MovingLoad, Passage, Sample};
 use crate::track::receptance::{frequencies, log_frequencies, Frequencies, Receptance, Wheel};
@@ -106,8 +107,9 @@ struct PassageSummary {
     interrupted: bool,
 }
 
-/// `softway run` of a track scenario: each run's passage (module docs); the history streamed
-/// to `stream` when given.
+/// `softway run` of a track scenario under a moving load: each run's passage (module
+/// docs); the history streamed to `stream` when given. The rolling wheel's:
+/// [`super::track_rolling::record`].
 ///
 /// # Errors
 /// [`RunError`]: a track that cannot be built, a failed run, a file that cannot be written.
@@ -116,10 +118,7 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    if track_of(&sc.runs[0].model).vehicle.model == crate::scenario::VehicleModel::Wheel {
-        return super::track_rolling::record(sc, stream, opts);
-    }
-    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let mut sums = Vec::new();
     let mut deflection = Panel::new(
@@ -198,7 +197,7 @@ pub(crate) fn record(
         "runs": sums,
     });
     lift_first_run(&mut json, &sums[0]);
-    super::stamp_provenance(&mut json, sc);
+    crate::run::provenance::stamp_provenance(&mut json, sc);
     let lines = sums.iter().map(screen_line).collect();
     Ok(Results::with_panels(
         ("track", json),

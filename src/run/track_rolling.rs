@@ -22,12 +22,13 @@
 //! dissipation of the step ([`crate::model::PairState::slip_power`], `>= 0`),
 //! `friction_energy_J` its integral since the start.
 
-use super::results::Results;
-use super::{RunError, RunOptions};
 use crate::analysis::signal::{amplitude_spectrum, dominant_peak, moving_average};
 use crate::material::Elastic;
 use crate::mesh::generators::{disk_graded, DiskOptions};
 use crate::output::plot::{Panel, Series, SeriesStyle};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
 use crate::scenario::{Model, Run, Scenario, TrackScenario};
 use crate::simulation::Simulation;
 use crate::track::receptance::{frequencies, log_frequencies, p2_with, receptance, Wheel};
@@ -191,7 +192,7 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let (mut csv, hist) = super::results::keyed_history(sc, stream, &HISTORY)?;
+    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let first = track_of(&sc.runs[0].model);
     let mut panels = Panels::new(first);
@@ -226,7 +227,7 @@ pub(crate) fn record(
         "runs": sums,
     });
     super::track::lift_first_run(&mut json, &sums[0]);
-    super::stamp_provenance(&mut json, sc);
+    crate::run::provenance::stamp_provenance(&mut json, sc);
     let lines = sums.iter().map(screen_line).collect();
     Ok(Results::with_panels(
         ("track", json),

@@ -23,7 +23,6 @@ pub(crate) mod traction;
 
 pub(crate) use collect::record;
 
-use super::{RunError, RunOptions};
 use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
@@ -36,6 +35,8 @@ use crate::mesh::zone::disk_zone;
 use crate::mesh::Mesh;
 use crate::modes::{bounce_mode, Bounce};
 use crate::output::table::Columns;
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
 use crate::scenario::{MeshSource, Run, Scenario, WheelScenario};
 use crate::wheel::{Support, WheelModel, WheelSpec};
 use observers::{

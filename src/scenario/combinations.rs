@@ -42,7 +42,7 @@
 //! are sane (674.9, 675.0 kN). Penalty, mass redistribution and Moreau-Jean under `newmark`
 //! are sane too (648.9, 674.9, 672.9 kN).
 //!
-//! The model's rows are its kind's ([`crate::kinds::Spec::combination`]). To allow a
+//! The model's rows are its kind's ([`crate::scenario::kind::Spec::combination`]). To allow a
 //! combination, delete (or narrow) the arm of its kind that refuses it and update the table
 //! above; the test `allowed_set_is_the_documented_table` in this
 //! file holds the same table and must change with it.
@@ -50,8 +50,8 @@
 use crate::time::classic::ClassicParams;
 use crate::time::{ClassicKind, Integrator};
 
+use super::kind::Model;
 use super::Contact;
-use crate::kinds::Model;
 
 /// The factor by which a classic integrator carries the period-2h mode of displacement-level
 /// contact multipliers from one step to the next: its high-frequency spectral radius
@@ -95,27 +95,11 @@ impl Family {
     }
 }
 
-/// Which setting a refusal is about: the error names that key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Culprit {
-    /// `time.integrator` (or `runs[i].integrator`).
-    Integrator,
-    /// `contact.method` (or `runs[i].method`).
-    Contact,
-}
-
-/// A combination refused: the key at fault and why.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Refusal {
-    /// The key the error names.
-    pub culprit: Culprit,
-    /// Why, and what to use instead.
-    pub why: String,
-}
+pub use super::kind::{Culprit, Refusal};
 
 /// Whether a model runs with an integrator and a contact treatment: the model's kind's rows
-/// ([`crate::kinds::Spec::combination`]), else the treatment's own rule with the
-/// integrator ([`Treatment::check`]).
+/// ([`crate::scenario::kind::Spec::combination`]), else the treatment's own rule with the
+/// integrator ([`crate::contact::Treatment::check`]).
 ///
 /// # Errors
 /// [`Refusal`] naming the setting at fault and what is allowed instead.

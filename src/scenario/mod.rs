@@ -104,58 +104,18 @@ use crate::time::SpaceTimeParams;
 use std::path::{Path, PathBuf};
 
 pub mod combinations;
+pub mod error;
+pub mod kind;
 pub mod overrides;
 pub(crate) mod raw;
 mod validate;
 
-pub use crate::kinds::Model;
+pub use error::ScenarioError;
+pub use kind::Model;
 pub use validate::{Ctx, DEFAULT_HUB_FRACTION};
 
 pub use overrides::Override;
 pub use raw::set_key;
-
-/// A scenario error: the file, the key at fault and what is allowed.
-#[derive(Debug, thiserror::Error)]
-pub enum ScenarioError {
-    /// The file cannot be read.
-    #[error("{path}: cannot read the scenario: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// TOML syntax or schema error (unknown key, wrong type).
-    #[error("{path}: {message}")]
-    Parse {
-        /// The file.
-        path: PathBuf,
-        /// The parser's message, with line and column.
-        message: String,
-    },
-    /// A value out of its allowed range.
-    #[error("{path}: `{key}` = {value}: {allowed}")]
-    Invalid {
-        /// The file.
-        path: PathBuf,
-        /// Dotted key, e.g. `bar.length` or `runs[2].h`.
-        key: String,
-        /// The value found.
-        value: String,
-        /// What is allowed.
-        allowed: String,
-    },
-    /// A required key is missing.
-    #[error("{path}: missing `{key}`: {why}")]
-    Missing {
-        /// The file.
-        path: PathBuf,
-        /// Dotted key.
-        key: String,
-        /// What it is for.
-        why: String,
-    },
-}
 
 /// A one-degree-of-freedom oscillator `m x'' + k x = 0`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -604,48 +564,15 @@ impl<R> Scenario<R> {
 }
 
 impl Scenario<RunSpec> {
-    /// Reads, parses and validates a scenario file (no model is built).
-    ///
-    /// # Errors
-    /// [`ScenarioError`] naming the file, the key and what is allowed.
-    pub fn from_file(path: &Path) -> Result<Self, ScenarioError> {
-        let text = read_text(path).map_err(|source| ScenarioError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::from_str(&text, path)
-    }
-
-    /// Reads a scenario file with the command line's `--set` overrides written into it
-    /// ([`overrides::read_with`]): validated as the file would be with those values.
-    ///
-    /// # Errors
-    /// [`ScenarioError`]; a key or value the parser refuses is named by its `--set`.
-    pub fn from_file_with(path: &Path, sets: &[Override]) -> Result<Self, ScenarioError> {
-        let text = read_text(path).map_err(|source| ScenarioError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Ok(overrides::read_with(&text, path, sets)?.0)
-    }
-
-    /// Parses and validates scenario text; `path` names it in errors (no model is built).
-    ///
-    /// # Errors
-    /// [`ScenarioError`].
-    pub fn from_str(text: &str, path: &Path) -> Result<Self, ScenarioError> {
-        Self::from_str_in(text, path, &crate::kinds::Registry::builtin())
-    }
-
     /// Parses and validates scenario text whose kind is one of `kinds` (softway's own and
-    /// any added with [`crate::kinds::Registry::with`]); `path` names it in errors.
+    /// any added with [`kind::Registry::with`]); `path` names it in errors.
     ///
     /// # Errors
     /// [`ScenarioError`].
     pub fn from_str_in(
         text: &str,
         path: &Path,
-        kinds: &crate::kinds::Registry,
+        kinds: &kind::Registry,
     ) -> Result<Self, ScenarioError> {
         let mut sc = validate::validate(raw::parse(text, path, kinds)?, (text, path), kinds, true)?;
         sc.source_sha256 = sha256_hex(text.as_bytes());
@@ -657,7 +584,7 @@ impl Scenario<RunSpec> {
 /// The parser's message for scenario `text` (TOML syntax, a wrong type, an unknown key,
 /// in the common tables or in its kind's), without the position; `None` when the parser
 /// takes it.
-pub(crate) fn parse_error(text: &str, kinds: &crate::kinds::Registry) -> Option<String> {
+pub(crate) fn parse_error(text: &str, kinds: &kind::Registry) -> Option<String> {
     let raw = match raw::parse_message(text, kinds) {
         Ok(raw) => raw,
         Err(m) => return Some(m),
@@ -673,7 +600,7 @@ pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
 
 /// The text of a scenario file: a regular file (not a folder, a device such as `/dev/zero`
 /// or a pipe, which could be read forever) of at most [`MAX_SCENARIO_BYTES`], in UTF-8.
-fn read_text(path: &Path) -> std::io::Result<String> {
+pub(crate) fn read_text(path: &Path) -> std::io::Result<String> {
     use std::io::Read as _;
     // Checked before opening too: opening a pipe with no writer waits for one forever.
     let before = std::fs::metadata(path)?;

@@ -349,32 +349,32 @@ pub fn read_with(
     text: &str,
     path: &Path,
     sets: &[Override],
+    kinds: &super::kind::Registry,
 ) -> Result<(super::Scenario<super::RunSpec>, String), ScenarioError> {
     let parse_error = |message: String| ScenarioError::Parse {
         path: path.to_path_buf(),
         message,
     };
-    let kinds = crate::kinds::Registry::builtin();
     let run_text = match apply(text, sets) {
         Ok(t) => t,
         Err(m) => {
             // The file's own error first, with its line.
-            super::raw::parse(text, path, &kinds)?;
+            super::raw::parse(text, path, kinds)?;
             return Err(parse_error(m));
         }
     };
-    let mut sc = match super::Scenario::from_str_in(&run_text, path, &kinds) {
+    let mut sc = match super::Scenario::from_str_in(&run_text, path, kinds) {
         Err(e @ ScenarioError::Parse { .. }) => {
             // Which override is at fault: the first one that, alone on the file, the
             // parser refuses (the file itself may be at fault: then its own message).
             if let Err(own @ ScenarioError::Parse { .. }) =
-                super::Scenario::from_str_in(text, path, &kinds)
+                super::Scenario::from_str_in(text, path, kinds)
             {
                 return Err(own);
             }
             for o in sets {
                 let one = apply(text, std::slice::from_ref(o)).map_err(parse_error)?;
-                if let Some(m) = super::parse_error(&one, &kinds) {
+                if let Some(m) = super::parse_error(&one, kinds) {
                     return Err(parse_error(format!("--set {}: {m}", o.to_arg())));
                 }
             }

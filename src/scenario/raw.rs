@@ -10,7 +10,7 @@ use serde::Deserialize;
 use std::path::Path;
 
 /// The tables and keys every kind reads (the kinds' own tables are theirs:
-/// [`crate::kinds::Kind::tables`]).
+/// [`super::kind::Kind::tables`]).
 pub(crate) const COMMON: [&str; 10] = [
     "name",
     "kind",
@@ -25,7 +25,7 @@ pub(crate) const COMMON: [&str; 10] = [
 ];
 
 /// The whole file, but for the kinds' own tables (read by each kind,
-/// [`crate::kinds::KindInput::tables`]); a top-level key that neither this nor a kind of
+/// [`super::kind::KindInput::tables`]); a top-level key that neither this nor a kind of
 /// the registry reads is refused by [`parse`].
 #[derive(Debug, Deserialize)]
 pub(super) struct RawScenario {
@@ -302,7 +302,7 @@ pub(super) struct RawOutput {
 pub(super) fn parse(
     text: &str,
     path: &Path,
-    kinds: &crate::kinds::Registry,
+    kinds: &super::kind::Registry,
 ) -> Result<RawScenario, ScenarioError> {
     parse_at(text, kinds, true).map_err(|message| ScenarioError::Parse {
         path: path.to_path_buf(),
@@ -313,7 +313,7 @@ pub(super) fn parse(
 /// [`parse`]'s work, its message with the position (`positions`) or without it.
 fn parse_at(
     text: &str,
-    kinds: &crate::kinds::Registry,
+    kinds: &super::kind::Registry,
     positions: bool,
 ) -> Result<RawScenario, String> {
     let message =
@@ -368,7 +368,7 @@ pub(crate) fn parse_tables<T: serde::de::DeserializeOwned>(
 /// line, without the position (a `--set` override is named by its argument instead).
 pub(super) fn parse_message(
     text: &str,
-    kinds: &crate::kinds::Registry,
+    kinds: &super::kind::Registry,
 ) -> Result<RawScenario, String> {
     parse_at(text, kinds, false)
 }
@@ -451,7 +451,7 @@ mod tests {
         let e = parse(
             "kind = \"x\"\n[time]\nh = \"0.1\"\n",
             Path::new("a.toml"),
-            &crate::kinds::Registry::builtin(),
+            &crate::scenario::kind::Registry::new(Vec::new()),
         )
         .unwrap_err()
         .to_string();

@@ -5,10 +5,10 @@
 //! nothing is assembled and no file other than the scenario is read (a `cfl` stays a
 //! [`TimeStep::Cfl`] for [`crate::build`]).
 
+use super::kind::{KindInput, Model, Registry};
 use super::raw::{RawContact, RawRun, RawScenario, RawTime};
 use super::{Contact, RunSpec, Scenario, ScenarioError, TimeStep};
 use crate::contact::{FrictionLaw, Restore, Treatment};
-use crate::kinds::{KindInput, Model, Registry};
 
 mod run;
 mod usage;
@@ -295,7 +295,7 @@ impl<'a> Ctx<'a> {
         self.path
     }
 
-    /// A kind's tables `T` from the scenario text ([`crate::kinds::KindInput::tables`]).
+    /// A kind's tables `T` from the scenario text ([`crate::scenario::kind::KindInput::tables`]).
     ///
     /// # Errors
     /// [`ScenarioError::Parse`].

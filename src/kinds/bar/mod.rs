@@ -2,9 +2,11 @@
 //! `kind = "two_bars"` (two equal bars colliding, node to node), both against d'Alembert's
 //! exact answer ([`run`]).
 
-use super::{Kind, KindInput, Model, Size, Spec};
 use crate::problems::{BarImpact, TwoBars};
-use crate::run::{Results, RunError, RunOptions};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
+use crate::scenario::kind::{Kind, KindInput, Model, Size, Spec};
 use crate::scenario::raw::RawBar;
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
 use std::path::Path;

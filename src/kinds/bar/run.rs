@@ -5,8 +5,9 @@
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::Rows;
 use crate::problems::{BarImpact, TwoBars};
+use crate::run::error::RunError;
+use crate::run::options::{progress_bar, RunOptions};
 use crate::run::results::Results;
-use crate::run::{progress_bar, RunError, RunOptions};
 use crate::scenario::{Run, Scenario};
 use crate::simulation::Simulation;
 use serde::Serialize;
@@ -513,7 +514,7 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let (mut csv, hist) = crate::run::results::keyed_history(sc, stream, &HISTORY)?;
+    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let mut summaries = Vec::new();
     let mut traces = Vec::new();
@@ -546,7 +547,7 @@ pub(crate) fn record(
             }
         }
     }
-    crate::run::stamp_provenance(&mut json, sc);
+    crate::run::provenance::stamp_provenance(&mut json, sc);
     let lines = summaries.iter().map(summary_line).collect();
     let panes = match summaries.first() {
         Some(s) if !traces.is_empty() => trace_panels(&traces, &s.exact, kind == "two_bars"),

@@ -1,11 +1,13 @@
 //! `kind = "sdof"`: the one-degree-of-freedom oscillator `m x'' + k x = 0` of the paper's
 //! Eqs. (9)-(10), run by the space-time scheme alone and compared with the exact solution
-//! ([`run`]).
+//! (its `run` module).
 
-use super::{Kind, KindInput, Model, Size, Spec};
 use crate::contact::Treatment;
-use crate::run::{Results, RunError, RunOptions};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
 use crate::scenario::combinations::{Culprit, Family, Refusal};
+use crate::scenario::kind::{Kind, KindInput, Model, Size, Spec};
 use crate::scenario::raw::RawSdof;
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError, Sdof};
 use crate::time::Integrator;

@@ -2,8 +2,9 @@
 //! against the exact solution `x = x0 cos(omega t) + v0/omega sin(omega t)`.
 
 use crate::output::plot::{Panel, Series, SeriesStyle};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
 use crate::run::results::Results;
-use crate::run::{RunError, RunOptions};
 use crate::scenario::Scenario;
 use crate::time::sdof::{amplification, step};
 use serde::Serialize;
@@ -60,7 +61,7 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let (mut csv, hist) = crate::run::results::keyed_history(sc, stream, &HISTORY)?;
+    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &HISTORY)?;
     let at = |e| RunError::output(&hist, e);
     let mut interrupted = false;
     let mut sums = Vec::new();
@@ -151,7 +152,7 @@ pub(crate) fn record(
         "scenario": sc.name, "kind": "sdof", "interrupted": interrupted,
         "units": {"time": "s", "length": "m", "energy": "J"}, "runs": sums,
     });
-    crate::run::stamp_provenance(&mut json, sc);
+    crate::run::provenance::stamp_provenance(&mut json, sc);
     let mut lines = Vec::new();
     for s in &sums {
         lines.push(format!(

@@ -1,15 +1,17 @@
 //! `kind = "track"`: a rail on its pads and sleepers (a UIC60 or UIC54 set), with a
 //! constant load or the elastic wheel with its unsprung mass moving along it. Its tables:
-//! `[track]`, `[vehicle]`, `[receptance]`, `[irregularity]`, `[contact]` ([`validate`]);
-//! its run: [`crate::run::track`].
+//! `[track]`, `[vehicle]`, `[receptance]`, `[irregularity]`, `[contact]` (its `validate` module);
+//! its runs: the moving load's and the rolling wheel's in `run`.
 
-use super::{Kind, KindInput, Model, RunView, Size, Spec};
 use crate::contact::{FrictionLaw, Restore, Treatment};
 use crate::growth::track::{RailSliding, TrackPass, WearPatch};
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
+use crate::run::error::RunError;
 use crate::run::grow::GrowOptions;
-use crate::run::{Results, RunError, RunOptions};
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
 use crate::scenario::combinations::{Culprit, Family, Refusal};
+use crate::scenario::kind::{Kind, KindInput, Model, RunView, Size, Spec};
 use crate::scenario::raw::{RawIrregularity, RawReceptance, RawTrack, RawVehicle};
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError, TrackScenario, VehicleModel};
 use crate::time::Integrator;
@@ -242,6 +244,10 @@ impl Spec for TrackScenario {
         stream: Option<&Path>,
         opts: &RunOptions,
     ) -> Result<Results, RunError> {
-        crate::run::track::record(sc, stream, opts)
+        if self.rolls() {
+            crate::run::track_rolling::record(sc, stream, opts)
+        } else {
+            crate::run::track::record(sc, stream, opts)
+        }
     }
 }

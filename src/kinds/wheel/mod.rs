@@ -1,17 +1,19 @@
 //! `kind = "wheel"`: the elastic wheel rolling in its rotating frame on a rigid base (the
 //! paper's §4, Figs. 10-17), or pressed into an elastic block (`[block]`). Its tables:
-//! `[wheel]`, `[material]`, `[rolling]`, `[block]`, `[contact]` ([`validate`]); its run:
+//! `[wheel]`, `[material]`, `[rolling]`, `[block]`, `[contact]` (its `validate` module); its run:
 //! [`crate::run::wheel`].
 
-use super::{Kind, KindInput, Model, RunView, Size, Spec};
 use crate::contact::Treatment;
 use crate::growth::wheel::WheelPassRunner;
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
+use crate::run::error::RunError;
 use crate::run::grow::GrowOptions;
-use crate::run::{Results, RunError, RunOptions};
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
 use crate::scenario::combinations::{
     constraint_mode_factor, Culprit, Family, Refusal, MAX_CONSTRAINT_MODE_FACTOR,
 };
+use crate::scenario::kind::{Kind, KindInput, Model, RunView, Size, Spec};
 use crate::scenario::raw::{RawBlock, RawMaterial, RawRolling, RawWheel};
 use crate::scenario::{Ctx, MeshSource, Run, Scenario, ScenarioError, WheelScenario};
 use crate::time::Integrator;

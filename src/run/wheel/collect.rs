@@ -1,12 +1,16 @@
 //! A wheel run's [`Results`]: the scenario's first run through [`simulate`], its summary
 //! as `summary.json` holds it, its tables, and its fields for ParaView.
 
-use super::{build, simulate, summary_lines, WheelModel, WheelResults};
+use super::{build, simulate, summary_lines, WheelModel, WheelResults, WheelSummary};
+use crate::output::save::{table, write_fields};
 use crate::output::table::Columns;
-use crate::run::results::{Detail, FieldArray, FieldFrame, Fields, Results, WheelDetail};
-use crate::run::{RunError, RunOptions};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::{Detail, FieldArray, FieldFrame, Fields, OwnFiles, Results};
+use crate::run::wheel::figures::{self, RimProfile};
+use crate::run::wheel::traction::{self, TractionProfile, TractionSummary};
 use crate::scenario::Scenario;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Runs a wheel scenario (its first run; a sweep runs a scenario per value); the history,
 /// the contact nodes and the traction history are streamed into the folder `stream` when
@@ -39,7 +43,7 @@ pub(crate) fn record(
             serde_json::json!({"time": "s", "force": "N", "frequency": "Hz", "stress": "MPa", "energy": "J", "omega": "rad/s"}),
         );
     }
-    crate::run::stamp_provenance(&mut json, sc);
+    crate::run::provenance::stamp_provenance(&mut json, sc);
     let rim_profile = (!rec.profile.angles_deg.is_empty()).then(|| {
         let p = &rec.profile;
         let mut t = Columns::new(&[
@@ -71,7 +75,7 @@ pub(crate) fn record(
         interrupted: rec.summary.interrupted,
         warnings: rec.summary.warnings.clone(),
         plots: sc.plots,
-        detail: Detail::Wheel(Box::new(WheelDetail {
+        detail: Detail::Own(Box::new(WheelDetail {
             wm,
             results: rec.results,
             summary: rec.summary,
@@ -139,5 +143,48 @@ fn fields_of(wm: &WheelModel, r: &WheelResults, plastic: Option<&super::PlasticR
     Fields {
         mesh: Some(wm.mesh.clone()),
         frames,
+    }
+}
+
+/// The wheel's model and its observers' results, for the figures and the profiles.
+#[derive(Debug)]
+pub(crate) struct WheelDetail {
+    pub wm: WheelModel,
+    pub results: WheelResults,
+    pub summary: WheelSummary,
+    pub profile: RimProfile,
+    pub traction: Option<(TractionSummary, TractionProfile)>,
+    /// The plastic wheel's rim permanent radial displacement
+    /// (`rim_permanent_displacement.csv`).
+    pub plastic_rim: Option<Columns>,
+}
+
+impl OwnFiles for WheelDetail {
+    /// The wheel's files after `history.csv`: contact nodes, traction, fields, rim profile,
+    /// figures.
+    fn save(&self, r: &Results, out: &Path) -> Result<Vec<PathBuf>, RunError> {
+        let w = self;
+        let mut files = Vec::new();
+        if let Some(nodes) = &r.contact_nodes {
+            files.push(table(out, "contact_nodes.csv", nodes)?);
+        }
+        if let (Some((ts, profile)), Some(history)) = (&w.traction, &r.traction_history) {
+            files.push(table(out, "traction_history.csv", history)?);
+            files.push(traction::write_profile(out, ts, profile)?);
+            if r.plots {
+                files.extend(traction::figures(out, ts, profile)?);
+            }
+        }
+        files.extend(write_fields(out, &r.fields)?);
+        files.extend(figures::write_rim_profile(out, &w.profile)?);
+        if let Some(rim) = &w.plastic_rim {
+            files.push(table(out, "rim_permanent_displacement.csv", rim)?);
+        }
+        if r.plots {
+            files.extend(figures::write(
+                out, &w.wm, &w.summary, &w.results, &w.profile,
+            )?);
+        }
+        Ok(files)
     }
 }

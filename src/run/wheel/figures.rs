@@ -8,7 +8,7 @@ use crate::output::plot::{
     line_plot, mesh_color_map_with, mesh_vector_fields, MeshColorMap, MeshOptions, MeshVectorField,
     Panel, Series, SeriesStyle,
 };
-use crate::run::RunError;
+use crate::run::error::RunError;
 use crate::wheel::WheelModel;
 use std::path::{Path, PathBuf};
 

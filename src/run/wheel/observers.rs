@@ -20,7 +20,8 @@ use crate::analysis::signal::{
 use crate::analysis::trace::{Envelope, LatestWindow, ENVELOPE_CAP, SPECTRUM_WINDOW_CAP};
 use crate::contact::{PairState, RotatingLine};
 use crate::output::table::{Columns, Rows};
-use crate::run::{progress_bar, RunError, RunOptions};
+use crate::run::error::RunError;
+use crate::run::options::{progress_bar, RunOptions};
 use crate::wheel::WheelModel;
 use std::f64::consts::PI;
 use std::path::Path;

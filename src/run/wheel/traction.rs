@@ -44,7 +44,7 @@ use crate::analysis::trace::{Envelope, ENVELOPE_CAP};
 use crate::contact::RotatingLine;
 use crate::output::files::CsvWriter;
 use crate::output::table::{Columns, Rows};
-use crate::run::RunError;
+use crate::run::error::RunError;
 use crate::wheel::WheelModel;
 use serde::Serialize;
 use std::f64::consts::PI;

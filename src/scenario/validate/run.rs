@@ -4,12 +4,12 @@
 //! ([`super::usage`]).
 
 use super::super::combinations::{check_combination, Culprit};
+use super::super::kind::{Model, RunView};
 use super::super::raw::RawRun;
 use super::super::{Contact, RunSpec, ScenarioError, TimeStep};
 use super::usage::{run_uses, RunConfig, Use};
 use super::{friction_law, Base, Ctx};
 use crate::contact::FrictionLaw;
-use crate::kinds::{Model, RunView};
 use crate::time::Integrator;
 
 /// Run `i` (`[[runs]]` entry `r`, or the top-level settings alone): its overrides over

@@ -5,11 +5,11 @@
 //! applies to. So a `sweep --set` of a key that every `[[runs]]` entry overrides is refused
 //! for the same reason as the file that sets it.
 
+use super::super::kind::{Kind, Model, Registry};
 use super::super::raw::{RawContact, RawRun, RawTime};
 use super::super::{Contact, ScenarioError, TimeStep};
 use super::Ctx;
 use crate::contact::Treatment;
-use crate::kinds::{Kind, Model, Registry};
 use crate::time::{ClassicKind, Integrator};
 
 /// Refuses a top-level table of `keys` (the file's top-level keys) that `kind` does not

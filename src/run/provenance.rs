@@ -1,0 +1,89 @@
+//! What makes a `summary.json` traceable: the version, the commit, the scenario's SHA-256
+//! and the process's peak memory.
+
+use crate::scenario::Scenario;
+use std::path::{Path, PathBuf};
+
+/// The peak resident set size of this process so far, MiB (`VmHWM` of `/proc/self/status`;
+/// `None` where that file does not exist, i.e. off Linux). Written into every
+/// `summary.json` as `peak_rss_mib`: the process's peak, so in a sweep or a convergence
+/// ladder, whose runs share one process, it bounds the runs that ran together up to then.
+pub fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_vm_hwm(&status)
+}
+
+/// `VmHWM` (kB) of a `/proc/<pid>/status` text, in MiB.
+fn parse_vm_hwm(status: &str) -> Option<f64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb / 1024.0)
+}
+
+/// Adds what makes a `summary.json` traceable to a JSON object: `softway_version` (the
+/// crate's version), `softway_git_commit` ([`crate::GIT_COMMIT`], when built from a git
+/// checkout) and `scenario_sha256` ([`Scenario::source_sha256`], the digest of the
+/// scenario text as run, which the folder's `scenario.toml` holds); and `peak_rss_mib`
+/// ([`peak_rss_mib`], where the system tells it), promised for every run: every kind's
+/// summary is stamped here, after its run.
+pub(crate) fn stamp_provenance(json: &mut serde_json::Value, sc: &Scenario) {
+    if let Some(o) = json.as_object_mut() {
+        if let Some(mib) = peak_rss_mib() {
+            o.insert("peak_rss_mib".into(), mib.into());
+        }
+        o.insert(
+            "softway_version".into(),
+            env!("CARGO_PKG_VERSION").to_string().into(),
+        );
+        if let Some(c) = crate::GIT_COMMIT {
+            o.insert("softway_git_commit".into(), c.into());
+        }
+        o.insert("scenario_sha256".into(), sc.source_sha256.clone().into());
+    }
+}
+
+/// The name of the copy of the scenario each output folder keeps
+/// ([`Scenario::provenance_text`]).
+pub const SCENARIO_COPY: &str = "scenario.toml";
+
+/// Writes the scenario's copy ([`SCENARIO_COPY`]) into the folder `out`; returns its path.
+///
+/// # Errors
+/// [`crate::run::error::RunError::Output`].
+pub fn write_scenario_copy<R>(
+    sc: &crate::scenario::Scenario<R>,
+    out: &Path,
+) -> Result<PathBuf, crate::run::error::RunError> {
+    let f = out.join(SCENARIO_COPY);
+    crate::output::files::write_atomic(&f, sc.provenance_text().as_bytes())
+        .map_err(|e| crate::run::error::RunError::output(&f, e))?;
+    Ok(f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn peak_rss_is_read_from_the_status_text() {
+        let status = "Name:\tsoftway\nVmPeak:\t  20480 kB\nVmHWM:\t    5120 kB\nVmRSS:\t 4096 kB\n";
+        assert_eq!(parse_vm_hwm(status), Some(5.0));
+        assert_eq!(parse_vm_hwm("Name: x\n"), None);
+        // On Linux the process's own peak is at least the memory it holds now. The kernel
+        // batches the per-thread RSS counters, so two readings of a many-threaded test
+        // process may differ by a few hundred kB either way: only the 64 MiB just touched
+        // is asserted, with a margin for that batching.
+        if peak_rss_mib().is_some() {
+            let big = vec![1u8; 64 << 20];
+            std::hint::black_box(&big);
+            let after = peak_rss_mib().unwrap();
+            assert!(after >= 63.0, "peak {after} MiB after touching 64 MiB");
+        }
+    }
+}
