@@ -92,6 +92,12 @@ enum Command {
         /// smaller ones on one thread. The results do not depend on it.
         #[arg(long)]
         threads: Option<usize>,
+        /// Whose factorizations and solves the step matrices get: "softway" (the tuned
+        /// kernels) or "faer" (faer's own sparse LU and Cholesky, the reference they are
+        /// checked and timed against; the same answers to rounding, summary.json says
+        /// `"solver": "faer"`).
+        #[arg(long, default_value = "softway", value_name = "SOLVER")]
+        solver: crate::linalg::Backend,
         #[command(flatten)]
         guard: Guard,
     },
@@ -308,8 +314,16 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             out,
             quiet,
             threads,
+            solver,
             guard,
-        } => run_command(&scenario, &set, out, quiet, threads, guard, cancel),
+        } => run_command(
+            &scenario,
+            &set,
+            out,
+            (quiet, threads, solver),
+            guard,
+            cancel,
+        ),
         Command::Grow {
             scenario,
             passes,
@@ -390,8 +404,7 @@ fn run_command(
     scenario: &Path,
     set: &[String],
     out: Option<PathBuf>,
-    quiet: bool,
-    threads: Option<usize>,
+    (quiet, threads, solver): (bool, Option<usize>, crate::linalg::Backend),
     Guard { force, yes }: Guard,
     cancel: &Cancel,
 ) -> CommandResult {
@@ -403,6 +416,7 @@ fn run_command(
         progress: !quiet,
         par: threads.map(Par::threads),
         cancel: cancel.clone(),
+        solver,
         ..RunOptions::default()
     };
     let report = run_scenario(&sc, stage.dir(), &opts)?;

@@ -120,7 +120,7 @@ pub use llt::SparseLlt;
 pub use lu::{Ordering, SparseLu};
 pub use reference::{FaerLlt, FaerLu};
 pub use rhs::{rhs_plain_into, BParts, RhsOperator, RhsValues};
-pub use solver::{Factor, FactorKind, Factorization, LinalgError};
+pub use solver::{Backend, Factor, FactorKind, Factorization, LinalgError};
 pub use sparse::{
     is_symmetric, quadratic_form, set_identity_rows, spmv_add, spmv_into, transpose_positions,
     write_matrix_market, Pattern,

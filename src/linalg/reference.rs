@@ -206,6 +206,11 @@ impl FaerLlt {
         )
     }
 
+    /// Stored entries of `L`.
+    pub fn factor_nnz(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
     /// Order of the matrix.
     pub fn n(&self) -> usize {
         self.n

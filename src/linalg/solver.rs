@@ -143,18 +143,61 @@ impl Factorization for Factor {
         match self {
             Factor::Lu(lu) => lu.n(),
             Factor::Llt(llt) => llt.n(),
+            Factor::FaerLu(f) => f.n(),
+            Factor::FaerLlt(f) => f.n(),
         }
     }
     fn symbolic_analyses(&self) -> usize {
         match self {
             Factor::Lu(lu) => lu.counts.analyses,
             Factor::Llt(llt) => llt.counts.analyses,
+            Factor::FaerLu(f) => Factorization::symbolic_analyses(&**f),
+            Factor::FaerLlt(f) => Factorization::symbolic_analyses(&**f),
         }
     }
     fn numeric_factorizations(&self) -> usize {
         match self {
             Factor::Lu(lu) => lu.counts.factorizations,
             Factor::Llt(llt) => llt.counts.factorizations,
+            Factor::FaerLu(f) => Factorization::numeric_factorizations(&**f),
+            Factor::FaerLlt(f) => Factorization::numeric_factorizations(&**f),
+        }
+    }
+}
+
+/// Whose factorizations and solves a run's step matrices get: softway's tuned kernels (the
+/// default) or faer's own sparse LU and Cholesky with their generic solves, the reference
+/// they are checked and timed against ([`super::reference`]; `softway run --solver faer`).
+/// The two give the same answers to rounding (not the same bits).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Backend {
+    /// softway's factors and solves (`src/linalg/lu.rs`, `llt.rs`, `split.rs`).
+    #[default]
+    Softway,
+    /// faer's ([`super::FaerLu`], [`super::FaerLlt`]).
+    Faer,
+}
+
+impl Backend {
+    /// The name on the command line and in `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Softway => "softway",
+            Backend::Faer => "faer",
+        }
+    }
+}
+
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "softway" => Ok(Backend::Softway),
+            "faer" => Ok(Backend::Faer),
+            other => Err(format!(
+                "unknown solver \"{other}\": allowed \"softway\" (the default, the tuned kernels) or \"faer\" (faer's own factorizations, the reference)"
+            )),
         }
     }
 }
@@ -167,6 +210,10 @@ pub enum FactorKind {
     Lu(Ordering),
     /// Cholesky `L L^T` (AMD ordering): symmetric positive definite matrices only.
     Llt,
+    /// faer's LU ([`Backend::Faer`]).
+    FaerLu,
+    /// faer's Cholesky ([`Backend::Faer`]).
+    FaerLlt,
 }
 
 /// A factored step matrix: LU (the reference) or Cholesky.
@@ -178,6 +225,10 @@ pub enum Factor {
     Lu(SparseLu),
     /// Cholesky.
     Llt(SparseLlt),
+    /// faer's LU ([`Backend::Faer`]).
+    FaerLu(Box<super::FaerLu>),
+    /// faer's Cholesky ([`Backend::Faer`]).
+    FaerLlt(Box<super::FaerLlt>),
 }
 
 impl Factor {
@@ -190,6 +241,8 @@ impl Factor {
         Ok(match kind {
             FactorKind::Lu(o) => Factor::Lu(SparseLu::with_ordering(pattern, values, o)?),
             FactorKind::Llt => Factor::Llt(SparseLlt::new(pattern, values)?),
+            FactorKind::FaerLu => Factor::FaerLu(Box::new(super::FaerLu::new(pattern, values)?)),
+            FactorKind::FaerLlt => Factor::FaerLlt(Box::new(super::FaerLlt::new(pattern, values)?)),
         })
     }
 
@@ -201,12 +254,29 @@ impl Factor {
     /// # Errors
     /// [`LinalgError`] when the matrix is singular.
     pub fn auto(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
+        Self::auto_on(Backend::Softway, pattern, values)
+    }
+
+    /// [`Factor::auto`] by `backend`'s factorizations: on faer's, its Cholesky where the
+    /// matrix is symmetric and positive definite, else its LU.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the matrix is singular.
+    pub fn auto_on(
+        backend: Backend,
+        pattern: &Pattern,
+        values: &[f64],
+    ) -> Result<Self, LinalgError> {
+        let (llt, lu) = match backend {
+            Backend::Softway => (FactorKind::Llt, FactorKind::Lu(Ordering::Amd)),
+            Backend::Faer => (FactorKind::FaerLlt, FactorKind::FaerLu),
+        };
         if is_symmetric(pattern, values, 1e-14) {
-            if let Ok(f) = Factor::new(pattern, values, FactorKind::Llt) {
+            if let Ok(f) = Factor::new(pattern, values, llt) {
                 return Ok(f);
             }
         }
-        Factor::new(pattern, values, FactorKind::Lu(Ordering::Amd))
+        Factor::new(pattern, values, lu)
     }
 
     /// The kind.
@@ -214,6 +284,8 @@ impl Factor {
         match self {
             Factor::Lu(lu) => FactorKind::Lu(lu.ordering()),
             Factor::Llt(_) => FactorKind::Llt,
+            Factor::FaerLu(_) => FactorKind::FaerLu,
+            Factor::FaerLlt(_) => FactorKind::FaerLlt,
         }
     }
 
@@ -225,6 +297,8 @@ impl Factor {
         Ok(match self {
             Factor::Lu(lu) => Factor::Lu(lu.with_values(pattern, values)?),
             Factor::Llt(llt) => Factor::Llt(llt.with_values(pattern, values)?),
+            Factor::FaerLu(f) => Factor::FaerLu(Box::new(f.with_values(pattern, values)?)),
+            Factor::FaerLlt(f) => Factor::FaerLlt(Box::new(f.with_values(pattern, values)?)),
         })
     }
 
@@ -236,6 +310,8 @@ impl Factor {
         match self {
             Factor::Lu(lu) => lu.refactor(pattern, values),
             Factor::Llt(llt) => llt.refactor(pattern, values),
+            Factor::FaerLu(f) => f.refactor(pattern, values),
+            Factor::FaerLlt(f) => f.refactor(pattern, values),
         }
     }
 
@@ -245,6 +321,7 @@ impl Factor {
         match self {
             Factor::Lu(lu) => lu.parts(),
             Factor::Llt(llt) => llt.parts(),
+            Factor::FaerLu(_) | Factor::FaerLlt(_) => None,
         }
     }
 
@@ -253,6 +330,9 @@ impl Factor {
         match self {
             Factor::Lu(lu) => lu.factor_nnz(),
             Factor::Llt(llt) => llt.factor_nnz(),
+            // faer's LU keeps its supernodal factors its own way: not counted.
+            Factor::FaerLu(_) => 0,
+            Factor::FaerLlt(f) => f.factor_nnz(),
         }
     }
 
@@ -262,6 +342,10 @@ impl Factor {
         match self {
             Factor::Lu(lu) => lu.solve_bytes(),
             Factor::Llt(llt) => llt.solve_bytes(),
+            Factor::FaerLu(_) => 0,
+            Factor::FaerLlt(f) => {
+                f.factor_nnz() * (std::mem::size_of::<f64>() + std::mem::size_of::<usize>()) * 2
+            }
         }
     }
 
@@ -277,6 +361,8 @@ impl Factor {
         match self {
             Factor::Lu(lu) => lu.solve_on(team, rhs),
             Factor::Llt(llt) => llt.solve_on(team, rhs),
+            Factor::FaerLu(f) => f.solve_in_place(rhs),
+            Factor::FaerLlt(f) => f.solve_in_place(rhs),
         }
     }
 }

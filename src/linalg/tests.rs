@@ -345,6 +345,7 @@ fn narrow_and_wide_supernodes_solve_alike() {
         let f = match Factor::new(&pattern, &values, kind).unwrap() {
             Factor::Lu(lu) => Factor::Lu(lu.with_layout(&pattern, &values, true)),
             Factor::Llt(l) => Factor::Llt(l.with_layout(&pattern, &values, true)),
+            _ => unreachable!("softway's kinds"),
         };
         let sn = match &f {
             Factor::Lu(SparseLu {
@@ -380,6 +381,7 @@ fn narrow_and_wide_supernodes_solve_alike() {
                 ..
             }) => assert_eq!(f.solve_bytes(), sn_bytes + lu.1.bytes()),
             Factor::Lu(_) => unreachable!("dense layout above"),
+            _ => unreachable!("softway's kinds"),
         }
         // The prefetch (on for factors that stream from memory) is a hint: the same bits.
         let (mut x, mut y) = (b.clone(), b.clone());
@@ -512,6 +514,7 @@ fn supernodal_solves_reproduce_faers_lu() {
                 let mut f = match f {
                     Factor::Lu(lu) => Factor::Lu(lu.with_layout(&pattern, &values, dense)),
                     Factor::Llt(l) => Factor::Llt(l.with_layout(&pattern, &values, dense)),
+                    _ => unreachable!("softway's kinds"),
                 };
                 let mut x = b.clone();
                 f.solve_in_place(&mut x);
@@ -530,6 +533,7 @@ fn supernodal_solves_reproduce_faers_lu() {
                     }) => ut.bounds.windows(2).map(|w| w[1] - w[0]).max().unwrap(),
                     Factor::Lu(lu) => widest_rows(&lu.u),
                     Factor::Llt(llt) => widest_rows(&llt.lt),
+                    _ => unreachable!("softway's kinds"),
                 };
                 assert!(
                     widest >= MIN_SUPERNODE,

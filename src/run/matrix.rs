@@ -68,6 +68,8 @@ fn kind_name(k: FactorKind) -> String {
         FactorKind::Lu(Ordering::Colamd) => "lu_colamd".into(),
         FactorKind::Lu(Ordering::Amd) => "lu_amd".into(),
         FactorKind::Llt => "llt_amd".into(),
+        FactorKind::FaerLu => "faer_lu".into(),
+        FactorKind::FaerLlt => "faer_llt".into(),
     }
 }
 

@@ -50,6 +50,9 @@ pub struct RunOptions {
     /// A caller's view of the run's progress (steps done of the current run), for a caller
     /// that draws its own bar (the Python package's); `None` (the default): none kept.
     pub progress_watch: Option<ProgressWatch>,
+    /// Whose factorizations and solves the runs' step matrices get: softway's tuned kernels
+    /// (the default) or faer's own, the reference (`--solver faer`).
+    pub solver: crate::linalg::Backend,
 }
 
 /// The progress of a job as another thread sees it: the current run's label, its steps
@@ -85,6 +88,7 @@ impl RunOptions {
         crate::simulation::Settings {
             par: self.par(),
             guard: self.guard,
+            solver: self.solver,
         }
     }
 

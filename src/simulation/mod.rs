@@ -31,7 +31,7 @@ use crate::contact::treatment::{ContactTreatment, Treatment};
 use crate::contact::{FrictionLaw, Interface, InterfaceError, Obstacle};
 use crate::guard::{Cause, Diverged, DivergenceGuard, GuardMode};
 use crate::linalg::team::{Par, Team};
-use crate::linalg::{quadratic_form, LinalgError};
+use crate::linalg::{quadratic_form, Backend, LinalgError};
 use crate::mesh::zone::Source;
 use crate::model::{InternalForce, LinearModel, Nonlinear, PairState, State};
 pub use crate::model::{LoadFn, Snapshot};
@@ -300,6 +300,28 @@ pub fn build_integrator(
     gamma_schedule: Vec<(f64, f64)>,
     dirichlet: &[(usize, f64)],
 ) -> Result<Box<dyn TimeIntegrator>, BuildError> {
+    build_integrator_on(
+        choice,
+        model,
+        h,
+        gamma_schedule,
+        dirichlet,
+        Backend::Softway,
+    )
+}
+
+/// [`build_integrator`] with the step matrix factored by `backend`'s factorizations.
+///
+/// # Errors
+/// As [`build_integrator`].
+pub fn build_integrator_on(
+    choice: Integrator,
+    model: &LinearModel,
+    h: f64,
+    gamma_schedule: Vec<(f64, f64)>,
+    dirichlet: &[(usize, f64)],
+    backend: Backend,
+) -> Result<Box<dyn TimeIntegrator>, BuildError> {
     Ok(match choice {
         Integrator::SpaceTime {
             alpha,
@@ -310,7 +332,7 @@ pub fn build_integrator(
                 model,
                 SpaceTimeParams { alpha, gamma, h },
                 dirichlet,
-                FactorChoice::Auto,
+                FactorChoice::On(backend),
                 coriolis,
             )?
             .with_schedule(gamma_schedule),
@@ -324,7 +346,9 @@ pub fn build_integrator(
                     value,
                 })
                 .collect();
-            Box::new(ClassicStepper::new(model, params, h, &bcs)?)
+            Box::new(ClassicStepper::with_backend(
+                model, params, h, &bcs, backend,
+            )?)
         }
     })
 }
@@ -340,6 +364,9 @@ pub struct Settings {
     pub par: Par,
     /// What the divergence guard does past its bound ([`Simulation::set_guard`]).
     pub guard: GuardMode,
+    /// Whose factorizations and solves the step matrix gets (softway's by default; faer's,
+    /// the reference, with `--solver faer`).
+    pub solver: Backend,
 }
 
 impl Default for Settings {
@@ -348,6 +375,7 @@ impl Default for Settings {
         Settings {
             par: Par::current(),
             guard: GuardMode::default(),
+            solver: Backend::Softway,
         }
     }
 }
@@ -359,7 +387,7 @@ impl Simulation {
     /// # Errors
     /// As [`Simulation::new`].
     pub fn with_settings(problem: Problem, settings: Settings) -> Result<Self, SimError> {
-        let mut sim = Self::new(problem)?;
+        let mut sim = Self::build(problem, settings.solver)?;
         sim.set_par(settings.par);
         sim.set_guard(settings.guard);
         Ok(sim)
@@ -373,6 +401,11 @@ impl Simulation {
     /// [`SimError::Unsupported`] for a combination that does not exist; [`SimError`] when a
     /// matrix is singular.
     pub fn new(problem: Problem) -> Result<Self, SimError> {
+        Self::build(problem, Backend::Softway)
+    }
+
+    /// [`Simulation::new`] with the step matrix factored by `solver`'s factorizations.
+    fn build(problem: Problem, solver: Backend) -> Result<Self, SimError> {
         let Problem {
             dim,
             reference,
@@ -423,7 +456,7 @@ impl Simulation {
             Vec::new()
         };
         let treat = build_treatment(treatment, &integrator, np, n, friction);
-        let integ = build_integrator(integrator, &model, h, gamma_schedule, &dirichlet)?;
+        let integ = build_integrator_on(integrator, &model, h, gamma_schedule, &dirichlet, solver)?;
         // The column cache may hold every contact dof (the reference of the complementarity
         // treatments' candidate search poses one row per pair, and needs them all in one
         // solve) when that fits in 1 GiB, else 256 of them; it grows only as far as the

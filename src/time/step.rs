@@ -193,6 +193,7 @@ impl Stepper {
             FactorChoice::Kind(kind) => Factor::new(&pattern, &a_work, kind)?,
             // A symmetric matrix that is not positive definite keeps the LU.
             FactorChoice::Auto => Factor::auto(&pattern, &a_work)?,
+            FactorChoice::On(backend) => Factor::auto_on(backend, &pattern, &a_work)?,
         };
         let rhs_rows = RhsOperator::new(
             &pattern,
@@ -289,6 +290,8 @@ pub enum FactorChoice {
     /// This factorization (an LU works for every `A`; Cholesky fails on an unsymmetric or
     /// indefinite one).
     Kind(FactorKind),
+    /// As [`FactorChoice::Auto`] by these factorizations ([`crate::linalg::Backend`]).
+    On(crate::linalg::Backend),
 }
 
 impl Stepper {

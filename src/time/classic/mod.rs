@@ -200,6 +200,8 @@ pub struct Dirichlet {
 
 enum Solver {
     Lu(Box<SparseLu>),
+    /// faer's LU ([`crate::linalg::Backend::Faer`]).
+    Faer(Box<crate::linalg::FaerLu>),
     /// Inverse diagonal (explicit).
     Diagonal(Vec<f64>),
 }
@@ -208,6 +210,7 @@ impl Solver {
     fn solve_in_place(&mut self, b: &mut [f64]) {
         match self {
             Solver::Lu(lu) => lu.solve_in_place(b),
+            Solver::Faer(lu) => lu.solve_in_place(b),
             Solver::Diagonal(d) => {
                 for (bi, di) in b.iter_mut().zip(d.iter()) {
                     *bi *= di;
@@ -261,6 +264,20 @@ impl ClassicStepper {
         h: f64,
         bcs: &[Dirichlet],
     ) -> Result<Self, ClassicError> {
+        Self::with_backend(model, params, h, bcs, crate::linalg::Backend::Softway)
+    }
+
+    /// [`ClassicStepper::new`] with `A` factored by `backend`'s LU.
+    ///
+    /// # Errors
+    /// As [`ClassicStepper::new`].
+    pub fn with_backend(
+        model: &LinearModel,
+        params: ClassicParams,
+        h: f64,
+        bcs: &[Dirichlet],
+        backend: crate::linalg::Backend,
+    ) -> Result<Self, ClassicError> {
         let n = model.n();
         let pattern = model.pattern().clone();
         let mut is_bc = vec![false; n];
@@ -295,6 +312,9 @@ impl ClassicStepper {
         st.operators(h);
         st.solver = match st.inverse_diagonal()? {
             Some(d) => Solver::Diagonal(d),
+            None if backend == crate::linalg::Backend::Faer => Solver::Faer(Box::new(
+                crate::linalg::FaerLu::new(&st.pattern, &st.a_work)?,
+            )),
             None => Solver::Lu(Box::new(SparseLu::new(&st.pattern, &st.a_work)?)),
         };
         st.factorizations = 1;
@@ -543,6 +563,7 @@ impl TimeIntegrator for ClassicStepper {
         self.operators(h);
         match &mut self.solver {
             Solver::Lu(lu) => lu.refactor(&self.pattern, &self.a_work)?,
+            Solver::Faer(lu) => lu.refactor(&self.pattern, &self.a_work)?,
             Solver::Diagonal(_) => {
                 let d = self.inverse_diagonal().map_err(|e| match e {
                     ClassicError::Linalg(l) => l,
@@ -559,6 +580,7 @@ impl TimeIntegrator for ClassicStepper {
             numeric: self.factorizations,
             symbolic: match &self.solver {
                 Solver::Lu(lu) => crate::linalg::Factorization::symbolic_analyses(&**lu),
+                Solver::Faer(lu) => crate::linalg::Factorization::symbolic_analyses(&**lu),
                 Solver::Diagonal(_) => 0,
             },
         }
