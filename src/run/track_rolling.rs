@@ -84,7 +84,9 @@ struct RollingSummary {
     nodes_in_contact_mean: f64,
     axle_displacement_mean_m: f64,
     rail_deflection_mean_m: f64,
-    contact_stiffness_n_m: f64,
+    /// The measured contact spring, N/m; `None` (null) when the passage's compression is
+    /// below what the contact resolves (a wheel carrying about no load).
+    contact_stiffness_n_m: Option<f64>,
     axle_drift_max_m: f64,
     sleeper_passing_hz: f64,
     node_passing_hz: f64,
@@ -427,7 +429,14 @@ fn summarise(
             dominant_peak(&spec, 0.2 * v.speed / s)
         })
         .flatten();
-    let k_c = load / (rail - axle);
+    // The contact spring the passage measured: the static load over the mean compression
+    // of the wheel and the contact (the rail's deflection less the axle's). A compression
+    // the contact cannot resolve (below its closing tolerance, 1e-9 of the radius: a wheel
+    // carrying about no load) measures no spring (a load of 1 mN gave -4.6e3 N/m).
+    let compression = rail - axle;
+    let k_c = (compression > 1e-9 * v.wheel_radius)
+        .then(|| load / compression)
+        .filter(|k| k.is_finite() && *k > 0.0);
     let traction = run.friction.filter(|law| law.is_active()).map(|law| {
         let q = mean(&|r| r.tangential);
         TractionSummary {
@@ -463,7 +472,7 @@ fn summarise(
         },
     )
     .map_err(err)?;
-    let (p2, p2_above) = if k_c.is_finite() && k_c > 0.0 {
+    let (p2, p2_above) = if let Some(k_c) = k_c {
         (
             p2_with(&track, r.mid_span_x, v.unsprung_mass, k_c, 120).map_err(err)?,
             p2_with(&track, r.above_sleeper_x, v.unsprung_mass, k_c, 120).map_err(err)?,
@@ -531,7 +540,7 @@ fn screen_line(s: &RollingSummary) -> String {
         )
     });
     format!(
-        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {:.3e} N/m{traction}; {:.2} ms a step, {:.2} s a metre",
+        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {}{traction}; {:.2} ms a step, {:.2} s a metre",
         s.label,
         s.speed_km_h,
         s.travel_m,
@@ -543,7 +552,10 @@ fn screen_line(s: &RollingSummary) -> String {
         hz(s.dominant_frequency_hz),
         s.sleeper_passing_hz,
         hz(s.p2_hz),
-        s.contact_stiffness_n_m,
+        s.contact_stiffness_n_m.map_or_else(
+            || "- (no compression measured)".to_string(),
+            |k| format!("{k:.3e} N/m")
+        ),
         1e-3 * s.time_per_step_us,
         s.time_per_metre_s,
     )

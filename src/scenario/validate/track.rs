@@ -60,7 +60,7 @@ pub(super) fn track_model(
         ("track.density", t.density, &mut sec.density),
     ] {
         if let Some(x) = value {
-            *target = cx.positive(key, x)?;
+            *target = within(cx, key, cx.positive(key, x)?)?;
         }
     }
     for (key, value, target, strict) in [
@@ -103,11 +103,12 @@ pub(super) fn track_model(
         ),
     ] {
         if let Some(x) = value {
-            *target = if strict {
+            let x = if strict {
                 cx.positive(key, x)?
             } else {
                 cx.non_negative(key, x)?
             };
+            *target = within(cx, key, x)?;
         }
     }
     if let Some(nu) = t.poisson {
@@ -157,6 +158,45 @@ pub(super) fn track_model(
         irregularity,
     })
 }
+
+/// The range of each of the track's values (`track.*`; the unit in the message): decades
+/// beyond any railway track either side (UIC60 on its pads and ballast: 2.1e11 Pa,
+/// 7.7e-3 m^2, 3.055e-5 m^4, 200 MN/m, 40 MN/m, 177.5 kg, 0.6 m), and within them the
+/// track's matrices stay in proportion for the solves in floating point: a pad of 1e300 N/m
+/// ran the receptance to NaN with exit 0, a ballast of 1e-300 N/m to a negative static
+/// stiffness (issue 47).
+const RANGES: [(&str, f64, f64, &str); 13] = [
+    ("track.young", 1e8, 1e13, "Pa"),
+    ("track.shear_modulus", 1e8, 1e13, "Pa"),
+    ("track.shear_coefficient", 1e-3, 1.0, "(dimensionless)"),
+    ("track.area", 1e-5, 1.0, "m^2"),
+    ("track.inertia", 1e-10, 0.1, "m^4"),
+    ("track.density", 100.0, 1e5, "kg/m^3"),
+    ("track.pad_stiffness", 1e3, 1e12, "N/m"),
+    ("track.pad_damping", 0.0, 1e9, "N s/m"),
+    ("track.sleeper_mass", 1e-3, 1e5, "kg"),
+    ("track.ballast_stiffness", 1e3, 1e12, "N/m"),
+    ("track.ballast_damping", 0.0, 1e9, "N s/m"),
+    ("track.spacing", 0.05, 10.0, "m"),
+    ("track.head_radius", 1e-3, 1e3, "m"),
+];
+
+/// `x` under `key` within its [`RANGES`] entry.
+fn within(cx: &Ctx, key: &str, x: f64) -> Result<f64, ScenarioError> {
+    match RANGES.iter().find(|r| r.0 == key) {
+        Some(&(_, lo, hi, unit)) if !(lo..=hi).contains(&x) => Err(cx.invalid(
+            key,
+            x,
+            &format!("must be from {lo:e} to {hi:e} {unit} (beyond that the track's solves lose it in floating point)"),
+        )),
+        _ => Ok(x),
+    }
+}
+
+/// The highest frequency of `[receptance]`, Hz: the rail as a beam on discrete supports
+/// is a model of a few kilohertz; far above, `omega^2 M` swamps the stiffness in floating
+/// point (`f_max = 1e300` wrote NaN with exit 0, issue 47).
+const F_MAX_HZ: f64 = 1e5;
 
 /// `track.ends` with `track.end_bays` and `track.end_damping` (absorbing ends only; the
 /// set's own by default).
@@ -576,6 +616,13 @@ fn receptance(cx: &Ctx, r: Option<RawReceptance>) -> Result<ReceptanceRange, Sce
     let r = r.unwrap_or_default();
     let f_min = cx.positive("receptance.f_min", r.f_min.unwrap_or(20.0))?;
     let f_max = cx.positive("receptance.f_max", r.f_max.unwrap_or(3000.0))?;
+    if f_max > F_MAX_HZ {
+        return Err(cx.invalid(
+            "receptance.f_max",
+            f_max,
+            &format!("must be at most {F_MAX_HZ:e} Hz (the rail as a beam on its supports is a model of a few kHz)"),
+        ));
+    }
     if f_max <= f_min {
         return Err(cx.invalid(
             "receptance.f_max",
