@@ -182,7 +182,14 @@ fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
         material: Elastic { ..w.material },
         ..WheelSpec::paper()
     };
-    wheel_at_speed(mesh, spec, v.speed * (1.0 + v.creepage)).map_err(|e| e.to_string())
+    wheel_at_speed(mesh, spec, v.speed * (1.0 + v.creepage)).map_err(|e| {
+        format!(
+            "`vehicle.speed` = {} m/s ({:.1} km/h) with `vehicle.creepage` = {}: {e}",
+            v.speed,
+            3.6 * v.speed,
+            v.creepage
+        )
+    })
 }
 
 /// `softway run` of a track scenario with the wheel (module docs).
@@ -253,6 +260,15 @@ pub(crate) fn passage(
 ) -> Result<(WheelOnTrack, Simulation, usize), RunError> {
     let input = |e: String| RunError::input(&sc.path, format!("run `{}`: {e}", run.label));
     let v = &ts.vehicle;
+    // A creepage slips the rim on the rail, and only friction turns the slip into a force:
+    // without it the run is free rolling whatever the creepage (the rigid-base wheel refuses
+    // the same, `rolling.creepage`).
+    if v.creepage != 0.0 && run.friction.is_none_or(|law| !law.is_active()) {
+        return Err(input(format!(
+            "`vehicle.creepage` = {}: a creepage transmits a force only through friction: set contact.friction > 0 (with vehicle.suspension_stiffness > 0 and time.gamma > 0, as scenarios/track-traction.toml) or remove vehicle.creepage",
+            v.creepage
+        )));
+    }
     let wheel = wheel_model(ts).map_err(input)?;
     let settle_time = 0.5 * ts.settle_distance() / v.speed;
     let vehicle = Vehicle {
