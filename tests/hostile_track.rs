@@ -195,7 +195,7 @@ fn a_creepage_without_friction_is_refused() {
     );
 }
 
-/// At 1,500 km/h the spun rim's expansion (1.6e-3) left two rebuilds 1.7e-9 off the rolling
+/// At 1,500 km/h the spun rim's expansion (7.5e-4) left two rebuilds 1.7e-9 off the rolling
 /// speed and the wheel was refused by an unkeyed check: the rebuilds now go on until the
 /// rim's speed is the vehicle's.
 #[test]

@@ -507,9 +507,10 @@ pub const SPIN_REBUILDS: usize = 16;
 /// creepage `xi`), `R_s` its spun rim's radius, as [`WheelOnTrack::new`] needs it. `R_s`
 /// moves with `omega` by the centrifugal expansion `e(omega) ~ rho omega^2 R^2 / E`, so
 /// `omega = speed / R_s(omega)` is found by rebuilding until the rim's speed `omega R_s`
-/// is `speed` within 1e-13 of it: each rebuild shrinks the error by about `2 e` (two
-/// rebuilds at 100 km/h, where `e` is 5e-6; at 1,500 km/h, `e` 1.6e-3, two left 1.7e-9 and
-/// the wheel was refused on an unkeyed check, issue 47).
+/// is `speed` within 1e-12 of it (the check of [`WheelOnTrack::new`] takes 1e-9): each
+/// rebuild shrinks the error by about `2 e` (two rebuilds at 100 km/h, where `e` is 3e-6;
+/// at 1,500 km/h, `e` 7.5e-4, two left 1.7e-9 and the wheel was refused on an unkeyed
+/// check, issue 47).
 ///
 /// # Errors
 /// [`RollingError::Wheel`] from a build, [`RollingError::Unsupported`] when
@@ -530,7 +531,7 @@ pub fn wheel_at_speed(
             },
         )?;
         let rim_speed = omega * m.spinning_radius();
-        if (rim_speed - speed).abs() <= 1e-13 * speed.abs() {
+        if (rim_speed - speed).abs() <= 1e-12 * speed.abs() {
             return Ok(m);
         }
         omega = speed / m.spinning_radius();

@@ -471,12 +471,12 @@ fn vehicle(
 /// of the unsprung mass `m_u` on Hertz's spring `k_H` at the static load in series with
 /// the track's static stiffness, the rail as an infinite beam on its supports smeared
 /// along it, `2 k_f / beta` with `k_f = (k_p k_b / (k_p + k_b)) / s` and
-/// `beta = (k_f / (4 EI))^(1/4)` (Timoshenko 1926; 9.2e7 N/m for UIC60 against the
+/// `beta = (k_f / (4 EI))^(1/4)` (Winkler's foundation; 9.2e7 N/m for UIC60 against the
 /// discrete track's 8.5e7 N/m at mid-span). The track's mass that moves with the wheel is
-/// left out, so it is above the P2 frequency (50.4 Hz against 43.8 Hz for UIC60, 800 kg,
-/// 100 kN): its period is a lower bound of the bounce's. `None` where Hertz's contact is
-/// not defined.
-pub(crate) fn bounce_hz(v: &Vehicle, spec: &TrackSpec) -> Option<f64> {
+/// left out, so it is above the P2 frequency (52.3 Hz for `scenarios/track.toml`, 800 kg
+/// under 107.8 kN, against its P2 of 43.8 Hz): its period is a lower bound of the bounce's.
+/// `None` where Hertz's contact is not defined.
+fn bounce_hz(v: &Vehicle, spec: &TrackSpec) -> Option<f64> {
     let load = v.axle_load + v.unsprung_mass * v.gravity;
     let k_h = crate::track::hertz::contact(
         load,
