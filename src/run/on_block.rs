@@ -6,10 +6,10 @@
 //! Files: `history.csv` (every `output.history_stride` steps: time, contact force, rim nodes
 //! held, the patch's centre and half-width, Hertz's half-width at the force, the kinetic and
 //! strain energies; where no rim node touches the block there is no patch: `patch_centre` is
-//! an empty cell and `patch_half_width` 0), `summary.json` (the rolling phase's means, the block, the counts),
-//! `bodies_final.vtu` (both bodies in the ground at the last step: displacement, velocity
-//! and the body's index on the points) and `wheel_on_block.png` (the force over time; the
-//! last step's contact pressure against Hertz's ellipse).
+//! an empty cell and `patch_half_width` 0), `summary.json` (the rolling phase's means, the
+//! block, the counts), `bodies_final.vtu` (both bodies in the ground at the last step:
+//! displacement, velocity and the body's index on the points) and `wheel_on_block.png` (the
+//! force over time; the last step's contact pressure against Hertz's ellipse).
 
 use super::results::{FieldArray, FieldFrame, Fields, Results};
 use super::{RunError, RunOptions};
@@ -226,9 +226,9 @@ pub const LOADED_FRACTION: f64 = 1e-3;
 /// The wheel must carry its load at the end of the settling: a contact force `force` (N)
 /// below [`LOADED_FRACTION`] of the load (`wheel.load`, or the static force of the
 /// flattening on the rigid base) is a block that never pressed onto the wheel (issue 47: a
-/// block too deep for its compression wave to cross during the settling ended it at 21 N
-/// against 511 kN, then rolled with exit 0; the scenario's check refuses that depth, this
-/// is the run's own).
+/// block of 40 m, too deep for its compression wave to cross during the settling, ended it
+/// at 10 N against the shallow block's 511 kN, then rolled with exit 0; the scenario's check
+/// refuses that depth, this is the run's own).
 ///
 /// # Errors
 /// The message, naming the keys.
