@@ -518,17 +518,20 @@ fn settle_time(
     if ramp >= period {
         return Ok(());
     }
-    let need = (2.0 * v.speed * period / spec.spacing).ceil() as usize;
+    let need = (2.0 * v.speed * period / spec.spacing).ceil();
+    let take = if need <= 1e6 {
+        format!("take vehicle.settle_bays >= {need} (with track.bays for the room)")
+    } else {
+        format!("it would take {need:.3e} settling bays, beyond any track: check vehicle.unsprung_mass, vehicle.axle_load and the speed")
+    };
     Err(cx.invalid(
         key,
         value,
         &format!(
-            "the load comes on over half of vehicle.settle_bays = {} bays of track.spacing = {} m, {ramp_m:.4} m in {:.3} ms at {:.2} m/s, less than one period of the wheel's bounce on the track ({:.3} ms: {f_b:.1} Hz, the unsprung mass on the contact and the track's static stiffness): the load would strike the track and the bounce ring through the passage; take vehicle.settle_bays >= {need} (with track.bays for the room)",
+            "the load comes on over half of vehicle.settle_bays = {} bays of track.spacing = {} m, {ramp_m:.4} m in {ramp:.4e} s at {:.2} m/s, less than one period of the wheel's bounce on the track ({period:.4e} s: {f_b:.4e} Hz, the unsprung mass on the contact and the track's static stiffness): the load would strike the track and the bounce ring through the passage; {take}",
             v.settle_bays,
             spec.spacing,
-            1e3 * ramp,
             v.speed,
-            1e3 * period,
         ),
     ))
 }
