@@ -110,7 +110,7 @@ impl std::fmt::Display for Diverged {
             ),
             Cause::Pulled { force, peak } => write!(
                 f,
-                "the run diverged at step {step} (t = {t:e} s): its contact pulled with {:.4e} N (the largest compressive total so far {peak:.4e} N), and a contact can only push; a step too long for the contact's events (`time.h` against a rim node's passage), a rim too coarse for the contact patch (`wheel.rim_nodes`) or a treatment that does not suit them (`contact.method`)",
+                "the run diverged at step {step} (t = {t:e} s): its contact pulled with {:.4e} N (the largest compressive total so far {peak:.4e} N), and a contact can only push; a step too long for the contact's events (`time.h` against a rim node's passage), a rim too coarse for the contact patch (`wheel.rim_nodes`; on a track `vehicle.wheel_rim_nodes`) or a treatment that does not suit them (`contact.method`)",
                 -force
             ),
             Cause::Unconverged { iterations } => write!(

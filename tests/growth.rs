@@ -134,7 +134,7 @@ fn study(
 ) -> softway::growth::StudyOutcome {
     let flag = AtomicBool::new(false);
     run_study(r, c, target, out, resume, "sha", &flag, |state, _| {
-        softway::growth::report::write_all(out, state, c, 30.0, false).map(|_| ())
+        softway::growth::report::write_all(out, state, c, 30.0, (false, false)).map(|_| ())
     })
     .unwrap()
 }

@@ -219,4 +219,29 @@ fn a_study_stopped_before_a_pass_does_not_advise_resuming() {
     }
     let marker = std::fs::read_to_string(out.join(".softway")).unwrap();
     assert!(marker.lines().any(|l| l == "interrupted"), "{marker}");
+    // Issue 47: the summary says so too (it had no `interrupted` at all).
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["interrupted"], true, "{summary}");
+    assert!(summary["passes"].as_u64().unwrap() < 3, "{summary}");
+}
+
+/// A study that reaches its passes says `"interrupted": false` in its summary.
+#[test]
+fn a_finished_study_says_it_was_not_interrupted() {
+    let dir = TestDir::new("growth-input", "finished");
+    let out = dir.join("out");
+    let polygon = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml");
+    let o = softway()
+        .arg("grow")
+        .arg(&polygon)
+        .args(["--passes", "1", "--set", "wheel.rim_nodes=96", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["interrupted"], false, "{summary}");
+    assert_eq!(summary["passes"], 1, "{summary}");
 }

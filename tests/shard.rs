@@ -341,3 +341,77 @@ fn an_edited_manifest_count_is_refused_on_one_line() {
         assert!(!out.exists());
     }
 }
+
+/// A point folder run again with other settings (issue 47: `softway run --set
+/// rolling.omega=450 --out <shard>/rolling.omega=300` was gathered as the 300 rad/s row):
+/// `gather` checks each point's as-run scenario against the manifest's point and refuses the
+/// folder, naming it and the values it ran with.
+#[test]
+fn a_point_folder_run_again_with_other_settings_is_refused() {
+    let dir = TestDir::new("shard", "rerun");
+    let sc = dir.join("bar.toml");
+    std::fs::write(&sc, common::BAR).unwrap();
+    let shard = dir.join("s1");
+    let o = cli([
+        "sweep",
+        sc.to_str().unwrap(),
+        "--set",
+        "time.h=0.1,0.05",
+        "--shard",
+        "1/1",
+        "--out",
+        shard.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let gathered = dir.join("gathered");
+    let g = cli([
+        "gather",
+        shard.to_str().unwrap(),
+        "--out",
+        gathered.to_str().unwrap(),
+    ]);
+    assert_eq!(g.code, 0, "{}", g.stderr);
+    // The 0.1 s point's folder run again at 0.05 s.
+    let point = shard.join("time.h=0.1");
+    let o = cli([
+        "run",
+        sc.to_str().unwrap(),
+        "--set",
+        "time.h=0.05",
+        "--quiet",
+        "--force",
+        "--out",
+        point.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let again = dir.join("again");
+    let g = cli([
+        "gather",
+        shard.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(g.code, 2, "{}", g.stderr);
+    assert_eq!(g.stderr.trim().lines().count(), 1, "{}", g.stderr);
+    for m in ["time.h=0.1", "not the sweep's point", "--set time.h=0.05"] {
+        assert!(g.stderr.contains(m), "`{m}` missing from {}", g.stderr);
+    }
+    assert!(!again.exists(), "written after an error");
+    // An edited copy of the sweep's scenario in the shard folder is refused too.
+    let copy = shard.join("scenario.toml");
+    let text = std::fs::read_to_string(&copy).unwrap();
+    std::fs::write(&copy, text.replace("ea = ", "ea =  ")).unwrap();
+    let g = cli([
+        "gather",
+        shard.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(g.code, 2, "{}", g.stderr);
+    assert!(
+        g.stderr
+            .contains("not the scenario of the shard's manifest"),
+        "{}",
+        g.stderr
+    );
+}

@@ -438,7 +438,7 @@ impl NativeGrowth {
                     &self.state,
                     &self.config,
                     self.speed_m_s,
-                    self.plots,
+                    (self.plots, self.interrupted),
                 )
                 .map_err(|e| e.to_string())?,
             );

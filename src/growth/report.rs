@@ -95,6 +95,11 @@ pub struct GrowthSummary {
     pub mean_pass_wall_s: f64,
     /// SHA-256 of the scenario text.
     pub scenario_sha256: String,
+    /// The study stopped before the passes it was asked for (a signal; while it runs, the
+    /// files written after each pass say `true` until the last pass is in, so that a study
+    /// killed outright is not taken for a finished one). [`summary`] gives `false`: the
+    /// state alone does not know the target ([`write_all`] sets it).
+    pub interrupted: bool,
 }
 
 /// The figures of a state: bands and orders with their levels per profile.
@@ -257,6 +262,7 @@ pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthS
             walls.iter().sum::<f64>() / walls.len() as f64
         },
         scenario_sha256: state.scenario_sha256.clone(),
+        interrupted: false,
     }
 }
 
@@ -265,7 +271,8 @@ fn write(path: &Path, text: &str) -> Result<(), GrowthError> {
 }
 
 /// Writes every file of the study into `out` (module docs); returns their paths. With
-/// `plots` false the PNGs are left out.
+/// `plots` false the PNGs are left out; `interrupted` goes into `summary.json`
+/// ([`GrowthSummary::interrupted`]).
 ///
 /// # Errors
 /// [`GrowthError::Output`].
@@ -274,9 +281,12 @@ pub fn write_all(
     state: &StudyState,
     config: &GrowthConfig,
     speed: f64,
-    plots: bool,
+    (plots, interrupted): (bool, bool),
 ) -> Result<Vec<PathBuf>, GrowthError> {
-    let s = summary(state, config, speed);
+    let s = GrowthSummary {
+        interrupted,
+        ..summary(state, config, speed)
+    };
     let f = figures(state, config);
     let mut files = Vec::new();
     let mut put = |name: &str, text: String| -> Result<(), GrowthError> {

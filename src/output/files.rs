@@ -51,9 +51,20 @@ pub struct CsvWriter {
     tmp: PathBuf,
     rows: usize,
     line: String,
+    /// Per value column, whether NaN is written as an empty cell (a value that does not
+    /// exist in that row: [`CsvWriter::empty_when_nan`]).
+    empty_nan: Vec<bool>,
 }
 
 impl CsvWriter {
+    /// Writes NaN in the value columns flagged in `mask` (in the order of the values) as an
+    /// empty cell: a value that has no meaning in that row (the patch's centre where no rim
+    /// node touches), as the sweep's table leaves a point's missing figures empty. Every
+    /// other NaN is written `NaN`.
+    pub fn empty_when_nan(&mut self, mask: &[bool]) {
+        self.empty_nan = mask.to_vec();
+    }
+
     /// Creates the file and writes the header.
     ///
     /// # Errors
@@ -71,6 +82,7 @@ impl CsvWriter {
             tmp,
             rows: 0,
             line: String::with_capacity(512),
+            empty_nan: Vec::new(),
         })
     }
 
@@ -88,6 +100,9 @@ impl CsvWriter {
         for (i, v) in values.iter().enumerate() {
             if i > 0 || label.is_some() {
                 self.line.push(',');
+            }
+            if v.is_nan() && self.empty_nan.get(i).copied().unwrap_or(false) {
+                continue;
             }
             let _ = write!(self.line, "{v:e}");
         }

@@ -48,6 +48,9 @@ pub struct Columns {
     columns: Vec<Column>,
     rows: usize,
     streamed: Option<PathBuf>,
+    /// Per numeric column, whether a NaN is a missing value, written as an empty cell
+    /// ([`Columns::empty_when_nan`]).
+    empty_nan: Vec<bool>,
 }
 
 impl Columns {
@@ -65,7 +68,20 @@ impl Columns {
                 .collect(),
             rows: 0,
             streamed: None,
+            empty_nan: Vec::new(),
         }
+    }
+
+    /// The table with the columns `names` holding NaN where a row has no value: the CSV
+    /// writes an empty cell there ([`CsvWriter::empty_when_nan`]); in memory the value stays
+    /// NaN.
+    pub fn empty_when_nan(mut self, names: &[&str]) -> Self {
+        self.empty_nan = self
+            .columns
+            .iter()
+            .map(|c| names.contains(&c.name.as_str()))
+            .collect();
+        self
     }
 
     /// An empty table with a key column `key` of the given labels before the numeric ones.
@@ -163,6 +179,7 @@ impl Columns {
             return Ok(());
         }
         let mut csv = CsvWriter::create(path, &self.header())?;
+        csv.empty_when_nan(&self.empty_nan);
         let mut row = vec![0.0; self.columns.len()];
         for i in 0..self.rows {
             for (x, c) in row.iter_mut().zip(&self.columns) {
@@ -199,11 +216,15 @@ impl Rows {
     /// I/O errors creating the file.
     pub fn open(mut table: Columns, file: Option<&Path>, rows: usize) -> std::io::Result<Self> {
         match file {
-            Some(path) => Ok(Rows::File {
-                csv: CsvWriter::create(path, &table.header())?,
-                path: path.to_path_buf(),
-                table,
-            }),
+            Some(path) => {
+                let mut csv = CsvWriter::create(path, &table.header())?;
+                csv.empty_when_nan(&table.empty_nan);
+                Ok(Rows::File {
+                    csv,
+                    path: path.to_path_buf(),
+                    table,
+                })
+            }
             None => {
                 table.reserve(rows);
                 Ok(Rows::Memory(table))
@@ -286,6 +307,36 @@ mod tests {
         let copy = dir.join("copy.csv");
         file.write_csv(&copy).unwrap();
         assert_eq!(std::fs::read(&copy).unwrap(), text.as_bytes());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A column whose NaN is a missing value is written with an empty cell there, in memory
+    /// and streamed alike; NaN elsewhere stays `NaN`.
+    #[test]
+    fn a_missing_value_is_an_empty_cell() {
+        let dir = std::env::temp_dir().join(format!("softway-missing-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let spec = [("t_s", "s"), ("centre_m", "m")];
+        let rows = [[0.0, f64::NAN], [f64::NAN, 2e-3]];
+        let mut mem = Columns::new(&spec).empty_when_nan(&["centre_m"]);
+        let path = dir.join("streamed.csv");
+        let mut file = Rows::open(
+            Columns::new(&spec).empty_when_nan(&["centre_m"]),
+            Some(&path),
+            0,
+        )
+        .unwrap();
+        for r in &rows {
+            mem.push(0, r);
+            file.push(0, r).unwrap();
+        }
+        file.finish().unwrap();
+        assert!(mem.column("centre_m").unwrap()[0].is_nan());
+        let from_memory = dir.join("memory.csv");
+        mem.write_csv(&from_memory).unwrap();
+        let text = std::fs::read_to_string(&from_memory).unwrap();
+        assert_eq!(text, "t_s,centre_m\n0e0,\nNaN,2e-3\n");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

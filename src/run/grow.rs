@@ -117,7 +117,9 @@ impl<'a> Study<'a> {
             &sc.source_sha256,
             cancel.flag(),
             |state, line| {
-                report::write_all(out, state, &config, speed, opts.plots)?;
+                // Not yet at the target: a study killed here stopped short of it.
+                let short = state.passes.len() < target;
+                report::write_all(out, state, &config, speed, (opts.plots, short))?;
                 progress(line);
                 Ok(())
             },
@@ -131,9 +133,12 @@ impl<'a> Study<'a> {
             &outcome.state,
             &config,
             speed,
-            opts.plots,
+            (opts.plots, outcome.interrupted),
         )?);
-        let summary = report::summary(&outcome.state, &config, speed);
+        let summary = GrowthSummary {
+            interrupted: outcome.interrupted,
+            ..report::summary(&outcome.state, &config, speed)
+        };
         if !outcome.interrupted {
             let bands: Vec<(f64, f64)> = summary
                 .bands

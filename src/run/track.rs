@@ -393,7 +393,9 @@ pub(crate) fn receptance_job(
         load: ts.vehicle.axle_load,
         radius: ts.vehicle.wheel_radius,
     };
+    check_finite(sc, &r)?;
     let f = frequencies(&track, &r, &wheel).map_err(input)?;
+    check_frequencies(sc, &f)?;
     let contact = hertz::contact(
         wheel.load,
         wheel.radius,
@@ -419,6 +421,7 @@ pub(crate) fn receptance_job(
         "track_resonance_hz": f.track_resonance_hz,
         "p2_hz": f.p2_hz,
         "frequencies": f,
+        "not_in_range": range_notes(&f, range.f_min),
         "hertz": contact,
         "mid_span_x_m": r.mid_span_x,
         "above_sleeper_x_m": r.above_sleeper_x,
@@ -435,7 +438,7 @@ pub(crate) fn receptance_job(
     crate::output::files::write_json(&sj, &json).map_err(|e| RunError::output(&sj, e))?;
     files.push(sj);
     let hz = |q: Option<f64>| q.map_or_else(|| "-".to_string(), |q| format!("{q:.1} Hz"));
-    let lines = vec![
+    let mut lines = vec![
         format!(
             "{} points, {} to {} Hz, at x = {:.2} m (mid-span) and {:.2} m (above the middle sleeper)",
             range.points, range.f_min, range.f_max, r.mid_span_x, r.above_sleeper_x
@@ -457,11 +460,86 @@ pub(crate) fn receptance_job(
             hz(f.second_coupled_hz)
         ),
     ];
+    lines.extend(range_notes(&f, range.f_min));
     Ok(ReceptanceReport {
         lines,
         files,
         interrupted: false,
     })
+}
+
+/// What the range of `[receptance]`, from `f_min`, did not hold (the frequencies left
+/// `None`: [`crate::track::receptance`], A range that misses a frequency), one line each.
+fn range_notes(f: &Frequencies, f_min: f64) -> Vec<String> {
+    let mut notes = Vec::new();
+    if f.p2_below_range {
+        notes.push(format!(
+            "no P2 read: the range starts above it (receptance.f_min = {f_min} Hz; |D| still falls there): lower receptance.f_min"
+        ));
+    }
+    if f.track_resonance_below_range {
+        notes.push(format!(
+            "no track resonance read: the range starts above it (receptance.f_min = {f_min} Hz; the mid-span receptance no longer rises there): lower receptance.f_min"
+        ));
+    }
+    notes
+}
+
+/// The keys that set the track's dynamic stiffness, for the messages of a result that is
+/// not a number.
+const TRACK_KEYS: &str = "track.pad_stiffness, track.ballast_stiffness, track.sleeper_mass, track.young, track.density, track.area, track.inertia, receptance.f_min, receptance.f_max";
+
+/// Refuses a receptance with a value that is not a finite number (an ill-conditioned
+/// track: issue 47's NaN written with exit 0), naming the frequency and the keys.
+fn check_finite(sc: &Scenario<crate::scenario::RunSpec>, r: &Receptance) -> Result<(), RunError> {
+    let bad = r
+        .frequency_hz
+        .iter()
+        .zip(r.mid_span.iter().zip(&r.above_sleeper))
+        .find(|(_, (a, b))| {
+            !(a.re.is_finite() && a.im.is_finite() && b.re.is_finite() && b.im.is_finite())
+        });
+    match bad {
+        None => Ok(()),
+        Some((f, _)) => Err(RunError::input(
+            &sc.path,
+            format!(
+                "the track's receptance at {f:e} Hz is not a number (the dynamic stiffness cannot be solved in floating point): the track's values are out of proportion; check {TRACK_KEYS}"
+            ),
+        )),
+    }
+}
+
+/// Refuses frequencies whose static stiffnesses are not finite and positive (a track that
+/// floats: its ballast too soft for the solve to see it) or whose single-dof estimate is not
+/// a number.
+fn check_frequencies(
+    sc: &Scenario<crate::scenario::RunSpec>,
+    f: &Frequencies,
+) -> Result<(), RunError> {
+    for (what, k) in [
+        ("at mid-span", f.static_stiffness_mid_span),
+        ("above the sleeper", f.static_stiffness_above_sleeper),
+    ] {
+        if !(k.is_finite() && k > 0.0) {
+            return Err(RunError::input(
+                &sc.path,
+                format!(
+                    "the track's static stiffness {what} is {k:e} N/m, not a finite stiffness > 0 (the track's supports are out of proportion with its rail); check {TRACK_KEYS}"
+                ),
+            ));
+        }
+    }
+    if !f.p2_single_dof_hz.is_finite() {
+        return Err(RunError::input(
+            &sc.path,
+            format!(
+                "the single-dof P2 estimate is {} Hz (the wheel on the contact and the track's static stiffness); check vehicle.unsprung_mass, vehicle.axle_load, {TRACK_KEYS}",
+                f.p2_single_dof_hz
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The files of a receptance stopped by a signal after `r`'s frequencies of `points`: the

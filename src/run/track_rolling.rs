@@ -85,7 +85,9 @@ struct RollingSummary {
     nodes_in_contact_mean: f64,
     axle_displacement_mean_m: f64,
     rail_deflection_mean_m: f64,
-    contact_stiffness_n_m: f64,
+    /// The measured contact spring, N/m; `None` (null) when the passage's compression is
+    /// below what the contact resolves (a wheel carrying about no load).
+    contact_stiffness_n_m: Option<f64>,
     axle_drift_max_m: f64,
     sleeper_passing_hz: f64,
     node_passing_hz: f64,
@@ -180,7 +182,14 @@ fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
         material: Elastic { ..w.material },
         ..WheelSpec::paper()
     };
-    wheel_at_speed(mesh, spec, v.speed * (1.0 + v.creepage)).map_err(|e| e.to_string())
+    wheel_at_speed(mesh, spec, v.speed * (1.0 + v.creepage)).map_err(|e| {
+        format!(
+            "`vehicle.speed` = {} m/s ({:.1} km/h) with `vehicle.creepage` = {}: {e}",
+            v.speed,
+            3.6 * v.speed,
+            v.creepage
+        )
+    })
 }
 
 /// `softway run` of a track scenario with the wheel (module docs).
@@ -251,6 +260,15 @@ pub(crate) fn passage(
 ) -> Result<(WheelOnTrack, Simulation, usize), RunError> {
     let input = |e: String| RunError::input(&sc.path, format!("run `{}`: {e}", run.label));
     let v = &ts.vehicle;
+    // A creepage slips the rim on the rail, and only friction turns the slip into a force:
+    // without it the run is free rolling whatever the creepage (the rigid-base wheel refuses
+    // the same, `rolling.creepage`).
+    if v.creepage != 0.0 && run.friction.is_none_or(|law| !law.is_active()) {
+        return Err(input(format!(
+            "`vehicle.creepage` = {}: a creepage transmits a force only through friction: set contact.friction > 0 (with vehicle.suspension_stiffness > 0 and time.gamma > 0, as scenarios/track-traction.toml) or remove vehicle.creepage",
+            v.creepage
+        )));
+    }
     let wheel = wheel_model(ts).map_err(input)?;
     let settle_time = 0.5 * ts.settle_distance() / v.speed;
     let vehicle = Vehicle {
@@ -427,7 +445,14 @@ fn summarise(
             dominant_peak(&spec, 0.2 * v.speed / s)
         })
         .flatten();
-    let k_c = load / (rail - axle);
+    // The contact spring the passage measured: the static load over the mean compression
+    // of the wheel and the contact (the rail's deflection less the axle's). A compression
+    // the contact cannot resolve (below its closing tolerance, 1e-9 of the radius: a wheel
+    // carrying about no load) measures no spring (a load of 1 mN gave -4.6e3 N/m).
+    let compression = rail - axle;
+    let k_c = (compression > 1e-9 * v.wheel_radius)
+        .then(|| load / compression)
+        .filter(|k| k.is_finite() && *k > 0.0);
     let traction = run.friction.filter(|law| law.is_active()).map(|law| {
         let q = mean(&|r| r.tangential);
         TractionSummary {
@@ -463,7 +488,7 @@ fn summarise(
         },
     )
     .map_err(err)?;
-    let (p2, p2_above) = if k_c.is_finite() && k_c > 0.0 {
+    let (p2, p2_above) = if let Some(k_c) = k_c {
         (
             p2_with(&track, r.mid_span_x, v.unsprung_mass, k_c, 120).map_err(err)?,
             p2_with(&track, r.above_sleeper_x, v.unsprung_mass, k_c, 120).map_err(err)?,
@@ -531,7 +556,7 @@ fn screen_line(s: &RollingSummary) -> String {
         )
     });
     format!(
-        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {:.3e} N/m{traction}; {:.2} ms a step, {:.2} s a metre",
+        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {}{traction}; {:.2} ms a step, {:.2} s a metre",
         s.label,
         s.speed_km_h,
         s.travel_m,
@@ -543,7 +568,10 @@ fn screen_line(s: &RollingSummary) -> String {
         hz(s.dominant_frequency_hz),
         s.sleeper_passing_hz,
         hz(s.p2_hz),
-        s.contact_stiffness_n_m,
+        s.contact_stiffness_n_m.map_or_else(
+            || "- (no compression measured)".to_string(),
+            |k| format!("{k:.3e} N/m")
+        ),
         1e-3 * s.time_per_step_us,
         s.time_per_metre_s,
     )

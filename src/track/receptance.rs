@@ -44,6 +44,21 @@
 //! Every extremum found on the grid is refined by a golden-section search on `ln f` between
 //! the grid's neighbours (each trial frequency one more factorization), so the numbers do
 //! not depend on the grid's spacing.
+//!
+//! # A range that misses a frequency
+//!
+//! Each frequency is read off the range of the receptance only where the range holds it:
+//! the lowest minimum of `|D|` in a range that starts above the P2 resonance is the second
+//! coupled one (issue 47: `f_min = 45 Hz` reported the second coupled minimum, 176.2 Hz,
+//! as P2), and the largest peak below `0.3` times the span's frequency in a range that
+//! starts above the track resonance is not that resonance. So the P2 frequencies and the
+//! track resonance are reported only when their curve still falls (`|D|`) or rises
+//! (`|alpha|`) all the way from [`SCAN_FROM_HZ`] up to the range's first frequencies
+//! (scanned on [`SCAN_POINTS`] more frequencies below it: no extremum is left below the
+//! range); else `None`, and [`Frequencies::p2_below_range`] or
+//! [`Frequencies::track_resonance_below_range`] says why. (A range that cuts the
+//! pinned-pinned window reads its peak where it holds one, none where it does not: the
+//! peak dominates its window.)
 
 use super::{Track, TrackError};
 use crate::element::beam::{BeamSection, BeamTheory};
@@ -350,6 +365,43 @@ pub struct Frequencies {
     pub static_stiffness_above_sleeper: f64,
     /// The single-dof P2 estimate at mid-span `sqrt(k_eff / m_u) / (2 pi)`, Hz.
     pub p2_single_dof_hz: f64,
+    /// The range of the receptance starts above the P2 resonance and the second coupled
+    /// minimum (`|D|` does not fall all the way up to its first frequency): they are not
+    /// read off it (module docs).
+    pub p2_below_range: bool,
+    /// The range starts above the track resonance (`|alpha|` at mid-span does not rise all
+    /// the way up to its first frequency).
+    pub track_resonance_below_range: bool,
+}
+
+/// Where the scans below a range's first frequency start, Hz (module docs).
+pub const SCAN_FROM_HZ: f64 = 1.0;
+
+/// The frequencies of each scan below a range's first frequency.
+pub const SCAN_POINTS: usize = 48;
+
+/// True when `score` rises (never falls) over [`SCAN_POINTS`] log-spaced frequencies from
+/// [`SCAN_FROM_HZ`] up to `f0` and on to `f1` (the range's first two frequencies): no local
+/// maximum of it lies below the range. True at once when `f0` is at or below the scan's
+/// start.
+fn rises_into(
+    (f0, f1): (f64, f64),
+    score: &mut dyn FnMut(f64) -> Result<f64, TrackError>,
+) -> Result<bool, TrackError> {
+    if f0 <= SCAN_FROM_HZ {
+        return Ok(true);
+    }
+    let mut grid = log_frequencies(SCAN_FROM_HZ, f0, SCAN_POINTS);
+    grid.push(f1);
+    let mut last = f64::NEG_INFINITY;
+    for f in grid {
+        let v = score(f)?;
+        if v < last {
+            return Ok(false);
+        }
+        last = v;
+    }
+    Ok(true)
 }
 
 /// The P2 frequency of a wheel of mass `unsprung_mass` (kg) on the contact spring
@@ -488,14 +540,29 @@ pub fn frequencies(
     let above_neg: Vec<f64> = r.above_sleeper.iter().map(|z| -z.norm()).collect();
     let window = (0.6 * f_ss, 1.4 * f_ss);
     let largest = Pick::Largest;
+    // The range's ends (module docs: a frequency is read off only a range that holds it).
+    let (first, second) = match f.as_slice() {
+        [a, b, _, ..] => (*a, *b),
+        _ => {
+            return Err(TrackError::Invalid {
+                name: "receptance.points",
+                value: f.len() as f64,
+                allowed: "at least 3 frequencies",
+            })
+        }
+    };
     let pinned_pinned =
         refined_extremum(f, &mid_abs, window, largest, &mut |q| Ok(at(xm, q)?.norm()))?;
     let antiresonance = refined_extremum(f, &above_neg, window, largest, &mut |q| {
         Ok(-at(xs, q)?.norm())
     })?;
     let low = (0.0, 0.3 * f_ss);
-    let track_resonance =
-        refined_extremum(f, &mid_abs, low, largest, &mut |q| Ok(at(xm, q)?.norm()))?;
+    let track_resonance_below_range = !rises_into((first, second), &mut |q| Ok(at(xm, q)?.norm()))?;
+    let track_resonance = if track_resonance_below_range {
+        None
+    } else {
+        refined_extremum(f, &mid_abs, low, largest, &mut |q| Ok(at(xm, q)?.norm()))?
+    };
     let mu = wheel.unsprung_mass;
     let series = |q: f64, alpha: c64| {
         let w = 2.0 * PI * q;
@@ -512,14 +579,23 @@ pub fn frequencies(
         .zip(&r.above_sleeper)
         .map(|(&q, &a)| -series(q, a))
         .collect();
+    // |D| must fall from the scan's start up to the range at both points.
+    let p2_below_range = !rises_into((first, second), &mut |q| Ok(-series(q, at(xm, q)?)))?
+        || !rises_into((first, second), &mut |q| Ok(-series(q, at(xs, q)?)))?;
     let mut coupled = |score: &[f64], x: f64, pick: Pick| {
         refined_extremum(f, score, p2_window, pick, &mut |q| {
             Ok(-series(q, at(x, q)?))
         })
     };
-    let p2 = coupled(&mid_score, xm, Pick::Lowest)?;
-    let second = coupled(&mid_score, xm, Pick::SecondLowest)?;
-    let p2_above = coupled(&above_score, xs, Pick::Lowest)?;
+    let (p2, second, p2_above) = if p2_below_range {
+        (None, None, None)
+    } else {
+        (
+            coupled(&mid_score, xm, Pick::Lowest)?,
+            coupled(&mid_score, xm, Pick::SecondLowest)?,
+            coupled(&above_score, xs, Pick::Lowest)?,
+        )
+    };
     let k_mid = 1.0 / at(xm, 0.0)?.re;
     let k_above = 1.0 / at(xs, 0.0)?.re;
     let k_eff = 1.0 / (1.0 / k_h + 1.0 / k_mid);
@@ -542,5 +618,7 @@ pub fn frequencies(
         static_stiffness_mid_span: k_mid,
         static_stiffness_above_sleeper: k_above,
         p2_single_dof_hz: (k_eff / mu).sqrt() / (2.0 * PI),
+        p2_below_range,
+        track_resonance_below_range,
     })
 }

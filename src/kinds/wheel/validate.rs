@@ -695,6 +695,34 @@ pub(crate) fn block_spec(
             ),
         ));
     }
+    // The block is pressed up from its clamped bottom (the flattening program moves its
+    // frame): its top follows once a compression wave has crossed it, and settles onto the
+    // wheel only if the settling lasts a period of the block's first mode along its depth,
+    // 4 depth / c (c = sqrt(E / rho), the slowest compression wave), as the rigid base must
+    // take a period of the wheel's bounce (crate::run::wheel). A block of 40 m took 7.8 ms
+    // to cross against a settling of 5 ms: the wheel ended it at 10 N against the shallow
+    // block's 511 kN and rolled unloaded with exit 0 (issue 47).
+    let c = (young / density).sqrt();
+    let period = 4.0 * depth / c;
+    let settle = spec.flattening.settle_time;
+    if settle < period {
+        let (key, value) = match (b.depth, b.young, b.density) {
+            (Some(d), _, _) => ("block.depth", d),
+            (None, Some(e), _) => ("block.young", e),
+            (None, None, Some(r)) => ("block.density", r),
+            _ => ("rolling.settle_time", settle),
+        };
+        return Err(cx.invalid(
+            key,
+            value,
+            &format!(
+                "the block is pressed from its clamped bottom: its first mode along block.depth = {depth} m has a period of 4 depth / sqrt(E / rho) = {:.4e} s ({:.4e} s for a compression wave to cross it), longer than rolling.settle_time = {settle:e} s: the block would not be loaded onto the wheel during the settling; take block.depth <= {:.4e} m or rolling.settle_time >= {period:.4e} s",
+                period,
+                depth / c,
+                settle * c / 4.0
+            ),
+        ));
+    }
     Ok(crate::models::wheel_on_block::BlockSpec {
         material: Elastic {
             young,

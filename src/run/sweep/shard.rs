@@ -332,6 +332,7 @@ pub fn gather(
     let all = first
         .all_points()
         .map_err(|m| GatherError::Mismatch(format!("{}: {m}", dirs[0].join(MANIFEST).display())))?;
+    let base = sweep_text(&dirs[0], &first.scenario_sha256)?;
     let mut points = Vec::with_capacity(all.len());
     for sets in all {
         let v = values_of(&sets);
@@ -365,6 +366,9 @@ pub fn gather(
                 .ok()
                 .and_then(|t| serde_json::from_str(&t).ok())
                 .unwrap_or(serde_json::Value::Null);
+            if !summary.is_null() {
+                check_point(&dir, &summary, &base, &sets)?;
+            }
             points.push(SweepPoint {
                 value: v.join(","),
                 sets,
@@ -386,6 +390,7 @@ pub fn gather(
                     message: format!("not a summary: {e}"),
                 })
             })?;
+        check_point(&dir, &summary, &base, &sets)?;
         points.push(SweepPoint {
             value: v.join(","),
             sets,
@@ -398,6 +403,72 @@ pub fn gather(
     std::fs::create_dir_all(out).map_err(|e| SweepError::Run(RunError::output(out, e)))?;
     let files = write_sweep(out, &points)?;
     Ok((first, points, files))
+}
+
+/// The scenario text the sweep set its values into: the shard folder `dir`'s copy of it
+/// (`scenario.toml`: a header of comments up to its first blank line, then the text),
+/// checked against the manifest's `sha256`.
+///
+/// # Errors
+/// [`GatherError`]: the copy unreadable, or not the manifest's text.
+fn sweep_text(dir: &Path, sha256: &str) -> Result<String, GatherError> {
+    let f = dir.join(crate::run::SCENARIO_COPY);
+    let text = std::fs::read_to_string(&f).map_err(|e| GatherError::Read {
+        path: f.clone(),
+        message: format!(
+            "cannot read the shard's copy of the scenario ({e}), which the points are checked against; give the folders written by softway sweep --shard I/N"
+        ),
+    })?;
+    let body = text.split_once("\n\n").map_or("", |(_, b)| b);
+    if crate::scenario::sha256_hex(body.as_bytes()) != sha256 {
+        return Err(GatherError::Mismatch(format!(
+            "{}: not the scenario of the shard's manifest (SHA-256 {sha256}): gather the folders as softway sweep --shard wrote them",
+            f.display()
+        )));
+    }
+    Ok(body.to_string())
+}
+
+/// Refuses a point folder `dir` whose run is not the sweep's point `sets`: its summary's
+/// `scenario_sha256` must be that of the sweep's text `base` with the point's values set
+/// into it (a folder re-run with other settings, e.g. `softway run --set rolling.omega=450
+/// --out <shard>/rolling.omega=300`, was gathered as the 300 rad/s row; issue 47). The
+/// message names the folder and, from its own `scenario.toml`, the values it ran with.
+///
+/// # Errors
+/// [`GatherError::Mismatch`].
+fn check_point(
+    dir: &Path,
+    summary: &serde_json::Value,
+    base: &str,
+    sets: &[Override],
+) -> Result<(), GatherError> {
+    let expected = crate::scenario::overrides::apply(base, sets)
+        .map(|t| crate::scenario::sha256_hex(t.as_bytes()))
+        .map_err(|m| GatherError::Mismatch(format!("{}: {m}", dir.display())))?;
+    let got = summary["scenario_sha256"].as_str().unwrap_or("(none)");
+    if got == expected {
+        return Ok(());
+    }
+    let ran_with: Vec<String> = std::fs::read_to_string(dir.join(crate::run::SCENARIO_COPY))
+        .unwrap_or_default()
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .filter_map(|l| l.strip_prefix("# --set ").map(str::to_string))
+        .collect();
+    let ran_with = if ran_with.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; its scenario.toml ran with --set {}",
+            ran_with.join(" --set ")
+        )
+    };
+    Err(GatherError::Mismatch(format!(
+        "{}: not the sweep's point {} (its summary.json's scenario_sha256 {got}, the point's {expected}{ran_with}): the folder was run again with other settings; run the shard again (softway sweep --shard I/N) or gather the folders as it wrote them",
+        dir.display(),
+        super::point_label(sets)
+    )))
 }
 
 #[cfg(test)]
