@@ -224,7 +224,8 @@ def _dataset(results, pts, values, mode):
     else:
         dims = ["point"]
         shape = (len(pts),)
-        coords = {k: ("point", np.asarray(values[k])) for k in keys}
+        # Each point's own value (a key with one value broadcast to every point).
+        coords = {k: ("point", np.asarray([p[k] for p in pts])) for k in keys}
     n = len(pts)
     ok = [r for r in results if not r["error"]]
     data: dict[str, Any] = {}

@@ -4,7 +4,6 @@ pool, or in this process), gathered into one xarray Dataset."""
 
 from __future__ import annotations
 
-import itertools
 import json
 import os
 import warnings
@@ -14,6 +13,7 @@ from typing import Any, Iterable, Mapping, Optional, Sequence
 
 import numpy as np
 
+from . import _native
 from ._result import without_timings
 from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
 
@@ -105,18 +105,10 @@ def _points(grid: Mapping[str, Iterable[Any]], mode: str) -> tuple[list[dict], d
     for k, v in values.items():
         if not v:
             raise ValueError(f"{k}: no values")
-    if mode == "product":
-        pts = [dict(zip(keys, combo)) for combo in itertools.product(*values.values())]
-    elif mode == "zip":
-        n = {len(v) for v in values.values()}
-        if len(n) != 1:
-            raise ValueError(
-                "mode='zip' takes lists of one length: "
-                + ", ".join(f"{k}: {len(v)}" for k, v in values.items())
-            )
-        pts = [dict(zip(keys, combo)) for combo in zip(*values.values())]
-    else:
-        raise ValueError(f"mode={mode!r}: 'product' or 'zip'")
+    # The grid is the command line's (softway sweep --grid product|zip): the same points in
+    # the same order, a single value broadcast in a zip.
+    index = _native.grid_indices([(k, len(v)) for k, v in values.items()], mode)
+    pts = [{k: values[k][i] for k, i in zip(keys, idx)} for idx in index]
     return pts, values
 
 
@@ -262,7 +254,8 @@ def _dataset(results, pts, values, mode, hist):
     else:
         dims = ["point"]
         shape = (len(pts),)
-        coords = {k: ("point", np.asarray(values[k])) for k in keys}
+        # Each point's own value (a key with one value broadcast to every point).
+        coords = {k: ("point", np.asarray([p[k] for p in pts])) for k in keys}
     n = len(pts)
     status = [_status(r) for r in results]
     # Every scalar number of any summary, in the order first met.

@@ -92,10 +92,7 @@ fn check<'py>(py: Python<'py>, text: &str, path: &str) -> PyResult<Bound<'py, Py
     let sc = build(text, path)?;
     let d = PyDict::new(py);
     d.set_item("name", &sc.name)?;
-    d.set_item(
-        "kind",
-        sc.runs[0].model.kind(),
-    )?;
+    d.set_item("kind", sc.runs[0].model.kind())?;
     d.set_item("description", &sc.description)?;
     d.set_item("warnings", sc.warnings.clone())?;
     d.set_item("sweep", sc.sweep.clone())?;
@@ -132,6 +129,42 @@ fn set_key(text: &str, key: &str, value: &str) -> PyResult<String> {
         });
         err
     })
+}
+
+/// The points of a sweep grid as the command line makes them (`softway sweep --set
+/// K=V1,V2 ... --grid product|zip`, `softway::scenario::overrides::grid`): for each key its
+/// name and its number of values; each point the index of its value of each key, in the
+/// keys' order. A key with one value is set at every point of a zip, as on the command line.
+#[pyfunction]
+fn grid_indices(keys: Vec<(String, usize)>, mode: &str) -> PyResult<Vec<Vec<usize>>> {
+    use softway::scenario::overrides::{grid, Grid};
+    let how = match mode {
+        "product" => Grid::Product,
+        "zip" => Grid::Zip,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "mode={other:?}: 'product' or 'zip'"
+            )))
+        }
+    };
+    let keys: Vec<(String, Vec<String>)> = keys
+        .into_iter()
+        .map(|(k, n)| (k, (0..n).map(|i| i.to_string()).collect()))
+        .collect();
+    let points = grid(&keys, how).map_err(|m| {
+        PyValueError::new_err(
+            m.replace("--grid zip: ", "mode='zip': ")
+                .replace("--set ", "")
+                .replace(
+                    " (a key with one value is set at every point; or --grid product)",
+                    " (a key with one value is set at every point; or mode='product')",
+                ),
+        )
+    })?;
+    Ok(points
+        .iter()
+        .map(|p| p.iter().map(|o| o.value.parse().unwrap_or(0)).collect())
+        .collect())
 }
 
 /// The TOML text of a scenario given as JSON (a Python dict through `json.dumps`).
@@ -680,6 +713,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(set_key, m)?)?;
     m.add_function(wrap_pyfunction!(check_file, m)?)?;
     m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(grid_indices, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_class::<NativeGrowth>()?;
     m.add_function(wrap_pyfunction!(grow, m)?)?;

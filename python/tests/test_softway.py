@@ -283,9 +283,16 @@ def test_grid_product_and_zip():
                       executor="serial", progress=False)
     assert z["energy_initial"].dims == ("point",)
     assert z["energy_initial"].values.tolist() == [e[0, 0], e[2, 1]]
-    with pytest.raises(ValueError, match="one length"):
-        softway.sweep(bar, {"bar.speed": [1.0], "bar.elements": [8, 16]}, mode="zip",
-                      executor="serial")
+    # A key with one value is set at every point of a zip, as `softway sweep --grid zip`
+    # does (the grid is the core's): two points at 1 m/s, 0.5 J each.
+    b = softway.sweep(bar, {"bar.speed": [1.0], "bar.elements": [8, 16]}, mode="zip",
+                      executor="serial", progress=False)
+    assert b["bar.speed"].values.tolist() == [1.0, 1.0]
+    assert b["bar.elements"].values.tolist() == [8, 16]
+    assert np.allclose(b["energy_initial"].values, [0.5, 0.5])
+    with pytest.raises(ValueError, match="same length"):
+        softway.sweep(bar, {"bar.speed": [1.0, 2.0], "bar.elements": [8, 16, 32]},
+                      mode="zip", executor="serial")
 
 
 def test_the_default_executor_is_a_local_dask_cluster():

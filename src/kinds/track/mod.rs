@@ -154,6 +154,15 @@ impl Spec for TrackScenario {
     /// dissipation: loaded rim nodes stick for steps in full slip, and the creep force falls
     /// short of mu P, more so on finer rims (README, The track).
     fn check_run(&self, cx: &Ctx, run: &RunView) -> Result<(), ScenarioError> {
+        // A creepage transmits a force only through friction (as on the rigid base): refused
+        // here, so that a sweep refuses it before any point runs.
+        if self.vehicle.creepage != 0.0 && run.friction.is_none_or(|law| !law.is_active()) {
+            return Err(cx.invalid(
+                "vehicle.creepage",
+                self.vehicle.creepage,
+                "a creepage transmits a force only through friction: set contact.friction > 0 (with vehicle.suspension_stiffness > 0 and time.gamma > 0, as scenarios/track-traction.toml) or remove vehicle.creepage",
+            ));
+        }
         let (alpha, gamma) = run.alpha_gamma;
         if let Some(law) = run.friction {
             if law.is_active() && run.integrator.1 == "space_time" && gamma == 0.0 && alpha < 1.0 {
@@ -190,16 +199,23 @@ impl Spec for TrackScenario {
         let s = &self.spec;
         let mut dofs = 2.0 * (s.bays * s.elements_per_bay + 1) as f64 + (s.bays + 1) as f64;
         let mut pairs = 2.0;
+        let mut key = "track.bays";
         if self.rolls() {
             let r = self.vehicle.wheel.rim_nodes as f64;
-            dofs += 2.0 * 1.2 * r * r.ln() + 2.0;
+            let wheel = 2.0 * 1.2 * r * r.ln() + 2.0;
+            // The key that sets the size: the wheel's rim when its dofs (or the contact
+            // rows' dense blocks, 16 rows^2 bytes) outweigh the rail's.
+            if wheel > dofs || 16.0 * r * r > 4096.0 * dofs {
+                key = "vehicle.wheel_rim_nodes";
+            }
+            dofs += wheel;
             pairs = r;
         }
         Size {
             dofs,
             duration: self.duration(),
             contact_pairs: pairs,
-            key: Some("track.bays"),
+            key: Some(key),
         }
     }
 
