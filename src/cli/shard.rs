@@ -2,9 +2,8 @@
 //! array (any grid of `softway sweep`: one key, or several by product or zip), joined into
 //! the table and plot of `softway sweep` ([`crate::run::sweep::shard`]).
 
-use super::{
-    check_ladder_estimate, print_table, set_threads, sweep_values, CommandResult, Guard, Replace,
-};
+use super::study::{check_ladder_estimate, sweep_values};
+use super::{print_table, set_threads, CommandResult, Guard, Replace};
 use crate::output::job::JobFolder;
 use crate::run::sweep::shard::{gather, read_manifest, run_shard, Shard, MANIFEST};
 use crate::run::Cancel;
@@ -64,7 +63,7 @@ pub(super) fn shard_command(
         shard.count,
         mine.len(),
         points.len(),
-        super::incomplete_note(&mine)
+        super::study::incomplete_note(&mine)
     );
     if mine.is_empty() {
         outln!("  (no point falls in this shard)");
@@ -74,7 +73,7 @@ pub(super) fn shard_command(
     } else {
         print_table(&out.join("sweep.md"), &files);
     }
-    super::failed_points(scenario, &mine)?;
+    super::study::failed_points(scenario, &mine)?;
     if cancel.is_cancelled() {
         return Ok(ExitCode::from(130));
     }
@@ -109,12 +108,12 @@ pub(super) fn gather_command(
         m.key_names(),
         points.len(),
         m.of,
-        super::incomplete_note(&points)
+        super::study::incomplete_note(&points)
     );
     print_table(&out.join("sweep.md"), &files);
     for p in &points {
         outln!("    {}/", p.dir.display());
     }
-    super::failed_points(&shards[0], &points)?;
+    super::study::failed_points(&shards[0], &points)?;
     Ok(super::exit_code(interrupted))
 }
