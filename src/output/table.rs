@@ -73,7 +73,7 @@ impl Columns {
     }
 
     /// The table with the columns `names` holding NaN where a row has no value: the CSV
-    /// writes an empty cell there ([`CsvWriter::empty_when_nan`]); in memory the value stays
+    /// writes an empty cell there (`CsvWriter::empty_when_nan`); in memory the value stays
     /// NaN.
     pub fn empty_when_nan(mut self, names: &[&str]) -> Self {
         self.empty_nan = self
