@@ -364,6 +364,20 @@ pub struct MeshOptions {
     pub value_range: Option<(f64, f64)>,
 }
 
+/// `v` rounded to `sig` significant digits, for the numbers of titles, legends and notes
+/// (`omega = 72.5 rad/s`, not `72.46376811594203`): plain decimals from 10⁻³ to below 10⁶
+/// with trailing zeros dropped, else `m×10ⁿ`; a typographic minus. One helper for every
+/// figure, so that no caption prints a float as Rust's `{}` does.
+///
+/// ```
+/// assert_eq!(softway_plot::sig(72.463_768_115_942_03, 3), "72.5");
+/// assert_eq!(softway_plot::sig(839_812.0, 4), "839800");
+/// assert_eq!(softway_plot::sig(1.242e-5, 3), "1.24×10⁻⁵");
+/// ```
+pub fn sig(v: f64, sig: usize) -> String {
+    axes::fmt_sig(v, sig)
+}
+
 /// Draws one panel of x–y data into a PNG file of `size` = (width, height)
 /// pixels.
 ///
