@@ -497,7 +497,8 @@ pub(crate) fn layout_panel(
 fn isolated_extreme(p: &Panel, xr: (f64, f64)) -> Option<String> {
     let t = |v: f64| if p.y_log { v.log10() } else { v };
     // (value on the axis, series, x)
-    let mut pts: Vec<(f64, usize, f64)> = Vec::new();
+    type P = (f64, usize, f64);
+    let mut pts: Vec<P> = Vec::new();
     for (i, s) in p.series.iter().enumerate() {
         let here: Vec<(f64, usize, f64)> =
             s.x.iter()
@@ -519,7 +520,7 @@ fn isolated_extreme(p: &Panel, xr: (f64, f64)) -> Option<String> {
     }
     // Each end: the cluster within 1 % of the extent of the extreme, then the gap to the
     // next point.
-    let ends: [(Vec<&(f64, usize, f64)>, &str); 2] = [
+    let ends: [(Vec<&P>, &str); 2] = [
         (pts.iter().collect(), "lowest"),
         (pts.iter().rev().collect(), "highest"),
     ];
@@ -1821,7 +1822,8 @@ mod tests {
         auto.y_range = None;
         let mut force = sine_panel(400);
         force.hlines.push((1.0, "amplitude".into()));
-        let cases: Vec<(&str, Vec<Panel>, usize, usize, (u32, u32))> = vec![
+        type Case = (&'static str, Vec<Panel>, usize, usize, (u32, u32));
+        let cases: Vec<Case> = vec![
             (
                 "column",
                 vec![force.clone(), spectrum.clone(), auto.clone(), force.clone()],
