@@ -146,8 +146,8 @@ struct LegendGeom {
     sample: f64,
     /// Entries per row (1: a column); the entries fill the rows left to right.
     cols: usize,
-    /// Width of one column.
-    col_w: f64,
+    /// The left edge of each column from the legend's.
+    col_x: Vec<f64>,
 }
 
 /// A legend of one column.
@@ -159,22 +159,36 @@ fn legend_geom(entries: &[Entry], st: &Sty) -> LegendGeom {
 fn legend_geom_within(entries: &[Entry], st: &Sty, max_w: f64) -> LegendGeom {
     let f = st.fleg;
     let sample = 2.4 * f;
-    let tw = entries
-        .iter()
-        .map(|e| text_w(&e.label, f))
-        .fold(0.0, f64::max);
     let row = 1.4 * f;
-    let col_w = 0.6 * f + sample + 0.5 * f + tw + 0.7 * f;
     let n = entries.len().max(1);
-    let cols = ((max_w / col_w).floor() as usize).clamp(1, n);
-    let rows = n.div_ceil(cols);
+    // Each column as wide as its widest entry; the most columns that fit.
+    let widths = |cols: usize| -> Vec<f64> {
+        let mut w = vec![0.0f64; cols];
+        for (i, e) in entries.iter().enumerate() {
+            w[i % cols] = w[i % cols].max(text_w(&e.label, f));
+        }
+        w.iter()
+            .map(|tw| 0.6 * f + sample + 0.5 * f + tw + 0.7 * f)
+            .collect()
+    };
+    let cols = (1..=n)
+        .rev()
+        .find(|&c| widths(c).iter().sum::<f64>() <= max_w)
+        .unwrap_or(1);
+    let w = widths(cols);
+    let mut col_x = Vec::with_capacity(cols);
+    let mut x = 0.0;
+    for cw in &w {
+        col_x.push(x);
+        x += cw;
+    }
     LegendGeom {
-        w: cols as f64 * col_w,
-        h: rows as f64 * row + 0.5 * f,
+        w: x,
+        h: n.div_ceil(cols) as f64 * row + 0.5 * f,
         row,
         sample,
         cols,
-        col_w,
+        col_x,
     }
 }
 
@@ -185,7 +199,7 @@ fn draw_legend(area: &Area, r: Rect, entries: &[Entry], g: &LegendGeom, st: &Sty
     for (i, e) in entries.iter().enumerate() {
         let (row, col) = (i / g.cols, i % g.cols);
         let cy = r.y0 + 0.25 * f + (row as f64 + 0.5) * g.row;
-        let x0 = r.x0 + col as f64 * g.col_w;
+        let x0 = r.x0 + g.col_x[col];
         let (a, b) = ((x0 + 0.6 * f, cy), (x0 + 0.6 * f + g.sample, cy));
         match &e.kind {
             EntryKind::Series {
