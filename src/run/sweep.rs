@@ -881,13 +881,15 @@ fn creep_curve(
     });
     let mut panel = Panel::new(
         format!(
-            "Creep curve{}: mu = {mu:.3}, Hertz half-width a = {:.2} mm, R = {radius} m",
+            "Creep curve{}: mu = {}, Hertz half-width a = {} mm, R = {} m",
             if uncoupled {
                 " (normal and tangential problems uncoupled)"
             } else {
                 ""
             },
-            a * 1e3
+            crate::output::plot::sig(mu, 3),
+            crate::output::plot::sig(a * 1e3, 3),
+            crate::output::plot::sig(radius, 3)
         ),
         "creepage xi = (omega rho - V) / (omega rho)",
         "Q / (mu P)",

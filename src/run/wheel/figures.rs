@@ -142,7 +142,12 @@ fn force_figures<'a>(out: &'a Path, summary: &WheelSummary, r: &WheelResults) ->
     } else {
         1
     };
-    let smooth = crate::analysis::signal::moving_average(&roll_f, window);
+    let mut smooth = crate::analysis::signal::moving_average(&roll_f, window);
+    // Half a window at each end averages fewer samples: left out.
+    let cut = (window / 2).min(smooth.len() / 2);
+    let n = smooth.len();
+    smooth[..cut].fill(f64::NAN);
+    smooth[n - cut..].fill(f64::NAN);
     pr.series.push(Series::new(
         "contact force",
         roll_t.clone(),
