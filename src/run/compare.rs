@@ -197,7 +197,7 @@ fn comparison_panels(
     }
     let m = 0.05 * (hi - lo).max(f64::MIN_POSITIVE);
     let (lo, hi) = (lo - m, hi + m);
-    let after = "after the divergence (past the guard's bound)";
+    let after = "diverged (past the guard's bound)";
     let mut pf = Vec::new();
     let mut pe = Vec::new();
     for (label, tr, diverged) in traces {
