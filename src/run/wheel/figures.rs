@@ -242,24 +242,7 @@ fn spectrum_figure<'a>(
     ps.series
         .push(Series::new("amplitude", f, a, SeriesStyle::Line));
     // The expected frequencies, one legend entry per family.
-    // Labelled with the count that gives the frequency (issue 48: a moving zone's pitch,
-    // 4608 per turn, on a rim of 426 nodes was labelled "426 per turn (53144 Hz)").
-    let per_turn = if rot_hz > 0.0 {
-        (node_pass_hz / rot_hz).round() as usize
-    } else {
-        rim_nodes
-    };
-    let np_label = if per_turn == rim_nodes {
-        format!(
-            "node passing, {per_turn} per turn ({} Hz) x 1..5",
-            sig(node_pass_hz, 4)
-        )
-    } else {
-        format!(
-            "node passing, {per_turn} per turn: the zone's pitch ({} Hz) x 1..5",
-            sig(node_pass_hz, 4)
-        )
-    };
+    let np_label = node_passing_label(rim_nodes, node_pass_hz, rot_hz);
     for k in 1..=5 {
         let fk = k as f64 * node_pass_hz;
         if fk > hi {
@@ -313,6 +296,24 @@ fn spectrum_figure<'a>(
         line_plot(&png, &ps, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
         Ok(png)
     }))
+}
+
+/// The legend of the node passing's lines: labelled with the count per turn that gives its
+/// frequency, `f / f_rot` (issue 48: a moving zone's pitch, 4608 per turn, on a rim of 426
+/// nodes was labelled "426 per turn (53144 Hz)"), said to be the zone's pitch when it is not
+/// the rim's node count.
+fn node_passing_label(rim_nodes: usize, node_pass_hz: f64, rot_hz: f64) -> String {
+    let per_turn = if rot_hz > 0.0 {
+        (node_pass_hz / rot_hz).round() as usize
+    } else {
+        rim_nodes
+    };
+    let hz = sig(node_pass_hz, 4);
+    if per_turn == rim_nodes {
+        format!("node passing, {per_turn} per turn ({hz} Hz) x 1..5")
+    } else {
+        format!("node passing, {per_turn} per turn: the zone's pitch ({hz} Hz) x 1..5")
+    }
 }
 
 /// The rim profile of the turn-averaged J2 against the angle, as the departure from its
@@ -700,6 +701,7 @@ mod tests {
     use super::*;
     use crate::mesh::generators::{disk_graded, DiskOptions};
     use crate::wheel::WheelSpec;
+    use std::f64::consts::PI;
 
     /// The rim profile has one entry per rim node, sorted by angle; a field constant over
     /// the mesh is recovered exactly, and a field that is `1` on the elements touching one
@@ -734,5 +736,18 @@ mod tests {
         // Two rim nodes away, nothing of it is left.
         assert_eq!(j2[(k + 2) % n], 0.0);
         assert_eq!(j2[(k + n - 2) % n], 0.0);
+    }
+
+    /// Issue 48: `wheel-realistic`'s spectrum said "426 per turn (53144 Hz)"; 53,144 Hz at
+    /// omega = 72.46 rad/s is 4,608 per turn, the zone's pitch.
+    #[test]
+    fn issue_48_node_passing_label_names_the_count_of_its_frequency() {
+        let omega = 72.463_768_115_942_03;
+        let rot = omega / (2.0 * PI);
+        let label = node_passing_label(426, 4608.0 * rot, rot);
+        assert!(label.contains("4608 per turn: the zone's pitch"), "{label}");
+        assert!(label.contains("53140 Hz"), "{label}");
+        let label = node_passing_label(288, 288.0 * 300.0 / (2.0 * PI), 300.0 / (2.0 * PI));
+        assert_eq!(label, "node passing, 288 per turn (13750 Hz) x 1..5");
     }
 }
