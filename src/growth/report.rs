@@ -509,7 +509,8 @@ fn plot_all(
             s.length_m / OPEN_MIN_PERIODS * 1e3
         };
         let rate = |b: &BandFigures| b.rate_db_per_1e5;
-        let (reliable, unreliable): (Vec<(f64, f64)>, Vec<(f64, f64)>) = s
+        type Points = Vec<(f64, f64)>;
+        let (reliable, unreliable): (Points, Points) = s
             .bands
             .iter()
             .map(|b| (b.centre_wavelength_m * 1e3, rate(b)))

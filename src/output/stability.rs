@@ -147,8 +147,6 @@ pub fn write(r: &StabilityReport, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn st
         r.table.iter().map(|a| a.damping_ratio).collect(),
         SeriesStyle::Line,
     ));
-    let mut p2 = p2;
-    let mut p3 = p3;
     for p in [&mut p2, &mut p3] {
         off_axis_bifurcation(p);
     }
