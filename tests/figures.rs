@@ -1,7 +1,8 @@
 //! No figure draws outside its panels (issue 34): every figure of the shipped scenarios'
 //! commands is drawn strictly (`SOFTWAY_PLOT_STRICT=1`: a line, marker, label, legend or
 //! title painted outside its axes, its panel or the canvas fails the command, naming what
-//! and where) and is written as a PNG that decodes. The pixels of the data are checked in
+//! and where; so do a legend over data and an automatic axis range set by one isolated
+//! point, issue 48) and is written as a PNG that decodes. The pixels of the data are checked in
 //! the plotting crate's own tests (`softway-plot`: no pixel of a series' colour outside its
 //! axes on spiky and cut data).
 

@@ -696,6 +696,18 @@ fn plot_all(
             SeriesStyle::Dashed,
         ));
         p.hlines.push((0.0, String::new()));
+        // Orders shorter than the cutoff are not worn (their rate is 0 by construction).
+        let top = s.orders.last().map(|o| o.order as f64).unwrap_or(0.0);
+        if s.cutoff_m > 0.0 && s.length_m / s.cutoff_m < top {
+            p.vspans.push((
+                s.length_m / s.cutoff_m,
+                top + 1.0,
+                format!(
+                    "under the cutoff ({} mm): not worn, rate 0 by construction",
+                    sig(s.cutoff_m * 1e3, 3)
+                ),
+            ));
+        }
         if let Some(o) = &s.fastest_order {
             p.vlines.push((
                 o.order as f64,

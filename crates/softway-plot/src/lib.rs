@@ -11,9 +11,11 @@
 //!   panels whose axes are aligned per row and column) of [`Series`] drawn
 //!   in a [`SeriesStyle`], with optional logarithmic axes, reference lines
 //!   (horizontal and vertical), shaded bands, a note under the axes
-//!   and a legend placed where it hides no data: inside if possible, else
-//!   outside to the right of the axes if there is room, else inside with
-//!   head room added above the data (only when the y range is automatic).
+//!   and a legend placed where it hides no data (series, markers, reference lines): inside
+//!   if possible, else outside to the right of the axes if there is room, else inside with
+//!   head room added above the data (only when the y range is automatic), else under the
+//!   axes in as many columns as fit.
+//! * [`sig`]: numbers for titles, legends and notes, to a number of significant digits.
 //! * [`mesh_color_map`] / [`mesh_color_map_with`]: a scalar per triangle
 //!   ([`MeshColorMap`]) drawn as a colour map with a colour bar, equal
 //!   aspect ratio.
@@ -70,7 +72,10 @@
 //! and kept inside its cell. A figure also records anything painted outside its region
 //! (a label beyond its panel, a title beyond the canvas): with the environment variable
 //! `SOFTWAY_PLOT_STRICT=1` (and in this crate's tests) that is an error naming what and
-//! where, instead of a figure written with it. The tests check the pixels as well: no
+//! where, instead of a figure written with it. Two defects that are not places fail a strict
+//! figure too (issue 48): a legend that found no place free of data, and an automatic axis
+//! range set by one isolated point (at most one per series, farther from all the others
+//! than three quarters of the range). The tests check the pixels as well: no
 //! pixel of a series' colour outside its axes, on spiky data on log axes and data cut by
 //! fixed ranges.
 //!
