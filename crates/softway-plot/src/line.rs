@@ -506,8 +506,10 @@ pub(crate) fn layout_panel(
 /// -285 dB flattened every real curve of a spectrum to a line): the description of that
 /// point, when the points at one end of the data, at most one per series, stand apart from
 /// all others by more than three quarters of the data's extent, in decades on a log axis
-/// (the others squeezed into a quarter of the axis). Series of fewer than eight points are
-/// not judged (a convergence ladder's few rungs).
+/// (the others squeezed into a quarter of the axis), and the others vary by more than 5 %
+/// of their size (a shape the point flattens; a flat sequence after a first transient
+/// hides nothing). Series of fewer than eight points are not judged (a convergence
+/// ladder's few rungs).
 fn isolated_extreme(p: &Panel, xr: (f64, f64)) -> Option<String> {
     let t = |v: f64| if p.y_log { v.log10() } else { v };
     // (value on the axis, series, x)
@@ -552,7 +554,17 @@ fn isolated_extreme(p: &Panel, xr: (f64, f64)) -> Option<String> {
         for q in &ordered[..k] {
             per_series[q.1] += 1;
         }
-        if gap > 0.75 * span && per_series.iter().all(|&n| n <= 1) {
+        // What the others would show on their own axis: a shape (a variation of more than
+        // 5 % of their size; on a log axis of a factor 1.05) the isolated point flattens. A
+        // first pass's transient above a flat sequence hides nothing.
+        let (a, b) = (ordered[k].0, ordered[ordered.len() - 1].0);
+        let rest = (b - a).abs();
+        let hides = if p.y_log {
+            rest > 1.05f64.log10()
+        } else {
+            rest > 0.05 * a.abs().max(b.abs())
+        };
+        if gap > 0.75 * span && hides && per_series.iter().all(|&n| n <= 1) {
             let q = ordered[0];
             let y = if p.y_log { 10f64.powf(q.0) } else { q.0 };
             return Some(format!(
@@ -1933,6 +1945,24 @@ mod tests {
             SeriesStyle::Line,
         ));
         line_plot(&dir.join("peak.png"), &peak, (1200, 700)).unwrap();
+        // `softway shakedown`'s first pass above nine flat ones (within 1 %): nothing hidden.
+        let mut shake = Panel::new("Plastic strain increment per pass", "pass", "increment");
+        shake.y_log = true;
+        shake.series.push(Series::new(
+            "p0/k = 4.5",
+            (1..=10).map(f64::from).collect(),
+            (1..=10)
+                .map(|i| {
+                    if i == 1 {
+                        0.0158
+                    } else {
+                        0.0097 - 1e-5 * f64::from(i)
+                    }
+                })
+                .collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        line_plot(&dir.join("transient.png"), &shake, (1200, 700)).unwrap();
     }
 
     fn auto_range_lin(lo: f64, hi: f64) -> (f64, f64) {
