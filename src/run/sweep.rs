@@ -910,7 +910,10 @@ fn creep_curve(
     ));
     if let Some(x0) = xi0 {
         panel.series.push(Series::new(
-            format!("Carter shifted to the free-rolling creepage xi0 = {x0:.2e}"),
+            format!(
+                "Carter shifted to the free-rolling creepage xi0 = {}",
+                crate::output::plot::sig(x0, 3)
+            ),
             fine.clone(),
             fine.iter()
                 .map(|&x| carter_traction_ratio(x - x0, mu, a, radius))
