@@ -8,8 +8,9 @@
 //! the rail's deflection under the axle, the irregularity there, the nearest pad's force,
 //! and with friction the tangential force, the slip power and the friction energy),
 //! `track.png` (the contact force against the distance with the static load; the axle and
-//! the rail under it; the force's spectrum against the wavelength with the sleeper spacing,
-//! P2 and pinned-pinned wavelengths at the run's speed marked; the pad forces; with
+//! the rail under it; the force's spectrum against the wavelength with the sleeper spacing
+//! and its harmonics, the rail elements' length and its half (the mesh's own lines), P2 and
+//! pinned-pinned wavelengths at the run's speed marked and labelled; the pad forces; with
 //! friction, the tangential force against `mu` times the normal force) and
 //! `summary.json` (the passage's force statistics, the measured contact spring, the track's
 //! frequencies, the cost per step and per metre; with friction the `traction` figures).
@@ -216,9 +217,9 @@ pub(crate) fn record(
     let history = csv.finish().map_err(at)?;
     // Room for the spectrum's legend under its axes (issue 48).
     let size = if panels.traction.is_some() {
-        (1400, 2200)
+        (1400, 2350)
     } else {
-        (1400, 1800)
+        (1400, 1900)
     };
     let mut json = serde_json::json!({
         "scenario": sc.name, "kind": "track", "vehicle_model": "wheel", "interrupted": interrupted,
@@ -782,14 +783,16 @@ impl Panels {
                 vec![lambda],
             )
         };
-        let mut marks: Vec<(String, Vec<f64>)> = vec![one("sleeper spacing", v / ts.spec.spacing)];
+        let mut marks: Vec<(String, Vec<f64>)> = vec![one("sleepers", v / ts.spec.spacing)];
         let harmonics: Vec<f64> = (2..=6)
             .map(|k| ts.spec.spacing / k as f64)
             .filter(|l| (*l - element).abs() > 0.02 * element)
             .collect();
-        marks.push(("sleeper passing x 2..6".to_string(), harmonics));
+        marks.push(("sleepers x 2..6".to_string(), harmonics));
         if ts.spec.elements_per_bay > 1 {
-            marks.push(one("rail elements (the mesh)", v / element));
+            // The elements' passing and its second harmonic (0.1 and 0.05 m on UIC60).
+            let (label, _) = one("rail elements (mesh) x 1, 2", v / element);
+            marks.push((label, vec![element, 0.5 * element]));
         }
         if let Some(f) = sum.p2_hz {
             marks.push(one("P2", f));
