@@ -1,7 +1,8 @@
 //! No figure draws outside its panels (issue 34): every figure of the shipped scenarios'
 //! commands is drawn strictly (`SOFTWAY_PLOT_STRICT=1`: a line, marker, label, legend or
 //! title painted outside its axes, its panel or the canvas fails the command, naming what
-//! and where) and is written as a PNG that decodes. The pixels of the data are checked in
+//! and where; so do a legend over data and an automatic axis range set by one isolated
+//! point, issue 48) and is written as a PNG that decodes. The pixels of the data are checked in
 //! the plotting crate's own tests (`softway-plot`: no pixel of a series' colour outside its
 //! axes on spiky and cut data).
 
@@ -166,4 +167,41 @@ fn mode_shapes_figure_stays_in_its_panels() {
     let out = d.join("wheel");
     softway(&["modes", &scenario("wheel"), "--count", "6"], &out);
     assert_figure(&out.join("modes.png"));
+}
+
+/// The growth studies' figures (issue 48: an empty band at -285 dB set the spectrum's axis,
+/// an unreliable 5 m band set the growth rate's, a legend over the data): two passes of the
+/// wheel's polygon and one of the rail's corrugation, strictly (a legend over data or an
+/// automatic range set by one isolated point fails them).
+#[test]
+fn growth_figures_stay_in_their_panels_and_show_their_data() {
+    let d = dir("grow");
+    for (name, passes, pngs) in [
+        (
+            "polygon",
+            "2",
+            &[
+                "spectrum.png",
+                "growth_rate.png",
+                "profile.png",
+                "orders.png",
+            ][..],
+        ),
+        (
+            "corrugation",
+            "1",
+            &[
+                "spectrum.png",
+                "growth_rate.png",
+                "profile.png",
+                "prediction.png",
+            ][..],
+        ),
+    ] {
+        let out = d.join(name);
+        softway(&["grow", &scenario(name), "--passes", passes], &out);
+        for png in pngs {
+            assert_figure(&out.join(png));
+        }
+    }
 }

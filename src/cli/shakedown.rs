@@ -196,7 +196,7 @@ fn write(
         }
         // A zero (no flow) is left off the log axis.
         p1.series.push(Series::new(
-            format!("p0/k = {p0k}"),
+            format!("p0/k = {}", crate::output::plot::sig(*p0k, 3)),
             rows.iter().map(|r| r.pass as f64).collect(),
             rows.iter().map(|r| r.d_eq_max).collect(),
             SeriesStyle::LineMarkers,
@@ -214,7 +214,7 @@ fn write(
                 .filter(|(z, _)| *z <= 3.0 * c.a)
                 .collect();
             p2.series.push(Series::new(
-                format!("p0/k = {p0k}"),
+                format!("p0/k = {}", crate::output::plot::sig(*p0k, 3)),
                 near.iter().map(|(z, _)| z / c.a).collect(),
                 near.iter().map(|(_, s)| s / c.k()).collect(),
                 SeriesStyle::LineMarkers,

@@ -9,7 +9,7 @@ use super::{GrowthConfig, GrowthError, StudyState};
 use crate::output::csv::{push_record, record};
 use crate::output::files::write_atomic;
 use serde::Serialize;
-use softway_plot::{line_plot, Panel, Series, SeriesStyle};
+use softway_plot::{line_plot, panels, sig, Panel, Series, SeriesStyle};
 use std::path::{Path, PathBuf};
 
 /// A band's figures.
@@ -81,9 +81,11 @@ pub struct GrowthSummary {
     pub rms_final_m: f64,
     /// Uniform loss (radius or height worn evenly), m, over all real passes.
     pub uniform_loss_m: f64,
-    /// The band of fastest growth.
+    /// The band of the largest growth rate: the fastest growth, or the slowest decay when
+    /// every band decays (its rate is then negative).
     pub fastest_band: Option<BandFigures>,
-    /// The order of fastest growth (periodic profiles).
+    /// The order of the largest growth rate (periodic profiles): the fastest growth, or the
+    /// slowest decay when every order decays.
     pub fastest_order: Option<OrderFigures>,
     /// Every band.
     pub bands: Vec<BandFigures>,
@@ -134,22 +136,33 @@ fn figures(state: &StudyState, config: &GrowthConfig) -> Figures {
 /// the fastest-growing one ([`summary`]).
 pub const OPEN_MIN_PERIODS: f64 = 8.0;
 
+/// Whether each band holds a level the passes can grow from: within 180 dB of the initial
+/// profile's loudest band (an empty band's level, e.g. -285 dB, follows the rounding
+/// errors). The others have no rate and are not drawn.
+fn held_bands(f: &Figures) -> Vec<bool> {
+    let l_max = f.levels[0]
+        .iter()
+        .cloned()
+        .fold(f64::NEG_INFINITY, f64::max);
+    f.levels[0]
+        .iter()
+        .map(|&l| l.is_finite() && l > l_max - 180.0)
+        .collect()
+}
+
 /// The summary of a state (module docs).
 pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthSummary {
     let f = figures(state, config);
     let per_1e5 = 1e5;
     let last = f.levels.len() - 1;
     // Likewise a band 180 dB below the initial profile's loudest.
-    let l_max = f.levels[0]
-        .iter()
-        .cloned()
-        .fold(f64::NEG_INFINITY, f64::max);
+    let held_band = held_bands(&f);
     let band_figs: Vec<BandFigures> = f
         .bands
         .iter()
         .enumerate()
         .map(|(j, b)| {
-            let held = f.levels[0][j] > l_max - 180.0;
+            let held = held_band[j];
             let y: Vec<f64> = f
                 .levels
                 .iter()
@@ -400,16 +413,35 @@ fn plot_all(
     let mut files = Vec::new();
     let png = |name: &str| out.join(name);
     let lam_mm: Vec<f64> = f.bands.iter().map(|b| b.centre * 1e3).collect();
-    // spectrum.png: the band levels, initial, a few passes between and the last.
+    let held = held_bands(f);
+    // A band's level where it holds one, else a gap (issue 48: an empty band at -285 dB
+    // set the axis and drew every real curve as a flat line).
+    let level = |q: usize| -> Vec<f64> {
+        f.levels[q]
+            .iter()
+            .zip(&held)
+            .map(|(&l, &h)| if h { l } else { f64::NAN })
+            .collect()
+    };
+    // spectrum.png: the band levels, initial, a few passes between and the last; under
+    // them each one's change since the initial profile (issue 48: the passes' levels lie
+    // within a fraction of a dB of each other, on top of each other on a level axis).
     let mut p = Panel::new(
         format!(
-            "Roughness spectrum over {} passes ({:.3e} real passes)",
-            s.passes, s.real_passes
+            "Roughness spectrum over {} passes ({} real passes)",
+            s.passes,
+            sig(s.real_passes, 3)
         ),
         "wavelength [mm] (one-third-octave band centres)",
         "level [dB re 1 um]",
     );
     p.x_log = true;
+    let mut pd = Panel::new(
+        "Change of each band's level since the initial profile",
+        "wavelength [mm] (one-third-octave band centres)",
+        "level - initial level [dB]",
+    );
+    pd.x_log = true;
     let last = f.levels.len() - 1;
     let mut shown: Vec<usize> = vec![0];
     for q in [last / 3, 2 * last / 3, last] {
@@ -417,23 +449,54 @@ fn plot_all(
             shown.push(q);
         }
     }
+    let initial = level(0);
     for &q in &shown {
-        p.series.push(Series::new(
-            format!("after {q} passes"),
+        let l = level(q);
+        let label = format!(
+            "after {q} passes ({} real)",
+            sig(q as f64 * s.passes_per_pass, 3)
+        );
+        pd.series.push(Series::new(
+            label.clone(),
             lam_mm.clone(),
-            f.levels[q].clone(),
+            l.iter().zip(&initial).map(|(a, b)| a - b).collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        p.series.push(Series::new(
+            label,
+            lam_mm.clone(),
+            l,
             SeriesStyle::LineMarkers,
         ));
     }
-    p.note = format!(
-        "V = {:.2} m/s; frequency = V / wavelength. Wear smoothed over {:.2} mm (triangle of twice {} samples), cut below {:.2} mm.",
-        s.speed_m_s,
-        s.smoothing_m * 1e3,
+    pd.hlines.push((0.0, String::new()));
+    let longest_band = lam_mm.iter().copied().fold(0.0, f64::max);
+    if !s.periodic && longest_band > s.length_m / OPEN_MIN_PERIODS * 1e3 {
+        pd.vspans.push((
+            s.length_m / OPEN_MIN_PERIODS * 1e3,
+            longest_band * 1.12,
+            format!("under {OPEN_MIN_PERIODS:.0} periods in the record: the ends' levels"),
+        ));
+    }
+    let empty = held.iter().filter(|h| !**h).count();
+    pd.note = format!(
+        "V = {} m/s; frequency = V / wavelength. Wear smoothed over {} mm (triangle of twice {} \
+         samples), cut below {} mm.{}",
+        sig(s.speed_m_s, 3),
+        sig(s.smoothing_m * 1e3, 3),
         s.smoothing_samples,
-        s.cutoff_m * 1e3
+        sig(s.cutoff_m * 1e3, 3),
+        if empty > 0 {
+            format!(
+                " {empty} band(s) the initial profile leaves empty (over 180 dB below its \
+                 loudest) are not drawn."
+            )
+        } else {
+            String::new()
+        }
     );
     let path = png("spectrum.png");
-    line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
+    panels(&path, &[p, pd], 2, 1, (1200, 1000)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
     // growth_rate.png: the rate per band (and per order) against wavelength, when there is
     // one (a study from a smooth surface, `roughness = "none"`, has no level to grow from
@@ -447,17 +510,56 @@ fn plot_all(
             "growth rate [dB per 1e5 real passes]",
         );
         p.x_log = true;
+        // On an open profile a band longer than the record's eighth is the ends' (issue
+        // 48: the 5 m band of a 4.8 m rail set the axis): drawn apart, left out of the
+        // axis range, its value given when off the axis.
+        let few = if s.periodic {
+            f64::INFINITY
+        } else {
+            s.length_m / OPEN_MIN_PERIODS * 1e3
+        };
+        let rate = |b: &BandFigures| b.rate_db_per_1e5;
+        type Points = Vec<(f64, f64)>;
+        let (reliable, unreliable): (Points, Points) = s
+            .bands
+            .iter()
+            .map(|b| (b.centre_wavelength_m * 1e3, rate(b)))
+            .partition(|(l, _)| *l <= few);
+        let (rx, ry): (Vec<f64>, Vec<f64>) = reliable.iter().copied().unzip();
         p.series.push(Series::new(
             "one-third-octave bands",
-            lam_mm.clone(),
-            s.bands.iter().map(|b| b.rate_db_per_1e5).collect(),
+            rx,
+            ry.clone(),
             SeriesStyle::LineMarkers,
         ));
+        let mut range_of: Vec<f64> = ry.iter().copied().filter(|r| r.is_finite()).collect();
         if !s.orders.is_empty() {
+            let oy: Vec<f64> = s.orders.iter().map(|o| o.rate_db_per_1e5).collect();
+            range_of.extend(oy.iter().copied().filter(|r| r.is_finite()));
             p.series.push(Series::new(
                 "polygon orders",
                 s.orders.iter().map(|o| o.wavelength_m * 1e3).collect(),
-                s.orders.iter().map(|o| o.rate_db_per_1e5).collect(),
+                oy,
+                SeriesStyle::Markers,
+            ));
+        }
+        let mut off_scale = Vec::new();
+        if !unreliable.is_empty() {
+            let lo = range_of.iter().copied().fold(0.0, f64::min);
+            let hi = range_of.iter().copied().fold(0.0, f64::max);
+            let m = 0.08 * (hi - lo).max(1e-9);
+            let (lo, hi) = (lo - m, hi + m);
+            p.y_range = Some((lo, hi));
+            for &(l, r) in &unreliable {
+                if r.is_finite() && !(lo..=hi).contains(&r) {
+                    off_scale.push(format!("{} mm: {}", sig(l, 3), sig(r, 3)));
+                }
+            }
+            let (ux, uy): (Vec<f64>, Vec<f64>) = unreliable.into_iter().unzip();
+            p.series.push(Series::new(
+                "the bands there (not counted; off the axis: see the note)",
+                ux,
+                uy,
                 SeriesStyle::Markers,
             ));
         }
@@ -466,9 +568,14 @@ fn plot_all(
             p.vlines.push((
                 b.centre_wavelength_m * 1e3,
                 format!(
-                    "fastest band {:.1} mm ({:.0} Hz)",
-                    b.centre_wavelength_m * 1e3,
-                    b.frequency_hz
+                    "{}: the {} mm band ({} Hz)",
+                    if b.rate_db_per_1e5 > 0.0 {
+                        "fastest growth"
+                    } else {
+                        "slowest decay (no band grows)"
+                    },
+                    sig(b.centre_wavelength_m * 1e3, 4),
+                    sig(b.frequency_hz, 3)
                 ),
             ));
         }
@@ -481,8 +588,7 @@ fn plot_all(
                 .push((s.cutoff_m * 1e3, "cutoff (wear removed below)".into()));
         }
         let longest_band = lam_mm.iter().copied().fold(0.0, f64::max);
-        let few = s.length_m / OPEN_MIN_PERIODS * 1e3;
-        if !s.periodic && longest_band > few {
+        if longest_band > few {
             p.vspans.push((
                 few,
                 longest_band * 1.12,
@@ -490,46 +596,91 @@ fn plot_all(
             ));
         }
         p.note = format!(
-            "Least-squares slope of each level over {} passes of {:.3e} real passes each.",
-            s.passes, s.passes_per_pass
+            "Least-squares slope of each level over {} passes of {} real passes each.{}",
+            s.passes,
+            sig(s.passes_per_pass, 3),
+            if off_scale.is_empty() {
+                String::new()
+            } else {
+                format!(" Off the axis (the ends' rates): {}.", off_scale.join("; "))
+            }
         );
         let path = png("growth_rate.png");
         line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
         files.push(path);
     }
-    // profile.png
+    // profile.png: the initial and the current profile, and under them what changed: the
+    // change since the initial profile and the last pass's wear step (issue 48: the README
+    // promised the wear, the figure did not draw it).
     let profiles = state.profiles();
-    let x_mm: Vec<f64> = (0..state.n)
-        .map(|i| (state.x0.0[0] + i as f64 * state.dx.0[0]) * 1e3)
+    let length = state.n as f64 * state.dx.0[0];
+    let (scale, unit) = if length > 2.0 {
+        (1.0, "m")
+    } else {
+        (1e3, "mm")
+    };
+    let x: Vec<f64> = (0..state.n)
+        .map(|i| (state.x0.0[0] + i as f64 * state.dx.0[0]) * scale)
         .collect();
+    let x_label = format!("x [{unit}] (rolling coordinate)");
     let mut p = Panel::new(
         "Surface profile (mean removed; the uniform loss is reported apart)",
-        "x [mm] (rolling coordinate)",
+        x_label.clone(),
         "z [um]",
     );
+    let (z0, zl) = (profiles[0], profiles[profiles.len() - 1]);
     p.series.push(Series::new(
         "initial",
-        x_mm.clone(),
-        profiles[0].iter().map(|z| z * 1e6).collect(),
+        x.clone(),
+        z0.iter().map(|z| z * 1e6).collect(),
         SeriesStyle::Line,
     ));
     p.series.push(Series::new(
         format!("after {} passes", s.passes),
-        x_mm,
-        profiles[profiles.len() - 1]
-            .iter()
-            .map(|z| z * 1e6)
-            .collect(),
+        x.clone(),
+        zl.iter().map(|z| z * 1e6).collect(),
         SeriesStyle::Line,
     ));
     p.note = format!(
-        "RMS {:.4} um -> {:.4} um; uniform loss {:.3e} m.",
-        s.rms_initial_m * 1e6,
-        s.rms_final_m * 1e6,
-        s.uniform_loss_m
+        "RMS {} um -> {} um; uniform loss {} um over {} real passes.",
+        sig(s.rms_initial_m * 1e6, 4),
+        sig(s.rms_final_m * 1e6, 4),
+        sig(s.uniform_loss_m * 1e6, 3),
+        sig(s.real_passes, 3)
     );
+    let mut pw = Panel::new("What the passes changed", x_label, "profile change [um]");
+    pw.series.push(Series::new(
+        "since the initial profile, z - z0",
+        x.clone(),
+        zl.iter().zip(z0).map(|(a, b)| (a - b) * 1e6).collect(),
+        SeriesStyle::Line,
+    ));
+    if let Some(last_pass) = state.passes.last() {
+        let w = &last_pass.wear.0;
+        let mean = if w.is_empty() {
+            0.0
+        } else {
+            w.iter().sum::<f64>() / w.len() as f64
+        };
+        pw.series.push(Series::new(
+            format!(
+                "the last pass's wear step, -N_w (w - mean w), N_w = {}",
+                sig(s.passes_per_pass, 3)
+            ),
+            x,
+            w.iter()
+                .map(|w| -s.passes_per_pass * (w - mean) * 1e6)
+                .collect(),
+            SeriesStyle::Line,
+        ));
+    }
+    pw.hlines.push((0.0, String::new()));
+    pw.note = "w: the depth one simulated pass wears (smoothed, cut below the cutoff, the \
+               reference's pattern taken off), N_w the real passes it stands for; z - z0 \
+               also holds any plastic flow."
+        .into();
     let path = png("profile.png");
-    line_plot(&path, &p, (1200, 600)).map_err(|e| GrowthError::output(&path, e))?;
+    panels(&path, &[p, pw], 2, 1, (1200, 900)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
     // orders.png
     let finite_order = s
@@ -555,20 +706,37 @@ fn plot_all(
             SeriesStyle::Dashed,
         ));
         p.hlines.push((0.0, String::new()));
+        // Orders shorter than the cutoff are not worn (their rate is 0 by construction).
+        let top = s.orders.last().map(|o| o.order as f64).unwrap_or(0.0);
+        if s.cutoff_m > 0.0 && s.length_m / s.cutoff_m < top {
+            p.vspans.push((
+                s.length_m / s.cutoff_m,
+                top + 1.0,
+                format!(
+                    "under the cutoff ({} mm): not worn, rate 0 by construction",
+                    sig(s.cutoff_m * 1e3, 3)
+                ),
+            ));
+        }
         if let Some(o) = &s.fastest_order {
             p.vlines.push((
                 o.order as f64,
                 format!(
-                    "fastest: order {} ({:.1} mm, {:.0} Hz)",
+                    "{}: order {} ({} mm, {} Hz)",
+                    if o.rate_db_per_1e5 > 0.0 {
+                        "fastest growth"
+                    } else {
+                        "slowest decay (no order grows)"
+                    },
                     o.order,
-                    o.wavelength_m * 1e3,
-                    o.frequency_hz
+                    sig(o.wavelength_m * 1e3, 4),
+                    sig(o.frequency_hz, 3)
                 ),
             ));
         }
         p.note = format!(
-            "Amplitudes by DFT of the rim profile; V = {:.2} m/s.",
-            s.speed_m_s
+            "Amplitudes by DFT of the rim profile; V = {} m/s.",
+            sig(s.speed_m_s, 3)
         );
         let path = png("orders.png");
         line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;

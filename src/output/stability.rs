@@ -109,7 +109,11 @@ pub fn write(r: &StabilityReport, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn st
     let c = dir.join("stability.csv");
     write_atomic(&c, csv.as_bytes())?;
     let x: Vec<f64> = r.table.iter().map(|a| a.omega_h).collect();
-    let title = format!("alpha = {}, gamma = {}", r.alpha, r.gamma);
+    let title = format!(
+        "alpha = {}, gamma = {}",
+        crate::output::plot::sig(r.alpha, 6),
+        crate::output::plot::sig(r.gamma, 6)
+    );
     let mut p1 = Panel::new(
         format!("Spectral radius ({title})"),
         "omega h",
@@ -143,7 +147,49 @@ pub fn write(r: &StabilityReport, dir: &Path) -> Result<Vec<PathBuf>, Box<dyn st
         r.table.iter().map(|a| a.damping_ratio).collect(),
         SeriesStyle::Line,
     ));
+    for p in [&mut p2, &mut p3] {
+        off_axis_bifurcation(p);
+    }
     let png = dir.join("stability.png");
     panels(&png, &[p1, p2, p3], 3, 1, (1200, 1500))?;
     Ok(vec![c, png])
+}
+
+/// Where the eigenvalues turn real the phase nears pi and the period error and the damping
+/// ratio of the last complex pair run off the trend of the others: on the log ladder of
+/// `omega h` that is one point, which would set the axis and squeeze every other point
+/// into a band (issue 48's class: a range set by one isolated point). When the last
+/// defined point lies farther from the others' range than that range is wide, the axis is
+/// set by the others, the line runs off it towards that point, and the note gives it.
+fn off_axis_bifurcation(p: &mut Panel) {
+    let Some(s) = p.series.first() else { return };
+    let pts: Vec<(f64, f64)> =
+        s.x.iter()
+            .zip(&s.y)
+            .filter(|(_, y)| y.is_finite())
+            .map(|(&x, &y)| (x, y))
+            .collect();
+    let Some((&(x_last, y_last), rest)) = pts.split_last() else {
+        return;
+    };
+    if rest.len() < 4 {
+        return;
+    }
+    let (lo, hi) = rest
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, y)| {
+            (a.min(y), b.max(y))
+        });
+    let span = (hi - lo).max(f64::MIN_POSITIVE);
+    let beyond = (lo - y_last).max(y_last - hi);
+    if beyond > span {
+        let m = 0.08 * span;
+        p.y_range = Some((lo - m, hi + m));
+        p.note = format!(
+            "Off the axis: {} at omega h = {}, the last point before the eigenvalues turn \
+             real (their phase nears pi).",
+            crate::output::plot::sig(y_last, 3),
+            crate::output::plot::sig(x_last, 3)
+        );
+    }
 }

@@ -5,7 +5,7 @@
 use super::bar::{simulate, BarSummary, BarTrace};
 use super::{RunError, RunOptions, RunReport};
 use crate::output::files::write_atomic;
-use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::output::plot::{panels, sig, Panel, Series, SeriesStyle};
 use crate::scenario::Scenario;
 use std::path::Path;
 
@@ -96,8 +96,8 @@ fn markdown(rows: &[Vec<String>]) -> String {
 pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport, RunError> {
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     let mut rows = Vec::new();
-    let mut traces: Vec<(String, BarTrace)> = Vec::new();
-    let mut exact_force = 0.0;
+    let mut traces: Vec<(String, BarTrace, Option<f64>)> = Vec::new();
+    let mut exact = None;
     let mut interrupted = false;
     // The lab shows what each combination does: a run past the guard's bound goes on and
     // its row says when it diverged (`diverged_at_s`).
@@ -113,9 +113,9 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
             ));
         }
         let (s, tr) = simulate(run, None, 1, opts)?;
-        exact_force = s.exact.contact_force;
+        exact = Some(s.exact);
         rows.push(row(&s));
-        traces.push((run.label.clone(), tr));
+        traces.push((run.label.clone(), tr, s.diverged_at_s));
         if s.interrupted {
             interrupted = true;
             break;
@@ -135,35 +135,9 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
         write_atomic(&f, body.as_bytes()).map_err(|e| RunError::output(&f, e))?;
         report.files.push(f);
     }
-    if sc.plots && !traces.is_empty() {
-        // One small panel per run (force against the exact force, energy against the
-        // initial energy): twenty overlaid curves would be unreadable.
-        let cols = traces.len().clamp(1, 4);
-        let nrows = traces.len().div_ceil(cols);
+    if let (true, false, Some(exact)) = (sc.plots, traces.is_empty(), exact) {
+        let (pf, pe, nrows, cols) = comparison_panels(&traces, &exact);
         let size = (1700, (330 * nrows as u32).max(400));
-        let mut pf = Vec::new();
-        let mut pe = Vec::new();
-        for (label, tr) in &traces {
-            let mut p = Panel::new(label, "t [s]", "F [N]");
-            p.series.push(Series::new(
-                "contact force",
-                tr.t.clone(),
-                tr.force.clone(),
-                SeriesStyle::Line,
-            ));
-            p.hlines.push((exact_force, "exact".into()));
-            pf.push(p);
-            let e0 = tr.energy.first().copied().unwrap_or(1.0);
-            let mut p = Panel::new(label, "t [s]", "E / E0");
-            p.series.push(Series::new(
-                "total energy",
-                tr.t.clone(),
-                tr.energy.iter().map(|e| e / e0).collect(),
-                SeriesStyle::Line,
-            ));
-            p.hlines.push((1.0, "E0".into()));
-            pe.push(p);
-        }
         for (name, ps) in [("compare_force.png", &pf), ("compare_energy.png", &pe)] {
             let f = out.join(name);
             panels(&f, ps, nrows, cols, size).map_err(|e| RunError::output(&f, e))?;
@@ -172,4 +146,108 @@ pub fn compare(sc: &Scenario, out: &Path, opts: &RunOptions) -> Result<RunReport
     }
     report.lines = md.lines().map(String::from).collect();
     Ok(report)
+}
+
+/// The panels of `compare_force.png` and `compare_energy.png`, one per run, in a grid of
+/// `(rows, cols)`.
+///
+/// Force (issue 48): the exact force is d'Alembert's pulse, `rho A c v0` from the impact to
+/// the release and zero outside (it was drawn as a constant line over the whole run); all
+/// panels share one y axis, set by the runs that did not diverge, so that twenty panels
+/// compare at a glance; a diverged run's peak off that axis is given in its title. Energy:
+/// each panel its own axis (the drifts differ by orders). In both, a diverged run says so in
+/// its title and its time after the divergence is shaded.
+fn comparison_panels(
+    traces: &[(String, BarTrace, Option<f64>)],
+    exact: &super::bar::BarExact,
+) -> (Vec<Panel>, Vec<Panel>, usize, usize) {
+    let cols = traces.len().clamp(1, 4);
+    let nrows = traces.len().div_ceil(cols);
+    let t_end = traces
+        .iter()
+        .filter_map(|(_, tr, _)| tr.t.last().copied())
+        .fold(0.0, f64::max);
+    let pulse_t = vec![
+        0.0,
+        exact.impact_time,
+        exact.impact_time,
+        exact.release_time,
+        exact.release_time,
+        t_end,
+    ];
+    let f0 = exact.contact_force;
+    let pulse_f = vec![0.0, 0.0, f0, f0, 0.0, 0.0];
+    // The shared force axis: the runs that stayed within the guard's bound, and the pulse.
+    let finite = |v: &[f64]| -> (f64, f64) {
+        v.iter()
+            .filter(|x| x.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            })
+    };
+    let (mut lo, mut hi) = (0.0f64.min(f0), 0.0f64.max(f0));
+    for (_, tr, diverged) in traces {
+        if diverged.is_none() {
+            let (a, b) = finite(&tr.force);
+            if a.is_finite() {
+                lo = lo.min(a);
+                hi = hi.max(b);
+            }
+        }
+    }
+    let m = 0.05 * (hi - lo).max(f64::MIN_POSITIVE);
+    let (lo, hi) = (lo - m, hi + m);
+    let after = "diverged (past the guard's bound)";
+    let mut pf = Vec::new();
+    let mut pe = Vec::new();
+    for (label, tr, diverged) in traces {
+        let (fmin, fmax) = finite(&tr.force);
+        let title = match diverged {
+            Some(t) => {
+                let off = if fmax > hi || fmin < lo {
+                    format!(
+                        ", peak {} N off the axis",
+                        sig(if fmax > hi { fmax } else { fmin }, 3)
+                    )
+                } else {
+                    String::new()
+                };
+                (
+                    format!("{label}: DIVERGED at {} s{off}", sig(*t, 3)),
+                    format!("{label}: DIVERGED at {} s", sig(*t, 3)),
+                )
+            }
+            None => (label.clone(), label.clone()),
+        };
+        let mut p = Panel::new(title.0, "t [s]", "F [N]");
+        p.series.push(Series::new(
+            "contact force",
+            tr.t.clone(),
+            tr.force.clone(),
+            SeriesStyle::Line,
+        ));
+        p.series.push(Series::new(
+            "exact (d'Alembert)",
+            pulse_t.clone(),
+            pulse_f.clone(),
+            SeriesStyle::Dashed,
+        ));
+        p.y_range = Some((lo, hi));
+        let e0 = tr.energy.first().copied().unwrap_or(1.0);
+        let mut q = Panel::new(title.1, "t [s]", "E / E0");
+        q.series.push(Series::new(
+            "total energy",
+            tr.t.clone(),
+            tr.energy.iter().map(|e| e / e0).collect(),
+            SeriesStyle::Line,
+        ));
+        q.hlines.push((1.0, "E0".into()));
+        if let Some(t) = diverged {
+            p.vspans.push((*t, t_end, after.into()));
+            q.vspans.push((*t, t_end, after.into()));
+        }
+        pf.push(p);
+        pe.push(q);
+    }
+    (pf, pe, nrows, cols)
 }

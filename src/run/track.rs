@@ -124,7 +124,7 @@ pub(crate) fn record(
     let mut deflection = Panel::new(
         format!(
             "Rail deflection under a moving load of {} kN",
-            1e-3 * track_of(&sc.runs[0].model).vehicle.axle_load
+            crate::output::plot::sig(1e-3 * track_of(&sc.runs[0].model).vehicle.axle_load, 4)
         ),
         "load position x [m]",
         "deflection under the load [mm]",
@@ -236,7 +236,10 @@ fn plot_run(
         }
     };
     deflection.series.push(Series::new(
-        name(&format!("moving at {} m/s", speed)),
+        name(&format!(
+            "moving at {} m/s",
+            crate::output::plot::sig(speed, 4)
+        )),
         xs.clone(),
         mm(|s| s.deflection),
         style,
@@ -636,10 +639,10 @@ fn plot(
     let s = &track.spec;
     let mut mag = Panel::new(
         format!(
-            "Rail point receptance: pads {:.0} MN/m, sleepers {} m apart, ballast {:.0} MN/m",
-            1e-6 * s.pad_stiffness,
-            s.spacing,
-            1e-6 * s.ballast_stiffness
+            "Rail point receptance: pads {} MN/m, sleepers {} m apart, ballast {} MN/m",
+            crate::output::plot::sig(1e-6 * s.pad_stiffness, 3),
+            crate::output::plot::sig(s.spacing, 3),
+            crate::output::plot::sig(1e-6 * s.ballast_stiffness, 3)
         ),
         "frequency [Hz]",
         "receptance magnitude [m/N]",

@@ -8,8 +8,9 @@
 //! the rail's deflection under the axle, the irregularity there, the nearest pad's force,
 //! and with friction the tangential force, the slip power and the friction energy),
 //! `track.png` (the contact force against the distance with the static load; the axle and
-//! the rail under it; the force's spectrum against the wavelength with the sleeper spacing,
-//! P2 and pinned-pinned wavelengths at the run's speed marked; the pad forces; with
+//! the rail under it; the force's spectrum against the wavelength with the sleeper spacing
+//! and its harmonics, the rail elements' length and its half (the mesh's own lines), P2 and
+//! pinned-pinned wavelengths at the run's speed marked and labelled; the pad forces; with
 //! friction, the tangential force against `mu` times the normal force) and
 //! `summary.json` (the passage's force statistics, the measured contact spring, the track's
 //! frequencies, the cost per step and per metre; with friction the `traction` figures).
@@ -25,7 +26,7 @@
 use crate::analysis::signal::{amplitude_spectrum, dominant_peak, moving_average};
 use crate::material::Elastic;
 use crate::mesh::generators::{disk_graded, DiskOptions};
-use crate::output::plot::{Panel, Series, SeriesStyle};
+use crate::output::plot::{sig, Panel, Series, SeriesStyle};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
@@ -223,10 +224,11 @@ pub(crate) fn record(
         }
     }
     let history = csv.finish().map_err(at)?;
+    // Room for the spectrum's legend under its axes (issue 48).
     let size = if panels.traction.is_some() {
-        (1400, 1900)
+        (1400, 2350)
     } else {
-        (1400, 1500)
+        (1400, 1900)
     };
     let mut json = serde_json::json!({
         "scenario": sc.name, "kind": "track", "vehicle_model": "wheel", "interrupted": interrupted,
@@ -590,7 +592,10 @@ impl Panels {
     fn new(ts: &TrackScenario) -> Self {
         let v = &ts.vehicle;
         let mut spectrum = Panel::new(
-            "Contact force spectrum over the passage",
+            format!(
+                "Contact force spectrum over the passage (frequencies at {} km/h)",
+                sig(3.6 * v.speed, 3)
+            ),
             "wavelength on the rail [m]",
             "amplitude [kN]",
         );
@@ -599,8 +604,8 @@ impl Panels {
         Panels {
             force: Panel::new(
                 format!(
-                    "Wheel on the track at {:.0} km/h: contact force",
-                    3.6 * v.speed
+                    "Wheel on the track at {} km/h: contact force",
+                    sig(3.6 * v.speed, 3)
                 ),
                 "distance travelled [m]",
                 "contact force [kN]",
@@ -769,10 +774,22 @@ impl Panels {
             .unzip();
         let peak = amp.iter().copied().fold(0.0, f64::max);
         if peak > 0.0 {
-            self.spectrum.y_range = Some((1e-3 * peak, 30.0 * peak));
+            // Three decades under the strongest line; the legend goes under the axes.
+            self.spectrum.y_range = Some((1e-3 * peak, 3.0 * peak));
             self.spectrum.x_range = Some((4.0 * sum.rim_pitch_m, 5.0));
         }
+        // The spectrum's largest amplitude within 3 % of a wavelength (its line, where the
+        // spectrum's resolution puts it), else at the nearest sample.
         let amp_at = |lambda: f64| {
+            let near = wl
+                .iter()
+                .zip(&amp)
+                .filter(|(w, _)| (w.ln() - lambda.ln()).abs() < 0.03)
+                .map(|(_, &a)| a)
+                .fold(f64::NAN, f64::max);
+            if near.is_finite() {
+                return Some(near);
+            }
             wl.iter()
                 .zip(&amp)
                 .min_by(|a, b| {
@@ -782,31 +799,55 @@ impl Panels {
                 })
                 .map(|(_, &a)| a)
         };
-        let marks = [
-            ("sleeper spacing", Some(v / ts.spec.spacing)),
-            ("P2", sum.p2_hz),
-            ("pinned-pinned", sum.pinned_pinned_hz),
-        ];
+        // Every line the track explains is marked and labelled (issue 48: the rail
+        // element's line at 0.1 m was not): the sleeper passing and its harmonics, the
+        // passing of the rail's elements (the beam's nodes: the discretisation's own
+        // excitation), P2 and the pinned-pinned resonance.
+        let element = ts.spec.spacing / ts.spec.elements_per_bay.max(1) as f64;
+        let one = |what: &str, f: f64| {
+            let lambda = v / f;
+            (
+                format!("{what}: {} m ({} Hz)", sig(lambda, 3), sig(f, 3)),
+                vec![lambda],
+            )
+        };
+        let mut marks: Vec<(String, Vec<f64>)> = vec![one("sleepers", v / ts.spec.spacing)];
+        let harmonics: Vec<f64> = (2..=6)
+            .map(|k| ts.spec.spacing / k as f64)
+            .filter(|l| (*l - element).abs() > 0.02 * element)
+            .collect();
+        marks.push(("sleepers x 2..6".to_string(), harmonics));
+        if ts.spec.elements_per_bay > 1 {
+            // The elements' passing and its second harmonic (0.1 and 0.05 m on UIC60).
+            let (label, _) = one("rail elements (mesh) x 1, 2", v / element);
+            marks.push((label, vec![element, 0.5 * element]));
+        }
+        if let Some(f) = sum.p2_hz {
+            marks.push(one("P2", f));
+        }
+        if let Some(f) = sum.pinned_pinned_hz {
+            marks.push(one("pinned-pinned", f));
+        }
+        let (lo, hi) = self.spectrum.x_range.unwrap_or((0.0, f64::INFINITY));
         let mut points = Vec::new();
-        for (what, f) in marks {
-            if let Some(f) = f {
-                let lambda = v / f;
-                if let Some(a) = amp_at(lambda) {
-                    points.push((what, f, lambda, a));
-                }
+        for (label, lambdas) in marks {
+            let (xs, ys): (Vec<f64>, Vec<f64>) = lambdas
+                .into_iter()
+                .filter(|l| *l >= lo && *l <= hi)
+                .filter_map(|l| amp_at(l).map(|a| (l, a)))
+                .unzip();
+            if !xs.is_empty() {
+                points.push((label, xs, ys));
             }
         }
         self.spectrum
             .series
             .push(Series::new(name("contact force"), wl, amp, style));
         if ri == 0 {
-            for (what, f, lambda, a) in points {
-                self.spectrum.series.push(Series::new(
-                    format!("{what}: {lambda:.3} m ({f:.0} Hz at {:.0} km/h)", 3.6 * v),
-                    vec![lambda],
-                    vec![a],
-                    SeriesStyle::Markers,
-                ));
+            for (label, xs, ys) in points {
+                self.spectrum
+                    .series
+                    .push(Series::new(label, xs, ys, SeriesStyle::Markers));
             }
         }
     }

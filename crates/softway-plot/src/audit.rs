@@ -88,6 +88,17 @@ pub(crate) fn clip() -> Option<Rect> {
     STATE.with(|s| s.borrow().clip)
 }
 
+/// Records a defect of the figure that is not a place (a legend hiding data, an axis range
+/// set by one isolated point), while a figure is being drawn.
+pub(crate) fn flag(what: impl FnOnce() -> String) {
+    STATE.with(|s| {
+        let mut s = s.borrow_mut();
+        if s.active {
+            s.violations.push(what());
+        }
+    });
+}
+
 /// Records `what` if the box `b` it paints leaves the current bounds or the canvas.
 pub(crate) fn check(what: impl FnOnce() -> String, b: Rect) {
     STATE.with(|s| {

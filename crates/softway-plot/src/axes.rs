@@ -163,6 +163,36 @@ fn fmt_general(v: f64) -> String {
     fmt_pow(v)
 }
 
+/// `v` rounded to `sig` significant digits (at least 1) for a title, a legend or a note:
+/// plain decimals from 10⁻³ to below 10⁶ with trailing zeros dropped (`72.5`, `300`,
+/// `0.0125`), else `m×10ⁿ` (`8.4×10⁶`); a typographic minus; `0` for zero; non-finite
+/// values as Rust prints them.
+pub(crate) fn fmt_sig(v: f64, sig: usize) -> String {
+    if !v.is_finite() {
+        return v.to_string();
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let sig = sig.clamp(1, 17) as i32;
+    // Rounded first, so that 999.96 to 4 digits gives 1000 and not 999.96 -> "1000.0".
+    let e = v.abs().log10().floor() as i32;
+    let r: f64 = format!("{:.*e}", (sig - 1) as usize, v)
+        .parse()
+        .unwrap_or(v);
+    let e = if r.abs() >= 10f64.powi(e + 1) {
+        e + 1
+    } else {
+        e
+    };
+    if (-3..6).contains(&e) {
+        let d = (sig - 1 - e).max(0) as usize;
+        return fix_minus(trim_zeros(format!("{r:.d$}")));
+    }
+    let m = trim_zeros(format!("{:.*}", (sig - 1) as usize, r / 10f64.powi(e)));
+    format!("{}×10{}", fix_minus(m), superscript(e))
+}
+
 /// `m×10ⁿ` (or `10ⁿ`) formatting.
 fn fmt_pow(v: f64) -> String {
     if v == 0.0 {
@@ -433,6 +463,24 @@ mod tests {
 
     /// Tick-label font size used by the tests: 20 px, 2× super-sampled.
     const FS: f64 = 40.0;
+
+    /// Issue 48: `omega = 72.46376811594203 rad/s` in a title.
+    #[test]
+    fn significant_digits_for_titles() {
+        assert_eq!(fmt_sig(72.463_768_115_942_03, 3), "72.5");
+        assert_eq!(fmt_sig(300.0, 3), "300");
+        assert_eq!(fmt_sig(839_812.0, 4), "839800");
+        assert_eq!(fmt_sig(0.6, 3), "0.6");
+        assert_eq!(fmt_sig(0.012_54, 3), "0.0125");
+        assert_eq!(fmt_sig(999.96, 4), "1000");
+        assert_eq!(fmt_sig(-47.746, 3), "−47.7");
+        assert_eq!(fmt_sig(1.242e-5, 3), "1.24×10⁻⁵");
+        assert_eq!(fmt_sig(8.4e6, 3), "8.4×10⁶");
+        assert_eq!(fmt_sig(9.9996e5, 3), "1×10⁶");
+        assert_eq!(fmt_sig(0.0, 3), "0");
+        assert_eq!(fmt_sig(f64::NAN, 3), "NaN");
+        assert_eq!(fmt_sig(5.0, 0), "5");
+    }
 
     #[test]
     fn formatting() {

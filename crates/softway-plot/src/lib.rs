@@ -11,9 +11,11 @@
 //!   panels whose axes are aligned per row and column) of [`Series`] drawn
 //!   in a [`SeriesStyle`], with optional logarithmic axes, reference lines
 //!   (horizontal and vertical), shaded bands, a note under the axes
-//!   and a legend placed where it hides no data: inside if possible, else
-//!   outside to the right of the axes if there is room, else inside with
-//!   head room added above the data (only when the y range is automatic).
+//!   and a legend placed where it hides no data (series, markers, reference lines): inside
+//!   if possible, else outside to the right of the axes if there is room, else inside with
+//!   head room added above the data (only when the y range is automatic), else under the
+//!   axes in as many columns as fit.
+//! * [`sig`]: numbers for titles, legends and notes, to a number of significant digits.
 //! * [`mesh_color_map`] / [`mesh_color_map_with`]: a scalar per triangle
 //!   ([`MeshColorMap`]) drawn as a colour map with a colour bar, equal
 //!   aspect ratio.
@@ -70,7 +72,10 @@
 //! and kept inside its cell. A figure also records anything painted outside its region
 //! (a label beyond its panel, a title beyond the canvas): with the environment variable
 //! `SOFTWAY_PLOT_STRICT=1` (and in this crate's tests) that is an error naming what and
-//! where, instead of a figure written with it. The tests check the pixels as well: no
+//! where, instead of a figure written with it. Two defects that are not places fail a strict
+//! figure too (issue 48): a legend that found no place free of data, and an automatic axis
+//! range set by one isolated point (at most one per series, farther from all the others
+//! than three quarters of the range). The tests check the pixels as well: no
 //! pixel of a series' colour outside its axes, on spiky data on log axes and data cut by
 //! fixed ranges.
 //!
@@ -362,6 +367,20 @@ pub struct MeshOptions {
     /// Fixed colour scale `(min, max)` (for vector fields: of the
     /// magnitude); automatic when `None`. Values outside are clamped.
     pub value_range: Option<(f64, f64)>,
+}
+
+/// `v` rounded to `sig` significant digits, for the numbers of titles, legends and notes
+/// (`omega = 72.5 rad/s`, not `72.46376811594203`): plain decimals from 10⁻³ to below 10⁶
+/// with trailing zeros dropped, else `m×10ⁿ`; a typographic minus. One helper for every
+/// figure, so that no caption prints a float as Rust's `{}` does.
+///
+/// ```
+/// assert_eq!(softway_plot::sig(72.463_768_115_942_03, 3), "72.5");
+/// assert_eq!(softway_plot::sig(839_812.0, 4), "839800");
+/// assert_eq!(softway_plot::sig(1.242e-5, 3), "1.24×10⁻⁵");
+/// ```
+pub fn sig(v: f64, sig: usize) -> String {
+    axes::fmt_sig(v, sig)
 }
 
 /// Draws one panel of x–y data into a PNG file of `size` = (width, height)

@@ -144,21 +144,51 @@ struct LegendGeom {
     h: f64,
     row: f64,
     sample: f64,
+    /// Entries per row (1: a column); the entries fill the rows left to right.
+    cols: usize,
+    /// The left edge of each column from the legend's.
+    col_x: Vec<f64>,
 }
 
+/// A legend of one column.
 fn legend_geom(entries: &[Entry], st: &Sty) -> LegendGeom {
+    legend_geom_within(entries, st, 0.0)
+}
+
+/// A legend of as many columns as fit in `max_w` (at least one).
+fn legend_geom_within(entries: &[Entry], st: &Sty, max_w: f64) -> LegendGeom {
     let f = st.fleg;
     let sample = 2.4 * f;
-    let tw = entries
-        .iter()
-        .map(|e| text_w(&e.label, f))
-        .fold(0.0, f64::max);
     let row = 1.4 * f;
+    let n = entries.len().max(1);
+    // Each column as wide as its widest entry; the most columns that fit.
+    let widths = |cols: usize| -> Vec<f64> {
+        let mut w = vec![0.0f64; cols];
+        for (i, e) in entries.iter().enumerate() {
+            w[i % cols] = w[i % cols].max(text_w(&e.label, f));
+        }
+        w.iter()
+            .map(|tw| 0.6 * f + sample + 0.5 * f + tw + 0.7 * f)
+            .collect()
+    };
+    let cols = (1..=n)
+        .rev()
+        .find(|&c| widths(c).iter().sum::<f64>() <= max_w)
+        .unwrap_or(1);
+    let w = widths(cols);
+    let mut col_x = Vec::with_capacity(cols);
+    let mut x = 0.0;
+    for cw in &w {
+        col_x.push(x);
+        x += cw;
+    }
     LegendGeom {
-        w: 0.6 * f + sample + 0.5 * f + tw + 0.7 * f,
-        h: entries.len() as f64 * row + 0.5 * f,
+        w: x,
+        h: n.div_ceil(cols) as f64 * row + 0.5 * f,
         row,
         sample,
+        cols,
+        col_x,
     }
 }
 
@@ -167,8 +197,10 @@ fn draw_legend(area: &Area, r: Rect, entries: &[Entry], g: &LegendGeom, st: &Sty
     stroke_rect(area, r, RGBColor(175, 175, 175), st.thin)?;
     let f = st.fleg;
     for (i, e) in entries.iter().enumerate() {
-        let cy = r.y0 + 0.25 * f + (i as f64 + 0.5) * g.row;
-        let (a, b) = ((r.x0 + 0.6 * f, cy), (r.x0 + 0.6 * f + g.sample, cy));
+        let (row, col) = (i / g.cols, i % g.cols);
+        let cy = r.y0 + 0.25 * f + (row as f64 + 0.5) * g.row;
+        let x0 = r.x0 + g.col_x[col];
+        let (a, b) = ((x0 + 0.6 * f, cy), (x0 + 0.6 * f + g.sample, cy));
         match &e.kind {
             EntryKind::Series {
                 color,
@@ -227,7 +259,13 @@ fn draw_legend(area: &Area, r: Rect, entries: &[Entry], g: &LegendGeom, st: &Sty
 }
 
 /// How much of the data a legend at `r` would hide.
-fn legend_overlap(r: &Rect, lines: &[Vec<Pt>], marks: &[Pt], hlines: &[f64]) -> usize {
+fn legend_overlap(
+    r: &Rect,
+    lines: &[Vec<Pt>],
+    marks: &[Pt],
+    hlines: &[f64],
+    vlines: &[f64],
+) -> usize {
     let mut n = 0;
     for l in lines {
         for w in l.windows(2) {
@@ -246,6 +284,7 @@ fn legend_overlap(r: &Rect, lines: &[Vec<Pt>], marks: &[Pt], hlines: &[f64]) -> 
     }
     n += marks.iter().filter(|&&p| r.contains(p)).count();
     n += hlines.iter().filter(|&&y| y >= r.y0 && y <= r.y1).count() * 3;
+    n += vlines.iter().filter(|&&x| x >= r.x0 && x <= r.x1).count() * 3;
     n
 }
 
@@ -340,6 +379,8 @@ pub(crate) struct PanelLayout {
     legend: Option<Rect>,
     /// How much data the legend hides (0 when outside or free).
     legend_score: usize,
+    /// An automatic y range set by one isolated point ([`isolated_extreme`]).
+    outlier: Option<String>,
     title_top: f64,
     /// The title's lines and font size (wrapped or shrunk to the cell's width).
     title: (Vec<String>, f64),
@@ -425,6 +466,14 @@ fn legend_entries(p: &Panel) -> Vec<Entry> {
 /// from the labels. A legend that would hide data goes outside, to the
 /// right, when there is room; else, with an automatic y range, head room is
 /// added above the data for it.
+///
+/// The rule, the same for every figure (issue 48: a spectrum's legend over its strongest
+/// line and its markers): a legend never hides data (series, markers, reference lines).
+/// It goes, in this order, inside where it hides nothing; outside to the right; inside
+/// over head room added above the data (automatic y range only); under the axes, in as
+/// many columns as the cell's width holds (in a grid the row's axes make room for it).
+/// Only when none of these fits is it drawn inside over data, and a strict figure
+/// (`SOFTWAY_PLOT_STRICT`, the tests) fails naming the panel.
 pub(crate) fn layout_panel(
     cell: Rect,
     p: &Panel,
@@ -432,28 +481,125 @@ pub(crate) fn layout_panel(
     forced: Option<Rect>,
     seen: &[String],
 ) -> Res<PanelLayout> {
-    let l = layout_panel_with(cell, p, st, forced, 0.0, seen)?;
-    if l.legend_score > 0 && p.y_range.is_none() {
-        let h = (l.lg.h + 2.0 * st.pad) / l.plot.h();
+    let l = layout_panel_with(cell, p, st, forced, 0.0, false, seen)?;
+    if l.legend_score == 0 {
+        return Ok(l);
+    }
+    let mut best = l;
+    if p.y_range.is_none() {
+        let h = (best.lg.h + 2.0 * st.pad) / best.plot.h();
         if h < 0.5 {
-            return layout_panel_with(cell, p, st, forced, h, seen);
+            let l = layout_panel_with(cell, p, st, forced, h, false, seen)?;
+            if l.legend_score == 0 {
+                return Ok(l);
+            }
+            best = l;
         }
     }
-    Ok(l)
+    match layout_panel_with(cell, p, st, forced, 0.0, true, seen) {
+        Ok(l) if l.legend_score == 0 && l.legend.is_some() => Ok(l),
+        _ => Ok(best),
+    }
+}
+
+/// An automatic axis range set by one isolated point (issue 48: one empty band at
+/// -285 dB flattened every real curve of a spectrum to a line): the description of that
+/// point, when the points at one end of the data, at most one per series, stand apart from
+/// all others by more than three quarters of the data's extent, in decades on a log axis
+/// (the others squeezed into a quarter of the axis), and the others vary by more than 5 %
+/// of their size (a shape the point flattens; a flat sequence after a first transient
+/// hides nothing). Series of fewer than eight points are not judged (a convergence
+/// ladder's few rungs).
+fn isolated_extreme(p: &Panel, xr: (f64, f64)) -> Option<String> {
+    let t = |v: f64| if p.y_log { v.log10() } else { v };
+    // (value on the axis, series, x)
+    type P = (f64, usize, f64);
+    let mut pts: Vec<P> = Vec::new();
+    for (i, s) in p.series.iter().enumerate() {
+        let here: Vec<(f64, usize, f64)> =
+            s.x.iter()
+                .zip(&s.y)
+                .filter(|(&x, &y)| valid(x, p.x_log) && valid(y, p.y_log) && x >= xr.0 && x <= xr.1)
+                .map(|(&x, &y)| (t(y), i, x))
+                .collect();
+        if here.len() >= 8 {
+            pts.extend(here);
+        }
+    }
+    if pts.len() < 8 {
+        return None;
+    }
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let span = pts[pts.len() - 1].0 - pts[0].0;
+    if !(span > 0.0 && span.is_finite()) {
+        return None;
+    }
+    // Each end: the cluster within 1 % of the extent of the extreme, then the gap to the
+    // next point.
+    let ends: [(Vec<&P>, &str); 2] = [
+        (pts.iter().collect(), "lowest"),
+        (pts.iter().rev().collect(), "highest"),
+    ];
+    for (ordered, which) in ends {
+        let first = ordered[0].0;
+        let k = ordered
+            .iter()
+            .take_while(|q| (q.0 - first).abs() <= 0.01 * span)
+            .count();
+        if k >= ordered.len() - 1 {
+            continue;
+        }
+        let gap = (ordered[k].0 - ordered[k - 1].0).abs();
+        let mut per_series = vec![0usize; p.series.len()];
+        for q in &ordered[..k] {
+            per_series[q.1] += 1;
+        }
+        // What the others would show on their own axis: a shape (a variation of more than
+        // 5 % of their size; on a log axis of a factor 1.05) the isolated point flattens. A
+        // first pass's transient above a flat sequence hides nothing.
+        let (a, b) = (ordered[k].0, ordered[ordered.len() - 1].0);
+        let rest = (b - a).abs();
+        let hides = if p.y_log {
+            rest > 1.05f64.log10()
+        } else {
+            rest > 0.05 * a.abs().max(b.abs())
+        };
+        if gap > 0.75 * span && hides && per_series.iter().all(|&n| n <= 1) {
+            let q = ordered[0];
+            let y = if p.y_log { 10f64.powf(q.0) } else { q.0 };
+            return Some(format!(
+                "the y range of panel {:?} is set by one isolated point, the {which} \
+                 (series {:?} at x = {}, y = {}): leave it out of the range or set the range",
+                p.title,
+                p.series[q.1].label,
+                crate::axes::fmt_sig(q.2, 4),
+                crate::axes::fmt_sig(y, 4)
+            ));
+        }
+    }
+    None
 }
 
 /// [`layout_panel`] with a fraction `headroom` of the plot height kept free
-/// above the data.
+/// above the data, and with `below` the legend under the axes (its score `usize::MAX` when
+/// the cell has no room for it there).
+#[allow(clippy::too_many_arguments)]
 fn layout_panel_with(
     cell: Rect,
     p: &Panel,
     st: &Sty,
     forced: Option<Rect>,
     headroom: f64,
+    below: bool,
     seen: &[String],
 ) -> Res<PanelLayout> {
     validate_panel(p)?;
     let ((xlo, xhi), (ylo, mut yhi)) = panel_ranges(p)?;
+    let outlier = if p.y_range.is_none() {
+        isolated_extreme(p, (xlo, xhi))
+    } else {
+        None
+    };
     if headroom > 0.0 {
         yhi = if p.y_log {
             10f64.powf(ylo.log10() + (yhi.log10() - ylo.log10()) / (1.0 - headroom))
@@ -493,6 +639,21 @@ fn layout_panel_with(
     } else {
         note
     };
+    // Entries listed by an earlier panel of the grid (`seen`) are not repeated.
+    let all = legend_entries(p);
+    let wanted = all.len() > 1 || !p.hlines.is_empty() || !p.vlines.is_empty();
+    let entries: Vec<Entry> = all
+        .into_iter()
+        .filter(|e| !seen.contains(&format!("{e:?}")))
+        .collect();
+    let has_legend = !p.no_legend && !entries.is_empty() && wanted;
+    let below = below && has_legend;
+    let lg = if below {
+        legend_geom_within(&entries, st, text_w_max)
+    } else {
+        legend_geom(&entries, st)
+    };
+    let below_block = if below { lg.h + 0.3 * pad } else { 0.0 };
 
     let mut plot = match forced {
         Some(r) => r,
@@ -509,8 +670,14 @@ fn layout_panel_with(
             } else {
                 (CAP + DESC) * x_label_fs + 0.8 * pad
             };
-            let bottom =
-                cell.y1 - pad - note_block(&note, pad) - label_block - CAP * fs - 0.6 * pad - tick;
+            let bottom = cell.y1
+                - pad
+                - below_block
+                - note_block(&note, pad)
+                - label_block
+                - CAP * fs
+                - 0.6 * pad
+                - tick;
             let mut plot = Rect::new(cell.x0, top + 0.5 * CAP * fs, cell.x1, bottom);
             if yticks(&plot).offset.is_some() {
                 plot.y0 = top + CAP * fs + 0.8 * pad;
@@ -560,24 +727,39 @@ fn layout_panel_with(
     let mut px = pixels(&plot);
 
     // Legend placement: the inside position hiding the least data, or
-    // outside on the right when every inside position hides something.
-    // Entries listed by an earlier panel of the grid (`seen`) are not repeated.
-    let all = legend_entries(p);
-    let wanted = all.len() > 1 || !p.hlines.is_empty() || !p.vlines.is_empty();
-    let entries: Vec<Entry> = all
-        .into_iter()
-        .filter(|e| !seen.contains(&format!("{e:?}")))
-        .collect();
-    let lg = legend_geom(&entries, st);
+    // outside on the right when every inside position hides something; under the axes
+    // when asked (`below`).
     let mut legend = None;
     let mut legend_score = 0;
-    if !p.no_legend && !entries.is_empty() && wanted {
-        let (_, ys) = scales(&plot);
+    if below {
+        // Under the x label and the note, centred on the axes, kept in the cell.
+        let ticks_bottom = plot.y1 + tick + 0.6 * pad + CAP * fs;
+        let note_top = if p.x_label.is_empty() {
+            ticks_bottom
+        } else {
+            ticks_bottom + 0.8 * pad + (CAP + DESC) * x_label_fs
+        };
+        let y0 = note_top + note_block(&note, pad) + 0.3 * pad;
+        let x0 = centre_in(plot.cx(), lg.w, &cell, pad) - 0.5 * lg.w;
+        let r = Rect::new(x0, y0, x0 + lg.w, y0 + lg.h);
+        if r.y1 <= cell.y1 - 0.3 * pad && r.x0 >= cell.x0 && r.x1 <= cell.x1 {
+            legend = Some(r);
+        } else {
+            legend_score = usize::MAX;
+        }
+    } else if has_legend {
+        let (xs, ys) = scales(&plot);
         let hl: Vec<f64> = p
             .hlines
             .iter()
             .filter(|(y, _)| valid(*y, p.y_log))
             .map(|(y, _)| ys.px(*y))
+            .collect();
+        let vl: Vec<f64> = p
+            .vlines
+            .iter()
+            .filter(|(x, _)| valid(*x, p.x_log) && *x >= xs.lo && *x <= xs.hi)
+            .map(|(x, _)| xs.px(*x))
             .collect();
         let inset = 0.6 * pad;
         let (l, r) = (plot.x0 + inset, plot.x1 - inset - lg.w);
@@ -603,7 +785,7 @@ fn layout_panel_with(
         if fits_inside {
             for &(x, y) in &candidates {
                 let rr = Rect::new(x, y, x + lg.w, y + lg.h).grow(0.5 * pad);
-                let score = legend_overlap(&rr, &lines, &marks, &hl);
+                let score = legend_overlap(&rr, &lines, &marks, &hl, &vl);
                 if score < best.0 {
                     best = (score, (x, y));
                 }
@@ -644,6 +826,7 @@ fn layout_panel_with(
         lg,
         legend,
         legend_score,
+        outlier,
         title_top,
         title,
         x_label_fs,
@@ -910,6 +1093,17 @@ fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayou
     }
     if let Some(r) = lay.legend {
         draw_legend(area, r, &lay.entries, &lay.lg, st)?;
+        if lay.legend_score > 0 {
+            audit::flag(|| {
+                format!(
+                    "the legend of panel {:?} hides data: no room for it outside the data",
+                    p.title
+                )
+            });
+        }
+    }
+    if let Some(o) = &lay.outlier {
+        audit::flag(|| o.clone());
     }
     Ok(())
 }
@@ -1570,6 +1764,207 @@ mod tests {
     }
 
     /// The automatic linear range of the data extent `lo..hi`.
+    /// A spectrum as `track.png` draws it (issue 48): a fixed log range, a noisy floor, a
+    /// strong line near the right end, markers and reference lines, in one panel of a
+    /// column of four.
+    fn track_like_spectrum() -> Panel {
+        let mut p = Panel::new("Contact force spectrum", "wavelength [m]", "amplitude [kN]");
+        p.x_log = true;
+        p.y_log = true;
+        let n = 600;
+        let wl: Vec<f64> = (0..n)
+            .map(|i| 0.015 * (5.0f64 / 0.015).powf(i as f64 / (n - 1) as f64))
+            .collect();
+        let amp: Vec<f64> = wl
+            .iter()
+            .enumerate()
+            .map(|(i, &w)| {
+                let noise = 0.01 * (1.0 + 0.8 * ((i * 7919) % 13) as f64 / 13.0);
+                let line = |c: f64, a: f64| a * (-((w / c).ln() / 0.02).powi(2)).exp();
+                noise + line(0.6, 3.0) + line(0.1, 1.2) + line(0.3, 0.3)
+            })
+            .collect();
+        p.series
+            .push(Series::new("contact force", wl, amp, SeriesStyle::Line));
+        for (what, x, y) in [
+            ("sleeper spacing: 0.600 m (46 Hz at 100 km/h)", 0.6, 3.0),
+            ("P2: 0.636 m (44 Hz at 100 km/h)", 0.636, 0.5),
+            ("rail element: 0.100 m (278 Hz at 100 km/h)", 0.1, 1.2),
+        ] {
+            p.series
+                .push(Series::new(what, vec![x], vec![y], SeriesStyle::Markers));
+        }
+        p.vlines.push((0.026, "pinned-pinned: 0.026 m".into()));
+        p.x_range = Some((0.015, 5.0));
+        p.y_range = Some((3e-3, 90.0));
+        p
+    }
+
+    /// Every pixel a series' segments and markers pass through, densely sampled.
+    fn data_points(p: &Panel, lay: &PanelLayout) -> Vec<Pt> {
+        let mut out = Vec::new();
+        for (s, sp) in p.series.iter().zip(&lay.px) {
+            for l in &sp.lines {
+                for w in l.windows(2) {
+                    let (a, b) = (w[0], w[1]);
+                    let k = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) / 2.0)
+                        .ceil()
+                        .max(1.0);
+                    for j in 0..=k as usize {
+                        let t = j as f64 / k;
+                        out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+                    }
+                }
+            }
+            out.extend(&sp.markers);
+            out.extend(&sp.isolated);
+            let _ = s;
+        }
+        for (x, _) in &p.vlines {
+            let xx = lay.xs.px(*x);
+            if xx >= lay.plot.x0 && xx <= lay.plot.x1 {
+                let mut y = lay.plot.y0;
+                while y <= lay.plot.y1 {
+                    out.push((xx, y));
+                    y += 2.0;
+                }
+            }
+        }
+        out
+    }
+
+    /// Issue 48's class: a legend drawn over the data it explains (`track.png`'s spectrum:
+    /// the legend over the sleeper line and its markers). In a column of panels (the axes
+    /// aligned, no room to the right) and alone, with fixed and automatic ranges, every
+    /// legend leaves every data pixel visible, checked on the layout against densely
+    /// sampled segments, markers and reference lines; and the figures draw strictly.
+    #[test]
+    fn legend_hides_no_data() {
+        use crate::render::render;
+        use crate::style::Sty;
+        let dir = out_dir("legend_hides_no_data");
+        let spectrum = track_like_spectrum();
+        let mut auto = spectrum.clone();
+        auto.y_range = None;
+        let mut force = sine_panel(400);
+        force.hlines.push((1.0, "amplitude".into()));
+        type Case = (&'static str, Vec<Panel>, usize, usize, (u32, u32));
+        let cases: Vec<Case> = vec![
+            (
+                "column",
+                vec![force.clone(), spectrum.clone(), auto.clone(), force.clone()],
+                4,
+                1,
+                (1400, 1500),
+            ),
+            ("alone_fixed", vec![spectrum.clone()], 1, 1, (1400, 500)),
+            ("alone_auto", vec![auto.clone()], 1, 1, (1400, 500)),
+            (
+                "grid",
+                vec![spectrum, auto, force.clone(), force],
+                2,
+                2,
+                (1700, 1000),
+            ),
+        ];
+        for (name, ps, rows, cols, size) in cases {
+            // The figure, drawn strictly: a legend over data fails it.
+            let path = dir.join(format!("{name}.png"));
+            panels(&path, &ps, rows, cols, size).unwrap_or_else(|e| panic!("{name}: {e}"));
+            // The layout's legend against the data's pixels, panel by panel (a panel laid
+            // out alone in its cell: the grid's alignment only moves the axes).
+            render(size, |_, fig| {
+                let cw = fig.w / cols as f64;
+                let ch = fig.h / rows as f64;
+                let st = Sty::new(fig, (cw / fig.k, ch / fig.k));
+                for (i, p) in ps.iter().enumerate() {
+                    let (r, c) = ((i / cols) as f64, (i % cols) as f64);
+                    let cell = Rect::new(c * cw, r * ch, (c + 1.0) * cw, (r + 1.0) * ch);
+                    let lay = layout_panel(cell, p, &st, None, &[]).unwrap();
+                    let Some(lg) = lay.legend else { continue };
+                    let hidden = data_points(p, &lay)
+                        .into_iter()
+                        .filter(|&q| lg.contains(q))
+                        .count();
+                    assert_eq!(
+                        hidden, 0,
+                        "{name}, panel {i}: the legend hides {hidden} data pixels"
+                    );
+                }
+                Ok(())
+            })
+            .unwrap();
+        }
+    }
+
+    /// Issue 48's class: an automatic range set by one isolated point (a spectrum's empty
+    /// band at -285 dB drew every real curve as a flat line at 0). A strict figure names
+    /// the point; without it the figure draws; a sharp resonance (one sample at the top of
+    /// a peak its neighbours climb to) is data, not an outlier.
+    #[test]
+    fn autoscale_set_by_one_point_is_caught() {
+        let dir = out_dir("autoscale_outlier");
+        let mut p = Panel::new(
+            "Roughness spectrum",
+            "wavelength [mm]",
+            "level [dB re 1 um]",
+        );
+        p.x_log = true;
+        let lam: Vec<f64> = (0..20).map(|i| 4.0 * 1.26f64.powi(i)).collect();
+        for pass in 0..4 {
+            let mut y: Vec<f64> = (0..20)
+                .map(|i| -0.3 * f64::from(pass) * (f64::from(i) / 20.0) + 0.1 * f64::from(i % 3))
+                .collect();
+            y[0] = -285.0;
+            p.series.push(Series::new(
+                format!("after {pass} passes"),
+                lam.clone(),
+                y,
+                SeriesStyle::LineMarkers,
+            ));
+        }
+        let path = dir.join("outlier.png");
+        match line_plot(&path, &p, (1200, 700)) {
+            Err(PlotError::Draw { message, .. }) => {
+                assert!(message.contains("isolated point"), "{message}");
+                assert!(message.contains("−285"), "{message}");
+            }
+            other => panic!("the outlier passed: {other:?}"),
+        }
+        for s in &mut p.series {
+            s.y[0] = f64::NAN;
+        }
+        line_plot(&path, &p, (1200, 700)).unwrap();
+        let mut peak = Panel::new("Resonance", "f [Hz]", "A [-]");
+        peak.series.push(Series::new(
+            "response",
+            (0..40).map(f64::from).collect(),
+            (0..40)
+                .map(|i| 1.0 / (1.0 + (f64::from(i) - 20.0).powi(2)))
+                .collect(),
+            SeriesStyle::Line,
+        ));
+        line_plot(&dir.join("peak.png"), &peak, (1200, 700)).unwrap();
+        // `softway shakedown`'s first pass above nine flat ones (within 1 %): nothing hidden.
+        let mut shake = Panel::new("Plastic strain increment per pass", "pass", "increment");
+        shake.y_log = true;
+        shake.series.push(Series::new(
+            "p0/k = 4.5",
+            (1..=10).map(f64::from).collect(),
+            (1..=10)
+                .map(|i| {
+                    if i == 1 {
+                        0.0158
+                    } else {
+                        0.0097 - 1e-5 * f64::from(i)
+                    }
+                })
+                .collect(),
+            SeriesStyle::LineMarkers,
+        ));
+        line_plot(&dir.join("transient.png"), &shake, (1200, 700)).unwrap();
+    }
+
     fn auto_range_lin(lo: f64, hi: f64) -> (f64, f64) {
         crate::axes::auto_range(lo, hi, false)
     }

@@ -125,7 +125,8 @@ where
         }
         if strict() && !outside.is_empty() {
             return Err(Fail::Draw(format!(
-                "{} drawing(s) outside their region (SOFTWAY_PLOT_STRICT): {}",
+                "{} defect(s) of the figure (SOFTWAY_PLOT_STRICT: drawings outside their \
+                 region, legends hiding data, ranges set by one point): {}",
                 outside.len(),
                 outside[..outside.len().min(3)].join("; ")
             )));

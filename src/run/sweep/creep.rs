@@ -343,12 +343,13 @@ pub fn creep_ladder(
     // creep_curve.png: a curve per rung, the limits marked.
     let mut panel = Panel::new(
         format!(
-            "Creep curve on the ladder {rung_key} = {}: mu a / R = {unit:.3e}",
+            "Creep curve on the ladder {rung_key} = {}: mu a / R = {}",
             rungs
                 .iter()
                 .map(|r| r.to_string())
                 .collect::<Vec<_>>()
-                .join(", ")
+                .join(", "),
+            crate::output::plot::sig(unit, 3)
         ),
         "creepage on the undeformed radius, xi_R / (mu a / R)",
         "Q / (mu P)",

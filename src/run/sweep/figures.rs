@@ -223,13 +223,15 @@ pub(super) fn creep_curve(
     });
     let mut panel = Panel::new(
         format!(
-            "Creep curve{}: mu = {mu:.3}, Hertz half-width a = {:.2} mm, R = {radius} m",
+            "Creep curve{}: mu = {}, Hertz half-width a = {} mm, R = {} m",
             if uncoupled {
                 " (normal and tangential problems uncoupled)"
             } else {
                 ""
             },
-            a * 1e3
+            crate::output::plot::sig(mu, 3),
+            crate::output::plot::sig(a * 1e3, 3),
+            crate::output::plot::sig(radius, 3)
         ),
         "creepage xi = (omega rho - V) / (omega rho)",
         "Q / (mu P)",
@@ -250,7 +252,10 @@ pub(super) fn creep_curve(
     ));
     if let Some(x0) = xi0 {
         panel.series.push(Series::new(
-            format!("Carter shifted to the free-rolling creepage xi0 = {x0:.2e}"),
+            format!(
+                "Carter shifted to the free-rolling creepage xi0 = {}",
+                crate::output::plot::sig(x0, 3)
+            ),
             fine.clone(),
             fine.iter()
                 .map(|&x| carter_traction_ratio(x - x0, mu, a, radius))

@@ -5,8 +5,8 @@
 
 use super::{WheelResults, WheelSummary};
 use crate::output::plot::{
-    line_plot, mesh_color_map_with, mesh_vector_fields, MeshColorMap, MeshOptions, MeshVectorField,
-    Panel, Series, SeriesStyle,
+    line_plot, mesh_color_map_with, mesh_vector_fields, panels, sig, MeshColorMap, MeshOptions,
+    MeshVectorField, Panel, Series, SeriesStyle,
 };
 use crate::run::error::RunError;
 use crate::wheel::WheelModel;
@@ -68,49 +68,129 @@ fn draw(jobs: Vec<Job>, first: Option<usize>) -> Result<Vec<PathBuf>, RunError> 
 }
 
 /// Fig. 12, the contact force over the turns, and Fig. 13, a zoom on a quarter of the last
-/// turn.
+/// turn, in kN.
+///
+/// Fig. 12 has two panels (issue 48: on one axis from 0 to 850 kN the flatness it is meant
+/// to show could not be seen): the whole run, the settling shaded, and the rolling phase
+/// alone on an axis about the mean, with the least and the largest force over the turns
+/// and their spread in percent of the mean in the title.
 fn force_figures<'a>(out: &'a Path, summary: &WheelSummary, r: &WheelResults) -> [Job<'a>; 2] {
     let omega = summary.omega;
     let (t_settle, turn_time) = (r.timeline.t_settle, r.timeline.turn_time);
     let full_turns = r.timeline.full_turns();
-    let mean = r.forces.mean;
+    let kn = |f: f64| 1e-3 * f;
+    let (mean, fmin, fmax) = (kn(r.forces.mean), kn(r.forces.min), kn(r.forces.max));
     // Fig. 12: force over the turns.
     let (plot_t, plot_f) = &r.forces.plot;
     let turns_axis: Vec<f64> = plot_t.iter().map(|t| (t - t_settle) / turn_time).collect();
+    let force_kn: Vec<f64> = plot_f.iter().map(|&f| kn(f)).collect();
+    let mean_label = format!("mean over the turns, {} kN", sig(mean, 4));
     let mut p = Panel::new(
         format!(
-            "Contact force, omega = {omega} rad/s ({:.0} km/h)",
-            summary.speed_km_h
+            "Contact force, omega = {} rad/s ({} km/h)",
+            sig(omega, 3),
+            sig(summary.speed_km_h, 3)
         ),
         "turns after settling",
-        "contact force [N]",
+        "contact force [kN]",
     );
     p.series.push(Series::new(
         "contact force",
         turns_axis.clone(),
-        plot_f.clone(),
+        force_kn.clone(),
         SeriesStyle::Line,
     ));
-    p.hlines
-        .push((mean, format!("mean over the turns {mean:.3e} N")));
+    p.hlines.push((mean, mean_label.clone()));
+    if let Some(&t0) = turns_axis.first() {
+        if t0 < 0.0 {
+            p.vspans
+                .push((t0, 0.0, "settling: the base pressed in".to_string()));
+        }
+    }
+    // The rolling phase about its mean.
+    let spread = if mean > 0.0 {
+        100.0 * (fmax - fmin) / mean
+    } else {
+        f64::NAN
+    };
+    let mut pr = Panel::new(
+        format!(
+            "Rolling phase: between {} and {} kN, max - min = {} % of the mean",
+            sig(fmin, 4),
+            sig(fmax, 4),
+            sig(spread, 2)
+        ),
+        "turns after settling",
+        "contact force [kN]",
+    );
+    let (roll_t, roll_f): (Vec<f64>, Vec<f64>) = turns_axis
+        .iter()
+        .zip(&force_kn)
+        .filter(|(t, _)| **t >= 0.0)
+        .map(|(&t, &f)| (t, f))
+        .unzip();
+    // The force averaged over a rim node's passage: what the wheel does turn by turn
+    // (a pattern fixed to the mesh shows there), the node-passing ripple out.
+    let dt = if roll_t.len() > 1 {
+        (roll_t[roll_t.len() - 1] - roll_t[0]) / (roll_t.len() - 1) as f64 * turn_time
+    } else {
+        0.0
+    };
+    let node_pass = r.forces.node_passing_hz;
+    let window = if dt > 0.0 && node_pass > 0.0 {
+        (1.0 / node_pass / dt).round().max(1.0) as usize
+    } else {
+        1
+    };
+    let mut smooth = crate::analysis::signal::moving_average(&roll_f, window);
+    // Half a window at each end averages fewer samples: left out.
+    let cut = (window / 2).min(smooth.len() / 2);
+    let n = smooth.len();
+    smooth[..cut].fill(f64::NAN);
+    smooth[n - cut..].fill(f64::NAN);
+    pr.series.push(Series::new(
+        "contact force",
+        roll_t.clone(),
+        roll_f,
+        SeriesStyle::Line,
+    ));
+    if window > 1 {
+        pr.series.push(Series::new(
+            "mean over a rim node's passage",
+            roll_t,
+            smooth,
+            SeriesStyle::Line,
+        ));
+    }
+    pr.hlines.push((mean, mean_label));
+    pr.hlines.push((fmin, String::new()));
+    pr.hlines.push((fmax, String::new()));
+    let half = (fmax - mean).max(mean - fmin);
+    if half.is_finite() && half > 0.0 {
+        pr.y_range = Some((mean - 1.6 * half, mean + 1.6 * half));
+    }
+    pr.note = "Dashed: the mean, and the least and largest force over the turns. Upper \
+               panel: the whole run on an axis from zero; lower: the rolling phase on an \
+               axis about its mean."
+        .into();
     // Fig. 13: a zoom on a quarter of the last turn.
     let z0 = full_turns - 1.0;
     let mut pz = Panel::new(
         "Contact force (zoom on a quarter turn)",
         "turns after settling",
-        "contact force [N]",
+        "contact force [kN]",
     );
     pz.series.push(Series::new(
         "contact force",
         turns_axis,
-        plot_f.clone(),
+        force_kn,
         SeriesStyle::Line,
     ));
     pz.x_range = Some((z0, z0 + 0.25));
     [
         Box::new(move || {
             let png = out.join("contact_force.png");
-            line_plot(&png, &p, (1400, 700)).map_err(|e| RunError::output(&png, e))?;
+            panels(&png, &[p, pr], 2, 1, (1400, 1000)).map_err(|e| RunError::output(&png, e))?;
             Ok(png)
         }),
         Box::new(move || {
@@ -162,10 +242,7 @@ fn spectrum_figure<'a>(
     ps.series
         .push(Series::new("amplitude", f, a, SeriesStyle::Line));
     // The expected frequencies, one legend entry per family.
-    let np_label = format!(
-        "node passing, {rim_nodes} per turn ({:.0} Hz) x 1..5",
-        node_pass_hz
-    );
+    let np_label = node_passing_label(rim_nodes, node_pass_hz, rot_hz);
     for k in 1..=5 {
         let fk = k as f64 * node_pass_hz;
         if fk > hi {
@@ -175,9 +252,9 @@ fn spectrum_figure<'a>(
     }
     if let Some(fb) = summary.bounce_frequency_hz {
         ps.vlines
-            .push((fb, format!("bounce mode, contact held ({fb:.0} Hz)")));
+            .push((fb, format!("bounce mode, contact held ({} Hz)", sig(fb, 4))));
     }
-    let rot_label = format!("rotation ({rot_hz:.1} Hz) x 1..5");
+    let rot_label = format!("rotation ({} Hz) x 1..5", sig(rot_hz, 3));
     for k in 1..=5 {
         ps.vlines.push((k as f64 * rot_hz, rot_label.clone()));
     }
@@ -221,6 +298,24 @@ fn spectrum_figure<'a>(
     }))
 }
 
+/// The legend of the node passing's lines: labelled with the count per turn that gives its
+/// frequency, `f / f_rot` (issue 48: a moving zone's pitch, 4608 per turn, on a rim of 426
+/// nodes was labelled "426 per turn (53144 Hz)"), said to be the zone's pitch when it is not
+/// the rim's node count.
+fn node_passing_label(rim_nodes: usize, node_pass_hz: f64, rot_hz: f64) -> String {
+    let per_turn = if rot_hz > 0.0 {
+        (node_pass_hz / rot_hz).round() as usize
+    } else {
+        rim_nodes
+    };
+    let hz = sig(node_pass_hz, 4);
+    if per_turn == rim_nodes {
+        format!("node passing, {per_turn} per turn ({hz} Hz) x 1..5")
+    } else {
+        format!("node passing, {per_turn} per turn: the zone's pitch ({hz} Hz) x 1..5")
+    }
+}
+
 /// The rim profile of the turn-averaged J2 against the angle, as the departure from its
 /// mean (none without a profile).
 fn rim_profile_figure<'a>(
@@ -242,8 +337,10 @@ fn rim_profile_figure<'a>(
     let m = j2_rim.iter().sum::<f64>() / j2_rim.len() as f64;
     let mut pr = Panel::new(
         format!(
-            "Turn-averaged J2 at the rim nodes, omega = {omega} rad/s ({} rim nodes; mean {m:.4e} MPa²)",
-            angles.len()
+            "Turn-averaged J2 at the rim nodes, omega = {} rad/s ({} rim nodes; mean {} MPa²)",
+            sig(omega, 3),
+            angles.len(),
+            sig(m, 4)
         ),
         "angle of the rim node [deg]",
         "J2 / mean - 1 [%]",
@@ -327,16 +424,18 @@ fn turn_average_maps<'a>(
                 value_range: clipped.then_some((0.0, top)),
                 ..Default::default()
             };
-            let title = format!("{title}, {omega} rad/s");
+            let title = format!("{title}, {} rad/s", sig(omega, 3));
             let xy = planar(&wm.mesh);
             let label = label.to_string();
             let note = if clipped {
                 format!(
-                    "Colour scale clipped at the 97th percentile of the elements, {top:.3e} \
-                     ({:.0}% of the maximum {vmax:.3e}, in the few elements round the axle, \
+                    "Colour scale clipped at the 97th percentile of the elements, {} \
+                     ({:.0}% of the maximum {}, in the few elements round the axle, \
                      where the support concentrates the reaction): larger values are drawn \
                      in the top colour (the triangle on the colour bar), so that the rim shows.",
-                    100.0 * top / vmax
+                    sig(top, 3),
+                    100.0 * top / vmax,
+                    sig(vmax, 3)
                 )
             } else {
                 String::new()
@@ -602,6 +701,7 @@ mod tests {
     use super::*;
     use crate::mesh::generators::{disk_graded, DiskOptions};
     use crate::wheel::WheelSpec;
+    use std::f64::consts::PI;
 
     /// The rim profile has one entry per rim node, sorted by angle; a field constant over
     /// the mesh is recovered exactly, and a field that is `1` on the elements touching one
@@ -636,5 +736,18 @@ mod tests {
         // Two rim nodes away, nothing of it is left.
         assert_eq!(j2[(k + 2) % n], 0.0);
         assert_eq!(j2[(k + n - 2) % n], 0.0);
+    }
+
+    /// Issue 48: `wheel-realistic`'s spectrum said "426 per turn (53144 Hz)"; 53,144 Hz at
+    /// omega = 72.46 rad/s is 4,608 per turn, the zone's pitch.
+    #[test]
+    fn issue_48_node_passing_label_names_the_count_of_its_frequency() {
+        let omega = 72.463_768_115_942_03;
+        let rot = omega / (2.0 * PI);
+        let label = node_passing_label(426, 4608.0 * rot, rot);
+        assert!(label.contains("4608 per turn: the zone's pitch"), "{label}");
+        assert!(label.contains("53140 Hz"), "{label}");
+        let label = node_passing_label(288, 288.0 * 300.0 / (2.0 * PI), 300.0 / (2.0 * PI));
+        assert_eq!(label, "node passing, 288 per turn (13750 Hz) x 1..5");
     }
 }

@@ -646,8 +646,10 @@ pub fn figures(
     let fine: Vec<f64> = (0..=400).map(|i| -1.5 + 3.0 * i as f64 / 400.0).collect();
     let mut p = Panel::new(
         format!(
-            "Steady traction across the patch: mu = {mu}, creepage {:.2e}, Q/(mu P) = {:.3}",
-            ts.creepage, ts.traction_ratio
+            "Steady traction across the patch: mu = {}, creepage {}, Q/(mu P) = {}",
+            crate::output::plot::sig(mu, 3),
+            crate::output::plot::sig(ts.creepage, 3),
+            crate::output::plot::sig(ts.traction_ratio, 3)
         ),
         "s / a  (s along the rolling direction; material enters at +1)",
         "p / p0,  q / (mu p0)",
