@@ -9,7 +9,7 @@
 //! - a penalty with the central difference: a warning when `h sqrt(k / m) >= 2` on the
 //!   contact node of lumped mass `m`.
 //!
-//! The wheel's mesh is read later, by the wheel job ([`crate::run::wheel::build`]).
+//! The wheel's mesh is read later, by the wheel job ([`crate::kinds::wheel::run::build`]).
 
 use crate::scenario::{Contact, Run, RunSpec, Scenario, ScenarioError, TimeStep};
 use crate::time::SpaceTimeParams;

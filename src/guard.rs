@@ -85,7 +85,7 @@ pub enum Cause {
     },
     /// A pinned wheel turned against its frame so far that the linear model's error in the
     /// rim's reach, `R theta^2 / 2`, passed a stated part of the flattening: its contact
-    /// force would be wrong by about as much (`softway::run::wheel`'s rotation watch).
+    /// force would be wrong by about as much (`softway::kinds::wheel::run`'s rotation watch).
     Turned {
         /// The rigid rotation, rad.
         theta: f64,

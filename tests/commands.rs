@@ -191,7 +191,7 @@ fn wheel_load_is_carried_statically_and_in_rolling() {
         panic!()
     };
     assert_eq!(ws.load, Some(load));
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let d = wm.spec.flattening.depth;
     assert!(d > 0.0 && d < 1e-3, "{d}");
     // The static force at that flattening, solved here with the contact module directly.

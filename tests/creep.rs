@@ -26,7 +26,7 @@
 mod common;
 
 use softway::build::resolve;
-use softway::run::wheel::load::static_solution;
+use softway::kinds::wheel::run::load::static_solution;
 use softway::scenario::Scenario;
 
 /// The flattening of the shipped scenario's load (17,695 N: a = 1 mm), m (from its static
@@ -53,7 +53,7 @@ fn wheel_at(keys: &[(&str, &str)], depth: bool, d: f64) -> softway::wheel::Wheel
     let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    softway::run::wheel::build(ws, &sc.path).unwrap()
+    softway::kinds::wheel::run::build(ws, &sc.path).unwrap()
 }
 
 /// The rim nodes of the static contact pressed to `d`, along the base from the contact's
@@ -176,7 +176,7 @@ fn shortening_over_flamant(
         wm.spec.radius,
     );
     let flamant = -(1.0 - 2.0 * nu) * (1.0 + nu) * total / wm.spec.thickness / e;
-    let a = softway::run::wheel::load::hertz_half_width(wm, total);
+    let a = softway::kinds::wheel::run::load::hertz_half_width(wm, total);
     let xs = [1.5, 2.0, 2.5, 3.0];
     let ys: Vec<f64> = xs
         .iter()
@@ -280,7 +280,7 @@ fn bentall_johnson_error_at(keys: &[(&str, &str)], d: f64) -> f64 {
     let wm = wheel_at(keys, true, d);
     let (rows, total) = static_rim(&wm, d);
     let (nu, r) = (wm.spec.material.poisson, wm.spec.radius);
-    let a = softway::run::wheel::load::hertz_half_width(&wm, total);
+    let a = softway::kinds::wheel::run::load::hertz_half_width(&wm, total);
     let beta = (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu));
     let c = {
         let (mut lo, mut hi) = (0.0f64, std::f64::consts::FRAC_PI_2);

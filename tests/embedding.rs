@@ -119,7 +119,7 @@ fn warnings_come_back_in_the_report() {
             .0
             .warnings;
         // The paper's 72-node rim has 1.6 pitches across Hertz's patch: warned about at
-        // every speed (`softway::run::wheel::load::coarse_rim_warning`).
+        // every speed (`softway::kinds::wheel::run::load::coarse_rim_warning`).
         assert!(
             all.iter().any(|w| w.contains("the rim is coarse")),
             "{all:?}"

@@ -319,7 +319,7 @@ fn wheel_pass_wears_by_the_frictional_work() {
     let sc = softway::scenario::Scenario::from_file_with(&path, &sets).unwrap();
     let sc = softway::build::resolve(&sc).unwrap();
     let cfg = sc.growth.clone().unwrap();
-    let mut runner = softway::growth::wheel::WheelPassRunner::new(
+    let mut runner = softway::kinds::wheel::growth::WheelPassRunner::new(
         &sc,
         cfg.wear,
         cfg.wear_density,

@@ -12,8 +12,8 @@
 //! shakedown limit of a kinematically hardening material (4 in free rolling, Johnson,
 //! *Contact Mechanics*, 1985, §9.3; lower with traction).
 
-use softway::growth::wheel::WheelPassRunner;
 use softway::growth::{run_study, PassRunner, StudyState, SurfaceProfile, CHECKPOINT};
+use softway::kinds::wheel::growth::WheelPassRunner;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 

@@ -1,8 +1,8 @@
-//! The rail's side of a growth study ([`softway::growth::track`]): one pass of the wheel
+//! The rail's side of a growth study ([`softway::kinds::track::growth`]): one pass of the wheel
 //! over the track lays the wear the continuum predicts.
 
-use softway::growth::track::{predicted_growth, RailSliding, TrackPass, WearPatch};
 use softway::growth::{PassRunner, SurfaceProfile};
+use softway::kinds::track::growth::{predicted_growth, RailSliding, TrackPass, WearPatch};
 use softway::run::RunOptions;
 use softway::scenario::Scenario;
 use softway::wear::{Archard, WearLaw};

@@ -58,7 +58,7 @@
 //! The wheel (`scenarios/wheel-paper-mesh.toml`, five turns at 300 rad/s) is checked
 //! against the static contact of the same wheel pressed to the same flattening at its
 //! starting angle, an independent solve without time stepping
-//! ([`softway::run::wheel::load::static_contact`]: the rotating frame's stiffness and the
+//! ([`softway::kinds::wheel::run::load::static_contact`]: the rotating frame's stiffness and the
 //! centrifugal expansion, no inertia of the rolling). Hertz's patch spans only 1.4 rim
 //! pitches on this mesh, so the force at a fixed flattening swings as nodes enter and leave
 //! (rolling: 622.6 to 714.6 kN, -8 % / +6 % about the mean): the static force at one angle
@@ -285,9 +285,9 @@ fn the_shipped_wheel_rolls_about_its_static_force_and_keeps_its_energy() {
     let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let (static_force, _) =
-        softway::run::wheel::load::static_contact(&wm, wm.spec.flattening.depth).unwrap();
+        softway::kinds::wheel::run::load::static_contact(&wm, wm.spec.flattening.depth).unwrap();
 
     let dir = std::env::temp_dir().join(format!("softway-redesign-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

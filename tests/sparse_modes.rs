@@ -26,7 +26,7 @@ fn shipped(name: &str, sets: &[&str]) -> WheelModel {
     let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("{name} is not a wheel")
     };
-    softway::run::wheel::build(ws, &sc.path).unwrap()
+    softway::kinds::wheel::run::build(ws, &sc.path).unwrap()
 }
 
 fn assert_close(what: &str, dense: &[(f64, String)], sparse: &[(f64, String)], tol: f64) {

@@ -196,7 +196,7 @@ fn stick_slip_changes_cost_no_factorization() {
     let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let steps = 2_800;
     // One gamma throughout (a gamma schedule refactors once when it changes).
     let mut pb = wm.problem(run.integrator, run.params.h, vec![], run.contact, steps);
@@ -253,7 +253,7 @@ fn friction_dissipates_at_every_pair_and_step_within_the_energy_the_base_supplie
     let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let steps = 3_000;
     let problem = || {
         let exact = softway::contact::Treatment::Exact;

@@ -433,7 +433,7 @@ fn the_default_support_is_a_clamped_hub() {
     let Some(ws) = sc.runs[0].model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let radii: Vec<f64> = wm
         .fixed_dofs
         .iter()

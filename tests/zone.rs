@@ -45,7 +45,7 @@ fn relocation_without_a_zone_is_an_exact_relabelling() {
     let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let (sources, step) = wm.zone.clone().unwrap();
     let steps = 3_000;
     let forces = |relocate: bool| {
@@ -254,7 +254,7 @@ fn relocation_with_friction_is_an_exact_relabelling() {
     let Some(ws) = run.model.get::<softway::scenario::WheelScenario>() else {
         panic!("a wheel")
     };
-    let wm = softway::run::wheel::build(ws, &sc.path).unwrap();
+    let wm = softway::kinds::wheel::run::build(ws, &sc.path).unwrap();
     let (sources, step) = wm.zone.clone().unwrap();
     let steps = 3_000;
     let series = |relocate: bool| {

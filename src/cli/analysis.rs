@@ -30,7 +30,7 @@ pub(super) fn modes_command(
     if count == 0 {
         return Err("--count 0: ask for at least one mode".into());
     }
-    let wm = crate::run::wheel::build(ws, &sc.path)?;
+    let wm = crate::kinds::wheel::run::build(ws, &sc.path)?;
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let rep = crate::modes::modes_report(&wm, count)?;
@@ -141,7 +141,8 @@ pub(super) fn receptance_command(
     }
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
     let stage = JobFolder::begin(&out, force, &[scenario])?;
-    let report = crate::run::track::receptance_job(&sc, stage.dir(), sc.plots, cancel.flag())?;
+    let report =
+        crate::kinds::track::moving::receptance_job(&sc, stage.dir(), sc.plots, cancel.flag())?;
     let interrupted = report.interrupted || cancel.is_cancelled();
     let files = stage.finish(&report.files, Some(&sc), interrupted)?;
     print_report(

@@ -34,7 +34,7 @@ use crate::wear::{Archard, FrictionalPower, JendelMap, Usfd, WearLaw};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// Where the worn pressure comes from (the rail's growth study, `crate::growth::track`).
+/// Where the worn pressure comes from (the rail's growth study, `crate::kinds::track::growth`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WearPatch {
@@ -112,7 +112,7 @@ impl GrowthConfig {
     }
 }
 
-/// The `[growth]` keys of a rail's study ([`crate::growth::track`]), as given.
+/// The `[growth]` keys of a rail's study ([`crate::kinds::track::growth`]), as given.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RailKeys {
     /// `growth.dx`: the rail profile's spacing, m.

@@ -3,7 +3,7 @@
 //! body in a frame of its own ([`crate::bodies`]).
 //!
 //! **The loop.** A study holds a [`SurfaceProfile`] `z_p` over the rolling coordinate (the
-//! wheel's rim, [`wheel`]; a rail, the track's runner). Each simulated pass `p` runs one
+//! wheel's rim, [`crate::kinds::wheel::growth`]; a rail, the track's runner). Each simulated pass `p` runs one
 //! dynamic pass over `z_p` ([`PassRunner::run_pass`]) and returns the depth worn per sample
 //! `w_p` and the permanent plastic displacement `d_p`; then
 //! $$z_{p+1} = z_p - N_w\\,\big(S(w_p) - \overline{S(w_p)}\big) + d_p$$
@@ -12,7 +12,7 @@
 //! rail height worn evenly): it is taken out of the profile and reported separately
 //! (`uniform_loss_m`), so that the profile is the roughness alone.
 //!
-//! **Plastic flow** (`d_p`, a plastic wheel: [`wheel`]) is the change of the rim's
+//! **Plastic flow** (`d_p`, a plastic wheel: [`crate::kinds::wheel::growth`]) is the change of the rim's
 //! permanent displacement over the pass, with its mean taken out (reported as
 //! `plastic_mean_m`); it is not scaled by `N_w` nor smoothed: the runner carries the
 //! plastic state itself from pass to pass ([`PassRunner::carried_state`], checkpointed), so
@@ -67,8 +67,6 @@ pub mod config;
 pub mod report;
 pub mod roughness;
 pub mod spectrum;
-pub mod track;
-pub mod wheel;
 
 pub use config::{GrowthConfig, Roughness};
 
@@ -137,8 +135,8 @@ pub struct PassResult {
     pub scalars: Vec<(String, f64)>,
 }
 
-/// Where a pass runs: the wheel on its rigid base ([`wheel::WheelPassRunner`]), a wheel on a
-/// track ([`track::TrackPass`]).
+/// Where a pass runs: the wheel on its rigid base ([`crate::kinds::wheel::growth::WheelPassRunner`]), a wheel on a
+/// track ([`crate::kinds::track::growth::TrackPass`]).
 ///
 /// **The contract.** [`run_study`] calls, in this order: [`PassRunner::grid`] once;
 /// [`PassRunner::restore_state`] once when resuming, before any pass; [`PassRunner::run_reference`]

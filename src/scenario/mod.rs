@@ -18,7 +18,7 @@
 //!    central difference's stable step when `cfl` is given, and warning about an explicit
 //!    step or penalty beyond stability); the jobs ([`crate::run`](mod@crate::run)) take the built
 //!    [`Scenario`] (= `Scenario<Run>`). Wheel meshes are read later still, by
-//!    [`crate::run::wheel::build`].
+//!    [`crate::kinds::wheel::run::build`].
 //!
 //! Errors name the file, the key and what is allowed, on one line ([`ScenarioError`]).
 //!
@@ -169,8 +169,8 @@ pub struct WheelScenario {
     /// The wheel's load, N (`wheel.load`; for the wheel's thickness, the unit of the contact
     /// force in `summary.json`): the alternative to `rolling.flattening`. Then
     /// `spec.flattening.depth` is not known until the model is built:
-    /// [`crate::run::wheel::build`] sets it to the flattening at which a static contact solve
-    /// of the spinning wheel carries this load ([`crate::run::wheel::load`]); until then it
+    /// [`crate::kinds::wheel::run::build`] sets it to the flattening at which a static contact solve
+    /// of the spinning wheel carries this load ([`crate::kinds::wheel::run::load`]); until then it
     /// is NaN.
     pub load: Option<f64>,
     /// The wheel's J2 elastic-plastic material (`material.model = "j2"`,

@@ -279,7 +279,7 @@ pub fn receptance_until(
 
 /// The rail's point receptance averaged over `points` evenly spaced abscissae across the
 /// bay after the middle sleeper (m/N, one per frequency): what a contact point moving along
-/// the rail sees on average ([`crate::growth::track`]'s prediction of growth).
+/// the rail sees on average ([`crate::kinds::track::growth`]'s prediction of growth).
 ///
 /// # Errors
 /// [`TrackError::Solve`] when a dynamic stiffness is singular.

@@ -4,8 +4,8 @@
 //! its runs: the moving load's and the rolling wheel's in `run`.
 
 use crate::contact::{FrictionLaw, Restore, Treatment};
-use crate::growth::track::{RailSliding, TrackPass, WearPatch};
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
+use crate::kinds::track::growth::{RailSliding, TrackPass, WearPatch};
 use crate::run::error::RunError;
 use crate::run::grow::GrowOptions;
 use crate::run::options::RunOptions;
@@ -17,6 +17,9 @@ use crate::scenario::{Ctx, Run, Scenario, ScenarioError, TrackScenario, VehicleM
 use crate::time::Integrator;
 use std::path::Path;
 
+pub mod growth;
+pub(crate) mod moving;
+pub(crate) mod rolling;
 pub(crate) mod validate;
 
 /// The kind `track`.
@@ -261,9 +264,9 @@ impl Spec for TrackScenario {
         opts: &RunOptions,
     ) -> Result<Results, RunError> {
         if self.rolls() {
-            crate::run::track_rolling::record(sc, stream, opts)
+            crate::kinds::track::rolling::record(sc, stream, opts)
         } else {
-            crate::run::track::record(sc, stream, opts)
+            crate::kinds::track::moving::record(sc, stream, opts)
         }
     }
 }

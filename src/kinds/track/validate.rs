@@ -502,7 +502,7 @@ fn bounce_hz(v: &Vehicle, spec: &TrackSpec) -> Option<f64> {
 /// would ring through the passage (issue 47: 2 bays at 200 km/h, 10.8 ms against 19.8 ms,
 /// ran to a mean force 17% below the static load with exit 0; a spacing of 0.01 m, 63%
 /// below). The rigid-base wheel's `rolling.settle_time` is held to its bounce the same way
-/// ([`crate::run::wheel`]).
+/// ([`crate::kinds::wheel::run`]).
 fn settle_time(
     cx: &Ctx,
     (key, value): (&str, String),

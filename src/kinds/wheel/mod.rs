@@ -1,11 +1,11 @@
 //! `kind = "wheel"`: the elastic wheel rolling in its rotating frame on a rigid base (the
 //! paper's §4, Figs. 10-17), or pressed into an elastic block (`[block]`). Its tables:
 //! `[wheel]`, `[material]`, `[rolling]`, `[block]`, `[contact]` (its `validate` module); its run:
-//! [`crate::run::wheel`].
+//! [`crate::kinds::wheel::run`].
 
 use crate::contact::Treatment;
-use crate::growth::wheel::WheelPassRunner;
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
+use crate::kinds::wheel::growth::WheelPassRunner;
 use crate::run::error::RunError;
 use crate::run::grow::GrowOptions;
 use crate::run::options::RunOptions;
@@ -19,6 +19,9 @@ use crate::scenario::{Ctx, MeshSource, Run, Scenario, ScenarioError, WheelScenar
 use crate::time::Integrator;
 use std::path::Path;
 
+pub mod growth;
+pub(crate) mod on_block;
+pub mod run;
 pub(crate) mod validate;
 
 /// The kind `wheel`.
@@ -199,7 +202,7 @@ impl Spec for WheelScenario {
     fn mesh_nodes(&self, scenario: &Path) -> Result<Option<usize>, RunError> {
         match &self.mesh {
             MeshSource::Gmsh(p) => Ok(Some(
-                crate::run::wheel::read_mesh_file(p, &self.spec, scenario)?.n_nodes(),
+                crate::kinds::wheel::run::read_mesh_file(p, &self.spec, scenario)?.n_nodes(),
             )),
             _ => Ok(None),
         }
@@ -239,6 +242,6 @@ impl Spec for WheelScenario {
         stream: Option<&Path>,
         opts: &RunOptions,
     ) -> Result<Results, RunError> {
-        crate::run::wheel::record(sc, stream, opts)
+        crate::kinds::wheel::run::record(sc, stream, opts)
     }
 }

@@ -572,7 +572,7 @@ fn rolling(
                 "how far the base presses the wheel, m (or wheel.load, the wheel's load in N, which sets it)",
             ))
         }
-        // Found when the model is built (crate::run::wheel::build).
+        // Found when the model is built (crate::kinds::wheel::run::build).
         (None, Some(_)) => f64::NAN,
         (Some(d), None) => cx.positive("rolling.flattening", d)?,
     };
@@ -699,7 +699,7 @@ pub(crate) fn block_spec(
     // frame): its top follows once a compression wave has crossed it, and settles onto the
     // wheel only if the settling lasts a period of the block's first mode along its depth,
     // 4 depth / c (c = sqrt(E / rho), the slowest compression wave), as the rigid base must
-    // take a period of the wheel's bounce (crate::run::wheel). A block of 40 m took 7.8 ms
+    // take a period of the wheel's bounce (crate::kinds::wheel::run). A block of 40 m took 7.8 ms
     // to cross against a settling of 5 ms: the wheel ended it at 10 N against the shallow
     // block's 511 kN and rolled unloaded with exit 0 (issue 47).
     let c = (young / density).sqrt();

@@ -10,7 +10,7 @@
 //! points that bracket `T`, of the parabola through them and the nearer third point
 //! ([`creepage_at`]); the traction ratio of a point is the steady one
 //! (`traction.traction_ratio_steady`: the start-up transient extrapolated,
-//! [`crate::run::wheel::traction::steady_ratio`]). The creepage is read on the undeformed
+//! [`crate::kinds::wheel::run::traction::steady_ratio`]). The creepage is read on the undeformed
 //! radius (`traction.creepage_undeformed`, the half-space codes' reference) and given in
 //! units of `mu a / R` as well (`a` Hertz's half-width of the finest rung's mean normal
 //! force, `R` the wheel's radius), the unit in which Carter's curve saturates at 1.

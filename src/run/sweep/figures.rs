@@ -175,7 +175,7 @@ pub(super) fn force_panel(key: &str, points: &[SweepPoint], xs: &[f64]) -> Panel
 /// The creep curve of a creepage sweep (`creep_curve.png`, `creep_curve.csv`): the traction
 /// ratio `Q / (mu P)` of steady rolling (`traction.traction_ratio_steady`, the start-up
 /// transient extrapolated) against the creepage, with Carter's curve
-/// ([`crate::run::wheel::traction::carter_traction_ratio`], the Hertz half-width of the mean
+/// ([`crate::kinds::wheel::run::traction::carter_traction_ratio`], the Hertz half-width of the mean
 /// normal force) twice: as it stands, and shifted to the measured free-rolling creepage
 /// `xi0` (where `Q` crosses zero, linearly interpolated), which an elastic wheel on a rigid
 /// base has and Carter's elastically similar bodies do not. The CSV gives every creepage
@@ -188,7 +188,7 @@ pub(super) fn creep_curve(
     xs: &[f64],
     mark: &dyn Fn(&mut Panel),
 ) -> Result<Vec<PathBuf>, SweepError> {
-    use crate::run::wheel::traction::carter_traction_ratio;
+    use crate::kinds::wheel::run::traction::carter_traction_ratio;
     let num = traction_figure;
     let mut pts: Vec<(f64, f64, f64, f64)> = points
         .iter()

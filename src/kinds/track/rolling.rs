@@ -234,10 +234,10 @@ pub(crate) fn record(
         "scenario": sc.name, "kind": "track", "vehicle_model": "wheel", "interrupted": interrupted,
         "units": {"time": "s", "length": "m", "force": "N", "frequency": "Hz", "stiffness": "N/m", "mass": "kg"},
         "signs": "displacements and deflections up positive; contact and pad forces in compression",
-        "parameters": super::track::parameters(first),
+        "parameters": super::moving::parameters(first),
         "runs": sums,
     });
-    super::track::lift_first_run(&mut json, &sums[0]);
+    super::moving::lift_first_run(&mut json, &sums[0]);
     crate::run::provenance::stamp_provenance(&mut json, sc);
     let lines = sums.iter().map(screen_line).collect();
     Ok(Results::with_panels(
@@ -323,7 +323,7 @@ fn roll(
         run: run.label.clone(),
         source,
     };
-    let pb = super::progress_bar(steps as u64, &run.label, opts);
+    let pb = crate::run::options::progress_bar(steps as u64, &run.label, opts);
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
     let clock = Instant::now();
     let profile_at = |x: f64| wot.interface.search().profile().map_or(0.0, |p| p.at(x).0);

@@ -386,7 +386,7 @@ fn rim_profile_figure<'a>(
 }
 
 /// Figs. 14/16: the maps of the turn-averaged J2 and von Mises (none with a moving zone:
-/// module docs of [`crate::run::wheel`]).
+/// module docs of [`crate::kinds::wheel::run`]).
 fn turn_average_maps<'a>(
     out: &'a Path,
     wm: &'a WheelModel,

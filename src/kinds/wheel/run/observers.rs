@@ -307,7 +307,7 @@ pub struct ContactForceStats {
     max_penetration: f64,
 }
 
-/// The contact-force figures of a run (module docs of [`crate::run::wheel`]: counting rule).
+/// The contact-force figures of a run (module docs of [`crate::kinds::wheel::run`]: counting rule).
 #[derive(Debug, Clone)]
 pub struct ContactForceSummary {
     /// Mean force over the rolling phase, N.

@@ -42,11 +42,11 @@
 //! cutoff, which tame the wear step's amplification, do not touch it. The reference pass
 //! (`growth.reference`) runs from the carried state and leaves it as it was.
 
-use super::{PassResult, PassRunner, SurfaceProfile};
 use crate::contact::obstacle::RotatingLine;
+use crate::growth::{PassResult, PassRunner, SurfaceProfile};
+use crate::kinds::wheel::run::build;
 use crate::linalg::team::Par;
 use crate::run::error::RunError;
-use crate::run::wheel::build;
 use crate::scenario::{Run, Scenario, WheelScenario};
 use crate::simulation::Simulation;
 use crate::wear::{ContactSample, WearLaw};
@@ -171,7 +171,7 @@ impl WheelPassRunner {
         let radius = |node: usize| reference[2 * node].hypot(reference[2 * node + 1]);
         let mut out: Vec<f64> = wm.rim.iter().map(|&node| radius(node)).collect();
         if let Some(c) = &self.plastic {
-            let body = crate::run::wheel::plastic_body(&wm, &self.ws, c.pl);
+            let body = crate::kinds::wheel::run::plastic_body(&wm, &self.ws, c.pl);
             let d = crate::plasticity::permanent_radial_displacement(
                 &body,
                 &c.state,
@@ -306,7 +306,7 @@ impl WheelPassRunner {
         let body = self
             .plastic
             .as_ref()
-            .map(|c| crate::run::wheel::plastic_body(&wm, &self.ws, c.pl));
+            .map(|c| crate::kinds::wheel::run::plastic_body(&wm, &self.ws, c.pl));
         if let (Some(c), Some(body)) = (&self.plastic, &body) {
             // Start in equilibrium with the carried state (module docs).
             let up = crate::plasticity::residual_displacement(
@@ -397,7 +397,7 @@ impl WheelPassRunner {
                 for (d, (a, b)) in plastic.iter_mut().zip(after.iter().zip(&before)) {
                     *d = a.1 - b.1;
                 }
-                let mean = super::spectrum::mean(&plastic);
+                let mean = crate::growth::spectrum::mean(&plastic);
                 plastic.iter_mut().for_each(|d| *d -= mean);
                 let mut eq = vec![0.0; wm.triangles.len()];
                 body.equivalent_plastic_strain_into(&end, &mut eq);
@@ -408,7 +408,7 @@ impl WheelPassRunner {
                     ("plastic_strain_increment_max".into(), flow),
                     (
                         "plastic_increment_rms_m".into(),
-                        super::spectrum::rms(&plastic),
+                        crate::growth::spectrum::rms(&plastic),
                     ),
                     ("plastic_mean_m".into(), mean),
                     (

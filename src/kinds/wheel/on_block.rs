@@ -91,7 +91,7 @@ pub(crate) fn record(
     let Some(spec) = ws.block.clone() else {
         unreachable!("the wheel-on-block job on a scenario with a block")
     };
-    let wm = super::wheel::build(ws, &sc.path)?;
+    let wm = super::run::build(ws, &sc.path)?;
     let wb =
         WheelOnBlock::new(wm, spec, ws.duration()).map_err(|e| RunError::input(&sc.path, e))?;
     if let Some(out) = stream {
@@ -129,7 +129,7 @@ pub(crate) fn record(
     let mut last = Last::default();
     // The contact force at the end of the settling (the first step at or after it).
     let mut settled: Option<f64> = None;
-    let pb = super::progress_bar(steps as u64, &run.label, opts);
+    let pb = crate::run::options::progress_bar(steps as u64, &run.label, opts);
     let start = Instant::now();
     let mut io_error = None;
     let stats = sim
@@ -237,7 +237,7 @@ fn check_loaded(wb: &WheelOnBlock, ws: &WheelScenario, force: f64) -> Result<(),
     let depth = ws.spec.flattening.depth;
     let (load, what) = match ws.load {
         Some(p) => (p, "wheel.load"),
-        None => match super::wheel::load::static_contact(&wb.wheel, depth) {
+        None => match super::run::load::static_contact(&wb.wheel, depth) {
             Ok((p, _)) => (p, "the flattening's static force on the rigid base"),
             Err(_) => return Ok(()),
         },

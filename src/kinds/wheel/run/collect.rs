@@ -2,13 +2,13 @@
 //! as `summary.json` holds it, its tables, and its fields for ParaView.
 
 use super::{build, simulate, summary_lines, WheelModel, WheelResults, WheelSummary};
+use crate::kinds::wheel::run::figures::{self, RimProfile};
+use crate::kinds::wheel::run::traction::{self, TractionProfile, TractionSummary};
 use crate::output::save::{table, write_fields};
 use crate::output::table::Columns;
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::{Detail, FieldArray, FieldFrame, Fields, OwnFiles, Results};
-use crate::run::wheel::figures::{self, RimProfile};
-use crate::run::wheel::traction::{self, TractionProfile, TractionSummary};
 use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -29,7 +29,7 @@ pub(crate) fn record(
         unreachable!("wheel job on a wheel scenario")
     };
     if ws.block.is_some() {
-        return crate::run::on_block::record(sc, stream, opts);
+        return crate::kinds::wheel::on_block::record(sc, stream, opts);
     }
     let wm = build(ws, &sc.path)?;
     let rec = simulate(&wm, ws, run, sc, stream, opts)?;

@@ -49,8 +49,8 @@
 //! sleepers' passing, the P2 resonance, the pinned-pinned resonance, the profile itself
 //! through the contact's filter, all of them in the wheel's dynamic contact.
 
-use super::{PassResult, PassRunner, SurfaceProfile};
 use crate::contact::profile::Profile;
+use crate::growth::{PassResult, PassRunner, SurfaceProfile};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::scenario::{Scenario, TrackScenario, VehicleModel};
@@ -376,7 +376,7 @@ impl PassRunner for TrackPass {
     }
 
     fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
-        super::no_carried_state(state)
+        crate::growth::no_carried_state(state)
     }
 
     fn extra_outputs(
@@ -440,7 +440,7 @@ impl PassRunner for TrackPass {
         let run = &self.sc.runs[0];
         let gap = self.gap_profile(&profile.z)?;
         let (wot, mut sim, steps) =
-            crate::run::track_rolling::passage(&self.sc, run, &self.ts, &self.opts, Some(gap))?;
+            crate::kinds::track::rolling::passage(&self.sc, run, &self.ts, &self.opts, Some(gap))?;
         let h = run.params.h;
         let v = self.ts.vehicle.speed;
         let thickness = self.ts.vehicle.wheel.thickness;
@@ -679,7 +679,7 @@ pub fn hertz_filter(k: f64, a: f64) -> f64 {
 }
 
 /// The growth of a harmonic profile predicted from the receptances (module docs of
-/// [`crate::growth::track`]), at one wavelength.
+/// [`crate::kinds::track::growth`]), at one wavelength.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct PredictedGrowth {
     /// Wavelength, m.
