@@ -24,7 +24,7 @@
 use crate::output::table::Columns;
 use crate::run::provenance::stamp_provenance;
 use crate::run::results::Results;
-pub use crate::scenario::kind::{Kind, KindInput, Model, Registry, RunView, Size, Spec};
+pub use crate::scenario::kind::{FreeStep, Kind, KindInput, Model, Registry, RunView, Size, Spec};
 use crate::scenario::{Override, RunSpec, Scenario, ScenarioError};
 use std::path::Path;
 

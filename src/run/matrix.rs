@@ -28,6 +28,7 @@ use super::RunError;
 use crate::linalg::{write_matrix_market, FactorKind, Ordering};
 use crate::model::LinearModel;
 use crate::output::files::write_json;
+use crate::scenario::kind::FreeStep;
 use crate::scenario::Scenario;
 use crate::time::step::{FactorChoice, Stepper};
 use crate::time::SpaceTimeParams;
@@ -86,7 +87,7 @@ pub fn dump(
     interrupt: &std::sync::atomic::AtomicBool,
 ) -> Result<(MatrixReport, Vec<PathBuf>), RunError> {
     let run = &sc.runs[0];
-    let StepInputs {
+    let FreeStep {
         model,
         fixed,
         u0,
@@ -169,58 +170,19 @@ pub fn dump(
     Ok((report, files))
 }
 
-/// The model and the state and load of the step timed (module docs).
-struct StepInputs {
-    /// The model.
-    model: LinearModel,
-    /// Its fixed dofs.
-    fixed: Vec<usize>,
-    /// The displacement.
-    u0: Vec<f64>,
-    /// The velocity.
-    v0: Vec<f64>,
-    /// The load.
-    f: Vec<f64>,
-}
-
-/// The step's inputs of the first run of `sc`: a wheel's spun-up model with a velocity
-/// `1e-3 sin(i)`, or a bar's initial state without load.
-fn step_inputs(sc: &Scenario) -> Result<StepInputs, RunError> {
+/// The step's inputs of the first run of `sc` (its kind's [`crate::kinds::Spec::free_step`]:
+/// a wheel's spun-up model with a velocity `1e-3 sin(i)`, a bar's initial state without
+/// load).
+fn step_inputs(sc: &Scenario) -> Result<FreeStep, RunError> {
     let run = &sc.runs[0];
-    let (model, fixed, u0, v0, f): (LinearModel, Vec<usize>, Vec<f64>, Vec<f64>, Vec<f64>) = match (
-        run.model.get::<crate::scenario::WheelScenario>(),
-        run.model.get::<crate::problems::BarImpact>(),
-    ) {
-        (Some(ws), _) => {
-            let wm = super::wheel::build(ws, &sc.path)?;
-            let n = wm.model.n();
-            let v: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64).sin()).collect();
-            (
-                wm.model.clone(),
-                wm.fixed_dofs.clone(),
-                wm.u_spin.clone(),
-                v,
-                wm.load.clone(),
-            )
-        }
-        (_, Some(b)) => {
-            let (_, p) = b.problem(run.integrator, run.contact, run.params.h, run.t_end);
-            let n = p.model.n();
-            (p.model, vec![], p.u0, p.v0, vec![0.0; n])
-        }
-        _ => {
-            return Err(RunError::input(
-                &sc.path,
-                "`softway matrix` takes a wheel or a bar_impact scenario",
-            ))
-        }
-    };
-    Ok(StepInputs {
-        model,
-        fixed,
-        u0,
-        v0,
-        f,
+    run.model.free_step(run, &sc.path).unwrap_or_else(|| {
+        Err(RunError::input(
+            &sc.path,
+            format!(
+                "`softway matrix` takes a wheel or a bar_impact scenario, not kind = \"{}\"",
+                run.model.kind()
+            ),
+        ))
     })
 }
 

@@ -88,6 +88,21 @@ pub struct Size {
     pub key: Option<&'static str>,
 }
 
+/// The model and the state and load of one free step (no contact), which `softway matrix`
+/// writes out and times ([`Spec::free_step`]).
+pub struct FreeStep {
+    /// The model.
+    pub model: crate::model::LinearModel,
+    /// Its fixed dofs.
+    pub fixed: Vec<usize>,
+    /// The displacement.
+    pub u0: Vec<f64>,
+    /// The velocity.
+    pub v0: Vec<f64>,
+    /// The load.
+    pub f: Vec<f64>,
+}
+
 /// One run as its kind checks it ([`Spec::check_run`]).
 pub struct RunView<'a> {
     /// The run's own keys' prefix: `runs[i]`.
@@ -256,6 +271,15 @@ pub trait Spec: Any + std::fmt::Debug + Send + Sync {
             &sc.path,
             format!("softway grow runs kind = \"wheel\" (the wheel on its rigid base) or kind = \"track\" with vehicle.model = \"wheel\", not kind = \"{}\"", self.kind()),
         )))
+    }
+
+    /// The free step `softway matrix` writes out and times, for the run `run` of the
+    /// scenario file `scenario`; `None`: the kind has none.
+    ///
+    /// # Errors
+    /// [`RunError`]: a model that cannot be built.
+    fn free_step(&self, _run: &Run, _scenario: &Path) -> Option<Result<FreeStep, RunError>> {
+        None
     }
 
     /// Runs every run of `sc` (each of this kind); the long tables are streamed into

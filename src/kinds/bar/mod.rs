@@ -6,7 +6,7 @@ use crate::problems::{BarImpact, TwoBars};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
-use crate::scenario::kind::{Kind, KindInput, Model, Size, Spec};
+use crate::scenario::kind::{FreeStep, Kind, KindInput, Model, Size, Spec};
 use crate::scenario::raw::RawBar;
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
 use std::path::Path;
@@ -172,6 +172,19 @@ fn record(sc: &Scenario, stream: Option<&Path>, opts: &RunOptions) -> Result<Res
 
 impl Spec for BarImpact {
     crate::spec_plumbing!("bar_impact");
+
+    /// The bar's initial state, without load.
+    fn free_step(&self, run: &Run, _: &Path) -> Option<Result<FreeStep, RunError>> {
+        let (_, p) = self.problem(run.integrator, run.contact, run.params.h, run.t_end);
+        let n = p.model.n();
+        Some(Ok(FreeStep {
+            model: p.model,
+            fixed: vec![],
+            u0: p.u0,
+            v0: p.v0,
+            f: vec![0.0; n],
+        }))
+    }
 
     fn dim(&self) -> usize {
         1

@@ -4,10 +4,10 @@
 //! its runs: the moving load's and the rolling wheel's in `run`.
 
 use crate::contact::{FrictionLaw, Restore, Treatment};
+use crate::growth::GrowOptions;
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
 use crate::kinds::track::growth::{RailSliding, TrackPass, WearPatch};
 use crate::run::error::RunError;
-use crate::run::grow::GrowOptions;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
 use crate::scenario::combinations::{Culprit, Family, Refusal};

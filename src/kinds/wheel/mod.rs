@@ -4,16 +4,16 @@
 //! [`crate::kinds::wheel::run`].
 
 use crate::contact::Treatment;
+use crate::growth::GrowOptions;
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
 use crate::kinds::wheel::growth::WheelPassRunner;
 use crate::run::error::RunError;
-use crate::run::grow::GrowOptions;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
 use crate::scenario::combinations::{
     constraint_mode_factor, Culprit, Family, Refusal, MAX_CONSTRAINT_MODE_FACTOR,
 };
-use crate::scenario::kind::{Kind, KindInput, Model, RunView, Size, Spec};
+use crate::scenario::kind::{FreeStep, Kind, KindInput, Model, RunView, Size, Spec};
 use crate::scenario::raw::{RawBlock, RawMaterial, RawRolling, RawWheel};
 use crate::scenario::{Ctx, MeshSource, Run, Scenario, ScenarioError, WheelScenario};
 use crate::time::Integrator;
@@ -206,6 +206,20 @@ impl Spec for WheelScenario {
             )),
             _ => Ok(None),
         }
+    }
+
+    /// The spun-up wheel with a velocity `1e-3 sin(i)` and its load.
+    fn free_step(&self, _: &Run, scenario: &Path) -> Option<Result<FreeStep, RunError>> {
+        Some(run::build(self, scenario).map(|wm| {
+            let n = wm.model.n();
+            FreeStep {
+                v0: (0..n).map(|i| 1e-3 * (i as f64).sin()).collect(),
+                model: wm.model.clone(),
+                fixed: wm.fixed_dofs.clone(),
+                u0: wm.u_spin.clone(),
+                f: wm.load.clone(),
+            }
+        }))
     }
 
     fn growth_runner(
