@@ -21,6 +21,7 @@ use std::path::Path;
 
 pub mod growth;
 pub(crate) mod on_block;
+pub(crate) mod rules;
 pub mod run;
 pub(crate) mod validate;
 
@@ -64,7 +65,7 @@ impl Kind for WheelKind {
                     "not with a [block] (the block is pressed to rolling.flattening): give rolling.flattening",
                 ));
             }
-            w.block = Some(validate::block_spec(cx, b, &w.spec)?);
+            w.block = Some(rules::block_spec(cx, b, &w.spec)?);
         }
         Ok(Model::new(w))
     }
@@ -178,7 +179,7 @@ impl Spec for WheelScenario {
     }
 
     fn check_run(&self, cx: &Ctx, run: &RunView) -> Result<(), ScenarioError> {
-        validate::check_wheel_run(cx, self, run.friction, run.contact, run.integrator.0)
+        rules::check_wheel_run(cx, self, run.friction, run.contact, run.integrator.0)
     }
 
     fn size(&self, _: &Run, mesh_nodes: Option<usize>) -> Size {
