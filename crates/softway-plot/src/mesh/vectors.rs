@@ -1,0 +1,337 @@
+//! Vector fields on a mesh: arrows at a subset of the nodes over the mesh's outline.
+
+use super::*;
+
+/// Evenly spread subset of the nodes used by drawable triangles: in each
+/// cell of a grid of about `n_across` cells over the larger extent, the
+/// node closest to the cell centre.
+pub(super) fn arrow_nodes(
+    points: &[[f64; 2]],
+    triangles: &[[usize; 3]],
+    unit: f64,
+    bb: [f64; 4],
+    n_across: f64,
+) -> Vec<usize> {
+    let cell = (bb[1] - bb[0]).max(bb[3] - bb[2]) / n_across;
+    if cell.is_nan() || cell <= 0.0 {
+        return Vec::new();
+    }
+    let nx = ((bb[1] - bb[0]) / cell).ceil().max(1.0) as usize;
+    let ny = ((bb[3] - bb[2]) / cell).ceil().max(1.0) as usize;
+    let mut used = vec![false; points.len()];
+    for t in triangles.iter().filter(|t| tri_ok(points, t)) {
+        for &n in t {
+            used[n] = true;
+        }
+    }
+    let mut best: HashMap<(usize, usize), (f64, usize)> = HashMap::new();
+    for (n, p) in points.iter().enumerate().filter(|(n, _)| used[*n]) {
+        let (x, y) = (p[0] * unit - bb[0], p[1] * unit - bb[2]);
+        let (i, j) = (
+            ((x / cell) as usize).min(nx - 1),
+            ((y / cell) as usize).min(ny - 1),
+        );
+        let (cx, cy) = ((i as f64 + 0.5) * cell, (j as f64 + 0.5) * cell);
+        let d = (x - cx).powi(2) + (y - cy).powi(2);
+        let e = best.entry((i, j)).or_insert((f64::INFINITY, n));
+        if d < e.0 {
+            *e = (d, n);
+        }
+    }
+    let mut nodes: Vec<usize> = best.into_values().map(|(_, n)| n).collect();
+    nodes.sort_unstable();
+    nodes
+}
+
+/// Black arrow with a thin white halo (visible on dark and light colours).
+pub(super) fn draw_arrow(area: &Area, from: Pt, to: Pt, st: &Sty) -> Res<()> {
+    let (dx, dy) = (to.0 - from.0, to.1 - from.1);
+    let len = (dx * dx + dy * dy).sqrt();
+    if len < 0.3 * st.fs {
+        return Ok(());
+    }
+    let (ux, uy) = (dx / len, dy / len);
+    let head = (0.35 * len).min(0.5 * st.fs);
+    let half = 0.42 * head;
+    let base = (to.0 - head * ux, to.1 - head * uy);
+    let shaft = 1.1 * st.thin;
+    let halo = 0.4 * st.thin + 0.5;
+    let tri = |grow: f64| {
+        [
+            (to.0 + grow * 1.6 * ux, to.1 + grow * 1.6 * uy),
+            (
+                base.0 - (half + grow) * uy - grow * ux,
+                base.1 + (half + grow) * ux - grow * uy,
+            ),
+            (
+                base.0 + (half + grow) * uy - grow * ux,
+                base.1 - (half + grow) * ux - grow * uy,
+            ),
+        ]
+    };
+    let white = WHITE.mix(0.6);
+    draw_polyline(
+        area,
+        &[(from.0 - halo * ux, from.1 - halo * uy), base],
+        white,
+        shaft + 2.0 * halo,
+    )?;
+    fill_polygon_rgba(area, &tri(halo), white)?;
+    draw_polyline(area, &[from, base], BLACK.to_rgba(), shaft)?;
+    fill_polygon(area, &tri(0.0), BLACK)
+}
+
+pub(crate) fn render_vector_fields(
+    frames: &[MeshVectorField],
+    cols: usize,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Res<Vec<u8>> {
+    if frames.is_empty() {
+        return Err(Fail::Empty("no frames".into()));
+    }
+    for (i, f) in frames.iter().enumerate() {
+        if f.vectors.len() != f.points.len() {
+            return Err(Fail::Draw(format!(
+                "frame {i}: {} vectors for {} points",
+                f.vectors.len(),
+                f.points.len()
+            )));
+        }
+        check_triangles(f.points, f.triangles, &format!("frame {i}"))?;
+    }
+    let n = frames.len();
+    let cols = if cols == 0 {
+        (n as f64).sqrt().ceil() as usize
+    } else {
+        cols.min(n)
+    };
+    let rows = n.div_ceil(cols);
+    let unit = unit_scale(frames[0].length_unit_scale);
+    let mut bb0: Option<[f64; 4]> = None;
+    for f in frames {
+        if let Some(b) = mesh_bbox(f.points, f.triangles, unit) {
+            bb0 = Some(match bb0 {
+                None => b,
+                Some(a) => [
+                    a[0].min(b[0]),
+                    a[1].max(b[1]),
+                    a[2].min(b[2]),
+                    a[3].max(b[3]),
+                ],
+            });
+        }
+    }
+    // Arrows are centred on their node and at most 1/8 of the panel width
+    // long: a margin of 7.5 % keeps them inside the frame.
+    let bb = pad_bbox(
+        bb0.ok_or_else(|| Fail::Empty("no frame has a drawable triangle".into()))?,
+        0.075,
+    );
+    let mags: Vec<Vec<f64>> = frames
+        .iter()
+        .map(|f| f.vectors.iter().map(|v| v[0].hypot(v[1])).collect())
+        .collect();
+    let max_mag = mags
+        .iter()
+        .flatten()
+        .filter(|m| m.is_finite())
+        .fold(0.0f64, |a, &m| a.max(m));
+    let vr = match opts.value_range {
+        Some(_) => value_range(std::iter::empty(), opts.value_range),
+        None => None,
+    }
+    .unwrap_or((0.0, if max_mag > 0.0 { max_mag } else { 1.0 }));
+    let (dx, dy) = (bb[1] - bb[0], bb[3] - bb[2]);
+    let xl = axis_label("x", &frames[0].length_unit);
+    let yl = axis_label("y", &frames[0].length_unit);
+    let cb_label = frames[0].colorbar_label.clone();
+
+    render(size, |area, fig| {
+        let st = Sty::new(fig, (fig.out.0 / cols as f64, fig.out.1 / rows as f64));
+        let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+        let title_band = if frames.iter().any(|f| !f.title.is_empty()) {
+            (CAP + DESC) * fs + 0.6 * pad
+        } else {
+            0.5 * CAP * fs
+        };
+        let hgap = 1.2 * fs;
+        let vgap = 1.2 * pad;
+        let top = pad;
+        let note_text = &frames[0].note;
+        let (note, nf) = fit_text(note_text, 0.85 * fs, fig.w - 2.0 * pad, 3);
+        let note_h = if note_text.is_empty() {
+            0.0
+        } else {
+            note.len() as f64 * 1.15 * (CAP + DESC) * nf + 0.5 * pad
+        };
+        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad + note_h;
+        let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
+        let mut cb_w = 6.0 * fs;
+        let mut layout = None;
+        for _ in 0..3 {
+            let avail_w = fig.w - left_w - cb_w - pad - (cols - 1) as f64 * hgap;
+            let avail_h =
+                fig.h - top - bottom - rows as f64 * title_band - (rows - 1) as f64 * vgap;
+            if avail_w <= 20.0 * cols as f64 || avail_h <= 20.0 * rows as f64 {
+                return Err(Fail::Draw(
+                    "the image is too small for this many frames".into(),
+                ));
+            }
+            let s = (avail_w / (cols as f64 * dx)).min(avail_h / (rows as f64 * dy));
+            let (pw, ph) = (dx * s, dy * s);
+            let gw = cols as f64 * pw + (cols - 1) as f64 * hgap;
+            let gh = rows as f64 * (title_band + ph) + (rows - 1) as f64 * vgap;
+            let x0 = left_w + 0.5 * (avail_w + (cols - 1) as f64 * hgap - gw);
+            let y0 = top + 0.5 * (fig.h - top - bottom - gh);
+            let xt = linear_ticks(bb[0], bb[1], pw, fs, true);
+            let yt = linear_ticks(bb[2], bb[3], ph, fs, false);
+            let ct = linear_ticks(vr.0, vr.1, gh - title_band, fs, false);
+            let new_left =
+                pad + (CAP + DESC) * fl + 0.8 * pad + yt.max_label_w(fs) + 0.6 * pad + tick;
+            let new_cb = colorbar_width(&ct, &cb_label, &st);
+            let done = (new_left - left_w).abs() < 1.0 && (new_cb - cb_w).abs() < 1.0;
+            left_w = new_left;
+            cb_w = new_cb;
+            layout = Some((x0, y0, pw, ph, gw, gh, xt, yt, ct));
+            if done {
+                break;
+            }
+        }
+        let Some((x0, y0, pw, ph, gw, gh, xt, yt, ct)) = layout else {
+            return Err(Fail::Draw("layout failed".into()));
+        };
+        let arrow_scale = if max_mag > 0.0 {
+            pw / 8.0 / max_mag
+        } else {
+            0.0
+        };
+        for (i, f) in frames.iter().enumerate() {
+            let (r, c) = (i / cols, i % cols);
+            let px0 = x0 + c as f64 * (pw + hgap);
+            let py0 = y0 + r as f64 * (title_band + ph + vgap) + title_band;
+            let v = MeshView {
+                bb,
+                r: Rect::new(px0, py0, px0 + pw, py0 + ph),
+                unit,
+            };
+            let m = &mags[i];
+            audit::with_clip(v.r, || -> Res<()> {
+                let size_px = fill_triangles(area, &v, f.points, f.triangles, |t| {
+                    let tri = f.triangles[t];
+                    let mean = (m[tri[0]] + m[tri[1]] + m[tri[2]]) / 3.0;
+                    if mean.is_finite() {
+                        viridis((mean - vr.0) / (vr.1 - vr.0))
+                    } else {
+                        NO_DATA
+                    }
+                })?;
+                let inner = match opts.edges {
+                    EdgeMode::Always => true,
+                    EdgeMode::Never => false,
+                    EdgeMode::Auto => size_px >= 10.0 * fig.k,
+                };
+                draw_edges(
+                    area,
+                    &v,
+                    f.points,
+                    f.triangles,
+                    inner,
+                    true,
+                    WHITE.mix(0.35),
+                    &st,
+                )?;
+                for seg in &f.overlay {
+                    let (a, b) = (v.px(seg[0]), v.px(seg[1]));
+                    if a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite() {
+                        draw_polyline(area, &[a, b], OVERLAY.to_rgba(), 2.5 * st.thin)?;
+                    }
+                }
+                for node in arrow_nodes(f.points, f.triangles, unit, bb, 12.0) {
+                    let vec = f.vectors[node];
+                    if !(vec[0].is_finite() && vec[1].is_finite()) {
+                        continue;
+                    }
+                    let c = v.px(f.points[node]);
+                    let (hx, hy) = (0.5 * vec[0] * arrow_scale, -0.5 * vec[1] * arrow_scale);
+                    draw_arrow(area, (c.0 - hx, c.1 - hy), (c.0 + hx, c.1 + hy), &st)?;
+                }
+                Ok(())
+            })?;
+            let bottom_of_column = i + cols >= n;
+            draw_mesh_axes(area, &v, &xt, &yt, bottom_of_column, c == 0, &st)?;
+            let (tl, tf) = fit_text(&f.title, fs, pw + hgap - pad, 1);
+            draw_text(
+                area,
+                &tl.join(" "),
+                (v.r.cx(), py0 - 0.6 * pad - DESC * fs),
+                tf,
+                HA::Center,
+                VA::Baseline,
+                false,
+                TEXT,
+            )?;
+        }
+        // Shared axis labels and colour bar.
+        let grid_bottom = y0 + gh;
+        draw_text(
+            area,
+            &xl,
+            (
+                x0 + 0.5 * gw,
+                grid_bottom + tick + 0.6 * pad + CAP * fs + pad,
+            ),
+            fl,
+            HA::Center,
+            VA::Top,
+            false,
+            TEXT,
+        )?;
+        let ylx = x0 - tick - 0.6 * pad - yt.max_label_w(fs) - 0.8 * pad - (CAP + DESC) * fl;
+        draw_text(
+            area,
+            &yl,
+            (ylx, y0 + title_band + 0.5 * (gh - title_band)),
+            fl,
+            HA::Center,
+            VA::Top,
+            true,
+            TEXT,
+        )?;
+        let cb = Rect::new(
+            x0 + gw + 1.2 * fs,
+            y0 + title_band,
+            x0 + gw + 2.3 * fs,
+            grid_bottom,
+        );
+        // The arrows' scale: an arrow of a round value, bottom left under the grid.
+        let key = round_below(0.5 * max_mag);
+        if key > 0.0 && arrow_scale > 0.0 {
+            let len = key * arrow_scale;
+            let y = grid_bottom + tick + 0.6 * pad + CAP * fs + pad + 0.5 * CAP * fl;
+            let label = "arrows:";
+            let x = x0;
+            draw_text(area, label, (x, y), fs, HA::Left, VA::Center, false, TEXT)?;
+            let ax = x + text_w(label, fs) + 0.5 * fs;
+            draw_arrow(area, (ax, y), (ax + len, y), &st)?;
+            let unit = unit_of(&cb_label);
+            draw_text(
+                area,
+                &format!("{} {unit}", fmt_value(key)),
+                (ax + len + 0.5 * fs, y),
+                fs,
+                HA::Left,
+                VA::Center,
+                false,
+                TEXT,
+            )?;
+        }
+        if !note_text.is_empty() {
+            draw_note(area, &note, nf, fig, &st)?;
+        }
+        let over = opts
+            .value_range
+            .is_some_and(|_| mags.iter().flatten().any(|&m| m > vr.1 * (1.0 + 1e-9)));
+        draw_colorbar(area, cb, vr, &ct, &cb_label, (false, over), &st)
+    })
+}
