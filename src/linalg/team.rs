@@ -20,8 +20,10 @@
 //! only a half the helper is already running is waited for: spinning for at most
 //! [`CALLER_SPIN`], then blocked until the helper wakes it.
 //!
-//! **A machine whose cores are taken.** Every [`LOAD_CHECK`] joins the team reads the run
-//! queue (`/proc/loadavg`): when other processes' runnable threads are as many as the
+//! **A machine whose cores are taken.** The team's watcher thread reads the run queue
+//! (`/proc/loadavg`) every [`LOAD_PERIOD`] and keeps what it read in an atomic; nothing
+//! reads the file in the solve loop. Every [`LOAD_CHECK`] joins the caller looks at that
+//! value: when other processes' runnable threads are as many as the
 //! cores (`others >= cores`: one short-lived process does not count), the next
 //! `LOAD_CHECK` joins run on the caller's thread alone, then it looks again (twice as
 //! many joins after each look that finds the cores taken, up to 16 times); it goes back to
@@ -133,6 +135,9 @@ struct Shared {
     /// The thread of the caller of the posted job (to wake it).
     caller: UnsafeCell<Option<Thread>>,
     panic: UnsafeCell<Option<Box<dyn Any + Send>>>,
+    /// Other processes' runnable threads as the watcher last read them
+    /// ([`others_running`]; `u32::MAX`: not known).
+    others: AtomicU32,
 }
 
 // SAFETY: `job`, `caller` and `panic` are written by the claimant before it posts (Release)
@@ -147,6 +152,8 @@ unsafe impl Send for Shared {}
 struct Owner {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
+    /// The watcher of the machine's run queue ([`watcher_loop`]).
+    watcher: Option<JoinHandle<()>>,
     /// Joins still to run on the caller's thread alone, after the caller took a job back
     /// ([`MAX_BACKOFF`]).
     skip: AtomicU32,
@@ -198,7 +205,10 @@ pub const MAX_BACKOFF: u32 = 256;
 impl Drop for Owner {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);
-        if let Some(t) = self.thread.take() {
+        for t in [self.thread.take(), self.watcher.take()]
+            .into_iter()
+            .flatten()
+        {
             t.thread().unpark();
             let _ = t.join();
         }
@@ -249,8 +259,10 @@ impl Team {
             job: UnsafeCell::new(None),
             caller: UnsafeCell::new(None),
             panic: UnsafeCell::new(None),
+            others: AtomicU32::new(u32::MAX),
         });
         let for_helper = Arc::clone(&shared);
+        let for_watcher = Arc::clone(&shared);
         match std::thread::Builder::new()
             .name("softway-team".into())
             .spawn(move || helper_loop(&for_helper))
@@ -259,6 +271,12 @@ impl Team {
                 kind: Kind::Helper(Arc::new(Owner {
                     shared,
                     thread: Some(t),
+                    // Without a watcher the team never sees the machine's load: it keeps
+                    // to its take-backs alone.
+                    watcher: std::thread::Builder::new()
+                        .name("softway-load".into())
+                        .spawn(move || watcher_loop(&for_watcher))
+                        .ok(),
                     skip: AtomicU32::new(0),
                     backoff: AtomicU32::new(0),
                     joins: AtomicU32::new(0),
@@ -310,13 +328,13 @@ impl Team {
                 let joins = owner.joins.load(Ordering::Relaxed).wrapping_add(1);
                 owner.joins.store(joins, Ordering::Relaxed);
                 if joins % LOAD_CHECK == 0 && owner.skip.load(Ordering::Relaxed) == 0 {
-                    // The caller runs now; the helper too unless it is blocked.
-                    let ours = 1 + usize::from(!h.helper_blocked.load(Ordering::Relaxed));
                     // Enter one thread when the others fill the cores; leave it only
                     // when a core is free for each of this run's two threads (between
-                    // the two, as two runs side by side see each other: stay).
+                    // the two, as two runs side by side see each other: stay). The
+                    // watcher's last reading: an atomic load, no file read here.
                     let loaded = owner.loaded.load(Ordering::Relaxed);
-                    match others_running(ours) {
+                    let others = h.others.load(Ordering::Relaxed);
+                    match (others != u32::MAX).then_some(others as usize) {
                         Some(o) if o >= owner.cores || (loaded > 0 && o + 2 > owner.cores) => {
                             owner.loaded.store((loaded + 1).min(4), Ordering::Relaxed);
                             owner
@@ -358,6 +376,22 @@ impl Team {
             Kind::Helper(o) => Some(Arc::downgrade(&o.shared)),
             _ => None,
         }
+    }
+}
+
+/// How often the watcher reads the machine's run queue: about [`LOAD_CHECK`] joins of the
+/// wheel's step.
+pub const LOAD_PERIOD: Duration = Duration::from_millis(5);
+
+/// The watcher: every [`LOAD_PERIOD`], the other processes' runnable threads
+/// ([`others_running`], less this run's: the watcher, the caller and the helper unless it
+/// is blocked) into `h.others`, until the team is dropped.
+fn watcher_loop(h: &Shared) {
+    while !h.stop.load(Ordering::Acquire) {
+        let ours = 2 + usize::from(!h.helper_blocked.load(Ordering::Relaxed));
+        let others = others_running(ours).map_or(u32::MAX, |o| o.min(u32::MAX as usize - 1) as u32);
+        h.others.store(others, Ordering::Relaxed);
+        std::thread::park_timeout(LOAD_PERIOD);
     }
 }
 
@@ -692,6 +726,27 @@ mod tests {
             // This thread runs while it reads.
             assert!(others_running(0).is_some_and(|n| n >= 1));
         }
+    }
+
+    /// The watcher, not the solve loop, reads the run queue: a team's `others` is filled
+    /// within a few periods on Linux, and the watcher ends with the team.
+    #[test]
+    fn the_watcher_reads_the_run_queue_for_the_team() {
+        let team = Team::new(Par::threads(2));
+        let shared = team.shared().expect("a helper team");
+        if std::path::Path::new("/proc/loadavg").exists() {
+            let t0 = std::time::Instant::now();
+            let seen = loop {
+                let o = shared.upgrade().unwrap().others.load(Ordering::Relaxed);
+                if o != u32::MAX || t0.elapsed() > Duration::from_secs(2) {
+                    break o;
+                }
+                std::thread::sleep(LOAD_PERIOD);
+            };
+            assert_ne!(seen, u32::MAX, "no reading in 2 s");
+        }
+        drop(team);
+        assert!(shared.upgrade().is_none(), "the watcher outlived its team");
     }
 
     #[test]
