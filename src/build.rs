@@ -434,7 +434,7 @@ mass = "lumped"
         let h = resolve(&validated(&text)).unwrap().runs[0].params.h;
         let b = validated(&text).runs[0]
             .model
-            .get::<crate::problems::TwoBars>()
+            .get::<crate::bodies::bar::TwoBars>()
             .expect("two bars")
             .bar_a();
         let exact = 0.8 * (b.length / b.elements as f64) / b.wave_speed();

@@ -221,18 +221,21 @@ pub mod linalg;
 pub mod material;
 pub mod mesh;
 pub mod model;
-pub mod models;
 pub mod modes;
 pub(crate) mod output;
 pub mod plasticity;
-pub mod problems;
 pub mod run;
 pub mod scenario;
 pub mod simulation;
 pub mod time;
-pub mod track;
 pub mod wear;
-pub mod wheel;
+
+// The bodies' former paths, kept for the library's users and the tests.
+pub use bodies::{bar as problems, rail as track, wheel};
+/// Models of more than one body: the wheel on its elastic block ([`bodies::block`]).
+pub mod models {
+    pub use crate::bodies::block as wheel_on_block;
+}
 
 pub use run::{run, Results, RunError, RunOptions};
 

@@ -55,14 +55,14 @@ pub(super) fn modes_command(
 fn modes_text(
     name: &str,
     rep: &crate::modes::ModesReport,
-    support: &crate::wheel::Support,
+    support: &crate::bodies::wheel::Support,
     omega: f64,
 ) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
     let support = match support {
-        crate::wheel::Support::Hub { radius } => format!("a hub clamped within {radius} m"),
-        crate::wheel::Support::CentrePinned => "the centre node pinned".to_string(),
+        crate::bodies::wheel::Support::Hub { radius } => format!("a hub clamped within {radius} m"),
+        crate::bodies::wheel::Support::CentrePinned => "the centre node pinned".to_string(),
     };
     let _ = writeln!(
         s,

@@ -33,7 +33,7 @@
 //! **Split pairs (the uncoupled rolling check).** [`Pair::Split`] is a node against an
 //! obstacle whose normal row sits on one node and whose tangential row on another: the
 //! node's twin in a second copy of the body that carries only the tangential tractions (the
-//! wheel's `rolling.coupling = "uncoupled"`, [`crate::wheel`]). The gap then sees only the
+//! wheel's `rolling.coupling = "uncoupled"`, [`crate::bodies::wheel`]). The gap then sees only the
 //! response to the normal and body loads, the slip only the response to the tangential
 //! tractions: Carter's elastically similar bodies, for which the two problems decouple.
 //! The tangent and the surface's tangential velocity are taken at the normal row's node (the

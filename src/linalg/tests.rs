@@ -169,8 +169,8 @@ fn two_disconnected_grids_split_into_the_two_without_a_top() {
 /// shorter critical path for a fill within 2% of AMD's.
 #[test]
 fn the_disk_is_split_across_a_diameter() {
+    use crate::bodies::wheel::{Support, WheelModel, WheelSpec};
     use crate::mesh::generators::disk_rings;
-    use crate::wheel::{Support, WheelModel, WheelSpec};
     let rings = 48;
     let spec = WheelSpec {
         support: Support::CentrePinned,

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use super::{Mode, ModesError, ModesReport, SpinMode, Whirl};
+use crate::bodies::wheel::WheelModel;
 use crate::output::plot::{mode_shapes, ModeShape};
-use crate::wheel::WheelModel;
 
 /// At most this many modes per row of `modes.png` (the lowest elastic ones).
 pub const FIGURE_MODES: usize = 6;

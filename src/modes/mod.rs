@@ -94,7 +94,7 @@
 //! supported wheel are others (pinned: the `n = 1` artefact, 218 us; hub: torsion about
 //! the hub, 811 us, and `n = 1`, 162 us).
 //!
-//! [`WheelModel::k_elastic`]: crate::wheel::WheelModel::k_elastic
+//! [`WheelModel::k_elastic`]: crate::bodies::wheel::WheelModel::k_elastic
 
 use std::path::{Path, PathBuf};
 
@@ -105,9 +105,9 @@ use faer::linalg::triangular_solve::{
 use faer::{Mat, MatRef, Par, Side};
 
 use crate::assembly::Assembler;
+use crate::bodies::wheel::WheelModel;
 use crate::mesh::Mesh;
 use crate::output::vtk::{write_vtu, Field, PvdWriter, VtkError};
-use crate::wheel::WheelModel;
 
 mod bounce;
 mod figure;

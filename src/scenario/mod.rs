@@ -71,7 +71,7 @@
 //! margin = 0.05                # m of block before and after the travel (default: depth)
 //! reach = 8e-3                 # m, the contact search's reach (default: four columns)
 //!
-//! [track]                      # kind = "track" (crate::track): a parameter set and overrides
+//! [track]                      # kind = "track" (crate::bodies::rail): a parameter set and overrides
 //! set = "uic60"                # the named set (default)
 //! pad_stiffness = 200e6        # any of: theory ("timoshenko" | "euler_bernoulli"), young,
 //!                              # shear_modulus, shear_coefficient, area, inertia, density,
@@ -154,7 +154,7 @@ pub enum MeshSource {
 #[derive(Debug, Clone, PartialEq)]
 pub struct WheelScenario {
     /// The physical data.
-    pub spec: crate::wheel::WheelSpec,
+    pub spec: crate::bodies::wheel::WheelSpec,
     /// The mesh.
     pub mesh: MeshSource,
     /// Turns rolled after settling.
@@ -164,8 +164,8 @@ pub struct WheelScenario {
     /// Velocity-field snapshots over the last turn (Fig. 17), default 8.
     pub fields_per_turn: usize,
     /// An elastic block as the base instead of the rigid line (`[block]`;
-    /// [`crate::models::wheel_on_block`]).
-    pub block: Option<crate::models::wheel_on_block::BlockSpec>,
+    /// [`crate::bodies::block`]).
+    pub block: Option<crate::bodies::block::BlockSpec>,
     /// The wheel's load, N (`wheel.load`; for the wheel's thickness, the unit of the contact
     /// force in `summary.json`): the alternative to `rolling.flattening`. Then
     /// `spec.flattening.depth` is not known until the model is built:
@@ -241,7 +241,7 @@ pub struct Vehicle {
     pub gravity: f64,
     /// Longitudinal creepage, dimensionless (default 0; the wheel only): the wheel turns at
     /// `omega = V (1 + xi) / R_s`, `R_s` the spun, unloaded rim's radius; positive:
-    /// traction, the wheel turning faster than it rolls ([`crate::track::rolling`]).
+    /// traction, the wheel turning faster than it rolls ([`crate::bodies::rail::rolling`]).
     pub creepage: f64,
     /// The wheel's mesh and material (the wheel only).
     pub wheel: TrackWheel,
@@ -251,9 +251,9 @@ pub struct Vehicle {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum VehicleModel {
-    /// The elastic wheel in its rotating frame on its moving hub ([`crate::track::rolling`]).
+    /// The elastic wheel in its rotating frame on its moving hub ([`crate::bodies::rail::rolling`]).
     Wheel,
-    /// A constant force moving at the speed ([`crate::track::moving`]).
+    /// A constant force moving at the speed ([`crate::bodies::rail::moving`]).
     MovingLoad,
 }
 
@@ -355,14 +355,14 @@ pub struct ReceptanceRange {
     pub points: usize,
 }
 
-/// The track scenario (`kind = "track"`): the track ([`crate::track`]), the vehicle and the
+/// The track scenario (`kind = "track"`): the track ([`crate::bodies::rail`]), the vehicle and the
 /// receptance's frequencies.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrackScenario {
     /// The parameter set named by `track.set`.
     pub set: String,
     /// The track: the set with the overrides of `[track]`.
-    pub spec: crate::track::TrackSpec,
+    pub spec: crate::bodies::rail::TrackSpec,
     /// The vehicle.
     pub vehicle: Vehicle,
     /// The receptance's frequencies.
@@ -713,7 +713,7 @@ method = "exact"
         // The explicit integrator's lumped mass is a validated setting.
         assert!(sc.runs[0]
             .model
-            .get::<crate::problems::BarImpact>()
+            .get::<crate::bodies::bar::BarImpact>()
             .is_some_and(|b| b.lumped && b.elements == 1_000_000));
         // Nothing built, so no stability warning yet (those come from crate::build).
         assert!(sc.warnings.is_empty(), "{:?}", sc.warnings);

@@ -577,8 +577,8 @@ pub(crate) fn split_skew(pattern: &Pattern, c: &[f64]) -> Option<(Vec<f64>, Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bodies::wheel::{WheelModel, WheelSpec};
     use crate::mesh::generators::disk_rings;
-    use crate::wheel::{WheelModel, WheelSpec};
 
     /// `set_step` factors another step length on the run's one symbolic analysis, for the
     /// Cholesky factor (the Coriolis term on the right-hand side makes `A` symmetric) as for

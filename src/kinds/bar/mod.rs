@@ -2,7 +2,7 @@
 //! `kind = "two_bars"` (two equal bars colliding, node to node), both against d'Alembert's
 //! exact answer ([`run`]).
 
-use crate::problems::{BarImpact, TwoBars};
+use crate::bodies::bar::{BarImpact, TwoBars};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;

@@ -2,9 +2,9 @@
 //! d'Alembert solution: contact from `t = gap / v0` for `2 L / c`, constant force
 //! `rho A c v0`, rebound at `v0`, energy kept.
 
+use crate::bodies::bar::{BarImpact, TwoBars};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::Rows;
-use crate::problems::{BarImpact, TwoBars};
 use crate::run::error::RunError;
 use crate::run::options::{progress_bar, RunOptions};
 use crate::run::results::Results;

@@ -1,5 +1,5 @@
 //! The rail's side of a growth study: one pass is the wheel of a track scenario
-//! (`vehicle.model = "wheel"`, [`crate::track::rolling`]) rolling over the recorded bays
+//! (`vehicle.model = "wheel"`, [`crate::bodies::rail::rolling`]) rolling over the recorded bays
 //! of the track, whose rail top carries the study's profile in the contact gap; the rail
 //! wears under the rim nodes in contact.
 //!
@@ -283,7 +283,7 @@ impl TrackPass {
     /// [`TrackPass::prediction`] on the built `track`.
     fn prediction_on(
         &mut self,
-        track: &crate::track::Track,
+        track: &crate::bodies::rail::Track,
         wavelengths: &[f64],
         interrupt: &AtomicBool,
     ) -> Result<(FlatPass, Vec<PredictedGrowth>), RunError> {
@@ -302,7 +302,8 @@ impl TrackPass {
                 })?
             }
         };
-        let err = |e: crate::track::TrackError| RunError::input(&self.sc.path, e.to_string());
+        let err =
+            |e: crate::bodies::rail::TrackError| RunError::input(&self.sc.path, e.to_string());
         // Hertz's patch on the rim radius the pass's patch used.
         let a = LinePatch::new(
             flat.force_n,
@@ -392,19 +393,19 @@ impl PassRunner for TrackPass {
             .map(|i| lo * (hi / lo).powf(i as f64 / (m - 1) as f64))
             .collect();
         let path = self.sc.path.clone();
-        let err = |e: crate::track::TrackError| RunError::input(&path, e.to_string());
+        let err = |e: crate::bodies::rail::TrackError| RunError::input(&path, e.to_string());
         let track = self.ts.spec.build().map_err(err)?;
         let (flat, pred) = self.prediction_on(&track, &lams, interrupt)?;
-        let r = crate::track::receptance::receptance(
+        let r = crate::bodies::rail::receptance::receptance(
             &track,
-            &crate::track::receptance::log_frequencies(20.0, 3000.0, 200),
+            &crate::bodies::rail::receptance::log_frequencies(20.0, 3000.0, 200),
         )
         .map_err(err)?;
         let v = &self.ts.vehicle;
-        let f = crate::track::receptance::frequencies(
+        let f = crate::bodies::rail::receptance::frequencies(
             &track,
             &r,
-            &crate::track::receptance::Wheel {
+            &crate::bodies::rail::receptance::Wheel {
                 unsprung_mass: v.unsprung_mass,
                 load: v.axle_load,
                 radius: v.wheel_radius,
@@ -703,17 +704,17 @@ pub struct PredictedGrowth {
 /// `dz / r = s_w F^2 / alpha`. Its real part is [`PredictedGrowth::in_phase`].
 ///
 /// # Errors
-/// [`crate::track::TrackError`] when a dynamic stiffness is singular.
+/// [`crate::bodies::rail::TrackError`] when a dynamic stiffness is singular.
 pub fn predicted_growth(
-    track: &crate::track::Track,
+    track: &crate::bodies::rail::Track,
     (unsprung_mass, contact_stiffness): (f64, f64),
     speed: f64,
     half_width: f64,
     depth_per_newton: f64,
     wavelengths: &[f64],
-) -> Result<Vec<PredictedGrowth>, crate::track::TrackError> {
+) -> Result<Vec<PredictedGrowth>, crate::bodies::rail::TrackError> {
     let freqs: Vec<f64> = wavelengths.iter().map(|l| speed / l).collect();
-    let rail = crate::track::receptance::bay_averaged(track, &freqs, 8)?;
+    let rail = crate::bodies::rail::receptance::bay_averaged(track, &freqs, 8)?;
     Ok(wavelengths
         .iter()
         .zip(&freqs)

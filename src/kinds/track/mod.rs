@@ -134,7 +134,7 @@ impl Spec for TrackScenario {
     }
 
     /// Friction on the wheel's contact with the rail needs the axle held along the track by
-    /// the suspension ([`crate::track::rolling`], Friction and creepage).
+    /// the suspension ([`crate::bodies::rail::rolling`], Friction and creepage).
     fn check_friction(&self, cx: &Ctx, law: FrictionLaw) -> Result<(), ScenarioError> {
         if law.is_active() && !self.rolls() {
             return Err(cx.invalid(

@@ -1,16 +1,18 @@
-//! The track's jobs ([`crate::track`]): a constant load moving over the middle bays through
+//! The track's jobs ([`crate::bodies::rail`]): a constant load moving over the middle bays through
 //! the driver (`softway run`: `history.csv`, `track.png`, `summary.json`), and the rail's
 //! receptance with its frequencies (`softway receptance`: `receptance.csv`,
 //! `receptance.png`, `summary.json`).
 
+use crate::bodies::rail::moving::{self, MovingLoad, Passage, Sample};
+use crate::bodies::rail::receptance::{
+    frequencies, log_frequencies, Frequencies, Receptance, Wheel,
+};
+use crate::bodies::rail::{hertz, Ends, Track, TrackSpec};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
 use crate::scenario::{Model, Scenario, TrackScenario};
-use crate::track::moving::{self, MovingLoad, Passage, Sample};
-use crate::track::receptance::{frequencies, log_frequencies, Frequencies, Receptance, Wheel};
-use crate::track::{hertz, Ends, Track, TrackSpec};
 use faer::c64;
 use std::path::{Path, PathBuf};
 
@@ -383,11 +385,12 @@ pub(crate) fn receptance_job(
             "`softway receptance` needs a track scenario (kind = \"track\")",
         ));
     };
-    let input = |e: crate::track::TrackError| RunError::input(&sc.path, e);
+    let input = |e: crate::bodies::rail::TrackError| RunError::input(&sc.path, e);
     let track = ts.spec.build().map_err(input)?;
     let range = ts.receptance;
     let freqs = log_frequencies(range.f_min, range.f_max, range.points);
-    let r = crate::track::receptance::receptance_until(&track, &freqs, interrupt).map_err(input)?;
+    let r = crate::bodies::rail::receptance::receptance_until(&track, &freqs, interrupt)
+        .map_err(input)?;
     if r.frequency_hz.len() < freqs.len() {
         return interrupted_receptance(sc, out, &r, freqs.len());
     }
@@ -472,7 +475,7 @@ pub(crate) fn receptance_job(
 }
 
 /// What the range of `[receptance]`, from `f_min`, did not hold (the frequencies left
-/// `None`: [`crate::track::receptance`], A range that misses a frequency), one line each.
+/// `None`: [`crate::bodies::rail::receptance`], A range that misses a frequency), one line each.
 fn range_notes(f: &Frequencies, f_min: f64) -> Vec<String> {
     let mut notes = Vec::new();
     if f.p2_below_range {
@@ -616,8 +619,8 @@ fn plot(
     r: &Receptance,
     f: &Frequencies,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let mut pencil = crate::track::receptance::Pencil::new(track)?;
-    let mut at = |x: f64, q: f64| -> Result<c64, crate::track::TrackError> {
+    let mut pencil = crate::bodies::rail::receptance::Pencil::new(track)?;
+    let mut at = |x: f64, q: f64| -> Result<c64, crate::bodies::rail::TrackError> {
         pencil.factor(2.0 * std::f64::consts::PI * q)?;
         pencil.point_receptance(track, x)
     };

@@ -1,4 +1,4 @@
-//! `softway run` of a track scenario with the wheel ([`crate::track::rolling`]): the elastic
+//! `softway run` of a track scenario with the wheel ([`crate::bodies::rail::rolling`]): the elastic
 //! wheel on its moving hub rolls `settle_bays` bays while its load comes on (over the first
 //! half of them) and settles, then the recorded `travel_bays` centred on the track's middle.
 //!
@@ -18,12 +18,15 @@
 //! **The tangential force** `tangential_force_N` is the rail's force on the wheel along the
 //! direction of travel (the ground's +x): `Q = -sum F_t` over the rim's pairs, `F_t` each
 //! pair's friction force along its tangent `t = (-1, 0)` on the flat rail
-//! ([`crate::track::rolling`], Friction and creepage). `Q > 0` drives the wheel forward
+//! ([`crate::bodies::rail::rolling`], Friction and creepage). `Q > 0` drives the wheel forward
 //! (creepage `xi > 0`), `Q < 0` brakes it. `slip_power_W` is the pairs' frictional
 //! dissipation of the step ([`crate::model::PairState::slip_power`], `>= 0`),
 //! `friction_energy_J` its integral since the start.
 
 use crate::analysis::signal::{amplitude_spectrum, dominant_peak, moving_average};
+use crate::bodies::rail::receptance::{frequencies, log_frequencies, p2_with, receptance, Wheel};
+use crate::bodies::rail::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
+use crate::bodies::wheel::{Support, WheelModel, WheelSpec};
 use crate::material::Elastic;
 use crate::mesh::generators::{disk_graded, DiskOptions};
 use crate::output::plot::{sig, Panel, Series, SeriesStyle};
@@ -32,9 +35,6 @@ use crate::run::options::RunOptions;
 use crate::run::results::Results;
 use crate::scenario::{Model, Run, Scenario, TrackScenario};
 use crate::simulation::Simulation;
-use crate::track::receptance::{frequencies, log_frequencies, p2_with, receptance, Wheel};
-use crate::track::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
-use crate::wheel::{Support, WheelModel, WheelSpec};
 use std::path::Path;
 
 mod figures;
@@ -477,7 +477,7 @@ fn summarise(
     });
     // The track's frequencies: the receptance's (Hertz's 3D spring) and P2 on the measured
     // contact spring.
-    let err = |e: crate::track::TrackError| RunError::Simulation {
+    let err = |e: crate::bodies::rail::TrackError| RunError::Simulation {
         run: run.label.clone(),
         source: crate::simulation::SimError::Unsupported(e.to_string()),
     };

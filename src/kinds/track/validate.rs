@@ -1,6 +1,7 @@
 //! The track's validation: `[track]` (a parameter set and its overrides), `[vehicle]` and
 //! `[receptance]` into a [`TrackScenario`], every value under its key.
 
+use crate::bodies::rail::{Ends, TrackSpec, SETS};
 use crate::element::beam::BeamTheory;
 use crate::material::{Elastic, PlaneModel};
 use crate::scenario::raw::{RawIrregularity, RawReceptance, RawTrack, RawVehicle};
@@ -8,7 +9,6 @@ use crate::scenario::Ctx;
 use crate::scenario::{
     Irregularity, ReceptanceRange, ScenarioError, TrackScenario, TrackWheel, Vehicle, VehicleModel,
 };
-use crate::track::{Ends, TrackSpec, SETS};
 
 /// The largest rail of a track scenario, elements.
 const MAX_ELEMENTS: usize = 2_000_000;
@@ -478,7 +478,7 @@ fn vehicle(
 /// `None` where Hertz's contact is not defined.
 fn bounce_hz(v: &Vehicle, spec: &TrackSpec) -> Option<f64> {
     let load = v.axle_load + v.unsprung_mass * v.gravity;
-    let k_h = crate::track::hertz::contact(
+    let k_h = crate::bodies::rail::hertz::contact(
         load,
         v.wheel_radius,
         spec.head_radius,

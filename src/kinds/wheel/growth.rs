@@ -42,6 +42,7 @@
 //! cutoff, which tame the wear step's amplification, do not touch it. The reference pass
 //! (`growth.reference`) runs from the carried state and leaves it as it was.
 
+use crate::bodies::wheel::{Coupling, WheelModel};
 use crate::contact::obstacle::RotatingLine;
 use crate::growth::{PassResult, PassRunner, SurfaceProfile};
 use crate::kinds::wheel::run::build;
@@ -50,7 +51,6 @@ use crate::run::error::RunError;
 use crate::scenario::{Run, Scenario, WheelScenario};
 use crate::simulation::Simulation;
 use crate::wear::{ContactSample, WearLaw};
-use crate::wheel::{Coupling, WheelModel};
 use std::f64::consts::PI;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;

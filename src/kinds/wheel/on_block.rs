@@ -1,4 +1,4 @@
-//! The wheel on an elastic block ([`crate::models::wheel_on_block`]; a wheel scenario with a
+//! The wheel on an elastic block ([`crate::bodies::block`]; a wheel scenario with a
 //! `[block]` table): settling, then rolling along the block; the contact force over time,
 //! the patch's half-width from the nodal forces against Hertz's line contact at the same
 //! force, and the two bodies placed in the ground for ParaView.
@@ -11,8 +11,8 @@
 //! displacement, velocity and the body's index on the points) and `wheel_on_block.png` (the
 //! force over time; the last step's contact pressure against Hertz's ellipse).
 
+use crate::bodies::block::{patch_half_width, WheelOnBlock};
 use crate::mesh::{Cells, Mesh};
-use crate::models::wheel_on_block::{patch_half_width, WheelOnBlock};
 use crate::output::plot::{Panel, Series, SeriesStyle};
 use crate::output::table::{Columns, Rows};
 use crate::run::error::RunError;

@@ -2,12 +2,12 @@
 //! moving zone, the uncoupled problem, a block, a plastic wheel, a creepage without
 //! friction).
 
+use crate::bodies::wheel::{ContactSurface, Coupling, WheelSpec};
 use crate::contact::{FrictionLaw, Treatment};
 use crate::material::Elastic;
 use crate::scenario::raw::RawBlock;
 use crate::scenario::{Contact, Ctx, MeshSource, ScenarioError, WheelScenario};
 use crate::time::Integrator;
-use crate::wheel::{ContactSurface, Coupling, WheelSpec};
 
 /// The `[block]` table under a wheel of `spec`: the material (default the wheel's), the
 /// depth (default half the wheel's radius), the top column width (default the rim's pitch),
@@ -18,7 +18,7 @@ pub(crate) fn block_spec(
     cx: &Ctx,
     b: RawBlock,
     spec: &WheelSpec,
-) -> Result<crate::models::wheel_on_block::BlockSpec, ScenarioError> {
+) -> Result<crate::bodies::block::BlockSpec, ScenarioError> {
     let mat = spec.material;
     let young = cx.positive("block.young", b.young.unwrap_or(mat.young))?;
     let density = cx.positive("block.density", b.density.unwrap_or(mat.density))?;
@@ -78,7 +78,7 @@ pub(crate) fn block_spec(
             ),
         ));
     }
-    Ok(crate::models::wheel_on_block::BlockSpec {
+    Ok(crate::bodies::block::BlockSpec {
         material: Elastic {
             young,
             poisson,

@@ -32,6 +32,7 @@ pub(crate) use collect::record;
 use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
+use crate::bodies::wheel::{Support, WheelModel, WheelSpec};
 use crate::linalg::quadratic_form;
 use crate::material::PlaneModel;
 use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
@@ -44,7 +45,6 @@ use crate::output::table::Columns;
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::scenario::{MeshSource, Run, Scenario, WheelScenario};
-use crate::wheel::{Support, WheelModel, WheelSpec};
 use observers::{
     ContactForceStats, ContactForceSummary, ContactNodesWriter, EnergyWatch, HistoryWriter,
     Observer, Progress, Snapshots, Timeline, TurnAverage, TurnAverageFields, VelocitySnapshots,

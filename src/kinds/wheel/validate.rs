@@ -2,11 +2,11 @@
 //! [`WheelScenario`]; the `[block]` under it and the settings a wheel's run refuses in
 //! combination: [`super::rules`].
 
+use crate::bodies::wheel::{ContactSurface, Coupling, Support, WheelSpec};
 use crate::contact::obstacle::Flattening;
 use crate::material::{Elastic, PlaneModel};
 use crate::scenario::raw::{RawMaterial, RawRolling, RawWheel};
 use crate::scenario::{Ctx, MeshSource, ScenarioError, WheelScenario, DEFAULT_HUB_FRACTION};
-use crate::wheel::{ContactSurface, Coupling, Support, WheelSpec};
 use std::path::Path;
 
 /// The wheel of `[wheel]`, `[material]` and `[rolling]`, each value checked under its key
@@ -572,7 +572,7 @@ fn rolling(
         (None, Some(_)) => f64::NAN,
         (Some(d), None) => cx.positive("rolling.flattening", d)?,
     };
-    // The contact counts a gap below 1e-9 R as closed (crate::wheel): a flattening within a
+    // The contact counts a gap below 1e-9 R as closed (crate::bodies::wheel): a flattening within a
     // thousand of those is no press at all (the run ends with no contact force to analyse).
     if depth < 1e-6 * radius {
         return Err(cx.invalid(

@@ -1,7 +1,7 @@
 use super::*;
+use crate::bodies::wheel::{WheelModel, WheelSpec};
 use crate::mesh::generators::disk_rings;
 use crate::time::step::split_skew;
-use crate::wheel::{WheelModel, WheelSpec};
 
 /// `B`, and the right-hand side's rows, of the wheel's `M`, `c` (`C` or its symmetric
 /// part) and `K` for `alpha = 0.6`, `h = 2e-6`, with the skew part `g` (or none), their

@@ -4,12 +4,12 @@
 //! velocity fields of the last turn (Fig. 17).
 
 use super::{WheelResults, WheelSummary};
+use crate::bodies::wheel::WheelModel;
 use crate::output::plot::{
     line_plot, mesh_color_map_with, mesh_vector_fields, panels, sig, MeshColorMap, MeshOptions,
     MeshVectorField, Panel, Series, SeriesStyle,
 };
 use crate::run::error::RunError;
-use crate::wheel::WheelModel;
 use std::path::{Path, PathBuf};
 
 /// One figure to draw: its path once written.
@@ -699,8 +699,8 @@ fn peak_envelope(f: &[f64], a: &[f64], lo: f64, hi: f64, bins: usize) -> (Vec<f6
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bodies::wheel::WheelSpec;
     use crate::mesh::generators::{disk_graded, DiskOptions};
-    use crate::wheel::WheelSpec;
     use std::f64::consts::PI;
 
     /// The rim profile has one entry per rim node, sorted by angle; a field constant over

@@ -7,14 +7,14 @@
 //! base at its starting angle, carries `P` in static equilibrium:
 //! `K_eff u = K_eff u_c + sum_i lambda_i n` with the rim nodes on the base
 //! ([`crate::contact::statics`], frictionless, node gaps), `K_eff` the rotating frame's
-//! effective stiffness and `u_c` the centrifugal expansion ([`crate::wheel`]): the
+//! effective stiffness and `u_c` the centrifugal expansion ([`crate::bodies::wheel`]): the
 //! equilibrium about which the rolling run oscillates. The contact force `F(d)` is
 //! increasing and piecewise linear in `d` (linear between changes of the active set);
 //! `F(d) = P` is solved by secants safeguarded by bisection, to 1e-9 of `P`.
 
+use crate::bodies::wheel::{Support, WheelModel};
 use crate::contact::obstacle::Obstacle;
 use crate::contact::statics;
-use crate::wheel::{Support, WheelModel};
 use std::f64::consts::PI;
 
 /// The static contact of the wheel pressed to the flattening `depth` (m) on its base at its

@@ -83,7 +83,7 @@ pub fn check_supported(mesh: &Mesh, tags: &[u64], spec: &WheelSpec) -> Result<()
     let crate::mesh::Cells::Tri3(tris) = &mesh.cells else {
         return Ok(());
     };
-    let Ok(held) = crate::wheel::held_nodes(mesh, spec) else {
+    let Ok(held) = crate::bodies::wheel::held_nodes(mesh, spec) else {
         return Ok(());
     };
     let n = mesh.n_nodes();

@@ -18,11 +18,11 @@ use crate::analysis::signal::{
     Spectrum,
 };
 use crate::analysis::trace::{Envelope, LatestWindow, ENVELOPE_CAP, SPECTRUM_WINDOW_CAP};
+use crate::bodies::wheel::WheelModel;
 use crate::contact::{PairState, RotatingLine};
 use crate::output::table::{Columns, Rows};
 use crate::run::error::RunError;
 use crate::run::options::{progress_bar, RunOptions};
-use crate::wheel::WheelModel;
 use std::f64::consts::PI;
 use std::path::Path;
 

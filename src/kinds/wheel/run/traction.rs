@@ -41,11 +41,11 @@
 
 use super::observers::{Observer, Timeline, WheelStep};
 use crate::analysis::trace::{Envelope, ENVELOPE_CAP};
+use crate::bodies::wheel::WheelModel;
 use crate::contact::RotatingLine;
 use crate::output::files::CsvWriter;
 use crate::output::table::{Columns, Rows};
 use crate::run::error::RunError;
-use crate::wheel::WheelModel;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -117,7 +117,7 @@ pub fn hertz_2d(p_per_length: f64, radius: f64, e_star: f64) -> (f64, f64) {
 #[derive(Debug)]
 pub struct TractionWatch {
     /// The wheel's `rolling.coupling`, reported with the figures.
-    coupling: crate::wheel::Coupling,
+    coupling: crate::bodies::wheel::Coupling,
     timeline: Timeline,
     base: RotatingLine,
     /// Reference positions of the rim nodes (flat x, y per rim pair).
@@ -160,7 +160,7 @@ pub struct TractionWatch {
 #[derive(Debug, Clone, Serialize)]
 pub struct TractionSummary {
     /// The normal and tangential problems coupled or not (`rolling.coupling`).
-    pub coupling: crate::wheel::Coupling,
+    pub coupling: crate::bodies::wheel::Coupling,
     /// Coulomb coefficient.
     pub friction: f64,
     /// Creepage `xi = (omega rho - V) / (omega rho)` as given (`rolling.creepage`), referred

@@ -30,6 +30,11 @@
 //! $$f_{frame}(t) = -M\\,\mathbf{1}\_e\\,d\'\'(t)$$
 //! (`1_e` the unit translation along `e`), which [`load_fn`] adds to the constant loads.
 
+pub mod bar;
+pub mod block;
+pub mod rail;
+pub mod wheel;
+
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};
 use crate::contact::search::Motion;
 use crate::contact::{Interface, Pair, Treatment};
@@ -456,10 +461,10 @@ pub fn load_fn(bodies: &[Body], joined: &Assembled) -> LoadFn {
 mod tests {
     use super::*;
     use crate::assembly::assemble_mass_stiffness;
+    use crate::bodies::wheel::triangle_geometry;
     use crate::contact::obstacle::Flattening;
     use crate::material::{Elastic, PlaneModel};
     use crate::mesh::generators::rectangle;
-    use crate::wheel::triangle_geometry;
 
     fn block(lx: f64, ly: f64, nx: usize, ny: usize, motion: Motion) -> Body {
         let mesh = rectangle(lx, ly, nx, ny).unwrap();

@@ -1,4 +1,4 @@
-//! The wheel rolling on the track: the elastic wheel of [`crate::wheel`] in its rotating
+//! The wheel rolling on the track: the elastic wheel of [`crate::bodies::wheel`] in its rotating
 //! frame, carried by a moving hub and an unsprung mass, loaded by the axle load and gravity
 //! through a primary suspension, in contact with the rail of [`super::Track`] through the
 //! contact search on the rail's beams ([`crate::contact::search`]), over an optional
@@ -88,6 +88,7 @@
 //! static sag under gravity is the same everywhere and does not enter the dynamics).
 
 use super::{Track, TrackError, TrackSpec};
+use crate::bodies::wheel::WheelModel;
 use crate::bodies::{assemble_with, first_dofs, Assembled, Body, Joints};
 use crate::contact::profile::Profile;
 use crate::contact::search::{Motion, Placed, Search, SearchError};
@@ -98,7 +99,6 @@ use crate::linalg::spmv_add;
 use crate::model::LoadFn;
 use crate::simulation::Problem;
 use crate::time::Integrator;
-use crate::wheel::WheelModel;
 
 /// The vehicle's share over one wheel (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -148,7 +148,7 @@ pub enum RollingError {
     Search(#[from] SearchError),
     /// The wheel.
     #[error(transparent)]
-    Wheel(#[from] crate::wheel::WheelError),
+    Wheel(#[from] crate::bodies::wheel::WheelError),
     /// The joined model.
     #[error("joining the wheel and the track: {0}")]
     Assembly(#[from] crate::assembly::AssemblyError),
@@ -220,7 +220,7 @@ impl WheelOnTrack {
                 "the wheel on a track is a coupled wheel in its rotating frame without a moving zone".into(),
             ));
         }
-        if !matches!(ws.support, crate::wheel::Support::Hub { .. }) {
+        if !matches!(ws.support, crate::bodies::wheel::Support::Hub { .. }) {
             return Err(RollingError::Unsupported(
                 "the wheel on a track needs a hub (wheel.support = hub): its nodes are tied to the axle".into(),
             ));
@@ -252,7 +252,7 @@ impl WheelOnTrack {
             omega: -omega,
             angle0: 0.0,
         };
-        let mut wb = crate::models::wheel_on_block::wheel_body(&wheel);
+        let mut wb = crate::bodies::block::wheel_body(&wheel);
         // The hub is freed and tied to the axle; the spinning equilibrium's load is kept on
         // every dof (its hub reactions balance: the ties start unstretched).
         let hub_dofs = std::mem::take(&mut wb.fixed_dofs);
@@ -518,14 +518,14 @@ pub const SPIN_REBUILDS: usize = 16;
 /// expansion runs away).
 pub fn wheel_at_speed(
     mesh: crate::mesh::Mesh,
-    spec: crate::wheel::WheelSpec,
+    spec: crate::bodies::wheel::WheelSpec,
     speed: f64,
 ) -> Result<WheelModel, RollingError> {
     let mut omega = speed / spec.radius;
     for _ in 0..SPIN_REBUILDS {
         let m = WheelModel::new(
             mesh.clone(),
-            crate::wheel::WheelSpec {
+            crate::bodies::wheel::WheelSpec {
                 omega,
                 ..spec.clone()
             },

@@ -1,4 +1,4 @@
-//! The paper's wheel on a deformable base: the wheel of [`crate::wheel`] (its rotating
+//! The paper's wheel on a deformable base: the wheel of [`crate::bodies::wheel`] (its rotating
 //! frame, its hub, its spinning equilibrium) pressed onto, then rolling along, an elastic
 //! block: a second body of triangles in a frame that translates under the wheel, clamped at
 //! its bottom, met through a contact search ([`crate::contact::interface`]).
@@ -32,6 +32,7 @@
 //! `F_i` at ground abscissae `x_i` by their second moment: for Hertz's elliptic pressure
 //! `sum F (x - x_c)^2 / sum F = a^2 / 4` ([`patch_half_width`]).
 
+use crate::bodies::wheel::{triangle_geometry, WheelError, WheelModel};
 use crate::bodies::{self, Assembled, Body};
 use crate::contact::search::{top_segments, Motion, Placed, Search, SearchError};
 use crate::contact::{Interface, Pair, Treatment};
@@ -42,7 +43,6 @@ use crate::mesh::Mesh;
 use crate::model::LinearModel;
 use crate::simulation::Problem;
 use crate::time::Integrator;
-use crate::wheel::{triangle_geometry, WheelError, WheelModel};
 
 /// The block under the wheel (scenario table `[block]`).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
