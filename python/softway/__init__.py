@@ -10,8 +10,8 @@ formulation, with Bajer's soft way, from Python.
   resumable), its results as xarray (:class:`GrowthResult`: per-pass table, band spectrum
   per pass, profile); Ctrl-C stops it within a step, the finished passes kept.
 - :func:`sweep`: a parameter grid on any ``concurrent.futures.Executor`` (Dask's
-  ``client.get_executor()`` included; by default a local Dask cluster), gathered into one
-  xarray Dataset written as NetCDF.
+  ``client.get_executor()`` included; by default a local Dask cluster, ``softway[dask]``),
+  gathered into one xarray Dataset written as NetCDF (``softway[netcdf]``).
 - :func:`grow_sweep`: growth studies over a grid (the polygon's growth at several speeds)
   on any executor likewise, each study checkpointed in its own folder, the per-pass scalars
   and band tables gathered into one xarray Dataset.
@@ -81,6 +81,9 @@ class RunInterrupted(KeyboardInterrupt):
         super().__init__("run interrupted; .result holds the steps computed")
         self.result = result
 
+    def __reduce__(self):  # pickled with its result (an exception pickles its args)
+        return (type(self), (self.result,))
+
 
 class GrowthInterrupted(KeyboardInterrupt):
     """A growth study stopped by Ctrl-C (KeyboardInterrupt) within a step of the pass under
@@ -96,6 +99,9 @@ class GrowthInterrupted(KeyboardInterrupt):
             ".result holds them, resume=True goes on"
         )
         self.result = result
+
+    def __reduce__(self):  # pickled with its result (an exception pickles its args)
+        return (type(self), (self.result,))
 
 
 class _Bar:

@@ -238,5 +238,7 @@ def test_issue_48_a_growth_result_pickles(study, tmp_path):
     xr.testing.assert_identical(copy.bands, r.bands)
     xr.testing.assert_identical(copy.orders, r.orders)
     assert copy.profiles.flags.writeable
+    e = pickle.loads(pickle.dumps(softway.GrowthInterrupted(r)))
+    assert isinstance(e, softway.GrowthInterrupted) and e.result.summary == r.summary
     with pytest.raises(softway.RunError, match="unpickled.*" + re.escape(str(r.out))):
         copy.save(tmp_path / "again")

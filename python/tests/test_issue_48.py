@@ -83,6 +83,9 @@ def test_issue_48_a_result_pickles_with_its_tables_and_fields(short_wheel, tmp_p
     with pytest.raises(softway.RunError, match="unpickled"):
         copy.save(tmp_path / "out")
     assert not (tmp_path / "out").exists()
+    # RunInterrupted (Ctrl-C in a worker) travels with its result.
+    e = pickle.loads(pickle.dumps(softway.RunInterrupted(r)))
+    assert isinstance(e, softway.RunInterrupted) and e.result.summary == r.summary
     # The original still saves.
     assert any(p.name == "history.csv" for p in r.save(tmp_path / "orig"))
 
