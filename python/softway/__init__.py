@@ -2,15 +2,16 @@
 formulation, with Bajer's soft way, from Python.
 
 - :class:`Scenario`: a scenario from a TOML file, TOML text or a dict, validated as the
-  command line validates it (:class:`ScenarioError` carries the message and the key).
+  command line validates it (:class:`ScenarioError` carries the message and the dotted
+  key); the engine's warnings come as :class:`SoftwayWarning`.
 - :func:`run`: one run, results in memory (:class:`Result`: summary, history as an xarray
   Dataset, contact nodes, fields as numpy arrays); Ctrl-C stops it at the next step.
 - :func:`grow`: a growth study (``softway grow``: wear pass by pass, checkpointed,
   resumable), its results as xarray (:class:`GrowthResult`: per-pass table, band spectrum
   per pass, profile); Ctrl-C stops it within a step, the finished passes kept.
 - :func:`sweep`: a parameter grid on any ``concurrent.futures.Executor`` (Dask's
-  ``client.get_executor()`` included; by default a local Dask cluster), gathered into one
-  xarray Dataset written as NetCDF.
+  ``client.get_executor()`` included; by default a local Dask cluster, ``softway[dask]``),
+  gathered into one xarray Dataset written as NetCDF (``softway[netcdf]``).
 - :func:`grow_sweep`: growth studies over a grid (the polygon's growth at several speeds)
   on any executor likewise, each study checkpointed in its own folder, the per-pass scalars
   and band tables gathered into one xarray Dataset.
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import warnings as _warnings
 from typing import Any, Optional
 
 from . import _native
@@ -40,6 +42,7 @@ __all__ = [
     "ScenarioError",
     "RunError",
     "RunInterrupted",
+    "SoftwayWarning",
     "Result",
     "Fields",
     "FieldFrame",
@@ -55,6 +58,20 @@ __all__ = [
 ]
 
 
+class SoftwayWarning(UserWarning):
+    """A warning of the engine about a scenario or a run (a time step beyond the stable
+    one, a rim too coarse for the contact patch, a resonance): what the command line prints
+    as ``softway: warning: ...``. :func:`run` emits each with :func:`warnings.warn` (the
+    scenario's before the run, the run's after it); ``Result.warnings`` keeps the run's.
+    Filter them as any warning: ``warnings.simplefilter("ignore", softway.SoftwayWarning)``
+    or ``"error"`` to stop on one."""
+
+
+def _warn(messages: list[str], stacklevel: int) -> None:
+    for m in messages:
+        _warnings.warn(m, SoftwayWarning, stacklevel=stacklevel + 1)
+
+
 class RunInterrupted(KeyboardInterrupt):
     """A run stopped by Ctrl-C (KeyboardInterrupt) at its next step. ``result`` holds what
     was computed (``result.interrupted`` is True); it is a KeyboardInterrupt, so code that
@@ -63,6 +80,9 @@ class RunInterrupted(KeyboardInterrupt):
     def __init__(self, result: Result):
         super().__init__("run interrupted; .result holds the steps computed")
         self.result = result
+
+    def __reduce__(self):  # pickled with its result (an exception pickles its args)
+        return (type(self), (self.result,))
 
 
 class GrowthInterrupted(KeyboardInterrupt):
@@ -79,6 +99,9 @@ class GrowthInterrupted(KeyboardInterrupt):
             ".result holds them, resume=True goes on"
         )
         self.result = result
+
+    def __reduce__(self):  # pickled with its result (an exception pickles its args)
+        return (type(self), (self.result,))
 
 
 class _Bar:
@@ -134,9 +157,13 @@ def run(
         :class:`Result`: ``summary``, ``history`` (xarray), ``contact_nodes``, ``fields``,
         ``save(folder)``.
 
+    Warns:
+        SoftwayWarning: each of the scenario's warnings (before the run) and of the run's
+            (after it, also in ``Result.warnings``), as the command line prints them.
+
     Raises:
         ScenarioError: the scenario (or an override) is refused; the message is the command
-            line's, ``key`` the dotted key at fault.
+            line's, ``key`` the dotted key at fault (``bar.length``, ``runs[1].h``).
         RunError: the model cannot be built or the run failed (e.g. stopped by the
             divergence guard).
         RunInterrupted: Ctrl-C (KeyboardInterrupt, in a terminal or a notebook) stopped the
@@ -147,6 +174,7 @@ def run(
     sc = as_scenario(scenario)
     if overrides:
         sc = sc.with_values(**overrides)
+    _warn(sc.warnings, stacklevel=2)
     with contextlib.ExitStack() as stack:
         if irregularity is not None:
             sc = _with_irregularity(sc, irregularity, stack)
@@ -156,6 +184,7 @@ def run(
         finally:
             bar.close()
     result = Result(native)
+    _warn(result.warnings, stacklevel=2)
     if raised is not None:
         if isinstance(raised, KeyboardInterrupt):
             raise RunInterrupted(result) from None

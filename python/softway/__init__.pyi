@@ -22,6 +22,8 @@ __version__: str
 
 ScenarioLike = Union[Scenario, str, os.PathLike[str], Mapping[str, Any]]
 
+class SoftwayWarning(UserWarning): ...
+
 class RunInterrupted(KeyboardInterrupt):
     result: Result
     def __init__(self, result: Result) -> None: ...

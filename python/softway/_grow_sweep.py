@@ -16,7 +16,15 @@ from typing import Any, Iterable, Mapping, Optional
 import numpy as np
 
 from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
-from ._sweep import _default_cluster, _gather, _is_number, _point_dir, _points, _progress
+from ._sweep import (
+    _default_cluster,
+    _gather,
+    _is_number,
+    _point_dir,
+    _points,
+    _progress,
+    need_netcdf,
+)
 
 
 def _is_timing(name: str) -> bool:
@@ -119,11 +127,12 @@ def grow_sweep(
             ``concurrent.futures.Executor`` (a Dask cluster's ``client.get_executor()``, a
             ``ProcessPoolExecutor``, ...); None (the default): a
             ``dask.distributed.LocalCluster`` of processes with one thread each, as many as
-            the points or the cores, closed at the end; ``"serial"``: one study after
-            another in this process.
+            the points or the cores, closed at the end (needs ``softway[dask]``);
+            ``"serial"``: one study after another in this process.
         out: a folder: each point's study (the files of ``softway grow`` and its
             checkpoint) in ``out/<key>=<value>/``, written by the worker that ran it, and
-            the gathered Dataset as ``out/grow_sweep.nc``. None: each study in a temporary
+            the gathered Dataset as ``out/grow_sweep.nc`` (NetCDF: needs
+            ``softway[netcdf]``). None: each study in a temporary
             folder on its worker, removed once its numbers are gathered.
         resume: a point whose folder under ``out`` holds a checkpoint goes on from it (to
             ``passes`` in all; a study already there is only read back): a failed or
@@ -159,6 +168,7 @@ def grow_sweep(
         raise ValueError("resume=True needs out=, the folder of the studies to go on from")
     out_dir = None if out is None else Path(out)
     if out_dir is not None:
+        need_netcdf("grow_sweep(out=...) (grow_sweep.nc)")
         out_dir.mkdir(parents=True, exist_ok=True)
     folders = [None if out_dir is None else str(out_dir / _point_dir(p)) for p in pts]
     n_passes = None if passes is None else int(passes)

@@ -79,7 +79,15 @@ class GrowthResult:
             ``out/checkpoint.json``: ``grow(..., resume=True)`` goes on from them.
         passes_run: passes run by this call (not those resumed from).
         out: the study's folder; files: the files written there.
+
+    A GrowthResult pickles (a process pool, Dask): its numbers go with it (the tables
+    built first); :meth:`save` needs the engine's state, which stays in the process that
+    ran the study (its checkpoint is in ``out``: ``grow(..., out=out, resume=True)``
+    reads it back).
     """
+
+    #: The tables a pickle carries (the cached properties below).
+    _TABLES = ("passes", "bands", "orders")
 
     def __init__(self, native: Any, out: Path):
         self._native = native
@@ -205,7 +213,26 @@ class GrowthResult:
         folder of other files is refused unless ``force=True``, an older study there is
         replaced whole, the current and the home folder are never replaced). Returns their
         paths."""
+        if self._native is None:
+            raise _native.RunError(
+                "this GrowthResult was unpickled (sent from the process that ran the "
+                "study): save() writes the engine's state, which stays in that process; "
+                f"the study's files and checkpoint are in {self.out} (grow(..., out=..., "
+                "resume=True) reads them back)"
+            )
         return [Path(p) for p in self._native.save(str(folder), force)]
+
+    def __getstate__(self) -> dict[str, Any]:
+        """What a pickle carries: every attribute and table (built now if not yet); not the
+        engine's state (see :meth:`save`)."""
+        state = {k: v for k, v in self.__dict__.items() if k != "_native"}
+        for name in self._TABLES:
+            state[name] = getattr(self, name)
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._native = None
 
     def __repr__(self) -> str:
         s = self.summary

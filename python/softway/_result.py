@@ -29,8 +29,25 @@ def without_timings(summary: Any) -> Any:
     return summary
 
 
-def _f64(b: bytes) -> np.ndarray:
-    return np.frombuffer(b, dtype="<f8")
+def _f64(b: Any) -> np.ndarray:
+    """The engine's little-endian ``f64`` values as a writable numpy array: a view of the
+    ``bytearray`` the engine filled (owned by Python, no further copy), a copy of read-only
+    ``bytes``."""
+    a = np.frombuffer(b, dtype="<f8")
+    return a if a.flags.writeable else a.copy()
+
+
+def _vtk_array(a: np.ndarray) -> np.ndarray:
+    """An array for VTK (PyVista): a vector of fewer than 3 components per point or cell
+    (a 2D model's velocity, ``(n, 2)``; a bar's displacement, ``(n, 1)``) padded with
+    zeros to 3, VTK's vectors being 3-vectors (glyphs, ``warp_by_vector``, ParaView's
+    vector tools); scalars ``(n,)`` and arrays of 3 or more components as they are."""
+    a = np.asarray(a)
+    if a.ndim == 2 and a.shape[1] < 3:
+        out = np.zeros((a.shape[0], 3), dtype=a.dtype)
+        out[:, : a.shape[1]] = a
+        return out
+    return a
 
 
 def _table_to_dataset(tab: Any):
@@ -145,9 +162,10 @@ class Fields:
 
     def to_pyvista(self, frame: int | str | None = None):
         """The mesh as a ``pyvista.UnstructuredGrid`` with one frame's arrays (by index or
-        file name; the point array ``displacement`` as a 3-vector, for ``warp_by_vector``),
-        or with ``frame=None`` a ``pyvista.MultiBlock`` of every frame. Needs PyVista
-        (``pip install pyvista``)."""
+        file name; the point array ``displacement`` and every 2-component vector, such as
+        ``velocity``, as 3-vectors with a zero third component, VTK's convention, for
+        glyphs and ``warp_by_vector``), or with ``frame=None`` a ``pyvista.MultiBlock`` of
+        every frame. Needs PyVista (``pip install pyvista``, or ``softway[pyvista]``)."""
         try:
             import pyvista as pv
         except ImportError as e:  # pragma: no cover - depends on the environment
@@ -177,13 +195,11 @@ class Fields:
             cells, np.full(self.cells.shape[0], vtk_type, dtype=np.uint8), pts
         )
         if fr.displacement is not None:
-            d = np.zeros_like(pts)
-            d[:, : fr.displacement.shape[1]] = fr.displacement
-            grid.point_data["displacement"] = d
+            grid.point_data["displacement"] = _vtk_array(fr.displacement)
         for k, v in fr.point_data.items():
-            grid.point_data[k] = v
+            grid.point_data[k] = _vtk_array(v)
         for k, v in fr.cell_data.items():
-            grid.cell_data[k] = v
+            grid.cell_data[k] = _vtk_array(v)
         return grid
 
 
@@ -206,12 +222,22 @@ class Result:
         fields: the fields on the mesh (:class:`Fields`: numpy arrays, ``to_pyvista()``).
         interrupted: True when the run was stopped (Ctrl-C) before its end: the results
             hold the steps computed.
-        warnings: the run's warnings.
+        warnings: the run's warnings (also emitted by :func:`softway.run` as
+            :class:`softway.SoftwayWarning`).
         lines: the command line's screen summary.
+
+    A Result pickles (``client.map(softway.run, ...)`` on Dask, a process pool, joblib):
+    the summary, the tables, the fields, the lines and the warnings go with it, as they are
+    (an array changed in place stays changed). :meth:`save` needs the engine's results,
+    which stay in the process that ran it: save where the run ran (e.g. a task that runs
+    and saves), or write the tables from the copy (``history.to_pandas().to_csv(...)``).
     """
 
+    #: The tables a pickle carries (the cached properties below).
+    _TABLES = ("history", "contact_nodes", "traction_history", "rim_profile")
+
     def __init__(self, native: Any):
-        self._native = native
+        self._native: Any = native
         self.kind: str = native.kind
         self.summary: dict = json.loads(native.summary_json)
         self.interrupted: bool = native.interrupted
@@ -260,7 +286,27 @@ class Result:
         rules: the folder is written whole (or not at all) and marked as softway's; a
         folder of other files is refused (``RunError``) unless ``force=True``; the current
         and the home folder are never replaced. Returns the paths."""
+        if self._native is None:
+            raise _native.RunError(
+                "this Result was unpickled (sent from the process that ran it): save() "
+                "writes the engine's results, which stay in that process; call save() "
+                "there (a task that runs and saves), or write the tables from this copy "
+                "(e.g. r.history.to_pandas().to_csv(...))"
+            )
         return [Path(p) for p in self._native.save(os.fspath(folder), force)]
+
+    def __getstate__(self) -> dict[str, Any]:
+        """What a pickle carries: every attribute and table (built now if not yet), the
+        fields; not the engine's results (see :meth:`save`)."""
+        state = {k: v for k, v in self.__dict__.items() if k != "_native"}
+        for name in self._TABLES:
+            state[name] = getattr(self, name)
+        state["_fields"] = self.fields
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._native = None
 
     def __repr__(self) -> str:
         state = ", interrupted" if self.interrupted else ""

@@ -112,8 +112,33 @@ def _points(grid: Mapping[str, Iterable[Any]], mode: str) -> tuple[list[dict], d
     return pts, values
 
 
+def _need(module: str, extra: str, what: str):
+    """``module`` imported, or an ImportError naming the extra that installs it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        raise ImportError(
+            f"{what} needs {module.split('.')[0]}, an optional dependency: "
+            f"pip install 'softway[{extra}]'"
+        ) from e
+
+
+def need_netcdf(what: str) -> None:
+    """An ImportError naming ``softway[netcdf]`` unless netCDF4 (xarray's NetCDF-4 engine)
+    is installed; checked before any point runs."""
+    _need("netCDF4", "netcdf", what)
+
+
 def _default_cluster(n_points: int):
-    from dask.distributed import Client, LocalCluster
+    distributed = _need(
+        "dask.distributed",
+        "dask",
+        "the default executor (a local Dask cluster; or pass executor='serial' or a "
+        "concurrent.futures executor)",
+    )
+    Client, LocalCluster = distributed.Client, distributed.LocalCluster
 
     cores = os.cpu_count() or 1
     cluster = LocalCluster(
@@ -143,8 +168,8 @@ def sweep(
         executor: where the points run: any ``concurrent.futures.Executor`` (a Dask
             cluster's ``client.get_executor()``, a ``ProcessPoolExecutor``, ...); None (the
             default): a ``dask.distributed.LocalCluster`` of processes with one thread
-            each, as many as the points or the cores, closed at the end; ``"serial"``: one
-            point after another in this process.
+            each, as many as the points or the cores, closed at the end (needs
+            ``softway[dask]``); ``"serial"``: one point after another in this process.
         mode: ``"product"`` (every combination; one dimension per key) or ``"zip"`` (the
             lists side by side; one dimension ``point``).
         histories: history columns to gather per point (e.g. ``["contact_force_N"]``), over
@@ -152,7 +177,8 @@ def sweep(
             ``history_time``.
         out: a folder: each point's files (the command line's, and ``point.nc`` with the
             whole history and the fields) in ``out/<key>=<value>/``, written by the worker
-            that ran it, and the gathered Dataset as ``out/sweep.nc``.
+            that ran it, and the gathered Dataset as ``out/sweep.nc`` (NetCDF: needs
+            ``softway[netcdf]``).
         progress: a tqdm.auto bar over the points.
 
     Returns:
@@ -178,6 +204,7 @@ def sweep(
             toml_literal(v)
     out_dir = None if out is None else Path(out)
     if out_dir is not None:
+        need_netcdf("sweep(out=...) (sweep.nc, point.nc)")
         out_dir.mkdir(parents=True, exist_ok=True)
     folders = [None if out_dir is None else str(out_dir / _point_dir(p)) for p in pts]
     hist = tuple(histories)

@@ -7,13 +7,14 @@
 //! handle its signals: a KeyboardInterrupt cancels the run's token ([`Cancel`]), which stops
 //! it at its next step with what it has computed. The tables and fields cross as raw
 //! little-endian `f64` bytes that the Python side views as numpy arrays (no copy of the
-//! numbers beyond one into `bytes`). A growth study ([`softway::run::grow::grow`], the
-//! command line's `softway grow`) runs the same way, its passes reported as they finish.
+//! numbers beyond one into a `bytearray`: writable arrays, owned by Python). A growth study
+//! ([`softway::run::grow::grow`], the command line's `softway grow`) runs the same way, its
+//! passes reported as they finish.
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict, PyList};
+use pyo3::types::{PyByteArray, PyDict, PyList};
 use softway::build::resolve;
 use softway::growth::{report, spectrum, GrowthConfig, PassLine, StudyState};
 use softway::mesh::Cells;
@@ -38,9 +39,12 @@ create_exception!(
     "A run that failed: a model that cannot be built, a run stopped by the divergence guard, an output not written."
 );
 
-/// The dotted key an error names: the validation's own, or for the parser's errors the
-/// field it names (`unknown field `x``) or the key of the line it stopped at.
-fn error_key(e: &ScError) -> Option<String> {
+/// The dotted key an error names (`bar.length`, `runs[1].h`): the validation's own; for the
+/// parser's errors (`text` the scenario's text) the key at the line and column the message
+/// gives, found in the parsed document (with the table of a `[table]` or `[[runs]]` header,
+/// the index of an array's entry, the keys of an inline table), then the field the message
+/// names (`missing field `f`` at a table's header); without a position, the field named.
+fn error_key(e: &ScError, text: Option<&str>) -> Option<String> {
     match e {
         ScError::Invalid { key, .. } | ScError::Missing { key, .. } => Some(key.clone()),
         ScError::Parse { message, .. } => {
@@ -49,27 +53,109 @@ fn error_key(e: &ScError) -> Option<String> {
                 let j = s[i..].find('`')?;
                 Some(s[i..i + j].to_string())
             };
-            // A table's missing key: `missing field `f`` at the table's header `[t]`.
-            let missing = between(message, "missing field `").map(|f| {
-                match between(message, "(`[").and_then(|t| t.strip_suffix(']').map(String::from)) {
-                    Some(t) => format!("{t}.{f}"),
-                    None => f,
-                }
-            });
-            missing
+            let missing = between(message, "missing field `");
+            if let Some(at) = text.and_then(|t| key_at(t, message)) {
+                return Some(match missing {
+                    Some(f) if !at.ends_with(&format!(".{f}")) && at != f => format!("{at}.{f}"),
+                    _ => at,
+                });
+            }
+            // Without a position: the table a message starts with (`[growth]: ...`), then
+            // the field it names, or the key of the line it stopped at.
+            let table = message
+                .strip_prefix('[')
+                .and_then(|m| m.split_once("]: "))
+                .map(|(t, _)| t.to_string());
+            let field = missing
+                .map(|f| {
+                    match between(message, "(`[")
+                        .and_then(|t| t.strip_suffix(']').map(String::from))
+                    {
+                        Some(t) => format!("{t}.{f}"),
+                        None => f,
+                    }
+                })
                 .or_else(|| between(message, "unknown field `"))
                 .or_else(|| {
                     between(message, "(`")
                         .and_then(|l| l.split('=').next().map(|k| k.trim().to_string()))
                         .filter(|k| !k.is_empty())
-                })
+                })?;
+            Some(match table {
+                Some(t) => format!("{t}.{field}"),
+                None => field,
+            })
         }
         ScError::Io { .. } => None,
     }
 }
 
-fn scenario_error(e: ScError) -> PyErr {
-    let key = error_key(&e);
+/// The dotted key of the scenario text `text` at the `line L, column C` a parser's message
+/// gives: the deepest key (or table header, or array entry) whose span holds that byte.
+fn key_at(text: &str, message: &str) -> Option<String> {
+    use toml::de::{DeTable, DeValue};
+    let rest = &message[message.find("line ")? + "line ".len()..];
+    let (line, rest) = rest.split_once(", column ")?;
+    let line: usize = line.parse().ok()?;
+    let column: usize = rest
+        .split(|c: char| !c.is_ascii_digit())
+        .next()?
+        .parse()
+        .ok()?;
+    let start: usize = text
+        .split('\n')
+        .take(line.checked_sub(1)?)
+        .map(|l| l.len() + 1)
+        .sum();
+    let pos = start + column.checked_sub(1)?;
+    let doc = DeTable::parse(text).ok()?;
+    fn walk(
+        t: &DeTable<'_>,
+        prefix: &str,
+        depth: usize,
+        pos: usize,
+        best: &mut Option<(usize, String)>,
+    ) {
+        fn found(best: &mut Option<(usize, String)>, depth: usize, path: &str) {
+            if best.as_ref().is_none_or(|(d, _)| depth > *d) {
+                *best = Some((depth, path.to_string()));
+            }
+        }
+        for (k, v) in t.iter() {
+            let path = if prefix.is_empty() {
+                k.get_ref().to_string()
+            } else {
+                format!("{prefix}.{}", k.get_ref())
+            };
+            if k.span().contains(&pos) || v.span().contains(&pos) {
+                found(best, depth, &path);
+            }
+            match v.get_ref() {
+                DeValue::Table(t) => walk(t, &path, depth + 1, pos, best),
+                DeValue::Array(a) => {
+                    for (i, e) in a.iter().enumerate() {
+                        let entry = format!("{path}[{i}]");
+                        if e.span().contains(&pos) {
+                            found(best, depth + 1, &entry);
+                        }
+                        if let DeValue::Table(t) = e.get_ref() {
+                            walk(t, &entry, depth + 2, pos, best);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut best = None;
+    walk(doc.get_ref(), "", 0, pos, &mut best);
+    best.map(|(_, k)| k)
+}
+
+/// The Python exception of `e`, its `key` the dotted key at fault (`text`: the scenario's
+/// text, for the position of a parser's error).
+fn scenario_error(e: ScError, text: Option<&str>) -> PyErr {
+    let key = error_key(&e, text);
     let err = ScenarioError::new_err(e.to_string());
     Python::with_gil(|py| {
         let _ = err.value(py).setattr("key", key);
@@ -82,7 +168,7 @@ fn scenario_error(e: ScError) -> PyErr {
 fn build(text: &str, path: &str) -> PyResult<Scenario> {
     Scenario::from_str(text, Path::new(path))
         .and_then(|sc| resolve(&sc))
-        .map_err(scenario_error)
+        .map_err(|e| scenario_error(e, Some(text)))
 }
 
 /// Validates a scenario: returns its name, kind, warnings, default sweep, SHA-256 and runs'
@@ -109,7 +195,10 @@ fn check<'py>(py: Python<'py>, text: &str, path: &str) -> PyResult<Bound<'py, Py
 /// ScenarioError (a file that cannot be read: missing, a folder, a pipe, not UTF-8).
 #[pyfunction]
 fn check_file(path: PathBuf) -> PyResult<()> {
-    Scenario::from_file(&path).map_err(scenario_error)?;
+    Scenario::from_file(&path).map_err(|e| {
+        let text = std::fs::read_to_string(&path).ok();
+        scenario_error(e, text.as_deref())
+    })?;
     Ok(())
 }
 
@@ -186,13 +275,14 @@ fn json_to_toml(json: &str) -> PyResult<String> {
 #[pyclass(module = "softway._native", frozen)]
 struct NativeResults(Results);
 
-/// A little-endian copy of `v` as Python bytes.
-fn f64_bytes<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyBytes> {
+/// A little-endian copy of `v` as a Python bytearray (numpy views it as a writable array:
+/// the one copy of the numbers, owned by Python).
+fn f64_bytes<'py>(py: Python<'py>, v: &[f64]) -> Bound<'py, PyByteArray> {
     let mut b = Vec::with_capacity(v.len() * 8);
     for x in v {
         b.extend_from_slice(&x.to_le_bytes());
     }
-    PyBytes::new(py, &b)
+    PyByteArray::new(py, &b)
 }
 
 /// A table as `(key, columns)`: `key` None or `(name, labels, codes)`, `columns` a list of
@@ -276,11 +366,12 @@ impl NativeResults {
                 f64_bytes(py, &flat),
             )
         });
-        let arrays = |a: &[softway::run::FieldArray]| -> Vec<(String, usize, Bound<'_, PyBytes>)> {
-            a.iter()
-                .map(|x| (x.name.clone(), x.components, f64_bytes(py, &x.values)))
-                .collect()
-        };
+        let arrays =
+            |a: &[softway::run::FieldArray]| -> Vec<(String, usize, Bound<'_, PyByteArray>)> {
+                a.iter()
+                    .map(|x| (x.name.clone(), x.components, f64_bytes(py, &x.values)))
+                    .collect()
+            };
         let frames: Vec<_> = f
             .frames
             .iter()
@@ -568,7 +659,7 @@ impl NativeGrowth {
 
     /// The polygon orders' amplitudes of every profile (`orders.csv`'s; periodic profiles):
     /// `(passes + 1) x orders` values, m (empty bytes for an open profile).
-    fn orders<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+    fn orders<'py>(&self, py: Python<'py>) -> Bound<'py, PyByteArray> {
         let st = &self.state;
         let a: Vec<f64> = if st.periodic {
             st.profiles()

@@ -12,6 +12,7 @@ import _thread
 import csv
 import json
 import math
+import re
 import time
 from pathlib import Path
 
@@ -218,3 +219,26 @@ def test_grow_progress_bar_counts_passes(tmp_path, capsys):
     assert "pass" in err and "100%" in err, err
     help_text = softway.grow.__doc__
     assert "resume" in help_text and "GrowthInterrupted" in help_text
+
+
+def test_issue_48_a_growth_result_pickles(study, tmp_path):
+    """A GrowthResult sent between processes (a pool, Dask) keeps its numbers; save()
+    needs the engine's state, left in the process that ran: said, naming the study's
+    folder, whose checkpoint a resumed study reads."""
+    import pickle
+
+    _, r = study
+    copy = pickle.loads(pickle.dumps(r))
+    assert copy.summary == r.summary and copy.lines == r.lines
+    assert copy.out == r.out and copy.files == r.files and copy.passes_run == r.passes_run
+    np.testing.assert_array_equal(copy.profiles, r.profiles)
+    for a, b in zip(copy.profile, r.profile):
+        np.testing.assert_array_equal(a, b)
+    xr.testing.assert_identical(copy.passes, r.passes)
+    xr.testing.assert_identical(copy.bands, r.bands)
+    xr.testing.assert_identical(copy.orders, r.orders)
+    assert copy.profiles.flags.writeable
+    e = pickle.loads(pickle.dumps(softway.GrowthInterrupted(r)))
+    assert isinstance(e, softway.GrowthInterrupted) and e.result.summary == r.summary
+    with pytest.raises(softway.RunError, match="unpickled.*" + re.escape(str(r.out))):
+        copy.save(tmp_path / "again")
