@@ -410,16 +410,56 @@ fn plot_all(
     s: &GrowthSummary,
     f: &Figures,
 ) -> Result<Vec<PathBuf>, GrowthError> {
-    let mut files = Vec::new();
-    let png = |name: &str| out.join(name);
     let lam_mm: Vec<f64> = f.bands.iter().map(|b| b.centre * 1e3).collect();
     let held = held_bands(f);
-    // A band's level where it holds one, else a gap (issue 48: an empty band at -285 dB
-    // set the axis and drew every real curve as a flat line).
+    let inputs = FigureInputs {
+        out,
+        state,
+        s,
+        f,
+        lam_mm: &lam_mm,
+        held: &held,
+    };
+    let mut files = Vec::new();
+    for figure in [spectrum_png, growth_rate_png, profile_png, orders_png] {
+        files.extend(figure(&inputs)?);
+    }
+    Ok(files)
+}
+
+/// What each of the study's figures is drawn from.
+#[derive(Clone, Copy)]
+struct FigureInputs<'a> {
+    /// The study's folder.
+    out: &'a Path,
+    /// The study.
+    state: &'a StudyState,
+    /// Its summary.
+    s: &'a GrowthSummary,
+    /// Its bands' and orders' figures.
+    f: &'a Figures,
+    /// The bands' centre wavelengths, mm.
+    lam_mm: &'a [f64],
+    /// Whether each band holds a level ([`held_bands`]).
+    held: &'a [bool],
+}
+
+/// `spectrum.png` (its section's comment).
+fn spectrum_png(figure: &FigureInputs) -> Result<Vec<PathBuf>, GrowthError> {
+    let FigureInputs {
+        out,
+        s,
+        f,
+        lam_mm,
+        held,
+        ..
+    } = *figure;
+    let mut files = Vec::new();
+    let png = |name: &str| out.join(name);
     let level = |q: usize| -> Vec<f64> {
         f.levels[q]
             .iter()
-            .zip(&held)
+            .zip(held)
             .map(|(&l, &h)| if h { l } else { f64::NAN })
             .collect()
     };
@@ -458,13 +498,13 @@ fn plot_all(
         );
         pd.series.push(Series::new(
             label.clone(),
-            lam_mm.clone(),
+            lam_mm.to_vec(),
             l.iter().zip(&initial).map(|(a, b)| a - b).collect(),
             SeriesStyle::LineMarkers,
         ));
         p.series.push(Series::new(
             label,
-            lam_mm.clone(),
+            lam_mm.to_vec(),
             l,
             SeriesStyle::LineMarkers,
         ));
@@ -498,6 +538,14 @@ fn plot_all(
     let path = png("spectrum.png");
     panels(&path, &[p, pd], 2, 1, (1200, 1000)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
+    Ok(files)
+}
+
+/// `growth_rate.png`, when a rate is finite.
+fn growth_rate_png(figure: &FigureInputs) -> Result<Vec<PathBuf>, GrowthError> {
+    let FigureInputs { out, s, lam_mm, .. } = *figure;
+    let mut files = Vec::new();
+    let png = |name: &str| out.join(name);
     // growth_rate.png: the rate per band (and per order) against wavelength, when there is
     // one (a study from a smooth surface, `roughness = "none"`, has no level to grow from
     // until its profile has one: its rates are not finite).
@@ -609,6 +657,14 @@ fn plot_all(
         line_plot(&path, &p, (1200, 700)).map_err(|e| GrowthError::output(&path, e))?;
         files.push(path);
     }
+    Ok(files)
+}
+
+/// `profile.png`.
+fn profile_png(figure: &FigureInputs) -> Result<Vec<PathBuf>, GrowthError> {
+    let FigureInputs { out, state, s, .. } = *figure;
+    let mut files = Vec::new();
+    let png = |name: &str| out.join(name);
     // profile.png: the initial and the current profile, and under them what changed: the
     // change since the initial profile and the last pass's wear step (issue 48: the README
     // promised the wear, the figure did not draw it).
@@ -682,6 +738,14 @@ fn plot_all(
     let path = png("profile.png");
     panels(&path, &[p, pw], 2, 1, (1200, 900)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
+    Ok(files)
+}
+
+/// `orders.png`, when an order's rate is finite.
+fn orders_png(figure: &FigureInputs) -> Result<Vec<PathBuf>, GrowthError> {
+    let FigureInputs { out, s, .. } = *figure;
+    let mut files = Vec::new();
+    let png = |name: &str| out.join(name);
     // orders.png
     let finite_order = s
         .orders
