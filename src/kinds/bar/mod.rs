@@ -60,6 +60,23 @@ fn elements(cx: &Ctx, key: &str, v: Option<i64>) -> Result<usize, ScenarioError>
     v.map_or(Ok(0), |e| cx.count(key, e, 1_000_000))
 }
 
+/// The bar of table `table` (`[bar]` or `[two_bars]`), each value checked under its key
+/// (`damping` 0 when not given).
+fn bar_of(input: &KindInput, table: &str, b: &RawBar) -> Result<BarImpact, ScenarioError> {
+    let cx = input.cx;
+    let key = |k: &str| format!("{table}.{k}");
+    Ok(BarImpact {
+        lumped: lumped(input, &key("mass"), b.mass.as_deref())?,
+        length: cx.positive(&key("length"), b.length)?,
+        ea: cx.positive(&key("ea"), b.ea)?,
+        rho_a: cx.positive(&key("rho_a"), b.rho_a)?,
+        speed: cx.positive(&key("speed"), b.speed)?,
+        gap: cx.non_negative(&key("gap"), b.gap)?,
+        elements: elements(cx, &key("elements"), b.elements)?,
+        damping: cx.non_negative(&key("damping"), b.damping.unwrap_or(0.0))?,
+    })
+}
+
 impl Kind for BarImpactKind {
     fn name(&self) -> &'static str {
         "bar_impact"
@@ -75,17 +92,7 @@ impl Kind for BarImpactKind {
             .tables::<BarTables>()?
             .bar
             .ok_or_else(|| cx.missing("bar", "kind = \"bar_impact\" needs a [bar] table"))?;
-        let lumped = lumped(input, "bar.mass", b.mass.as_deref())?;
-        Ok(Model::new(BarImpact {
-            length: cx.positive("bar.length", b.length)?,
-            ea: cx.positive("bar.ea", b.ea)?,
-            rho_a: cx.positive("bar.rho_a", b.rho_a)?,
-            speed: cx.positive("bar.speed", b.speed)?,
-            gap: cx.non_negative("bar.gap", b.gap)?,
-            elements: elements(cx, "bar.elements", b.elements)?,
-            lumped,
-            damping: cx.non_negative("bar.damping", b.damping.unwrap_or(0.0))?,
-        }))
+        Ok(Model::new(bar_of(input, "bar", &b)?))
     }
 }
 
@@ -110,15 +117,15 @@ impl Kind for TwoBarsKind {
                 "the two-bars case has no external damping",
             ));
         }
-        let lumped = lumped(input, "two_bars.mass", b.mass.as_deref())?;
+        let a = bar_of(input, "two_bars", &b)?;
         Ok(Model::new(TwoBars {
-            length: cx.positive("two_bars.length", b.length)?,
-            ea: cx.positive("two_bars.ea", b.ea)?,
-            rho_a: cx.positive("two_bars.rho_a", b.rho_a)?,
-            speed: cx.positive("two_bars.speed", b.speed)?,
-            gap: cx.non_negative("two_bars.gap", b.gap)?,
-            elements: elements(cx, "two_bars.elements", b.elements)?,
-            lumped,
+            length: a.length,
+            ea: a.ea,
+            rho_a: a.rho_a,
+            speed: a.speed,
+            gap: a.gap,
+            elements: a.elements,
+            lumped: a.lumped,
         }))
     }
 }
