@@ -118,8 +118,8 @@ class FieldFrame:
 
 class Fields:
     """The fields of a run on its mesh, as numpy arrays: ``points`` (reference coordinates,
-    m, ``(nodes, dim)``), ``cells`` (node indices, ``(cells, 3)`` triangles or ``(cells,
-    2)`` bars), ``frames`` (:class:`FieldFrame`). Empty (``points`` None) for a run with no
+    m, ``(nodes, dim)``), ``cells`` (node indices, ``(cells, nodes per cell)``
+    in VTK's node order: ``cell_type`` "line", "triangle", "tetra", "tetra10" or "hexahedron"), ``frames`` (:class:`FieldFrame`). Empty (``points`` None) for a run with no
     fields."""
 
     def __init__(self, native: Any):
@@ -186,7 +186,9 @@ class Fields:
             fr = matches[0]
         else:
             fr = self.frames[frame]
-        vtk_type = {"triangle": 5, "line": 3}[self.cell_type]
+        vtk_type = {"line": 3, "triangle": 5, "tetra": 10, "tetra10": 24, "hexahedron": 12}[
+            self.cell_type
+        ]
         per = self.cells.shape[1]
         cells = np.hstack([np.full((self.cells.shape[0], 1), per), self.cells]).ravel()
         pts = np.zeros((self.points.shape[0], 3))

@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyDict, PyList};
 use softway::build::resolve;
 use softway::growth::{report, spectrum, GrowthConfig, PassLine, StudyState};
-use softway::mesh::Cells;
+use softway::mesh::CellKind;
 use softway::run::grow::GrowOptions;
 use softway::run::{Cancel, Columns, Par, ProgressWatch, Results, RunOptions};
 use softway::scenario::overrides::{apply, Override};
@@ -350,14 +350,23 @@ impl NativeResults {
     fn fields(&self, py: Python<'_>) -> PyResult<PyObject> {
         let f = &self.0.fields;
         let mesh = f.mesh.as_ref().map(|m| {
-            let (kind, per, flat): (&str, usize, Vec<f64>) = match &m.cells {
-                Cells::Bar2(c) => ("line", 2, c.iter().flatten().map(|&i| i as f64).collect()),
-                Cells::Tri3(c) => (
-                    "triangle",
-                    3,
-                    c.iter().flatten().map(|&i| i as f64).collect(),
-                ),
+            // meshio's and pyvista's names of the cells (VTK's node order: the core's
+            // `CellKind::vtk_order`).
+            let k = m.cells.kind();
+            let kind = match k {
+                CellKind::Bar2 => "line",
+                CellKind::Tri3 => "triangle",
+                CellKind::Tet4 => "tetra",
+                CellKind::Tet10 => "tetra10",
+                CellKind::Hex8 => "hexahedron",
             };
+            let per = k.nodes();
+            let flat: Vec<f64> = m
+                .cells
+                .connectivity()
+                .chunks_exact(per)
+                .flat_map(|c| k.vtk_order().iter().map(|&j| c[j] as f64))
+                .collect();
             (
                 m.dim,
                 f64_bytes(py, &m.coords),

@@ -208,7 +208,7 @@ impl Body {
                 .iter()
                 .map(|&[a, b]| section.phi(theory, self.mesh.point(b)[0] - self.mesh.point(a)[0]))
                 .collect(),
-            Cells::Tri3(_) => Vec::new(),
+            _ => Vec::new(),
         }
     }
 }

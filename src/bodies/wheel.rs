@@ -221,20 +221,13 @@ pub fn doubled(mesh: &Mesh) -> Mesh {
     let n = mesh.n_nodes();
     let mut coords = mesh.coords.clone();
     coords.extend_from_slice(&mesh.coords);
-    let cells = match &mesh.cells {
-        Cells::Bar2(c) => Cells::Bar2(
-            c.iter()
-                .copied()
-                .chain(c.iter().map(|e| e.map(|i| i + n)))
-                .collect(),
-        ),
-        Cells::Tri3(c) => Cells::Tri3(
-            c.iter()
-                .copied()
-                .chain(c.iter().map(|e| e.map(|i| i + n)))
-                .collect(),
-        ),
-    };
+    let one = mesh.cells.connectivity();
+    let flat: Vec<usize> = one
+        .iter()
+        .copied()
+        .chain(one.iter().map(|i| i + n))
+        .collect();
+    let cells = Cells::from_flat(mesh.cells.kind(), &flat);
     let node_sets = mesh
         .node_sets
         .iter()

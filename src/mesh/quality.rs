@@ -27,7 +27,7 @@
 
 use std::collections::HashMap;
 
-use super::{Cells, Mesh};
+use super::{CellKind, Cells, Mesh};
 
 /// Relative tolerance of the symmetry test (of the largest distance from the origin).
 pub const SYMMETRY_TOL: f64 = 1e-9;
@@ -51,12 +51,19 @@ pub struct MeshQuality {
     pub max_aspect: f64,
     /// Mean aspect ratio over the triangles (NaN without triangles).
     pub mean_aspect: f64,
-    /// Triangles of negative area (clockwise), degenerate ones excepted.
+    /// Triangles of negative area (clockwise), degenerate ones excepted; solid cells with a
+    /// negative corner Jacobian (a tetrahedron's volume, a hexahedron's at any corner).
     pub inverted: usize,
-    /// Triangles of zero area: `|A| <= 1e-12 L^2` ([`DEGENERATE_TOL`]).
+    /// Triangles of zero area: `|A| <= 1e-12 L^2` ([`DEGENERATE_TOL`]); solid cells with a
+    /// corner Jacobian `|J| <= 1e-12 L^3`.
     pub degenerate: usize,
     /// Sum of the signed triangle areas, m^2.
     pub area: f64,
+    /// Number of solid cells (tetrahedra, hexahedra; 0 below 3D).
+    pub solids: usize,
+    /// Sum of the solid cells' signed volumes, m^3 (NaN without solid cells): a tetrahedron's
+    /// by its corners, a hexahedron's by 2 x 2 x 2 Gauss points (exact for the trilinear map).
+    pub volume: f64,
     /// Edges of exactly one triangle.
     pub boundary_edges: usize,
     /// Edges of more than two triangles.
@@ -167,7 +174,7 @@ fn symmetry_order(xy: &[f64], rim: usize) -> usize {
 pub fn quality(mesh: &Mesh) -> MeshQuality {
     let tris: &[[usize; 3]] = match &mesh.cells {
         Cells::Tri3(t) => t,
-        Cells::Bar2(_) => &[],
+        _ => &[],
     };
     let mut q = MeshQuality {
         nodes: mesh.n_nodes(),
@@ -179,6 +186,8 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
         inverted: 0,
         degenerate: 0,
         area: 0.0,
+        solids: 0,
+        volume: f64::NAN,
         boundary_edges: 0,
         non_manifold_edges: 0,
         rim_nodes: 0,
@@ -209,6 +218,9 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
     if !tris.is_empty() {
         q.mean_aspect = aspect_sum / tris.len() as f64;
     }
+    if mesh.cells.kind().dim() == 3 && mesh.dim == 3 {
+        solid_measures(mesh, &mut q);
+    }
     let mut boundary_nodes = std::collections::BTreeSet::new();
     for (&(a, b), &count) in &edges {
         if count == 1 {
@@ -230,6 +242,104 @@ pub fn quality(mesh: &Mesh) -> MeshQuality {
         .collect();
     q.symmetry_order = symmetry_order(&planar, q.rim_nodes);
     q
+}
+
+/// `det [a b c]` of three 3-vectors.
+fn det3(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+/// The corner Jacobians, the volume and the longest edge of the solid cells of a 3D mesh
+/// into `q` ([`MeshQuality::solids`], [`MeshQuality::volume`], `inverted`, `degenerate`).
+fn solid_measures(mesh: &Mesh, q: &mut MeshQuality) {
+    let kind = mesh.cells.kind();
+    let x = |i: usize| -> [f64; 3] {
+        let p = mesh.point(i);
+        [p[0], p[1], p[2]]
+    };
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    // A hexahedron's corner k, its three neighbours along +xi, +eta, +zeta in its own frame.
+    const HEX_CORNERS: [[usize; 4]; 8] = [
+        [0, 1, 3, 4],
+        [1, 2, 0, 5],
+        [2, 3, 1, 6],
+        [3, 0, 2, 7],
+        [4, 7, 5, 0],
+        [5, 4, 6, 1],
+        [6, 5, 7, 2],
+        [7, 6, 4, 3],
+    ];
+    q.volume = 0.0;
+    for c in mesh.cells.connectivity().chunks_exact(kind.nodes()) {
+        let (corner_dets, volume, longest): (Vec<f64>, f64, f64) = if kind == CellKind::Hex8 {
+            let dets = HEX_CORNERS
+                .iter()
+                .map(|&[o, a, b, d]| {
+                    let o = x(c[o]);
+                    det3(sub(x(c[a]), o), sub(x(c[b]), o), sub(x(c[d]), o))
+                })
+                .collect();
+            let longest = (0..8)
+                .flat_map(|i| (0..8).map(move |j| (i, j)))
+                .map(|(i, j)| len(sub(x(c[i]), x(c[j]))))
+                .fold(0.0, f64::max);
+            (dets, hex_volume(c, &x), longest)
+        } else {
+            let o = x(c[0]);
+            let d = det3(sub(x(c[1]), o), sub(x(c[2]), o), sub(x(c[3]), o));
+            let longest = (0..4)
+                .flat_map(|i| (0..4).map(move |j| (i, j)))
+                .map(|(i, j)| len(sub(x(c[i]), x(c[j]))))
+                .fold(0.0, f64::max);
+            (vec![d], d / 6.0, longest)
+        };
+        q.solids += 1;
+        q.volume += volume;
+        let floor = DEGENERATE_TOL * longest.powi(3);
+        if corner_dets.iter().any(|d| d.abs() <= floor) {
+            q.degenerate += 1;
+        } else if corner_dets.iter().any(|&d| d < 0.0) {
+            q.inverted += 1;
+        }
+    }
+}
+
+/// The volume of the trilinear hexahedron `c` by 2 x 2 x 2 Gauss points.
+fn hex_volume(c: &[usize], x: &impl Fn(usize) -> [f64; 3]) -> f64 {
+    const SIGNS: [[f64; 3]; 8] = [
+        [-1.0, -1.0, -1.0],
+        [1.0, -1.0, -1.0],
+        [1.0, 1.0, -1.0],
+        [-1.0, 1.0, -1.0],
+        [-1.0, -1.0, 1.0],
+        [1.0, -1.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+    ];
+    let g = 1.0 / 3.0_f64.sqrt();
+    let mut volume = 0.0;
+    for p in SIGNS {
+        let r = [g * p[0], g * p[1], g * p[2]];
+        let mut jac = [[0.0; 3]; 3];
+        for (k, s) in SIGNS.iter().enumerate() {
+            let xk = x(c[k]);
+            for a in 0..3 {
+                let mut dn = s[a] / 8.0;
+                for b in 0..3 {
+                    if b != a {
+                        dn *= 1.0 + s[b] * r[b];
+                    }
+                }
+                for (i, xi) in xk.iter().enumerate() {
+                    jac[a][i] += dn * xi;
+                }
+            }
+        }
+        volume += det3(jac[0], jac[1], jac[2]);
+    }
+    volume
 }
 
 #[cfg(test)]

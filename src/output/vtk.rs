@@ -19,7 +19,7 @@ use vtkio::model::{
     ElementType, IOBuffer, UnstructuredGridPiece, Version, VertexNumbers, Vtk,
 };
 
-use crate::mesh::{Cells, Mesh};
+use crate::mesh::{CellKind, Mesh};
 
 /// A named field of nodal or cell values to write.
 #[derive(Debug, Clone, Copy)]
@@ -120,7 +120,8 @@ pub enum VtkError {
 
 /// Writes `mesh` and its fields as an XML unstructured grid (`.vtu`) for ParaView.
 ///
-/// Cells are VTK lines (1D bars) or triangles. `displacement`, when given, holds `mesh.dim`
+/// Cells are VTK lines (1D bars), triangles (2D), tetrahedra (linear or quadratic) or
+/// hexahedra (3D), by [`CellKind`]. `displacement`, when given, holds `mesh.dim`
 /// values per node (node-major, as [`Mesh::reference_positions`]) and is written as the
 /// point vector field `"displacement"` (padded to 3 components); the points themselves stay
 /// at their reference positions (use ParaView's "Warp By Vector" to deform). Point fields
@@ -154,6 +155,17 @@ pub fn write_vtu(
     })
 }
 
+/// VTK's type of a cell kind.
+fn vtk_cell_type(kind: CellKind) -> CellType {
+    match kind {
+        CellKind::Bar2 => CellType::Line,
+        CellKind::Tri3 => CellType::Triangle,
+        CellKind::Tet4 => CellType::Tetra,
+        CellKind::Tet10 => CellType::QuadraticTetra,
+        CellKind::Hex8 => CellType::Hexahedron,
+    }
+}
+
 /// Checks the input and builds the vtkio model.
 fn build_vtu(
     path: &Path,
@@ -167,30 +179,22 @@ fn build_vtu(
         message,
     };
     let n_cells = mesh.cells.len();
-    let (nodes_per_cell, cell_type, flat): (usize, CellType, Vec<u64>) = match &mesh.cells {
-        Cells::Bar2(c) => (
-            2,
-            CellType::Line,
-            c.iter().flatten().map(|&i| i as u64).collect(),
-        ),
-        Cells::Tri3(c) => (
-            3,
-            CellType::Triangle,
-            c.iter().flatten().map(|&i| i as u64).collect(),
-        ),
-    };
-    match (&mesh.cells, mesh.dim) {
-        (Cells::Bar2(_), 1) | (Cells::Tri3(_), 2) => {}
-        (_, dim) => {
-            return Err(invalid(format!(
-                "dimension {dim} does not match its {} cells",
-                if nodes_per_cell == 2 {
-                    "bar"
-                } else {
-                    "triangle"
-                }
-            )))
-        }
+    let kind = mesh.cells.kind();
+    let nodes_per_cell = kind.nodes();
+    let cell_type = vtk_cell_type(kind);
+    // VTK's node order of each cell (Gmsh's but for the 10-node tetrahedron).
+    let flat: Vec<u64> = mesh
+        .cells
+        .connectivity()
+        .chunks_exact(nodes_per_cell)
+        .flat_map(|c| kind.vtk_order().iter().map(|&k| c[k] as u64))
+        .collect();
+    if kind.dim() != mesh.dim {
+        return Err(invalid(format!(
+            "dimension {} does not match its {}",
+            mesh.dim,
+            kind.describe()
+        )));
     }
     if mesh.coords.len() % mesh.dim != 0 {
         return Err(invalid(format!(
@@ -450,7 +454,7 @@ fn write_atomically(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::generators;
+    use crate::mesh::{generators, Cells};
     use std::collections::BTreeMap;
 
     /// A temporary directory removed on drop.
@@ -616,6 +620,46 @@ mod tests {
         assert_eq!(types, vec![CellType::Line; 4]);
         assert_eq!(point["displacement"].1[3..6], [0.1, 0.0, 0.0]);
         assert_eq!(cell["strain"].1, strain);
+    }
+
+    /// Solid meshes are written as VTK's tetrahedra and hexahedra; the 10-node
+    /// tetrahedron's mid-edge nodes in VTK's order (its edges 1-3 then 2-3, where Gmsh has
+    /// 2-3 then 1-3), checked against the nodes' places: VTK's node 8 is the middle of the
+    /// cell's corners 1 and 3.
+    #[test]
+    fn solid_meshes_round_trip_in_vtk_order() {
+        let dir = TempDir::new("solid");
+        for (kind, vtk, per) in [
+            (CellKind::Hex8, CellType::Hexahedron, 8),
+            (CellKind::Tet4, CellType::Tetra, 4),
+            (CellKind::Tet10, CellType::QuadraticTetra, 10),
+        ] {
+            let mesh = generators::box_mesh(kind, [0.3, 0.2, 0.1], [2, 1, 1]).unwrap();
+            let path = dir.0.join(format!("{kind:?}.vtu"));
+            let disp: Vec<f64> = (0..mesh.n_dofs()).map(|k| k as f64).collect();
+            write_vtu(&path, &mesh, Some(&disp), &[], &[]).unwrap();
+            let (points, conn, offsets, types, point, _) = read_back(&path);
+            assert_eq!(points, mesh.coords, "{kind:?}");
+            assert_eq!(types, vec![vtk; mesh.cells.len()]);
+            assert_eq!(
+                offsets.last().copied(),
+                Some((per * mesh.cells.len()) as u64)
+            );
+            assert_eq!(point["displacement"].1, disp);
+            for c in conn.chunks_exact(per) {
+                if kind == CellKind::Tet10 {
+                    let p = |k: usize| mesh.point(c[k] as usize);
+                    let (a, b, m) = (p(1), p(3), p(8));
+                    assert!((0..3).all(|d| (0.5 * (a[d] + b[d]) - m[d]).abs() < 1e-15));
+                }
+            }
+        }
+        // A 3D mesh of triangles is refused.
+        let mut flat = generators::rectangle(1.0, 1.0, 1, 1).unwrap();
+        flat.dim = 3;
+        flat.coords = vec![0.0; 12];
+        let e = write_vtu(&dir.0.join("x.vtu"), &flat, None, &[], &[]).unwrap_err();
+        assert!(e.to_string().contains("3-node triangles"), "{e}");
     }
 
     #[test]

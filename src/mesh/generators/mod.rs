@@ -5,6 +5,7 @@
 //! - [`disk_graded`]: a disk refined towards the rim, with a chosen number of rim nodes and
 //!   no rotational symmetry (the hexagonal disk's six-fold symmetry shows in rolling results).
 //! - [`rectangle`]: a structured triangle mesh of a rectangle.
+//! - [`box_mesh`]: a structured box of hexahedra or tetrahedra (linear or quadratic) in 3D.
 //!
 //! Every generator checks its arguments and returns a [`MeshError`] naming the offending
 //! parameter and the allowed range instead of panicking. All triangles are counter-clockwise
@@ -17,8 +18,10 @@ use super::{Cells, Mesh};
 use disk::signed_area;
 
 mod disk;
+mod solid;
 
 pub use disk::{disk_graded, DiskOptions};
+pub use solid::{box_mesh, quadratic_tetrahedra, tetrahedra};
 
 /// Largest number of nodes a generator will build (a guard against accidental huge meshes
 /// that would exhaust memory).
@@ -411,7 +414,7 @@ mod tests {
     fn tris(mesh: &Mesh) -> &[[usize; 3]] {
         match &mesh.cells {
             Cells::Tri3(t) => t,
-            Cells::Bar2(_) => panic!("expected triangles"),
+            _ => panic!("expected triangles"),
         }
     }
 

@@ -792,7 +792,7 @@ mod tests {
     fn tris(m: &Mesh) -> Vec<[usize; 3]> {
         match &m.cells {
             Cells::Tri3(t) => t.clone(),
-            Cells::Bar2(_) => panic!("expected triangles"),
+            _ => panic!("expected triangles"),
         }
     }
 
