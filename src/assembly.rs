@@ -177,6 +177,14 @@ pub enum AssemblyError {
         /// Dofs of the node.
         dofs: usize,
     },
+    /// Bodies of different dimensions joined in one model.
+    #[error("bodies of {first}D and {other}D cannot be joined in one model")]
+    MixedDimensions {
+        /// The first body's dimension.
+        first: usize,
+        /// Another body's.
+        other: usize,
+    },
     /// The elements of one family have different numbers of dofs.
     #[error("element {element} has {got} dofs, the family's first has {expected}")]
     MixedElementDofs {

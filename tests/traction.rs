@@ -291,7 +291,7 @@ fn friction_dissipates_at_every_pair_and_step_within_the_energy_the_base_supplie
         let mut allowed = 0.0;
         for (p, (pair, ps)) in geo.pairs.iter().zip(&s.pairs).enumerate() {
             // The rows' geometry of this step: at t1 on u0.
-            let tangent = pair.tangent(obst, ifc, 2, x, &u0, s.t).unwrap();
+            let tangent = pair.tangent(obst, ifc, 2, x, &u0, s.t, 0).unwrap();
             if ps.force != 0.0 {
                 let g = pair.geometry(obst, ifc, 2, x, &u0, s.t);
                 base_work += ps.force * (g.terms.dot(&s.u) - g.terms.dot(&u0));

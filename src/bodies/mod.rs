@@ -70,16 +70,15 @@ pub struct Body {
     /// `c . (X + u)`): a node's coordinates for a body of triangles, `(Y, 0)` per node for a
     /// rail of beams (its deflection and rotation), m (rad).
     pub reference: Vec<f64>,
-    /// The dofs of a unit rigid translation of the body along the frame's `x` and `y`
-    /// (`None` along an axis the body's dofs cannot follow: a rail of beams along `x`).
-    pub translations: [Option<Vec<f64>>; 2],
+    /// The dofs of a unit rigid translation of the body along each axis of its frame (`x`,
+    /// `y` and, in 3D, `z`; `None` along an axis the body's dofs cannot follow: a rail of
+    /// beams along `x`).
+    pub translations: Vec<Option<Vec<f64>>>,
 }
 
 impl Body {
     /// A body on `mesh` (2D, two dofs per node: triangles, or segments of a rigid surface):
-    /// the reference is the nodes'
-    /// coordinates, the translations `(1, 0, 1, 0, ..)` and `(0, 1, 0, 1, ..)`; no load,
-    /// no initial displacement, no supports.
+    /// [`Body::on_mesh`] of a planar mesh.
     pub fn triangles(
         name: &str,
         mesh: Mesh,
@@ -87,12 +86,27 @@ impl Body {
         elastic: Vec<f64>,
         motion: Motion,
     ) -> Self {
-        let n = mesh.n_dofs();
-        let unit = |c: usize| Some((0..n).map(|d| f64::from(u8::from(d % 2 == c))).collect());
+        Self::on_mesh(name, mesh, model, elastic, motion)
+    }
+
+    /// A body on `mesh` of any dimension `dim` (`dim` displacement dofs per node: a
+    /// continuum's cells, or a rigid surface's): the reference is the nodes' coordinates,
+    /// the translations along each axis `c` the unit vector on every node's component `c`
+    /// (`(1, 0, 1, 0, ..)` and `(0, 1, 0, 1, ..)` in the plane); no load, no initial
+    /// displacement, no supports.
+    pub fn on_mesh(
+        name: &str,
+        mesh: Mesh,
+        model: LinearModel,
+        elastic: Vec<f64>,
+        motion: Motion,
+    ) -> Self {
+        let (n, dim) = (mesh.n_dofs(), mesh.dim);
+        let unit = |c: usize| Some((0..n).map(|d| f64::from(u8::from(d % dim == c))).collect());
         Body {
             name: name.into(),
             reference: mesh.reference_positions(),
-            translations: [unit(0), unit(1)],
+            translations: (0..dim).map(unit).collect(),
             model,
             elastic,
             motion,
@@ -111,7 +125,7 @@ impl Body {
     pub fn rigid(name: &str, mesh: Mesh, motion: Motion) -> Self {
         let model = LinearModel::zeros(Assembler::new(&mesh));
         let elastic = model.k.clone();
-        let mut b = Body::triangles(name, mesh, model, elastic, motion);
+        let mut b = Body::on_mesh(name, mesh, model, elastic, motion);
         b.fixed_dofs = (0..b.mesh.n_dofs()).collect();
         b
     }
@@ -149,7 +163,7 @@ impl Body {
         Ok(Body {
             name: name.into(),
             reference: (0..n).map(|d| if d % 2 == 0 { y } else { 0.0 }).collect(),
-            translations: [
+            translations: vec![
                 None,
                 Some((0..n).map(|d| f64::from(u8::from(d % 2 == 0))).collect()),
             ],
@@ -216,6 +230,8 @@ impl Body {
 /// The bodies joined into one model (module docs).
 #[derive(Debug, Clone)]
 pub struct Assembled {
+    /// The dimension of the bodies (all alike; 2 without bodies).
+    pub dim: usize,
     /// The joined model.
     pub model: LinearModel,
     /// The joined elastic stiffness.
@@ -248,7 +264,7 @@ impl Assembled {
         (integrator, h, steps): (Integrator, f64, usize),
     ) -> Problem {
         Problem {
-            dim: 2,
+            dim: self.dim,
             reference: self.reference.clone(),
             model: self.model.clone(),
             integrator,
@@ -312,6 +328,12 @@ pub fn assemble_with(bodies: &[Body], joints: &Joints) -> Result<Assembled, Asse
     let mut first_dof = vec![0];
     let mut first_node = vec![0];
     let mut families = Vec::with_capacity(bodies.len());
+    if let Some(b) = bodies.iter().find(|b| b.mesh.dim != bodies[0].mesh.dim) {
+        return Err(AssemblyError::MixedDimensions {
+            first: bodies[0].mesh.dim,
+            other: b.mesh.dim,
+        });
+    }
     for b in bodies {
         let o = *first_dof.last().unwrap_or(&0);
         let fam = ElementFamily::of_mesh(&b.mesh);
@@ -409,6 +431,7 @@ pub fn assemble_with(bodies: &[Body], joints: &Joints) -> Result<Assembled, Asse
         joints.discrete.add_load_into(1.0, &mut load);
     }
     Ok(Assembled {
+        dim: bodies.first().map_or(2, |b| b.mesh.dim),
         model,
         elastic,
         reference,
@@ -431,7 +454,7 @@ pub fn load_fn(bodies: &[Body], joined: &Assembled) -> LoadFn {
             continue;
         }
         let nd = b.mesh.n_dofs();
-        let mut unit = [vec![0.0; nd], vec![0.0; nd]];
+        let mut unit = vec![vec![0.0; nd]; b.translations.len()];
         for (c, out) in unit.iter_mut().enumerate() {
             if let Some(ones) = &b.translations[c] {
                 spmv_add(b.model.pattern(), &b.model.m, 1.0, ones, out);

@@ -165,8 +165,9 @@ impl Context<'_> {
         )
     }
 
-    /// The tangential row of pair `p` at time `t` in the configuration `u` (`None` unless
-    /// the model is 2D; [`Pair::tangent`]).
+    /// The tangential row of pair `p` at time `t` in the configuration `u` along its first
+    /// tangent (`None` in 1D; [`Pair::tangent`]): the friction treatments' one tangent of
+    /// the plane.
     pub fn tangent(&self, p: usize, t: f64, u: &[f64]) -> Option<Geometry> {
         self.pairs[p].tangent(
             self.obstacles,
@@ -175,6 +176,7 @@ impl Context<'_> {
             self.reference,
             u,
             t,
+            0,
         )
     }
 

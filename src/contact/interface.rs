@@ -21,8 +21,77 @@
 //! [`InterfaceError::LostTarget`], naming the node, rather than let the run continue on a
 //! singular row.
 
+use std::any::Any;
+
+use super::obstacle::Vector;
 use super::rows::Terms;
 use super::search::{Placed, Search, SearchedRow, Target};
+
+/// A master surface that an [`Interface`] searches: the contract of a contact search, in
+/// any dimension. The planar segment search ([`Search`]: a body's boundary edges, or a rail
+/// of beams) fulfils it; a 3D body's facets are another implementation of the same
+/// contract, and the interface, the pairs, the treatments and the driver stay as they are.
+pub trait MasterSurface: Send + Sync + std::fmt::Debug {
+    /// The dimension of the bodies the surface joins (coordinates and displacement dofs
+    /// per node of the slave body).
+    fn dim(&self) -> usize;
+
+    /// How far from the surface a node finds a target, m.
+    fn reach(&self) -> f64;
+
+    /// The master body's placement.
+    fn master(&self) -> Placed;
+
+    /// The master body's dofs that a row may touch, sorted, without repeats.
+    fn master_dofs(&self) -> Vec<usize>;
+
+    /// Places the surface in the ground at time `t` with the model's displacements `u`
+    /// (once per step; allocates nothing once its buffers have grown).
+    fn update(&mut self, t: f64, u: &[f64]);
+
+    /// The closest point of the surface to the ground point `x` within the reach, frozen
+    /// as a [`Target`]; `None` when none is within reach.
+    fn find(&self, x: Vector) -> Option<Target>;
+
+    /// The normal row of slave node `node` (the slave body's own index; reference position
+    /// `x_ref`, `dim` values) against `target` at time `t` in the configuration `u`.
+    fn normal_row(
+        &self,
+        target: &Target,
+        slave: Placed,
+        node: usize,
+        x_ref: &[f64],
+        t: f64,
+        u: &[f64],
+    ) -> SearchedRow;
+
+    /// The tangential row along tangent `k` (`k < dim - 1`), as [`MasterSurface::normal_row`];
+    /// `None` past the surface's tangents.
+    #[allow(clippy::too_many_arguments)]
+    fn tangent_row(
+        &self,
+        target: &Target,
+        k: usize,
+        slave: Placed,
+        node: usize,
+        x_ref: &[f64],
+        t: f64,
+        u: &[f64],
+    ) -> Option<SearchedRow>;
+
+    /// A boxed copy (an interface is cloned with its problem).
+    fn clone_box(&self) -> Box<dyn MasterSurface>;
+
+    /// The surface as [`Any`], for a kind that knows its concrete search (the planar
+    /// segment search's profile and segments).
+    fn as_any(&self) -> &dyn Any;
+}
+
+impl Clone for Box<dyn MasterSurface> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
 
 /// The gap of a node without a target, in units of the search's reach.
 pub const FAR_GAP: f64 = 1.0e3;
@@ -46,17 +115,16 @@ pub enum InterfaceError {
     },
 }
 
-/// Coordinates (and displacement dofs) per slave node: the bodies in contact are planar.
-const DIM: usize = 2;
-
 /// A contact interface: slave nodes against a master surface (module docs).
 #[derive(Debug, Clone)]
 pub struct Interface {
-    search: Search,
+    search: Box<dyn MasterSurface>,
+    /// Coordinates (and displacement dofs) per slave node: the surface's dimension.
+    dim: usize,
     slave: Placed,
     /// The slave body's contact nodes (its own indices).
     nodes: Vec<usize>,
-    /// Their reference positions, m, flat: [`DIM`] per node, in the order of `nodes`.
+    /// Their reference positions, m, flat: `dim` per node, in the order of `nodes`.
     x_ref: Vec<f64>,
     /// Each node's target at the last refresh.
     targets: Vec<Option<Target>>,
@@ -66,21 +134,27 @@ pub struct Interface {
 
 impl Interface {
     /// An interface between the nodes `nodes` of the slave body placed by `slave` (its own
-    /// node indices, reference positions `slave_reference`, two per node) and the master
-    /// surface of `search`.
+    /// node indices, reference positions `slave_reference`, the surface's
+    /// [`MasterSurface::dim`] per node) and the master surface `search`.
     ///
     /// # Panics
     /// If a node is not in `slave_reference`.
-    pub fn new(search: Search, slave: Placed, nodes: Vec<usize>, slave_reference: &[f64]) -> Self {
-        let reach = search.reach();
+    pub fn new(
+        search: impl MasterSurface + 'static,
+        slave: Placed,
+        nodes: Vec<usize>,
+        slave_reference: &[f64],
+    ) -> Self {
+        let (reach, dim) = (search.reach(), search.dim());
         let x_ref = nodes
             .iter()
-            .flat_map(|&i| &slave_reference[DIM * i..DIM * (i + 1)])
+            .flat_map(|&i| &slave_reference[dim * i..dim * (i + 1)])
             .copied()
             .collect();
         Self {
             targets: vec![None; nodes.len()],
-            search,
+            search: Box::new(search),
+            dim,
             slave,
             nodes,
             x_ref,
@@ -90,7 +164,7 @@ impl Interface {
 
     /// The reference position of slave node `slot` (its index in [`Interface::nodes`]).
     fn x_ref(&self, slot: usize) -> &[f64] {
-        &self.x_ref[DIM * slot..DIM * (slot + 1)]
+        &self.x_ref[self.dim * slot..self.dim * (slot + 1)]
     }
 
     /// The slave nodes (the slave body's own indices), one pair each.
@@ -104,8 +178,14 @@ impl Interface {
     }
 
     /// The master surface's search.
-    pub fn search(&self) -> &Search {
-        &self.search
+    pub fn search(&self) -> &dyn MasterSurface {
+        self.search.as_ref()
+    }
+
+    /// The planar segment search, when the master surface is one (its segments, a rail's
+    /// profile).
+    pub fn segment_search(&self) -> Option<&Search> {
+        self.search.as_any().downcast_ref::<Search>()
     }
 
     /// The target of slave node `slot` (its index in [`Interface::nodes`]) at the last
@@ -114,18 +194,9 @@ impl Interface {
         self.targets[slot].as_ref()
     }
 
-    /// The master body's dofs that a row may touch (both ends of every segment), sorted.
+    /// The master body's dofs that a row may touch, sorted ([`MasterSurface::master_dofs`]).
     pub fn master_dofs(&self) -> Vec<usize> {
-        let first = self.search.master().first_dof;
-        let mut dofs: Vec<usize> = self
-            .search
-            .segments()
-            .iter()
-            .flat_map(|s| s.iter().flat_map(|&i| [first + 2 * i, first + 2 * i + 1]))
-            .collect();
-        dofs.sort_unstable();
-        dofs.dedup();
-        dofs
+        self.search.master_dofs()
     }
 
     /// Finds each slave node's closest master segment at time `t` in the configuration `u`
@@ -137,9 +208,12 @@ impl Interface {
     pub fn refresh(&mut self, t: f64, u: &[f64]) -> Result<(), InterfaceError> {
         self.search.update(t, u);
         for slot in 0..self.nodes.len() {
-            let d = self.slave.first_dof + 2 * self.nodes[slot];
+            let d = self.slave.first_dof + self.dim * self.nodes[slot];
             let x_ref = self.x_ref(slot);
-            let local = [x_ref[0] + u[d], x_ref[1] + u[d + 1], 0.0];
+            let mut local = [0.0; 3];
+            for (c, l) in local.iter_mut().enumerate().take(self.dim) {
+                *l = x_ref[c] + u[d + c];
+            }
             let found = self.search.find(self.slave.motion.place(t, local));
             if found.is_none() {
                 if let Some(last) = self.targets[slot] {
@@ -157,16 +231,17 @@ impl Interface {
         Ok(())
     }
 
-    /// The normal row (`tangent` false) or the tangential row (true) of slave node `slot`
-    /// against its frozen target at time `t` in the configuration `u`; an empty row with the
-    /// gap [`FAR_GAP`] times the reach when it has none (module docs).
+    /// The normal row (`tangent` false) or the first tangential row (true) of slave node
+    /// `slot` against its frozen target at time `t` in the configuration `u`; an empty row
+    /// with the gap [`FAR_GAP`] times the reach when it has none (module docs).
     pub fn row(&self, slot: usize, t: f64, u: &[f64], tangent: bool) -> SearchedRow {
         match &self.targets[slot] {
             Some(target) => {
                 let (node, x_ref) = (self.nodes[slot], self.x_ref(slot));
                 let r = if tangent {
                     self.search
-                        .tangent_row(target, self.slave, node, x_ref, t, u)
+                        .tangent_row(target, 0, self.slave, node, x_ref, t, u)
+                        .unwrap_or_default()
                 } else {
                     self.search
                         .normal_row(target, self.slave, node, x_ref, t, u)

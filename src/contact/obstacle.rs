@@ -76,6 +76,19 @@ pub trait Obstacle: Send + Sync + std::fmt::Debug {
         0.0
     }
 
+    /// The velocity of the surface's material points at `x` and time `t` along the surface,
+    /// m/s, as a vector (3D friction takes its part along each tangent). The default is the
+    /// plane's [`Obstacle::surface_tangential_velocity`] along [`tangent_2d`] of the normal
+    /// at `x`: 0 for fixed planes and walls.
+    fn surface_velocity(&self, t: f64, x: Vector) -> Vector {
+        let w = self.surface_tangential_velocity(t, x);
+        if w == 0.0 {
+            return [0.0; 3];
+        }
+        let tg = tangent_2d(self.half_space(t, x).normal);
+        [w * tg[0], w * tg[1], w * tg[2]]
+    }
+
     /// Seen from a frame turned by `angle` (rad, counter-clockwise) about the origin: the
     /// obstacle turns by `-angle` ([`crate::simulation::Relocation`]). Returns `false` for an
     /// obstacle that cannot (the default): only [`RotatingLine`] can.

@@ -22,13 +22,16 @@
 //! nodes, `o` the obstacle's offset (the weights sum to 1) and `w` the weighted surface
 //! velocity.
 //!
-//! **Tangent (friction, 2D).** [`Pair::tangent`] presents the tangential direction as a
-//! [`Geometry`] of its own: `c_t` is the normal turned by +90 degrees,
-//! `t = (-n_y, n_x)` ([`super::obstacle::tangent_2d`]), on the node's dofs (`-t` on `a`, `+t`
-//! on `b` for two nodes), with `offset = 0` and `w` the surface's tangential velocity
-//! ([`Obstacle::surface_tangential_velocity`]: 0 for fixed planes, the rolling speed for the
-//! rotating base; 0 between two nodes). The slip velocity is `c_t . v - w`. A 1D model has
-//! no tangent (`None`); a 3D model needs two tangents and a friction cone (future work).
+//! **Tangents.** [`Pair::tangent`] presents a tangential direction as a [`Geometry`] of
+//! its own, `dim - 1` of them ([`tangent_basis`]): in the plane `c_t` is the normal turned
+//! by +90 degrees, `t = (-n_y, n_x)` ([`super::obstacle::tangent_2d`]); in 3D the two unit
+//! tangents `t_1` (the frame's `x` on the tangent plane) and `t_2 = n x t_1`. Each sits on
+//! the node's dofs (`-t` on `a`, `+t` on `b` for two nodes), with `offset = 0` and `w` the
+//! surface's velocity along it ([`Obstacle::surface_tangential_velocity`]: 0 for fixed
+//! planes, the rolling speed for the rotating base; 0 between two nodes). The slip velocity
+//! is `c_t . v - w`. A 1D model has no tangent (`None`). The friction treatments use the
+//! plane's one tangent; a 3D friction cone over the two is not built yet, and a 3D model
+//! with friction is refused at set-up ([`super::ContactTreatment::check_friction`]).
 //!
 //! **Split pairs (the uncoupled rolling check).** [`Pair::Split`] is a node against an
 //! obstacle whose normal row sits on one node and whose tangential row on another: the
@@ -266,9 +269,11 @@ impl Pair {
         }
     }
 
-    /// The tangential row at time `t` in the configuration `u` (module docs, Tangent): `c_t`
-    /// the normal turned by +90 degrees, `offset = 0`, `w` the surface's tangential velocity.
-    /// `None` unless `dim == 2`.
+    /// The tangential row along the pair's tangent `k` at time `t` in the configuration `u`
+    /// (module docs, Tangent): `c_t` the tangent `t_k` of [`tangent_basis`] on the pair's
+    /// dofs, `offset = 0`, `w` the surface's velocity along `t_k`. A model of dimension
+    /// `dim` has `dim - 1` tangents: `None` for `k >= dim - 1` (and for every `k` in 1D).
+    #[allow(clippy::too_many_arguments)]
     pub fn tangent(
         &self,
         obstacles: &[Box<dyn Obstacle>],
@@ -277,15 +282,22 @@ impl Pair {
         reference: &[f64],
         u: &[f64],
         t: f64,
+        k: usize,
     ) -> Option<Geometry> {
-        if dim != 2 {
+        if k + 1 >= dim.max(1) {
             return None;
         }
         let mut terms = Terms::default();
+        let push = |terms: &mut Terms, node: usize, scale: f64, tg: Vector| {
+            for c in 0..dim {
+                terms.push(dim * node + c, scale * tg[c]);
+            }
+        };
         match *self {
             Pair::Searched {
                 interface, slot, ..
             } => {
+                // The segment search is planar: its one tangent.
                 let r = interfaces[interface].row(slot, t, u, true);
                 Some(Geometry {
                     terms: r.terms,
@@ -302,13 +314,12 @@ impl Pair {
                 };
                 let x = position(dim, reference, u, node);
                 let obst = &obstacles[obstacle];
-                let tg = tangent_2d(obst.half_space(t, x).normal);
-                terms.push(2 * on, tg[0]);
-                terms.push(2 * on + 1, tg[1]);
+                let tg = tangent_basis(dim, obst.half_space(t, x).normal)[k];
+                push(&mut terms, on, 1.0, tg);
                 Some(Geometry {
                     terms,
                     offset: 0.0,
-                    w: obst.surface_tangential_velocity(t, x),
+                    w: surface_velocity_along(obst.as_ref(), dim, t, x, tg),
                 })
             }
             Pair::Weighted {
@@ -317,16 +328,15 @@ impl Pair {
                 obstacle,
             } => {
                 let obst = &obstacles[obstacle];
-                let tg = tangent_2d(
-                    obst.half_space(t, position(dim, reference, u, nodes[0]))
-                        .normal,
-                );
+                let n = obst
+                    .half_space(t, position(dim, reference, u, nodes[0]))
+                    .normal;
+                let tg = tangent_basis(dim, n)[k];
                 let mut w = 0.0;
                 for (&node, &wk) in nodes.iter().zip(&weights) {
-                    terms.push(2 * node, wk * tg[0]);
-                    terms.push(2 * node + 1, wk * tg[1]);
-                    w +=
-                        wk * obst.surface_tangential_velocity(t, position(dim, reference, u, node));
+                    push(&mut terms, node, wk, tg);
+                    let x = position(dim, reference, u, node);
+                    w += wk * surface_velocity_along(obst.as_ref(), dim, t, x, tg);
                 }
                 Some(Geometry {
                     terms,
@@ -335,11 +345,9 @@ impl Pair {
                 })
             }
             Pair::Nodes { a, b, normal } => {
-                let tg = tangent_2d(normal);
-                terms.push(2 * a, -tg[0]);
-                terms.push(2 * a + 1, -tg[1]);
-                terms.push(2 * b, tg[0]);
-                terms.push(2 * b + 1, tg[1]);
+                let tg = tangent_basis(dim, normal)[k];
+                push(&mut terms, a, -1.0, tg);
+                push(&mut terms, b, 1.0, tg);
                 Some(Geometry {
                     terms,
                     offset: 0.0,
@@ -347,6 +355,47 @@ impl Pair {
                 })
             }
         }
+    }
+}
+
+/// The tangents of a unit normal `n` in dimension `dim` (the first `dim - 1` are used):
+/// in the plane the normal turned by +90 degrees, [`tangent_2d`]; in 3D `t_1` the frame's
+/// `x` axis projected on the tangent plane (the rolling direction of a wheel on a rail along
+/// `x`; the `y` axis where `n` is within 45 degrees of `x`) and `t_2 = n x t_1`, a
+/// right-handed orthonormal `(t_1, t_2, n)`.
+pub fn tangent_basis(dim: usize, n: Vector) -> [Vector; 2] {
+    if dim < 3 {
+        return [tangent_2d(n), [0.0; 3]];
+    }
+    let axis = if n[0].abs() < std::f64::consts::FRAC_1_SQRT_2 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let a_n = super::obstacle::dot(axis, n);
+    let mut t1 = [
+        axis[0] - a_n * n[0],
+        axis[1] - a_n * n[1],
+        axis[2] - a_n * n[2],
+    ];
+    let l = super::obstacle::dot(t1, t1).sqrt();
+    t1.iter_mut().for_each(|c| *c /= l);
+    let t2 = [
+        n[1] * t1[2] - n[2] * t1[1],
+        n[2] * t1[0] - n[0] * t1[2],
+        n[0] * t1[1] - n[1] * t1[0],
+    ];
+    [t1, t2]
+}
+
+/// The obstacle's surface velocity at `x` along the tangent `tg`: in the plane its own
+/// tangential velocity ([`Obstacle::surface_tangential_velocity`], along [`tangent_2d`]);
+/// in 3D the part along `tg` of [`Obstacle::surface_velocity`].
+fn surface_velocity_along(obst: &dyn Obstacle, dim: usize, t: f64, x: Vector, tg: Vector) -> f64 {
+    if dim < 3 {
+        obst.surface_tangential_velocity(t, x)
+    } else {
+        super::obstacle::dot(obst.surface_velocity(t, x), tg)
     }
 }
 
@@ -428,7 +477,7 @@ mod tests {
             obstacle: 0,
         };
         let g = pair.geometry(&base, &[], 2, &reference, &u, t);
-        let tg = pair.tangent(&base, &[], 2, &reference, &u, t).unwrap();
+        let tg = pair.tangent(&base, &[], 2, &reference, &u, t, 0).unwrap();
         let (mut gap, mut rate, mut w_n, mut slip, mut w_t) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for (k, &wk) in w.iter().enumerate() {
             let node = Pair::Obstacle {
@@ -436,7 +485,7 @@ mod tests {
                 obstacle: 0,
             };
             let gk = node.geometry(&base, &[], 2, &reference, &u, t);
-            let tk = node.tangent(&base, &[], 2, &reference, &u, t).unwrap();
+            let tk = node.tangent(&base, &[], 2, &reference, &u, t, 0).unwrap();
             gap += wk * gk.gap(&reference, &u);
             rate += wk * gk.terms.dot(&v);
             w_n += wk * gk.w;
@@ -447,5 +496,66 @@ mod tests {
         assert!(close(g.gap(&reference, &u), gap));
         assert!(close(g.terms.dot(&v), rate));
         assert!(close(g.w, w_n) && close(tg.terms.dot(&v), slip) && close(tg.w, w_t));
+    }
+
+    /// In 3D a pair has two tangents: with the normal they make a right-handed orthonormal
+    /// frame whose first tangent is the frame's `x` on the tangent plane; a node's rows sit
+    /// on its three dofs, and there is no third tangent. A floor's tangents are `x` and `y`.
+    #[test]
+    fn a_pair_in_3d_has_two_orthonormal_tangents() {
+        use crate::contact::obstacle::{dot, HalfSpace, Plane};
+        let l = (0.2_f64 * 0.2 + 0.3 * 0.3 + 0.9 * 0.9).sqrt();
+        for n in [
+            [0.0, 0.0, 1.0],
+            [0.2 / l, -0.3 / l, 0.9 / l],
+            [0.9 / l, 0.2 / l, -0.3 / l],
+        ] {
+            let [t1, t2] = tangent_basis(3, n);
+            for (a, b, want) in [
+                (t1, t1, 1.0),
+                (t2, t2, 1.0),
+                (t1, t2, 0.0),
+                (t1, n, 0.0),
+                (t2, n, 0.0),
+            ] {
+                assert!((dot(a, b) - want).abs() < 1e-15, "{n:?}");
+            }
+            let cross = [
+                t1[1] * t2[2] - t1[2] * t2[1],
+                t1[2] * t2[0] - t1[0] * t2[2],
+                t1[0] * t2[1] - t1[1] * t2[0],
+            ];
+            assert!((dot(cross, n) - 1.0).abs() < 1e-15);
+        }
+        assert_eq!(
+            tangent_basis(3, [0.0, 0.0, 1.0]),
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+        let floor: Vec<Box<dyn Obstacle>> = vec![Box::new(Plane {
+            half_space: HalfSpace {
+                normal: [0.0, 0.0, 1.0],
+                offset: 0.0,
+            },
+        })];
+        let pair = Pair::Obstacle {
+            node: 1,
+            obstacle: 0,
+        };
+        let reference = [0.0, 0.0, 0.1, 1.0, 2.0, 0.3];
+        let u = [0.0; 6];
+        let g = pair.geometry(&floor, &[], 3, &reference, &u, 0.0);
+        assert!((g.gap(&reference, &u) - 0.3).abs() < 1e-15);
+        let rows: Vec<Vec<(usize, f64)>> = (0..3)
+            .filter_map(|k| pair.tangent(&floor, &[], 3, &reference, &u, 0.0, k))
+            .map(|g| g.terms.iter().filter(|&(_, c)| c != 0.0).collect())
+            .collect();
+        assert_eq!(rows, vec![vec![(3, 1.0)], vec![(4, 1.0)]]);
+        // 1D has none, the plane one.
+        assert!(pair
+            .tangent(&floor, &[], 1, &reference, &u, 0.0, 0)
+            .is_none());
+        assert!(pair
+            .tangent(&floor, &[], 2, &reference, &u, 0.0, 1)
+            .is_none());
     }
 }

@@ -239,8 +239,9 @@ pub struct Target {
     pub gap: f64,
 }
 
-/// A row of a searched pair at one instant: `g = c . (X + u) - offset`, `g' = c . v - w`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A row of a searched pair at one instant: `g = c . (X + u) - offset`, `g' = c . v - w`
+/// (the default: an empty row).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SearchedRow {
     /// `c` on the model's dofs.
     pub terms: Terms,
@@ -668,6 +669,75 @@ impl Search {
             offset,
             w: -dot(n, rel),
         }
+    }
+}
+
+impl super::interface::MasterSurface for Search {
+    fn dim(&self) -> usize {
+        2
+    }
+
+    fn reach(&self) -> f64 {
+        self.reach
+    }
+
+    fn master(&self) -> Placed {
+        self.master
+    }
+
+    /// Both ends' dofs of every segment (two per node: a body's `(u_x, u_y)`, a beam's
+    /// `(w, theta)`).
+    fn master_dofs(&self) -> Vec<usize> {
+        let first = self.master.first_dof;
+        let mut dofs: Vec<usize> = self
+            .segments
+            .iter()
+            .flat_map(|s| s.iter().flat_map(|&i| [first + 2 * i, first + 2 * i + 1]))
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        dofs
+    }
+
+    fn update(&mut self, t: f64, u: &[f64]) {
+        Search::update(self, t, u);
+    }
+
+    fn find(&self, x: Vector) -> Option<Target> {
+        Search::find(self, x)
+    }
+
+    fn normal_row(
+        &self,
+        target: &Target,
+        slave: Placed,
+        node: usize,
+        x_ref: &[f64],
+        t: f64,
+        u: &[f64],
+    ) -> SearchedRow {
+        Search::normal_row(self, target, slave, node, x_ref, t, u)
+    }
+
+    fn tangent_row(
+        &self,
+        target: &Target,
+        k: usize,
+        slave: Placed,
+        node: usize,
+        x_ref: &[f64],
+        t: f64,
+        u: &[f64],
+    ) -> Option<SearchedRow> {
+        (k == 0).then(|| Search::tangent_row(self, target, slave, node, x_ref, t, u))
+    }
+
+    fn clone_box(&self) -> Box<dyn super::interface::MasterSurface> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

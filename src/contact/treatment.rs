@@ -165,9 +165,14 @@ impl Treatment {
         if !law.is_active() {
             return Ok(());
         }
+        if dim == 1 {
+            return Err(
+                "contact.friction needs a 2D model (a 1D model has no tangential direction); remove the key or set it to 0".to_string()
+            );
+        }
         if dim != 2 {
             return Err(format!(
-                "contact.friction needs a 2D model (a {dim}D model has no tangential direction); remove the key or set it to 0"
+                "contact.friction is not available in {dim}D yet (the friction treatments slide along the plane's one tangent; a {dim}D model's two need a friction cone); remove the key or set it to 0"
             ));
         }
         match self {

@@ -243,7 +243,7 @@ impl Simulation {
             })
             .collect();
         for i in &interfaces {
-            contact_nodes.extend(i.master_dofs().iter().step_by(2).map(|&d| d / dim));
+            contact_nodes.extend(i.master_dofs().iter().map(|&d| d / dim));
         }
         contact_nodes.sort_unstable();
         contact_nodes.dedup();
@@ -653,7 +653,7 @@ impl Simulation {
                 power += (ps.force * g.w).abs();
             }
             if ps.tangential_force != 0.0 {
-                if let Some(g) = p.tangent(&e.obstacles, &e.interfaces, dim, r, u, t) {
+                if let Some(g) = p.tangent(&e.obstacles, &e.interfaces, dim, r, u, t, 0) {
                     power += (ps.tangential_force * g.w).abs();
                 }
             }

@@ -329,7 +329,12 @@ fn roll(
     let pb = crate::run::options::progress_bar(steps as u64, &run.label, opts);
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
     let clock = Instant::now();
-    let profile_at = |x: f64| wot.interface.search().profile().map_or(0.0, |p| p.at(x).0);
+    let profile_at = |x: f64| {
+        wot.interface
+            .segment_search()
+            .and_then(|s| s.profile())
+            .map_or(0.0, |p| p.at(x).0)
+    };
     // The dissipation's checks over every pair and step (module docs).
     let (mut min_slip_speed, mut max_drop, mut last_energy) = (f64::INFINITY, 0.0_f64, 0.0);
     let stats = sim

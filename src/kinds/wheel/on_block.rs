@@ -317,7 +317,10 @@ fn summarize(
         block_length: wb.length,
         block_depth: wb.spec.depth,
         block_young: wb.spec.material.young,
-        block_segments: wb.interface.search().segments().len(),
+        block_segments: wb
+            .interface
+            .segment_search()
+            .map_or(0, |s| s.segments().len()),
         contact_modulus: wb.contact_modulus(),
         mean_contact_force: force,
         min_contact_force: acc.min,
