@@ -5,6 +5,7 @@
 //! - [`disk_graded`]: a disk refined towards the rim, with a chosen number of rim nodes and
 //!   no rotational symmetry (the hexagonal disk's six-fold symmetry shows in rolling results).
 //! - [`rectangle`]: a structured triangle mesh of a rectangle.
+//! - [`box3d`]: structured hexahedra and tetrahedra of a box, as flat arrays (3D solids).
 //!
 //! Every generator checks its arguments and returns a [`MeshError`] naming the offending
 //! parameter and the allowed range instead of panicking. All triangles are counter-clockwise
@@ -16,6 +17,7 @@ use super::{Cells, Mesh};
 #[cfg(test)]
 use disk::signed_area;
 
+pub mod box3d;
 mod disk;
 
 pub use disk::{disk_graded, DiskOptions};
