@@ -6,6 +6,7 @@
 //!   no rotational symmetry (the hexagonal disk's six-fold symmetry shows in rolling results).
 //! - [`rectangle`]: a structured triangle mesh of a rectangle.
 //! - [`box_mesh`]: a structured box of hexahedra or tetrahedra (linear or quadratic) in 3D.
+//! - [`box3d`]: the same boxes as flat arrays, for element checks without a [`Mesh`].
 //!
 //! Every generator checks its arguments and returns a [`MeshError`] naming the offending
 //! parameter and the allowed range instead of panicking. All triangles are counter-clockwise
@@ -17,6 +18,7 @@ use super::{Cells, Mesh};
 #[cfg(test)]
 use disk::signed_area;
 
+pub mod box3d;
 mod disk;
 mod solid;
 
