@@ -33,6 +33,7 @@
 pub mod bar;
 pub mod block;
 pub mod rail;
+pub mod solid;
 pub mod wheel;
 
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};

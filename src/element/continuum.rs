@@ -13,9 +13,10 @@
 //! mesh's mass and stiffness; [`CellStresses`] is the object-safe view a body keeps for
 //! its output.
 //!
-//! Implemented here for the plane triangle ([`PlaneTri3`], [`super::tri3`]); a solid element
-//! is an implementation of its own beside its kernels, and a body of it
-//! ([`crate::bodies::solid`]) then goes through the same assembly, contact rows and output.
+//! Implemented here for the plane triangle ([`PlaneTri3`], [`super::tri3`]) and the solids
+//! ([`SolidTet4`], [`SolidTet10`], [`SolidHex8`] over [`super::tet4`], [`super::tet10`],
+//! [`super::hex8`]); a body of any of them ([`crate::bodies::solid`]) goes through the same
+//! assembly, contact rows and output.
 
 use crate::assembly::{Assembler, ElementMatrix};
 use crate::mesh::{CellKind, Mesh};
@@ -281,6 +282,99 @@ impl Continuum<6> for PlaneTri3 {
 
     fn stress_into(&self, g: &Tri3Geometry, u: &[f64; 6], out: &mut [f64]) {
         out.copy_from_slice(&tri3::stress(g, &self.d, u));
+    }
+}
+
+/// The solid elements' points: `NN` nodes of three coordinates from a flat slice.
+fn points<const NN: usize>(x: &[f64]) -> [[f64; 3]; NN] {
+    std::array::from_fn(|i| [x[3 * i], x[3 * i + 1], x[3 * i + 2]])
+}
+
+/// The 4-node tetrahedron ([`super::tet4`]) with its 6 x 6 elasticity matrix
+/// ([`super::solid::elasticity_3d`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidTet4 {
+    /// The Voigt elasticity matrix, Pa.
+    pub d: [[f64; 6]; 6],
+}
+
+impl Continuum<12> for SolidTet4 {
+    type Geometry = super::tet4::Tet4Geometry;
+    const KIND: CellKind = CellKind::Tet4;
+    const STRESSES: usize = 6;
+
+    fn geometry(&self, x: &[f64]) -> Result<Self::Geometry, String> {
+        super::tet4::geometry(&points(x)).map_err(|e| e.to_string())
+    }
+
+    fn mass_into(&self, g: &Self::Geometry, density: f64, lumped: bool, out: &mut [[f64; 12]; 12]) {
+        super::tet4::mass_into(g, density, lumped, out);
+    }
+
+    fn stiffness_into(&self, g: &Self::Geometry, out: &mut [[f64; 12]; 12]) {
+        super::tet4::stiffness_into(g, &self.d, out);
+    }
+
+    fn stress_into(&self, g: &Self::Geometry, u: &[f64; 12], out: &mut [f64]) {
+        out.copy_from_slice(&super::tet4::stress(g, &self.d, u));
+    }
+}
+
+/// The 10-node tetrahedron ([`super::tet10`]); its stress is the centroid's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidTet10 {
+    /// The Voigt elasticity matrix, Pa.
+    pub d: [[f64; 6]; 6],
+}
+
+impl Continuum<30> for SolidTet10 {
+    type Geometry = super::tet10::Tet10Geometry;
+    const KIND: CellKind = CellKind::Tet10;
+    const STRESSES: usize = 6;
+
+    fn geometry(&self, x: &[f64]) -> Result<Self::Geometry, String> {
+        super::tet10::geometry(&points(x)).map_err(|e| e.to_string())
+    }
+
+    fn mass_into(&self, g: &Self::Geometry, density: f64, lumped: bool, out: &mut [[f64; 30]; 30]) {
+        super::tet10::mass_into(g, density, lumped, out);
+    }
+
+    fn stiffness_into(&self, g: &Self::Geometry, out: &mut [[f64; 30]; 30]) {
+        super::tet10::stiffness_into(g, &self.d, out);
+    }
+
+    fn stress_into(&self, g: &Self::Geometry, u: &[f64; 30], out: &mut [f64]) {
+        out.copy_from_slice(&super::tet10::stress_at(g, &self.d, [0.25; 3], u));
+    }
+}
+
+/// The 8-node hexahedron ([`super::hex8`]); its stress is the centroid's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidHex8 {
+    /// The Voigt elasticity matrix, Pa.
+    pub d: [[f64; 6]; 6],
+}
+
+impl Continuum<24> for SolidHex8 {
+    type Geometry = super::hex8::Hex8Geometry;
+    const KIND: CellKind = CellKind::Hex8;
+    const STRESSES: usize = 6;
+
+    fn geometry(&self, x: &[f64]) -> Result<Self::Geometry, String> {
+        super::hex8::geometry(&points(x)).map_err(|e| e.to_string())
+    }
+
+    fn mass_into(&self, g: &Self::Geometry, density: f64, lumped: bool, out: &mut [[f64; 24]; 24]) {
+        super::hex8::mass_into(g, density, lumped, out);
+    }
+
+    fn stiffness_into(&self, g: &Self::Geometry, out: &mut [[f64; 24]; 24]) {
+        super::hex8::stiffness_into(g, &self.d, out);
+    }
+
+    fn stress_into(&self, g: &Self::Geometry, u: &[f64; 24], out: &mut [f64]) {
+        out.copy_from_slice(&super::hex8::stress_at(g, &self.d, [0.0; 3], u));
     }
 }
 
