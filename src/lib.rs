@@ -119,24 +119,29 @@
 //! | where are constraint rows solved? | `src/contact/rows.rs` |
 //! | where is the step loop? | `src/simulation/mod.rs` (what observers see: `view.rs`; the moving zone's relocation: `relocation.rs`) |
 //! | where are the rotating-frame terms? | `src/frame.rs` |
-//! | where are stresses and J2? | `src/element/tri3.rs`, `src/material.rs` |
+//! | where are stresses and J2? | `src/element/tri3.rs`, `src/material.rs`, `src/plasticity.rs`; in 3D `src/element/solid.rs`, `src/element/j2_solid.rs` |
 //! | where are the rail's beam and the track's springs? | `src/element/beam.rs`, `src/element/discrete.rs` |
-//! | where are the wheel job's observers? | `src/run/wheel/observers.rs` |
+//! | where are the wheel job's observers? | `src/kinds/wheel/run/observers.rs` |
 //! | where are results held and written? | `src/run/results.rs`, `src/output/table.rs`, `src/output/save.rs` |
 //! | where are the model, the loads and the states? | `src/model/` |
 //! | what does a treatment see of the driver? | `src/contact/context.rs` |
 //! | where is the contact search between bodies (and the bodies' frames)? | `src/contact/search.rs` |
-//! | where are a model's bodies joined, and a pressed frame's inertial load? | `src/bodies.rs` |
-//! | where do discrete elements join bodies (an axle on springs, a sleeper's mass)? | `src/bodies.rs` (`Joints`, `assemble_with`); the elements in `src/element/discrete.rs`; `tests/joints.rs` |
-//! | where is a rigid base or obstacle as a body of the search? | `src/bodies.rs` (`Body::rigid`); `tests/on_block.rs` compares it with the rotating base |
-//! | where is the track (rail on pads, sleepers, ballast), its receptance and a moving load? | `src/track/` (`TrackSpec`, `receptance.rs`, `hertz.rs`, `moving.rs`); `tests/track.rs` |
+//! | where are a model's bodies joined, and a pressed frame's inertial load? | `src/bodies/mod.rs` |
+//! | where do discrete elements join bodies (an axle on springs, a sleeper's mass)? | `src/bodies/mod.rs` (`Joints`, `assemble_with`); the elements in `src/element/discrete.rs`; `tests/joints.rs` |
+//! | where is a rigid base or obstacle as a body of the search? | `src/bodies/mod.rs` (`Body::rigid`); `tests/on_block.rs` compares it with the rotating base |
+//! | where is the track (rail on pads, sleepers, ballast), its receptance and a moving load? | `src/bodies/rail/` (`TrackSpec`, `receptance.rs`, `hertz.rs`); the kinds `src/kinds/track/`; `tests/track.rs` |
 //! | where is the command line? | `src/cli/` (`mod.rs`: parsing and the runs' subcommands; `analysis.rs`: modes, receptance, matrix, stability; `src/main.rs` only calls it) |
 //! | what stops a run that blows up? | `src/guard.rs` (the energy bound), checked in `Simulation::run` |
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
-//! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies.rs`; `tests/on_rail.rs` |
-//! | where is the wheel on an elastic block (Hertz's half-width)? | `src/models/wheel_on_block.rs`; its job `src/run/on_block.rs`; `scenarios/wheel-on-block.toml` |
+//! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies/mod.rs`; `tests/on_rail.rs` |
+//! | where is the wheel on an elastic block (Hertz's half-width)? | `src/bodies/block.rs`; its job `src/kinds/wheel/on_block.rs`; `scenarios/wheel-on-block.toml` |
 //! | where is the solver trait, and which factorizations implement it? | `src/linalg/solver.rs` (faer's: `reference.rs`; tuned: `lu.rs`, `llt.rs`, `triangle.rs`, `supernodal.rs`, `split.rs`) |
 //! | where is the step's right-hand side formed? | `src/linalg/rhs/` (with its plain sparse-product reference) |
+//! | what is a kind of model, and where is the list of kinds? | `src/scenario/kind.rs` (`Kind`, `Spec`, `Model`, `Registry`); `src/kinds/mod.rs` (`Registry::builtin`); each kind in `src/kinds/<kind>/`; `tests/kinds.rs` adds one |
+//! | what does an element give the assembly, in any dimension? | `src/element/continuum.rs` (`Continuum`); the kernels `tri3.rs`, `tet4.rs`, `tet10.rs`, `hex8.rs` |
+//! | where is a body of continuum cells in 2D or 3D built? | `src/bodies/solid.rs`; `tests/solid3d.rs` drops a 3D column on a floor |
+//! | what does a contact search answer, in any dimension? | `src/contact/interface.rs` (`MasterSurface`; the planar segment search implements it) |
+//! | which cells does a mesh hold (dimension, nodes, Gmsh and VTK codes)? | `src/mesh/mod.rs` (`Cells`, `CellKind`); `src/mesh/generators/solid.rs` (boxes in 3D) |
 //! | how many threads does a run use, and where are they? | `src/linalg/team.rs` (`Par`, the run's `Team`); `RunOptions::par` |
 //! | how is a run cancelled? | `run::Cancel` in `RunOptions::cancel` |
 //!
@@ -149,9 +154,11 @@
 //! [`scenario::Scenario::from_file_with`] ([`scenario::overrides`]).
 //!
 //! ## Module map
-//! - [`mesh`]: meshes, generators (bar, hexagonal disk, rectangle), Gmsh import.
-//! - [`element`]: bar, triangle and 2D beam (Euler-Bernoulli, Timoshenko) kernels; discrete
-//!   point masses, spring-dampers and hubs.
+//! - [`mesh`]: meshes of any dimension (bars, triangles, tetrahedra, hexahedra: [`mesh::CellKind`]),
+//!   generators (bar, hexagonal disk, rectangle, 3D box), Gmsh import.
+//! - [`element`]: the continuum element contract ([`element::Continuum`]) and its kernels:
+//!   bar, triangle, 4- and 10-node tetrahedra, 8-node hexahedra, 2D beam (Euler-Bernoulli,
+//!   Timoshenko); discrete point masses, spring-dampers and hubs.
 //! - [`material`]: linear elastic material, plane stress / strain.
 //! - [`modes`]: natural frequencies and mode shapes, at rest and spinning (sparse
 //!   shift-invert at any size; dense references).
@@ -176,14 +183,14 @@
 //!   frame (fixed, translating, pressed, rotating), joined on one pattern with the discrete
 //!   elements between them and on dofs of their own ([`bodies::Joints`]: an axle node with
 //!   its mass and load, springs and dampers); rigid bodies ([`bodies::Body::rigid`]); the
-//!   inertial load of a pressed frame `-M 1 d''(t)`.
-//! - [`models`]: models of more than one body: the wheel on an elastic block, met through
-//!   the contact search ([`contact::interface`], [`contact::Pair::Searched`]) with Hertz's
-//!   line contact as its check.
-//! - [`track`]: the track: a rail of beams on discrete pads, half-sleepers and ballast
-//!   (named parameter sets, absorbing ends), its receptance (complex sparse LU) with the
-//!   pinned-pinned, track and P2 frequencies (Hertz's elliptic contact), and a constant load
-//!   moving along it through the driver.
+//!   inertial load of a pressed frame `-M 1 d''(t)`; the bodies themselves: the wheel in its
+//!   frame ([`bodies::wheel`]), the bar ([`bodies::bar`]), the elastic block under the wheel
+//!   met through the contact search with Hertz's line contact as its check
+//!   ([`bodies::block`]), the rail on its supports with its receptance and the pinned-pinned,
+//!   track and P2 frequencies ([`bodies::rail`]), a body of continuum cells in 2D or 3D
+//!   ([`bodies::solid`]).
+//! - [`kinds`]: the kinds of model a scenario names (`kind = "..."`), each in its folder,
+//!   behind the contract of [`scenario::kind`]; [`kinds`]'s registry is their only list.
 //! - [`simulation`]: the one driver: the step loop with step-back-and-repeat for any
 //!   integrator and any treatment.
 //! - [`wear`]: wear laws (Archard with Jendel's map, frictional power, USFD) and
@@ -198,7 +205,8 @@
 //!   ([`Results::save`]) and of the command line's files ([`cli`]).
 //! - [`analysis`]: signals (spectra, oscillation counts).
 //! - [`cli`]: the command line (parse, validate, run, report); the binary only calls
-//!   [`cli::main`].
+//!   [`cli::main`]. It is the binary's, not a library API.
+//! - [`prelude`]: what a user of the library calls most, in one `use`.
 //!
 //! Units are SI inside: m, s, kg, N, Pa.
 
@@ -230,14 +238,39 @@ pub mod simulation;
 pub mod time;
 pub mod wear;
 
-// The bodies' former paths, kept for the library's users and the tests.
+// The bodies' former paths, kept for the library's users and the tests (hidden: the
+// documented paths are under `bodies`).
+#[doc(hidden)]
 pub use bodies::{bar as problems, rail as track, wheel};
 /// Models of more than one body: the wheel on its elastic block ([`bodies::block`]).
+#[doc(hidden)]
 pub mod models {
     pub use crate::bodies::block as wheel_on_block;
 }
 
 pub use run::{run, Results, RunError, RunOptions};
+
+/// What a user of the library calls most, in one `use softway::prelude::*`: a scenario read,
+/// resolved and run ([`scenario::Scenario`], [`build::resolve`], [`run()`], [`Results`]);
+/// the kinds' registry to add a kind of one's own ([`scenario::kind`]); a model built in
+/// code from bodies of continuum cells in any dimension ([`bodies::solid`],
+/// [`bodies::assemble`]) and stepped by the driver ([`simulation::Simulation`]) with
+/// obstacles and pairs ([`contact`]).
+pub mod prelude {
+    pub use crate::bodies::solid::{solid, Solid, SolidSpec};
+    pub use crate::bodies::{assemble, assemble_with, Body, Joints};
+    pub use crate::build::resolve;
+    pub use crate::contact::search::Motion;
+    pub use crate::contact::{FrictionLaw, Interface, Obstacle, Pair, Treatment};
+    pub use crate::element::{CellStresses, Continuum};
+    pub use crate::material::{Elastic, PlaneModel};
+    pub use crate::mesh::{CellKind, Cells, Mesh};
+    pub use crate::run::{run, Results, RunError, RunOptions};
+    pub use crate::scenario::kind::{Kind, Model, Registry, Spec};
+    pub use crate::scenario::Scenario;
+    pub use crate::simulation::{Problem, Simulation};
+    pub use crate::time::Integrator;
+}
 
 /// The git commit this build was compiled from (`git describe --always`: the short hash;
 /// `-dirty` when the crate's sources, `src/`, `crates/`, `build.rs`, `Cargo.toml` and

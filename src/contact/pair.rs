@@ -31,7 +31,7 @@
 //! planes, the rolling speed for the rotating base; 0 between two nodes). The slip velocity
 //! is `c_t . v - w`. A 1D model has no tangent (`None`). The friction treatments use the
 //! plane's one tangent; a 3D friction cone over the two is not built yet, and a 3D model
-//! with friction is refused at set-up ([`super::ContactTreatment::check_friction`]).
+//! with friction is refused at set-up ([`super::Treatment::check_friction`]).
 //!
 //! **Split pairs (the uncoupled rolling check).** [`Pair::Split`] is a node against an
 //! obstacle whose normal row sits on one node and whose tangential row on another: the
