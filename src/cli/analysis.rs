@@ -9,147 +9,61 @@ use crate::scenario::Scenario;
 use crate::time::sdof::analyse;
 use std::path::{Path, PathBuf};
 
-/// `softway modes`: a wheel's modes at rest and spinning, the shapes written as VTU and
-/// drawn in `modes.png`.
-pub(super) fn modes_command(
+/// A kind's own study (`softway modes` of a wheel, `softway receptance` of a track:
+/// [`crate::scenario::kind::Spec::study`]) into a staged folder: the scenario read (with the
+/// `--set` overrides `set`), refused naming the kinds that answer `command` when its kind
+/// does not, the folder staged under the folder rules, the study run, the folder finished
+/// and marked (interrupted or not), the study's lines and files printed.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn study_command(
+    command: &str,
     scenario: &Path,
     set: &[String],
-    count: usize,
+    count: Option<usize>,
     out: Option<PathBuf>,
     Replace { force }: Replace,
     cancel: &Cancel,
 ) -> CommandResult {
-    let sc = super::read_scenario(scenario, set)?;
-    let Some(ws) = sc.runs[0].model.get::<crate::scenario::WheelScenario>() else {
-        return Err(format!(
-            "{}: `softway modes` needs a wheel scenario (kind = \"wheel\")",
-            scenario.display()
-        )
-        .into());
-    };
-    if count == 0 {
+    if count == Some(0) {
         return Err("--count 0: ask for at least one mode".into());
     }
-    let wm = crate::kinds::wheel::run::build(ws, &sc.path)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
-    let rep = crate::modes::modes_report(&wm, count)?;
-    let mut files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.dir())?;
-    if sc.plots {
-        files.extend(crate::modes::write_modes_figure(&wm, &rep, stage.dir())?);
-    }
-    // The modes are one solve: a signal during it stops the command after the writing.
-    let interrupted = cancel.is_cancelled();
-    let files = stage.finish(&files, Some(&sc), interrupted)?;
-    let mut text = modes_text(&sc.name, &rep, &wm.spec.support, ws.spec.omega);
-    text.push_str(&format!(
-        "wrote {} files into {}\n",
-        files.len(),
-        out.display()
-    ));
-    print_result(&text)?;
-    Ok(super::exit_code(interrupted))
-}
-
-/// The tables of `softway modes`: the rest modes, the spinning ones, the notes.
-fn modes_text(
-    name: &str,
-    rep: &crate::modes::ModesReport,
-    support: &crate::bodies::wheel::Support,
-    omega: f64,
-) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
-    let support = match support {
-        crate::bodies::wheel::Support::Hub { radius } => format!("a hub clamped within {radius} m"),
-        crate::bodies::wheel::Support::CentrePinned => "the centre node pinned".to_string(),
-    };
-    let _ = writeln!(
-        s,
-        "{}: {} dofs ({} free), support: {support}",
-        name, rep.dofs, rep.free_dofs
-    );
-    let _ = writeln!(s, "at rest:");
-    let _ = writeln!(
-        s,
-        "{:>5} {:>14} {:>12} {:>5}  kind",
-        "mode", "frequency Hz", "period us", "n"
-    );
-    for (i, m) in rep.at_rest.iter().enumerate() {
-        let _ = writeln!(
-            s,
-            "{:>5} {:>14.2} {:>12.3} {:>5}  {}",
-            i + 1,
-            m.frequency_hz,
-            m.period_us,
-            m.wavenumber
-                .map(|n| n.to_string())
-                .unwrap_or_else(|| "-".into()),
-            m.kind
-        );
-    }
-    if let Some(sp) = &rep.spinning {
-        let _ = writeln!(
-            s,
-            "spinning at omega = {} rad/s (frequencies in the wheel's rotating frame):",
-            omega
-        );
-        let _ = writeln!(
-            s,
-            "{:>5} {:>14} {:>14} {:>10}  kind",
-            "mode", "frequency Hz", "at rest Hz", "whirl"
-        );
-        for (i, m) in sp.iter().enumerate() {
-            let _ = writeln!(
-                s,
-                "{:>5} {:>14.2} {:>14.2} {:>10}  {}",
-                i + 1,
-                m.frequency_hz,
-                m.rest_frequency_hz,
-                m.whirl.to_string(),
-                m.kind
-            );
-        }
-    }
-    for n in &rep.notes {
-        let _ = writeln!(s, "note: {n}");
-    }
-    s
-}
-
-/// `softway receptance`: a track's receptance and frequencies into a folder.
-pub(super) fn receptance_command(
-    scenario: &Path,
-    out: Option<PathBuf>,
-    Replace { force }: Replace,
-    cancel: &Cancel,
-) -> CommandResult {
-    let sc = Scenario::from_file(scenario)?;
-    if sc.runs[0]
-        .model
-        .get::<crate::scenario::TrackScenario>()
-        .is_none()
-    {
-        return Err(format!(
-            "{}: `softway receptance` needs a track scenario (kind = \"track\")",
-            scenario.display()
-        )
-        .into());
-    }
+    let sc = super::read_scenario(scenario, set)?;
     for w in &sc.warnings {
         errln!("softway: warning: {w}");
     }
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
+    let Some(study) = sc.runs[0].model.study(command) else {
+        let kinds = crate::scenario::kind::Registry::builtin().answering(command);
+        return Err(format!(
+            "{}: `softway {command}` needs a {} scenario (kind = \"{}\")",
+            scenario.display(),
+            kinds.join(" or "),
+            kinds.join("\" or \""),
+        )
+        .into());
+    };
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-{command}", sc.name)));
     let stage = JobFolder::begin(&out, force, &[scenario])?;
-    let report =
-        crate::kinds::track::moving::receptance_job(&sc, stage.dir(), sc.plots, cancel.flag())?;
-    let interrupted = report.interrupted || cancel.is_cancelled();
+    let opts = crate::scenario::kind::StudyOptions {
+        count,
+        plots: sc.plots,
+        cancel: cancel.flag(),
+    };
+    let report = study.run(&sc, &opts, stage.dir())?;
+    let interrupted = report.interrupted.is_some() || cancel.is_cancelled();
     let files = stage.finish(&report.files, Some(&sc), interrupted)?;
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
         &report.lines,
         &files,
-        interrupted.then_some("interrupted: receptance.csv holds the frequencies computed so far"),
+        interrupted
+            .then(|| {
+                report
+                    .interrupted
+                    .as_deref()
+                    .unwrap_or("interrupted")
+                    .to_string()
+            })
+            .as_deref(),
     )
 }
 

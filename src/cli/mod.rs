@@ -38,7 +38,7 @@ use study::{compare_command, converge_command, sweep_command};
 mod shakedown;
 mod shard;
 
-use analysis::{matrix_command, modes_command, receptance_command, stability_command};
+use analysis::{matrix_command, stability_command, study_command};
 
 /// Dynamic contact by the space-time finite element method (Bajer's soft way).
 #[derive(Parser, Debug)]
@@ -377,12 +377,12 @@ fn try_main(cli: Cli, cancel: &Cancel) -> CommandResult {
             count,
             out,
             replace,
-        } => modes_command(&scenario, &set, count, out, replace, cancel),
+        } => study_command("modes", &scenario, &set, Some(count), out, replace, cancel),
         Command::Receptance {
             scenario,
             out,
             replace,
-        } => receptance_command(&scenario, out, replace, cancel),
+        } => study_command("receptance", &scenario, &[], None, out, replace, cancel),
         Command::Matrix {
             scenario,
             out,

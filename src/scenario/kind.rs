@@ -4,7 +4,7 @@
 //! [`Registry::builtin`], in [`crate::kinds`]).
 
 use super::error::ScenarioError;
-use super::{Ctx, Run, Scenario};
+use super::{Ctx, Run, RunSpec, Scenario};
 use crate::contact::{FrictionLaw, Treatment};
 use crate::growth::{GrowOptions, GrowthConfig, GrowthError, PassRunner};
 use crate::run::error::RunError;
@@ -47,6 +47,12 @@ pub trait Kind: Send + Sync {
     /// # Errors
     /// [`ScenarioError`] naming the file, the key and what is allowed.
     fn model(&self, input: &KindInput) -> Result<Model, ScenarioError>;
+
+    /// The commands of its own studies ([`Spec::study`]: `"modes"`, `"receptance"`), for
+    /// the message that refuses another kind; none by default.
+    fn studies(&self) -> &'static [&'static str] {
+        &[]
+    }
 }
 
 /// What a kind's [`Kind::model`] reads: the scenario's text (each kind deserializes its own
@@ -273,6 +279,12 @@ pub trait Spec: Any + std::fmt::Debug + Send + Sync {
         )))
     }
 
+    /// The kind's study that answers the command `command` (`"modes"`: a wheel's modes,
+    /// `"receptance"`: a track's receptance); `None` (the default): the kind has none.
+    fn study(&self, _command: &str) -> Option<&dyn Study> {
+        None
+    }
+
     /// The free step `softway matrix` writes out and times, for the run `run` of the
     /// scenario file `scenario`; `None`: the kind has none.
     ///
@@ -412,6 +424,15 @@ impl Registry {
         self.kinds.iter().copied()
     }
 
+    /// The names of the kinds whose study answers `command` ([`Kind::studies`]).
+    pub fn answering(&self, command: &str) -> Vec<&'static str> {
+        self.kinds
+            .iter()
+            .filter(|k| k.studies().contains(&command))
+            .map(|k| k.name())
+            .collect()
+    }
+
     /// The names, quoted and joined (`"sdof", "bar_impact", ...`), for messages.
     pub fn names(&self) -> String {
         self.kinds
@@ -420,4 +441,44 @@ impl Registry {
             .collect::<Vec<_>>()
             .join(", ")
     }
+}
+
+/// A study of a kind's own that a command runs into a staged output folder: `softway modes`
+/// of a wheel, `softway receptance` of a track ([`Spec::study`]). The command reads the
+/// scenario, stages the folder, hands the study its first run's model and prints what it
+/// returns; the folder rules, the scenario's copy and the interruption are the command's.
+pub trait Study: Sync {
+    /// Runs the study of the scenario `sc` (its first run's model, before the runs are
+    /// resolved) into the folder `dir`.
+    ///
+    /// # Errors
+    /// [`RunError`]: a model that cannot be built, a bad option, a failed write.
+    fn run(
+        &self,
+        sc: &Scenario<RunSpec>,
+        opts: &StudyOptions,
+        dir: &Path,
+    ) -> Result<StudyReport, RunError>;
+}
+
+/// What a [`Study`] is asked for.
+#[derive(Debug, Clone, Copy)]
+pub struct StudyOptions<'a> {
+    /// `--count`: how many results (modes) the study gives, where it takes a count.
+    pub count: Option<usize>,
+    /// Whether to draw the figures.
+    pub plots: bool,
+    /// Set by SIGINT, SIGTERM or SIGHUP: the study stops at its next point.
+    pub cancel: &'a std::sync::atomic::AtomicBool,
+}
+
+/// What a [`Study`] gives back.
+#[derive(Debug, Clone, Default)]
+pub struct StudyReport {
+    /// Lines for the screen (tables), printed before the files.
+    pub lines: Vec<String>,
+    /// The files written into the folder.
+    pub files: Vec<std::path::PathBuf>,
+    /// Stopped by a signal before its end: what the folder then holds.
+    pub interrupted: Option<String>,
 }

@@ -38,6 +38,10 @@ impl Kind for TrackKind {
         "track"
     }
 
+    fn studies(&self) -> &'static [&'static str] {
+        &["receptance"]
+    }
+
     fn tables(&self) -> &'static [&'static str] {
         &["track", "vehicle", "receptance", "irregularity", "contact"]
     }
@@ -220,6 +224,11 @@ impl Spec for TrackScenario {
             contact_pairs: pairs,
             key: Some(key),
         }
+    }
+
+    fn study(&self, command: &str) -> Option<&dyn crate::scenario::kind::Study> {
+        (command == "receptance")
+            .then_some(&moving::TrackReceptance as &dyn crate::scenario::kind::Study)
     }
 
     fn growth_runner(

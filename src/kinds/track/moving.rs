@@ -368,6 +368,28 @@ pub(crate) struct ReceptanceReport {
     pub interrupted: bool,
 }
 
+/// The track's receptance study (`softway receptance`, [`receptance_job`]).
+#[derive(Debug, Clone, Copy)]
+pub struct TrackReceptance;
+
+impl crate::scenario::kind::Study for TrackReceptance {
+    fn run(
+        &self,
+        sc: &Scenario<crate::scenario::RunSpec>,
+        opts: &crate::scenario::kind::StudyOptions,
+        dir: &Path,
+    ) -> Result<crate::scenario::kind::StudyReport, RunError> {
+        let r = receptance_job(sc, dir, opts.plots, opts.cancel)?;
+        Ok(crate::scenario::kind::StudyReport {
+            lines: r.lines,
+            files: r.files,
+            interrupted: r.interrupted.then(|| {
+                "interrupted: receptance.csv holds the frequencies computed so far".to_string()
+            }),
+        })
+    }
+}
+
 /// `softway receptance`: the receptance of the scenario's track (its first run's) at
 /// mid-span and above the middle sleeper, its frequencies, written into `out`.
 ///

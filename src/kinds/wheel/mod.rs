@@ -20,6 +20,7 @@ use crate::time::Integrator;
 use std::path::Path;
 
 pub mod growth;
+pub mod modes;
 pub(crate) mod on_block;
 pub(crate) mod rules;
 pub mod run;
@@ -39,6 +40,10 @@ struct Tables {
 impl Kind for WheelKind {
     fn name(&self) -> &'static str {
         "wheel"
+    }
+
+    fn studies(&self) -> &'static [&'static str] {
+        &["modes"]
     }
 
     fn tables(&self) -> &'static [&'static str] {
@@ -221,6 +226,10 @@ impl Spec for WheelScenario {
                 f: wm.load.clone(),
             }
         }))
+    }
+
+    fn study(&self, command: &str) -> Option<&dyn crate::scenario::kind::Study> {
+        (command == "modes").then_some(&modes::WheelModes as &dyn crate::scenario::kind::Study)
     }
 
     fn growth_runner(
