@@ -300,8 +300,20 @@ def sweep(
         as written, interrupted or not) and the histories asked for. A failed point is
         also reported by a warning.
 
+    Raises:
+        ScenarioError: before any point is sent, the grid or a point's values refused by
+            the engine as ``softway sweep`` refuses them (a misspelt key, a value out of
+            range at any point, a key or a point given twice); ``key`` is the dotted key.
+        ValueError: before any point is sent, a ``histories`` name that is not a column of
+            the run's history (the message lists them).
+        SweepInterrupted: Ctrl-C (KeyboardInterrupt); ``.dataset`` holds the points
+            finished, the others ``interrupted``. On Dask the points running are stopped at
+            their next step and those not started are not run; on another executor those
+            not started are cancelled.
+
     Each point runs on one thread (as ``softway sweep`` does); the same values give the
-    numbers of ``softway sweep``, bit for bit.
+    numbers of ``softway sweep``, bit for bit. Any executor works, a process pool that
+    forks included: the engine keeps no thread or lock between calls.
     """
 
     sc = as_scenario(scenario)

@@ -222,6 +222,15 @@ fn check_file(path: PathBuf) -> PyResult<()> {
     Ok(())
 }
 
+/// The text of the scenario file `path` as the command line reads it
+/// ([`softway::scenario::read_text`]: a regular file of at most 16 MiB, UTF-8); raises its
+/// ScenarioError otherwise (missing, a folder, a pipe or a device, too large, not UTF-8).
+#[pyfunction]
+fn read_scenario(path: PathBuf) -> PyResult<String> {
+    softway::scenario::read_text(&path)
+        .map_err(|source| scenario_error(ScError::Io { path, source }, None))
+}
+
 /// Sets the dotted key `key` to the TOML literal `value` in the scenario text exactly as
 /// `softway run --set` and `softway sweep --set` write it (the same text, so the same
 /// `scenario_sha256`); the text is not validated here.
@@ -238,42 +247,6 @@ fn set_key(text: &str, key: &str, value: &str) -> PyResult<String> {
         });
         err
     })
-}
-
-/// The points of a sweep grid as the command line makes them (`softway sweep --set
-/// K=V1,V2 ... --grid product|zip`, `softway::scenario::overrides::grid`): for each key its
-/// name and its number of values; each point the index of its value of each key, in the
-/// keys' order. A key with one value is set at every point of a zip, as on the command line.
-#[pyfunction]
-fn grid_indices(keys: Vec<(String, usize)>, mode: &str) -> PyResult<Vec<Vec<usize>>> {
-    use softway::scenario::overrides::{grid, Grid};
-    let how = match mode {
-        "product" => Grid::Product,
-        "zip" => Grid::Zip,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "mode={other:?}: 'product' or 'zip'"
-            )))
-        }
-    };
-    let keys: Vec<(String, Vec<String>)> = keys
-        .into_iter()
-        .map(|(k, n)| (k, (0..n).map(|i| i.to_string()).collect()))
-        .collect();
-    let points = grid(&keys, how).map_err(|m| {
-        PyValueError::new_err(
-            m.replace("--grid zip: ", "mode='zip': ")
-                .replace("--set ", "")
-                .replace(
-                    " (a key with one value is set at every point; or --grid product)",
-                    " (a key with one value is set at every point; or mode='product')",
-                ),
-        )
-    })?;
-    Ok(points
-        .iter()
-        .map(|p| p.iter().map(|o| o.value.parse().unwrap_or(0)).collect())
-        .collect())
 }
 
 /// The one-line message of a grid the core refuses, in Python's words (`mode='zip'` for
@@ -1117,7 +1090,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(set_key, m)?)?;
     m.add_function(wrap_pyfunction!(check_file, m)?)?;
     m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(grid_indices, m)?)?;
+    m.add_function(wrap_pyfunction!(read_scenario, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_points, m)?)?;
     m.add_function(wrap_pyfunction!(history_names, m)?)?;
     m.add_function(wrap_pyfunction!(key_unit, m)?)?;
