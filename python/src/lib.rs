@@ -455,7 +455,7 @@ fn name_unit(name: &str) -> Option<String> {
 
 /// Writes the files `files` (`(name, bytes)`, a saved result's as [`NativeResults::files`]
 /// gives them) into `folder` under the command line's folder rules
-/// ([`softway::run::JobFolder`]: written whole or not at all, a folder of other
+/// ([`softway::run::save_files`]: written whole or not at all, a folder of other
 /// files refused unless `force`, the current and the home folder never replaced, marked as
 /// softway's and `interrupted` when the run was). Returns their paths.
 #[pyfunction]
@@ -467,40 +467,8 @@ fn save_files(
     interrupted: bool,
     force: bool,
 ) -> PyResult<Vec<PathBuf>> {
-    py.allow_threads(|| -> Result<Vec<PathBuf>, String> {
-        let shown = |e: &dyn std::fmt::Display| {
-            softway::RunError::Output {
-                path: folder.clone(),
-                message: e.to_string(),
-            }
-            .to_string()
-        };
-        let stage = softway::run::JobFolder::begin(&folder, force, &[]).map_err(|e| shown(&e))?;
-        let mut written = Vec::with_capacity(files.len());
-        for (name, bytes) in &files {
-            let rel = Path::new(name);
-            if rel.components().count() != 1 || rel.file_name().is_none() {
-                return Err(format!("{name:?}: not a file's name"));
-            }
-            let p = stage.dir().join(rel);
-            std::fs::write(&p, bytes).map_err(|e| {
-                softway::RunError::Output {
-                    path: stage.final_path(&p),
-                    message: e.to_string(),
-                }
-                .to_string()
-            })?;
-            written.push(p);
-        }
-        stage
-            .finish(
-                &written,
-                None::<&softway::scenario::Scenario<softway::scenario::RunSpec>>,
-                interrupted,
-            )
-            .map_err(|e| shown(&e))
-    })
-    .map_err(RunError::new_err)
+    py.allow_threads(|| softway::run::save_files(&folder, &files, interrupted, force))
+        .map_err(|e| RunError::new_err(e.to_string()))
 }
 
 /// The TOML text of a scenario given as JSON (a Python dict through `json.dumps`).

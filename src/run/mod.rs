@@ -19,21 +19,18 @@ pub use crate::guard::GuardMode;
 pub use crate::kinds::bar::run as bar;
 pub use crate::kinds::wheel::run as wheel;
 pub use crate::linalg::team::{Par, Team};
-/// The folder rules every command keeps, for a caller that writes files of its own (the
-/// Python package's `Result.save` after unpickling).
-pub use crate::output::job::JobFolder;
 pub use crate::output::table::{Column, Columns};
 use crate::scenario::Scenario;
 pub use converge::observed_orders;
 pub use error::RunError;
 pub use options::{Cancel, ProgressWatch, RunOptions};
 pub use provenance::{peak_rss_mib, write_scenario_copy, SCENARIO_COPY};
-pub use results::{FieldArray, FieldFrame, Fields, Results};
+pub use results::{save_files, FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 pub use sweep::creep::{creepage_at, ladder_rows, LadderRow, MAX_ORDER, MIN_ORDER, TARGETS};
 pub use sweep::{
     check_points, column_name, key_column, point_dir_name, sweep, PointRefused, PointStatus,
-    SweepError, SweepPoint, KEY_UNITS,
+    SweepError, SweepPoint, COLUMN_NAMES, KEY_UNITS,
 };
 
 /// What a job reports back.

@@ -192,7 +192,7 @@ impl PointRefused {
 }
 
 /// Validates and builds the scenario text at `path` (named so in messages) for every
-/// point (its overrides written into the text as `--set` writes them), as [`run_points`]
+/// point (its overrides written into the text as `--set` writes them), as `run_points`
 /// does before any run starts: each point's folder name ([`point_dir_name`]) short enough
 /// and given once, each point's scenario valid. Returns the built scenarios in the points'
 /// order. The Python package's sweeps call it before they dispatch any point.
