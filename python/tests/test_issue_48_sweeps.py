@@ -237,3 +237,46 @@ def test_issue_48_ctrl_c_during_a_dask_sweep_stops_its_tasks_and_keeps_the_finis
     for s in ran:
         assert s["interrupted"] is True
     assert all(np.isnan(out["force"][1:]))
+
+
+def test_issue_48_ctrl_c_during_a_serial_sweep_keeps_the_finished_points(monkeypatch):
+    """executor="serial": Ctrl-C (KeyboardInterrupt in this thread) while the second of
+    three points runs stops that run at its next step and the sweep with it:
+    SweepInterrupted, its dataset the first point complete, the second interrupted with the
+    steps it computed (its summary says so), the third not run. Before, the stopped point
+    was recorded as failed and the sweep went on to the next point."""
+    import _thread
+    import threading
+    import time
+
+    from softway import _sweep
+
+    done = []
+    real = _sweep.run_point
+
+    def counted(*args, **kwargs):
+        out = real(*args, **kwargs)
+        done.append(out)
+        return out
+
+    monkeypatch.setattr(_sweep, "run_point", counted)
+
+    def interrupt():
+        while not done:
+            time.sleep(0.05)
+        time.sleep(1.5)  # the second point is running (its model built, steps under way)
+        _thread.interrupt_main()
+
+    sc = softway.Scenario(SCENARIOS / "wheel.toml").with_values(**SHORT_WHEEL)
+    threading.Thread(target=interrupt, daemon=True).start()
+    with pytest.raises(softway.SweepInterrupted) as e:
+        softway.sweep(sc, {"rolling.turns": [0.02, 3.0, 3.0001]}, executor="serial",
+                      progress=False)
+    ds = e.value.dataset
+    assert list(ds["status"].values) == ["complete", "interrupted", "interrupted"]
+    assert ds["mean_contact_force"].values[0] > 5e5
+    assert np.isnan(ds["mean_contact_force"].values[1:]).all()
+    second = json.loads(ds["summary_json"].values[1])
+    assert second["interrupted"] is True and second["steps"] > 0
+    assert ds["summary_json"].values[2] == ""
+    assert len(done) == 2  # the third point never started
