@@ -25,14 +25,14 @@ from __future__ import annotations
 import contextlib
 import os
 import warnings as _warnings
-from typing import Any, Optional
+from typing import Any, Callable, Optional
 
 from . import _native
 from ._native import RunError, ScenarioError
 from ._result import TIMING_KEYS, FieldFrame, Fields, Result
 from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
 from ._growth import GrowthResult, Profile, grow
-from ._sweep import sweep
+from ._sweep import SweepInterrupted, sweep
 from ._grow_sweep import grow_sweep
 
 __version__ = _native.__version__
@@ -52,6 +52,7 @@ __all__ = [
     "GrowthInterrupted",
     "Profile",
     "sweep",
+    "SweepInterrupted",
     "grow_sweep",
     "toml_literal",
     "TIMING_KEYS",
@@ -174,19 +175,50 @@ def run(
     sc = as_scenario(scenario)
     if overrides:
         sc = sc.with_values(**overrides)
-    _warn(sc.warnings, stacklevel=2)
+    return _run(sc, progress=progress, threads=threads, irregularity=irregularity, stacklevel=3)
+
+
+class _Stopped(Exception):
+    """Raised by a run's progress callback when its ``should_stop`` says so (a sweep's
+    point told to stop by the sweep that was interrupted): the engine stops the run at its
+    next step, as on Ctrl-C."""
+
+
+def _run(
+    sc: Scenario,
+    *,
+    progress: bool,
+    threads: Optional[int],
+    irregularity: Any = None,
+    should_stop: Optional[Callable[[], bool]] = None,
+    stacklevel: int = 2,
+) -> Result:
+    """:func:`run` of a validated scenario; ``should_stop`` (None, or called at every
+    progress report, about every 0.1 s) stops the run at its next step when it returns
+    True, raising RunInterrupted with what was computed (a sweep's point on a worker,
+    stopped by the sweep that was interrupted)."""
+    _warn(sc.warnings, stacklevel=stacklevel)
     with contextlib.ExitStack() as stack:
         if irregularity is not None:
             sc = _with_irregularity(sc, irregularity, stack)
         bar = _Bar(progress)
+        report: Optional[Callable[[str, int, int], None]] = bar if progress else None
+        if should_stop is not None:
+
+            def report(label: str, done: int, total: int, _bar=report) -> None:
+                if _bar is not None:
+                    _bar(label, done, total)
+                if should_stop():
+                    raise _Stopped()
+
         try:
-            native, raised = _native.run(sc.text, sc.path, threads, bar if progress else None)
+            native, raised = _native.run(sc.text, sc.path, threads, report)
         finally:
             bar.close()
     result = Result(native)
-    _warn(result.warnings, stacklevel=2)
+    _warn(result.warnings, stacklevel=stacklevel)
     if raised is not None:
-        if isinstance(raised, KeyboardInterrupt):
+        if isinstance(raised, (KeyboardInterrupt, _Stopped)):
             raise RunInterrupted(result) from None
         raise raised
     return result

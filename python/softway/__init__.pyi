@@ -52,6 +52,10 @@ def grow(
     threads: Optional[int] = None,
     **overrides: Any,
 ) -> GrowthResult: ...
+class SweepInterrupted(KeyboardInterrupt):
+    dataset: Any
+    def __init__(self, dataset: Any) -> None: ...
+
 def sweep(
     scenario: ScenarioLike,
     grid: Mapping[str, Iterable[Any]],

@@ -15,16 +15,21 @@ from typing import Any, Iterable, Mapping, Optional
 
 import numpy as np
 
-from ._scenario import Scenario, ScenarioLike, as_scenario, toml_literal
+from ._scenario import Scenario, ScenarioLike, as_scenario
 from ._sweep import (
     _default_cluster,
     _gather,
+    _Interrupted,
     _is_number,
-    _point_dir,
     _points,
+    _not_run,
     _progress,
+    _stopped,
+    SweepInterrupted,
+    key_attrs,
     need_netcdf,
 )
+from . import _native
 
 
 def _is_timing(name: str) -> bool:
@@ -158,10 +163,8 @@ def grow_sweep(
     if grid_mode not in ("product", "zip"):
         raise ValueError(f"grid_mode={grid_mode!r}: 'product' or 'zip'")
     sc = as_scenario(scenario)
-    pts, values = _points(grid, grid_mode)
-    for p in pts:
-        for v in p.values():
-            toml_literal(v)
+    # The grid and every point's values checked by the engine before any study runs.
+    pts, values, dirs = _points(grid, grid_mode, sc)
     if passes is not None and (isinstance(passes, bool) or int(passes) != passes or passes < 1):
         raise ValueError(f"passes: a whole number >= 1, not {passes!r}")
     if resume and out is None:
@@ -170,7 +173,7 @@ def grow_sweep(
     if out_dir is not None:
         need_netcdf("grow_sweep(out=...) (grow_sweep.nc)")
         out_dir.mkdir(parents=True, exist_ok=True)
-    folders = [None if out_dir is None else str(out_dir / _point_dir(p)) for p in pts]
+    folders = [None if out_dir is None else str(out_dir / d) for d in dirs]
     n_passes = None if passes is None else int(passes)
 
     cluster = client = None
@@ -178,21 +181,36 @@ def grow_sweep(
         cluster, client = _default_cluster(len(pts))
         executor = client.get_executor()
     try:
-        if executor == "serial":
-            results = [
-                grow_point(sc.text, sc.path, p, n_passes, f, resume)
-                for p, f in _progress(zip(pts, folders), len(pts), progress, "grow_sweep")
-            ]
-        elif isinstance(executor, Executor):
-            futures = [
-                executor.submit(grow_point, sc.text, sc.path, p, n_passes, f, resume)
-                for p, f in zip(pts, folders)
-            ]
-            results = _gather(futures, pts, progress, "grow_sweep")
-        else:
-            raise TypeError(
-                f"executor={executor!r}: a concurrent.futures.Executor, None or 'serial'"
-            )
+        try:
+            if executor == "serial":
+                results = []
+                try:
+                    for p, f in _progress(zip(pts, folders), len(pts), progress, "grow_sweep"):
+                        results.append(grow_point(sc.text, sc.path, p, n_passes, f, resume))
+                        if results[-1].get("interrupted"):  # Ctrl-C stopped its study
+                            raise KeyboardInterrupt
+                except KeyboardInterrupt:
+                    results += [_not_run(p) for p in pts[len(results) :]]
+                    raise _Interrupted(results) from None
+            elif isinstance(executor, Executor):
+                futures = []
+                try:
+                    for p, f in zip(pts, folders):
+                        futures.append(
+                            executor.submit(grow_point, sc.text, sc.path, p, n_passes, f, resume)
+                        )
+                except KeyboardInterrupt:
+                    raise _Interrupted(_stopped(futures, pts, None)) from None
+                results = _gather(futures, pts, progress, "grow_sweep")
+            else:
+                raise TypeError(
+                    f"executor={executor!r}: a concurrent.futures.Executor, None or 'serial'"
+                )
+        except _Interrupted as e:
+            ds = _dataset([_as_failed(r) for r in e.results], pts, values, grid_mode)
+            if out_dir is not None:
+                ds.to_netcdf(out_dir / "grow_sweep.nc")
+            raise SweepInterrupted(ds) from None
     finally:
         if client is not None:
             client.close()
@@ -207,6 +225,14 @@ def grow_sweep(
     if out_dir is not None:
         ds.to_netcdf(out_dir / "grow_sweep.nc")
     return ds
+
+
+def _as_failed(r: dict) -> dict:
+    """A point not run when a growth sweep was stopped, as the Dataset takes it (no
+    passes: an error saying so)."""
+    if r.get("summary") is None and not r.get("error"):
+        return {**r, "error": "not run: the sweep was interrupted"}
+    return r
 
 
 def _flat_numbers(summary: Optional[dict]) -> dict[str, float]:
@@ -230,12 +256,12 @@ def _dataset(results, pts, values, mode):
     if mode == "product":
         dims = keys
         shape = tuple(len(values[k]) for k in keys)
-        coords = {k: (k, np.asarray(values[k])) for k in keys}
+        coords = {k: (k, np.asarray(values[k]), key_attrs(k)) for k in keys}
     else:
         dims = ["point"]
         shape = (len(pts),)
         # Each point's own value (a key with one value broadcast to every point).
-        coords = {k: ("point", np.asarray([p[k] for p in pts])) for k in keys}
+        coords = {k: ("point", np.asarray([p[k] for p in pts]), key_attrs(k)) for k in keys}
     n = len(pts)
     ok = [r for r in results if not r["error"]]
     data: dict[str, Any] = {}
@@ -328,8 +354,6 @@ def _dataset(results, pts, values, mode):
 
 
 def _unit(name: str) -> str:
-    from ._growth import _unit as unit
-
-    if name.endswith("_db_per_1e5"):
-        return "dB per 1e5 real passes"
-    return unit(name)
+    """The unit of a summary's number, as the engine names it (``speed_m_s``: m/s,
+    ``rate_db_per_1e5``: dB per 1e5 real passes); ``"1"`` for a count or a ratio."""
+    return _native.summary_unit(name) or "1"

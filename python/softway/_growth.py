@@ -16,26 +16,14 @@ from . import _native
 from ._result import _f64
 from ._scenario import ScenarioLike, as_scenario
 
-#: Units of the per-pass table's columns, by the end of the name (the engine's names
-#: carry their unit: ``mean_force_n`` in N, ``contact_stiffness_n_m`` in N/m).
-_SUFFIX_UNITS = (
-    ("_n_m", "N/m"),
-    ("_m", "m"),
-    ("_n", "N"),
-    ("_s", "s"),
-    ("_hz", "Hz"),
-    ("_db", "dB re 1 um"),
-)
-
-
 _AFTER_ATTRS = {"long_name": "passes finished (0: the initial profile)", "units": "1"}
 
 
 def _unit(name: str) -> str:
-    for suffix, unit in _SUFFIX_UNITS:
-        if name.endswith(suffix):
-            return unit
-    return "1"
+    """The unit a column's name carries (the engine's names do: ``mean_force_n`` in N,
+    ``contact_stiffness_n_m`` in N/m, ``speed_m_s`` in m/s), as the engine reads it;
+    ``"1"`` for a count or a ratio."""
+    return _native.summary_unit(name) or "1"
 
 
 class Profile(NamedTuple):

@@ -230,9 +230,9 @@ class Result:
 
     A Result pickles (``client.map(softway.run, ...)`` on Dask, a process pool, joblib):
     the summary, the tables, the fields, the lines and the warnings go with it, as they are
-    (an array changed in place stays changed). :meth:`save` needs the engine's results,
-    which stay in the process that ran it: save where the run ran (e.g. a task that runs
-    and saves), or write the tables from the copy (``history.to_pandas().to_csv(...)``).
+    (an array changed in place stays changed), and the command line's files as the engine
+    writes them (rendered when the Result is pickled), so that :meth:`save` works where it
+    is unpickled, the same bytes under the same folder rules.
     """
 
     #: The tables a pickle carries (the cached properties below).
@@ -288,22 +288,28 @@ class Result:
         rules: the folder is written whole (or not at all) and marked as softway's; a
         folder of other files is refused (``RunError``) unless ``force=True``; the current
         and the home folder are never replaced. Returns the paths."""
-        if self._native is None:
-            raise _native.RunError(
-                "this Result was unpickled (sent from the process that ran it): save() "
-                "writes the engine's results, which stay in that process; call save() "
-                "there (a task that runs and saves), or write the tables from this copy "
-                "(e.g. r.history.to_pandas().to_csv(...))"
-            )
+        if self._native is None:  # unpickled: the files the engine wrote when pickled
+            return [
+                Path(p)
+                for p in _native.save_files(
+                    os.fspath(folder), self._files, self.interrupted, force
+                )
+            ]
         return [Path(p) for p in self._native.save(os.fspath(folder), force)]
 
     def __getstate__(self) -> dict[str, Any]:
         """What a pickle carries: every attribute and table (built now if not yet), the
-        fields; not the engine's results (see :meth:`save`)."""
+        fields, and the command line's files as the engine writes them (``_files``: name
+        and bytes, for :meth:`save` where it is unpickled)."""
         state = {k: v for k, v in self.__dict__.items() if k != "_native"}
         for name in self._TABLES:
             state[name] = getattr(self, name)
         state["_fields"] = self.fields
+        if self._native is not None:
+            import tempfile
+
+            with tempfile.TemporaryDirectory(prefix="softway-pickle-") as scratch:
+                state["_files"] = list(self._native.files(scratch))
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:

@@ -150,23 +150,10 @@ def _json_default(v: Any) -> Any:
 
 
 def _read_text(path: str) -> str:
-    """The text of the scenario file ``path``; a file the engine would refuse (missing,
-    a folder, a pipe or a device, too large, not UTF-8) raises its message."""
-    import stat
-
-    try:
-        st = os.stat(path)
-        regular = stat.S_ISREG(st.st_mode) and st.st_size <= (16 << 20)
-    except OSError:
-        regular = False
-    if regular:
-        try:
-            with open(path, "rb") as f:
-                return f.read().decode("utf-8")
-        except (OSError, UnicodeDecodeError):
-            pass
-    _native.check_file(path)  # raises the command line's message
-    raise ScenarioError(f"{path}: cannot read the scenario")
+    """The text of the scenario file ``path`` as the command line reads it (the engine's
+    reader: a regular file of at most 16 MiB, UTF-8); raises its ScenarioError otherwise
+    (missing, a folder, a pipe or a device, too large, not UTF-8)."""
+    return _native.read_scenario(path)
 
 
 def as_scenario(scenario: ScenarioLike) -> Scenario:

@@ -26,6 +26,22 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
 
+/// Runs `f` in a rayon pool of this call's own, `threads` threads (None: rayon's default,
+/// the cores), which ends with the call. Nothing of the engine runs in rayon's
+/// process-wide pool, so that no worker thread or lock of softway outlives a call: a
+/// process forked afterwards (`concurrent.futures.ProcessPoolExecutor`,
+/// `multiprocessing`'s default on Linux) starts with no pool whose threads it lacks. (A
+/// child of a process whose global pool was started waits forever on its first parallel
+/// loop: the pool's threads are not copied by `fork`.)
+fn in_pool<T: Send>(threads: Option<usize>, f: impl FnOnce() -> T + Send) -> Result<T, String> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .thread_name(|i| format!("softway-{i}"))
+        .build()
+        .map_err(|e| format!("cannot start the run's threads: {e}"))?;
+    Ok(pool.install(f))
+}
+
 create_exception!(
     _native,
     ScenarioError,
@@ -166,9 +182,11 @@ fn scenario_error(e: ScError, text: Option<&str>) -> PyErr {
 /// Parses, validates and builds the scenario text `text` (named `path` in errors, its
 /// relative mesh paths read from `path`'s folder).
 fn build(text: &str, path: &str) -> PyResult<Scenario> {
-    Scenario::from_str(text, Path::new(path))
-        .and_then(|sc| resolve(&sc))
-        .map_err(|e| scenario_error(e, Some(text)))
+    in_pool(Some(1), || {
+        Scenario::from_str(text, Path::new(path)).and_then(|sc| resolve(&sc))
+    })
+    .map_err(RunError::new_err)?
+    .map_err(|e| scenario_error(e, Some(text)))
 }
 
 /// Validates a scenario: returns its name, kind, warnings, default sweep, SHA-256 and runs'
@@ -195,11 +213,22 @@ fn check<'py>(py: Python<'py>, text: &str, path: &str) -> PyResult<Bound<'py, Py
 /// ScenarioError (a file that cannot be read: missing, a folder, a pipe, not UTF-8).
 #[pyfunction]
 fn check_file(path: PathBuf) -> PyResult<()> {
-    Scenario::from_file(&path).map_err(|e| {
-        let text = std::fs::read_to_string(&path).ok();
-        scenario_error(e, text.as_deref())
-    })?;
+    in_pool(Some(1), || Scenario::from_file(&path))
+        .map_err(RunError::new_err)?
+        .map_err(|e| {
+            let text = std::fs::read_to_string(&path).ok();
+            scenario_error(e, text.as_deref())
+        })?;
     Ok(())
+}
+
+/// The text of the scenario file `path` as the command line reads it
+/// ([`softway::scenario::read_text`]: a regular file of at most 16 MiB, UTF-8); raises its
+/// ScenarioError otherwise (missing, a folder, a pipe or a device, too large, not UTF-8).
+#[pyfunction]
+fn read_scenario(path: PathBuf) -> PyResult<String> {
+    softway::scenario::read_text(&path)
+        .map_err(|source| scenario_error(ScError::Io { path, source }, None))
 }
 
 /// Sets the dotted key `key` to the TOML literal `value` in the scenario text exactly as
@@ -220,12 +249,38 @@ fn set_key(text: &str, key: &str, value: &str) -> PyResult<String> {
     })
 }
 
-/// The points of a sweep grid as the command line makes them (`softway sweep --set
-/// K=V1,V2 ... --grid product|zip`, `softway::scenario::overrides::grid`): for each key its
-/// name and its number of values; each point the index of its value of each key, in the
-/// keys' order. A key with one value is set at every point of a zip, as on the command line.
+/// The one-line message of a grid the core refuses, in Python's words (`mode='zip'` for
+/// `--grid zip`, no `--set`).
+fn grid_message(m: &str) -> String {
+    m.replace(
+        "give --set KEY=V1,V2,...",
+        "give at least one key and its values",
+    )
+    .replace("--grid zip: ", "mode='zip': ")
+    .replace("--set ", "")
+    .replace(
+        " (a key with one value is set at every point; or --grid product)",
+        " (a key with one value is set at every point; or mode='product')",
+    )
+}
+
+/// Every point of a sweep checked before any runs, by the core as `softway sweep` checks
+/// them: the grid ([`softway::scenario::overrides::grid`]: keys given once, each with
+/// values, a zip's lists of one length), then each point's folder name and its scenario
+/// with the point's values set in ([`softway::run::check_points`]: each value
+/// refused by its dotted key, a point given twice). `keys`: each dotted key and its values
+/// as TOML literals. Returns each point's value indices (in the keys' order) and its folder
+/// name (`key=value,...`, as `softway sweep` names it). Raises ScenarioError (a ValueError)
+/// with the command line's message and `key` the dotted key at fault.
 #[pyfunction]
-fn grid_indices(keys: Vec<(String, usize)>, mode: &str) -> PyResult<Vec<Vec<usize>>> {
+fn sweep_points(
+    py: Python<'_>,
+    text: &str,
+    path: &str,
+    keys: Vec<(String, Vec<String>)>,
+    mode: &str,
+) -> PyResult<(Vec<Vec<usize>>, Vec<String>)> {
+    use softway::run::{check_points, point_dir_name, PointRefused};
     use softway::scenario::overrides::{grid, Grid};
     let how = match mode {
         "product" => Grid::Product,
@@ -236,24 +291,184 @@ fn grid_indices(keys: Vec<(String, usize)>, mode: &str) -> PyResult<Vec<Vec<usiz
             )))
         }
     };
-    let keys: Vec<(String, Vec<String>)> = keys
-        .into_iter()
-        .map(|(k, n)| (k, (0..n).map(|i| i.to_string()).collect()))
-        .collect();
+    let keyed = |m: String, key: Option<String>| {
+        let err = ScenarioError::new_err(m);
+        let _ = err.value(py).setattr("key", key);
+        err
+    };
     let points = grid(&keys, how).map_err(|m| {
-        PyValueError::new_err(
-            m.replace("--grid zip: ", "mode='zip': ")
-                .replace("--set ", "")
-                .replace(
-                    " (a key with one value is set at every point; or --grid product)",
-                    " (a key with one value is set at every point; or mode='product')",
-                ),
-        )
+        // The key a grid's message names (`--set K=: no values`, `--set K: given twice`).
+        let key = keys
+            .iter()
+            .map(|(k, _)| k)
+            .find(|k| m.contains(&format!("--set {k}:")) || m.contains(&format!("--set {k}=:")))
+            .cloned();
+        keyed(grid_message(&m), key)
     })?;
-    Ok(points
+    let index: Vec<Vec<usize>> = points
         .iter()
-        .map(|p| p.iter().map(|o| o.value.parse().unwrap_or(0)).collect())
-        .collect())
+        .map(|p| {
+            p.iter()
+                .zip(&keys)
+                .map(|(o, (_, vs))| vs.iter().position(|v| *v == o.value).unwrap_or(0))
+                .collect()
+        })
+        .collect();
+    // A value given twice in a product (or a zip) is a point whose folder is another's:
+    // the indices above then name its first copy, so they are taken from the grid of
+    // indices instead.
+    let by_index: Vec<(String, Vec<String>)> = keys
+        .iter()
+        .map(|(k, vs)| (k.clone(), (0..vs.len()).map(|i| i.to_string()).collect()))
+        .collect();
+    let index = match grid(&by_index, how) {
+        Ok(ix) => ix
+            .iter()
+            .map(|p| p.iter().map(|o| o.value.parse().unwrap_or(0)).collect())
+            .collect(),
+        Err(_) => index,
+    };
+    let checked =
+        py.allow_threads(|| in_pool(Some(1), || check_points(Path::new(path), text, &points)));
+    match checked.map_err(RunError::new_err)? {
+        Ok(_) => {}
+        Err(r) => {
+            let sets = &points[r.point()];
+            let join =
+                |f: &dyn Fn(&Override) -> &str| sets.iter().map(f).collect::<Vec<_>>().join(",");
+            let (k, v) = (join(&|o| o.key.as_str()), join(&|o| o.value.as_str()));
+            // The message as `softway sweep` prints it (`KEY = VALUE: why`), the key the
+            // validation names (the swept key for a folder's refusal).
+            let key = match &r {
+                PointRefused::Scenario { error, .. } => {
+                    let run_text = apply(text, sets).ok();
+                    match error {
+                        ScError::Parse { message, .. } if message.starts_with("--set ") => message
+                            ["--set ".len()..]
+                            .split_once('=')
+                            .map(|(k, _)| k.to_string()),
+                        _ => error_key(error, run_text.as_deref()),
+                    }
+                }
+                PointRefused::Folder { .. } => Some(k.clone()),
+            };
+            return Err(keyed(format!("{k} = {v}: {}", r.message()), key));
+        }
+    }
+    Ok((index, points.iter().map(|p| point_dir_name(p)).collect()))
+}
+
+/// The names of the history a run of the scenario text `text` (named `path`) gives, as
+/// `Result.history` names them (`time` for `t_s`, the key column's name, every other
+/// column): the run built and stopped before its first step (a cancelled token), so the
+/// names are the engine's own, not a list kept here.
+#[pyfunction]
+fn history_names(py: Python<'_>, text: &str, path: &str) -> PyResult<Vec<String>> {
+    let sc = build(text, path)?;
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let opts = RunOptions {
+        progress: false,
+        par: Some(Par::Seq),
+        cancel,
+        ..RunOptions::default()
+    };
+    let results = py
+        .allow_threads(|| in_pool(Some(1), || softway::run(&sc, &opts)))
+        .map_err(RunError::new_err)?
+        .map_err(|e| RunError::new_err(e.to_string()))?;
+    let h = &results.history;
+    let mut names: Vec<String> = h.key().map(|k| k.name.clone()).into_iter().collect();
+    names.extend(h.columns().iter().map(|c| {
+        if c.name == "t_s" {
+            "time".to_string()
+        } else {
+            c.name.clone()
+        }
+    }));
+    Ok(names)
+}
+
+/// The unit of a swept scenario key (`rolling.omega` -> `rad/s`), from the core's
+/// [`softway::run::KEY_UNITS`] (the unit of `sweep.csv`'s key column), else the
+/// unit its name carries (`rolling.speed_km_h` -> `km/h`); None for a key without one.
+#[pyfunction]
+fn key_unit(key: &str) -> Option<String> {
+    let column = softway::run::key_column(key);
+    match column.strip_prefix(&format!("{key}_")) {
+        Some(suffix) => Some(suffix_unit(suffix)),
+        None => name_unit(key.rsplit('.').next().unwrap_or(key)),
+    }
+}
+
+/// The unit of a summary's number (`mean_contact_force` -> `N`, `speed_m_s` -> `m/s`):
+/// the unit of its column in `sweep.csv` ([`softway::run::column_name`]), else the
+/// unit its name ends with; None for a count or a ratio.
+#[pyfunction]
+fn summary_unit(name: &str) -> Option<String> {
+    let column = softway::run::column_name(name);
+    match column.strip_prefix(&format!("{name}_")) {
+        Some(suffix) => Some(suffix_unit(suffix)),
+        None => name_unit(name),
+    }
+}
+
+/// A column name's unit suffix as a unit: the first `_` is "per" (`rad_s` -> `rad/s`,
+/// `kg_m3` -> `kg/m3`, `N_m` -> `N/m`).
+fn suffix_unit(suffix: &str) -> String {
+    suffix.replacen('_', "/", 1)
+}
+
+/// The unit at the end of a name (the engine's names carry theirs: `speed_m_s`,
+/// `contact_stiffness_n_m`, `dominant_frequency_hz`, `max_j2_turn_average_mpa2`); the
+/// longest ending first, so that `_m_s` is m/s and not s.
+fn name_unit(name: &str) -> Option<String> {
+    const ENDINGS: [(&str, &str); 22] = [
+        ("_db_per_1e5", "dB per 1e5 real passes"),
+        ("_rad_s", "rad/s"),
+        ("_km_h", "km/h"),
+        ("_kg_m3", "kg/m3"),
+        ("_m_s", "m/s"),
+        ("_n_m", "N/m"),
+        ("_N_m", "N/m"),
+        ("_mpa2", "MPa^2"),
+        ("_mpa", "MPa"),
+        ("_MPa", "MPa"),
+        ("_pa", "Pa"),
+        ("_Pa", "Pa"),
+        ("_hz", "Hz"),
+        ("_Hz", "Hz"),
+        ("_deg", "deg"),
+        ("_mib", "MiB"),
+        ("_us", "us"),
+        ("_db", "dB re 1 um"),
+        ("_n", "N"),
+        ("_N", "N"),
+        ("_J", "J"),
+        ("_m", "m"),
+    ];
+    if let Some((_, u)) = ENDINGS.iter().find(|(e, _)| name.ends_with(e)) {
+        return Some((*u).to_string());
+    }
+    name.ends_with("_s").then(|| "s".to_string())
+}
+
+/// Writes the files `files` (`(name, bytes)`, a saved result's as [`NativeResults::files`]
+/// gives them) into `folder` under the command line's folder rules
+/// ([`softway::run::save_files`]: written whole or not at all, a folder of other
+/// files refused unless `force`, the current and the home folder never replaced, marked as
+/// softway's and `interrupted` when the run was). Returns their paths.
+#[pyfunction]
+#[pyo3(signature = (folder, files, interrupted, force=false))]
+fn save_files(
+    py: Python<'_>,
+    folder: PathBuf,
+    files: Vec<(String, Vec<u8>)>,
+    interrupted: bool,
+    force: bool,
+) -> PyResult<Vec<PathBuf>> {
+    py.allow_threads(|| softway::run::save_files(&folder, &files, interrupted, force))
+        .map_err(|e| RunError::new_err(e.to_string()))
 }
 
 /// The TOML text of a scenario given as JSON (a Python dict through `json.dumps`).
@@ -397,15 +612,46 @@ impl NativeResults {
         Ok((mesh, frames).into_pyobject(py)?.into_any().unbind())
     }
 
+    /// The files [`NativeResults::save`] writes, as `(name, bytes)` in the order it lists
+    /// them: written by the core's [`Results::save`] into `scratch` (an empty folder the
+    /// caller removes), read back. What a pickled `Result` carries, so that `save` works
+    /// where it is unpickled ([`save_files`]).
+    fn files<'py>(
+        &self,
+        py: Python<'py>,
+        scratch: PathBuf,
+    ) -> PyResult<Vec<(String, Bound<'py, pyo3::types::PyBytes>)>> {
+        let read = py
+            .allow_threads(|| -> Result<Vec<(String, Vec<u8>)>, String> {
+                let files = in_pool(None, || self.0.save(&scratch))?.map_err(|e| e.to_string())?;
+                files
+                    .iter()
+                    .map(|f| {
+                        let name = f
+                            .strip_prefix(&scratch)
+                            .map_err(|_| format!("{}: outside {}", f.display(), scratch.display()))?
+                            .to_string_lossy()
+                            .into_owned();
+                        let bytes = std::fs::read(f)
+                            .map_err(|e| format!("cannot read {}: {e}", f.display()))?;
+                        Ok((name, bytes))
+                    })
+                    .collect()
+            })
+            .map_err(RunError::new_err)?;
+        Ok(read
+            .into_iter()
+            .map(|(n, b)| (n, pyo3::types::PyBytes::new(py, &b)))
+            .collect())
+    }
+
     /// Writes the command line's files into `folder` under the command line's folder
     /// rules (written whole; a folder of other files refused unless `force`; the current
     /// and the home folder never replaced); returns their paths.
     #[pyo3(signature = (folder, force=false))]
     fn save(&self, py: Python<'_>, folder: PathBuf, force: bool) -> PyResult<Vec<PathBuf>> {
         py.allow_threads(|| {
-            self.0
-                .save_folder(&folder, force)
-                .map_err(|e| e.to_string())
+            in_pool(None, || self.0.save_folder(&folder, force))?.map_err(|e| e.to_string())
         })
         .map_err(RunError::new_err)
     }
@@ -440,7 +686,7 @@ fn run(
     let worker = std::thread::Builder::new()
         .name("softway-run".into())
         .spawn(move || {
-            let r = softway::run(&sc, &opts);
+            let r = in_pool(threads, || softway::run(&sc, &opts));
             let _ = tx.send(());
             r
         })
@@ -470,6 +716,7 @@ fn run(
     let results = py
         .allow_threads(|| worker.join())
         .map_err(|_| RunError::new_err("the run's thread panicked"))?
+        .map_err(RunError::new_err)?
         .map_err(|e| RunError::new_err(e.to_string()))?;
     if let (Some(cb), Some((label, pos, len))) = (&progress, watch.get()) {
         let _ = cb.call1(
@@ -544,7 +791,8 @@ impl NativeGrowth {
     /// copied from the study's folder. Returns their paths.
     #[pyo3(signature = (folder, force=false))]
     fn save(&self, py: Python<'_>, folder: PathBuf, force: bool) -> PyResult<Vec<PathBuf>> {
-        py.allow_threads(|| -> Result<Vec<PathBuf>, String> {
+        py.allow_threads(|| {
+            in_pool(None, || -> Result<Vec<PathBuf>, String> {
             // The study's own folder is written in place; another is claimed under the
             // command line's folder rules (a folder of other files refused unless `force`,
             // an older study there replaced whole). Either is marked as softway's:
@@ -585,6 +833,8 @@ impl NativeGrowth {
                 files.push(to);
             }
             Ok(files)
+            })
+            .and_then(|r| r)
         })
         .map_err(RunError::new_err)
     }
@@ -721,7 +971,8 @@ fn grow(
     }
     let cancel = Cancel::new();
     let (plots, scenario_copy) = (sc.plots, sc.provenance_text());
-    let opts = GrowOptions {
+    // The threads as the pool the study runs in has them (`Par::current` there).
+    let grow_opts = move || GrowOptions {
         passes,
         resume,
         plots,
@@ -734,8 +985,10 @@ fn grow(
             .name("softway-grow".into())
             .spawn(move || {
                 let pass_tx = tx.clone();
-                let r = softway::run::grow::grow(&sc, &out, &opts, &cancel, |l| {
-                    let _ = pass_tx.send(GrowMsg::Pass(l.clone()));
+                let r = in_pool(threads, || {
+                    softway::run::grow::grow(&sc, &out, &grow_opts(), &cancel, |l| {
+                        let _ = pass_tx.send(GrowMsg::Pass(l.clone()));
+                    })
                 });
                 let _ = tx.send(GrowMsg::Done);
                 r
@@ -775,6 +1028,7 @@ fn grow(
     let report = py
         .allow_threads(|| worker.join())
         .map_err(|_| RunError::new_err("the study's thread panicked"))?
+        .map_err(RunError::new_err)?
         .map_err(|e| RunError::new_err(e.to_string()))?;
     // The state is the checkpoint the study wrote after its last finished pass (none when
     // Ctrl-C stopped a new study's reference pass: the exception alone, then).
@@ -813,7 +1067,12 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(set_key, m)?)?;
     m.add_function(wrap_pyfunction!(check_file, m)?)?;
     m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(grid_indices, m)?)?;
+    m.add_function(wrap_pyfunction!(read_scenario, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep_points, m)?)?;
+    m.add_function(wrap_pyfunction!(history_names, m)?)?;
+    m.add_function(wrap_pyfunction!(key_unit, m)?)?;
+    m.add_function(wrap_pyfunction!(summary_unit, m)?)?;
+    m.add_function(wrap_pyfunction!(save_files, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_class::<NativeGrowth>()?;
     m.add_function(wrap_pyfunction!(grow, m)?)?;

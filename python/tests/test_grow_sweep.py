@@ -111,14 +111,24 @@ def test_each_point_is_softway_grow_at_its_speed(swept):
 
 
 def test_a_failed_point_is_reported_and_the_other_kept(tmp_path, swept):
+    """A value the validation refuses is refused before any study runs (ScenarioError,
+    its dotted key); a study that fails where it runs (its folder cannot be claimed: a
+    file stands where `out/<key>=<value>` goes) is reported, the other kept."""
     _, serial, _, _ = swept
-    grid = {"rolling.omega": [OMEGAS[0], "fast"]}
-    with pytest.warns(RuntimeWarning, match=r"grow_sweep point .*fast.* failed"):
-        ds = softway.grow_sweep(shrunk(), grid, passes=PASSES, out=tmp_path / "f",
+    with pytest.raises(softway.ScenarioError) as e:
+        softway.grow_sweep(shrunk(), {"rolling.omega": [OMEGAS[0], "fast"]},
+                           passes=PASSES, executor="serial", progress=False)
+    assert e.value.key == "rolling.omega"
+    out = tmp_path / "f"
+    out.mkdir()
+    (out / f"rolling.omega={OMEGAS[1]!r}").write_text("a file where the study goes")
+    grid = {"rolling.omega": OMEGAS}
+    with pytest.warns(RuntimeWarning, match=r"grow_sweep point .* failed"):
+        ds = softway.grow_sweep(shrunk(), grid, passes=PASSES, out=out,
                                 progress=False)  # the default: a LocalCluster of 2 processes
     assert ds.attrs["softway_failed_points"] == 1
     err = str(ds["error"].values[1])
-    assert "ScenarioError" in err and "rolling.omega" in err, err
+    assert f"rolling.omega={OMEGAS[1]!r}" in err, err
     assert ds["error"].values[0] == ""
     good = ds.isel({"rolling.omega": 0})
     assert good["rms_m"].values.tobytes() == serial["rms_m"].isel(
@@ -128,6 +138,9 @@ def test_a_failed_point_is_reported_and_the_other_kept(tmp_path, swept):
     bad = ds.isel({"rolling.omega": 1})
     assert np.isnan(bad["rms_m"].values).all() and np.isnan(bad["level_db"].values).all()
     assert math.isnan(float(bad["fastest_band_frequency_hz"]))
+    # A growth study's speed in m/s (its name ends in "_s", which is not its unit).
+    assert ds["speed_m_s"].attrs["units"] == "m/s"
+    assert ds["rolling.omega"].attrs["units"] == "rad/s"
 
 
 def test_resume_goes_on_from_each_points_checkpoint(tmp_path, swept):

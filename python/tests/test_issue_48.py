@@ -79,15 +79,49 @@ def test_issue_48_a_result_pickles_with_its_tables_and_fields(short_wheel, tmp_p
     assert isinstance(copy, softway.Result)
     assert_same_result(copy, r)
     assert "history rows" in repr(copy)
-    # save() needs the engine's results, which stay in the process that ran: said.
-    with pytest.raises(softway.RunError, match="unpickled"):
-        copy.save(tmp_path / "out")
-    assert not (tmp_path / "out").exists()
+    # save() where it is unpickled writes the files of a save() where it ran, byte for
+    # byte, under the command line's folder rules (test_an_unpickled_result_saves_...).
     # RunInterrupted (Ctrl-C in a worker) travels with its result.
     e = pickle.loads(pickle.dumps(softway.RunInterrupted(r)))
     assert isinstance(e, softway.RunInterrupted) and e.result.summary == r.summary
     # The original still saves.
     assert any(p.name == "history.csv" for p in r.save(tmp_path / "orig"))
+
+
+def test_issue_48_an_unpickled_result_saves_the_command_lines_files(short_wheel, tmp_path):
+    """`save()` on a Result unpickled (sent from the process that ran it) writes the files
+    `save()` writes where it ran, the same names and bytes (the VTU fields, the tables,
+    `summary.json`), marked as softway's; a folder of the user's files is refused unless
+    `force=True`, and then replaced whole. Before, it raised RunError ("unpickled")."""
+    r = short_wheel
+    here = r.save(tmp_path / "here")
+    copy = pickle.loads(pickle.dumps(r))
+    there = copy.save(tmp_path / "there")
+    assert [p.name for p in there] == [p.name for p in here]
+    assert any(p.suffix == ".vtu" for p in there) and any(p.name == "summary.json" for p in there)
+    for a, b in zip(here, there):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    assert (tmp_path / "there" / ".softway").is_file()
+    assert sorted(p.name for p in (tmp_path / "there").iterdir()) == sorted(
+        p.name for p in (tmp_path / "here").iterdir()
+    )
+    # The folder rules: a folder of the user's files is refused, nothing written in it.
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine")
+    with pytest.raises(softway.RunError, match="force"):
+        copy.save(mine)
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    # force=True replaces it whole; a folder softway wrote is replaced without it.
+    copy.save(mine, force=True)
+    assert not (mine / "notes.txt").exists() and (mine / "history.csv").is_file()
+    again = copy.save(tmp_path / "there")
+    assert [p.name for p in again] == [p.name for p in here]
+    # An interrupted run's copy marks its folder interrupted, as the command line does.
+    e = pickle.loads(pickle.dumps(softway.RunInterrupted(r)))
+    e.result.interrupted = True
+    e.result.save(tmp_path / "stopped")
+    assert "interrupted" in (tmp_path / "stopped" / ".softway").read_text()
 
 
 def test_issue_48_a_process_pool_returns_a_result():

@@ -254,13 +254,19 @@ def test_sweep_on_two_dask_workers_equals_serial_and_the_cli(tmp_path, one_turn,
     assert np.isnan(f[n:]).all()
 
 
-def test_a_failing_point_is_reported_and_the_others_kept(one_turn, dask_executor):
-    speeds = [250.0, -300.0, 350.0, 400.0]
-    with pytest.warns(RuntimeWarning, match=r"rolling\.omega.*-300\.0.*failed"):
+def test_a_failing_point_is_reported_and_the_others_kept(one_turn, dask_executor, tmp_path):
+    """A point whose run fails where it runs (its folder cannot be written: a file stands
+    where `out/<key>=<value>` goes) is reported, the others kept. (A value the validation
+    refuses is refused before any point runs: test_issue_48_sweeps.py.)"""
+    speeds = [250.0, 300.0, 350.0, 400.0]
+    out = tmp_path / "sweep"
+    out.mkdir()
+    (out / "rolling.omega=300.0").write_text("a file where the point's folder goes")
+    with pytest.warns(RuntimeWarning, match=r"rolling\.omega.*300\.0.*failed"):
         ds = softway.sweep(one_turn, {"rolling.omega": speeds}, executor=dask_executor,
-                           progress=False)
+                           out=out, progress=False)
     err = ds["error"].values
-    assert "ScenarioError" in err[1] and "`rolling.omega` = -300" in err[1]
+    assert "RunError" in err[1] and "rolling.omega=300.0" in err[1], err[1]
     assert list(err[[0, 2, 3]]) == ["", "", ""]
     assert np.isnan(ds["mean_contact_force"].values[1])
     assert np.all(ds["mean_contact_force"].values[[0, 2, 3]] > 5e5)
@@ -268,7 +274,7 @@ def test_a_failing_point_is_reported_and_the_others_kept(one_turn, dask_executor
     # The status column of `softway sweep`'s sweep.csv, the same words.
     st = ds["status"].values
     assert list(st[[0, 2, 3]]) == ["complete"] * 3
-    assert st[1].startswith("failed: ScenarioError") and "\n" not in st[1]
+    assert st[1].startswith("failed: RunError") and "\n" not in st[1]
 
 
 def test_grid_product_and_zip():

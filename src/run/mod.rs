@@ -25,10 +25,13 @@ pub use converge::observed_orders;
 pub use error::RunError;
 pub use options::{Cancel, ProgressWatch, RunOptions};
 pub use provenance::{peak_rss_mib, write_scenario_copy, SCENARIO_COPY};
-pub use results::{FieldArray, FieldFrame, Fields, Results};
+pub use results::{save_files, FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 pub use sweep::creep::{creepage_at, ladder_rows, LadderRow, MAX_ORDER, MIN_ORDER, TARGETS};
-pub use sweep::{sweep, PointStatus, SweepError, SweepPoint};
+pub use sweep::{
+    check_points, column_name, key_column, point_dir_name, sweep, PointRefused, PointStatus,
+    SweepError, SweepPoint, COLUMN_NAMES, KEY_UNITS,
+};
 
 /// What a job reports back.
 #[derive(Debug, Clone, Default)]

@@ -154,6 +154,85 @@ pub fn run_ladder(
     run_points(path, text, &points, out, cancel)
 }
 
+/// Why [`check_points`] refused a point of a sweep.
+#[derive(Debug)]
+pub enum PointRefused {
+    /// The point's folder: a name longer than a folder's name may be, or the name of an
+    /// earlier point (a value given twice).
+    Folder {
+        /// The point's index.
+        point: usize,
+        /// The one-line message.
+        message: String,
+    },
+    /// The scenario with the point's values set in is refused (the key at fault in it).
+    Scenario {
+        /// The point's index.
+        point: usize,
+        /// The validation's error.
+        error: crate::scenario::ScenarioError,
+    },
+}
+
+impl PointRefused {
+    /// The index of the point refused.
+    pub fn point(&self) -> usize {
+        match self {
+            Self::Folder { point, .. } | Self::Scenario { point, .. } => *point,
+        }
+    }
+
+    /// The one-line message.
+    pub fn message(&self) -> String {
+        match self {
+            Self::Folder { message, .. } => message.clone(),
+            Self::Scenario { error, .. } => error.to_string(),
+        }
+    }
+}
+
+/// Validates and builds the scenario text at `path` (named so in messages) for every
+/// point (its overrides written into the text as `--set` writes them), as `run_points`
+/// does before any run starts: each point's folder name ([`point_dir_name`]) short enough
+/// and given once, each point's scenario valid. Returns the built scenarios in the points'
+/// order. The Python package's sweeps call it before they dispatch any point.
+///
+/// # Errors
+/// [`PointRefused`]: the first point refused.
+pub fn check_points(
+    path: &Path,
+    text: &str,
+    points: &[Vec<Override>],
+) -> Result<Vec<crate::scenario::Scenario>, PointRefused> {
+    let mut scs = Vec::with_capacity(points.len());
+    let mut dirs = std::collections::BTreeSet::new();
+    for (point, sets) in points.iter().enumerate() {
+        let name = point_dir_name(sets);
+        if name.len() > crate::output::staging::NAME_MAX {
+            return Err(PointRefused::Folder {
+                point,
+                message: format!(
+                    "{}: the point's folder `<key>=<value>` would have a name of {} bytes, more than the {} a folder's name may have: sweep shorter values",
+                    path.display(),
+                    name.len(),
+                    crate::output::staging::NAME_MAX
+                ),
+            });
+        }
+        if !dirs.insert(name) {
+            return Err(PointRefused::Folder {
+                point,
+                message: "given twice: give every value once".into(),
+            });
+        }
+        let sc = read_with(text, path, sets, &crate::kinds::Registry::builtin())
+            .and_then(|(sc, _)| resolve(&sc))
+            .map_err(|error| PointRefused::Scenario { point, error })?;
+        scs.push(sc);
+    }
+    Ok(scs)
+}
+
 /// Validates and builds the scenario text at `path` for every point (its overrides written
 /// into the text as `--set` writes them; all before any run starts), then runs them in
 /// parallel (rayon, in the caller's pool; each run on one thread, [`Par::Seq`]) into
@@ -173,40 +252,21 @@ pub fn run_points(
     out: &Path,
     cancel: &Cancel,
 ) -> Result<Vec<SweepPoint>, SweepError> {
-    let mut scs = Vec::new();
-    let mut dirs = std::collections::BTreeSet::new();
-    for sets in points {
-        let bad = |message: String| SweepError::Value {
-            key: sets
-                .iter()
-                .map(|o| o.key.as_str())
-                .collect::<Vec<_>>()
-                .join(","),
-            value: sets
-                .iter()
-                .map(|o| o.value.as_str())
-                .collect::<Vec<_>>()
-                .join(","),
-            message,
-        };
-        let name = point_dir_name(sets);
-        if name.len() > crate::output::staging::NAME_MAX {
-            return Err(bad(format!(
-                "{}: the point's folder `<key>=<value>` would have a name of {} bytes, more than the {} a folder's name may have: sweep shorter values",
-                path.display(),
-                name.len(),
-                crate::output::staging::NAME_MAX
-            )));
-        }
-        if !dirs.insert(name) {
-            return Err(bad("given twice: give every value once".into()));
-        }
-        let sc = read_with(text, path, sets, &crate::kinds::Registry::builtin())
-            .map_err(|e| e.to_string())
-            .and_then(|(sc, _)| resolve(&sc).map_err(|e| e.to_string()))
-            .map_err(bad)?;
-        scs.push((sets.clone(), sc));
-    }
+    let scs: Vec<(Vec<Override>, crate::scenario::Scenario)> = check_points(path, text, points)
+        .map_err(|r| {
+            let sets = &points[r.point()];
+            let join =
+                |f: &dyn Fn(&Override) -> &str| sets.iter().map(f).collect::<Vec<_>>().join(",");
+            SweepError::Value {
+                key: join(&|o| o.key.as_str()),
+                value: join(&|o| o.value.as_str()),
+                message: r.message(),
+            }
+        })?
+        .into_iter()
+        .zip(points)
+        .map(|(sc, sets)| (sets.clone(), sc))
+        .collect();
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
     // The runs share the cores: each on one thread, no helper for its split solves.
     let opts = RunOptions {
@@ -273,7 +333,7 @@ pub fn run_points(
 
 /// The folder of one point, `<key>=<value>,<key>=<value>` (quotes trimmed, path separators
 /// replaced by `_` so that a value never leads out of the sweep's folder).
-fn point_dir_name(sets: &[Override]) -> String {
+pub fn point_dir_name(sets: &[Override]) -> String {
     sets.iter()
         .map(|o| format!("{}={}", o.key, o.value.trim_matches('"')))
         .collect::<Vec<_>>()

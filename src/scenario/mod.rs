@@ -600,7 +600,11 @@ pub const MAX_SCENARIO_BYTES: u64 = 16 << 20;
 
 /// The text of a scenario file: a regular file (not a folder, a device such as `/dev/zero`
 /// or a pipe, which could be read forever) of at most [`MAX_SCENARIO_BYTES`], in UTF-8.
-pub(crate) fn read_text(path: &Path) -> std::io::Result<String> {
+/// What [`Scenario::from_file`] reads, and the Python package's `Scenario(path)`.
+///
+/// # Errors
+/// The file cannot be opened or read, or is not such a file (the message says which).
+pub fn read_text(path: &Path) -> std::io::Result<String> {
     use std::io::Read as _;
     // Checked before opening too: opening a pipe with no writer waits for one forever.
     let before = std::fs::metadata(path)?;
