@@ -360,11 +360,17 @@ fn macneal_harders_seven_hexahedra_pass_the_patch_test() {
     for f in faces {
         let o: Vec<usize> = f.to_vec();
         let i: Vec<usize> = f.iter().map(|&v| v + 8).collect();
-        // Either order of the two faces: the one with a positive Jacobian.
+        // Either order of the two faces: the one with a positive Jacobian (the other is
+        // inverted).
         let a: Vec<usize> = o.iter().chain(&i).copied().collect();
         let b: Vec<usize> = i.iter().chain(&o).copied().collect();
         let pa: [[f64; 3]; 8] = std::array::from_fn(|k| coords[a[k]]);
-        cells.push(if hex8::geometry(&pa).is_ok() { a } else { b });
+        let pb: [[f64; 3]; 8] = std::array::from_fn(|k| coords[b[k]]);
+        match (hex8::geometry(&pa), hex8::geometry(&pb)) {
+            (Ok(_), Err(hex8::SolidError::Inverted { .. })) => cells.push(a),
+            (Err(hex8::SolidError::Inverted { .. }), Ok(_)) => cells.push(b),
+            other => panic!("face {f:?}: {other:?}"),
+        }
     }
     let msh = Msh { coords, cells };
     let total: f64 = msh
@@ -671,12 +677,20 @@ fn free_modes(msh: &Msh, lumped: bool) -> Vec<(f64, f64)> {
 
 #[test]
 fn a_free_bars_first_axial_frequency_converges_to_c_over_2l() {
-    // The free-free rod: f1 = c / (2 L), c = sqrt(E / rho). The Rayleigh-Love lateral
-    // inertia correction, -nu^2 pi^2 r_p^2 / (4 L^2) with r_p^2 = (b^2 + h^2)/12, is 3.7e-5
-    // here: below the finest rung's error.
-    let (l, b) = (1.0, 0.1);
+    // The free-free rod: f1 = c / (2 L), c = sqrt(E / rho). Love's lateral-inertia
+    // correction (Rayleigh and Love; Graff, Wave Motion in Elastic Solids, 1975, sec. 8.2),
+    // f / f1 - 1 = -nu^2 pi^2 r_p^2 / (2 L^2) with the polar radius of gyration
+    // r_p^2 = (b^2 + h^2) / 12, is -0.074% here: the consistent mass of the finest rung is
+    // already below c / (2 L). The bounds are asserted against Love's value; the errors
+    // printed against both. The lumped mass of a section one hexahedron wide puts the
+    // section's lateral mass at its edges, three times the true section's lateral inertia
+    // (b^2/4 against b^2/12 per unit mass): the finer rungs are two hexahedra wide.
+    let (l, b): (f64, f64) = (1.0, 0.1);
     let size = [l, b, b];
-    let exact = STEEL.bar_wave_speed() / (2.0 * l);
+    let rod = STEEL.bar_wave_speed() / (2.0 * l);
+    let nu = STEEL.poisson;
+    let r2 = (b * b + b * b) / 12.0;
+    let love = rod * (1.0 - nu * nu * std::f64::consts::PI.powi(2) * r2 / (2.0 * l * l));
     let axial = |name: &str, msh: Msh, lumped: bool| {
         let modes = free_modes(&msh, lumped);
         // Six rigid-body modes at zero frequency.
@@ -690,25 +704,26 @@ fn a_free_bars_first_axial_frequency_converges_to_c_over_2l() {
             .iter()
             .find(|m| m.1 > 0.9)
             .unwrap_or_else(|| panic!("{name}: no axial mode in {modes:?}"));
-        let err = f / exact - 1.0;
+        let err = f / love - 1.0;
         eprintln!(
-            "{name}: {} dofs, axial {f:.2} Hz ({:.1}% of its energy in x), error {:+.4}% (exact {exact:.2} Hz)",
+            "{name}: {} dofs, axial {f:.2} Hz ({:.1}% of its energy in x), error {:+.4}% against Love's {love:.2} Hz, {:+.4}% against c/2L = {rod:.2} Hz",
             3 * msh.coords.len(),
             100.0 * share,
-            100.0 * err
+            100.0 * err,
+            100.0 * (f / rod - 1.0)
         );
         err
     };
     let mut last = [f64::INFINITY; 4];
-    for n in [4, 8, 16, 32] {
+    for n in [[4, 1, 1], [8, 1, 1], [16, 2, 2], [32, 2, 2]] {
         let cons = axial(
-            &format!("hex8 consistent {n}x1x1"),
-            box_hex8(size, [n, 1, 1]).unwrap().into(),
+            &format!("hex8 consistent {n:?}"),
+            box_hex8(size, n).unwrap().into(),
             false,
         );
         let lump = axial(
-            &format!("hex8 lumped {n}x1x1"),
-            box_hex8(size, [n, 1, 1]).unwrap().into(),
+            &format!("hex8 lumped {n:?}"),
+            box_hex8(size, n).unwrap().into(),
             true,
         );
         // Linear elements: the consistent mass bounds the frequency from above, the lumped
@@ -718,21 +733,27 @@ fn a_free_bars_first_axial_frequency_converges_to_c_over_2l() {
         last[0] = cons;
         last[1] = lump.abs();
     }
-    assert!(last[0] < 2e-3 && last[1] < 2e-3, "{last:?}");
-    for n in [2, 4, 8] {
+    assert!(last[0] < 1e-3 && last[1] < 1e-3, "{last:?}");
+    for n in [[2, 1, 1], [4, 1, 1], [8, 2, 2]] {
         let cons = axial(
-            &format!("tet10 consistent {n}x1x1"),
-            box_tet10(size, [n, 1, 1]).unwrap().into(),
+            &format!("tet10 consistent {n:?}"),
+            box_tet10(size, n).unwrap().into(),
             false,
         );
         let lump = axial(
-            &format!("tet10 HRZ {n}x1x1"),
-            box_tet10(size, [n, 1, 1]).unwrap().into(),
+            &format!("tet10 HRZ {n:?}"),
+            box_tet10(size, n).unwrap().into(),
             true,
         );
-        assert!(cons.abs() < last[2] && lump.abs() < last[3]);
+        assert!(
+            cons.abs() < last[2] && lump.abs() < last[3],
+            "{cons} {lump} {last:?}"
+        );
         last[2] = cons.abs();
         last[3] = lump.abs();
     }
-    assert!(last[2] < 1e-3 && last[3] < 1e-3, "{last:?}");
+    // Quadratic elements: the consistent mass within 0.01% of Love's value (a check of the
+    // correction itself); HRZ's diagonal slower, its lateral inertia on a section two
+    // elements wide still too large.
+    assert!(last[2] < 1e-4 && last[3] < 2e-3, "{last:?}");
 }

@@ -15,8 +15,12 @@
 //! # Geometry
 //!
 //! [`geometry`] checks $\det J$ (times the reference volume 8) against $10^{-12}L^3$ at the
-//! eight corners and the eight Gauss points ([`super::solid`], "Bad cells"): a negative value
-//! is an inverted or a non-convex (bow-tie) cell. The volume is $\sum_g \det J_g$ (exact:
+//! eight Gauss points and the centroid ([`super::solid`], "Bad cells"): where the
+//! integration samples the map. A negative value is an inverted or a twisted (bow-tie) cell.
+//! The corners are not checked: meshes that every code accepts have cells with a slightly
+//! negative corner Jacobian (MacNeal and Harder's distorted patch: $8\det J = -0.0127$ at
+//! its inner node $(0.320, 0.186, 0.643)$ in the cell towards the face $y = 0$), and the
+//! 2x2x2 rule integrates them correctly (`tests/solid_elements.rs`). The volume is $\sum_g \det J_g$ (exact:
 //! $\det J$ of a trilinear map is of degree at most 2 in each variable).
 //!
 //! # Element matrices
@@ -96,15 +100,13 @@ pub struct Hex8Geometry {
 ///
 /// # Errors
 ///
-/// [`SolidError::Degenerate`] if `8 det J < 1e-12 L_max^3` at a corner or a Gauss point (or
-/// a coordinate is not finite), [`SolidError::Inverted`] if `det J < 0` there.
+/// [`SolidError::Degenerate`] if `8 det J < 1e-12 L_max^3` at the centroid or a Gauss point
+/// (or a coordinate is not finite), [`SolidError::Inverted`] if `det J < 0` there.
 pub fn geometry(p: &[[f64; 3]; 8]) -> Result<Hex8Geometry, SolidError> {
     let l = longest_edge(p);
     let mut grad = [[0.0; 3]; 8];
-    for xi in NODES {
-        let det = jacobian(&shape(xi).1, p, &mut grad);
-        check_measure("hex8", 8.0 * det, l)?;
-    }
+    let det = jacobian(&shape([0.0; 3]).1, p, &mut grad);
+    check_measure("hex8", 8.0 * det, l)?;
     let mut volume = 0.0;
     for xi in GAUSS {
         let det = jacobian(&shape(xi).1, p, &mut grad);

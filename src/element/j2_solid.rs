@@ -23,9 +23,9 @@
 //! \sigma_Y'(\bar\varepsilon^p_{n+1})$ (Simo and Hughes, *Computational Inelasticity*,
 //! 1998, Box 3.2):
 //!
-//! $$C = K\\,1\otimes1 + 2\mu\left(1 - \frac{2\mu\Delta\lambda}{|\xi^{tr}|}\right)I_{dev}
-//!   - 2\mu\left(\frac{2\mu}{2\mu + \tfrac23(C_k + H')} - \frac{2\mu\Delta\lambda}
-//!   {|\xi^{tr}|}\right)n\otimes n,$$
+//! $$C = K\\,1\otimes1 + 2\mu\beta\\,I_{dev} - 2\mu\bar\gamma\\,n\otimes n,\qquad
+//!   \beta = 1 - \frac{2\mu\Delta\lambda}{|\xi^{tr}|},\qquad
+//!   \bar\gamma = \frac{2\mu}{2\mu + \tfrac23(C_k + H')} + \beta - 1,$$
 //!
 //! in the Voigt order of [`super::solid`] (engineering shear strains: the shear rows and
 //! columns of $2\mu I_{dev}$ are $\mu$, and $n\otimes n$ uses the tensor components of $n$).

@@ -313,7 +313,7 @@ mod tests {
         let sig = stress_of_strain(&d, &[1e-3, 1e-3, 1e-3, 0.0, 0.0, 0.0]);
         let k = m.young / (3.0 * (1.0 - 2.0 * m.poisson));
         assert!((sig[0] - 3.0 * k * 1e-3).abs() < 1e-9 * sig[0]);
-        assert_eq!(j2(&sig).sqrt() < 1e-6 * sig[0], true);
+        assert!(j2(&sig).sqrt() < 1e-6 * sig[0]);
     }
 
     #[test]

@@ -427,6 +427,34 @@ mod tests {
     }
 
     #[test]
+    fn both_rules_give_the_same_exact_stiffness_of_a_straight_element() {
+        // B^T D B is quadratic on a straight-sided element: the 4-point rule (degree 2) and
+        // the 15-point rule (degree 5) must agree to rounding.
+        let c = [
+            [0.1, -0.2, 0.05],
+            [1.3, 0.15, -0.1],
+            [0.4, 0.95, 0.2],
+            [0.35, 0.3, 1.1],
+        ];
+        let g = geometry(&straight(&c)).unwrap();
+        let d = elasticity_3d(&crate::material::Elastic {
+            young: 70e9,
+            poisson: 0.33,
+            density: 2700.0,
+        });
+        let mut k4 = [[f64::NAN; 30]; 30];
+        stiffness_into(&g, &d, &mut k4);
+        let mut k15 = [[f64::NAN; 30]; 30];
+        stiffness_into(&Tet10Geometry { curved: true, ..g }, &d, &mut k15);
+        let scale = k4.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for r in 0..30 {
+            for c in 0..30 {
+                assert!((k4[r][c] - k15[r][c]).abs() < 1e-12 * scale, "{r} {c}");
+            }
+        }
+    }
+
+    #[test]
     fn the_volume_of_a_curved_element_is_exact() {
         // The quadratic map x = xi (1 + a xi), y = eta, z = zeta of the unit reference tet:
         // for fixed (y, z) the section runs from 0 to s + a s^2, s = 1 - y - z, so
