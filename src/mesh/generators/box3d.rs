@@ -1,5 +1,5 @@
 //! Structured meshes of the box `[0, lx] x [0, ly] x [0, lz]` for the 3D solids, as flat
-//! arrays (not a [`super::Mesh`]): `coords` (`x, y, z` per node) and the cells' node lists.
+//! arrays (not a [`super::Mesh`]): [`box_mesh`]'s boxes: `coords` (`x, y, z` per node) and the cells' node lists.
 //!
 //! The grid node `(i, j, k)` (`i = 0..=nx` along `x`, ...) has the index
 //! `i + (nx + 1) (j + (ny + 1) k)`.
@@ -12,10 +12,8 @@
 //! - [`box_tet10`]: the same tetrahedra with a node at the middle of every edge (numbered
 //!   after the grid nodes, in the order the edges are first met), Gmsh's ten-node order.
 
-use std::collections::HashMap;
-
-use super::{check_count, check_length, MeshError, MAX_NODES};
-use crate::element::tet10::EDGES;
+use super::{box_mesh, MeshError};
+use crate::mesh::CellKind;
 
 /// Nodes and cells of a box mesh.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,141 +45,53 @@ impl<const N: usize> BoxMesh<N> {
     }
 }
 
-/// The grid nodes of the box (checked arguments).
-fn grid(size: [f64; 3], n: [usize; 3]) -> Result<Vec<f64>, MeshError> {
-    for (name, v) in ["lx", "ly", "lz"].into_iter().zip(size) {
-        check_length(name, v)?;
-    }
-    for (name, v) in ["nx", "ny", "nz"].into_iter().zip(n) {
-        check_count(name, v)?;
-    }
-    let count = (n[0] as u128 + 1) * (n[1] as u128 + 1) * (n[2] as u128 + 1);
-    // Room for the mid-edge nodes of the ten-node tetrahedra (fewer than 8 per grid node).
-    if count.saturating_mul(8) > MAX_NODES as u128 {
-        return Err(MeshError::TooLarge {
-            name: "nx * ny * nz",
-            value: n[0].saturating_mul(n[1]).saturating_mul(n[2]),
-            max: MAX_NODES,
-        });
-    }
-    let c = |i: usize, m: usize, l: f64| if i == m { l } else { l * i as f64 / m as f64 };
-    let mut coords = Vec::with_capacity(3 * count as usize);
-    for k in 0..=n[2] {
-        for j in 0..=n[1] {
-            for i in 0..=n[0] {
-                coords.extend([
-                    c(i, n[0], size[0]),
-                    c(j, n[1], size[1]),
-                    c(k, n[2], size[2]),
-                ]);
-            }
-        }
-    }
-    Ok(coords)
+/// The box of [`box_mesh`] of `kind` as flat arrays, its cells of `N` nodes.
+fn flat<const N: usize>(
+    kind: CellKind,
+    size: [f64; 3],
+    n: [usize; 3],
+) -> Result<BoxMesh<N>, MeshError> {
+    let m = box_mesh(kind, size, n)?;
+    let (cells, rest) = m.cells.connectivity().as_chunks::<N>();
+    debug_assert!(rest.is_empty());
+    Ok(BoxMesh {
+        cells: cells.to_vec(),
+        coords: m.coords,
+    })
 }
 
-/// The index of grid node `(i, j, k)`.
-fn id(n: [usize; 3], i: usize, j: usize, k: usize) -> usize {
-    i + (n[0] + 1) * (j + (n[1] + 1) * k)
-}
-
-/// A box of `nx * ny * nz` equal hexahedra (module docs).
+/// A box of `nx * ny * nz` equal hexahedra (module docs; [`box_mesh`]'s).
 ///
 /// # Errors
 /// [`MeshError`] for a size that is not finite and positive, a zero count, or too many
 /// nodes.
 pub fn box_hex8(size: [f64; 3], n: [usize; 3]) -> Result<BoxMesh<8>, MeshError> {
-    let coords = grid(size, n)?;
-    let mut cells = Vec::with_capacity(n[0] * n[1] * n[2]);
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
-                let v = |di: usize, dj: usize, dk: usize| id(n, i + di, j + dj, k + dk);
-                cells.push([
-                    v(0, 0, 0),
-                    v(1, 0, 0),
-                    v(1, 1, 0),
-                    v(0, 1, 0),
-                    v(0, 0, 1),
-                    v(1, 0, 1),
-                    v(1, 1, 1),
-                    v(0, 1, 1),
-                ]);
-            }
-        }
-    }
-    Ok(BoxMesh { coords, cells })
+    flat(CellKind::Hex8, size, n)
 }
 
-/// A box of `6 nx ny nz` four-node tetrahedra (module docs).
+/// A box of `6 nx ny nz` four-node tetrahedra (module docs; [`box_mesh`]'s).
 ///
 /// # Errors
 /// As [`box_hex8`].
 pub fn box_tet4(size: [f64; 3], n: [usize; 3]) -> Result<BoxMesh<4>, MeshError> {
-    let coords = grid(size, n)?;
-    // The six paths 000 -> 111 along the axes in the order of a permutation; the odd
-    // permutations have their second and third nodes swapped to keep a positive volume.
-    const PERMS: [([usize; 3], bool); 6] = [
-        ([0, 1, 2], true),
-        ([1, 2, 0], true),
-        ([2, 0, 1], true),
-        ([0, 2, 1], false),
-        ([2, 1, 0], false),
-        ([1, 0, 2], false),
-    ];
-    let mut cells = Vec::with_capacity(6 * n[0] * n[1] * n[2]);
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
-                for (p, even) in PERMS {
-                    let mut d = [0usize; 3];
-                    let mut path = [id(n, i, j, k); 4];
-                    for (s, &axis) in p.iter().enumerate() {
-                        d[axis] = 1;
-                        path[s + 1] = id(n, i + d[0], j + d[1], k + d[2]);
-                    }
-                    if !even {
-                        path.swap(1, 2);
-                    }
-                    cells.push(path);
-                }
-            }
-        }
-    }
-    Ok(BoxMesh { coords, cells })
+    flat(CellKind::Tet4, size, n)
 }
 
-/// A box of `6 nx ny nz` ten-node tetrahedra with straight edges (module docs).
+/// A box of `6 nx ny nz` ten-node tetrahedra with straight edges (module docs;
+/// [`box_mesh`]'s).
 ///
 /// # Errors
 /// As [`box_hex8`].
 pub fn box_tet10(size: [f64; 3], n: [usize; 3]) -> Result<BoxMesh<10>, MeshError> {
-    let BoxMesh { mut coords, cells } = box_tet4(size, n)?;
-    let mut mid: HashMap<(usize, usize), usize> = HashMap::new();
-    let mut out = Vec::with_capacity(cells.len());
-    for t in cells {
-        let mut c = [0usize; 10];
-        c[..4].copy_from_slice(&t);
-        for (e, &[a, b]) in EDGES.iter().enumerate() {
-            let key = (t[a].min(t[b]), t[a].max(t[b]));
-            let next = coords.len() / 3;
-            let node = *mid.entry(key).or_insert(next);
-            if node == next {
-                for q in 0..3 {
-                    coords.push(0.5 * (coords[3 * t[a] + q] + coords[3 * t[b] + q]));
-                }
-            }
-            c[4 + e] = node;
-        }
-        out.push(c);
-    }
-    Ok(BoxMesh { coords, cells: out })
+    flat(CellKind::Tet10, size, n)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::tet10::EDGES;
     use crate::element::{hex8, tet10, tet4};
+    use std::collections::HashMap;
 
     #[test]
     fn the_cells_tile_the_box_with_positive_volumes() {

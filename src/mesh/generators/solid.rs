@@ -47,7 +47,14 @@ pub fn box_mesh(kind: CellKind, lengths: [f64; 3], counts: [usize; 3]) -> Result
     let nodes = (nx + 1)
         .checked_mul(ny + 1)
         .and_then(|a| a.checked_mul(nz + 1));
-    let n_nodes = check_nodes("nx * ny * nz", nx.max(ny).max(nz), nodes)?;
+    // Room for the 10-node tetrahedra's mid-edge nodes (fewer than 7 per grid node).
+    let room = if kind == CellKind::Tet10 { 8 } else { 1 };
+    check_nodes(
+        "nx * ny * nz",
+        nx.max(ny).max(nz),
+        nodes.and_then(|n| n.checked_mul(room)),
+    )?;
+    let n_nodes = nodes.unwrap_or(0);
     let coord = |i: usize, n: usize, l: f64| if i == n { l } else { l * i as f64 / n as f64 };
     let id = |i: usize, j: usize, k: usize| i + (nx + 1) * (j + (ny + 1) * k);
     let mut coords = Vec::with_capacity(3 * n_nodes);
