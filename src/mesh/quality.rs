@@ -306,40 +306,26 @@ fn solid_measures(mesh: &Mesh, q: &mut MeshQuality) {
     }
 }
 
-/// The volume of the trilinear hexahedron `c` by 2 x 2 x 2 Gauss points.
+/// The volume of the trilinear hexahedron `c` by 2 x 2 x 2 Gauss points (the element's
+/// own shape functions, [`crate::element::hex8`]), signed: an inverted cell's is negative.
 fn hex_volume(c: &[usize], x: &impl Fn(usize) -> [f64; 3]) -> f64 {
-    const SIGNS: [[f64; 3]; 8] = [
-        [-1.0, -1.0, -1.0],
-        [1.0, -1.0, -1.0],
-        [1.0, 1.0, -1.0],
-        [-1.0, 1.0, -1.0],
-        [-1.0, -1.0, 1.0],
-        [1.0, -1.0, 1.0],
-        [1.0, 1.0, 1.0],
-        [-1.0, 1.0, 1.0],
-    ];
-    let g = 1.0 / 3.0_f64.sqrt();
-    let mut volume = 0.0;
-    for p in SIGNS {
-        let r = [g * p[0], g * p[1], g * p[2]];
-        let mut jac = [[0.0; 3]; 3];
-        for (k, s) in SIGNS.iter().enumerate() {
-            let xk = x(c[k]);
-            for a in 0..3 {
-                let mut dn = s[a] / 8.0;
-                for b in 0..3 {
-                    if b != a {
-                        dn *= 1.0 + s[b] * r[b];
+    use crate::element::hex8::{shape, GAUSS};
+    GAUSS
+        .iter()
+        .map(|&g| {
+            let (_, dn) = shape(g);
+            let mut jac = [[0.0; 3]; 3];
+            for (k, dnk) in dn.iter().enumerate() {
+                let xk = x(c[k]);
+                for (a, row) in jac.iter_mut().enumerate() {
+                    for (i, xi) in xk.iter().enumerate() {
+                        row[i] += dnk[a] * xi;
                     }
                 }
-                for (i, xi) in xk.iter().enumerate() {
-                    jac[a][i] += dn * xi;
-                }
             }
-        }
-        volume += det3(jac[0], jac[1], jac[2]);
-    }
-    volume
+            det3(jac[0], jac[1], jac[2])
+        })
+        .sum()
 }
 
 #[cfg(test)]
