@@ -63,7 +63,7 @@ impl<'a> Study<'a> {
         let config = sc.growth.clone().ok_or_else(|| {
             GrowthError::Run(RunError::input(
                 &sc.path,
-                "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
+                "no [growth] table: softway grow needs [growth] and [wear] (the book, docs/src/growth.md)",
             ))
         })?;
         let run = sc.runs.first().ok_or_else(|| {
