@@ -31,7 +31,10 @@ pub(super) fn modes_command(
         return Err("--count 0: ask for at least one mode".into());
     }
     let wm = crate::kinds::wheel::run::build(ws, &sc.path)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-modes", sc.name)));
+    let out = match out {
+        Some(out) => out,
+        None => super::with_sets(super::default_out(&sc.name, "modes"), set)?,
+    };
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let rep = crate::modes::modes_report(&wm, count)?;
     let mut files = crate::modes::write_mode_shapes(&wm, &rep.at_rest, stage.dir())?;
@@ -139,7 +142,7 @@ pub(super) fn receptance_command(
     for w in &sc.warnings {
         errln!("softway: warning: {w}");
     }
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-receptance", sc.name)));
+    let out = out.unwrap_or_else(|| super::default_out(&sc.name, "receptance"));
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let report =
         crate::kinds::track::moving::receptance_job(&sc, stage.dir(), sc.plots, cancel.flag())?;
@@ -162,7 +165,7 @@ pub(super) fn matrix_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let sc = resolve(&Scenario::from_file(scenario)?)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
+    let out = out.unwrap_or_else(|| super::default_out(&sc.name, "matrix"));
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let (rep, files) =
         crate::run::matrix::dump(&sc, stage.dir(), steps.map(|s| s as usize), cancel.flag())?;

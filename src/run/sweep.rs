@@ -273,7 +273,7 @@ pub fn run_points(
 
 /// The folder of one point, `<key>=<value>,<key>=<value>` (quotes trimmed, path separators
 /// replaced by `_` so that a value never leads out of the sweep's folder).
-fn point_dir_name(sets: &[Override]) -> String {
+pub(crate) fn point_dir_name(sets: &[Override]) -> String {
     sets.iter()
         .map(|o| format!("{}={}", o.key, o.value.trim_matches('"')))
         .collect::<Vec<_>>()
