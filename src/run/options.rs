@@ -119,7 +119,7 @@ pub(crate) fn progress_bar(len: u64, label: &str, opts: &RunOptions) -> indicati
     // between the settling and the rolling).
     pb.set_style(
         indicatif::ProgressStyle::with_template(
-            "{prefix:>12} [{bar:24}] {steps} steps, {per_step}, {left} {msg}",
+            "{prefix:>12} [{bar:20}] {steps} steps, {per_step}, {left} {msg}",
         )
         .map(|s| {
             s.with_key(
