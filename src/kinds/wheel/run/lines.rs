@@ -45,7 +45,7 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
 fn base_lines(s: &WheelSummary) -> Vec<String> {
     let ripple = if s.mean_contact_force.abs() > 0.0 {
         format!(
-            " (max - min = {:.2} % of the mean)",
+            " (max - min {:.2} % of the mean)",
             100.0 * (s.max_contact_force - s.min_contact_force) / s.mean_contact_force
         )
     } else {
@@ -63,7 +63,7 @@ fn base_lines(s: &WheelSummary) -> Vec<String> {
             quantity(s.time_per_step_us * 1e-6, "s")
         ),
         format!(
-            "contact force, rolling: mean {}, min {}, max {}{ripple}; {:.2} nodes in contact on average",
+            "rolling contact force: mean {}, min {}, max {}{ripple}; {:.2} nodes in contact on average",
             quantity(s.mean_contact_force, "N"),
             quantity(s.min_contact_force, "N"),
             quantity(s.max_contact_force, "N"),
