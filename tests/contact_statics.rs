@@ -165,7 +165,7 @@ fn contact_half_width_approaches_hertz_on_fine_disks() {
 /// 835.1, 834.4 kN, observed orders 2.2 then 0.5: the disk is refined towards the rim, and
 /// its interior (graded at 1.15 from the rim inwards) converges more slowly than the patch.
 /// From 144 rim nodes (844.7 kN) the differences do not shrink yet (4.2 then 4.4 kN). The
-/// rolling wheel's mean force on the same meshes (README) is 839.8, 836.2, 835.1 kN at 288,
+/// rolling wheel's mean force on the same meshes (docs/src/wheel.md) is 839.8, 836.2, 835.1 kN at 288,
 /// 576, 1,152. The pinned centre does not converge (the force falls as the point support
 /// softens; see the docs of `softway::wheel`).
 #[test]

@@ -103,7 +103,7 @@ fn a_wheel_of_an_almost_singular_material_is_stopped() {
 }
 
 /// `softway compare` (the lab) lets every combination run and marks the ones past the bound
-/// in `diverged_at_s`: on `compare-bar.toml` exactly the combinations the README calls
+/// in `diverged_at_s`: on `compare-bar.toml` exactly the combinations the book (docs/src/method.md) calls
 /// wrong (Newmark with exact contact or a stiff penalty, HHT with exact contact: energy
 /// x7.9, x7.5, x1.9 at the end), none of the sane ones (energy within 5%).
 #[test]

@@ -2,7 +2,7 @@
 //! mortar-weighted gap of each rim node with its two neighbours): the same mean force as
 //! node contact on the converged rim (288 nodes).
 //!
-//! What it does not do, measured (one turn, README): lower the node-passing excitation on
+//! What it does not do, measured (one turn, docs/src/wheel.md): lower the node-passing excitation on
 //! the wheel clamped on its hub's circle. Its fundamental is 4.6 kN with nodes and 5.3 kN with
 //! segments on 288 rim nodes, and the node-passing content 55.5 / 12.0 / 5.0 / 0.85 kN with
 //! nodes against 25.3 / 15.9 / 7.2 / 1.0 kN with segments on 72 / 144 / 288 / 576 rim nodes.

@@ -11,7 +11,7 @@
 //! (Dundurs' beta = 0.35 in plane stress, of the order of mu = 0.3), so the wheel has a
 //! free-rolling creepage and the creep curve is not Carter's. Measured on the rim ladder
 //! 144 / 288 / 576 nodes: free-rolling creepage 0.0021 / 0.0033 / 0.0046 and slope through it
-//! 81 / 71 / 62 against Carter's 81-83 (not mesh-converged: README, Friction and traction).
+//! 81 / 71 / 62 against Carter's 81-83 (not mesh-converged: docs/src/friction.md).
 //! The slope is asserted within 30% of Carter's, which a wrong unit or sign would fail.
 //!
 //! The wheel is `scenarios/creep-curve.toml` on a coarser rim (144 nodes: the patch spans
@@ -94,7 +94,7 @@ const OMEGA: f64 = 300.0;
 /// a rim pitch, centred at Carter's `a - c` (the leading edge) within half a pitch, and the
 /// RMS difference of the traction profile from Carter's `q(s)` falls at every rung, below a
 /// tenth of `mu p0` on the finest. Measured: errors +8.9 %, +3.3 %, +1.0 % (1152 rim nodes:
-/// +0.2 %; README); profile 0.113, 0.082, 0.072 (1152: 0.062).
+/// +0.2 %; docs/src/friction.md); profile 0.113, 0.082, 0.072 (1152: 0.062).
 #[test]
 fn uncoupled_creep_force_converges_to_carter_on_a_rim_ladder() {
     let free = traction_block("unc-free", &scenario_on(144, 0.0, "uncoupled"));

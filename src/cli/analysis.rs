@@ -41,7 +41,10 @@ pub(super) fn study_command(
         )
         .into());
     };
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-{command}", sc.name)));
+    let out = match out {
+        Some(out) => out,
+        None => super::with_sets(super::default_out(&sc.name, command), set)?,
+    };
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let opts = crate::scenario::kind::StudyOptions {
         count,
@@ -76,7 +79,7 @@ pub(super) fn matrix_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let sc = resolve(&Scenario::from_file(scenario)?)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-matrix", sc.name)));
+    let out = out.unwrap_or_else(|| super::default_out(&sc.name, "matrix"));
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let (rep, files) =
         crate::run::matrix::dump(&sc, stage.dir(), steps.map(|s| s as usize), cancel.flag())?;

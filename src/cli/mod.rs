@@ -412,7 +412,10 @@ fn run_command(
 ) -> CommandResult {
     set_threads("--threads", threads)?;
     let sc = open_scenario(scenario, set, yes)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+    let out = match out {
+        Some(out) => out,
+        None => with_sets(PathBuf::from("out").join(&sc.name), set)?,
+    };
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let opts = RunOptions {
         progress: !quiet,
@@ -452,6 +455,7 @@ fn grow_command(
     cancel: &Cancel,
 ) -> CommandResult {
     use crate::output::job::StudyFolder;
+    use crate::output::terminal::quantity;
     set_threads("--threads", threads)?;
     let sc = resolve(&read_scenario(scenario, set)?)?;
     for w in &sc.warnings {
@@ -460,7 +464,7 @@ fn grow_command(
     let Some(growth) = &sc.growth else {
         return Err(crate::run::RunError::input(
             scenario,
-            "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
+            "no [growth] table: softway grow needs [growth] and [wear] (the book, docs/src/growth.md)",
         )
         .into());
     };
@@ -475,7 +479,10 @@ fn grow_command(
         )
         .into());
     }
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-grow", sc.name)));
+    let out = match out {
+        Some(out) => out,
+        None => with_sets(default_out(&sc.name, "grow"), set)?,
+    };
     let opts = crate::run::grow::GrowOptions {
         passes: passes.map(|p| p as usize),
         resume,
@@ -501,15 +508,15 @@ fn grow_command(
             .scalars
             .iter()
             .find(|s| s.0 == "mean_force_n")
-            .map(|s| format!(", mean force {:.4e} N", s.1))
+            .map(|s| format!(", mean force {}", quantity(s.1, "N")))
             .unwrap_or_default();
         outln!(
-            "  pass {}/{}: RMS roughness {:.5} um, uniform loss {:.3e} m{force}, {:.2} s",
+            "  pass {}/{}: RMS roughness {:.5} um, uniform loss {}{force}, {}",
             l.pass + 1,
             l.target,
             l.rms * 1e6,
-            l.uniform_loss,
-            l.wall_s
+            quantity(l.uniform_loss, "m"),
+            quantity(l.wall_s, "s")
         );
     })?;
     let interrupted = report.interrupted || cancel.is_cancelled();
@@ -531,6 +538,48 @@ fn grow_command(
             "interrupted before a pass finished: nothing to go on from; run the study again (without --resume)"
         }),
     )
+}
+
+/// The default output folder of a command that adds `suffix` to the scenario's name:
+/// `out/<name>-<suffix>` (`out/wheel-converge`), the suffix's first word not doubled: a
+/// scenario named `wheel-sweep` sweeps into `out/wheel-sweep`, not `out/wheel-sweep-sweep`.
+pub(super) fn default_out(name: &str, suffix: &str) -> PathBuf {
+    let word = suffix.split('-').next().unwrap_or(suffix);
+    let stem = name
+        .strip_suffix(&format!("-{word}"))
+        .filter(|s| !s.is_empty())
+        .unwrap_or(name);
+    PathBuf::from("out").join(format!("{stem}-{suffix}"))
+}
+
+/// The default folder `base` of a command given `--set` values: `base,<key>=<value>,...`
+/// (the values as a sweep names its points), so that a one-off change never replaces the
+/// folder of the scenario as written (`softway run scenarios/wheel.toml --set
+/// wheel.rim_nodes=576` writes `out/wheel,wheel.rim_nodes=576/`, not `out/wheel/`). A name
+/// longer than a folder's name may be is refused, asking for `--out`.
+pub(super) fn with_sets(base: PathBuf, set: &[String]) -> Result<PathBuf, String> {
+    if set.is_empty() {
+        return Ok(base);
+    }
+    let sets = set
+        .iter()
+        .map(|s| crate::scenario::Override::parse(s))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let name = format!(
+        "{},{}",
+        base.file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+        crate::run::sweep::point_dir_name(&sets)
+    );
+    if name.len() > crate::output::staging::NAME_MAX {
+        return Err(format!(
+            "--set: the default output folder `{name}` would have a name of {} bytes, more than the {} a folder's name may have: give --out DIR",
+            name.len(),
+            crate::output::staging::NAME_MAX
+        ));
+    }
+    Ok(base.with_file_name(name))
 }
 
 /// The exit code of a command that finished its work: 130 when a signal (SIGINT, SIGTERM,
@@ -558,9 +607,11 @@ pub(super) fn print_report(
         ("", "", "  ")
     };
     if let Some(h) = head {
-        outln!("{h}");
+        for l in crate::output::terminal::wrap(&h, crate::output::terminal::WIDTH, 2) {
+            outln!("{l}");
+        }
     }
-    for l in lines {
+    for l in crate::output::terminal::fit(lines, line.len(), crate::output::terminal::WIDTH) {
         outln!("{line}{l}");
     }
     outln!("{wrote}wrote:");
@@ -718,15 +769,14 @@ pub(super) fn print_result(text: &str) -> Result<(), String> {
     }
 }
 
-/// Prints a markdown table written by a study and the files it wrote.
+/// Prints a markdown table written by a study, laid out for the terminal
+/// ([`crate::output::terminal::fit`]: within 100 columns, in readable units), and the files
+/// it wrote.
 fn print_table(md: &std::path::Path, files: &[PathBuf]) {
-    {
-        use std::io::Write as _;
-        let _ = write!(
-            std::io::stdout(),
-            "{}",
-            std::fs::read_to_string(md).unwrap_or_default()
-        );
+    let text = std::fs::read_to_string(md).unwrap_or_default();
+    let lines: Vec<String> = text.lines().map(String::from).collect();
+    for l in crate::output::terminal::fit(&lines, 0, crate::output::terminal::WIDTH) {
+        outln!("{l}");
     }
     outln!("  wrote:");
     for f in files {

@@ -31,10 +31,10 @@ pub(super) fn shard_command(
     let points = crate::scenario::overrides::grid(&keys, how)?;
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| {
-        PathBuf::from("out").join(format!(
-            "{}-sweep-shard-{}-of-{}",
-            sc.name, shard.index, shard.count
-        ))
+        super::default_out(
+            &sc.name,
+            &format!("sweep-shard-{}-of-{}", shard.index, shard.count),
+        )
     });
     set_threads("--jobs", jobs)?;
     let stage = JobFolder::begin(&out, force, &[scenario])?;
@@ -89,7 +89,7 @@ pub(super) fn gather_command(
 ) -> CommandResult {
     // The default folder is named after the scenario, which the first manifest gives.
     let first = read_manifest(shards.first().ok_or("no shard folder given")?)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", first.name)));
+    let out = out.unwrap_or_else(|| super::default_out(&first.name, "sweep"));
     // The shards' folders are inputs: never replaced by the gathered one.
     let manifests: Vec<PathBuf> = shards.iter().map(|d| d.join(MANIFEST)).collect();
     let keep: Vec<&Path> = manifests.iter().map(PathBuf::as_path).collect();

@@ -24,7 +24,7 @@ pub(super) fn sweep_command(
     };
     let points = crate::scenario::overrides::grid(&keys, grid)?;
     check_ladder_estimate(scenario, &text, &points, yes)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", sc.name)));
+    let out = out.unwrap_or_else(|| super::default_out(&sc.name, "sweep"));
     set_threads("--jobs", jobs)?;
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let (points, files) = crate::run::sweep::sweep(scenario, &text, &points, stage.dir(), cancel)?;
@@ -46,7 +46,10 @@ pub(super) fn sweep_command(
     print_table(&out.join("sweep.md"), &files);
     // A creepage sweep on a ladder: its creepages, orders and limits after the table.
     if let Ok(ladder) = std::fs::read_to_string(out.join("creep_ladder.md")) {
-        outln!("{ladder}");
+        let lines: Vec<String> = ladder.lines().map(String::from).collect();
+        for l in crate::output::terminal::fit(&lines, 0, crate::output::terminal::WIDTH) {
+            outln!("{l}");
+        }
     }
     for (d, p) in dirs.iter().zip(&points) {
         if d.exists() {
@@ -172,7 +175,7 @@ pub(super) fn converge_command(
         crate::scenario::overrides::Grid::Product,
     )?;
     check_ladder_estimate(scenario, &text, &points, yes)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(format!("{}-converge", sc.name)));
+    let out = out.unwrap_or_else(|| super::default_out(&sc.name, "converge"));
     set_threads("--jobs", jobs)?;
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let (_, files, warnings, failed) =
@@ -209,7 +212,10 @@ pub(super) fn compare_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let sc = open_scenario(scenario, set, yes)?;
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&sc.name));
+    let out = match out {
+        Some(out) => out,
+        None => super::with_sets(PathBuf::from("out").join(&sc.name), set)?,
+    };
     let stage = JobFolder::begin(&out, force, &[scenario])?;
     let opts = RunOptions {
         cancel: cancel.clone(),

@@ -11,6 +11,7 @@ pub mod save;
 pub mod stability;
 pub mod staging;
 pub mod table;
+pub mod terminal;
 pub mod vtk;
 
 /// PNG figures: the `softway-plot` workspace crate (crates/softway-plot),

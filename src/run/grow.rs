@@ -63,7 +63,7 @@ impl<'a> Study<'a> {
         let config = sc.growth.clone().ok_or_else(|| {
             GrowthError::Run(RunError::input(
                 &sc.path,
-                "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")",
+                "no [growth] table: softway grow needs [growth] and [wear] (the book, docs/src/growth.md)",
             ))
         })?;
         let run = sc.runs.first().ok_or_else(|| {
@@ -206,15 +206,15 @@ pub fn claim_study_folder(out: &Path, force: bool) -> Result<(), GrowthError> {
 /// Screen lines of a study's summary.
 pub fn summary_lines(s: &GrowthSummary) -> Vec<String> {
     let mut l = vec![format!(
-        "{} passes x {:.3e} = {:.3e} real passes at V = {:.2} m/s; RMS roughness {:.4} -> {:.4} um; uniform loss {:.3e} m; {:.2} s a pass",
+        "{} passes x {} = {} real passes at V = {:.2} m/s; RMS roughness {:.4} -> {:.4} um; uniform loss {}; {} a pass",
         s.passes,
-        s.passes_per_pass,
-        s.real_passes,
+        crate::output::terminal::grouped_or_sci(s.passes_per_pass),
+        crate::output::terminal::grouped_or_sci(s.real_passes),
         s.speed_m_s,
         s.rms_initial_m * 1e6,
         s.rms_final_m * 1e6,
-        s.uniform_loss_m,
-        s.mean_pass_wall_s
+        crate::output::terminal::quantity(s.uniform_loss_m, "m"),
+        crate::output::terminal::quantity(s.mean_pass_wall_s, "s")
     )];
     if let Some(b) = &s.fastest_band {
         l.push(format!(

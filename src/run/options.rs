@@ -114,10 +114,47 @@ pub(crate) fn progress_bar(len: u64, label: &str, opts: &RunOptions) -> indicati
         return pb;
     }
     let pb = indicatif::ProgressBar::new(len);
+    // Within 100 columns; the time per step and the time left from the mean rate since the
+    // start (stable, where indicatif's own estimate follows the last steps' rate and jumps
+    // between the settling and the rolling).
     pb.set_style(
         indicatif::ProgressStyle::with_template(
-            "{prefix:>12} [{bar:40}] {pos}/{len} steps ({per_sec}, eta {eta}) {msg}",
+            "{prefix:>12} [{bar:20}] {steps} steps, {per_step}, {left} {msg}",
         )
+        .map(|s| {
+            s.with_key(
+                "steps",
+                |st: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                    let _ = write!(
+                        w,
+                        "{}/{}",
+                        crate::output::terminal::grouped(st.pos() as f64),
+                        crate::output::terminal::grouped(st.len().unwrap_or(0) as f64)
+                    );
+                },
+            )
+            .with_key(
+                "per_step",
+                |st: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                    let per = st.elapsed().as_secs_f64() / st.pos().max(1) as f64;
+                    let _ = write!(w, "{}/step", crate::output::terminal::quantity(per, "s"));
+                },
+            )
+            .with_key(
+                "left",
+                |st: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                    let _ = write!(
+                        w,
+                        "{}",
+                        crate::output::terminal::time_left(
+                            st.elapsed().as_secs_f64(),
+                            st.pos(),
+                            st.len().unwrap_or(0)
+                        )
+                    );
+                },
+            )
+        })
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
         .progress_chars("=> "),
     );

@@ -78,7 +78,7 @@
 //! scheme's `gamma = 0` (no numerical dissipation) loaded rim nodes stick for a step or
 //! more and the traction falls short of `mu P`, more so on finer rims (21% on 1440 rim
 //! nodes at 40 m/s and -3%); `gamma = 0.2` (or `alpha = 1`) removes it
-//! (`tests/rolling_friction.rs`, README).
+//! (`tests/rolling_friction.rs`, the book's docs/src/track.md).
 //!
 //! # What is not modelled
 //!

@@ -265,8 +265,8 @@ fn profile_png(figure: &FigureInputs) -> Result<Vec<PathBuf>, GrowthError> {
     let mut files = Vec::new();
     let png = |name: &str| out.join(name);
     // profile.png: the initial and the current profile, and under them what changed: the
-    // change since the initial profile and the last pass's wear step (issue 48: the README
-    // promised the wear, the figure did not draw it).
+    // change since the initial profile and the last pass's wear step (the wear the book,
+    // docs/src/growth.md, says the figure shows).
     let profiles = state.profiles();
     let length = state.n as f64 * state.dx.0[0];
     let (scale, unit) = if length > 2.0 {

@@ -159,7 +159,7 @@ impl Spec for TrackScenario {
 
     /// The wheel on the track with friction under the space-time scheme without numerical
     /// dissipation: loaded rim nodes stick for steps in full slip, and the creep force falls
-    /// short of mu P, more so on finer rims (README, The track).
+    /// short of mu P, more so on finer rims (the book, docs/src/track.md).
     fn check_run(&self, cx: &Ctx, run: &RunView) -> Result<(), ScenarioError> {
         // A creepage transmits a force only through friction (as on the rigid base): refused
         // here, so that a sweep refuses it before any point runs.

@@ -336,21 +336,32 @@ fn summarize(
 }
 
 fn lines(s: &OnBlockSummary) -> Vec<String> {
+    use crate::output::terminal::{grouped, quantity};
     vec![
         format!(
-            "{}: wheel {} + block {} dofs ({:.3} m x {:.3} m, E = {:.3e} Pa), {} steps in {:.1} s",
-            s.label, s.wheel_dofs, s.block_dofs, s.block_length, s.block_depth, s.block_young, s.steps, s.elapsed_s
+            "{}: wheel {} + block {} dofs ({:.3} m x {:.3} m, E = {}), {} steps in {}",
+            s.label,
+            grouped(s.wheel_dofs as f64),
+            grouped(s.block_dofs as f64),
+            s.block_length,
+            s.block_depth,
+            quantity(s.block_young, "Pa"),
+            grouped(s.steps as f64),
+            quantity(s.elapsed_s, "s")
         ),
         format!(
-            "  rolling: mean contact force {:.4e} N (min {:.4e}, max {:.4e}), {:.1} rim nodes in contact",
-            s.mean_contact_force, s.min_contact_force, s.max_contact_force, s.mean_nodes_in_contact
+            "  rolling: mean contact force {} (min {}, max {}), {:.1} rim nodes in contact",
+            quantity(s.mean_contact_force, "N"),
+            quantity(s.min_contact_force, "N"),
+            quantity(s.max_contact_force, "N"),
+            s.mean_nodes_in_contact
         ),
         format!(
-            "  patch half-width {:.3} mm, Hertz's at the mean force {:.3} mm ({:+.1}%; E* = {:.3e} Pa)",
+            "  patch half-width {:.3} mm, Hertz's at the mean force {:.3} mm ({:+.1}%; E* = {})",
             1e3 * s.mean_half_width,
             1e3 * s.hertz_half_width,
             100.0 * s.half_width_vs_hertz,
-            s.contact_modulus
+            quantity(s.contact_modulus, "Pa")
         ),
     ]
 }
