@@ -959,7 +959,7 @@ fn grow(
         let err = ScenarioError::new_err(
             softway::run::RunError::Input {
                 path: sc.path.clone(),
-                message: "no [growth] table: softway grow needs [growth] and [wear] (README, \"Growth studies\")".into(),
+                message: "no [growth] table: softway grow needs [growth] and [wear] (the book, docs/src/growth.md)".into(),
             }
             .to_string(),
         );

@@ -79,7 +79,7 @@ def test_interrupting_a_cell_stops_the_run_within_a_step(kernel):
     callback), the kernel is interrupted (SIGINT, as the notebook's stop button sends it);
     the cell ends within a second with RunInterrupted, whose result holds the steps
     computed (a small part of the run), marked interrupted. (A signal during the model's
-    set-up, before the steps, takes effect when they start: README.)"""
+    set-up, before the steps, takes effect when they start: docs/src/python.md.)"""
     km, kc = kernel
     started = {}
 
