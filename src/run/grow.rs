@@ -79,6 +79,34 @@ impl<'a> Study<'a> {
                 message: format!("`{key}` = {value}: {allowed}"),
             }));
         }
+        // So is an initial roughness the body cannot carry (a level of 400 dB was refused
+        // as an inverted triangle of the mesh, -400 dB grew from rounding noise).
+        let refuse = |key: &str, message: String| {
+            Err(GrowthError::Run(RunError::Input {
+                path: sc.path.clone(),
+                message: format!("`{key}`: {message}"),
+            }))
+        };
+        match crate::growth::roughness::realise(&config.roughness, runner.grid()) {
+            Ok(z) => {
+                if let Err(m) = runner.check_profile(&z) {
+                    return refuse(
+                        config.roughness_key,
+                        format!("the initial roughness does not fit the body: {m}"),
+                    );
+                }
+            }
+            // A spectrum the grid cannot realise (a band of no whole order, an open
+            // profile's sampling or stretch) is its wavelengths' doing; a file's, the file's.
+            Err(m) => {
+                let key = match config.roughness_key {
+                    "growth.level" => "growth.min_wavelength`/`growth.max_wavelength",
+                    "growth.band_levels" => "growth.band_wavelengths",
+                    k => k,
+                };
+                return refuse(key, format!("the initial roughness cannot be made: {m}"));
+            }
+        }
         Ok(Study {
             sc,
             opts: opts.clone(),
