@@ -90,9 +90,15 @@ impl<'a> Study<'a> {
         match crate::growth::roughness::realise(&config.roughness, runner.grid()) {
             Ok(z) => {
                 if let Err(m) = runner.check_profile(&z) {
+                    let from = match &config.roughness {
+                        crate::growth::Roughness::Csv { path } => {
+                            format!(" (from {})", path.display())
+                        }
+                        _ => String::new(),
+                    };
                     return refuse(
                         config.roughness_key,
-                        format!("the initial roughness does not fit the body: {m}"),
+                        format!("the initial roughness{from} does not fit the body: {m}"),
                     );
                 }
             }
