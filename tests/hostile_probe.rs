@@ -4,7 +4,8 @@
 //! - the vehicle's values beyond any railway vehicle's (a speed of 1e-6 km/h, a load of
 //!   1e12 N, a wheel of 50 m) ran until the contact lost its rim nodes, or named another
 //!   key;
-//! - a block's margin of 1 km built a block of 3e5 columns for ever;
+//! - a block's margin of 1 km built a block of 3e5 columns for ever, and a `block.dx` of
+//!   1 um one of millions of nodes (12 GB, deaf to SIGTERM): the estimate left the block out;
 //! - a wheel's material whose spin stretch is absurd (`material.young` = 1e-300) was
 //!   refused naming only `rolling.omega` and `wheel.radius`.
 
@@ -87,4 +88,19 @@ fn an_absurd_spin_stretch_names_the_material_too() {
             &["rolling.omega", "material.density", "material.young"],
         );
     }
+}
+
+/// The block's nodes count in the run's cost: a `block.dx` of 1 um (millions of nodes,
+/// 12 GB before the first step, deaf to SIGTERM) is refused up front by the estimate,
+/// naming the key.
+#[test]
+fn a_block_beyond_the_machine_is_refused_by_its_cost() {
+    let dir = TestDir::new("hostile-probe", "block-cost");
+    refused(
+        &dir,
+        0,
+        "wheel-on-block.toml",
+        &["block.dx=1e-6", "wheel.rim_nodes=96", "rolling.turns=0.1"],
+        &["block.dx"],
+    );
 }

@@ -220,6 +220,8 @@ fn shrink(doc: &mut Table, dir: &Path) {
     if let Some(Value::Table(t)) = doc.get_mut("track") {
         cap_int(t, "bays", 30);
         cap_int(t, "end_bays", 8);
+        // (The default absorbing ends, 30 bays each, would leave none between them.)
+        t.entry("end_bays").or_insert(Value::Integer(8));
     }
     if let Some(Value::Table(v)) = doc.get_mut("vehicle") {
         cap_int(v, "travel_bays", 2);
