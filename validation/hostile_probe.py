@@ -250,7 +250,7 @@ def judge_refusal(case, err, out, existed):
     if missing:
         return "defect", f"refusal does not name {missing}: {lines[0][:400]}"
     # a study stopped by its wear keys after a pass ran keeps its folder (and checkpoint)
-    stopped = re.match(r"softway: error: pass \d+: ", lines[0]) is not None
+    stopped = re.search(r": pass \d+: ", lines[0]) is not None
     if out is not None and not existed and out.exists() and not stopped:
         return "defect", f"refused but wrote {out.name}/: {lines[0][:300]}"
     if case.expect == "ok":

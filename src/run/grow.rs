@@ -157,7 +157,15 @@ impl<'a> Study<'a> {
                 progress(line);
                 Ok(())
             },
-        )?;
+        )
+        // A study stopped by its keys after a pass names its scenario file, as every
+        // refusal does (it read "pass 0: ..." alone).
+        .map_err(|e| match e {
+            GrowthError::NotFinite { pass, message } => {
+                GrowthError::Run(RunError::input(&sc.path, format!("pass {pass}: {message}")))
+            }
+            e => e,
+        })?;
         // The as-run scenario once the study (a resumed one: its checkpoint) was accepted: a
         // refused `--resume` leaves the folder's copy of the scenario it was run with.
         let mut files = vec![super::write_scenario_copy(sc, out)?];
