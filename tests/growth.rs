@@ -93,6 +93,13 @@ impl PassRunner for Synthetic {
     fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
         softway::growth::no_carried_state(state)
     }
+    /// No body: any finite profile.
+    fn check_profile(&self, z: &[f64]) -> Result<(), String> {
+        match z.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(format!("sample {i} is {}", z[i])),
+        }
+    }
     fn extra_outputs(
         &mut self,
         _out: &Path,
@@ -112,6 +119,7 @@ fn config(roughness: Roughness, smoothing_m: f64, reference: bool) -> GrowthConf
         cutoff_m: 0.0,
         reference,
         roughness,
+        roughness_key: "growth.amplitude",
         wear: WearLaw::FrictionalPower(FrictionalPower { k_mass: 5.3e-9 }),
         wear_density: None,
         rail: Default::default(),

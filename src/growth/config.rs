@@ -59,6 +59,9 @@ pub struct GrowthConfig {
     pub cutoff_m: f64,
     /// The initial roughness.
     pub roughness: Roughness,
+    /// The key that sets its heights (`growth.level` of a random roughness,
+    /// `growth.amplitude` of a harmonic, ...), named when they do not fit the body.
+    pub roughness_key: &'static str,
     /// The wear law.
     pub wear: WearLaw,
     /// Density of the worn material, kg/m^3 (`None`: the body's).
@@ -100,6 +103,13 @@ impl GrowthConfig {
         }
         let shortest = 2.0 * dx;
         match &self.roughness {
+            // On the rim it is rounded to whole orders: beyond 1.5 lengths to order 0,
+            // which was silently made order 1 (a 1 km harmonic ran as the circumference).
+            Roughness::Harmonic { wavelength, .. } if *wavelength > 1.5 * length => refuse(
+                "growth.wavelength",
+                *wavelength,
+                format!("at most the profile's length, {length:.4e} m (order 1 on a rim)"),
+            ),
             Roughness::Harmonic { wavelength, .. } if *wavelength < shortest => refuse(
                 "growth.wavelength",
                 *wavelength,
@@ -229,21 +239,103 @@ pub fn validate(
     wear: Option<toml::Table>,
     path: &Path,
 ) -> Result<Option<GrowthConfig>, ScenarioError> {
+    let Some((g, w)) = raw_tables(growth, wear, path)? else {
+        return Ok(None);
+    };
+    let keys = Keys(path);
+    let (passes, passes_per_pass, smoothing_m, cutoff_m) = study_keys(&g, keys)?;
+    let seed = match g.seed {
+        None => 1,
+        Some(s) if s >= 0 => s as u64,
+        Some(s) => return Err(keys.invalid("growth.seed", s.to_string(), "must be >= 0")),
+    };
+    let rail = rail_keys(&g, keys)?;
+    let roughness = roughness(&g, seed, keys)?;
+    let roughness_key = match g.roughness.as_deref() {
+        Some("harmonic") => "growth.amplitude",
+        Some("csv") => "growth.file",
+        Some("spectrum") => "growth.band_levels",
+        Some("random") => "growth.level",
+        Some("iso3095") => "growth.offset",
+        _ => "growth.roughness",
+    };
+    let wear = wear_law(&w, path)?;
+    let wear_density = match w.density {
+        None => None,
+        Some(d) => Some(keys.positive("wear.density", d)?),
+    };
+    Ok(Some(GrowthConfig {
+        passes,
+        passes_per_pass,
+        smoothing_m,
+        reference: g.reference.unwrap_or(false),
+        cutoff_m,
+        roughness,
+        roughness_key,
+        wear,
+        wear_density,
+        rail,
+    }))
+}
+
+/// The scenario file's errors, by key.
+#[derive(Clone, Copy)]
+struct Keys<'a>(&'a Path);
+
+impl Keys<'_> {
+    fn invalid(self, key: &str, value: String, allowed: &str) -> ScenarioError {
+        ScenarioError::Invalid {
+            path: self.0.to_path_buf(),
+            key: key.to_string(),
+            value,
+            allowed: allowed.to_string(),
+        }
+    }
+
+    /// `v` if finite and > 0, else refused by `key`.
+    fn positive(self, key: &str, v: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v.to_string(), "must be finite and > 0"))
+        }
+    }
+
+    /// `growth.{key}`'s value, or refused as missing (`why`: what it is).
+    fn need(self, key: &str, v: Option<f64>, why: &str) -> Result<f64, ScenarioError> {
+        v.ok_or_else(|| self.missing(&format!("growth.{key}"), why))
+    }
+
+    fn missing(self, key: &str, why: &str) -> ScenarioError {
+        ScenarioError::Missing {
+            path: self.0.to_path_buf(),
+            key: key.to_string(),
+            why: why.to_string(),
+        }
+    }
+}
+
+/// The two tables read into their keys (`None`: neither given); one without the other is
+/// refused.
+fn raw_tables(
+    growth: Option<toml::Table>,
+    wear: Option<toml::Table>,
+    path: &Path,
+) -> Result<Option<(RawGrowth, RawWear)>, ScenarioError> {
+    let keys = Keys(path);
     let (g, w) = match (growth, wear) {
         (None, None) => return Ok(None),
         (Some(_), None) => {
-            return Err(ScenarioError::Missing {
-                path: path.to_path_buf(),
-                key: "wear".into(),
-                why: "a growth study needs its wear law ([wear] law = \"archard\" | \"frictional_power\" | \"usfd\")".into(),
-            })
+            return Err(keys.missing(
+                "wear",
+                "a growth study needs its wear law ([wear] law = \"archard\" | \"frictional_power\" | \"usfd\")",
+            ))
         }
         (None, Some(_)) => {
-            return Err(ScenarioError::Missing {
-                path: path.to_path_buf(),
-                key: "growth".into(),
-                why: "[wear] is read by the growth study (softway grow): give its [growth] table".into(),
-            })
+            return Err(keys.missing(
+                "growth",
+                "[wear] is read by the growth study (softway grow): give its [growth] table",
+            ))
         }
         (Some(g), Some(w)) => (g, w),
     };
@@ -257,39 +349,35 @@ pub fn validate(
     let w: RawWear = toml::Value::Table(w)
         .try_into()
         .map_err(|e| parse("wear", e))?;
-    let invalid = |key: &str, value: String, allowed: &str| ScenarioError::Invalid {
-        path: path.to_path_buf(),
-        key: key.to_string(),
-        value,
-        allowed: allowed.to_string(),
-    };
-    let positive = |key: &str, v: f64| {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(invalid(key, v.to_string(), "must be finite and > 0"))
-        }
-    };
+    Ok(Some((g, w)))
+}
+
+/// The study's own keys: passes, real passes per pass, smoothing and cutoff (m).
+fn study_keys(g: &RawGrowth, keys: Keys) -> Result<(usize, f64, f64, f64), ScenarioError> {
     let passes = match g.passes {
         None => DEFAULT_PASSES,
         Some(p) if (1..=100_000).contains(&p) => p as usize,
         Some(p) => {
-            return Err(invalid(
-                "growth.passes",
-                p.to_string(),
-                "between 1 and 100000",
-            ))
+            return Err(keys.invalid("growth.passes", p.to_string(), "between 1 and 100000"))
         }
     };
-    let passes_per_pass = positive(
-        "growth.passes_per_pass",
-        g.passes_per_pass.unwrap_or(DEFAULT_PASSES_PER_PASS),
-    )?;
+    // At least one: the rates are per real pass (1e-300 of a pass wrote rates of inf).
+    let passes_per_pass = match g.passes_per_pass.unwrap_or(DEFAULT_PASSES_PER_PASS) {
+        n if n.is_finite() && n >= 1.0 => n,
+        n if n.is_finite() && n > 0.0 => {
+            return Err(keys.invalid(
+                "growth.passes_per_pass",
+                n.to_string(),
+                "must be at least 1 (the real passes one simulated pass stands for)",
+            ))
+        }
+        n => keys.positive("growth.passes_per_pass", n)?,
+    };
     let smoothing_m = match g.smoothing {
         None => 0.0,
         Some(s) if s.is_finite() && s >= 0.0 => s,
         Some(s) => {
-            return Err(invalid(
+            return Err(keys.invalid(
                 "growth.smoothing",
                 s.to_string(),
                 "must be >= 0 m (0: no smoothing)",
@@ -300,23 +388,23 @@ pub fn validate(
         None => 0.0,
         Some(s) if s.is_finite() && s >= 0.0 => s,
         Some(s) => {
-            return Err(invalid(
+            return Err(keys.invalid(
                 "growth.cutoff",
                 s.to_string(),
                 "must be >= 0 m (0: no low-pass)",
             ))
         }
     };
-    let seed = match g.seed {
-        None => 1,
-        Some(s) if s >= 0 => s as u64,
-        Some(s) => return Err(invalid("growth.seed", s.to_string(), "must be >= 0")),
-    };
-    let rail = RailKeys {
-        dx: g.dx.map(|v| positive("growth.dx", v)).transpose()?,
+    Ok((passes, passes_per_pass, smoothing_m, cutoff_m))
+}
+
+/// The keys of a rail's study.
+fn rail_keys(g: &RawGrowth, keys: Keys) -> Result<RailKeys, ScenarioError> {
+    Ok(RailKeys {
+        dx: g.dx.map(|v| keys.positive("growth.dx", v)).transpose()?,
         creepage: match g.creepage {
             Some(c) if !(c.is_finite() && c > 0.0 && c < 1.0) => {
-                return Err(invalid(
+                return Err(keys.invalid(
                     "growth.creepage",
                     c.to_string(),
                     "must be in (0, 1): the rim's slip over the rolling speed",
@@ -326,7 +414,7 @@ pub fn validate(
         },
         traction_coefficient: match g.traction_coefficient {
             Some(c) if !(c.is_finite() && c >= 0.0) => {
-                return Err(invalid(
+                return Err(keys.invalid(
                     "growth.traction_coefficient",
                     c.to_string(),
                     "must be finite and >= 0",
@@ -339,16 +427,20 @@ pub fn validate(
             Some("hertz") => Some(WearPatch::Hertz),
             Some("nodes") => Some(WearPatch::Nodes),
             Some(other) => {
-                return Err(invalid(
+                return Err(keys.invalid(
                     "growth.patch",
                     format!("\"{other}\""),
                     "\"hertz\" (the contact force over Hertz's patch) or \"nodes\" (the rim nodes' own forces)",
                 ))
             }
         },
-    };
+    })
+}
+
+/// The initial roughness: `growth.roughness` and the keys it reads (any other roughness
+/// key given is refused).
+fn roughness(g: &RawGrowth, seed: u64, keys: Keys) -> Result<Roughness, ScenarioError> {
     let kind = g.roughness.clone().unwrap_or_else(|| "none".into());
-    // The keys each roughness reads; any other roughness key given is refused.
     let given: Vec<(&str, bool)> = vec![
         ("amplitude", g.amplitude.is_some()),
         ("wavelength", g.wavelength.is_some()),
@@ -369,7 +461,7 @@ pub fn validate(
         "random" => &["level", "min_wavelength", "max_wavelength", "seed"],
         "iso3095" => &["offset", "seed"],
         other => {
-            return Err(invalid(
+            return Err(keys.invalid(
                 "growth.roughness",
                 format!("\"{other}\""),
                 "one of \"none\", \"harmonic\", \"csv\", \"spectrum\", \"random\", \"iso3095\"",
@@ -377,7 +469,7 @@ pub fn validate(
         }
     };
     if let Some((k, _)) = given.iter().find(|(k, on)| *on && !reads.contains(k)) {
-        return Err(invalid(
+        return Err(keys.invalid(
             &format!("growth.{k}"),
             "(given)".into(),
             &format!(
@@ -390,152 +482,124 @@ pub fn validate(
             ),
         ));
     }
-    let need = |key: &str, v: Option<f64>, why: &str| {
-        v.ok_or_else(|| ScenarioError::Missing {
-            path: path.to_path_buf(),
-            key: format!("growth.{key}"),
-            why: why.to_string(),
-        })
-    };
-    let roughness = match kind.as_str() {
-        "none" => Roughness::None,
-        "harmonic" => {
-            let amplitude = need("amplitude", g.amplitude, "the harmonic's amplitude, m")?;
-            if !amplitude.is_finite() {
-                return Err(invalid(
-                    "growth.amplitude",
-                    amplitude.to_string(),
-                    "must be finite",
-                ));
-            }
-            Roughness::Harmonic {
-                amplitude,
-                wavelength: positive(
-                    "growth.wavelength",
-                    need("wavelength", g.wavelength, "the harmonic's wavelength, m")?,
-                )?,
-            }
-        }
+    match kind.as_str() {
+        "none" => Ok(Roughness::None),
+        "harmonic" => harmonic(g, keys),
         "csv" => {
             let f = g.file.clone().unwrap_or_default();
             if f.is_empty() {
-                return Err(ScenarioError::Missing {
-                    path: path.to_path_buf(),
-                    key: "growth.file".into(),
-                    why: "the CSV of x_m,z_m rows".into(),
-                });
+                return Err(keys.missing("growth.file", "the CSV of x_m,z_m rows"));
             }
             let p = PathBuf::from(&f);
             let p = if p.is_relative() {
-                path.parent().unwrap_or(Path::new(".")).join(p)
+                keys.0.parent().unwrap_or(Path::new(".")).join(p)
             } else {
                 p
             };
-            Roughness::Csv { path: p }
+            Ok(Roughness::Csv { path: p })
         }
-        "spectrum" => {
-            let (Some(l), Some(d)) = (&g.band_wavelengths, &g.band_levels) else {
-                return Err(ScenarioError::Missing {
-                    path: path.to_path_buf(),
-                    key: "growth.band_wavelengths / growth.band_levels".into(),
-                    why: "the bands' centre wavelengths (m) and levels (dB re 1 um), one each"
-                        .into(),
-                });
-            };
-            if l.len() != d.len() || l.is_empty() {
-                return Err(invalid(
-                    "growth.band_levels",
-                    format!("{} values", d.len()),
-                    &format!("one per band wavelength ({} given), at least one", l.len()),
-                ));
-            }
-            for &x in l {
-                positive("growth.band_wavelengths", x)?;
-            }
-            if let Some(x) = d.iter().find(|x| !x.is_finite()) {
-                return Err(invalid(
-                    "growth.band_levels",
-                    x.to_string(),
-                    "must be finite dB re 1 um",
-                ));
-            }
-            Roughness::Spectrum {
-                bands: l.iter().copied().zip(d.iter().copied()).collect(),
-                seed,
-            }
-        }
-        "random" => {
-            let level = need("level", g.level, "the level of every band, dB re 1 um")?;
-            if !level.is_finite() {
-                return Err(invalid(
-                    "growth.level",
-                    level.to_string(),
-                    "must be finite dB re 1 um",
-                ));
-            }
-            let lo = positive(
-                "growth.min_wavelength",
-                need(
-                    "min_wavelength",
-                    g.min_wavelength,
-                    "the shortest band centre, m",
-                )?,
-            )?;
-            let hi = positive(
-                "growth.max_wavelength",
-                need(
-                    "max_wavelength",
-                    g.max_wavelength,
-                    "the longest band centre, m",
-                )?,
-            )?;
-            let bands = preferred_bands(lo, hi);
-            if bands.is_empty() {
-                return Err(invalid(
-                    "growth.max_wavelength",
-                    hi.to_string(),
-                    &format!("no one-third-octave band centre (10^(j/10) mm) lies in [{lo}, {hi}] m: widen the range"),
-                ));
-            }
-            Roughness::Spectrum {
-                bands: bands.into_iter().map(|c| (c, level)).collect(),
-                seed,
-            }
-        }
+        "spectrum" => spectrum(g, seed, keys),
+        "random" => random(g, seed, keys),
         _ => {
             let offset = g.offset.unwrap_or(0.0);
             if !offset.is_finite() {
-                return Err(invalid(
-                    "growth.offset",
-                    offset.to_string(),
-                    "must be finite dB",
-                ));
+                return Err(keys.invalid("growth.offset", offset.to_string(), "must be finite dB"));
             }
-            Roughness::Spectrum {
+            Ok(Roughness::Spectrum {
                 bands: ISO3095_LIMIT
                     .iter()
                     .map(|&(cm, db)| (cm * 1e-2, db + offset))
                     .collect(),
                 seed,
-            }
+            })
         }
+    }
+}
+
+/// `roughness = "harmonic"`: amplitude and wavelength.
+fn harmonic(g: &RawGrowth, keys: Keys) -> Result<Roughness, ScenarioError> {
+    let amplitude = keys.need("amplitude", g.amplitude, "the harmonic's amplitude, m")?;
+    if !amplitude.is_finite() {
+        return Err(keys.invalid("growth.amplitude", amplitude.to_string(), "must be finite"));
+    }
+    Ok(Roughness::Harmonic {
+        amplitude,
+        wavelength: keys.positive(
+            "growth.wavelength",
+            keys.need("wavelength", g.wavelength, "the harmonic's wavelength, m")?,
+        )?,
+    })
+}
+
+/// `roughness = "spectrum"`: the bands' wavelengths and levels, one each.
+fn spectrum(g: &RawGrowth, seed: u64, keys: Keys) -> Result<Roughness, ScenarioError> {
+    let (Some(l), Some(d)) = (&g.band_wavelengths, &g.band_levels) else {
+        return Err(keys.missing(
+            "growth.band_wavelengths / growth.band_levels",
+            "the bands' centre wavelengths (m) and levels (dB re 1 um), one each",
+        ));
     };
-    let wear = wear_law(&w, path)?;
-    let wear_density = match w.density {
-        None => None,
-        Some(d) => Some(positive("wear.density", d)?),
-    };
-    Ok(Some(GrowthConfig {
-        passes,
-        passes_per_pass,
-        smoothing_m,
-        reference: g.reference.unwrap_or(false),
-        cutoff_m,
-        roughness,
-        wear,
-        wear_density,
-        rail,
-    }))
+    if l.len() != d.len() || l.is_empty() {
+        return Err(keys.invalid(
+            "growth.band_levels",
+            format!("{} values", d.len()),
+            &format!("one per band wavelength ({} given), at least one", l.len()),
+        ));
+    }
+    for &x in l {
+        keys.positive("growth.band_wavelengths", x)?;
+    }
+    if let Some(x) = d.iter().find(|x| !x.is_finite()) {
+        return Err(keys.invalid(
+            "growth.band_levels",
+            x.to_string(),
+            "must be finite dB re 1 um",
+        ));
+    }
+    Ok(Roughness::Spectrum {
+        bands: l.iter().copied().zip(d.iter().copied()).collect(),
+        seed,
+    })
+}
+
+/// `roughness = "random"`: one level in every one-third-octave band of a range.
+fn random(g: &RawGrowth, seed: u64, keys: Keys) -> Result<Roughness, ScenarioError> {
+    let level = keys.need("level", g.level, "the level of every band, dB re 1 um")?;
+    if !level.is_finite() {
+        return Err(keys.invalid(
+            "growth.level",
+            level.to_string(),
+            "must be finite dB re 1 um",
+        ));
+    }
+    let lo = keys.positive(
+        "growth.min_wavelength",
+        keys.need(
+            "min_wavelength",
+            g.min_wavelength,
+            "the shortest band centre, m",
+        )?,
+    )?;
+    let hi = keys.positive(
+        "growth.max_wavelength",
+        keys.need(
+            "max_wavelength",
+            g.max_wavelength,
+            "the longest band centre, m",
+        )?,
+    )?;
+    let bands = preferred_bands(lo, hi);
+    if bands.is_empty() {
+        return Err(keys.invalid(
+            "growth.max_wavelength",
+            hi.to_string(),
+            &format!("no one-third-octave band centre (10^(j/10) mm) lies in [{lo}, {hi}] m: widen the range"),
+        ));
+    }
+    Ok(Roughness::Spectrum {
+        bands: bands.into_iter().map(|c| (c, level)).collect(),
+        seed,
+    })
 }
 
 /// The one-third-octave centres `10^(j/10)` mm within `[lo, hi]` m, longest first.

@@ -205,6 +205,18 @@ pub trait PassRunner {
     /// runner carries none, or none where it carries one).
     fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String>;
 
+    /// Whether a profile `z` (m, on the grid) can be carried by the runner's body: the rim
+    /// moved by it still a mesh, its heights neither beyond [`PROFILE_MAX_OF_RADIUS`] of
+    /// the wheel's radius nor all below [`PROFILE_MIN_OF_RADIUS`] of it (lost in the
+    /// rounding of the coordinates) unless all zero. Asked of the initial roughness before
+    /// anything is written, of a checkpoint's profile on `--resume` and of the profile
+    /// after every wear step, so that each is refused by what made it (the roughness's key,
+    /// the checkpoint's field, the wear's keys), not as a mesh's inverted triangle.
+    ///
+    /// # Errors
+    /// What does not fit, in words.
+    fn check_profile(&self, z: &[f64]) -> Result<(), String>;
+
     /// Files of the runner's own written into `out` after the study (the track's
     /// prediction from its receptance), given the study's band rates `(centre wavelength m,
     /// dB per 1e5 real passes)`; an empty list for a runner that writes none.
@@ -218,6 +230,41 @@ pub trait PassRunner {
         plots: bool,
         interrupt: &std::sync::atomic::AtomicBool,
     ) -> Result<Vec<std::path::PathBuf>, crate::run::error::RunError>;
+}
+
+/// The largest profile height a runner accepts, as a fraction of its wheel's radius
+/// ([`PassRunner::check_profile`]): 1 %, a millimetre on the paper's 0.1 m wheel, ten times
+/// a severe polygon or corrugation.
+pub const PROFILE_MAX_OF_RADIUS: f64 = 1e-2;
+
+/// The smallest largest profile height a runner accepts (other than none at all), as a
+/// fraction of its wheel's radius ([`PassRunner::check_profile`]): below it the heights are
+/// lost in the rounding of the coordinates they are added to, and the levels' growth
+/// would be measured from noise.
+pub const PROFILE_MIN_OF_RADIUS: f64 = 1e-12;
+
+/// The common part of [`PassRunner::check_profile`]: `z`'s largest height against a wheel
+/// of `radius` m.
+///
+/// # Errors
+/// What does not fit, in words.
+pub fn check_profile_height(z: &[f64], radius: f64) -> Result<(), String> {
+    if let Some(i) = z.iter().position(|v| !v.is_finite()) {
+        return Err(format!("its height at sample {i} is {}", z[i]));
+    }
+    let peak = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if peak > PROFILE_MAX_OF_RADIUS * radius {
+        return Err(format!(
+            "its largest height, {peak:.3e} m, is over {} % of the wheel's radius ({radius} m)",
+            PROFILE_MAX_OF_RADIUS * 1e2
+        ));
+    }
+    if peak > 0.0 && peak < PROFILE_MIN_OF_RADIUS * radius {
+        return Err(format!(
+            "its largest height, {peak:.3e} m, is below {PROFILE_MIN_OF_RADIUS:e} of the wheel's radius ({radius} m): lost in the rounding of the coordinates"
+        ));
+    }
+    Ok(())
 }
 
 /// [`PassRunner::restore_state`] of a runner that carries no state: accepts a checkpoint
@@ -595,6 +642,13 @@ pub fn run_study<R: PassRunner + ?Sized>(
         runner
             .restore_state(s.runner.as_ref().map(|b| b.0.as_slice()))
             .map_err(err)?;
+        let field = match s.passes.len() {
+            0 => "`initial`".to_string(),
+            k => format!("`passes[{}].z`", k - 1),
+        };
+        runner
+            .check_profile(&s.current().z)
+            .map_err(|m| err(format!("its profile ({field}) does not fit the body: {m}")))?;
         s
     } else {
         new_state(config, grid, scenario_sha256)?
@@ -652,6 +706,17 @@ pub fn run_study<R: PassRunner + ?Sized>(
                 message: format!(
                     "the profile after the wear step is {} at sample {i} (the pass's wear {:e} m there, times growth.passes_per_pass = {:e}): lower wear.k_mass (or the law's coefficient) or growth.passes_per_pass",
                     record.z.0[i], r.wear_depth[i], config.passes_per_pass
+                ),
+            });
+        }
+        // Likewise a profile the body cannot carry (a rim whose mesh the next pass could
+        // not build), by the same keys.
+        if let Err(m) = runner.check_profile(&record.z.0) {
+            return Err(GrowthError::NotFinite {
+                pass,
+                message: format!(
+                    "the profile after the wear step does not fit the body: {m} (growth.passes_per_pass = {:e}): lower wear.k_mass (or the law's coefficient) or growth.passes_per_pass",
+                    config.passes_per_pass
                 ),
             });
         }

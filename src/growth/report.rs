@@ -153,6 +153,17 @@ fn held_bands(f: &Figures) -> Vec<bool> {
         .collect()
 }
 
+/// A level or a rate in dB for the tables: four decimals, or an empty cell where there is
+/// none (an empty band's level of -inf dB, the rate of a band or an order the initial
+/// profile does not hold): the tables held `-inf` and `NaN` cells there.
+fn cell(db: f64) -> String {
+    if db.is_finite() {
+        format!("{db:.4}")
+    } else {
+        String::new()
+    }
+}
+
 /// The summary of a state (module docs).
 pub fn summary(state: &StudyState, config: &GrowthConfig, speed: f64) -> GrowthSummary {
     let f = figures(state, config);
@@ -355,8 +366,8 @@ pub fn write_all(
             format!("{}", b.orders.0),
             format!("{}", b.orders.1),
         ];
-        cells.extend(f.levels.iter().map(|l| format!("{:.4}", l[j])));
-        cells.push(format!("{:.4}", b.rate_db_per_1e5));
+        cells.extend(f.levels.iter().map(|l| cell(l[j])));
+        cells.push(cell(b.rate_db_per_1e5));
         push_record(&mut t, &cells);
     }
     put("bands.csv", t)?;
@@ -375,8 +386,8 @@ pub fn write_all(
                 format!("{:e}", o.frequency_hz),
             ];
             cells.extend(f.amplitudes.iter().map(|a| format!("{:e}", a[o.order - 1])));
-            cells.push(format!("{:.4}", o.rate_db_per_1e5));
-            cells.push(format!("{:.4}", o.rate_last_db_per_1e5));
+            cells.push(cell(o.rate_db_per_1e5));
+            cells.push(cell(o.rate_last_db_per_1e5));
             push_record(&mut t, &cells);
         }
         put("orders.csv", t)?;

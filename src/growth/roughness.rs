@@ -82,13 +82,16 @@ pub fn realise(
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("growth.file = \"{}\": {e}", path.display()))?;
             let mut pts = Vec::new();
-            for (l, line) in text.lines().enumerate().skip(1) {
+            for (l, line) in text.lines().enumerate() {
                 if line.trim().is_empty() {
                     continue;
                 }
                 let mut it = crate::output::csv::number_cells(line).map(|s| s.parse::<f64>());
                 match (it.next(), it.next()) {
                     (Some(Ok(a)), Some(Ok(b))) => pts.push((a, b)),
+                    // The first line is a header when it is not two numbers (it was always
+                    // dropped: a file without one lost its first point).
+                    _ if l == 0 => continue,
                     _ => {
                         return Err(format!(
                             "growth.file = \"{}\", line {}: expected two numbers x_m,z_m",

@@ -79,6 +79,40 @@ impl<'a> Study<'a> {
                 message: format!("`{key}` = {value}: {allowed}"),
             }));
         }
+        // So is an initial roughness the body cannot carry (a level of 400 dB was refused
+        // as an inverted triangle of the mesh, -400 dB grew from rounding noise).
+        let refuse = |key: &str, message: String| {
+            Err(GrowthError::Run(RunError::Input {
+                path: sc.path.clone(),
+                message: format!("`{key}`: {message}"),
+            }))
+        };
+        match crate::growth::roughness::realise(&config.roughness, runner.grid()) {
+            Ok(z) => {
+                if let Err(m) = runner.check_profile(&z) {
+                    let from = match &config.roughness {
+                        crate::growth::Roughness::Csv { path } => {
+                            format!(" (from {})", path.display())
+                        }
+                        _ => String::new(),
+                    };
+                    return refuse(
+                        config.roughness_key,
+                        format!("the initial roughness{from} does not fit the body: {m}"),
+                    );
+                }
+            }
+            // A spectrum the grid cannot realise (a band of no whole order, an open
+            // profile's sampling or stretch) is its wavelengths' doing; a file's, the file's.
+            Err(m) => {
+                let key = match config.roughness_key {
+                    "growth.level" => "growth.min_wavelength`/`growth.max_wavelength",
+                    "growth.band_levels" => "growth.band_wavelengths",
+                    k => k,
+                };
+                return refuse(key, format!("the initial roughness cannot be made: {m}"));
+            }
+        }
         Ok(Study {
             sc,
             opts: opts.clone(),
@@ -123,7 +157,15 @@ impl<'a> Study<'a> {
                 progress(line);
                 Ok(())
             },
-        )?;
+        )
+        // A study stopped by its keys after a pass names its scenario file, as every
+        // refusal does (it read "pass 0: ..." alone).
+        .map_err(|e| match e {
+            GrowthError::NotFinite { pass, message } => {
+                GrowthError::Run(RunError::input(&sc.path, format!("pass {pass}: {message}")))
+            }
+            e => e,
+        })?;
         // The as-run scenario once the study (a resumed one: its checkpoint) was accepted: a
         // refused `--resume` leaves the folder's copy of the scenario it was run with.
         let mut files = vec![super::write_scenario_copy(sc, out)?];

@@ -135,6 +135,11 @@ fn spectrum_png(figure: &FigureInputs) -> Result<Vec<PathBuf>, GrowthError> {
         }
     );
     let path = png("spectrum.png");
+    // No band the initial profile holds (a study from a smooth surface): nothing to draw,
+    // as growth_rate.png (it failed the study after its tables were written).
+    if !held.iter().any(|h| *h) {
+        return Ok(files);
+    }
     panels(&path, &[p, pd], 2, 1, (1200, 1000)).map_err(|e| GrowthError::output(&path, e))?;
     files.push(path);
     Ok(files)

@@ -245,6 +245,24 @@ impl PassRunner for WheelPassRunner {
         })
     }
 
+    /// The heights against the wheel's radius, then the rim moved by them (with the
+    /// plastic flow's part taken out, as a pass moves it) still a mesh.
+    fn check_profile(&self, z: &[f64]) -> Result<(), String> {
+        crate::growth::check_profile_height(z, self.ws.spec.radius)?;
+        let profile = SurfaceProfile {
+            x0: 0.0,
+            dx: self.dx,
+            z: z.to_vec(),
+            periodic: true,
+        };
+        self.model(&profile).map(|_| ()).map_err(|e| match e {
+            RunError::Input { message, .. } => {
+                format!("the rim moved by it is not a mesh ({message})")
+            }
+            other => other.to_string(),
+        })
+    }
+
     fn restore_state(&mut self, state: Option<&[f64]>) -> Result<(), String> {
         match (self.plastic.as_mut(), state) {
             (None, None) => Ok(()),

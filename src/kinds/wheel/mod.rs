@@ -89,6 +89,29 @@ fn rim_nodes(mesh: &MeshSource, file_nodes: Option<usize>) -> f64 {
     }
 }
 
+/// The nodes of the block under a wheel, without building it
+/// ([`crate::bodies::block::WheelOnBlock::new`]): columns of `block.dx` (default the rim's
+/// pitch) over the travel of a run of `duration` s and the margins, by rows from `dx` growing
+/// by `block.grading` down to the depth.
+fn block_nodes(
+    b: &crate::bodies::block::BlockSpec,
+    w: &crate::bodies::wheel::WheelSpec,
+    duration: f64,
+    rim: f64,
+) -> f64 {
+    let pitch = 2.0 * std::f64::consts::PI * w.radius / rim.max(1.0);
+    let dx = b.dx.unwrap_or(pitch);
+    let length = 2.0 * b.margin + w.omega.abs() * w.radius * duration;
+    let columns = (length / dx).min(1e12) + 1.0;
+    let (mut rows, mut h, mut depth) = (1.0, dx, 0.0);
+    while depth < b.depth && rows < 1e7 {
+        depth += h;
+        h *= b.grading;
+        rows += 1.0;
+    }
+    columns * rows
+}
+
 /// The nodes of a wheel's generated mesh, without building it (`None` for a file): the
 /// hexagonal disk's `1 + 3 n (n + 1)`, the graded disk's `rim^2 / (4 pi)` when uniform
 /// (grading below 1.05), else `1.2 rim ln(rim)` (above the measured 1,715 nodes at 288 rim
@@ -191,12 +214,30 @@ impl Spec for WheelScenario {
         let nodes = wheel_nodes(&self.mesh)
             .or(mesh_nodes.map(|n| n as f64))
             .unwrap_or(0.0);
-        let key = match self.mesh {
+        let mut key = match self.mesh {
             MeshSource::Rings(_) => "wheel.rings",
             MeshSource::Graded { .. } => "wheel.rim_nodes",
             MeshSource::Gmsh(_) => "wheel.mesh",
             MeshSource::Zone(_) => "wheel.zone_rim_nodes",
         };
+        // The block's nodes count with the wheel's (a block.dx of 1 um built a block of
+        // millions of nodes, the run deaf to its keys and to SIGTERM: issue 47).
+        let block = self.block.as_ref().map_or(0.0, |b| {
+            block_nodes(
+                b,
+                &self.spec,
+                self.duration(),
+                rim_nodes(&self.mesh, mesh_nodes),
+            )
+        });
+        if block > nodes {
+            key = if self.block.as_ref().is_some_and(|b| b.dx.is_some()) {
+                "block.dx"
+            } else {
+                "block.margin"
+            };
+        }
+        let nodes = nodes + block;
         Size {
             dofs: 2.0 * nodes,
             duration: self.duration(),

@@ -87,10 +87,32 @@ pub(crate) fn block_spec(
         depth,
         dx: opt("block.dx", b.dx)?,
         grading,
-        margin: cx.positive("block.margin", b.margin.unwrap_or(depth))?,
+        margin: block_margin(cx, b.margin, depth)?,
         reach: opt("block.reach", b.reach)?,
     })
 }
+
+/// The block's margin before and after the travel (`block.margin`, default its depth): at
+/// most [`MARGIN_DEPTHS`] depths. An edge nearer than the depth softens the block under the
+/// patch; one farther than that changes nothing and costs columns of the rim's pitch (a
+/// margin of 1 km built a block of 3e5 columns for ever, deaf to its key: issue 47).
+fn block_margin(cx: &Ctx, margin: Option<f64>, depth: f64) -> Result<f64, ScenarioError> {
+    let m = cx.positive("block.margin", margin.unwrap_or(depth))?;
+    if m > MARGIN_DEPTHS * depth {
+        return Err(cx.invalid(
+            "block.margin",
+            m,
+            &format!(
+                "at most {MARGIN_DEPTHS} block.depth = {:e} m (an edge that far leaves the patch as a half-space does)",
+                MARGIN_DEPTHS * depth
+            ),
+        ));
+    }
+    Ok(m)
+}
+
+/// The largest `block.margin`, in block depths.
+const MARGIN_DEPTHS: f64 = 20.0;
 
 /// A wheel's run against what its wheel `w` does not work with: a moving zone, the
 /// uncoupled problem and an elastic block each refuse some of friction, creepage, coupling,

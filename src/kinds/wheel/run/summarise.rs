@@ -122,11 +122,13 @@ pub(super) fn step_adequacy(
         return Err(RunError::input(
             &sc.path,
             format!(
-                "run `{}`: the spin at `rolling.omega` = {} rad/s stretches the rim by {:.3e} of its radius (rim speed {:.4e} m/s): the model is linear, for strains up to {MAX_SPIN_STRETCH}; lower `rolling.omega` or `wheel.radius`",
+                "run `{}`: the spin at `rolling.omega` = {} rad/s stretches the rim by {:.3e} of its radius (rim speed {:.4e} m/s): the model is linear, for strains up to {MAX_SPIN_STRETCH}; lower `rolling.omega` or `wheel.radius` (the stretch is of order `material.density` omega^2 R^2 / `material.young` = {:.3e} / {:.3e})",
                 run.label,
                 ws.spec.omega,
                 stretch,
-                ws.spec.omega.abs() * wm.spec.radius
+                ws.spec.omega.abs() * wm.spec.radius,
+                wm.spec.material.density * (ws.spec.omega * wm.spec.radius).powi(2),
+                wm.spec.material.young,
             ),
         ));
     }
