@@ -49,28 +49,7 @@ pub(super) fn validate(
         keys,
     } = raw;
     let growth = crate::growth::config::validate(growth, wear, path)?;
-    let name = match name {
-        Some(n)
-            if !n.trim().is_empty()
-                && !n.contains(['/', '\\', '\0'])
-                && n != "."
-                && n != ".."
-                && n.len() <= crate::output::staging::NAME_MAX =>
-        {
-            n
-        }
-        Some(n) => {
-            return Err(cx.invalid(
-                "name",
-                format!("\"{}\"", n.escape_debug()),
-                &format!("must be a non-empty name of at most {} bytes (this one: {}) without slashes or NUL, not \".\" or \"..\" (it names the output folder out/<name>)", crate::output::staging::NAME_MAX, n.len()),
-            ))
-        }
-        None => path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "scenario".into()),
-    };
+    let name = scenario_name(&cx, name, path)?;
     let time = time.unwrap_or_default();
     let alpha = cx.alpha(
         "time.alpha",
@@ -91,17 +70,7 @@ pub(super) fn validate(
             &format!("allowed: {}", kinds.names()),
         ));
     };
-    let every_run_explicit = {
-        let explicit = |i: Option<&String>| i.is_some_and(|i| i == "central_difference");
-        let top = explicit(time.integrator.as_ref());
-        if raw_runs.is_empty() {
-            top
-        } else {
-            raw_runs
-                .iter()
-                .all(|r| r.integrator.as_ref().map_or(top, |i| explicit(Some(i))))
-        }
-    };
+    let every_run_explicit = every_run_explicit(time.integrator.as_ref(), &raw_runs);
     usage::check_tables(&cx, the_kind, kinds, &keys, None)?;
     let model = the_kind.model(&KindInput {
         cx: &cx,
@@ -161,7 +130,71 @@ pub(super) fn validate(
         out.history_stride.unwrap_or(1),
         1_000_000_000,
     )?;
-    let (sweep, sweep_ladder) = match sweep {
+    let (sweep, sweep_ladder) = sweep_tables(&cx, sweep)?;
+    Ok(Scenario {
+        name,
+        description: description.unwrap_or_default(),
+        path: path.to_path_buf(),
+        runs,
+        history_stride,
+        plots: out.plots.unwrap_or(true),
+        warnings,
+        sweep,
+        sweep_ladder,
+        source_sha256: String::new(),
+        source_text: String::new(),
+        overrides: Vec::new(),
+        growth,
+    })
+}
+
+/// The scenario's `name` (the output folder's), or its file's stem.
+fn scenario_name(cx: &Ctx, name: Option<String>, path: &Path) -> Result<String, ScenarioError> {
+    Ok(match name {
+        Some(n)
+            if !n.trim().is_empty()
+                && !n.contains(['/', '\\', '\0'])
+                && n != "."
+                && n != ".."
+                && n.len() <= crate::output::staging::NAME_MAX =>
+        {
+            n
+        }
+        Some(n) => {
+            return Err(cx.invalid(
+                "name",
+                format!("\"{}\"", n.escape_debug()),
+                &format!("must be a non-empty name of at most {} bytes (this one: {}) without slashes or NUL, not \".\" or \"..\" (it names the output folder out/<name>)", crate::output::staging::NAME_MAX, n.len()),
+            ))
+        }
+        None => path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scenario".into()),
+    })
+}
+
+/// Whether every run runs the explicit central difference (the top-level `integrator`,
+/// or each `[[runs]]` entry's).
+fn every_run_explicit(integrator: Option<&String>, raw_runs: &[RawRun]) -> bool {
+    let explicit = |i: Option<&String>| i.is_some_and(|i| i == "central_difference");
+    let top = explicit(integrator);
+    if raw_runs.is_empty() {
+        top
+    } else {
+        raw_runs
+            .iter()
+            .all(|r| r.integrator.as_ref().map_or(top, |i| explicit(Some(i))))
+    }
+}
+
+/// The scenario's `[sweep]`: its key and values, and the refinement ladder it runs on.
+#[allow(clippy::type_complexity)]
+fn sweep_tables(
+    cx: &Ctx,
+    sweep: Option<crate::scenario::raw::RawSweep>,
+) -> Result<(Option<(String, Vec<String>)>, Option<(String, Vec<String>)>), ScenarioError> {
+    Ok(match sweep {
         Some(sw) if sw.values.is_empty() => {
             return Err(cx.invalid("sweep.values", "[]", "give at least one value"));
         }
@@ -193,21 +226,6 @@ pub(super) fn validate(
             )
         }
         None => (None, None),
-    };
-    Ok(Scenario {
-        name,
-        description: description.unwrap_or_default(),
-        path: path.to_path_buf(),
-        runs,
-        history_stride,
-        plots: out.plots.unwrap_or(true),
-        warnings,
-        sweep,
-        sweep_ladder,
-        source_sha256: String::new(),
-        source_text: String::new(),
-        overrides: Vec::new(),
-        growth,
     })
 }
 

@@ -310,23 +310,7 @@ fn vehicle(
             ))
         }
     };
-    let speed = match (v.speed, v.speed_km_h) {
-        (Some(s), None) => vehicle_within(cx, "vehicle.speed", s)?,
-        (None, Some(k)) => vehicle_within(cx, "vehicle.speed_km_h", k)? / 3.6,
-        (Some(s), Some(_)) => {
-            return Err(cx.invalid(
-                "vehicle.speed",
-                s,
-                "give vehicle.speed (m/s) or vehicle.speed_km_h, not both",
-            ))
-        }
-        (None, None) => {
-            return Err(cx.missing(
-                "vehicle.speed",
-                "the speed along the track: vehicle.speed (m/s) or vehicle.speed_km_h",
-            ))
-        }
-    };
+    let speed = vehicle_speed(cx, &v)?;
     let wheel_only = [
         ("vehicle.settle_bays", v.settle_bays.is_some()),
         (
@@ -351,59 +335,7 @@ fn vehicle(
             ));
         }
     }
-    let radius = vehicle_within(cx, "vehicle.wheel_radius", v.wheel_radius.unwrap_or(0.46))?;
-    let plane = match v.wheel_plane.as_deref().unwrap_or("strain") {
-        "strain" => PlaneModel::Strain,
-        "stress" => PlaneModel::Stress,
-        o => {
-            return Err(cx.invalid(
-                "vehicle.wheel_plane",
-                format!("\"{o}\""),
-                "allowed: \"strain\", \"stress\"",
-            ))
-        }
-    };
-    let hub = cx.positive(
-        "vehicle.wheel_hub_radius",
-        v.wheel_hub_radius.unwrap_or(0.1),
-    )?;
-    if hub >= 0.8 * radius {
-        return Err(cx.invalid(
-            "vehicle.wheel_hub_radius",
-            hub,
-            &format!(
-                "must be below 0.8 vehicle.wheel_radius = {} m",
-                0.8 * radius
-            ),
-        ));
-    }
-    let grading = v.wheel_grading.unwrap_or(1.3);
-    if !(grading.is_finite() && (1.0..=2.0).contains(&grading)) {
-        return Err(cx.invalid("vehicle.wheel_grading", grading, "must be in [1, 2]"));
-    }
-    let wheel = TrackWheel {
-        rim_nodes: cx.count(
-            "vehicle.wheel_rim_nodes",
-            v.wheel_rim_nodes.unwrap_or(720),
-            100_000,
-        )?,
-        thickness: cx.positive("vehicle.wheel_thickness", v.wheel_thickness.unwrap_or(0.02))?,
-        hub_radius: hub,
-        grading,
-        plane,
-        material: Elastic {
-            young: 2.1e11,
-            poisson: spec.poisson,
-            density: 7850.0,
-        },
-    };
-    if wheel.rim_nodes < 64 {
-        return Err(cx.invalid(
-            "vehicle.wheel_rim_nodes",
-            wheel.rim_nodes,
-            "give at least 64 rim nodes",
-        ));
-    }
+    let (wheel, radius) = track_wheel(cx, &v, spec)?;
     let default_travel = match model {
         VehicleModel::Wheel => 20,
         VehicleModel::MovingLoad => 6,
@@ -463,6 +395,92 @@ fn vehicle(
         };
         settle_time(cx, key, &vehicle, spec)?;
     }
+    check_room(cx, &vehicle, spec)?;
+    Ok(vehicle)
+}
+
+/// `vehicle.speed` (m/s) or `vehicle.speed_km_h`, one of them, in m/s.
+fn vehicle_speed(cx: &Ctx, v: &RawVehicle) -> Result<f64, ScenarioError> {
+    match (v.speed, v.speed_km_h) {
+        (Some(s), None) => vehicle_within(cx, "vehicle.speed", s),
+        (None, Some(k)) => Ok(vehicle_within(cx, "vehicle.speed_km_h", k)? / 3.6),
+        (Some(s), Some(_)) => Err(cx.invalid(
+            "vehicle.speed",
+            s,
+            "give vehicle.speed (m/s) or vehicle.speed_km_h, not both",
+        )),
+        (None, None) => Err(cx.missing(
+            "vehicle.speed",
+            "the speed along the track: vehicle.speed (m/s) or vehicle.speed_km_h",
+        )),
+    }
+}
+
+/// The wheel of `[vehicle]` (`vehicle.wheel_*`) and its radius, m.
+fn track_wheel(
+    cx: &Ctx,
+    v: &RawVehicle,
+    spec: &TrackSpec,
+) -> Result<(TrackWheel, f64), ScenarioError> {
+    let radius = vehicle_within(cx, "vehicle.wheel_radius", v.wheel_radius.unwrap_or(0.46))?;
+    let plane = match v.wheel_plane.as_deref().unwrap_or("strain") {
+        "strain" => PlaneModel::Strain,
+        "stress" => PlaneModel::Stress,
+        o => {
+            return Err(cx.invalid(
+                "vehicle.wheel_plane",
+                format!("\"{o}\""),
+                "allowed: \"strain\", \"stress\"",
+            ))
+        }
+    };
+    let hub = cx.positive(
+        "vehicle.wheel_hub_radius",
+        v.wheel_hub_radius.unwrap_or(0.1),
+    )?;
+    if hub >= 0.8 * radius {
+        return Err(cx.invalid(
+            "vehicle.wheel_hub_radius",
+            hub,
+            &format!(
+                "must be below 0.8 vehicle.wheel_radius = {} m",
+                0.8 * radius
+            ),
+        ));
+    }
+    let grading = v.wheel_grading.unwrap_or(1.3);
+    if !(grading.is_finite() && (1.0..=2.0).contains(&grading)) {
+        return Err(cx.invalid("vehicle.wheel_grading", grading, "must be in [1, 2]"));
+    }
+    let wheel = TrackWheel {
+        rim_nodes: cx.count(
+            "vehicle.wheel_rim_nodes",
+            v.wheel_rim_nodes.unwrap_or(720),
+            100_000,
+        )?,
+        thickness: cx.positive("vehicle.wheel_thickness", v.wheel_thickness.unwrap_or(0.02))?,
+        hub_radius: hub,
+        grading,
+        plane,
+        material: Elastic {
+            young: 2.1e11,
+            poisson: spec.poisson,
+            density: 7850.0,
+        },
+    };
+    if wheel.rim_nodes < 64 {
+        return Err(cx.invalid(
+            "vehicle.wheel_rim_nodes",
+            wheel.rim_nodes,
+            "give at least 64 rim nodes",
+        ));
+    }
+    Ok((wheel, radius))
+}
+
+/// The recorded travel, centred on the middle sleeper, and the wheel's settling bays before
+/// it stay out of the absorbing zones.
+fn check_room(cx: &Ctx, vehicle: &Vehicle, spec: &TrackSpec) -> Result<(), ScenarioError> {
     let zone = match spec.ends {
         Ends::Absorbing { bays, .. } => bays,
         Ends::Free => 0,
@@ -493,7 +511,7 @@ fn vehicle(
             ),
         ));
     }
-    Ok(vehicle)
+    Ok(())
 }
 
 /// The wheel's bounce on the track, Hz: the single-dof estimate `sqrt(k / m_u) / (2 pi)`
@@ -633,100 +651,104 @@ fn irregularity(cx: &Ctx, i: RawIrregularity) -> Result<Irregularity, ScenarioEr
                 fade: cx.non_negative("irregularity.fade", i.fade.unwrap_or(2.0))?,
             })
         }
-        "measured" => {
-            let file = i
-                .file
-                .ok_or_else(|| cx.missing("irregularity.file", "a CSV file of x_m,r_m (m) rows"))?;
-            let path = cx
-                .path()
-                .parent()
-                .unwrap_or(std::path::Path::new("."))
-                .join(&file);
-            let text = std::fs::read_to_string(&path).map_err(|e| {
-                cx.invalid(
-                    "irregularity.file",
-                    format!("\"{file}\""),
-                    &format!("cannot be read: {e}"),
-                )
-            })?;
-            let mut points = Vec::new();
-            for (n, line) in text.lines().enumerate() {
-                let line = line.trim();
-                let mut cells = crate::output::csv::number_cells(line);
-                if line.is_empty()
-                    || line.starts_with('#')
-                    || (n == 0
-                        && cells
-                            .next()
-                            .is_some_and(|c| c.starts_with(|c: char| c.is_alphabetic())))
-                {
-                    continue;
-                }
-                let parsed: Option<(f64, f64)> = (|| {
-                    let mut it =
-                        crate::output::csv::number_cells(line).map(|v| v.parse::<f64>().ok());
-                    let x = it.next()??;
-                    let r = it.next()??;
-                    it.next().is_none().then_some((x, r))
-                })();
-                match parsed {
-                    Some((x, r)) if x.is_finite() && r.is_finite() && r.abs() <= 1e-3 => {
-                        points.push((x, r))
-                    }
-                    _ => {
-                        return Err(cx.invalid(
-                            "irregularity.file",
-                            format!("\"{file}\" line {}", n + 1),
-                            "rows of two numbers x_m,r_m (|r| at most 1e-3 m)",
-                        ))
-                    }
-                }
+        "measured" => measured(cx, i.file),
+        _ => spectrum(cx, &i),
+    }
+}
+
+/// `irregularity.type = "measured"`: the CSV file's rows of `x_m,r_m`.
+fn measured(cx: &Ctx, file: Option<String>) -> Result<Irregularity, ScenarioError> {
+    let file =
+        file.ok_or_else(|| cx.missing("irregularity.file", "a CSV file of x_m,r_m (m) rows"))?;
+    let path = cx
+        .path()
+        .parent()
+        .unwrap_or(std::path::Path::new("."))
+        .join(&file);
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        cx.invalid(
+            "irregularity.file",
+            format!("\"{file}\""),
+            &format!("cannot be read: {e}"),
+        )
+    })?;
+    let mut points = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let line = line.trim();
+        let mut cells = crate::output::csv::number_cells(line);
+        if line.is_empty()
+            || line.starts_with('#')
+            || (n == 0
+                && cells
+                    .next()
+                    .is_some_and(|c| c.starts_with(|c: char| c.is_alphabetic())))
+        {
+            continue;
+        }
+        let parsed: Option<(f64, f64)> = (|| {
+            let mut it = crate::output::csv::number_cells(line).map(|v| v.parse::<f64>().ok());
+            let x = it.next()??;
+            let r = it.next()??;
+            it.next().is_none().then_some((x, r))
+        })();
+        match parsed {
+            Some((x, r)) if x.is_finite() && r.is_finite() && r.abs() <= 1e-3 => {
+                points.push((x, r))
             }
-            if points.len() < 2 || points.windows(2).any(|w| w[1].0 <= w[0].0) {
+            _ => {
                 return Err(cx.invalid(
                     "irregularity.file",
-                    format!("\"{file}\""),
-                    "at least two rows with increasing x_m",
-                ));
+                    format!("\"{file}\" line {}", n + 1),
+                    "rows of two numbers x_m,r_m (|r| at most 1e-3 m)",
+                ))
             }
-            Ok(Irregularity::Measured { file: path, points })
-        }
-        _ => {
-            let raw = i.bands.ok_or_else(|| {
-                cx.missing(
-                    "irregularity.bands",
-                    "one-third-octave band levels: [[wavelength_m, level_dB_re_1um], ...]",
-                )
-            })?;
-            let mut bands = Vec::with_capacity(raw.len());
-            for b in &raw {
-                match b.as_slice() {
-                    &[l, db] if l.is_finite() && l > 0.0 && db.is_finite() && db <= 60.0 => {
-                        bands.push((l, db))
-                    }
-                    _ => {
-                        return Err(cx.invalid(
-                            "irregularity.bands",
-                            format!("{b:?}"),
-                            "pairs [wavelength_m > 0, level dB re 1 um <= 60]",
-                        ))
-                    }
-                }
-            }
-            if bands.is_empty() {
-                return Err(cx.invalid("irregularity.bands", "[]", "give at least one band"));
-            }
-            Ok(Irregularity::Spectrum {
-                bands,
-                per_band: cx.count("irregularity.per_band", i.per_band.unwrap_or(8), 1000)?,
-                seed: match i.seed {
-                    Some(s) if s >= 0 => s as u64,
-                    Some(s) => return Err(cx.invalid("irregularity.seed", s, "must be >= 0")),
-                    None => 1,
-                },
-            })
         }
     }
+    if points.len() < 2 || points.windows(2).any(|w| w[1].0 <= w[0].0) {
+        return Err(cx.invalid(
+            "irregularity.file",
+            format!("\"{file}\""),
+            "at least two rows with increasing x_m",
+        ));
+    }
+    Ok(Irregularity::Measured { file: path, points })
+}
+
+/// `irregularity.type = "spectrum"`: one-third-octave band levels, `per_band` harmonics each.
+fn spectrum(cx: &Ctx, i: &RawIrregularity) -> Result<Irregularity, ScenarioError> {
+    let raw = i.bands.as_ref().ok_or_else(|| {
+        cx.missing(
+            "irregularity.bands",
+            "one-third-octave band levels: [[wavelength_m, level_dB_re_1um], ...]",
+        )
+    })?;
+    let mut bands = Vec::with_capacity(raw.len());
+    for b in raw {
+        match b.as_slice() {
+            &[l, db] if l.is_finite() && l > 0.0 && db.is_finite() && db <= 60.0 => {
+                bands.push((l, db))
+            }
+            _ => {
+                return Err(cx.invalid(
+                    "irregularity.bands",
+                    format!("{b:?}"),
+                    "pairs [wavelength_m > 0, level dB re 1 um <= 60]",
+                ))
+            }
+        }
+    }
+    if bands.is_empty() {
+        return Err(cx.invalid("irregularity.bands", "[]", "give at least one band"));
+    }
+    Ok(Irregularity::Spectrum {
+        bands,
+        per_band: cx.count("irregularity.per_band", i.per_band.unwrap_or(8), 1000)?,
+        seed: match i.seed {
+            Some(s) if s >= 0 => s as u64,
+            Some(s) => return Err(cx.invalid("irregularity.seed", s, "must be >= 0")),
+            None => 1,
+        },
+    })
 }
 
 /// `[receptance]`: `points` frequencies from `f_min` to `f_max`.

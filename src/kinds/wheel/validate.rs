@@ -90,7 +90,7 @@ fn plasticity(
     m: &RawMaterial,
     elastic: Elastic,
 ) -> Result<Option<crate::scenario::Plastic>, ScenarioError> {
-    use crate::plasticity::{Isotropic, J2Material, Kinematic};
+    use crate::plasticity::J2Material;
     let unused = |key: &str, given: bool, why: &str| -> Result<(), ScenarioError> {
         if given {
             Err(cx.invalid(&format!("material.{key}"), "(given)", why))
@@ -136,6 +136,41 @@ fn plasticity(
     })?;
     let yield_stress = cx.positive("material.yield_stress", sy)?;
     let hardening = m.hardening.as_deref().unwrap_or("none");
+    let (isotropic, kinematic) = hardening_of(cx, m, hardening)?;
+    let tolerance = m.plastic_tolerance.unwrap_or(crate::model::DEFAULT_TOL);
+    if !(tolerance > 0.0 && tolerance < 1.0) {
+        return Err(cx.invalid(
+            "material.plastic_tolerance",
+            tolerance,
+            "the residual relative to the internal force, in (0, 1)",
+        ));
+    }
+    Ok(Some(crate::scenario::Plastic {
+        material: J2Material {
+            elastic,
+            yield_stress,
+            isotropic,
+            kinematic,
+        },
+        tolerance,
+    }))
+}
+
+/// `material.hardening` and its constants (`hardening_modulus`, `voce_q`, `voce_b`, `af_c`,
+/// `af_gamma`), each refused where the hardening does not use it.
+fn hardening_of(
+    cx: &Ctx,
+    m: &RawMaterial,
+    hardening: &str,
+) -> Result<(crate::plasticity::Isotropic, crate::plasticity::Kinematic), ScenarioError> {
+    use crate::plasticity::{Isotropic, Kinematic};
+    let unused = |key: &str, given: bool, why: &str| -> Result<(), ScenarioError> {
+        if given {
+            Err(cx.invalid(&format!("material.{key}"), "(given)", why))
+        } else {
+            Ok(())
+        }
+    };
     let modulus = |why: &str| {
         m.hardening_modulus
             .ok_or_else(|| cx.missing("material.hardening_modulus", why))
@@ -222,23 +257,7 @@ fn plasticity(
             &only("armstrong_frederick"),
         )?;
     }
-    let tolerance = m.plastic_tolerance.unwrap_or(crate::model::DEFAULT_TOL);
-    if !(tolerance > 0.0 && tolerance < 1.0) {
-        return Err(cx.invalid(
-            "material.plastic_tolerance",
-            tolerance,
-            "the residual relative to the internal force, in (0, 1)",
-        ));
-    }
-    Ok(Some(crate::scenario::Plastic {
-        material: J2Material {
-            elastic,
-            yield_stress,
-            isotropic,
-            kinematic,
-        },
-        tolerance,
-    }))
+    Ok((isotropic, kinematic))
 }
 
 /// The wheel's `[material]`: Young's modulus, Poisson's ratio, density.
