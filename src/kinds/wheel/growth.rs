@@ -461,6 +461,9 @@ struct Tally {
     stats: crate::simulation::RunStats,
 }
 
+/// A pass's named figures.
+type Scalars = Vec<(String, f64)>;
+
 /// A plastic wheel's pass from the carried state `c` to `end` (ignored unless it is a
 /// whole state): the change of the permanent radial displacement per rim node (zero-mean)
 /// and the pass's plastic figures; with `commit` the carried state and profile advance,
@@ -472,7 +475,7 @@ fn plastic_change(
     end: Vec<f64>,
     stats: &crate::simulation::RunStats,
     commit: bool,
-) -> Result<(Vec<f64>, Vec<(String, f64)>), crate::linalg::LinalgError> {
+) -> Result<(Vec<f64>, Scalars), crate::linalg::LinalgError> {
     let mut plastic = vec![0.0; wm.rim.len()];
     if end.len() != c.state.len() {
         return Ok((plastic, Vec::new()));
