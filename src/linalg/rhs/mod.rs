@@ -87,8 +87,9 @@ pub struct RhsOperator {
     pair_g: Vec<[f64; 2]>,
     /// From `RHS_SPLIT_MIN_ORDER` on (and two pairs), the pairs are formed in parts of
     /// about equal entries side by side, one a thread of the team's
-    /// ([`RhsOperator::pair_parts`]).
-    pairs_in_parts: bool,
+    /// ([`RhsOperator::pair_parts`]); on two threads at most, in two halves, the second's
+    /// first pair this one (a join, without the parts' lists).
+    pair_mid: Option<usize>,
     /// `G` is on the right-hand side (`RhsValues::g` not empty): [`RhsOperator::apply`]
     /// forms `- h G (v0 + c a0)`.
     skew: bool,
@@ -231,7 +232,7 @@ impl RhsOperator {
             prefetch: false,
             g: Vec::new(),
             pair_g: Vec::new(),
-            pairs_in_parts: false,
+            pair_mid: None,
         };
         let (mut i, mut blk_idx) = (0, Vec::new());
         while i < n {
@@ -267,7 +268,11 @@ impl RhsOperator {
             }
         }
         rows.blk_idx = blk_idx.into();
-        rows.pairs_in_parts = n >= RHS_SPLIT_MIN_ORDER && rows.pair.len() >= 2;
+        if n >= RHS_SPLIT_MIN_ORDER && rows.pair.len() >= 2 {
+            let pairs = rows.pair.len();
+            let half = rows.entries_before(pairs) / 2;
+            rows.pair_mid = Some(rows.first_pair_with(half).clamp(1, pairs - 1));
+        }
         rows.bk = vec![[0.0; 2]; rows.idx.len()];
         rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
         if !g.is_empty() {
@@ -352,20 +357,45 @@ impl RhsOperator {
                 r.pairs_into(range, offset, h, [f, u0, v0], b);
             }
         };
-        if r.pairs_in_parts {
-            // Each part's rows start at its first pair's row; a row is formed whole by one
-            // thread, so the parts' count changes no bit.
-            let mut parts = r.pair_parts(team.width(), b);
-            team.for_each(&mut parts, |(range, offset, b)| {
-                part(range.clone(), *offset, b)
-            });
-        } else {
-            part(0..pairs, 0, b);
+        // Each part's rows start at its first pair's row; a row is formed whole by one
+        // thread, so the parts' count changes no bit.
+        match r.pair_mid {
+            Some(mid) if team.width() <= 2 => {
+                let cut = r.pair[mid];
+                let (lo, hi) = b.split_at_mut(cut);
+                team.join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
+            }
+            Some(_) => {
+                let mut parts = r.pair_parts(team.width(), b);
+                team.for_each(&mut parts, |(range, offset, b)| {
+                    part(range.clone(), *offset, b)
+                });
+            }
+            None => part(0..pairs, 0, b),
         }
         r.singles_into(h, f, u0, v0, b);
         if skew {
             r.singles_g_into(h, c, v0, a0, b);
         }
+    }
+
+    /// Entries before pair `k` (a block is two columns).
+    fn entries_before(&self, k: usize) -> usize {
+        self.pair_ptr[k] + 2 * self.blk_ptr[k]
+    }
+
+    /// The first pair with `want` entries or more before it (the count of pairs if none).
+    fn first_pair_with(&self, want: usize) -> usize {
+        let (mut lo, mut hi) = (0, self.pair.len());
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if self.entries_before(mid) >= want {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        lo
     }
 
     /// The pairs in `parts` contiguous runs of about equal entries (at most one a pair),
@@ -378,23 +408,10 @@ impl RhsOperator {
     ) -> Vec<(std::ops::Range<usize>, usize, &'b mut [f64])> {
         let pairs = self.pair.len();
         let parts = parts.clamp(1, pairs.max(1));
-        // Entries before pair `k` (a block is two columns).
-        let before = |k: usize| self.pair_ptr[k] + 2 * self.blk_ptr[k];
-        let total = before(pairs);
+        let total = self.entries_before(pairs);
         let mut cuts = vec![0];
         for j in 1..parts {
-            let want = j * total / parts;
-            // The first pair with `want` entries before it (`pairs` if none).
-            let (mut lo, mut hi) = (0, pairs);
-            while lo < hi {
-                let mid = (lo + hi) / 2;
-                if before(mid) >= want {
-                    hi = mid;
-                } else {
-                    lo = mid + 1;
-                }
-            }
-            let k = lo;
+            let k = self.first_pair_with(j * total / parts);
             let last = *cuts.last().expect("a first cut");
             cuts.push(k.clamp(last + 1, pairs - (parts - j)));
         }

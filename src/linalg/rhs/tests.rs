@@ -131,8 +131,16 @@ fn right_hand_side_kernels_agree_bit_for_bit() {
         assert!(same(&whole, &applied), "apply");
         // The pairs in parts on teams of one to four threads (more than the machine may
         // have): the parts cover the pairs in order, each with its rows, and the same bits.
+        // The halves' cut (as from `RHS_SPLIT_MIN_ORDER` on) is that of two parts.
         let mut parted = rows.clone();
-        parted.pairs_in_parts = true;
+        let pairs = rows.pair.len();
+        let mid = rows.first_pair_with(rows.entries_before(pairs) / 2);
+        parted.pair_mid = Some(mid.clamp(1, pairs - 1));
+        let mut scratch = vec![0.0; n];
+        assert_eq!(
+            parted.pair_parts(2, &mut scratch)[1].0.start,
+            parted.pair_mid.unwrap()
+        );
         for threads in 1..=4 {
             let mut scratch = vec![0.0; n];
             let parts = parted.pair_parts(threads, &mut scratch);
