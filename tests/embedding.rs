@@ -39,7 +39,7 @@ fn with_par(par: Option<Par>) -> RunOptions {
     }
 }
 
-/// One thread, two threads (the run's helper), a run inside a caller's pool of two threads
+/// One thread, two, three and four threads (the run's helpers), a run inside a caller's pool of two threads
 /// (following it), and two runs at once on two threads of a caller's pool and on two
 /// threads of the caller's own: the same history, byte for byte, every row of every step.
 #[test]
@@ -52,6 +52,17 @@ fn runs_alone_in_a_callers_pool_and_side_by_side_give_the_same_bits() {
     assert!(rows > 250, "{rows} rows");
     let (_, two) = history(&sc, "two", &with_par(Some(Par::threads(2))));
     assert!(two == seq, "two threads against one");
+    // Three and four threads (the right-hand side in as many parts as the machine's free
+    // cores allow; the team's own `for_each` is checked on four threads beyond the cores
+    // in `linalg::team` and `linalg::rhs`).
+    for n in [3, 4] {
+        let (_, more) = history(
+            &sc,
+            &format!("threads-{n}"),
+            &with_par(Some(Par::threads(n))),
+        );
+        assert!(more == seq, "{n} threads against one");
+    }
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)

@@ -90,8 +90,10 @@ enum Command {
         #[arg(long)]
         quiet: bool,
         /// Threads for the run [default: the number of cores]. A step matrix of 1,500
-        /// dofs or more is solved in two parts side by side, on the run's own helper thread;
-        /// smaller ones on one thread. The results do not depend on it.
+        /// dofs or more is solved in two parts side by side, and its right-hand side formed
+        /// in as many parts as threads (at most the cores that other processes leave free),
+        /// on the run's own helper threads; smaller ones on one thread. The results do not
+        /// depend on it.
         #[arg(long)]
         threads: Option<usize>,
         /// Whose factorizations and solves the step matrices get: "softway" (the tuned

@@ -19,7 +19,8 @@
 //!   `supernodal`: packed blocks, narrow and wide kernels, prefetch; on huge pages, module
 //!   `huge`), or, from `SPLIT_MIN_ORDER` unknowns on, the two-part split (module `split`:
 //!   two independent sets of subtrees of the elimination tree, found with module `bisect`,
-//!   solved side by side on two threads by module `team`, the same bits on one thread);
+//!   solved side by side on two threads by module `team`, the same bits on one thread;
+//!   two parts whatever the threads: more would change the sums' order, hence the bits);
 //!   their small kernels and prefetch hints in module `kernels`.
 //! - [`rhs`]: the space-time step's right-hand side `y = B v0 - h K u0 + h f` as an operator
 //!   ([`RhsOperator`]) formed by the tuned kernels, with a plain sparse-product reference.

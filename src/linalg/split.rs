@@ -674,7 +674,7 @@ impl SplitLower {
             }
             return;
         }
-        let out = super::team::Disjoint::new(dst);
+        let out = Disjoint::new(dst);
         // SAFETY: `to` is a permutation (`set_scatter`), its three ranges disjoint.
         team.join(
             || {
@@ -687,5 +687,40 @@ impl SplitLower {
                 unsafe { out.put(&to[a..b], &v1[..b - a]) };
             },
         );
+    }
+}
+
+/// A slice that the two closures of a [`Team::join`] write at places of their own: each place
+/// written by one of them only, none read by the other.
+pub(crate) struct Disjoint<'a> {
+    ptr: *mut f64,
+    len: usize,
+    _slice: std::marker::PhantomData<&'a mut [f64]>,
+}
+
+// SAFETY: the writes go through `put`, whose callers promise that no place is
+// written by two threads (their contract).
+unsafe impl Sync for Disjoint<'_> {}
+
+impl<'a> Disjoint<'a> {
+    pub(crate) fn new(slice: &'a mut [f64]) -> Self {
+        Self {
+            ptr: slice.as_mut_ptr(),
+            len: slice.len(),
+            _slice: std::marker::PhantomData,
+        }
+    }
+
+    /// `slice[to[k]] = src[k]` for every `k`.
+    ///
+    /// # Safety
+    /// No other thread writes or reads the places `to` while this one does.
+    #[inline(always)]
+    pub(crate) unsafe fn put(&self, to: &[usize], src: &[f64]) {
+        for (&i, &v) in to.iter().zip(src) {
+            assert!(i < self.len);
+            // SAFETY: in bounds (checked), and this thread's alone (the contract).
+            unsafe { *self.ptr.add(i) = v };
+        }
     }
 }

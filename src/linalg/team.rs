@@ -1,13 +1,21 @@
 //! Parallelism as a parameter: [`Par`], how many threads a run may use, and [`Team`], the
-//! run's own means of running two closures side by side ([`Team::join`]) for the time
-//! loop's two-part work (the split factor's sweeps, the right-hand side's halves, the
-//! contact rows' columns, the energies).
+//! run's own threads: two closures side by side ([`Team::join`]) for the time loop's
+//! two-part work (the split factor's sweeps, the contact rows' columns, the energies' two
+//! forms), and a list of independent items in up to `n` groups side by side
+//! ([`Team::for_each`]) for the work that divides further (the right-hand side's rows).
+//!
+//! **Why the two-part work stays in two.** The split factor's parts are subtrees of its
+//! elimination tree chosen when it is built, and their contributions to the top are summed
+//! in a fixed order: cutting it in more parts when more threads are given would change
+//! that order, hence the bits (the promise below). The contact rows' columns and the
+//! energies' forms are each one sum in a fixed order. The right-hand side's rows are each
+//! formed whole by one thread, so its parts may follow the threads.
 //!
 //! A solve on two threads hands work to the second thread three times per step, every few
 //! hundred microseconds at most. Through `rayon::join` each hand-off wakes a sleeping worker
 //! (a futex wake, then the worker's steal), which the 48-ring step's profile showed as 12-14%
-//! of its time in the kernel's scheduler. A [`Team`] built for [`Par::Threads`] therefore
-//! owns one helper thread: it waits for its next job spinning for [`HELPER_SPIN`] after its
+//! of its time in the kernel's scheduler. A [`Team`] built for `Par::Threads(n)` therefore
+//! owns `n - 1` helper threads; each waits for its next job spinning for [`HELPER_SPIN`] after its
 //! last one, then blocks (`park`), so that a step that hands it work every few tens of
 //! microseconds finds it awake, and an idle run (or one whose cores are taken by other
 //! processes) does not burn a time slice.
@@ -28,19 +36,21 @@
 //! `LOAD_CHECK` joins run on the caller's thread alone, then it looks again (twice as
 //! many joins after each look that finds the cores taken, up to 16 times); it goes back to
 //! two threads only when a core is free for each (`others + 2 <= cores`), so that two runs
-//! side by side, each seeing the other's one thread, keep to one thread each. A helper that would start its half and lose its core in
-//! the middle of it (the caller then waits a time slice) is not asked; on an idle machine
-//! nothing changes.
+//! side by side, each seeing the other's one thread, keep to one thread each. A helper
+//! that would start its half and lose its core in the middle of it (the caller then waits
+//! a time slice) is not asked; on an idle machine nothing changes. [`Team::for_each`]
+//! uses as many of the team's threads as cores are free of other processes at that look
+//! (at least two, at most the machine's cores): `--threads 4` on two cores runs as two.
 //!
-//! Nothing here is process-wide: the helper belongs to its team, which belongs to a run
+//! Nothing here is process-wide: the helpers belong to their team, which belongs to a run
 //! (created when the run is built, handed to its stepper, row solver and energies as
 //! clones), and ends when the last clone is dropped. A team never runs work on the caller's
 //! rayon pool, so a run inside a caller's pool takes none of the pool's workers. The default
 //! team (`Team::default()`, what a factor or stepper built outside a run uses) is
 //! `rayon::join` in whatever pool it is called from.
 //!
-//! Every two-part computation makes its sums in the same order whatever the team, so the
-//! results are the same bits on one thread and on two.
+//! Every computation makes its sums in the same order whatever the team, so the results
+//! are the same bits on any number of threads.
 
 use std::any::Any;
 use std::cell::UnsafeCell;
@@ -152,6 +162,12 @@ unsafe impl Send for Shared {}
 struct Owner {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
+    /// The helpers beyond the first (a team of `n` threads has `n - 1`): each its own
+    /// shared state and thread, asked only by [`Team::for_each`] under the first's claim.
+    more: Vec<(Arc<Shared>, Option<JoinHandle<()>>)>,
+    /// The threads [`Team::for_each`] uses now (the caller's included, at least 2): the
+    /// team's own at most, the machine's free cores at the last look ([`LOAD_CHECK`]).
+    width: AtomicU32,
     /// The watcher of the machine's run queue ([`watcher_loop`]).
     watcher: Option<JoinHandle<()>>,
     /// Joins still to run on the caller's thread alone, after the caller took a job back
@@ -205,8 +221,13 @@ pub const MAX_BACKOFF: u32 = 256;
 impl Drop for Owner {
     fn drop(&mut self) {
         self.shared.stop.store(true, Ordering::SeqCst);
+        for (h, _) in &self.more {
+            h.stop.store(true, Ordering::SeqCst);
+        }
+        let more = self.more.iter_mut().map(|(_, t)| t.take());
         for t in [self.thread.take(), self.watcher.take()]
             .into_iter()
+            .chain(more)
             .flatten()
         {
             t.thread().unpark();
@@ -244,57 +265,89 @@ impl std::fmt::Debug for Team {
 }
 
 impl Team {
-    /// A team for `par`: one thread for [`Par::Seq`], the caller's and one helper thread
-    /// of its own for [`Par::Threads`] (one thread if the helper cannot be started).
+    /// A team for `par`: one thread for [`Par::Seq`], the caller's and `n - 1` helper
+    /// threads of its own for `Par::Threads(n)` (as many as could be started; one thread
+    /// if none could), with the watcher of the machine's load.
     pub fn new(par: Par) -> Self {
+        let cores = std::thread::available_parallelism().map_or(1, NonZeroUsize::get);
+        Team::build(par, cores, true)
+    }
+
+    /// A team of `par`'s threads that uses them all whatever the machine's cores and load
+    /// (no watcher): for the tests that check the same bits on more threads than cores.
+    #[cfg(test)]
+    pub(crate) fn oversubscribed(par: Par) -> Self {
+        Team::build(par, par.count(), false)
+    }
+
+    fn build(par: Par, cores: usize, watch: bool) -> Self {
         if par == Par::Seq {
             return Team { kind: Kind::Seq };
         }
-        let shared = Arc::new(Shared {
-            state: AtomicU32::new(IDLE),
-            helper_blocked: AtomicBool::new(false),
-            caller_blocked: AtomicBool::new(false),
-            claimed: AtomicBool::new(false),
-            stop: AtomicBool::new(false),
-            job: UnsafeCell::new(None),
-            caller: UnsafeCell::new(None),
-            panic: UnsafeCell::new(None),
-            others: AtomicU32::new(u32::MAX),
-        });
-        let for_helper = Arc::clone(&shared);
-        let for_watcher = Arc::clone(&shared);
-        match std::thread::Builder::new()
-            .name("softway-team".into())
-            .spawn(move || helper_loop(&for_helper))
-        {
-            Ok(t) => Team {
-                kind: Kind::Helper(Arc::new(Owner {
-                    shared,
-                    thread: Some(t),
-                    // Without a watcher the team never sees the machine's load: it keeps
-                    // to its take-backs alone.
-                    watcher: std::thread::Builder::new()
-                        .name("softway-load".into())
-                        .spawn(move || watcher_loop(&for_watcher))
-                        .ok(),
-                    skip: AtomicU32::new(0),
-                    backoff: AtomicU32::new(0),
-                    joins: AtomicU32::new(0),
-                    loaded: AtomicU32::new(0),
-                    cores: std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
-                })),
-            },
-            Err(_) => Team { kind: Kind::Seq },
+        let spawn = || {
+            let shared = Arc::new(Shared::new());
+            let for_helper = Arc::clone(&shared);
+            std::thread::Builder::new()
+                .name("softway-team".into())
+                .spawn(move || helper_loop(&for_helper))
+                .ok()
+                .map(|t| (shared, t))
+        };
+        let Some((shared, thread)) = spawn() else {
+            return Team { kind: Kind::Seq };
+        };
+        let more: Vec<_> = (2..par.count())
+            .map_while(|_| spawn())
+            .map(|(s, t)| (s, Some(t)))
+            .collect();
+        let mut all = vec![Arc::clone(&shared)];
+        all.extend(more.iter().map(|(s, _)| Arc::clone(s)));
+        let threads = 1 + all.len();
+        // Without a watcher the team never sees the machine's load: it keeps to its
+        // take-backs alone.
+        let watcher = watch
+            .then(|| {
+                std::thread::Builder::new()
+                    .name("softway-load".into())
+                    .spawn(move || watcher_loop(&all))
+                    .ok()
+            })
+            .flatten();
+        Team {
+            kind: Kind::Helper(Arc::new(Owner {
+                shared,
+                thread: Some(thread),
+                more,
+                width: AtomicU32::new(threads.min(cores).max(2) as u32),
+                watcher,
+                skip: AtomicU32::new(0),
+                backoff: AtomicU32::new(0),
+                joins: AtomicU32::new(0),
+                loaded: AtomicU32::new(0),
+                cores,
+            })),
         }
     }
 
-    /// The threads this team runs on: [`Par::Seq`], or two with a helper; the default
-    /// team's are those of the pool it is asked from ([`Par::current`]).
+    /// The threads this team runs on: [`Par::Seq`], or the caller's and its helpers'; the
+    /// default team's are those of the pool it is asked from ([`Par::current`]).
     pub fn par(&self) -> Par {
-        match self.kind {
+        match &self.kind {
             Kind::Pool => Par::current(),
             Kind::Seq => Par::Seq,
-            Kind::Helper(_) => Par::threads(2),
+            Kind::Helper(owner) => Par::threads(owner.threads()),
+        }
+    }
+
+    /// The parts worth giving [`Team::for_each`] now: the threads it would use (the
+    /// team's own, at most the machine's cores not taken by other processes at the last
+    /// look, at least two with a helper; one for [`Par::Seq`]). A hint: the results of a
+    /// computation must not depend on it.
+    pub fn width(&self) -> usize {
+        match &self.kind {
+            Kind::Pool => rayon::current_num_threads(),
+            Kind::Seq => 1,
+            Kind::Helper(owner) => owner.width.load(Ordering::Relaxed) as usize,
         }
     }
 
@@ -315,56 +368,41 @@ impl Team {
                 b();
             }
             Kind::Helper(owner) => {
-                let h = &*owner.shared;
-                if h.claimed
-                    .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
-                    .is_err()
-                {
-                    a();
-                    b();
-                    return;
-                }
-                // The claim makes this caller the only one to touch `skip` and `backoff`.
-                let joins = owner.joins.load(Ordering::Relaxed).wrapping_add(1);
-                owner.joins.store(joins, Ordering::Relaxed);
-                if joins % LOAD_CHECK == 0 && owner.skip.load(Ordering::Relaxed) == 0 {
-                    // Enter one thread when the others fill the cores; leave it only
-                    // when a core is free for each of this run's two threads (between
-                    // the two, as two runs side by side see each other: stay). The
-                    // watcher's last reading: an atomic load, no file read here.
-                    let loaded = owner.loaded.load(Ordering::Relaxed);
-                    let others = h.others.load(Ordering::Relaxed);
-                    match (others != u32::MAX).then_some(others as usize) {
-                        Some(o) if o >= owner.cores || (loaded > 0 && o + 2 > owner.cores) => {
-                            owner.loaded.store((loaded + 1).min(4), Ordering::Relaxed);
-                            owner
-                                .skip
-                                .store(LOAD_CHECK << loaded.min(4), Ordering::Relaxed);
-                        }
-                        _ => owner.loaded.store(0, Ordering::Relaxed),
-                    }
-                }
-                let skip = owner.skip.load(Ordering::Relaxed);
-                if skip > 0 {
-                    owner.skip.store(skip - 1, Ordering::Relaxed);
-                    h.claimed.store(false, Ordering::Release);
+                if !owner.admit() {
                     a();
                     b();
                     return;
                 }
                 let thread = owner.thread.as_ref().map(|t| t.thread());
-                let taken_back = join_on(h, thread, a, b);
-                // A take-back after a pause (the helper had parked) wakes the helper for the
-                // next join; take-backs in a row mean its core is held elsewhere.
-                let last = owner.backoff.load(Ordering::Relaxed);
-                let streak = if taken_back { last + 1 } else { last / 2 };
-                owner.backoff.store(streak.min(16), Ordering::Relaxed);
-                let skip = if taken_back && streak >= 2 {
-                    (1u32 << streak.min(16)).min(MAX_BACKOFF)
-                } else {
-                    0
-                };
-                owner.skip.store(skip, Ordering::Relaxed);
+                let taken_back = join_on(&owner.shared, thread, a, b);
+                owner.served(taken_back);
+            }
+        }
+    }
+
+    /// Calls `f` once on every item, the items in up to [`Team::width`] contiguous groups
+    /// side by side: the first group on this thread, the others on the team's helpers
+    /// (all on this thread with [`Par::Seq`], when the machine's cores are taken, or when
+    /// another caller of the same team holds its helpers). A helper that has not started
+    /// its group when the caller is done with its own is not waited for: the caller runs
+    /// that group itself. Returns when every item is done; a panic reaches the caller.
+    /// Which thread runs an item never changes what `f` computes: an item's work must not
+    /// depend on the others'.
+    pub fn for_each<T, F>(&self, items: &mut [T], f: F)
+    where
+        T: Send,
+        F: Fn(&mut T) + Sync,
+    {
+        match &self.kind {
+            Kind::Pool => pool_for_each(items, &f),
+            Kind::Seq => items.iter_mut().for_each(f),
+            Kind::Helper(owner) => {
+                if items.len() < 2 || !owner.admit() {
+                    items.iter_mut().for_each(f);
+                    return;
+                }
+                let taken_back = for_each_on(owner, items, &f);
+                owner.served(taken_back);
             }
         }
     }
@@ -379,17 +417,123 @@ impl Team {
     }
 }
 
+impl Shared {
+    fn new() -> Self {
+        Shared {
+            state: AtomicU32::new(IDLE),
+            helper_blocked: AtomicBool::new(false),
+            caller_blocked: AtomicBool::new(false),
+            claimed: AtomicBool::new(false),
+            stop: AtomicBool::new(false),
+            job: UnsafeCell::new(None),
+            caller: UnsafeCell::new(None),
+            panic: UnsafeCell::new(None),
+            others: AtomicU32::new(u32::MAX),
+        }
+    }
+}
+
+impl Owner {
+    /// The caller's thread and the helpers.
+    fn threads(&self) -> usize {
+        2 + self.more.len()
+    }
+
+    /// Claims the first helper for this caller and decides whether this hand-off goes to
+    /// the helpers: false (the claim released, or not got) when another caller holds
+    /// them, or when the machine's cores are taken or the helpers were not there to
+    /// start the last hand-offs (the caller then runs everything itself).
+    fn admit(&self) -> bool {
+        let h = &*self.shared;
+        if h.claimed
+            .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+            .is_err()
+        {
+            return false;
+        }
+        // The claim makes this caller the only one to touch `skip`, `backoff` and `width`.
+        let joins = self.joins.load(Ordering::Relaxed).wrapping_add(1);
+        self.joins.store(joins, Ordering::Relaxed);
+        if joins % LOAD_CHECK == 0 && self.skip.load(Ordering::Relaxed) == 0 {
+            self.look();
+        }
+        let skip = self.skip.load(Ordering::Relaxed);
+        if skip > 0 {
+            self.skip.store(skip - 1, Ordering::Relaxed);
+            h.claimed.store(false, Ordering::Release);
+            return false;
+        }
+        true
+    }
+
+    /// The look at the machine every [`LOAD_CHECK`] hand-offs (the watcher's last
+    /// reading: an atomic load, no file read here). Enter one thread when the others
+    /// fill the cores; leave it only when a core is free for each of this run's first two
+    /// threads (between the two, as two runs side by side see each other: stay). Beyond
+    /// two, [`Team::for_each`] uses as many threads as cores are free (at least two).
+    fn look(&self) {
+        let loaded = self.loaded.load(Ordering::Relaxed);
+        let others = self.shared.others.load(Ordering::Relaxed);
+        let others = (others != u32::MAX).then_some(others as usize);
+        match others {
+            Some(o) if o >= self.cores || (loaded > 0 && o + 2 > self.cores) => {
+                self.loaded.store((loaded + 1).min(4), Ordering::Relaxed);
+                self.skip
+                    .store(LOAD_CHECK << loaded.min(4), Ordering::Relaxed);
+            }
+            _ => self.loaded.store(0, Ordering::Relaxed),
+        }
+        let free = others.map_or(self.cores, |o| self.cores.saturating_sub(o));
+        let width = free.min(self.threads()).max(2);
+        self.width.store(width as u32, Ordering::Relaxed);
+    }
+
+    /// After a hand-off the helpers served (`taken_back`: the caller had to run a part
+    /// itself, its helper not there to start it): a take-back after a pause (the helper
+    /// had parked) wakes the helper for the next one; take-backs in a row mean its core
+    /// is held elsewhere, and the next hand-offs run on the caller's thread alone.
+    fn served(&self, taken_back: bool) {
+        let last = self.backoff.load(Ordering::Relaxed);
+        let streak = if taken_back { last + 1 } else { last / 2 };
+        self.backoff.store(streak.min(16), Ordering::Relaxed);
+        let skip = if taken_back && streak >= 2 {
+            (1u32 << streak.min(16)).min(MAX_BACKOFF)
+        } else {
+            0
+        };
+        self.skip.store(skip, Ordering::Relaxed);
+    }
+}
+
+/// [`Team::for_each`] in the caller's rayon pool: halves by `rayon::join`.
+fn pool_for_each<T: Send, F: Fn(&mut T) + Sync>(items: &mut [T], f: &F) {
+    match items.len() {
+        0 => {}
+        1 => f(&mut items[0]),
+        n => {
+            let (lo, hi) = items.split_at_mut(n / 2);
+            rayon::join(|| pool_for_each(lo, f), || pool_for_each(hi, f));
+        }
+    }
+}
+
 /// How often the watcher reads the machine's run queue: about [`LOAD_CHECK`] joins of the
 /// wheel's step.
 pub const LOAD_PERIOD: Duration = Duration::from_millis(5);
 
 /// The watcher: every [`LOAD_PERIOD`], the other processes' runnable threads
-/// ([`others_running`], less this run's: the watcher, the caller and the helper unless it
-/// is blocked) into `h.others`, until the team is dropped.
-fn watcher_loop(h: &Shared) {
+/// ([`others_running`], less this run's: the watcher, the caller and the helpers that are
+/// not blocked) into the first helper's `others`, until the team is dropped. `all`: the
+/// helpers' shared states, the first's first.
+fn watcher_loop(all: &[Arc<Shared>]) {
+    let h = &*all[0];
     while !h.stop.load(Ordering::Acquire) {
-        let ours = 2 + usize::from(!h.helper_blocked.load(Ordering::Relaxed));
-        let others = others_running(ours).map_or(u32::MAX, |o| o.min(u32::MAX as usize - 1) as u32);
+        let awake = all
+            .iter()
+            .filter(|s| !s.helper_blocked.load(Ordering::Relaxed))
+            .count();
+        let others =
+            others_running(2 + awake).map_or(u32::MAX, |o| o.min(u32::MAX as usize - 1) as u32);
         h.others.store(others, Ordering::Relaxed);
         std::thread::park_timeout(LOAD_PERIOD);
     }
@@ -516,20 +660,7 @@ where
             b()
         }
     };
-    let job: &(dyn Fn() + Sync) = &run_b;
-    // SAFETY: the helper calls `job` only before it reports DONE, and `Claim`'s drop waits
-    // for DONE before this frame (which owns `run_b`) ends.
-    let job: Job = unsafe { std::mem::transmute::<&(dyn Fn() + Sync), Job>(job) };
-    // SAFETY: the helper is IDLE (claimed, and every claim ends in IDLE): it does not read.
-    unsafe {
-        *h.job.get() = Some(job);
-        *h.caller.get() = Some(std::thread::current());
-    }
-    h.state.store(POSTED, Ordering::SeqCst);
-    if h.helper_blocked.load(Ordering::SeqCst) {
-        thread.unpark();
-    }
-    let mut claim = Claim { h, finished: false };
+    let mut claim = post(h, thread, &run_b);
     a();
     if claim.take_back() {
         // The helper had not started `b` (asleep, or waiting for a core): run it here
@@ -543,39 +674,100 @@ where
     false
 }
 
-/// A slice that the two closures of a [`join`] write at places of their own: each place
-/// written by one of them only, none read by the other.
-pub(crate) struct Disjoint<'a> {
-    ptr: *mut f64,
-    len: usize,
-    _slice: std::marker::PhantomData<&'a mut [f64]>,
+/// [`Team::for_each`] on the claimed first helper of `owner` and as many more as its
+/// width allows: the items in contiguous groups, the first here, each other one posted to
+/// a helper of its own; true when a helper had not started its group by the time the
+/// caller was done with its own (the caller then took it back and ran it). The first
+/// helper's claim, the team's, is released last.
+fn for_each_on<T, F>(owner: &Owner, items: &mut [T], f: &F) -> bool
+where
+    T: Send,
+    F: Fn(&mut T) + Sync,
+{
+    let width = (owner.width.load(Ordering::Relaxed) as usize)
+        .min(owner.threads())
+        .min(items.len());
+    // Contiguous groups as even as the count allows, the first `items % width` one longer.
+    let (per, extra) = (items.len() / width, items.len() % width);
+    let mut groups = Vec::with_capacity(width);
+    let mut rest = items;
+    for g in 0..width {
+        let (head, tail) = rest.split_at_mut(per + usize::from(g < extra));
+        groups.push(head);
+        rest = tail;
+    }
+    let mut groups = groups.into_iter();
+    let mine = groups.next().expect("a group for the caller");
+    // The helpers' groups, each behind a lock that the one who runs it (the helper, or
+    // the caller taking it back) empties.
+    let slots: Vec<_> = groups.map(|g| std::sync::Mutex::new(Some(g))).collect();
+    let runs: Vec<_> = slots
+        .iter()
+        .map(|slot| {
+            move || {
+                if let Some(g) = slot.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                    g.iter_mut().for_each(f);
+                }
+            }
+        })
+        .collect();
+    let helpers = std::iter::once((&owner.shared, owner.thread.as_ref()))
+        .chain(owner.more.iter().map(|(s, t)| (s, t.as_ref())));
+    let mut claims = Vec::with_capacity(runs.len());
+    let mut here = Vec::new();
+    for (k, (h, t)) in helpers.take(runs.len()).enumerate() {
+        // The first helper is claimed (`Owner::admit`); the others are asked only under
+        // its claim, but a helper without a thread runs nothing.
+        let claimed = k == 0
+            || h.claimed
+                .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+                .is_ok();
+        match (claimed, t) {
+            (true, Some(t)) => claims.push((k, post(h, t.thread(), &runs[k]))),
+            (true, None) => {
+                h.claimed.store(false, Ordering::Release);
+                here.push(k);
+            }
+            (false, _) => here.push(k),
+        }
+    }
+    mine.iter_mut().for_each(f);
+    for &k in &here {
+        runs[k]();
+    }
+    let mut taken_back = false;
+    let mut panic = None;
+    // The first helper's claim (the team's) last.
+    while let Some((k, mut claim)) = claims.pop() {
+        if claim.take_back() {
+            runs[k]();
+            taken_back = true;
+        } else if let Some(p) = claim.finish() {
+            panic.get_or_insert(p);
+        }
+    }
+    if let Some(p) = panic {
+        std::panic::resume_unwind(p);
+    }
+    taken_back
 }
 
-// SAFETY: the writes go through `put`, whose callers promise that no place is
-// written by two threads (their contract).
-unsafe impl Sync for Disjoint<'_> {}
-
-impl<'a> Disjoint<'a> {
-    pub(crate) fn new(slice: &'a mut [f64]) -> Self {
-        Self {
-            ptr: slice.as_mut_ptr(),
-            len: slice.len(),
-            _slice: std::marker::PhantomData,
-        }
+/// Posts `job` to the claimed helper `h` (its thread `thread`) and wakes it if it is
+/// blocked; the claim that waits for it.
+fn post<'a>(h: &'a Shared, thread: &Thread, job: &'a (dyn Fn() + Sync + 'a)) -> Claim<'a> {
+    // SAFETY: the helper calls `job` only before it reports DONE, and the returned
+    // `Claim` (whose drop waits for DONE) lives no longer than `job`'s borrow.
+    let job: Job = unsafe { std::mem::transmute::<&(dyn Fn() + Sync), Job>(job) };
+    // SAFETY: the helper is IDLE (claimed, and every claim ends in IDLE): it does not read.
+    unsafe {
+        *h.job.get() = Some(job);
+        *h.caller.get() = Some(std::thread::current());
     }
-
-    /// `slice[to[k]] = src[k]` for every `k`.
-    ///
-    /// # Safety
-    /// No other thread writes or reads the places `to` while this one does.
-    #[inline(always)]
-    pub(crate) unsafe fn put(&self, to: &[usize], src: &[f64]) {
-        for (&i, &v) in to.iter().zip(src) {
-            assert!(i < self.len);
-            // SAFETY: in bounds (checked), and this thread's alone (the contract).
-            unsafe { *self.ptr.add(i) = v };
-        }
+    h.state.store(POSTED, Ordering::SeqCst);
+    if h.helper_blocked.load(Ordering::SeqCst) {
+        thread.unpark();
     }
+    Claim { h, finished: false }
 }
 
 #[cfg(test)]
@@ -781,5 +973,71 @@ mod tests {
                 });
             }
         });
+    }
+
+    /// `for_each` on teams of one to four threads (more than the machine may have): every
+    /// item once per call, whatever the thread that runs it; with four threads and four
+    /// items that each wait for all four to have started, four distinct threads ran them
+    /// (no group waits for a helper that another group holds).
+    #[test]
+    fn for_each_runs_every_item_once_on_up_to_n_threads() {
+        for threads in 1..=4 {
+            let team = Team::oversubscribed(Par::threads(threads));
+            assert_eq!(team.par(), Par::threads(threads));
+            assert_eq!(team.width(), threads);
+            for len in [0, 1, 2, 3, 4, 7] {
+                let mut items = vec![0u32; len];
+                for _ in 0..200 {
+                    team.for_each(&mut items, |x| *x += 1);
+                }
+                assert!(
+                    items.iter().all(|&x| x == 200),
+                    "{threads} threads, {len} items"
+                );
+            }
+        }
+        let team = Team::oversubscribed(Par::threads(4));
+        let started = std::sync::atomic::AtomicUsize::new(0);
+        let mut items: Vec<Option<std::thread::ThreadId>> = vec![None; 4];
+        team.for_each(&mut items, |t| {
+            started.fetch_add(1, Ordering::SeqCst);
+            let since = Instant::now();
+            while started.load(Ordering::SeqCst) < 4 && since.elapsed() < Duration::from_secs(10) {
+                std::hint::spin_loop();
+            }
+            *t = Some(std::thread::current().id());
+        });
+        let ids: std::collections::BTreeSet<_> = items
+            .iter()
+            .map(|t| format!("{:?}", t.expect("ran")))
+            .collect();
+        assert_eq!(ids.len(), 4, "four threads ran the four items");
+        // The watched team of four reports its four threads.
+        assert_eq!(Team::new(Par::threads(4)).par(), Par::threads(4));
+    }
+
+    /// A panic in any group of `for_each` reaches the caller once every helper is done,
+    /// and the team serves again.
+    #[test]
+    fn a_panic_in_for_each_reaches_the_caller_and_the_team_serves_again() {
+        let team = Team::oversubscribed(Par::threads(3));
+        for bad in 0..3 {
+            let mut items = [0usize, 1, 2];
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                team.for_each(&mut items, |x| {
+                    if *x == bad {
+                        panic!("item {bad}")
+                    }
+                })
+            }));
+            assert!(r.is_err(), "item {bad}");
+        }
+        let mut items = [1u32; 3];
+        team.for_each(&mut items, |x| *x *= 5);
+        assert_eq!(items, [5; 3]);
+        let mut s = [0; 2];
+        let (p, q) = s.split_at_mut(1);
+        team.join(|| p[0] = 1, || q[0] = 2);
+        assert_eq!(s, [1, 2]);
     }
 }

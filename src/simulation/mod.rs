@@ -520,9 +520,10 @@ impl Simulation {
         self.guard.set_mode(mode);
     }
 
-    /// Runs the two-part work of the steps (the split factor's sweeps, the right-hand side,
-    /// the contact rows' columns, the energies) on `par`'s threads: a [`Team`] of the run's
-    /// own, whose helper thread (with [`Par::Threads`]) ends with the simulation. Until
+    /// Runs the parallel work of the steps (the split factor's sweeps and the contact rows'
+    /// columns in two parts, the energies' two forms, the right-hand side in as many parts
+    /// as threads) on `par`'s threads: a [`Team`] of the run's own, whose helper threads
+    /// (`n - 1` with `Par::Threads(n)`) end with the simulation. Until
     /// called, that work goes through `rayon::join` in the caller's pool. The results are
     /// the same bits for every `par`. Below `SPLIT_MIN_ORDER` dofs nothing is split, and
     /// no helper thread is started.

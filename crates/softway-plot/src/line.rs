@@ -19,6 +19,8 @@ use crate::{Panel, Series, SeriesStyle};
 mod checks;
 pub(crate) use checks::validate_panel;
 use checks::{isolated_extreme, panel_ranges};
+mod layout;
+pub(crate) use layout::layout_panel;
 mod legend;
 use legend::{
     draw_legend, legend_geom, legend_geom_within, legend_overlap, span_color, span_labels,
@@ -198,302 +200,6 @@ fn legend_entries(p: &Panel) -> Vec<Entry> {
     entries
 }
 
-/// Lays out a panel in `cell`. With `forced`, the plot rectangle is given
-/// (used to align the axes of a grid of panels); otherwise it is derived
-/// from the labels. A legend that would hide data goes outside, to the
-/// right, when there is room; else, with an automatic y range, head room is
-/// added above the data for it.
-///
-/// The rule, the same for every figure (issue 48: a spectrum's legend over its strongest
-/// line and its markers): a legend never hides data (series, markers, reference lines).
-/// It goes, in this order, inside where it hides nothing; outside to the right; inside
-/// over head room added above the data (automatic y range only); under the axes, in as
-/// many columns as the cell's width holds (in a grid the row's axes make room for it).
-/// Only when none of these fits is it drawn inside over data, and a strict figure
-/// (`SOFTWAY_PLOT_STRICT`, the tests) fails naming the panel.
-pub(crate) fn layout_panel(
-    cell: Rect,
-    p: &Panel,
-    st: &Sty,
-    forced: Option<Rect>,
-    seen: &[String],
-) -> Res<PanelLayout> {
-    let l = layout_panel_with(cell, p, st, forced, 0.0, false, seen)?;
-    if l.legend_score == 0 {
-        return Ok(l);
-    }
-    let mut best = l;
-    if p.y_range.is_none() {
-        let h = (best.lg.h + 2.0 * st.pad) / best.plot.h();
-        if h < 0.5 {
-            let l = layout_panel_with(cell, p, st, forced, h, false, seen)?;
-            if l.legend_score == 0 {
-                return Ok(l);
-            }
-            best = l;
-        }
-    }
-    match layout_panel_with(cell, p, st, forced, 0.0, true, seen) {
-        Ok(l) if l.legend_score == 0 && l.legend.is_some() => Ok(l),
-        _ => Ok(best),
-    }
-}
-
-/// [`layout_panel`] with a fraction `headroom` of the plot height kept free
-/// above the data, and with `below` the legend under the axes (its score `usize::MAX` when
-/// the cell has no room for it there).
-#[allow(clippy::too_many_arguments)]
-fn layout_panel_with(
-    cell: Rect,
-    p: &Panel,
-    st: &Sty,
-    forced: Option<Rect>,
-    headroom: f64,
-    below: bool,
-    seen: &[String],
-) -> Res<PanelLayout> {
-    validate_panel(p)?;
-    let ((xlo, xhi), (ylo, mut yhi)) = panel_ranges(p)?;
-    let outlier = if p.y_range.is_none() {
-        isolated_extreme(p, (xlo, xhi))
-    } else {
-        None
-    };
-    if headroom > 0.0 {
-        yhi = if p.y_log {
-            10f64.powf(ylo.log10() + (yhi.log10() - ylo.log10()) / (1.0 - headroom))
-        } else {
-            ylo + (yhi - ylo) / (1.0 - headroom)
-        };
-    }
-    let (fs, fl, ft, pad, tick) = (st.fs, st.fl, st.ft, st.pad, st.tick);
-    let scales = |plot: &Rect| {
-        (
-            Scale {
-                lo: xlo,
-                hi: xhi,
-                log: p.x_log,
-                p_lo: plot.x0,
-                p_hi: plot.x1,
-            },
-            Scale {
-                lo: ylo,
-                hi: yhi,
-                log: p.y_log,
-                p_lo: plot.y1,
-                p_hi: plot.y0,
-            },
-        )
-    };
-    let xticks = |plot: &Rect| make_ticks(xlo, xhi, p.x_log, plot.w(), fs, true);
-    let yticks = |plot: &Rect| make_ticks(ylo, yhi, p.y_log, plot.h(), fs, false);
-    let title_top = cell.y0 + pad;
-    let text_w_max = cell.w() - 2.0 * pad;
-    let title = fit_text(&p.title, ft, text_w_max, 3);
-    let x_label_fs = fit_text(&p.x_label, fl, text_w_max, 1).1;
-    let y_label_fs = fit_text(&p.y_label, fl, cell.h() - 2.0 * pad, 1).1;
-    let note = fit_text(&p.note, 0.85 * fs, text_w_max, 4);
-    let note = if p.note.is_empty() {
-        (Vec::new(), note.1)
-    } else {
-        note
-    };
-    // Entries listed by an earlier panel of the grid (`seen`) are not repeated.
-    let all = legend_entries(p);
-    let wanted = all.len() > 1 || !p.hlines.is_empty() || !p.vlines.is_empty();
-    let entries: Vec<Entry> = all
-        .into_iter()
-        .filter(|e| !seen.contains(&format!("{e:?}")))
-        .collect();
-    let has_legend = !p.no_legend && !entries.is_empty() && wanted;
-    let below = below && has_legend;
-    let lg = if below {
-        legend_geom_within(&entries, st, text_w_max)
-    } else {
-        legend_geom(&entries, st)
-    };
-    let below_block = if below { lg.h + 0.3 * pad } else { 0.0 };
-
-    let mut plot = match forced {
-        Some(r) => r,
-        None => {
-            // Vertical layout (independent of the tick labels, except for
-            // the band of a common y factor).
-            let mut top = title_top;
-            if !p.title.is_empty() {
-                top += title.0.len() as f64 * line_h(title.1) - 0.15 * (CAP + DESC) * title.1
-                    + 0.8 * pad;
-            }
-            let label_block = if p.x_label.is_empty() {
-                0.0
-            } else {
-                (CAP + DESC) * x_label_fs + 0.8 * pad
-            };
-            let bottom = cell.y1
-                - pad
-                - below_block
-                - note_block(&note, pad)
-                - label_block
-                - CAP * fs
-                - 0.6 * pad
-                - tick;
-            let mut plot = Rect::new(cell.x0, top + 0.5 * CAP * fs, cell.x1, bottom);
-            if yticks(&plot).offset.is_some() {
-                plot.y0 = top + CAP * fs + 0.8 * pad;
-            }
-            // Horizontal layout.
-            let ylabel_block = if p.y_label.is_empty() {
-                0.0
-            } else {
-                (CAP + DESC) * y_label_fs + 0.8 * pad
-            };
-            plot.x0 =
-                cell.x0 + pad + ylabel_block + yticks(&plot).max_label_w(fs) + 0.6 * pad + tick;
-            plot.x1 = cell.x1 - pad;
-            // Keep the last x tick label inside the cell.
-            for _ in 0..2 {
-                let (xs, _) = scales(&plot);
-                let overhang = xticks(&plot)
-                    .major
-                    .iter()
-                    .map(|(v, l)| xs.px(*v) + 0.5 * text_w(l, fs) - (cell.x1 - 0.3 * pad))
-                    .fold(0.0, f64::max);
-                if overhang <= 0.0 {
-                    break;
-                }
-                plot.x1 -= overhang;
-            }
-            plot
-        }
-    };
-    let too_small = |plot: &Rect| {
-        if plot.w() < 20.0 || plot.h() < 20.0 {
-            Err(Fail::Draw(
-                "the image is too small for the axes, labels and legend".into(),
-            ))
-        } else {
-            Ok(())
-        }
-    };
-    too_small(&plot)?;
-    let pixels = |plot: &Rect| {
-        let (xs, ys) = scales(plot);
-        p.series
-            .iter()
-            .map(|s| series_pixels(s, &xs, &ys, plot, st.lw))
-            .collect::<Vec<_>>()
-    };
-    let mut px = pixels(&plot);
-
-    // Legend placement: the inside position hiding the least data, or
-    // outside on the right when every inside position hides something; under the axes
-    // when asked (`below`).
-    let mut legend = None;
-    let mut legend_score = 0;
-    if below {
-        // Under the x label and the note, centred on the axes, kept in the cell.
-        let ticks_bottom = plot.y1 + tick + 0.6 * pad + CAP * fs;
-        let note_top = if p.x_label.is_empty() {
-            ticks_bottom
-        } else {
-            ticks_bottom + 0.8 * pad + (CAP + DESC) * x_label_fs
-        };
-        let y0 = note_top + note_block(&note, pad) + 0.3 * pad;
-        let x0 = centre_in(plot.cx(), lg.w, &cell, pad) - 0.5 * lg.w;
-        let r = Rect::new(x0, y0, x0 + lg.w, y0 + lg.h);
-        if r.y1 <= cell.y1 - 0.3 * pad && r.x0 >= cell.x0 && r.x1 <= cell.x1 {
-            legend = Some(r);
-        } else {
-            legend_score = usize::MAX;
-        }
-    } else if has_legend {
-        let (xs, ys) = scales(&plot);
-        let hl: Vec<f64> = p
-            .hlines
-            .iter()
-            .filter(|(y, _)| valid(*y, p.y_log))
-            .map(|(y, _)| ys.px(*y))
-            .collect();
-        let vl: Vec<f64> = p
-            .vlines
-            .iter()
-            .filter(|(x, _)| valid(*x, p.x_log) && *x >= xs.lo && *x <= xs.hi)
-            .map(|(x, _)| xs.px(*x))
-            .collect();
-        let inset = 0.6 * pad;
-        let (l, r) = (plot.x0 + inset, plot.x1 - inset - lg.w);
-        let (t, b) = (plot.y0 + inset, plot.y1 - inset - lg.h);
-        let (cx, cy) = (plot.cx() - 0.5 * lg.w, plot.cy() - 0.5 * lg.h);
-        let candidates = [
-            (r, t),
-            (l, t),
-            (r, b),
-            (l, b),
-            (cx, t),
-            (cx, b),
-            (r, cy),
-            (l, cy),
-        ];
-        let lines: Vec<Vec<Pt>> = px.iter().flat_map(|s| s.lines.iter().cloned()).collect();
-        let marks: Vec<Pt> = px
-            .iter()
-            .flat_map(|s| s.markers.iter().chain(&s.isolated).copied())
-            .collect();
-        let fits_inside = lg.w <= plot.w() - 2.0 * inset && lg.h <= plot.h() - 2.0 * inset;
-        let mut best = (usize::MAX, candidates[0]);
-        if fits_inside {
-            for &(x, y) in &candidates {
-                let rr = Rect::new(x, y, x + lg.w, y + lg.h).grow(0.5 * pad);
-                let score = legend_overlap(&rr, &lines, &marks, &hl, &vl);
-                if score < best.0 {
-                    best = (score, (x, y));
-                }
-            }
-        }
-        let outside_at =
-            |plot: &Rect| Rect::new(plot.x1 + pad, plot.y0, plot.x1 + pad + lg.w, plot.y0 + lg.h);
-        if best.0 > 0 && lg.h <= plot.h() {
-            match forced {
-                Some(_) if cell.x1 - pad - plot.x1 >= lg.w + pad => {
-                    legend = Some(outside_at(&plot));
-                }
-                None if lg.w + pad < 0.4 * plot.w() => {
-                    plot.x1 = cell.x1 - pad - lg.w - pad;
-                    too_small(&plot)?;
-                    px = pixels(&plot);
-                    legend = Some(outside_at(&plot));
-                }
-                _ => {}
-            }
-        }
-        if legend.is_none() {
-            // Inside, even if it hides data (or does not quite fit).
-            let (x, y) = best.1;
-            legend = Some(Rect::new(x, y, x + lg.w, y + lg.h));
-            legend_score = best.0;
-        }
-    }
-    let (xs, ys) = scales(&plot);
-    Ok(PanelLayout {
-        plot,
-        xt: xticks(&plot),
-        yt: yticks(&plot),
-        xs,
-        ys,
-        px,
-        entries,
-        lg,
-        legend,
-        legend_score,
-        outlier,
-        title_top,
-        title,
-        x_label_fs,
-        y_label_fs,
-        note,
-    })
-}
-
 pub(crate) fn draw_panel(area: &Area, cell: Rect, p: &Panel, st: &Sty) -> Res<()> {
     let lay = layout_panel(cell, p, st, None, &[])?;
     paint_panel(area, cell, p, st, &lay)
@@ -606,13 +312,21 @@ fn paint_data(area: &Area, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
 }
 
 fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
-    let (fs, pad, tick) = (st.fs, st.pad, st.tick);
-    let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
+    let plot = lay.plot;
     audit::with_bounds(plot, "its axes", || {
         audit::with_clip(plot, || paint_data(area, p, st, lay))
     })?;
+    paint_frame(area, p, st, lay)?;
+    paint_x_texts(area, cell, p, st, lay)?;
+    paint_y_texts_and_title(area, cell, p, st, lay)?;
+    paint_legend(area, p, st, lay)
+}
 
-    // Frame and ticks.
+/// The frame of the axes and their ticks with their labels (the minor ticks on a log
+/// axis).
+fn paint_frame(area: &Area, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
+    let (fs, pad, tick) = (st.fs, st.pad, st.tick);
+    let (plot, xs, ys, xt, yt) = (lay.plot, &lay.xs, &lay.ys, &lay.xt, &lay.yt);
     stroke_rect(area, plot, TEXT, st.frame)?;
     for (v, l) in &xt.major {
         let x = xs.px(*v);
@@ -654,10 +368,14 @@ fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayou
             draw_line(area, (plot.x0 - 0.6 * tick, y), (plot.x0, y), TEXT, st.thin)?;
         }
     }
+    Ok(())
+}
 
-    // Labels, note, title, common factors.
-    // The x label under the tick labels, the note under it (both follow the axes, which in
-    // a grid are aligned with the row's).
+/// The x label under the tick labels, the note under it (both follow the axes, which in a
+/// grid are aligned with the row's), and the x axis's common factor.
+fn paint_x_texts(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
+    let (fs, pad, tick) = (st.fs, st.pad, st.tick);
+    let (plot, xt) = (lay.plot, &lay.xt);
     let fl = lay.x_label_fs;
     let ticks_bottom = plot.y1 + tick + 0.6 * pad + CAP * fs;
     let xlabel_base = ticks_bottom + 0.8 * pad + CAP * fl;
@@ -705,6 +423,19 @@ fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayou
             TEXT,
         )?;
     }
+    Ok(())
+}
+
+/// The y label, the y axis's common factor and the title.
+fn paint_y_texts_and_title(
+    area: &Area,
+    cell: Rect,
+    p: &Panel,
+    st: &Sty,
+    lay: &PanelLayout,
+) -> Res<()> {
+    let (fs, pad) = (st.fs, st.pad);
+    let (plot, yt) = (lay.plot, &lay.yt);
     // The y label centred on the axes when it fits there, else moved to stay in the cell.
     let yl_w = text_w(&p.y_label, lay.y_label_fs);
     let (lo, hi) = (cell.y0 + pad + 0.5 * yl_w, cell.y1 - pad - 0.5 * yl_w);
@@ -750,6 +481,12 @@ fn paint_panel_in(area: &Area, cell: Rect, p: &Panel, st: &Sty, lay: &PanelLayou
             TEXT,
         )?;
     }
+    Ok(())
+}
+
+/// The legend where the layout put it, and the strict figure's flags (a legend over data,
+/// an axis range set by one isolated point).
+fn paint_legend(area: &Area, p: &Panel, st: &Sty, lay: &PanelLayout) -> Res<()> {
     if let Some(r) = lay.legend {
         draw_legend(area, r, &lay.entries, &lay.lg, st)?;
         if lay.legend_score > 0 {

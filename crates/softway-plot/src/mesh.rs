@@ -16,12 +16,13 @@ use crate::style::{
     draw_text, fit_text, text_w, viridis, Sty, CAP, DESC, HA, NOTE, NO_DATA, TEXT, VA,
 };
 
-/// Colour of the overlay segments (the obstacle), a dark red.
+mod grid;
 mod modes;
 mod vectors;
 pub(crate) use modes::render_mode_shapes;
 pub(crate) use vectors::render_vector_fields;
 
+/// Colour of the overlay segments (the obstacle), a dark red.
 const OVERLAY: RGBColor = RGBColor(200, 30, 30);
 
 /// A round value printed short: `0.5`, `2`, `1e-3`.
@@ -389,11 +390,8 @@ fn draw_mesh_axes(
     Ok(())
 }
 
-pub(crate) fn render_color_map(
-    map: &MeshColorMap,
-    size: (u32, u32),
-    opts: &MeshOptions,
-) -> Res<Vec<u8>> {
+/// Checks a colour map's mesh and values: triangles on its points, a value per triangle.
+fn check_color_map(map: &MeshColorMap) -> Res<()> {
     if map.triangles.is_empty() || map.points.is_empty() {
         return Err(Fail::Empty("the mesh has no triangles".into()));
     }
@@ -404,7 +402,15 @@ pub(crate) fn render_color_map(
             map.triangles.len()
         )));
     }
-    check_triangles(map.points, map.triangles, "colour map")?;
+    check_triangles(map.points, map.triangles, "colour map")
+}
+
+pub(crate) fn render_color_map(
+    map: &MeshColorMap,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Res<Vec<u8>> {
+    check_color_map(map)?;
     let unit = unit_scale(map.length_unit_scale);
     let bb0 = mesh_bbox(map.points, map.triangles, unit)
         .ok_or_else(|| Fail::Empty("no triangle has finite coordinates".into()))?;
@@ -418,28 +424,60 @@ pub(crate) fn render_color_map(
     )
     .ok_or_else(|| Fail::Empty("no finite cell value".into()))?;
     let bb = pad_bbox(bb0, 0.03);
-    let (dx, dy) = (bb[1] - bb[0], bb[3] - bb[2]);
     let xl = axis_label("x", &map.length_unit);
     let yl = axis_label("y", &map.length_unit);
 
     render(size, |area, fig| {
         let st = Sty::new(fig, fig.out);
-        let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
-        let (title, ft) = fit_text(&map.title, st.ft, fig.w - 2.0 * pad, 2);
-        let top = pad
+        let (title, ft) = fit_text(&map.title, st.ft, fig.w - 2.0 * st.pad, 2);
+        let top = st.pad
             + if map.title.is_empty() {
-                0.5 * CAP * fs
+                0.5 * CAP * st.fs
             } else {
-                title.len() as f64 * 1.15 * (CAP + DESC) * ft + pad
+                title.len() as f64 * 1.15 * (CAP + DESC) * ft + st.pad
             };
-        let (note, nf) = fit_text(&map.note, 0.85 * fs, fig.w - 2.0 * pad, 3);
-        let note_h = if map.note.is_empty() {
-            0.0
-        } else {
-            note.len() as f64 * 1.15 * (CAP + DESC) * nf + 0.5 * pad
-        };
-        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad + note_h;
-        let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
+        let note = grid::Note::fit(&map.note, fig, &st);
+        let lay = MapLayout::fit(fig, &st, (top, &note), bb, vr, &map.colorbar_label)?;
+        let v = MeshView { bb, r: lay.r, unit };
+        audit::with_clip(lay.r, || draw_cells(area, &v, map, vr, opts, fig, &st))?;
+        draw_mesh_axes(area, &v, &lay.xt, &lay.yt, true, true, &st)?;
+        draw_map_labels(area, &lay, (&xl, &yl), (&title, ft), fig, &st)?;
+        note.draw(area, fig, &st)?;
+        let finite = || map.cell_values.iter().filter(|v| v.is_finite());
+        let extend = (
+            finite().any(|&v| v < vr.0 - 1e-9 * vr.0.abs()),
+            finite().any(|&v| v > vr.1 + 1e-9 * vr.1.abs()),
+        );
+        draw_colorbar(area, lay.cb, vr, &lay.ct, &map.colorbar_label, extend, &st)
+    })
+}
+
+/// Where a colour map's plot and colour bar are, with their ticks.
+struct MapLayout {
+    r: Rect,
+    cb: Rect,
+    xt: Ticks,
+    yt: Ticks,
+    ct: Ticks,
+}
+
+impl MapLayout {
+    /// The largest plot of the extent `bb` that fits the canvas under the title band
+    /// (`top`) and above the bottom band (with the `note`), beside the y axis's labels and
+    /// the colour bar, centred (the bands' widths found again from the ticks the plot gets,
+    /// up to three times).
+    fn fit(
+        fig: &Fig,
+        st: &Sty,
+        (top, note): (f64, &grid::Note),
+        bb: [f64; 4],
+        vr: (f64, f64),
+        cb_label: &str,
+    ) -> Res<MapLayout> {
+        let (fs, pad) = (st.fs, st.pad);
+        let (dx, dy) = (bb[1] - bb[0], bb[3] - bb[2]);
+        let bottom = grid::bottom_band(st, note);
+        let mut left_w = grid::left_band(st, 3.0 * fs);
         let mut cb_w = 6.0 * fs;
         let mut layout = None;
         for _ in 0..3 {
@@ -466,91 +504,92 @@ pub(crate) fn render_color_map(
                 r.cy() + 0.5 * cbh,
             );
             let ct = linear_ticks(vr.0, vr.1, cbh, fs, false);
-            let new_left =
-                pad + (CAP + DESC) * fl + 0.8 * pad + yt.max_label_w(fs) + 0.6 * pad + tick;
-            let new_cb = colorbar_width(&ct, &map.colorbar_label, &st);
+            let new_left = grid::left_band(st, yt.max_label_w(fs));
+            let new_cb = colorbar_width(&ct, cb_label, st);
             let done = (new_left - left_w).abs() < 1.0 && (new_cb - cb_w).abs() < 1.0;
             left_w = new_left;
             cb_w = new_cb;
-            layout = Some((r, cb, xt, yt, ct));
+            layout = Some(MapLayout { r, cb, xt, yt, ct });
             if done {
                 break;
             }
         }
-        let Some((r, cb, xt, yt, ct)) = layout else {
-            return Err(Fail::Draw("layout failed".into()));
-        };
-        let v = MeshView { bb, r, unit };
-        audit::with_clip(r, || -> Res<()> {
-            let size_px = fill_triangles(area, &v, map.points, map.triangles, |i| {
-                let val = map.cell_values[i];
-                if val.is_finite() {
-                    viridis((val - vr.0) / (vr.1 - vr.0))
-                } else {
-                    NO_DATA
-                }
-            })?;
-            let inner = match opts.edges {
-                EdgeMode::Always => true,
-                EdgeMode::Never => false,
-                EdgeMode::Auto => size_px >= 12.0 * fig.k,
-            };
-            draw_edges(
-                area,
-                &v,
-                map.points,
-                map.triangles,
-                inner,
-                false,
-                BLACK.mix(0.3),
-                &st,
-            )
-        })?;
-        draw_mesh_axes(area, &v, &xt, &yt, true, true, &st)?;
-        // Axis labels and title.
+        layout.ok_or_else(|| Fail::Draw("layout failed".into()))
+    }
+}
+
+/// The colour map's cells in its plot `v`, coloured over `vr`, with their edges.
+fn draw_cells(
+    area: &Area,
+    v: &MeshView,
+    map: &MeshColorMap,
+    vr: (f64, f64),
+    opts: &MeshOptions,
+    fig: &Fig,
+    st: &Sty,
+) -> Res<()> {
+    let size_px = fill_triangles(area, v, map.points, map.triangles, |i| {
+        let val = map.cell_values[i];
+        if val.is_finite() {
+            viridis((val - vr.0) / (vr.1 - vr.0))
+        } else {
+            NO_DATA
+        }
+    })?;
+    let inner = match opts.edges {
+        EdgeMode::Always => true,
+        EdgeMode::Never => false,
+        EdgeMode::Auto => size_px >= 12.0 * fig.k,
+    };
+    draw_edges(
+        area,
+        v,
+        map.points,
+        map.triangles,
+        inner,
+        false,
+        BLACK.mix(0.3),
+        st,
+    )
+}
+
+/// The colour map's axis labels `xl` and `yl` beside its plot, and its title lines (of
+/// size `ft`) at the top of the canvas.
+fn draw_map_labels(
+    area: &Area,
+    lay: &MapLayout,
+    (xl, yl): (&str, &str),
+    (title, ft): (&[String], f64),
+    fig: &Fig,
+    st: &Sty,
+) -> Res<()> {
+    let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+    let r = lay.r;
+    draw_text(
+        area,
+        xl,
+        (r.cx(), r.y1 + tick + 0.6 * pad + CAP * fs + pad),
+        fl,
+        HA::Center,
+        VA::Top,
+        false,
+        TEXT,
+    )?;
+    let ylx = r.x0 - tick - 0.6 * pad - lay.yt.max_label_w(fs) - 0.8 * pad - (CAP + DESC) * fl;
+    draw_text(area, yl, (ylx, r.cy()), fl, HA::Center, VA::Top, true, TEXT)?;
+    for (i, l) in title.iter().enumerate() {
         draw_text(
             area,
-            &xl,
-            (r.cx(), r.y1 + tick + 0.6 * pad + CAP * fs + pad),
-            fl,
+            l,
+            (0.5 * fig.w, pad + i as f64 * 1.15 * (CAP + DESC) * ft),
+            ft,
             HA::Center,
             VA::Top,
             false,
             TEXT,
         )?;
-        let ylx = r.x0 - tick - 0.6 * pad - yt.max_label_w(fs) - 0.8 * pad - (CAP + DESC) * fl;
-        draw_text(
-            area,
-            &yl,
-            (ylx, r.cy()),
-            fl,
-            HA::Center,
-            VA::Top,
-            true,
-            TEXT,
-        )?;
-        for (i, l) in title.iter().enumerate() {
-            draw_text(
-                area,
-                l,
-                (0.5 * fig.w, pad + i as f64 * 1.15 * (CAP + DESC) * ft),
-                ft,
-                HA::Center,
-                VA::Top,
-                false,
-                TEXT,
-            )?;
-        }
-        if !map.note.is_empty() {
-            draw_note(area, &note, nf, fig, &st)?;
-        }
-        let finite = || map.cell_values.iter().filter(|v| v.is_finite());
-        let extend = (
-            finite().any(|&v| v < vr.0 - 1e-9 * vr.0.abs()),
-            finite().any(|&v| v > vr.1 + 1e-9 * vr.1.abs()),
-        );
-        draw_colorbar(area, cb, vr, &ct, &map.colorbar_label, extend, &st)
-    })
+    }
+    Ok(())
 }
 
 /// The lines of a figure's note, centred at the bottom of the canvas.

@@ -214,31 +214,9 @@ impl WheelOnTrack {
         start: f64,
         profile: Option<Profile>,
     ) -> Result<Self, RollingError> {
-        let ws = &wheel.spec;
-        if wheel.twin.is_some() || wheel.zone.is_some() || !ws.rotating_frame {
-            return Err(RollingError::Unsupported(
-                "the wheel on a track is a coupled wheel in its rotating frame without a moving zone".into(),
-            ));
-        }
-        if !matches!(ws.support, crate::bodies::wheel::Support::Hub { .. }) {
-            return Err(RollingError::Unsupported(
-                "the wheel on a track needs a hub (wheel.support = hub): its nodes are tied to the axle".into(),
-            ));
-        }
-        let r_s = wheel.spinning_radius();
+        let (r_s, omega) = check_wheel(&wheel, &vehicle)?;
         let v = vehicle.speed;
-        // The wheel's frame terms were built for its own omega: it must turn at
-        // V (1 + xi) / R_s.
-        let omega = ws.omega;
-        let xi = vehicle.creepage;
-        let rim_speed = v * (1.0 + xi);
-        let mismatch = (omega * r_s - rim_speed).abs();
-        if !xi.is_finite() || mismatch.is_nan() || mismatch > 1e-9 * v.abs().max(1.0) {
-            return Err(RollingError::Unsupported(format!(
-                "the wheel turns at {omega} rad/s but rolls at {v} m/s with creepage {xi} on a radius of {r_s} m: build it with omega = V (1 + xi) / R_s"
-            )));
-        }
-        let (rail, xs, phi) = track.rail()?;
+        let (mut rail, xs, phi) = track.rail()?;
         let length = track.length();
         if !(start.is_finite() && start >= 0.0 && start <= length) {
             return Err(TrackError::OffRail { x: start, length }.into());
@@ -247,40 +225,15 @@ impl WheelOnTrack {
             origin: [-start, -r_s, 0.0],
             velocity: [-v, 0.0, 0.0],
         };
-        let wheel_motion = Motion::Rotating {
-            centre: [0.0; 3],
-            omega: -omega,
-            angle0: 0.0,
-        };
-        let mut wb = crate::bodies::block::wheel_body(&wheel);
-        // The hub is freed and tied to the axle; the spinning equilibrium's load is kept on
-        // every dof (its hub reactions balance: the ties start unstretched).
-        let hub_dofs = std::mem::take(&mut wb.fixed_dofs);
-        wb.load = vec![0.0; wb.load.len()];
-        spmv_add(
-            wheel.model.pattern(),
-            &wheel.model.k,
-            1.0,
-            &wheel.u_spin,
-            &mut wb.load,
-        );
-        let mut rail = rail;
+        let (wb, hub_dofs) = freed_wheel_body(&wheel);
         rail.motion = rail_motion;
         let bodies = vec![wb, rail];
         let first = first_dofs(&bodies);
         let (n_wheel, n_bodies) = (first[1], first[2]);
         let sleepers = track.bays + 1;
-        let (mut discrete, pads) = track.supports(n_wheel, n_bodies)?;
+        let (discrete, pads) = track.supports(n_wheel, n_bodies)?;
         let axle = [n_bodies + sleepers, n_bodies + sleepers + 1];
-        let mass_of = |dir: usize| -> f64 {
-            let ones: Vec<f64> = (0..n_wheel)
-                .map(|d| f64::from(u8::from(d % 2 == dir)))
-                .collect();
-            let mut out = vec![0.0; n_wheel];
-            spmv_add(wheel.model.pattern(), &wheel.model.m, 1.0, &ones, &mut out);
-            out.iter().sum()
-        };
-        let wheel_mass = mass_of(1);
+        let wheel_mass = wheel_mass(&wheel, n_wheel);
         let axle_mass = vehicle.unsprung_mass - wheel_mass;
         if axle_mass.is_nan() || axle_mass <= 0.0 {
             return Err(RollingError::Mass {
@@ -288,85 +241,28 @@ impl WheelOnTrack {
                 wheel: wheel_mass,
             });
         }
-        let tie_stiffness = 100.0 * ws.material.young * ws.thickness;
-        let spring = |link, stiffness, damping| SpringDamper {
-            link,
-            kind: SpringKind::Translational,
-            stiffness,
-            damping,
+        let tie_stiffness = 100.0 * wheel.spec.material.young * wheel.spec.thickness;
+        let axle_of = AxleOf {
+            dofs: axle,
+            mass: axle_mass,
+            tie_stiffness,
+            vehicle: &vehicle,
         };
-        let joint = |e: crate::element::discrete::DiscreteError| RollingError::Track(e.into());
-        for &d in &hub_dofs {
-            discrete
-                .add_spring(spring(Link::Between(d, axle[d % 2]), tie_stiffness, 0.0))
-                .map_err(joint)?;
-        }
-        for &a in &axle {
-            discrete
-                .add_mass(PointMass {
-                    dof: a,
-                    mass: axle_mass,
-                })
-                .map_err(joint)?;
-            discrete
-                .add_spring(spring(
-                    Link::Ground(a),
-                    vehicle.suspension_stiffness,
-                    vehicle.suspension_damping,
-                ))
-                .map_err(joint)?;
-        }
-        // The pattern's (ax, ay) entries for the frame's terms (values added below).
-        discrete
-            .add_spring(spring(Link::Between(axle[0], axle[1]), 0.0, 0.0))
-            .map_err(joint)?;
         let joints = Joints {
             dofs: sleepers + 2,
-            discrete,
+            discrete: axle_of.joints(discrete, &hub_dofs)?,
         };
         let mut joined = assemble_with(&bodies, &joints)?;
-        // The axle's frame terms and the suspension damper's (module docs).
-        let om = -omega;
-        let slot = |i, j| {
-            joined
-                .model
-                .assembler
-                .slot(i, j)
-                .ok_or_else(|| RollingError::Unsupported("the axle's pattern".into()))
-        };
-        let (sxy, syx) = (slot(axle[0], axle[1])?, slot(axle[1], axle[0])?);
-        let (sxx, syy) = (slot(axle[0], axle[0])?, slot(axle[1], axle[1])?);
-        let m = &mut joined.model;
-        m.c[sxy] -= 2.0 * om * axle_mass;
-        m.c[syx] += 2.0 * om * axle_mass;
-        m.k[sxx] -= om * om * axle_mass;
-        m.k[syy] -= om * om * axle_mass;
-        m.k[sxy] -= vehicle.suspension_damping * om;
-        m.k[syx] += vehicle.suspension_damping * om;
-        // The search on the rail's top: segment k is element ne - 1 - k, right to left.
-        let ne = xs.len() - 1;
-        let segments: Vec<[usize; 2]> = (0..ne).map(|k| [ne - k, ne - 1 - k]).collect();
-        let seg_phi = (0..ne).map(|k| phi[ne - 1 - k]).collect();
-        let points: Vec<f64> = xs.iter().flat_map(|&x| [x, 0.0]).collect();
-        let le = length / ne as f64;
-        let mut search = Search::new(
-            2,
-            Placed {
-                motion: rail_motion,
-                first_dof: n_wheel,
-            },
-            points,
-            segments,
-            le.min(0.02),
-        )?
-        .on_beams(seg_phi)?;
-        if let Some(p) = profile {
-            search = search.with_profile(p)?;
-        }
+        axle_of.add_frame_terms(&mut joined, omega)?;
+        let search = rail_search(&xs, &phi, length, rail_motion, n_wheel, profile)?;
         let interface = Interface::new(
             search,
             Placed {
-                motion: wheel_motion,
+                motion: Motion::Rotating {
+                    centre: [0.0; 3],
+                    omega: -omega,
+                    angle0: 0.0,
+                },
                 first_dof: 0,
             },
             wheel.rim.clone(),
@@ -551,4 +447,173 @@ pub fn ramp(t: f64, settle: f64) -> f64 {
     } else {
         0.5 * (1.0 - (std::f64::consts::PI * t / settle).cos())
     }
+}
+
+/// Checks that `wheel` can roll on a track with `vehicle`: a coupled wheel in its rotating
+/// frame without a moving zone, held by a hub, turning at `V (1 + xi) / R_s` (its frame
+/// terms were built for its own omega); its spun radius `R_s` and omega.
+fn check_wheel(wheel: &WheelModel, vehicle: &Vehicle) -> Result<(f64, f64), RollingError> {
+    let ws = &wheel.spec;
+    if wheel.twin.is_some() || wheel.zone.is_some() || !ws.rotating_frame {
+        return Err(RollingError::Unsupported(
+            "the wheel on a track is a coupled wheel in its rotating frame without a moving zone"
+                .into(),
+        ));
+    }
+    if !matches!(ws.support, crate::bodies::wheel::Support::Hub { .. }) {
+        return Err(RollingError::Unsupported(
+            "the wheel on a track needs a hub (wheel.support = hub): its nodes are tied to the axle".into(),
+        ));
+    }
+    let r_s = wheel.spinning_radius();
+    let v = vehicle.speed;
+    let omega = ws.omega;
+    let xi = vehicle.creepage;
+    let rim_speed = v * (1.0 + xi);
+    let mismatch = (omega * r_s - rim_speed).abs();
+    if !xi.is_finite() || mismatch.is_nan() || mismatch > 1e-9 * v.abs().max(1.0) {
+        return Err(RollingError::Unsupported(format!(
+            "the wheel turns at {omega} rad/s but rolls at {v} m/s with creepage {xi} on a radius of {r_s} m: build it with omega = V (1 + xi) / R_s"
+        )));
+    }
+    Ok((r_s, omega))
+}
+
+/// The wheel's body with its hub freed (the hub's dofs returned, to be tied to the axle);
+/// the spinning equilibrium's load kept on every dof (its hub reactions balance: the ties
+/// start unstretched).
+fn freed_wheel_body(wheel: &WheelModel) -> (Body, Vec<usize>) {
+    let mut wb = crate::bodies::block::wheel_body(wheel);
+    let hub_dofs = std::mem::take(&mut wb.fixed_dofs);
+    wb.load = vec![0.0; wb.load.len()];
+    spmv_add(
+        wheel.model.pattern(),
+        &wheel.model.k,
+        1.0,
+        &wheel.u_spin,
+        &mut wb.load,
+    );
+    (wb, hub_dofs)
+}
+
+/// The wheel's mass: the sum of its mass matrix's products with a unit motion along y.
+fn wheel_mass(wheel: &WheelModel, n_wheel: usize) -> f64 {
+    let dir = 1;
+    let ones: Vec<f64> = (0..n_wheel)
+        .map(|d| f64::from(u8::from(d % 2 == dir)))
+        .collect();
+    let mut out = vec![0.0; n_wheel];
+    spmv_add(wheel.model.pattern(), &wheel.model.m, 1.0, &ones, &mut out);
+    out.iter().sum()
+}
+
+/// The axle: its two dofs (x, y in the wheel's frame), its point mass, the ties to the
+/// wheel's hub and the vehicle's suspension.
+struct AxleOf<'a> {
+    dofs: [usize; 2],
+    mass: f64,
+    tie_stiffness: f64,
+    vehicle: &'a Vehicle,
+}
+
+impl AxleOf<'_> {
+    /// The track's supports `discrete` with the axle added: the hub's dofs tied to it, its
+    /// mass on each dof, the suspension to the ground, and the pattern's `(ax, ay)` entries
+    /// for the frame's terms (their values added by [`AxleOf::add_frame_terms`]).
+    fn joints(
+        &self,
+        mut discrete: crate::element::discrete::Discrete,
+        hub_dofs: &[usize],
+    ) -> Result<crate::element::discrete::Discrete, RollingError> {
+        let (axle, vehicle) = (self.dofs, self.vehicle);
+        let spring = |link, stiffness, damping| SpringDamper {
+            link,
+            kind: SpringKind::Translational,
+            stiffness,
+            damping,
+        };
+        let joint = |e: crate::element::discrete::DiscreteError| RollingError::Track(e.into());
+        for &d in hub_dofs {
+            discrete
+                .add_spring(spring(
+                    Link::Between(d, axle[d % 2]),
+                    self.tie_stiffness,
+                    0.0,
+                ))
+                .map_err(joint)?;
+        }
+        for &a in &axle {
+            discrete
+                .add_mass(PointMass {
+                    dof: a,
+                    mass: self.mass,
+                })
+                .map_err(joint)?;
+            discrete
+                .add_spring(spring(
+                    Link::Ground(a),
+                    vehicle.suspension_stiffness,
+                    vehicle.suspension_damping,
+                ))
+                .map_err(joint)?;
+        }
+        discrete
+            .add_spring(spring(Link::Between(axle[0], axle[1]), 0.0, 0.0))
+            .map_err(joint)?;
+        Ok(discrete)
+    }
+
+    /// The axle's frame terms for the wheel's `omega` and the suspension damper's (module
+    /// docs), added to the joined model.
+    fn add_frame_terms(&self, joined: &mut Assembled, omega: f64) -> Result<(), RollingError> {
+        let (axle, axle_mass, vehicle) = (self.dofs, self.mass, self.vehicle);
+        let om = -omega;
+        let slot = |i, j| {
+            joined
+                .model
+                .assembler
+                .slot(i, j)
+                .ok_or_else(|| RollingError::Unsupported("the axle's pattern".into()))
+        };
+        let (sxy, syx) = (slot(axle[0], axle[1])?, slot(axle[1], axle[0])?);
+        let (sxx, syy) = (slot(axle[0], axle[0])?, slot(axle[1], axle[1])?);
+        let m = &mut joined.model;
+        m.c[sxy] -= 2.0 * om * axle_mass;
+        m.c[syx] += 2.0 * om * axle_mass;
+        m.k[sxx] -= om * om * axle_mass;
+        m.k[syy] -= om * om * axle_mass;
+        m.k[sxy] -= vehicle.suspension_damping * om;
+        m.k[syx] += vehicle.suspension_damping * om;
+        Ok(())
+    }
+}
+
+/// The search on the rail's top (nodes at `xs`, elements' `phi`, moving by `motion`, its
+/// dofs from `first_dof` on), carrying `profile`: segment k is element ne - 1 - k, right
+/// to left.
+fn rail_search(
+    xs: &[f64],
+    phi: &[f64],
+    length: f64,
+    motion: Motion,
+    first_dof: usize,
+    profile: Option<Profile>,
+) -> Result<Search, RollingError> {
+    let ne = xs.len() - 1;
+    let segments: Vec<[usize; 2]> = (0..ne).map(|k| [ne - k, ne - 1 - k]).collect();
+    let seg_phi = (0..ne).map(|k| phi[ne - 1 - k]).collect();
+    let points: Vec<f64> = xs.iter().flat_map(|&x| [x, 0.0]).collect();
+    let le = length / ne as f64;
+    let mut search = Search::new(
+        2,
+        Placed { motion, first_dof },
+        points,
+        segments,
+        le.min(0.02),
+    )?
+    .on_beams(seg_phi)?;
+    if let Some(p) = profile {
+        search = search.with_profile(p)?;
+    }
+    Ok(search)
 }

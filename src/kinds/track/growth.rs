@@ -464,125 +464,19 @@ impl PassRunner for TrackPass {
         let gap = self.gap_profile(&profile.z)?;
         let (wot, mut sim, steps) =
             crate::kinds::track::rolling::passage(&self.sc, run, &self.ts, &self.opts, Some(gap))?;
-        let h = run.params.h;
-        let v = self.ts.vehicle.speed;
-        let thickness = self.ts.vehicle.wheel.thickness;
-        let e_star = self.contact_modulus();
-        let pitch = 2.0 * std::f64::consts::PI * wot.rim_radius / wot.wheel.rim.len() as f64;
-        let reference = wot.wheel.mesh.reference_positions();
-        let slave = wot.interface.slave();
-        let rim: Vec<usize> = wot.interface.nodes().to_vec();
-        let (x0, dx, n) = (self.x0, self.dx, self.n);
-        let (law, sliding, patch) = (self.law, self.sliding, self.patch);
-        let slip = sliding.creepage * v;
-        // The depth rate at pressure `p` (the law reads `p` as a force over an area).
-        let rate = |p: f64| {
-            law.depth_rate(
-                &ContactSample {
-                    normal_force: p,
-                    tangential_force: sliding.traction_coefficient * p,
-                    slip_speed: slip,
-                    area: 1.0,
-                    rolling_speed: v,
-                },
-                sliding.density,
-            )
-        };
-        let mut depth = vec![0.0; n];
-        let mut volume = 0.0;
-        let mut lost = 0.0;
-        let (mut f_sum, mut f2_sum, mut f_max, mut f_min, mut count) =
-            (0.0, 0.0, f64::NEG_INFINITY, f64::INFINITY, 0usize);
-        // The contact's compression: the rail's deflection under the axle less the axle's.
-        let mut squeeze = 0.0;
-        let mut bookkeeping = std::time::Duration::ZERO;
         let mut trace = std::mem::take(&mut self.force);
         trace.clear();
         trace.reserve(steps + 1);
-        // The patch's centre and force at the previous step.
-        let mut last: Option<(f64, f64)> = None;
+        let mut wearing = Wearing::new(self, &wot, run.params.h, trace);
         let clock = Instant::now();
-        let stats = sim
-            .run(interrupt, |s| {
-                let st = s.state;
-                let (t, u) = (st.t, &st.state.u);
-                let under = wot.under_axle(t);
-                let f = s.contact_force;
-                let centre = under + wot.axle_ground(t, u)[0];
-                let before = last.replace((centre, f));
-                if under < x0 {
-                    return Ok(());
-                }
-                trace.push((centre, f));
-                squeeze += wot
-                    .rail_deflection(under, u)
-                    .map_err(|e| std::io::Error::other(e.to_string()))?
-                    - wot.axle_ground(t, u)[1];
-                f_sum += f;
-                f2_sum += f * f;
-                f_max = f_max.max(f);
-                f_min = f_min.min(f);
-                count += 1;
-                let clock = Instant::now();
-                match patch {
-                    WearPatch::Hertz => {
-                        let Some((c0, f0)) = before else {
-                            return Ok(());
-                        };
-                        let travel = centre - c0;
-                        if travel.abs() <= 0.0 {
-                            return Ok(());
-                        }
-                        let lp = LinePatch::new(0.5 * (f0 + f), thickness, wot.rim_radius, e_star);
-                        let (lo, hi) = (c0.min(centre) - lp.a, c0.max(centre) + lp.a);
-                        let j0 = ((lo - x0) / dx).ceil().max(0.0) as usize;
-                        let j1 = ((hi - x0) / dx).floor();
-                        if j1 < 0.0 {
-                            return Ok(());
-                        }
-                        let j1 = (j1 as usize).min(n - 1);
-                        for (j, d) in depth.iter_mut().enumerate().take(j1 + 1).skip(j0) {
-                            let xj = x0 + j as f64 * dx;
-                            // The load per width that passed over x_j in the step, over
-                            // the step's travel: the step's mean pressure there.
-                            let (s0, s1) = (xj - centre, xj - c0);
-                            let passed =
-                                (lp.cumulative(s0.max(s1)) - lp.cumulative(s0.min(s1))).abs();
-                            let p_mean = passed / travel.abs();
-                            let dz = rate(p_mean) * h;
-                            *d += dz;
-                            volume += dz * dx * thickness;
-                        }
-                    }
-                    WearPatch::Nodes => {
-                        for (slot, ps) in st.pairs.iter().enumerate() {
-                            if ps.force <= 0.0 {
-                                continue;
-                            }
-                            let node = rim[slot];
-                            let local = [
-                                reference[2 * node] + u[2 * node],
-                                reference[2 * node + 1] + u[2 * node + 1],
-                                0.0,
-                            ];
-                            let x = under + slave.motion.place(t, local)[0];
-                            let area = pitch * thickness;
-                            let vol = rate(ps.force / area) * area * h;
-                            volume += vol;
-                            if !lay_hat(&mut depth, (x0, dx), x, pitch, vol / thickness) {
-                                lost += vol;
-                            }
-                        }
-                    }
-                }
-                bookkeeping += clock.elapsed();
-                Ok(())
-            })
-            .map_err(|source| RunError::Simulation {
-                run: run.label.clone(),
-                source,
-            })?;
+        let stats =
+            sim.run(interrupt, |s| wearing.step(s))
+                .map_err(|source| RunError::Simulation {
+                    run: run.label.clone(),
+                    source,
+                })?;
         let wall = clock.elapsed().as_secs_f64();
+        let w = wearing;
         if stats.interrupted {
             // Stopped within a step (the contract): the study drops this pass whole, as the
             // wheel's; no figures of the smooth rail are kept from it.
@@ -592,14 +486,14 @@ impl PassRunner for TrackPass {
                 scalars: Vec::new(),
             });
         }
-        self.force = trace;
-        let m = count.max(1) as f64;
-        let mean = f_sum / m;
-        let std = (f2_sum / m - mean * mean).max(0.0).sqrt();
-        let k_c = mean / (squeeze / m);
+        self.force = w.trace;
+        let m = w.count.max(1) as f64;
+        let mean = w.f_sum / m;
+        let std = (w.f2_sum / m - mean * mean).max(0.0).sqrt();
+        let k_c = mean / (w.squeeze / m);
         if profile.z.iter().all(|&z| z == 0.0) {
             let inner = self.inner();
-            let d = depth[inner.clone()].iter().sum::<f64>() / inner.len().max(1) as f64;
+            let d = w.depth[inner.clone()].iter().sum::<f64>() / inner.len().max(1) as f64;
             self.flat = Some(FlatPass {
                 force_n: mean,
                 contact_stiffness_n_m: k_c,
@@ -608,20 +502,224 @@ impl PassRunner for TrackPass {
             });
         }
         Ok(PassResult {
-            wear_depth: depth,
-            plastic: vec![0.0; n],
+            plastic: vec![0.0; self.n],
+            wear_depth: w.depth,
             scalars: vec![
                 ("mean_force_n".into(), mean),
                 ("std_force_n".into(), std),
-                ("max_force_n".into(), f_max),
-                ("min_force_n".into(), f_min),
+                ("max_force_n".into(), w.f_max),
+                ("min_force_n".into(), w.f_min),
                 ("contact_stiffness_n_m".into(), k_c),
-                ("worn_volume_m3".into(), volume),
-                ("worn_volume_off_grid_m3".into(), lost),
+                ("worn_volume_m3".into(), w.volume),
+                ("worn_volume_off_grid_m3".into(), w.lost),
                 ("loop_s".into(), wall),
-                ("wear_bookkeeping_s".into(), bookkeeping.as_secs_f64()),
+                ("wear_bookkeeping_s".into(), w.bookkeeping.as_secs_f64()),
             ],
         })
+    }
+}
+
+/// A pass's wear as it rolls: the set-up (the grid, the patch, the wear law's rate, the
+/// rim) and the tallies (the depth per grid sample, the worn volume and what fell off the
+/// grid, the contact force's moments, the contact's compression, the force's trace).
+struct Wearing<'a> {
+    wot: &'a crate::bodies::rail::rolling::WheelOnTrack,
+    h: f64,
+    /// The grid `(x0, dx, n)`.
+    x0: f64,
+    dx: f64,
+    n: usize,
+    patch: WearPatch,
+    rate: WearRate,
+    thickness: f64,
+    e_star: f64,
+    /// The rim's pitch, m.
+    pitch: f64,
+    reference: Vec<f64>,
+    slave: crate::contact::search::Placed,
+    rim: Vec<usize>,
+    depth: Vec<f64>,
+    volume: f64,
+    lost: f64,
+    f_sum: f64,
+    f2_sum: f64,
+    f_max: f64,
+    f_min: f64,
+    count: usize,
+    /// The contact's compression: the rail's deflection under the axle less the axle's.
+    squeeze: f64,
+    bookkeeping: std::time::Duration,
+    trace: Vec<(f64, f64)>,
+    /// The patch's centre and force at the previous step.
+    last: Option<(f64, f64)>,
+}
+
+/// The wear law's depth rate under the rail's sliding at the travel speed `v`.
+#[derive(Clone, Copy)]
+struct WearRate {
+    law: WearLaw,
+    sliding: RailSliding,
+    v: f64,
+}
+
+impl WearRate {
+    /// The depth rate at pressure `p` (the law reads `p` as a force over an area).
+    fn at(&self, p: f64) -> f64 {
+        let (sliding, v) = (self.sliding, self.v);
+        self.law.depth_rate(
+            &ContactSample {
+                normal_force: p,
+                tangential_force: sliding.traction_coefficient * p,
+                slip_speed: sliding.creepage * v,
+                area: 1.0,
+                rolling_speed: v,
+            },
+            sliding.density,
+        )
+    }
+}
+
+impl<'a> Wearing<'a> {
+    fn new(
+        runner: &TrackPass,
+        wot: &'a crate::bodies::rail::rolling::WheelOnTrack,
+        h: f64,
+        trace: Vec<(f64, f64)>,
+    ) -> Self {
+        Wearing {
+            wot,
+            h,
+            x0: runner.x0,
+            dx: runner.dx,
+            n: runner.n,
+            patch: runner.patch,
+            rate: WearRate {
+                law: runner.law,
+                sliding: runner.sliding,
+                v: runner.ts.vehicle.speed,
+            },
+            thickness: runner.ts.vehicle.wheel.thickness,
+            e_star: runner.contact_modulus(),
+            pitch: 2.0 * std::f64::consts::PI * wot.rim_radius / wot.wheel.rim.len() as f64,
+            reference: wot.wheel.mesh.reference_positions(),
+            slave: wot.interface.slave(),
+            rim: wot.interface.nodes().to_vec(),
+            depth: vec![0.0; runner.n],
+            volume: 0.0,
+            lost: 0.0,
+            f_sum: 0.0,
+            f2_sum: 0.0,
+            f_max: f64::NEG_INFINITY,
+            f_min: f64::INFINITY,
+            count: 0,
+            squeeze: 0.0,
+            bookkeeping: std::time::Duration::ZERO,
+            trace,
+            last: None,
+        }
+    }
+
+    /// One step: from the grid's start on, the force's trace and moments, the compression,
+    /// and the wear the step lays.
+    fn step(&mut self, s: &crate::simulation::StepView) -> Result<(), std::io::Error> {
+        let wot = self.wot;
+        let st = s.state;
+        let (t, u) = (st.t, &st.state.u);
+        let under = wot.under_axle(t);
+        let f = s.contact_force;
+        let centre = under + wot.axle_ground(t, u)[0];
+        let before = self.last.replace((centre, f));
+        if under < self.x0 {
+            return Ok(());
+        }
+        self.trace.push((centre, f));
+        self.squeeze += wot
+            .rail_deflection(under, u)
+            .map_err(|e| std::io::Error::other(e.to_string()))?
+            - wot.axle_ground(t, u)[1];
+        self.f_sum += f;
+        self.f2_sum += f * f;
+        self.f_max = self.f_max.max(f);
+        self.f_min = self.f_min.min(f);
+        self.count += 1;
+        let clock = Instant::now();
+        match self.patch {
+            WearPatch::Hertz => {
+                let Some(before) = before else {
+                    return Ok(());
+                };
+                if !self.hertz(before, (centre, f)) {
+                    return Ok(());
+                }
+            }
+            WearPatch::Nodes => self.nodes(s, under),
+        }
+        self.bookkeeping += clock.elapsed();
+        Ok(())
+    }
+
+    /// Hertz's patch moved from `(c0, f0)` to `(centre, f)` (its centre and force): the
+    /// step's mean pressure at each grid sample it passed, worn for the step. False when
+    /// it did not move or passed no sample.
+    fn hertz(&mut self, (c0, f0): (f64, f64), (centre, f): (f64, f64)) -> bool {
+        let (x0, dx, n, h, thickness) = (self.x0, self.dx, self.n, self.h, self.thickness);
+        let travel = centre - c0;
+        if travel.abs() <= 0.0 {
+            return false;
+        }
+        let lp = LinePatch::new(0.5 * (f0 + f), thickness, self.wot.rim_radius, self.e_star);
+        let (lo, hi) = (c0.min(centre) - lp.a, c0.max(centre) + lp.a);
+        let j0 = ((lo - x0) / dx).ceil().max(0.0) as usize;
+        let j1 = ((hi - x0) / dx).floor();
+        if j1 < 0.0 {
+            return false;
+        }
+        let j1 = (j1 as usize).min(n - 1);
+        let rate = self.rate;
+        for (j, d) in self.depth.iter_mut().enumerate().take(j1 + 1).skip(j0) {
+            let xj = x0 + j as f64 * dx;
+            // The load per width that passed over x_j in the step, over the step's travel:
+            // the step's mean pressure there.
+            let (s0, s1) = (xj - centre, xj - c0);
+            let passed = (lp.cumulative(s0.max(s1)) - lp.cumulative(s0.min(s1))).abs();
+            let p_mean = passed / travel.abs();
+            let dz = rate.at(p_mean) * h;
+            *d += dz;
+            self.volume += dz * dx * thickness;
+        }
+        true
+    }
+
+    /// The rim nodes in contact, each wearing the rail over its pitch as a hat centred
+    /// where it is on the rail (`under`: the rail's abscissa under the axle).
+    fn nodes(&mut self, s: &crate::simulation::StepView, under: f64) {
+        let st = s.state;
+        let (t, u) = (st.t, &st.state.u);
+        let (pitch, thickness) = (self.pitch, self.thickness);
+        for (slot, ps) in st.pairs.iter().enumerate() {
+            if ps.force <= 0.0 {
+                continue;
+            }
+            let node = self.rim[slot];
+            let local = [
+                self.reference[2 * node] + u[2 * node],
+                self.reference[2 * node + 1] + u[2 * node + 1],
+                0.0,
+            ];
+            let x = under + self.slave.motion.place(t, local)[0];
+            let area = pitch * thickness;
+            let vol = self.rate.at(ps.force / area) * area * self.h;
+            self.volume += vol;
+            if !lay_hat(
+                &mut self.depth,
+                (self.x0, self.dx),
+                x,
+                pitch,
+                vol / thickness,
+            ) {
+                self.lost += vol;
+            }
+        }
     }
 }
 

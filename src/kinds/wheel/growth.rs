@@ -302,6 +302,53 @@ impl WheelPassRunner {
     ) -> Result<PassResult, RunError> {
         let build_start = Instant::now();
         let wm = self.model(profile)?;
+        let body = self
+            .plastic
+            .as_ref()
+            .map(|c| crate::kinds::wheel::run::plastic_body(&wm, &self.ws, c.pl));
+        let (mut sim, steps) = self.simulation(&wm, body.as_ref())?;
+        let build_s = build_start.elapsed().as_secs_f64();
+        let tally = self.roll(&mut sim, &wm, steps, interrupt)?;
+        let stats = tally.stats;
+        let (plastic, plastic_scalars) = match (self.plastic.as_mut(), &body) {
+            (Some(c), Some(body)) if !stats.interrupted => {
+                let linalg = |e: crate::linalg::LinalgError| RunError::input(&self.path, e);
+                let end = sim
+                    .nonlinear()
+                    .map(|nl| nl.state(1).to_vec())
+                    .unwrap_or_default();
+                plastic_change(c, body, &wm, end, &stats, commit).map_err(linalg)?
+            }
+            _ => (vec![0.0; wm.rim.len()], Vec::new()),
+        };
+        let m = tally.samples.max(1) as f64;
+        let mut scalars: Vec<(String, f64)> = vec![
+            ("mean_force_n".into(), tally.f_sum / m),
+            ("max_force_n".into(), tally.f_max),
+            ("min_force_n".into(), tally.f_min),
+            ("mean_tangential_force_n".into(), -tally.q_sum / m),
+            ("steps".into(), stats.steps as f64),
+            ("brakings".into(), stats.brakings as f64),
+            ("build_s".into(), build_s),
+            ("loop_s".into(), tally.loop_s),
+            ("wear_bookkeeping_s".into(), tally.bookkeeping.as_secs_f64()),
+        ];
+        scalars.extend(plastic_scalars);
+        Ok(PassResult {
+            wear_depth: tally.wear,
+            plastic,
+            scalars,
+        })
+    }
+
+    /// The pass's simulation of the wheel `wm` on its base at the study's radius, a
+    /// plastic wheel (`body`) starting in equilibrium with its carried state (module
+    /// docs); its steps.
+    fn simulation(
+        &self,
+        wm: &WheelModel,
+        body: Option<&crate::plasticity::PlasticBody>,
+    ) -> Result<(Simulation, usize), RunError> {
         let h = self.run.params.h;
         let steps = (self.ws.duration() / h).round() as usize;
         let mut problem = wm.problem(
@@ -321,11 +368,7 @@ impl WheelPassRunner {
             source,
         };
         let linalg = |e: crate::linalg::LinalgError| RunError::input(&self.path, e);
-        let body = self
-            .plastic
-            .as_ref()
-            .map(|c| crate::kinds::wheel::run::plastic_body(&wm, &self.ws, c.pl));
-        if let (Some(c), Some(body)) = (&self.plastic, &body) {
+        if let (Some(c), Some(body)) = (&self.plastic, body) {
             // Start in equilibrium with the carried state (module docs).
             let up = crate::plasticity::residual_displacement(
                 body,
@@ -337,7 +380,7 @@ impl WheelPassRunner {
         }
         let mut sim = Simulation::new(problem).map_err(sim_error)?;
         sim.set_par(self.par);
-        if let (Some(c), Some(body)) = (&self.plastic, &body) {
+        if let (Some(c), Some(body)) = (&self.plastic, body) {
             sim.set_internal_force(
                 Box::new(body.clone()),
                 c.pl.tolerance,
@@ -346,7 +389,19 @@ impl WheelPassRunner {
             .map_err(sim_error)?;
             sim.set_internal_state(&c.state).map_err(sim_error)?;
         }
-        let build_s = build_start.elapsed().as_secs_f64();
+        Ok((sim, steps))
+    }
+
+    /// Rolls the pass's `steps`, the wear depth of each rim node of `wm` and the forces
+    /// summed over the last full turn.
+    fn roll(
+        &self,
+        sim: &mut Simulation,
+        wm: &WheelModel,
+        steps: usize,
+        interrupt: &AtomicBool,
+    ) -> Result<Tally, RunError> {
+        let h = self.run.params.h;
         let n = wm.rim.len();
         let area = self.dx * self.ws.spec.thickness;
         let speed = self.speed();
@@ -391,85 +446,105 @@ impl WheelPassRunner {
                 samples += 1;
                 Ok(())
             })
-            .map_err(sim_error)?;
-        let loop_s = loop_start.elapsed().as_secs_f64();
-        let m = samples.max(1) as f64;
-        let mut plastic = vec![0.0; n];
-        let mut plastic_scalars = Vec::new();
-        if let (Some(c), Some(body)) = (self.plastic.as_mut(), &body) {
-            let end = sim
-                .nonlinear()
-                .map(|nl| nl.state(1).to_vec())
-                .unwrap_or_default();
-            if !stats.interrupted && end.len() == c.state.len() {
-                let reference = wm.mesh.reference_positions();
-                let stiffness = (wm.model.pattern(), &wm.k_elastic[..], &wm.fixed_dofs[..]);
-                let before = crate::plasticity::permanent_radial_displacement(
-                    body, &c.state, stiffness, &reference, &wm.rim,
-                )
-                .map_err(linalg)?;
-                let after = crate::plasticity::permanent_radial_displacement(
-                    body, &end, stiffness, &reference, &wm.rim,
-                )
-                .map_err(linalg)?;
-                for (d, (a, b)) in plastic.iter_mut().zip(after.iter().zip(&before)) {
-                    *d = a.1 - b.1;
-                }
-                let mean = crate::growth::spectrum::mean(&plastic);
-                plastic.iter_mut().for_each(|d| *d -= mean);
-                let mut eq = vec![0.0; wm.triangles.len()];
-                body.equivalent_plastic_strain_into(&end, &mut eq);
-                let mut eq0 = vec![0.0; wm.triangles.len()];
-                body.equivalent_plastic_strain_into(&c.state, &mut eq0);
-                let flow = eq.iter().zip(&eq0).fold(0.0, |m: f64, (a, b)| m.max(a - b));
-                plastic_scalars = vec![
-                    ("plastic_strain_increment_max".into(), flow),
-                    (
-                        "plastic_increment_rms_m".into(),
-                        crate::growth::spectrum::rms(&plastic),
-                    ),
-                    ("plastic_mean_m".into(), mean),
-                    (
-                        "max_equivalent_plastic_strain".into(),
-                        eq.iter().fold(0.0, |a: f64, &b| a.max(b)),
-                    ),
-                    (
-                        "plastic_iterations_per_step".into(),
-                        stats.plastic_iterations as f64 / stats.steps.max(1) as f64,
-                    ),
-                    (
-                        "plastic_unconverged".into(),
-                        stats.plastic_unconverged as f64,
-                    ),
-                ];
-                if commit {
-                    c.state = end;
-                    c.profile
-                        .iter_mut()
-                        .zip(&plastic)
-                        .for_each(|(p, d)| *p += d);
-                } else {
-                    // The reference pass leaves the profile and the state as they were.
-                    plastic.fill(0.0);
-                }
-            }
-        }
-        let mut scalars: Vec<(String, f64)> = vec![
-            ("mean_force_n".into(), f_sum / m),
-            ("max_force_n".into(), f_max),
-            ("min_force_n".into(), f_min),
-            ("mean_tangential_force_n".into(), -q_sum / m),
-            ("steps".into(), stats.steps as f64),
-            ("brakings".into(), stats.brakings as f64),
-            ("build_s".into(), build_s),
-            ("loop_s".into(), loop_s),
-            ("wear_bookkeeping_s".into(), bookkeeping.as_secs_f64()),
-        ];
-        scalars.extend(plastic_scalars);
-        Ok(PassResult {
-            wear_depth: wear,
-            plastic,
-            scalars,
+            .map_err(|source| RunError::Simulation {
+                run: self.run.label.clone(),
+                source,
+            })?;
+        Ok(Tally {
+            wear,
+            f_sum,
+            f_max,
+            f_min,
+            q_sum,
+            samples,
+            bookkeeping,
+            loop_s: loop_start.elapsed().as_secs_f64(),
+            stats,
         })
     }
+}
+
+/// What a pass's rolling gave: the wear depth per rim node, the contact and tangential
+/// forces over the last full turn (sum, extremes, samples), the time spent on the wear's
+/// bookkeeping and in the loop, the run's counters.
+struct Tally {
+    wear: Vec<f64>,
+    f_sum: f64,
+    f_max: f64,
+    f_min: f64,
+    q_sum: f64,
+    samples: usize,
+    bookkeeping: std::time::Duration,
+    loop_s: f64,
+    stats: crate::simulation::RunStats,
+}
+
+/// A pass's named figures.
+type Scalars = Vec<(String, f64)>;
+
+/// A plastic wheel's pass from the carried state `c` to `end` (ignored unless it is a
+/// whole state): the change of the permanent radial displacement per rim node (zero-mean)
+/// and the pass's plastic figures; with `commit` the carried state and profile advance,
+/// else (the reference pass) they stay and the change returned is zero.
+fn plastic_change(
+    c: &mut Carried,
+    body: &crate::plasticity::PlasticBody,
+    wm: &WheelModel,
+    end: Vec<f64>,
+    stats: &crate::simulation::RunStats,
+    commit: bool,
+) -> Result<(Vec<f64>, Scalars), crate::linalg::LinalgError> {
+    let mut plastic = vec![0.0; wm.rim.len()];
+    if end.len() != c.state.len() {
+        return Ok((plastic, Vec::new()));
+    }
+    let reference = wm.mesh.reference_positions();
+    let stiffness = (wm.model.pattern(), &wm.k_elastic[..], &wm.fixed_dofs[..]);
+    let before = crate::plasticity::permanent_radial_displacement(
+        body, &c.state, stiffness, &reference, &wm.rim,
+    )?;
+    let after = crate::plasticity::permanent_radial_displacement(
+        body, &end, stiffness, &reference, &wm.rim,
+    )?;
+    for (d, (a, b)) in plastic.iter_mut().zip(after.iter().zip(&before)) {
+        *d = a.1 - b.1;
+    }
+    let mean = crate::growth::spectrum::mean(&plastic);
+    plastic.iter_mut().for_each(|d| *d -= mean);
+    let mut eq = vec![0.0; wm.triangles.len()];
+    body.equivalent_plastic_strain_into(&end, &mut eq);
+    let mut eq0 = vec![0.0; wm.triangles.len()];
+    body.equivalent_plastic_strain_into(&c.state, &mut eq0);
+    let flow = eq.iter().zip(&eq0).fold(0.0, |m: f64, (a, b)| m.max(a - b));
+    let scalars = vec![
+        ("plastic_strain_increment_max".into(), flow),
+        (
+            "plastic_increment_rms_m".into(),
+            crate::growth::spectrum::rms(&plastic),
+        ),
+        ("plastic_mean_m".into(), mean),
+        (
+            "max_equivalent_plastic_strain".into(),
+            eq.iter().fold(0.0, |a: f64, &b| a.max(b)),
+        ),
+        (
+            "plastic_iterations_per_step".into(),
+            stats.plastic_iterations as f64 / stats.steps.max(1) as f64,
+        ),
+        (
+            "plastic_unconverged".into(),
+            stats.plastic_unconverged as f64,
+        ),
+    ];
+    if commit {
+        c.state = end;
+        c.profile
+            .iter_mut()
+            .zip(&plastic)
+            .for_each(|(p, d)| *p += d);
+    } else {
+        // The reference pass leaves the profile and the state as they were.
+        plastic.fill(0.0);
+    }
+    Ok((plastic, scalars))
 }

@@ -85,8 +85,10 @@ pub struct RhsOperator {
     /// otherwise).
     g: Vec<f64>,
     pair_g: Vec<[f64; 2]>,
-    /// For orders from `RHS_SPLIT_MIN_ORDER` on, the first pair of the second half of the
-    /// entries: the pairs before it and those from it on are formed on two threads.
+    /// From `RHS_SPLIT_MIN_ORDER` on (and two pairs), the pairs are formed in parts of
+    /// about equal entries side by side, one a thread of the team's
+    /// ([`RhsOperator::pair_parts`]); on two threads at most, in two halves, the second's
+    /// first pair this one (a join, without the parts' lists).
     pair_mid: Option<usize>,
     /// `G` is on the right-hand side (`RhsValues::g` not empty): [`RhsOperator::apply`]
     /// forms `- h G (v0 + c a0)`.
@@ -95,8 +97,9 @@ pub struct RhsOperator {
     n: usize,
 }
 
-/// The order from which the right-hand side's pairs of rows are formed in two halves side
-/// by side (`Team::join`; one thread runs both with `Par::Seq`): the orders
+/// The order from which the right-hand side's pairs of rows are formed in parts side by
+/// side, one a thread of the run's (`Team::for_each`; one thread runs them all with
+/// `Par::Seq`): the orders
 /// whose factor is split for two threads (`linalg::Factor::parts`).
 const RHS_SPLIT_MIN_ORDER: usize = crate::linalg::SPLIT_MIN_ORDER;
 
@@ -266,13 +269,9 @@ impl RhsOperator {
         }
         rows.blk_idx = blk_idx.into();
         if n >= RHS_SPLIT_MIN_ORDER && rows.pair.len() >= 2 {
-            // Entries before pair `k` (a block is two columns).
-            let before = |k: usize| rows.pair_ptr[k] + 2 * rows.blk_ptr[k];
-            let half = before(rows.pair.len()) / 2;
-            let mid = (0..rows.pair.len())
-                .find(|&k| before(k) >= half)
-                .unwrap_or(1);
-            rows.pair_mid = Some(mid.clamp(1, rows.pair.len() - 1));
+            let pairs = rows.pair.len();
+            let half = rows.entries_before(pairs) / 2;
+            rows.pair_mid = Some(rows.first_pair_with(half).clamp(1, pairs - 1));
         }
         rows.bk = vec![[0.0; 2]; rows.idx.len()];
         rows.pair_bk = vec![[0.0; 4]; rows.pair_idx.len()];
@@ -330,8 +329,9 @@ impl RhsOperator {
     /// only then; `c = alpha h`): the space-time step's right-hand side (paper Eqs. 18-19,
     /// module docs of [`crate::time::step`]), formed by the tuned kernels one row, or pair of
     /// rows, at a time, `h f` with the rest on the thread that forms the row; from
-    /// `RHS_SPLIT_MIN_ORDER` on the pairs in two halves side by side, with the same bits on
-    /// one thread. [`rhs_plain_into`] is its reference.
+    /// `RHS_SPLIT_MIN_ORDER` on the pairs in parts side by side, as many as `team` has
+    /// threads to give ([`Team::width`](crate::linalg::team::Team::width)), with the same
+    /// bits on any number of threads (a row is formed whole by one thread). [`rhs_plain_into`] is its reference.
     ///
     /// # Panics
     /// When a vector's length is not the pattern's order.
@@ -357,12 +357,19 @@ impl RhsOperator {
                 r.pairs_into(range, offset, h, [f, u0, v0], b);
             }
         };
+        // Each part's rows start at its first pair's row; a row is formed whole by one
+        // thread, so the parts' count changes no bit.
         match r.pair_mid {
-            Some(mid) => {
-                // The second half's rows start at its first pair's row.
+            Some(mid) if team.width() <= 2 => {
                 let cut = r.pair[mid];
                 let (lo, hi) = b.split_at_mut(cut);
                 team.join(|| part(0..mid, 0, lo), || part(mid..pairs, cut, hi));
+            }
+            Some(_) => {
+                let mut parts = r.pair_parts(team.width(), b);
+                team.for_each(&mut parts, |(range, offset, b)| {
+                    part(range.clone(), *offset, b)
+                });
             }
             None => part(0..pairs, 0, b),
         }
@@ -370,6 +377,60 @@ impl RhsOperator {
         if skew {
             r.singles_g_into(h, c, v0, a0, b);
         }
+    }
+
+    /// Entries before pair `k` (a block is two columns).
+    fn entries_before(&self, k: usize) -> usize {
+        self.pair_ptr[k] + 2 * self.blk_ptr[k]
+    }
+
+    /// The first pair with `want` entries or more before it (the count of pairs if none).
+    fn first_pair_with(&self, want: usize) -> usize {
+        let (mut lo, mut hi) = (0, self.pair.len());
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if self.entries_before(mid) >= want {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        lo
+    }
+
+    /// The pairs in `parts` contiguous runs of about equal entries (at most one a pair),
+    /// each with its first row and the rows of `b` from it to the next run's first (the
+    /// rows of the singles between are written after, by the caller).
+    fn pair_parts<'b>(
+        &self,
+        parts: usize,
+        b: &'b mut [f64],
+    ) -> Vec<(std::ops::Range<usize>, usize, &'b mut [f64])> {
+        let pairs = self.pair.len();
+        let parts = parts.clamp(1, pairs.max(1));
+        let total = self.entries_before(pairs);
+        let mut cuts = vec![0];
+        for j in 1..parts {
+            let k = self.first_pair_with(j * total / parts);
+            let last = *cuts.last().expect("a first cut");
+            cuts.push(k.clamp(last + 1, pairs - (parts - j)));
+        }
+        cuts.push(pairs);
+        let mut out = Vec::with_capacity(parts);
+        let mut rest = b;
+        let mut row = 0;
+        for w in cuts.windows(2) {
+            let next = if w[1] < pairs {
+                self.pair[w[1]]
+            } else {
+                self.n
+            };
+            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(next - row);
+            out.push((w[0]..w[1], row, mine));
+            rest = tail;
+            row = next;
+        }
+        out
     }
 
     /// Bytes of the arrays a right-hand side reads (the positions in the pattern, read only

@@ -1,5 +1,6 @@
 use super::*;
 use crate::bodies::wheel::{WheelModel, WheelSpec};
+use crate::linalg::team::{Par, Team};
 use crate::mesh::generators::disk_rings;
 use crate::time::step::split_skew;
 
@@ -128,6 +129,38 @@ fn right_hand_side_kernels_agree_bit_for_bit() {
             &mut applied,
         );
         assert!(same(&whole, &applied), "apply");
+        // The pairs in parts on teams of one to four threads (more than the machine may
+        // have): the parts cover the pairs in order, each with its rows, and the same bits.
+        // The halves' cut (as from `RHS_SPLIT_MIN_ORDER` on) is that of two parts.
+        let mut parted = rows.clone();
+        let pairs = rows.pair.len();
+        let mid = rows.first_pair_with(rows.entries_before(pairs) / 2);
+        parted.pair_mid = Some(mid.clamp(1, pairs - 1));
+        let mut scratch = vec![0.0; n];
+        assert_eq!(
+            parted.pair_parts(2, &mut scratch)[1].0.start,
+            parted.pair_mid.unwrap()
+        );
+        for threads in 1..=4 {
+            let mut scratch = vec![0.0; n];
+            let parts = parted.pair_parts(threads, &mut scratch);
+            assert_eq!(parts.len(), threads.min(rows.pair.len()));
+            let mut next = (0, 0);
+            for (range, row, b) in &parts {
+                assert_eq!((range.start, *row), next, "{threads} parts");
+                assert!(range.start < range.end);
+                assert!(range.start == 0 || *row == rows.pair[range.start]);
+                next = (range.end, row + b.len());
+            }
+            assert_eq!(next, (rows.pair.len(), n));
+            let team = Team::oversubscribed(Par::threads(threads));
+            assert_eq!(team.width(), threads);
+            for _ in 0..3 {
+                let mut applied = vec![f64::NAN; n];
+                parted.apply(&team, h, c, [&u, &v, &acc], &f, &mut applied);
+                assert!(same(&whole, &applied), "apply on {threads} threads");
+            }
+        }
         // The plain sparse products (by columns): the same to round-off.
         let mut reference = vec![f64::NAN; n];
         let values = RhsValues {

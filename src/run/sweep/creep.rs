@@ -176,224 +176,273 @@ pub fn creep_ladder(
     i_creep: usize,
     i_rung: usize,
 ) -> Result<Vec<PathBuf>, SweepError> {
-    let num = super::traction_figure;
-    let value = |p: &SweepPoint, i: usize| {
-        p.sets[i]
-            .value
-            .trim_matches('"')
-            .parse::<f64>()
-            .unwrap_or(f64::NAN)
+    let ladder = Ladder::of(points, i_creep, i_rung);
+    let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
+        let f = out.join(name);
+        write_atomic(&f, text.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+        Ok(f)
     };
-    let rung_key = points[0].sets[i_rung].key.clone();
-    // The rungs in the order given.
-    let mut rungs: Vec<f64> = Vec::new();
-    for p in points {
-        let r = value(p, i_rung);
-        if !rungs.contains(&r) {
-            rungs.push(r);
-        }
-    }
-    let curves: Vec<Vec<RungPoint>> = rungs
-        .iter()
-        .map(|&r| {
-            let mut c: Vec<RungPoint> = points
-                .iter()
-                .filter(|p| p.status.is_complete() && value(p, i_rung) == r)
-                .map(|p| {
-                    let xr = num(p, "creepage_undeformed");
-                    let x = value(p, i_creep);
-                    (
-                        x,
-                        if xr.is_finite() { xr } else { x },
-                        super::steady_traction_ratio(p),
-                        num(p, "traction_ratio"),
-                        num(p, "friction"),
-                        num(p, "hertz_half_width"),
-                        num(p, "radius"),
-                    )
-                })
-                .collect();
-            c.sort_by(|a, b| a.0.total_cmp(&b.0));
-            c
-        })
-        .collect();
-    // The unit mu a / R from the finest rung's points.
-    let finest = curves.iter().rev().find(|c| !c.is_empty());
-    let unit = finest.map_or(f64::NAN, |c| {
-        let n = c.len() as f64;
-        let (mu, a, r) = c.iter().fold((0.0, 0.0, 0.0), |s, p| {
-            (s.0 + p.4 / n, s.1 + p.5 / n, s.2 + p.6 / n)
-        });
-        mu * a / r
-    });
-    let on_r: Vec<Vec<(f64, f64)>> = curves
-        .iter()
-        .map(|c| c.iter().map(|p| (p.1, p.2)).collect())
-        .collect();
-    let rows = ladder_rows(&rungs, &on_r);
-    let mut files = Vec::new();
-
-    // creep_curve.csv: every point with its rung.
-    let mut csv = record([
-        rung_key.as_str(),
-        "creepage",
-        "creepage_undeformed",
-        "creepage_undeformed_mu_a_R",
-        "traction_ratio",
-        "traction_ratio_window",
-    ]);
-    for (r, c) in rungs.iter().zip(&curves) {
-        for p in c {
-            push_record(
-                &mut csv,
-                [
-                    format!("{r}"),
-                    format!("{:e}", p.0),
-                    format!("{:e}", p.1),
-                    format!("{:.6}", p.1 / unit),
-                    format!("{:e}", p.2),
-                    format!("{:e}", p.3),
-                ],
-            );
-        }
-    }
-    let f = out.join("creep_curve.csv");
-    write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
-    files.push(f);
-
-    // creep_ladder.csv and .md: the creepages at the targets.
-    let head: Vec<String> = rungs.iter().map(|r| format!("{rung_key}={r}")).collect();
-    let mut cells = vec!["traction_ratio".to_string()];
-    for h in &head {
-        cells.push(format!("creepage_undeformed@{h}"));
-        cells.push(format!("mu_a_R@{h}"));
-    }
-    cells.extend(
-        [
-            "order",
-            "richardson_limit",
-            "richardson_limit_mu_a_R",
-            "finest_minus_limit_mu_a_R",
-        ]
-        .map(String::from),
-    );
-    let mut csv = record(&cells);
-    let fmt = |v: Option<f64>, digits: usize| {
-        v.filter(|x| x.is_finite())
-            .map_or(String::new(), |x| format!("{x:.digits$}"))
-    };
-    for row in &rows {
-        let mut cells = vec![format!("{}", row.target)];
-        for v in &row.values {
-            let abs = if v.is_finite() {
-                format!("{v:e}")
-            } else {
-                String::new()
-            };
-            cells.push(abs);
-            cells.push(fmt(Some(v / unit), 6));
-        }
-        cells.extend([
-            fmt(row.order, 4),
-            row.limit.map_or(String::new(), |l| format!("{l:e}")),
-            fmt(row.limit.map(|l| l / unit), 6),
-            fmt(row.finest_error().map(|e| e / unit), 6),
-        ]);
-        push_record(&mut csv, &cells);
-    }
-    let f = out.join("creep_ladder.csv");
-    write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
-    files.push(f);
-    let mut md = format!(
-        "Creepage on the undeformed radius in units of mu a / R = {unit:.4e}, at Q/(mu P) on each rung of {rung_key}; the Richardson limit from the last three rungs and the finest rung's distance from it\n\n| Q/(mu P) |"
-    );
-    for r in &rungs {
-        let _ = write!(md, " {r} |");
-    }
-    md.push_str(" order | limit | finest - limit |\n|---|");
-    for _ in &rungs {
-        md.push_str("---:|");
-    }
-    md.push_str("---:|---:|---:|\n");
-    for row in &rows {
-        let _ = write!(md, "| {:+.1} |", row.target);
-        for v in &row.values {
-            let _ = write!(md, " {} |", fmt(Some(v / unit), 4));
-        }
-        let err = row.finest_error().map(|e| {
-            format!(
-                "{:+.4} ({:+.2} %)",
-                e / unit,
-                100.0 * e / row.limit.unwrap_or(f64::NAN)
-            )
-        });
-        let _ = writeln!(
-            md,
-            " {} | {} | {} |",
-            row.order
-                .map_or("- (not asymptotic)".to_string(), |o| format!("{o:.2}")),
-            fmt(row.limit.map(|l| l / unit), 4),
-            err.unwrap_or_default()
-        );
-    }
-    let f = out.join("creep_ladder.md");
-    write_atomic(&f, md.as_bytes()).map_err(|e| RunError::output(&f, e))?;
-    files.push(f);
-
-    // creep_curve.png: a curve per rung, the limits marked.
-    let mut panel = Panel::new(
-        format!(
-            "Creep curve on the ladder {rung_key} = {}: mu a / R = {}",
-            rungs
-                .iter()
-                .map(|r| r.to_string())
-                .collect::<Vec<_>>()
-                .join(", "),
-            crate::output::plot::sig(unit, 3)
-        ),
-        "creepage on the undeformed radius, xi_R / (mu a / R)",
-        "Q / (mu P)",
-    );
-    for (r, c) in rungs.iter().zip(&curves) {
-        if c.is_empty() {
-            continue;
-        }
-        panel.series.push(Series::new(
-            format!("{rung_key} = {r}"),
-            c.iter().map(|p| p.1 / unit).collect(),
-            c.iter().map(|p| p.2).collect(),
-            SeriesStyle::LineMarkers,
-        ));
-    }
-    let limits: Vec<(f64, f64)> = rows
-        .iter()
-        .filter_map(|r| Some((r.limit? / unit, r.target)))
-        .collect();
-    if !limits.is_empty() {
-        panel.series.push(Series::new(
-            "Richardson limit of the ladder",
-            limits.iter().map(|l| l.0).collect(),
-            limits.iter().map(|l| l.1).collect(),
-            SeriesStyle::Markers,
-        ));
-    }
-    panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
-    panel.y_range = Some((-1.15, 1.15));
-    panel.note = format!(
-        "Q/(mu P): the steady rolling's (the start-up transient extrapolated). Finest rung at Q/(mu P) = -0.5 / 0 / +0.5: {}",
-        rows.iter()
-            .map(|r| match (r.values.last(), r.limit) {
-                (Some(v), Some(l)) => format!("{:.4} (limit {:.4})", v / unit, l / unit),
-                (Some(v), None) => format!("{:.4} (no limit: not asymptotic)", v / unit),
-                _ => "-".into(),
-            })
-            .collect::<Vec<_>>()
-            .join(" / ")
-    );
+    let mut files = vec![
+        write("creep_curve.csv", ladder.points_csv())?,
+        write("creep_ladder.csv", ladder.targets_csv())?,
+        write("creep_ladder.md", ladder.targets_md())?,
+    ];
     let png = out.join("creep_curve.png");
-    panels(&png, &[panel], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
+    panels(&png, &[ladder.panel()], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
     files.push(png);
     Ok(files)
+}
+
+/// The creep curve on each rung of a ladder, and the creepages at the targets.
+struct Ladder {
+    rung_key: String,
+    /// The rungs in the order given.
+    rungs: Vec<f64>,
+    /// Each rung's complete points, by creepage.
+    curves: Vec<Vec<RungPoint>>,
+    /// mu a / R from the finest rung's points.
+    unit: f64,
+    /// The creepages at the targets ([`ladder_rows`]).
+    rows: Vec<LadderRow>,
+}
+
+impl Ladder {
+    fn of(points: &[SweepPoint], i_creep: usize, i_rung: usize) -> Ladder {
+        let num = super::traction_figure;
+        let value = |p: &SweepPoint, i: usize| {
+            p.sets[i]
+                .value
+                .trim_matches('"')
+                .parse::<f64>()
+                .unwrap_or(f64::NAN)
+        };
+        let rung_key = points[0].sets[i_rung].key.clone();
+        let mut rungs: Vec<f64> = Vec::new();
+        for p in points {
+            let r = value(p, i_rung);
+            if !rungs.contains(&r) {
+                rungs.push(r);
+            }
+        }
+        let curves: Vec<Vec<RungPoint>> = rungs
+            .iter()
+            .map(|&r| {
+                let mut c: Vec<RungPoint> = points
+                    .iter()
+                    .filter(|p| p.status.is_complete() && value(p, i_rung) == r)
+                    .map(|p| {
+                        let xr = num(p, "creepage_undeformed");
+                        let x = value(p, i_creep);
+                        (
+                            x,
+                            if xr.is_finite() { xr } else { x },
+                            super::steady_traction_ratio(p),
+                            num(p, "traction_ratio"),
+                            num(p, "friction"),
+                            num(p, "hertz_half_width"),
+                            num(p, "radius"),
+                        )
+                    })
+                    .collect();
+                c.sort_by(|a, b| a.0.total_cmp(&b.0));
+                c
+            })
+            .collect();
+        let finest = curves.iter().rev().find(|c| !c.is_empty());
+        let unit = finest.map_or(f64::NAN, |c| {
+            let n = c.len() as f64;
+            let (mu, a, r) = c.iter().fold((0.0, 0.0, 0.0), |s, p| {
+                (s.0 + p.4 / n, s.1 + p.5 / n, s.2 + p.6 / n)
+            });
+            mu * a / r
+        });
+        let on_r: Vec<Vec<(f64, f64)>> = curves
+            .iter()
+            .map(|c| c.iter().map(|p| (p.1, p.2)).collect())
+            .collect();
+        let rows = ladder_rows(&rungs, &on_r);
+        Ladder {
+            rung_key,
+            rungs,
+            curves,
+            unit,
+            rows,
+        }
+    }
+
+    /// creep_curve.csv: every point with its rung.
+    fn points_csv(&self) -> String {
+        let unit = self.unit;
+        let mut csv = record([
+            self.rung_key.as_str(),
+            "creepage",
+            "creepage_undeformed",
+            "creepage_undeformed_mu_a_R",
+            "traction_ratio",
+            "traction_ratio_window",
+        ]);
+        for (r, c) in self.rungs.iter().zip(&self.curves) {
+            for p in c {
+                push_record(
+                    &mut csv,
+                    [
+                        format!("{r}"),
+                        format!("{:e}", p.0),
+                        format!("{:e}", p.1),
+                        format!("{:.6}", p.1 / unit),
+                        format!("{:e}", p.2),
+                        format!("{:e}", p.3),
+                    ],
+                );
+            }
+        }
+        csv
+    }
+
+    /// creep_ladder.csv: the creepages at the targets on each rung, the order, the limit
+    /// and the finest rung's distance from it.
+    fn targets_csv(&self) -> String {
+        let unit = self.unit;
+        let head: Vec<String> = self
+            .rungs
+            .iter()
+            .map(|r| format!("{}={r}", self.rung_key))
+            .collect();
+        let mut cells = vec!["traction_ratio".to_string()];
+        for h in &head {
+            cells.push(format!("creepage_undeformed@{h}"));
+            cells.push(format!("mu_a_R@{h}"));
+        }
+        cells.extend(
+            [
+                "order",
+                "richardson_limit",
+                "richardson_limit_mu_a_R",
+                "finest_minus_limit_mu_a_R",
+            ]
+            .map(String::from),
+        );
+        let mut csv = record(&cells);
+        for row in &self.rows {
+            let mut cells = vec![format!("{}", row.target)];
+            for v in &row.values {
+                let abs = if v.is_finite() {
+                    format!("{v:e}")
+                } else {
+                    String::new()
+                };
+                cells.push(abs);
+                cells.push(fixed(Some(v / unit), 6));
+            }
+            cells.extend([
+                fixed(row.order, 4),
+                row.limit.map_or(String::new(), |l| format!("{l:e}")),
+                fixed(row.limit.map(|l| l / unit), 6),
+                fixed(row.finest_error().map(|e| e / unit), 6),
+            ]);
+            push_record(&mut csv, &cells);
+        }
+        csv
+    }
+
+    /// creep_ladder.md: the table of [`Ladder::targets_csv`] in units of mu a / R.
+    fn targets_md(&self) -> String {
+        let (unit, rung_key) = (self.unit, &self.rung_key);
+        let mut md = format!(
+            "Creepage on the undeformed radius in units of mu a / R = {unit:.4e}, at Q/(mu P) on each rung of {rung_key}; the Richardson limit from the last three rungs and the finest rung's distance from it\n\n| Q/(mu P) |"
+        );
+        for r in &self.rungs {
+            let _ = write!(md, " {r} |");
+        }
+        md.push_str(" order | limit | finest - limit |\n|---|");
+        for _ in &self.rungs {
+            md.push_str("---:|");
+        }
+        md.push_str("---:|---:|---:|\n");
+        for row in &self.rows {
+            let _ = write!(md, "| {:+.1} |", row.target);
+            for v in &row.values {
+                let _ = write!(md, " {} |", fixed(Some(v / unit), 4));
+            }
+            let err = row.finest_error().map(|e| {
+                format!(
+                    "{:+.4} ({:+.2} %)",
+                    e / unit,
+                    100.0 * e / row.limit.unwrap_or(f64::NAN)
+                )
+            });
+            let _ = writeln!(
+                md,
+                " {} | {} | {} |",
+                row.order
+                    .map_or("- (not asymptotic)".to_string(), |o| format!("{o:.2}")),
+                fixed(row.limit.map(|l| l / unit), 4),
+                err.unwrap_or_default()
+            );
+        }
+        md
+    }
+
+    /// creep_curve.png: a curve per rung, the limits marked.
+    fn panel(&self) -> Panel {
+        let (unit, rung_key, rows) = (self.unit, &self.rung_key, &self.rows);
+        let mut panel = Panel::new(
+            format!(
+                "Creep curve on the ladder {rung_key} = {}: mu a / R = {}",
+                self.rungs
+                    .iter()
+                    .map(|r| r.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                crate::output::plot::sig(unit, 3)
+            ),
+            "creepage on the undeformed radius, xi_R / (mu a / R)",
+            "Q / (mu P)",
+        );
+        for (r, c) in self.rungs.iter().zip(&self.curves) {
+            if c.is_empty() {
+                continue;
+            }
+            panel.series.push(Series::new(
+                format!("{rung_key} = {r}"),
+                c.iter().map(|p| p.1 / unit).collect(),
+                c.iter().map(|p| p.2).collect(),
+                SeriesStyle::LineMarkers,
+            ));
+        }
+        let limits: Vec<(f64, f64)> = rows
+            .iter()
+            .filter_map(|r| Some((r.limit? / unit, r.target)))
+            .collect();
+        if !limits.is_empty() {
+            panel.series.push(Series::new(
+                "Richardson limit of the ladder",
+                limits.iter().map(|l| l.0).collect(),
+                limits.iter().map(|l| l.1).collect(),
+                SeriesStyle::Markers,
+            ));
+        }
+        panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
+        panel.y_range = Some((-1.15, 1.15));
+        panel.note = format!(
+            "Q/(mu P): the steady rolling's (the start-up transient extrapolated). Finest rung at Q/(mu P) = -0.5 / 0 / +0.5: {}",
+            rows.iter()
+                .map(|r| match (r.values.last(), r.limit) {
+                    (Some(v), Some(l)) => format!("{:.4} (limit {:.4})", v / unit, l / unit),
+                    (Some(v), None) => format!("{:.4} (no limit: not asymptotic)", v / unit),
+                    _ => "-".into(),
+                })
+                .collect::<Vec<_>>()
+                .join(" / ")
+        );
+        panel
+    }
+}
+
+/// `v` with `digits` decimals, empty when missing or not finite.
+fn fixed(v: Option<f64>, digits: usize) -> String {
+    v.filter(|x| x.is_finite())
+        .map_or(String::new(), |x| format!("{x:.digits$}"))
 }
 
 #[cfg(test)]

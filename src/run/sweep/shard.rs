@@ -249,6 +249,24 @@ pub fn gather(
         .iter()
         .map(|d| read_manifest(d))
         .collect::<Result<Vec<_>, _>>()?;
+    let first = one_sweep(dirs, &manifests)?;
+    let all = first
+        .all_points()
+        .map_err(|m| GatherError::Mismatch(format!("{}: {m}", dirs[0].join(MANIFEST).display())))?;
+    let base = sweep_text(&dirs[0], &first.scenario_sha256)?;
+    let mut points = Vec::with_capacity(all.len());
+    for sets in all {
+        points.push(gathered_point(dirs, &manifests, sets, &base)?);
+    }
+    std::fs::create_dir_all(out).map_err(|e| SweepError::Run(RunError::output(out, e)))?;
+    let files = write_sweep(out, &points)?;
+    Ok((first, points, files))
+}
+
+/// The first of the shards' `manifests` (of the folders `dirs`), once checked that they
+/// are the shards of one sweep (its scenario, keys, values, grid and count of shards),
+/// each given once, and all of them.
+fn one_sweep(dirs: &[PathBuf], manifests: &[Manifest]) -> Result<Manifest, GatherError> {
     let Some(first) = manifests.first().cloned() else {
         return Err(GatherError::Mismatch(
             "no shard folder given: softway gather DIR1 DIR2 ...".into(),
@@ -264,26 +282,8 @@ pub fn gather(
         )));
     }
     let mut by_index: Vec<Option<usize>> = vec![None; first.of];
-    for (j, (d, m)) in dirs.iter().zip(&manifests).enumerate() {
-        let differs = if m.scenario_sha256 != first.scenario_sha256 {
-            Some("scenario text")
-        } else if m
-            .keys
-            .iter()
-            .map(|k| &k.0)
-            .ne(first.keys.iter().map(|k| &k.0))
-        {
-            Some("keys")
-        } else if m.keys != first.keys {
-            Some("values")
-        } else if m.grid != first.grid {
-            Some("grid")
-        } else if m.of != first.of {
-            Some("number of shards")
-        } else {
-            None
-        };
-        if let Some(what) = differs {
+    for (j, (d, m)) in dirs.iter().zip(manifests).enumerate() {
+        if let Some(what) = differs(m, &first) {
             return Err(GatherError::Mismatch(format!(
                 "{}: another sweep than {} ({what} not the same): gather the shards of one sweep",
                 d.display(),
@@ -329,80 +329,103 @@ pub fn gather(
             first.key_names(),
         )));
     }
-    let all = first
-        .all_points()
-        .map_err(|m| GatherError::Mismatch(format!("{}: {m}", dirs[0].join(MANIFEST).display())))?;
-    let base = sweep_text(&dirs[0], &first.scenario_sha256)?;
-    let mut points = Vec::with_capacity(all.len());
-    for sets in all {
-        let v = values_of(&sets);
-        let (d, folder, status) = dirs
-            .iter()
-            .zip(&manifests)
-            .find_map(|(d, m)| {
-                let k = m.points.iter().position(|(value, _)| *value == v)?;
-                Some((d, &m.points[k].1, m.status.get(k)))
+    Ok(first)
+}
+
+/// What makes the manifest `m` another sweep's than `first`'s, if anything.
+fn differs(m: &Manifest, first: &Manifest) -> Option<&'static str> {
+    if m.scenario_sha256 != first.scenario_sha256 {
+        Some("scenario text")
+    } else if m
+        .keys
+        .iter()
+        .map(|k| &k.0)
+        .ne(first.keys.iter().map(|k| &k.0))
+    {
+        Some("keys")
+    } else if m.keys != first.keys {
+        Some("values")
+    } else if m.grid != first.grid {
+        Some("grid")
+    } else if m.of != first.of {
+        Some("number of shards")
+    } else {
+        None
+    }
+}
+
+/// The point `sets` as the shard that lists it ran it: its folder, its status from the
+/// manifest (an interrupted or failed point keeps it, with its summary if it has one), its
+/// summary, checked against the sweep's scenario text `base` with the point's values set.
+fn gathered_point(
+    dirs: &[PathBuf],
+    manifests: &[Manifest],
+    sets: Vec<Override>,
+    base: &str,
+) -> Result<SweepPoint, GatherError> {
+    let v = values_of(&sets);
+    let (d, folder, status) = dirs
+        .iter()
+        .zip(manifests)
+        .find_map(|(d, m)| {
+            let k = m.points.iter().position(|(value, _)| *value == v)?;
+            Some((d, &m.points[k].1, m.status.get(k)))
+        })
+        .ok_or_else(|| {
+            GatherError::Mismatch(format!(
+                "no shard lists the point {}: gather the folders of every shard",
+                super::point_label(&sets)
+            ))
+        })?;
+    let dir = d.join(folder);
+    let status = match status.map(|s| s.parse::<PointStatus>()) {
+        None => None,
+        Some(Ok(s)) => Some(s),
+        Some(Err(m)) => {
+            return Err(GatherError::Read {
+                path: d.join(MANIFEST),
+                message: format!("{}: {m}", super::point_label(&sets)),
             })
-            .ok_or_else(|| {
-                GatherError::Mismatch(format!(
-                    "no shard lists the point {}: gather the folders of every shard",
-                    super::point_label(&sets)
-                ))
-            })?;
-        let dir = d.join(folder);
-        let status = match status.map(|s| s.parse::<PointStatus>()) {
-            None => None,
-            Some(Ok(s)) => Some(s),
-            Some(Err(m)) => {
-                return Err(GatherError::Read {
-                    path: d.join(MANIFEST),
-                    message: format!("{}: {m}", super::point_label(&sets)),
-                })
-            }
-        };
-        let sj = dir.join("summary.json");
-        if let Some(s @ (PointStatus::Interrupted | PointStatus::Failed(_))) = &status {
-            let summary = std::fs::read_to_string(&sj)
-                .ok()
-                .and_then(|t| serde_json::from_str(&t).ok())
-                .unwrap_or(serde_json::Value::Null);
-            if !summary.is_null() {
-                check_point(&dir, &summary, &base, &sets)?;
-            }
-            points.push(SweepPoint {
-                value: v.join(","),
-                sets,
-                dir,
-                summary,
-                warnings: Vec::new(),
-                status: s.clone(),
-            });
-            continue;
         }
-        let summary: serde_json::Value = std::fs::read_to_string(&sj)
-            .map_err(|e| GatherError::Read {
-                path: sj.clone(),
-                message: format!("cannot read the point's summary ({e}); did its run finish?"),
-            })
-            .and_then(|s| {
-                serde_json::from_str(&s).map_err(|e| GatherError::Read {
-                    path: sj.clone(),
-                    message: format!("not a summary: {e}"),
-                })
-            })?;
-        check_point(&dir, &summary, &base, &sets)?;
-        points.push(SweepPoint {
+    };
+    let sj = dir.join("summary.json");
+    if let Some(s @ (PointStatus::Interrupted | PointStatus::Failed(_))) = &status {
+        let summary = std::fs::read_to_string(&sj)
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .unwrap_or(serde_json::Value::Null);
+        if !summary.is_null() {
+            check_point(&dir, &summary, base, &sets)?;
+        }
+        return Ok(SweepPoint {
             value: v.join(","),
             sets,
             dir,
-            status: PointStatus::of_summary(&summary),
             summary,
             warnings: Vec::new(),
+            status: s.clone(),
         });
     }
-    std::fs::create_dir_all(out).map_err(|e| SweepError::Run(RunError::output(out, e)))?;
-    let files = write_sweep(out, &points)?;
-    Ok((first, points, files))
+    let summary: serde_json::Value = std::fs::read_to_string(&sj)
+        .map_err(|e| GatherError::Read {
+            path: sj.clone(),
+            message: format!("cannot read the point's summary ({e}); did its run finish?"),
+        })
+        .and_then(|s| {
+            serde_json::from_str(&s).map_err(|e| GatherError::Read {
+                path: sj.clone(),
+                message: format!("not a summary: {e}"),
+            })
+        })?;
+    check_point(&dir, &summary, base, &sets)?;
+    Ok(SweepPoint {
+        value: v.join(","),
+        sets,
+        dir,
+        status: PointStatus::of_summary(&summary),
+        summary,
+        warnings: Vec::new(),
+    })
 }
 
 /// The scenario text the sweep set its values into: the shard folder `dir`'s copy of it

@@ -1,5 +1,6 @@
 //! Vector fields on a mesh: arrows at a subset of the nodes over the mesh's outline.
 
+use super::grid::{bbox_union, grid_shape, Grid, GridSpec, Note};
 use super::*;
 
 /// Evenly spread subset of the nodes used by drawable triangles: in each
@@ -81,12 +82,8 @@ pub(super) fn draw_arrow(area: &Area, from: Pt, to: Pt, st: &Sty) -> Res<()> {
     fill_polygon(area, &tri(0.0), BLACK)
 }
 
-pub(crate) fn render_vector_fields(
-    frames: &[MeshVectorField],
-    cols: usize,
-    size: (u32, u32),
-    opts: &MeshOptions,
-) -> Res<Vec<u8>> {
+/// Checks that every frame has a vector per point and triangles on its points.
+fn check_frames(frames: &[MeshVectorField]) -> Res<()> {
     if frames.is_empty() {
         return Err(Fail::Empty("no frames".into()));
     }
@@ -100,28 +97,24 @@ pub(crate) fn render_vector_fields(
         }
         check_triangles(f.points, f.triangles, &format!("frame {i}"))?;
     }
+    Ok(())
+}
+
+pub(crate) fn render_vector_fields(
+    frames: &[MeshVectorField],
+    cols: usize,
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Res<Vec<u8>> {
+    check_frames(frames)?;
     let n = frames.len();
-    let cols = if cols == 0 {
-        (n as f64).sqrt().ceil() as usize
-    } else {
-        cols.min(n)
-    };
-    let rows = n.div_ceil(cols);
+    let (cols, rows) = grid_shape(n, cols);
     let unit = unit_scale(frames[0].length_unit_scale);
-    let mut bb0: Option<[f64; 4]> = None;
-    for f in frames {
-        if let Some(b) = mesh_bbox(f.points, f.triangles, unit) {
-            bb0 = Some(match bb0 {
-                None => b,
-                Some(a) => [
-                    a[0].min(b[0]),
-                    a[1].max(b[1]),
-                    a[2].min(b[2]),
-                    a[3].max(b[3]),
-                ],
-            });
-        }
-    }
+    let bb0 = bbox_union(
+        frames
+            .iter()
+            .filter_map(|f| mesh_bbox(f.points, f.triangles, unit)),
+    );
     // Arrows are centred on their node and at most 1/8 of the panel width
     // long: a margin of 7.5 % keeps them inside the frame.
     let bb = pad_bbox(
@@ -142,129 +135,49 @@ pub(crate) fn render_vector_fields(
         None => None,
     }
     .unwrap_or((0.0, if max_mag > 0.0 { max_mag } else { 1.0 }));
-    let (dx, dy) = (bb[1] - bb[0], bb[3] - bb[2]);
     let xl = axis_label("x", &frames[0].length_unit);
     let yl = axis_label("y", &frames[0].length_unit);
     let cb_label = frames[0].colorbar_label.clone();
 
     render(size, |area, fig| {
         let st = Sty::new(fig, (fig.out.0 / cols as f64, fig.out.1 / rows as f64));
-        let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+        let (fs, pad) = (st.fs, st.pad);
         let title_band = if frames.iter().any(|f| !f.title.is_empty()) {
             (CAP + DESC) * fs + 0.6 * pad
         } else {
             0.5 * CAP * fs
         };
-        let hgap = 1.2 * fs;
-        let vgap = 1.2 * pad;
-        let top = pad;
-        let note_text = &frames[0].note;
-        let (note, nf) = fit_text(note_text, 0.85 * fs, fig.w - 2.0 * pad, 3);
-        let note_h = if note_text.is_empty() {
-            0.0
-        } else {
-            note.len() as f64 * 1.15 * (CAP + DESC) * nf + 0.5 * pad
+        let note = Note::fit(&frames[0].note, fig, &st);
+        let spec = GridSpec {
+            cols,
+            rows,
+            bb,
+            vr,
+            cb_label: &cb_label,
+            title_band,
+            hgap: 1.2 * fs,
+            what: "frames",
         };
-        let bottom = tick + 0.6 * pad + CAP * fs + pad + (CAP + DESC) * fl + pad + note_h;
-        let mut left_w = pad + (CAP + DESC) * fl + 0.8 * pad + 3.0 * fs + 0.6 * pad + tick;
-        let mut cb_w = 6.0 * fs;
-        let mut layout = None;
-        for _ in 0..3 {
-            let avail_w = fig.w - left_w - cb_w - pad - (cols - 1) as f64 * hgap;
-            let avail_h =
-                fig.h - top - bottom - rows as f64 * title_band - (rows - 1) as f64 * vgap;
-            if avail_w <= 20.0 * cols as f64 || avail_h <= 20.0 * rows as f64 {
-                return Err(Fail::Draw(
-                    "the image is too small for this many frames".into(),
-                ));
-            }
-            let s = (avail_w / (cols as f64 * dx)).min(avail_h / (rows as f64 * dy));
-            let (pw, ph) = (dx * s, dy * s);
-            let gw = cols as f64 * pw + (cols - 1) as f64 * hgap;
-            let gh = rows as f64 * (title_band + ph) + (rows - 1) as f64 * vgap;
-            let x0 = left_w + 0.5 * (avail_w + (cols - 1) as f64 * hgap - gw);
-            let y0 = top + 0.5 * (fig.h - top - bottom - gh);
-            let xt = linear_ticks(bb[0], bb[1], pw, fs, true);
-            let yt = linear_ticks(bb[2], bb[3], ph, fs, false);
-            let ct = linear_ticks(vr.0, vr.1, gh - title_band, fs, false);
-            let new_left =
-                pad + (CAP + DESC) * fl + 0.8 * pad + yt.max_label_w(fs) + 0.6 * pad + tick;
-            let new_cb = colorbar_width(&ct, &cb_label, &st);
-            let done = (new_left - left_w).abs() < 1.0 && (new_cb - cb_w).abs() < 1.0;
-            left_w = new_left;
-            cb_w = new_cb;
-            layout = Some((x0, y0, pw, ph, gw, gh, xt, yt, ct));
-            if done {
-                break;
-            }
-        }
-        let Some((x0, y0, pw, ph, gw, gh, xt, yt, ct)) = layout else {
-            return Err(Fail::Draw("layout failed".into()));
-        };
+        let grid = Grid::fit(fig, &st, &spec, &note)?;
         let arrow_scale = if max_mag > 0.0 {
-            pw / 8.0 / max_mag
+            grid.pw / 8.0 / max_mag
         } else {
             0.0
+        };
+        let field = FieldStyle {
+            vr,
+            arrow_scale,
+            opts,
         };
         for (i, f) in frames.iter().enumerate() {
-            let (r, c) = (i / cols, i % cols);
-            let px0 = x0 + c as f64 * (pw + hgap);
-            let py0 = y0 + r as f64 * (title_band + ph + vgap) + title_band;
-            let v = MeshView {
-                bb,
-                r: Rect::new(px0, py0, px0 + pw, py0 + ph),
-                unit,
-            };
-            let m = &mags[i];
-            audit::with_clip(v.r, || -> Res<()> {
-                let size_px = fill_triangles(area, &v, f.points, f.triangles, |t| {
-                    let tri = f.triangles[t];
-                    let mean = (m[tri[0]] + m[tri[1]] + m[tri[2]]) / 3.0;
-                    if mean.is_finite() {
-                        viridis((mean - vr.0) / (vr.1 - vr.0))
-                    } else {
-                        NO_DATA
-                    }
-                })?;
-                let inner = match opts.edges {
-                    EdgeMode::Always => true,
-                    EdgeMode::Never => false,
-                    EdgeMode::Auto => size_px >= 10.0 * fig.k,
-                };
-                draw_edges(
-                    area,
-                    &v,
-                    f.points,
-                    f.triangles,
-                    inner,
-                    true,
-                    WHITE.mix(0.35),
-                    &st,
-                )?;
-                for seg in &f.overlay {
-                    let (a, b) = (v.px(seg[0]), v.px(seg[1]));
-                    if a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite() {
-                        draw_polyline(area, &[a, b], OVERLAY.to_rgba(), 2.5 * st.thin)?;
-                    }
-                }
-                for node in arrow_nodes(f.points, f.triangles, unit, bb, 12.0) {
-                    let vec = f.vectors[node];
-                    if !(vec[0].is_finite() && vec[1].is_finite()) {
-                        continue;
-                    }
-                    let c = v.px(f.points[node]);
-                    let (hx, hy) = (0.5 * vec[0] * arrow_scale, -0.5 * vec[1] * arrow_scale);
-                    draw_arrow(area, (c.0 - hx, c.1 - hy), (c.0 + hx, c.1 + hy), &st)?;
-                }
-                Ok(())
-            })?;
-            let bottom_of_column = i + cols >= n;
-            draw_mesh_axes(area, &v, &xt, &yt, bottom_of_column, c == 0, &st)?;
-            let (tl, tf) = fit_text(&f.title, fs, pw + hgap - pad, 1);
+            let v = grid.view(i, bb, unit);
+            audit::with_clip(v.r, || draw_field(area, &v, f, &mags[i], &field, fig, &st))?;
+            grid.draw_axes(area, &v, (i, n), &st)?;
+            let (tl, tf) = fit_text(&f.title, fs, grid.pw + grid.hgap - pad, 1);
             draw_text(
                 area,
                 &tl.join(" "),
-                (v.r.cx(), py0 - 0.6 * pad - DESC * fs),
+                (v.r.cx(), v.r.y0 - 0.6 * pad - DESC * fs),
                 tf,
                 HA::Center,
                 VA::Baseline,
@@ -273,65 +186,109 @@ pub(crate) fn render_vector_fields(
             )?;
         }
         // Shared axis labels and colour bar.
-        let grid_bottom = y0 + gh;
-        draw_text(
-            area,
-            &xl,
-            (
-                x0 + 0.5 * gw,
-                grid_bottom + tick + 0.6 * pad + CAP * fs + pad,
-            ),
-            fl,
-            HA::Center,
-            VA::Top,
-            false,
-            TEXT,
-        )?;
-        let ylx = x0 - tick - 0.6 * pad - yt.max_label_w(fs) - 0.8 * pad - (CAP + DESC) * fl;
-        draw_text(
-            area,
-            &yl,
-            (ylx, y0 + title_band + 0.5 * (gh - title_band)),
-            fl,
-            HA::Center,
-            VA::Top,
-            true,
-            TEXT,
-        )?;
-        let cb = Rect::new(
-            x0 + gw + 1.2 * fs,
-            y0 + title_band,
-            x0 + gw + 2.3 * fs,
-            grid_bottom,
-        );
-        // The arrows' scale: an arrow of a round value, bottom left under the grid.
-        let key = round_below(0.5 * max_mag);
-        if key > 0.0 && arrow_scale > 0.0 {
-            let len = key * arrow_scale;
-            let y = grid_bottom + tick + 0.6 * pad + CAP * fs + pad + 0.5 * CAP * fl;
-            let label = "arrows:";
-            let x = x0;
-            draw_text(area, label, (x, y), fs, HA::Left, VA::Center, false, TEXT)?;
-            let ax = x + text_w(label, fs) + 0.5 * fs;
-            draw_arrow(area, (ax, y), (ax + len, y), &st)?;
-            let unit = unit_of(&cb_label);
-            draw_text(
-                area,
-                &format!("{} {unit}", fmt_value(key)),
-                (ax + len + 0.5 * fs, y),
-                fs,
-                HA::Left,
-                VA::Center,
-                false,
-                TEXT,
-            )?;
-        }
-        if !note_text.is_empty() {
-            draw_note(area, &note, nf, fig, &st)?;
-        }
+        let cb = grid.draw_labels(area, (&xl, &yl), &st)?;
+        draw_arrow_key(area, &grid, max_mag, arrow_scale, &cb_label, &st)?;
+        note.draw(area, fig, &st)?;
         let over = opts
             .value_range
             .is_some_and(|_| mags.iter().flatten().any(|&m| m > vr.1 * (1.0 + 1e-9)));
-        draw_colorbar(area, cb, vr, &ct, &cb_label, (false, over), &st)
+        draw_colorbar(area, cb, vr, &grid.ct, &cb_label, (false, over), &st)
     })
+}
+
+/// How the frames' fields are drawn: the colour bar's range, pixels per unit of the
+/// vectors, the options.
+struct FieldStyle<'a> {
+    vr: (f64, f64),
+    arrow_scale: f64,
+    opts: &'a MeshOptions,
+}
+
+/// One frame in its panel `v`: the mesh coloured by the vectors' magnitudes `m`, its edges,
+/// the overlay, and an arrow at an even subset of the nodes.
+fn draw_field(
+    area: &Area,
+    v: &MeshView,
+    f: &MeshVectorField,
+    m: &[f64],
+    field: &FieldStyle,
+    fig: &Fig,
+    st: &Sty,
+) -> Res<()> {
+    let vr = field.vr;
+    let size_px = fill_triangles(area, v, f.points, f.triangles, |t| {
+        let tri = f.triangles[t];
+        let mean = (m[tri[0]] + m[tri[1]] + m[tri[2]]) / 3.0;
+        if mean.is_finite() {
+            viridis((mean - vr.0) / (vr.1 - vr.0))
+        } else {
+            NO_DATA
+        }
+    })?;
+    let inner = match field.opts.edges {
+        EdgeMode::Always => true,
+        EdgeMode::Never => false,
+        EdgeMode::Auto => size_px >= 10.0 * fig.k,
+    };
+    draw_edges(
+        area,
+        v,
+        f.points,
+        f.triangles,
+        inner,
+        true,
+        WHITE.mix(0.35),
+        st,
+    )?;
+    for seg in &f.overlay {
+        let (a, b) = (v.px(seg[0]), v.px(seg[1]));
+        if a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite() {
+            draw_polyline(area, &[a, b], OVERLAY.to_rgba(), 2.5 * st.thin)?;
+        }
+    }
+    for node in arrow_nodes(f.points, f.triangles, v.unit, v.bb, 12.0) {
+        let vec = f.vectors[node];
+        if !(vec[0].is_finite() && vec[1].is_finite()) {
+            continue;
+        }
+        let c = v.px(f.points[node]);
+        let s = field.arrow_scale;
+        let (hx, hy) = (0.5 * vec[0] * s, -0.5 * vec[1] * s);
+        draw_arrow(area, (c.0 - hx, c.1 - hy), (c.0 + hx, c.1 + hy), st)?;
+    }
+    Ok(())
+}
+
+/// The arrows' scale: an arrow of a round value, bottom left under the grid.
+fn draw_arrow_key(
+    area: &Area,
+    grid: &Grid,
+    max_mag: f64,
+    arrow_scale: f64,
+    cb_label: &str,
+    st: &Sty,
+) -> Res<()> {
+    let (fs, fl, pad, tick) = (st.fs, st.fl, st.pad, st.tick);
+    let key = round_below(0.5 * max_mag);
+    if key > 0.0 && arrow_scale > 0.0 {
+        let len = key * arrow_scale;
+        let y = grid.bottom() + tick + 0.6 * pad + CAP * fs + pad + 0.5 * CAP * fl;
+        let label = "arrows:";
+        let x = grid.x0;
+        draw_text(area, label, (x, y), fs, HA::Left, VA::Center, false, TEXT)?;
+        let ax = x + text_w(label, fs) + 0.5 * fs;
+        draw_arrow(area, (ax, y), (ax + len, y), st)?;
+        let unit = unit_of(cb_label);
+        draw_text(
+            area,
+            &format!("{} {unit}", fmt_value(key)),
+            (ax + len + 0.5 * fs, y),
+            fs,
+            HA::Left,
+            VA::Center,
+            false,
+            TEXT,
+        )?;
+    }
+    Ok(())
 }
