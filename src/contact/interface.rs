@@ -93,6 +93,76 @@ impl Clone for Box<dyn MasterSurface> {
     }
 }
 
+/// The planar segment search as a master surface (its own methods, [`Search`]).
+impl MasterSurface for Search {
+    fn dim(&self) -> usize {
+        2
+    }
+
+    fn reach(&self) -> f64 {
+        Search::reach(self)
+    }
+
+    fn master(&self) -> Placed {
+        Search::master(self)
+    }
+
+    /// Both ends' dofs of every segment (two per node: a body's `(u_x, u_y)`, a beam's
+    /// `(w, theta)`).
+    fn master_dofs(&self) -> Vec<usize> {
+        let first = Search::master(self).first_dof;
+        let mut dofs: Vec<usize> = self
+            .segments()
+            .iter()
+            .flat_map(|s| s.iter().flat_map(|&i| [first + 2 * i, first + 2 * i + 1]))
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        dofs
+    }
+
+    fn update(&mut self, t: f64, u: &[f64]) {
+        Search::update(self, t, u);
+    }
+
+    fn find(&self, x: Vector) -> Option<Target> {
+        Search::find(self, x)
+    }
+
+    fn normal_row(
+        &self,
+        target: &Target,
+        slave: Placed,
+        node: usize,
+        x_ref: &[f64],
+        t: f64,
+        u: &[f64],
+    ) -> SearchedRow {
+        Search::normal_row(self, target, slave, node, x_ref, t, u)
+    }
+
+    fn tangent_row(
+        &self,
+        target: &Target,
+        k: usize,
+        slave: Placed,
+        node: usize,
+        x_ref: &[f64],
+        t: f64,
+        u: &[f64],
+    ) -> Option<SearchedRow> {
+        (k == 0).then(|| Search::tangent_row(self, target, slave, node, x_ref, t, u))
+    }
+
+    fn clone_box(&self) -> Box<dyn MasterSurface> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
 /// The gap of a node without a target, in units of the search's reach.
 pub const FAR_GAP: f64 = 1.0e3;
 

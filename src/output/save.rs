@@ -120,3 +120,42 @@ fn view(arrays: &[FieldArray]) -> Vec<Field<'_>> {
         })
         .collect()
 }
+
+/// Writes `files` (each a file's name and its bytes: a saved result's files, carried
+/// elsewhere, as the Python package's pickled `Result` carries them) into the folder `out`
+/// under the rules [`Results::save_folder`](crate::run::Results::save_folder) keeps: written whole or not at all, a folder of
+/// the user's files refused unless `force`, the current and the home folder never replaced,
+/// the folder marked as softway's (and `interrupted`). Returns the files' paths.
+///
+/// # Errors
+/// [`RunError::Output`]: the folder refused (the message says why), a name that is not a
+/// file's name, a file that cannot be written.
+pub fn save_files(
+    out: &Path,
+    files: &[(String, Vec<u8>)],
+    interrupted: bool,
+    force: bool,
+) -> Result<Vec<PathBuf>, RunError> {
+    let stage = crate::output::job::JobFolder::begin(out, force, &[])
+        .map_err(|e| RunError::output(out, e))?;
+    let mut written = Vec::with_capacity(files.len());
+    for (name, bytes) in files {
+        let rel = Path::new(name);
+        if rel.components().count() != 1 || rel.file_name().is_none() {
+            return Err(RunError::Output {
+                path: out.join(name),
+                message: "not a file's name".into(),
+            });
+        }
+        let p = stage.dir().join(rel);
+        std::fs::write(&p, bytes).map_err(|e| RunError::output(&stage.final_path(&p), e))?;
+        written.push(p);
+    }
+    stage
+        .finish(
+            &written,
+            None::<&crate::scenario::Scenario<crate::scenario::RunSpec>>,
+            interrupted,
+        )
+        .map_err(|e| RunError::output(out, e))
+}

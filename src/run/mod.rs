@@ -19,13 +19,14 @@ pub use crate::guard::GuardMode;
 pub use crate::kinds::bar::run as bar;
 pub use crate::kinds::wheel::run as wheel;
 pub use crate::linalg::team::{Par, Team};
+pub use crate::output::save::save_files;
 pub use crate::output::table::{Column, Columns};
 use crate::scenario::Scenario;
 pub use converge::observed_orders;
 pub use error::RunError;
 pub use options::{Cancel, ProgressWatch, RunOptions};
 pub use provenance::{peak_rss_mib, write_scenario_copy, SCENARIO_COPY};
-pub use results::{save_files, FieldArray, FieldFrame, Fields, Results};
+pub use results::{FieldArray, FieldFrame, Fields, Results};
 use std::path::{Path, PathBuf};
 pub use sweep::creep::{creepage_at, ladder_rows, LadderRow, MAX_ORDER, MIN_ORDER, TARGETS};
 pub use sweep::{
