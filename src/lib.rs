@@ -169,7 +169,9 @@
 //!   factorization) with faer's LU and Cholesky as the reference and the tuned layouts
 //!   (compact rows, supernodes, the two-part split) as the fast implementation; the step's
 //!   right-hand-side operator; the dense solve; [`linalg::team`]: parallelism as a parameter
-//!   ([`linalg::team::Par`]) and the run's own helper threads (`--threads n`: n - 1 of them, as many as the machine has free cores; the right-hand side in as many parts, the split factor and the energies in two), which park when idle.
+//!   ([`linalg::team::Par`]) and the run's own helper threads (`--threads n`: n - 1 of
+//!   them, as many as the machine has free cores; the right-hand side in as many parts, the
+//!   split factor and the energies in two), which park when idle.
 //! - [`model`]: the linear model, the load, the states and the pairs' states (below `time`
 //!   and `contact`).
 //! - [`time`]: the scheme's parameters, the one-degree-of-freedom analysis, the step, and
