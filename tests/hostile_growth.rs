@@ -357,3 +357,31 @@ fn an_interrupted_rail_study_ends_as_interrupted_and_resumes() {
         "{s}"
     );
 }
+
+/// The mutation campaign's case 10076: a plastic wheel on a hub of 0.7 um (a point at the
+/// centre) took over two minutes a growth pass in its plastic iterations, where the
+/// estimate said seconds. A plastic wheel's hub below a thousandth of its radius is refused
+/// by `wheel.hub_radius` before anything is written, by `grow` and by `run`; the shipped
+/// plastic study's own hub (a tenth of the radius) runs.
+#[test]
+fn a_point_like_hub_under_a_plastic_wheel_is_refused_by_its_key() {
+    let dir = TestDir::new("hostile-growth", "point-hub");
+    let plastic = scenario("polygon-plastic.toml");
+    for command in ["grow", "run"] {
+        let out = dir.join(command);
+        let o = softway()
+            .arg(command)
+            .arg(&plastic)
+            .args(["--set", "wheel.hub_radius=7.1e-7", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_one_line_error(
+            o.status.code().unwrap_or(-1),
+            &err,
+            &["wheel.hub_radius", "polygon-plastic.toml", "thousandth"],
+        );
+        assert!(!out.exists(), "{command}: {} was written", out.display());
+    }
+}
