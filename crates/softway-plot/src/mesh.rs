@@ -66,6 +66,28 @@ fn check_triangles(points: &[[f64; 2]], triangles: &[[usize; 3]], what: &str) ->
     Ok(())
 }
 
+/// Checks frames of a per-point field (mode shapes, vector fields): some frames, each with
+/// one value per point (`values`: its count) and triangles on its points; `kind` names a
+/// frame (`"shape"`, `"frame"`), `values` the field (`"displacements"`, `"vectors"`).
+fn check_per_point<'a>(
+    frames: impl ExactSizeIterator<Item = (usize, &'a [[f64; 2]], &'a [[usize; 3]])>,
+    (empty, kind, values): (&str, &str, &str),
+) -> Res<()> {
+    if frames.len() == 0 {
+        return Err(Fail::Empty(empty.into()));
+    }
+    for (i, (n, points, triangles)) in frames.enumerate() {
+        if n != points.len() {
+            return Err(Fail::Draw(format!(
+                "{kind} {i}: {n} {values} for {} points",
+                points.len()
+            )));
+        }
+        check_triangles(points, triangles, &format!("{kind} {i}"))?;
+    }
+    Ok(())
+}
+
 fn tri_ok(points: &[[f64; 2]], t: &[usize; 3]) -> bool {
     t.iter()
         .all(|&n| points[n][0].is_finite() && points[n][1].is_finite())

@@ -129,30 +129,17 @@ impl Shape {
     }
 }
 
-/// Checks that every shape has a displacement per point and triangles on its points.
-fn check_shapes(frames: &[ModeShape]) -> Res<()> {
-    if frames.is_empty() {
-        return Err(Fail::Empty("no mode shapes".into()));
-    }
-    for (i, f) in frames.iter().enumerate() {
-        if f.displacement.len() != f.points.len() {
-            return Err(Fail::Draw(format!(
-                "shape {i}: {} displacements for {} points",
-                f.displacement.len(),
-                f.points.len()
-            )));
-        }
-        check_triangles(f.points, f.triangles, &format!("shape {i}"))?;
-    }
-    Ok(())
-}
-
 pub(crate) fn render_mode_shapes(
     frames: &[ModeShape],
     cols: usize,
     size: (u32, u32),
 ) -> Res<Vec<u8>> {
-    check_shapes(frames)?;
+    check_per_point(
+        frames
+            .iter()
+            .map(|f| (f.displacement.len(), f.points, f.triangles)),
+        ("no mode shapes", "shape", "displacements"),
+    )?;
     let n = frames.len();
     let (cols, rows) = grid_shape(n, cols);
     let unit = unit_scale(frames[0].length_unit_scale);

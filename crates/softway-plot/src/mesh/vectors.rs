@@ -82,31 +82,18 @@ pub(super) fn draw_arrow(area: &Area, from: Pt, to: Pt, st: &Sty) -> Res<()> {
     fill_polygon(area, &tri(0.0), BLACK)
 }
 
-/// Checks that every frame has a vector per point and triangles on its points.
-fn check_frames(frames: &[MeshVectorField]) -> Res<()> {
-    if frames.is_empty() {
-        return Err(Fail::Empty("no frames".into()));
-    }
-    for (i, f) in frames.iter().enumerate() {
-        if f.vectors.len() != f.points.len() {
-            return Err(Fail::Draw(format!(
-                "frame {i}: {} vectors for {} points",
-                f.vectors.len(),
-                f.points.len()
-            )));
-        }
-        check_triangles(f.points, f.triangles, &format!("frame {i}"))?;
-    }
-    Ok(())
-}
-
 pub(crate) fn render_vector_fields(
     frames: &[MeshVectorField],
     cols: usize,
     size: (u32, u32),
     opts: &MeshOptions,
 ) -> Res<Vec<u8>> {
-    check_frames(frames)?;
+    check_per_point(
+        frames
+            .iter()
+            .map(|f| (f.vectors.len(), f.points, f.triangles)),
+        ("no frames", "frame", "vectors"),
+    )?;
     let n = frames.len();
     let (cols, rows) = grid_shape(n, cols);
     let unit = unit_scale(frames[0].length_unit_scale);
