@@ -267,6 +267,7 @@ def sweep(
     mode: str = "product",
     histories: Sequence[str] = (),
     out: str | os.PathLike[str] | None = None,
+    force: bool = False,
     progress: bool = True,
 ):
     """Runs a scenario over a grid of values and gathers the results into one Dataset.
@@ -287,7 +288,12 @@ def sweep(
         out: a folder: each point's files (the command line's, and ``point.nc`` with the
             whole history and the fields) in ``out/<key>=<value>/``, written by the worker
             that ran it, and the gathered Dataset as ``out/sweep.nc`` (NetCDF: needs
-            ``softway[netcdf]``).
+            ``softway[netcdf]``). The folder is claimed before any point runs, under the
+            command line's folder rules: a folder of your own files, or of another
+            command's results, is refused unless ``force``; the current, the home and the
+            scenario's folder never; an older sweep there is replaced whole.
+        force: replace ``out`` even when it holds files softway did not write (or another
+            command's results), as ``--force``.
         progress: a tqdm.auto bar over the points.
 
     Returns:
@@ -325,7 +331,9 @@ def sweep(
     out_dir = None if out is None else Path(out)
     if out_dir is not None:
         need_netcdf("sweep(out=...) (sweep.nc, point.nc)")
-        out_dir.mkdir(parents=True, exist_ok=True)
+        _native.claim_folder(
+            str(out_dir), "sweep", force=force, scenario=None if sc.path is None else str(sc.path)
+        )
     folders = [None if out_dir is None else str(out_dir / d) for d in dirs]
 
     cluster = client = None

@@ -471,6 +471,26 @@ fn save_files(
         .map_err(|e| RunError::new_err(e.to_string()))
 }
 
+/// Claims `folder` for a study of `command` written in place (`sweep(out=)`) under the
+/// command line's folder rules ([`softway::run::claim_folder`]: a folder of the user's files
+/// or of another command's results refused unless `force`, the current and the home folder
+/// and the scenario's folder never replaced); the folder is then empty and marked.
+#[pyfunction]
+#[pyo3(signature = (folder, command, force=false, scenario=None))]
+fn claim_folder(
+    py: Python<'_>,
+    folder: PathBuf,
+    command: String,
+    force: bool,
+    scenario: Option<PathBuf>,
+) -> PyResult<PathBuf> {
+    py.allow_threads(|| {
+        let inputs: Vec<&std::path::Path> = scenario.iter().map(PathBuf::as_path).collect();
+        softway::run::claim_folder(&folder, &command, force, &inputs)
+    })
+    .map_err(|e| RunError::new_err(e.to_string()))
+}
+
 /// The TOML text of a scenario given as JSON (a Python dict through `json.dumps`).
 #[pyfunction]
 fn json_to_toml(json: &str) -> PyResult<String> {
@@ -1064,6 +1084,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<NativeResults>()?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(claim_folder, m)?)?;
     m.add_function(wrap_pyfunction!(set_key, m)?)?;
     m.add_function(wrap_pyfunction!(check_file, m)?)?;
     m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;

@@ -280,3 +280,33 @@ def test_issue_48_ctrl_c_during_a_serial_sweep_keeps_the_finished_points(monkeyp
     assert second["interrupted"] is True and second["steps"] > 0
     assert ds["summary_json"].values[2] == ""
     assert len(done) == 2  # the third point never started
+
+
+def test_issue_48_a_sweeps_out_folder_keeps_the_command_lines_folder_rules(tmp_path):
+    """`sweep(out=)` claims its folder as `softway sweep` does, before any point runs: a
+    folder of the user's own files is refused (nothing run, nothing written) unless
+    `force=True`; a folder of `softway run`'s results is refused likewise (its marker names
+    the command); a sweep's own older folder is replaced whole. Before, it wrote into any
+    folder beside the user's files."""
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("my own notes")
+    grid = {"bar.elements": [8, 16]}
+    with pytest.raises(softway.RunError, match="force"):
+        softway.sweep(BAR_SCENARIO, grid, executor="serial", out=mine, progress=False)
+    assert sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    ds = softway.sweep(
+        BAR_SCENARIO, grid, executor="serial", out=mine, force=True, progress=False
+    )
+    assert list(ds["status"].values) == ["complete", "complete"]
+    names = sorted(p.name for p in mine.iterdir())
+    assert "notes.txt" not in names and "sweep.nc" in names, names
+    assert "command: sweep" in (mine / ".softway").read_text()
+    # Replaced whole by a sweep again, without force.
+    softway.sweep(BAR_SCENARIO, grid, executor="serial", out=mine, progress=False)
+    # A run's folder is not a sweep's.
+    ran = tmp_path / "ran"
+    softway.run(BAR_SCENARIO, progress=False).save(ran)
+    assert "command: run" in (ran / ".softway").read_text()
+    with pytest.raises(softway.RunError, match="softway run"):
+        softway.sweep(BAR_SCENARIO, grid, executor="serial", out=ran, progress=False)

@@ -45,7 +45,7 @@ pub(super) fn study_command(
         Some(out) => out,
         None => super::with_sets(super::default_out(&sc.name, command), set)?,
     };
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin(command, &out, force, &[scenario])?;
     let opts = crate::scenario::kind::StudyOptions {
         count,
         plots: sc.plots,
@@ -80,7 +80,7 @@ pub(super) fn matrix_command(
 ) -> CommandResult {
     let sc = resolve(&Scenario::from_file(scenario)?)?;
     let out = out.unwrap_or_else(|| super::default_out(&sc.name, "matrix"));
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin("matrix", &out, force, &[scenario])?;
     let (rep, files) =
         crate::run::matrix::dump(&sc, stage.dir(), steps.map(|s| s as usize), cancel.flag())?;
     let interrupted = cancel.is_cancelled();
@@ -133,7 +133,7 @@ pub(super) fn stability_command(
     let rep = analyse(alpha, gamma, 5);
     let files = match out {
         Some(dir) => {
-            let stage = JobFolder::begin(&dir, force, &[])?;
+            let stage = JobFolder::begin("stability", &dir, force, &[])?;
             let files = crate::output::stability::write(&rep, stage.dir())?;
             stage.finish(
                 &files,

@@ -418,7 +418,7 @@ fn run_command(
         Some(out) => out,
         None => with_sets(PathBuf::from("out").join(&sc.name), set)?,
     };
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin("run", &out, force, &[scenario])?;
     let opts = RunOptions {
         progress: !quiet,
         par: threads.map(Par::threads),
@@ -497,7 +497,7 @@ fn grow_command(
     let folder = if resume {
         StudyFolder::resume(&out, &[scenario])?
     } else {
-        StudyFolder::fresh(&out, force, &[scenario])?
+        StudyFolder::fresh("grow", &out, force, &[scenario])?
     };
     outln!(
         "{} ({}): growth study into {}",

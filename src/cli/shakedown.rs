@@ -73,7 +73,7 @@ pub(super) fn shakedown_command(args: ShakedownArgs, cancel: &crate::run::Cancel
     }
     // The folder is claimed before the work: a folder of the user's files is refused at once.
     let stage = match &args.out {
-        Some(dir) => Some(JobFolder::begin(dir, args.replace.force, &[])?),
+        Some(dir) => Some(JobFolder::begin("shakedown", dir, args.replace.force, &[])?),
         None => None,
     };
     let fy = first_yield(base.elastic.poisson);

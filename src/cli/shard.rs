@@ -37,7 +37,7 @@ pub(super) fn shard_command(
         )
     });
     set_threads("--jobs", jobs)?;
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin("shard", &out, force, &[scenario])?;
     let (mine, files) = run_shard(
         scenario,
         &text,
@@ -93,7 +93,7 @@ pub(super) fn gather_command(
     // The shards' folders are inputs: never replaced by the gathered one.
     let manifests: Vec<PathBuf> = shards.iter().map(|d| d.join(MANIFEST)).collect();
     let keep: Vec<&Path> = manifests.iter().map(PathBuf::as_path).collect();
-    let stage = JobFolder::begin(&out, force, &keep)?;
+    let stage = JobFolder::begin("sweep", &out, force, &keep)?;
     let (m, points, files) = gather(shards, stage.dir())?;
     // Gathering is quick: a signal during it stops the command after the writing.
     let interrupted = cancel.is_cancelled();

@@ -26,7 +26,7 @@ pub(super) fn sweep_command(
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| super::default_out(&sc.name, "sweep"));
     set_threads("--jobs", jobs)?;
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin("sweep", &out, force, &[scenario])?;
     let (points, files) = crate::run::sweep::sweep(scenario, &text, &points, stage.dir(), cancel)?;
     for p in &points {
         for w in &p.warnings {
@@ -177,7 +177,7 @@ pub(super) fn converge_command(
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| super::default_out(&sc.name, "converge"));
     set_threads("--jobs", jobs)?;
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin("converge", &out, force, &[scenario])?;
     let (_, files, warnings, failed) =
         crate::run::converge::converge(scenario, &text, &key, &values, stage.dir(), cancel)?;
     for w in &warnings {
@@ -216,7 +216,7 @@ pub(super) fn compare_command(
         Some(out) => out,
         None => super::with_sets(PathBuf::from("out").join(&sc.name), set)?,
     };
-    let stage = JobFolder::begin(&out, force, &[scenario])?;
+    let stage = JobFolder::begin("compare", &out, force, &[scenario])?;
     let opts = RunOptions {
         cancel: cancel.clone(),
         ..RunOptions::default()

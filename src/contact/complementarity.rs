@@ -44,7 +44,7 @@
 //! impulses (Moreau-Jean with the space-time scheme).
 
 use super::context::{ContactError, Context};
-use super::friction::{spring_energy, stick_spring, FrictionLaw};
+use super::friction::{push_rows as push_friction_rows, spring_energy, tangent_index, FrictionLaw};
 use super::rows::{Row, RowKind};
 use super::treatment::{plain_state, record_friction, ContactTreatment};
 use crate::model::Snapshot;
@@ -74,8 +74,9 @@ pub struct Complementarity {
     point: Vec<f64>,
     vel_tol: Option<f64>,
     friction: Option<FrictionLaw>,
-    /// The tangential surface velocity of each pair in the last solve, m/s.
-    wt: Vec<f64>,
+    /// The tangential surface velocity of each pair in the last solve along its tangents,
+    /// m/s.
+    wt: Vec<[f64; 2]>,
     /// Pose rows for the candidate pairs only (module docs); `false`: every pair.
     search: bool,
     /// Per pair: the row posed in this step (kind of law applied), `None` when the pair is
@@ -89,8 +90,9 @@ pub struct Complementarity {
 #[derive(Debug, Clone, Copy)]
 struct PairRow {
     row: Row,
-    /// The tangential row (friction), with the surface's tangential velocity.
-    tangent: Option<(Row, f64)>,
+    /// The tangential rows' `c_t` and the surface's tangential velocity `w_t` (friction):
+    /// one in 2D, two in 3D.
+    tangents: [Option<(crate::model::Terms, f64)>; 2],
 }
 
 impl Complementarity {
@@ -101,7 +103,7 @@ impl Complementarity {
             point: vec![0.0; n],
             vel_tol: None,
             friction: None,
-            wt: vec![0.0; pairs],
+            wt: vec![[0.0; 2]; pairs],
             search: true,
             posed: vec![None; pairs],
             candidate: vec![false; pairs],
@@ -177,23 +179,15 @@ impl Complementarity {
                 mu,
                 reg,
             };
-            let tangent = match self.friction {
-                Some(_) => ctx.tangent(p, t1, &ctx.pred.u).map(|tg| {
-                    (
-                        Row {
-                            pair: p,
-                            terms: tg.terms,
-                            kind: RowKind::Unilateral,
-                            y0: tg.terms.dot(&ctx.pred.v) - tg.w,
-                            mu: maps.mu_v,
-                            reg: 0.0,
-                        },
-                        tg.w,
-                    )
-                }),
-                None => None,
-            };
-            self.posed[p] = Some(PairRow { row, tangent });
+            let mut tangents = [None; 2];
+            if self.friction.is_some() {
+                for (k, slot) in tangents.iter_mut().enumerate() {
+                    *slot = ctx
+                        .tangent(p, t1, &ctx.pred.u, k)
+                        .map(|tg| (tg.terms, tg.w));
+                }
+            }
+            self.posed[p] = Some(PairRow { row, tangents });
             let y_free = y0 + mu * geo.terms.dot(ctx.xfree);
             margin = margin.max(-y_free);
             self.candidate[p] = !self.search || fs.pairs[p].held || y_free < -tol;
@@ -218,7 +212,7 @@ impl Complementarity {
         &mut self,
         ctx: &mut Context<'_>,
         fs: &Snapshot,
-        force: f64,
+        maps: Maps,
         tol: f64,
     ) -> usize {
         let h = ctx.integ.h();
@@ -232,19 +226,18 @@ impl Complementarity {
                     continue;
                 }
                 let normal = ctx.rows.push(pr.row);
-                if let (Some(law), Some((trow, wt))) = (self.friction, pr.tangent) {
-                    self.wt[p] = wt;
-                    let (reg, dy) = stick_spring(kt, fs.pairs[p].tangential_force, force, h);
-                    ctx.rows.push(Row {
-                        kind: RowKind::Bounded {
-                            normal,
-                            mu_f: law.coefficient(trow.terms.dot(&fs.v) - wt),
-                            eta: law.viscosity / force,
-                        },
-                        y0: trow.y0 + dy,
-                        reg,
-                        ..trow
-                    });
+                if let (Some(law), Some(_)) = (self.friction, pr.tangents[0]) {
+                    self.wt[p] = pr.tangents.map(|t| t.map_or(0.0, |(_, w)| w));
+                    let f0 = [fs.pairs[p].tangential_force, fs.pairs[p].tangential_force_2];
+                    push_friction_rows(
+                        ctx.rows,
+                        &law,
+                        (p, normal),
+                        pr.tangents,
+                        (&fs.v, &ctx.pred.v),
+                        (kt, f0),
+                        (maps, h),
+                    );
                 }
             }
             changes += ctx.solve(tol);
@@ -277,16 +270,18 @@ impl Complementarity {
             let lam = ctx.rows.lambda()[i];
             if let RowKind::Bounded { .. } = row.kind {
                 // The slip rate at t1 on which the row posed the law (the row's `y`).
-                let slip = row.terms.dot(&ts.v) - self.wt[row.pair];
+                let k = tangent_index(ctx.rows.rows(), i);
+                let slip = row.terms.dot(&ts.v) - self.wt[row.pair][k];
                 let sliding = ctx.rows.is_sliding(i);
-                let spring = (kt, fs.pairs[row.pair].tangential_force);
+                let prev = &fs.pairs[row.pair];
+                let f0 = [prev.tangential_force, prev.tangential_force_2][k];
                 record_friction(
                     &mut ts.pairs[row.pair],
-                    lam * force,
+                    (k, lam * force),
                     sliding,
                     slip,
                     h,
-                    spring,
+                    (kt, f0),
                 );
                 continue;
             }
@@ -338,7 +333,7 @@ impl ContactTreatment for Complementarity {
             _ => 0.0,
         };
         let tol = self.pose(ctx, fs, (maps, explicit, mu_k, vel_tol));
-        let changes = self.solve_candidates(ctx, fs, maps.force, tol);
+        let changes = self.solve_candidates(ctx, fs, maps, tol);
         ctx.counts.resolves += changes;
         ctx.finish(&step, &fs.state, &mut ts.state);
         ts.t = t1;
@@ -356,7 +351,9 @@ impl ContactTreatment for Complementarity {
         let springs: f64 = s
             .pairs
             .iter()
-            .map(|p| spring_energy(kt, p.tangential_force))
+            .map(|p| {
+                spring_energy(kt, p.tangential_force) + spring_energy(kt, p.tangential_force_2)
+            })
             .sum();
         springs
             + match self.law {

@@ -165,10 +165,9 @@ impl Context<'_> {
         )
     }
 
-    /// The tangential row of pair `p` at time `t` in the configuration `u` along its first
-    /// tangent (`None` in 1D; [`Pair::tangent`]): the friction treatments' one tangent of
-    /// the plane.
-    pub fn tangent(&self, p: usize, t: f64, u: &[f64]) -> Option<Geometry> {
+    /// The tangential row of pair `p` at time `t` in the configuration `u` along its
+    /// tangent `k` (`None` past the model's `dim - 1` tangents; [`Pair::tangent`]).
+    pub fn tangent(&self, p: usize, t: f64, u: &[f64], k: usize) -> Option<Geometry> {
         self.pairs[p].tangent(
             self.obstacles,
             self.interfaces,
@@ -176,7 +175,7 @@ impl Context<'_> {
             self.reference,
             u,
             t,
-            0,
+            k,
         )
     }
 

@@ -31,6 +31,16 @@
 //! sliding speed of the surfaces for a pair that lands). The bound is thus explicit in the
 //! slip speed (lagged one step), which keeps the frictional step a linear complementarity
 //! problem on the factored matrix; the lag is `h |dmu/dv| |dv/dt|`, first order in `h`.
+//!
+//! **In 3D** a pair has two tangential rows ([`push_rows`]) bounded together by Coulomb's
+//! isotropic cone, `|F_t| <= mu F_n` on the tangential vector ([`super::rows`], Coulomb's
+//! cone): the slip direction is found in the tangent plane, the force opposing the slip
+//! velocity; `mu` is taken at the slip speed `|v_t|`, and an elastic stick has a spring per
+//! tangent (the same `k_t`: isotropic).
+
+use super::rows::{Row, RowKind, RowSolver};
+use crate::model::Terms;
+use crate::time::integrator::Maps;
 
 /// A friction law (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -137,6 +147,57 @@ pub fn spring_energy(kt: f64, f: f64) -> f64 {
 impl From<f64> for FrictionLaw {
     fn from(mu: f64) -> Self {
         Self::coulomb(mu)
+    }
+}
+
+/// The friction rows of pair `p` beside its normal row `normal` ([`super::rows`]): one
+/// bounded row per tangent `(c_t, w_t)` with `y = (c_t.V - w_t) + mu_v c_t.x`, the slip
+/// velocity at the step's end through the integrator's maps `maps` (`v_pred = V`), and an
+/// elastic stick's spring ([`stick_spring`], the spring forces `f0` at the step's start)
+/// when `kt > 0`. In 3D (`tangents[1]` given) the two rows name each other: their bound is
+/// Coulomb's cone on the tangential vector, the coefficient taken at the slip speed
+/// `|s|` of the start velocities `v0`; in 2D at the one tangent's slip rate, as before.
+pub fn push_rows(
+    rows: &mut RowSolver,
+    law: &FrictionLaw,
+    (p, normal): (usize, usize),
+    tangents: [Option<(Terms, f64)>; 2],
+    (v0, v_pred): (&[f64], &[f64]),
+    (kt, f0): (f64, [f64; 2]),
+    (maps, h): (Maps, f64),
+) {
+    let slip = |k: usize| tangents[k].map_or(0.0, |(t, w): (Terms, f64)| t.dot(v0) - w);
+    let speed = match tangents[1] {
+        Some(_) => slip(0).hypot(slip(1)),
+        None => slip(0),
+    };
+    let mu_f = law.coefficient(speed);
+    let first = rows.rows().len();
+    for (k, tangent) in tangents.iter().enumerate() {
+        let Some((terms, w)) = *tangent else { continue };
+        let (reg, dy) = stick_spring(kt, f0[k], maps.force, h);
+        rows.push(Row {
+            pair: p,
+            terms,
+            kind: RowKind::Bounded {
+                normal,
+                mu_f,
+                eta: law.viscosity / maps.force,
+                with: tangents[1].map(|_| first + 1 - k),
+            },
+            y0: terms.dot(v_pred) - w + dy,
+            mu: maps.mu_v,
+            reg,
+        });
+    }
+}
+
+/// Which tangent of its pair the bounded row `i` of `rows` is: 1 for the second row of a
+/// 3D pair (its partner comes first), else 0.
+pub fn tangent_index(rows: &[Row], i: usize) -> usize {
+    match rows[i].kind {
+        RowKind::Bounded { with: Some(o), .. } if o < i => 1,
+        _ => 0,
     }
 }
 

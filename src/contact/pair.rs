@@ -30,8 +30,9 @@
 //! surface's velocity along it ([`Obstacle::surface_tangential_velocity`]: 0 for fixed
 //! planes, the rolling speed for the rotating base; 0 between two nodes). The slip velocity
 //! is `c_t . v - w`. A 1D model has no tangent (`None`). The friction treatments use the
-//! plane's one tangent; a 3D friction cone over the two is not built yet, and a 3D model
-//! with friction is refused at set-up ([`super::Treatment::check_friction`]).
+//! plane's one tangent in 2D and both in 3D, bounded together by Coulomb's isotropic cone
+//! ([`super::rows`]); friction between two 3D bodies (a searched pair) is refused at set-up
+//! until the 3D search gives its two tangents.
 //!
 //! **Split pairs (the uncoupled rolling check).** [`Pair::Split`] is a node against an
 //! obstacle whose normal row sits on one node and whose tangential row on another: the

@@ -54,6 +54,25 @@
 //! at the cone's edge. Such a change is a dense re-solve of the active rows on the cached
 //! columns, never a factorization; they are counted ([`RowSolver::stick_slip_changes`]).
 //! The loop stops after `10 + 4k` changes (k rows) in any case.
+//!
+//! **Coulomb's cone (3D).** A pair in 3D has two tangential rows `p`, `o` (each naming the
+//! other, `with`), and the bound is on their vector: `|(lambda_p, lambda_o)| <= mu_f
+//! lambda_q`, isotropic, not a box of two 1D bounds (a box would brake each component
+//! alone and bend an oblique slide). Sticking, both rows hold `y = 0`; when the tangential
+//! multiplier leaves the disk the pair slides. The law on the slide, `lambda_t = (mu_f
+//! lambda_q + eta |y|) d` with `d = -y / |y|` (the force opposing the slip velocity), is
+//! nonlinear in the direction; it is solved by Newton's method on the dense rows: at the
+//! iterate `(d, kappa = mu_f lambda_q / |y|)` each row `c` of the pair carries the
+//! linearized law
+//! $$\lambda_c - d_c\\,\mu_f \lambda_q + \kappa\\,[y_c - d_c (d \cdot y)] + \eta\\, y_c = 0$$
+//! (the planar slip equation with `s` replaced by `d_c`, plus the derivative of the
+//! direction, `kappa (I - d d^T) y`), then `d <- -y / |y|` and `kappa` anew until `d` moves
+//! by less than [`CONE_TURN`]. The first slide starts from the stick force's direction
+//! with `kappa = 0`; Newton converges in 3-6 re-solves on a node of unequal tangential
+//! masses where the plain fixed point `d <- -y / |y|` cycles. At most [`CONE_TURNS`]
+//! re-solves a solve; they do not count against the `10 + 4k` changes, so a planar model's
+//! loop is the one above. A sliding pair whose slip has a component along its force,
+//! `d . y > tol`, sticks again.
 
 use crate::linalg::dense_solve_in_place;
 use crate::linalg::team::Team;
@@ -78,6 +97,11 @@ pub enum RowKind {
         /// Viscoplastic overstress (module docs), in multiplier units per unit of `y`; 0:
         /// Coulomb.
         eta: f64,
+        /// The other tangential row of the same pair in 3D (module docs, Coulomb's cone):
+        /// the bound is then on the pair's tangential vector, `|(lambda_p, lambda_with)| <=
+        /// mu_f lambda_normal`, both rows with the same `normal`, `mu_f` and `eta`. `None`:
+        /// a planar pair's one tangent.
+        with: Option<usize>,
     },
 }
 
@@ -100,6 +124,23 @@ pub struct Row {
 
 const NO_SLOT: usize = usize::MAX;
 
+/// A sliding 3D pair's direction has converged when it moves by less than this (the sum of
+/// its components' changes; module docs, Coulomb's cone).
+pub const CONE_TURN: f64 = 1e-10;
+
+/// At most this many turns of the sliding directions in one solve (module docs).
+pub const CONE_TURNS: usize = 200;
+
+/// What one pass of the cone's rules did to a 3D pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ConeMove {
+    None,
+    /// Entered, left, stuck or started sliding.
+    State,
+    /// Turned its sliding direction.
+    Turn,
+}
+
 /// The rows of one solve, the column cache and the dense work (module docs).
 #[derive(Debug, Clone)]
 pub struct RowSolver {
@@ -118,6 +159,9 @@ pub struct RowSolver {
     y0: Vec<f64>,
     w: Vec<f64>,
     state: Vec<Activity>,
+    /// Per sliding row of a 3D pair, the Newton term `kappa = mu_f lambda_q / |y|` of its
+    /// direction (module docs, Coulomb's cone; 0 on the first slide).
+    kappa: Vec<f64>,
     idx: Vec<usize>,
     m: Vec<f64>,
     r: Vec<f64>,
@@ -160,6 +204,7 @@ impl RowSolver {
             y0: vec![0.0; mr],
             w: vec![0.0; mr * mr],
             state: vec![Activity::Off; mr],
+            kappa: vec![0.0; mr],
             idx: Vec::with_capacity(mr),
             m: vec![0.0; mr * mr],
             r: vec![0.0; mr],
@@ -306,14 +351,33 @@ impl RowSolver {
             }
         }
         let mut changes = 0;
-        for _ in 0..(10 + 4 * k) {
+        let mut turns = 0;
+        let mut budget = 10 + 4 * k;
+        while budget > 0 {
             self.solve_set(k);
             // Friction first (module docs): a friction row follows its normal row in and out
             // of the active set (off while the pair carries no normal reaction, sticking when
             // it enters); a sticking row beyond its bound slides; a sliding row whose `y` no
             // longer has the sign its force opposes sticks.
             let mut moved = false;
+            let mut turned = false;
             for p in 0..k {
+                if let RowKind::Bounded {
+                    normal,
+                    mu_f,
+                    with: Some(o),
+                    ..
+                } = self.rows[p].kind
+                {
+                    if o > p {
+                        match self.cone(p, o, (normal, mu_f), (k, tol), turns < CONE_TURNS) {
+                            ConeMove::State => moved = true,
+                            ConeMove::Turn => turned = true,
+                            ConeMove::None => {}
+                        }
+                    }
+                    continue;
+                }
                 if let RowKind::Bounded { normal, mu_f, .. } = self.rows[p].kind {
                     let bound = mu_f * self.lambda[normal].max(0.0);
                     let normal_on = self.state[normal] != Activity::Off;
@@ -342,6 +406,13 @@ impl RowSolver {
             }
             if moved {
                 changes += 1;
+                budget -= 1;
+                continue;
+            }
+            if turned {
+                // A turn of a sliding direction: re-solved outside the budget (module docs).
+                turns += 1;
+                changes += 1;
                 continue;
             }
             // Leave: the most negative unilateral multiplier.
@@ -358,6 +429,7 @@ impl RowSolver {
             if let Some((p, _)) = worst {
                 self.state[p] = Activity::Off;
                 changes += 1;
+                budget -= 1;
                 continue;
             }
             // Enter: the most violated inactive unilateral row.
@@ -375,11 +447,78 @@ impl RowSolver {
                 Some((p, _)) => {
                     self.state[p] = Activity::On;
                     changes += 1;
+                    budget -= 1;
                 }
                 None => break,
             }
         }
         changes
+    }
+
+    /// One pass of the cone's rules on the 3D pair of tangential rows `p < o` with the
+    /// normal row and coefficient `(normal, mu_f)` (module docs, Coulomb's cone): follow
+    /// the normal row in and out, start sliding outside the disk, stick again on a
+    /// reversal, else turn the sliding direction toward `-y / |y|` (when `may_turn`).
+    fn cone(
+        &mut self,
+        p: usize,
+        o: usize,
+        (normal, mu_f): (usize, f64),
+        (k, tol): (usize, f64),
+        may_turn: bool,
+    ) -> ConeMove {
+        let normal_on = self.state[normal] != Activity::Off;
+        let both = |s: &mut Vec<Activity>, a: Activity, b: Activity| {
+            s[p] = a;
+            s[o] = b;
+        };
+        match (self.state[p], self.state[o]) {
+            (Activity::Off, _) if normal_on => {
+                both(&mut self.state, Activity::On, Activity::On);
+                ConeMove::State
+            }
+            (Activity::On | Activity::Slip(_), _) if !normal_on => {
+                both(&mut self.state, Activity::Off, Activity::Off);
+                ConeMove::State
+            }
+            (Activity::On, _) => {
+                let bound = mu_f * self.lambda[normal].max(0.0);
+                let f = self.lambda[p].hypot(self.lambda[o]);
+                if f > bound * (1.0 + 1e-12) {
+                    let d = (self.lambda[p] / f, self.lambda[o] / f);
+                    both(&mut self.state, Activity::Slip(d.0), Activity::Slip(d.1));
+                    self.kappa[p] = 0.0;
+                    self.kappa[o] = 0.0;
+                    self.stick_slip += 1;
+                    ConeMove::State
+                } else {
+                    ConeMove::None
+                }
+            }
+            (Activity::Slip(dp), Activity::Slip(dq)) => {
+                let (yp, yo) = (self.y(p, k), self.y(o, k));
+                if dp * yp + dq * yo > tol {
+                    both(&mut self.state, Activity::On, Activity::On);
+                    self.stick_slip += 1;
+                    return ConeMove::State;
+                }
+                let speed = yp.hypot(yo);
+                if !may_turn || speed <= tol {
+                    return ConeMove::None;
+                }
+                let d = (-yp / speed, -yo / speed);
+                if (d.0 - dp).abs() + (d.1 - dq).abs() > CONE_TURN {
+                    both(&mut self.state, Activity::Slip(d.0), Activity::Slip(d.1));
+                    let kappa = mu_f * self.lambda[normal].max(0.0) / speed;
+                    self.kappa[p] = kappa;
+                    self.kappa[o] = kappa;
+                    ConeMove::Turn
+                } else {
+                    ConeMove::None
+                }
+            }
+            _ => ConeMove::None,
+        }
     }
 
     /// Solves the equations of the active rows (`y_p = 0`, or the slip relation), the others
@@ -395,7 +534,42 @@ impl RowSolver {
         for a in 0..m {
             let p = self.idx[a];
             match (self.state[p], self.rows[p].kind) {
-                (Activity::Slip(s), RowKind::Bounded { normal, mu_f, eta }) => {
+                (
+                    Activity::Slip(dp),
+                    RowKind::Bounded {
+                        normal,
+                        mu_f,
+                        eta,
+                        with: Some(o),
+                    },
+                ) => {
+                    // The linearized law of a sliding 3D pair (module docs, Coulomb's cone):
+                    // lambda_p - d_p mu_f lambda_q + c_pp y_p + c_po y_o = 0.
+                    let d_o = match self.state[o] {
+                        Activity::Slip(d) => d,
+                        _ => 0.0,
+                    };
+                    let kappa = self.kappa[p];
+                    let (c_pp, c_po) = (kappa * (1.0 - dp * dp) + eta, -kappa * dp * d_o);
+                    self.r[a] = -(c_pp * self.y0[p] + c_po * self.y0[o]);
+                    for b in 0..m {
+                        let q = self.idx[b];
+                        let mut v = c_pp * self.w[p * k + q] + c_po * self.w[o * k + q];
+                        if q == p {
+                            v += 1.0;
+                        }
+                        if q == normal {
+                            v -= dp * mu_f;
+                        }
+                        self.m[a * m + b] = v;
+                    }
+                }
+                (
+                    Activity::Slip(s),
+                    RowKind::Bounded {
+                        normal, mu_f, eta, ..
+                    },
+                ) => {
                     // lambda_p - s mu_f lambda_q + eta (y0_p + sum_b W_pb lambda_b) = 0.
                     self.r[a] = -eta * self.y0[p];
                     for b in 0..m {
@@ -691,11 +865,84 @@ mod tests {
                 normal: n,
                 mu_f: 0.5,
                 eta,
+                with: None,
             },
         ));
         let mut x = vec![-1.0, vt];
         rows.solve(&mut integ, &mut x, 1e-12);
         (rows.lambda().to_vec(), x)
+    }
+
+    /// A node of masses `m = (m_n, m_1, m_2)` approaching a plane at normal velocity -1 with
+    /// the tangential velocity `vt`, under Coulomb's cone of coefficient 0.5 with the
+    /// viscosity `eta`: the multipliers and the velocity.
+    fn node_on_plane_3d(m: [f64; 3], vt: [f64; 2], eta: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut integ = Diagonal(m.to_vec());
+        let mut rows = RowSolver::new(3, 3, 3);
+        let n = rows.push(row(0, RowKind::Unilateral));
+        for (dof, other) in [(1, 2), (2, 1)] {
+            rows.push(row(
+                dof,
+                RowKind::Bounded {
+                    normal: n,
+                    mu_f: 0.5,
+                    eta,
+                    with: Some(other),
+                },
+            ));
+        }
+        let mut x = vec![-1.0, vt[0], vt[1]];
+        rows.solve(&mut integ, &mut x, 1e-12);
+        (rows.lambda().to_vec(), x)
+    }
+
+    /// Coulomb's cone on a node of unit masses: inside the disk (`|vt| = 0.36 < 0.5`) the
+    /// node sticks, its tangential impulse `-vt`; outside (`|vt| = sqrt 5`) it slides with
+    /// the impulse `-0.5 vt / |vt|`, the velocity keeping its direction (a box of two 1D
+    /// bounds would brake each component by 0.5 and turn it: `(1.5, 0.5)`).
+    #[test]
+    fn a_3d_pair_sticks_inside_coulombs_disk_and_slides_against_its_velocity() {
+        let (l, x) = node_on_plane_3d([1.0; 3], [0.3, 0.2], 0.0);
+        assert!((l[0] - 1.0).abs() < 1e-14, "{l:?}");
+        assert!(
+            (l[1] + 0.3).abs() < 1e-14 && (l[2] + 0.2).abs() < 1e-14,
+            "{l:?}"
+        );
+        assert!(x[1].abs() < 1e-14 && x[2].abs() < 1e-14, "{x:?}");
+        let (l, x) = node_on_plane_3d([1.0; 3], [2.0, 1.0], 0.0);
+        let r5 = 5.0_f64.sqrt();
+        assert!((l[1] + 1.0 / r5).abs() < 1e-14 && (l[2] + 0.5 / r5).abs() < 1e-14);
+        assert!((x[1] - (2.0 - 1.0 / r5)).abs() < 1e-14, "{x:?}");
+        assert!((x[2] - (1.0 - 0.5 / r5)).abs() < 1e-14, "{x:?}");
+    }
+
+    /// Unequal tangential masses (1 and 4) make the sliding direction a fixed point that
+    /// the first guess misses: at the solution the force lies on the disk's edge, `|lambda_t|
+    /// = mu lambda_n (+ eta |y|)`, opposes the slip velocity exactly (their cross product
+    /// zero, their dot product negative), and the velocity obeys the momentum balance
+    /// `y = vt + lambda_t / m`, for Coulomb and with a viscosity.
+    #[test]
+    fn a_3d_pairs_sliding_direction_is_the_fixed_point_of_the_law() {
+        for eta in [0.0, 0.25] {
+            for vt in [[2.0, 1.0], [-0.4, 3.0], [0.45, -0.35]] {
+                let m = [1.0, 1.0, 4.0];
+                let (l, x) = node_on_plane_3d(m, vt, eta);
+                let (lt, y) = ([l[1], l[2]], [x[1], x[2]]);
+                let speed = y[0].hypot(y[1]);
+                assert!(speed > 1e-3, "{vt:?}: slides");
+                let f = lt[0].hypot(lt[1]);
+                assert!(
+                    (f - (0.5 * l[0] + eta * speed)).abs() < 1e-9,
+                    "{vt:?}: {l:?}"
+                );
+                let cross = (lt[0] * y[1] - lt[1] * y[0]) / (f * speed);
+                assert!(cross.abs() < 1e-9, "{vt:?}: force along the slip");
+                assert!(lt[0] * y[0] + lt[1] * y[1] < 0.0, "{vt:?}: opposes it");
+                for c in 0..2 {
+                    assert!((y[c] - (vt[c] + lt[c] / m[c + 1])).abs() < 1e-12);
+                }
+            }
+        }
     }
 
     /// The viscoplastic slip: the node of the Coulomb test sliding at `vt = 2` with

@@ -65,7 +65,7 @@
 //! ([`super::treatment::record_friction`]).
 
 use super::context::{ContactError, Context};
-use super::friction::{spring_energy, stick_spring, FrictionLaw};
+use super::friction::{push_rows as push_friction_rows, spring_energy, tangent_index, FrictionLaw};
 use super::rows::{Row, RowKind, Terms};
 use super::treatment::{record_friction, ContactTreatment, Restore, Treatment};
 use crate::model::Snapshot;
@@ -125,8 +125,8 @@ pub struct SoftWay {
     friction: Option<FrictionLaw>,
     /// Per pair, the friction row of the last solve: its row, surface velocity, multiplier
     /// and whether it slid.
-    friction_row: Vec<Option<(Terms, f64)>>,
-    lambda_t: Vec<f64>,
+    friction_row: Vec<[Option<(Terms, f64)>; 2]>,
+    lambda_t: Vec<[f64; 2]>,
     sliding: Vec<bool>,
     /// The pairs' gaps at `t1` of the last solve.
     gaps: Vec<f64>,
@@ -150,8 +150,8 @@ impl SoftWay {
             lambda: vec![0.0; pairs],
             lambda_stop: vec![0.0; pairs],
             friction: None,
-            friction_row: vec![None; pairs],
-            lambda_t: vec![0.0; pairs],
+            friction_row: vec![[None; 2]; pairs],
+            lambda_t: vec![[0.0; 2]; pairs],
             sliding: vec![false; pairs],
             gaps: vec![0.0; pairs],
         }
@@ -204,36 +204,32 @@ impl SoftWay {
             self.row_pair.push(p);
         }
         // Friction rows of the held pairs, after all normal rows (module docs, Friction).
-        self.friction_row.fill(None);
+        self.friction_row.fill([None; 2]);
         let Some(law) = self.friction else { return };
-        let maps = step.maps;
+        let kt = law.tangential_stiffness;
         for normal in 0..self.row_pair.len() {
             let p = self.row_pair[normal];
             if self.modes[p] != PairMode::Hold {
                 continue;
             }
-            if let Some(tg) = ctx.tangent(p, t1, &fs.u) {
-                self.friction_row[p] = Some((tg.terms, tg.w));
-                let mu_f = law.coefficient(tg.terms.dot(&fs.v) - tg.w);
-                let (reg, dy) = stick_spring(
-                    law.tangential_stiffness,
-                    fs.pairs[p].tangential_force,
-                    maps.force,
-                    ctx.integ.h(),
-                );
-                ctx.rows.push(Row {
-                    pair: p,
-                    terms: tg.terms,
-                    kind: RowKind::Bounded {
-                        normal,
-                        mu_f,
-                        eta: law.viscosity / maps.force,
-                    },
-                    y0: tg.terms.dot(&ctx.pred.v) - tg.w + dy,
-                    mu: maps.mu_v,
-                    reg,
-                });
+            let mut tangents = [None; 2];
+            for (k, slot) in tangents.iter_mut().enumerate() {
+                *slot = ctx.tangent(p, t1, &fs.u, k).map(|tg| (tg.terms, tg.w));
             }
+            if tangents[0].is_none() {
+                continue;
+            }
+            self.friction_row[p] = tangents;
+            let f0 = [fs.pairs[p].tangential_force, fs.pairs[p].tangential_force_2];
+            push_friction_rows(
+                ctx.rows,
+                &law,
+                (p, normal),
+                tangents,
+                (&fs.v, &ctx.pred.v),
+                (kt, f0),
+                (step.maps, ctx.integ.h()),
+            );
         }
     }
 }
@@ -294,17 +290,21 @@ impl SoftWay {
                 released: self.released[p],
                 gap,
                 tangential_force: 0.0,
+                tangential_force_2: 0.0,
                 sliding: false,
                 slip_power: 0.0,
                 dissipated: prev.dissipated,
             };
-            if let Some((terms, wt)) = self.friction_row[p] {
+            for k in 0..2 {
+                let Some((terms, wt)) = self.friction_row[p][k] else {
+                    continue;
+                };
                 // The slip rate at t1 on which the row posed the law (module docs, Friction).
                 let slip = terms.dot(&ts.v) - wt;
-                let force = self.lambda_t[p] * unit_force;
+                let force = self.lambda_t[p][k] * unit_force;
                 let kt = self.stick_stiffness();
-                let spring = (kt, prev.tangential_force);
-                record_friction(&mut st, force, self.sliding[p], slip, h, spring);
+                let f0 = [prev.tangential_force, prev.tangential_force_2][k];
+                record_friction(&mut st, (k, force), self.sliding[p], slip, h, (kt, f0));
             }
             match self.modes[p] {
                 PairMode::Brake { terms, .. } => {
@@ -349,7 +349,9 @@ impl ContactTreatment for SoftWay {
         let kt = self.stick_stiffness();
         s.pairs
             .iter()
-            .map(|p| spring_energy(kt, p.tangential_force))
+            .map(|p| {
+                spring_energy(kt, p.tangential_force) + spring_energy(kt, p.tangential_force_2)
+            })
             .sum()
     }
 
@@ -407,7 +409,8 @@ impl ContactTreatment for SoftWay {
             let k = self.row_pair.len();
             self.lambda[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
             for (i, row) in ctx.rows.rows().iter().enumerate().skip(k) {
-                self.lambda_t[row.pair] = ctx.rows.lambda()[i];
+                let t = tangent_index(ctx.rows.rows(), i);
+                self.lambda_t[row.pair][t] = ctx.rows.lambda()[i];
                 self.sliding[row.pair] = ctx.rows.is_sliding(i);
             }
             ctx.finish(&step, &fs.state, &mut ts.state);

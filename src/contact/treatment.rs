@@ -170,9 +170,9 @@ impl Treatment {
                 "contact.friction needs a 2D model (a 1D model has no tangential direction); remove the key or set it to 0".to_string()
             );
         }
-        if dim != 2 {
+        if dim > 3 {
             return Err(format!(
-                "contact.friction is not available in {dim}D yet (the friction treatments slide along the plane's one tangent; a {dim}D model's two need a friction cone); remove the key or set it to 0"
+                "contact.friction needs a 2D or 3D model, got {dim}D; remove the key or set it to 0"
             ));
         }
         match self {
@@ -267,19 +267,29 @@ pub enum Restore {
 /// (`omega s`), so `w_t` changes by about `omega^2 s h` per step and the mean read `(1 -
 /// beta)` of it as slip of every sticking node: a power of either sign, negative in the
 /// majority of the steps.
+///
+/// A 3D pair's second tangent (`tangent = 1`) is recorded after its first: its force in
+/// [`PairState::tangential_force_2`], its power and dissipation added to the first's.
 pub fn record_friction(
     st: &mut PairState,
-    force: f64,
+    (tangent, force): (usize, f64),
     sliding: bool,
     slip: f64,
     h: f64,
     (kt, f0): (f64, f64),
 ) {
-    st.tangential_force = force;
-    st.sliding = sliding;
     let stored = spring_energy(kt, force) - spring_energy(kt, f0);
-    st.slip_power = -force * slip - stored / h;
-    st.dissipated += h * st.slip_power;
+    let power = -force * slip - stored / h;
+    if tangent == 0 {
+        st.tangential_force = force;
+        st.sliding = sliding;
+        st.slip_power = power;
+    } else {
+        st.tangential_force_2 = force;
+        st.sliding |= sliding;
+        st.slip_power += power;
+    }
+    st.dissipated += h * power;
 }
 
 /// Records a pair's state from its mode at the end of an interval (shared by the

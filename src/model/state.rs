@@ -94,6 +94,9 @@ pub struct PairState {
     /// ([`crate::contact::Pair::tangent`]: the normal turned by +90 degrees), N; 0 without
     /// friction.
     pub tangential_force: f64,
+    /// Friction force along the pair's second tangent (3D: `t2 = n x t1`,
+    /// [`crate::contact::pair::tangent_basis`]), N; 0 in 2D and without friction.
+    pub tangential_force_2: f64,
     /// Sliding (the friction force on the Coulomb bound) in the step that ended here.
     pub sliding: bool,
     /// Frictional dissipation in the step that ended here, W: `-F_t s_1` with `F_t` the
@@ -122,6 +125,7 @@ impl Default for PairState {
             released: false,
             gap: f64::INFINITY,
             tangential_force: 0.0,
+            tangential_force_2: 0.0,
             sliding: false,
             slip_power: 0.0,
             dissipated: 0.0,

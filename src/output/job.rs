@@ -33,15 +33,22 @@ pub struct JobFolder {
 }
 
 impl JobFolder {
-    /// Claims `out` (the folder rules, module docs); `inputs` are the files the command
-    /// reads (their folders are never replaced).
+    /// Claims `out` for the results of `command` (`run`, `sweep`, ...: the folder rules,
+    /// module docs; its marker names the command, and a folder of another command's results
+    /// is not replaced without `force`); `inputs` are the files the command reads (their
+    /// folders are never replaced).
     ///
     /// # Errors
-    /// [`StagingError`]: a folder of the user's files without `force`, a protected folder,
-    /// a file, a folder that cannot be made.
-    pub fn begin(out: &Path, force: bool, inputs: &[&Path]) -> Result<Self, StagingError> {
+    /// [`StagingError`]: a folder of the user's files or of another command's results
+    /// without `force`, a protected folder, a file, a folder that cannot be made.
+    pub fn begin(
+        command: &str,
+        out: &Path,
+        force: bool,
+        inputs: &[&Path],
+    ) -> Result<Self, StagingError> {
         Ok(JobFolder {
-            stage: StagedDir::begin_keeping(out, force, inputs)?,
+            stage: StagedDir::begin_keeping(out, force, inputs, Some(command))?,
         })
     }
 
@@ -100,13 +107,19 @@ pub struct StudyFolder {
 }
 
 impl StudyFolder {
-    /// A new study in `out`: the folder rules of [`JobFolder::begin`], then an empty
-    /// marked folder swapped in (the results of an older study there are replaced whole).
+    /// A new study of `command` in `out`: the folder rules of [`JobFolder::begin`], then an
+    /// empty marked folder swapped in (the results of an older study there are replaced
+    /// whole).
     ///
     /// # Errors
     /// As [`JobFolder::begin`].
-    pub fn fresh(out: &Path, force: bool, inputs: &[&Path]) -> Result<Self, StagingError> {
-        let path = StagedDir::begin_keeping(out, force, inputs)?.commit()?;
+    pub fn fresh(
+        command: &str,
+        out: &Path,
+        force: bool,
+        inputs: &[&Path],
+    ) -> Result<Self, StagingError> {
+        let path = StagedDir::begin_keeping(out, force, inputs, Some(command))?.commit()?;
         Ok(StudyFolder { path })
     }
 

@@ -49,7 +49,7 @@ impl Results {
     /// [`RunError::Output`]: the folder refused (the message says why and names `--force`
     /// for a folder of the user's files), a file that cannot be written.
     pub fn save_folder(&self, out: &Path, force: bool) -> Result<Vec<PathBuf>, RunError> {
-        let stage = crate::output::job::JobFolder::begin(out, force, &[])
+        let stage = crate::output::job::JobFolder::begin("run", out, force, &[])
             .map_err(|e| RunError::output(out, e))?;
         let files = self.save(stage.dir())?;
         stage
@@ -121,6 +121,26 @@ fn view(arrays: &[FieldArray]) -> Vec<Field<'_>> {
         .collect()
 }
 
+/// Claims the folder `out` for a study of `command` written in place (the Python package's
+/// `sweep(out=)`: every point's folder inside it, written by the worker that ran it, then
+/// the gathered table) under the rules every command keeps: a folder of the user's files,
+/// or of another command's results, refused unless `force`; the current and the home folder
+/// and the folders of `inputs` (the scenario) never replaced; an older study of the same
+/// command there replaced whole. The folder is then empty but for its marker.
+///
+/// # Errors
+/// [`RunError::Output`] naming the folder and why it is refused.
+pub fn claim_folder(
+    out: &Path,
+    command: &str,
+    force: bool,
+    inputs: &[&Path],
+) -> Result<PathBuf, RunError> {
+    crate::output::job::StudyFolder::fresh(command, out, force, inputs)
+        .map(|f| f.path)
+        .map_err(|e| RunError::output(out, e))
+}
+
 /// Writes `files` (each a file's name and its bytes: a saved result's files, carried
 /// elsewhere, as the Python package's pickled `Result` carries them) into the folder `out`
 /// under the rules [`Results::save_folder`](crate::run::Results::save_folder) keeps: written whole or not at all, a folder of
@@ -136,7 +156,7 @@ pub fn save_files(
     interrupted: bool,
     force: bool,
 ) -> Result<Vec<PathBuf>, RunError> {
-    let stage = crate::output::job::JobFolder::begin(out, force, &[])
+    let stage = crate::output::job::JobFolder::begin("run", out, force, &[])
         .map_err(|e| RunError::output(out, e))?;
     let mut written = Vec::with_capacity(files.len());
     for (name, bytes) in files {

@@ -36,19 +36,50 @@ pub const MARKER: &str = ".softway";
 /// The marker's second line when the folder holds an interrupted command's results.
 pub const INTERRUPTED: &str = "interrupted";
 
-/// Writes the [`MARKER`] of the folder `dir` (atomically): the version that wrote it, and
-/// [`INTERRUPTED`] on a second line when its results are an interrupted command's. The one
-/// writer of the marker, for a staged folder and a study written in place alike.
+/// The marker's line naming the command that wrote the folder (`command: sweep`).
+const COMMAND: &str = "command: ";
+
+/// Writes the [`MARKER`] of the folder `dir` (atomically): the version that wrote it,
+/// [`INTERRUPTED`] on a second line when its results are an interrupted command's, and the
+/// command that wrote it (`command: run`) when the marker there names one (a marker
+/// rewritten keeps its command). The one writer of the marker, for a staged folder and a
+/// study written in place alike.
 ///
 /// # Errors
 /// The marker cannot be written.
 pub fn write_marker(dir: &Path, interrupted: bool) -> std::io::Result<()> {
+    write_marker_as(dir, marker_command(dir).as_deref(), interrupted)
+}
+
+/// As [`write_marker`], naming `command` (the study a folder holds: `run`, `sweep`, ...).
+///
+/// # Errors
+/// The marker cannot be written.
+pub fn write_marker_as(
+    dir: &Path,
+    command: Option<&str>,
+    interrupted: bool,
+) -> std::io::Result<()> {
     let mut text = format!("softway {}\n", env!("CARGO_PKG_VERSION"));
     if interrupted {
         text.push_str(INTERRUPTED);
         text.push('\n');
     }
+    if let Some(c) = command {
+        text.push_str(COMMAND);
+        text.push_str(c);
+        text.push('\n');
+    }
     crate::output::files::write_atomic(&dir.join(MARKER), text.as_bytes())
+}
+
+/// The command the [`MARKER`] of `dir` names, if it is there and names one (markers of
+/// older versions name none).
+pub fn marker_command(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join(MARKER)).ok()?;
+    text.lines()
+        .find_map(|l| l.strip_prefix(COMMAND))
+        .map(str::to_string)
 }
 
 /// The longest name of a file or folder, bytes (`NAME_MAX` of Linux's filesystems, macOS's
@@ -103,6 +134,20 @@ pub enum StagingError {
         shown(.0)
     )]
     Foreign(PathBuf),
+    /// The target holds the results of another command (its marker says which).
+    #[error(
+        "--out {}: the folder holds the results of `softway {wrote}`, not of `softway {this}`; \
+         give another --out, or --force to replace them",
+        shown(.path)
+    )]
+    OtherCommand {
+        /// The output folder asked for.
+        path: PathBuf,
+        /// The command whose results it holds.
+        wrote: String,
+        /// The command asking for it.
+        this: String,
+    },
     /// The target is, or holds, a folder never replaced (module docs).
     #[error(
         "--out {}: the folder is or holds {what} ({}); softway never replaces the current folder, \
@@ -155,22 +200,28 @@ impl StagedDir {
     /// # Errors
     /// As [`StagedDir::begin_keeping`].
     pub fn begin(target: &Path, force: bool) -> Result<Self, StagingError> {
-        Self::begin_keeping(target, force, &[])
+        Self::begin_keeping(target, force, &[], None)
     }
 
     /// Checks `target` and creates a fresh staging folder beside it (its parent folders
     /// are created as needed), with the [`MARKER`] file. Stale staging folders of dead
     /// processes beside `target` are removed. `target` must not be, nor hold, the current
-    /// folder, the home folder or the folder of one of `inputs` (module docs).
+    /// folder, the home folder or the folder of one of `inputs` (module docs). `command`
+    /// (the study the folder will hold: `run`, `sweep`, ...) is written in the marker, and a
+    /// folder whose marker names another command is not replaced without `force` (a scenario
+    /// named `wheel-sweep` run by `softway run` and `wheel` swept by `softway sweep` would
+    /// both write `out/wheel-sweep/`).
     ///
     /// # Errors
     /// [`StagingError::NotAFolder`], [`StagingError::Protected`],
-    /// [`StagingError::DanglingLink`], [`StagingError::Foreign`] (unless `force`),
-    /// [`StagingError::Io`] when the folders cannot be created.
+    /// [`StagingError::DanglingLink`], [`StagingError::Foreign`] and
+    /// [`StagingError::OtherCommand`] (unless `force`), [`StagingError::Io`] when the
+    /// folders cannot be created.
     pub fn begin_keeping(
         target: &Path,
         force: bool,
         inputs: &[&Path],
+        command: Option<&str>,
     ) -> Result<Self, StagingError> {
         let io = |what: &str, source: std::io::Error| StagingError::Io {
             path: target.to_path_buf(),
@@ -229,6 +280,15 @@ impl StagedDir {
             refuse_protected(target, &real, inputs)?;
             if !force && !replaceable(&real).map_err(|e| io("cannot read it", e))? {
                 return Err(StagingError::Foreign(target.to_path_buf()));
+            }
+            if let (false, Some(this), Some(wrote)) = (force, command, marker_command(&real)) {
+                if wrote != this {
+                    return Err(StagingError::OtherCommand {
+                        path: target.to_path_buf(),
+                        wrote,
+                        this: this.to_string(),
+                    });
+                }
             }
             Ok(Some(real))
         };
@@ -294,7 +354,7 @@ impl StagedDir {
             staging,
             committed: false,
         };
-        write_marker(&dir.staging, false)
+        write_marker_as(&dir.staging, command, false)
             .map_err(|e| io("cannot write into a folder beside it", e))?;
         Ok(dir)
     }
@@ -532,6 +592,48 @@ mod tests {
         assert_eq!(entries(&d), ["out"]);
     }
 
+    /// A scenario named `wheel-sweep` run by `softway run` and `wheel` swept by `softway
+    /// sweep` both default to `out/wheel-sweep/`: the marker names the command, and the one
+    /// does not replace the other's results without `force`; the same command replaces its
+    /// own, a marker of an older version (no command) is replaced by any, an interrupted
+    /// mark rewritten keeps the command.
+    #[test]
+    fn a_folder_of_another_commands_results_is_not_replaced_without_force() {
+        let d = tmp("command");
+        let out = d.join("wheel-sweep");
+        StagedDir::begin_keeping(&out, false, &[], Some("run"))
+            .unwrap()
+            .commit()
+            .unwrap();
+        assert_eq!(marker_command(&out).as_deref(), Some("run"));
+        let e = StagedDir::begin_keeping(&out, false, &[], Some("sweep")).unwrap_err();
+        assert!(matches!(e, StagingError::OtherCommand { .. }), "{e}");
+        let msg = e.to_string();
+        assert!(
+            msg.contains("`softway run`") && msg.contains("--force"),
+            "{msg}"
+        );
+        StagedDir::begin_keeping(&out, false, &[], Some("run"))
+            .unwrap()
+            .commit()
+            .unwrap();
+        write_marker(&out, true).unwrap();
+        let text = std::fs::read_to_string(out.join(MARKER)).unwrap();
+        assert!(text.lines().any(|l| l == INTERRUPTED), "{text}");
+        assert_eq!(marker_command(&out).as_deref(), Some("run"));
+        StagedDir::begin_keeping(&out, true, &[], Some("sweep"))
+            .unwrap()
+            .commit()
+            .unwrap();
+        assert_eq!(marker_command(&out).as_deref(), Some("sweep"));
+        std::fs::write(out.join(MARKER), "softway 0.1.0\n").unwrap();
+        StagedDir::begin_keeping(&out, false, &[], Some("run"))
+            .unwrap()
+            .commit()
+            .unwrap();
+        assert_eq!(marker_command(&out).as_deref(), Some("run"));
+    }
+
     #[test]
     fn a_dropped_stage_leaves_nothing_and_the_older_results_stand() {
         let d = tmp("drop");
@@ -607,7 +709,7 @@ mod tests {
             d.join("work").join(".").join("study"),
         ] {
             for force in [false, true] {
-                let e = StagedDir::begin_keeping(&target, force, &[&scenario]).unwrap_err();
+                let e = StagedDir::begin_keeping(&target, force, &[&scenario], None).unwrap_err();
                 assert!(matches!(e, StagingError::Protected { .. }), "{e}");
                 assert!(e.to_string().contains("the scenario's folder"), "{e}");
             }
@@ -619,7 +721,7 @@ mod tests {
         assert!(e.to_string().contains("the current folder"), "{e}");
         // Through a folder that does not exist yet: the path names `study` once made.
         let through = d.join("work").join("new").join("..").join("study");
-        let e = StagedDir::begin_keeping(&through, true, &[&scenario]).unwrap_err();
+        let e = StagedDir::begin_keeping(&through, true, &[&scenario], None).unwrap_err();
         assert!(e.to_string().contains("the scenario's folder"), "{e}");
         assert_eq!(entries(&inner), ["s.toml"]);
         // `work/.` is `work` to Path::file_name: refused as no folder name.
@@ -628,7 +730,7 @@ mod tests {
             assert!(e.to_string().contains("not a folder name"), "{e}");
         }
         // A folder beside the input is fine.
-        StagedDir::begin_keeping(&d.join("work").join("out"), false, &[&scenario])
+        StagedDir::begin_keeping(&d.join("work").join("out"), false, &[&scenario], None)
             .unwrap()
             .commit()
             .unwrap();

@@ -240,7 +240,7 @@ pub fn mark_study_folder(out: &Path) -> Result<(), GrowthError> {
 /// # Errors
 /// [`GrowthError::Output`] naming the folder and why it is refused.
 pub fn claim_study_folder(out: &Path, force: bool) -> Result<(), GrowthError> {
-    crate::output::job::StudyFolder::fresh(out, force, &[])
+    crate::output::job::StudyFolder::fresh("grow", out, force, &[])
         .map(|_| ())
         .map_err(|e| GrowthError::output(out, e))
 }

@@ -19,7 +19,7 @@ pub use crate::guard::GuardMode;
 pub use crate::kinds::bar::run as bar;
 pub use crate::kinds::wheel::run as wheel;
 pub use crate::linalg::team::{Par, Team};
-pub use crate::output::save::save_files;
+pub use crate::output::save::{claim_folder, save_files};
 pub use crate::output::table::{Column, Columns};
 use crate::scenario::Scenario;
 pub use converge::observed_orders;

@@ -231,6 +231,12 @@ impl Simulation {
         treatment
             .check_friction(friction, dim)
             .map_err(SimError::Unsupported)?;
+        let searched = pairs.iter().any(|p| matches!(p, Pair::Searched { .. }));
+        if dim == 3 && searched && friction.is_some_and(|f| f.is_active()) {
+            return Err(SimError::Unsupported(
+                "contact.friction between two 3D bodies is not available yet (a body against a rigid obstacle is); remove the key or set it to 0".to_string(),
+            ));
+        }
         let friction = friction.filter(FrictionLaw::is_active);
         let n = model.n();
         let np = pairs.len();
@@ -279,7 +285,11 @@ impl Simulation {
             interfaces,
             pairs,
             gap_tol,
-            rows: RowSolver::new(n, np * if friction.is_some() { 2 } else { 1 }, cache),
+            rows: RowSolver::new(
+                n,
+                np * if friction.is_some() { dim.max(2) } else { 1 },
+                cache,
+            ),
             extra: vec![0.0; n],
             pred: State::zeros(n),
             xfree: vec![0.0; n],
@@ -653,9 +663,14 @@ impl Simulation {
                 let g = p.geometry(&e.obstacles, &e.interfaces, dim, r, u, t);
                 power += (ps.force * g.w).abs();
             }
-            if ps.tangential_force != 0.0 {
-                if let Some(g) = p.tangent(&e.obstacles, &e.interfaces, dim, r, u, t, 0) {
-                    power += (ps.tangential_force * g.w).abs();
+            for (k, f) in [ps.tangential_force, ps.tangential_force_2]
+                .into_iter()
+                .enumerate()
+            {
+                if f != 0.0 {
+                    if let Some(g) = p.tangent(&e.obstacles, &e.interfaces, dim, r, u, t, k) {
+                        power += (f * g.w).abs();
+                    }
                 }
             }
         }
