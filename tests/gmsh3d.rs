@@ -252,12 +252,15 @@ fn highest_dimension_reader() {
 // ---------------------------------------------------------------------------------------
 // Meshes written here: a grid of cubes split into tetrahedra or kept as hexahedra.
 
+/// An element block: Gmsh type, entity dimension, elements (tag, node tags).
+type Block = (i32, i32, Vec<(u64, Vec<u64>)>);
+
 /// A MSH 4.1 file's content: nodes (tag, position) in one volume entity's block, and
 /// element blocks (Gmsh type, entity dimension, elements of a tag and node tags).
 #[derive(Clone)]
 struct Msh {
     nodes: Vec<(u64, [f64; 3])>,
-    blocks: Vec<(i32, i32, Vec<(u64, Vec<u64>)>)>,
+    blocks: Vec<Block>,
 }
 
 impl Msh {
@@ -481,7 +484,9 @@ fn both(msh: &Msh) -> [Result<(Mesh, Vec<u64>), GmshError>; 2] {
 /// Both encodings refused, with the error `check` accepts, whose message holds `words`.
 fn refused(msh: &Msh, check: impl Fn(&GmshError) -> bool, words: &[String]) {
     for r in both(msh) {
-        let e = r.err().expect("the broken mesh was read");
+        let Err(e) = r else {
+            panic!("the broken mesh was read")
+        };
         assert!(check(&e), "{e:?}");
         let text = e.to_string();
         for w in words {

@@ -330,7 +330,7 @@ pub enum GmshError {
         path: PathBuf,
         /// Gmsh tag of the cell.
         element: u64,
-        /// Its kind, e.g. `4-node tetrahedra`.
+        /// Its kind, e.g. `a 4-node tetrahedron`.
         kind: &'static str,
         /// Gmsh tag of the corner.
         node: u64,
@@ -392,7 +392,7 @@ pub enum GmshError {
     #[error(
         "{}: the mesh is in {pieces} pieces: node {node} is in a piece of {size} nodes with no \
          node in common with the piece of node {first}; join them (Gmsh: Coherence Mesh, or \
-         fragment the volumes) or, for several bodies, ask for them",
+         fragment the volumes), or read the file as several bodies",
         .path.display()
     )]
     Disconnected {
@@ -409,7 +409,7 @@ pub enum GmshError {
     },
     /// A 10-node tetrahedron's mid-edge node far from its edge's middle (a wrong node order).
     #[error(
-        "{}: cell {element} (10-node tetrahedra): its mid-edge node {node} (position {position} \
+        "{}: cell {element} (a 10-node tetrahedron): its mid-edge node {node} (position {position} \
          in the cell) is {distance:e} from the middle of its edge from node {a} to node {b} \
          (length {length:e}); beyond a quarter of the edge the quadratic map folds: check the \
          node order (Gmsh's: edges 0-1, 1-2, 2-0, 0-3, 2-3, 1-3; VTK swaps the last two)",

@@ -19,6 +19,11 @@
 //! element tag. So is a triangle listed twice (the same three nodes: its mass and stiffness
 //! would count twice) and two triangles that overlap (on the same side of a shared edge).
 //!
+//! 3D meshes (4-node and 10-node tetrahedra, 8-node hexahedra) are read by
+//! [`read_msh_3d`], and [`read_msh_any`] reads whichever a file holds (3D if it has volume
+//! elements, else 2D as above); what they read and check is in [`solid`]. The 2D reader
+//! refuses a 3D file, saying that it is one.
+//!
 //! Parsing goes through the [`mshio`] crate; the `$PhysicalNames` section (which `mshio`
 //! skips) is read here. Export from Gmsh with `Mesh.MshFileVersion = 4.1` (the default in
 //! Gmsh 4) and `-2` (2D mesh), for example `gmsh -2 -format msh41 disk.geo`.
@@ -32,7 +37,7 @@ use super::{Cells, Mesh};
 
 mod bytes;
 mod error;
-mod solid;
+pub mod solid;
 mod solid_checks;
 use bytes::*;
 pub use error::GmshError;

@@ -61,6 +61,17 @@ fn mirror(kind: CellKind) -> &'static [usize] {
     }
 }
 
+/// One cell of `kind`, for messages (`"a 4-node tetrahedron"`).
+fn one(kind: CellKind) -> &'static str {
+    match kind {
+        CellKind::Tet4 => "a 4-node tetrahedron",
+        CellKind::Tet10 => "a 10-node tetrahedron",
+        CellKind::Hex8 => "an 8-node hexahedron",
+        CellKind::Bar2 => "a 2-node bar",
+        CellKind::Tri3 => "a 3-node triangle",
+    }
+}
+
 /// The point of node `i` of the flat coordinates (NaN beyond them).
 fn point(xyz: &[f64], i: usize) -> [f64; 3] {
     match xyz.get(3 * i..3 * i + 3) {
@@ -203,7 +214,7 @@ fn orient(
             return Err(GmshError::DegenerateCell {
                 path: path.to_path_buf(),
                 element: cell_tags[e],
-                kind: kind.describe(),
+                kind: one(kind),
                 node: tags[c[corner]],
                 jacobian,
                 scale,
@@ -219,7 +230,7 @@ fn orient(
             return Err(GmshError::InvertedCell {
                 path: path.to_path_buf(),
                 element: cell_tags[e],
-                kind: kind.describe(),
+                kind: one(kind),
                 reason: format!(
                     "its corner Jacobians differ in sign ({plus} of {} positive; {jacobian:e} \
                      at node {}): the cell is tangled (folded through itself)",
@@ -251,7 +262,7 @@ fn orient(
     Err(GmshError::InvertedCell {
         path: path.to_path_buf(),
         element: cell_tags[first],
-        kind: kind.describe(),
+        kind: one(kind),
         reason: format!(
             "{} of {} cells are oriented against the rest of the mesh (their corner Jacobians \
              are {} where the others' are {})",
@@ -278,8 +289,9 @@ fn check_mid_edges(
             let middle = [0, 1, 2].map(|i| 0.5 * (xa[i] + xb[i]));
             let distance = norm(sub(xm, middle));
             let length = norm(sub(xb, xa));
-            // Negated so that NaN fails.
-            if !(distance < 0.25 * length) {
+            // So that NaN fails.
+            let near = distance < 0.25 * length;
+            if !near {
                 return Err(GmshError::MidEdgeNode {
                     path: path.to_path_buf(),
                     element: cell_tags[e],
