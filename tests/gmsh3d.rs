@@ -935,3 +935,16 @@ fn groups_of_every_dimension() {
     assert_eq!(m.node_set("solid"), Some(&[0, 1, 2, 3, 4][..]));
     assert!((volume(&m) - 2.0 / 6.0).abs() < 1e-15);
 }
+
+/// The mesh report ([`softway::mesh::quality()`]) on Gmsh's 3D meshes: every cell counted
+/// as a solid, the unit cube's volume, no inverted or degenerate cell.
+#[test]
+fn quality_report_of_gmsh_solids() {
+    for name in ["cube_tet4", "cube_tet10_bin", "cube_hex8_bin"] {
+        let m = read_msh_3d(&data(&format!("{name}.msh"))).unwrap();
+        let q = softway::mesh::quality(&m);
+        assert_eq!((q.nodes, q.solids), (m.n_nodes(), m.cells.len()), "{name}");
+        assert!((q.volume - 1.0).abs() < 1e-12, "{name}: {}", q.volume);
+        assert_eq!((q.inverted, q.degenerate), (0, 0), "{name}");
+    }
+}
