@@ -948,3 +948,21 @@ fn quality_report_of_gmsh_solids() {
         assert_eq!((q.inverted, q.degenerate), (0, 0), "{name}");
     }
 }
+
+/// Every truncation of a 3D file, ASCII or binary, is an error (or, cut in its last line
+/// break, the mesh), never a panic.
+#[test]
+fn truncated_solid_files_give_errors_not_panics() {
+    for kind in KINDS {
+        let msh = grid(1, [0.0; 3], 1, 1, kind);
+        for bytes in [msh.ascii(), msh.binary()] {
+            for len in 0..bytes.len() {
+                let r = std::panic::catch_unwind(|| {
+                    let _ = parse_msh_3d(&bytes[..len], Path::new("cut.msh"));
+                });
+                assert!(r.is_ok(), "{kind:?}: panicked at length {len}");
+            }
+            assert!(parse_msh_3d(&bytes, Path::new("whole.msh")).is_ok());
+        }
+    }
+}
