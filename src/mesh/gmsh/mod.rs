@@ -19,6 +19,11 @@
 //! element tag. So is a triangle listed twice (the same three nodes: its mass and stiffness
 //! would count twice) and two triangles that overlap (on the same side of a shared edge).
 //!
+//! 3D meshes (4-node and 10-node tetrahedra, 8-node hexahedra) are read by
+//! [`read_msh_3d`], and [`read_msh_any`] reads whichever a file holds (3D if it has volume
+//! elements, else 2D as above); what they read and check is in [`solid`]. The 2D reader
+//! refuses a 3D file, saying that it is one.
+//!
 //! Parsing goes through the [`mshio`] crate; the `$PhysicalNames` section (which `mshio`
 //! skips) is read here. Export from Gmsh with `Mesh.MshFileVersion = 4.1` (the default in
 //! Gmsh 4) and `-2` (2D mesh), for example `gmsh -2 -format msh41 disk.geo`.
@@ -32,8 +37,14 @@ use super::{Cells, Mesh};
 
 mod bytes;
 mod error;
+pub mod solid;
+mod solid_checks;
 use bytes::*;
 pub use error::GmshError;
+pub use solid::{
+    parse_msh_3d, parse_msh_3d_tagged, parse_msh_any_tagged, pieces, read_msh_3d,
+    read_msh_3d_tagged, read_msh_3d_with, read_msh_any, read_msh_any_tagged, SolidOptions,
+};
 
 /// Reads a Gmsh MSH 4.1 file (ASCII or binary) as a 2D triangle mesh.
 ///
@@ -55,6 +66,11 @@ pub fn read_msh(path: &Path) -> Result<Mesh, GmshError> {
 /// # Errors
 /// As [`read_msh`].
 pub fn read_msh_tagged(path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
+    parse_msh_tagged(&read_bytes(path)?, path)
+}
+
+/// The bytes of the file `path`, refusing a device or a pipe (which could be read forever).
+fn read_bytes(path: &Path) -> Result<Vec<u8>, GmshError> {
     let io = |source| GmshError::Io {
         path: path.to_path_buf(),
         source,
@@ -66,8 +82,7 @@ pub fn read_msh_tagged(path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
             "not a regular file (a device or a pipe)",
         )));
     }
-    let bytes = std::fs::read(path).map_err(io)?;
-    parse_msh_tagged(&bytes, path)
+    std::fs::read(path).map_err(io)
 }
 
 /// Relative area below which a triangle counts as degenerate.
@@ -87,6 +102,16 @@ pub fn parse_msh(bytes: &[u8], path: &Path) -> Result<Mesh, GmshError> {
 /// # Errors
 /// As [`parse_msh`].
 pub fn parse_msh_tagged(bytes: &[u8], path: &Path) -> Result<(Mesh, Vec<u64>), GmshError> {
+    let (msh, names) = parse_file(bytes, path)?;
+    build_mesh(&msh, &names, path)
+}
+
+/// The parsed file and its physical names `(dim, tag) -> name`.
+type Parsed = (MshFile<u64, i32, f64>, BTreeMap<(i32, i32), String>);
+
+/// Parses the bytes of a MSH 4.1 file: the header checked, the physical names read, the
+/// `$Nodes` header repaired for `mshio`, then `mshio`'s parse (no panic escapes).
+fn parse_file(bytes: &[u8], path: &Path) -> Result<Parsed, GmshError> {
     let parse_err = |message: String| GmshError::Parse {
         path: path.to_path_buf(),
         message,
@@ -140,8 +165,7 @@ pub fn parse_msh_tagged(bytes: &[u8], path: &Path) -> Result<(Mesh, Vec<u64>), G
             ))
         }
     };
-
-    build_mesh(&msh, &names, path)
+    Ok((msh, names))
 }
 
 /// Builds the mesh from the parsed file and the physical names `(dim, tag) -> name`.
@@ -172,7 +196,10 @@ fn build_mesh(
     let index: HashMap<u64, usize> = used.iter().enumerate().map(|(i, &t)| (t, i)).collect();
     let xy: Vec<f64> = used
         .iter()
-        .flat_map(|t| coords.get(t).copied().unwrap_or([f64::NAN; 2]))
+        .flat_map(|t| {
+            let [x, y, _] = coords.get(t).copied().unwrap_or([f64::NAN; 3]);
+            [x, y]
+        })
         .collect();
     let idx = |t: &u64| index.get(t).copied().unwrap_or(0);
     let mut cells: Vec<[usize; 3]> = triangles
@@ -230,8 +257,8 @@ fn check_counts(msh: &MshFile<u64, i32, f64>, path: &Path) -> Result<(), GmshErr
     Ok(())
 }
 
-/// Node coordinates by Gmsh tag.
-type Coords = HashMap<u64, [f64; 2]>;
+/// Node coordinates (x, y, z) by Gmsh tag.
+type Coords = HashMap<u64, [f64; 3]>;
 
 /// The Gmsh tags of the nodes of each entity's node block, by `(dim, tag)`.
 type EntityNodes = HashMap<(i32, i32), Vec<u64>>;
@@ -269,7 +296,7 @@ fn node_coordinates(
                     }
                     for (&tag, &i) in tags {
                         if let Some(n) = block.nodes.get(i) {
-                            if coords.insert(tag, [n.x, n.y]).is_some() {
+                            if coords.insert(tag, [n.x, n.y, n.z]).is_some() {
                                 return Err(GmshError::DuplicateNode {
                                     path: path.to_path_buf(),
                                     node: tag,
@@ -282,7 +309,7 @@ fn node_coordinates(
                 None => {
                     // Contiguous tags, in file order.
                     for n in &block.nodes {
-                        if coords.insert(next_tag, [n.x, n.y]).is_some() {
+                        if coords.insert(next_tag, [n.x, n.y, n.z]).is_some() {
                             return Err(GmshError::DuplicateNode {
                                 path: path.to_path_buf(),
                                 node: next_tag,
@@ -377,6 +404,13 @@ fn groups_and_triangles(
                         element: el.element_tag,
                         element_type: format!("{} ({et:?})", et as i32),
                         dim,
+                        hint: if dim == 3 || solid::cell_kind(et).is_some() {
+                            "; the file holds a 3D mesh (volume elements), and a 2D model \
+                             takes triangles in the plane z = 0"
+                                .to_string()
+                        } else {
+                            String::new()
+                        },
                     });
                 }
             }
@@ -419,7 +453,10 @@ fn check_nodes(
     }
     let mut by_position: Vec<(u64, [f64; 2])> = used
         .iter()
-        .map(|t| (*t, coords.get(t).copied().unwrap_or([f64::NAN; 2])))
+        .map(|t| {
+            let [x, y, _] = coords.get(t).copied().unwrap_or([f64::NAN; 3]);
+            (*t, [x, y])
+        })
         .collect();
     by_position.sort_by(|a, b| a.1[0].total_cmp(&b.1[0]).then(a.1[1].total_cmp(&b.1[1])));
     if let Some(w) = by_position.windows(2).find(|w| w[0].1 == w[1].1) {
