@@ -20,9 +20,13 @@ use disk::signed_area;
 
 pub mod box3d;
 mod disk;
+pub mod rail3d;
+pub mod revolution;
 mod solid;
 
 pub use disk::{disk_graded, DiskOptions};
+pub use rail3d::{rail_extruded, RailSpec};
+pub use revolution::{wheel_of_revolution, TreadProfile, WheelSpec, WheelWeb};
 pub use solid::{box_mesh, quadratic_tetrahedra, tetrahedra};
 
 /// Largest number of nodes a generator will build (a guard against accidental huge meshes
