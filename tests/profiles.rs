@@ -10,6 +10,7 @@
 //! - 60E1 (EN 13674-1): head width 72 mm, 14.3 mm below the crown where the gauge-corner
 //!   arcs meet the flanks, crown radius 300 mm.
 
+use softway::mesh::profiles::section::{graded, graded_about};
 use softway::mesh::profiles::{self, by_name, conical, s1002, uic60, uic60_head};
 
 const MM: f64 = 1e-3;
@@ -96,7 +97,11 @@ fn uic60_head_is_72_mm_wide_14_3_mm_below_its_crown() {
     let (a, b) = p.domain();
     // The published head width and the depth of the flanks' top: consequences of the
     // radii, the arcs' widths and the 1:20 flanks (the derivation's check).
-    assert!((b - a - 72.0 * MM).abs() < 0.001 * MM, "width {}", (b - a) / MM);
+    assert!(
+        (b - a - 72.0 * MM).abs() < 0.001 * MM,
+        "width {}",
+        (b - a) / MM
+    );
     assert!((p.height(b).unwrap() + 14.3 * MM).abs() < 0.001 * MM);
     assert!((p.height(a).unwrap() + 14.3 * MM).abs() < 0.001 * MM);
     // The flank's slope at the joint: 1:20 from the vertical (dz/dy = -20 on the right).
@@ -105,8 +110,12 @@ fn uic60_head_is_72_mm_wide_14_3_mm_below_its_crown() {
     // The crown: top at 0, curvature 1/300 mm.
     assert!(p.height(0.0).unwrap().abs() < 1e-15);
     let h = 1.0 * MM;
-    let curv = (p.height(h).unwrap() - 2.0 * p.height(0.0).unwrap() + p.height(-h).unwrap()) / (h * h);
-    assert!((curv + 1.0 / (300.0 * MM)).abs() < 1e-3 / (300.0 * MM), "curvature {curv}");
+    let curv =
+        (p.height(h).unwrap() - 2.0 * p.height(0.0).unwrap() + p.height(-h).unwrap()) / (h * h);
+    assert!(
+        (curv + 1.0 / (300.0 * MM)).abs() < 1e-3 / (300.0 * MM),
+        "curvature {curv}"
+    );
     // The crown's 300 mm arc ends 10.228 mm from the centre, the 80 mm arcs 26.0265 mm.
     let j = p.joints_m();
     assert!((j[3] - 10.228 * MM).abs() < 1e-12 && (j[4] - 26.0265 * MM).abs() < 1e-12);
@@ -116,7 +125,10 @@ fn uic60_head_is_72_mm_wide_14_3_mm_below_its_crown() {
         assert!((l - r).abs() < 1e-15);
     }
     for (y, zl, zr, sl, sr) in p.joint_jumps() {
-        assert!((zl - zr).abs() < 1e-12 && (sl - sr).abs() < 1e-9, "joint at {y}");
+        assert!(
+            (zl - zr).abs() < 1e-12 && (sl - sr).abs() < 1e-9,
+            "joint at {y}"
+        );
     }
     let g = uic60::head_geometry();
     assert!((g.flank_top[0] - 36.0).abs() < 1e-3);
@@ -133,4 +145,24 @@ fn polylines_lie_on_their_profiles() {
         }
         assert!(line.windows(2).all(|w| w[1][0] >= w[0][0]));
     }
+}
+
+/// The graded spacings: the fine steps where asked, growth by at most the factor (and the
+/// rescaling of the last steps), the ends exact.
+#[test]
+fn graded_spacings_end_exactly_and_grow_by_at_most_the_factor() {
+    let x = graded(1.0, 0.01, 0.1, 1.2, 0.1);
+    assert_eq!((x[0], *x.last().unwrap()), (0.0, 1.0));
+    assert!((x[1] - 0.01).abs() < 1e-15 && (x[10] - 0.1).abs() < 1e-12);
+    let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(h.iter().all(|&d| d > 0.0 && d < 0.1 * 1.1));
+    assert!(h.windows(2).all(|w| w[1] / w[0] < 1.2 * 1.1));
+    let y = graded_about(-1.0, 2.0, 0.5, 0.01, 0.05, 1.3, 0.2);
+    assert_eq!((y[0], *y.last().unwrap()), (-1.0, 2.0));
+    assert!(y.windows(2).all(|w| w[1] > w[0]));
+    let k = y.iter().position(|&v| v == 0.5).unwrap();
+    assert!((y[k + 1] - y[k] - 0.01).abs() < 1e-15 && (y[k] - y[k - 1] - 0.01).abs() < 1e-15);
+    // A focus at an end: one-sided.
+    let z = graded_about(0.0, 1.0, 1.0, 0.01, 0.02, 1.5, 0.3);
+    assert!((z[z.len() - 1] - z[z.len() - 2] - 0.01).abs() < 1e-12 && z[0] == 0.0);
 }

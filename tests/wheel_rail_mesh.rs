@@ -77,7 +77,11 @@ fn exact_first_moment(spec: &WheelSpec) -> f64 {
     let (a, b) = p.domain();
     let r0 = spec.nominal_radius;
     let rim_in = r0 - spec.rim_depth;
-    let bottom = if spec.web.is_some() { rim_in } else { spec.bore_radius };
+    let bottom = if spec.web.is_some() {
+        rim_in
+    } else {
+        spec.bore_radius
+    };
     // Split at the joints: each piece is smooth.
     let j = p.joints_m();
     let rim: f64 = j
@@ -119,13 +123,20 @@ fn wheels_fill_their_volume_by_pappus_with_no_inverted_cell() {
     for (spec, tol) in [(cone, 1e-12), (coarse, 2e-3), (fine, 5e-4)] {
         let m = wheel_of_revolution(&spec).unwrap();
         let q = quality(&m);
-        assert_eq!((q.solids, q.inverted, q.degenerate), (hexes(&m).len(), 0, 0));
+        assert_eq!(
+            (q.solids, q.inverted, q.degenerate),
+            (hexes(&m).len(), 0, 0)
+        );
         let (sec, _, _) = wheel_section(&spec).unwrap();
         let angles = sweep_angles(&spec);
         let n = angles.len();
         let chords: f64 = (0..n)
             .map(|k| {
-                let next = if k + 1 == n { angles[0] + std::f64::consts::TAU } else { angles[k + 1] };
+                let next = if k + 1 == n {
+                    angles[0] + std::f64::consts::TAU
+                } else {
+                    angles[k + 1]
+                };
                 (next - angles[k]).sin()
             })
             .sum();
@@ -142,7 +153,11 @@ fn wheels_fill_their_volume_by_pappus_with_no_inverted_cell() {
         // flange's 12 mm arc), an error of the order of the cell size squared.
         let exact = exact_first_moment(&spec);
         let err = (moment - exact).abs() / exact;
-        assert!(err < tol, "{:?}: section moment off by {err:e}", spec.profile);
+        assert!(
+            err < tol,
+            "{:?}: section moment off by {err:e}",
+            spec.profile
+        );
         errors.push(err);
         let pappus = std::f64::consts::TAU * exact;
         assert!((q.volume / pappus - chords / std::f64::consts::TAU).abs() < tol);
@@ -176,7 +191,9 @@ fn the_tread_nodes_lie_on_the_profile_of_revolution() {
     }
     // The flange's top and back are on the mesh: the tread spans -70 to 60 mm.
     let ys: Vec<f64> = tread.iter().map(|&i| m.point(i)[1]).collect();
-    let (lo, hi) = ys.iter().fold((f64::MAX, f64::MIN), |(a, b), &y| (a.min(y), b.max(y)));
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &y| (a.min(y), b.max(y)));
     assert!((lo + 0.070).abs() < 1e-15 && (hi - 0.060).abs() < 1e-15);
     // The axle's nodes on the bore.
     for &i in m.node_set("axle").unwrap() {
@@ -191,7 +208,10 @@ fn the_tread_nodes_lie_on_the_profile_of_revolution() {
         assert!(tread.binary_search(&i).is_ok());
         let x = m.point(i);
         let theta = x[0].atan2(-x[2]);
-        assert!(theta.abs() <= spec.fine_arc * (1.0 + 1e-9) && x[1].abs() <= spec.tread_band * (1.0 + 1e-9));
+        assert!(
+            theta.abs() <= spec.fine_arc * (1.0 + 1e-9)
+                && x[1].abs() <= spec.tread_band * (1.0 + 1e-9)
+        );
     }
     let lowest = contact
         .iter()
@@ -201,8 +221,13 @@ fn the_tread_nodes_lie_on_the_profile_of_revolution() {
         .collect::<Vec<_>>();
     let mut t = lowest.clone();
     t.sort_by(f64::total_cmp);
-    assert_eq!(t.len(), 2 * (spec.fine_arc / spec.fine_pitch).round() as usize + 1);
-    assert!(t.windows(2).all(|w| (w[1] - w[0] - spec.fine_pitch).abs() < 1e-12));
+    assert_eq!(
+        t.len(),
+        2 * (spec.fine_arc / spec.fine_pitch).round() as usize + 1
+    );
+    assert!(t
+        .windows(2)
+        .all(|w| (w[1] - w[0] - spec.fine_pitch).abs() < 1e-12));
     let sets_ok = m
         .node_sets
         .values()
@@ -233,11 +258,21 @@ fn the_rail_section_has_the_published_area_second_moment_and_neutral_axis() {
         izz * 1e8
     );
     assert!((area / uic60::AREA_M2 - 1.0).abs() < 1e-3, "area {area}");
-    assert!((iyy / uic60::SECOND_MOMENT_M4 - 1.0).abs() < 2e-3, "I {iyy}");
-    assert!(((zc - base) - uic60::NEUTRAL_AXIS_M).abs() < 0.2e-3, "axis {}", zc - base);
+    assert!(
+        (iyy / uic60::SECOND_MOMENT_M4 - 1.0).abs() < 2e-3,
+        "I {iyy}"
+    );
+    assert!(
+        ((zc - base) - uic60::NEUTRAL_AXIS_M).abs() < 0.2e-3,
+        "axis {}",
+        zc - base
+    );
     // The lateral second moment is not fitted: the simplified foot and web give 7.6 % more
     // than the published 512.3 cm^4 (module docs of the profile).
-    assert!((izz / uic60::LATERAL_SECOND_MOMENT_M4 - 1.076).abs() < 0.01, "Izz {izz}");
+    assert!(
+        (izz / uic60::LATERAL_SECOND_MOMENT_M4 - 1.076).abs() < 0.01,
+        "Izz {izz}"
+    );
 }
 
 #[test]
@@ -245,7 +280,10 @@ fn the_rail_is_an_inclined_extrusion_with_its_head_on_the_profile() {
     let spec = RailSpec::default();
     let m = rail_extruded(&spec).unwrap();
     let q = quality(&m);
-    assert_eq!((q.solids, q.inverted, q.degenerate), (hexes(&m).len(), 0, 0));
+    assert_eq!(
+        (q.solids, q.inverted, q.degenerate),
+        (hexes(&m).len(), 0, 0)
+    );
     let (sec, top, _) = rail_section(&spec).unwrap();
     // An extrusion (turned as a whole): its volume is the section's area times the length.
     assert!((q.volume - sec.area() * spec.length).abs() < 1e-12 * q.volume);
@@ -262,7 +300,10 @@ fn the_rail_is_an_inclined_extrusion_with_its_head_on_the_profile() {
         let [y, z] = back(m.point(i));
         // (The ends come back within rounding of the profile's domain.)
         assert!(y > ya - 1e-15 && y < yb + 1e-15);
-        assert!((head.height(y.clamp(ya, yb)).unwrap() - z).abs() < 1e-12, "node {i}");
+        assert!(
+            (head.height(y.clamp(ya, yb)).unwrap() - z).abs() < 1e-12,
+            "node {i}"
+        );
     }
     // The inclination: at the crown's middle the head's surface rises 1:40 toward the
     // field side (matching a 1:40 cone's tread), the rail's axis leaning to the gauge side.
@@ -283,7 +324,11 @@ fn the_rail_is_an_inclined_extrusion_with_its_head_on_the_profile() {
     let x0 = m.node_set("x0").unwrap();
     assert_eq!(x0.len(), sec.points.len());
     assert!(x0.iter().all(|&i| m.point(i)[0] == -0.5 * spec.length));
-    assert!(m.node_set("x1").unwrap().iter().all(|&i| m.point(i)[0] == 0.5 * spec.length));
+    assert!(m
+        .node_set("x1")
+        .unwrap()
+        .iter()
+        .all(|&i| m.point(i)[0] == 0.5 * spec.length));
     let running = m.node_set("running").unwrap();
     assert!(running.len() > 100);
     for &i in running {
@@ -312,10 +357,19 @@ fn bad_specs_are_named_and_specs_read_from_toml() {
         ..WheelSpec::default()
     })
     .unwrap_err();
-    assert!(matches!(e, MeshError::InvalidLength { name: "nominal_radius", .. }));
+    assert!(matches!(
+        e,
+        MeshError::InvalidLength {
+            name: "nominal_radius",
+            ..
+        }
+    ));
     let mut spec = WheelSpec::default();
     spec.web.as_mut().unwrap().hub_radius = 0.05;
-    assert!(wheel_of_revolution(&spec).unwrap_err().to_string().contains("hub_radius"));
+    assert!(wheel_of_revolution(&spec)
+        .unwrap_err()
+        .to_string()
+        .contains("hub_radius"));
     let e = rail_extruded(&RailSpec {
         length: f64::NAN,
         ..RailSpec::default()
@@ -328,9 +382,14 @@ fn bad_specs_are_named_and_specs_read_from_toml() {
     })
     .unwrap_err();
     assert!(e.to_string().contains("`inclination`"), "{e}");
-    let w: WheelSpec = toml::from_str("profile = \"conical\"\nnominal_radius = 0.5\n[web]\nthickness = 0.04\n").unwrap();
+    let w: WheelSpec =
+        toml::from_str("profile = \"conical\"\nnominal_radius = 0.5\n[web]\nthickness = 0.04\n")
+            .unwrap();
     assert_eq!(w.profile, TreadProfile::Conical);
-    assert_eq!((w.nominal_radius, w.web.unwrap().thickness, w.growth), (0.5, 0.04, 1.3));
+    assert_eq!(
+        (w.nominal_radius, w.web.unwrap().thickness, w.growth),
+        (0.5, 0.04, 1.3)
+    );
     let r: RailSpec = toml::from_str("length = 0.6").unwrap();
     assert_eq!((r.length, r.inclination), (0.6, 1.0 / 40.0));
     assert!(toml::from_str::<RailSpec>("lenght = 0.6").is_err());

@@ -136,7 +136,9 @@ pub fn rail_section(spec: &RailSpec) -> Result<(QuadSection, Vec<usize>, Vec<usi
         spec.growth,
         spec.section_size,
     );
-    let mut top_pts = on_curve(&polyline, &s, |y| head.height(y.clamp(ya, yb)).unwrap_or(0.0));
+    let mut top_pts = on_curve(&polyline, &s, |y| {
+        head.height(y.clamp(ya, yb)).unwrap_or(0.0)
+    });
     let n = top_pts.len();
     top_pts[0] = polyline[0];
     top_pts[n - 1] = polyline[polyline.len() - 1];
@@ -190,10 +192,8 @@ pub fn rail_section(spec: &RailSpec) -> Result<(QuadSection, Vec<usize>, Vec<usi
     let mut foot_top = sec.add_row(&left[..k - 1]);
     foot_top.extend_from_slice(&web_bottom);
     foot_top.extend(sec.add_row(&right[1..]));
-    let foot_bottom_pts: Vec<[f64; 2]> = foot_top
-        .iter()
-        .map(|&i| [sec.points[i][0], base])
-        .collect();
+    let foot_bottom_pts: Vec<[f64; 2]> =
+        foot_top.iter().map(|&i| [sec.points[i][0], base]).collect();
     let foot_bottom = sec.add_row(&foot_bottom_pts);
     let t = uic60::FOOT_THICKNESS_MM * mm;
     let foot_rows = rows_uniform(t, spec.section_size.min(0.5 * uic60::FOOT_EDGE_MM * mm));
@@ -234,7 +234,9 @@ pub fn rail_extruded(spec: &RailSpec) -> Result<Mesh, MeshError> {
     }
     let hexes = sweep_hexes(&sec, m - 1, |k| k + 1, &coords);
     let layers = |ids: &[usize], ks: &mut dyn Iterator<Item = usize>| -> Vec<usize> {
-        let mut v: Vec<usize> = ks.flat_map(|k| ids.iter().map(move |&i| k * n + i)).collect();
+        let mut v: Vec<usize> = ks
+            .flat_map(|k| ids.iter().map(move |&i| k * n + i))
+            .collect();
         v.sort_unstable();
         v
     };

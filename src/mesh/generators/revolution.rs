@@ -53,9 +53,7 @@ impl TreadProfile {
     pub fn profile(self) -> Profile {
         match self {
             TreadProfile::S1002 => profiles::s1002(),
-            TreadProfile::Conical => {
-                profiles::conical(1.0 / 40.0, 0.065).expect("valid cone")
-            }
+            TreadProfile::Conical => profiles::conical(1.0 / 40.0, 0.065).expect("valid cone"),
         }
     }
 }
@@ -150,7 +148,12 @@ pub(super) fn out_of_range(name: &'static str, value: f64, min: f64, max: f64) -
 }
 
 /// `Ok` when `min <= value <= max` (not NaN).
-pub(super) fn check_range(name: &'static str, value: f64, min: f64, max: f64) -> Result<(), MeshError> {
+pub(super) fn check_range(
+    name: &'static str,
+    value: f64,
+    min: f64,
+    max: f64,
+) -> Result<(), MeshError> {
     if value >= min && value <= max {
         Ok(())
     } else {
@@ -280,19 +283,36 @@ pub fn wheel_section(spec: &WheelSpec) -> Result<(QuadSection, Vec<usize>, Vec<u
     tread_pts[n - 1][0] = yb;
     let mut sec = QuadSection::new();
     let tread = sec.add_row(&tread_pts);
-    let bottom_r = if spec.web.is_some() { rim_in } else { spec.bore_radius };
+    let bottom_r = if spec.web.is_some() {
+        rim_in
+    } else {
+        spec.bore_radius
+    };
     let bottom_pts: Vec<[f64; 2]> = tread_pts.iter().map(|p| [p[0], bottom_r]).collect();
     let rim_bottom = sec.add_row(&bottom_pts);
-    let rim_rows = rows_to_top(r0 - bottom_r, spec.tread_size, spec.growth, spec.section_size);
+    let rim_rows = rows_to_top(
+        r0 - bottom_r,
+        spec.tread_size,
+        spec.growth,
+        spec.section_size,
+    );
     let Some(web) = spec.web else {
         sec.ruled_block(&rim_bottom, &tread, &rim_rows);
         return Ok((sec, tread, rim_bottom));
     };
-    let (wl, wr) = (web.centre - 0.5 * web.thickness, web.centre + 0.5 * web.thickness);
+    let (wl, wr) = (
+        web.centre - 0.5 * web.thickness,
+        web.centre + 0.5 * web.thickness,
+    );
     let il = snap(&mut sec.points, &rim_bottom, wl);
     let ir = snap(&mut sec.points, &rim_bottom, wr);
     if ir <= il {
-        return Err(out_of_range("web.thickness", web.thickness, spec.tread_size, yb - ya));
+        return Err(out_of_range(
+            "web.thickness",
+            web.thickness,
+            spec.tread_size,
+            yb - ya,
+        ));
     }
     sec.ruled_block(&rim_bottom, &tread, &rim_rows);
     // The web: the rim's bottom nodes il..=ir down to the hub.
@@ -305,9 +325,20 @@ pub fn wheel_section(spec: &WheelSpec) -> Result<(QuadSection, Vec<usize>, Vec<u
     let web_rows = rows_uniform(rim_in - web.hub_radius, spec.section_size);
     sec.ruled_block(&web_bottom, &web_top, &web_rows);
     // The hub: its top is the web's bottom and the hub's shoulders either side.
-    let (hl, hr) = (web.centre - 0.5 * web.hub_width, web.centre + 0.5 * web.hub_width);
-    let left = line([hl, web.hub_radius], [wl, web.hub_radius], segments(wl - hl, spec.section_size) + 1);
-    let right = line([wr, web.hub_radius], [hr, web.hub_radius], segments(hr - wr, spec.section_size) + 1);
+    let (hl, hr) = (
+        web.centre - 0.5 * web.hub_width,
+        web.centre + 0.5 * web.hub_width,
+    );
+    let left = line(
+        [hl, web.hub_radius],
+        [wl, web.hub_radius],
+        segments(wl - hl, spec.section_size) + 1,
+    );
+    let right = line(
+        [wr, web.hub_radius],
+        [hr, web.hub_radius],
+        segments(hr - wr, spec.section_size) + 1,
+    );
     let mut hub_top = sec.add_row(&left[..left.len() - 1]);
     hub_top.extend_from_slice(&web_bottom);
     hub_top.extend(sec.add_row(&right[1..]));

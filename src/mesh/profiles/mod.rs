@@ -1,5 +1,5 @@
-//! Wheel and rail profiles: the S1002 wheel tread ([`s1002`]), the UIC60 (60E1) rail head
-//! ([`uic60`]) and the conical tread ([`conical`]), each a [`Profile`]: a height `z(y)` over
+//! Wheel and rail profiles: the S1002 wheel tread ([`s1002()`]), the UIC60 (60E1) rail head
+//! ([`uic60_head`], [`mod@uic60`]) and the conical tread ([`conical`]), each a [`Profile`]: a height `z(y)` over
 //! a lateral coordinate `y`, piece by piece (polynomials, circular arcs, straight lines),
 //! in metres. The pieces are stored in the units of their standard (mm) and scaled on
 //! evaluation, so the coefficients read as published.
@@ -137,13 +137,7 @@ impl Profile {
                 let y = self.joints[i];
                 let (zl, sl) = self.pieces[i - 1].eval(y);
                 let (zr, sr) = self.pieces[i].eval(y);
-                (
-                    y * self.unit,
-                    zl * self.unit,
-                    zr * self.unit,
-                    sl,
-                    sr,
-                )
+                (y * self.unit, zl * self.unit, zr * self.unit, sl, sr)
             })
             .collect()
     }
@@ -172,7 +166,10 @@ impl Profile {
         }
         let n = self.pieces.len();
         let last = self.joints[n];
-        pts.push([last * self.unit, self.pieces[n - 1].eval(last).0 * self.unit]);
+        pts.push([
+            last * self.unit,
+            self.pieces[n - 1].eval(last).0 * self.unit,
+        ]);
         pts
     }
 }
@@ -192,6 +189,17 @@ pub fn conical(slope: f64, half_width: f64) -> Option<Profile> {
         pieces: vec![Piece::Polynomial(vec![0.0, -slope])],
         unit: 1.0,
     })
+}
+
+/// Writes a mesh (the generated wheel or rail) as an XML unstructured grid (`.vtu`) for
+/// ParaView, through the crate's VTK writer, with no fields.
+///
+/// # Errors
+/// The writer's error (an inconsistent mesh, a file that cannot be written) as an
+/// [`std::io::Error`].
+pub fn write_mesh_vtu(path: &std::path::Path, mesh: &crate::mesh::Mesh) -> std::io::Result<()> {
+    crate::output::vtk::write_vtu(path, mesh, None, &[], &[])
+        .map_err(|e| std::io::Error::other(e.to_string()))
 }
 
 /// A profile by name: `"s1002"`, `"conical"` (1:40, 65 mm each side) or `"uic60"` (the

@@ -245,25 +245,7 @@ fn hex_centre_jacobian(coords: &[f64], h: &[usize; 8]) -> f64 {
             }
         }
     }
-    d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
+    d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
         + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0])
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn graded_spacings_end_exactly_and_grow_by_at_most_the_factor() {
-        let x = graded(1.0, 0.01, 0.1, 1.2, 0.1);
-        assert_eq!((x[0], *x.last().unwrap()), (0.0, 1.0));
-        assert!((x[1] - 0.01).abs() < 1e-15 && (x[10] - 0.1).abs() < 1e-12);
-        let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
-        assert!(h.iter().all(|&d| d > 0.0));
-        assert!(h.windows(2).all(|w| w[1] / w[0] < 1.2 * 1.1));
-        let y = graded_about(-1.0, 2.0, 0.5, 0.01, 0.05, 1.3, 0.2);
-        assert_eq!((y[0], *y.last().unwrap()), (-1.0, 2.0));
-        assert!(y.windows(2).all(|w| w[1] > w[0]));
-        assert!(y.iter().any(|&v| (v - 0.5).abs() < 1e-15));
-    }
 }

@@ -108,7 +108,8 @@ pub fn uic60_head() -> Profile {
     let [j1, j2, j3] = g.joints;
     Profile {
         name: "UIC60",
-        source: "EN 13674-1 60E1 head: R300 over 20.456 mm, R80 to 52.053 mm, R13 to the 1:20 flanks",
+        source:
+            "EN 13674-1 60E1 head: R300 over 20.456 mm, R80 to 52.053 mm, R13 to the 1:20 flanks",
         joints: vec![-j3, -j2, -j1, j1, j2, j3],
         pieces: vec![
             arc(mirror(c3), CORNER_RADIUS_MM),
@@ -119,28 +120,4 @@ pub fn uic60_head() -> Profile {
         ],
         unit: 1e-3,
     }
-}
-
-/// The outline of the simplified section's right half, m, from the crown's top down and
-/// around to the foot's centre: the head's surface (points of `head`), the flank's foot,
-/// the underside at the web, the web's foot, the foot's edge (top, bottom) and the bottom
-/// at the centre line. With the mirror image this is the whole section's outline.
-pub fn right_outline(head: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let mm = 1e-3;
-    let g = head_geometry();
-    let h = HEAD_DEPTH_MM;
-    let yb = g.flank_top[0] + (h + g.flank_top[1]) * FLANK_INCLINATION;
-    let mut pts: Vec<[f64; 2]> = head.iter().filter(|p| p[0] >= 0.0).copied().collect();
-    pts.extend(
-        [
-            [yb, -h],
-            [0.5 * WEB_THICKNESS_MM, -h],
-            [0.5 * WEB_THICKNESS_MM, -(RAIL_HEIGHT_MM - FOOT_THICKNESS_MM)],
-            [0.5 * FOOT_WIDTH_MM, -(RAIL_HEIGHT_MM - FOOT_EDGE_MM)],
-            [0.5 * FOOT_WIDTH_MM, -RAIL_HEIGHT_MM],
-            [0.0, -RAIL_HEIGHT_MM],
-        ]
-        .map(|p| [p[0] * mm, p[1] * mm]),
-    );
-    pts
 }
