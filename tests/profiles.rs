@@ -166,3 +166,45 @@ fn graded_spacings_end_exactly_and_grow_by_at_most_the_factor() {
     let z = graded_about(0.0, 1.0, 1.0, 0.01, 0.02, 1.5, 0.3);
     assert!((z[z.len() - 1] - z[z.len() - 2] - 0.01).abs() < 1e-12 && z[0] == 0.0);
 }
+
+/// The curvatures: the S1002 flange's arcs have the standard's radii (sections D to H:
+/// 13 mm root, 20 mm face, 12 mm tip, 20.5 mm back; the root concave, the others
+/// convex), the 60E1 crown 300 mm, its side arcs 80 mm, its corners 13 mm; the polynomial
+/// tread's curvature against a finite difference of its slope.
+#[test]
+fn curvatures_are_the_published_radii() {
+    let p = s1002();
+    for (y_mm, radius_mm) in [(-36.0, -13.0), (-45.0, 20.0), (-55.0, 12.0), (-66.0, 20.5)] {
+        let k = p.curvature(y_mm * MM).unwrap();
+        assert!(
+            (k + 1.0 / (radius_mm * MM)).abs() < 1e-9 / MM,
+            "y {y_mm}: {k}"
+        );
+    }
+    let h = 1e-6;
+    for y in [-0.03, -0.01, 0.0, 0.02, 0.03] {
+        let s = p.slope(y).unwrap();
+        let d2 = (p.slope(y + h).unwrap() - p.slope(y - h).unwrap()) / (2.0 * h);
+        let k = d2 / (1.0 + s * s).powf(1.5);
+        assert!(
+            (p.curvature(y).unwrap() - k).abs() < 1e-6 * k.abs().max(1.0),
+            "y {y}"
+        );
+    }
+    let r = uic60_head();
+    for (y_mm, radius_mm) in [
+        (0.0, 300.0),
+        (5.0, 300.0),
+        (20.0, 80.0),
+        (-20.0, 80.0),
+        (33.0, 13.0),
+    ] {
+        let k = r.curvature(y_mm * MM).unwrap();
+        assert!(
+            (k + 1.0 / (radius_mm * MM)).abs() < 1e-9 / MM,
+            "y {y_mm}: {k}"
+        );
+    }
+    assert_eq!(conical(0.025, 0.065).unwrap().curvature(0.01), Some(0.0));
+    assert_eq!(r.curvature(0.05), None);
+}

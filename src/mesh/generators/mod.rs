@@ -7,6 +7,10 @@
 //! - [`rectangle`]: a structured triangle mesh of a rectangle.
 //! - [`box_mesh`]: a structured box of hexahedra or tetrahedra (linear or quadratic) in 3D.
 //! - [`box3d`]: the same boxes as flat arrays, for element checks without a [`Mesh`].
+//! - [`wheel_of_revolution`]: a wheel of a real tread profile (S1002, conical) swept about
+//!   its axle into hexahedra, graded toward the contact ([`revolution`]).
+//! - [`rail_extruded`]: a UIC60 rail extruded into hexahedra at its 1:40 inclination,
+//!   graded toward the contact ([`rail3d`]).
 //!
 //! Every generator checks its arguments and returns a [`MeshError`] naming the offending
 //! parameter and the allowed range instead of panicking. All triangles are counter-clockwise

@@ -43,6 +43,25 @@ pub enum Piece {
 }
 
 impl Piece {
+    /// The second derivative `d^2 z / dy^2` at `y` (per unit of the piece's length).
+    pub fn second_derivative(&self, y: f64) -> f64 {
+        match self {
+            Piece::Polynomial(c) => c
+                .iter()
+                .enumerate()
+                .skip(2)
+                .map(|(k, &ck)| (k * (k - 1)) as f64 * ck * y.powi(k as i32 - 2))
+                .sum(),
+            Piece::Arc {
+                yc, radius, sign, ..
+            } => {
+                let d = y - yc;
+                let s2 = (radius * radius - d * d).max(0.0);
+                -sign * radius * radius / (s2 * s2.sqrt())
+            }
+        }
+    }
+
     /// Height and slope `dz/dy` at `y` (the piece's unit). An arc's slope is infinite where
     /// its tangent is vertical; outside its circle the square root is taken of zero.
     pub fn eval(&self, y: f64) -> (f64, f64) {
@@ -126,6 +145,21 @@ impl Profile {
     pub fn slope(&self, y: f64) -> Option<f64> {
         let u = y / self.unit;
         self.piece_at(u).map(|i| self.pieces[i].eval(u).1)
+    }
+
+    /// The curvature of the profile's curve at `y` (m), 1/m:
+    /// `z'' / (1 + z'^2)^(3/2)`, negative where the curve bends down (a rail's crown: `-1/R`),
+    /// positive where it bends up; `None` outside [`Profile::domain`]. For a wheel's
+    /// profile (the radius's excess over `y`) this is the transverse curvature of the tread
+    /// seen from outside the wheel with the sign flipped: the principal curvature that
+    /// Hertz's elliptic contact takes across the rolling direction.
+    pub fn curvature(&self, y: f64) -> Option<f64> {
+        let u = y / self.unit;
+        self.piece_at(u).map(|i| {
+            let p = &self.pieces[i];
+            let s = p.eval(u).1;
+            p.second_derivative(u) / (1.0 + s * s).powf(1.5) / self.unit
+        })
     }
 
     /// The height and slope of the pieces on both sides of each inner joint, m and
