@@ -16,6 +16,7 @@ use std::collections::BTreeMap;
 
 pub mod generators;
 pub mod gmsh;
+pub mod profiles;
 pub mod quality;
 pub mod zone;
 

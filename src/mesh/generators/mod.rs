@@ -7,6 +7,10 @@
 //! - [`rectangle`]: a structured triangle mesh of a rectangle.
 //! - [`box_mesh`]: a structured box of hexahedra or tetrahedra (linear or quadratic) in 3D.
 //! - [`box3d`]: the same boxes as flat arrays, for element checks without a [`Mesh`].
+//! - [`wheel_of_revolution`]: a wheel of a real tread profile (S1002, conical) swept about
+//!   its axle into hexahedra, graded toward the contact ([`revolution`]).
+//! - [`rail_extruded`]: a UIC60 rail extruded into hexahedra at its 1:40 inclination,
+//!   graded toward the contact ([`rail3d`]).
 //!
 //! Every generator checks its arguments and returns a [`MeshError`] naming the offending
 //! parameter and the allowed range instead of panicking. All triangles are counter-clockwise
@@ -20,9 +24,13 @@ use disk::signed_area;
 
 pub mod box3d;
 mod disk;
+pub mod rail3d;
+pub mod revolution;
 mod solid;
 
 pub use disk::{disk_graded, DiskOptions};
+pub use rail3d::{rail_extruded, RailSpec};
+pub use revolution::{wheel_of_revolution, TreadProfile, WheelSpec, WheelWeb};
 pub use solid::{box_mesh, quadratic_tetrahedra, tetrahedra};
 
 /// Largest number of nodes a generator will build (a guard against accidental huge meshes
