@@ -301,6 +301,27 @@ impl Interface {
         Ok(())
     }
 
+    /// The tangential row along tangent `k` (`k < dim - 1`: the plane's one tangent, or
+    /// the two of a 3D surface, [`super::pair::tangent_basis`]) of slave node `slot` against
+    /// its frozen target at time `t` in the configuration `u`, with a zero offset; `None`
+    /// past the surface's tangents, and an empty row when the node has no target.
+    pub fn tangent(&self, slot: usize, k: usize, t: f64, u: &[f64]) -> Option<SearchedRow> {
+        if k + 1 >= self.dim {
+            return None;
+        }
+        Some(match &self.targets[slot] {
+            Some(target) => {
+                let (node, x_ref) = (self.nodes[slot], self.x_ref(slot));
+                let r = self
+                    .search
+                    .tangent_row(target, k, self.slave, node, x_ref, t, u)
+                    .unwrap_or_default();
+                SearchedRow { offset: 0.0, ..r }
+            }
+            None => SearchedRow::default(),
+        })
+    }
+
     /// The normal row (`tangent` false) or the first tangential row (true) of slave node
     /// `slot` against its frozen target at time `t` in the configuration `u`; an empty row
     /// with the gap [`FAR_GAP`] times the reach when it has none (module docs).
