@@ -1,7 +1,8 @@
 //! A contact interface between two bodies: one body's contact nodes (slave) searched against
-//! another body's surface segments (master) once per step ([`super::search`]), each node's
-//! closest segment then frozen for the step and presented to the treatments as the row of a
-//! [`Pair::Searched`](super::Pair::Searched) pair.
+//! another body's surface segments (master) once per step ([`super::search`]; a 3D body's
+//! facets, [`super::facets`]), each node's closest segment then frozen for the step and
+//! presented to the treatments as the row of a [`Pair::Searched`](super::Pair::Searched)
+//! pair.
 //!
 //! A pair exists for every slave node for the whole run; what comes and goes as the bodies
 //! move is its target. A node with a segment within the search's reach has the row of
