@@ -488,3 +488,23 @@ fn bad_surfaces_and_searches_are_refused() {
         Err(FacetError::NonManifold { cells: 3, .. })
     ));
 }
+
+/// Placing the facets and rebuilding the hierarchy reuses the buffers [`FacetSearch::new`]
+/// sized: their addresses do not change over updates of a moving, deforming surface.
+#[test]
+fn an_update_allocates_nothing() {
+    let mesh = sphere_like(CellKind::Hex8, 0.5, 5);
+    let mut s = FacetSearch::on_mesh(&mesh, None, FIXED, 0.1).unwrap();
+    let mut u = vec![0.0; mesh.n_dofs()];
+    s.update(0.0, &u);
+    let addresses = |s: &FacetSearch| (s.boxes.as_ptr(), s.bvh.addresses(), s.placed.as_ptr());
+    let before = addresses(&s);
+    let mut rng = Rng(3);
+    for k in 1..20 {
+        for v in u.iter_mut() {
+            *v = 0.05 * (rng.next() - 0.5);
+        }
+        s.update(k as f64, &u);
+        assert_eq!(addresses(&s), before);
+    }
+}
