@@ -311,7 +311,8 @@ impl FacetSearch {
                 return bad("repeating a node");
             }
             let a = area_vector(f, |i| point(&reference, i));
-            if !(dot(a, a) > 0.0) {
+            let a2 = dot(a, a);
+            if a2.is_nan() || a2 <= 0.0 {
                 return bad("of zero area");
             }
             for (i, &p) in nodes.iter().enumerate() {
