@@ -1,7 +1,8 @@
 //! A contact interface between two bodies: one body's contact nodes (slave) searched against
-//! another body's surface segments (master) once per step ([`super::search`]), each node's
-//! closest segment then frozen for the step and presented to the treatments as the row of a
-//! [`Pair::Searched`](super::Pair::Searched) pair.
+//! another body's surface segments (master) once per step ([`super::search`]; a 3D body's
+//! facets, [`super::facets`]), each node's closest segment then frozen for the step and
+//! presented to the treatments as the row of a [`Pair::Searched`](super::Pair::Searched)
+//! pair.
 //!
 //! A pair exists for every slave node for the whole run; what comes and goes as the bodies
 //! move is its target. A node with a segment within the search's reach has the row of
@@ -299,6 +300,27 @@ impl Interface {
             self.targets[slot] = found;
         }
         Ok(())
+    }
+
+    /// The tangential row along tangent `k` (`k < dim - 1`: the plane's one tangent, or
+    /// the two of a 3D surface, [`super::pair::tangent_basis`]) of slave node `slot` against
+    /// its frozen target at time `t` in the configuration `u`, with a zero offset; `None`
+    /// past the surface's tangents, and an empty row when the node has no target.
+    pub fn tangent(&self, slot: usize, k: usize, t: f64, u: &[f64]) -> Option<SearchedRow> {
+        if k + 1 >= self.dim {
+            return None;
+        }
+        Some(match &self.targets[slot] {
+            Some(target) => {
+                let (node, x_ref) = (self.nodes[slot], self.x_ref(slot));
+                let r = self
+                    .search
+                    .tangent_row(target, k, self.slave, node, x_ref, t, u)
+                    .unwrap_or_default();
+                SearchedRow { offset: 0.0, ..r }
+            }
+            None => SearchedRow::default(),
+        })
     }
 
     /// The normal row (`tangent` false) or the first tangential row (true) of slave node

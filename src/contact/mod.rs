@@ -7,6 +7,8 @@
 //! - [`search`]: contact search between bodies, each in a frame of its own (fixed,
 //!   translating, rotating): a node's closest segment of another body's surface, and the
 //!   row of the pair.
+//! - [`facets`]: a 3D body's surface facets (triangles, quadrilaterals) and the search of
+//!   another body's nodes against them, the same contract as [`search`].
 //! - [`interface`]: one body's contact nodes against another's surface, searched at the
 //!   start of each step ([`Pair::Searched`]).
 //! - [`rows`]: constraint rows (equality, unilateral, bounded) solved through the factored
@@ -23,6 +25,7 @@
 
 pub mod complementarity;
 pub mod context;
+pub mod facets;
 pub mod friction;
 pub mod interface;
 pub mod mass_redistribution;

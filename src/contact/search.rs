@@ -63,8 +63,9 @@
 //! chord's direction `e` becomes `(e_x, e_y + r'(X) e_x)` before the normal is taken. The
 //! row's offset holds `n_y r(X)`; the tilted normal puts `V r'(X)` into its drift term `w`.
 //!
-//! Two dimensions: the segments are a 2D body's boundary edges (a 3D body would need
-//! facets); [`Search::new`] refuses any other dimension.
+//! Two dimensions: the segments are a 2D body's boundary edges; [`Search::new`] refuses any
+//! other dimension. A 3D body's surface facets are [`super::facets`]'s search, which
+//! fills the same [`Target`] (with its second parameter `eta`) and [`SearchedRow`].
 
 use super::obstacle::{dot, tangent_2d, Flattening, Vector};
 use super::profile::Profile;
@@ -209,30 +210,36 @@ impl Motion {
 pub struct Placed {
     /// The body's frame.
     pub motion: Motion,
-    /// The body's first dof in the model (its node `i` has dofs `first_dof + 2 i ..`).
+    /// The body's first dof in the model (its node `i` has dofs `first_dof + dim i ..`,
+    /// `dim` the surface's dimension).
     pub first_dof: usize,
 }
 
 impl Placed {
-    /// The frame position `X + u` of node `i` of a body whose reference positions are
-    /// `reference` (two per node, the body's own) and displacements `u` (the model's).
-    fn local(&self, reference: &[f64], u: &[f64], i: usize) -> Vector {
-        let d = self.first_dof + 2 * i;
-        [
-            reference[2 * i] + u[d],
-            reference[2 * i + 1] + u[d + 1],
-            0.0,
-        ]
+    /// The frame position `X + u` of node `i` of a body of dimension `dim` (2 or 3) whose
+    /// reference positions are `reference` (`dim` per node, the body's own) and
+    /// displacements `u` (the model's); the components past `dim` are zero.
+    pub(crate) fn local(&self, dim: usize, reference: &[f64], u: &[f64], i: usize) -> Vector {
+        let d = self.first_dof + dim * i;
+        let mut x = [0.0; 3];
+        for (c, xc) in x.iter_mut().enumerate().take(dim) {
+            *xc = reference[dim * i + c] + u[d + c];
+        }
+        x
     }
 }
 
 /// Where a contact node meets a master segment, frozen for a step (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target {
-    /// The segment's index in the surface.
+    /// The segment's index in the surface (a 3D facet's, [`super::facets`]).
     pub segment: usize,
-    /// The closest point's parameter on the segment, in `[0, 1]`.
+    /// The closest point's parameter on the segment, in `[0, 1]` (on a 3D facet its first
+    /// parameter, [`super::facets`]).
     pub xi: f64,
+    /// The closest point's second parameter on a 3D facet ([`super::facets`]); 0 on a
+    /// segment.
+    pub eta: f64,
     /// The segment's outward unit normal in the ground.
     pub normal: Vector,
     /// The gap at the search, m (negative: penetration).
@@ -468,7 +475,7 @@ impl Search {
     /// on edges, `(X, Y + w)` on beams.
     fn local(&self, u: &[f64], i: usize) -> Vector {
         match self.surface {
-            Surface::Edges => self.master.local(&self.reference, u, i),
+            Surface::Edges => self.master.local(2, &self.reference, u, i),
             Surface::Beams { .. } => {
                 let d = self.master.first_dof + 2 * i;
                 [self.reference[2 * i], self.reference[2 * i + 1] + u[d], 0.0]
@@ -575,6 +582,7 @@ impl Search {
         Target {
             segment: k,
             xi,
+            eta: 0.0,
             normal,
             gap,
         }

@@ -49,6 +49,9 @@ impl std::ops::Deref for Snapshot {
 }
 
 /// The constraint a contact pair gets in the next step.
+// `Brake` carries a row of up to `MAX_TERMS` (15: a node against a 3D facet) terms; the
+// mode stays `Copy`, one per pair.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PairMode {
     /// No constraint.

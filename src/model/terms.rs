@@ -1,8 +1,9 @@
 //! The coefficients of a constraint row on at most [`MAX_TERMS`] dofs
 //! ([`crate::contact::rows`]).
 
-/// Most dofs one row acts on: two nodes of three components.
-pub const MAX_TERMS: usize = 6;
+/// Most dofs one row acts on: a node against a quadrilateral facet in 3D, five nodes of
+/// three components ([`crate::contact::facets`]).
+pub const MAX_TERMS: usize = 15;
 
 /// The coefficients of a row on at most [`MAX_TERMS`] dofs.
 #[derive(Debug, Clone, Copy, PartialEq)]
