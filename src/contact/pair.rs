@@ -298,8 +298,12 @@ impl Pair {
             Pair::Searched {
                 interface, slot, ..
             } => {
-                // The segment search is planar: its one tangent.
-                let r = interfaces[interface].row(slot, t, u, true);
+                // The search's tangent `k` (the planar segment search has one; a 3D facet
+                // search two).
+                let r = match k {
+                    0 => interfaces[interface].row(slot, t, u, true),
+                    _ => interfaces[interface].tangent(slot, k, t, u)?,
+                };
                 Some(Geometry {
                     terms: r.terms,
                     offset: r.offset,
