@@ -20,6 +20,7 @@ use disk::signed_area;
 
 pub mod box3d;
 mod disk;
+pub mod graded;
 mod solid;
 
 pub use disk::{disk_graded, DiskOptions};
