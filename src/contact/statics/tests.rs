@@ -56,7 +56,10 @@ fn a_flat_punch_on_a_box_on_rollers_gives_the_uniaxial_force() {
         assert_eq!(sol.active.len(), rows.len(), "{pivoting:?}");
         let force: f64 = sol.active.iter().map(|a| a.1).sum();
         let exact = STEEL.young * l * l * d / hgt;
-        assert!((force / exact - 1.0).abs() < 1e-9, "{pivoting:?}: {force} {exact}");
+        assert!(
+            (force / exact - 1.0).abs() < 1e-9,
+            "{pivoting:?}: {force} {exact}"
+        );
         for &i in &set("z1") {
             assert!((sol.u[3 * i + 2] + d).abs() < 1e-15);
         }
@@ -82,7 +85,11 @@ fn the_block_rule_and_the_least_index_rule_agree() {
     let set = |s: &str| mesh.node_set(s).unwrap().to_vec();
     let mut fixed: Vec<usize> = set("x0").iter().map(|&i| 3 * i).collect();
     fixed.extend(set("y0").iter().map(|&i| 3 * i + 1));
-    fixed.extend(set("z0").iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]));
+    fixed.extend(
+        set("z0")
+            .iter()
+            .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]),
+    );
     let r = 0.01;
     let d = 4e-4;
     let rows: Vec<Row> = set("z1")
