@@ -5,6 +5,7 @@
 //! ```text
 //! cargo run --release --example hertz_ladder -- [--case sphere|ellipse|both]
 //!     [--rungs 4,6,8] [--size-over-a 40] [--ratio 1.3] [--sizes 20,40,80]
+//!     [--figure hertz.png]
 //! ```
 //!
 //! Cases: a rigid sphere of R = 0.3 m under 50 kN, and a rigid body of radii 0.46 m (along
@@ -14,7 +15,9 @@
 //! depth `size-over-a` times `a`, graded by `ratio`. The Richardson limit takes the two
 //! finest rungs with the observed order of the three finest (order 2 when it is not
 //! defined). `--sizes` runs the coarsest rung on blocks of those sizes instead (the approach's
-//! finite-block residual).
+//! finite-block residual). `--figure` writes, per case, the finest rung's nodal pressures
+//! along the two axes against Hertz's semi-ellipses (`hertz-sphere.png`, `hertz-ellipse.png`
+//! beside the path given).
 
 use softway::contact::statics::indent::{indent, IndentSpec, Indentation};
 use softway::material::Elastic;
@@ -34,6 +37,7 @@ struct Args {
     size: f64,
     ratio: f64,
     sizes: Vec<f64>,
+    figure: Option<std::path::PathBuf>,
 }
 
 fn parse() -> Result<Args, String> {
@@ -43,6 +47,7 @@ fn parse() -> Result<Args, String> {
         size: 40.0,
         ratio: 1.3,
         sizes: vec![],
+        figure: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(key) = it.next() {
@@ -69,6 +74,7 @@ fn parse() -> Result<Args, String> {
             "--size-over-a" => a.size = list(&v)?[0],
             "--ratio" => a.ratio = list(&v)?[0],
             "--sizes" => a.sizes = list(&v)?,
+            "--figure" => a.figure = Some(v.into()),
             _ => return Err(format!("unknown option {key}")),
         }
     }
@@ -132,6 +138,7 @@ fn main() -> ExitCode {
             args.sizes.iter().map(|&s| (args.rungs[0], s)).collect()
         };
         let mut rows = Vec::new();
+        let mut last = None;
         for (n, size) in runs {
             let r = match indent(&spec(case, n, size, args.ratio)) {
                 Ok(r) => r,
@@ -162,12 +169,13 @@ fn main() -> ExitCode {
             );
             // Errors relative to Hertz at each rung's load (the loads differ by < 0.1 %).
             rows.push((1.0 / n as f64, [0, 1, 2, 3].map(|k| v[k] / h[k] - 1.0)));
+            last = Some((n, r));
         }
         if rows.len() >= 2 && args.sizes.is_empty() {
             let k = rows.len();
             let names = ["a_x", "a_y", "p0", "delta"];
             print!("Richardson limit (error %):");
-            for q in 0..4 {
+            for (q, name) in names.iter().enumerate() {
                 let (h1, e1) = (rows[k - 2].0, rows[k - 2].1[q]);
                 let (h2, e2) = (rows[k - 1].0, rows[k - 1].1[q]);
                 let mut p = 2.0;
@@ -182,10 +190,76 @@ fn main() -> ExitCode {
                 }
                 let r = (h1 / h2).powf(p);
                 let limit = (r * e2 - e1) / (r - 1.0);
-                print!(" {} {:+.2} (order {:.2});", names[q], 100.0 * limit, p);
+                print!(" {name} {:+.2} (order {:.2});", 100.0 * limit, p);
             }
             println!();
         }
+        if let (Some(path), Some((n, r))) = (&args.figure, &last) {
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("hertz");
+            let out = path.with_file_name(format!("{stem}-{case}.png"));
+            if let Err(e) = figure(&out, case, *n, r) {
+                eprintln!("hertz_ladder: {e}");
+                return ExitCode::FAILURE;
+            }
+            println!("figure: {}", out.display());
+        }
     }
     ExitCode::SUCCESS
+}
+
+/// The nodal pressures on the axes `y = 0` and `x = 0` against Hertz's semi-ellipses.
+fn figure(
+    path: &std::path::Path,
+    case: &str,
+    n: usize,
+    r: &Indentation,
+) -> Result<(), softway_plot::PlotError> {
+    use softway_plot::{line_plot, Panel, Series, SeriesStyle};
+    let on = |axis: usize| {
+        let mut pts: Vec<(f64, f64)> = r
+            .patch
+            .iter()
+            .filter(|p| p[1 - axis] == 0.0)
+            .map(|p| (p[axis] * 1e3, p[2] / 1e6))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pts.into_iter().unzip::<f64, f64, Vec<f64>, Vec<f64>>()
+    };
+    let (hx, hy) = r.hertz.semi_axes_xy();
+    let hertz = |semi: f64| {
+        let xs: Vec<f64> = (0..=200).map(|k| 1.3 * semi * k as f64 / 200.0).collect();
+        let ps = xs
+            .iter()
+            .map(|&x| r.hertz.peak_pressure / 1e6 * (1.0 - (x / semi).powi(2)).max(0.0).sqrt())
+            .collect();
+        (xs.iter().map(|x| x * 1e3).collect::<Vec<f64>>(), ps)
+    };
+    let (fx, px) = on(0);
+    let (fy, py) = on(1);
+    let (hxs, hxp) = hertz(hx);
+    let (hys, hyp) = hertz(hy);
+    let mut panel = Panel::new(
+        format!(
+            "{case}: contact pressure on the axes, P = {:.1} kN, b/h = {n}, {} dofs",
+            r.load / 1e3,
+            r.dofs
+        ),
+        "distance from the centre [mm]",
+        "p [MPa]",
+    );
+    panel.series = vec![
+        Series::new("nodes on y = 0 (along x)", fx, px, SeriesStyle::Markers),
+        Series::new("nodes on x = 0 (along y)", fy, py, SeriesStyle::Markers),
+        Series::new("Hertz along x", hxs, hxp, SeriesStyle::Line),
+        Series::new("Hertz along y", hys, hyp, SeriesStyle::Dashed),
+    ];
+    panel.note = format!(
+        "Nodal pressure = contact force / consistent nodal area. Hertz (Johnson 1985, Eq. 4.39) at the computed load: a_x = {:.3} mm, a_y = {:.3} mm, p0 = {:.0} MPa; from the forces' second moments a_x = {:.3} mm, a_y = {:.3} mm.",
+        hx * 1e3,
+        hy * 1e3,
+        r.hertz.peak_pressure / 1e6,
+        r.semi_axes[0] * 1e3,
+        r.semi_axes[1] * 1e3
+    );
+    line_plot(path, &panel, (1000, 650))
 }

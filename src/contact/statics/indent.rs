@@ -178,57 +178,19 @@ pub fn indent(spec: &IndentSpec) -> Result<Indentation, IndentError> {
         let p = mesh.point(i);
         p[0] * p[0] / (2.0 * rx) + p[1] * p[1] / (2.0 * ry)
     };
+    let heights: Vec<f64> = candidates.iter().map(|&i| height(i)).collect();
     let mut d = target.approach - target.axial_displacement(depth, young, nu);
-    let mut offsets = vec![0.0; candidates.len()];
-    let mut sol = None;
-    for _ in 0..3 {
-        for (o, &i) in offsets.iter_mut().zip(&candidates) {
-            *o = d - height(i);
-        }
-        statics.set_offsets(&offsets)?;
-        let s = statics.solve(&x)?;
-        let load = 4.0 * s.active.iter().map(|a| a.1).sum::<f64>();
-        if !s.converged || load <= 0.0 || !load.is_finite() {
-            return Err(IndentError::NoContact {
-                active: s.active.len(),
-                load,
-            });
-        }
-        let close = (load / spec.load - 1.0).abs() < 1e-3;
-        sol = Some((s, load, d));
-        if close {
+    let (mut sol, mut load) = press(&mut statics, &x, &heights, d)?;
+    for _ in 0..2 {
+        if (load / spec.load - 1.0).abs() < 1e-3 {
             break;
         }
         d *= (spec.load / load).powf(2.0 / 3.0);
+        (sol, load) = press(&mut statics, &x, &heights, d)?;
     }
-    let Some((sol, load, d)) = sol else {
-        unreachable!("three solves")
-    };
     let solve_seconds = clock.elapsed().as_secs_f64();
     let hertz = Hertz::from_radii(rx, ry, e_star, load)?;
-    let area = top_areas(&mesh);
-    let force: std::collections::HashMap<usize, f64> = sol.active.iter().cloned().collect();
-    let (mut f0, mut fx2, mut fy2) = (0.0, 0.0, 0.0);
-    let (mut ex, mut ey) = (0.0f64, 0.0f64);
-    let mut inside = true;
-    let mut patch = Vec::with_capacity(candidates.len());
-    let mut peak = 0.0;
-    for &i in &candidates {
-        let p = mesh.point(i);
-        let lam = force.get(&i).copied().unwrap_or(0.0);
-        patch.push([p[0], p[1], lam / area[i]]);
-        if lam > 0.0 {
-            f0 += lam;
-            fx2 += lam * p[0] * p[0];
-            fy2 += lam * p[1] * p[1];
-            ex = ex.max(p[0]);
-            ey = ey.max(p[1]);
-            inside &= reach(p) < 2.0f64.powi(2);
-            if p[0] == 0.0 && p[1] == 0.0 {
-                peak = lam / area[i];
-            }
-        }
-    }
+    let read = read_patch(&mesh, &candidates, &sol.active, reach);
     let next = |v: f64, axis: usize| {
         let r = crate::mesh::generators::graded::ruler(
             spec.block.extent[axis],
@@ -250,14 +212,17 @@ pub fn indent(spec: &IndentSpec) -> Result<Indentation, IndentError> {
     Ok(Indentation {
         dofs: n,
         load,
-        semi_axes: [(5.0 * fx2 / f0).sqrt(), (5.0 * fy2 / f0).sqrt()],
-        extent: [next(ex, 0), next(ey, 1)],
-        peak_pressure: peak,
+        semi_axes: [
+            (5.0 * read.fx2 / read.f0).sqrt(),
+            (5.0 * read.fy2 / read.f0).sqrt(),
+        ],
+        extent: [next(read.extent[0], 0), next(read.extent[1], 1)],
+        peak_pressure: read.peak,
         approach_block: d,
         approach: d + hertz.axial_displacement(depth, young, nu),
-        patch,
+        patch: read.patch,
         active: sol.active.len(),
-        inside,
+        inside: read.inside,
         iterations: sol.iterations,
         hertz,
         factor_seconds,
@@ -265,6 +230,80 @@ pub fn indent(spec: &IndentSpec) -> Result<Indentation, IndentError> {
         u: sol.u,
         mesh,
     })
+}
+
+/// The contact with the indenter moved by `d` (the candidates' surface `heights`), and its
+/// load on the whole body (four quarters).
+fn press(
+    statics: &mut Statics,
+    x: &[f64],
+    heights: &[f64],
+    d: f64,
+) -> Result<(super::StaticContact, f64), IndentError> {
+    let offsets: Vec<f64> = heights.iter().map(|h| d - h).collect();
+    statics.set_offsets(&offsets)?;
+    let s = statics.solve(x)?;
+    let load = 4.0 * s.active.iter().map(|a| a.1).sum::<f64>();
+    if !s.converged || load <= 0.0 || !load.is_finite() {
+        return Err(IndentError::NoContact {
+            active: s.active.len(),
+            load,
+        });
+    }
+    Ok((s, load))
+}
+
+/// The patch read from the nodal forces (module docs).
+struct Read {
+    /// `sum lambda`, `sum lambda x^2`, `sum lambda y^2` over the active nodes.
+    f0: f64,
+    fx2: f64,
+    fy2: f64,
+    /// The farthest active node along `x` and `y`.
+    extent: [f64; 2],
+    /// Every active node within twice Hertz's ellipse (the candidates reach 2.5 times).
+    inside: bool,
+    /// `(x, y, nodal pressure)` of the candidates.
+    patch: Vec<[f64; 3]>,
+    /// The centre node's pressure.
+    peak: f64,
+}
+
+/// The moments, extents and nodal pressures of the `active` forces on the `candidates`;
+/// `reach` is a point's squared normalized distance in Hertz's ellipse.
+fn read_patch(
+    mesh: &Mesh,
+    candidates: &[usize],
+    active: &[(usize, f64)],
+    reach: impl Fn(&[f64]) -> f64,
+) -> Read {
+    let area = top_areas(mesh);
+    let force: std::collections::HashMap<usize, f64> = active.iter().cloned().collect();
+    let mut r = Read {
+        f0: 0.0,
+        fx2: 0.0,
+        fy2: 0.0,
+        extent: [0.0; 2],
+        inside: true,
+        patch: Vec::with_capacity(candidates.len()),
+        peak: 0.0,
+    };
+    for &i in candidates {
+        let p = mesh.point(i);
+        let lam = force.get(&i).copied().unwrap_or(0.0);
+        r.patch.push([p[0], p[1], lam / area[i]]);
+        if lam > 0.0 {
+            r.f0 += lam;
+            r.fx2 += lam * p[0] * p[0];
+            r.fy2 += lam * p[1] * p[1];
+            r.extent = [r.extent[0].max(p[0]), r.extent[1].max(p[1])];
+            r.inside &= reach(p) < 2.0f64.powi(2);
+            if p[0] == 0.0 && p[1] == 0.0 {
+                r.peak = lam / area[i];
+            }
+        }
+    }
+    r
 }
 
 /// The consistent areas `∫ N_i dA` of the top face's nodes (`z = 0`; 0 elsewhere): a
