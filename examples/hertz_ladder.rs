@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! cargo run --release --example hertz_ladder -- [--case sphere|ellipse|both]
-//!     [--rungs 4,6,8] [--size-over-a 40] [--ratio 1.3] [--sizes 20,40,80]
+//!     [--rungs 3,4,6,9] [--size-over-a 80] [--ratio 1.3] [--sizes 20,40,80]
 //!     [--figure hertz.png]
 //! ```
 //!
@@ -43,8 +43,8 @@ struct Args {
 fn parse() -> Result<Args, String> {
     let mut a = Args {
         cases: vec!["sphere", "ellipse"],
-        rungs: vec![4, 6, 8],
-        size: 40.0,
+        rungs: vec![3, 4, 6, 9],
+        size: 80.0,
         ratio: 1.3,
         sizes: vec![],
         figure: None,
