@@ -22,11 +22,13 @@
 //! - [`mass_redistribution`]: massless contact nodes.
 //! - [`subdivision`]: the paper's Fig. 5.
 //! - [`statics`]: static frictionless contact by an active set.
+//! - [`hertz`]: Hertz's elliptic point contact (the semi-axes, pressure and approach).
 
 pub mod complementarity;
 pub mod context;
 pub mod facets;
 pub mod friction;
+pub mod hertz;
 pub mod interface;
 pub mod mass_redistribution;
 pub mod obstacle;

@@ -24,27 +24,7 @@
 //! Eq. 4.22), a check of the tests. The UIC60 head (`R_r = 0.3 m`) under a wheel of
 //! `R_w = 0.46 m` at `P = 100 kN` gives `k_H ≈ 1.4e9 N/m`.
 
-/// The complete elliptic integrals `(K(e), E(e))` of modulus `e` in `[0, 1)`, by the
-/// arithmetic-geometric mean (Abramowitz and Stegun 17.6): `K = pi / (2 M(1, e'))`,
-/// `E = K (1 - sum 2^(n-1) c_n^2)`, `c_0 = e`.
-pub fn elliptic_integrals(e: f64) -> (f64, f64) {
-    let (mut a, mut b) = (1.0, (1.0 - e * e).sqrt());
-    let mut sum = 0.5 * e * e;
-    let mut pow = 0.5;
-    for _ in 0..60 {
-        let c = 0.5 * (a - b);
-        pow *= 2.0;
-        sum += pow * c * c;
-        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
-        a = an;
-        b = bn;
-        if c.abs() < 1e-17 * a {
-            break;
-        }
-    }
-    let k = std::f64::consts::PI / (2.0 * a);
-    (k, k * (1.0 - sum))
-}
+pub use crate::contact::hertz::elliptic_integrals;
 
 /// Hertz's contact of a wheel on the rail head under a load (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -78,43 +58,15 @@ pub fn contact(
         return None;
     }
     let e_star = young / (2.0 * (1.0 - poisson * poisson));
-    let (c1, c2) = (0.5 / wheel_radius, 0.5 / head_radius);
-    let (a_curv, ratio) = (c1.min(c2), c1.max(c2) / c1.min(c2));
-    let pi = std::f64::consts::PI;
-    // B/A as a function of e increases from 1 (e = 0) without bound (e -> 1).
-    let f = |e: f64| {
-        let (k, ee) = elliptic_integrals(e);
-        ((ee / (1.0 - e * e)) - k) / (k - ee)
-    };
-    let (e, k_int, a) = if ratio - 1.0 < 1e-9 {
-        // A circle: Johnson Eq. (4.22).
-        let r = 0.5 / a_curv;
-        let a = (3.0 * load * r / (4.0 * e_star)).cbrt();
-        (0.0, 0.5 * pi, a)
-    } else {
-        let (mut lo, mut hi) = (1e-6, 1.0 - 1e-15);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if f(mid) < ratio {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let e = 0.5 * (lo + hi);
-        let (k, ee) = elliptic_integrals(e);
-        let a = (3.0 * load * (k - ee) / (2.0 * pi * e * e * e_star * a_curv)).cbrt();
-        (e, k, a)
-    };
-    let b = a * (1.0 - e * e).sqrt();
-    let approach = 3.0 * load * k_int / (2.0 * pi * a * e_star);
+    let h =
+        crate::contact::hertz::Hertz::from_radii(wheel_radius, head_radius, e_star, load).ok()?;
     Some(HertzContact {
-        a,
-        b,
-        eccentricity: e,
-        approach,
-        peak_pressure: 3.0 * load / (2.0 * pi * a * b),
-        stiffness: 1.5 * load / approach,
+        a: h.a,
+        b: h.b,
+        eccentricity: h.eccentricity,
+        approach: h.approach,
+        peak_pressure: h.peak_pressure,
+        stiffness: 1.5 * load / h.approach,
     })
 }
 

@@ -24,6 +24,7 @@ use disk::signed_area;
 
 pub mod box3d;
 mod disk;
+pub mod graded;
 pub mod rail3d;
 pub mod revolution;
 mod solid;
