@@ -5,11 +5,13 @@
 /// three components ([`crate::contact::facets`]).
 pub const MAX_TERMS: usize = 15;
 
-/// The coefficients of a row on at most [`MAX_TERMS`] dofs.
+/// The coefficients of a row on at most [`MAX_TERMS`] dofs. The dofs are kept as `u32`
+/// (a model of more than 4e9 dofs is far beyond any factorization): a row is copied with
+/// every pair's state in every step, and its size is what the copies cost.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Terms {
-    len: usize,
-    dof: [usize; MAX_TERMS],
+    len: u32,
+    dof: [u32; MAX_TERMS],
     coef: [f64; MAX_TERMS],
 }
 
@@ -29,25 +31,23 @@ impl Terms {
     /// # Panics
     /// Beyond [`MAX_TERMS`] terms.
     pub fn push(&mut self, dof: usize, coef: f64) {
-        assert!(
-            self.len < MAX_TERMS,
-            "a row acts on at most {MAX_TERMS} dofs"
-        );
-        self.dof[self.len] = dof;
-        self.coef[self.len] = coef;
+        let k = self.len as usize;
+        assert!(k < MAX_TERMS, "a row acts on at most {MAX_TERMS} dofs");
+        self.dof[k] = u32::try_from(dof).expect("a dof index below 2^32");
+        self.coef[k] = coef;
         self.len += 1;
     }
 
     /// The `(dof, coefficient)` pairs.
     pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        (0..self.len).map(|i| (self.dof[i], self.coef[i]))
+        (0..self.len as usize).map(|i| (self.dof[i] as usize, self.coef[i]))
     }
 
     /// `c . x`.
     pub fn dot(&self, x: &[f64]) -> f64 {
         let mut s = 0.0;
-        for i in 0..self.len {
-            s += self.coef[i] * x[self.dof[i]];
+        for i in 0..self.len as usize {
+            s += self.coef[i] * x[self.dof[i] as usize];
         }
         s
     }
@@ -63,17 +63,18 @@ impl Terms {
         let mut out = Terms::default();
         let mut seen = [usize::MAX; MAX_TERMS];
         let mut k = 0;
-        for i in 0..self.len {
-            let m = self.dof[i] / 2;
+        let len = self.len as usize;
+        for i in 0..len {
+            let m = self.dof[i] as usize / 2;
             if seen[..k].contains(&m) {
                 continue;
             }
             seen[k] = m;
             k += 1;
             let mut c = [0.0; 2];
-            for j in 0..self.len {
-                if self.dof[j] / 2 == m {
-                    c[self.dof[j] % 2] += self.coef[j];
+            for j in 0..len {
+                if self.dof[j] as usize / 2 == m {
+                    c[self.dof[j] as usize % 2] += self.coef[j];
                 }
             }
             let n = node(m)?;
@@ -86,8 +87,8 @@ impl Terms {
 
     /// `y[dof] += s c` for every term.
     pub fn scatter(&self, s: f64, y: &mut [f64]) {
-        for i in 0..self.len {
-            y[self.dof[i]] += self.coef[i] * s;
+        for i in 0..self.len as usize {
+            y[self.dof[i] as usize] += self.coef[i] * s;
         }
     }
 }
