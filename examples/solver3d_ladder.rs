@@ -167,7 +167,7 @@ fn one(args: &[String]) {
         t1 * 1e3,
         t2 * 1e3,
         floor * 1e3,
-        (num / den as f64).sqrt(),
+        (num / den).sqrt(),
         llt.parts(),
     );
 }

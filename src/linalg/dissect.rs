@@ -285,7 +285,7 @@ pub(super) fn nested_dissection(
     let (g, mptr, members) = Graph::compressed(pattern);
     let mut order = Vec::with_capacity(g.n());
     let ids: Vec<usize> = (0..g.n()).collect();
-    let mut rng = Rng(0x5EED_0F_D155_EC7);
+    let mut rng = Rng(0x0005_EED0_FD15_5EC7);
     dissect(&g, &ids, &mut order, &mut rng)?;
     let n = pattern.ncols();
     let mut fwd = Vec::with_capacity(n);

@@ -1,5 +1,6 @@
 //! The tuned sparse Cholesky factorization ([`SparseLlt`]): faer's symbolic analysis (AMD,
-//! split for two threads from `SPLIT_MIN_ORDER` on) made once and shared, its numeric
+//! or nested dissection on a large 3D mesh: [`Ordering::auto`]; split for two threads from
+//! `SPLIT_MIN_ORDER` on) made once and shared, its numeric
 //! factor copied into the solve's layouts as [`super::SparseLu`]'s.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -21,8 +22,8 @@ use super::triangle::Triangle;
 use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
 
 /// Sparse Cholesky factorization `A = L L^T` of a symmetric positive definite matrix (only
-/// the upper triangle is read), symbolic analysis (AMD ordering) once, solve without
-/// allocation.
+/// the upper triangle is read), symbolic analysis (AMD or nested dissection ordering) once,
+/// solve without allocation.
 ///
 /// The symbolic analysis is held behind an [`Arc`] (as faer's own `SymbolicLlt`): a second
 /// factorization of other values on the same pattern ([`SparseLlt::with_values`]) shares it
