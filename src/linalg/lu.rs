@@ -38,7 +38,11 @@ pub enum Ordering {
 /// dissection's factor has 0.80 of AMD's entries (869,889 against 1,088,400) and factors in
 /// half the time (0.50 s against 1.05 s, its ordering 0.08 s); at 20,577 (18^3 cells) 0.60
 /// (9.86e6 against 16.3e6) and 2.5 against 4.6 s. Below a few thousand unknowns the ordering's
-/// own time weighs as much as what it saves.
+/// own time weighs as much as what it saves. At 2e5 unknowns (bars of 12 x 12 x 400
+/// hexahedra and 6 x 6 x 200 10-node tetrahedra, a quiet machine) the factor has 0.63 and
+/// 0.71 of AMD's entries, refactors in half the time and peaks at two thirds of the memory;
+/// the solve, though, is not always faster (174 against 269 ms on the hexahedra, 252 against
+/// 197 ms on the tetrahedra): see `bench/peers/README.md`.
 pub const DISSECTION_MIN_ORDER: usize = 5_000;
 
 impl Ordering {
