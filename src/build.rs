@@ -140,9 +140,11 @@ pub struct Estimate {
     /// Degrees of freedom of the largest run's model.
     pub dofs: f64,
     /// Run time on one core, s: `steps (2e-7 s dofs + 2e-6 s)` summed over the runs (the
-    /// measured cost is about 1.3e-7 s per dof and step on the wheel).
+    /// measured cost is about 1.3e-7 s per dof and step on the wheel), for a 3D model plus
+    /// [`SOLVE_SECONDS_PER_ENTRY`] per entry of its factor ([`factor_entries_3d`]) a step.
     pub seconds: f64,
-    /// Peak memory, bytes: 4 kB per dof (matrices and factors) and 512 bytes per step up to
+    /// Peak memory, bytes: 4 kB per dof (matrices and factors), for a 3D model
+    /// [`FACTOR_BYTES_PER_ENTRY`] per entry of its factor ([`factor_entries_3d`]), and 512 bytes per step up to
     /// [`crate::analysis::trace::SPECTRUM_WINDOW_CAP`] steps (the wheel's contact-force window
     /// and its spectral analysis at the end of the run, measured at up to 340 bytes per step;
     /// memory is flat beyond the window, `tests/long_runs.rs`) of the largest run.
@@ -209,14 +211,20 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
         } = run.model.size(run, mesh_nodes);
         let rows = per_pair * contact_pairs;
         let steps = (duration / h).ceil().max(1.0);
-        let seconds = steps * (2e-7 * dofs + 2e-6);
+        // A 3D model's factor grows faster than its unknowns (2D: within the 4 kB a dof).
+        let factor = if run.model.dim() == 3 {
+            factor_entries_3d(dofs)
+        } else {
+            0.0
+        };
+        let seconds = steps * (2e-7 * dofs + 2e-6 + SOLVE_SECONDS_PER_ENTRY * factor);
         e.steps += steps;
         e.seconds += seconds;
         e.dofs = e.dofs.max(dofs);
         let windowed = steps.min(crate::analysis::trace::SPECTRUM_WINDOW_CAP as f64);
-        e.memory_bytes = e
-            .memory_bytes
-            .max(4096.0 * dofs + 512.0 * windowed + 16.0 * rows * rows);
+        e.memory_bytes = e.memory_bytes.max(
+            4096.0 * dofs + FACTOR_BYTES_PER_ENTRY * factor + 512.0 * windowed + 16.0 * rows * rows,
+        );
         e.disk_bytes += 300.0 * steps / sc.history_stride as f64;
         if seconds > worst {
             worst = seconds;
@@ -228,6 +236,27 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
     }
     e
 }
+
+/// Entries of the Cholesky factor `L` of a 3D model of `dofs` unknowns, an upper estimate:
+/// `24 n^{4/3}`, nested dissection's growth on a 3D mesh (George 1973; Lipton, Rose and
+/// Tarjan 1979), its constant above the cubes of hexahedra and 10-node tetrahedra measured
+/// (`examples/solver3d_ladder.rs`: 13.7 to 21.2 `n^{4/3}` for hexahedra from 3,993 to 98,304
+/// unknowns). A cube is the worst shape for a number of unknowns; a long body (a rail, a
+/// wheel's rim) has smaller separators and fewer entries. `tests/solver3d.rs` checks the
+/// bound against the symbolic count on cubes and bars: within a factor of 6 above it.
+pub fn factor_entries_3d(dofs: f64) -> f64 {
+    24.0 * dofs.powf(4.0 / 3.0)
+}
+
+/// Peak bytes of a factorization per entry of `L` (faer's numeric factor, its columns, the
+/// solve's dense supernodes, the previous factor while refactoring): measured 59 to 67 on
+/// the cubes of `examples/solver3d_ladder.rs` (the process's peak over the factor's
+/// entries).
+pub const FACTOR_BYTES_PER_ENTRY: f64 = 64.0;
+
+/// Seconds of one solve per entry of `L` on one core: both sweeps read `L` (16 bytes an
+/// entry) at about 4 GB/s, the memory bandwidth of the machines measured.
+pub const SOLVE_SECONDS_PER_ENTRY: f64 = 4e-9;
 
 /// The most steps a run may take, confirmed or not: at a microsecond a step, eleven days.
 pub const MAX_STEPS: f64 = 1e12;

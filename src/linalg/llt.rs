@@ -1,5 +1,6 @@
 //! The tuned sparse Cholesky factorization ([`SparseLlt`]): faer's symbolic analysis (AMD,
-//! split for two threads from `SPLIT_MIN_ORDER` on) made once and shared, its numeric
+//! or nested dissection on a large 3D mesh: [`Ordering::auto`]; split for two threads from
+//! `SPLIT_MIN_ORDER` on) made once and shared, its numeric
 //! factor copied into the solve's layouts as [`super::SparseLu`]'s.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -21,8 +22,8 @@ use super::triangle::Triangle;
 use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
 
 /// Sparse Cholesky factorization `A = L L^T` of a symmetric positive definite matrix (only
-/// the upper triangle is read), symbolic analysis (AMD ordering) once, solve without
-/// allocation.
+/// the upper triangle is read), symbolic analysis (AMD or nested dissection ordering) once,
+/// solve without allocation.
 ///
 /// The symbolic analysis is held behind an [`Arc`] (as faer's own `SymbolicLlt`): a second
 /// factorization of other values on the same pattern ([`SparseLlt::with_values`]) shares it
@@ -32,6 +33,8 @@ pub struct SparseLlt {
     pub(super) symbolic: Arc<SymbolicCholesky<usize>>,
     /// The analyses and numeric factorizations made.
     pub(super) counts: Counts,
+    /// The fill-reducing ordering.
+    pub(super) ordering: Ordering,
     /// faer's factor (emptied after each factorization: the solve uses `l`).
     pub(super) numeric: Vec<f64>,
     pub(super) l: Triangle,
@@ -75,17 +78,34 @@ impl SparseLlt {
         self
     }
 
-    /// Analyses (AMD ordering, split into two independent parts and a top for two threads
-    /// from `SPLIT_MIN_ORDER` on, as [`super::SparseLu`]) and factors.
+    /// Analyses (the ordering [`Ordering::auto`] chooses: AMD, or nested dissection on a
+    /// large 3D mesh; split into two independent parts and a top for two threads from
+    /// `SPLIT_MIN_ORDER` on, as [`super::SparseLu`]) and factors.
     ///
     /// # Errors
     /// [`LinalgError::Singular`] when the matrix is not positive definite.
     pub fn new(pattern: &Pattern, values: &[f64]) -> Result<Self, LinalgError> {
-        Self::build(pattern, values, pattern.nrows() >= SPLIT_MIN_ORDER)
+        Self::with_ordering(pattern, values, Ordering::auto(pattern))
+    }
+
+    /// Analyses with the fill-reducing `ordering` (split for two threads from
+    /// `SPLIT_MIN_ORDER` on) and factors.
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the ordering fails or the matrix is not positive definite.
+    pub fn with_ordering(
+        pattern: &Pattern,
+        values: &[f64],
+        ordering: Ordering,
+    ) -> Result<Self, LinalgError> {
+        let supernodal = pattern.nrows() >= DENSE_SUPERNODAL_MIN_ORDER;
+        let split = pattern.nrows() >= SPLIT_MIN_ORDER;
+        Self::build_ordered(pattern, values, ordering, split, supernodal)
     }
 
     /// Analyses, with the AMD ordering split for two threads when `split` and the ordering
     /// has two independent parts, and factors.
+    #[cfg(test)]
     pub(super) fn build(
         pattern: &Pattern,
         values: &[f64],
@@ -97,20 +117,43 @@ impl SparseLlt {
 
     /// [`SparseLlt::build`] with faer's supernodal factorization (`supernodal`) or its
     /// simplicial one.
+    #[cfg(test)]
     pub(super) fn build_with(
         pattern: &Pattern,
         values: &[f64],
         split: bool,
         supernodal: bool,
     ) -> Result<Self, LinalgError> {
+        Self::build_ordered(pattern, values, Ordering::Amd, split, supernodal)
+    }
+
+    /// [`SparseLlt::build_with`] on `ordering`: AMD's split is the better of its own and
+    /// its bisection's (`split::best_split`); another ordering's is its own elimination
+    /// tree's (`split::two_subtrees`: nested dissection's first separator is its top).
+    pub(super) fn build_ordered(
+        pattern: &Pattern,
+        values: &[f64],
+        ordering: Ordering,
+        split: bool,
+        supernodal: bool,
+    ) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
         let mut parts = None;
         let mut custom = None;
-        if split {
-            let (fwd, inv) = column_ordering(pattern, Ordering::Amd)?;
-            if let Some(s) = split::best_split(pattern, &fwd, &inv) {
-                custom = Some((s.fwd, s.inv));
-                parts = Some((s.a, s.b));
+        if split || ordering != Ordering::Amd {
+            let (fwd, inv) = column_ordering(pattern, ordering)?;
+            let s = match (split, ordering) {
+                (false, _) => None,
+                (true, Ordering::Amd) => split::best_split(pattern, &fwd, &inv),
+                (true, _) => split::two_subtrees(pattern, &fwd, &inv),
+            };
+            match s {
+                Some(s) => {
+                    custom = Some((s.fwd, s.inv));
+                    parts = Some((s.a, s.b));
+                }
+                None if ordering != Ordering::Amd => custom = Some((fwd, inv)),
+                None => {}
             }
         }
         // From the order of the dense layout on, faer's supernodal factorization (dense
@@ -124,12 +167,13 @@ impl SparseLlt {
             },
             ..Default::default()
         };
-        let ordering = match &custom {
+        let faer_ordering = match &custom {
             Some((f, i)) => SymmetricOrdering::Custom(PermRef::new_checked(f, i, n)),
             None => SymmetricOrdering::Amd,
         };
-        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, ordering, params)
-            .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
+        let symbolic =
+            factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, faer_ordering, params)
+                .map_err(|e| LinalgError::Symbolic(format!("{e:?}")))?;
         let (perm_fwd, perm_inv) = match symbolic.perm() {
             Some(p) => {
                 let (f, i) = p.arrays();
@@ -141,6 +185,7 @@ impl SparseLlt {
             numeric: Vec::new(),
             symbolic: Arc::new(symbolic),
             counts: Counts::analysed(),
+            ordering,
             l: Triangle::default(),
             lt: Triangle::default(),
             stored: None,
@@ -165,6 +210,7 @@ impl SparseLlt {
             numeric: Vec::new(),
             symbolic: Arc::clone(&self.symbolic),
             counts: Counts::default(),
+            ordering: self.ordering,
             l: Triangle::default(),
             lt: Triangle::default(),
             stored: None,
@@ -182,6 +228,11 @@ impl SparseLlt {
     /// Order of the matrix.
     pub fn n(&self) -> usize {
         self.n
+    }
+
+    /// The fill-reducing ordering.
+    pub fn ordering(&self) -> Ordering {
+        self.ordering
     }
 
     /// Numeric factorization of new values on the same pattern.

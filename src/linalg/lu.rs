@@ -26,6 +26,39 @@ pub enum Ordering {
     /// AMD on the pattern of `A + A^T` (the Cholesky ordering: the right one for a
     /// structurally symmetric matrix whose partial pivoting stays on the diagonal).
     Amd,
+    /// Nested dissection of the graph of `A + A^T` (module `dissect`: multilevel vertex
+    /// separators, AMD on the leaves): less fill than AMD on 3D meshes.
+    NestedDissection,
+}
+
+/// Unknowns from which [`Ordering::auto`] takes nested dissection on a 3D mesh.
+///
+/// Measured on steel cubes of hexahedra, the step matrix `M + c K`
+/// (`examples/solver3d_ladder.rs`, one thread): at 3,993 unknowns (10^3 cells) nested
+/// dissection's factor has 0.80 of AMD's entries (869,889 against 1,088,400) and factors in
+/// half the time (0.50 s against 1.05 s, its ordering 0.08 s); at 20,577 (18^3 cells) 0.60
+/// (9.86e6 against 16.3e6) and 2.5 against 4.6 s. Below a few thousand unknowns the ordering's
+/// own time weighs as much as what it saves. At 2e5 unknowns (bars of 12 x 12 x 400
+/// hexahedra and 6 x 6 x 200 10-node tetrahedra, a quiet machine) the factor has 0.63 and
+/// 0.71 of AMD's entries, refactors in half the time and peaks at two thirds of the memory;
+/// the solve, though, is not always faster (174 against 269 ms on the hexahedra, 252 against
+/// 197 ms on the tetrahedra): see `bench/peers/README.md`.
+pub const DISSECTION_MIN_ORDER: usize = 5_000;
+
+impl Ordering {
+    /// The ordering for `pattern`: [`Ordering::NestedDissection`] from
+    /// [`DISSECTION_MIN_ORDER`] unknowns on when its nodes hold three unknowns each on the
+    /// mean (a 3D mesh: the columns of one node's unknowns are equal), else
+    /// [`Ordering::Amd`] (every 2D model, two unknowns a node, keeps AMD).
+    pub fn auto(pattern: &Pattern) -> Ordering {
+        if pattern.ncols() >= DISSECTION_MIN_ORDER
+            && super::dissect::Graph::unknowns_per_vertex(pattern) >= 2.5
+        {
+            Ordering::NestedDissection
+        } else {
+            Ordering::Amd
+        }
+    }
 }
 
 /// Sparse LU factorization `P A Q = L U` (faer's simplicial LU with partial pivoting) with
@@ -107,6 +140,7 @@ pub(super) fn column_ordering(
             )
             .map_err(symbolic)?;
         }
+        Ordering::NestedDissection => return super::dissect::nested_dissection(pattern),
     }
     Ok((fwd, inv))
 }

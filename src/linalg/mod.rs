@@ -24,6 +24,10 @@
 //!   their small kernels and prefetch hints in module `kernels`.
 //! - [`rhs`]: the space-time step's right-hand side `y = B v0 - h K u0 + h f` as an operator
 //!   ([`RhsOperator`]) formed by the tuned kernels, with a plain sparse-product reference.
+//! - module `dissect`: the nested dissection ordering ([`Ordering::NestedDissection`], chosen
+//!   by [`Ordering::auto`] for large 3D meshes); [`symbolic`]: the orderings and the
+//!   Cholesky factor's size from the pattern alone ([`fill_reducing_ordering`],
+//!   [`cholesky_factor_nnz`]).
 //! - [`dense`]: Gaussian elimination on the small dense systems of the contact rows.
 //!
 //! The kernels of the time loop (the row solves, the right-hand side) are compiled for the
@@ -101,6 +105,7 @@ macro_rules! avx2_method {
 
 mod bisect;
 pub mod dense;
+mod dissect;
 mod huge;
 mod kernels;
 mod llt;
@@ -111,6 +116,7 @@ pub mod solver;
 pub mod sparse;
 mod split;
 mod supernodal;
+pub mod symbolic;
 pub mod team;
 mod triangle;
 
@@ -118,7 +124,7 @@ pub use dense::dense_solve_in_place;
 pub use huge::{HugeBuf, HUGE_MIN_BYTES};
 pub(crate) use kernels::{broadcast2, has_avx2, prefetch_span};
 pub use llt::SparseLlt;
-pub use lu::{Ordering, SparseLu};
+pub use lu::{Ordering, SparseLu, DISSECTION_MIN_ORDER};
 pub use reference::{FaerLlt, FaerLu};
 pub use rhs::{rhs_plain_into, BParts, RhsOperator, RhsValues};
 pub use solver::{Backend, Factor, FactorKind, Factorization, LinalgError};
@@ -127,6 +133,7 @@ pub use sparse::{
     write_matrix_market, Pattern,
 };
 use supernodal::Supernodal;
+pub use symbolic::{cholesky_factor_nnz, fill_reducing_ordering};
 use triangle::Triangle;
 
 /// The order from which the column ordering is split into two independent parts and a top

@@ -208,7 +208,8 @@ impl std::str::FromStr for Backend {
 pub enum FactorKind {
     /// LU with partial pivoting and the given column ordering (the reference: any matrix).
     Lu(Ordering),
-    /// Cholesky `L L^T` (AMD ordering): symmetric positive definite matrices only.
+    /// Cholesky `L L^T` (the ordering of [`Ordering::auto`]: AMD, nested dissection on a
+    /// large 3D mesh): symmetric positive definite matrices only.
     Llt,
     /// faer's LU ([`Backend::Faer`]).
     FaerLu,
@@ -268,7 +269,7 @@ impl Factor {
         values: &[f64],
     ) -> Result<Self, LinalgError> {
         let (llt, lu) = match backend {
-            Backend::Softway => (FactorKind::Llt, FactorKind::Lu(Ordering::Amd)),
+            Backend::Softway => (FactorKind::Llt, FactorKind::Lu(Ordering::auto(pattern))),
             Backend::Faer => (FactorKind::FaerLlt, FactorKind::FaerLu),
         };
         if is_symmetric(pattern, values, 1e-14) {

@@ -145,6 +145,13 @@ pub(super) fn two_subtrees(pattern: &Pattern, fwd: &[usize], inv: &[usize]) -> O
     })
 }
 
+/// Entries of the Cholesky factor `L` (the diagonal included) of `pattern` in the ordering
+/// whose inverse permutation is `inv`, from the elimination tree's row subtrees (no factor
+/// is formed: `O(n)` memory beyond the pattern's graph).
+pub(super) fn factor_entries(pattern: &Pattern, inv: &[usize]) -> u64 {
+    Tree::of(pattern, inv).total
+}
+
 /// A frontier of subtrees, heaviest first, then by position.
 type Frontier = BTreeSet<(std::cmp::Reverse<u64>, usize)>;
 

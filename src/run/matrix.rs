@@ -68,6 +68,7 @@ fn kind_name(k: FactorKind) -> String {
     match k {
         FactorKind::Lu(Ordering::Colamd) => "lu_colamd".into(),
         FactorKind::Lu(Ordering::Amd) => "lu_amd".into(),
+        FactorKind::Lu(Ordering::NestedDissection) => "lu_nd".into(),
         FactorKind::Llt => "llt_amd".into(),
         FactorKind::FaerLu => "faer_lu".into(),
         FactorKind::FaerLlt => "faer_llt".into(),

@@ -1,0 +1,65 @@
+//! The Cholesky factor of a 3D step matrix at one mid size: a steel cube of 18^3 hexahedra
+//! (20,577 unknowns, `M + c K` as in `examples/solver3d_ladder.rs`), AMD against nested
+//! dissection: `order/*` the ordering alone, `factor/*` a numeric refactorization on the
+//! ordering's analysis, `solve/*` one solve on one thread (`Team` of one). The entries of each
+//! factor are printed on stderr. The full ladder, with memory and a peer, is the example.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+
+use softway::bodies::solid::{solid, SolidSpec};
+use softway::contact::search::Motion;
+use softway::linalg::team::{Par, Team};
+use softway::linalg::{fill_reducing_ordering, Ordering, Pattern, SparseLlt};
+use softway::material::{Elastic, PlaneModel};
+use softway::mesh::generators::box_mesh;
+use softway::mesh::CellKind;
+
+fn cube(cells: usize) -> (Pattern, Vec<f64>) {
+    let steel = Elastic {
+        young: 210e9,
+        poisson: 0.3,
+        density: 7850.0,
+    };
+    let spec = SolidSpec {
+        material: steel,
+        plane: PlaneModel::Stress,
+        thickness: 1.0,
+        lumped: false,
+    };
+    let mesh = box_mesh(CellKind::Hex8, [1.0; 3], [cells; 3]).unwrap();
+    let body = solid("cube", mesh, &spec, Motion::Fixed).unwrap().body;
+    let h = 1.0 / cells as f64 / (steel.young / steel.density).sqrt();
+    let c = 0.5 * (0.8 * h) * (0.8 * h);
+    let m = &body.model;
+    let values = m.m.iter().zip(&m.k).map(|(a, k)| a + c * k).collect();
+    (m.assembler.pattern.clone(), values)
+}
+
+fn bench(c: &mut Criterion) {
+    let (pattern, values) = cube(18);
+    let team = Team::new(Par::threads(1));
+    let b: Vec<f64> = (0..pattern.nrows()).map(|i| 1.0 + (i % 7) as f64).collect();
+    for (name, ordering) in [("amd", Ordering::Amd), ("nd", Ordering::NestedDissection)] {
+        let mut g = c.benchmark_group("solver3d_hex8_18");
+        g.sample_size(10);
+        g.bench_function(format!("order/{name}"), |bch| {
+            bch.iter(|| fill_reducing_ordering(&pattern, ordering).unwrap())
+        });
+        let mut llt = SparseLlt::with_ordering(&pattern, &values, ordering).unwrap();
+        eprintln!("{name}: nnz(L) = {}", llt.factor_nnz());
+        g.bench_function(format!("factor/{name}"), |bch| {
+            bch.iter(|| llt.refactor(&pattern, &values).unwrap())
+        });
+        let mut x = b.clone();
+        g.bench_function(format!("solve/{name}"), |bch| {
+            bch.iter(|| {
+                x.copy_from_slice(&b);
+                llt.solve_on(&team, &mut x);
+            })
+        });
+        g.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
