@@ -257,13 +257,22 @@ def test_sweep_on_two_dask_workers_equals_serial_and_the_cli(tmp_path, one_turn,
 def test_a_failing_point_is_reported_and_the_others_kept(one_turn, dask_executor, tmp_path):
     """A point whose run fails where it runs (its folder cannot be written: a file stands
     where `out/<key>=<value>` goes) is reported, the others kept. (A value the validation
-    refuses is refused before any point runs: test_issue_48_sweeps.py.)"""
+    refuses is refused before any point runs: test_issue_48_sweeps.py.) The sweep claims
+    `out` empty before any point is sent, so the file is put in the way as the point is
+    submitted, by an executor around the Dask one."""
+    from concurrent.futures import Executor
+
+    class InTheWay(Executor):
+        def submit(self, fn, *args, **kwargs):
+            point, folder = args[2], args[4]
+            if point.get("rolling.omega") == 300.0:
+                Path(folder).write_text("a file where the point's folder goes")
+            return dask_executor.submit(fn, *args, **kwargs)
+
     speeds = [250.0, 300.0, 350.0, 400.0]
     out = tmp_path / "sweep"
-    out.mkdir()
-    (out / "rolling.omega=300.0").write_text("a file where the point's folder goes")
     with pytest.warns(RuntimeWarning, match=r"rolling\.omega.*300\.0.*failed"):
-        ds = softway.sweep(one_turn, {"rolling.omega": speeds}, executor=dask_executor,
+        ds = softway.sweep(one_turn, {"rolling.omega": speeds}, executor=InTheWay(),
                            out=out, progress=False)
     err = ds["error"].values
     assert "RunError" in err[1] and "rolling.omega=300.0" in err[1], err[1]
