@@ -275,11 +275,15 @@ impl SoftWay {
         let np = self.modes.len();
         let k = self.row_pair.len();
         for p in 0..np {
-            let prev = fs.pairs[p];
+            // Read in place and written in place: a pair's state carries two rows of up to
+            // `MAX_TERMS` terms, and copying it whole twice a pair and step was a tenth of
+            // the paper's wheel's time loop.
+            let prev = &fs.pairs[p];
             let i = self.row_pair[..k].iter().position(|&q| q == p);
             let lam = i.map(|i| self.lambda[i]).unwrap_or(0.0);
             let gap = self.gaps[p];
-            let mut st = PairState {
+            let st = &mut ts.pairs[p];
+            *st = PairState {
                 mode: self.modes[p],
                 restore: None,
                 brake_force: prev.brake_force,
@@ -300,11 +304,11 @@ impl SoftWay {
                     continue;
                 };
                 // The slip rate at t1 on which the row posed the law (module docs, Friction).
-                let slip = terms.dot(&ts.v) - wt;
+                let slip = terms.dot(&ts.state.v) - wt;
                 let force = self.lambda_t[p][k] * unit_force;
                 let kt = self.stick_stiffness();
                 let f0 = [prev.tangential_force, prev.tangential_force_2][k];
-                record_friction(&mut st, (k, force), self.sliding[p], slip, h, (kt, f0));
+                record_friction(st, (k, force), self.sliding[p], slip, h, (kt, f0));
             }
             match self.modes[p] {
                 PairMode::Brake { terms, .. } => {
@@ -339,7 +343,6 @@ impl SoftWay {
                     }
                 }
             }
-            ts.pairs[p] = st;
         }
     }
 }

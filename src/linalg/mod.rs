@@ -129,8 +129,8 @@ pub use reference::{FaerLlt, FaerLu};
 pub use rhs::{rhs_plain_into, BParts, RhsOperator, RhsValues};
 pub use solver::{Backend, Factor, FactorKind, Factorization, LinalgError};
 pub use sparse::{
-    is_symmetric, quadratic_form, set_identity_rows, spmv_add, spmv_into, transpose_positions,
-    write_matrix_market, Pattern,
+    is_symmetric, quadratic_form, quadratic_forms, set_identity_rows, spmv_add, spmv_into,
+    transpose_positions, write_matrix_market, Pattern,
 };
 use supernodal::Supernodal;
 pub use symbolic::{cholesky_factor_nnz, fill_reducing_ordering};

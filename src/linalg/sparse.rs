@@ -72,6 +72,42 @@ pub fn quadratic_form(pattern: &Pattern, values: &[f64], x: &[f64]) -> f64 {
     s
 }
 
+/// `(x^T A x, y^T B y)` for two CSC matrices on one pattern, in one pass over it: each
+/// form summed exactly as [`quadratic_form`] sums it (the same bits), the pattern read once.
+pub fn quadratic_forms(
+    pattern: &Pattern,
+    (a, x): (&[f64], &[f64]),
+    (b, y): (&[f64], &[f64]),
+) -> (f64, f64) {
+    let col_ptr = pattern.col_ptr();
+    let row_idx = pattern.row_idx();
+    let n = pattern.ncols();
+    assert!(x.len() == n && y.len() == n);
+    assert!(a.len() >= col_ptr[n] && b.len() >= col_ptr[n]);
+    let (mut sa, mut sb) = (0.0, 0.0);
+    for j in 0..n {
+        let range = col_ptr[j]..col_ptr[j + 1];
+        let (mut pa, mut pb) = ([0.0; 4], [0.0; 4]);
+        let ri = &row_idx[range.clone()];
+        let (va, vb) = (&a[range.clone()], &b[range]);
+        let (ri4, va4, vb4) = (ri.chunks_exact(4), va.chunks_exact(4), vb.chunks_exact(4));
+        let (ri_rest, va_rest, vb_rest) = (ri4.remainder(), va4.remainder(), vb4.remainder());
+        for ((ic, ac), bc) in ri4.zip(va4).zip(vb4) {
+            for k in 0..4 {
+                pa[k] += ac[k] * x[ic[k]];
+                pb[k] += bc[k] * y[ic[k]];
+            }
+        }
+        for ((&i, &av), &bv) in ri_rest.iter().zip(va_rest).zip(vb_rest) {
+            pa[0] += av * x[i];
+            pb[0] += bv * y[i];
+        }
+        sa += ((pa[0] + pa[1]) + (pa[2] + pa[3])) * x[j];
+        sb += ((pb[0] + pb[1]) + (pb[2] + pb[3])) * y[j];
+    }
+    (sa, sb)
+}
+
 /// True when the values on `pattern` are symmetric to within `rel_tol` times the largest
 /// magnitude (the pattern itself must be structurally symmetric: an entry without its
 /// transposed partner makes the matrix unsymmetric).

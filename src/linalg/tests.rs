@@ -636,3 +636,29 @@ fn with_values_shares_the_symbolic_analysis() {
     second.solve_in_place(&mut x);
     assert!(close(&x), "LU with_values");
 }
+
+/// The two forms in one pass are each the bits of [`quadratic_form`], and a form is its
+/// definition `sum_ij x_i A_ij x_j` summed entry by entry (to round-off).
+#[test]
+fn two_quadratic_forms_in_one_pass_are_each_the_single_forms_bits() {
+    let (pattern, a) = test_matrix(57, false);
+    let b: Vec<f64> = a
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v * (1.0 + 0.01 * (i % 7) as f64))
+        .collect();
+    let n = pattern.ncols();
+    let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+    let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.11).cos() - 0.2).collect();
+    let (fa, fb) = quadratic_forms(&pattern, (&a, &x), (&b, &y));
+    assert_eq!(fa.to_bits(), quadratic_form(&pattern, &a, &x).to_bits());
+    assert_eq!(fb.to_bits(), quadratic_form(&pattern, &b, &y).to_bits());
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut direct = 0.0;
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            direct += x[ri[p]] * a[p] * x[j];
+        }
+    }
+    assert!((fa - direct).abs() <= 1e-12 * direct.abs().max(1.0));
+}

@@ -1,8 +1,8 @@
 //! What an observer sees of a final step ([`StepView`]) and a run's counters
 //! ([`RunStats`]).
 
-use crate::linalg::quadratic_form;
 use crate::linalg::team::Team;
+use crate::linalg::{quadratic_form, quadratic_forms};
 use crate::model::{LinearModel, Nonlinear, Snapshot};
 
 /// What an observer sees of a final step. The energies are computed when asked
@@ -65,11 +65,25 @@ impl StepView<'_> {
         self.internal.map(|(nl, i)| nl.state(i))
     }
 
+    /// The run's threads (an observer whose work divides may use them).
+    pub fn team(&self) -> &Team {
+        self.team
+    }
+
     /// `(kinetic, strain)`: from `ENERGIES_SIDE_BY_SIDE_MIN` dofs on, side by side on two
     /// threads (the run's [`Team`]), with the same values.
     pub fn energies(&self) -> (f64, f64) {
         if self.state.v.len() < ENERGIES_SIDE_BY_SIDE_MIN {
-            return (self.kinetic(), self.strain());
+            // Both forms in one pass over the pattern, each with the bits of its own.
+            let (mv, ku) = quadratic_forms(
+                self.model.pattern(),
+                (&self.model.m, &self.state.v),
+                (self.energy_stiffness, &self.state.u),
+            );
+            let correction = self
+                .internal
+                .map_or(0.0, |(nl, i)| nl.energy_correction(i, &self.state.u));
+            return (0.5 * mv, 0.5 * ku + correction);
         }
         let (mut kinetic, mut strain) = (0.0, 0.0);
         self.team

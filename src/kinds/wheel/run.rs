@@ -576,6 +576,7 @@ pub fn drive(
                 slip_power: s.slip_power,
                 friction_dissipated: s.friction_dissipated,
                 frame_angle: s.frame_angle,
+                team: Some(s.team()),
             };
             observers.iter_mut().try_for_each(|o| o.observe(&step))
         })
