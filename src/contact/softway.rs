@@ -283,26 +283,44 @@ impl SoftWay {
             let lam = i.map(|i| self.lambda[i]).unwrap_or(0.0);
             let gap = self.gaps[p];
             let st = &mut ts.pairs[p];
-            *st = PairState {
-                mode: self.modes[p],
-                restore: None,
-                brake_force: prev.brake_force,
-                brake_row: prev.brake_row,
-                force: lam / h,
-                held: false,
-                braked: false,
-                released: self.released[p],
-                gap,
-                tangential_force: 0.0,
-                tangential_force_2: 0.0,
-                sliding: false,
-                slip_power: 0.0,
-                dissipated: prev.dissipated,
-            };
+            {
+                // Every field, by name (a field added to the state must be set here).
+                let PairState {
+                    mode,
+                    restore,
+                    brake_force,
+                    brake_row,
+                    force,
+                    held,
+                    braked,
+                    released,
+                    gap: gap_end,
+                    tangential_force,
+                    tangential_force_2,
+                    sliding,
+                    slip_power,
+                    dissipated,
+                } = &mut *st;
+                mode.assign(&self.modes[p]);
+                *restore = None;
+                *brake_force = prev.brake_force;
+                brake_row.assign(&prev.brake_row);
+                *force = lam / h;
+                *held = false;
+                *braked = false;
+                *released = self.released[p];
+                *gap_end = gap;
+                *tangential_force = 0.0;
+                *tangential_force_2 = 0.0;
+                *sliding = false;
+                *slip_power = 0.0;
+                *dissipated = prev.dissipated;
+            }
             for k in 0..2 {
-                let Some((terms, wt)) = self.friction_row[p][k] else {
+                let Some((terms, wt)) = &self.friction_row[p][k] else {
                     continue;
                 };
+                let wt = *wt;
                 // The slip rate at t1 on which the row posed the law (module docs, Friction).
                 let slip = terms.dot(&ts.state.v) - wt;
                 let force = self.lambda_t[p][k] * unit_force;
@@ -310,7 +328,7 @@ impl SoftWay {
                 let f0 = [prev.tangential_force, prev.tangential_force_2][k];
                 record_friction(st, (k, force), self.sliding[p], slip, h, (kt, f0));
             }
-            match self.modes[p] {
+            match &self.modes[p] {
                 PairMode::Brake { terms, .. } => {
                     st.braked = true;
                     let ls = match i {
@@ -320,7 +338,7 @@ impl SoftWay {
                         _ => lam,
                     };
                     st.brake_force = ls / h;
-                    st.brake_row = terms;
+                    st.brake_row.assign(terms);
                     st.mode = PairMode::Hold;
                 }
                 PairMode::Hold => {
@@ -330,10 +348,12 @@ impl SoftWay {
                     }
                     // An arrival held at once in place of a tensile braking keeps its
                     // stopping impulse to give back, as a braked pair does.
-                    if let (true, Some(i), Some(terms)) = (self.arrive[p], i, self.hold_terms[p]) {
+                    if let (true, Some(i), Some(terms)) =
+                        (self.arrive[p], i, self.hold_terms[p].as_ref())
+                    {
                         if self.restore_mode == Restore::StoppingImpulse {
                             st.brake_force = self.lambda_stop[i] / h;
-                            st.brake_row = terms;
+                            st.brake_row.assign(terms);
                         }
                     }
                 }
@@ -381,7 +401,7 @@ impl ContactTreatment for SoftWay {
         let mut step = ctx.integ.step_at(t0);
         let np = self.modes.len();
         for p in 0..np {
-            self.modes[p] = fs.pairs[p].mode;
+            self.modes[p].assign(&fs.pairs[p].mode);
             self.restore[p] = fs.pairs[p].restore;
             self.released[p] = false;
         }

@@ -70,6 +70,29 @@ pub enum PairMode {
     Hold,
 }
 
+impl PairMode {
+    /// `*self = *src`, a braking row copied by its terms in use ([`Terms::assign`]).
+    pub fn assign(&mut self, src: &PairMode) {
+        match (&mut *self, src) {
+            (
+                PairMode::Brake { q, terms, w },
+                PairMode::Brake {
+                    q: q2,
+                    terms: t2,
+                    w: w2,
+                },
+            ) => {
+                *q = *q2;
+                terms.assign(t2);
+                *w = *w2;
+            }
+            (_, PairMode::Free) => *self = PairMode::Free,
+            (_, PairMode::Hold) => *self = PairMode::Hold,
+            (_, PairMode::Brake { .. }) => *self = *src,
+        }
+    }
+}
+
 /// The state of one contact pair at the end of a step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairState {

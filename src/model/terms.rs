@@ -38,6 +38,21 @@ impl Terms {
         self.len += 1;
     }
 
+    /// `*self = *src`, copying only the terms in use: the same value, since the unused
+    /// entries of every row are zero (a row is made by [`Terms::default`] and
+    /// [`Terms::push`] alone). A pair's state carries up to two rows and is recorded every
+    /// step; a whole copy moves all [`MAX_TERMS`] of each.
+    pub fn assign(&mut self, src: &Terms) {
+        let (n, m) = (src.len as usize, self.len as usize);
+        self.dof[..n].copy_from_slice(&src.dof[..n]);
+        self.coef[..n].copy_from_slice(&src.coef[..n]);
+        if m > n {
+            self.dof[n..m].fill(0);
+            self.coef[n..m].fill(0.0);
+        }
+        self.len = src.len;
+    }
+
     /// The `(dof, coefficient)` pairs.
     pub fn iter(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
         (0..self.len as usize).map(|i| (self.dof[i] as usize, self.coef[i]))
@@ -89,6 +104,59 @@ impl Terms {
     pub fn scatter(&self, s: f64, y: &mut [f64]) {
         for i in 0..self.len as usize {
             y[self.dof[i] as usize] += self.coef[i] * s;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::PairMode;
+
+    fn row(n: usize, seed: f64) -> Terms {
+        let mut t = Terms::default();
+        for i in 0..n {
+            t.push(3 * i + 1, seed + i as f64);
+        }
+        t
+    }
+
+    /// Assigning by the terms in use gives the value a whole copy gives (all fields, the
+    /// unused entries included), whether the row grows, shrinks or empties.
+    #[test]
+    fn assigning_the_terms_in_use_equals_a_whole_copy() {
+        for (a, b) in [(0, 0), (0, 6), (6, 0), (15, 4), (4, 15), (9, 9)] {
+            let src = row(b, 2.5);
+            let mut dst = row(a, -7.0);
+            dst.assign(&src);
+            assert_eq!(dst, src, "{a} -> {b} terms");
+            assert_eq!(format!("{dst:?}"), format!("{src:?}"));
+        }
+    }
+
+    /// A mode assigned equals the source for every pair of variants.
+    #[test]
+    fn assigning_a_mode_equals_a_whole_copy() {
+        let modes = [
+            PairMode::Free,
+            PairMode::Hold,
+            PairMode::Brake {
+                q: 0.5,
+                terms: row(6, 1.0),
+                w: -0.1,
+            },
+            PairMode::Brake {
+                q: -2.0,
+                terms: row(15, 3.0),
+                w: 0.0,
+            },
+        ];
+        for a in &modes {
+            for b in &modes {
+                let mut dst = *a;
+                dst.assign(b);
+                assert_eq!(&dst, b);
+            }
         }
     }
 }
