@@ -521,3 +521,85 @@ fn a_spinning_rings_n2_pair_splits_by_bryans_factor() {
     );
     assert!((split / bryan - 1.0).abs() < 0.01, "{split} vs {bryan}");
 }
+
+/// Centrifugal stiffening: a uniform cantilever blade clamped on the axle (zero hub radius)
+/// and spinning about `z`. Its first flapwise (out of the plane of rotation) frequency rises
+/// as `omega^2 = omega_0^2 + K1 Omega^2` with Southwell's coefficient `K1 = 1.1933` (Wright,
+/// Smith, Thresher and Wang 1982, J. Appl. Mech. 49, first mode at zero hub radius;
+/// `validation/southwell.py` recomputes it with an independent beam model: 1.19334), its
+/// first lagwise (in the plane) frequency as `omega_0^2 + (K1 - 1) Omega^2` (the spin
+/// softening takes `Omega^2` off). The slopes at `Omega -> 0` are the rest modes' Rayleigh
+/// quotients of `K_eff - K = K_sigma + K_s` over `Omega^2 M`.
+#[test]
+fn a_spinning_blade_stiffens_by_southwells_coefficient() {
+    let (len, wy, wz) = (1.0, 0.04, 0.03);
+    let mut mesh = box_mesh(CellKind::Hex8, [len, wy, wz], [50, 2, 2]).unwrap();
+    for p in mesh.coords.chunks_exact_mut(3) {
+        p[1] -= wy / 2.0;
+        p[2] -= wz / 2.0;
+    }
+    let root: Vec<usize> = mesh.node_sets["x0"]
+        .iter()
+        .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
+    let omega = 50.0;
+    let s = spinning_solid(
+        "blade",
+        mesh,
+        &spec(STEEL, false),
+        Motion::Fixed,
+        &root,
+        z_spin(omega),
+    )
+    .unwrap();
+    let body = &s.solid.body;
+    let model = &body.model;
+    let modes = natural_modes_sparse_of(
+        &Matrices {
+            mesh: &body.mesh,
+            assembler: &model.assembler,
+            m: &model.m,
+            k: &body.elastic,
+            fixed_dofs: &root,
+        },
+        2,
+    )
+    .unwrap();
+    let pat = &model.assembler.pattern;
+    let n = body.mesh.n_dofs();
+    let quad = |v: &[f64], a: &[f64]| {
+        let mut y = vec![0.0; n];
+        softway::linalg::spmv_into(pat, a, v, &mut y);
+        v.iter().zip(&y).map(|(p, q)| p * q).sum::<f64>()
+    };
+    let delta: Vec<f64> = model
+        .k
+        .iter()
+        .zip(&body.elastic)
+        .map(|(a, b)| a - b)
+        .collect();
+    let mut found = Vec::new();
+    for m in modes.iter().filter(|m| m.kind == "elastic") {
+        let share = |c: usize| {
+            m.shape
+                .iter()
+                .skip(c)
+                .step_by(3)
+                .map(|x| x * x)
+                .sum::<f64>()
+        };
+        let flap = share(2) > share(1);
+        let slope = quad(&m.shape, &delta) / (omega * omega * quad(&m.shape, &model.m));
+        let exact = if flap { 1.1933 } else { 0.1933 };
+        println!(
+            "blade {} mode at {:.2} Hz: d(omega^2)/d(Omega^2) = {slope:.4} vs {exact}",
+            if flap { "flap" } else { "lag" },
+            m.frequency_hz
+        );
+        found.push((flap, slope, exact));
+    }
+    assert_eq!(found.iter().map(|f| f.0).collect::<Vec<_>>(), [true, false]);
+    for (_, slope, exact) in found {
+        assert!((slope - exact).abs() < 0.01 * 1.1933, "{slope} vs {exact}");
+    }
+}
