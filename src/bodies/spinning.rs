@@ -47,7 +47,7 @@ pub enum SpinningError {
     /// A free body's centrifugal load has a resultant: the body needs supports.
     #[error(
         "the centrifugal load of the free body has a resultant force {force:e} N and moment \
-         {moment:e} N m about the axle point (allowed: at most 1e-9 of its total magnitude, a \
+         {moment:e} N m about the axle point (allowed: at most 1e-6 of its total magnitude, a \
          body symmetric about the axle): give the body supports that hold it"
     )]
     Unbalanced {
@@ -175,7 +175,7 @@ fn sigma<E: GeometricStiffness<N>, const N: usize>(
 }
 
 /// Refuses a load `f` on the nodes `x` with a resultant force or moment about the spin's
-/// point above `1e-9` of its total magnitude (times the body's size for the moment).
+/// point above `1e-6` of its total magnitude (times the body's size for the moment).
 fn check_balanced(f: &[f64], x: &[f64], spin: &Spin) -> Result<(), SpinningError> {
     let p = spin.point();
     let (mut force, mut moment, mut total, mut size) = ([0.0; 3], [0.0; 3], 0.0, 0.0f64);
@@ -194,7 +194,7 @@ fn check_balanced(f: &[f64], x: &[f64], spin: &Spin) -> Result<(), SpinningError
         force.iter().map(|v| v * v).sum::<f64>().sqrt(),
         moment.iter().map(|v| v * v).sum::<f64>().sqrt(),
     );
-    if fm > 1e-9 * total || mm > 1e-9 * total * size {
+    if fm > 1e-6 * total || mm > 1e-6 * total * size {
         return Err(SpinningError::Unbalanced {
             force: fm,
             moment: mm,
