@@ -224,6 +224,7 @@ pub mod cli;
 pub mod contact;
 pub mod element;
 pub mod frame;
+pub mod frame3d;
 pub mod growth;
 pub mod guard;
 pub mod kinds;

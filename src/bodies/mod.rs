@@ -34,6 +34,7 @@ pub mod bar;
 pub mod block;
 pub mod rail;
 pub mod solid;
+pub mod spinning;
 pub mod wheel;
 
 use crate::assembly::{Assembler, AssemblyError, ElementFamily};
