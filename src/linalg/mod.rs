@@ -132,6 +132,7 @@ pub use sparse::{
     is_symmetric, quadratic_form, set_identity_rows, spmv_add, spmv_into, transpose_positions,
     write_matrix_market, Pattern,
 };
+pub use split::PartWork;
 use supernodal::Supernodal;
 pub use symbolic::{cholesky_factor_nnz, fill_reducing_ordering};
 use triangle::Triangle;
