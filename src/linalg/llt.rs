@@ -19,7 +19,7 @@ use super::split::{self, SplitLower};
 use super::supernodal::{prefetch_when_large, Supernodal, DENSE_SUPERNODAL_MIN_ORDER};
 use super::team::Team;
 use super::triangle::Triangle;
-use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
+use super::{LinalgError, Pattern};
 
 /// Sparse Cholesky factorization `A = L L^T` of a symmetric positive definite matrix (only
 /// the upper triangle is read), symbolic analysis (AMD or nested dissection ordering) once,
@@ -45,9 +45,9 @@ pub struct SparseLlt {
     pub(super) stored: Option<StoredLower>,
     /// The order from which dense supernodes are used (`DENSE_SUPERNODAL_MIN_ORDER`).
     pub(super) dense_from: usize,
-    /// The ordering's two independent parts, positions `0..a` and `a..b`, before the top
-    /// (`split::two_subtrees`), when it has them.
-    pub(super) parts: Option<(usize, usize)>,
+    /// The boundaries of the ordering's parts (`split::Split::bounds`: `[0, a, b, n]` for
+    /// two parts and a top), when it has them.
+    pub(super) parts: Option<Vec<usize>>,
     pub(super) perm_fwd: Vec<usize>,
     pub(super) perm_inv: Vec<usize>,
     pub(super) work: Vec<f64>,
@@ -99,8 +99,24 @@ impl SparseLlt {
         ordering: Ordering,
     ) -> Result<Self, LinalgError> {
         let supernodal = pattern.nrows() >= DENSE_SUPERNODAL_MIN_ORDER;
-        let split = pattern.nrows() >= SPLIT_MIN_ORDER;
-        Self::build_ordered(pattern, values, ordering, split, supernodal)
+        let depth = split::depth_for(pattern.nrows());
+        Self::build_ordered(pattern, values, ordering, depth, supernodal)
+    }
+
+    /// [`SparseLlt::with_ordering`] with the ordering split into `2^depth` parts (0: whole)
+    /// where it splits, whatever the order: to measure the split against another depth
+    /// (`examples/split_parts.rs`).
+    ///
+    /// # Errors
+    /// [`LinalgError`] when the ordering fails or the matrix is not positive definite.
+    pub fn with_split_depth(
+        pattern: &Pattern,
+        values: &[f64],
+        ordering: Ordering,
+        depth: usize,
+    ) -> Result<Self, LinalgError> {
+        let supernodal = pattern.nrows() >= DENSE_SUPERNODAL_MIN_ORDER;
+        Self::build_ordered(pattern, values, ordering, depth, supernodal)
     }
 
     /// Analyses, with the AMD ordering split for two threads when `split` and the ordering
@@ -124,19 +140,21 @@ impl SparseLlt {
         split: bool,
         supernodal: bool,
     ) -> Result<Self, LinalgError> {
-        Self::build_ordered(pattern, values, Ordering::Amd, split, supernodal)
+        Self::build_ordered(pattern, values, Ordering::Amd, split as usize, supernodal)
     }
 
-    /// [`SparseLlt::build_with`] on `ordering`: AMD's split is the better of its own and
-    /// its bisection's (`split::best_split`); another ordering's is its own elimination
-    /// tree's (`split::two_subtrees`: nested dissection's first separator is its top).
+    /// [`SparseLlt::build_with`] on `ordering`, split to `depth` (0: whole): AMD's split
+    /// is the better of its own and its bisection's (`split::best_split`); another
+    /// ordering's is its own elimination tree's (`split::two_subtrees`: nested dissection's
+    /// first separator is its top); below it, `split::deepen`.
     pub(super) fn build_ordered(
         pattern: &Pattern,
         values: &[f64],
         ordering: Ordering,
-        split: bool,
+        depth: usize,
         supernodal: bool,
     ) -> Result<Self, LinalgError> {
+        let split = depth > 0;
         let n = pattern.nrows();
         let mut parts = None;
         let mut custom = None;
@@ -149,8 +167,9 @@ impl SparseLlt {
             };
             match s {
                 Some(s) => {
+                    let s = split::deepen(pattern, s, depth);
                     custom = Some((s.fwd, s.inv));
-                    parts = Some((s.a, s.b));
+                    parts = Some(s.bounds);
                 }
                 None if ordering != Ordering::Amd => custom = Some((fwd, inv)),
                 None => {}
@@ -215,7 +234,7 @@ impl SparseLlt {
             lt: Triangle::default(),
             stored: None,
             dense_from: self.dense_from,
-            parts: self.parts,
+            parts: self.parts.clone(),
             perm_fwd: self.perm_fwd.clone(),
             perm_inv: self.perm_inv.clone(),
             work: vec![0.0; self.n],
@@ -276,8 +295,8 @@ impl SparseLlt {
                 backward: true,
             }
         };
-        let split = self.parts.and_then(|ab| {
-            SplitLower::from_lower_csc(cp, ri, numeric, false, ab, layout)
+        let split = self.parts.as_ref().and_then(|bounds| {
+            SplitLower::from_lower_csc((cp, ri, numeric), false, bounds, layout)
                 .map(|l| StoredLower::Split(Box::new(l)))
         });
         (self.l, self.lt) = Default::default();
@@ -330,11 +349,31 @@ impl SparseLlt {
         }
     }
 
-    /// The orders of the two parts solved side by side and of the top after them, when the
-    /// factor is split for two threads (module `split`).
+    /// The orders of the two halves solved side by side (each its parts and separators)
+    /// and of the top (the root separator) after them, when the factor is split (module
+    /// `split`).
     pub fn parts(&self) -> Option<(usize, usize, usize)> {
         match &self.stored {
             Some(StoredLower::Split(l)) => Some(l.sizes()),
+            _ => None,
+        }
+    }
+
+    /// The orders of all the parts when the factor is split: its `2^d` leaves, then each
+    /// level of separators up to the top (`[part 0, part 1, top]` for two parts).
+    pub fn part_orders(&self) -> Option<Vec<usize>> {
+        match &self.stored {
+            Some(StoredLower::Split(l)) => Some(l.part_orders()),
+            _ => None,
+        }
+    }
+
+    /// The work of each part when the factor is split, in the order of
+    /// [`SparseLlt::part_orders`]: the load balance of the leaves side by side is the
+    /// largest leaf's work over their mean.
+    pub fn part_work(&self) -> Option<Vec<super::PartWork>> {
+        match &self.stored {
+            Some(StoredLower::Split(l)) => Some(l.part_work()),
             _ => None,
         }
     }

@@ -14,7 +14,7 @@ use super::split::{self, SplitLower};
 use super::supernodal::{prefetch_when_large, Supernodal, DENSE_SUPERNODAL_MIN_ORDER};
 use super::team::Team;
 use super::triangle::Triangle;
-use super::{LinalgError, Pattern, SPLIT_MIN_ORDER};
+use super::{LinalgError, Pattern};
 
 /// The fill-reducing column ordering of a [`SparseLu`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -83,9 +83,9 @@ pub struct SparseLu {
     pub(super) stored: Option<Stored>,
     /// The order from which dense supernodes are used (`DENSE_SUPERNODAL_MIN_ORDER`).
     pub(super) dense_from: usize,
-    /// The ordering's two independent parts, positions `0..a` and `a..b`, before the top
-    /// (`split::two_subtrees`), when it has them.
-    pub(super) parts: Option<(usize, usize)>,
+    /// The boundaries of the ordering's parts (`split::Split::bounds`: `[0, a, b, n]` for
+    /// two parts and a top), when it has them.
+    pub(super) parts: Option<Vec<usize>>,
     pub(super) work: Vec<f64>,
     pub(super) n: usize,
 }
@@ -172,28 +172,36 @@ impl SparseLu {
         values: &[f64],
         ordering: Ordering,
     ) -> Result<Self, LinalgError> {
-        Self::build(
-            pattern,
-            values,
-            ordering,
-            pattern.nrows() >= SPLIT_MIN_ORDER,
-        )
+        Self::build_depth(pattern, values, ordering, split::depth_for(pattern.nrows()))
     }
 
     /// Orders the columns with `ordering`, split for two threads when `split` and the
     /// ordering has two independent parts, and factors the matrix.
+    #[cfg(test)]
     pub(super) fn build(
         pattern: &Pattern,
         values: &[f64],
         ordering: Ordering,
         split: bool,
     ) -> Result<Self, LinalgError> {
+        Self::build_depth(pattern, values, ordering, split as usize)
+    }
+
+    /// Orders the columns with `ordering`, split into `2^depth` parts (0: whole) where the
+    /// ordering splits (`split::best_split`, then `split::deepen`), and factors the matrix.
+    pub(super) fn build_depth(
+        pattern: &Pattern,
+        values: &[f64],
+        ordering: Ordering,
+        depth: usize,
+    ) -> Result<Self, LinalgError> {
         let n = pattern.nrows();
         let (mut col_fwd, mut col_inv) = column_ordering(pattern, ordering)?;
         let mut parts = None;
-        if split {
+        if depth > 0 {
             if let Some(s) = split::best_split(pattern, &col_fwd, &col_inv) {
-                (col_fwd, col_inv, parts) = (s.fwd, s.inv, Some((s.a, s.b)));
+                let s = split::deepen(pattern, s, depth);
+                (col_fwd, col_inv, parts) = (s.fwd, s.inv, Some(s.bounds));
             }
         }
         let mut lu = Self {
@@ -234,7 +242,7 @@ impl SparseLu {
             u: Triangle::default(),
             stored: None,
             dense_from: self.dense_from,
-            parts: self.parts,
+            parts: self.parts.clone(),
             work: vec![0.0; self.n],
             n: self.n,
         };
@@ -291,10 +299,10 @@ impl SparseLu {
                 },
             )
         };
-        let split = self.parts.and_then(|ab| {
+        let split = self.parts.as_ref().and_then(|bounds| {
             Some(Stored::Split(Box::new((
-                SplitLower::from_lower_csc(lc, lr, l.val(), true, ab, fwd)?,
-                SplitLower::from_lower_csc(&tc, &tr, &tv, false, ab, bwd)?,
+                SplitLower::from_lower_csc((lc, lr, l.val()), true, bounds, fwd)?,
+                SplitLower::from_lower_csc((&tc, &tr, &tv), false, bounds, bwd)?,
             ))))
         });
         (self.l, self.u) = Default::default();
@@ -342,11 +350,21 @@ impl SparseLu {
         self.ordering
     }
 
-    /// The orders of the two parts solved side by side and of the top after them, when the
-    /// factor is split for two threads (module `split`).
+    /// The orders of the two halves solved side by side (each its parts and separators)
+    /// and of the top (the root separator) after them, when the factor is split (module
+    /// `split`).
     pub fn parts(&self) -> Option<(usize, usize, usize)> {
         match &self.stored {
             Some(Stored::Split(lu)) => Some(lu.0.sizes()),
+            _ => None,
+        }
+    }
+
+    /// The orders of all the parts when the factors are split: the `2^d` leaves, then each
+    /// level of separators up to the top (`[part 0, part 1, top]` for two parts).
+    pub fn part_orders(&self) -> Option<Vec<usize>> {
+        match &self.stored {
+            Some(Stored::Split(lu)) => Some(lu.0.part_orders()),
             _ => None,
         }
     }

@@ -17,10 +17,11 @@
 //!   symbolic analysis), whose factors are copied for the solves into compact rows (module
 //!   `triangle`: supernodes, pairs of rows, blocks of two columns), dense supernodes (module
 //!   `supernodal`: packed blocks, narrow and wide kernels, prefetch; on huge pages, module
-//!   `huge`), or, from `SPLIT_MIN_ORDER` unknowns on, the two-part split (module `split`:
-//!   two independent sets of subtrees of the elimination tree, found with module `bisect`,
-//!   solved side by side on two threads by module `team`, the same bits on one thread;
-//!   two parts whatever the threads: more would change the sums' order, hence the bits);
+//!   `huge`), or, from `SPLIT_MIN_ORDER` unknowns on, the split (module `split`: two
+//!   independent sets of subtrees of the elimination tree, found with module `bisect`, and
+//!   a top; from 50,000 unknowns each part split again, 4 parts, from 200,000 8; each
+//!   level's parts solved side by side by module `team`; the parts fixed by the matrix,
+//!   never by the threads, so the same bits on any number of them);
 //!   their small kernels and prefetch hints in module `kernels`.
 //! - [`rhs`]: the space-time step's right-hand side `y = B v0 - h K u0 + h f` as an operator
 //!   ([`RhsOperator`]) formed by the tuned kernels, with a plain sparse-product reference.
@@ -132,6 +133,7 @@ pub use sparse::{
     is_symmetric, quadratic_form, quadratic_forms, set_identity_rows, spmv_add, spmv_into,
     transpose_positions, write_matrix_market, Pattern,
 };
+pub use split::PartWork;
 use supernodal::Supernodal;
 pub use symbolic::{cholesky_factor_nnz, fill_reducing_ordering};
 use triangle::Triangle;

@@ -326,6 +326,16 @@ impl Factor {
         }
     }
 
+    /// The orders of all the parts when the factor is split ([`SparseLu::part_orders`],
+    /// [`SparseLlt::part_orders`]): the leaves, then each level of separators up to the top.
+    pub fn part_orders(&self) -> Option<Vec<usize>> {
+        match self {
+            Factor::Lu(lu) => lu.part_orders(),
+            Factor::Llt(llt) => llt.part_orders(),
+            Factor::FaerLu(_) | Factor::FaerLlt(_) => None,
+        }
+    }
+
     /// Stored entries of the factors (`L + U`, or `L`).
     pub fn factor_nnz(&self) -> usize {
         match self {

@@ -4,10 +4,12 @@
 //! forms), and a list of independent items in up to `n` groups side by side
 //! ([`Team::for_each`]) for the work that divides further (the right-hand side's rows).
 //!
-//! **Why the two-part work stays in two.** The split factor's parts are subtrees of its
-//! elimination tree chosen when it is built, and their contributions to the top are summed
-//! in a fixed order: cutting it in more parts when more threads are given would change
-//! that order, hence the bits (the promise below). The contact rows' columns and the
+//! **Why the parts follow the matrix, not the threads.** The split factor's parts are
+//! subtrees of its elimination tree chosen when it is built, from the matrix alone (2, 4 or
+//! 8 by its order), and their contributions to each separator are summed in a fixed order:
+//! cutting it in more parts when more threads are given would change that order, hence the
+//! bits (the promise below). A level of 4 or 8 parts goes to the team's threads through
+//! [`Team::for_each`], whatever their number. The contact rows' columns and the
 //! energies' forms are each one sum in a fixed order. The right-hand side's rows are each
 //! formed whole by one thread, so its parts may follow the threads.
 //!

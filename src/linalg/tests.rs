@@ -154,9 +154,16 @@ fn two_disconnected_grids_split_into_the_two_without_a_top() {
     let pattern = mat.symbolic().to_owned().unwrap();
     let (fwd, inv) = column_ordering(&pattern, Ordering::Amd).unwrap();
     let split::Split {
-        fwd: new_fwd, a, b, ..
+        fwd: new_fwd,
+        bounds,
+        ..
     } = split::two_subtrees(&pattern, &fwd, &inv).expect("a split");
-    assert_eq!((a, b), (m, 2 * m), "the parts of {} unknowns", 2 * m);
+    assert_eq!(
+        bounds,
+        [0, m, 2 * m, 2 * m],
+        "the parts of {} unknowns",
+        2 * m
+    );
     let copy_of = |k: usize| new_fwd[k] / m;
     assert!((1..m).all(|k| copy_of(k) == copy_of(0)));
     assert!((m + 1..2 * m).all(|k| copy_of(k) == copy_of(m)));
@@ -183,7 +190,7 @@ fn the_disk_is_split_across_a_diameter() {
     let own = split::two_subtrees(pattern, &fwd, &inv).expect("AMD's split");
     let best = split::best_split(pattern, &fwd, &inv).expect("a split");
     let diameter = 2 * (2 * rings + 1);
-    let (top, own_top) = (n - best.b, n - own.b);
+    let (top, own_top) = (n - best.bounds[2], n - own.bounds[2]);
     assert!(
         best.critical < own.critical && 2 * top <= 3 * diameter,
         "top {top} (AMD's {own_top}), critical path {} (AMD's {})",

@@ -21,8 +21,9 @@
 //!   positive definite), the factor softway uses, and `softway_step_us`: the median over
 //!   five rounds of the time of one free step (right-hand side and solve, as
 //!   `benches/step.rs` times it), measured here; `threads`, the threads it was timed on,
-//!   and `factor_parts` (from 10,000 dofs on: the orders of the factor's two parts solved
-//!   side by side on two threads and of the top; otherwise null, a single thread).
+//!   and `factor_parts` (when the factor is split: the orders of its parts, the `2^d` solved
+//!   side by side first, then each level of separators up to the top, `[part 0, part 1,
+//!   top]` for two parts; otherwise null).
 
 use super::RunError;
 use crate::linalg::{write_matrix_market, FactorKind, Ordering};
@@ -55,9 +56,10 @@ pub struct MatrixReport {
     pub factor: String,
     /// One free step (right-hand side and solve), microseconds.
     pub softway_step_us: f64,
-    /// The orders of the factor's two parts solved side by side and of the top, when it is
-    /// split for two threads (10,000 dofs and more).
-    pub factor_parts: Option<(usize, usize, usize)>,
+    /// The orders of the factor's parts when it is split
+    /// ([`Stepper::factor_part_orders`]): the leaves, then each level of separators up to
+    /// the top.
+    pub factor_parts: Option<Vec<usize>>,
     /// Threads of the pool the step was timed on.
     pub threads: usize,
     /// Where the Coriolis term is (`time.coriolis`): "implicit" or "extrapolated".
@@ -161,7 +163,7 @@ pub fn dump(
             None => kind_name(st.factor_kind()),
         },
         softway_step_us: rounds[rounds.len() / 2],
-        factor_parts: st.factor_parts(),
+        factor_parts: st.factor_part_orders(),
         threads: team.par().count(),
         coriolis: st.coriolis().name().to_string(),
     };

@@ -371,6 +371,13 @@ impl Stepper {
         self.lu.parts()
     }
 
+    /// The orders of all the factor's parts when it is split
+    /// ([`crate::linalg::Factor::part_orders`]): the leaves, then each level of separators up
+    /// to the top.
+    pub fn factor_part_orders(&self) -> Option<Vec<usize>> {
+        self.lu.part_orders()
+    }
+
     /// The step's matrices for the current `h` on their pattern: `A` with the Dirichlet
     /// identity rows and columns (the matrix factored), the right-hand-side operator
     /// `B = M - (1-alpha) h C - (alpha - alpha^2/2) h^2 K` and `K` (module docs): `(pattern,
