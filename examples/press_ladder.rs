@@ -12,7 +12,8 @@
 //! `SCENARIO` defaults to `scenarios/press.toml`; each rung is that scenario with
 //! `press.contact_size_mm` set. `--count` prints each rung's meshes' sizes only. The
 //! Richardson limit takes the two finest rungs with the observed order of the three
-//! finest (clamped to [0.5, 3]; order 1 when it is not defined).
+//! finest (clamped to [0.5, 3]; order 1 when it is not defined); where the rungs do not
+//! converge monotonically (a patch of a few cells) the range and mean of the rungs say more.
 
 use softway::kinds::press::geometry::{mesh_specs, place, wheel_sector};
 use softway::kinds::press::{press, PressScenario, PressSpec};
@@ -145,9 +146,16 @@ fn main() -> ExitCode {
             ("approach um", &appr, 15.96),
         ] {
             let (lim, p) = richardson(&hs, v);
+            let (lo, hi) = v
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
             println!(
-                "Richardson limit of {name}: {lim:.3} (order {p:.2}); CONTACT (Manchester case) {contact}: {:+.1} %",
-                100.0 * (lim / contact - 1.0)
+                "{name}: Richardson limit {lim:.3} (order {p:.2}; {:+.1} % of CONTACT's {contact}); rungs {lo:.3} to {hi:.3} ({:+.1} to {:+.1} %), mean {mean:.3} ({:+.1} %)",
+                100.0 * (lim / contact - 1.0),
+                100.0 * (lo / contact - 1.0),
+                100.0 * (hi / contact - 1.0),
+                100.0 * (mean / contact - 1.0)
             );
         }
     }
