@@ -148,7 +148,9 @@ fn main() -> ExitCode {
             let (lim, p) = richardson(&hs, v);
             let (lo, hi) = v
                 .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
             let mean = v.iter().sum::<f64>() / v.len() as f64;
             println!(
                 "{name}: Richardson limit {lim:.3} (order {p:.2}; {:+.1} % of CONTACT's {contact}); rungs {lo:.3} to {hi:.3} ({:+.1} to {:+.1} %), mean {mean:.3} ({:+.1} %)",

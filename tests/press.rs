@@ -82,7 +82,10 @@ fn the_manchester_press_is_contact_s_within_the_ladder_s_tolerance() {
     // rung's distance to CONTACT plus a margin (docs/src/solids3d.md).
     assert!(pct(area, 51.64).abs() < AREA_TOL, "area {area} mm^2");
     assert!(pct(peak, 338.3).abs() < PEAK_TOL, "peak {peak} MPa");
-    assert!(pct(approach, 15.96).abs() < APPROACH_TOL, "approach {approach} um");
+    assert!(
+        pct(approach, 15.96).abs() < APPROACH_TOL,
+        "approach {approach} um"
+    );
 }
 
 /// The ladder (1.5, 1.2, 1.0, 0.8 mm) spans +0.2 to +14.4 % of CONTACT's area.
@@ -109,8 +112,16 @@ fn the_cone_on_the_crown_is_hertz_s_ellipse() {
     // The local curvatures are the bodies': 1 / (2 r) along, 1 / (2 x 0.3 m) across.
     assert!((p.placement.curvatures[1] * 0.6 - 1.0).abs() < 1e-2);
     let (ax, ay) = h.semi_axes_xy();
-    assert!(pct(p.semi_axes[0], ax).abs() < 5.0, "a_x {} vs {ax}", p.semi_axes[0]);
-    assert!(pct(p.semi_axes[1], ay).abs() < 6.0, "a_y {} vs {ay}", p.semi_axes[1]);
+    assert!(
+        pct(p.semi_axes[0], ax).abs() < 5.0,
+        "a_x {} vs {ax}",
+        p.semi_axes[0]
+    );
+    assert!(
+        pct(p.semi_axes[1], ay).abs() < 6.0,
+        "a_y {} vs {ay}",
+        p.semi_axes[1]
+    );
     assert!(
         pct(p.peak_pressure, h.peak_pressure).abs() < 3.0,
         "p0 {} vs {}",

@@ -65,9 +65,7 @@ mod tests {
     fn a_slave_node_pressed_on_a_facet_carries_the_force_of_springs_in_series() {
         // Master: a unit square facet at z = 0 (nodes 0..4), slave node 4 at its centre,
         // z = 0.001 above it.
-        let master = vec![
-            0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0,
-        ];
+        let master = vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0];
         let facets = vec![crate::contact::facets::Facet::Quad([0, 1, 2, 3])];
         let placed = Placed {
             motion: Motion::Fixed,

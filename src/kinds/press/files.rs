@@ -99,7 +99,7 @@ fn pressure_map(path: &Path, p: &Pressed) -> Result<(), crate::output::plot::Plo
             };
             overlay.extend((0..k).map(|j| [at(j), at(j + 1)]));
             format!(
-                "Red: Hertz's ellipse for the same load ({} kN) and the local curvatures (A = {} /m along, B = {} /m across), centred on the pressure's centre: {} x {} mm, p0 = {} MPa. FE: area {} mm², peak {} MPa.",
+                "Red: Hertz's ellipse for the same load ({} kN) and the local curvatures (A = {} /m along, B = {} /m across), centred on the pressure's centre: axes {} x {} mm, p0 = {} MPa. FE (triangles coloured by their nodes' mean): area {} mm², peak nodal pressure {} MPa.",
                 sig(1e-3 * h.load, 4),
                 sig(p.placement.curvatures[0], 3),
                 sig(p.placement.curvatures[1], 3),

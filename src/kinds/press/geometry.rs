@@ -84,11 +84,7 @@ pub fn place(tread: &Profile, radius: f64, inclination: f64, lateral: f64) -> Op
         .fold(f64::INFINITY, f64::min);
     let taping_y = gauge_y + TAPING_OVER_GAUGE + lateral;
     // The wheel's lowest line minus the head, with the axle at 0.
-    let gap = |p: &[f64; 3]| {
-        tread
-            .height(p[1] - taping_y)
-            .map(|h| -(radius + h) - p[2])
-    };
+    let gap = |p: &[f64; 3]| tread.height(p[1] - taping_y).map(|h| -(radius + h) - p[2]);
     let (k, m) = pts
         .iter()
         .enumerate()

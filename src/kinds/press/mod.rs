@@ -33,7 +33,7 @@ use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::{Detail, Fields, Results};
 use crate::scenario::combinations::Refusal;
-use crate::scenario::kind::{Kind, KindInput, Model, Size, Spec};
+use crate::scenario::kind::{FreeStep, Kind, KindInput, Model, Size, Spec};
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
 use crate::time::Integrator;
 use std::path::Path;
@@ -127,17 +127,41 @@ impl Kind for PressKind {
             .load_kn
             .ok_or_else(|| cx.missing("press.load_kN", "the vertical load, kN"))?;
         let load = within(cx, "press.load_kN", load, 1e-3, 1e3)?;
-        let lateral = within(cx, "press.lateral_mm", p.lateral_mm.unwrap_or(0.0), -15.0, 15.0)?;
-        let g = within(cx, "press.shear_modulus_GPa", p.shear_modulus_gpa.unwrap_or(82.0), 1.0, 1e3)?;
+        let lateral = within(
+            cx,
+            "press.lateral_mm",
+            p.lateral_mm.unwrap_or(0.0),
+            -15.0,
+            15.0,
+        )?;
+        let g = within(
+            cx,
+            "press.shear_modulus_GPa",
+            p.shear_modulus_gpa.unwrap_or(82.0),
+            1.0,
+            1e3,
+        )?;
         let nu = within(cx, "press.poisson", p.poisson.unwrap_or(0.28), 0.0, 0.49)?;
-        let size = within(cx, "press.contact_size_mm", p.contact_size_mm.unwrap_or(1.0), 0.05, 5.0)?;
+        let size = within(
+            cx,
+            "press.contact_size_mm",
+            p.contact_size_mm.unwrap_or(1.0),
+            0.05,
+            5.0,
+        )?;
         let zone = p.zone_mm.unwrap_or([6.0, 12.0]);
         for (k, z) in zone.iter().enumerate() {
             let key = format!("press.zone_mm[{k}]");
             within(cx, &key, *z, 2.0 * size, 30.0)?;
         }
         let growth = within(cx, "press.growth", p.growth.unwrap_or(1.3), 1.05, 2.0)?;
-        let depth = within(cx, "press.approach_depth_mm", p.approach_depth_mm.unwrap_or(15.0), 1.0, 40.0)?;
+        let depth = within(
+            cx,
+            "press.approach_depth_mm",
+            p.approach_depth_mm.unwrap_or(15.0),
+            1.0,
+            40.0,
+        )?;
         if let Some(m) = &w.mesh {
             return Err(cx.invalid(
                 "wheel.mesh",
@@ -157,8 +181,20 @@ impl Kind for PressKind {
             }
         };
         let radius = within(cx, "wheel.radius_m", w.radius_m.unwrap_or(0.46), 0.25, 0.7)?;
-        let sector = within(cx, "wheel.sector_deg", w.sector_deg.unwrap_or(30.0), 5.0, 90.0)?;
-        let ring = within(cx, "wheel.depth_mm", w.depth_mm.unwrap_or(80.0), 20.0, 1e3 * radius - 60.0)?;
+        let sector = within(
+            cx,
+            "wheel.sector_deg",
+            w.sector_deg.unwrap_or(30.0),
+            5.0,
+            90.0,
+        )?;
+        let ring = within(
+            cx,
+            "wheel.depth_mm",
+            w.depth_mm.unwrap_or(80.0),
+            20.0,
+            1e3 * radius - 60.0,
+        )?;
         match r.profile.as_deref().unwrap_or("uic60") {
             "uic60" => {}
             other => {
@@ -259,6 +295,23 @@ impl Spec for PressScenario {
             contact_pairs: rows,
             key: Some("press.contact_size_mm"),
         }
+    }
+
+    fn free_step(&self, _: &Run, scenario: &Path) -> Option<Result<FreeStep, RunError>> {
+        Some(
+            solve::free_model(&self.spec)
+                .map(|(model, fixed)| {
+                    let n = model.assembler.pattern.nrows();
+                    FreeStep {
+                        v0: (0..n).map(|i| 1e-3 * (i as f64).sin()).collect(),
+                        u0: vec![0.0; n],
+                        f: vec![0.0; n],
+                        model,
+                        fixed,
+                    }
+                })
+                .map_err(|e| RunError::input(scenario, e.to_string())),
+        )
     }
 
     fn record(

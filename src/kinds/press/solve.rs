@@ -31,7 +31,7 @@ use crate::contact::facets::{surface_facets, Facet, FacetError, FacetSearch};
 use crate::contact::hertz::{reduced_modulus, Hertz};
 use crate::contact::search::{Motion, Placed};
 use crate::contact::statics::pair::facet_rows;
-use crate::contact::statics::{FactorChoice, Pivoting, Statics, StaticsError};
+use crate::contact::statics::{FactorChoice, Pivoting, StaticContact, Statics, StaticsError};
 use crate::element::continuum::{assemble_continuum, CellError, CellStresses, SolidHex8};
 use crate::material::Elastic;
 use crate::mesh::generators::{rail_extruded, wheel_of_revolution, MeshError, RailSpec, WheelSpec};
@@ -158,7 +158,9 @@ pub enum PressError {
     #[error(transparent)]
     Statics(#[from] StaticsError),
     /// No point of the rail's head lies under the tread.
-    #[error("press: the wheel shifted by press.lateral_mm = {0} does not stand over the rail's head")]
+    #[error(
+        "press: the wheel shifted by press.lateral_mm = {0} does not stand over the rail's head"
+    )]
     Placement(f64),
     /// The contact did not settle or carries no load.
     #[error("press: the contact did not settle (active rows {active}, load {load} N); widen press.zone_mm or refine press.contact_size_mm")]
@@ -206,6 +208,40 @@ pub fn press_dofs(spec: &PressSpec) -> Result<usize, PressError> {
     Ok(bodies(spec)?.0.n_dofs())
 }
 
+/// The held dofs of the joined mesh: the wheel's inner face and cut faces, the rail's foot.
+fn held_dofs(mesh: &Mesh) -> Vec<usize> {
+    let set = |name: &str| mesh.node_set(name).unwrap_or(&[]).to_vec();
+    let mut held: Vec<usize> = set("wheel.axle");
+    held.extend(set("wheel.cut"));
+    held.extend(set("rail.foot"));
+    held.sort_unstable();
+    held.dedup();
+    held.iter()
+        .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect()
+}
+
+/// The press's two bodies as one linear model (consistent mass, stiffness, no damping)
+/// with their held dofs, for `softway matrix` (no contact rows).
+///
+/// # Errors
+/// As [`press`]'s meshes and cells.
+pub fn free_model(spec: &PressSpec) -> Result<(crate::model::LinearModel, Vec<usize>), PressError> {
+    let (mesh, ..) = bodies(spec)?;
+    let el = SolidHex8 {
+        d: crate::element::solid::elasticity_3d(&spec.material),
+    };
+    let a = assemble_continuum(&mesh, &el, spec.material.density, false)?;
+    let c = vec![0.0; a.k.len()];
+    let model = crate::model::LinearModel {
+        assembler: a.assembler,
+        m: a.m,
+        k: a.k,
+        c,
+    };
+    Ok((model, held_dofs(&mesh)))
+}
+
 /// Solves the press `spec` (module docs).
 ///
 /// # Errors
@@ -219,12 +255,7 @@ pub fn press(spec: &PressSpec) -> Result<Pressed, PressError> {
     let a = assemble_continuum(&mesh, &el, spec.material.density, true)?;
     let n = mesh.n_dofs();
     let set = |name: &str| mesh.node_set(name).unwrap_or(&[]).to_vec();
-    let mut held: Vec<usize> = set("wheel.axle");
-    held.extend(set("wheel.cut"));
-    held.extend(set("rail.foot"));
-    held.sort_unstable();
-    held.dedup();
-    let fixed: Vec<usize> = held.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    let fixed = held_dofs(&mesh);
     // The slave nodes: the tread's within the zone; the master: the rail's running surface.
     let (along, across) = spec.zone;
     let slaves: Vec<usize> = set("wheel.tread")
@@ -264,69 +295,22 @@ pub fn press(spec: &PressSpec) -> Result<Pressed, PressError> {
         spec.material.young,
         spec.material.poisson,
     );
-    let guess = Hertz::new(at.curvatures[0], at.curvatures[1].max(1e-3), e_star, spec.load)
-        .map(|h| h.approach)
-        .unwrap_or(2e-5);
-    let mut d = 2.0 * guess;
-    let mut secant = Vec::new();
-    let mut last = None;
-    for _ in 0..8 {
-        let offsets: Vec<f64> = normal_z.iter().map(|nz| d * nz).collect();
-        statics.set_offsets(&offsets)?;
-        let sol = statics.solve(&x)?;
-        let load: f64 = sol
-            .active_rows
-            .iter()
-            .zip(&sol.active)
-            .map(|(&r, &(_, l))| l * normal_z[r])
-            .sum();
-        secant.push(SecantStep {
-            descent: d,
-            load,
-            active: sol.active.len(),
-            iterations: sol.iterations,
-        });
-        if !sol.converged || !load.is_finite() {
-            return Err(PressError::NoContact {
-                active: sol.active.len(),
-                load,
-            });
-        }
-        let close = (load / spec.load - 1.0).abs() < 1e-3;
-        last = Some((sol, load));
-        if close {
-            break;
-        }
-        d = if load > 0.0 {
-            d * (spec.load / load).powf(2.0 / 3.0)
-        } else {
-            2.0 * d
-        };
-    }
-    let Some((sol, load)) = last.filter(|(_, l)| *l > 0.0) else {
-        return Err(PressError::NoContact { active: 0, load: 0.0 });
-    };
+    let guess = Hertz::new(
+        at.curvatures[0],
+        at.curvatures[1].max(1e-3),
+        e_star,
+        spec.load,
+    )
+    .map(|h| h.approach)
+    .unwrap_or(2e-5);
+    let (sol, load, d, secant) = secant(&mut statics, &x, &normal_z, spec.load, 2.0 * guess)?;
     let solve_seconds = clock.elapsed().as_secs_f64();
     let mut u = sol.u.clone();
     // The foot's vertical reaction: (K u)_z on its held nodes (the unmodified K).
     let mut ku = vec![0.0; n];
     crate::linalg::spmv_into(&a.assembler.pattern, &a.k, &u, &mut ku);
     let foot_reaction: f64 = set("rail.foot").iter().map(|&i| ku[3 * i + 2]).sum();
-    let mut von_mises = vec![0.0; a.geometry.len()];
-    {
-        let cells = crate::element::continuum::Cells {
-            element: el,
-            geometry: a.geometry,
-            connectivity: mesh.cells.connectivity().to_vec(),
-            dim: 3,
-        };
-        let mut s = vec![0.0; 6 * von_mises.len()];
-        cells.stresses_into(&u, &mut s);
-        for (v, c) in von_mises.iter_mut().zip(s.chunks_exact(6)) {
-            let c6 = [c[0], c[1], c[2], c[3], c[4], c[5]];
-            *v = crate::element::solid::von_mises(&c6);
-        }
-    }
+    let von_mises = von_mises_of(el, a.geometry, &mesh, &u);
     let read = read_patch(&mesh, &rail, n_w, &statics, &sol, search.facets())?;
     let hertz = if at.curvatures[1] > 0.0 {
         Hertz::new(at.curvatures[0], at.curvatures[1], e_star, load).ok()
@@ -396,6 +380,80 @@ pub fn press(spec: &PressSpec) -> Result<Pressed, PressError> {
     })
 }
 
+/// The secant on the descent from `d0` to the vertical load `target` (module docs): the
+/// contact, its load, its descent and the steps.
+fn secant(
+    statics: &mut Statics,
+    x: &[f64],
+    normal_z: &[f64],
+    target: f64,
+    d0: f64,
+) -> Result<(StaticContact, f64, f64, Vec<SecantStep>), PressError> {
+    let mut d = d0;
+    let mut steps = Vec::new();
+    let mut last = None;
+    for _ in 0..8 {
+        let offsets: Vec<f64> = normal_z.iter().map(|nz| d * nz).collect();
+        statics.set_offsets(&offsets)?;
+        let sol = statics.solve(x)?;
+        let load: f64 = sol
+            .active_rows
+            .iter()
+            .zip(&sol.active)
+            .map(|(&r, &(_, l))| l * normal_z[r])
+            .sum();
+        steps.push(SecantStep {
+            descent: d,
+            load,
+            active: sol.active.len(),
+            iterations: sol.iterations,
+        });
+        if !sol.converged || !load.is_finite() {
+            return Err(PressError::NoContact {
+                active: sol.active.len(),
+                load,
+            });
+        }
+        let close = (load / target - 1.0).abs() < 1e-3;
+        last = Some((sol, load, d));
+        if close {
+            break;
+        }
+        d = if load > 0.0 {
+            d * (target / load).powf(2.0 / 3.0)
+        } else {
+            2.0 * d
+        };
+    }
+    match last {
+        Some((sol, load, d)) if load > 0.0 => Ok((sol, load, d, steps)),
+        _ => Err(PressError::NoContact {
+            active: 0,
+            load: 0.0,
+        }),
+    }
+}
+
+/// The von Mises stress of each cell of `mesh` under `u`, Pa.
+fn von_mises_of(
+    el: SolidHex8,
+    geometry: Vec<crate::element::hex8::Hex8Geometry>,
+    mesh: &Mesh,
+    u: &[f64],
+) -> Vec<f64> {
+    let cells = crate::element::continuum::Cells {
+        element: el,
+        geometry,
+        connectivity: mesh.cells.connectivity().to_vec(),
+        dim: 3,
+    };
+    let mut s = vec![0.0; 6 * cells.geometry.len()];
+    cells.stresses_into(u, &mut s);
+    s.chunks_exact(6)
+        .map(|c| crate::element::solid::von_mises(&[c[0], c[1], c[2], c[3], c[4], c[5]]))
+        .collect()
+}
+
 /// What the contact forces give on the surfaces.
 struct Read {
     patch: Vec<PatchNode>,
@@ -443,7 +501,7 @@ fn read_patch(
     rail: &Mesh,
     n_w: usize,
     statics: &Statics,
-    sol: &crate::contact::statics::StaticContact,
+    sol: &StaticContact,
     rail_facets: &[Facet],
 ) -> Result<Read, PressError> {
     let rail_area = nodal_areas(rail, rail_facets);
@@ -451,7 +509,15 @@ fn read_patch(
     let wheel_facets = surface_facets(mesh, Some(&wheel_region))?;
     let wheel_area = nodal_areas(mesh, &wheel_facets);
     let mut force = vec![0.0; rail.n_nodes()];
-    let (mut area, mut extent) = (0.0, [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY]);
+    let (mut area, mut extent) = (
+        0.0,
+        [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ],
+    );
     for (&r, &(s, lam)) in sol.active_rows.iter().zip(&sol.active) {
         for &(i, w) in &statics.rows()[r].nodes[1..] {
             force[i - n_w] -= lam * w;
