@@ -218,7 +218,9 @@ fn the_generic_checks_hold_for_a_kind_of_the_tests() {
     .unwrap_err()
     .to_string();
     assert!(
-        e.contains("read by kind = \"wheel\" only, not by kind = \"hanging_mass\""),
+        e.contains(
+            "read by kind = \"wheel\", kind = \"press\" only, not by kind = \"hanging_mass\""
+        ),
         "{e}"
     );
     let e = parse(&TEXT.replace("h = 1e-3", "h = 1e-3\nmethod = \"exact\""))

@@ -8,7 +8,16 @@
 //! gap), its direction `c` (`dim` components: the surface's normal into the admissible side)
 //! and its offset `o`, so one solve holds a curved rigid indenter (a row per candidate node,
 //! each with the indenter's local height as its offset) as well as a plane
-//! ([`solve`], [`solve_rows`], the 2D API). `K` is factored once ([`Statics::new`]); the
+//! ([`solve`], [`solve_rows`], the 2D API).
+//!
+//! **Two elastic bodies.** A row may tie a slave node of one body to a master facet of the
+//! other ([`Row::node_to_facet`], [`pair::facet_rows`]): weights `+1` on the slave node and
+//! `-N_i` on the facet's nodes, summing to 0, and the gap
+//! `g = c . (x_s - sum_i N_i x_i) - o` (in general `g = sum_k w_k c . (X_k + u_k) - o`,
+//! which is the form above when the weights sum to 1). The facet, its parameters and its
+//! normal are those of the facet search in the undeformed configuration and stay frozen:
+//! small deformation (displacements small beside the facets' size and the surfaces'
+//! radii). `K` holds both bodies, block-diagonal, factored once. `K` is factored once ([`Statics::new`]); the
 //! columns `K^-1 c_r` are solved only for rows that become active, and kept: a new set of
 //! offsets (a deeper indentation) reuses them ([`Statics::solve`]).
 //!
@@ -28,6 +37,7 @@
 use std::collections::HashSet;
 
 pub mod indent;
+pub mod pair;
 
 use crate::contact::HalfSpace;
 use crate::linalg::dense_solve_in_place;
@@ -49,16 +59,40 @@ pub struct StaticContact {
     pub converged: bool,
 }
 
-/// A unilateral row: the gap `g = sum_k w_k (c . (X_k + u_k) - o) >= 0` (module docs).
+/// A unilateral row: the gap `g = sum_k w_k c . (X_k + u_k) - o >= 0` (module docs; with
+/// weights summing to 1 this is `sum_k w_k (c . (X_k + u_k) - o)`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
-    /// Nodes and weights (summing to 1).
+    /// Nodes and weights (summing to 1 against a rigid surface, to 0 for a slave node
+    /// against a master facet: [`Row::node_to_facet`]).
     pub nodes: Vec<(usize, f64)>,
     /// The direction `c`: the surface's unit normal into the admissible side (its first
     /// `dim` components are used).
     pub direction: [f64; 3],
     /// The offset `o`, m.
     pub offset: f64,
+}
+
+impl Row {
+    /// The row of the slave node `slave` against the master facet of nodes and weights
+    /// `facet` (`(node, N_i)`, the weights of the closest point, summing to 1), along the
+    /// master's outward unit normal `normal`: weights `+1` and `-N_i`, the gap
+    /// `g = normal . (x_s - sum_i N_i x_i) - offset` (module docs, Two elastic bodies).
+    pub fn node_to_facet(
+        slave: usize,
+        facet: &[(usize, f64)],
+        normal: [f64; 3],
+        offset: f64,
+    ) -> Row {
+        let mut nodes = Vec::with_capacity(1 + facet.len());
+        nodes.push((slave, 1.0));
+        nodes.extend(facet.iter().map(|&(i, w)| (i, -w)));
+        Row {
+            nodes,
+            direction: normal,
+            offset,
+        }
+    }
 }
 
 /// How the active set changes from one iteration to the next (module docs).
@@ -241,16 +275,25 @@ impl Statics {
     fn gap(&self, x: &[f64], u: &[f64], r: usize) -> f64 {
         let dim = self.dim;
         let row = &self.rows[r];
-        row.nodes
+        let weights: f64 = row.nodes.iter().map(|&(_, w)| w).sum();
+        let moved: f64 = row
+            .nodes
             .iter()
             .map(|&(i, w)| {
                 let mut dot = 0.0;
                 for d in 0..dim {
                     dot += row.direction[d] * (x[dim * i + d] + u[dim * i + d]);
                 }
-                w * (dot - row.offset)
+                w * dot
             })
-            .sum::<f64>()
+            .sum();
+        // Weights summing to 1 (a rigid surface): `sum_k w_k (c . x_k - o)` as before;
+        // summing to 0 (two bodies): `sum_k w_k c . x_k - o`.
+        if weights.abs() < 0.5 {
+            moved - row.offset
+        } else {
+            moved - weights * row.offset
+        }
     }
 
     /// Solves `K^-1 c_r` if not done yet.

@@ -29,6 +29,7 @@ use crate::scenario::{Override, RunSpec, Scenario, ScenarioError};
 use std::path::Path;
 
 pub mod bar;
+pub mod press;
 pub mod sdof;
 pub mod track;
 pub mod wheel;
@@ -42,6 +43,7 @@ impl Registry {
             &bar::TwoBarsKind,
             &wheel::WheelKind,
             &track::TrackKind,
+            &press::PressKind,
         ])
     }
 }

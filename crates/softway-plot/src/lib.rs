@@ -143,7 +143,7 @@ use std::path::{Path, PathBuf};
 
 use geom::Rect;
 use line::{draw_no_data, draw_panel, layout_panel, legend_keys, paint_panel, validate_panel};
-use mesh::{render_color_map, render_mode_shapes, render_vector_fields};
+use mesh::{render_color_map, render_color_map_overlay, render_mode_shapes, render_vector_fields};
 use render::{render, save_png, Fail};
 use style::Sty;
 
@@ -515,6 +515,20 @@ pub fn mesh_color_map_with(
     opts: &MeshOptions,
 ) -> Result<(), PlotError> {
     let buf = render_color_map(map, size, opts).map_err(|f| f.at(path))?;
+    save_png(path, size, &buf)
+}
+
+/// [`mesh_color_map_with`] with line segments drawn over the colours (in the coordinates
+/// of `map.points`, cut to the plot, in a dark red): an outline to compare the field with,
+/// such as Hertz's ellipse on a contact's pressure (say what it is in `map.note`).
+pub fn mesh_color_map_overlay(
+    path: &Path,
+    map: &MeshColorMap,
+    overlay: &[[[f64; 2]; 2]],
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Result<(), PlotError> {
+    let buf = render_color_map_overlay(map, overlay, size, opts).map_err(|f| f.at(path))?;
     save_png(path, size, &buf)
 }
 

@@ -432,6 +432,17 @@ pub(crate) fn render_color_map(
     size: (u32, u32),
     opts: &MeshOptions,
 ) -> Res<Vec<u8>> {
+    render_color_map_overlay(map, &[], size, opts)
+}
+
+/// [`render_color_map`] with line segments drawn over the cells (in the coordinates of
+/// the map's points, cut to the plot), in the overlay's dark red.
+pub(crate) fn render_color_map_overlay(
+    map: &MeshColorMap,
+    overlay: &[[[f64; 2]; 2]],
+    size: (u32, u32),
+    opts: &MeshOptions,
+) -> Res<Vec<u8>> {
     check_color_map(map)?;
     let unit = unit_scale(map.length_unit_scale);
     let bb0 = mesh_bbox(map.points, map.triangles, unit)
@@ -461,7 +472,16 @@ pub(crate) fn render_color_map(
         let note = grid::Note::fit(&map.note, fig, &st);
         let lay = MapLayout::fit(fig, &st, (top, &note), bb, vr, &map.colorbar_label)?;
         let v = MeshView { bb, r: lay.r, unit };
-        audit::with_clip(lay.r, || draw_cells(area, &v, map, vr, opts, fig, &st))?;
+        audit::with_clip(lay.r, || {
+            draw_cells(area, &v, map, vr, opts, fig, &st)?;
+            for seg in overlay {
+                let (a, b) = (v.px(seg[0]), v.px(seg[1]));
+                if a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite() {
+                    draw_polyline(area, &[a, b], OVERLAY.to_rgba(), 2.5 * st.thin)?;
+                }
+            }
+            Ok(())
+        })?;
         draw_mesh_axes(area, &v, &lay.xt, &lay.yt, true, true, &st)?;
         draw_map_labels(area, &lay, (&xl, &yl), (&title, ft), fig, &st)?;
         note.draw(area, fig, &st)?;
