@@ -345,6 +345,62 @@ fn matrix_writes_a_as_its_report_says() {
     assert!(!err.contains("panicked"), "{err}");
 }
 
+/// `softway matrix` of a 3D model (the wheel pressed on the rail, 27,855 unknowns): its
+/// Cholesky factor by nested dissection, named so, and no LU of its symmetric matrix
+/// (minutes and gigabytes at 3D size); the factor holds at least the lower triangle of `A`
+/// (fill only adds), its time and the peak memory are reported, and the parts of the
+/// split factor cover the unknowns.
+#[test]
+fn matrix_of_a_3d_model_reports_its_nested_dissection_factor() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/press.toml"),
+    )
+    .unwrap()
+    .lines()
+    .map(|l| {
+        if l.starts_with("contact_size_mm") {
+            "contact_size_mm = 3.0".to_string()
+        } else if l.starts_with("zone_mm") {
+            "zone_mm = [6.0, 12.0]".to_string()
+        } else {
+            l.to_string()
+        }
+    })
+    .collect::<Vec<_>>()
+    .join("\n");
+    let p = scenario("matrix3d", &text);
+    let out = p.parent().unwrap().join("m3d");
+    let o = softway()
+        .args(["matrix", p.to_str().unwrap(), "--out"])
+        .args([out.to_str().unwrap(), "--steps", "2"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("matrix.json")).unwrap()).unwrap();
+    assert_eq!(j["factor"], "llt_nd");
+    assert_eq!(j["factor_ordering"], "NestedDissection");
+    assert!(j["symmetric"].as_bool().unwrap());
+    let sizes = j["factor_nnz"].as_array().unwrap();
+    assert_eq!(sizes.len(), 1, "{sizes:?}");
+    assert_eq!(sizes[0][0], "llt_nd");
+    let (n, nnz_a) = (j["n"].as_u64().unwrap(), j["nnz_a"].as_u64().unwrap());
+    assert!(
+        n > 5000,
+        "a 3D model large enough for nested dissection: {n}"
+    );
+    assert!(sizes[0][1].as_u64().unwrap() >= (nnz_a + n) / 2);
+    assert!(j["factor_s"].as_f64().unwrap() > 0.0);
+    assert!(j["peak_rss_mib"].as_f64().unwrap() > 0.0);
+    let parts: u64 = j["factor_parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap())
+        .sum();
+    assert_eq!(parts, n);
+}
+
 /// A scenario path that is a named pipe with no writer is refused at once (opening it would
 /// wait for a writer forever).
 #[test]

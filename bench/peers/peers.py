@@ -27,6 +27,7 @@ ratio softway / peer. Needs numpy and scipy; cholespy optional
 """
 import argparse
 import json
+import resource
 import os
 import subprocess
 import sys
@@ -61,6 +62,8 @@ def main():
     ap.add_argument("--dir", default=None, help="where softway writes the matrices [default: a temporary folder]")
     ap.add_argument("--steps", type=int, default=None,
                     help="softway's timed steps per round (softway matrix --steps) [default: softway's]")
+    ap.add_argument("--no-superlu", action="store_true",
+                    help="leave SuperLU out (a large 3D matrix: its LU takes minutes and gigabytes)")
     args = ap.parse_args()
 
     here = os.path.dirname(os.path.abspath(__file__))
@@ -107,22 +110,27 @@ def main():
     reps = int(min(20000, max(20, 2_000_000 // (A.nnz + 1))))
     rows = []  # (peer, nnz of factors, us per step, exact step?)
     ref = None
-    for spec in ("COLAMD", "MMD_AT_PLUS_A"):
+    factor_s = {}
+    for spec in () if args.no_superlu else ("COLAMD", "MMD_AT_PLUS_A"):
+        t0 = time.perf_counter()
         lu = spla.splu(A, permc_spec=spec)
+        factor_s[f"scipy splu (SuperLU, {spec})"] = time.perf_counter() - t0
         x = lu.solve(rhs())
         if ref is None:
             ref = x
         us = median_step_us(lambda: lu.solve(rhs()), reps)
         rows.append((f"scipy splu (SuperLU, {spec})", lu.L.nnz + lu.U.nnz, us, True))
-    resid = np.abs(A @ ref - rhs()).max() / np.abs(rhs()).max()
+    resid = None if ref is None else np.abs(A @ ref - rhs()).max() / np.abs(rhs()).max()
 
     try:
         from cholespy import CholeskySolverD, MatrixType
         sym = abs(A - A.T).max() <= 1e-14 * abs(A).max()
         S = A if sym else ((A + A.T) * 0.5).tocsc()
         S = S.tocoo()
+        t0 = time.perf_counter()
         solver = CholeskySolverD(n, S.row.astype(np.int32), S.col.astype(np.int32),
                                  S.data.astype(np.float64), MatrixType.COO)
+        chol_factor_s = time.perf_counter() - t0
         xb = np.empty(n)
 
         def chol_step():
@@ -131,13 +139,24 @@ def main():
         us = median_step_us(chol_step, reps)
         label = "CHOLMOD (cholespy)" + ("" if sym else " on (A+A^T)/2: no Coriolis, a bound")
         rows.append((label, None, us, sym))
+        factor_s[label] = chol_factor_s
+        if ref is None:
+            ref = np.empty(n)
+            solver.solve(rhs(), ref)
+            resid = np.abs(A @ ref - rhs()).max() / np.abs(rhs()).max()
     except ImportError:
         print("cholespy not installed: no CHOLMOD row (pip install cholespy)", file=sys.stderr)
 
     sw = info["softway_step_us"]
     print(f"{info['n']} dofs, nnz(A) = {info['nnz_a']}, h = {h:g} s, A symmetric: {info['symmetric']}, "
           f"coriolis {info.get('coriolis', 'implicit')}; "
-          f"SuperLU residual {resid:.1e}")
+          f"residual of the first peer {float('nan') if resid is None else resid:.1e}")
+    sw_factor = info.get("factor_s")
+    if sw_factor is not None:
+        print(f"softway's factor ({info['factor']}, ordering {info.get('factor_ordering', '?')}): "
+              f"{sw_factor:.2f} s, peak memory {info.get('peak_rss_mib') or 0:.0f} MiB; "
+              + "; ".join(f"{k}: factor {v:.2f} s" for k, v in factor_s.items())
+              + f"; this process's peak memory {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MiB")
     print(f"{'solver':58} {'nnz(factors)':>13} {'us/step':>9} {'softway/peer':>13}")
     for name, nnz in info["factor_nnz"]:
         mark = " (used)" if name == info["factor"] else ""

@@ -95,7 +95,7 @@ class Scenario:
 
     @property
     def kind(self) -> str:
-        """The model: ``sdof``, ``bar_impact``, ``two_bars``, ``wheel`` or ``track``."""
+        """The model: ``sdof``, ``bar_impact``, ``two_bars``, ``wheel``, ``track`` or ``press``."""
         return self.info["kind"]
 
     @property

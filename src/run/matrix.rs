@@ -18,7 +18,9 @@
 //! - `fixed.txt`: the fixed dofs, 0-based, one a line;
 //! - `matrix.json`: `n`, `nnz_a`, `h_s`, `alpha`, `symmetric`, the stored entries of each
 //!   factor (`factor_nnz`: LU with COLAMD, LU with AMD, Cholesky when `A` is symmetric
-//!   positive definite), the factor softway uses, and `softway_step_us`: the median over
+//!   positive definite; a large 3D model's Cholesky factor by nested dissection alone), the
+//!   factor softway uses, its ordering and its time (`factor_s`), the peak memory
+//!   (`peak_rss_mib`), and `softway_step_us`: the median over
 //!   five rounds of the time of one free step (right-hand side and solve, as
 //!   `benches/step.rs` times it), measured here; `threads`, the threads it was timed on,
 //!   and `factor_parts` (when the factor is split: the orders of its parts, the `2^d` solved
@@ -54,6 +56,12 @@ pub struct MatrixReport {
     pub factor_nnz: Vec<(String, usize)>,
     /// The factorization softway uses ([`FactorChoice::Auto`]).
     pub factor: String,
+    /// Its analysis and numeric factorization, s (the step matrix's stepper built).
+    pub factor_s: f64,
+    /// Its fill-reducing ordering ([`Ordering::auto`]).
+    pub factor_ordering: String,
+    /// The process's peak resident memory at the end, MiB (every factor made included).
+    pub peak_rss_mib: Option<f64>,
     /// One free step (right-hand side and solve), microseconds.
     pub softway_step_us: f64,
     /// The orders of the factor's parts when it is split
@@ -66,11 +74,14 @@ pub struct MatrixReport {
     pub coriolis: String,
 }
 
-fn kind_name(k: FactorKind) -> String {
+/// The name of a factorization; `auto` is the ordering [`Ordering::auto`] gives the
+/// matrix (a Cholesky factor's).
+fn kind_name(k: FactorKind, auto: Ordering) -> String {
     match k {
         FactorKind::Lu(Ordering::Colamd) => "lu_colamd".into(),
         FactorKind::Lu(Ordering::Amd) => "lu_amd".into(),
         FactorKind::Lu(Ordering::NestedDissection) => "lu_nd".into(),
+        FactorKind::Llt if auto == Ordering::NestedDissection => "llt_nd".into(),
         FactorKind::Llt => "llt_amd".into(),
         FactorKind::FaerLu => "faer_lu".into(),
         FactorKind::FaerLlt => "faer_llt".into(),
@@ -107,8 +118,11 @@ pub fn dump(
         crate::time::Integrator::SpaceTime { coriolis, .. } => coriolis,
         _ => crate::time::Coriolis::Implicit,
     };
+    let built = Instant::now();
     let mut st = Stepper::with_options(&model, run.params, &bcs, FactorChoice::Auto, coriolis)
         .map_err(sim_err)?;
+    let factor_s = built.elapsed().as_secs_f64();
+    let ordering = Ordering::auto(model.pattern());
     let factor_nnz = factor_sizes(&model, run.params, &bcs, &st);
     let n = model.n();
     let a0: Vec<f64> = match st.skew() {
@@ -159,9 +173,15 @@ pub fn dump(
         symmetric,
         factor_nnz,
         factor: match st.skew() {
-            Some(_) => format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
-            None => kind_name(st.factor_kind()),
+            Some(_) => format!(
+                "{} (coriolis extrapolated)",
+                kind_name(st.factor_kind(), ordering)
+            ),
+            None => kind_name(st.factor_kind(), ordering),
         },
+        factor_s,
+        factor_ordering: format!("{ordering:?}"),
+        peak_rss_mib: crate::run::provenance::peak_rss_mib(),
         softway_step_us: rounds[rounds.len() / 2],
         factor_parts: st.factor_part_orders(),
         threads: team.par().count(),
@@ -199,6 +219,16 @@ fn factor_sizes(
     st: &Stepper,
 ) -> Vec<(String, usize)> {
     let mut factor_nnz = Vec::new();
+    // A large 3D model's Cholesky factor (nested dissection) alone: an LU of its symmetric
+    // matrix would hold twice its entries at best, with COLAMD many times them (minutes
+    // and gigabytes at 1e5 unknowns); AMD against nested dissection at 3D size is
+    // `examples/solver3d_ladder.rs`'s.
+    if st.factor_kind() == FactorKind::Llt
+        && st.skew().is_none()
+        && Ordering::auto(model.pattern()) == Ordering::NestedDissection
+    {
+        return vec![("llt_nd".into(), st.factor_nnz())];
+    }
     for kind in [
         FactorKind::Lu(Ordering::Colamd),
         FactorKind::Lu(Ordering::Amd),
@@ -209,13 +239,19 @@ fn factor_sizes(
             if kind != FactorKind::Llt
                 || (st.factor_kind() == FactorKind::Llt && st.skew().is_none())
             {
-                factor_nnz.push((kind_name(kind), s.factor_nnz()));
+                factor_nnz.push((
+                    kind_name(kind, Ordering::auto(model.pattern())),
+                    s.factor_nnz(),
+                ));
             }
         }
     }
     if st.skew().is_some() {
         factor_nnz.push((
-            format!("{} (coriolis extrapolated)", kind_name(st.factor_kind())),
+            format!(
+                "{} (coriolis extrapolated)",
+                kind_name(st.factor_kind(), Ordering::auto(model.pattern()))
+            ),
             st.factor_nnz(),
         ));
     }
