@@ -135,7 +135,7 @@
 //! | when are the searched pairs' targets found, and what if one is lost? | `src/contact/interface.rs` (each step's start, in `Simulation::run`) |
 //! | where is a rail of beams as a contact surface (its own deflection between nodes)? | `src/contact/search.rs` (`Search::on_beams`); the rail body `Body::rail` in `src/bodies/mod.rs`; `tests/on_rail.rs` |
 //! | where is the wheel on an elastic block (Hertz's half-width)? | `src/bodies/block.rs`; its job `src/kinds/wheel/on_block.rs`; `scenarios/wheel-on-block.toml` |
-//! | where is the solver trait, and which factorizations implement it? | `src/linalg/solver.rs` (faer's: `reference.rs`; tuned: `lu.rs`, `llt.rs`, `triangle.rs`, `supernodal.rs`, `split.rs`) |
+//! | where is the solver trait, and which factorizations implement it? | `src/linalg/solver.rs` (faer's: `reference.rs`; tuned: `lu.rs`, `llt.rs`, `triangle.rs`, `supernodal.rs`, `split/`) |
 //! | where is the step's right-hand side formed? | `src/linalg/rhs/` (with its plain sparse-product reference) |
 //! | what is a kind of model, and where is the list of kinds? | `src/scenario/kind.rs` (`Kind`, `Spec`, `Model`, `Registry`); `src/kinds/mod.rs` (`Registry::builtin`); each kind in `src/kinds/<kind>/`; `tests/kinds.rs` adds one |
 //! | what does an element give the assembly, in any dimension? | `src/element/continuum.rs` (`Continuum`); the kernels `tri3.rs`, `tet4.rs`, `tet10.rs`, `hex8.rs` |

@@ -172,7 +172,7 @@ impl Factorization for Factor {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Backend {
-    /// softway's factors and solves (`src/linalg/lu.rs`, `llt.rs`, `split.rs`).
+    /// softway's factors and solves (`src/linalg/lu.rs`, `llt.rs`, `split/`).
     #[default]
     Softway,
     /// faer's ([`super::FaerLu`], [`super::FaerLlt`]).
