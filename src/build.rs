@@ -208,14 +208,15 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
             duration,
             contact_pairs,
             key: size_key,
+            factor_entries,
         } = run.model.size(run, mesh_nodes);
         let rows = per_pair * contact_pairs;
         let steps = (duration / h).ceil().max(1.0);
         // A 3D model's factor grows faster than its unknowns (2D: within the 4 kB a dof).
-        let factor = if run.model.dim() == 3 {
-            factor_entries_3d(dofs)
-        } else {
-            0.0
+        let factor = match factor_entries {
+            Some(f) => f,
+            None if run.model.dim() == 3 => factor_entries_3d(dofs),
+            None => 0.0,
         };
         let seconds = steps * (2e-7 * dofs + 2e-6 + SOLVE_SECONDS_PER_ENTRY * factor);
         e.steps += steps;

@@ -348,8 +348,8 @@ fn matrix_writes_a_as_its_report_says() {
 /// `softway matrix` of a 3D model (the wheel pressed on the rail, 27,855 unknowns): its
 /// Cholesky factor by nested dissection, named so, and no LU of its symmetric matrix
 /// (minutes and gigabytes at 3D size); the factor holds at least the lower triangle of `A`
-/// (fill only adds), its time and the peak memory are reported, and the parts of the
-/// split factor cover the unknowns.
+/// (fill only adds) and at most the press's cost estimate (within 3x of it), its time and
+/// the peak memory are reported, and the parts of the split factor cover the unknowns.
 #[test]
 fn matrix_of_a_3d_model_reports_its_nested_dissection_factor() {
     let text = std::fs::read_to_string(
@@ -389,7 +389,14 @@ fn matrix_of_a_3d_model_reports_its_nested_dissection_factor() {
         n > 5000,
         "a 3D model large enough for nested dissection: {n}"
     );
-    assert!(sizes[0][1].as_u64().unwrap() >= (nnz_a + n) / 2);
+    let nnz_l = sizes[0][1].as_u64().unwrap();
+    assert!(nnz_l >= (nnz_a + n) / 2);
+    // The press's cost estimate bounds its factor (`kinds::press::factor_entries`).
+    let bound = softway::kinds::press::factor_entries(n as f64);
+    assert!(
+        bound >= nnz_l as f64 && bound <= 3.0 * nnz_l as f64,
+        "estimate {bound:.0} against nnz(L) {nnz_l}"
+    );
     assert!(j["factor_s"].as_f64().unwrap() > 0.0);
     assert!(j["peak_rss_mib"].as_f64().unwrap() > 0.0);
     let parts: u64 = j["factor_parts"]

@@ -94,6 +94,7 @@ impl Spec for HangingMass {
             duration: run.t_end,
             contact_pairs: 0.0,
             key: None,
+            factor_entries: None,
         }
     }
 

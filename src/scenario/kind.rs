@@ -92,6 +92,9 @@ pub struct Size {
     /// The key that sets the size (`bar.elements`, `wheel.rim_nodes`, ...), named by the
     /// cost refusal.
     pub key: Option<&'static str>,
+    /// The kind's own upper estimate of its factor's entries (a 3D model of a known shape);
+    /// `None`: the generic one of its dimension ([`crate::build::factor_entries_3d`] in 3D).
+    pub factor_entries: Option<f64>,
 }
 
 /// The model and the state and load of one free step (no contact), which `softway matrix`

@@ -223,6 +223,7 @@ impl Spec for BarImpact {
             duration: run.t_end,
             contact_pairs: 2.0,
             key: Some("bar.elements"),
+            factor_entries: None,
         }
     }
 
@@ -275,6 +276,7 @@ impl Spec for TwoBars {
             duration: run.t_end,
             contact_pairs: 2.0,
             key: Some("two_bars.elements"),
+            factor_entries: None,
         }
     }
 

@@ -44,6 +44,15 @@ pub mod solve;
 
 pub use solve::{press, PressError, PressSpec, Pressed};
 
+/// Entries of the Cholesky factor of a press of `dofs` unknowns (nested dissection), an
+/// upper estimate for the cost check: `14 n^{4/3}`. The press's bodies are slender (a tyre
+/// sector, a rail), with smaller separators than the cube that sets the generic 3D bound's
+/// 24 ([`crate::build::factor_entries_3d`]): measured 9.3 `n^{4/3}` at 27,855 unknowns and
+/// 10.4 at 233,295 (`softway matrix`; `tests/cli_errors.rs` checks the bound).
+pub fn factor_entries(dofs: f64) -> f64 {
+    14.0 * dofs.powf(4.0 / 3.0)
+}
+
 /// The kind `press`.
 pub struct PressKind;
 
@@ -294,6 +303,7 @@ impl Spec for PressScenario {
             duration: rows,
             contact_pairs: rows,
             key: Some("press.contact_size_mm"),
+            factor_entries: Some(factor_entries(dofs)),
         }
     }
 

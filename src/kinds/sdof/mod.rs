@@ -78,6 +78,7 @@ impl Spec for Sdof {
             duration: run.t_end,
             contact_pairs: 2.0,
             key: None,
+            factor_entries: None,
         }
     }
 

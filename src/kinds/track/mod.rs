@@ -223,6 +223,7 @@ impl Spec for TrackScenario {
             duration: self.duration(),
             contact_pairs: pairs,
             key: Some(key),
+            factor_entries: None,
         }
     }
 

@@ -243,6 +243,7 @@ impl Spec for WheelScenario {
             duration: self.duration(),
             contact_pairs: rim_nodes(&self.mesh, mesh_nodes),
             key: Some(key),
+            factor_entries: None,
         }
     }
 
