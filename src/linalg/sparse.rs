@@ -54,26 +54,14 @@ pub fn quadratic_form(pattern: &Pattern, values: &[f64], x: &[f64]) -> f64 {
     let mut s = 0.0;
     for (j, &xj) in x.iter().enumerate() {
         let range = col_ptr[j]..col_ptr[j + 1];
-        // Four partial sums over the column (a dot product with a gather).
-        let mut acc = [0.0; 4];
-        let (ri, va) = (&row_idx[range.clone()], &values[range]);
-        let (ri4, va4) = (ri.chunks_exact(4), va.chunks_exact(4));
-        let (ri_rest, va_rest) = (ri4.remainder(), va4.remainder());
-        for (ic, vc) in ri4.zip(va4) {
-            for k in 0..4 {
-                acc[k] += vc[k] * x[ic[k]];
-            }
-        }
-        for (&i, &v) in ri_rest.iter().zip(va_rest) {
-            acc[0] += v * x[i];
-        }
-        s += ((acc[0] + acc[1]) + (acc[2] + acc[3])) * xj;
+        s += column_dot(&row_idx[range.clone()], &values[range], x) * xj;
     }
     s
 }
 
 /// `(x^T A x, y^T B y)` for two CSC matrices on one pattern, in one pass over it: each
-/// form summed exactly as [`quadratic_form`] sums it (the same bits), the pattern read once.
+/// form summed exactly as [`quadratic_form`] sums it (the same bits), each column's row
+/// indices read once from memory.
 pub fn quadratic_forms(
     pattern: &Pattern,
     (a, x): (&[f64], &[f64]),
@@ -87,25 +75,29 @@ pub fn quadratic_forms(
     let (mut sa, mut sb) = (0.0, 0.0);
     for j in 0..n {
         let range = col_ptr[j]..col_ptr[j + 1];
-        let (mut pa, mut pb) = ([0.0; 4], [0.0; 4]);
         let ri = &row_idx[range.clone()];
-        let (va, vb) = (&a[range.clone()], &b[range]);
-        let (ri4, va4, vb4) = (ri.chunks_exact(4), va.chunks_exact(4), vb.chunks_exact(4));
-        let (ri_rest, va_rest, vb_rest) = (ri4.remainder(), va4.remainder(), vb4.remainder());
-        for ((ic, ac), bc) in ri4.zip(va4).zip(vb4) {
-            for k in 0..4 {
-                pa[k] += ac[k] * x[ic[k]];
-                pb[k] += bc[k] * y[ic[k]];
-            }
-        }
-        for ((&i, &av), &bv) in ri_rest.iter().zip(va_rest).zip(vb_rest) {
-            pa[0] += av * x[i];
-            pb[0] += bv * y[i];
-        }
-        sa += ((pa[0] + pa[1]) + (pa[2] + pa[3])) * x[j];
-        sb += ((pb[0] + pb[1]) + (pb[2] + pb[3])) * y[j];
+        sa += column_dot(ri, &a[range.clone()], x) * x[j];
+        sb += column_dot(ri, &b[range], y) * y[j];
     }
     (sa, sb)
+}
+
+/// `sum_k va[k] x[ri[k]]` in four partial sums (a dot product with a gather), added as
+/// `(s0 + s1) + (s2 + s3)`.
+#[inline]
+fn column_dot(ri: &[usize], va: &[f64], x: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ri4, va4) = (ri.chunks_exact(4), va.chunks_exact(4));
+    let (ri_rest, va_rest) = (ri4.remainder(), va4.remainder());
+    for (ic, vc) in ri4.zip(va4) {
+        for k in 0..4 {
+            acc[k] += vc[k] * x[ic[k]];
+        }
+    }
+    for (&i, &v) in ri_rest.iter().zip(va_rest) {
+        acc[0] += v * x[i];
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 /// True when the values on `pattern` are symmetric to within `rel_tol` times the largest

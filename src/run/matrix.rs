@@ -123,7 +123,7 @@ pub fn dump(
         .map_err(sim_err)?;
     let factor_s = built.elapsed().as_secs_f64();
     let ordering = Ordering::auto(model.pattern());
-    let factor_nnz = factor_sizes(&model, run.params, &bcs, &st);
+    let factor_nnz = factor_sizes(&model, run.params, &bcs, (&st, ordering));
     let n = model.n();
     let a0: Vec<f64> = match st.skew() {
         Some(_) => (0..n).map(|i| 1e-3 * (i as f64).cos()).collect(),
@@ -216,7 +216,7 @@ fn factor_sizes(
     model: &LinearModel,
     params: SpaceTimeParams,
     bcs: &[(usize, f64)],
-    st: &Stepper,
+    (st, ordering): (&Stepper, Ordering),
 ) -> Vec<(String, usize)> {
     let mut factor_nnz = Vec::new();
     // A large 3D model's Cholesky factor (nested dissection) alone: an LU of its symmetric
@@ -225,7 +225,7 @@ fn factor_sizes(
     // `examples/solver3d_ladder.rs`'s.
     if st.factor_kind() == FactorKind::Llt
         && st.skew().is_none()
-        && Ordering::auto(model.pattern()) == Ordering::NestedDissection
+        && ordering == Ordering::NestedDissection
     {
         return vec![("llt_nd".into(), st.factor_nnz())];
     }
@@ -239,10 +239,7 @@ fn factor_sizes(
             if kind != FactorKind::Llt
                 || (st.factor_kind() == FactorKind::Llt && st.skew().is_none())
             {
-                factor_nnz.push((
-                    kind_name(kind, Ordering::auto(model.pattern())),
-                    s.factor_nnz(),
-                ));
+                factor_nnz.push((kind_name(kind, ordering), s.factor_nnz()));
             }
         }
     }
@@ -250,7 +247,7 @@ fn factor_sizes(
         factor_nnz.push((
             format!(
                 "{} (coriolis extrapolated)",
-                kind_name(st.factor_kind(), Ordering::auto(model.pattern()))
+                kind_name(st.factor_kind(), ordering)
             ),
             st.factor_nnz(),
         ));

@@ -539,19 +539,22 @@ impl Observer for TurnAverage<'_> {
         let n = wm.triangles.len();
         // Each element's sums are its own: in two halves side by side (the team's second
         // thread is otherwise idle in a wheel this small), the same bits.
-        let half = match s.team {
-            Some(_) if n >= TURN_AVERAGE_HALVES_MIN => n / 2,
-            _ => n,
-        };
-        let (s0, s1) = self.stress.split_at_mut(half);
-        let (j0, j1) = self.j2_sum.split_at_mut(half);
-        let (v0, v1) = self.von_mises_sum.split_at_mut(half);
-        match s.team {
-            Some(team) if half < n => team.join(
-                || accumulate_stress(wm, 0, s.u, (s0, j0, v0)),
-                || accumulate_stress(wm, half, s.u, (s1, j1, v1)),
-            ),
-            _ => accumulate_stress(wm, 0, s.u, (s0, j0, v0)),
+        let sums = (
+            &mut self.stress[..],
+            &mut self.j2_sum[..],
+            &mut self.von_mises_sum[..],
+        );
+        match s.team.filter(|_| n >= TURN_AVERAGE_HALVES_MIN) {
+            Some(team) => {
+                let (s0, s1) = sums.0.split_at_mut(n / 2);
+                let (j0, j1) = sums.1.split_at_mut(n / 2);
+                let (v0, v1) = sums.2.split_at_mut(n / 2);
+                team.join(
+                    || accumulate_stress(wm, 0, s.u, (s0, j0, v0)),
+                    || accumulate_stress(wm, n / 2, s.u, (s1, j1, v1)),
+                );
+            }
+            None => accumulate_stress(wm, 0, s.u, sums),
         }
         self.count += 1;
         Ok(())
