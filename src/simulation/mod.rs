@@ -36,6 +36,7 @@ use crate::mesh::zone::Source;
 use crate::model::{InternalForce, LinearModel, Nonlinear, PairState, State};
 pub use crate::model::{LoadFn, Snapshot};
 
+pub mod behind;
 mod relocation;
 mod setup;
 mod view;
@@ -471,6 +472,18 @@ impl Simulation {
         }
         nl.set_states(s);
         Ok(())
+    }
+
+    /// The matrices of the energies a step reports ([`StepView::energies`]): the model's
+    /// pattern, its `M` and the energy stiffness; `None` with a nonlinear internal force,
+    /// whose state corrects the strain energy.
+    pub fn energy_matrices(&self) -> Option<(&crate::linalg::Pattern, &[f64], &[f64])> {
+        if self.engine.nonlinear.is_some() {
+            return None;
+        }
+        let m = &self.engine.model;
+        let k = self.energy_stiffness.as_deref().unwrap_or(&m.k);
+        Some((m.pattern(), &m.m, k))
     }
 
     /// The nonlinear internal force's iteration, when set ([`Simulation::set_internal_force`];

@@ -18,6 +18,7 @@
 mod collect;
 mod lines;
 mod mesh;
+mod seen;
 mod summarise;
 pub use lines::summary_lines;
 pub use mesh::{build, check_disk, check_supported, read_mesh_file};
@@ -33,7 +34,7 @@ use crate::analysis::components::{
     fixed_frequency_per_turn, spectral_components, Component, ComponentKind, ComponentOptions,
 };
 use crate::bodies::wheel::{Support, WheelModel, WheelSpec};
-use crate::linalg::quadratic_form;
+use crate::linalg::{quadratic_form, quadratic_forms};
 use crate::material::PlaneModel;
 use crate::mesh::generators::{disk_graded, disk_rings, DiskOptions};
 use crate::mesh::gmsh::read_msh_tagged;
@@ -50,6 +51,7 @@ use observers::{
     Observer, Progress, Snapshots, Timeline, TurnAverage, TurnAverageFields, VelocitySnapshots,
     WheelStep,
 };
+use seen::{batches, Forms, Seen};
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -294,13 +296,13 @@ pub fn simulate(
         )?),
         None => None,
     };
-    let mut watchers: Vec<&mut dyn Observer> = vec![
+    // Behind the loop (module `crate::simulation::behind`): the tables, statistics and sums.
+    let mut watchers: Vec<&mut (dyn Observer + Send)> = vec![
         &mut history,
         &mut nodes,
         &mut forces,
         &mut energy,
         &mut snapshots,
-        &mut progress,
     ];
     // With a moving zone the nodes are relabelled as the zone follows the contact: a
     // per-element turn average would mix material points, so none is taken.
@@ -310,19 +312,21 @@ pub fn simulate(
     if let Some(t) = traction.as_mut() {
         watchers.push(t);
     }
+    // On the stepping thread: the progress and the guard that stops the run at its step.
     let mut rotation = RotationWatch::new(wm);
+    let mut inline: Vec<&mut dyn Observer> = vec![&mut progress];
     if wm.zone.is_none() {
-        watchers.push(&mut rotation);
+        inline.push(&mut rotation);
     }
     let (outcome, plastic_state) = drive(
         wm,
         ws,
         run,
         (steps, timeline, sc.history_stride),
-        &mut watchers,
+        (&mut watchers, &mut inline),
         opts,
     )?;
-    drop(watchers);
+    drop((watchers, inline));
     progress.finish();
     let traction = match (traction, mu) {
         (Some(t), Some(mu)) => {
@@ -495,7 +499,7 @@ pub fn drive(
     ws: &WheelScenario,
     run: &Run,
     (steps, timeline, stride): (usize, Timeline, usize),
-    observers: &mut [&mut dyn Observer],
+    (observers, inline): (&mut [&mut (dyn Observer + Send)], &mut [&mut dyn Observer]),
     opts: &RunOptions,
 ) -> Result<(LoopOutcome, Option<Vec<f64>>), RunError> {
     use crate::simulation::Simulation;
@@ -532,55 +536,109 @@ pub fn drive(
     }
     let start = Instant::now();
     // The energies (two sparse quadratic forms) only where they are written: every
-    // `stride`-th step, the first step of the rolling phase and the last one.
+    // `stride`-th step, the first step of the rolling phase and the last one; behind the
+    // loop with the observers, except with a plastic wheel (its state corrects them).
     let stride = stride.max(1);
     let mut rolling_seen = false;
     // Uncoupled (a twin disk): the observers see the wheel's own state, the sum of the two.
     let twin = wm.twin.is_some();
-    let own = if twin { wm.mesh.n_dofs() } else { 0 };
-    let (mut u_own, mut v_own) = (vec![0.0; own], vec![0.0; own]);
-    let stats = sim
-        .run(opts.cancel.flag(), |s| {
-            let st = s.state;
-            let first_rolling = !rolling_seen && timeline.rolling(st.t);
-            rolling_seen |= first_rolling;
-            let (u, v): (&[f64], &[f64]) = if twin {
-                wm.own_state(&st.u, &mut u_own);
-                wm.own_state(&st.v, &mut v_own);
-                (&u_own, &v_own)
-            } else {
-                (&st.u, &st.v)
-            };
-            let energy = (st.k % stride == 0 || s.last || first_rolling).then(|| {
-                if twin {
+    let forms = match sim.energy_matrices() {
+        Some(_) if twin => Some(Forms::Twin),
+        Some((p, m, k)) => Some(Forms::Model(p.clone(), m.to_vec(), k.to_vec())),
+        None => None,
+    };
+    let n = wm.mesh.n_dofs();
+    let (h, last_turn) = (run.params.h, timeline.last_full_turn());
+    let with_friction = run.friction.is_some_and(|l| l.is_active());
+    let energies = |seen: &Seen| {
+        seen.energy.or_else(|| {
+            seen.want_energy.then(|| match forms.as_ref() {
+                Some(Forms::Model(p, m, k)) => {
+                    let (mv, ku) = quadratic_forms(p, (m, &seen.v), (k, &seen.u));
+                    (0.5 * mv, 0.5 * ku)
+                }
+                _ => {
                     let p = wm.model.pattern();
                     (
-                        0.5 * quadratic_form(p, &wm.model.m, v),
-                        0.5 * quadratic_form(p, &wm.k_elastic, u),
+                        0.5 * quadratic_form(p, &wm.model.m, &seen.v),
+                        0.5 * quadratic_form(p, &wm.k_elastic, &seen.u),
                     )
-                } else {
-                    s.energies()
                 }
-            });
-            let step = WheelStep {
-                k: st.k,
-                t: st.t,
-                u,
-                v,
-                energy,
-                penalty: s.penalty,
-                contact_force: s.contact_force,
-                held: s.held,
-                min_gap: st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min),
-                pairs: &st.pairs,
-                slip_power: s.slip_power,
-                friction_dissipated: s.friction_dissipated,
-                frame_angle: s.frame_angle,
-                team: Some(s.team()),
-            };
+            })
+        })
+    };
+    let observe = |batch: &mut seen::Batch| {
+        let len = std::mem::take(&mut batch.len);
+        batch.items[..len].iter().try_for_each(|seen| {
+            let step = seen.step(energies(seen), None);
             observers.iter_mut().try_for_each(|o| o.observe(&step))
         })
-        .map_err(|e| sim_error(stopped_by_observer(e)))?;
+    };
+    let (stats, observed) =
+        crate::simulation::behind::behind(batches(n, wm.rim.len()), observe, |feed| {
+            sim.run(opts.cancel.flag(), |s| {
+                let st = s.state;
+                let first_rolling = !rolling_seen && timeline.rolling(st.t);
+                rolling_seen |= first_rolling;
+                let want_energy = st.k % stride == 0 || s.last || first_rolling;
+                // With the plastic state's correction: here, where the state is.
+                let energy = (want_energy && forms.is_none()).then(|| s.energies());
+                let batch = feed.current().map_err(std::io::Error::other)?;
+                let seen = &mut batch.items[batch.len];
+                // Module `seen`: the state where an observer reads it, the pairs likewise.
+                // (A twin's own state every step: the rotation's watch reads it.)
+                seen.fields =
+                    twin || want_energy || timeline.within(st.t, last_turn.0 - h, last_turn.1 + h);
+                seen.with_pairs = with_friction || st.k % stride == 0 || s.last;
+                if seen.fields && twin {
+                    wm.own_state(&st.u, &mut seen.u);
+                    wm.own_state(&st.v, &mut seen.v);
+                } else if seen.fields {
+                    seen.u.copy_from_slice(&st.u);
+                    seen.v.copy_from_slice(&st.v);
+                }
+                seen.k = st.k;
+                seen.t = st.t;
+                seen.energy = energy;
+                seen.want_energy = want_energy;
+                seen.penalty = s.penalty;
+                seen.contact_force = s.contact_force;
+                seen.held = s.held;
+                seen.min_gap = st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+                seen.pairs.clear();
+                if seen.with_pairs {
+                    seen.pairs.extend_from_slice(&st.pairs);
+                }
+                seen.slip_power = s.slip_power;
+                seen.friction_dissipated = s.friction_dissipated;
+                seen.frame_angle = s.frame_angle;
+                // The stepping thread's observers read the state in place (a twin's own, copied).
+                let own = seen.step(energy, Some(s.team()));
+                let step = if twin {
+                    WheelStep {
+                        pairs: &st.pairs,
+                        ..own
+                    }
+                } else {
+                    WheelStep {
+                        u: &st.u,
+                        v: &st.v,
+                        pairs: &st.pairs,
+                        ..own
+                    }
+                };
+                // A stop of the guard here still leaves its step to the observers, as before.
+                let inline_result = inline.iter_mut().try_for_each(|o| o.observe(&step));
+                batch.len += 1;
+                if batch.len == batch.items.len() {
+                    feed.send().map_err(std::io::Error::other)?;
+                }
+                inline_result
+            })
+        });
+    // An observer's error is the cause of a stop the loop reports as its own.
+    observed.map_err(|e| sim_error(crate::simulation::SimError::Output(e)))?;
+    let stats = stats.map_err(|e| sim_error(stopped_by_observer(e)))?;
     let plastic_state = sim.nonlinear().map(|nl| nl.state(1).to_vec());
     Ok((
         LoopOutcome {

@@ -46,25 +46,49 @@ pub fn write(
 
 /// Draws the figures side by side, `first` first and then the others as listed; returns
 /// their paths as listed.
+///
+/// Each of the pool's threads takes the next job from one list until none is left (a
+/// parallel iterator would hand each thread a half of the list, fixed by position, and
+/// the two largest figures could fall in one half: on the paper's wheel 0.24 s on one
+/// thread against 0.12 s on the other).
 fn draw(jobs: Vec<Job>, first: Option<usize>) -> Result<Vec<PathBuf>, RunError> {
-    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
     // Drawn in the order (largest first, then as listed), returned as listed.
     let mut order: Vec<usize> = (0..jobs.len()).collect();
     if let Some(k) = first {
         order[..=k].rotate_right(1);
     }
     let mut slots: Vec<Option<Job>> = jobs.into_iter().map(Some).collect();
-    let drawn: Vec<(usize, Job)> = order
+    let queue: Vec<(usize, Mutex<Option<Job>>)> = order
         .iter()
-        .map(|&k| (k, slots[k].take().expect("each job once")))
+        .map(|&k| (k, Mutex::new(slots[k].take())))
         .collect();
-    let mut files: Vec<(usize, PathBuf)> = drawn
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|(k, job)| job().map(|png| (k, png)))
-        .collect::<Result<_, _>>()?;
+    let next = AtomicUsize::new(0);
+    let drawn: Mutex<Vec<(usize, Result<PathBuf, RunError>)>> = Mutex::new(Vec::new());
+    let take = || loop {
+        let i = next.fetch_add(1, Ordering::Relaxed);
+        let Some((k, job)) = queue.get(i) else {
+            return;
+        };
+        let job = job.lock().ok().and_then(|mut j| j.take());
+        if let Some(job) = job {
+            let r = job();
+            if let Ok(mut d) = drawn.lock() {
+                d.push((*k, r));
+            }
+        }
+    };
+    let threads = rayon::current_num_threads().clamp(1, queue.len().max(1));
+    rayon::scope(|s| {
+        for _ in 1..threads {
+            s.spawn(|_| take());
+        }
+        take();
+    });
+    let mut files = drawn.into_inner().unwrap_or_else(|e| e.into_inner());
     files.sort_by_key(|f| f.0);
-    Ok(files.into_iter().map(|f| f.1).collect())
+    files.into_iter().map(|(_, r)| r).collect()
 }
 
 /// Fig. 12, the contact force over the turns, and Fig. 13, a zoom on a quarter of the last
