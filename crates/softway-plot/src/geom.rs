@@ -181,7 +181,11 @@ fn thin_out(pts: &[Pt]) -> Vec<Pt> {
 fn by_columns(pts: &[Pt]) -> Option<Vec<Pt>> {
     let (first, last) = (pts.first()?, pts.last()?);
     let columns = (last.0.floor() - first.0.floor()).max(0.0) + 1.0;
-    if (pts.len() as f64) <= 4.0 * columns || pts.windows(2).any(|w| !(w[1].0 >= w[0].0)) {
+    if (pts.len() as f64) <= 4.0 * columns
+        || pts
+            .windows(2)
+            .any(|w| w[1].0.partial_cmp(&w[0].0).is_none_or(|o| o.is_lt()))
+    {
         return None;
     }
     let mut out = Vec::with_capacity(4 * columns as usize + 4);
