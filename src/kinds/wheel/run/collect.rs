@@ -161,30 +161,49 @@ pub(crate) struct WheelDetail {
 
 impl OwnFiles for WheelDetail {
     /// The wheel's files after `history.csv`: contact nodes, traction, fields, rim profile,
-    /// figures.
+    /// figures. The figures are drawn (on the run's pool) while the tables and fields are
+    /// written (on a thread of their own: mostly waiting for the disk), listed in that order.
     fn save(&self, r: &Results, out: &Path) -> Result<Vec<PathBuf>, RunError> {
         let w = self;
-        let mut files = Vec::new();
-        if let Some(nodes) = &r.contact_nodes {
-            files.push(table(out, "contact_nodes.csv", nodes)?);
-        }
-        if let (Some((ts, profile)), Some(history)) = (&w.traction, &r.traction_history) {
-            files.push(table(out, "traction_history.csv", history)?);
-            files.push(traction::write_profile(out, ts, profile)?);
-            if r.plots {
+        let tables = || -> Result<Vec<PathBuf>, RunError> {
+            let mut files = Vec::new();
+            if let Some(nodes) = &r.contact_nodes {
+                files.push(table(out, "contact_nodes.csv", nodes)?);
+            }
+            if let (Some((ts, profile)), Some(history)) = (&w.traction, &r.traction_history) {
+                files.push(table(out, "traction_history.csv", history)?);
+                files.push(traction::write_profile(out, ts, profile)?);
+            }
+            files.extend(write_fields(out, &r.fields)?);
+            files.extend(figures::write_rim_profile(out, &w.profile)?);
+            if let Some(rim) = &w.plastic_rim {
+                files.push(table(out, "rim_permanent_displacement.csv", rim)?);
+            }
+            Ok(files)
+        };
+        let figures = || -> Result<Vec<PathBuf>, RunError> {
+            let mut files = Vec::new();
+            if !r.plots {
+                return Ok(files);
+            }
+            if let Some((ts, profile)) = &w.traction {
                 files.extend(traction::figures(out, ts, profile)?);
             }
-        }
-        files.extend(write_fields(out, &r.fields)?);
-        files.extend(figures::write_rim_profile(out, &w.profile)?);
-        if let Some(rim) = &w.plastic_rim {
-            files.push(table(out, "rim_permanent_displacement.csv", rim)?);
-        }
-        if r.plots {
             files.extend(figures::write(
                 out, &w.wm, &w.summary, &w.results, &w.profile,
             )?);
-        }
+            Ok(files)
+        };
+        let (written, drawn) = std::thread::scope(|scope| {
+            let written = scope.spawn(tables);
+            let drawn = figures();
+            let written = written
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (written, drawn)
+        });
+        let mut files = written?;
+        files.extend(drawn?);
         Ok(files)
     }
 }
