@@ -222,6 +222,7 @@ pub fn geometric_stiffness_into(
 
 /// The constant strain `[exx, eyy, gxy]` (engineering shear `gxy = 2 exy`) of the element
 /// displacements `u`.
+#[inline]
 pub fn strain(g: &Tri3Geometry, u: &[f64; 6]) -> [f64; 3] {
     let mut e = [0.0; 3];
     for (i, &[nx, ny]) in g.grad.iter().enumerate() {
@@ -234,6 +235,7 @@ pub fn strain(g: &Tri3Geometry, u: &[f64; 6]) -> [f64; 3] {
 }
 
 /// The constant stress `[sxx, syy, txy] = D B u` of the element displacements `u`.
+#[inline]
 pub fn stress(g: &Tri3Geometry, d: &[[f64; 3]; 3], u: &[f64; 6]) -> [f64; 3] {
     let e = strain(g, u);
     let mut s = [0.0; 3];
@@ -245,6 +247,7 @@ pub fn stress(g: &Tri3Geometry, d: &[[f64; 3]; 3], u: &[f64; 6]) -> [f64; 3] {
 
 /// The six displacements `[u0x, u0y, u1x, u1y, u2x, u2y]` of the triangle with nodes `t`,
 /// gathered from the global vector `u` (two dofs per node, interleaved).
+#[inline(always)]
 pub fn element_displacements(u: &[f64], t: &[usize; 3]) -> [f64; 6] {
     [
         u[2 * t[0]],

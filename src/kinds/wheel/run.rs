@@ -51,7 +51,7 @@ use observers::{
     Observer, Progress, Snapshots, Timeline, TurnAverage, TurnAverageFields, VelocitySnapshots,
     WheelStep,
 };
-use seen::{batches, Forms, Seen};
+use seen::{batches, Batch, Seen};
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -499,7 +499,7 @@ pub fn drive(
     ws: &WheelScenario,
     run: &Run,
     (steps, timeline, stride): (usize, Timeline, usize),
-    (observers, inline): (&mut [&mut (dyn Observer + Send)], &mut [&mut dyn Observer]),
+    (observers, inline): Sides<'_, '_, '_, '_>,
     opts: &RunOptions,
 ) -> Result<(LoopOutcome, Option<Vec<f64>>), RunError> {
     use crate::simulation::Simulation;
@@ -536,106 +536,27 @@ pub fn drive(
     }
     let start = Instant::now();
     // The energies (two sparse quadratic forms) only where they are written: every
-    // `stride`-th step, the first step of the rolling phase and the last one; behind the
-    // loop with the observers, except with a plastic wheel (its state corrects them).
+    // `stride`-th step, the first step of the rolling phase and the last one.
     let stride = stride.max(1);
-    let mut rolling_seen = false;
-    // Uncoupled (a twin disk): the observers see the wheel's own state, the sum of the two.
-    let twin = wm.twin.is_some();
-    let forms = match sim.energy_matrices() {
-        Some(_) if twin => Some(Forms::Twin),
-        Some((p, m, k)) => Some(Forms::Model(p.clone(), m.to_vec(), k.to_vec())),
-        None => None,
+    let timing = Timing {
+        timeline,
+        stride,
+        last_turn: timeline.last_full_turn(),
+        with_friction: run.friction.is_some_and(|l| l.is_active()),
     };
+    // Behind the loop (module `seen`) where the stepping thread is alone on its core: a
+    // run with threads to spare, a factor solved on one thread (below the split's order),
+    // a wheel coupled to its base. Else every observer on the stepping thread.
     let n = wm.mesh.n_dofs();
-    let (h, last_turn) = (run.params.h, timeline.last_full_turn());
-    let with_friction = run.friction.is_some_and(|l| l.is_active());
-    let energies = |seen: &Seen| {
-        seen.energy.or_else(|| {
-            seen.want_energy.then(|| match forms.as_ref() {
-                Some(Forms::Model(p, m, k)) => {
-                    let (mv, ku) = quadratic_forms(p, (m, &seen.v), (k, &seen.u));
-                    (0.5 * mv, 0.5 * ku)
-                }
-                _ => {
-                    let p = wm.model.pattern();
-                    (
-                        0.5 * quadratic_form(p, &wm.model.m, &seen.v),
-                        0.5 * quadratic_form(p, &wm.k_elastic, &seen.u),
-                    )
-                }
-            })
-        })
+    let behind = matches!(opts.par(), crate::linalg::team::Par::Threads(_))
+        && n < crate::linalg::SPLIT_MIN_ORDER
+        && wm.twin.is_none();
+    let (stats, observed) = if behind {
+        drive_behind(wm, &mut sim, timing, (observers, inline), opts)
+    } else {
+        let stats = drive_inline(wm, &mut sim, timing, (observers, inline), opts);
+        (stats, Ok(()))
     };
-    let observe = |batch: &mut seen::Batch| {
-        let len = std::mem::take(&mut batch.len);
-        batch.items[..len].iter().try_for_each(|seen| {
-            let step = seen.step(energies(seen), None);
-            observers.iter_mut().try_for_each(|o| o.observe(&step))
-        })
-    };
-    let (stats, observed) =
-        crate::simulation::behind::behind(batches(n, wm.rim.len()), observe, |feed| {
-            sim.run(opts.cancel.flag(), |s| {
-                let st = s.state;
-                let first_rolling = !rolling_seen && timeline.rolling(st.t);
-                rolling_seen |= first_rolling;
-                let want_energy = st.k % stride == 0 || s.last || first_rolling;
-                // With the plastic state's correction: here, where the state is.
-                let energy = (want_energy && forms.is_none()).then(|| s.energies());
-                let batch = feed.current().map_err(std::io::Error::other)?;
-                let seen = &mut batch.items[batch.len];
-                // Module `seen`: the state where an observer reads it, the pairs likewise.
-                // (A twin's own state every step: the rotation's watch reads it.)
-                seen.fields =
-                    twin || want_energy || timeline.within(st.t, last_turn.0 - h, last_turn.1 + h);
-                seen.with_pairs = with_friction || st.k % stride == 0 || s.last;
-                if seen.fields && twin {
-                    wm.own_state(&st.u, &mut seen.u);
-                    wm.own_state(&st.v, &mut seen.v);
-                } else if seen.fields {
-                    seen.u.copy_from_slice(&st.u);
-                    seen.v.copy_from_slice(&st.v);
-                }
-                seen.k = st.k;
-                seen.t = st.t;
-                seen.energy = energy;
-                seen.want_energy = want_energy;
-                seen.penalty = s.penalty;
-                seen.contact_force = s.contact_force;
-                seen.held = s.held;
-                seen.min_gap = st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
-                seen.pairs.clear();
-                if seen.with_pairs {
-                    seen.pairs.extend_from_slice(&st.pairs);
-                }
-                seen.slip_power = s.slip_power;
-                seen.friction_dissipated = s.friction_dissipated;
-                seen.frame_angle = s.frame_angle;
-                // The stepping thread's observers read the state in place (a twin's own, copied).
-                let own = seen.step(energy, Some(s.team()));
-                let step = if twin {
-                    WheelStep {
-                        pairs: &st.pairs,
-                        ..own
-                    }
-                } else {
-                    WheelStep {
-                        u: &st.u,
-                        v: &st.v,
-                        pairs: &st.pairs,
-                        ..own
-                    }
-                };
-                // A stop of the guard here still leaves its step to the observers, as before.
-                let inline_result = inline.iter_mut().try_for_each(|o| o.observe(&step));
-                batch.len += 1;
-                if batch.len == batch.items.len() {
-                    feed.send().map_err(std::io::Error::other)?;
-                }
-                inline_result
-            })
-        });
     // An observer's error is the cause of a stop the loop reports as its own.
     observed.map_err(|e| sim_error(crate::simulation::SimError::Output(e)))?;
     let stats = stats.map_err(|e| sim_error(stopped_by_observer(e)))?;
@@ -656,6 +577,167 @@ pub fn drive(
         },
         plastic_state,
     ))
+}
+
+/// When a wheel run's observers want what (the steps' schedule of [`drive`]).
+#[derive(Debug, Clone, Copy)]
+struct Timing {
+    timeline: Timeline,
+    /// The tables' and energies' stride.
+    stride: usize,
+    /// The last full turn (the turn average and the velocity snapshots), s.
+    last_turn: (f64, f64),
+    /// Friction: the traction's watch reads the pairs every step.
+    with_friction: bool,
+}
+
+impl Timing {
+    /// True when step `k` at `t` reports its energies (`last`: the run's last step;
+    /// `rolling_seen`: the rolling phase was reached before, updated).
+    fn energy_due(&self, k: usize, t: f64, last: bool, rolling_seen: &mut bool) -> bool {
+        let first_rolling = !*rolling_seen && self.timeline.rolling(t);
+        *rolling_seen |= first_rolling;
+        k % self.stride == 0 || last || first_rolling
+    }
+}
+
+/// The observers behind the loop and those on the stepping thread.
+type Sides<'a, 'b, 'c, 'd> = (
+    &'a mut [&'b mut (dyn Observer + Send + 'b)],
+    &'c mut [&'d mut (dyn Observer + 'd)],
+);
+
+/// The step loop with every observer on the stepping thread (an uncoupled twin: the
+/// observers see the wheel's own state, the sum of the disk's and its twin's).
+fn drive_inline(
+    wm: &WheelModel,
+    sim: &mut crate::simulation::Simulation,
+    timing: Timing,
+    (observers, inline): Sides<'_, '_, '_, '_>,
+    opts: &RunOptions,
+) -> Result<crate::simulation::RunStats, crate::simulation::SimError> {
+    let mut rolling_seen = false;
+    let twin = wm.twin.is_some();
+    let own = if twin { wm.mesh.n_dofs() } else { 0 };
+    let (mut u_own, mut v_own) = (vec![0.0; own], vec![0.0; own]);
+    sim.run(opts.cancel.flag(), |s| {
+        let st = s.state;
+        let due = timing.energy_due(st.k, st.t, s.last, &mut rolling_seen);
+        let (u, v): (&[f64], &[f64]) = if twin {
+            wm.own_state(&st.u, &mut u_own);
+            wm.own_state(&st.v, &mut v_own);
+            (&u_own, &v_own)
+        } else {
+            (&st.u, &st.v)
+        };
+        let energy = due.then(|| {
+            if twin {
+                let p = wm.model.pattern();
+                (
+                    0.5 * quadratic_form(p, &wm.model.m, v),
+                    0.5 * quadratic_form(p, &wm.k_elastic, u),
+                )
+            } else {
+                s.energies()
+            }
+        });
+        let step = WheelStep {
+            k: st.k,
+            t: st.t,
+            u,
+            v,
+            energy,
+            penalty: s.penalty,
+            contact_force: s.contact_force,
+            held: s.held,
+            min_gap: st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min),
+            pairs: &st.pairs,
+            slip_power: s.slip_power,
+            friction_dissipated: s.friction_dissipated,
+            frame_angle: s.frame_angle,
+            team: Some(s.team()),
+        };
+        observers.iter_mut().try_for_each(|o| o.observe(&step))?;
+        inline.iter_mut().try_for_each(|o| o.observe(&step))
+    })
+}
+
+/// The step loop with the observers of `observers` behind it ([`crate::simulation::behind`],
+/// module `seen`), those of `inline` on the stepping thread. The wheel is coupled to its
+/// base (no twin).
+fn drive_behind(
+    wm: &WheelModel,
+    sim: &mut crate::simulation::Simulation,
+    timing: Timing,
+    (observers, inline): Sides<'_, '_, '_, '_>,
+    opts: &RunOptions,
+) -> (
+    Result<crate::simulation::RunStats, crate::simulation::SimError>,
+    std::io::Result<()>,
+) {
+    let mut rolling_seen = false;
+    // The energies behind the loop, except with a plastic wheel (its state corrects them).
+    let forms = sim
+        .energy_matrices()
+        .map(|(p, m, k)| (p.clone(), m.to_vec(), k.to_vec()));
+    let (h, (t0, t1)) = (timing.timeline.h, timing.last_turn);
+    let energies = |seen: &Seen| {
+        seen.energy.or_else(|| {
+            let (p, m, k) = forms.as_ref()?;
+            seen.want_energy.then(|| {
+                let (mv, ku) = quadratic_forms(p, (m, &seen.v), (k, &seen.u));
+                (0.5 * mv, 0.5 * ku)
+            })
+        })
+    };
+    let observe = |batch: &mut Batch| {
+        let len = std::mem::take(&mut batch.len);
+        batch.items[..len].iter().try_for_each(|seen| {
+            let step = seen.step(energies(seen), None);
+            observers.iter_mut().try_for_each(|o| o.observe(&step))
+        })
+    };
+    let slots = batches(wm.mesh.n_dofs(), wm.rim.len());
+    crate::simulation::behind::behind(slots, observe, |feed| {
+        sim.run(opts.cancel.flag(), |s| {
+            let st = s.state;
+            let want_energy = timing.energy_due(st.k, st.t, s.last, &mut rolling_seen);
+            // With the plastic state's correction: here, where the state is.
+            let energy = (want_energy && forms.is_none()).then(|| s.energies());
+            let batch = feed.current().map_err(std::io::Error::other)?;
+            let seen = &mut batch.items[batch.len];
+            // Module `seen`: the state where an observer reads it, the pairs likewise.
+            seen.fields = want_energy || timing.timeline.within(st.t, t0 - h, t1 + h);
+            seen.with_pairs = timing.with_friction || st.k % timing.stride == 0 || s.last;
+            if seen.fields {
+                seen.u.copy_from_slice(&st.u);
+                seen.v.copy_from_slice(&st.v);
+            }
+            seen.pairs.clear();
+            if seen.with_pairs {
+                seen.pairs.extend_from_slice(&st.pairs);
+            }
+            (seen.k, seen.t, seen.energy, seen.want_energy) = (st.k, st.t, energy, want_energy);
+            (seen.penalty, seen.contact_force, seen.held) = (s.penalty, s.contact_force, s.held);
+            seen.min_gap = st.pairs.iter().map(|p| p.gap).fold(f64::INFINITY, f64::min);
+            (seen.slip_power, seen.friction_dissipated) = (s.slip_power, s.friction_dissipated);
+            seen.frame_angle = s.frame_angle;
+            // The stepping thread's observers read the state in place.
+            let step = WheelStep {
+                u: &st.u,
+                v: &st.v,
+                pairs: &st.pairs,
+                ..seen.step(energy, Some(s.team()))
+            };
+            // A stop of the guard here still leaves its step to the observers, as before.
+            let inline_result = inline.iter_mut().try_for_each(|o| o.observe(&step));
+            batch.len += 1;
+            if batch.len == batch.items.len() {
+                feed.send().map_err(std::io::Error::other)?;
+            }
+            inline_result
+        })
+    })
 }
 
 /// An observer's stop ([`RotationWatch`]: a [`crate::guard::Diverged`] carried in the

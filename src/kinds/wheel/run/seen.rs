@@ -11,16 +11,7 @@
 
 use super::observers::WheelStep;
 use crate::linalg::team::Team;
-use crate::linalg::Pattern;
 use crate::model::PairState;
-
-/// The matrices the energies are computed from behind the loop.
-pub(super) enum Forms {
-    /// The driver's pattern, `M` and energy stiffness (copied before the loop).
-    Model(Pattern, Vec<f64>, Vec<f64>),
-    /// An uncoupled twin disk: the wheel's own `M` and elastic `K` on its own state.
-    Twin,
-}
 
 /// One final step as the observers read it ([`WheelStep`]'s fields, owned).
 #[derive(Debug, Clone)]
