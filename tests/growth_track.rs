@@ -2,7 +2,7 @@
 //! over the track lays the wear the continuum predicts.
 
 use softway::growth::{PassRunner, SurfaceProfile};
-use softway::kinds::track::growth::{predicted_growth, RailSliding, TrackPass, WearPatch};
+use softway::kinds::track::growth::{predicted_growth, RailSliding, Sliding, TrackPass, WearPatch};
 use softway::run::RunOptions;
 use softway::scenario::Scenario;
 use softway::wear::{Archard, WearLaw};
@@ -76,11 +76,11 @@ struct Pass {
 
 fn one_pass(patch: WearPatch, law: WearLaw, gamma: f64) -> Pass {
     let sc = scenario(100.0, 4);
-    let sliding = RailSliding {
+    let sliding = Sliding::Steady(RailSliding {
         creepage: gamma,
         traction_coefficient: 0.2,
         density: 7850.0,
-    };
+    });
     let opts = RunOptions {
         progress: false,
         ..RunOptions::default()
@@ -207,11 +207,11 @@ fn the_rails_linear_growth_follows_the_receptances() {
         hardness: 3e9,
         map: None,
     });
-    let sliding = RailSliding {
+    let sliding = Sliding::Steady(RailSliding {
         creepage: 0.01,
         traction_coefficient: 0.2,
         density: 7850.0,
-    };
+    });
     let opts = RunOptions {
         progress: false,
         ..RunOptions::default()
@@ -384,4 +384,138 @@ fn a_rails_study_names_its_missing_and_misplaced_keys() {
     );
     assert!(!dir.join("o2").join("summary.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The scenario of `scenario` driven at the creepage `xi` with Coulomb friction `mu`, the
+/// axle held along the track by a suspension (as `scenarios/track-traction.toml`).
+fn driven(speed_km_h: f64, travel_bays: usize, xi: f64, mu: f64) -> Scenario {
+    let text = format!(
+        r#"
+name = "rail-wear-driven"
+kind = "track"
+[track]
+set = "uic60"
+bays = 40
+end_bays = 12
+elements_per_bay = 6
+[vehicle]
+model = "wheel"
+unsprung_mass = 800.0
+axle_load = 100e3
+wheel_radius = 0.46
+speed_km_h = {speed_km_h}
+travel_bays = {travel_bays}
+settle_bays = 4
+wheel_rim_nodes = 720
+wheel_thickness = 0.02
+creepage = {xi}
+suspension_stiffness = 1e7
+suspension_damping = 1.8e5
+[contact]
+method = "exact"
+friction = {mu}
+[time]
+alpha = 0.8
+gamma = 0.2
+"#
+    );
+    let spec = Scenario::from_str(&text, Path::new("rail-wear-driven.toml")).expect("scenario");
+    softway::build::resolve(&spec).expect("built")
+}
+
+/// The wear from the run's own friction (`growth.sliding = "dynamic"`): each rim node in
+/// slip wears by Archard's law at its own slip speed and carries `mu` times its normal
+/// force, so over a pass the worn depth is `k / (mu H w V)` times the frictional power, on
+/// either patch. In full slip (`xi` of 1 and 2 %, four and eight times the saturation
+/// creepage `mu a / R`) the creep force is `mu P` and the frictional power the creep force's
+/// work on the rigid slip (steady rolling: the patch's elastic energy does not change), so
+/// between two creepages it grows by `mu P V d(xi)` (an energy balance the contact code does
+/// not impose; the loaded wheel's rolling radius, which shifts the slip by a constant, drops
+/// out of the difference), and the wear is the steady model's `k xi P / (H w)` but for that
+/// shift. In partial slip the stick zone does not wear: less traction and less wear than
+/// the steady model's full sliding.
+#[test]
+fn the_dynamic_friction_wears_the_rail_by_the_frictional_power() {
+    let (k, hard, mu, w) = (1e-4, 3e9, 0.3, 0.02);
+    let law = WearLaw::Archard(Archard {
+        k,
+        hardness: hard,
+        map: None,
+    });
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    // (xi, Q / (mu P), P, frictional power, depth over the steady model's).
+    let mut runs = Vec::new();
+    for (xi, patch) in [
+        (0.01, WearPatch::Hertz),
+        (0.02, WearPatch::Hertz),
+        (0.01, WearPatch::Nodes),
+        (0.002, WearPatch::Hertz),
+    ] {
+        let sc = driven(100.0, 3, xi, mu);
+        let opts = RunOptions {
+            progress: false,
+            ..RunOptions::default()
+        };
+        let sliding = Sliding::Dynamic { density: 7850.0 };
+        let mut pass = TrackPass::new(&sc, 1e-3, law, sliding, patch, opts).expect("pass");
+        let (x0, dx, n, _) = pass.grid();
+        let flat = SurfaceProfile {
+            x0,
+            dx,
+            z: vec![0.0; n],
+            periodic: false,
+        };
+        let r = pass
+            .run_pass(&flat, 0, &AtomicBool::new(false))
+            .expect("pass runs");
+        let scalar = |name: &str| {
+            r.scalars
+                .iter()
+                .find(|(key, _)| key == name)
+                .map(|(_, v)| *v)
+                .unwrap_or_else(|| panic!("{name}"))
+        };
+        let (q, p, power) = (
+            scalar("mean_traction_n"),
+            scalar("mean_force_n"),
+            scalar("frictional_power_w"),
+        );
+        let inner = pass.inner();
+        let inner = inner.start + 20..inner.end - 20;
+        let depth = mean(&r.wear_depth[inner]);
+        let v = pass.speed();
+        let by_power = k * power / (mu * hard * w * v);
+        let steady = k * xi * p / (hard * w);
+        println!(
+            "xi {xi}, {patch:?}: Q/(mu P) {:.4}, sliding share {:.3}, frictional power {power:.1} W (Q xi V {:.1} W); mean depth {depth:.4e} m against k P_f / (mu H w V) {by_power:.4e} ({:+.2}%), the steady model's {steady:.4e}",
+            q / (mu * p),
+            scalar("sliding_share"),
+            scalar("creep_power_w"),
+            100.0 * (depth / by_power - 1.0)
+        );
+        assert!(
+            (depth / by_power - 1.0).abs() < 0.02,
+            "{depth} against {by_power}"
+        );
+        runs.push((xi, q / (mu * p), p, power, depth / steady, v));
+    }
+    // Full slip: the traction saturated, the power's growth between the two creepages.
+    for r in &runs[..3] {
+        assert!(r.1 > 0.97 && r.1 <= 1.0 + 1e-9, "Q / (mu P) {}", r.1);
+    }
+    let ((xa, _, pa, wa, _, v), (xb, _, pb, wb, _, _)) = (runs[0], runs[1]);
+    let expected = mu * 0.5 * (pa + pb) * v * (xb - xa);
+    println!(
+        "full slip: frictional power from xi {xa} to {xb}: {:.1} W against mu P V d(xi) {expected:.1} W",
+        wb - wa
+    );
+    assert!(((wb - wa) / expected - 1.0).abs() < 0.03);
+    // The wear over the steady model's: the rolling radius's shift of the slip, the same
+    // on both patches.
+    assert!(runs[0].4 < 1.0 && runs[0].4 > 0.85, "{}", runs[0].4);
+    assert!((runs[2].4 / runs[0].4 - 1.0).abs() < 0.02);
+    // Partial slip: less traction and less wear than full sliding.
+    let (_, sat, _, _, to_steady, _) = runs[3];
+    assert!(sat < 0.9, "{sat}");
+    assert!(to_steady < 0.8 * runs[0].4, "{to_steady}");
 }

@@ -44,6 +44,18 @@ pub enum WearPatch {
     Nodes,
 }
 
+/// What slides the rail (the rail's growth study, `crate::kinds::track::growth`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SlidingModel {
+    /// A steady creepage and traction coefficient (`growth.creepage`,
+    /// `growth.traction_coefficient`) under the dynamic normal force: the classic model.
+    Steady,
+    /// Each rim node's own normal force, friction force and slip speed in the run with
+    /// friction (`contact.friction`, `vehicle.creepage`).
+    Dynamic,
+}
+
 /// A validated growth study (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GrowthConfig {
@@ -133,6 +145,8 @@ pub struct RailKeys {
     pub traction_coefficient: Option<f64>,
     /// `growth.patch`: where the worn pressure comes from.
     pub patch: Option<WearPatch>,
+    /// `growth.sliding`: what slides the rail (steady when absent).
+    pub sliding: Option<SlidingModel>,
 }
 
 impl RailKeys {
@@ -150,6 +164,9 @@ impl RailKeys {
         }
         if self.patch.is_some() {
             v.push("growth.patch");
+        }
+        if self.sliding.is_some() {
+            v.push("growth.sliding");
         }
         v
     }
@@ -204,6 +221,7 @@ struct RawGrowth {
     creepage: Option<f64>,
     traction_coefficient: Option<f64>,
     patch: Option<String>,
+    sliding: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -431,6 +449,18 @@ fn rail_keys(g: &RawGrowth, keys: Keys) -> Result<RailKeys, ScenarioError> {
                     "growth.patch",
                     format!("\"{other}\""),
                     "\"hertz\" (the contact force over Hertz's patch) or \"nodes\" (the rim nodes' own forces)",
+                ))
+            }
+        },
+        sliding: match g.sliding.as_deref() {
+            None => None,
+            Some("steady") => Some(SlidingModel::Steady),
+            Some("dynamic") => Some(SlidingModel::Dynamic),
+            Some(other) => {
+                return Err(keys.invalid(
+                    "growth.sliding",
+                    format!("\"{other}\""),
+                    "\"steady\" (growth.creepage and growth.traction_coefficient under the dynamic normal force) or \"dynamic\" (each rim node's own friction in the run: contact.friction and vehicle.creepage)",
                 ))
             }
         },

@@ -58,6 +58,9 @@ use crate::wear::{ContactSample, WearLaw};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+mod sliding;
+pub use sliding::{node_sample, FrictionTally, Sliding};
+
 /// The most samples of the rail's profile (`growth.dx` over the recorded bays): a million,
 /// 0.1 mm over 100 m.
 pub const MAX_SAMPLES: usize = 1_000_000;
@@ -127,7 +130,7 @@ pub struct TrackPass {
     ts: TrackScenario,
     opts: RunOptions,
     law: WearLaw,
-    sliding: RailSliding,
+    sliding: Sliding,
     patch: WearPatch,
     x0: f64,
     dx: f64,
@@ -161,7 +164,7 @@ impl TrackPass {
         sc: &Scenario,
         dx: f64,
         law: WearLaw,
-        sliding: RailSliding,
+        sliding: Sliding,
         patch: WearPatch,
         opts: RunOptions,
     ) -> Result<Self, RunError> {
@@ -183,17 +186,35 @@ impl TrackPass {
                 )),
             };
         law.check().map_err(input)?;
-        if !(sliding.creepage.is_finite() && sliding.creepage > 0.0 && sliding.creepage < 1.0) {
-            return Err(input(format!(
-                "growth.creepage = {}: must be in (0, 1) (the rim's slip over the rolling speed)",
-                sliding.creepage
-            )));
-        }
-        if !(sliding.traction_coefficient.is_finite() && sliding.traction_coefficient >= 0.0) {
-            return Err(input(format!(
-                "growth.traction_coefficient = {}: must be finite and >= 0",
-                sliding.traction_coefficient
-            )));
+        match sliding {
+            Sliding::Steady(sliding) => {
+                if !(sliding.creepage.is_finite()
+                    && sliding.creepage > 0.0
+                    && sliding.creepage < 1.0)
+                {
+                    return Err(input(format!(
+                        "growth.creepage = {}: must be in (0, 1) (the rim's slip over the rolling speed)",
+                        sliding.creepage
+                    )));
+                }
+                if !(sliding.traction_coefficient.is_finite()
+                    && sliding.traction_coefficient >= 0.0)
+                {
+                    return Err(input(format!(
+                        "growth.traction_coefficient = {}: must be finite and >= 0",
+                        sliding.traction_coefficient
+                    )));
+                }
+            }
+            Sliding::Dynamic { .. } => {
+                if run.friction.is_none_or(|law| !law.is_active()) || ts.vehicle.creepage == 0.0 {
+                    return Err(input(format!(
+                        "growth.sliding = \"dynamic\" wears the rail by the run's own friction: set contact.friction > 0 and vehicle.creepage (with vehicle.suspension_stiffness > 0 and time.gamma > 0, as scenarios/track-traction.toml); this scenario has contact.friction {} and vehicle.creepage = {}",
+                        if run.friction.is_some_and(|law| law.is_active()) { "> 0" } else { "= 0" },
+                        ts.vehicle.creepage
+                    )));
+                }
+            }
         }
         let s = ts.spec.spacing;
         let travel_step = ts.vehicle.speed * run.params.h;
@@ -514,7 +535,20 @@ impl PassRunner for TrackPass {
                 ("worn_volume_off_grid_m3".into(), w.lost),
                 ("loop_s".into(), wall),
                 ("wear_bookkeeping_s".into(), w.bookkeeping.as_secs_f64()),
-            ],
+            ]
+            .into_iter()
+            .chain(w.friction.map_or_else(Vec::new, |f| {
+                let xi_v = self.ts.vehicle.creepage * self.ts.vehicle.speed;
+                vec![
+                    // The rail's force on the wheel along the travel (module `sliding`).
+                    ("mean_traction_n".into(), f.traction / m),
+                    ("traction_ratio".into(), f.traction / w.f_sum),
+                    ("frictional_power_w".into(), f.power / m),
+                    ("creep_power_w".into(), f.traction / m * xi_v),
+                    ("sliding_share".into(), f.sliding_force / w.f_sum),
+                ]
+            }))
+            .collect(),
         })
     }
 }
@@ -530,7 +564,14 @@ struct Wearing<'a> {
     dx: f64,
     n: usize,
     patch: WearPatch,
-    rate: WearRate,
+    /// The steady model's rate (`None`: the dynamic model, `sliding`).
+    rate: Option<WearRate>,
+    /// The wear law, the rail's density and the travel speed (the dynamic model's samples).
+    law: WearLaw,
+    density: f64,
+    speed: f64,
+    /// The dynamic model's friction tallies.
+    friction: Option<FrictionTally>,
     thickness: f64,
     e_star: f64,
     /// The rim's pitch, m.
@@ -593,11 +634,19 @@ impl<'a> Wearing<'a> {
             dx: runner.dx,
             n: runner.n,
             patch: runner.patch,
-            rate: WearRate {
-                law: runner.law,
-                sliding: runner.sliding,
-                v: runner.ts.vehicle.speed,
+            rate: match runner.sliding {
+                Sliding::Steady(sliding) => Some(WearRate {
+                    law: runner.law,
+                    sliding,
+                    v: runner.ts.vehicle.speed,
+                }),
+                Sliding::Dynamic { .. } => None,
             },
+            law: runner.law,
+            density: runner.sliding.density(),
+            speed: runner.ts.vehicle.speed,
+            friction: matches!(runner.sliding, Sliding::Dynamic { .. })
+                .then(FrictionTally::default),
             thickness: runner.ts.vehicle.wheel.thickness,
             e_star: runner.contact_modulus(),
             pitch: 2.0 * std::f64::consts::PI * wot.rim_radius / wot.wheel.rim.len() as f64,
@@ -643,31 +692,80 @@ impl<'a> Wearing<'a> {
         self.f_min = self.f_min.min(f);
         self.count += 1;
         let clock = Instant::now();
-        match self.patch {
-            WearPatch::Hertz => {
+        if let Some(tally) = self.friction.as_mut() {
+            for ps in &st.pairs {
+                tally.traction -= ps.tangential_force;
+                tally.power += ps.slip_power;
+                if ps.sliding && ps.force > 0.0 {
+                    tally.sliding_force += ps.force;
+                }
+            }
+        }
+        match (self.patch, self.rate) {
+            (WearPatch::Hertz, Some(rate)) => {
                 let Some(before) = before else {
                     return Ok(());
                 };
-                if !self.hertz(before, (centre, f)) {
+                if !self.hertz(rate, before, (centre, f)) {
                     return Ok(());
                 }
             }
-            WearPatch::Nodes => self.nodes(s, under),
+            (WearPatch::Nodes, Some(rate)) => {
+                self.nodes(s, under, |ps, area| rate.at(ps.force / area) * area)
+            }
+            (WearPatch::Hertz, None) => {
+                let volume = self.dynamic_volume(s);
+                let spread = before.is_some_and(|b| self.hertz_spread(b, (centre, f), volume));
+                if !spread {
+                    self.volume += volume;
+                    self.lost += volume;
+                }
+            }
+            (WearPatch::Nodes, None) => {
+                let (law, density, speed) = (self.law, self.density, self.speed);
+                self.nodes(s, under, |ps, area| {
+                    node_sample(ps, area, speed)
+                        .map_or(0.0, |sample| law.depth_rate(&sample, density) * area)
+                })
+            }
         }
         self.bookkeeping += clock.elapsed();
         Ok(())
     }
 
-    /// Hertz's patch moved from `(c0, f0)` to `(centre, f)` (its centre and force): the
-    /// step's mean pressure at each grid sample it passed, worn for the step. False when
-    /// it did not move or passed no sample.
-    fn hertz(&mut self, (c0, f0): (f64, f64), (centre, f): (f64, f64)) -> bool {
-        let (x0, dx, n, h, thickness) = (self.x0, self.dx, self.n, self.h, self.thickness);
+    /// The dynamic model's worn volume of the step, m^3: each rim node in slip through the
+    /// wear law ([`node_sample`]), over its tributary area.
+    fn dynamic_volume(&self, s: &crate::simulation::StepView) -> f64 {
+        let area = self.pitch * self.thickness;
+        s.state
+            .pairs
+            .iter()
+            .filter_map(|ps| node_sample(ps, area, self.speed))
+            .map(|sample| self.law.depth_rate(&sample, self.density) * area * self.h)
+            .sum()
+    }
+
+    /// Hertz's patch of the step's mean force moved from `(c0, f0)` to `(centre, f)`:
+    /// calls `visit(j, p)` for each grid sample `j` it passed, `p` the step's mean
+    /// pressure there (the load per width that passed over it over the step's travel).
+    /// False when it did not move or passed no sample.
+    fn passed(
+        &self,
+        (c0, f0): (f64, f64),
+        (centre, f): (f64, f64),
+        mut visit: impl FnMut(usize, f64),
+    ) -> bool {
+        let (x0, dx, n) = (self.x0, self.dx, self.n);
         let travel = centre - c0;
         if travel.abs() <= 0.0 {
             return false;
         }
-        let lp = LinePatch::new(0.5 * (f0 + f), thickness, self.wot.rim_radius, self.e_star);
+        let lp = LinePatch::new(
+            0.5 * (f0 + f),
+            self.thickness,
+            self.wot.rim_radius,
+            self.e_star,
+        );
         let (lo, hi) = (c0.min(centre) - lp.a, c0.max(centre) + lp.a);
         let j0 = ((lo - x0) / dx).ceil().max(0.0) as usize;
         let j1 = ((hi - x0) / dx).floor();
@@ -675,24 +773,57 @@ impl<'a> Wearing<'a> {
             return false;
         }
         let j1 = (j1 as usize).min(n - 1);
-        let rate = self.rate;
-        for (j, d) in self.depth.iter_mut().enumerate().take(j1 + 1).skip(j0) {
+        for j in j0..=j1 {
             let xj = x0 + j as f64 * dx;
-            // The load per width that passed over x_j in the step, over the step's travel:
-            // the step's mean pressure there.
             let (s0, s1) = (xj - centre, xj - c0);
             let passed = (lp.cumulative(s0.max(s1)) - lp.cumulative(s0.min(s1))).abs();
-            let p_mean = passed / travel.abs();
-            let dz = rate.at(p_mean) * h;
-            *d += dz;
-            self.volume += dz * dx * thickness;
+            visit(j, passed / travel.abs());
         }
+        j0 <= j1
+    }
+
+    /// The dynamic model on Hertz's patch: the step's worn `volume` (m^3) laid over the
+    /// samples the patch passed in proportion to the mean pressure there (module
+    /// `sliding`); false (nothing laid) when it passed none.
+    fn hertz_spread(&mut self, before: (f64, f64), now: (f64, f64), volume: f64) -> bool {
+        let mut total = 0.0;
+        if !self.passed(before, now, |_, p| total += p) || total <= 0.0 {
+            return false;
+        }
+        let scale = volume / (self.thickness * total * self.dx);
+        let mut depth = std::mem::take(&mut self.depth);
+        self.passed(before, now, |j, p| depth[j] += p * scale);
+        self.depth = depth;
+        self.volume += volume;
         true
     }
 
+    /// Hertz's patch moved from `(c0, f0)` to `(centre, f)` (its centre and force): the
+    /// step's mean pressure at each grid sample it passed, worn for the step by the steady
+    /// model's `rate`. False when it did not move or passed no sample.
+    fn hertz(&mut self, rate: WearRate, before: (f64, f64), now: (f64, f64)) -> bool {
+        let (h, dx, thickness) = (self.h, self.dx, self.thickness);
+        let mut depth = std::mem::take(&mut self.depth);
+        let mut volume = 0.0;
+        let passed = self.passed(before, now, |j, p_mean| {
+            let dz = rate.at(p_mean) * h;
+            depth[j] += dz;
+            volume += dz * dx * thickness;
+        });
+        self.depth = depth;
+        self.volume += volume;
+        passed
+    }
+
     /// The rim nodes in contact, each wearing the rail over its pitch as a hat centred
-    /// where it is on the rail (`under`: the rail's abscissa under the axle).
-    fn nodes(&mut self, s: &crate::simulation::StepView, under: f64) {
+    /// where it is on the rail (`under`: the rail's abscissa under the axle), at the volume
+    /// rate `rate(pair, area)` (m^3/s) over its tributary `area`.
+    fn nodes(
+        &mut self,
+        s: &crate::simulation::StepView,
+        under: f64,
+        rate: impl Fn(&crate::model::PairState, f64) -> f64,
+    ) {
         let st = s.state;
         let (t, u) = (st.t, &st.state.u);
         let (pitch, thickness) = (self.pitch, self.thickness);
@@ -708,7 +839,10 @@ impl<'a> Wearing<'a> {
             ];
             let x = under + self.slave.motion.place(t, local)[0];
             let area = pitch * thickness;
-            let vol = self.rate.at(ps.force / area) * area * self.h;
+            let vol = rate(ps, area) * self.h;
+            if vol <= 0.0 {
+                continue;
+            }
             self.volume += vol;
             if !lay_hat(
                 &mut self.depth,

@@ -4,9 +4,10 @@
 //! its runs: the moving load's and the rolling wheel's in `run`.
 
 use crate::contact::{FrictionLaw, Restore, Treatment};
+use crate::growth::config::SlidingModel;
 use crate::growth::GrowOptions;
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
-use crate::kinds::track::growth::{RailSliding, TrackPass, WearPatch};
+use crate::kinds::track::growth::{RailSliding, Sliding, TrackPass, WearPatch};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
@@ -247,10 +248,28 @@ impl Spec for TrackScenario {
             })
         };
         let r = &config.rail;
-        let sliding = RailSliding {
-            creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (the wheel on the track is frictionless; e.g. 0.005)")?,
-            traction_coefficient: need("traction_coefficient", r.traction_coefficient, "T / N of the steady creep force (e.g. 0.3)")?,
-            density: config.wear_density.unwrap_or(7850.0),
+        let density = config.wear_density.unwrap_or(7850.0);
+        let sliding = match r.sliding.unwrap_or(SlidingModel::Steady) {
+            SlidingModel::Steady => Sliding::Steady(RailSliding {
+                creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (or growth.sliding = \"dynamic\": the run's own friction; e.g. 0.005)")?,
+                traction_coefficient: need("traction_coefficient", r.traction_coefficient, "T / N of the steady creep force (e.g. 0.3)")?,
+                density,
+            }),
+            SlidingModel::Dynamic => {
+                if let Some(key) = [
+                    ("growth.creepage", r.creepage.is_some()),
+                    ("growth.traction_coefficient", r.traction_coefficient.is_some()),
+                ]
+                .into_iter()
+                .find_map(|(k, given)| given.then_some(k))
+                {
+                    return Err(GrowthError::Run(RunError::input(
+                        &sc.path,
+                        format!("{key} is the steady model's: with growth.sliding = \"dynamic\" the creepage is vehicle.creepage and the traction the run's own friction (contact.friction); remove {key}"),
+                    )));
+                }
+                Sliding::Dynamic { density }
+            }
         };
         let pass = TrackPass::new(
             sc,
