@@ -519,3 +519,63 @@ fn the_dynamic_friction_wears_the_rail_by_the_frictional_power() {
     assert!(sat < 0.9, "{sat}");
     assert!(to_steady < 0.8 * runs[0].4, "{to_steady}");
 }
+
+/// `growth.sliding`: an unknown model, the dynamic model on a frictionless scenario and the
+/// steady model's keys beside the dynamic one are refused before any pass, naming the file
+/// and the key.
+#[test]
+fn the_dynamic_sliding_names_what_it_needs() {
+    let dir = std::env::temp_dir().join(format!("softway-rail-sliding-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let read = |name: &str| {
+        std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("scenarios")
+                .join(name),
+        )
+        .unwrap()
+    };
+    let (steady, dynamic) = (read("corrugation.toml"), read("corrugation-friction.toml"));
+    let cases = [
+        (
+            "bogus.toml",
+            dynamic.replace("sliding = \"dynamic\"", "sliding = \"sticky\""),
+            vec!["growth.sliding", "\"sticky\"", "\"steady\"", "\"dynamic\""],
+        ),
+        (
+            "frictionless.toml",
+            steady
+                .lines()
+                .filter(|l| !l.starts_with("creepage") && !l.starts_with("traction_coefficient"))
+                .map(|l| format!("{l}\n"))
+                .collect::<String>()
+                .replace("[growth]\n", "[growth]\nsliding = \"dynamic\"\n"),
+            vec![
+                "growth.sliding = \"dynamic\"",
+                "this scenario has contact.friction = 0",
+            ],
+        ),
+        (
+            "both.toml",
+            dynamic.replace("[growth]\n", "[growth]\ncreepage = 0.005\n"),
+            vec!["growth.creepage", "vehicle.creepage"],
+        ),
+    ];
+    for (name, text, words) in cases {
+        let f = dir.join(name);
+        std::fs::write(&f, text).unwrap();
+        let o = dir.join(format!("out-{name}"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+            .args(["grow", f.to_str().unwrap(), "--out", o.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(name), "{name}: {err}");
+        for w in words {
+            assert!(err.contains(w), "{name}: `{w}` not in {err}");
+        }
+        assert!(!o.join("summary.json").exists(), "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
