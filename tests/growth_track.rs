@@ -3,6 +3,7 @@
 
 use softway::growth::{PassRunner, SurfaceProfile};
 use softway::kinds::track::growth::{predicted_growth, RailSliding, Sliding, TrackPass, WearPatch};
+use softway::kinds::track::polygon::WheelTrackPass;
 use softway::run::RunOptions;
 use softway::scenario::Scenario;
 use softway::wear::{Archard, WearLaw};
@@ -559,6 +560,141 @@ fn the_dynamic_sliding_names_what_it_needs() {
             "both.toml",
             dynamic.replace("[growth]\n", "[growth]\ncreepage = 0.005\n"),
             vec!["growth.creepage", "vehicle.creepage"],
+        ),
+    ];
+    for (name, text, words) in cases {
+        let f = dir.join(name);
+        std::fs::write(&f, text).unwrap();
+        let o = dir.join(format!("out-{name}"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+            .args(["grow", f.to_str().unwrap(), "--out", o.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(name), "{name}: {err}");
+        for w in words {
+            assert!(err.contains(w), "{name}: `{w}` not in {err}");
+        }
+        assert!(!o.join("summary.json").exists(), "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The wheel's side of a study on the track (`growth.surface = "wheel"`,
+/// [`softway::kinds::track::polygon`]): one pass of the smooth wheel in full slip records one
+/// full turn (`2 pi R_s / (V (1 + xi))`, to a step) and wears the rim by Archard's law at each
+/// node's own slip, so that the worn volume is `k / (mu H)` times the frictional energy of
+/// the turn (a sliding node carries `mu N`), and the frictional power is the creep force's
+/// work on the slip, below `mu P xi V` by the loaded rim's rolling radius (the rail's check
+/// above puts that shift at 0.06 % of creepage).
+#[test]
+fn a_wheels_pass_on_the_track_wears_its_rim_by_the_frictional_power() {
+    let (k, hard, mu, w, xi) = (1e-4, 3e9, 0.3, 0.02, 0.01);
+    let law = WearLaw::Archard(Archard {
+        k,
+        hardness: hard,
+        map: None,
+    });
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/track-traction.toml"),
+    )
+    .unwrap()
+    .replace("travel_bays = 20 ", "travel_bays = 5  ")
+    .replace("wheel_rim_nodes = 720", "wheel_rim_nodes = 360")
+    .replace("bays = 100 ", "bays = 50\nend_bays = 15\n");
+    let spec = Scenario::from_str(&text, Path::new("wheel-wear.toml")).expect("scenario");
+    let sc = softway::build::resolve(&spec).expect("built");
+    let opts = RunOptions {
+        progress: false,
+        ..RunOptions::default()
+    };
+    let mut pass = WheelTrackPass::new(&sc, law, 7850.0, opts).expect("pass");
+    let (x0, dx, n, periodic) = pass.grid();
+    assert!(periodic && n == 360 && x0 == 0.0);
+    let r = pass
+        .run_pass(
+            &SurfaceProfile {
+                x0,
+                dx,
+                z: vec![0.0; n],
+                periodic: true,
+            },
+            0,
+            &AtomicBool::new(false),
+        )
+        .expect("pass runs");
+    let scalar = |name: &str| {
+        r.scalars
+            .iter()
+            .find(|(key, _)| key == name)
+            .map(|(_, v)| *v)
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    let h = sc.runs[0].params.h;
+    let (v, radius) = (pass.speed(), 0.46);
+    let turn = scalar("turn_steps") * h;
+    let expected_turn = 2.0 * PI * radius / (v * (1.0 + xi));
+    let energy = scalar("frictional_power_w") * turn;
+    let mean = r.wear_depth.iter().sum::<f64>() / n as f64;
+    let by_energy = k * energy / (mu * hard * 2.0 * PI * radius * w);
+    let p = scalar("mean_force_n");
+    println!(
+        "turn {turn:.5e} s (2 pi R / (V (1 + xi)) {expected_turn:.5e}); Q/(mu P) {:.4}; frictional power {:.1} W against mu P xi V {:.1} W; mean depth {mean:.4e} m against k E_f / (mu H 2 pi R w) {by_energy:.4e} ({:+.3}%)",
+        scalar("traction_ratio") / mu,
+        scalar("frictional_power_w"),
+        mu * p * xi * v,
+        100.0 * (mean / by_energy - 1.0)
+    );
+    // The spun rim is a little larger than the wheel's radius: a turn within 0.5 %.
+    assert!((turn / expected_turn - 1.0).abs() < 5e-3);
+    assert!((scalar("traction_ratio") / mu - 1.0).abs() < 0.03);
+    assert!(
+        (mean / by_energy - 1.0).abs() < 0.01,
+        "{mean} against {by_energy}"
+    );
+    let slip = scalar("frictional_power_w") / (mu * p * v);
+    assert!(slip < xi && slip > xi - 0.002, "effective creepage {slip}");
+    // Every node crosses the patch once: each one wears, none twice as much as the mean.
+    let (lo, hi) = r
+        .wear_depth
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &d| (a.min(d), b.max(d)));
+    assert!(lo > 0.3 * mean && hi < 2.0 * mean, "{lo} {mean} {hi}");
+}
+
+/// `growth.surface`: an unknown surface, the rail's keys on the wheel's study, a
+/// frictionless wheel and a recorded travel shorter than a turn are refused before any
+/// pass, naming the file and the key.
+#[test]
+fn the_wheels_study_on_the_track_names_what_it_needs() {
+    let dir = std::env::temp_dir().join(format!("softway-wheel-track-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon-track.toml"),
+    )
+    .unwrap();
+    let cases = [
+        (
+            "surface.toml",
+            base.replace("surface = \"wheel\"", "surface = \"axle\""),
+            vec!["growth.surface", "\"axle\"", "\"rail\"", "\"wheel\""],
+        ),
+        (
+            "dx.toml",
+            base.replace("[growth]\n", "[growth]\ndx = 1e-3\n"),
+            vec!["growth.dx", "growth.surface = \"wheel\""],
+        ),
+        (
+            "frictionless.toml",
+            base.replace("friction = 0.3\n", "")
+                .replace("creepage = 0.005 ", "creepage = 0.0   "),
+            vec!["growth.surface = \"wheel\"", "contact.friction = 0"],
+        ),
+        (
+            "short.toml",
+            base.replace("travel_bays = 6 ", "travel_bays = 3 "),
+            vec!["vehicle.travel_bays = 3", "at least 5 bays"],
         ),
     ];
     for (name, text, words) in cases {

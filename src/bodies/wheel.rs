@@ -585,7 +585,7 @@ pub(crate) fn held_nodes(mesh: &Mesh, spec: &WheelSpec) -> Result<Vec<usize>, Wh
 
 /// The rim, sorted by angle: the node set "rim" (a Gmsh physical group, or the
 /// generator's), else the nodes at the outer radius.
-fn rim_nodes(mesh: &Mesh) -> Vec<usize> {
+pub(crate) fn rim_nodes(mesh: &Mesh) -> Vec<usize> {
     let rmax = mesh.points().map(norm).fold(0.0, f64::max);
     let mut rim: Vec<usize> = match mesh.node_set("rim") {
         Some(r) if !r.is_empty() => r.to_vec(),

@@ -44,6 +44,16 @@ pub enum WearPatch {
     Nodes,
 }
 
+/// Which surface grows in a study on the track (`crate::kinds::track`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GrowthSurface {
+    /// The rail's top over the recorded bays (`crate::kinds::track::growth`).
+    Rail,
+    /// The wheel's rim, one sample per rim node (`crate::kinds::track::polygon`).
+    Wheel,
+}
+
 /// What slides the rail (the rail's growth study, `crate::kinds::track::growth`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -147,6 +157,8 @@ pub struct RailKeys {
     pub patch: Option<WearPatch>,
     /// `growth.sliding`: what slides the rail (steady when absent).
     pub sliding: Option<SlidingModel>,
+    /// `growth.surface`: which surface grows on a track (the rail when absent).
+    pub surface: Option<GrowthSurface>,
 }
 
 impl RailKeys {
@@ -167,6 +179,9 @@ impl RailKeys {
         }
         if self.sliding.is_some() {
             v.push("growth.sliding");
+        }
+        if self.surface.is_some() {
+            v.push("growth.surface");
         }
         v
     }
@@ -222,6 +237,7 @@ struct RawGrowth {
     traction_coefficient: Option<f64>,
     patch: Option<String>,
     sliding: Option<String>,
+    surface: Option<String>,
 }
 
 #[derive(Debug, Deserialize, Default)]
@@ -461,6 +477,18 @@ fn rail_keys(g: &RawGrowth, keys: Keys) -> Result<RailKeys, ScenarioError> {
                     "growth.sliding",
                     format!("\"{other}\""),
                     "\"steady\" (growth.creepage and growth.traction_coefficient under the dynamic normal force) or \"dynamic\" (each rim node's own friction in the run: contact.friction and vehicle.creepage)",
+                ))
+            }
+        },
+        surface: match g.surface.as_deref() {
+            None => None,
+            Some("rail") => Some(GrowthSurface::Rail),
+            Some("wheel") => Some(GrowthSurface::Wheel),
+            Some(other) => {
+                return Err(keys.invalid(
+                    "growth.surface",
+                    format!("\"{other}\""),
+                    "\"rail\" (the rail's top over the recorded bays) or \"wheel\" (the wheel's rim, its polygon orders)",
                 ))
             }
         },

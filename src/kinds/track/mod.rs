@@ -4,7 +4,7 @@
 //! its runs: the moving load's and the rolling wheel's in `run`.
 
 use crate::contact::{FrictionLaw, Restore, Treatment};
-use crate::growth::config::SlidingModel;
+use crate::growth::config::{GrowthSurface, SlidingModel};
 use crate::growth::GrowOptions;
 use crate::growth::{GrowthConfig, GrowthError, PassRunner};
 use crate::kinds::track::growth::{RailSliding, Sliding, TrackPass, WearPatch};
@@ -20,6 +20,7 @@ use std::path::Path;
 
 pub mod growth;
 pub(crate) mod moving;
+pub mod polygon;
 pub(crate) mod rolling;
 pub(crate) mod validate;
 
@@ -249,6 +250,40 @@ impl Spec for TrackScenario {
         };
         let r = &config.rail;
         let density = config.wear_density.unwrap_or(7850.0);
+        if r.surface == Some(GrowthSurface::Wheel) {
+            // The rail's keys have no meaning for the wheel's rim (one sample per rim
+            // node, the run's own friction).
+            let misplaced = [
+                ("growth.dx", r.dx.is_some()),
+                ("growth.creepage", r.creepage.is_some()),
+                (
+                    "growth.traction_coefficient",
+                    r.traction_coefficient.is_some(),
+                ),
+                ("growth.patch", r.patch.is_some()),
+                (
+                    "growth.sliding = \"steady\"",
+                    r.sliding == Some(SlidingModel::Steady),
+                ),
+            ];
+            if let Some(key) = misplaced.iter().find_map(|&(k, given)| given.then_some(k)) {
+                return Err(GrowthError::Run(RunError::input(
+                    &sc.path,
+                    format!("{key} is the rail's: with growth.surface = \"wheel\" the profile is one sample per rim node and the wear the run's own friction (contact.friction, vehicle.creepage); remove it"),
+                )));
+            }
+            let pass = crate::kinds::track::polygon::WheelTrackPass::new(
+                sc,
+                config.wear,
+                density,
+                RunOptions {
+                    progress: false,
+                    par: Some(opts.par),
+                    ..RunOptions::default()
+                },
+            )?;
+            return Ok(Box::new(pass));
+        }
         let sliding = match r.sliding.unwrap_or(SlidingModel::Steady) {
             SlidingModel::Steady => Sliding::Steady(RailSliding {
                 creepage: need("creepage", r.creepage, "the rim's steady slip over the rolling speed (or growth.sliding = \"dynamic\": the run's own friction; e.g. 0.005)")?,

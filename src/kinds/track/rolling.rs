@@ -164,10 +164,21 @@ fn track_of(model: &Model) -> &TrackScenario {
 
 /// The wheel of `ts` turning at `V (1 + xi) / R_s` (`R_s` the spun rim's radius: two
 /// rebuilds; `xi` the creepage).
-fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
+pub(crate) fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
+    wheel_model_with(ts, None)
+}
+
+/// The wheel of [`wheel_model`] with its rim nodes moved radially by `rim_profile` (m, one
+/// height per rim node in the rim's order; `None`: the smooth wheel): a wheel turned to
+/// that shape, stress-free (as the rigid-base wheel's growth study moves its rim,
+/// [`crate::kinds::wheel::growth`]).
+pub(crate) fn wheel_model_with(
+    ts: &TrackScenario,
+    rim_profile: Option<&[f64]>,
+) -> Result<WheelModel, String> {
     let v = &ts.vehicle;
     let w = &v.wheel;
-    let mesh = disk_graded(
+    let mut mesh = disk_graded(
         v.wheel_radius,
         w.rim_nodes,
         DiskOptions {
@@ -176,6 +187,22 @@ fn wheel_model(ts: &TrackScenario) -> Result<WheelModel, String> {
         },
     )
     .map_err(|e| format!("the wheel's mesh: {e}"))?;
+    if let Some(z) = rim_profile {
+        let rim = crate::bodies::wheel::rim_nodes(&mesh);
+        if rim.len() != z.len() {
+            return Err(format!(
+                "the wheel's profile has {} heights, its rim {} nodes",
+                z.len(),
+                rim.len()
+            ));
+        }
+        for (&node, &dz) in rim.iter().zip(z) {
+            let (x, y) = (mesh.coords[2 * node], mesh.coords[2 * node + 1]);
+            let s = (x.hypot(y) + dz) / x.hypot(y);
+            mesh.coords[2 * node] = x * s;
+            mesh.coords[2 * node + 1] = y * s;
+        }
+    }
     let spec = WheelSpec {
         radius: v.wheel_radius,
         thickness: w.thickness,
@@ -275,6 +302,20 @@ pub(crate) fn passage(
         )));
     }
     let wheel = wheel_model(ts).map_err(input)?;
+    passage_of(sc, run, ts, opts, profile, wheel)
+}
+
+/// [`passage`] of the wheel `wheel` (built by [`wheel_model_with`]).
+pub(crate) fn passage_of(
+    sc: &Scenario,
+    run: &Run,
+    ts: &TrackScenario,
+    opts: &RunOptions,
+    profile: Option<crate::contact::profile::Profile>,
+    wheel: WheelModel,
+) -> Result<(WheelOnTrack, Simulation, usize), RunError> {
+    let input = |e: String| RunError::input(&sc.path, format!("run `{}`: {e}", run.label));
+    let v = &ts.vehicle;
     let settle_time = 0.5 * ts.settle_distance() / v.speed;
     let vehicle = Vehicle {
         unsprung_mass: v.unsprung_mass,
