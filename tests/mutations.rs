@@ -729,6 +729,7 @@ fn commands() -> Vec<(Cmd, PathBuf)> {
         (Cmd::Grow, s.join("polygon-plastic.toml")),
         (Cmd::Grow, s.join("corrugation.toml")),
         (Cmd::Grow, s.join("corrugation-friction.toml")),
+        (Cmd::Grow, s.join("polygon-track.toml")),
         (Cmd::Receptance, s.join("track.toml")),
         (Cmd::Receptance, s.join("track-traction.toml")),
     ]
