@@ -419,3 +419,211 @@ fn a_hub_makes_the_graded_disk_an_annulus_clamped_on_its_circle() {
     .unwrap_err();
     assert!(e.to_string().contains("hub"), "{e}");
 }
+
+/// The rim's radial displacement of a hub-clamped disk (E = 210 GPa, plane stress) under a
+/// radial rim load of polygon order `m` (`cos(m theta)` at each rim node), by order: the
+/// amplitude of every order `0..=n/2` of the rim's `n` nodes (a DFT of `u_r` by rim angle).
+fn rim_orders_under_load(mesh: Mesh, m: usize) -> Vec<f64> {
+    use softway::linalg::{set_identity_rows, SparseLu};
+    use softway::wheel::{Support, WheelModel, WheelSpec};
+    let spec = WheelSpec {
+        radius: R,
+        support: Support::Hub { radius: 0.2 * R },
+        ..WheelSpec::paper()
+    };
+    let wm = WheelModel::new(mesh, spec).unwrap();
+    let n = wm.rim.len();
+    let x = wm.mesh.reference_positions();
+    let theta = |i: usize| x[2 * i + 1].atan2(x[2 * i]);
+    let mut f = vec![0.0; x.len()];
+    for &i in &wm.rim {
+        let (s, c) = theta(i).sin_cos();
+        let load = (m as f64 * theta(i)).cos();
+        f[2 * i] = load * c;
+        f[2 * i + 1] = load * s;
+    }
+    let mut fixed = vec![false; x.len()];
+    for &d in &wm.fixed_dofs {
+        fixed[d] = true;
+        f[d] = 0.0;
+    }
+    let mut k = wm.k_elastic.clone();
+    set_identity_rows(wm.model.pattern(), &mut k, &fixed);
+    let mut lu = SparseLu::new(wm.model.pattern(), &k).unwrap();
+    lu.solve_in_place(&mut f);
+    let ur: Vec<(f64, f64)> = wm
+        .rim
+        .iter()
+        .map(|&i| {
+            let (s, c) = theta(i).sin_cos();
+            (theta(i), f[2 * i] * c + f[2 * i + 1] * s)
+        })
+        .collect();
+    (0..=n / 2)
+        .map(|j| {
+            let (mut re, mut im) = (0.0, 0.0);
+            for &(t, u) in &ur {
+                re += u * (j as f64 * t).cos();
+                im += u * (j as f64 * t).sin();
+            }
+            2.0 * re.hypot(im) / n as f64
+        })
+        .collect()
+}
+
+/// The symmetric rim (`disk_symmetric_rim`): its band maps onto itself under a turn by one
+/// rim pitch (nodes and triangles), its triangles are near equilateral, and it does not
+/// couple polygon orders: a radial rim load of order `m` answers at order `m` alone but
+/// for the interior's attenuated share, where the graded disk (rings of other counts and
+/// turns) answers at other orders too.
+#[test]
+fn a_symmetric_rim_maps_onto_itself_and_does_not_couple_orders() {
+    use softway::mesh::generators::disk_symmetric_rim;
+    let (n, band) = (144usize, 0.25 * R);
+    let opts = DiskOptions {
+        hub: Some(0.2 * R),
+        ..Default::default()
+    };
+    let sym = disk_symmetric_rim(R, n, band, opts).unwrap();
+    let r_band = R - band;
+    let pts: Vec<[f64; 2]> = (0..sym.n_nodes())
+        .map(|i| [sym.point(i)[0], sym.point(i)[1]])
+        .collect();
+    let key = |p: [f64; 2]| {
+        (
+            (p[0] / R * 1e7).round() as i64,
+            (p[1] / R * 1e7).round() as i64,
+        )
+    };
+    let index: HashMap<(i64, i64), usize> =
+        pts.iter().enumerate().map(|(i, &p)| (key(p), i)).collect();
+    let turn = |p: [f64; 2]| {
+        let (s, c) = (TAU / n as f64).sin_cos();
+        [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+    };
+    let in_band = |p: [f64; 2]| p[0].hypot(p[1]) >= r_band * (1.0 - 1e-9);
+    let mut banded = 0;
+    for &p in pts.iter().filter(|&&p| in_band(p)) {
+        assert!(index.contains_key(&key(turn(p))), "{p:?} has no image");
+        banded += 1;
+    }
+    let band_tris: Vec<[usize; 3]> = tris(&sym)
+        .iter()
+        .copied()
+        .filter(|t| t.iter().all(|&i| in_band(pts[i])))
+        .collect();
+    let sorted = |mut t: [usize; 3]| {
+        t.sort_unstable();
+        t
+    };
+    let set: std::collections::HashSet<[usize; 3]> = band_tris.iter().map(|&t| sorted(t)).collect();
+    for t in &band_tris {
+        let image = sorted(t.map(|i| index[&key(turn(pts[i]))]));
+        assert!(set.contains(&image), "{t:?} has no image");
+    }
+    assert_eq!(banded % n, 0);
+    assert_eq!(band_tris.len(), 2 * n * (banded / n - 1));
+    let q = quality(&sym);
+    println!(
+        "symmetric rim: {} nodes ({banded} in the band), smallest angle {:.1} deg",
+        sym.n_nodes(),
+        q.min_angle_deg
+    );
+    assert!(q.min_angle_deg > 35.0);
+    // Order coupling: the largest answer at another order than the load's, over the answer
+    // at the load's order.
+    let leak = |u: &[f64], m: usize| {
+        let other = u
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != m)
+            .map(|(_, &v)| v)
+            .fold(0.0, f64::max);
+        other / u[m]
+    };
+    for m in [6usize, 18, 30] {
+        let s = leak(
+            &rim_orders_under_load(disk_symmetric_rim(R, n, band, opts).unwrap(), m),
+            m,
+        );
+        let g = leak(
+            &rim_orders_under_load(disk_graded(R, n, opts).unwrap(), m),
+            m,
+        );
+        println!(
+            "order {m}: leak to other orders {s:.2e} (symmetric rim) against {g:.2e} (graded)"
+        );
+        assert!(s < 0.1 * g, "order {m}: {s} against {g}");
+    }
+}
+
+/// `wheel.rim_band` builds the wheel on the symmetric rim (more nodes than the graded disk:
+/// the band's rings carry the rim's count), and a band out of its range or without
+/// `wheel.rim_nodes` is refused, naming the file and the key.
+#[test]
+fn the_rim_band_key_builds_the_symmetric_rim_and_names_its_range() {
+    let dir = std::env::temp_dir().join(format!("softway-rim-band-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/polygon.toml"),
+    )
+    .unwrap();
+    let run = |name: &str, text: String, extra: &[&str]| {
+        let f = dir.join(name);
+        std::fs::write(&f, text).unwrap();
+        let mut args = vec!["matrix".to_string(), f.to_string_lossy().into_owned()];
+        args.extend([
+            "--out".into(),
+            dir.join(format!("out-{name}"))
+                .to_string_lossy()
+                .into_owned(),
+        ]);
+        args.extend(extra.iter().map(|s| s.to_string()));
+        std::process::Command::new(env!("CARGO_BIN_EXE_softway"))
+            .args(&args)
+            .output()
+            .unwrap()
+    };
+    let dofs = |out: &std::process::Output, name: &str| -> f64 {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let j: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.join(format!("out-{name}")).join("matrix.json")).unwrap(),
+        )
+        .unwrap();
+        j["dofs"].as_f64().or_else(|| j["n"].as_f64()).unwrap()
+    };
+    let graded = run("graded.toml", base.clone(), &["--steps", "20"]);
+    let banded = run(
+        "banded.toml",
+        base.replace("[wheel]\n", "[wheel]\nrim_band = 0.02\n"),
+        &["--steps", "20"],
+    );
+    let (g, b) = (dofs(&graded, "graded.toml"), dofs(&banded, "banded.toml"));
+    println!("dofs: graded {g}, with a 20 mm symmetric band {b}");
+    assert!(b > 1.5 * g, "{b} against {g}");
+    for (name, text, words) in [
+        (
+            "deep.toml",
+            base.replace("[wheel]\n", "[wheel]\nrim_band = 0.09\n"),
+            vec!["wheel.rim_band", "at most"],
+        ),
+        (
+            "rings.toml",
+            base.replace("[wheel]\n", "[wheel]\nrim_band = 0.02\n")
+                .replace("rim_nodes = 288", "rings = 12"),
+            vec!["wheel.rim_band", "wheel.rim_nodes"],
+        ),
+    ] {
+        let out = run(name, text, &[]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        for w in words.iter().chain([&name]) {
+            assert!(err.contains(w), "{name}: `{w}` not in {err}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

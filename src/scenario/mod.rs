@@ -142,6 +142,9 @@ pub enum MeshSource {
         rim_nodes: usize,
         /// Ratio of successive radial spacings from the rim inwards, in [1, 2].
         grading: f64,
+        /// The depth of the band under the rim meshed with the rim's symmetry, m (`None`:
+        /// the graded disk to the rim; [`crate::mesh::generators::disk_symmetric_rim`]).
+        band: Option<f64>,
     },
     /// A Gmsh `.msh` file (4.1, ASCII or binary), centred at the axle.
     Gmsh(PathBuf),

@@ -114,6 +114,7 @@ pub(crate) struct RawWheel {
     pub rings: Option<i64>,
     pub rim_nodes: Option<i64>,
     pub grading: Option<f64>,
+    pub rim_band: Option<f64>,
     pub mesh: Option<String>,
     pub plane: Option<String>,
     pub mass: Option<String>,

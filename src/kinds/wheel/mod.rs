@@ -119,13 +119,25 @@ fn block_nodes(
 pub fn wheel_nodes(mesh: &MeshSource) -> Option<f64> {
     match mesh {
         &MeshSource::Rings(n) => Some(1.0 + 3.0 * n as f64 * (n as f64 + 1.0)),
-        &MeshSource::Graded { rim_nodes, grading } => {
+        &MeshSource::Graded {
+            rim_nodes,
+            grading,
+            band,
+        } => {
             let r = rim_nodes as f64;
-            Some(if grading < 1.05 {
-                r * r / (4.0 * std::f64::consts::PI)
-            } else {
-                1.2 * r * r.ln()
-            })
+            // The symmetric band's rings: ln(R / (R - band)) / ln(1 + pi sqrt(3) / n) of
+            // the rim's count each (a band of depth d under a rim of radius R holds about
+            // n^2 d / (pi sqrt(3) R) nodes; the estimate takes d / R from the count alone,
+            // at its largest, 0.9).
+            let banded = band.map_or(0.0, |_| r * r * 0.9 / (std::f64::consts::PI * 3f64.sqrt()));
+            Some(
+                banded
+                    + if grading < 1.05 {
+                        r * r / (4.0 * std::f64::consts::PI)
+                    } else {
+                        1.2 * r * r.ln()
+                    },
+            )
         }
         MeshSource::Gmsh(_) => None,
         // The coarse disk's nodes, plus the zone's square cells at the fine pitch down to

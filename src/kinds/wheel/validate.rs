@@ -319,6 +319,13 @@ fn disk_mesh(cx: &Ctx, w: &RawWheel) -> Result<MeshSource, ScenarioError> {
             "give one of wheel.rings, wheel.rim_nodes or wheel.mesh",
         ));
     }
+    if w.rim_band.is_some() && w.rim_nodes.is_none() {
+        return Err(cx.invalid(
+            "wheel.rim_band",
+            w.rim_band.unwrap_or_default(),
+            "the symmetric band of the disk of wheel.rim_nodes; give wheel.rim_nodes",
+        ));
+    }
     if w.grading.is_some() && w.rim_nodes.is_none() {
         return Err(cx.invalid(
             "wheel.grading",
@@ -338,9 +345,26 @@ fn disk_mesh(cx: &Ctx, w: &RawWheel) -> Result<MeshSource, ScenarioError> {
             if !(1.0..=2.0).contains(&grading) {
                 return Err(cx.invalid("wheel.grading", grading, "in [1, 2]"));
             }
+            let band = match w.rim_band {
+                None => None,
+                Some(b) => {
+                    let pitch = std::f64::consts::TAU * w.radius / n as f64;
+                    let hub = w.hub_radius.unwrap_or(0.0);
+                    let most = w.radius - (0.1 * w.radius).max(hub + 2.0 * pitch);
+                    if !(b.is_finite() && b >= pitch && b <= most) {
+                        return Err(cx.invalid(
+                            "wheel.rim_band",
+                            b,
+                            &format!("the depth (m) of the band under the rim meshed with the rim's symmetry: at least the rim's pitch ({pitch:.3e} m) and at most {most:.3e} m (a tenth of the radius, and the hub, left inside)"),
+                        ));
+                    }
+                    Some(b)
+                }
+            };
             MeshSource::Graded {
                 rim_nodes: n,
                 grading,
+                band,
             }
         }
         (Some(n), _) => MeshSource::Rings(cx.count("wheel.rings", n, 400)?),

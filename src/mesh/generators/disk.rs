@@ -388,7 +388,128 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
             })
         }
     };
-    let RingLayout { radii, counts } = graded_rings(radius, rim_nodes, g, hub)?;
+    let layout = graded_rings(radius, rim_nodes, g, hub)?;
+    let m = layout.radii.len() - 1;
+    Ok(build_disk(&layout, hub, |k, n_k| {
+        // The turn of ring k in units of its own pitch, in [0, 1).
+        if k == m {
+            0.0
+        } else {
+            golden_twist(k, n_k)
+        }
+    }))
+}
+
+/// A disk like [`disk_graded`] whose outer band of depth `band` (m) has the rim's rotational
+/// symmetry: every ring in it carries the rim's `rim_nodes` nodes, so a rotation by
+/// `2 pi / rim_nodes` maps the band onto itself and no polygon order of the rim is coupled
+/// to another by the band's mesh (the graded disk's rings, of other counts and turns,
+/// couple order `n` to orders `n +- c_k` of the ring counts `c_k`; a load of order `n` on
+/// the rim reaches the interior attenuated about as `exp(-n band / radius)`).
+///
+/// **The band.** From the rim inwards, `b` rings (an even number, at least 2) of `rim_nodes`
+/// nodes each at radii `r_j = r_band q^j`, `r_band = radius - band`, the ratio `q` the
+/// nearest to `1 + pi sqrt(3) / rim_nodes` that makes `r_b = radius` (each gap `sqrt(3)/2`
+/// of the local pitch: near-equilateral triangles), every other ring turned by half a pitch
+/// (the rim and the band's inner ring are not turned): each annulus is `2 rim_nodes`
+/// triangles of one shape. **Inside it** the graded disk of radius `r_band` with
+/// `rim_nodes` nodes on its outer ring (`opts`: grading and hub as for [`disk_graded`]).
+/// Node sets as [`disk_graded`]'s.
+///
+/// # Errors
+/// As [`disk_graded`]; [`MeshError::OutOfRange`] unless `band` is at least the rim's pitch
+/// and leaves a tenth of the radius (and the hub) inside it.
+pub fn disk_symmetric_rim(
+    radius: f64,
+    rim_nodes: usize,
+    band: f64,
+    opts: DiskOptions,
+) -> Result<Mesh, MeshError> {
+    check_length("radius", radius)?;
+    if rim_nodes < 3 {
+        return Err(MeshError::CountBelow {
+            name: "rim_nodes",
+            value: rim_nodes,
+            min: 3,
+        });
+    }
+    let pitch = std::f64::consts::TAU * radius / rim_nodes as f64;
+    let inner_min = (0.1 * radius).max(opts.hub.unwrap_or(0.0) + 2.0 * pitch);
+    if !(band.is_finite() && band >= pitch && radius - band >= inner_min) {
+        return Err(MeshError::OutOfRange {
+            name: "band (m)",
+            value: band,
+            min: pitch,
+            max: radius - inner_min,
+        });
+    }
+    let r_band = radius - band;
+    if let Some(h) = opts.hub.filter(|h| !(h.is_finite() && *h > 0.0)) {
+        return Err(MeshError::OutOfRange {
+            name: "hub (m)",
+            value: h,
+            min: 0.0,
+            max: r_band - 2.0 * pitch,
+        });
+    }
+    // The interior: a graded disk of radius r_band whose outer ring has the rim's count.
+    let g = opts.grading;
+    if !(1.0..=DiskOptions::MAX_GRADING).contains(&g) {
+        return Err(MeshError::OutOfRange {
+            name: "grading",
+            value: g,
+            min: 1.0,
+            max: DiskOptions::MAX_GRADING,
+        });
+    }
+    let hub = opts.hub.unwrap_or(0.0);
+    let mut layout = graded_rings(r_band, rim_nodes, g, hub)?;
+    let m_inner = layout.radii.len() - 1;
+    let q0 = 1.0 + std::f64::consts::PI * 3f64.sqrt() / rim_nodes as f64;
+    let mut b = ((radius / r_band).ln() / q0.ln()).round().max(2.0) as usize;
+    b += b % 2;
+    if m_inner + b >= MAX_NODES
+        || (m_inner + b)
+            .checked_mul(rim_nodes)
+            .is_none_or(|t| t > MAX_NODES)
+    {
+        return Err(MeshError::TooLarge {
+            name: "rim_nodes",
+            value: rim_nodes,
+            max: MAX_NODES,
+        });
+    }
+    let q = (radius / r_band).powf(1.0 / b as f64);
+    for j in 1..=b {
+        layout.radii.push(if j == b {
+            radius
+        } else {
+            r_band * q.powi(j as i32)
+        });
+        layout.counts.push(rim_nodes);
+    }
+    Ok(build_disk(&layout, hub, |k, n_k| {
+        if k < m_inner {
+            golden_twist(k, n_k)
+        } else {
+            // The band's inner ring (k = m_inner) and every other ring out to the rim
+            // unturned, the others by half a pitch.
+            0.5 * ((k - m_inner) % 2) as f64
+        }
+    }))
+}
+
+/// Ring `k`'s turn in units of its own pitch (`n_k` nodes), in `[0, 1)`: `k` golden angles
+/// ([`disk_graded`], Nodes).
+fn golden_twist(k: usize, n_k: usize) -> f64 {
+    (k as f64 * GOLDEN_ANGLE * n_k as f64 / std::f64::consts::TAU).rem_euclid(1.0)
+}
+
+/// The mesh of the rings of `layout` (a centre node, or none inside a `hub` > 0), ring `k`
+/// of `n_k` nodes turned by `twist(k, n_k)` of its own pitch, consecutive rings zipped
+/// ([`disk_graded`], Triangles).
+fn build_disk(layout: &RingLayout, hub: f64, twist: impl Fn(usize, usize) -> f64) -> Mesh {
+    let RingLayout { radii, counts } = layout;
     let m = radii.len() - 1;
     // With a hub there is no centre node: ring 1 is the first.
     let centre = usize::from(hub == 0.0);
@@ -404,12 +525,7 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
     first_angle.push(0.0);
     for k in 1..=m {
         let n_k = counts[k];
-        // The turn of ring k in units of its own pitch, in [0, 1).
-        let twist = if k == m {
-            0.0
-        } else {
-            (k as f64 * GOLDEN_ANGLE * n_k as f64 / std::f64::consts::TAU).rem_euclid(1.0)
-        };
+        let twist = twist(k, n_k);
         starts.push(coords.len() / 2);
         first_angle.push(std::f64::consts::TAU * twist / n_k as f64);
         for i in 0..n_k {
@@ -445,5 +561,5 @@ pub fn disk_graded(radius: f64, rim_nodes: usize, opts: DiskOptions) -> Result<M
     node_sets.insert("rim".to_string(), (starts[m]..n_nodes).collect());
     node_sets.insert("all".to_string(), (0..n_nodes).collect());
 
-    Ok(Mesh::new(2, coords, Cells::Tri3(tris), node_sets))
+    Mesh::new(2, coords, Cells::Tri3(tris), node_sets)
 }

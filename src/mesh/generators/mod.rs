@@ -29,7 +29,7 @@ pub mod rail3d;
 pub mod revolution;
 mod solid;
 
-pub use disk::{disk_graded, DiskOptions};
+pub use disk::{disk_graded, disk_symmetric_rim, DiskOptions};
 pub use rail3d::{rail_extruded, RailSpec};
 pub use revolution::{wheel_of_revolution, TreadProfile, WheelSpec, WheelWeb};
 pub use solid::{box_mesh, quadratic_tetrahedra, tetrahedra};

@@ -12,19 +12,30 @@ pub fn build(ws: &WheelScenario, sc_path: &Path) -> Result<WheelModel, RunError>
         MeshSource::Rings(n) => {
             disk_rings(ws.spec.radius, *n).map_err(|e| RunError::input(sc_path, e))?
         }
-        MeshSource::Graded { rim_nodes, grading } => disk_graded(
-            ws.spec.radius,
-            *rim_nodes,
-            DiskOptions {
+        MeshSource::Graded {
+            rim_nodes,
+            grading,
+            band,
+        } => {
+            let opts = DiskOptions {
                 grading: *grading,
                 // A hub clamps the circle of its radius: the mesh is the annulus outside it.
                 hub: match ws.spec.support {
                     Support::Hub { radius } => Some(radius),
                     Support::CentrePinned => None,
                 },
-            },
-        )
-        .map_err(|e| RunError::input(sc_path, e))?,
+            };
+            match band {
+                None => disk_graded(ws.spec.radius, *rim_nodes, opts),
+                Some(b) => crate::mesh::generators::disk_symmetric_rim(
+                    ws.spec.radius,
+                    *rim_nodes,
+                    *b,
+                    opts,
+                ),
+            }
+            .map_err(|e| RunError::input(sc_path, e))?
+        }
         MeshSource::Gmsh(p) => read_mesh_file(p, &ws.spec, sc_path)?,
         MeshSource::Zone(o) => {
             let z = disk_zone(o).map_err(|e| RunError::input(sc_path, e))?;
