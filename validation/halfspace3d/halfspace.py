@@ -220,7 +220,7 @@ class Rolling:
         n = self.n
         self.Mx = -np.diag(self.D)[:n].copy()
         self.My = -np.diag(self.D)[n:].copy()
-        self.order = np.lexsort((self.y, -self.x))  # leading edge (largest x) first
+        self.order = np.lexsort((self.x, self.y))  # line by line (y), trailing edge first (spectral radius < 1; leading first diverges)
 
     def rigid_slip(self, xi, eta, phi):
         return np.concatenate([xi - phi * self.y, eta + phi * self.x])
