@@ -335,3 +335,20 @@ def kalker_table(nu, aob):
               + nu * (nu - 0.25) * 8 / c2)
         out.append(1 / cc)
     return tuple(out)
+
+
+if __name__ == "__main__":
+    # Hertz's ellipse of scenarios/press-hertz.toml on a grid ladder (box 1.25 a x 1.25 b)
+    import sys
+    G, NU, F = 82e9, 0.28, 10e3
+    A, B = 1 / (2 * 0.46), 1 / (2 * 0.3)
+    h = hertz(A, B, G / (1 - NU), F)
+    print(f"Hertz: a = {1e3 * h['a']:.4f} mm, b = {1e3 * h['b']:.4f} mm, "
+          f"p0 = {h['p0'] / 1e6:.2f} MPa, approach {1e6 * h['delta']:.3f} um")
+    print("  n x n   area/Hertz   a/Hertz   b/Hertz   pmax/p0   approach/Hertz")
+    for n in [int(s) for s in sys.argv[1:]] or [20, 40, 60]:
+        g = Grid.box(1.25 * h["a"], 1.25 * h["b"], n, n)
+        p, d = solve_normal(g, A, B, G, NU, force=F)
+        m = contact_measures(g, p)
+        print(f"  {n:3d}     {m['area'] / (np.pi * h['a'] * h['b']):.4f}     {m['a'] / h['a']:.4f}    "
+              f"{m['b'] / h['b']:.4f}    {m['pmax'] / h['p0']:.4f}    {d / h['delta']:.4f}")
