@@ -91,7 +91,7 @@ def plot(r, prefix):
     bx.plot(1e3 * xr[o], MU * p[idx][row][o] / 1e6, "k-", lw=1, label=r"$\mu p$")
     keys = sorted(r["fields"])
     colours = ["tab:green", "tab:blue", "tab:red"]
-    for target, col in zip((0.15, 0.5, 0.9), colours):
+    for target, col in zip((0.15, 0.4, 0.65), colours):
         xi = min(keys, key=lambda k: abs(k / r["xi_sat"] - target))
         q, stick = r["fields"][xi]
         qx = -q[:n][row][o] / 1e6
@@ -103,9 +103,9 @@ def plot(r, prefix):
     bx.set_ylabel("traction [MPa]")
     bx.set_title(r"(b) centre line; dots: stick", fontsize=9)
     bx.set_xlim(-1.08e3 * a, 1.08e3 * a)
-    bx.set_ylim(0, None)
+    bx.set_ylim(0, 1.5 * MU * p.max() / 1e6)
     bx.grid(alpha=0.3)
-    bx.legend(fontsize=6.5, frameon=False, loc="upper left")
+    bx.legend(fontsize=6.5, frameon=False, loc="upper center", ncol=2)
     fig.tight_layout()
     fig.savefig(prefix + ".png", dpi=200)
 
