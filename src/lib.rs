@@ -223,6 +223,7 @@ pub mod build;
 pub mod cli;
 pub mod contact;
 pub mod element;
+pub mod finite;
 pub mod frame;
 pub mod frame3d;
 pub mod growth;

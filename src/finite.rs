@@ -1,0 +1,486 @@
+//! Large deformation: the geometrically nonlinear internal force of hyperelastic triangles
+//! (tri3) and tetrahedra (tet4) behind the contract of [`crate::model::InternalForce`].
+//!
+//! # The paper's form and the one used here
+//!
+//! The paper states its problem in the instantaneous updated Lagrangian form: the domain at
+//! `t` follows from the velocities (Eqs. 1-2: `Omega_t` interpolated between `Omega_{t0}`
+//! and `Omega_{t1}`, `x = x_0 + v_0 (2 - tau) h / 2 + v_1 tau h / 2`), the displacement is
+//! the integral of the velocity (Eq. 15) and the stress is the second Piola-Kirchhoff tensor
+//! of a strain (Eq. 13, `sigma = E eps`). The updated form refers each step's virtual power
+//! to the configuration at the step's start; the total Lagrangian form here refers it to the
+//! initial one. The two are the same equations written in two reference configurations:
+//! with `F` the deformation gradient from the initial configuration, the updated form's
+//! Cauchy stress `sigma = J^{-1} F S F^T` and the current virtual strain rate `sym(grad_x
+//! v*)` give the virtual power `int_{Omega_t} sigma : grad_x v* dv = int_{Omega_0} S :
+//! (F^T grad_X v*) dV = int_{Omega_0} P : grad_X v* dV` with `P = F S` (the first
+//! Piola-Kirchhoff stress), which is the total form. The nodal internal force is therefore
+//! the same vector `f_int(u)` whichever configuration the integral is written on, for the
+//! same constitutive law `S(E)` of the Green strain `E = (F^T F - I) / 2`; only the
+//! bookkeeping differs. The total form needs no update of the element geometry in the time
+//! loop (the shape-function gradients of the initial mesh are kept), so it allocates
+//! nothing and is exact for any rotation: a rigid rotation `F = R` gives `E = 0`, `S = 0`,
+//! `f_int = 0` and zero stored energy, whatever the angle. The space-time interpolation of
+//! the velocity (Eqs. 1-2, 15) stays that of the integrator: the internal force enters at the
+//! integrator's stiffness point `u_k` as in [`crate::model::internal`].
+//!
+//! # Materials
+//!
+//! With the Lame constants `lambda`, `mu` of the elastic constants (the same as the linear
+//! model's, so that both agree to first order in the strain):
+//!
+//! - Saint Venant-Kirchhoff ([`Hyperelastic::SaintVenantKirchhoff`]):
+//!   `S = lambda tr(E) I + 2 mu E`, `W = lambda tr(E)^2 / 2 + mu E : E` (the paper's Eq. 13
+//!   with the Green strain);
+//! - compressible neo-Hookean ([`Hyperelastic::NeoHookean`]): `W = mu (I_1 - 3) / 2 - mu ln
+//!   J + lambda (ln J)^2 / 2`, `P = mu (F - F^{-T}) + lambda ln J F^{-T}` (`I_1 = tr F^T F`,
+//!   `J = det F > 0`).
+//!
+//! The triangles are in plane strain (`F_33 = 1`) or plane stress (`F_33` such that `P_33 =
+//! 0`: closed form for Saint Venant-Kirchhoff, `E_33 = -lambda (E_11 + E_22) / (lambda + 2
+//! mu)`; a scalar Newton on `C_33` for neo-Hookean, `mu (C_33 - 1) + lambda ln J = 0`), the
+//! in-plane `P` and the 3D `W` at that `F_33` (stationary in `F_33`, so the in-plane `P` is
+//! the gradient of `W` in either case).
+//!
+//! # The body ([`FiniteBody`])
+//!
+//! `f_int(u) = sum_e V_e P(F_e) : grad N` (`V_e = A_e t` for a triangle of thickness `t`),
+//! `f_nl(u) = K u - f_int(u)` with the elastic `K u = sum_e V_e B^T D B u_e` computed cell by
+//! cell (the linear force of the same cells) and `energy_correction = W(u) - u^T K u / 2`.
+//! The state of the contract is `f_nl` at the committed displacement, so that
+//! [`InternalForce::pseudo_load`] predicts a step with the nonlinear force of its start.
+//!
+//! No call allocates.
+
+use crate::element::tet4::Tet4Geometry;
+use crate::element::tri3::Tri3Geometry;
+use crate::material::{Elastic, PlaneModel};
+use crate::model::InternalForce;
+
+/// Iterations of the plane-stress Newton on `C_33` (neo-Hookean) before keeping the last
+/// iterate.
+const PLANE_STRESS_ITER: usize = 50;
+
+type M3 = [[f64; 3]; 3];
+
+/// A hyperelastic law (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Hyperelastic {
+    /// `S = lambda tr(E) I + 2 mu E` of the Green strain `E`.
+    SaintVenantKirchhoff,
+    /// Compressible neo-Hookean (module docs).
+    NeoHookean,
+}
+
+/// The Lame constants `(lambda, mu)` of `m`, Pa.
+pub fn lame(m: &Elastic) -> (f64, f64) {
+    let (e, nu) = (m.young, m.poisson);
+    (
+        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        e / (2.0 * (1.0 + nu)),
+    )
+}
+
+fn det3(a: &M3) -> f64 {
+    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+
+/// `A^{-T}` (the cofactor matrix over the determinant) and `det A`.
+fn inv_t3(a: &M3) -> (M3, f64) {
+    let d = det3(a);
+    let mut c = [[0.0; 3]; 3];
+    for (i, row) in c.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            *v = (a[i1][j1] * a[i2][j2] - a[i1][j2] * a[i2][j1]) / d;
+        }
+    }
+    (c, d)
+}
+
+/// The right Cauchy-Green `C = F^T F`.
+fn right_cauchy_green(f: &M3) -> M3 {
+    let mut c = [[0.0; 3]; 3];
+    for (i, row) in c.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = (0..3).map(|k| f[k][i] * f[k][j]).sum();
+        }
+    }
+    c
+}
+
+/// The energy density `W` (J/m^3) and the first Piola-Kirchhoff stress `P` (Pa) of the law
+/// at the deformation gradient `f` (module docs).
+pub fn piola_3d(law: Hyperelastic, lam: f64, mu: f64, f: &M3) -> (f64, M3) {
+    match law {
+        Hyperelastic::SaintVenantKirchhoff => {
+            let c = right_cauchy_green(f);
+            let mut e = c;
+            for (i, row) in e.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = 0.5 * (*v - if i == j { 1.0 } else { 0.0 });
+                }
+            }
+            let tr = e[0][0] + e[1][1] + e[2][2];
+            let ee: f64 = e.iter().flatten().map(|v| v * v).sum();
+            let mut s = e;
+            for (i, row) in s.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = 2.0 * mu * *v + if i == j { lam * tr } else { 0.0 };
+                }
+            }
+            let mut p = [[0.0; 3]; 3];
+            for (i, row) in p.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = (0..3).map(|k| f[i][k] * s[k][j]).sum();
+                }
+            }
+            (0.5 * lam * tr * tr + mu * ee, p)
+        }
+        Hyperelastic::NeoHookean => {
+            let (fit, j) = inv_t3(f);
+            let lnj = j.ln();
+            let i1: f64 = f.iter().flatten().map(|v| v * v).sum();
+            let mut p = [[0.0; 3]; 3];
+            for (i, row) in p.iter_mut().enumerate() {
+                for (k, v) in row.iter_mut().enumerate() {
+                    *v = mu * (f[i][k] - fit[i][k]) + lam * lnj * fit[i][k];
+                }
+            }
+            (0.5 * mu * (i1 - 3.0) - mu * lnj + 0.5 * lam * lnj * lnj, p)
+        }
+    }
+}
+
+/// The out-of-plane stretch `F_33` of plane stress at the in-plane gradient `f` (the upper
+/// left 2x2 block; module docs).
+fn plane_stress_stretch(law: Hyperelastic, lam: f64, mu: f64, f: &M3) -> f64 {
+    let c = right_cauchy_green(f);
+    match law {
+        Hyperelastic::SaintVenantKirchhoff => {
+            let e33 = -lam * 0.5 * (c[0][0] + c[1][1] - 2.0) / (lam + 2.0 * mu);
+            (1.0 + 2.0 * e33).sqrt()
+        }
+        Hyperelastic::NeoHookean => {
+            let j2 = f[0][0] * f[1][1] - f[0][1] * f[1][0];
+            let lnj2 = j2.ln();
+            // g(x) = mu (x - 1) + lambda (ln J2 + ln x / 2), increasing and concave in x.
+            let mut x: f64 = 1.0;
+            for _ in 0..PLANE_STRESS_ITER {
+                let g = mu * (x - 1.0) + lam * (lnj2 + 0.5 * x.ln());
+                let dg = mu + 0.5 * lam / x;
+                let mut next = x - g / dg;
+                if next <= 0.0 {
+                    next = 0.5 * x;
+                }
+                let done = (next - x).abs() <= 1e-15 * x;
+                x = next;
+                if done {
+                    break;
+                }
+            }
+            x.sqrt()
+        }
+    }
+}
+
+/// How a body's cells are made.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kind {
+    Plane(PlaneModel),
+    Solid,
+}
+
+/// One constant-gradient cell: its nodes, the gradients of its shape functions in the
+/// initial configuration and its measure (`A t` or `V`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Cell {
+    nodes: [usize; 4],
+    grad: [[f64; 3]; 4],
+    measure: f64,
+}
+
+/// The hyperelastic cells of one body (module docs). Node `i` of a planar body has the
+/// dofs `2 i`, `2 i + 1` of the driver's vector; of a solid body, `3 i .. 3 i + 3`.
+#[derive(Debug, Clone)]
+pub struct FiniteBody {
+    law: Hyperelastic,
+    lam: f64,
+    mu: f64,
+    kind: Kind,
+    cells: Vec<Cell>,
+    dofs: usize,
+}
+
+/// What one cell gives at a displacement.
+struct CellForce {
+    /// First Piola-Kirchhoff stress.
+    p: M3,
+    /// The linear stress `D eps` of the same displacement gradient (as a 3x3 tensor).
+    p_lin: M3,
+    /// Stored energy and linear energy densities.
+    w: f64,
+    w_lin: f64,
+    /// The largest principal Green strain's magnitude (the norm of `E`).
+    strain: f64,
+}
+
+impl FiniteBody {
+    /// A planar body of `triangles` (with their `geometry`), thickness `thickness` (m), on a
+    /// driver's vector of `dofs` numbers.
+    ///
+    /// # Panics
+    /// If `triangles` and `geometry` differ in length.
+    pub fn planar(
+        law: Hyperelastic,
+        elastic: &Elastic,
+        plane: PlaneModel,
+        thickness: f64,
+        triangles: &[[usize; 3]],
+        geometry: &[Tri3Geometry],
+        dofs: usize,
+    ) -> Self {
+        assert_eq!(triangles.len(), geometry.len());
+        let cells = triangles
+            .iter()
+            .zip(geometry)
+            .map(|(t, g)| Cell {
+                nodes: [t[0], t[1], t[2], usize::MAX],
+                grad: [
+                    [g.grad[0][0], g.grad[0][1], 0.0],
+                    [g.grad[1][0], g.grad[1][1], 0.0],
+                    [g.grad[2][0], g.grad[2][1], 0.0],
+                    [0.0; 3],
+                ],
+                measure: g.area * thickness,
+            })
+            .collect();
+        let (lam, mu) = lame(elastic);
+        Self {
+            law,
+            lam,
+            mu,
+            kind: Kind::Plane(plane),
+            cells,
+            dofs,
+        }
+    }
+
+    /// A solid body of linear tetrahedra `tets` (with their `geometry`) on a driver's
+    /// vector of `dofs` numbers.
+    ///
+    /// # Panics
+    /// If `tets` and `geometry` differ in length.
+    pub fn solid(
+        law: Hyperelastic,
+        elastic: &Elastic,
+        tets: &[[usize; 4]],
+        geometry: &[Tet4Geometry],
+        dofs: usize,
+    ) -> Self {
+        assert_eq!(tets.len(), geometry.len());
+        let cells = tets
+            .iter()
+            .zip(geometry)
+            .map(|(t, g)| Cell {
+                nodes: *t,
+                grad: g.grad,
+                measure: g.volume,
+            })
+            .collect();
+        let (lam, mu) = lame(elastic);
+        Self {
+            law,
+            lam,
+            mu,
+            kind: Kind::Solid,
+            cells,
+            dofs,
+        }
+    }
+
+    fn dim_nodes(&self) -> (usize, usize) {
+        match self.kind {
+            Kind::Plane(_) => (2, 3),
+            Kind::Solid => (3, 4),
+        }
+    }
+
+    /// The displacement gradient `H = grad_X u` of cell `c` (zero out of the plane).
+    fn gradient(&self, c: &Cell, u: &[f64]) -> M3 {
+        let (d, nn) = self.dim_nodes();
+        let mut h = [[0.0; 3]; 3];
+        for a in 0..nn {
+            for (i, row) in h.iter_mut().enumerate().take(d) {
+                let ui = u[d * c.nodes[a] + i];
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v += ui * c.grad[a][j];
+                }
+            }
+        }
+        h
+    }
+
+    /// Everything one cell gives at the displacement gradient `h`.
+    fn cell_force(&self, h: &M3) -> CellForce {
+        let (lam, mu) = (self.lam, self.mu);
+        let mut f = *h;
+        for (i, row) in f.iter_mut().enumerate() {
+            row[i] += 1.0;
+        }
+        // Linear: eps = sym(H), D eps with the plane model's reduced lambda.
+        let lam_lin = match self.kind {
+            Kind::Plane(PlaneModel::Stress) => 2.0 * lam * mu / (lam + 2.0 * mu),
+            _ => lam,
+        };
+        match self.kind {
+            Kind::Plane(PlaneModel::Stress) => {
+                f[2][2] = plane_stress_stretch(self.law, lam, mu, &f);
+            }
+            Kind::Plane(PlaneModel::Strain) | Kind::Solid => {}
+        }
+        let (w, p) = piola_3d(self.law, lam, mu, &f);
+        let mut eps = [[0.0; 3]; 3];
+        for (i, row) in eps.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = 0.5 * (h[i][j] + h[j][i]);
+            }
+        }
+        let tr = eps[0][0] + eps[1][1] + eps[2][2];
+        let mut p_lin = [[0.0; 3]; 3];
+        let mut w_lin = 0.0;
+        for (i, row) in p_lin.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = 2.0 * mu * eps[i][j] + if i == j { lam_lin * tr } else { 0.0 };
+                w_lin += 0.5 * *v * eps[i][j];
+            }
+        }
+        let c = right_cauchy_green(&f);
+        let mut e2 = 0.0;
+        for (i, row) in c.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                let e = 0.5 * (v - if i == j { 1.0 } else { 0.0 });
+                e2 += e * e;
+            }
+        }
+        CellForce {
+            p,
+            p_lin,
+            w,
+            w_lin,
+            strain: e2.sqrt(),
+        }
+    }
+
+    /// `y[dofs of c] += V_c s : grad N` (in-plane rows only for a planar body).
+    fn scatter(&self, c: &Cell, s: &M3, sign: f64, y: &mut [f64]) {
+        let (d, nn) = self.dim_nodes();
+        for a in 0..nn {
+            for (i, row) in s.iter().enumerate().take(d) {
+                let g = &c.grad[a];
+                y[d * c.nodes[a] + i] +=
+                    sign * c.measure * (row[0] * g[0] + row[1] * g[1] + row[2] * g[2]);
+            }
+        }
+    }
+
+    /// The nonlinear internal force `f_int(u)` into `out` (overwritten).
+    pub fn internal_force_into(&self, u: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for c in &self.cells {
+            let r = self.cell_force(&self.gradient(c, u));
+            self.scatter(c, &r.p, 1.0, out);
+        }
+    }
+
+    /// The linear internal force `K u` of the same cells into `out` (overwritten).
+    pub fn linear_force_into(&self, u: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        for c in &self.cells {
+            let r = self.cell_force(&self.gradient(c, u));
+            self.scatter(c, &r.p_lin, 1.0, out);
+        }
+    }
+
+    /// The stored energy `W(u)` and the linear `u^T K u / 2`, J.
+    pub fn energies(&self, u: &[f64]) -> (f64, f64) {
+        let (mut w, mut w_lin) = (0.0, 0.0);
+        for c in &self.cells {
+            let r = self.cell_force(&self.gradient(c, u));
+            w += c.measure * r.w;
+            w_lin += c.measure * r.w_lin;
+        }
+        (w, w_lin)
+    }
+
+    /// The largest Green strain (Frobenius norm of `E` over the cells) and the largest
+    /// linear strain (norm of `sym(grad u)`) at `u`.
+    pub fn max_strains(&self, u: &[f64]) -> (f64, f64) {
+        let (mut e, mut e_lin) = (0.0f64, 0.0f64);
+        for c in &self.cells {
+            let h = self.gradient(c, u);
+            e = e.max(self.cell_force(&h).strain);
+            let mut n2 = 0.0;
+            for (i, row) in h.iter().enumerate() {
+                for (j, v) in row.iter().enumerate() {
+                    n2 += (0.5 * (v + h[j][i])).powi(2);
+                }
+            }
+            e_lin = e_lin.max(n2.sqrt());
+        }
+        (e, e_lin)
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Whether the body has no cell.
+    pub fn is_empty(&self) -> bool {
+        self.cells.is_empty()
+    }
+}
+
+impl InternalForce for FiniteBody {
+    fn state_len(&self) -> usize {
+        self.dofs
+    }
+
+    fn pseudo_load(&self, s: &[f64], f_nl: &mut [f64]) {
+        f_nl.fill(0.0);
+        f_nl[..self.dofs].copy_from_slice(s);
+    }
+
+    fn evaluate(
+        &self,
+        _s0: &[f64],
+        u: &[f64],
+        s1: &mut [f64],
+        f_nl: &mut [f64],
+        f_int: &mut [f64],
+    ) -> usize {
+        f_nl.fill(0.0);
+        f_int.fill(0.0);
+        for c in &self.cells {
+            let r = self.cell_force(&self.gradient(c, u));
+            self.scatter(c, &r.p, 1.0, f_int);
+            self.scatter(c, &r.p_lin, 1.0, f_nl);
+            self.scatter(c, &r.p, -1.0, f_nl);
+        }
+        s1.copy_from_slice(&f_nl[..self.dofs]);
+        0
+    }
+
+    fn energy_correction(&self, _s: &[f64], u: &[f64]) -> f64 {
+        let (w, w_lin) = self.energies(u);
+        w - w_lin
+    }
+}
+
+#[cfg(test)]
+mod tests;
