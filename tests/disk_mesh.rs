@@ -612,6 +612,14 @@ fn the_rim_band_key_builds_the_symmetric_rim_and_names_its_range() {
             vec!["wheel.rim_band", "at most"],
         ),
         (
+            "zone.toml",
+            base.replace(
+                "[wheel]\n",
+                "[wheel]\nrim_band = 0.02\nzone_rim_nodes = 576\n",
+            ),
+            vec!["wheel.rim_band", "wheel.zone_rim_nodes"],
+        ),
+        (
             "rings.toml",
             base.replace("[wheel]\n", "[wheel]\nrim_band = 0.02\n")
                 .replace("rim_nodes = 288", "rings = 12"),

@@ -492,6 +492,13 @@ fn zone_mesh(
             }
             mesh
         }
+        (Some(z), MeshSource::Graded { band: Some(b), .. }) => {
+            return Err(cx.invalid(
+                "wheel.rim_band",
+                b,
+                &format!("the symmetric band of the disk of wheel.rim_nodes, not used by the refined zone's mesh (wheel.zone_rim_nodes = {z}): remove one of them"),
+            ))
+        }
         (Some(z), MeshSource::Graded { .. }) if w.grading.is_some() => {
             return Err(cx.invalid(
                 "wheel.grading",
