@@ -269,6 +269,24 @@ pub fn check_profile_height(z: &[f64], radius: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The first rim node (its index in `rim` and its angle off, rad) that is not at its place
+/// on a rim of evenly spaced nodes (`2 pi k / n` from the first, within 1e-6 rad): a
+/// wheel's profile is one sample per rim node at one pitch. `None` when all are.
+pub fn uneven_rim(mesh: &crate::mesh::Mesh, rim: &[usize]) -> Option<(usize, f64)> {
+    use std::f64::consts::PI;
+    let angle = |i: usize| {
+        let p = mesh.point(i);
+        p[1].atan2(p[0])
+    };
+    let a0 = angle(*rim.first()?);
+    let n = rim.len();
+    rim.iter().enumerate().find_map(|(k, &i)| {
+        let want = a0 + 2.0 * PI * k as f64 / n as f64;
+        let d = (angle(i) - want + PI).rem_euclid(2.0 * PI) - PI;
+        (d.abs() > 1e-6).then_some((k, d))
+    })
+}
+
 /// [`PassRunner::restore_state`] of a runner that carries no state: accepts a checkpoint
 /// without one, refuses one with a runner state (a plastic wheel's).
 ///

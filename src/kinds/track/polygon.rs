@@ -8,7 +8,7 @@
 //! order (periodic, `dx = 2 pi R / n`, `R` the wheel's radius, `n` its rim nodes): its
 //! Fourier orders are the polygon's. It enters a pass as the rigid-base study's does: the
 //! rim nodes moved radially by `z` on the stress-free mesh
-//! ([`crate::kinds::track::rolling::wheel_model_with`]), the model rebuilt for each pass.
+//! (`kinds::track::rolling::wheel_model_with`), the model rebuilt for each pass.
 //!
 //! **A pass** is the track scenario's passage (`vehicle.settle_bays` then
 //! `vehicle.travel_bays`; the rail's own irregularity, `track.irregularity`, in the gap
@@ -91,17 +91,8 @@ impl WheelTrackPass {
         }
         let smooth = wheel_model(&ts).map_err(input)?;
         let n = smooth.rim.len();
-        let angle = |i: usize| {
-            let p = smooth.mesh.point(i);
-            p[1].atan2(p[0])
-        };
-        let a0 = angle(smooth.rim[0]);
-        for (k, &i) in smooth.rim.iter().enumerate() {
-            let want = a0 + 2.0 * PI * k as f64 / n as f64;
-            let d = (angle(i) - want + PI).rem_euclid(2.0 * PI) - PI;
-            if d.abs() > 1e-6 {
-                return Err(input(format!("the rim's nodes are not evenly spaced (node {k} of {n} is {d:.3e} rad off): the wheel's study needs one profile sample per rim node at one pitch")));
-            }
+        if let Some((k, d)) = crate::growth::uneven_rim(&smooth.mesh, &smooth.rim) {
+            return Err(input(format!("the rim's nodes are not evenly spaced (node {k} of {n} is {d:.3e} rad off): the wheel's study needs one profile sample per rim node at one pitch")));
         }
         Ok(Self {
             sc: sc.clone(),

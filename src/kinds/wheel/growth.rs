@@ -124,17 +124,8 @@ impl WheelPassRunner {
         let n = smooth.rim.len();
         let r = ws.spec.radius;
         let dx = 2.0 * PI * r / n as f64;
-        let angle = |i: usize| {
-            let p = smooth.mesh.point(i);
-            p[1].atan2(p[0])
-        };
-        let a0 = angle(smooth.rim[0]);
-        for (k, &i) in smooth.rim.iter().enumerate() {
-            let want = a0 + 2.0 * PI * k as f64 / n as f64;
-            let d = (angle(i) - want + PI).rem_euclid(2.0 * PI) - PI;
-            if d.abs() > 1e-6 {
-                return Err(RunError::input(&path, format!("the rim's nodes are not evenly spaced (node {k} of {n} is {:.3e} rad off): the growth study needs one profile sample per rim node at one pitch (a generated disk with wheel.rim_nodes)", d)));
-            }
+        if let Some((k, d)) = crate::growth::uneven_rim(&smooth.mesh, &smooth.rim) {
+            return Err(RunError::input(&path, format!("the rim's nodes are not evenly spaced (node {k} of {n} is {d:.3e} rad off): the growth study needs one profile sample per rim node at one pitch (a generated disk with wheel.rim_nodes)")));
         }
         let base_radius = smooth.base().radius;
         let density = density.unwrap_or(ws.spec.material.density);
