@@ -261,17 +261,27 @@ fn small_strains_agree_with_the_linear_model_to_second_order_and_the_contract_ad
             let d: Vec<f64> = f.iter().zip(&ku).map(|(a, b)| a - b).collect();
             errs.push(norm(&d) / norm(&ku));
             // The contract: f_int + f_nl = K u, the state is f_nl.
-            let (mut s1, mut f_nl, mut f_int) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            body.evaluate(&[], &u, &mut s1, &mut f_nl, &mut f_int);
+            let m = body.state_len();
+            let (s0, mut s1) = (vec![0.0; m], vec![0.0; m]);
+            let (mut f_nl, mut f_int) = (vec![0.0; n], vec![0.0; n]);
+            body.evaluate(&s0, &u, &mut s1, &mut f_nl, &mut f_int);
             for i in 0..n {
                 assert!(
                     (f_int[i] + f_nl[i] - ku[i]).abs() <= 1e-9 * norm(&ku),
                     "{name}: K u"
                 );
             }
+            // The state carries the last two pseudo-loads; the prediction extrapolates.
+            let half: Vec<f64> = u.iter().map(|v| 0.5 * v).collect();
+            let (mut s2, mut f_half, mut f_i2) = (vec![0.0; m], vec![0.0; n], vec![0.0; n]);
+            body.evaluate(&s0, &half, &mut s2, &mut f_half, &mut f_i2);
+            let mut s3 = vec![0.0; m];
+            body.evaluate(&s2, &u, &mut s3, &mut f_i2, &mut f_int);
             let mut pl = vec![0.0; n];
-            body.pseudo_load(&s1, &mut pl);
-            assert_eq!(pl, f_nl);
+            body.pseudo_load(&s3, &mut pl);
+            for i in 0..n {
+                assert_eq!(pl[i], 2.0 * f_nl[i] - f_half[i], "{name}: prediction");
+            }
             // Energy: W - u^T K u / 2 is third order.
             let corr = body.energy_correction(&s1, &u);
             let e_lin = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
@@ -310,5 +320,82 @@ fn plane_stress_leaves_no_out_of_plane_stress() {
             f[2][2] < 1.0,
             "{law:?}: the plate thins under in-plane stretch"
         );
+    }
+}
+
+#[test]
+fn the_steps_evaluation_gives_the_cells_forces_at_large_strain() {
+    // The step's evaluation (a fast path for Saint Venant-Kirchhoff triangles) against the
+    // general cell force, at a displacement of large rotation and strain.
+    for (name, body, pts, _) in bodies() {
+        let n = body.dofs;
+        let dim = n / pts.len();
+        let r = rotation(1.3, [0.0, 0.0, 1.0]);
+        let mut u = rigid(&pts, dim, &r, [0.1, -0.2, 0.0]);
+        u.iter_mut()
+            .zip(noise(n, 5))
+            .for_each(|(v, e)| *v += 0.01 * e);
+        let m = body.state_len();
+        let (s0, mut s1) = (vec![0.0; m], vec![0.0; m]);
+        let (mut f_nl, mut f_int) = (vec![0.0; n], vec![0.0; n]);
+        body.evaluate(&s0, &u, &mut s1, &mut f_nl, &mut f_int);
+        let (mut f, mut ku) = (vec![0.0; n], vec![0.0; n]);
+        body.internal_force_into(&u, &mut f);
+        body.linear_force_into(&u, &mut ku);
+        let scale = norm(&f);
+        assert!(scale > 0.0, "{name}");
+        for i in 0..n {
+            assert!(
+                (f_int[i] - f[i]).abs() <= 1e-12 * scale,
+                "{name}: f_int[{i}]"
+            );
+            assert!(
+                (f_nl[i] - (ku[i] - f[i])).abs() <= 1e-12 * norm(&ku),
+                "{name}: f_nl[{i}]"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_tangent_is_the_derivative_of_the_force() {
+    // The tangent against central differences of the force, at a displacement of large
+    // rotation and strain; exact for Saint Venant-Kirchhoff, to the differences' error for
+    // the neo-Hookean cells (themselves differenced).
+    for (name, body, pts, _) in bodies() {
+        let n = body.dofs;
+        let dim = n / pts.len();
+        let r = rotation(0.9, [0.0, 0.0, 1.0]);
+        let mut u = rigid(&pts, dim, &r, [0.0; 3]);
+        u.iter_mut()
+            .zip(noise(n, 9))
+            .for_each(|(v, e)| *v += 0.005 * e);
+        let mut kt = vec![0.0; n * n];
+        body.tangent_for_each(&u, |i, j, v| kt[i * n + j] += v);
+        let dir = noise(n, 21);
+        let e = 1e-7;
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        let up: Vec<f64> = u.iter().zip(&dir).map(|(a, d)| a + e * d).collect();
+        let um: Vec<f64> = u.iter().zip(&dir).map(|(a, d)| a - e * d).collect();
+        body.internal_force_into(&up, &mut fp);
+        body.internal_force_into(&um, &mut fm);
+        let fd: Vec<f64> = fp
+            .iter()
+            .zip(&fm)
+            .map(|(a, b)| (a - b) / (2.0 * e))
+            .collect();
+        let kd = matvec(&kt, &dir);
+        let err: Vec<f64> = kd.iter().zip(&fd).map(|(a, b)| a - b).collect();
+        let rel = norm(&err) / norm(&fd);
+        assert!(rel < 1e-6, "{name}: {rel:e}");
+        // Symmetric (a hyperelastic tangent).
+        let mut asym = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                asym = asym.max((kt[i * n + j] - kt[j * n + i]).abs());
+            }
+        }
+        let big = kt.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(asym <= 1e-6 * big, "{name}: asymmetry {asym:e} of {big:e}");
     }
 }

@@ -60,6 +60,10 @@
 //!                              # voce_q Pa, voce_b) | "kinematic" (Prager: hardening_modulus)
 //!                              # | "armstrong_frederick" (af_c Pa, af_gamma)
 //! plastic_tolerance = 1e-8     # the step's residual relative to the internal force
+//! geometry = "large"           # "small" (default, linear) | "large" (crate::finite: the
+//!                              # geometrically nonlinear force; elastic only)
+//! law = "neo_hookean"          # large: "saint_venant_kirchhoff" (default) | "neo_hookean"
+//! geometry_tolerance = 1e-6    # large: the step's residual relative to the internal force
 //!
 //! [block]                      # kind = "wheel" only: an elastic block as the base
 //! young = 2.05e11              # Pa (default: the wheel's material)
@@ -179,6 +183,9 @@ pub struct WheelScenario {
     /// The wheel's J2 elastic-plastic material (`material.model = "j2"`,
     /// [`crate::plasticity`]); `None`: elastic.
     pub plastic: Option<Plastic>,
+    /// The wheel in large deformation (`material.geometry = "large"`,
+    /// [`crate::kinds::wheel::large`]); `None`: linear in the geometry.
+    pub large: Option<crate::kinds::wheel::large::Large>,
 }
 
 /// The wheel's plasticity (`[material]` with `model = "j2"`).

@@ -235,6 +235,9 @@ pub(crate) struct RawMaterial {
     pub af_c: Option<f64>,
     pub af_gamma: Option<f64>,
     pub plastic_tolerance: Option<f64>,
+    pub geometry: Option<String>,
+    pub law: Option<String>,
+    pub geometry_tolerance: Option<f64>,
 }
 
 /// `[rolling]`.

@@ -516,6 +516,11 @@ impl Simulation {
         self.engine.stats.relocations += 1;
     }
 
+    /// The newest state: after [`Simulation::run`], the last step's.
+    pub fn last_state(&self) -> &State {
+        &self.snaps[1].state
+    }
+
     /// The engine (integrator, pairs, model).
     pub fn engine(&self) -> &Engine {
         &self.engine

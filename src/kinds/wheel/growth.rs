@@ -116,6 +116,9 @@ impl WheelPassRunner {
         if ws.spec.coupling == Coupling::Uncoupled {
             return Err(RunError::input(&path, "rolling.coupling = \"uncoupled\": the growth study runs the coupled wheel; remove it"));
         }
+        if ws.large.is_some() {
+            return Err(RunError::input(&path, "material.geometry = \"large\": the growth study's passes are linear in the geometry (the wheel's profile and its plastic state are carried on the linear model); remove the key"));
+        }
         let friction = run.friction.is_some_and(|l| l.is_active());
         if !friction && ws.plastic.is_none() {
             return Err(RunError::input(&path, "contact.friction: the wear laws need the friction force and the slip (give contact.friction > 0 and a rolling.creepage; a frictionless study needs a plastic wheel, material.model = \"j2\")"));

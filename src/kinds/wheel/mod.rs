@@ -20,6 +20,7 @@ use crate::time::Integrator;
 use std::path::Path;
 
 pub mod growth;
+pub mod large;
 pub mod modes;
 pub(crate) mod on_block;
 pub(crate) mod rules;

@@ -185,6 +185,26 @@ pub(crate) fn check_wheel_run(
             ));
         }
     }
+    if w.large.is_some() {
+        let why = if matches!(w.mesh, MeshSource::Zone(_)) {
+            Some("a moving refined zone (wheel.zone_rim_nodes): its relabelling carries nodal states, not the triangles' reference geometry")
+        } else if w.block.is_some() {
+            Some("an elastic block ([block]): the large-deformation wheel rolls on the rigid base")
+        } else if w.spec.coupling == Coupling::Uncoupled {
+            Some("rolling.coupling = \"uncoupled\": its twin disk is a second linear body")
+        } else if matches!(run_contact, Treatment::Subdivision) {
+            Some("contact.method = \"subdivision\": its sub-steps do not start at the snapshots that carry the iteration's state")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(cx.invalid(
+                "material.geometry",
+                "\"large\"",
+                &format!("the large-deformation wheel is not built with {why}"),
+            ));
+        }
+    }
     if w.plastic.is_some() {
         let why = if matches!(w.mesh, MeshSource::Zone(_)) {
             Some("a moving refined zone (wheel.zone_rim_nodes): its relabelling carries nodal states, not the elements' plastic states")

@@ -175,6 +175,10 @@ pub struct WheelSummary {
     /// strain and the rim's permanent radial displacement.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plastic: Option<PlasticSummary>,
+    /// The wheel in large deformation (`material.geometry = "large"`): the iteration's cost,
+    /// the strains and energy against the linear model's reading of the same displacement.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub large_deformation: Option<crate::kinds::wheel::large::LargeSummary>,
 }
 
 /// The plastic wheel's figures (`summary.json`, `plastic`).
@@ -312,12 +316,12 @@ pub fn simulate(
         watchers.push(t);
     }
     // On the stepping thread: the progress and the guard that stops the run at its step.
-    let mut rotation = RotationWatch::new(wm);
+    let mut rotation = RotationWatch::new(wm, ws.large.is_some());
     let mut inline: Vec<&mut dyn Observer> = vec![&mut progress];
     if wm.zone.is_none() {
         inline.push(&mut rotation);
     }
-    let (outcome, plastic_state) = drive(
+    let (outcome, plastic_state, u_end) = drive(
         wm,
         ws,
         run,
@@ -359,6 +363,15 @@ pub fn simulate(
     };
     let mut summary = summarise(wm, ws, run, &results, bounce);
     summary.warnings = warnings;
+    if let Some(large) = ws.large {
+        summary.large_deformation = Some(crate::kinds::wheel::large::summary(
+            wm,
+            large,
+            &outcome,
+            &u_end,
+            rotation.max().0,
+        ));
+    }
     if let Some(w) = rotation.warning(&run.label) {
         summary.warnings.push(w);
     }

@@ -34,6 +34,7 @@ pub(crate) fn wheel_model(
     let thickness = cx.positive("wheel.thickness", w.thickness)?;
     let material = wheel_material(cx, &m)?;
     let plastic = plasticity(cx, &m, material)?;
+    let large = super::large::large_of(cx, &m)?;
     let mesh = disk_mesh(cx, &w)?;
     let plane = plane_model(cx, &w)?;
     let lumped = wheel_mass(cx, &w)?;
@@ -50,6 +51,13 @@ pub(crate) fn wheel_model(
         r.fields_per_turn.unwrap_or(8),
         1000,
     )?;
+    if let (Some(true), Some(_)) = (w.stress_stiffening, large) {
+        return Err(cx.invalid(
+            "wheel.stress_stiffening",
+            true,
+            "with material.geometry = \"large\" the centrifugal prestress's stiffening is part of the nonlinear force: remove the key",
+        ));
+    }
     if let (Some(s), Some(false)) = (w.stress_stiffening, w.rotating_frame) {
         return Err(cx.invalid(
             "wheel.stress_stiffening",
@@ -68,7 +76,7 @@ pub(crate) fn wheel_model(
             support,
             omega: rolling.omega,
             flattening: rolling.flattening,
-            stress_stiffening: w.stress_stiffening.unwrap_or(true),
+            stress_stiffening: w.stress_stiffening.unwrap_or(large.is_none()),
             rotating_frame: w.rotating_frame.unwrap_or(true),
             creepage: rolling.creepage,
             coupling,
@@ -81,6 +89,7 @@ pub(crate) fn wheel_model(
         block: None,
         load,
         plastic,
+        large,
     })
 }
 

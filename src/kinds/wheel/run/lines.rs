@@ -6,6 +6,21 @@ use crate::output::terminal::{grouped, quantity};
 /// Screen lines of a summary.
 pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
     let mut lines = base_lines(s);
+    if let Some(l) = &s.large_deformation {
+        lines.push(format!(
+            "large deformation ({:?}): {} iterations ({:.2} per step, at most {} in one solve, {} unconverged, tolerance {:e}); at the end the largest Green strain {:.3e} (the linear strain of the same displacement {:.3e}), stored energy {:+.3e} J from the linear model's; the largest rotation against the frame {:.3e} rad",
+            l.law,
+            l.iterations,
+            l.iterations_per_step,
+            l.max_in_one_solve,
+            l.unconverged,
+            l.tolerance,
+            l.max_green_strain,
+            l.max_linear_strain,
+            l.energy_difference_j,
+            l.max_rotation_rad,
+        ));
+    }
     if let Some(p) = &s.plastic {
         lines.push(format!(
             "plastic: {} iterations ({:.2} per step, at most {} in one solve, {} unconverged, tolerance {:e}); max equivalent plastic strain {:.3e} in {} elements; rim's permanent radial displacement {:.3e} to {:.3e} m",

@@ -72,6 +72,7 @@ pub(super) fn summarise(
         warnings: Vec::new(),
         traction: None,
         plastic: None,
+        large_deformation: None,
     }
 }
 
