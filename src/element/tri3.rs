@@ -278,6 +278,43 @@ pub fn stresses_into(
     }
 }
 
+/// The stress `D E` of the Green strain `E = (F^T F - I) / 2` per triangle under the
+/// nodal displacements `u` (Voigt `[s_xx, s_yy, s_xy]`, Pa): the second Piola-Kirchhoff
+/// stress of a Saint Venant-Kirchhoff triangle (the paper's Eq. 13; in plane stress exactly,
+/// the out-of-plane strain taken by `S_33 = 0`), on the reference configuration, so that a
+/// rigid rotation of the triangle leaves it unchanged, where [`stresses_into`]'s linear
+/// strain reads the rotation as strain.
+///
+/// # Panics
+/// If the slices' lengths differ.
+pub fn green_stresses_into(
+    geometry: &[Tri3Geometry],
+    triangles: &[[usize; 3]],
+    d: &[[f64; 3]; 3],
+    u: &[f64],
+    out: &mut [[f64; 3]],
+) {
+    assert!(geometry.len() == triangles.len() && out.len() == triangles.len());
+    for ((s, g), t) in out.iter_mut().zip(geometry).zip(triangles) {
+        // H = grad u: h[i][j] = d u_i / d x_j.
+        let mut h = [[0.0; 2]; 2];
+        for (a, &n) in t.iter().enumerate() {
+            for (i, row) in h.iter_mut().enumerate() {
+                row[0] += u[2 * n + i] * g.grad[a][0];
+                row[1] += u[2 * n + i] * g.grad[a][1];
+            }
+        }
+        let e = [
+            h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
+            h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
+            h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1],
+        ];
+        for (si, row) in s.iter_mut().zip(d) {
+            *si = row[0] * e[0] + row[1] * e[1] + row[2] * e[2];
+        }
+    }
+}
+
 #[cfg(test)]
 #[allow(clippy::needless_range_loop)] // index loops read best for small dense matrices
 mod tests {
@@ -793,5 +830,32 @@ mod tests {
         let mut ks = [[f64::NAN; 6]; 6];
         geometric_stiffness_into(&g, [1.0, 2.0, 3.0], 1.0, &mut ks);
         assert!(ks.iter().flatten().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn the_green_stress_ignores_a_rigid_rotation_and_is_the_linear_one_at_small_strain() {
+        let p = [[0.0, 0.0], [0.012, 0.003], [0.004, 0.01]];
+        let g = geometry(&p).unwrap();
+        let d = PlaneModel::Stress.elasticity_matrix(&STEEL);
+        let t = [[0usize, 1, 2]];
+        let mut s = [[0.0; 3]];
+        for a in [0.3, 1.7, 3.0] {
+            let (sn, cs) = f64::sin_cos(a);
+            let u: Vec<f64> = p
+                .iter()
+                .flat_map(|q| [cs * q[0] - sn * q[1] - q[0], sn * q[0] + cs * q[1] - q[1]])
+                .collect();
+            green_stresses_into(&[g], &t, &d, &u, &mut s);
+            assert!(s[0].iter().all(|v| v.abs() < 1e-3), "{a}: {:?}", s[0]);
+            stresses_into(&[g], &t, &d, &u, &mut s);
+            assert!(s[0].iter().any(|v| v.abs() > 1e9), "{a}: the linear reading");
+        }
+        let u = [1e-7, -2e-7, 3e-7, 1e-7, -1e-7, 2e-7];
+        let (mut sl, mut sg) = ([[0.0; 3]], [[0.0; 3]]);
+        stresses_into(&[g], &t, &d, &u, &mut sl);
+        green_stresses_into(&[g], &t, &d, &u, &mut sg);
+        for i in 0..3 {
+            assert!((sl[0][i] - sg[0][i]).abs() < 1e-4 * sl[0][i].abs().max(1e6));
+        }
     }
 }

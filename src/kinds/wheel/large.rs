@@ -152,9 +152,11 @@ pub struct LargeSummary {
     /// strain, what the linear model would have called strain (a rigid rotation's
     /// `sqrt(2) (1 - cos theta)` included).
     pub max_linear_strain: f64,
-    /// The stored energy at the end less the linear model's `u^T K u / 2` for the same
-    /// displacement, J.
-    pub energy_difference_j: f64,
+    /// The stored energy `W(u)` of the wheel's triangles at the end, J.
+    pub stored_energy_j: f64,
+    /// The linear model's reading `u^T K u / 2` of the same displacement, J (beside it: a
+    /// rigid rotation against the frame counts there).
+    pub linear_reading_energy_j: f64,
     /// The largest rigid rotation of the rim against the frame over the run, rad (`sin
     /// theta` of the rim's mean rotation about the centre).
     pub max_rotation_rad: f64,
@@ -169,9 +171,9 @@ pub(crate) fn summary(
     u: &[f64],
     max_rotation: f64,
 ) -> LargeSummary {
-    use crate::model::InternalForce;
     let body = finite_body(wm, large);
     let (max_green_strain, max_linear_strain) = body.max_strains(u);
+    let (stored_energy_j, linear_reading_energy_j) = body.energies(u);
     LargeSummary {
         law: large.law,
         tolerance: large.tolerance,
@@ -181,7 +183,8 @@ pub(crate) fn summary(
         unconverged: o.plastic_unconverged,
         max_green_strain,
         max_linear_strain,
-        energy_difference_j: body.energy_correction(&[], u),
+        stored_energy_j,
+        linear_reading_energy_j,
         max_rotation_rad: max_rotation,
     }
 }

@@ -285,7 +285,7 @@ pub fn simulate(
     )?;
     let mut forces = ContactForceStats::new(timeline, steps);
     let mut energy = EnergyWatch::new(timeline);
-    let mut average = TurnAverage::new(wm, timeline, last_turn);
+    let mut average = TurnAverage::new(wm, timeline, last_turn, ws.large.is_some());
     let mut snapshots =
         VelocitySnapshots::new(timeline, last_turn.0, ws.fields_per_turn, wm.mesh.n_dofs());
     let mut progress = Progress::new(steps, &run.label, opts);

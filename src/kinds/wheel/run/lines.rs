@@ -8,7 +8,7 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
     let mut lines = base_lines(s);
     if let Some(l) = &s.large_deformation {
         lines.push(format!(
-            "large deformation ({:?}): {} iterations ({:.2} per step, at most {} in one solve, {} unconverged, tolerance {:e}); at the end the largest Green strain {:.3e} (the linear strain of the same displacement {:.3e}), stored energy {:+.3e} J from the linear model's; the largest rotation against the frame {:.3e} rad",
+            "large deformation ({:?}): {} iterations ({:.2} per step, at most {} in one solve, {} unconverged, tolerance {:e}); at the end the largest Green strain {:.3e} (the linear strain of the same displacement {:.3e}), stored energy {:.4e} J (the linear reading {:.4e} J); the largest rotation against the frame {:.3e} rad",
             l.law,
             l.iterations,
             l.iterations_per_step,
@@ -17,7 +17,8 @@ pub fn summary_lines(s: &WheelSummary) -> Vec<String> {
             l.tolerance,
             l.max_green_strain,
             l.max_linear_strain,
-            l.energy_difference_j,
+            l.stored_energy_j,
+            l.linear_reading_energy_j,
             l.max_rotation_rad,
         ));
     }

@@ -494,6 +494,8 @@ pub struct TurnAverage<'a> {
     j2_sum: Vec<f64>,
     von_mises_sum: Vec<f64>,
     count: usize,
+    /// The stress of the Green strain (a wheel in large deformation), else the linear one.
+    green: bool,
 }
 
 /// The turn-averaged element fields.
@@ -506,8 +508,16 @@ pub struct TurnAverageFields {
 }
 
 impl<'a> TurnAverage<'a> {
-    /// Averages over `[window.0, window.1)` (s) on the elements of `model`.
-    pub fn new(model: &'a WheelModel, timeline: Timeline, window: (f64, f64)) -> Self {
+    /// Averages over `[window.0, window.1)` (s) on the elements of `model`, of the stress
+    /// of the Green strain (`green`: a wheel in large deformation,
+    /// [`crate::element::tri3::green_stresses_into`], which a rigid rotation leaves alone)
+    /// or of the linear strain.
+    pub fn new(
+        model: &'a WheelModel,
+        timeline: Timeline,
+        window: (f64, f64),
+        green: bool,
+    ) -> Self {
         let n_el = model.triangles.len();
         Self {
             model,
@@ -517,6 +527,7 @@ impl<'a> TurnAverage<'a> {
             j2_sum: vec![0.0; n_el],
             von_mises_sum: vec![0.0; n_el],
             count: 0,
+            green,
         }
     }
 
@@ -550,11 +561,11 @@ impl Observer for TurnAverage<'_> {
                 let (j0, j1) = sums.1.split_at_mut(n / 2);
                 let (v0, v1) = sums.2.split_at_mut(n / 2);
                 team.join(
-                    || accumulate_stress(wm, 0, s.u, (s0, j0, v0)),
-                    || accumulate_stress(wm, n / 2, s.u, (s1, j1, v1)),
+                    || accumulate_stress(wm, self.green, 0, s.u, (s0, j0, v0)),
+                    || accumulate_stress(wm, self.green, n / 2, s.u, (s1, j1, v1)),
                 );
             }
-            None => accumulate_stress(wm, 0, s.u, sums),
+            None => accumulate_stress(wm, self.green, 0, s.u, sums),
         }
         self.count += 1;
         Ok(())
@@ -566,15 +577,20 @@ impl Observer for TurnAverage<'_> {
 const TURN_AVERAGE_HALVES_MIN: usize = 512;
 
 /// Adds the `J2` and von Mises stress under `u` of the elements `first..` (as many as
-/// `stress` holds) to their sums.
+/// `stress` holds) to their sums: of the Green strain (`green`) or the linear one.
 fn accumulate_stress(
     wm: &WheelModel,
+    green: bool,
     first: usize,
     u: &[f64],
     (stress, j2_sum, von_mises_sum): (&mut [[f64; 3]], &mut [f64], &mut [f64]),
 ) {
     let r = first..first + stress.len();
-    tri3::stresses_into(&wm.geometry[r.clone()], &wm.triangles[r], &wm.d, u, stress);
+    if green {
+        tri3::green_stresses_into(&wm.geometry[r.clone()], &wm.triangles[r], &wm.d, u, stress);
+    } else {
+        tri3::stresses_into(&wm.geometry[r.clone()], &wm.triangles[r], &wm.d, u, stress);
+    }
     for ((sg, j2s), vms) in stress.iter().zip(j2_sum).zip(von_mises_sum) {
         let (j2, vm) = wm.spec.plane.stress_invariants(&wm.spec.material, *sg);
         *j2s += j2;
