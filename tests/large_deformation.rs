@@ -282,3 +282,100 @@ fn a_free_body_spinning_and_vibrating_keeps_its_energy_under_gamma_zero() {
     assert!(found[1].0 < 0.02 && found[1].0 < 0.6 * found[0].0, "{found:?}");
     assert!(found[1].1 < 1e-4 && found[1].1 < 0.1 * found[0].1, "{found:?}");
 }
+
+/// `softway run` of a scenario with `--set` overrides into a fresh folder; the summary.
+fn run_cli(scenario: &str, sets: &[&str], tag: &str) -> Result<serde_json::Value, String> {
+    let out = std::env::temp_dir().join(format!("softway-large-{tag}-{}", std::process::id()));
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_softway"));
+    cmd.arg("run")
+        .arg(format!("{}/scenarios/{scenario}", env!("CARGO_MANIFEST_DIR")))
+        .arg("--out")
+        .arg(&out)
+        .arg("--force")
+        .arg("--quiet");
+    for s in sets {
+        cmd.arg("--set").arg(s);
+    }
+    let o = cmd.output().unwrap();
+    if !o.status.success() {
+        return Err(String::from_utf8_lossy(&o.stderr).into_owned());
+    }
+    let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let _ = std::fs::remove_dir_all(&out);
+    Ok(serde_json::from_str(&text).unwrap())
+}
+
+#[test]
+fn the_wheel_in_large_deformation_parts_from_the_linear_one_as_its_strain() {
+    // The paper's wheel (wheel.toml) pressed by 10 and 100 um: the largest strain (under
+    // the rim nodes in contact) about 0.09 % and 0.9 %. The large-deformation force differs
+    // from the linear one at first order in the strain, so the mean contact forces part by
+    // a fraction proportional to it (0.6 to 0.75 of it here; 0.63 at the paper's 1 mm).
+    let mut gaps = Vec::new();
+    for d in ["1e-5", "1e-4"] {
+        let flat = format!("rolling.flattening={d}");
+        let short = ["rolling.turns=0.1", "rolling.settle_time=2e-3", flat.as_str()];
+        let small = run_cli("wheel.toml", &short, "small").unwrap();
+        let mut sets = short.to_vec();
+        sets.push("material.geometry=\"large\"");
+        let large = run_cli("wheel.toml", &sets, "large").unwrap();
+        let f = |s: &serde_json::Value| s["mean_contact_force"].as_f64().unwrap();
+        let ld = &large["large_deformation"];
+        let gap = f(&large) / f(&small) - 1.0;
+        println!(
+            "d = {d} m: mean contact force {:.6e} (linear) against {:.6e} N (large): {:+.4} %; {ld}",
+            f(&small),
+            f(&large),
+            100.0 * gap
+        );
+        assert!(small.get("large_deformation").is_none());
+        assert_eq!(ld["unconverged"].as_u64(), Some(0));
+        gaps.push(gap / ld["max_green_strain"].as_f64().unwrap());
+    }
+    println!("the gap over the largest strain: {gaps:?}");
+    assert!(gaps.iter().all(|g| (-1.0..-0.3).contains(g)), "{gaps:?}");
+    assert!((gaps[1] / gaps[0] - 1.0).abs() < 0.5, "{gaps:?}");
+    // The scenario file of the paper's wheel in large deformation is valid as shipped.
+    let sc = softway::scenario::Scenario::from_file(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/wheel-large.toml"
+    )))
+    .unwrap();
+    let ws = sc.runs[0]
+        .model
+        .get::<softway::scenario::WheelScenario>()
+        .unwrap();
+    assert!(ws.large.is_some() && !ws.spec.stress_stiffening);
+}
+
+#[test]
+fn the_large_deformation_keys_are_refused_by_name_where_they_do_not_apply() {
+    let cases: [(&[&str], &[&str]); 6] = [
+        (&["material.geometry=\"huge\""], &["material.geometry", "\"small\"", "\"large\""]),
+        (&["material.law=\"neo_hookean\""], &["material.law", "material.geometry = \\\"large\\\""]),
+        (
+            &["material.geometry=\"large\"", "material.law=\"mooney\""],
+            &["material.law", "neo_hookean"],
+        ),
+        (
+            &["material.geometry=\"large\"", "material.geometry_tolerance=2.0"],
+            &["material.geometry_tolerance"],
+        ),
+        (
+            &["material.geometry=\"large\"", "wheel.stress_stiffening=true"],
+            &["wheel.stress_stiffening"],
+        ),
+        (
+            &["material.geometry=\"large\"", "wheel.zone_rim_nodes=576"],
+            &["material.geometry", "refined zone"],
+        ),
+    ];
+    for (i, (sets, words)) in cases.iter().enumerate() {
+        let err = run_cli("wheel.toml", sets, &format!("refuse{i}")).unwrap_err();
+        for w in *words {
+            let w = w.replace("\\\"", "\"");
+            assert!(err.contains(&w), "{sets:?}: {w:?} not in {err}");
+        }
+        assert!(err.contains("wheel.toml"), "{err}");
+    }
+}
