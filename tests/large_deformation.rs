@@ -24,7 +24,12 @@ fn elastica(alpha: f64) -> (f64, f64, f64) {
         let mut s = [0.0, k0, 0.0, 0.0];
         for _ in 0..n {
             let add = |a: [f64; 4], b: [f64; 4], h: f64| {
-                [a[0] + h * b[0], a[1] + h * b[1], a[2] + h * b[2], a[3] + h * b[3]]
+                [
+                    a[0] + h * b[0],
+                    a[1] + h * b[1],
+                    a[2] + h * b[2],
+                    a[3] + h * b[3],
+                ]
             };
             let k1 = f(s);
             let k2 = f(add(s, k1, ds / 2.0));
@@ -84,7 +89,11 @@ fn cantilever(alpha: f64, ny: usize, aspect: usize) -> (f64, f64) {
     let mut load = vec![0.0; n];
     for &i in &right {
         let y = mesh.point(i)[1];
-        let wgt = if y.abs() < 1e-12 || (y - t).abs() < 1e-12 { 0.5 } else { 1.0 };
+        let wgt = if y.abs() < 1e-12 || (y - t).abs() < 1e-12 {
+            0.5
+        } else {
+            1.0
+        };
         load[2 * i + 1] = -p * wgt / ny as f64;
     }
     let (u, stats) = solve_static(&body, &asm, &fixed, &load, 10, 1e-8).unwrap();
@@ -104,7 +113,10 @@ fn a_cantilever_to_large_deflection_follows_the_elastica() {
     println!("elastica alpha = {alpha}: deflection {ev:.6}, shortening {eh:.6}, tip rotation {rot:.4} rad");
     // Bisshopp and Drucker's table (1945) at P L^2 / EI = 1: 0.3017 and 0.0564.
     let (b1v, b1h, _) = elastica(1.0);
-    assert!((b1v - 0.3017).abs() < 1e-4 && (b1h - 0.0564).abs() < 1e-4, "{b1v} {b1h}");
+    assert!(
+        (b1v - 0.3017).abs() < 1e-4 && (b1h - 0.0564).abs() < 1e-4,
+        "{b1v} {b1h}"
+    );
     let mut rungs = Vec::new();
     for ny in [2, 4, 8, 16] {
         rungs.push(cantilever(alpha, ny, 1));
@@ -246,7 +258,10 @@ fn a_free_body_spun_through_turns_keeps_no_strain_from_the_rotation() {
         "after three and a quarter turns: large deformation's Green strain {green:.3e} (the linear reading of the same displacement {linear:.3e}); the linear model's displacement strains the body by {green_l:.3e} (Green)"
     );
     assert!(green < 2e-3, "{green}");
-    assert!(linear > 0.1, "the rotation seen as strain by a linear reading: {linear}");
+    assert!(
+        linear > 0.1,
+        "the rotation seen as strain by a linear reading: {linear}"
+    );
     assert!(green_l > 10.0, "{green_l}");
 }
 
@@ -279,8 +294,14 @@ fn a_free_body_spinning_and_vibrating_keeps_its_energy_under_gamma_zero() {
     println!("linear model, h = 1e-4: largest deviation {dev_l:.3e}");
     // Within the linear scheme's own oscillation on the same vibration.
     assert!(found[1].0 < 1.5 * dev_l, "{found:?} against {dev_l}");
-    assert!(found[1].0 < 0.02 && found[1].0 < 0.6 * found[0].0, "{found:?}");
-    assert!(found[1].1 < 1e-4 && found[1].1 < 0.1 * found[0].1, "{found:?}");
+    assert!(
+        found[1].0 < 0.02 && found[1].0 < 0.6 * found[0].0,
+        "{found:?}"
+    );
+    assert!(
+        found[1].1 < 1e-4 && found[1].1 < 0.1 * found[0].1,
+        "{found:?}"
+    );
 }
 
 /// `softway run` of a scenario with `--set` overrides into a fresh folder; the summary.
@@ -288,7 +309,10 @@ fn run_cli(scenario: &str, sets: &[&str], tag: &str) -> Result<serde_json::Value
     let out = std::env::temp_dir().join(format!("softway-large-{tag}-{}", std::process::id()));
     let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_softway"));
     cmd.arg("run")
-        .arg(format!("{}/scenarios/{scenario}", env!("CARGO_MANIFEST_DIR")))
+        .arg(format!(
+            "{}/scenarios/{scenario}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
         .arg("--out")
         .arg(&out)
         .arg("--force")
@@ -314,7 +338,11 @@ fn the_wheel_in_large_deformation_parts_from_the_linear_one_as_its_strain() {
     let mut gaps = Vec::new();
     for d in ["1e-5", "1e-4"] {
         let flat = format!("rolling.flattening={d}");
-        let short = ["rolling.turns=0.1", "rolling.settle_time=2e-3", flat.as_str()];
+        let short = [
+            "rolling.turns=0.1",
+            "rolling.settle_time=2e-3",
+            flat.as_str(),
+        ];
         let small = run_cli("wheel.toml", &short, "small").unwrap();
         let mut sets = short.to_vec();
         sets.push("material.geometry=\"large\"");
@@ -351,18 +379,30 @@ fn the_wheel_in_large_deformation_parts_from_the_linear_one_as_its_strain() {
 #[test]
 fn the_large_deformation_keys_are_refused_by_name_where_they_do_not_apply() {
     let cases: [(&[&str], &[&str]); 6] = [
-        (&["material.geometry=\"huge\""], &["material.geometry", "\"small\"", "\"large\""]),
-        (&["material.law=\"neo_hookean\""], &["material.law", "material.geometry = \\\"large\\\""]),
+        (
+            &["material.geometry=\"huge\""],
+            &["material.geometry", "\"small\"", "\"large\""],
+        ),
+        (
+            &["material.law=\"neo_hookean\""],
+            &["material.law", "material.geometry = \\\"large\\\""],
+        ),
         (
             &["material.geometry=\"large\"", "material.law=\"mooney\""],
             &["material.law", "neo_hookean"],
         ),
         (
-            &["material.geometry=\"large\"", "material.geometry_tolerance=2.0"],
+            &[
+                "material.geometry=\"large\"",
+                "material.geometry_tolerance=2.0",
+            ],
             &["material.geometry_tolerance"],
         ),
         (
-            &["material.geometry=\"large\"", "wheel.stress_stiffening=true"],
+            &[
+                "material.geometry=\"large\"",
+                "wheel.stress_stiffening=true",
+            ],
             &["wheel.stress_stiffening"],
         ),
         (

@@ -848,7 +848,10 @@ mod tests {
             green_stresses_into(&[g], &t, &d, &u, &mut s);
             assert!(s[0].iter().all(|v| v.abs() < 1e-3), "{a}: {:?}", s[0]);
             stresses_into(&[g], &t, &d, &u, &mut s);
-            assert!(s[0].iter().any(|v| v.abs() > 1e9), "{a}: the linear reading");
+            assert!(
+                s[0].iter().any(|v| v.abs() > 1e9),
+                "{a}: the linear reading"
+            );
         }
         let u = [1e-7, -2e-7, 3e-7, 1e-7, -1e-7, 2e-7];
         let (mut sl, mut sg) = ([[0.0; 3]], [[0.0; 3]]);

@@ -512,12 +512,7 @@ impl<'a> TurnAverage<'a> {
     /// of the Green strain (`green`: a wheel in large deformation,
     /// [`crate::element::tri3::green_stresses_into`], which a rigid rotation leaves alone)
     /// or of the linear strain.
-    pub fn new(
-        model: &'a WheelModel,
-        timeline: Timeline,
-        window: (f64, f64),
-        green: bool,
-    ) -> Self {
+    pub fn new(model: &'a WheelModel, timeline: Timeline, window: (f64, f64), green: bool) -> Self {
         let n_el = model.triangles.len();
         Self {
             model,
