@@ -30,7 +30,7 @@
 //!
 //! The J2 material (`material.model = "j2"`: finite-strain plasticity is not built), the
 //! moving refined zone (its relabelling carries nodal states), the elastic block, the
-//! uncoupled twin and the subdivision treatment ([`super::rules`]).
+//! uncoupled twin and the subdivision treatment (the wheel's `rules`).
 
 use crate::bodies::wheel::WheelModel;
 use crate::finite::{FiniteBody, Hyperelastic};
