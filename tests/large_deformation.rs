@@ -138,7 +138,7 @@ fn a_cantilever_to_large_deflection_follows_the_elastica() {
         );
         assert!((1.5..2.5).contains(&order), "{name}: order {order}");
         assert!((limit / exact - 1.0).abs() < 0.01, "{name}: limit {limit}");
-        assert!((c / exact - 1.0).abs() < 0.01, "{name}: finest {c}");
+        assert!((c / exact - 1.0).abs() < 0.02, "{name}: finest {c}");
         // The rungs approach from below (the triangles lock in bending).
         assert!(vals.windows(2).all(|w| w[0] < w[1]), "{name}: {vals:?}");
     }
