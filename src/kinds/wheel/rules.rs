@@ -185,44 +185,54 @@ pub(crate) fn check_wheel_run(
             ));
         }
     }
-    if w.large.is_some() {
-        let why = if matches!(w.mesh, MeshSource::Zone(_)) {
-            Some("a moving refined zone (wheel.zone_rim_nodes): its relabelling carries nodal states, not the triangles' reference geometry")
-        } else if w.block.is_some() {
-            Some("an elastic block ([block]): the large-deformation wheel rolls on the rigid base")
-        } else if w.spec.coupling == Coupling::Uncoupled {
-            Some("rolling.coupling = \"uncoupled\": its twin disk is a second linear body")
-        } else if matches!(run_contact, Treatment::Subdivision) {
-            Some("contact.method = \"subdivision\": its sub-steps do not start at the snapshots that carry the iteration's state")
-        } else {
-            None
-        };
-        if let Some(why) = why {
-            return Err(cx.invalid(
+    // A nonlinear internal force (large deformation, J2): what its states do not travel with.
+    let nonlinear = [
+        (
+            w.large.is_some(),
+            (
                 "material.geometry",
                 "\"large\"",
-                &format!("the large-deformation wheel is not built with {why}"),
-            ));
+                "the large-deformation wheel",
+            ),
+            [
+                "its relabelling carries nodal states, not the triangles' reference geometry",
+                "the large-deformation wheel rolls on the rigid base",
+                "its twin disk is a second linear body",
+                "the snapshots that carry the iteration's state",
+            ],
+        ),
+        (
+            w.plastic.is_some(),
+            ("material.model", "\"j2\"", "the plastic wheel"),
+            [
+                "its relabelling carries nodal states, not the elements' plastic states",
+                "the plastic wheel rolls on the rigid base",
+                "its twin disk would carry half the strain",
+                "the snapshots that carry the plastic state",
+            ],
+        ),
+    ];
+    for (on, (key, value, what), [zone, block, twin, snaps]) in nonlinear {
+        if !on {
+            continue;
         }
-    }
-    if w.plastic.is_some() {
         let why = if matches!(w.mesh, MeshSource::Zone(_)) {
-            Some("a moving refined zone (wheel.zone_rim_nodes): its relabelling carries nodal states, not the elements' plastic states")
+            Some(format!(
+                "a moving refined zone (wheel.zone_rim_nodes): {zone}"
+            ))
         } else if w.block.is_some() {
-            Some("an elastic block ([block]): the plastic wheel rolls on the rigid base")
+            Some(format!("an elastic block ([block]): {block}"))
         } else if w.spec.coupling == Coupling::Uncoupled {
-            Some("rolling.coupling = \"uncoupled\": its twin disk would carry half the strain")
+            Some(format!("rolling.coupling = \"uncoupled\": {twin}"))
         } else if matches!(run_contact, Treatment::Subdivision) {
-            Some("contact.method = \"subdivision\": its sub-steps do not start at the snapshots that carry the plastic state")
+            Some(format!(
+                "contact.method = \"subdivision\": its sub-steps do not start at {snaps}"
+            ))
         } else {
             None
         };
         if let Some(why) = why {
-            return Err(cx.invalid(
-                "material.model",
-                "\"j2\"",
-                &format!("the plastic wheel is not built with {why}"),
-            ));
+            return Err(cx.invalid(key, value, &format!("{what} is not built with {why}")));
         }
     }
     if w.spec.creepage != 0.0 && friction.is_none_or(|law| !law.is_active()) {
