@@ -45,6 +45,7 @@ fn model(rim: usize) -> (WheelOnTrack, f64) {
         gravity: 9.81,
         settle: 0.0,
         creepage: 0.0,
+        wheelbase: None,
     };
     let h = 2.0 * std::f64::consts::PI * r_s / rim as f64 / SPEED / 3.0;
     let track = TrackSpec::uic60();

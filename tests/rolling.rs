@@ -63,6 +63,7 @@ fn vehicle() -> Vehicle {
         gravity: 9.81,
         settle: SETTLE,
         creepage: 0.0,
+        wheelbase: None,
     }
 }
 

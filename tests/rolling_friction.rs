@@ -60,6 +60,7 @@ fn vehicle(xi: f64) -> Vehicle {
         gravity: 9.81,
         settle: SETTLE,
         creepage: xi,
+        wheelbase: None,
     }
 }
 

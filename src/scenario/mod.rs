@@ -253,6 +253,12 @@ pub struct Vehicle {
     /// `omega = V (1 + xi) / R_s`, `R_s` the spun, unloaded rim's radius; positive:
     /// traction, the wheel turning faster than it rolls ([`crate::bodies::rail::rolling`]).
     pub creepage: f64,
+    /// A second wheel `wheelbase` behind the first on the same rail (`vehicle.wheelbase`, m;
+    /// the wheel only; `None`: one wheel): the same wheel, unsprung mass, load and
+    /// suspension ([`crate::bodies::rail::rolling`], Two wheels). The passage runs on until
+    /// the second wheel has crossed the recorded bays too.
+    #[serde(rename = "wheelbase_m", skip_serializing_if = "Option::is_none")]
+    pub wheelbase: Option<f64>,
     /// The wheel's mesh and material (the wheel only).
     pub wheel: TrackWheel,
 }
@@ -413,9 +419,15 @@ impl TrackScenario {
         self.vehicle.travel_bays as f64 * self.spec.spacing + self.settle_distance()
     }
 
+    /// The distance the vehicle runs: [`TrackScenario::travel`], and with a second wheel
+    /// the wheelbase more, so that the second wheel crosses the recorded bays too, m.
+    pub fn run_distance(&self) -> f64 {
+        self.travel() + self.vehicle.wheelbase.unwrap_or(0.0)
+    }
+
     /// The passage's duration, s.
     pub fn duration(&self) -> f64 {
-        self.travel() / self.vehicle.speed
+        self.run_distance() / self.vehicle.speed
     }
 }
 

@@ -188,6 +188,7 @@ pub(crate) struct RawVehicle {
     pub suspension_damping: Option<f64>,
     pub gravity: Option<f64>,
     pub creepage: Option<f64>,
+    pub wheelbase: Option<f64>,
     pub wheel_rim_nodes: Option<i64>,
     pub wheel_thickness: Option<f64>,
     pub wheel_hub_radius: Option<f64>,

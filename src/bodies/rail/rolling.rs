@@ -80,6 +80,20 @@
 //! nodes at 40 m/s and -3%); `gamma = 0.2` (or `alpha = 1`) removes it
 //! (`tests/rolling_friction.rs`, the book's docs/src/track.md).
 //!
+//! # Two wheels
+//!
+//! With `vehicle.wheelbase = L` a second wheel rolls `L` behind the first on the same rail,
+//! as the two wheels of a bogie on one rail do: the same mesh, spin, unsprung mass, axle
+//! load, suspension and ramp, its frame turning with the first's about the centre `(-L, 0)`
+//! of the ground ([`Trailing`]). Its dofs follow the rail's in the joined model
+//! (`[wheel 1, rail, wheel 2, sleepers, axle 1, axle 2]`), its axle carries the same frame
+//! terms, and its rim meets the rail through an interface of its own (interface 1, its
+//! pairs after the first wheel's: [`WheelOnTrack::rim_pairs`]). The two wheels share
+//! nothing but the track: the bogie's frame and secondary suspension, which would join
+//! their axles, are left out (each axle hangs from the vehicle by its own primary
+//! suspension, the axle load a constant force), so they interact through the rail alone,
+//! as in the track models of corrugation growth with several wheelsets (Igeland 1996).
+//!
 //! # What is not modelled
 //!
 //! The rail is a beam along its axis: its top is its neutral axis (the head's rotation
@@ -128,6 +142,10 @@ pub struct Vehicle {
     /// the wheel turns at `omega = V (1 + xi) / R_s`; positive: traction (module docs,
     /// Friction and creepage). 0 for rolling at `V / R_s`.
     pub creepage: f64,
+    /// A second wheel (module docs, Two wheels): the distance it trails the first by along
+    /// the track, m; `None`: one wheel.
+    #[serde(rename = "wheelbase_m", skip_serializing_if = "Option::is_none")]
+    pub wheelbase: Option<f64>,
 }
 
 impl Vehicle {
@@ -198,6 +216,22 @@ pub struct WheelOnTrack {
     pub rim_radius: f64,
     /// The tie springs' stiffness, N/m each.
     pub tie_stiffness: f64,
+    /// The second wheel, when `vehicle.wheelbase` is given (module docs, Two wheels).
+    pub trailing: Option<Trailing>,
+}
+
+/// The second wheel of [`WheelOnTrack`] (module docs, Two wheels): the first's model again,
+/// its axle `wheelbase` behind the first's.
+#[derive(Debug)]
+pub struct Trailing {
+    /// How far it trails the first wheel, m.
+    pub wheelbase: f64,
+    /// Its first dof in the joined model (its dofs follow the rail's).
+    pub first_dof: usize,
+    /// Its axle's dofs (x, y in its frame, which turns as the first wheel's).
+    pub axle: [usize; 2],
+    /// Its rim against the rail's top (interface 1; its pairs follow the first wheel's).
+    pub interface: Interface,
 }
 
 impl WheelOnTrack {
@@ -227,9 +261,25 @@ impl WheelOnTrack {
         };
         let (wb, hub_dofs) = freed_wheel_body(&wheel);
         rail.motion = rail_motion;
-        let bodies = vec![wb, rail];
+        let wheelbase = match vehicle.wheelbase {
+            None => None,
+            Some(l) if l.is_finite() && l > 0.0 && l <= start => Some(l),
+            Some(l) => {
+                return Err(RollingError::Unsupported(format!(
+                    "the second wheel's wheelbase {l} m: give a distance > 0 that leaves it on the rail (its axle {start} m from the rail's start behind the first's)"
+                )))
+            }
+        };
+        let mut bodies = vec![wb, rail];
+        if let Some(l) = wheelbase {
+            let (mut second, _) = freed_wheel_body(&wheel);
+            second.name = "trailing wheel".into();
+            second.motion = trailing_frame(l, omega);
+            bodies.push(second);
+        }
         let first = first_dofs(&bodies);
-        let (n_wheel, n_bodies) = (first[1], first[2]);
+        let (n_wheel, n_rail_end) = (first[1], first[2]);
+        let n_bodies = *first.last().unwrap_or(&0);
         let sleepers = track.bays + 1;
         let (discrete, pads) = track.supports(n_wheel, n_bodies)?;
         let axle = [n_bodies + sleepers, n_bodies + sleepers + 1];
@@ -248,26 +298,53 @@ impl WheelOnTrack {
             tie_stiffness,
             vehicle: &vehicle,
         };
+        let mut discrete = axle_of.joints(discrete, &hub_dofs)?;
+        let second_axle = [axle[0] + 2, axle[1] + 2];
+        let axle_of_second = AxleOf {
+            dofs: second_axle,
+            ..axle_of
+        };
+        if wheelbase.is_some() {
+            let hub: Vec<usize> = hub_dofs.iter().map(|&d| d + n_rail_end).collect();
+            discrete = axle_of_second.joints(discrete, &hub)?;
+        }
         let joints = Joints {
-            dofs: sleepers + 2,
-            discrete: axle_of.joints(discrete, &hub_dofs)?,
+            dofs: sleepers + if wheelbase.is_some() { 4 } else { 2 },
+            discrete,
         };
         let mut joined = assemble_with(&bodies, &joints)?;
         axle_of.add_frame_terms(&mut joined, omega)?;
-        let search = rail_search(&xs, &phi, length, rail_motion, n_wheel, profile)?;
-        let interface = Interface::new(
+        let rim_interface = |search, motion, first_dof| {
+            Interface::new(
+                search,
+                Placed { motion, first_dof },
+                wheel.rim.clone(),
+                &wheel.mesh.reference_positions(),
+            )
+        };
+        let search = rail_search(&xs, &phi, length, rail_motion, n_wheel, profile.clone())?;
+        let interface = rim_interface(
             search,
-            Placed {
-                motion: Motion::Rotating {
-                    centre: [0.0; 3],
-                    omega: -omega,
-                    angle0: 0.0,
-                },
-                first_dof: 0,
+            Motion::Rotating {
+                centre: [0.0; 3],
+                omega: -omega,
+                angle0: 0.0,
             },
-            wheel.rim.clone(),
-            &wheel.mesh.reference_positions(),
+            0,
         );
+        let trailing = match wheelbase {
+            Some(l) => {
+                axle_of_second.add_frame_terms(&mut joined, omega)?;
+                let search = rail_search(&xs, &phi, length, rail_motion, n_wheel, profile)?;
+                Some(Trailing {
+                    wheelbase: l,
+                    first_dof: n_rail_end,
+                    axle: second_axle,
+                    interface: rim_interface(search, trailing_frame(l, omega), n_rail_end),
+                })
+            }
+            None => None,
+        };
         Ok(Self {
             track: *track,
             vehicle,
@@ -283,6 +360,7 @@ impl WheelOnTrack {
             start,
             rim_radius: r_s,
             tie_stiffness,
+            trailing,
             wheel,
         })
     }
@@ -290,12 +368,15 @@ impl WheelOnTrack {
     /// The driver's problem: `steps` steps of `h` with `integrator`, the soft way,
     /// frictionless (set `treatment` and `friction` after), the load of the module docs.
     pub fn problem(&self, integrator: Integrator, h: f64, steps: usize) -> Problem {
-        let pairs = Pair::searched(0, &self.interface, 0);
-        let mut p = self.joined.problem(
-            &self.bodies,
-            (vec![self.interface.clone()], pairs),
-            (integrator, h, steps),
-        );
+        let mut pairs = Pair::searched(0, &self.interface, 0);
+        let mut interfaces = vec![self.interface.clone()];
+        if let Some(tr) = &self.trailing {
+            pairs.extend(Pair::searched(1, &tr.interface, tr.first_dof / 2));
+            interfaces.push(tr.interface.clone());
+        }
+        let mut p = self
+            .joined
+            .problem(&self.bodies, (interfaces, pairs), (integrator, h, steps));
         p.load = self.load_fn();
         p.treatment = Treatment::SOFT_WAY;
         p
@@ -307,15 +388,23 @@ impl WheelOnTrack {
         let n = self.joined.model.n();
         let n_wheel = self.joined.first_dof[1];
         let base = self.joined.load.clone();
-        // M 1_x and M 1_y on the wheel's and the axle's dofs (the joined mass: the ties
+        // The wheels' dofs and their axles' (the second wheel's when there is one).
+        let second = self.trailing.as_ref().map(|tr| (tr.first_dof, tr.axle));
+        let on_wheel =
+            |d: usize| d < n_wheel || second.is_some_and(|(f, _)| (f..f + n_wheel).contains(&d));
+        let on_axle =
+            |d: usize, c: usize| d == self.axle[c] || second.is_some_and(|(_, a)| d == a[c]);
+        let moving = |d: usize, c: usize| on_wheel(d) || on_axle(d, c);
+        // M 1_x and M 1_y on the wheels' and the axles' dofs (the joined mass: the ties
         // carry none).
         let mut unit = [vec![0.0; n], vec![0.0; n]];
         for (c, out) in unit.iter_mut().enumerate() {
             let mut ones = vec![0.0; n];
-            for d in (c..n_wheel).step_by(2) {
-                ones[d] = 1.0;
+            for (d, one) in ones.iter_mut().enumerate() {
+                if d % 2 == c && on_wheel(d) || on_axle(d, c) {
+                    *one = 1.0;
+                }
             }
-            ones[self.axle[c]] = 1.0;
             spmv_add(
                 self.joined.model.pattern(),
                 &self.joined.model.m,
@@ -324,7 +413,7 @@ impl WheelOnTrack {
                 out,
             );
             for (d, o) in out.iter_mut().enumerate() {
-                if !(d < n_wheel || d == self.axle[c]) {
+                if !moving(d, c) {
                     *o = 0.0;
                 }
             }
@@ -343,12 +432,31 @@ impl WheelOnTrack {
             }
             f[axle[0]] += s * f_axle * d[0];
             f[axle[1]] += s * f_axle * d[1];
+            if let Some((_, a)) = second {
+                f[a[0]] += s * f_axle * d[0];
+                f[a[1]] += s * f_axle * d[1];
+            }
         })
     }
 
     /// The rail's abscissa under the axle at time `t`, m.
     pub fn under_axle(&self, t: f64) -> f64 {
         self.start + self.vehicle.speed * t
+    }
+
+    /// The contact pairs of the first wheel's rim (`..n`) and of the second's (`n..`), `n`
+    /// the rim's nodes: the order of [`WheelOnTrack::problem`]'s pairs.
+    pub fn rim_pairs(&self) -> usize {
+        self.interface.nodes().len()
+    }
+
+    /// The second wheel's axle displacement in the ground (x along the track, y up) at `t`,
+    /// m; `None` with one wheel.
+    pub fn trailing_axle_ground(&self, t: f64, u: &[f64]) -> Option<[f64; 2]> {
+        let tr = self.trailing.as_ref()?;
+        let a = [u[tr.axle[0]], u[tr.axle[1]], 0.0];
+        let g = self.bodies[0].motion.rotate(t, a);
+        Some([g[0], g[1]])
     }
 
     /// The axle's displacement in the ground (x along the track, y up) at `t`, m.
@@ -494,6 +602,15 @@ fn freed_wheel_body(wheel: &WheelModel) -> (Body, Vec<usize>) {
         &mut wb.load,
     );
     (wb, hub_dofs)
+}
+
+/// The second wheel's frame: the first's, its centre `wheelbase` behind along the track.
+fn trailing_frame(wheelbase: f64, omega: f64) -> Motion {
+    Motion::Rotating {
+        centre: [-wheelbase, 0.0, 0.0],
+        omega: -omega,
+        angle0: 0.0,
+    }
 }
 
 /// The wheel's mass: the sum of its mass matrix's products with a unit motion along y.

@@ -220,6 +220,13 @@ impl TrackPass {
                 }
             }
         }
+        if ts.vehicle.wheelbase.is_some()
+            && (patch != WearPatch::Hertz || matches!(sliding, Sliding::Dynamic { .. }))
+        {
+            return Err(input(
+                "vehicle.wheelbase (a second wheel) wears the rail on Hertz's patch under the steady creepage (growth.patch = \"hertz\", growth.sliding = \"steady\"): the rim nodes' own wear (\"nodes\") and the dynamic friction's (\"dynamic\") follow the first wheel only; remove vehicle.wheelbase or those keys".into(),
+            ));
+        }
         let s = ts.spec.spacing;
         let travel_step = ts.vehicle.speed * run.params.h;
         if !(dx.is_finite() && dx > 0.0 && dx <= 0.1 * s) {
@@ -466,7 +473,8 @@ impl PassRunner for TrackPass {
         if let Some(p2) = f.p2_hz {
             marks.push((p2, "P2".to_string()));
         }
-        write_prediction(out, (&flat, &pred), bands, (v.speed, &marks), plots)
+        let wheels = if v.wheelbase.is_some() { 2 } else { 1 };
+        write_prediction(out, (&flat, &pred), bands, (v.speed, &marks, wheels), plots)
     }
 
     fn run_pass(
@@ -676,7 +684,10 @@ impl PredictedGrowth {
 /// Writes `prediction.csv` and (with `plots`) `prediction.png` into `out`: the growth rate
 /// predicted from the receptances against wavelength, the study's band rates (`measured`:
 /// `(band centre wavelength m, dB per 1e5 real passes)`) beside it, and the track's
-/// frequencies at the run's speed (`marks`: `(frequency Hz, name)`).
+/// frequencies at the run's speed (`marks`: `(frequency Hz, name)`). With `wheels = 2` (a
+/// bogie's pass) the flat pass's wear per newton is both wheels' over the first's force, so
+/// the prediction is that of two wheels that do not interact: the study's departures from
+/// it are the wheels' interaction through the rail, and the figure says so.
 ///
 /// # Errors
 /// The file that cannot be written.
@@ -684,7 +695,7 @@ pub fn write_prediction(
     out: &std::path::Path,
     (flat, pred): (&FlatPass, &[PredictedGrowth]),
     measured: &[(f64, f64)],
-    (speed, marks): (f64, &[(f64, String)]),
+    (speed, marks, wheels): (f64, &[(f64, String)], usize),
     plots: bool,
 ) -> Result<Vec<std::path::PathBuf>, RunError> {
     let csv = out.join("prediction.csv");
@@ -730,7 +741,11 @@ pub fn write_prediction(
         );
         p.x_log = true;
         p.series.push(Series::new(
-            "predicted from the receptance (linear, frequency domain)",
+            if wheels > 1 {
+                "predicted from the receptance for wheels that do not interact (linear, frequency domain)"
+            } else {
+                "predicted from the receptance (linear, frequency domain)"
+            },
             pred.iter().map(|q| 1e3 * q.wavelength_m).collect(),
             pred.iter().map(PredictedGrowth::rate_db_per_1e5).collect(),
             SeriesStyle::Line,
@@ -760,6 +775,11 @@ pub fn write_prediction(
             }
         }
         p.note = "Growth > 0: the roughness at that wavelength deepens pass after pass. Frequency = V / wavelength.".into();
+        if wheels > 1 {
+            p.note.push_str(&format!(
+                " A pass is {wheels} wheels' (a bogie's): the prediction is one wheel's receptance with the pass's wear, the wheels not interacting."
+            ));
+        }
         let png = out.join("prediction.png");
         line_plot(&png, &p, (1200, 700)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);

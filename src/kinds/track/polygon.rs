@@ -71,6 +71,11 @@ impl WheelTrackPass {
                 input("a wheel's growth study on the track needs kind = \"track\" with vehicle.model = \"wheel\"".into())
             })?;
         law.check().map_err(input)?;
+        if let Some(l) = ts.vehicle.wheelbase {
+            return Err(input(format!(
+                "vehicle.wheelbase = {l}: growth.surface = \"wheel\" grows one wheel's profile; the second wheel is for the rail's growth (remove vehicle.wheelbase)"
+            )));
+        }
         if run.friction.is_none_or(|l| !l.is_active()) || ts.vehicle.creepage == 0.0 {
             return Err(input(format!(
                 "growth.surface = \"wheel\" wears the wheel by the run's own friction: set contact.friction > 0 and vehicle.creepage (with vehicle.suspension_stiffness > 0 and time.gamma > 0, as scenarios/track-traction.toml); this scenario has contact.friction {} and vehicle.creepage = {}",

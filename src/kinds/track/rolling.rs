@@ -60,6 +60,14 @@ pub const HISTORY: [(&str, &str); 15] = [
     ("friction_energy_J", "J"),
 ];
 
+/// The columns a run with a second wheel (`vehicle.wheelbase`) adds to [`HISTORY`]: its
+/// contact force and its axle's vertical displacement (`contact_force_N` and
+/// `axle_displacement_m` are the first wheel's).
+pub const HISTORY_TRAILING: [(&str, &str); 2] = [
+    ("trailing_contact_force_N", "N"),
+    ("trailing_axle_displacement_m", "m"),
+];
+
 /// One run's key figures (`summary.json`, `runs[i]`).
 #[derive(Debug, Clone, serde::Serialize)]
 struct RollingSummary {
@@ -103,10 +111,25 @@ struct RollingSummary {
     pinned_pinned_hz: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     traction: Option<TractionSummary>,
+    /// The second wheel's passage (`vehicle.wheelbase`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    trailing: Option<TrailingSummary>,
     wall_time_s: f64,
     time_per_step_us: f64,
     time_per_metre_s: f64,
     interrupted: bool,
+}
+
+/// The second wheel's passage (`summary.json`, `runs[i].trailing`): its contact force over
+/// the same whole bays as the first wheel's, which it crosses `wheelbase` later.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+struct TrailingSummary {
+    wheelbase_m: f64,
+    contact_force_mean_n: f64,
+    contact_force_min_n: f64,
+    contact_force_max_n: f64,
+    contact_force_std_n: f64,
+    axle_displacement_mean_m: f64,
 }
 
 /// The friction figures of a run with friction (`summary.json`, `runs[i].traction`; the
@@ -154,6 +177,9 @@ struct Rec {
     tangential: f64,
     slip_power: f64,
     friction_energy: f64,
+    /// The second wheel's contact force and axle's vertical displacement (NaN with one).
+    trailing_force: f64,
+    trailing_axle_y: f64,
 }
 
 fn track_of(model: &Model) -> &TrackScenario {
@@ -232,7 +258,15 @@ pub(crate) fn record(
     stream: Option<&Path>,
     opts: &RunOptions,
 ) -> Result<Results, RunError> {
-    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &HISTORY)?;
+    let two_wheels = sc
+        .runs
+        .iter()
+        .any(|r| track_of(&r.model).vehicle.wheelbase.is_some());
+    let mut columns = HISTORY.to_vec();
+    if two_wheels {
+        columns.extend(HISTORY_TRAILING);
+    }
+    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &columns)?;
     let at = |e| RunError::output(&hist, e);
     let first = track_of(&sc.runs[0].model);
     let mut panels = Panels::new(first);
@@ -240,12 +274,13 @@ pub(crate) fn record(
     let mut interrupted = false;
     for (ri, run) in sc.runs.iter().enumerate() {
         let ts = track_of(&run.model);
-        let (sum, recs) = roll(sc, run, ts, opts, &mut |k, row| {
+        let mut push = |k: usize, row: &[f64]| {
             if k % sc.history_stride.max(1) == 0 {
                 csv.push(ri as u32, row)?;
             }
             Ok(())
-        })?;
+        };
+        let (sum, recs) = roll(sc, run, ts, opts, (columns.len(), &mut push))?;
         interrupted |= sum.interrupted;
         panels.add(ri, sc.runs.len(), &run.label, ts, &sum, &recs);
         sums.push(sum);
@@ -326,16 +361,17 @@ pub(crate) fn passage_of(
         gravity: v.gravity,
         settle: settle_time,
         creepage: v.creepage,
+        wheelbase: v.wheelbase,
     };
     let start = ts.start();
     let h = run.params.h;
-    let steps = (ts.travel() / (v.speed * h)).round().max(1.0) as usize;
+    let steps = (ts.run_distance() / (v.speed * h)).round().max(1.0) as usize;
     let profile = match profile {
         Some(p) => Some(p),
         None => ts
             .irregularity
             .as_ref()
-            .map(|irr| irr.profile((start, start + ts.travel() + 1.0)))
+            .map(|irr| irr.profile((start, start + ts.run_distance() + 1.0)))
             .transpose()
             .map_err(|e| input(e.to_string()))?,
     };
@@ -359,7 +395,7 @@ fn roll(
     run: &Run,
     ts: &TrackScenario,
     opts: &RunOptions,
-    row: &mut dyn FnMut(usize, &[f64]) -> std::io::Result<()>,
+    (width, row): (usize, &mut dyn FnMut(usize, &[f64]) -> std::io::Result<()>),
 ) -> Result<(RollingSummary, Vec<Rec>), RunError> {
     let (wot, mut sim, steps) = passage(sc, run, ts, opts, None)?;
     let start = ts.start();
@@ -385,6 +421,8 @@ fn roll(
             let x = wot.under_axle(t);
             let axle = wot.axle_ground(t, u);
             let nearest = wot.sleeper_near(x);
+            let (first, second) = st.pairs.split_at(wot.rim_pairs().min(st.pairs.len()));
+            let trailing_axle = wot.trailing_axle_ground(t, u);
             let mut tangential = 0.0;
             for ps in &st.pairs {
                 tangential -= ps.tangential_force;
@@ -400,7 +438,7 @@ fn roll(
             let rec = Rec {
                 distance: x - start,
                 settling: x - start < ts.settle_distance(),
-                force: s.contact_force,
+                force: first.iter().map(|p| p.force).sum(),
                 held: s.held,
                 axle_y: axle[1],
                 axle_x: axle[0],
@@ -409,27 +447,30 @@ fn roll(
                 tangential,
                 slip_power: s.slip_power,
                 friction_energy: s.friction_dissipated,
+                trailing_force: trailing_axle
+                    .map_or(f64::NAN, |_| second.iter().map(|p| p.force).sum()),
+                trailing_axle_y: trailing_axle.map_or(f64::NAN, |a| a[1]),
             };
-            row(
-                st.k,
-                &[
-                    t,
-                    rec.distance,
-                    x,
-                    f64::from(u8::from(rec.settling)),
-                    rec.force,
-                    rec.held as f64,
-                    rec.axle_y,
-                    rec.axle_x,
-                    rec.rail_w,
-                    profile_at(x),
-                    rec.pad,
-                    nearest as f64,
-                    rec.tangential,
-                    rec.slip_power,
-                    rec.friction_energy,
-                ],
-            )?;
+            let columns = [
+                t,
+                rec.distance,
+                x,
+                f64::from(u8::from(rec.settling)),
+                rec.force,
+                rec.held as f64,
+                rec.axle_y,
+                rec.axle_x,
+                rec.rail_w,
+                profile_at(x),
+                rec.pad,
+                nearest as f64,
+                rec.tangential,
+                rec.slip_power,
+                rec.friction_energy,
+                rec.trailing_force,
+                rec.trailing_axle_y,
+            ];
+            row(st.k, &columns[..width.min(columns.len())])?;
             if st.k % 64 == 0 {
                 pb.set_position(st.k as u64);
             }
@@ -465,7 +506,12 @@ fn summarise(
     let load = wot.vehicle.static_load();
     let passage: Vec<&Rec> = recs.iter().filter(|r| !r.settling).collect();
     // Whole sleeper bays of the passage for the means.
-    let bays = (passage.len() as f64 * h * v.speed / s).floor().max(1.0);
+    // (With a second wheel the passage runs on by the wheelbase: the first wheel's figures
+    // stay those of its recorded bays.)
+    let bays = (passage.len() as f64 * h * v.speed / s)
+        .floor()
+        .min(v.travel_bays as f64)
+        .max(1.0);
     let whole = ((bays * s / (v.speed * h)).round() as usize).min(passage.len());
     let w = &passage[..whole];
     let n = w.len().max(1) as f64;
@@ -479,6 +525,32 @@ fn summarise(
         });
     let axle = mean(&|r| r.axle_y);
     let rail = mean(&|r| r.rail_w);
+    // The second wheel over the same bays: the records `wheelbase` further on.
+    let trailing = v.wheelbase.map(|l| {
+        let lag = (l / (v.speed * h)).round() as usize;
+        let first = recs.len() - passage.len();
+        let w2: Vec<&Rec> = recs.iter().skip(first + lag).take(whole).collect();
+        let n2 = w2.len().max(1) as f64;
+        let f2 = w2.iter().map(|r| r.trailing_force).sum::<f64>() / n2;
+        let (lo, hi) = w2
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                (a.min(r.trailing_force), b.max(r.trailing_force))
+            });
+        TrailingSummary {
+            wheelbase_m: l,
+            contact_force_mean_n: f2,
+            contact_force_min_n: lo,
+            contact_force_max_n: hi,
+            contact_force_std_n: (w2
+                .iter()
+                .map(|r| (r.trailing_force - f2).powi(2))
+                .sum::<f64>()
+                / n2)
+                .sqrt(),
+            axle_displacement_mean_m: w2.iter().map(|r| r.trailing_axle_y).sum::<f64>() / n2,
+        }
+    });
     let forces: Vec<f64> = w.iter().map(|r| r.force).collect();
     // The strongest line below half the rim's node-passing frequency (the ripple of the
     // rim's discretisation above it).
@@ -548,6 +620,7 @@ fn summarise(
         (None, None)
     };
     let rim = v.wheel.rim_nodes;
+    let wheels = if wot.trailing.is_some() { 2 } else { 1 };
     let steps = recs.len().saturating_sub(1);
     let travelled = recs.last().map_or(0.0, |r| r.distance);
     Ok(RollingSummary {
@@ -564,7 +637,8 @@ fn summarise(
         rim_pitch_m: 2.0 * std::f64::consts::PI * wot.rim_radius / rim as f64,
         steps_per_rim_node: ts.rim_passage() / h,
         wheel_dofs: wot.joined.first_dof[1],
-        track_dofs: wot.joined.model.n() - wot.joined.first_dof[1] - 2,
+        // (Each wheel's dofs and its axle's two out: the rail's and the sleepers'.)
+        track_dofs: wot.joined.model.n() - wheels * (wot.joined.first_dof[1] + 2),
         wheel_mass_kg: wot.wheel_mass,
         axle_mass_kg: wot.axle_mass,
         static_load_n: load,
@@ -588,6 +662,7 @@ fn summarise(
         p2_hertz_hz: f.p2_hz,
         pinned_pinned_hz: f.pinned_pinned_hz,
         traction,
+        trailing,
         wall_time_s: wall,
         time_per_step_us: 1e6 * wall / steps.max(1) as f64,
         time_per_metre_s: wall / travelled.max(1e-12),
@@ -606,8 +681,17 @@ fn screen_line(s: &RollingSummary) -> String {
             t.traction_ratio
         )
     });
+    let trailing = s.trailing.map_or_else(String::new, |t| {
+        format!(
+            "; the second wheel ({} m behind) {:.2} kN mean, {:.1}-{:.1} kN",
+            t.wheelbase_m,
+            1e-3 * t.contact_force_mean_n,
+            1e-3 * t.contact_force_min_n,
+            1e-3 * t.contact_force_max_n
+        )
+    });
     format!(
-        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {}{traction}; {:.2} ms a step, {:.2} s a metre",
+        "{:<10} {:.1} km/h over {:.1} m: contact force {:.2} kN mean ({:+.2}% of the static {:.2} kN), {:.1}-{:.1} kN, strongest line {} (sleeper passing {:.1} Hz); P2 {} on the measured contact spring {}{traction}{trailing}; {:.2} ms a step, {:.2} s a metre",
         s.label,
         s.speed_km_h,
         s.travel_m,

@@ -320,6 +320,7 @@ fn vehicle(
         ("vehicle.suspension_damping", v.suspension_damping.is_some()),
         ("vehicle.gravity", v.gravity.is_some()),
         ("vehicle.creepage", v.creepage.is_some()),
+        ("vehicle.wheelbase", v.wheelbase.is_some()),
         ("vehicle.wheel_rim_nodes", v.wheel_rim_nodes.is_some()),
         ("vehicle.wheel_thickness", v.wheel_thickness.is_some()),
         ("vehicle.wheel_hub_radius", v.wheel_hub_radius.is_some()),
@@ -370,6 +371,10 @@ fn vehicle(
         )?,
         gravity: cx.non_negative("vehicle.gravity", v.gravity.unwrap_or(9.81))?,
         creepage: creepage(cx, v.creepage)?,
+        wheelbase: match v.wheelbase {
+            Some(l) => Some(cx.positive("vehicle.wheelbase", l)?),
+            None => None,
+        },
         wheel,
     };
     if model == VehicleModel::Wheel && vehicle.settle_bays < 2 {
@@ -486,27 +491,35 @@ fn check_room(cx: &Ctx, vehicle: &Vehicle, spec: &TrackSpec) -> Result<(), Scena
         Ends::Free => 0,
     };
     // The recorded travel is centred on the middle sleeper; the wheel's settling bays come
-    // before it: all of it must stay out of the absorbing zones.
-    let before = vehicle.travel_bays.div_ceil(2) + vehicle.settle_bays;
-    let after = vehicle.travel_bays.div_ceil(2);
+    // before it: all of it must stay out of the absorbing zones. A second wheel starts its
+    // wheelbase behind the first, and the first runs its wheelbase further.
+    let wheelbase_bays = vehicle
+        .wheelbase
+        .map_or(0, |l| (l / spec.spacing).ceil() as usize);
+    let before = vehicle.travel_bays.div_ceil(2) + vehicle.settle_bays + wheelbase_bays;
+    let after = vehicle.travel_bays.div_ceil(2) + wheelbase_bays;
     let room_before = (spec.bays / 2).saturating_sub(zone);
     let room_after = (spec.bays - spec.bays / 2).saturating_sub(zone);
     if before > room_before || after > room_after {
-        let key = if after > room_after || vehicle.settle_bays == 0 {
-            "vehicle.travel_bays"
+        let one_wheel_fits =
+            before - wheelbase_bays <= room_before && after - wheelbase_bays <= room_after;
+        let (key, value) = if let (Some(l), true) = (vehicle.wheelbase, one_wheel_fits) {
+            ("vehicle.wheelbase", l.to_string())
+        } else if after > room_after || vehicle.settle_bays == 0 {
+            ("vehicle.travel_bays", vehicle.travel_bays.to_string())
         } else {
-            "vehicle.settle_bays"
+            ("vehicle.settle_bays", vehicle.settle_bays.to_string())
         };
-        let value = if key == "vehicle.travel_bays" {
-            vehicle.travel_bays
+        let wheelbase = if wheelbase_bays > 0 {
+            format!(" + the wheelbase's {wheelbase_bays}")
         } else {
-            vehicle.settle_bays
+            String::new()
         };
         return Err(cx.invalid(
             key,
             value,
             &format!(
-                "the load must travel between the absorbing zones (track.end_bays = {zone} at each end of {} bays): vehicle.travel_bays / 2 + vehicle.settle_bays = {before} bays before the middle, {room_before} there",
+                "the load must travel between the absorbing zones (track.end_bays = {zone} at each end of {} bays): vehicle.travel_bays / 2 + vehicle.settle_bays{wheelbase} = {before} bays before the middle, {room_before} there; vehicle.travel_bays / 2{wheelbase} = {after} after it, {room_after} there (more track.bays make room)",
                 spec.bays,
             ),
         ));

@@ -43,6 +43,9 @@ pub(super) struct Wearing<'a> {
     pub(super) trace: Vec<(f64, f64)>,
     /// The patch's centre and force at the previous step.
     pub(super) last: Option<(f64, f64)>,
+    /// The second wheel's (`vehicle.wheelbase`): its patch's centre and force at the
+    /// previous step.
+    pub(super) last_trailing: Option<(f64, f64)>,
 }
 
 /// The wear law's depth rate under the rail's sliding at the travel speed `v`.
@@ -115,6 +118,7 @@ impl<'a> Wearing<'a> {
             bookkeeping: std::time::Duration::ZERO,
             trace,
             last: None,
+            last_trailing: None,
         }
     }
 
@@ -125,7 +129,22 @@ impl<'a> Wearing<'a> {
         let st = s.state;
         let (t, u) = (st.t, &st.state.u);
         let under = wot.under_axle(t);
-        let f = s.contact_force;
+        // The first wheel's pairs, then the second's (`WheelOnTrack::rim_pairs`).
+        let (first, second) = st.pairs.split_at(wot.rim_pairs().min(st.pairs.len()));
+        let f = first.iter().map(|p| p.force).sum();
+        if let (Some(tr), Some(rate)) = (&wot.trailing, self.rate) {
+            // The second wheel on Hertz's patch under the steady model (the only model it
+            // takes: `TrackPass::new`), from where it is on the rail.
+            let under = under - tr.wheelbase;
+            let axle = wot.trailing_axle_ground(t, u).unwrap_or_default();
+            let now = (under + axle[0], second.iter().map(|p| p.force).sum());
+            let before = self.last_trailing.replace(now);
+            if let (Some(before), true) = (before, under >= self.x0) {
+                let clock = Instant::now();
+                self.hertz(rate, before, now);
+                self.bookkeeping += clock.elapsed();
+            }
+        }
         let centre = under + wot.axle_ground(t, u)[0];
         let before = self.last.replace((centre, f));
         if under < self.x0 {

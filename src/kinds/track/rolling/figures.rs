@@ -71,6 +71,20 @@ impl Panels {
             window: (sum.steps_per_rim_node.round() as usize).max(1),
         };
         let smooth = self.add_force(&run, recs);
+        if let Some(l) = ts.vehicle.wheelbase {
+            // The second wheel's force where it is: over the rail `l` behind the first's.
+            let x: Vec<f64> = run.x.iter().map(|x| x - l).collect();
+            let f = moving_average(&col(recs, |r| 1e-3 * r.trailing_force), run.window);
+            let keep = x.iter().position(|&x| x >= 0.0).unwrap_or(x.len());
+            self.force.series.push(Series::new(
+                run.name(&format!(
+                    "second wheel, {l} m behind, over the rail under it"
+                )),
+                x[keep..].to_vec(),
+                f[keep..].to_vec(),
+                SeriesStyle::Dashed,
+            ));
+        }
         if ri == 0 {
             self.mark_static_load(ts, sum);
         }
