@@ -389,13 +389,16 @@ pub(crate) fn passage_of(
     Ok((wot, sim, steps))
 }
 
+/// Where [`roll`] sends each step's history row: `(step, columns)`.
+type RowSink<'a> = dyn FnMut(usize, &[f64]) -> std::io::Result<()> + 'a;
+
 /// Runs one wheel passage, calling `row(k, columns)` at every step.
 fn roll(
     sc: &Scenario,
     run: &Run,
     ts: &TrackScenario,
     opts: &RunOptions,
-    (width, row): (usize, &mut dyn FnMut(usize, &[f64]) -> std::io::Result<()>),
+    (width, row): (usize, &mut RowSink),
 ) -> Result<(RollingSummary, Vec<Rec>), RunError> {
     let (wot, mut sim, steps) = passage(sc, run, ts, opts, None)?;
     let start = ts.start();
