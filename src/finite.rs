@@ -561,6 +561,13 @@ impl InternalForce for FiniteBody {
         let (w, w_lin) = self.energies(u);
         w - w_lin
     }
+
+    /// The state is two nodal force vectors (`f_nl` at the last two steps), which a
+    /// relabelling of the nodes carries: turned with the mesh by a symmetry of it, the
+    /// force `K u - f_int(u)` turns with them (both `K u` and the objective `f_int`).
+    fn nodal_state(&self) -> Option<usize> {
+        Some(2)
+    }
 }
 
 mod statics;

@@ -84,6 +84,13 @@ pub trait InternalForce: Send + Sync {
     /// The stored energy of the state `s` at `u` less the elastic `u^T K u / 2` of the
     /// body, J (zero without inelastic strain).
     fn energy_correction(&self, s: &[f64], u: &[f64]) -> f64;
+    /// How many nodal vectors of the model's dofs the state is, when it is nothing else:
+    /// a moving refined zone ([`crate::simulation::Relocation`]) then relabels each with
+    /// the nodes. `None` (the default): the state holds what a relabelling of the nodes
+    /// cannot carry (the elements' plastic strains), and the zone is refused.
+    fn nodal_state(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// Counters of the iteration.
@@ -202,6 +209,23 @@ impl Nonlinear {
     /// The energy correction ([`InternalForce::energy_correction`]) of slot `i` at `u`, J.
     pub fn energy_correction(&self, i: usize, u: &[f64]) -> f64 {
         self.force.energy_correction(&self.ring[i], u)
+    }
+
+    /// Relabels the ring's states with the nodes (a moving refined zone), `f` applied to
+    /// each of their nodal vectors ([`InternalForce::nodal_state`]); the next step's start
+    /// is evaluated afresh. `false`, and nothing done, when the state is not nodal.
+    pub fn relabel(&mut self, mut f: impl FnMut(&mut [f64])) -> bool {
+        let Some(k) = self.force.nodal_state().filter(|&k| k > 0) else {
+            return false;
+        };
+        for slot in &mut self.ring {
+            let n = slot.len() / k;
+            for v in slot.chunks_exact_mut(n) {
+                f(v);
+            }
+        }
+        self.t0 = f64::NAN;
+        true
     }
 
     /// Rotates the ring with the driver's snapshots.

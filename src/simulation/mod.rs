@@ -337,7 +337,9 @@ impl Simulation {
     ///
     /// # Errors
     /// [`SimError::Unsupported`] unless the model is 2D with one node per pair, the sources
-    /// cover its nodes, and every obstacle can turn with the frame.
+    /// cover its nodes, every obstacle can turn with the frame, and an internal force's
+    /// state is nodal ([`crate::model::InternalForce::nodal_state`]: the large-deformation
+    /// body's is, relabelled with the nodes; a plastic body's is not).
     pub fn set_relocation(&mut self, spec: Relocation) -> Result<(), SimError> {
         let eng = &mut self.engine;
         let nodes = eng.reference.len() / eng.dim.max(1);
@@ -346,7 +348,11 @@ impl Simulation {
                 "a moving refined zone needs a 2D model, a source for every node and a turning obstacle".into(),
             ));
         }
-        if eng.nonlinear.is_some() {
+        if eng
+            .nonlinear
+            .as_ref()
+            .is_some_and(|nl| nl.force().nodal_state().is_none())
+        {
             return Err(SimError::Unsupported(
                 "a plastic body in a moving refined zone is not built (the zone's relabelling carries nodal states, not element states)".into(),
             ));
@@ -415,8 +421,8 @@ impl Simulation {
     /// snapshots (a step back restores them).
     ///
     /// # Errors
-    /// [`SimError::Unsupported`] with a moving refined zone (its relabelling does not carry
-    /// element states), the subdivision (its sub-steps do not start at snapshots), a
+    /// [`SimError::Unsupported`] with a moving refined zone when the force's state is not
+    /// nodal (its relabelling does not carry element states), the subdivision (its sub-steps do not start at snapshots), a
     /// tolerance that is not positive, or a force on another number of dofs.
     pub fn set_internal_force(
         &mut self,
@@ -424,7 +430,7 @@ impl Simulation {
         tol: f64,
         max_iterations: usize,
     ) -> Result<(), SimError> {
-        if self.relocation.is_some() {
+        if self.relocation.is_some() && force.nodal_state().is_none() {
             return Err(SimError::Unsupported(
                 "a plastic body in a moving refined zone is not built (the zone's relabelling carries nodal states, not element states)".into(),
             ));
@@ -507,6 +513,9 @@ impl Simulation {
             rel.vector(&mut snap.state.v);
             rel.vector(&mut snap.state.a);
             rel.pairs(&mut snap.pairs);
+        }
+        if let Some(nl) = self.engine.nonlinear.as_mut() {
+            nl.relabel(|x| rel.vector(x));
         }
         for o in &mut self.engine.obstacles {
             o.turn_frame(rel.spec.step);

@@ -29,8 +29,11 @@
 //! # Not built with it (refused by name)
 //!
 //! The J2 material (`material.model = "j2"`: finite-strain plasticity is not built), the
-//! moving refined zone (its relabelling carries nodal states), the elastic block, the
-//! uncoupled twin and the subdivision treatment (the wheel's `rules`).
+//! elastic block, the uncoupled twin and the subdivision treatment (the wheel's `rules`).
+//! The moving refined zone works: the force's state is nodal (the last two steps' `f_nl`),
+//! and a relocation, a symmetry of the mesh, turns it with the nodes
+//! ([`crate::model::InternalForce::nodal_state`]; `tests/zone.rs` checks the run with and
+//! without relocations agree to round-off).
 
 use crate::bodies::wheel::WheelModel;
 use crate::finite::{FiniteBody, Hyperelastic};
