@@ -563,6 +563,25 @@ refused!(
     ["`vehicle.wheel_hub_radius` = 0.5", "below"]
 );
 refused!(
+    rolling_rim_band_thinner_than_the_pitch,
+    rolling_text().replace(
+        "wheel_thickness = 0.02",
+        "wheel_thickness = 0.02\nwheel_rim_band = 0.001"
+    ),
+    [
+        "`vehicle.wheel_rim_band` = 0.001",
+        "at least the rim's pitch"
+    ]
+);
+refused!(
+    rolling_rim_band_deeper_than_the_wheel,
+    rolling_text().replace(
+        "wheel_thickness = 0.02",
+        "wheel_thickness = 0.02\nwheel_rim_band = 0.4"
+    ),
+    ["`vehicle.wheel_rim_band` = 0.4", "the hub, left inside"]
+);
+refused!(
     rolling_settle_into_the_sponge,
     rolling_text().replace("settle_bays = 4", "settle_bays = 15"),
     ["`vehicle.settle_bays` = 15", "absorbing zones"]

@@ -286,6 +286,11 @@ pub struct TrackWheel {
     pub hub_radius: f64,
     /// The disk mesh's radial grading (default 1.3).
     pub grading: f64,
+    /// The depth of the band under the rim meshed with the rim's rotational symmetry, m
+    /// (`vehicle.wheel_rim_band`; `None`: the graded disk to the rim;
+    /// [`crate::mesh::generators::disk_symmetric_rim`]).
+    #[serde(rename = "rim_band_m")]
+    pub rim_band: Option<f64>,
     /// Plane strain (default) or plane stress.
     pub plane: crate::material::PlaneModel,
     /// Steel: E = 210 GPa, nu = the track's Poisson's ratio, rho = 7850 kg/m^3.

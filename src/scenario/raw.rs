@@ -193,6 +193,7 @@ pub(crate) struct RawVehicle {
     pub wheel_thickness: Option<f64>,
     pub wheel_hub_radius: Option<f64>,
     pub wheel_grading: Option<f64>,
+    pub wheel_rim_band: Option<f64>,
     pub wheel_plane: Option<String>,
 }
 

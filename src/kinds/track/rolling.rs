@@ -28,7 +28,7 @@ use crate::bodies::rail::receptance::{frequencies, log_frequencies, p2_with, rec
 use crate::bodies::rail::rolling::{wheel_at_speed, Vehicle, WheelOnTrack};
 use crate::bodies::wheel::{Support, WheelModel, WheelSpec};
 use crate::material::Elastic;
-use crate::mesh::generators::{disk_graded, DiskOptions};
+use crate::mesh::generators::{disk_graded, disk_symmetric_rim, DiskOptions};
 use crate::output::plot::{sig, Panel, Series, SeriesStyle};
 use crate::run::error::RunError;
 use crate::run::options::RunOptions;
@@ -204,14 +204,14 @@ pub(crate) fn wheel_model_with(
 ) -> Result<WheelModel, String> {
     let v = &ts.vehicle;
     let w = &v.wheel;
-    let mut mesh = disk_graded(
-        v.wheel_radius,
-        w.rim_nodes,
-        DiskOptions {
-            hub: Some(w.hub_radius),
-            grading: w.grading,
-        },
-    )
+    let opts = DiskOptions {
+        hub: Some(w.hub_radius),
+        grading: w.grading,
+    };
+    let mut mesh = match w.rim_band {
+        None => disk_graded(v.wheel_radius, w.rim_nodes, opts),
+        Some(band) => disk_symmetric_rim(v.wheel_radius, w.rim_nodes, band, opts),
+    }
     .map_err(|e| format!("the wheel's mesh: {e}"))?;
     if let Some(z) = rim_profile {
         let rim = crate::bodies::wheel::rim_nodes(&mesh);

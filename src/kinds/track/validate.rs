@@ -325,6 +325,7 @@ fn vehicle(
         ("vehicle.wheel_thickness", v.wheel_thickness.is_some()),
         ("vehicle.wheel_hub_radius", v.wheel_hub_radius.is_some()),
         ("vehicle.wheel_grading", v.wheel_grading.is_some()),
+        ("vehicle.wheel_rim_band", v.wheel_rim_band.is_some()),
         ("vehicle.wheel_plane", v.wheel_plane.is_some()),
     ];
     if model == VehicleModel::MovingLoad {
@@ -466,6 +467,7 @@ fn track_wheel(
         thickness: cx.positive("vehicle.wheel_thickness", v.wheel_thickness.unwrap_or(0.02))?,
         hub_radius: hub,
         grading,
+        rim_band: None,
         plane,
         material: Elastic {
             young: 2.1e11,
@@ -480,7 +482,34 @@ fn track_wheel(
             "give at least 64 rim nodes",
         ));
     }
+    let wheel = TrackWheel {
+        rim_band: rim_band(cx, v.wheel_rim_band, &wheel, radius)?,
+        ..wheel
+    };
     Ok((wheel, radius))
+}
+
+/// `vehicle.wheel_rim_band`: the depth (m) of the band under the rim meshed with the rim's
+/// symmetry, at least the rim's pitch and leaving a tenth of the radius and the hub inside.
+fn rim_band(
+    cx: &Ctx,
+    band: Option<f64>,
+    wheel: &TrackWheel,
+    radius: f64,
+) -> Result<Option<f64>, ScenarioError> {
+    let Some(b) = band else {
+        return Ok(None);
+    };
+    let pitch = std::f64::consts::TAU * radius / wheel.rim_nodes as f64;
+    let most = radius - (0.1 * radius).max(wheel.hub_radius + 2.0 * pitch);
+    if !(b.is_finite() && b >= pitch && b <= most) {
+        return Err(cx.invalid(
+            "vehicle.wheel_rim_band",
+            b,
+            &format!("the depth (m) of the band under the rim meshed with the rim's symmetry: at least the rim's pitch ({pitch:.3e} m) and at most {most:.3e} m (a tenth of the radius, and the hub, left inside)"),
+        ));
+    }
+    Ok(Some(b))
 }
 
 /// The recorded travel, centred on the middle sleeper, and the wheel's settling bays before
