@@ -33,6 +33,18 @@ fn scenario(rim_nodes: usize, zone: usize, turns: f64) -> Scenario {
     resolve(&Scenario::from_str(&text, &path).unwrap()).unwrap()
 }
 
+/// The contact force at every step of `sim`'s run, and its counters.
+fn contact_forces(sim: &mut Simulation) -> (Vec<f64>, softway::simulation::RunStats) {
+    let mut f = Vec::new();
+    let stats = sim
+        .run(&AtomicBool::new(false), |s| {
+            f.push(s.contact_force);
+            Ok(())
+        })
+        .unwrap();
+    (f, stats)
+}
+
 /// On a mesh of the family without a zone (the same pitch everywhere) every node has a node
 /// one sector ahead: a relocation turns the frame by one sector and relabels the state, the
 /// pairs' states and the base exactly. The run with relocations gives the contact force of
@@ -60,14 +72,7 @@ fn relocation_without_a_zone_is_an_exact_relabelling() {
             })
             .unwrap();
         }
-        let mut f = Vec::new();
-        let stats = sim
-            .run(&AtomicBool::new(false), |s| {
-                f.push(s.contact_force);
-                Ok(())
-            })
-            .unwrap();
-        (f, stats)
+        contact_forces(&mut sim)
     };
     let (plain, s0) = forces(false);
     let (moved, s1) = forces(true);
@@ -116,17 +121,8 @@ fn relocation_in_large_deformation_is_a_relabelling_to_the_iterations_tolerance(
     let (sources, step) = wm.zone.clone().unwrap();
     let steps = 3_000;
     let tol = 1e-9;
-    let body = || {
-        Box::new(softway::finite::FiniteBody::planar(
-            softway::finite::Hyperelastic::SaintVenantKirchhoff,
-            &wm.spec.material,
-            wm.spec.plane,
-            wm.spec.thickness,
-            &wm.triangles,
-            &wm.geometry,
-            wm.model.n(),
-        ))
-    };
+    let large = ws.large.unwrap();
+    let body = || Box::new(softway::kinds::wheel::large::finite_body(&wm, large));
     let relocation = || Relocation {
         sources: sources.clone(),
         step,
@@ -144,13 +140,7 @@ fn relocation_in_large_deformation_is_a_relabelling_to_the_iterations_tolerance(
         if relocate && force_first {
             sim.set_relocation(relocation()).unwrap();
         }
-        let mut f = Vec::new();
-        let stats = sim
-            .run(&AtomicBool::new(false), |s| {
-                f.push(s.contact_force);
-                Ok(())
-            })
-            .unwrap();
+        let (f, stats) = contact_forces(&mut sim);
         let nl = sim.nonlinear().map(|n| n.stats()).unwrap();
         (f, stats, nl)
     };

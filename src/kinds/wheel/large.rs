@@ -121,7 +121,7 @@ pub(crate) fn large_of(cx: &Ctx, m: &RawMaterial) -> Result<Option<Large>, Scena
 }
 
 /// The wheel's triangles as a hyperelastic body on the model's dofs.
-pub(crate) fn finite_body(wm: &WheelModel, large: Large) -> FiniteBody {
+pub fn finite_body(wm: &WheelModel, large: Large) -> FiniteBody {
     FiniteBody::planar(
         large.law,
         &wm.spec.material,
