@@ -570,6 +570,8 @@ impl InternalForce for FiniteBody {
     }
 }
 
+mod plastic;
+pub use plastic::FinitePlastic;
 mod statics;
 pub use statics::{solve_static, StaticError, StaticStats, MAX_NEWTON};
 

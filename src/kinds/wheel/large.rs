@@ -28,8 +28,10 @@
 //!
 //! # Not built with it (refused by name)
 //!
-//! The J2 material (`material.model = "j2"`: finite-strain plasticity is not built), the
-//! elastic block, the uncoupled twin and the subdivision treatment (the wheel's `rules`).
+//! The elastic block, the uncoupled twin and the subdivision treatment (the wheel's
+//! `rules`). With `material.model = "j2"` the wheel is plastic at finite strain
+//! ([`crate::finite::FinitePlastic`], Saint Venant-Kirchhoff in its elastic part; the
+//! moving zone is then refused: its element states do not travel with a relabelling).
 //! The moving refined zone works: the force's state is nodal (the last two steps' `f_nl`),
 //! and a relocation, a symmetry of the mesh, turns it with the nodes
 //! ([`crate::model::InternalForce::nodal_state`]; `tests/zone.rs` checks the run with and
@@ -91,11 +93,18 @@ pub(crate) fn large_of(cx: &Ctx, m: &RawMaterial) -> Result<Option<Large>, Scena
             ))
         }
     }
-    if m.model.as_deref().is_some_and(|s| s != "elastic") {
+    // With `material.model = "j2"` the wheel is plastic at finite strain
+    // ([`crate::finite::FinitePlastic`]): `material.law` is then the J2 material's elastic
+    // part, Saint Venant-Kirchhoff.
+    if m.model.as_deref().is_some_and(|s| s != "elastic")
+        && m.law
+            .as_deref()
+            .is_some_and(|l| l != "saint_venant_kirchhoff")
+    {
         return Err(cx.invalid(
-            "material.geometry",
-            "\"large\"",
-            "the large-deformation wheel is hyperelastic: J2 plasticity at finite strain is not built; remove material.model = \"j2\" or use material.geometry = \"small\"",
+            "material.law",
+            format!("\"{}\"", m.law.as_deref().unwrap_or_default()),
+            "the plastic wheel at finite strain (material.model = \"j2\") is Saint Venant-Kirchhoff in its elastic part (S = D (E - E_p)): remove material.law",
         ));
     }
     let law = match m.law.as_deref().unwrap_or("saint_venant_kirchhoff") {

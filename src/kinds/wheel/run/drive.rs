@@ -76,15 +76,28 @@ pub fn drive(
     );
     problem.friction = run.friction;
     let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
-    if let Some(pl) = ws.plastic {
-        sim.set_internal_force(
-            Box::new(plastic_body(wm, ws, pl)),
-            pl.tolerance,
-            crate::model::DEFAULT_MAX_ITERATIONS,
-        )
-        .map_err(sim_error)?;
+    match (ws.plastic, ws.large) {
+        (Some(pl), Some(large)) => {
+            // J2 at finite strain: the hyperelastic triangles with the plastic Green strain.
+            let body = crate::kinds::wheel::large::finite_body(wm, large);
+            sim.set_internal_force(
+                Box::new(crate::finite::FinitePlastic::new(body, pl.material)),
+                pl.tolerance.min(large.tolerance),
+                crate::model::DEFAULT_MAX_ITERATIONS,
+            )
+            .map_err(sim_error)?;
+        }
+        (Some(pl), None) => {
+            sim.set_internal_force(
+                Box::new(plastic_body(wm, ws, pl)),
+                pl.tolerance,
+                crate::model::DEFAULT_MAX_ITERATIONS,
+            )
+            .map_err(sim_error)?;
+        }
+        _ => {}
     }
-    if let Some(large) = ws.large {
+    if let (Some(large), None) = (ws.large, ws.plastic) {
         sim.set_internal_force(
             Box::new(crate::kinds::wheel::large::finite_body(wm, large)),
             large.tolerance,
@@ -127,7 +140,12 @@ pub fn drive(
     // An observer's error is the cause of a stop the loop reports as its own.
     observed.map_err(|e| sim_error(crate::simulation::SimError::Output(e)))?;
     let stats = stats.map_err(|e| sim_error(stopped_by_observer(e)))?;
-    let plastic_state = sim.nonlinear().map(|nl| nl.state(1).to_vec());
+    // The triangles' plastic states (a finite-strain body's state holds its prediction
+    // after them).
+    let cells = wm.triangles.len() * crate::plasticity::STATE_LEN;
+    let plastic_state = sim
+        .nonlinear()
+        .map(|nl| nl.state(1)[..cells.min(nl.state(1).len())].to_vec());
     let u_end = sim.last_state().u.clone();
     Ok((
         LoopOutcome {
