@@ -1,5 +1,6 @@
 //! Large deformation: the geometrically nonlinear internal force of hyperelastic triangles
-//! (tri3) and tetrahedra (tet4) behind the contract of [`crate::model::InternalForce`].
+//! (tri3) and of the solid cells (tet4, tet10, hex8) behind the contract of
+//! [`crate::model::InternalForce`].
 //!
 //! # The paper's form and the one used here
 //!
@@ -44,7 +45,12 @@
 //!
 //! # The body ([`FiniteBody`])
 //!
-//! `f_int(u) = sum_e V_e P(F_e) : grad N` (`V_e = A_e t` for a triangle of thickness `t`),
+//! `f_int(u) = sum_q V_q P(F_q) : grad N` over the integration points `q` (`V_q = A t` for a
+//! triangle of thickness `t`, the volume of a linear tetrahedron, `w_q det J_q` at the points
+//! of the hexahedron's 2 x 2 x 2 Gauss rule and of the ten-node tetrahedron's 4-point rule,
+//! 15 points on a curved one: the rules of the linear elements' stiffness, so that the
+//! linear force below is the assembled `K u` to round-off; [`FiniteBody::of_mesh`] picks
+//! them from a mesh's cells),
 //! `f_nl(u) = K u - f_int(u)` with the elastic `K u = sum_e V_e B^T D B u_e` computed cell by
 //! cell (the linear force of the same cells) and `energy_correction = W(u) - u^T K u / 2`.
 //! The state of the contract is `f_nl` at the last two committed stiffness points (`t_k`
@@ -56,9 +62,14 @@
 //!
 //! No call allocates.
 
+use crate::element::continuum::CellError;
+use crate::element::hex8::{self, Hex8Geometry};
+use crate::element::solid::jacobian;
+use crate::element::tet10::{self, Tet10Geometry};
 use crate::element::tet4::Tet4Geometry;
 use crate::element::tri3::Tri3Geometry;
 use crate::material::{Elastic, PlaneModel};
+use crate::mesh::{CellKind, Mesh};
 use crate::model::InternalForce;
 
 /// Iterations of the plane-stress Newton on `C_33` (neo-Hookean) before keeping the last
@@ -199,24 +210,43 @@ enum Kind {
     Solid,
 }
 
-/// One constant-gradient cell: its nodes, the gradients of its shape functions in the
-/// initial configuration and its measure (`A t` or `V`).
+/// One integration point: its cell and its measure (`A t` of a triangle, `V` of a linear
+/// tetrahedron, `w det J` at a point of a hexahedron's or a ten-node tetrahedron's rule).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Cell {
-    nodes: [usize; 4],
-    grad: [[f64; 3]; 4],
+struct Weight {
+    cell: usize,
     measure: f64,
 }
 
-/// The hyperelastic cells of one body (module docs). Node `i` of a planar body has the
-/// dofs `2 i`, `2 i + 1` of the driver's vector; of a solid body, `3 i .. 3 i + 3`.
+/// A point's view: its cell's nodes, the shape functions' gradients there (initial
+/// configuration) and its measure.
+#[derive(Debug, Clone, Copy)]
+struct Point<'a> {
+    nodes: &'a [usize],
+    grad: &'a [[f64; 3]],
+    measure: f64,
+}
+
+/// The hyperelastic cells of one body (module docs), integrated point by point: one point a
+/// triangle or linear tetrahedron (constant gradients), the element's own rule for the
+/// hexahedron (2 x 2 x 2 Gauss) and the ten-node tetrahedron (4 points straight, 15 curved),
+/// the rules of the linear elements' stiffness, so that the cell-by-cell `K u` here is the
+/// assembled one. Node `i` of a planar body has the dofs `2 i`, `2 i + 1` of the driver's
+/// vector; of a solid body, `3 i .. 3 i + 3`.
 #[derive(Debug, Clone)]
 pub struct FiniteBody {
     law: Hyperelastic,
     lam: f64,
     mu: f64,
     kind: Kind,
-    cells: Vec<Cell>,
+    /// Nodes of a cell.
+    nn: usize,
+    /// The cells' nodes, `nn` a cell.
+    nodes: Vec<usize>,
+    /// The gradients at the points, `nn` a point.
+    grads: Vec<[f64; 3]>,
+    /// The points.
+    weights: Vec<Weight>,
     dofs: usize,
 }
 
@@ -233,7 +263,51 @@ struct CellForce {
     strain: f64,
 }
 
+/// Why a mesh cannot be a [`FiniteBody`].
+#[derive(Debug, thiserror::Error)]
+pub enum FiniteError {
+    /// A cell is not an element (inverted, degenerate) or the cells are not the element's.
+    #[error(transparent)]
+    Cell(#[from] CellError),
+    /// No hyperelastic cell runs on these cells.
+    #[error(
+        "large deformation runs on triangles in 2D and on tet4, tet10 and hex8 in 3D, not on {0}"
+    )]
+    NoCell(&'static str),
+}
+
 impl FiniteBody {
+    fn empty(law: Hyperelastic, elastic: &Elastic, kind: Kind, nn: usize, dofs: usize) -> Self {
+        let (lam, mu) = lame(elastic);
+        Self {
+            law,
+            lam,
+            mu,
+            kind,
+            nn,
+            nodes: Vec::new(),
+            grads: Vec::new(),
+            weights: Vec::new(),
+            dofs,
+        }
+    }
+
+    /// Adds a cell of `nodes` and its points `(gradients, measure)`.
+    fn push_cell<'a>(
+        &mut self,
+        nodes: &[usize],
+        points: impl IntoIterator<Item = (&'a [[f64; 3]], f64)>,
+    ) {
+        debug_assert_eq!(nodes.len(), self.nn);
+        let cell = self.nodes.len() / self.nn;
+        self.nodes.extend_from_slice(nodes);
+        for (grad, measure) in points {
+            debug_assert_eq!(grad.len(), self.nn);
+            self.grads.extend_from_slice(grad);
+            self.weights.push(Weight { cell, measure });
+        }
+    }
+
     /// A planar body of `triangles` (with their `geometry`), thickness `thickness` (m), on a
     /// driver's vector of `dofs` numbers.
     ///
@@ -249,29 +323,12 @@ impl FiniteBody {
         dofs: usize,
     ) -> Self {
         assert_eq!(triangles.len(), geometry.len());
-        let cells = triangles
-            .iter()
-            .zip(geometry)
-            .map(|(t, g)| Cell {
-                nodes: [t[0], t[1], t[2], usize::MAX],
-                grad: [
-                    [g.grad[0][0], g.grad[0][1], 0.0],
-                    [g.grad[1][0], g.grad[1][1], 0.0],
-                    [g.grad[2][0], g.grad[2][1], 0.0],
-                    [0.0; 3],
-                ],
-                measure: g.area * thickness,
-            })
-            .collect();
-        let (lam, mu) = lame(elastic);
-        Self {
-            law,
-            lam,
-            mu,
-            kind: Kind::Plane(plane),
-            cells,
-            dofs,
+        let mut b = Self::empty(law, elastic, Kind::Plane(plane), 3, dofs);
+        for (t, g) in triangles.iter().zip(geometry) {
+            let grad = g.grad.map(|r| [r[0], r[1], 0.0]);
+            b.push_cell(t, [(&grad[..], g.area * thickness)]);
         }
+        b
     }
 
     /// A solid body of linear tetrahedra `tets` (with their `geometry`) on a driver's
@@ -287,38 +344,155 @@ impl FiniteBody {
         dofs: usize,
     ) -> Self {
         assert_eq!(tets.len(), geometry.len());
-        let cells = tets
-            .iter()
-            .zip(geometry)
-            .map(|(t, g)| Cell {
-                nodes: *t,
-                grad: g.grad,
-                measure: g.volume,
-            })
-            .collect();
-        let (lam, mu) = lame(elastic);
-        Self {
-            law,
-            lam,
-            mu,
-            kind: Kind::Solid,
-            cells,
-            dofs,
+        let mut b = Self::empty(law, elastic, Kind::Solid, 4, dofs);
+        for (t, g) in tets.iter().zip(geometry) {
+            b.push_cell(t, [(&g.grad[..], g.volume)]);
+        }
+        b
+    }
+
+    /// A solid body of trilinear hexahedra `hexes` (Gmsh's order, with their `geometry`) on
+    /// a driver's vector of `dofs` numbers: the 2 x 2 x 2 Gauss points of
+    /// [`crate::element::hex8`].
+    ///
+    /// # Panics
+    /// If `hexes` and `geometry` differ in length.
+    pub fn hex8(
+        law: Hyperelastic,
+        elastic: &Elastic,
+        hexes: &[[usize; 8]],
+        geometry: &[Hex8Geometry],
+        dofs: usize,
+    ) -> Self {
+        assert_eq!(hexes.len(), geometry.len());
+        let mut b = Self::empty(law, elastic, Kind::Solid, 8, dofs);
+        for (t, g) in hexes.iter().zip(geometry) {
+            let pts = hex8::GAUSS.map(|xi| {
+                let mut grad = [[0.0; 3]; 8];
+                let det = jacobian(&hex8::shape(xi).1, &g.x, &mut grad);
+                (grad, det)
+            });
+            b.push_cell(t, pts.iter().map(|(g, d)| (&g[..], *d)));
+        }
+        b
+    }
+
+    /// A solid body of ten-node tetrahedra `tets` (Gmsh's order, with their `geometry`) on
+    /// a driver's vector of `dofs` numbers: the 4-point rule on a straight-sided cell, the
+    /// 15-point rule on a curved one ([`crate::element::tet10`]'s stiffness rules).
+    ///
+    /// # Panics
+    /// If `tets` and `geometry` differ in length.
+    pub fn tet10(
+        law: Hyperelastic,
+        elastic: &Elastic,
+        tets: &[[usize; 10]],
+        geometry: &[Tet10Geometry],
+        dofs: usize,
+    ) -> Self {
+        assert_eq!(tets.len(), geometry.len());
+        let mut b = Self::empty(law, elastic, Kind::Solid, 10, dofs);
+        let mut pts = Vec::with_capacity(15);
+        for (t, g) in tets.iter().zip(geometry) {
+            pts.clear();
+            let mut add = |xi: &[f64; 3], w: f64| {
+                let mut grad = [[0.0; 3]; 10];
+                let det = jacobian(&tet10::shape(*xi).1, &g.x, &mut grad);
+                pts.push((grad, w * det));
+            };
+            if g.curved {
+                for (xi, w) in tet10::QUAD15.points.iter().zip(tet10::QUAD15.weights) {
+                    add(xi, w);
+                }
+            } else {
+                for (xi, w) in tet10::QUAD4.points.iter().zip(tet10::QUAD4.weights) {
+                    add(xi, w);
+                }
+            }
+            b.push_cell(t, pts.iter().map(|(g, d)| (&g[..], *d)));
+        }
+        b
+    }
+
+    /// The body of `mesh`'s cells (node `i` on the dofs `dim i ..`), on a driver's vector of
+    /// `dofs` numbers: triangles (`plane`, `thickness` m) in 2D, tet4, tet10 or hex8 in 3D.
+    ///
+    /// # Errors
+    /// [`FiniteError`] naming the first bad cell, or cells with no hyperelastic element.
+    pub fn of_mesh(
+        law: Hyperelastic,
+        elastic: &Elastic,
+        plane: PlaneModel,
+        thickness: f64,
+        mesh: &Mesh,
+        dofs: usize,
+    ) -> Result<Self, FiniteError> {
+        use crate::element::continuum::{geometries, PlaneTri3, SolidHex8, SolidTet10, SolidTet4};
+        let d = crate::element::solid::elasticity_3d(elastic);
+        fn cells<const K: usize>(mesh: &Mesh) -> Vec<[usize; K]> {
+            mesh.cells
+                .connectivity()
+                .chunks_exact(K)
+                .map(|c| std::array::from_fn(|i| c[i]))
+                .collect()
+        }
+        Ok(match mesh.cells.kind() {
+            CellKind::Tri3 => {
+                let el = PlaneTri3 {
+                    d: plane.elasticity_matrix(elastic),
+                    thickness,
+                };
+                let g = geometries(mesh, &el)?;
+                Self::planar(law, elastic, plane, thickness, &cells(mesh), &g, dofs)
+            }
+            CellKind::Tet4 => {
+                let g = geometries(mesh, &SolidTet4 { d })?;
+                Self::solid(law, elastic, &cells(mesh), &g, dofs)
+            }
+            CellKind::Tet10 => {
+                let g = geometries(mesh, &SolidTet10 { d })?;
+                Self::tet10(law, elastic, &cells(mesh), &g, dofs)
+            }
+            CellKind::Hex8 => {
+                let g = geometries(mesh, &SolidHex8 { d })?;
+                Self::hex8(law, elastic, &cells(mesh), &g, dofs)
+            }
+            other => return Err(FiniteError::NoCell(other.describe())),
+        })
+    }
+
+    /// Point `q`.
+    fn point(&self, q: usize) -> Point<'_> {
+        let w = self.weights[q];
+        Point {
+            nodes: &self.nodes[w.cell * self.nn..(w.cell + 1) * self.nn],
+            grad: &self.grads[q * self.nn..(q + 1) * self.nn],
+            measure: w.measure,
         }
     }
 
-    fn dim_nodes(&self) -> (usize, usize) {
+    /// Every point.
+    fn points(&self) -> impl Iterator<Item = Point<'_>> + '_ {
+        (0..self.weights.len()).map(|q| self.point(q))
+    }
+
+    /// Number of integration points.
+    pub fn points_len(&self) -> usize {
+        self.weights.len()
+    }
+
+    fn dim(&self) -> usize {
         match self.kind {
-            Kind::Plane(_) => (2, 3),
-            Kind::Solid => (3, 4),
+            Kind::Plane(_) => 2,
+            Kind::Solid => 3,
         }
     }
 
     /// The displacement gradient `H = grad_X u` of cell `c` (zero out of the plane).
-    fn gradient(&self, c: &Cell, u: &[f64]) -> M3 {
-        let (d, nn) = self.dim_nodes();
+    fn gradient(&self, c: &Point, u: &[f64]) -> M3 {
+        let d = self.dim();
         let mut h = [[0.0; 3]; 3];
-        for a in 0..nn {
+        for a in 0..c.nodes.len() {
             for (i, row) in h.iter_mut().enumerate().take(d) {
                 let ui = u[d * c.nodes[a] + i];
                 for (j, v) in row.iter_mut().enumerate() {
@@ -381,9 +555,9 @@ impl FiniteBody {
     }
 
     /// `y[dofs of c] += V_c s : grad N` (in-plane rows only for a planar body).
-    fn scatter(&self, c: &Cell, s: &M3, sign: f64, y: &mut [f64]) {
-        let (d, nn) = self.dim_nodes();
-        for a in 0..nn {
+    fn scatter(&self, c: &Point, s: &M3, sign: f64, y: &mut [f64]) {
+        let d = self.dim();
+        for a in 0..c.nodes.len() {
             for (i, row) in s.iter().enumerate().take(d) {
                 let g = &c.grad[a];
                 y[d * c.nodes[a] + i] +=
@@ -405,7 +579,7 @@ impl FiniteBody {
             PlaneModel::Stress => 2.0 * lam * mu / (lam + 2.0 * mu),
             PlaneModel::Strain => lam,
         };
-        for c in &self.cells {
+        for c in self.points() {
             let mut h = [[0.0; 2]; 2];
             for a in 0..3 {
                 let n = c.nodes[a];
@@ -458,26 +632,26 @@ impl FiniteBody {
     /// The nonlinear internal force `f_int(u)` into `out` (overwritten).
     pub fn internal_force_into(&self, u: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        for c in &self.cells {
-            let r = self.cell_force(&self.gradient(c, u));
-            self.scatter(c, &r.p, 1.0, out);
+        for c in self.points() {
+            let r = self.cell_force(&self.gradient(&c, u));
+            self.scatter(&c, &r.p, 1.0, out);
         }
     }
 
     /// The linear internal force `K u` of the same cells into `out` (overwritten).
     pub fn linear_force_into(&self, u: &[f64], out: &mut [f64]) {
         out.fill(0.0);
-        for c in &self.cells {
-            let r = self.cell_force(&self.gradient(c, u));
-            self.scatter(c, &r.p_lin, 1.0, out);
+        for c in self.points() {
+            let r = self.cell_force(&self.gradient(&c, u));
+            self.scatter(&c, &r.p_lin, 1.0, out);
         }
     }
 
     /// The stored energy `W(u)` and the linear `u^T K u / 2`, J.
     pub fn energies(&self, u: &[f64]) -> (f64, f64) {
         let (mut w, mut w_lin) = (0.0, 0.0);
-        for c in &self.cells {
-            let r = self.cell_force(&self.gradient(c, u));
+        for c in self.points() {
+            let r = self.cell_force(&self.gradient(&c, u));
             w += c.measure * r.w;
             w_lin += c.measure * r.w_lin;
         }
@@ -488,8 +662,8 @@ impl FiniteBody {
     /// linear strain (norm of `sym(grad u)`) at `u`.
     pub fn max_strains(&self, u: &[f64]) -> (f64, f64) {
         let (mut e, mut e_lin) = (0.0f64, 0.0f64);
-        for c in &self.cells {
-            let h = self.gradient(c, u);
+        for c in self.points() {
+            let h = self.gradient(&c, u);
             e = e.max(self.cell_force(&h).strain);
             let mut n2 = 0.0;
             for (i, row) in h.iter().enumerate() {
@@ -504,12 +678,12 @@ impl FiniteBody {
 
     /// Number of cells.
     pub fn len(&self) -> usize {
-        self.cells.len()
+        self.nodes.len() / self.nn
     }
 
     /// Whether the body has no cell.
     pub fn is_empty(&self) -> bool {
-        self.cells.is_empty()
+        self.nodes.is_empty()
     }
 }
 
@@ -543,11 +717,11 @@ impl InternalForce for FiniteBody {
                 self.planar_svk_into(plane, u, f_nl, f_int);
             }
             _ => {
-                for c in &self.cells {
-                    let r = self.cell_force(&self.gradient(c, u));
-                    self.scatter(c, &r.p, 1.0, f_int);
-                    self.scatter(c, &r.p_lin, 1.0, f_nl);
-                    self.scatter(c, &r.p, -1.0, f_nl);
+                for c in self.points() {
+                    let r = self.cell_force(&self.gradient(&c, u));
+                    self.scatter(&c, &r.p, 1.0, f_int);
+                    self.scatter(&c, &r.p_lin, 1.0, f_nl);
+                    self.scatter(&c, &r.p, -1.0, f_nl);
                 }
             }
         }

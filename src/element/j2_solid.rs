@@ -51,6 +51,30 @@ pub struct PointState3d {
     pub eq: f64,
 }
 
+impl PointState3d {
+    /// Numbers in [`Self::read`]'s layout: strain, plastic strain, backstress, `eq`.
+    pub const LEN: usize = 19;
+
+    /// From [`Self::LEN`] numbers.
+    pub fn read(s: &[f64]) -> Self {
+        let six = |k: usize| std::array::from_fn(|i| s[k + i]);
+        Self {
+            strain: six(0),
+            plastic: six(6),
+            back: six(12),
+            eq: s[18],
+        }
+    }
+
+    /// Into [`Self::LEN`] numbers.
+    pub fn write(&self, s: &mut [f64]) {
+        s[..6].copy_from_slice(&self.strain);
+        s[6..12].copy_from_slice(&self.plastic);
+        s[12..18].copy_from_slice(&self.back);
+        s[18] = self.eq;
+    }
+}
+
 /// What [`j2_update_3d`] returns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointResult3d {
@@ -184,6 +208,17 @@ fn update(
 /// The elastic `D` of the material.
 fn elastic_tangent(m: &J2Material) -> [[f64; 6]; 6] {
     super::solid::elasticity_3d(&m.elastic)
+}
+
+/// The state, stress (Voigt, Pa) and whether it flowed at the total strain `eps` (Voigt,
+/// engineering shears) from the state `st0`: [`j2_update_3d`]'s return without its tangent.
+pub fn j2_stress_3d(
+    m: &J2Material,
+    eps: &[f64; 6],
+    st0: &PointState3d,
+) -> (PointState3d, [f64; 6], bool) {
+    let (state, stress, plastic, _, _, _) = update(m, eps, st0);
+    (state, stress, plastic)
 }
 
 /// The J2 material point's response to the strain increment `d_strain` (Voigt, engineering

@@ -133,9 +133,10 @@ impl FiniteBody {
     /// The tangent stiffness `d f_int / d u` at `u`, entry by entry: `add(row, col, value)`
     /// for each cell's pair of dofs (repeated pairs to be summed).
     pub fn tangent_for_each(&self, u: &[f64], mut add: impl FnMut(usize, usize, f64)) {
-        let (d, nn) = self.dim_nodes();
-        for c in &self.cells {
-            let h = self.gradient(c, u);
+        let d = self.dim();
+        for c in self.points() {
+            let nn = c.nodes.len();
+            let h = self.gradient(&c, u);
             for b in 0..nn {
                 for k in 0..d {
                     let mut dh = [[0.0; 3]; 3];

@@ -4,7 +4,8 @@
 //! to second order, and the linear part is the assembled `K u` of the linear elements.
 
 use super::*;
-use crate::element::{tet4, tri3};
+use crate::element::{hex8, tet10, tet4, tri3};
+use crate::mesh::generators::box_mesh;
 
 const EL: Elastic = Elastic {
     young: 210e9,
@@ -119,6 +120,54 @@ fn solid_body(law: Hyperelastic) -> (FiniteBody, Vec<[f64; 3]>, Vec<f64>) {
     (FiniteBody::solid(law, &EL, &tets, &geo, n), pts, k)
 }
 
+/// A 2 x 1 x 1 box (0.2 x 0.1 x 0.1 m) of `kind` cells through [`FiniteBody::of_mesh`], its
+/// nodes moved by up to `jitter` (m) of noise (curving a ten-node tetrahedron's edges,
+/// distorting a hexahedron), and its linear K assembled from the elements' own kernels.
+fn mesh_body(
+    law: Hyperelastic,
+    kind: CellKind,
+    jitter: f64,
+) -> (FiniteBody, Vec<[f64; 3]>, Vec<f64>) {
+    let mut mesh = box_mesh(kind, [0.2, 0.1, 0.1], [2, 1, 1]).unwrap();
+    let shake = noise(mesh.coords.len(), 3);
+    for (x, z) in mesh.coords.iter_mut().zip(shake) {
+        *x += jitter * z;
+    }
+    let pts: Vec<[f64; 3]> = mesh.points().map(|p| [p[0], p[1], p[2]]).collect();
+    let n = 3 * pts.len();
+    let d = tet4::elasticity_3d(&EL);
+    let mut k = vec![0.0; n * n];
+    let nn = kind.nodes();
+    let mut curved = false;
+    for c in mesh.cells.connectivity().chunks_exact(nn) {
+        let mut ke = vec![0.0; 9 * nn * nn];
+        match kind {
+            CellKind::Hex8 => {
+                let g = hex8::geometry(&std::array::from_fn(|i| pts[c[i]])).unwrap();
+                let mut m = [[0.0; 24]; 24];
+                hex8::stiffness_into(&g, &d, &mut m);
+                ke = m.iter().flatten().copied().collect();
+            }
+            CellKind::Tet10 => {
+                let g = tet10::geometry(&std::array::from_fn(|i| pts[c[i]])).unwrap();
+                curved |= g.curved;
+                let mut m = [[0.0; 30]; 30];
+                tet10::stiffness_into(&g, &d, &mut m);
+                ke = m.iter().flatten().copied().collect();
+            }
+            _ => unreachable!(),
+        }
+        for r in 0..3 * nn {
+            for q in 0..3 * nn {
+                k[(3 * c[r / 3] + r % 3) * n + 3 * c[q / 3] + q % 3] += ke[r * 3 * nn + q];
+            }
+        }
+    }
+    assert_eq!(curved, jitter > 0.0 && kind == CellKind::Tet10);
+    let body = FiniteBody::of_mesh(law, &EL, PlaneModel::Strain, 1.0, &mesh, n).unwrap();
+    (body, pts, k)
+}
+
 fn matvec(k: &[f64], u: &[f64]) -> Vec<f64> {
     let n = u.len();
     (0..n)
@@ -144,6 +193,15 @@ fn bodies() -> Vec<Case> {
         }
         let (b, p, k) = solid_body(law);
         out.push((format!("tet4 {law:?}"), b, p, k));
+        for (kind, jitter) in [
+            (CellKind::Hex8, 0.0),
+            (CellKind::Hex8, 0.01),
+            (CellKind::Tet10, 0.0),
+            (CellKind::Tet10, 0.005),
+        ] {
+            let (b, p, k) = mesh_body(law, kind, jitter);
+            out.push((format!("{kind:?} {law:?} jitter {jitter}"), b, p, k));
+        }
     }
     out
 }

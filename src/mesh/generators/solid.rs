@@ -175,9 +175,22 @@ pub fn quadratic_tetrahedra(mesh: &Mesh) -> Mesh {
         }
         cells.push(c);
     }
+    // A mid-edge node lies on a face (a named set of the linear mesh's nodes, all on one
+    // plane) when both its edge's ends do.
     let mut sets = mesh.node_sets.clone();
-    if let Some(all) = sets.get_mut("all") {
-        *all = (0..coords.len() / 3).collect();
+    for (name, set) in sets.iter_mut() {
+        if name == "all" {
+            *set = (0..coords.len() / 3).collect();
+            continue;
+        }
+        let ends = set.clone();
+        let has = |i: usize| ends.binary_search(&i).is_ok();
+        set.extend(
+            mid.iter()
+                .filter(|((a, b), _)| has(*a) && has(*b))
+                .map(|(_, &m)| m),
+        );
+        set.sort_unstable();
     }
     Mesh::new(3, coords, Cells::Tet10(cells), sets)
 }
@@ -186,6 +199,26 @@ pub fn quadratic_tetrahedra(mesh: &Mesh) -> Mesh {
 mod tests {
     use super::*;
     use crate::mesh::quality;
+
+    /// Every node on a face of the box is in the face's set, the mid-edge nodes of the
+    /// ten-node tetrahedra included, and no other node is.
+    #[test]
+    fn the_face_sets_hold_every_node_on_their_face() {
+        let (l, n) = ([0.3, 0.2, 0.1], [3, 2, 2]);
+        for kind in [CellKind::Hex8, CellKind::Tet4, CellKind::Tet10] {
+            let m = box_mesh(kind, l, n).unwrap();
+            for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                for (end, at) in [(0, 0.0), (1, l[axis])] {
+                    let set = &m.node_sets[&format!("{name}{end}")];
+                    let on: Vec<usize> = (0..m.n_nodes())
+                        .filter(|&i| (m.point(i)[axis] - at).abs() < 1e-12)
+                        .collect();
+                    assert_eq!(set, &on, "{kind:?} {name}{end}");
+                }
+            }
+            assert_eq!(m.node_sets["all"].len(), m.n_nodes());
+        }
+    }
 
     /// Every kind fills the box's volume exactly with positively oriented cells, and the
     /// tetrahedra share their faces (each interior face twice, opposite in orientation).
