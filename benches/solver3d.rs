@@ -3,6 +3,8 @@
 //! dissection: `order/*` the ordering alone, `factor/*` a numeric refactorization on the
 //! ordering's analysis, `solve/*` one solve on one thread (`Team` of one). The entries of each
 //! factor are printed on stderr. The full ladder, with memory and a peer, is the example.
+//! `columns/*`: the contact's cached columns `A^-1 e_d` for 64 surface dofs (the top face's
+//! vertical dofs), one solve each against `Factor::solve_many_on`'s blocks of eight.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
@@ -59,6 +61,36 @@ fn bench(c: &mut Criterion) {
         });
         g.finish();
     }
+    // The contact's columns: 64 unit right-hand sides on the top face.
+    let n = pattern.nrows();
+    let top: Vec<usize> = (0..n / 3).rev().take(64).map(|i| 3 * i + 2).collect();
+    let mut llt = softway::linalg::Factor::Llt(
+        SparseLlt::with_ordering(&pattern, &values, Ordering::NestedDissection).unwrap(),
+    );
+    let mut cols = vec![0.0; n * top.len()];
+    let unit = |cols: &mut [f64]| {
+        cols.fill(0.0);
+        for (c, &d) in top.iter().enumerate() {
+            cols[c * n + d] = 1.0;
+        }
+    };
+    let mut g = c.benchmark_group("solver3d_hex8_18");
+    g.sample_size(10);
+    g.bench_function("columns/64_single", |bch| {
+        bch.iter(|| {
+            unit(&mut cols);
+            for col in cols.chunks_exact_mut(n) {
+                llt.solve_on(&team, col);
+            }
+        })
+    });
+    g.bench_function("columns/64_block", |bch| {
+        bch.iter(|| {
+            unit(&mut cols);
+            llt.solve_many_on(&team, &mut cols, top.len());
+        })
+    });
+    g.finish();
 }
 
 criterion_group!(benches, bench);

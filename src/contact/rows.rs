@@ -170,6 +170,12 @@ pub struct RowSolver {
     axpy: Vec<(usize, f64)>,
     /// The threads of [`add_columns`] (`Team::default()` until [`RowSolver::set_team`]).
     team: Team,
+    /// The slots whose columns one solve still needs, and their dofs.
+    pending: Vec<usize>,
+    pending_dofs: Vec<usize>,
+    /// Their columns, solved together (`TimeIntegrator::inverse_columns`), before they go
+    /// to their slots; grown to the most columns one solve has needed.
+    fresh: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -210,6 +216,9 @@ impl RowSolver {
             r: vec![0.0; mr],
             axpy: Vec::with_capacity(mr * MAX_TERMS),
             team: Team::default(),
+            pending: Vec::with_capacity(MAX_TERMS),
+            pending_dofs: Vec::with_capacity(MAX_TERMS),
+            fresh: Vec::new(),
         }
     }
 
@@ -284,12 +293,14 @@ impl RowSolver {
             return 0;
         }
         self.clock += 1;
+        self.pending.clear();
         for p in 0..k {
             let t = self.rows[p].terms;
             for (d, _) in t.iter() {
-                self.ensure_cached(d, integ);
+                self.reserve(d);
             }
         }
+        self.solve_pending(integ);
         let n = self.n;
         for p in 0..k {
             let rp = self.rows[p];
@@ -599,7 +610,10 @@ impl RowSolver {
         }
     }
 
-    fn ensure_cached(&mut self, dof: usize, integ: &mut dyn TimeIntegrator) {
+    /// Marks `dof`'s column as used by this solve: kept if cached, else given the least
+    /// recently used slot (the cache grown when every slot holds a column of this solve)
+    /// and queued for [`Self::solve_pending`].
+    fn reserve(&mut self, dof: usize) {
         let s = self.slot_of_dof[dof];
         if s != NO_SLOT {
             self.last_used[s] = self.clock;
@@ -628,14 +642,31 @@ impl RowSolver {
         if self.dof_of_slot[s] != NO_SLOT {
             self.slot_of_dof[self.dof_of_slot[s]] = NO_SLOT;
         }
-        let n = self.n;
-        let col = &mut self.cols[s * n..(s + 1) * n];
-        if integ.inverse_column(dof, col) {
-            self.solves += 1;
-        }
         self.dof_of_slot[s] = dof;
         self.slot_of_dof[dof] = s;
         self.last_used[s] = self.clock;
+        self.pending.push(s);
+    }
+
+    /// Solves the queued columns `A^{-1} e_d` together (one block of right-hand sides: a
+    /// factor in dense supernodes is read once for eight of them) into their slots.
+    fn solve_pending(&mut self, integ: &mut dyn TimeIntegrator) {
+        let m = self.pending.len();
+        if m == 0 {
+            return;
+        }
+        let n = self.n;
+        self.pending_dofs.clear();
+        self.pending_dofs
+            .extend(self.pending.iter().map(|&s| self.dof_of_slot[s]));
+        if self.fresh.len() < m * n {
+            self.fresh.resize(m * n, 0.0);
+        }
+        let fresh = &mut self.fresh[..m * n];
+        self.solves += integ.inverse_columns(&self.pending_dofs, fresh);
+        for (&s, col) in self.pending.iter().zip(fresh.chunks_exact(n)) {
+            self.cols[s * n..(s + 1) * n].copy_from_slice(col);
+        }
     }
 }
 

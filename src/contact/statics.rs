@@ -296,23 +296,34 @@ impl Statics {
         }
     }
 
-    /// Solves `K^-1 c_r` if not done yet.
-    fn column(&mut self, r: usize) {
-        if self.cols[r].is_some() {
+    /// Solves `K^-1 c_r` for the rows `rows` not done yet, in one block of right-hand sides
+    /// (`Factor::solve_many_on`: a Cholesky factor in dense supernodes is read once for
+    /// eight of them).
+    fn columns(&mut self, rows: &[usize]) {
+        let todo: Vec<usize> = rows
+            .iter()
+            .copied()
+            .filter(|&r| self.cols[r].is_none())
+            .collect();
+        if todo.is_empty() {
             return;
         }
-        let dim = self.dim;
-        let mut e = vec![0.0; self.u0.len()];
-        let row = &self.rows[r];
-        for &(i, w) in &row.nodes {
-            for d in 0..dim {
-                if !self.is_fixed[dim * i + d] {
-                    e[dim * i + d] += w * row.direction[d];
+        let (dim, n) = (self.dim, self.u0.len());
+        let mut e = vec![0.0; n * todo.len()];
+        for (col, &r) in e.chunks_exact_mut(n).zip(&todo) {
+            for &(i, w) in &self.rows[r].nodes {
+                for d in 0..dim {
+                    if !self.is_fixed[dim * i + d] {
+                        col[dim * i + d] += w * self.rows[r].direction[d];
+                    }
                 }
             }
         }
-        self.factor.solve_in_place(&mut e);
-        self.cols[r] = Some(e);
+        self.factor
+            .solve_many_on(&crate::linalg::team::Team::default(), &mut e, todo.len());
+        for (col, &r) in e.chunks_exact(n).zip(&todo) {
+            self.cols[r] = Some(col.to_vec());
+        }
     }
 
     /// `c_p . K^-1 c_q` (the columns of `q` solved).
@@ -358,9 +369,7 @@ impl Statics {
         let limit = 100.max(4 * n_rows);
         let mut is_active = vec![false; n_rows];
         for it in 1..=limit {
-            for &c in &active {
-                self.column(c);
-            }
+            self.columns(&active);
             let m = active.len();
             let mut s = vec![0.0; m * m];
             let mut r = vec![0.0; m];

@@ -16,7 +16,9 @@ use std::sync::Arc;
 use super::lu::{column_ordering, Ordering};
 use super::solver::Counts;
 use super::split::{self, SplitLower};
-use super::supernodal::{prefetch_when_large, Supernodal, DENSE_SUPERNODAL_MIN_ORDER};
+use super::supernodal::{
+    prefetch_when_large, BlockRow, Supernodal, BLOCK_RHS, DENSE_SUPERNODAL_MIN_ORDER,
+};
 use super::team::Team;
 use super::triangle::Triangle;
 use super::{LinalgError, Pattern};
@@ -51,6 +53,9 @@ pub struct SparseLlt {
     pub(super) perm_fwd: Vec<usize>,
     pub(super) perm_inv: Vec<usize>,
     pub(super) work: Vec<f64>,
+    /// The blocks of right-hand sides of [`SparseLlt::solve_many_on`] (the sweeps' block, then
+    /// the unknowns'; made at its first call).
+    pub(super) block: Vec<BlockRow>,
     pub(super) n: usize,
 }
 
@@ -213,6 +218,7 @@ impl SparseLlt {
             perm_fwd,
             perm_inv,
             work: vec![0.0; n],
+            block: Vec::new(),
             n,
         };
         llt.refactor(pattern, values)?;
@@ -238,6 +244,7 @@ impl SparseLlt {
             perm_fwd: self.perm_fwd.clone(),
             perm_inv: self.perm_inv.clone(),
             work: vec![0.0; self.n],
+            block: Vec::new(),
             n: self.n,
         };
         llt.refactor(pattern, values)?;
@@ -388,6 +395,59 @@ impl SparseLlt {
     /// [`SparseLlt::solve_on`] with the default team (`rayon::join` in the caller's pool).
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
         self.solve_on(&Team::default(), rhs);
+    }
+
+    /// Solves `A X = B` in place for the `k` right-hand sides of `rhs` (column `c` in
+    /// `rhs[c n..(c + 1) n]`): on a factor in dense supernodes, [`BLOCK_RHS`] columns a sweep
+    /// (the factor read once for them: a 3D factor streams from memory, so a block costs
+    /// little more than one column); otherwise one solve a column. The work block is made at
+    /// the first call and kept.
+    ///
+    /// # Panics
+    /// If `rhs` is not `k` columns of the order.
+    pub fn solve_many_on(&mut self, team: &Team, rhs: &mut [f64], k: usize) {
+        let n = self.n;
+        assert_eq!(rhs.len(), n * k, "{k} columns of {n}");
+        let spread = match &self.stored {
+            Some(StoredLower::Supernodes(_)) => n,
+            Some(StoredLower::Split(l)) if l.is_dense() => l.spread_len(),
+            _ => {
+                for col in rhs.chunks_exact_mut(n) {
+                    self.solve_on(team, col);
+                }
+                return;
+            }
+        };
+        if self.block.len() != spread + n {
+            self.block = vec![[0.0; BLOCK_RHS]; spread + n];
+        }
+        let (x, b) = self.block.split_at_mut(spread);
+        for first in (0..k).step_by(BLOCK_RHS) {
+            let cols = (k - first).min(BLOCK_RHS);
+            let rhs = &mut rhs[first * n..(first + cols) * n];
+            for (i, bi) in b.iter_mut().enumerate() {
+                *bi = std::array::from_fn(|c| if c < cols { rhs[c * n + i] } else { 0.0 });
+            }
+            match &self.stored {
+                Some(StoredLower::Supernodes(l)) => {
+                    for (xi, &r) in x.iter_mut().zip(&self.perm_fwd) {
+                        *xi = b[r];
+                    }
+                    l.forward_block(x);
+                    l.backward_block(x);
+                    for (bi, &p) in b.iter_mut().zip(&self.perm_inv) {
+                        *bi = x[p];
+                    }
+                }
+                Some(StoredLower::Split(l)) => l.solve_block(&self.perm_fwd, x, b),
+                None => unreachable!("a block layout (above)"),
+            }
+            for (i, bi) in b.iter().enumerate() {
+                for c in 0..cols {
+                    rhs[c * n + i] = bi[c];
+                }
+            }
+        }
     }
 
     #[inline(always)]

@@ -135,6 +135,7 @@ pub use sparse::{
 };
 pub use split::PartWork;
 use supernodal::Supernodal;
+pub use supernodal::BLOCK_RHS;
 pub use symbolic::{cholesky_factor_nnz, fill_reducing_ordering};
 use triangle::Triangle;
 

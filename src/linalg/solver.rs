@@ -366,6 +366,25 @@ impl Factor {
         self.solve_on(&super::team::Team::default(), rhs);
     }
 
+    /// Solves `A X = B` in place for the `k` right-hand sides of `rhs` (column `c` in
+    /// `rhs[c n..(c + 1) n]`): a Cholesky factor in dense supernodes solves them in blocks
+    /// ([`SparseLlt::solve_many_on`]), every other factor one column at a time.
+    ///
+    /// # Panics
+    /// If `rhs` is not `k` columns of the order.
+    pub fn solve_many_on(&mut self, team: &super::team::Team, rhs: &mut [f64], k: usize) {
+        let n = self.n();
+        assert_eq!(rhs.len(), n * k, "{k} columns of {n}");
+        match self {
+            Factor::Llt(llt) => llt.solve_many_on(team, rhs, k),
+            _ => {
+                for col in rhs.chunks_exact_mut(n.max(1)) {
+                    self.solve_on(team, col);
+                }
+            }
+        }
+    }
+
     /// Solves `A x = rhs` in place, without allocating, a split factor's parts side by side
     /// on `team`'s threads (the same bits on any team).
     pub fn solve_on(&mut self, team: &super::team::Team, rhs: &mut [f64]) {

@@ -258,6 +258,163 @@ impl Supernodal {
     }
 }
 
+/// Right-hand sides a block sweep carries ([`Supernodal::forward_block`]): the factor is read
+/// once for this many columns, each entry used on a row of them (one four-wide operation
+/// twice). A block of fewer columns is padded with zeros by the caller.
+pub const BLOCK_RHS: usize = 8;
+
+/// One row of a block of right-hand sides ([`BLOCK_RHS`] columns side by side).
+pub type BlockRow = [f64; BLOCK_RHS];
+
+impl Supernodal {
+    avx2_method! {
+    /// `X <- Λ^{-1} X` for the [`BLOCK_RHS`] right-hand sides of `x` (row `i` of every column
+    /// in `x[i]`): each supernode's block read once for all of them, four columns at a time
+    /// ([`forward_columns`]). The sums are not made in the single sweep's order: the same
+    /// values to round-off, not the same bits. On AVX2's instructions where the processor has
+    /// them (no fused operations: the same bits as without).
+    pub(super) fn forward_block / forward_block_avx2(&self, x: &mut [BlockRow]) => forward_block_here
+    }
+
+    avx2_method! {
+        /// `X <- Λ^{-T} X` for the right-hand sides of `x` ([`Self::forward_block`]'s layout),
+        /// on AVX2's instructions where the processor has them.
+        pub(super) fn backward_block / backward_block_avx2(&self, x: &mut [BlockRow]) => backward_block_here
+    }
+
+    #[inline(always)]
+    pub(super) fn forward_block_here(&self, x: &mut [BlockRow]) {
+        for s in 0..self.bounds.len() - 1 {
+            let (j0, w, rows, blk) = self.supernode(s);
+            let mut k = 0;
+            while k + 8 <= w {
+                forward_columns::<8>(blk, w, rows, j0, k, x);
+                k += 8;
+            }
+            while k + 4 <= w {
+                forward_columns::<4>(blk, w, rows, j0, k, x);
+                k += 4;
+            }
+            while k < w {
+                forward_columns::<1>(blk, w, rows, j0, k, x);
+                k += 1;
+            }
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn backward_block_here(&self, x: &mut [BlockRow]) {
+        for s in (0..self.bounds.len() - 1).rev() {
+            let (j0, w, rows, blk) = self.supernode(s);
+            let mut k = w;
+            while k >= 8 {
+                backward_columns::<8>(blk, w, rows, j0, k - 8, x);
+                k -= 8;
+            }
+            while k >= 4 {
+                backward_columns::<4>(blk, w, rows, j0, k - 4, x);
+                k -= 4;
+            }
+            while k > 0 {
+                backward_columns::<1>(blk, w, rows, j0, k - 1, x);
+                k -= 1;
+            }
+        }
+    }
+}
+
+/// The forward solve of the `NB` columns `k..k + NB` of a supernode (block `blk`, `w`
+/// columns from `j0`, rows below the run `rows`) on a block of right-hand sides: their own
+/// triangle, then every row below them in the run and in `rows` loaded once for the `NB`
+/// columns (`NB x BLOCK_RHS` products a row).
+#[inline(always)]
+fn forward_columns<const NB: usize>(
+    blk: &[f64],
+    w: usize,
+    rows: &[u32],
+    j0: usize,
+    k: usize,
+    x: &mut [BlockRow],
+) {
+    let h = w + rows.len();
+    let mut xs = [[0.0; BLOCK_RHS]; NB];
+    for j in 0..NB {
+        let col = packed_col(blk, h, k + j);
+        let mut xj = x[j0 + k + j];
+        for (i, xi) in xs.iter().enumerate().take(j) {
+            let l = packed_col(blk, h, k + i)[j - i];
+            for c in 0..BLOCK_RHS {
+                xj[c] -= l * xi[c];
+            }
+        }
+        xs[j] = xj.map(|v| v * col[0]);
+        x[j0 + k + j] = xs[j];
+    }
+    // Column k + j from the first row below the NB columns: its entries NB - j on.
+    let cols: [&[f64]; NB] = std::array::from_fn(|j| &packed_col(blk, h, k + j)[NB - j..]);
+    let below = w - k - NB;
+    let update = |q: usize, xr: &mut BlockRow| {
+        for j in 0..NB {
+            let l = cols[j][q];
+            for c in 0..BLOCK_RHS {
+                xr[c] -= l * xs[j][c];
+            }
+        }
+    };
+    for q in 0..below {
+        update(q, &mut x[j0 + k + NB + q]);
+    }
+    for (q, &r) in rows.iter().enumerate() {
+        update(below + q, &mut x[r as usize]);
+    }
+}
+
+/// The backward solve of the `NB` columns `k..k + NB` of a supernode on a block of
+/// right-hand sides ([`forward_columns`]'s layout): every row below them read once for the
+/// `NB` columns' sums, then their own transposed triangle.
+#[inline(always)]
+fn backward_columns<const NB: usize>(
+    blk: &[f64],
+    w: usize,
+    rows: &[u32],
+    j0: usize,
+    k: usize,
+    x: &mut [BlockRow],
+) {
+    let h = w + rows.len();
+    let cols: [&[f64]; NB] = std::array::from_fn(|j| &packed_col(blk, h, k + j)[NB - j..]);
+    let below = w - k - NB;
+    let mut acc = [[0.0; BLOCK_RHS]; NB];
+    let mut gather = |q: usize, xr: &BlockRow| {
+        for j in 0..NB {
+            let l = cols[j][q];
+            for c in 0..BLOCK_RHS {
+                acc[j][c] += l * xr[c];
+            }
+        }
+    };
+    for q in 0..below {
+        gather(q, &x[j0 + k + NB + q]);
+    }
+    for (q, &r) in rows.iter().enumerate() {
+        gather(below + q, &x[r as usize]);
+    }
+    for j in (0..NB).rev() {
+        let col = packed_col(blk, h, k + j);
+        let mut a = x[j0 + k + j];
+        for c in 0..BLOCK_RHS {
+            a[c] -= acc[j][c];
+        }
+        for i in j + 1..NB {
+            let xi = x[j0 + k + i];
+            for c in 0..BLOCK_RHS {
+                a[c] -= col[i - j] * xi[c];
+            }
+        }
+        x[j0 + k + j] = a.map(|v| v * col[0]);
+    }
+}
+
 /// Bytes of the factors from which the dense supernodes' sweeps prefetch their blocks
 /// ([`Supernodal::prefetch`]): below, a solve's factors stay in the second-level caches
 /// between steps (2 MiB a core on the development host) and prefetching only adds

@@ -140,6 +140,16 @@ pub trait TimeIntegrator: Send {
     /// `col <- A^{-1} e_dof`; `col` is zero and no solve is made (returns false) when `dof`
     /// has a prescribed velocity (its row of `A` is the identity and its value is lifted).
     fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool;
+    /// [`TimeIntegrator::inverse_column`] for each of `dofs`, column `c` into
+    /// `cols[c n..(c + 1) n]`; returns the number of solves made. One column at a time
+    /// unless the scheme solves them as a block.
+    fn inverse_columns(&mut self, dofs: &[usize], cols: &mut [f64]) -> usize {
+        let n = cols.len() / dofs.len().max(1);
+        dofs.iter()
+            .zip(cols.chunks_exact_mut(n.max(1)))
+            .map(|(&d, col)| usize::from(self.inverse_column(d, col)))
+            .sum()
+    }
     /// The end state of `step` (returned by [`TimeIntegrator::predict`]) from the start
     /// state, the predictors and `x`.
     fn finish(&self, step: &Step, s0: &State, pred: &State, x: &[f64], s1: &mut State);

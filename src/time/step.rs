@@ -513,6 +513,22 @@ impl TimeIntegrator for Stepper {
         lu.solve_on(team, col);
         true
     }
+    /// The columns as one block of right-hand sides (`Factor::solve_many_on`); a prescribed
+    /// dof's column is zero (its right-hand side is, and so its solution, exactly).
+    fn inverse_columns(&mut self, dofs: &[usize], cols: &mut [f64]) -> usize {
+        let n = self.n;
+        cols.fill(0.0);
+        let mut made = 0;
+        for (c, &d) in dofs.iter().enumerate() {
+            if !self.is_bc[d] {
+                cols[c * n + d] = 1.0;
+                made += 1;
+            }
+        }
+        let (lu, team) = self.factor();
+        lu.solve_many_on(team, cols, dofs.len());
+        made
+    }
     fn finish(&self, step: &Step, s0: &State, _pred: &State, x: &[f64], s1: &mut State) {
         s1.v.copy_from_slice(x);
         self.update_displacement(step.weight, &s0.u, &s0.v, x, &mut s1.u);

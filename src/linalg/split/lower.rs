@@ -4,6 +4,7 @@
 
 use std::ops::Range;
 
+use super::super::supernodal::{BlockRow, BLOCK_RHS};
 use super::super::team::Team;
 use super::super::{Supernodal, Triangle};
 use super::{level_start, Shape};
@@ -484,6 +485,71 @@ impl SplitLower {
                 let own = &x[node.region.start..node.region.start + node.cols.len()];
                 for (&i, &xk) in to[node.cols.clone()].iter().zip(own) {
                     dst[i] = xk;
+                }
+            }
+        }
+    }
+}
+
+impl SplitLower {
+    /// Whether every part is in dense supernodes, the layout of [`SplitLower::solve_block`].
+    pub(in crate::linalg) fn is_dense(&self) -> bool {
+        self.nodes.iter().all(|n| matches!(n.part, Part::Dense(_)))
+    }
+
+    /// `B <- P^T Λ^{-T} Λ^{-1} P B` for a block of right-hand sides `b` (row `i` of every
+    /// column in `b[i]`; `idx` the gather of the forward sweep, the scatter that of
+    /// [`SplitLower::set_scatter`]) on the spread block `x` ([`SplitLower::spread_len`] rows):
+    /// the parts one after the other on this thread, each read once for the block
+    /// ([`Supernodal::forward_block`]). Every part must be dense ([`SplitLower::is_dense`]).
+    pub(in crate::linalg) fn solve_block(
+        &self,
+        idx: &[usize],
+        x: &mut [BlockRow],
+        b: &mut [BlockRow],
+    ) {
+        assert!(x.len() == self.spread_len && idx.len() == self.n && b.len() == self.n);
+        assert_eq!(self.scatter.len(), self.n, "the scatter is set");
+        for level in &self.levels {
+            for node in &self.nodes[level.clone()] {
+                let Part::Dense(sn) = &node.part else {
+                    unreachable!("dense parts only (is_dense)")
+                };
+                let own = node.cols.len();
+                // The children's rooms lie before the node's region (the regions follow the
+                // nodes' order, the leaves first).
+                let (before, rest) = x.split_at_mut(node.region.start);
+                let v = &mut rest[..node.region.len()];
+                for (xk, &i) in v[..own].iter_mut().zip(&idx[node.cols.clone()]) {
+                    *xk = b[i];
+                }
+                v[own..].fill([0.0; BLOCK_RHS]);
+                for kid in node.kids.iter().flatten() {
+                    for (xi, s) in v.iter_mut().zip(&before[kid.clone()]) {
+                        for c in 0..BLOCK_RHS {
+                            xi[c] += s[c];
+                        }
+                    }
+                }
+                sn.forward_block(v);
+            }
+        }
+        for level in self.levels.iter().rev() {
+            for node in &self.nodes[level.clone()] {
+                let Part::Dense(sn) = &node.part else {
+                    unreachable!("dense parts only (is_dense)")
+                };
+                let own = node.cols.len();
+                // The parent's region lies after the node's.
+                let (lo, hi) = x.split_at_mut(node.region.end);
+                let v = &mut lo[node.region.clone()];
+                if let Some(p) = &node.parent {
+                    let at = p.start - node.region.end;
+                    v[own..].copy_from_slice(&hi[at..at + p.len()]);
+                }
+                sn.backward_block(v);
+                for (&i, xk) in self.scatter[node.cols.clone()].iter().zip(&v[..own]) {
+                    b[i] = *xk;
                 }
             }
         }
