@@ -4,56 +4,13 @@
 //! rotation, the energy kept under `gamma = 0`, the linear model's spurious strain beside
 //! it), and the paper's wheel in large deformation through the command line's scenario.
 
+mod common;
+use common::{elastica, free_problem};
 use softway::assembly::Assembler;
 use softway::finite::{solve_static, FiniteBody, Hyperelastic};
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::rectangle;
 use softway::wheel::triangle_geometry;
-
-/// The elastica of a cantilever of length 1 under a dead tip load `alpha = P L^2 / EI`
-/// normal to its undeformed axis: `theta'' = -alpha cos theta`, `theta(0) = 0`,
-/// `theta'(1) = 0`, shot on `theta'(0)` by bisection with RK4 on 4,000 steps (an
-/// independent computation). Returns the tip's deflection and its shortening along the
-/// axis, both over `L`, and the tip's rotation.
-fn elastica(alpha: f64) -> (f64, f64, f64) {
-    let n = 4000;
-    let ds = 1.0 / n as f64;
-    // State (theta, kappa, x, y).
-    let run = |k0: f64| {
-        let f = |s: [f64; 4]| [s[1], -alpha * s[0].cos(), s[0].cos(), s[0].sin()];
-        let mut s = [0.0, k0, 0.0, 0.0];
-        for _ in 0..n {
-            let add = |a: [f64; 4], b: [f64; 4], h: f64| {
-                [
-                    a[0] + h * b[0],
-                    a[1] + h * b[1],
-                    a[2] + h * b[2],
-                    a[3] + h * b[3],
-                ]
-            };
-            let k1 = f(s);
-            let k2 = f(add(s, k1, ds / 2.0));
-            let k3 = f(add(s, k2, ds / 2.0));
-            let k4 = f(add(s, k3, ds));
-            for i in 0..4 {
-                s[i] += ds / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-        }
-        s
-    };
-    // kappa(1) is alpha-ish at k0 = 0 ... decreasing in k0: bracket [0, alpha].
-    let (mut lo, mut hi) = (0.0, alpha);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if run(mid)[1] > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    let s = run(0.5 * (lo + hi));
-    (s[3], 1.0 - s[2], s[0])
-}
 
 /// The cantilever `L x t` (plane stress, unit-free steel-like constants, `nu = 0`) clamped
 /// at `x = 0`, its tip loaded by `P = alpha EI / L^2` downwards in `ny` rows of triangles;
@@ -152,10 +109,8 @@ fn a_cantilever_to_large_deflection_follows_the_elastica() {
 /// Green strain is the in-plane one, defined for any displacement, to measure strains).
 fn spun_plate(large: bool, turns: f64, h: f64, stretch: f64) -> (Vec<f64>, Vec<f64>, FiniteBody) {
     use softway::assembly::assemble_mass_stiffness;
-    use softway::contact::Treatment;
     use softway::model::LinearModel;
-    use softway::simulation::{Problem, Simulation};
-    use softway::time::{Coriolis, Integrator};
+    use softway::simulation::Simulation;
     let el = Elastic {
         young: 1e6,
         poisson: 0.3,
@@ -182,31 +137,7 @@ fn spun_plate(large: bool, turns: f64, h: f64, stretch: f64) -> (Vec<f64>, Vec<f
         v0[2 * i + 1] = omega * x;
     }
     let steps = (turns * 2.0 * std::f64::consts::PI / omega / h).round() as usize;
-    let problem = Problem {
-        dim: 2,
-        reference: mesh.reference_positions(),
-        model,
-        integrator: Integrator::SpaceTime {
-            alpha: 0.8,
-            gamma: 0.0,
-            coriolis: Coriolis::Implicit,
-        },
-        h,
-        gamma_schedule: Vec::new(),
-        dirichlet: Vec::new(),
-        load: Box::new(|_t: f64, f: &mut [f64]| f.fill(0.0)),
-        obstacles: Vec::new(),
-        interfaces: Vec::new(),
-        pairs: Vec::new(),
-        treatment: Treatment::SOFT_WAY,
-        u0,
-        v0,
-        t0: 0.0,
-        steps,
-        gap_tol: 1e-12,
-        energy_stiffness: None,
-        friction: None,
-    };
+    let problem = free_problem(2, mesh.reference_positions(), model, h, steps, u0, v0);
     let body = FiniteBody::planar(
         Hyperelastic::SaintVenantKirchhoff,
         &el,

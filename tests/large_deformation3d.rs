@@ -6,6 +6,8 @@
 //! strain on a hexahedron (objective under three full turns; in plane strain, the planar
 //! law's answer).
 
+mod common;
+use common::{elastica, free_problem};
 use softway::assembly::Assembler;
 use softway::element::continuum::{assemble_continuum, SolidHex8, SolidTet10};
 use softway::element::solid::elasticity_3d;
@@ -13,40 +15,6 @@ use softway::finite::{solve_static, FiniteBody, Hyperelastic};
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::box_mesh;
 use softway::mesh::{CellKind, Mesh};
-
-/// The elastica of a cantilever of length 1 under a dead tip load `alpha = P L^2 / EI`
-/// normal to its undeformed axis (`theta'' = -alpha cos theta`, shot on `theta'(0)` by
-/// bisection with RK4 on 4,000 steps): the tip's deflection and shortening over `L`.
-fn elastica(alpha: f64) -> (f64, f64) {
-    let n = 4000;
-    let ds = 1.0 / n as f64;
-    let run = |k0: f64| {
-        let f = |s: [f64; 4]| [s[1], -alpha * s[0].cos(), s[0].cos(), s[0].sin()];
-        let mut s = [0.0, k0, 0.0, 0.0];
-        let add = |a: [f64; 4], b: [f64; 4], h: f64| std::array::from_fn(|i| a[i] + h * b[i]);
-        for _ in 0..n {
-            let k1 = f(s);
-            let k2 = f(add(s, k1, ds / 2.0));
-            let k3 = f(add(s, k2, ds / 2.0));
-            let k4 = f(add(s, k3, ds));
-            for i in 0..4 {
-                s[i] += ds / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
-        }
-        s
-    };
-    let (mut lo, mut hi) = (0.0, alpha);
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if run(mid)[1] > 0.0 {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    let s = run(0.5 * (lo + hi));
-    (s[3], 1.0 - s[2])
-}
 
 /// The consistent nodal weights of a uniform unit traction on the face `x = lx` of a box
 /// mesh: a quarter of a hexahedron's face at each corner; a third of a ten-node
@@ -147,7 +115,7 @@ fn cantilever(kind: CellKind, alpha: f64, nz: usize) -> (f64, f64) {
 #[test]
 fn a_solid_cantilever_to_large_deflection_follows_the_elastica() {
     let alpha = 2.0;
-    let (ev, eh) = elastica(alpha);
+    let (ev, eh, _) = elastica(alpha);
     println!("elastica alpha = {alpha}: deflection {ev:.6}, shortening {eh:.6}");
     let mut limits = Vec::new();
     for (kind, rungs, order_range) in [
@@ -216,10 +184,8 @@ fn spun_brick(
     h: f64,
     stretch: f64,
 ) -> (Vec<f64>, Vec<f64>, FiniteBody) {
-    use softway::contact::Treatment;
     use softway::model::LinearModel;
-    use softway::simulation::{Problem, Simulation};
-    use softway::time::{Coriolis, Integrator};
+    use softway::simulation::Simulation;
     let el = Elastic {
         young: 1e6,
         poisson: 0.3,
@@ -261,31 +227,7 @@ fn spun_brick(
         }
     }
     let steps = (turns * std::f64::consts::TAU / omega / h).round() as usize;
-    let problem = Problem {
-        dim: 3,
-        reference: mesh.reference_positions(),
-        model,
-        integrator: Integrator::SpaceTime {
-            alpha: 0.8,
-            gamma: 0.0,
-            coriolis: Coriolis::Implicit,
-        },
-        h,
-        gamma_schedule: Vec::new(),
-        dirichlet: Vec::new(),
-        load: Box::new(|_t: f64, f: &mut [f64]| f.fill(0.0)),
-        obstacles: Vec::new(),
-        interfaces: Vec::new(),
-        pairs: Vec::new(),
-        treatment: Treatment::SOFT_WAY,
-        u0,
-        v0,
-        t0: 0.0,
-        steps,
-        gap_tol: 1e-12,
-        energy_stiffness: None,
-        friction: None,
-    };
+    let problem = free_problem(3, mesh.reference_positions(), model, h, steps, u0, v0);
     let law = Hyperelastic::SaintVenantKirchhoff;
     let body = || FiniteBody::of_mesh(law, &el, PlaneModel::Strain, 1.0, &mesh, n).unwrap();
     let mut sim = Simulation::new(problem).unwrap();
