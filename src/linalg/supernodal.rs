@@ -258,7 +258,7 @@ impl Supernodal {
     }
 }
 
-/// Right-hand sides a block sweep carries ([`Supernodal::forward_block`]): the factor is read
+/// Right-hand sides a block sweep carries (`Supernodal::forward_block`): the factor is read
 /// once for this many columns, each entry used on a row of them (one four-wide operation
 /// twice). A block of fewer columns is padded with zeros by the caller.
 pub const BLOCK_RHS: usize = 8;
