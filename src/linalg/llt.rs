@@ -68,6 +68,12 @@ pub(super) enum StoredLower {
     Split(Box<SplitLower>),
 }
 
+/// The fewest columns [`SparseLlt::solve_many_on`] solves as a block: fewer go one solve
+/// each (a block of eight costs about three single solves: 64 columns of the 18^3 hex8 cube
+/// took 249 ms in blocks against 726 ms one by one, `cargo bench --bench solver3d --
+/// columns`), so the one or two new columns of a rolling step are not padded to eight.
+pub const BLOCK_MIN_RHS: usize = 3;
+
 impl std::fmt::Debug for SparseLlt {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SparseLlt").field("n", &self.n).finish()
@@ -399,13 +405,14 @@ impl SparseLlt {
 
     /// Solves `A X = B` in place for the `k` right-hand sides of `rhs` (column `c` in
     /// `rhs[c n..(c + 1) n]`): on a factor in dense supernodes, [`BLOCK_RHS`] columns a sweep
-    /// (the factor read once for them: a 3D factor streams from memory, so a block costs
-    /// little more than one column); otherwise one solve a column. The work block is made at
-    /// the first call and kept.
+    /// (the factor read once for them; a block of eight costs about three single solves), a
+    /// last group of fewer than [`BLOCK_MIN_RHS`] columns one solve each; on other factors one
+    /// solve a column. The work block is made at the first call and kept.
     ///
     /// # Panics
     /// If `rhs` is not `k` columns of the order.
     pub fn solve_many_on(&mut self, team: &Team, rhs: &mut [f64], k: usize) {
+        // Fewer columns than `BLOCK_MIN_RHS` (a block's last ones included) go one by one.
         let n = self.n;
         assert_eq!(rhs.len(), n * k, "{k} columns of {n}");
         let spread = match &self.stored {
@@ -421,10 +428,16 @@ impl SparseLlt {
         if self.block.len() != spread + n {
             self.block = vec![[0.0; BLOCK_RHS]; spread + n];
         }
-        let (x, b) = self.block.split_at_mut(spread);
         for first in (0..k).step_by(BLOCK_RHS) {
             let cols = (k - first).min(BLOCK_RHS);
             let rhs = &mut rhs[first * n..(first + cols) * n];
+            if cols < BLOCK_MIN_RHS {
+                for col in rhs.chunks_exact_mut(n) {
+                    self.solve_on(team, col);
+                }
+                continue;
+            }
+            let (x, b) = self.block.split_at_mut(spread);
             for (i, bi) in b.iter_mut().enumerate() {
                 *bi = std::array::from_fn(|c| if c < cols { rhs[c * n + i] } else { 0.0 });
             }

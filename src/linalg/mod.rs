@@ -125,6 +125,7 @@ pub use dense::dense_solve_in_place;
 pub use huge::{HugeBuf, HUGE_MIN_BYTES};
 pub(crate) use kernels::{broadcast2, has_avx2, prefetch_span};
 pub use llt::SparseLlt;
+pub use llt::BLOCK_MIN_RHS;
 pub use lu::{Ordering, SparseLu, DISSECTION_MIN_ORDER};
 pub use reference::{FaerLlt, FaerLu};
 pub use rhs::{rhs_plain_into, BParts, RhsOperator, RhsValues};
