@@ -39,8 +39,6 @@
 
 use crate::bodies::wheel::WheelModel;
 use crate::finite::{FiniteBody, Hyperelastic};
-use crate::scenario::raw::RawMaterial;
-use crate::scenario::{Ctx, ScenarioError};
 use serde::Serialize;
 
 /// The default tolerance of the large-deformation wheel's iteration, `1e-6`: on the paper's
@@ -56,77 +54,6 @@ pub struct Large {
     /// The iteration's tolerance: the residual relative to the internal force
     /// (`material.geometry_tolerance`, default [`DEFAULT_TOLERANCE`]).
     pub tolerance: f64,
-}
-
-/// `material.geometry`, `material.law` and `material.geometry_tolerance`: `None` for the
-/// small-strain (linear) wheel, each key refused where it is not used.
-///
-/// # Errors
-/// [`ScenarioError`] naming the key and what is allowed.
-pub(crate) fn large_of(cx: &Ctx, m: &RawMaterial) -> Result<Option<Large>, ScenarioError> {
-    let geometry = m.geometry.as_deref().unwrap_or("small");
-    match geometry {
-        "small" => {
-            for (key, given) in [
-                ("material.law", m.law.is_some()),
-                (
-                    "material.geometry_tolerance",
-                    m.geometry_tolerance.is_some(),
-                ),
-            ] {
-                if given {
-                    return Err(cx.invalid(
-                        key,
-                        "(given)",
-                        "used with material.geometry = \"large\" only",
-                    ));
-                }
-            }
-            return Ok(None);
-        }
-        "large" => {}
-        o => {
-            return Err(cx.invalid(
-                "material.geometry",
-                format!("\"{o}\""),
-                "allowed: \"small\" (linear in the geometry, the default), \"large\" (the geometrically nonlinear force of crate::finite)",
-            ))
-        }
-    }
-    // With `material.model = "j2"` the wheel is plastic at finite strain
-    // ([`crate::finite::FinitePlastic`]): `material.law` is then the J2 material's elastic
-    // part, Saint Venant-Kirchhoff.
-    if m.model.as_deref().is_some_and(|s| s != "elastic")
-        && m.law
-            .as_deref()
-            .is_some_and(|l| l != "saint_venant_kirchhoff")
-    {
-        return Err(cx.invalid(
-            "material.law",
-            format!("\"{}\"", m.law.as_deref().unwrap_or_default()),
-            "the plastic wheel at finite strain (material.model = \"j2\") is Saint Venant-Kirchhoff in its elastic part (S = D (E - E_p)): remove material.law",
-        ));
-    }
-    let law = match m.law.as_deref().unwrap_or("saint_venant_kirchhoff") {
-        "saint_venant_kirchhoff" => Hyperelastic::SaintVenantKirchhoff,
-        "neo_hookean" => Hyperelastic::NeoHookean,
-        o => {
-            return Err(cx.invalid(
-                "material.law",
-                format!("\"{o}\""),
-                "allowed: \"saint_venant_kirchhoff\" (default), \"neo_hookean\"",
-            ))
-        }
-    };
-    let tolerance = m.geometry_tolerance.unwrap_or(DEFAULT_TOLERANCE);
-    if !(tolerance > 0.0 && tolerance < 1.0) {
-        return Err(cx.invalid(
-            "material.geometry_tolerance",
-            tolerance,
-            "the residual relative to the internal force, in (0, 1)",
-        ));
-    }
-    Ok(Some(Large { law, tolerance }))
 }
 
 /// The wheel's triangles as a hyperelastic body on the model's dofs.
@@ -174,12 +101,25 @@ pub struct LargeSummary {
     pub max_rotation_rad: f64,
 }
 
-/// The summary of a large-deformation run from its counters and its last displacement
+/// The nonlinear iteration's counters over a run (the run loop's, handed over as numbers).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Iterations {
+    /// Corrections over the run.
+    pub total: usize,
+    /// Steps of the run.
+    pub steps: usize,
+    /// Most corrections in one solve.
+    pub max_in_one_solve: usize,
+    /// Solves left at the iteration cap.
+    pub unconverged: usize,
+}
+
+/// The summary of a large-deformation run from its counters `o` and its last displacement
 /// `u`, with the largest rotation `max_rotation` the run's watch saw.
 pub(crate) fn summary(
     wm: &WheelModel,
     large: Large,
-    o: &super::run::LoopOutcome,
+    o: Iterations,
     u: &[f64],
     max_rotation: f64,
 ) -> LargeSummary {
@@ -189,10 +129,10 @@ pub(crate) fn summary(
     LargeSummary {
         law: large.law,
         tolerance: large.tolerance,
-        iterations: o.plastic_iterations,
-        iterations_per_step: o.plastic_iterations as f64 / o.steps.max(1) as f64,
-        max_in_one_solve: o.plastic_max_in_one_solve,
-        unconverged: o.plastic_unconverged,
+        iterations: o.total,
+        iterations_per_step: o.total as f64 / o.steps.max(1) as f64,
+        max_in_one_solve: o.max_in_one_solve,
+        unconverged: o.unconverged,
         max_green_strain,
         max_linear_strain,
         stored_energy_j,

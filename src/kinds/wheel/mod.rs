@@ -21,6 +21,7 @@ use std::path::Path;
 
 pub mod growth;
 pub mod large;
+mod large_keys;
 pub mod modes;
 pub(crate) mod on_block;
 pub(crate) mod rules;

@@ -367,7 +367,12 @@ pub fn simulate(
         summary.large_deformation = Some(crate::kinds::wheel::large::summary(
             wm,
             large,
-            &outcome,
+            crate::kinds::wheel::large::Iterations {
+                total: outcome.plastic_iterations,
+                steps: outcome.steps,
+                max_in_one_solve: outcome.plastic_max_in_one_solve,
+                unconverged: outcome.plastic_unconverged,
+            },
             &u_end,
             rotation.max().0,
         ));

@@ -34,7 +34,7 @@ pub(crate) fn wheel_model(
     let thickness = cx.positive("wheel.thickness", w.thickness)?;
     let material = wheel_material(cx, &m)?;
     let plastic = plasticity(cx, &m, material)?;
-    let large = super::large::large_of(cx, &m)?;
+    let large = super::large_keys::large_of(cx, &m)?;
     let mesh = disk_mesh(cx, &w)?;
     let plane = plane_model(cx, &w)?;
     let lumped = wheel_mass(cx, &w)?;
