@@ -1,7 +1,7 @@
 //! Two wheels of a bogie on one rail (`vehicle.wheelbase`, [`softway::track::rolling`],
 //! Two wheels): each carries its own static load, each lifts the rail under the other as
 //! the beam on an elastic foundation does, and the rail's wear under the pair is twice one
-//! wheel's.
+//! wheel's, by every model of the wear.
 
 mod common;
 
@@ -145,7 +145,19 @@ fn two_wheels_carry_their_loads_and_lift_the_rail_under_each_other() {
     }
 }
 
-fn scenario(wheelbase: &str) -> Scenario {
+/// The study's track and wheel, one wheel or two (`wheelbase`); `dynamic`: driving at 1 %
+/// creepage with Coulomb friction (`mu = 0.3`) against the primary suspension, as
+/// `scenarios/corrugation-friction.toml`, so that the rail wears by each rim node's own slip.
+fn scenario(wheelbase: &str, dynamic: bool) -> Scenario {
+    let (drive, friction, gamma) = if dynamic {
+        (
+            "creepage = 0.01\nsuspension_stiffness = 1e7\nsuspension_damping = 1.8e5",
+            "friction = 0.3",
+            0.2,
+        )
+    } else {
+        ("", "", 0.0)
+    };
     let text = format!(
         r#"
 name = "rail-wear-two"
@@ -166,27 +178,30 @@ settle_bays = 4
 wheel_rim_nodes = 360
 wheel_thickness = 0.02
 {wheelbase}
+{drive}
 [contact]
 method = "exact"
+{friction}
 [time]
 alpha = 0.8
-gamma = 0.0
+gamma = {gamma}
 "#
     );
     let spec = Scenario::from_str(&text, Path::new("rail-wear-two.toml")).expect("scenario");
     softway::build::resolve(&spec).expect("built")
 }
 
-fn mean_depth(sc: &Scenario, patch: WearPatch) -> Result<f64, String> {
+/// A flat rail's pass: the mean worn depth away from the grid's ends and the pass's
+/// scalars.
+fn flat_pass(
+    sc: &Scenario,
+    patch: WearPatch,
+    sliding: Sliding,
+) -> Result<(f64, Vec<(String, f64)>), String> {
     let law = WearLaw::Archard(Archard {
         k: 1e-4,
         hardness: 3e9,
         map: None,
-    });
-    let sliding = Sliding::Steady(RailSliding {
-        creepage: 0.01,
-        traction_coefficient: 0.2,
-        density: 7850.0,
     });
     let opts = RunOptions {
         progress: false,
@@ -207,23 +222,70 @@ fn mean_depth(sc: &Scenario, patch: WearPatch) -> Result<f64, String> {
     let inner = pass.inner();
     let inner = inner.start + 20..inner.end - 20;
     let d = &r.wear_depth[inner];
-    Ok(d.iter().sum::<f64>() / d.len() as f64)
+    Ok((d.iter().sum::<f64>() / d.len() as f64, r.scalars))
+}
+
+const STEADY: Sliding = Sliding::Steady(RailSliding {
+    creepage: 0.01,
+    traction_coefficient: 0.2,
+    density: 7850.0,
+});
+
+fn scalar(scalars: &[(String, f64)], key: &str) -> f64 {
+    scalars
+        .iter()
+        .find(|(k, _)| k == key)
+        .unwrap_or_else(|| panic!("no {key} in {scalars:?}"))
+        .1
 }
 
 /// A bogie's pass wears the rail twice as deep as one wheel's (Archard's wear is linear in
-/// the force, and each wheel carries its static load); the rim nodes' own patch, which
-/// follows the first wheel only, is refused with a second wheel, naming the key.
+/// the force, and each wheel carries its static load), by each model of the wear: the
+/// steady creepage on Hertz's patch and on the rim nodes' own, and each node's own
+/// friction in the run (each wheel then in full slip, its traction `mu` times its force).
 #[test]
-fn a_second_wheel_doubles_the_rails_wear_and_names_what_it_does_not_wear() {
-    let one = mean_depth(&scenario(""), WearPatch::Hertz).unwrap();
-    let two = mean_depth(&scenario("wheelbase = 2.5"), WearPatch::Hertz).unwrap();
-    println!(
-        "mean worn depth: one wheel {one:.4e} m, two {two:.4e} m: {:.4}x",
-        two / one
-    );
-    assert!((two / one - 2.0).abs() < 0.01, "{two} against {one}");
-    let err = mean_depth(&scenario("wheelbase = 2.5"), WearPatch::Nodes).unwrap_err();
-    assert!(err.contains("vehicle.wheelbase"), "{err}");
+fn a_second_wheel_doubles_the_rails_wear_by_every_model() {
+    for patch in [WearPatch::Hertz, WearPatch::Nodes] {
+        let (one, _) = flat_pass(&scenario("", false), patch, STEADY).unwrap();
+        let (two, s) = flat_pass(&scenario("wheelbase = 2.5", false), patch, STEADY).unwrap();
+        println!(
+            "steady, {patch:?}: mean worn depth one wheel {one:.4e} m, two {two:.4e} m: {:.4}x",
+            two / one
+        );
+        assert!((two / one - 2.0).abs() < 0.01, "{patch:?}: {two} against {one}");
+        let (f1, f2) = (
+            scalar(&s, "mean_force_n"),
+            scalar(&s, "trailing_mean_force_n"),
+        );
+        assert!((f2 / f1 - 1.0).abs() < 0.01, "{f1} {f2}");
+    }
+    let dynamic = Sliding::Dynamic { density: 7850.0 };
+    for patch in [WearPatch::Hertz, WearPatch::Nodes] {
+        let (one, s1) = flat_pass(&scenario("", true), patch, dynamic).unwrap();
+        let (two, s) = flat_pass(&scenario("wheelbase = 2.5", true), patch, dynamic).unwrap();
+        let (q1, q2) = (
+            scalar(&s, "traction_ratio"),
+            scalar(&s, "trailing_traction_ratio"),
+        );
+        let (f1, f2) = (
+            scalar(&s, "mean_force_n"),
+            scalar(&s, "trailing_mean_force_n"),
+        );
+        println!(
+            "dynamic, {patch:?}: mean worn depth one wheel {one:.4e} m, two {two:.4e} m: {:.4}x; Q/P {q1:.5} / {q2:.5}, P {f1:.1} / {f2:.1} N (one wheel {:.1})",
+            two / one,
+            scalar(&s1, "mean_force_n")
+        );
+        // Full slip under both wheels: the traction is mu P, the wear Archard's on it.
+        for q in [q1, q2, scalar(&s1, "traction_ratio")] {
+            assert!((q / 0.3 - 1.0).abs() < 0.01, "{q}");
+        }
+        let expected = (f1 + f2) / scalar(&s1, "mean_force_n");
+        assert!(
+            (two / one / expected - 1.0).abs() < 0.02,
+            "{patch:?}: {two} against {one} (expected {expected}x)"
+        );
+    }
 }
 
 /// The second wheel's key is refused where it has no meaning or no room, naming the file

@@ -220,13 +220,6 @@ impl TrackPass {
                 }
             }
         }
-        if ts.vehicle.wheelbase.is_some()
-            && (patch != WearPatch::Hertz || matches!(sliding, Sliding::Dynamic { .. }))
-        {
-            return Err(input(
-                "vehicle.wheelbase (a second wheel) wears the rail on Hertz's patch under the steady creepage (growth.patch = \"hertz\", growth.sliding = \"steady\"): the rim nodes' own wear (\"nodes\") and the dynamic friction's (\"dynamic\") follow the first wheel only; remove vehicle.wheelbase or those keys".into(),
-            ));
-        }
         let s = ts.spec.spacing;
         let travel_step = ts.vehicle.speed * run.params.h;
         if !(dx.is_finite() && dx > 0.0 && dx <= 0.1 * s) {
@@ -549,6 +542,16 @@ impl PassRunner for TrackPass {
                 ("wear_bookkeeping_s".into(), w.bookkeeping.as_secs_f64()),
             ]
             .into_iter()
+            .chain(self.ts.vehicle.wheelbase.map_or_else(Vec::new, |_| {
+                // The second wheel over the same grid (its own force and friction).
+                let m2 = w.trailing_count.max(1) as f64;
+                let mut v = vec![("trailing_mean_force_n".into(), w.trailing_f_sum / m2)];
+                if let Some(f) = w.trailing_friction {
+                    v.push(("trailing_traction_ratio".into(), f.traction / w.trailing_f_sum));
+                    v.push(("trailing_sliding_share".into(), f.sliding_force / w.trailing_f_sum));
+                }
+                v
+            }))
             .chain(w.friction.map_or_else(Vec::new, |f| {
                 let xi_v = self.ts.vehicle.creepage * self.ts.vehicle.speed;
                 vec![

@@ -77,3 +77,16 @@ pub struct FrictionTally {
     /// Sum over the steps of the normal force carried by nodes in slip, N.
     pub sliding_force: f64,
 }
+
+impl FrictionTally {
+    /// Adds a step's pairs (one wheel's rim).
+    pub fn add(&mut self, pairs: &[PairState]) {
+        for ps in pairs {
+            self.traction -= ps.tangential_force;
+            self.power += ps.slip_power;
+            if ps.sliding && ps.force > 0.0 {
+                self.sliding_force += ps.force;
+            }
+        }
+    }
+}

@@ -28,6 +28,8 @@ pub(super) struct Wearing<'a> {
     pub(super) pitch: f64,
     pub(super) reference: Vec<f64>,
     pub(super) slave: crate::contact::search::Placed,
+    /// The second wheel's rim in the search (`vehicle.wheelbase`).
+    pub(super) trailing_slave: Option<crate::contact::search::Placed>,
     pub(super) rim: Vec<usize>,
     pub(super) depth: Vec<f64>,
     pub(super) volume: f64,
@@ -46,6 +48,22 @@ pub(super) struct Wearing<'a> {
     /// The second wheel's (`vehicle.wheelbase`): its patch's centre and force at the
     /// previous step.
     pub(super) last_trailing: Option<(f64, f64)>,
+    /// The second wheel's tallies over its recorded steps (it crosses the grid a
+    /// wheelbase after the first): its contact force's sum and count, and the dynamic
+    /// model's friction.
+    pub(super) trailing_f_sum: f64,
+    pub(super) trailing_count: usize,
+    pub(super) trailing_friction: Option<FrictionTally>,
+}
+
+/// Which wheel's rim a step's pairs are (the second's with `vehicle.wheelbase`).
+#[derive(Clone, Copy)]
+struct Rim {
+    /// The rim in the search: its frame and first dof.
+    slave: crate::contact::search::Placed,
+    /// The rail's abscissa under the first wheel's axle, m (the rim's frame,
+    /// `slave.motion`, holds the second wheel's place behind it).
+    under: f64,
 }
 
 /// The wear law's depth rate under the rail's sliding at the travel speed `v`.
@@ -105,6 +123,7 @@ impl<'a> Wearing<'a> {
             pitch: 2.0 * std::f64::consts::PI * wot.rim_radius / wot.wheel.rim.len() as f64,
             reference: wot.wheel.mesh.reference_positions(),
             slave: wot.interface.slave(),
+            trailing_slave: wot.trailing.as_ref().map(|tr| tr.interface.slave()),
             rim: wot.interface.nodes().to_vec(),
             depth: vec![0.0; runner.n],
             volume: 0.0,
@@ -119,11 +138,17 @@ impl<'a> Wearing<'a> {
             trace,
             last: None,
             last_trailing: None,
+            trailing_f_sum: 0.0,
+            trailing_count: 0,
+            trailing_friction: (wot.trailing.is_some()
+                && matches!(runner.sliding, Sliding::Dynamic { .. }))
+            .then(FrictionTally::default),
         }
     }
 
     /// One step: from the grid's start on, the force's trace and moments, the compression,
-    /// and the wear the step lays.
+    /// and the wear the step lays; the second wheel's (`vehicle.wheelbase`) from where it
+    /// reaches the grid, by the same model on its own patch.
     pub(super) fn step(&mut self, s: &crate::simulation::StepView) -> Result<(), std::io::Error> {
         let wot = self.wot;
         let st = s.state;
@@ -131,20 +156,24 @@ impl<'a> Wearing<'a> {
         let under = wot.under_axle(t);
         // The first wheel's pairs, then the second's (`WheelOnTrack::rim_pairs`).
         let (first, second) = st.pairs.split_at(wot.rim_pairs().min(st.pairs.len()));
-        let f = first.iter().map(|p| p.force).sum();
-        if let (Some(tr), Some(rate)) = (&wot.trailing, self.rate) {
-            // The second wheel on Hertz's patch under the steady model (the only model it
-            // takes: `TrackPass::new`), from where it is on the rail.
-            let under = under - tr.wheelbase;
+        if let (Some(tr), Some(slave)) = (&wot.trailing, self.trailing_slave) {
+            let behind = under - tr.wheelbase;
             let axle = wot.trailing_axle_ground(t, u).unwrap_or_default();
-            let now = (under + axle[0], second.iter().map(|p| p.force).sum());
+            let f = second.iter().map(|p| p.force).sum();
+            let now = (behind + axle[0], f);
             let before = self.last_trailing.replace(now);
-            if let (Some(before), true) = (before, under >= self.x0) {
+            if behind >= self.x0 {
                 let clock = Instant::now();
-                self.hertz(rate, before, now);
+                self.trailing_f_sum += f;
+                self.trailing_count += 1;
+                if let Some(tally) = self.trailing_friction.as_mut() {
+                    tally.add(second);
+                }
+                self.wear(s, Rim { slave, under }, second, before, now);
                 self.bookkeeping += clock.elapsed();
             }
         }
+        let f = first.iter().map(|p| p.force).sum();
         let centre = under + wot.axle_ground(t, u)[0];
         let before = self.last.replace((centre, f));
         if under < self.x0 {
@@ -162,29 +191,36 @@ impl<'a> Wearing<'a> {
         self.count += 1;
         let clock = Instant::now();
         if let Some(tally) = self.friction.as_mut() {
-            for ps in &st.pairs {
-                tally.traction -= ps.tangential_force;
-                tally.power += ps.slip_power;
-                if ps.sliding && ps.force > 0.0 {
-                    tally.sliding_force += ps.force;
-                }
-            }
+            tally.add(first);
         }
+        let slave = self.slave;
+        self.wear(s, Rim { slave, under }, first, before, (centre, f));
+        self.bookkeeping += clock.elapsed();
+        Ok(())
+    }
+
+    /// The wear one wheel's `pairs` lay in a step, its patch moved from `before` to `now`
+    /// (centre, force), by the study's model and patch.
+    fn wear(
+        &mut self,
+        s: &crate::simulation::StepView,
+        rim: Rim,
+        pairs: &[crate::model::PairState],
+        before: Option<(f64, f64)>,
+        now: (f64, f64),
+    ) {
         match (self.patch, self.rate) {
             (WearPatch::Hertz, Some(rate)) => {
-                let Some(before) = before else {
-                    return Ok(());
-                };
-                if !self.hertz(rate, before, (centre, f)) {
-                    return Ok(());
+                if let Some(before) = before {
+                    self.hertz(rate, before, now);
                 }
             }
             (WearPatch::Nodes, Some(rate)) => {
-                self.nodes(s, under, |ps, area| rate.at(ps.force / area) * area)
+                self.nodes(s, rim, pairs, |ps, area| rate.at(ps.force / area) * area)
             }
             (WearPatch::Hertz, None) => {
-                let volume = self.dynamic_volume(s);
-                let spread = before.is_some_and(|b| self.hertz_spread(b, (centre, f), volume));
+                let volume = self.dynamic_volume(pairs);
+                let spread = before.is_some_and(|b| self.hertz_spread(b, now, volume));
                 if !spread {
                     self.volume += volume;
                     self.lost += volume;
@@ -192,22 +228,19 @@ impl<'a> Wearing<'a> {
             }
             (WearPatch::Nodes, None) => {
                 let (law, density, speed) = (self.law, self.density, self.speed);
-                self.nodes(s, under, |ps, area| {
+                self.nodes(s, rim, pairs, |ps, area| {
                     node_sample(ps, area, speed)
                         .map_or(0.0, |sample| law.depth_rate(&sample, density) * area)
                 })
             }
         }
-        self.bookkeeping += clock.elapsed();
-        Ok(())
     }
 
-    /// The dynamic model's worn volume of the step, m^3: each rim node in slip through the
-    /// wear law ([`node_sample`]), over its tributary area.
-    fn dynamic_volume(&self, s: &crate::simulation::StepView) -> f64 {
+    /// The dynamic model's worn volume of the step under one wheel's `pairs`, m^3: each
+    /// rim node in slip through the wear law ([`node_sample`]), over its tributary area.
+    fn dynamic_volume(&self, pairs: &[crate::model::PairState]) -> f64 {
         let area = self.pitch * self.thickness;
-        s.state
-            .pairs
+        pairs
             .iter()
             .filter_map(|ps| node_sample(ps, area, self.speed))
             .map(|sample| self.law.depth_rate(&sample, self.density) * area * self.h)
@@ -284,29 +317,32 @@ impl<'a> Wearing<'a> {
         passed
     }
 
-    /// The rim nodes in contact, each wearing the rail over its pitch as a hat centred
-    /// where it is on the rail (`under`: the rail's abscissa under the axle), at the volume
-    /// rate `rate(pair, area)` (m^3/s) over its tributary `area`.
+    /// One wheel's rim nodes in contact (`pairs`, in the rim's order), each wearing the
+    /// rail over its pitch as a hat centred where it is on the rail (`rim.under`: the
+    /// rail's abscissa under its axle), at the volume rate `rate(pair, area)` (m^3/s) over
+    /// its tributary `area`.
     fn nodes(
         &mut self,
         s: &crate::simulation::StepView,
-        under: f64,
+        rim: Rim,
+        pairs: &[crate::model::PairState],
         rate: impl Fn(&crate::model::PairState, f64) -> f64,
     ) {
         let st = s.state;
         let (t, u) = (st.t, &st.state.u);
         let (pitch, thickness) = (self.pitch, self.thickness);
-        for (slot, ps) in st.pairs.iter().enumerate() {
+        let d0 = rim.slave.first_dof;
+        for (slot, ps) in pairs.iter().enumerate() {
             if ps.force <= 0.0 {
                 continue;
             }
             let node = self.rim[slot];
             let local = [
-                self.reference[2 * node] + u[2 * node],
-                self.reference[2 * node + 1] + u[2 * node + 1],
+                self.reference[2 * node] + u[d0 + 2 * node],
+                self.reference[2 * node + 1] + u[d0 + 2 * node + 1],
                 0.0,
             ];
-            let x = under + self.slave.motion.place(t, local)[0];
+            let x = rim.under + rim.slave.motion.place(t, local)[0];
             let area = pitch * thickness;
             let vol = rate(ps, area) * self.h;
             if vol <= 0.0 {
