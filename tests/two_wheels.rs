@@ -252,7 +252,10 @@ fn a_second_wheel_doubles_the_rails_wear_by_every_model() {
             "steady, {patch:?}: mean worn depth one wheel {one:.4e} m, two {two:.4e} m: {:.4}x",
             two / one
         );
-        assert!((two / one - 2.0).abs() < 0.01, "{patch:?}: {two} against {one}");
+        assert!(
+            (two / one - 2.0).abs() < 0.01,
+            "{patch:?}: {two} against {one}"
+        );
         let (f1, f2) = (
             scalar(&s, "mean_force_n"),
             scalar(&s, "trailing_mean_force_n"),

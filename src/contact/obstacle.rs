@@ -281,9 +281,136 @@ impl Obstacle for RotatingLine {
     }
 }
 
+/// The rotating base in 3D: [`RotatingLine`]'s plane, the wheel's axle along `z` (the
+/// plane contains it), whose material also slides across the rolling direction and turns
+/// about the normal: the longitudinal, lateral and spin creepages of a 3D wheel rolling in
+/// its own frame (the paper's rotating frame, §4, with the base's material moving through
+/// it).
+///
+/// With `V = omega rho` the rim's rolling speed, `e` the unit vector from the axle to the
+/// base ([`RotatingLine::direction`]), `n = -e` the base's outward normal, `t_b` the
+/// direction of the base's travel (`tangent_2d(n)`) and `p0 = centre + rho e` the point of
+/// the base under the axle, a point of the wheel at rest in the frame at `x` slides on the
+/// base's material at
+/// `s(x) = V (xi t_b + eta e_z + phi n x (x - p0))`
+/// (`xi` [`RotatingLine::creepage`], `eta` [`RotatingBase::lateral`], `phi`
+/// [`RotatingBase::spin`]): the base's material moves at `w = -s` there
+/// ([`Obstacle::surface_velocity`]). With `eta = phi = 0` it is [`RotatingLine`] extended
+/// along the axle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotatingBase {
+    /// The plane, its turning, flattening and longitudinal creepage `xi`.
+    pub line: RotatingLine,
+    /// Lateral creepage `eta`, dimensionless: the wheel's rigid slip along `+z` over `V`.
+    pub lateral: f64,
+    /// Spin creepage `phi`, 1/m: the wheel's rigid turning about the base's outward normal
+    /// relative to the base, over `V`.
+    pub spin: f64,
+}
+
+impl Obstacle for RotatingBase {
+    fn half_space(&self, t: f64, x: Vector) -> HalfSpace {
+        self.line.half_space(t, x)
+    }
+
+    fn uniform_half_space(&self, t: f64) -> Option<HalfSpace> {
+        self.line.uniform_half_space(t)
+    }
+
+    fn surface_normal_velocity(&self, t: f64, x: Vector) -> f64 {
+        self.line.surface_normal_velocity(t, x)
+    }
+
+    fn time_scale(&self) -> f64 {
+        self.line.time_scale()
+    }
+
+    fn surface_tangential_velocity(&self, t: f64, x: Vector) -> f64 {
+        self.line.surface_tangential_velocity(t, x)
+    }
+
+    fn surface_velocity(&self, t: f64, x: Vector) -> Vector {
+        let l = &self.line;
+        let e = l.direction(t);
+        let n = [-e[0], -e[1], 0.0];
+        let tb = tangent_2d(n);
+        let rho = l.radius - l.flattening.at(t);
+        let v = l.omega * rho;
+        let w_t = l.surface_tangential_velocity(t, x);
+        let r = [
+            x[0] - l.centre[0] - rho * e[0],
+            x[1] - l.centre[1] - rho * e[1],
+            x[2] - l.centre[2],
+        ];
+        // n x r, n in the plane of the wheel.
+        let nr = [n[1] * r[2], -n[0] * r[2], n[0] * r[1] - n[1] * r[0]];
+        let (eta, phi) = (self.lateral, self.spin);
+        [
+            w_t * tb[0] - v * phi * nr[0],
+            w_t * tb[1] - v * phi * nr[1],
+            -v * eta - v * phi * nr[2],
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The 3D base's material velocity: with no lateral or spin creepage it is the line's
+    /// along its tangent; the rigid slip of a point of the wheel at rest, `-w`, is
+    /// `V (xi t_b + eta e_z + phi n x (x - p0))`, in the base's plane, whatever the
+    /// point's height along the axle.
+    #[test]
+    fn the_3d_base_slides_by_the_three_creepages() {
+        let mut line = settling_base();
+        line.creepage = 0.004;
+        let t = 1.3e-3;
+        let e = line.direction(t);
+        let rho = line.radius - line.flattening.at(t);
+        let v = line.omega * rho;
+        let n = [-e[0], -e[1], 0.0];
+        let tb = tangent_2d(n);
+        let p0 = [
+            line.centre[0] + rho * e[0],
+            line.centre[1] + rho * e[1],
+            0.0,
+        ];
+        let plain = RotatingBase {
+            line,
+            lateral: 0.0,
+            spin: 0.0,
+        };
+        let base = RotatingBase {
+            line,
+            lateral: -0.003,
+            spin: 0.7,
+        };
+        for (along, lateral) in [(0.0, 0.0), (2e-3, -1e-3), (-1.5e-3, 4e-3)] {
+            // A point on the base: `along` t_b from p0, `lateral` along z.
+            let x = [p0[0] + along * tb[0], p0[1] + along * tb[1], lateral];
+            let w0 = plain.surface_velocity(t, x);
+            let w1 = line.surface_tangential_velocity(t, x);
+            for c in 0..3 {
+                assert!((w0[c] - w1 * tb[c]).abs() < 1e-12, "{w0:?} {w1}");
+            }
+            let w = base.surface_velocity(t, x);
+            assert!(dot(w, n).abs() < 1e-12, "{w:?} not in the plane");
+            let s = [-w[0], -w[1], -w[2]];
+            // n x (x - p0) = along (n x t_b) + lateral (n x e_z); n x t_b = e_z x ... by hand:
+            let r = [x[0] - p0[0], x[1] - p0[1], x[2] - p0[2]];
+            let nr = [
+                n[1] * r[2] - n[2] * r[1],
+                n[2] * r[0] - n[0] * r[2],
+                n[0] * r[1] - n[1] * r[0],
+            ];
+            for c in 0..3 {
+                let ez = [0.0, 0.0, 1.0][c];
+                let want = v * (0.004 * tb[c] - 0.003 * ez + 0.7 * nr[c]);
+                assert!((s[c] - want).abs() < 1e-12 * v, "{c}: {s:?}");
+            }
+        }
+    }
 
     /// A base turning at 300 rad/s about an off-origin centre, still settling.
     fn settling_base() -> RotatingLine {

@@ -547,8 +547,14 @@ impl PassRunner for TrackPass {
                 let m2 = w.trailing_count.max(1) as f64;
                 let mut v = vec![("trailing_mean_force_n".into(), w.trailing_f_sum / m2)];
                 if let Some(f) = w.trailing_friction {
-                    v.push(("trailing_traction_ratio".into(), f.traction / w.trailing_f_sum));
-                    v.push(("trailing_sliding_share".into(), f.sliding_force / w.trailing_f_sum));
+                    v.push((
+                        "trailing_traction_ratio".into(),
+                        f.traction / w.trailing_f_sum,
+                    ));
+                    v.push((
+                        "trailing_sliding_share".into(),
+                        f.sliding_force / w.trailing_f_sum,
+                    ));
                 }
                 v
             }))
