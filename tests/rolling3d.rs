@@ -22,22 +22,14 @@
 
 mod common;
 
-use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
-use softway::bodies::solid::SolidSpec;
-use softway::bodies::spinning::{spinning_solid, SpinSpec};
-use softway::bodies::{self};
+use softway::bodies::rolling3d::{PatchForce, RollingSlice, SliceSpec};
 use softway::contact::obstacle::Flattening;
-use softway::contact::pair::tangent_basis;
-use softway::contact::search::Motion;
-use softway::contact::{FrictionLaw, Obstacle, Pair, RotatingBase, RotatingLine, Treatment};
-use softway::frame3d::Spin;
-use softway::material::{Elastic, PlaneModel};
-use softway::mesh::{Cells, Mesh};
+use softway::contact::{FrictionLaw, Treatment};
+use softway::material::Elastic;
 use softway::simulation::Simulation;
 use softway::time::{Coriolis, Integrator};
-use std::collections::BTreeMap;
 
 const STEEL: Elastic = Elastic {
     young: 2.05e11,
@@ -48,50 +40,13 @@ const STEEL: Elastic = Elastic {
 const R: f64 = 0.1;
 const BORE: f64 = 0.04;
 const T: f64 = 0.01;
-const NR: usize = 12;
-const NT: usize = 192;
-const NZ: usize = 1;
+const COUNTS: [usize; 3] = [12, 192, 1];
 /// The spin, rad/s, the flattening, m, and its ramp, s; the friction coefficient; the step.
 const OMEGA: f64 = 300.0;
 const DEPTH: f64 = 1e-3;
 const SETTLE: f64 = 3e-3;
 const MU: f64 = 0.3;
 const H: f64 = 1e-5;
-
-/// A structured hex8 annulus about the z axis (`tests/rotating3d.rs`'s): radii `a..b` in
-/// `nr` rings, `nt` sectors, thickness `t` in `nz` layers; node `(i, j, k)` is
-/// `i + (nr + 1) (j + nt k)`.
-fn annulus(a: f64, b: f64, t: f64, [nr, nt, nz]: [usize; 3]) -> Mesh {
-    let id = |i: usize, j: usize, k: usize| i + (nr + 1) * ((j % nt) + nt * k);
-    let mut coords = Vec::new();
-    for k in 0..=nz {
-        for j in 0..nt {
-            for i in 0..=nr {
-                let r = a + (b - a) * i as f64 / nr as f64;
-                let th = 2.0 * PI * j as f64 / nt as f64;
-                coords.extend([r * th.cos(), r * th.sin(), t * k as f64 / nz as f64]);
-            }
-        }
-    }
-    let mut hexes = Vec::new();
-    for k in 0..nz {
-        for j in 0..nt {
-            for i in 0..nr {
-                hexes.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
-            }
-        }
-    }
-    Mesh::new(3, coords, Cells::Hex8(hexes), BTreeMap::new())
-}
 
 /// The rolling part of a run: per step, the normal force and the tangential force on the
 /// wheel along the base's travel `t_b` and along the axle `e_z`, N.
@@ -110,74 +65,27 @@ impl Rolled {
 /// Rolls the wheel `steps` steps with the creepages `(xi, eta, phi)`, the soft way;
 /// records the steps after the flattening's ramp and a settling of as long again.
 fn roll(xi: f64, eta: f64, phi: f64, steps: usize) -> Rolled {
-    let mesh = annulus(BORE, R, T, [NR, NT, NZ]);
-    let node = |i: usize, j: usize, k: usize| i + (NR + 1) * (j + NT * k);
-    let mut fixed = Vec::new();
-    let mut rim = Vec::new();
-    for k in 0..=NZ {
-        for j in 0..NT {
-            fixed.extend((0..3).map(|c| 3 * node(0, j, k) + c));
-            rim.push(node(NR, j, k));
-        }
-    }
-    let spec = SolidSpec {
+    let slice = RollingSlice::new(&SliceSpec {
+        radius: R,
+        bore: BORE,
+        thickness: T,
+        counts: COUNTS,
         material: STEEL,
-        plane: PlaneModel::Stress,
-        thickness: 1.0,
         lumped: false,
-    };
-    let spin = SpinSpec {
-        spin: Spin::new([0.0; 3], [0.0, 0.0, 1.0], -OMEGA).unwrap(),
-        stress_stiffening: true,
-    };
-    let frame = Motion::Rotating {
-        centre: [0.0; 3],
-        omega: -OMEGA,
-        angle0: 0.0,
-    };
-    let s = spinning_solid("wheel", mesh, &spec, frame, &fixed, spin).unwrap();
-    // The spun rim's radius: the base is laid on it.
-    let x = s.solid.body.mesh.reference_positions();
-    let r_s = rim
-        .iter()
-        .map(|&n| {
-            let (px, py) = (
-                x[3 * n] + s.u_spin[3 * n],
-                x[3 * n + 1] + s.u_spin[3 * n + 1],
-            );
-            px.hypot(py)
-        })
-        .sum::<f64>()
-        / rim.len() as f64;
-    let bodies = vec![s.solid.body];
-    let joined = bodies::assemble(&bodies).unwrap();
+        omega: OMEGA,
+        flattening: Flattening {
+            depth: DEPTH,
+            settle_time: SETTLE,
+        },
+        creepages: [xi, eta, phi],
+    })
+    .unwrap();
     let integrator = Integrator::SpaceTime {
         alpha: 0.8,
         gamma: 0.2,
         coriolis: Coriolis::Implicit,
     };
-    let mut problem = joined.problem(&bodies, (Vec::new(), Vec::new()), (integrator, H, steps));
-    let base = RotatingBase {
-        line: RotatingLine {
-            centre: [0.0, 0.0, 0.5 * T],
-            radius: r_s,
-            omega: OMEGA,
-            theta0: 0.0,
-            flattening: Flattening {
-                depth: DEPTH,
-                settle_time: SETTLE,
-            },
-            creepage: xi,
-        },
-        lateral: eta,
-        spin: phi,
-    };
-    let obstacle: Box<dyn Obstacle> = Box::new(base);
-    problem.obstacles = vec![obstacle];
-    problem.pairs = rim
-        .iter()
-        .map(|&node| Pair::Obstacle { node, obstacle: 0 })
-        .collect();
+    let mut problem = slice.problem(integrator, H, steps);
     problem.friction = Some(FrictionLaw::coulomb(MU));
     problem.treatment = Treatment::SOFT_WAY;
     let mut sim = Simulation::new(problem).unwrap();
@@ -186,25 +94,15 @@ fn roll(xi: f64, eta: f64, phi: f64, steps: usize) -> Rolled {
         along: Vec::new(),
         lateral: Vec::new(),
     };
+    let base = slice.base;
     sim.run(&AtomicBool::new(false), |v| {
         let st = v.state;
-        if st.t < 2.0 * SETTLE {
-            return Ok(());
+        if st.t >= 2.0 * SETTLE {
+            let f = PatchForce::of(&base, st.t, &st.pairs);
+            out.normal.push(f.normal);
+            out.along.push(f.along);
+            out.lateral.push(f.lateral);
         }
-        let e = base.line.direction(st.t);
-        let n = [-e[0], -e[1], 0.0];
-        let [t1, t2] = tangent_basis(3, n);
-        let tb = softway::contact::obstacle::tangent_2d(n);
-        let (mut fn_, mut f) = (0.0, [0.0; 3]);
-        for ps in &st.pairs {
-            fn_ += ps.force;
-            for c in 0..3 {
-                f[c] += ps.tangential_force * t1[c] + ps.tangential_force_2 * t2[c];
-            }
-        }
-        out.normal.push(fn_);
-        out.along.push(f[0] * tb[0] + f[1] * tb[1] + f[2] * tb[2]);
-        out.lateral.push(f[2]);
         Ok(())
     })
     .unwrap();
@@ -273,7 +171,7 @@ h = {H}
 [wheel]
 radius = {R}
 thickness = {T}
-rim_nodes = {NT}
+rim_nodes = {}
 plane = "stress"
 mass = "consistent"
 support = "hub"
@@ -292,7 +190,7 @@ creepage = 0.0
 method = "soft_way"
 friction = {MU}
 "#,
-        STEEL.young, STEEL.poisson, STEEL.density
+        COUNTS[1], STEEL.young, STEEL.poisson, STEEL.density
     );
     let (_dir, s) = common::run_in_process(std::path::Path::new("slice-2d.toml"), &text, "slice");
     let n2 = s["mean_contact_force"].as_f64().unwrap();

@@ -14,11 +14,10 @@ use softway::element::solid::elasticity_3d;
 use softway::frame3d::{self, Spin};
 use softway::material::{Elastic, PlaneModel};
 use softway::mesh::generators::box_mesh;
-use softway::mesh::{CellKind, Cells, Mesh};
+use softway::mesh::{CellKind, Mesh};
 use softway::modes::{natural_modes_sparse_of, Matrices};
 use softway::time::step::{FactorChoice, Stepper};
 use softway::time::{Coriolis, SpaceTimeParams};
-use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 const STEEL: Elastic = Elastic {
@@ -44,39 +43,9 @@ fn z_spin(rate: f64) -> SpinSpec {
 }
 
 /// A structured hex8 annulus about the z axis: radii `a..b` in `nr` rings, `nt` sectors,
-/// thickness `t` in `nz` layers (node `(i, j, k)` at radius `a + (b - a) i / nr`, angle
-/// `2 pi j / nt`, height `t k / nz`; (r, theta, z) is right-handed, so the hexahedra have
-/// positive volume).
-fn annulus(a: f64, b: f64, t: f64, [nr, nt, nz]: [usize; 3]) -> Mesh {
-    let id = |i: usize, j: usize, k: usize| i + (nr + 1) * ((j % nt) + nt * k);
-    let mut coords = Vec::new();
-    for k in 0..=nz {
-        for j in 0..nt {
-            for i in 0..=nr {
-                let r = a + (b - a) * i as f64 / nr as f64;
-                let th = 2.0 * PI * j as f64 / nt as f64;
-                coords.extend([r * th.cos(), r * th.sin(), t * k as f64 / nz as f64]);
-            }
-        }
-    }
-    let mut hexes = Vec::new();
-    for k in 0..nz {
-        for j in 0..nt {
-            for i in 0..nr {
-                hexes.push([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
-            }
-        }
-    }
-    Mesh::new(3, coords, Cells::Hex8(hexes), BTreeMap::new())
+/// thickness `t` in `nz` layers ([`softway::mesh::generators::annulus_hex8`]).
+fn annulus(a: f64, b: f64, t: f64, counts: [usize; 3]) -> Mesh {
+    softway::mesh::generators::annulus_hex8(a, b, t, counts).unwrap()
 }
 
 /// Timoshenko and Goodier (1970), §32, the rotating disk with a central hole (plane

@@ -33,6 +33,7 @@
 pub mod bar;
 pub mod block;
 pub mod rail;
+pub mod rolling3d;
 pub mod solid;
 pub mod spinning;
 pub mod wheel;

@@ -22,6 +22,89 @@ const KUHN: [[usize; 4]; 6] = [
     [0, 5, 1, 7],
 ];
 
+/// A structured annulus of hexahedra about the `z` axis: radii `bore..radius` in `nr`
+/// rings, `nt` sectors round it, the thickness `t` in `nz` layers from `z = 0`. Node
+/// `(i, j, k)` (ring boundary `i`, sector boundary `j`, layer boundary `k`) is
+/// `i + (nr + 1) (j + nt k)`, at radius `bore + (radius - bore) i / nr` and angle
+/// `2 pi j / nt`; `(r, theta, z)` is right-handed, so the cells have positive volume.
+/// Node sets `"bore"` (`i = 0`), `"rim"` (`i = nr`, ordered by `j` then `k`) and `"all"`.
+///
+/// # Errors
+/// [`MeshError`] for a length that is not finite and positive, a bore not inside the
+/// radius, a count of zero (fewer than 3 sectors), or too many nodes.
+pub fn annulus_hex8(
+    bore: f64,
+    radius: f64,
+    thickness: f64,
+    [nr, nt, nz]: [usize; 3],
+) -> Result<Mesh, MeshError> {
+    for (name, l) in [("bore", bore), ("radius", radius), ("thickness", thickness)] {
+        check_length(name, l)?;
+    }
+    if bore >= radius {
+        return Err(MeshError::OutOfRange {
+            name: "bore (a share of the radius)",
+            value: bore / radius,
+            min: 0.0,
+            max: 1.0,
+        });
+    }
+    for (name, n) in [("rings", nr), ("layers", nz)] {
+        check_count(name, n)?;
+    }
+    if nt < 3 {
+        return Err(MeshError::CountBelow {
+            name: "sectors",
+            value: nt,
+            min: 3,
+        });
+    }
+    check_nodes(
+        "sectors",
+        nt,
+        (nr + 1).checked_mul(nt).and_then(|n| n.checked_mul(nz + 1)),
+    )?;
+    let id = |i: usize, j: usize, k: usize| i + (nr + 1) * ((j % nt) + nt * k);
+    let mut coords = Vec::with_capacity(3 * (nr + 1) * nt * (nz + 1));
+    for k in 0..=nz {
+        for j in 0..nt {
+            let th = 2.0 * std::f64::consts::PI * j as f64 / nt as f64;
+            for i in 0..=nr {
+                let r = bore + (radius - bore) * i as f64 / nr as f64;
+                coords.extend([r * th.cos(), r * th.sin(), thickness * k as f64 / nz as f64]);
+            }
+        }
+    }
+    let mut hexes = Vec::with_capacity(nr * nt * nz);
+    for k in 0..nz {
+        for j in 0..nt {
+            for i in 0..nr {
+                hexes.push([
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ]);
+            }
+        }
+    }
+    let ring = |i: usize| -> Vec<usize> {
+        (0..=nz)
+            .flat_map(|k| (0..nt).map(move |j| (j, k)))
+            .map(|(j, k)| id(i, j, k))
+            .collect()
+    };
+    let mut sets = BTreeMap::new();
+    sets.insert("bore".to_string(), ring(0));
+    sets.insert("rim".to_string(), ring(nr));
+    sets.insert("all".to_string(), (0..coords.len() / 3).collect());
+    Ok(Mesh::new(3, coords, Cells::Hex8(hexes), sets))
+}
+
 /// A box of `nx x ny x nz` cells of `kind` ([`CellKind::Hex8`], [`CellKind::Tet4`] or
 /// [`CellKind::Tet10`]).
 ///

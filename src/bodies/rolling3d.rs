@@ -1,0 +1,241 @@
+//! A 3D wheel rolling in its own frame on the rigid base: the paper's rotating frame (§4)
+//! in 3D, its first rung ([`RollingSlice`]).
+//!
+//! A steel annulus of hexahedra ([`crate::mesh::generators::annulus_hex8`]) is spun up about
+//! its axle `z` ([`super::spinning::spinning_solid`]: the centrifugal prestress, the spin
+//! softening and the Coriolis matrix of [`crate::frame3d`], linearised about its spinning
+//! equilibrium) and held at its bore. The rigid base turns about it
+//! ([`RotatingBase`], the frame turning at `-omega` as the 2D wheel's), laid on the spun
+//! rim's mean radius and pressed by a flattening program, and its material slides under the
+//! rim by the longitudinal, lateral and spin creepages. Each rim node is a contact pair with
+//! the base; friction is the problem's ([`crate::contact::FrictionLaw`], Coulomb's
+//! isotropic cone in 3D).
+//!
+//! [`PatchForce::of`] sums a step's pair states into the normal force and the tangential
+//! force on the wheel along the base's travel `t_b` and along the axle: the creep forces.
+//! `tests/rolling3d.rs` checks them against the 2D plane-stress wheel and full slip
+//! (the book's docs/src/solids3d.md, "Rolling in 3D").
+
+use crate::contact::obstacle::{tangent_2d, Flattening};
+use crate::contact::pair::tangent_basis;
+use crate::contact::search::Motion;
+use crate::contact::{Obstacle, Pair, RotatingBase, RotatingLine};
+use crate::frame3d::Spin;
+use crate::material::{Elastic, PlaneModel};
+use crate::mesh::generators::annulus_hex8;
+use crate::mesh::generators::MeshError;
+use crate::model::PairState;
+use crate::simulation::Problem;
+use crate::time::Integrator;
+
+use super::solid::SolidSpec;
+use super::spinning::{spinning_solid, SpinSpec, SpinningError};
+use super::{Assembled, Body};
+
+/// Why a rolling slice cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RollingSliceError {
+    /// The annulus's mesh.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The spin-up.
+    #[error(transparent)]
+    Spinning(#[from] SpinningError),
+    /// The assembly.
+    #[error("{0}")]
+    Assembly(String),
+    /// A creepage or the flattening is not finite, or the spin not positive.
+    #[error("`{name}` = {value}: must be {allowed}")]
+    Parameter {
+        /// The parameter.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+}
+
+/// The wheel, its mesh, its spin and the base's creepages.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SliceSpec {
+    /// The rim's radius, m.
+    pub radius: f64,
+    /// The bore's radius, where the wheel is held, m.
+    pub bore: f64,
+    /// The thickness along the axle, m.
+    pub thickness: f64,
+    /// Rings, sectors and layers of hexahedra.
+    pub counts: [usize; 3],
+    /// The material.
+    pub material: Elastic,
+    /// Lumped (`true`) or consistent mass.
+    pub lumped: bool,
+    /// The wheel's spin, rad/s (> 0; the frame turns at `-omega`, the base at `+omega`).
+    pub omega: f64,
+    /// The base's flattening program.
+    pub flattening: Flattening,
+    /// Longitudinal, lateral and spin (1/m) creepages ([`RotatingBase`]).
+    pub creepages: [f64; 3],
+}
+
+/// The spun wheel and its base, ready for the driver.
+pub struct RollingSlice {
+    /// The wheel (one body).
+    pub bodies: Vec<Body>,
+    /// Its assembled model.
+    pub joined: Assembled,
+    /// The rim's nodes, each a contact pair with the base.
+    pub rim: Vec<usize>,
+    /// The base.
+    pub base: RotatingBase,
+    /// The spun rim's mean radius, m (the base's radius).
+    pub spun_radius: f64,
+}
+
+impl RollingSlice {
+    /// Spins the annulus of `spec` up, holds it at its bore and lays the base on its rim.
+    ///
+    /// # Errors
+    /// [`RollingSliceError`] naming the bad mesh parameter, spin or creepage.
+    pub fn new(spec: &SliceSpec) -> Result<Self, RollingSliceError> {
+        let check = |name, value: f64, ok: bool, allowed| {
+            if ok {
+                Ok(())
+            } else {
+                Err(RollingSliceError::Parameter {
+                    name,
+                    value,
+                    allowed,
+                })
+            }
+        };
+        check(
+            "omega",
+            spec.omega,
+            spec.omega.is_finite() && spec.omega > 0.0,
+            "finite and > 0 (rad/s)",
+        )?;
+        let f = spec.flattening;
+        check(
+            "flattening",
+            f.depth,
+            f.depth.is_finite() && f.depth >= 0.0 && f.depth < 0.1 * spec.radius,
+            "finite, >= 0 and below a tenth of the radius (m)",
+        )?;
+        check(
+            "settle_time",
+            f.settle_time,
+            f.settle_time.is_finite() && f.settle_time >= 0.0,
+            "finite and >= 0 (s)",
+        )?;
+        for (name, c) in ["xi", "eta", "phi"].into_iter().zip(spec.creepages) {
+            check(name, c, c.is_finite(), "finite")?;
+        }
+        let mesh = annulus_hex8(spec.bore, spec.radius, spec.thickness, spec.counts)?;
+        let fixed: Vec<usize> = mesh
+            .node_set("bore")
+            .unwrap_or_default()
+            .iter()
+            .flat_map(|&n| (0..3).map(move |c| 3 * n + c))
+            .collect();
+        let rim = mesh.node_set("rim").unwrap_or_default().to_vec();
+        let solid_spec = SolidSpec {
+            material: spec.material,
+            plane: PlaneModel::Stress,
+            thickness: 1.0,
+            lumped: spec.lumped,
+        };
+        let spin = SpinSpec {
+            spin: Spin::new([0.0; 3], [0.0, 0.0, 1.0], -spec.omega)
+                .map_err(SpinningError::from)?,
+            stress_stiffening: true,
+        };
+        let frame = Motion::Rotating {
+            centre: [0.0; 3],
+            omega: -spec.omega,
+            angle0: 0.0,
+        };
+        let s = spinning_solid("wheel", mesh, &solid_spec, frame, &fixed, spin)?;
+        let x = s.solid.body.mesh.reference_positions();
+        let spun_radius = rim
+            .iter()
+            .map(|&n| (x[3 * n] + s.u_spin[3 * n]).hypot(x[3 * n + 1] + s.u_spin[3 * n + 1]))
+            .sum::<f64>()
+            / rim.len().max(1) as f64;
+        let bodies = vec![s.solid.body];
+        let joined =
+            super::assemble(&bodies).map_err(|e| RollingSliceError::Assembly(e.to_string()))?;
+        let [xi, eta, phi] = spec.creepages;
+        let base = RotatingBase {
+            line: RotatingLine {
+                centre: [0.0, 0.0, 0.5 * spec.thickness],
+                radius: spun_radius,
+                omega: spec.omega,
+                theta0: 0.0,
+                flattening: spec.flattening,
+                creepage: xi,
+            },
+            lateral: eta,
+            spin: phi,
+        };
+        Ok(Self {
+            bodies,
+            joined,
+            rim,
+            base,
+            spun_radius,
+        })
+    }
+
+    /// The driver's problem: `steps` steps of `h` with `integrator`, each rim node a pair
+    /// with the base; set the friction and the treatment after.
+    pub fn problem(&self, integrator: Integrator, h: f64, steps: usize) -> Problem {
+        let mut p = self
+            .joined
+            .problem(&self.bodies, (Vec::new(), Vec::new()), (integrator, h, steps));
+        let base: Box<dyn Obstacle> = Box::new(self.base);
+        p.obstacles = vec![base];
+        p.pairs = self
+            .rim
+            .iter()
+            .map(|&node| Pair::Obstacle { node, obstacle: 0 })
+            .collect();
+        p
+    }
+}
+
+/// The base's forces on the wheel at a step: the normal force and the tangential force
+/// along the base's travel `t_b` and along the axle `e_z`, N.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PatchForce {
+    /// The normal force, N.
+    pub normal: f64,
+    /// The tangential force along `t_b`, N.
+    pub along: f64,
+    /// The tangential force along the axle, N.
+    pub lateral: f64,
+}
+
+impl PatchForce {
+    /// The forces of the pair states `pairs` at time `t` on `base` (the pairs' tangents
+    /// are [`tangent_basis`] of the base's normal).
+    pub fn of(base: &RotatingBase, t: f64, pairs: &[PairState]) -> Self {
+        let e = base.line.direction(t);
+        let n = [-e[0], -e[1], 0.0];
+        let [t1, t2] = tangent_basis(3, n);
+        let tb = tangent_2d(n);
+        let (mut normal, mut f) = (0.0, [0.0; 3]);
+        for ps in pairs {
+            normal += ps.force;
+            for c in 0..3 {
+                f[c] += ps.tangential_force * t1[c] + ps.tangential_force_2 * t2[c];
+            }
+        }
+        Self {
+            normal,
+            along: f[0] * tb[0] + f[1] * tb[1] + f[2] * tb[2],
+            lateral: f[2],
+        }
+    }
+}
