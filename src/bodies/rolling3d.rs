@@ -147,8 +147,7 @@ impl RollingSlice {
             lumped: spec.lumped,
         };
         let spin = SpinSpec {
-            spin: Spin::new([0.0; 3], [0.0, 0.0, 1.0], -spec.omega)
-                .map_err(SpinningError::from)?,
+            spin: Spin::new([0.0; 3], [0.0, 0.0, 1.0], -spec.omega).map_err(SpinningError::from)?,
             stress_stiffening: true,
         };
         let frame = Motion::Rotating {
@@ -191,9 +190,11 @@ impl RollingSlice {
     /// The driver's problem: `steps` steps of `h` with `integrator`, each rim node a pair
     /// with the base; set the friction and the treatment after.
     pub fn problem(&self, integrator: Integrator, h: f64, steps: usize) -> Problem {
-        let mut p = self
-            .joined
-            .problem(&self.bodies, (Vec::new(), Vec::new()), (integrator, h, steps));
+        let mut p = self.joined.problem(
+            &self.bodies,
+            (Vec::new(), Vec::new()),
+            (integrator, h, steps),
+        );
         let base: Box<dyn Obstacle> = Box::new(self.base);
         p.obstacles = vec![base];
         p.pairs = self
