@@ -17,10 +17,9 @@ use std::time::Instant;
 
 use softway::bodies::rolling3d::{PatchForce, RollingSlice, SliceSpec};
 use softway::contact::obstacle::Flattening;
-use softway::contact::{FrictionLaw, Treatment};
+use softway::contact::FrictionLaw;
 use softway::material::Elastic;
 use softway::simulation::Simulation;
-use softway::time::{Coriolis, Integrator};
 
 const MU: f64 = 0.3;
 const SETTLE: f64 = 3e-3;
@@ -66,14 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 },
                 creepages: [xi, 0.0, 0.0],
             })?;
-            let integrator = Integrator::SpaceTime {
-                alpha: 0.8,
-                gamma: 0.2,
-                coriolis: Coriolis::Implicit,
-            };
-            let mut problem = slice.problem(integrator, H, STEPS);
-            problem.friction = Some(FrictionLaw::coulomb(MU));
-            problem.treatment = Treatment::SOFT_WAY;
+            let problem = slice.problem((0.8, 0.2), H, STEPS, FrictionLaw::coulomb(MU));
             let mut sim = Simulation::new(problem)?;
             let (mut sum, mut count) = (PatchForce::default(), 0usize);
             let base = slice.base;

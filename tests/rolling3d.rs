@@ -26,10 +26,9 @@ use std::sync::atomic::AtomicBool;
 
 use softway::bodies::rolling3d::{PatchForce, RollingSlice, SliceSpec};
 use softway::contact::obstacle::Flattening;
-use softway::contact::{FrictionLaw, Treatment};
+use softway::contact::FrictionLaw;
 use softway::material::Elastic;
 use softway::simulation::Simulation;
-use softway::time::{Coriolis, Integrator};
 
 const STEEL: Elastic = Elastic {
     young: 2.05e11,
@@ -80,14 +79,7 @@ fn roll(xi: f64, eta: f64, phi: f64, steps: usize) -> Rolled {
         creepages: [xi, eta, phi],
     })
     .unwrap();
-    let integrator = Integrator::SpaceTime {
-        alpha: 0.8,
-        gamma: 0.2,
-        coriolis: Coriolis::Implicit,
-    };
-    let mut problem = slice.problem(integrator, H, steps);
-    problem.friction = Some(FrictionLaw::coulomb(MU));
-    problem.treatment = Treatment::SOFT_WAY;
+    let problem = slice.problem((0.8, 0.2), H, steps, FrictionLaw::coulomb(MU));
     let mut sim = Simulation::new(problem).unwrap();
     let mut out = Rolled {
         normal: Vec::new(),

@@ -8,8 +8,8 @@
 //! ([`RotatingBase`], the frame turning at `-omega` as the 2D wheel's), laid on the spun
 //! rim's mean radius and pressed by a flattening program, and its material slides under the
 //! rim by the longitudinal, lateral and spin creepages. Each rim node is a contact pair with
-//! the base; friction is the problem's ([`crate::contact::FrictionLaw`], Coulomb's
-//! isotropic cone in 3D).
+//! the base under the friction law given ([`crate::contact::FrictionLaw`], Coulomb's
+//! isotropic cone in 3D), the soft way.
 //!
 //! [`PatchForce::of`] sums a step's pair states into the normal force and the tangential
 //! force on the wheel along the base's travel `t_b` and along the axle: the creep forces.
@@ -19,14 +19,14 @@
 use crate::contact::obstacle::{tangent_2d, Flattening};
 use crate::contact::pair::tangent_basis;
 use crate::contact::search::Motion;
-use crate::contact::{Obstacle, Pair, RotatingBase, RotatingLine};
+use crate::contact::{FrictionLaw, Obstacle, Pair, RotatingBase, RotatingLine, Treatment};
 use crate::frame3d::Spin;
 use crate::material::{Elastic, PlaneModel};
 use crate::mesh::generators::annulus_hex8;
 use crate::mesh::generators::MeshError;
 use crate::model::PairState;
 use crate::simulation::Problem;
-use crate::time::Integrator;
+use crate::time::{Coriolis, Integrator};
 
 use super::solid::SolidSpec;
 use super::spinning::{spinning_solid, SpinSpec, SpinningError};
@@ -187,14 +187,28 @@ impl RollingSlice {
         })
     }
 
-    /// The driver's problem: `steps` steps of `h` with `integrator`, each rim node a pair
-    /// with the base; set the friction and the treatment after.
-    pub fn problem(&self, integrator: Integrator, h: f64, steps: usize) -> Problem {
+    /// The driver's problem: `steps` steps of `h` with the space-time scheme (`alpha`,
+    /// `gamma`, the Coriolis term implicit), each rim node a pair with the base under
+    /// `friction`, the soft way.
+    pub fn problem(
+        &self,
+        (alpha, gamma): (f64, f64),
+        h: f64,
+        steps: usize,
+        friction: FrictionLaw,
+    ) -> Problem {
+        let integrator = Integrator::SpaceTime {
+            alpha,
+            gamma,
+            coriolis: Coriolis::Implicit,
+        };
         let mut p = self.joined.problem(
             &self.bodies,
             (Vec::new(), Vec::new()),
             (integrator, h, steps),
         );
+        p.friction = Some(friction);
+        p.treatment = Treatment::SOFT_WAY;
         let base: Box<dyn Obstacle> = Box::new(self.base);
         p.obstacles = vec![base];
         p.pairs = self
