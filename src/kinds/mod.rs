@@ -30,6 +30,7 @@ use std::path::Path;
 
 pub mod bar;
 pub mod press;
+pub mod rolling3d;
 pub mod sdof;
 pub mod track;
 pub mod wheel;
@@ -44,6 +45,7 @@ impl Registry {
             &wheel::WheelKind,
             &track::TrackKind,
             &press::PressKind,
+            &rolling3d::Rolling3dKind,
         ])
     }
 }

@@ -588,14 +588,17 @@ fn mark_left_out(
     };
 }
 
-/// Whether the points are wheels, and wheels with friction, by the summaries they have (a
-/// point that failed or was not started has none): the table's key figures (wheel), or
-/// every scalar number of the summaries; with friction the traction figures (nested in the
-/// summary's `traction`).
+/// Whether the points are wheels, and wheels (2D, or the 3D `rolling3d`) with friction, by
+/// the summaries they have (a point that failed or was not started has none): the table's
+/// key figures (wheel), or every scalar number of the summaries; with friction the traction
+/// figures (nested in the summary's `traction`).
 fn model_of(points: &[SweepPoint]) -> (bool, bool) {
     let run: Vec<&SweepPoint> = points.iter().filter(|p| p.summary.is_object()).collect();
-    let is_wheel = !run.is_empty() && run.iter().all(|p| p.summary["kind"] == "wheel");
-    let with_traction = is_wheel && run.iter().all(|p| p.summary["traction"].is_object());
+    let all_of = |kind: &str| !run.is_empty() && run.iter().all(|p| p.summary["kind"] == kind);
+    let is_wheel = all_of("wheel");
+    // The 3D wheel on its base writes the same traction figures (kinds::rolling3d::run).
+    let with_traction =
+        (is_wheel || all_of("rolling3d")) && run.iter().all(|p| p.summary["traction"].is_object());
     (is_wheel, with_traction)
 }
 

@@ -1,0 +1,303 @@
+//! `kind = "rolling3d"`: the 3D wheel rolling in its own frame on the rigid base, with the
+//! longitudinal, lateral and spin creepages of [`crate::contact::RotatingBase`]
+//! ([`crate::bodies::rolling3d::RollingSlice`]: the paper's rotating frame, §4, in 3D), the
+//! friction law of `[contact]` on every rim node, the soft way (or the exact treatment).
+//!
+//! Its tables (every key has a default):
+//!
+//! ```toml
+//! [wheel]
+//! radius_m = 0.1
+//! bore_m = 0.04               # held there
+//! thickness_m = 0.01          # along the axle
+//! mesh = [12, 192, 1]         # rings, sectors and layers of hexahedra
+//! young_GPa = 205.0
+//! poisson = 0.3
+//! density = 7830.0            # kg/m^3
+//! lumped = false
+//! [rolling]
+//! omega = 300.0               # rad/s
+//! flattening_mm = 1.0         # the base pressed into the rim
+//! settle_ms = 3.0             # the flattening's ramp
+//! creepage = 0.0              # longitudinal xi (> 0: the wheel drives)
+//! lateral_creepage = 0.0      # eta
+//! spin_creepage = 0.0         # phi, 1/m
+//! turns = 0.5                 # the run's length (or time.t_end)
+//! ```
+//!
+//! `[time]` gives the step (`time.h`, required) and the space-time scheme's `alpha` and
+//! `gamma`; `[contact]` the treatment (`soft_way`, its variants, or `exact`) and the
+//! friction law (`friction`, `friction_kinetic`, `friction_velocity`; none: frictionless).
+//! What a run writes: [`run`].
+
+use crate::bodies::rolling3d::SliceSpec;
+use crate::contact::obstacle::Flattening;
+use crate::contact::Treatment;
+use crate::material::Elastic;
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::Results;
+use crate::scenario::combinations::Refusal;
+use crate::scenario::kind::{Culprit, Kind, KindInput, Model, Size, Spec};
+use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
+use crate::time::Integrator;
+use std::path::Path;
+
+pub mod run;
+
+/// The run's length in turns when neither `rolling.turns` nor `time.t_end` is given.
+pub const DEFAULT_TURNS: f64 = 0.5;
+
+/// The kind `rolling3d`.
+pub struct Rolling3dKind;
+
+/// `[wheel]` as written.
+#[derive(serde::Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawWheel {
+    radius_m: Option<f64>,
+    bore_m: Option<f64>,
+    thickness_m: Option<f64>,
+    mesh: Option<Vec<i64>>,
+    #[serde(rename = "young_GPa")]
+    young_gpa: Option<f64>,
+    poisson: Option<f64>,
+    density: Option<f64>,
+    lumped: Option<bool>,
+}
+
+/// `[rolling]` as written.
+#[derive(serde::Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawRolling {
+    omega: Option<f64>,
+    flattening_mm: Option<f64>,
+    settle_ms: Option<f64>,
+    creepage: Option<f64>,
+    lateral_creepage: Option<f64>,
+    spin_creepage: Option<f64>,
+    turns: Option<f64>,
+}
+
+#[derive(serde::Deserialize)]
+struct Tables {
+    wheel: Option<RawWheel>,
+    rolling: Option<RawRolling>,
+}
+
+/// The validated 3D rolling: the slice to build and the run's length.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rolling3dScenario {
+    /// The wheel, its mesh, spin, flattening and creepages.
+    pub slice: SliceSpec,
+    /// `rolling.turns` when given.
+    pub turns: Option<f64>,
+}
+
+impl Rolling3dScenario {
+    /// The wheel's turn, s.
+    pub fn period(&self) -> f64 {
+        2.0 * std::f64::consts::PI / self.slice.omega
+    }
+
+    /// The end of the flattening's ramp and of a settling as long again, s: the steady
+    /// rolling's figures are taken after it ([`run`]).
+    pub fn settled(&self) -> f64 {
+        2.0 * self.slice.flattening.settle_time
+    }
+
+    /// Nodes of the annulus.
+    pub fn nodes(&self) -> usize {
+        let [nr, nt, nz] = self.slice.counts;
+        (nr + 1) * nt * (nz + 1)
+    }
+}
+
+/// `v` under `key` within `[lo, hi]`.
+fn within(cx: &Ctx, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, ScenarioError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(cx.invalid(key, v, &format!("must be within [{lo}, {hi}]")))
+    }
+}
+
+impl Kind for Rolling3dKind {
+    fn name(&self) -> &'static str {
+        "rolling3d"
+    }
+
+    fn tables(&self) -> &'static [&'static str] {
+        &["wheel", "rolling", "contact"]
+    }
+
+    fn model(&self, input: &KindInput) -> Result<Model, ScenarioError> {
+        let cx = input.cx;
+        let t = input.tables::<Tables>()?;
+        let w = t.wheel.unwrap_or_default();
+        let r = t.rolling.unwrap_or_default();
+        let radius = within(cx, "wheel.radius_m", w.radius_m.unwrap_or(0.1), 0.01, 2.0)?;
+        let bore = w.bore_m.unwrap_or(0.4 * radius);
+        if !(bore.is_finite() && bore > 0.0 && bore < 0.95 * radius) {
+            return Err(cx.invalid(
+                "wheel.bore_m",
+                bore,
+                &format!("must be > 0 and below 0.95 wheel.radius_m = {radius}"),
+            ));
+        }
+        let thickness = within(
+            cx,
+            "wheel.thickness_m",
+            w.thickness_m.unwrap_or(0.1 * radius),
+            1e-4,
+            radius,
+        )?;
+        let mesh = w.mesh.unwrap_or_else(|| vec![12, 192, 1]);
+        let counts = match mesh[..] {
+            [a, b, c] if a >= 1 && b >= 8 && c >= 1 && a <= 512 && b <= 8192 && c <= 64 => {
+                [a as usize, b as usize, c as usize]
+            }
+            _ => {
+                return Err(cx.invalid(
+                    "wheel.mesh",
+                    format!("{mesh:?}"),
+                    "[rings, sectors, layers] of hexahedra: rings within [1, 512], sectors within [8, 8192], layers within [1, 64]",
+                ))
+            }
+        };
+        let young = within(
+            cx,
+            "wheel.young_GPa",
+            w.young_gpa.unwrap_or(205.0),
+            1e-3,
+            1e4,
+        )?;
+        let poisson = within(cx, "wheel.poisson", w.poisson.unwrap_or(0.3), 0.0, 0.49)?;
+        let density = within(cx, "wheel.density", w.density.unwrap_or(7830.0), 1.0, 1e5)?;
+        let omega = within(cx, "rolling.omega", r.omega.unwrap_or(300.0), 1e-3, 1e5)?;
+        let depth = within(
+            cx,
+            "rolling.flattening_mm",
+            r.flattening_mm.unwrap_or(1.0),
+            0.0,
+            100.0 * radius,
+        )?;
+        let settle = within(
+            cx,
+            "rolling.settle_ms",
+            r.settle_ms.unwrap_or(3.0),
+            0.0,
+            1e4,
+        )?;
+        let creep =
+            |key: &str, v: Option<f64>, lim: f64| within(cx, key, v.unwrap_or(0.0), -lim, lim);
+        let xi = creep("rolling.creepage", r.creepage, 1.0)?;
+        let eta = creep("rolling.lateral_creepage", r.lateral_creepage, 1.0)?;
+        let phi = creep("rolling.spin_creepage", r.spin_creepage, 1e3)?;
+        let turns = r
+            .turns
+            .map(|v| within(cx, "rolling.turns", v, 1e-3, 1e3))
+            .transpose()?;
+        Ok(Model::new(Rolling3dScenario {
+            slice: SliceSpec {
+                radius,
+                bore,
+                thickness,
+                counts,
+                material: Elastic {
+                    young: 1e9 * young,
+                    poisson,
+                    density,
+                },
+                lumped: w.lumped.unwrap_or(false),
+                omega,
+                flattening: Flattening {
+                    depth: 1e-3 * depth,
+                    settle_time: 1e-3 * settle,
+                },
+                creepages: [xi, eta, phi],
+            },
+            turns,
+        }))
+    }
+}
+
+impl Spec for Rolling3dScenario {
+    crate::spec_plumbing!("rolling3d");
+
+    fn dim(&self) -> usize {
+        3
+    }
+
+    fn end_time(&self, cx: &Ctx, given: Option<f64>) -> Result<f64, ScenarioError> {
+        match (given, self.turns) {
+            (Some(t), Some(_)) => Err(cx.invalid(
+                "time.t_end",
+                t,
+                "rolling.turns sets the run's length: give one of the two",
+            )),
+            (Some(t), None) => Ok(t),
+            (None, turns) => Ok(turns.unwrap_or(DEFAULT_TURNS) * self.period()),
+        }
+    }
+
+    fn coriolis(&self) -> Option<String> {
+        None
+    }
+
+    fn check_scenario(
+        &self,
+        cx: &Ctx,
+        runs: usize,
+        _contact_given: bool,
+    ) -> Result<(), ScenarioError> {
+        if runs > 1 {
+            return Err(cx.invalid(
+                "runs",
+                runs,
+                "kind = \"rolling3d\" takes one run: compare settings with `softway sweep`",
+            ));
+        }
+        Ok(())
+    }
+
+    fn combination(
+        &self,
+        integrator: &Integrator,
+        contact: &Treatment,
+    ) -> Option<Result<(), Refusal>> {
+        if !matches!(integrator, Integrator::SpaceTime { .. }) {
+            return Some(Err(Refusal {
+                culprit: Culprit::Integrator,
+                why: "the 3D rolling runs the space-time scheme (\"space_time\")".into(),
+            }));
+        }
+        if !matches!(contact, Treatment::SoftWay { .. } | Treatment::Exact) {
+            return Some(Err(Refusal {
+                culprit: Culprit::Contact,
+                why: "the 3D rolling runs \"soft_way\" (or its variants) or \"exact\"".into(),
+            }));
+        }
+        Some(Ok(()))
+    }
+
+    fn size(&self, run: &Run, _: Option<usize>) -> Size {
+        let [_, nt, nz] = self.slice.counts;
+        Size {
+            dofs: 3.0 * self.nodes() as f64,
+            duration: run.t_end,
+            contact_pairs: (nt * (nz + 1)) as f64,
+            key: Some("wheel.mesh"),
+            factor_entries: None,
+        }
+    }
+
+    fn record(
+        &self,
+        sc: &Scenario,
+        stream: Option<&Path>,
+        opts: &RunOptions,
+    ) -> Result<Results, RunError> {
+        run::record(sc, stream, opts)
+    }
+}

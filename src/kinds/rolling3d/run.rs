@@ -1,0 +1,680 @@
+//! `softway run` of a `rolling3d` scenario: the slice is spun up, pressed by the base's
+//! flattening over `rolling.settle_ms` and rolled to the run's end.
+//!
+//! **The forces** are the base's on the wheel, summed over the rim's pairs at each step
+//! ([`PatchForce::of`]): the normal force `N`, the creep force `Q` along the rolling
+//! direction `-t_b` (the wheel's travel over the base: `Q > 0` drives the wheel, as
+//! `xi > 0` asks; the 2D wheel's sign), the lateral force `Q_y` along the axle `+z`, and the
+//! spin moment `M_z` about the base's normal `n` through the patch's nominal centre `p0`,
+//! `M_z = sum ((x - p0) x f) . n` over the pairs (`x` a rim node's deformed position, `f`
+//! its friction force).
+//!
+//! **The steady state.** The rolling after the ramp and a settling as long again
+//! ([`super::Rolling3dScenario::settled`]) is cut into four equal windows; the figures are
+//! the last half's means, and the traction ratio's steady value is Aitken's extrapolation
+//! of the last three windows' means when they converge geometrically
+//! ([`crate::kinds::wheel::run::traction::steady_ratio`], the 2D wheel's), else the last
+//! half's mean. The run reports the steady state as reached when the last two windows'
+//! means of `Q / (mu N)` and `Q_y / (mu N)` differ by less than [`STEADY_TOLERANCE`] and
+//! `N` by less than 1 %.
+//!
+//! Files: `history.csv` (every `output.history_stride` steps: the forces, the ratios, the
+//! nodes in contact and sliding, the frictional power), `patch.csv` (the last step's rim
+//! nodes near the patch: position along the rolling direction and the axle, pressure and
+//! tractions, stick or slip), `fields.vtu` (the last step: the displacement, the pressure
+//! and the traction on the rim, for ParaView), `rolling3d.png` (the creep forces and the
+//! normal force against time; the last step's pressure and traction along the rolling
+//! direction, stick and slip marked) and `summary.json` (the steady figures, the
+//! `traction` object the sweep's creep curve reads, the cost per step).
+
+use super::Rolling3dScenario;
+use crate::bodies::rolling3d::{PatchForce, RollingSlice};
+use crate::contact::obstacle::tangent_2d;
+use crate::contact::pair::tangent_basis;
+use crate::contact::{FrictionLaw, RotatingBase};
+use crate::kinds::wheel::run::traction::{hertz_2d, steady_ratio};
+use crate::model::PairState;
+use crate::output::plot::{sig, Panel, Series, SeriesStyle};
+use crate::output::vtk::{write_vtu, Field};
+use crate::run::error::RunError;
+use crate::run::options::RunOptions;
+use crate::run::results::{Detail, Fields, OwnFiles, Results};
+use crate::scenario::Scenario;
+use crate::simulation::Simulation;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The largest change of `Q / (mu N)` (and `Q_y / (mu N)`) between the last two windows
+/// of the rolling for the steady state to count as reached (module docs).
+pub const STEADY_TOLERANCE: f64 = 0.01;
+
+/// The columns of `history.csv`: `run` (the run's label), then these.
+pub const HISTORY: [(&str, &str); 10] = [
+    ("t_s", "s"),
+    ("normal_force_N", "N"),
+    ("creep_force_N", "N"),
+    ("lateral_force_N", "N"),
+    ("spin_moment_N_m", "N m"),
+    ("traction_ratio", "1"),
+    ("lateral_ratio", "1"),
+    ("nodes_in_contact", "1"),
+    ("nodes_sliding", "1"),
+    ("slip_power_W", "W"),
+];
+
+/// One step's figures.
+#[derive(Debug, Clone, Copy, Default)]
+struct Rec {
+    t: f64,
+    normal: f64,
+    creep: f64,
+    lateral: f64,
+    spin: f64,
+    held: usize,
+    sliding: usize,
+}
+
+/// A rim node of the last step's patch.
+#[derive(Debug, Clone, Copy)]
+pub struct PatchNode {
+    /// Position along the rolling direction `-t_b` from the patch's nominal centre, m.
+    pub s: f64,
+    /// Position along the axle from the wheel's mid-plane, m.
+    pub z: f64,
+    /// The layer of nodes (0 at `z = 0`).
+    pub layer: usize,
+    /// Pressure (the normal force over the node's share of the rim), Pa.
+    pub pressure: f64,
+    /// Traction along the rolling direction, Pa.
+    pub traction: f64,
+    /// Traction along the axle, Pa.
+    pub lateral: f64,
+    /// Sliding.
+    pub sliding: bool,
+    /// The node.
+    pub node: usize,
+}
+
+/// The base's frame at `t`: the patch's nominal centre `p0`, the outward normal `n`, the
+/// rolling direction `-t_b` and the pairs' tangents.
+struct Frame {
+    p0: [f64; 3],
+    n: [f64; 3],
+    fwd: [f64; 3],
+    tangents: [[f64; 3]; 2],
+}
+
+impl Frame {
+    fn at(base: &RotatingBase, t: f64) -> Self {
+        let line = &base.line;
+        let e = line.direction(t);
+        let rho = line.radius - line.flattening.at(t);
+        let n = [-e[0], -e[1], 0.0];
+        let tb = tangent_2d(n);
+        Self {
+            p0: [
+                line.centre[0] + rho * e[0],
+                line.centre[1] + rho * e[1],
+                line.centre[2],
+            ],
+            n,
+            fwd: [-tb[0], -tb[1], -tb[2]],
+            tangents: tangent_basis(3, n),
+        }
+    }
+
+    /// The friction force of a pair.
+    fn force(&self, ps: &PairState) -> [f64; 3] {
+        let [t1, t2] = self.tangents;
+        std::array::from_fn(|c| ps.tangential_force * t1[c] + ps.tangential_force_2 * t2[c])
+    }
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The means of `f` over the records in four equal windows of `recs`.
+fn quarters(recs: &[Rec], f: impl Fn(&Rec) -> f64) -> [f64; 4] {
+    let n = recs.len();
+    std::array::from_fn(|q| {
+        let w = &recs[q * n / 4..((q + 1) * n / 4).max(q * n / 4 + 1).min(n)];
+        w.iter().map(&f).sum::<f64>() / w.len().max(1) as f64
+    })
+}
+
+/// The run's files beyond the history (module docs).
+#[derive(Debug)]
+struct Rolling3dFiles {
+    mesh: crate::mesh::Mesh,
+    u: Vec<f64>,
+    patch: Vec<PatchNode>,
+    mu: f64,
+    series: Vec<[f64; 4]>,
+    settled: f64,
+    steady_ratio: f64,
+    thickness: f64,
+}
+
+/// `softway run` of a `rolling3d` scenario (module docs).
+///
+/// # Errors
+/// [`RunError`]: a slice that cannot be built, a failed run, a file that cannot be written.
+pub(crate) fn record(
+    sc: &Scenario,
+    stream: Option<&Path>,
+    opts: &RunOptions,
+) -> Result<Results, RunError> {
+    let run = &sc.runs[0];
+    let Some(m) = run.model.get::<Rolling3dScenario>() else {
+        unreachable!("a rolling3d run of a rolling3d scenario")
+    };
+    let slice =
+        RollingSlice::new(&m.slice).map_err(|e| RunError::input(&sc.path, e.to_string()))?;
+    let h = run.params.h;
+    let steps = (run.t_end / h).round().max(1.0) as usize;
+    let mu = run.friction.map_or(0.0, |l| l.static_mu);
+    let mut problem = slice.problem(
+        (run.params.alpha, run.params.gamma),
+        h,
+        steps,
+        run.friction.unwrap_or(FrictionLaw::coulomb(0.0)),
+    );
+    problem.integrator = run.integrator;
+    problem.friction = run.friction;
+    problem.treatment = run.contact;
+    let sim_error = |source| RunError::Simulation {
+        run: run.label.clone(),
+        source,
+    };
+    let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
+    let mesh = slice.bodies[0].mesh.clone();
+    let x_ref = mesh.reference_positions();
+    let rim = slice.rim.clone();
+    let base = slice.base;
+    let (mut csv, hist) = crate::run::history::keyed_history(sc, stream, &HISTORY)?;
+    let stride = sc.history_stride.max(1);
+    let pb = crate::run::options::progress_bar(steps as u64, &run.label, opts);
+    let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
+    let mut last_u = vec![0.0; x_ref.len()];
+    let mut last_pairs: Vec<PairState> = Vec::with_capacity(rim.len());
+    let mut last_t = 0.0;
+    let clock = Instant::now();
+    let stats = sim
+        .run(opts.cancel.flag(), |v| {
+            let t = v.state.t;
+            let pairs = &v.state.pairs;
+            let f = PatchForce::of(&base, t, pairs);
+            let fr = Frame::at(&base, t);
+            let u = &v.state.state.u;
+            let mut spin = 0.0;
+            let (mut held, mut sliding) = (0, 0);
+            for (ps, &node) in pairs.iter().zip(&rim) {
+                held += usize::from(ps.force > 0.0);
+                sliding += usize::from(ps.sliding);
+                if ps.tangential_force == 0.0 && ps.tangential_force_2 == 0.0 {
+                    continue;
+                }
+                let r: [f64; 3] =
+                    std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c] - fr.p0[c]);
+                let q = fr.force(ps);
+                let rxq = [
+                    r[1] * q[2] - r[2] * q[1],
+                    r[2] * q[0] - r[0] * q[2],
+                    r[0] * q[1] - r[1] * q[0],
+                ];
+                spin += dot(rxq, fr.n);
+            }
+            let rec = Rec {
+                t,
+                normal: f.normal,
+                creep: -f.along,
+                lateral: f.lateral,
+                spin,
+                held,
+                sliding,
+            };
+            let ratio = |x: f64| {
+                if mu > 0.0 && f.normal > 0.0 {
+                    x / (mu * f.normal)
+                } else {
+                    0.0
+                }
+            };
+            if v.state.k % stride == 0 {
+                csv.push(
+                    0,
+                    &[
+                        t,
+                        rec.normal,
+                        rec.creep,
+                        rec.lateral,
+                        rec.spin,
+                        ratio(rec.creep),
+                        ratio(rec.lateral),
+                        held as f64,
+                        sliding as f64,
+                        v.slip_power,
+                    ],
+                )?;
+            }
+            if v.state.k % 32 == 0 {
+                pb.set_position(v.state.k as u64);
+            }
+            recs.push(rec);
+            last_u.copy_from_slice(u);
+            last_pairs.clear();
+            last_pairs.extend_from_slice(pairs);
+            last_t = t;
+            Ok(())
+        })
+        .map_err(sim_error)?;
+    pb.finish_and_clear();
+    let wall = clock.elapsed().as_secs_f64();
+    let history = csv.finish().map_err(|e| RunError::output(&hist, e))?;
+    let patch = patch_nodes(m, &base, last_t, (&x_ref, &last_u), (&rim, &last_pairs));
+    let settled = m.settled();
+    let rolling: Vec<Rec> = recs.iter().copied().filter(|r| r.t >= settled).collect();
+    let mut lines = Vec::new();
+    let mut summary = serde_json::json!({
+        "scenario": sc.name,
+        "kind": "rolling3d",
+        "interrupted": stats.interrupted,
+        "units": {"force": "N", "moment": "N m", "time": "s", "length": "m"},
+        "mesh": m.slice.counts,
+        "dofs": 3 * m.nodes(),
+        "rim_nodes": rim.len(),
+        "steps": recs.len(),
+        "h_s": h,
+        "omega_rad_s": m.slice.omega,
+        "speed_m_s": m.slice.omega * slice.base.line.radius,
+        "spun_radius_m": slice.spun_radius,
+        "creepages": {"longitudinal": m.slice.creepages[0], "lateral": m.slice.creepages[1], "spin_per_m": m.slice.creepages[2]},
+        "friction": mu,
+        "wall_time_s": wall,
+        "seconds_per_step": wall / recs.len().max(1) as f64,
+    });
+    crate::run::provenance::stamp_provenance(&mut summary, sc);
+    let mut steady_value = f64::NAN;
+    if rolling.len() >= 8 {
+        let half = &rolling[rolling.len() / 2..];
+        let mean = |f: &dyn Fn(&Rec) -> f64| half.iter().map(f).sum::<f64>() / half.len() as f64;
+        let n = mean(&|r| r.normal);
+        let q = mean(&|r| r.creep);
+        let ql = mean(&|r| r.lateral);
+        let mz = mean(&|r| r.spin);
+        let per = |x: f64| {
+            if mu > 0.0 && n > 0.0 {
+                x / (mu * n)
+            } else {
+                0.0
+            }
+        };
+        let ratio_q = quarters(&rolling, |r| per(r.creep));
+        let ratio_l = quarters(&rolling, |r| per(r.lateral));
+        let normal_q = quarters(&rolling, |r| r.normal);
+        let change = [
+            (ratio_q[3] - ratio_q[2]).abs(),
+            (ratio_l[3] - ratio_l[2]).abs(),
+            ((normal_q[3] - normal_q[2]) / normal_q[3].abs().max(f64::MIN_POSITIVE)).abs(),
+        ];
+        let reached =
+            change[0] < STEADY_TOLERANCE && change[1] < STEADY_TOLERANCE && change[2] < 0.01;
+        let extrapolated = steady_ratio([ratio_q[1], ratio_q[2], ratio_q[3]]);
+        steady_value = extrapolated.map_or(per(q), |e| e.0);
+        let line = &slice.base.line;
+        let rho = line.radius - line.flattening.depth;
+        let (a, p0) = hertz_2d(
+            n / m.slice.thickness,
+            m.slice.radius,
+            m.slice.material.young,
+        );
+        let stick = half
+            .iter()
+            .map(|r| (r.held - r.sliding.min(r.held)) as f64)
+            .sum::<f64>()
+            / half.len() as f64;
+        let slip = half.iter().map(|r| r.sliding as f64).sum::<f64>() / half.len() as f64;
+        summary["steady"] = serde_json::json!({
+            "from_s": settled,
+            "reached": reached,
+            "window_changes": {"traction_ratio": change[0], "lateral_ratio": change[1], "normal_relative": change[2]},
+            "normal_force_N": n,
+            "creep_force_N": q,
+            "lateral_force_N": ql,
+            "spin_moment_N_m": mz,
+            "traction_ratio": per(q),
+            "lateral_ratio": per(ql),
+            "traction_ratio_windows": ratio_q,
+        });
+        summary["traction"] = serde_json::json!({
+            "creepage": m.slice.creepages[0],
+            "creepage_undeformed": crate::kinds::wheel::run::traction::creepage_undeformed(m.slice.creepages[0], rho, slice.spun_radius),
+            "normal": n,
+            "traction": q,
+            "traction_ratio": per(q),
+            "traction_ratio_steady": steady_value,
+            "transient_decay": extrapolated.map(|e| e.1),
+            "lateral_ratio": per(ql),
+            "spin_moment": mz,
+            "friction": mu,
+            "radius": m.slice.radius,
+            "hertz_half_width": a,
+            "hertz_peak_pressure": p0,
+            "mean_stick_nodes": stick,
+            "mean_slip_nodes": slip,
+        });
+        lines.push(format!(
+            "{}: N = {} kN, Q/(mu N) = {} (steady {}), Q_y/(mu N) = {}, M_z = {} N m over the last {} ms; steady state {} (windows differ by {:.1e}); {} stick, {} slip nodes",
+            run.label,
+            sig(n / 1e3, 5),
+            sig(per(q), 4),
+            sig(steady_value, 4),
+            sig(per(ql), 3),
+            sig(mz, 4),
+            sig(1e3 * (half[half.len() - 1].t - half[0].t), 3),
+            if reached { "reached" } else { "NOT reached (roll longer: rolling.turns)" },
+            change[0].max(change[1]),
+            sig(stick, 3),
+            sig(slip, 3),
+        ));
+    } else {
+        lines.push(format!(
+            "{}: the run ended before {} ms of rolling after the flattening's settling: no steady figures",
+            run.label,
+            sig(1e3 * settled, 3)
+        ));
+    }
+    lines.push(format!(
+        "{} steps of {} s on {} unknowns in {:.1} s ({:.3} s a step)",
+        recs.len(),
+        h,
+        3 * m.nodes(),
+        wall,
+        wall / recs.len().max(1) as f64
+    ));
+    let series = recs
+        .iter()
+        .map(|r| {
+            let per = |x: f64| {
+                if mu > 0.0 && r.normal > 0.0 {
+                    x / (mu * r.normal)
+                } else {
+                    f64::NAN
+                }
+            };
+            [r.t, r.normal, per(r.creep), per(r.lateral)]
+        })
+        .collect();
+    Ok(Results {
+        kind: "rolling3d",
+        summary,
+        history,
+        contact_nodes: None,
+        traction_history: None,
+        rim_profile: None,
+        fields: Fields::default(),
+        lines,
+        interrupted: stats.interrupted,
+        warnings: Vec::new(),
+        plots: sc.plots,
+        detail: Detail::Own(Box::new(Rolling3dFiles {
+            mesh,
+            u: last_u,
+            patch,
+            mu,
+            series,
+            settled,
+            steady_ratio: steady_value,
+            thickness: m.slice.thickness,
+        })),
+    })
+}
+
+/// The rim nodes of the last step on the base's side of the wheel within three times the
+/// loaded arc of the patch's centre (module docs), ordered by layer and position.
+fn patch_nodes(
+    m: &Rolling3dScenario,
+    base: &RotatingBase,
+    t: f64,
+    (x_ref, u): (&[f64], &[f64]),
+    (rim, pairs): (&[usize], &[PairState]),
+) -> Vec<PatchNode> {
+    let fr = Frame::at(base, t);
+    let [_, nt, nz] = m.slice.counts;
+    let pitch = 2.0 * std::f64::consts::PI * m.slice.radius / nt as f64;
+    let dz = m.slice.thickness / nz as f64;
+    let mut all: Vec<PatchNode> = rim
+        .iter()
+        .zip(pairs)
+        .map(|(&node, ps)| {
+            let x: [f64; 3] = std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c]);
+            let r: [f64; 3] = std::array::from_fn(|c| x[c] - fr.p0[c]);
+            let z_ref = x_ref[3 * node + 2];
+            let layer = (z_ref / dz).round().max(0.0) as usize;
+            let width = if layer == 0 || layer == nz {
+                0.5 * dz
+            } else {
+                dz
+            };
+            let area = pitch * width;
+            let q = fr.force(ps);
+            (
+                dot(r, fr.n).abs(),
+                PatchNode {
+                    s: dot(r, fr.fwd),
+                    z: z_ref - 0.5 * m.slice.thickness,
+                    layer,
+                    pressure: ps.force.max(0.0) / area,
+                    traction: dot(q, fr.fwd) / area,
+                    lateral: q[2] / area,
+                    sliding: ps.sliding,
+                    node,
+                },
+            )
+        })
+        // The rim's nodes near the base (the far side of the wheel projects onto it too).
+        .filter(|(d, p)| *d < 0.1 * m.slice.radius && p.s.abs() < 0.25 * m.slice.radius)
+        .map(|(_, p)| p)
+        .collect();
+    let reach = all
+        .iter()
+        .filter(|p| p.pressure > 0.0)
+        .map(|p| p.s.abs())
+        .fold(0.0_f64, f64::max)
+        .max(2.0 * pitch);
+    all.retain(|p| p.s.abs() <= 3.0 * reach);
+    all.sort_by(|a, b| a.layer.cmp(&b.layer).then(a.s.total_cmp(&b.s)));
+    all
+}
+
+impl OwnFiles for Rolling3dFiles {
+    fn save(&self, results: &Results, out: &Path) -> Result<Vec<PathBuf>, RunError> {
+        let mut files = Vec::new();
+        let csv = out.join("patch.csv");
+        let mut text = String::from(
+            "node,layer,s_mm,z_mm,pressure_MPa,traction_MPa,lateral_traction_MPa,sliding\n",
+        );
+        for p in &self.patch {
+            text.push_str(&format!(
+                "{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{}\n",
+                p.node,
+                p.layer,
+                1e3 * p.s,
+                1e3 * p.z,
+                1e-6 * p.pressure,
+                1e-6 * p.traction,
+                1e-6 * p.lateral,
+                u8::from(p.sliding)
+            ));
+        }
+        crate::output::files::write_atomic(&csv, text.as_bytes())
+            .map_err(|e| RunError::output(&csv, e))?;
+        files.push(csv);
+        let vtu = out.join("fields.vtu");
+        let n = self.mesh.n_nodes();
+        let (mut pressure, mut traction) = (vec![0.0; n], vec![0.0; 3 * n]);
+        for p in &self.patch {
+            pressure[p.node] = 1e-6 * p.pressure;
+            traction[3 * p.node] = 1e-6 * p.traction;
+            traction[3 * p.node + 2] = 1e-6 * p.lateral;
+        }
+        write_vtu(
+            &vtu,
+            &self.mesh,
+            Some(&self.u),
+            &[
+                Field {
+                    name: "contact_pressure_MPa",
+                    components: 1,
+                    values: &pressure,
+                },
+                Field {
+                    name: "traction_rolling_0_axle_2_MPa",
+                    components: 3,
+                    values: &traction,
+                },
+            ],
+            &[],
+        )
+        .map_err(|e| RunError::output(&vtu, e))?;
+        files.push(vtu);
+        if results.plots {
+            let png = out.join("rolling3d.png");
+            crate::output::plot::panels(&png, &self.panels(), 3, 1, (1200, 1500))
+                .map_err(|e| RunError::output(&png, e))?;
+            files.push(png);
+        }
+        Ok(files)
+    }
+}
+
+impl Rolling3dFiles {
+    /// The figure's panels (module docs).
+    fn panels(&self) -> Vec<Panel> {
+        let t: Vec<f64> = self.series.iter().map(|r| 1e3 * r[0]).collect();
+        let settle = (
+            0.0,
+            1e3 * self.settled,
+            "flattening and settling".to_string(),
+        );
+        let mut creep = Panel::new("Creep forces on the wheel", "time t [ms]", "force / (mu N)");
+        creep.series.push(Series::new(
+            "Q / (mu N), along the rolling direction",
+            t.clone(),
+            self.series.iter().map(|r| r[2]).collect(),
+            SeriesStyle::Line,
+        ));
+        creep.series.push(Series::new(
+            "Q_y / (mu N), along the axle",
+            t.clone(),
+            self.series.iter().map(|r| r[3]).collect(),
+            SeriesStyle::Dashed,
+        ));
+        if self.steady_ratio.is_finite() {
+            creep.hlines.push((
+                self.steady_ratio,
+                format!("steady Q / (mu N) = {}", sig(self.steady_ratio, 4)),
+            ));
+        }
+        creep.vspans.push(settle.clone());
+        // The axis holds the rolling after the settling; the start-up's swings under a
+        // small normal force may run off it.
+        let after: Vec<f64> = self
+            .series
+            .iter()
+            .filter(|r| r[0] >= self.settled)
+            .flat_map(|r| [r[2], r[3]])
+            .filter(|x| x.is_finite())
+            .chain(
+                [0.0, self.steady_ratio]
+                    .into_iter()
+                    .filter(|x| x.is_finite()),
+            )
+            .collect();
+        if self.mu > 0.0 && after.len() > 2 {
+            let lo = after.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = after.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let pad = 0.2 * (hi - lo) + 0.05;
+            creep.y_range = Some((lo - pad, hi + pad));
+            creep.note = "The axis is that of the rolling after the settling.".into();
+        }
+        if self.mu <= 0.0 {
+            creep.note = "Frictionless: no creep force.".into();
+        }
+        let mut normal = Panel::new("Normal force", "time t [ms]", "N [kN]");
+        normal.series.push(Series::new(
+            "N",
+            t,
+            self.series.iter().map(|r| 1e-3 * r[1]).collect(),
+            SeriesStyle::Line,
+        ));
+        normal.vspans.push(settle);
+        let mut patch = Panel::new(
+            "The patch at the last step, along the rolling direction",
+            "s [mm] (the wheel's travel over the base: +)",
+            "stress [MPa]",
+        );
+        let layers: Vec<usize> = {
+            let mut l: Vec<usize> = self.patch.iter().map(|p| p.layer).collect();
+            l.dedup();
+            l
+        };
+        // The mid layer (or the first), whose pressure and traction are drawn; the others'
+        // pressures as thin lines.
+        let mid = layers.get(layers.len() / 2).copied().unwrap_or(0);
+        for &l in &layers {
+            let row: Vec<&PatchNode> = self.patch.iter().filter(|p| p.layer == l).collect();
+            let s: Vec<f64> = row.iter().map(|p| 1e3 * p.s).collect();
+            let z = row.first().map_or(0.0, |p| 1e3 * p.z);
+            if l != mid {
+                patch.series.push(Series::new(
+                    format!("p, layer at z = {} mm", sig(z, 3)),
+                    s,
+                    row.iter().map(|p| 1e-6 * p.pressure).collect(),
+                    SeriesStyle::Dashed,
+                ));
+                continue;
+            }
+            patch.series.push(Series::new(
+                format!("p, layer at z = {} mm", sig(z, 3)),
+                s.clone(),
+                row.iter().map(|p| 1e-6 * p.pressure).collect(),
+                SeriesStyle::Line,
+            ));
+            if self.mu > 0.0 {
+                patch.series.push(Series::new(
+                    "mu p (the bound)",
+                    s.clone(),
+                    row.iter().map(|p| 1e-6 * self.mu * p.pressure).collect(),
+                    SeriesStyle::Dashed,
+                ));
+                let pick = |sl: bool| -> (Vec<f64>, Vec<f64>) {
+                    row.iter()
+                        .filter(|p| p.pressure > 0.0 && p.sliding == sl)
+                        .map(|p| (1e3 * p.s, 1e-6 * p.traction.hypot(p.lateral)))
+                        .unzip()
+                };
+                let (ss, qs) = pick(true);
+                let (sk, qk) = pick(false);
+                patch
+                    .series
+                    .push(Series::new("|q|, sliding", ss, qs, SeriesStyle::Markers));
+                patch
+                    .series
+                    .push(Series::new("|q|, sticking", sk, qk, SeriesStyle::Markers));
+                patch.series.push(Series::new(
+                    "q along the rolling direction",
+                    s,
+                    row.iter().map(|p| 1e-6 * p.traction).collect(),
+                    SeriesStyle::Line,
+                ));
+            }
+        }
+        patch.note = format!(
+            "Each node's force over its share of the rim (pitch x layer width; slice {} mm thick).",
+            sig(1e3 * self.thickness, 3)
+        );
+        vec![creep, normal, patch]
+    }
+}

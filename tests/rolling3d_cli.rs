@@ -1,0 +1,162 @@
+//! `kind = "rolling3d"` through the command line (`scenarios/rolling3d.toml`): the 3D wheel
+//! rolling on its base as a user runs it (`softway run`, `softway sweep`).
+//!
+//! What is checked against an answer the code does not compute:
+//! - **full slip** at 20 % creepage, 30 degrees off the rolling direction: Coulomb's cone
+//!   makes the creep forces' resultant `mu N` (within 1 %), the longitudinal force drives
+//!   the wheel (`Q > 0` for `xi > 0`, the sign a wheel turning faster than it rolls must
+//!   get) and the lateral force opposes the lateral slip;
+//! - **the mirror**: `eta -> -eta` reverses `Q_y` and the spin moment and keeps `N` and `Q`
+//!   (to 1e-6);
+//! - **the summary against the history**: the steady figures are the means of
+//!   `history.csv`'s rows over the last half of the rolling;
+//! - **bad input** refused on one line naming the key, nothing written.
+//!
+//! The library's `tests/rolling3d.rs` checks the normal force against the 2D wheel.
+
+mod common;
+
+use common::{assert_one_line_error, cli, fresh_dir, run_err};
+use std::path::Path;
+
+const MU: f64 = 0.3;
+
+/// Runs the shipped scenario with `sets` into `out`; returns its summary.
+fn run(out: &Path, sets: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "run".to_string(),
+        "scenarios/rolling3d.toml".into(),
+        "--out".into(),
+        out.display().to_string(),
+        "--force".into(),
+        "--quiet".into(),
+    ];
+    for s in sets {
+        args.push("--set".into());
+        args.push(s.to_string());
+    }
+    let o = cli(&args);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+}
+
+fn num(v: &serde_json::Value, path: &str) -> f64 {
+    v.pointer(path)
+        .and_then(|x| x.as_f64())
+        .unwrap_or_else(|| panic!("{path} missing from {v}"))
+}
+
+#[test]
+fn full_slip_and_the_mirror_through_the_command_line() {
+    let dir = fresh_dir("rolling3d", "full-slip");
+    let c = 0.2_f64;
+    let angle = 30_f64.to_radians();
+    let (xi, eta) = (c * angle.cos(), c * angle.sin());
+    let set_xi = format!("rolling.creepage={xi}");
+    let mut summaries = Vec::new();
+    for (k, e) in [eta, -eta].into_iter().enumerate() {
+        let set_eta = format!("rolling.lateral_creepage={e}");
+        let out = dir.join(format!("run{k}"));
+        let s = run(&out, &[&set_xi, &set_eta, "rolling.turns=0.4"]);
+        // The summary's steady figures are the history's last half of the rolling.
+        let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+        let (ct, cn, cq) = (col("t_s"), col("normal_force_N"), col("creep_force_N"));
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').skip(1).map(|x| x.parse().unwrap()).collect())
+            .map(|r: Vec<f64>| {
+                let mut full = vec![0.0];
+                full.extend(r);
+                full
+            })
+            .filter(|r| r[ct] >= num(&s, "/steady/from_s"))
+            .collect();
+        let half = &rows[rows.len() / 2..];
+        let mean = |c: usize| half.iter().map(|r| r[c]).sum::<f64>() / half.len() as f64;
+        let (n, q) = (
+            num(&s, "/steady/normal_force_N"),
+            num(&s, "/steady/creep_force_N"),
+        );
+        assert!((mean(cn) / n - 1.0).abs() < 1e-9, "{} {n}", mean(cn));
+        assert!((mean(cq) / q - 1.0).abs() < 1e-9, "{} {q}", mean(cq));
+        summaries.push(s);
+    }
+    let s = &summaries[0];
+    let (n, q, qy) = (
+        num(s, "/steady/normal_force_N"),
+        num(s, "/steady/creep_force_N"),
+        num(s, "/steady/lateral_force_N"),
+    );
+    let ratio = q.hypot(qy) / (MU * n);
+    println!(
+        "full slip at ({xi:.4}, {eta:.4}): N = {n:.1} N, Q = {q:.1} N, Q_y = {qy:.1} N, |F|/(mu N) = {ratio:.5}, M_z = {:.4} N m",
+        num(s, "/steady/spin_moment_N_m")
+    );
+    assert!(n > 1e5, "{n}");
+    assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
+    assert!(q > 0.0 && qy < 0.0, "Q = {q}, Q_y = {qy}");
+    assert_eq!(s["steady"]["reached"], true, "{s}");
+    let b = &summaries[1];
+    for (key, sign) in [
+        ("/steady/normal_force_N", 1.0),
+        ("/steady/creep_force_N", 1.0),
+        ("/steady/lateral_force_N", -1.0),
+    ] {
+        let (x, y) = (num(s, key), num(b, key));
+        assert!((sign * y / x - 1.0).abs() < 1e-6, "{key}: {x} against {y}");
+    }
+    let (m1, m2) = (
+        num(s, "/steady/spin_moment_N_m"),
+        num(b, "/steady/spin_moment_N_m"),
+    );
+    assert!((m1 + m2).abs() <= 1e-6 * m1.abs().max(1e-3), "{m1} {m2}");
+    // The traction figures the sweep's creep curve reads.
+    assert!((num(s, "/traction/traction_ratio") - q / (MU * n)).abs() < 1e-12);
+    assert!(num(s, "/traction/hertz_half_width") > 0.0);
+}
+
+#[test]
+fn bad_input_is_refused_by_its_key() {
+    let base = std::fs::read_to_string("scenarios/rolling3d.toml").unwrap();
+    let with = |from: &str, to: &str| {
+        assert!(base.contains(from), "{from}");
+        base.replacen(from, to, 1)
+    };
+    for (name, text, key) in [
+        (
+            "mesh",
+            with("mesh = [12, 192, 1]", "mesh = [0, 192, 1]"),
+            "wheel.mesh",
+        ),
+        (
+            "bore",
+            with("bore_m = 0.04", "bore_m = 0.2"),
+            "wheel.bore_m",
+        ),
+        (
+            "turns",
+            with("h = 1e-5", "h = 1e-5\nt_end = 0.01"),
+            "time.t_end",
+        ),
+        (
+            "integrator",
+            with("h = 1e-5", "h = 1e-5\nintegrator = \"newmark\""),
+            "time.integrator",
+        ),
+        (
+            "creepage",
+            with("creepage = 0.005", "creepage = 2.0"),
+            "rolling.creepage",
+        ),
+        (
+            "key",
+            with("omega = 300.0", "omega = 300.0\nspeed = 3.0"),
+            "speed",
+        ),
+    ] {
+        let (code, err) = run_err(&format!("rolling3d-{name}"), &text);
+        assert_one_line_error(code, &err, &[key]);
+    }
+}
