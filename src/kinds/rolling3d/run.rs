@@ -13,7 +13,7 @@
 //! ([`super::Rolling3dScenario::settled`]) is cut into four equal windows; the figures are
 //! the last half's means, and the traction ratio's steady value is Aitken's extrapolation
 //! of the last three windows' means when they converge geometrically
-//! ([`crate::kinds::wheel::run::traction::steady_ratio`], the 2D wheel's), else the last
+//! (the 2D wheel's `steady_ratio`, `kinds::wheel::run::traction`), else the last
 //! half's mean. The run reports the steady state as reached when the last two windows'
 //! means of `Q / (mu N)` and `Q_y / (mu N)` differ by less than [`STEADY_TOLERANCE`] and
 //! `N` by less than 1 %.
