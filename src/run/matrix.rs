@@ -223,11 +223,17 @@ fn factor_sizes(
     // matrix would hold twice its entries at best, with COLAMD many times them (minutes
     // and gigabytes at 1e5 unknowns); AMD against nested dissection at 3D size is
     // `examples/solver3d_ladder.rs`'s.
-    if st.factor_kind() == FactorKind::Llt
-        && st.skew().is_none()
-        && ordering == Ordering::NestedDissection
-    {
-        return vec![("llt_nd".into(), st.factor_nnz())];
+    // The same for the LU of a large 3D model's unsymmetric matrix (the 3D rolling's,
+    // its Coriolis term implicit): its own factor, nested dissection.
+    if ordering == Ordering::NestedDissection {
+        let name = match st.skew() {
+            Some(_) => format!(
+                "{} (coriolis extrapolated)",
+                kind_name(st.factor_kind(), ordering)
+            ),
+            None => kind_name(st.factor_kind(), ordering),
+        };
+        return vec![(name, st.factor_nnz())];
     }
     for kind in [
         FactorKind::Lu(Ordering::Colamd),

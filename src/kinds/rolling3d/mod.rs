@@ -38,7 +38,7 @@ use crate::run::error::RunError;
 use crate::run::options::RunOptions;
 use crate::run::results::Results;
 use crate::scenario::combinations::Refusal;
-use crate::scenario::kind::{Culprit, Kind, KindInput, Model, Size, Spec};
+use crate::scenario::kind::{Culprit, FreeStep, Kind, KindInput, Model, Size, Spec};
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
 use crate::time::Integrator;
 use std::path::Path;
@@ -290,6 +290,29 @@ impl Spec for Rolling3dScenario {
             key: Some("wheel.mesh"),
             factor_entries: None,
         }
+    }
+
+    fn free_step(&self, run: &Run, scenario: &Path) -> Option<Result<FreeStep, RunError>> {
+        Some(
+            crate::bodies::rolling3d::RollingSlice::new(&self.slice)
+                .map(|slice| {
+                    let p = slice.problem(
+                        (run.params.alpha, run.params.gamma),
+                        run.params.h,
+                        1,
+                        crate::contact::FrictionLaw::coulomb(0.0),
+                    );
+                    let n = p.model.n();
+                    FreeStep {
+                        v0: (0..n).map(|i| 1e-3 * (i as f64).sin()).collect(),
+                        fixed: p.dirichlet.iter().map(|d| d.0).collect(),
+                        u0: p.u0,
+                        f: vec![0.0; n],
+                        model: p.model,
+                    }
+                })
+                .map_err(|e| RunError::input(scenario, e.to_string())),
+        )
     }
 
     fn record(
