@@ -943,7 +943,7 @@ refused!(
     format!("{BAR}{ROLLING}"),
     [
         "`rolling`",
-        "read by kind = \"wheel\" only, not by kind = \"bar_impact\""
+        "read by kind = \"wheel\", kind = \"rolling3d\" only, not by kind = \"bar_impact\""
     ]
 );
 refused!(

@@ -220,7 +220,7 @@ fn the_generic_checks_hold_for_a_kind_of_the_tests() {
     .to_string();
     assert!(
         e.contains(
-            "read by kind = \"wheel\", kind = \"press\" only, not by kind = \"hanging_mass\""
+            "read by kind = \"wheel\", kind = \"press\", kind = \"rolling3d\" only, not by kind = \"hanging_mass\""
         ),
         "{e}"
     );
