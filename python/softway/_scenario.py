@@ -95,7 +95,8 @@ class Scenario:
 
     @property
     def kind(self) -> str:
-        """The model: ``sdof``, ``bar_impact``, ``two_bars``, ``wheel``, ``track`` or ``press``."""
+        """The model: ``sdof``, ``bar_impact``, ``two_bars``, ``wheel``, ``track``, ``press`` or
+        ``rolling3d``."""
         return self.info["kind"]
 
     @property
