@@ -16,7 +16,7 @@
 //! `tests/rolling3d.rs` checks them against the 2D plane-stress wheel and full slip
 //! (the book's docs/src/solids3d.md, "Rolling in 3D").
 
-use crate::contact::obstacle::{tangent_2d, Flattening};
+use crate::contact::obstacle::Flattening;
 use crate::contact::pair::tangent_basis;
 use crate::contact::search::Motion;
 use crate::contact::{FrictionLaw, Obstacle, Pair, RotatingBase, RotatingLine, Treatment};
@@ -202,13 +202,24 @@ impl RollingSlice {
             gamma,
             coriolis: Coriolis::Implicit,
         };
+        self.problem_with((integrator, h, steps), Treatment::SOFT_WAY, Some(friction))
+    }
+
+    /// The driver's problem with the integrator, the treatment and the friction law given
+    /// (`None`: frictionless): what a scenario sets ([`crate::kinds::rolling3d`]).
+    pub fn problem_with(
+        &self,
+        (integrator, h, steps): (Integrator, f64, usize),
+        treatment: Treatment,
+        friction: Option<FrictionLaw>,
+    ) -> Problem {
         let mut p = self.joined.problem(
             &self.bodies,
             (Vec::new(), Vec::new()),
             (integrator, h, steps),
         );
-        p.friction = Some(friction);
-        p.treatment = Treatment::SOFT_WAY;
+        p.friction = friction;
+        p.treatment = treatment;
         let base: Box<dyn Obstacle> = Box::new(self.base);
         p.obstacles = vec![base];
         p.pairs = self
@@ -236,21 +247,61 @@ impl PatchForce {
     /// The forces of the pair states `pairs` at time `t` on `base` (the pairs' tangents
     /// are [`tangent_basis`] of the base's normal).
     pub fn of(base: &RotatingBase, t: f64, pairs: &[PairState]) -> Self {
-        let e = base.line.direction(t);
-        let n = [-e[0], -e[1], 0.0];
-        let [t1, t2] = tangent_basis(3, n);
-        let tb = tangent_2d(n);
+        let frame = base.frame(t);
+        let tangents = tangent_basis(3, frame.normal);
         let (mut normal, mut f) = (0.0, [0.0; 3]);
         for ps in pairs {
             normal += ps.force;
+            let q = friction_force(tangents, ps);
             for c in 0..3 {
-                f[c] += ps.tangential_force * t1[c] + ps.tangential_force_2 * t2[c];
+                f[c] += q[c];
             }
         }
         Self {
             normal,
-            along: f[0] * tb[0] + f[1] * tb[1] + f[2] * tb[2],
+            along: dot(f, frame.travel),
             lateral: f[2],
         }
     }
+
+    /// The spin moment of the friction forces on the wheel about the base's normal through
+    /// its point under the axle, N m: `sum ((x - p0) x f) . n` over the pairs, `x` the
+    /// deformed position of the pair's rim node (`rim[i]` the node of `pairs[i]`, `x_ref`
+    /// the reference positions and `u` the displacements, three per node), `f` its friction
+    /// force.
+    pub fn spin_moment(
+        base: &RotatingBase,
+        t: f64,
+        pairs: &[PairState],
+        (rim, x_ref, u): (&[usize], &[f64], &[f64]),
+    ) -> f64 {
+        let frame = base.frame(t);
+        let tangents = tangent_basis(3, frame.normal);
+        let n = frame.normal;
+        pairs
+            .iter()
+            .zip(rim)
+            .filter(|(ps, _)| ps.tangential_force != 0.0 || ps.tangential_force_2 != 0.0)
+            .map(|(ps, &node)| {
+                let r: [f64; 3] =
+                    std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c] - frame.p0[c]);
+                let f = friction_force(tangents, ps);
+                // (r x f) . n
+                n[0] * (r[1] * f[2] - r[2] * f[1])
+                    + n[1] * (r[2] * f[0] - r[0] * f[2])
+                    + n[2] * (r[0] * f[1] - r[1] * f[0])
+            })
+            // (From +0: an empty sum of f64 is -0.)
+            .fold(0.0, |a, m| a + m)
+    }
+}
+
+/// A pair's friction force on the wheel in 3D, from its components along the two tangents
+/// `t1`, `t2` of the base's normal ([`tangent_basis`]), N.
+pub fn friction_force([t1, t2]: [[f64; 3]; 2], ps: &PairState) -> [f64; 3] {
+    std::array::from_fn(|c| ps.tangential_force * t1[c] + ps.tangential_force_2 * t2[c])
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }

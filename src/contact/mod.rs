@@ -44,7 +44,9 @@ pub mod treatment;
 pub use context::{ContactError, Context, Counts};
 pub use friction::FrictionLaw;
 pub use interface::{Interface, InterfaceError};
-pub use obstacle::{HalfSpace, Obstacle, Plane, RotatingBase, RotatingLine, Vector, Wall};
+pub use obstacle::{
+    BaseFrame, HalfSpace, Obstacle, Plane, RotatingBase, RotatingLine, Vector, Wall,
+};
 pub use pair::{Geometry, Pair};
 pub use softway::{PairMode, PairState};
 pub use treatment::{ContactTreatment, Restore, Treatment};

@@ -308,6 +308,41 @@ pub struct RotatingBase {
     pub spin: f64,
 }
 
+/// The 3D base's frame at an instant ([`RotatingBase::frame`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaseFrame {
+    /// The point of the base under the axle, `p0 = centre + rho e`, m.
+    pub p0: Vector,
+    /// The base's outward normal `n = -e` (toward the axle).
+    pub normal: Vector,
+    /// The direction of the base's travel `t_b` (`tangent_2d(n)`); the wheel rolls over
+    /// the base along `-t_b`.
+    pub travel: Vector,
+    /// The axle's height over the base, `rho = radius - flattening`, m.
+    pub rho: f64,
+}
+
+impl RotatingBase {
+    /// The base's point under the axle, its normal and its direction of travel at `t`
+    /// (the type's docs).
+    pub fn frame(&self, t: f64) -> BaseFrame {
+        let l = &self.line;
+        let e = l.direction(t);
+        let rho = l.radius - l.flattening.at(t);
+        let normal = [-e[0], -e[1], 0.0];
+        BaseFrame {
+            p0: [
+                l.centre[0] + rho * e[0],
+                l.centre[1] + rho * e[1],
+                l.centre[2],
+            ],
+            normal,
+            travel: tangent_2d(normal),
+            rho,
+        }
+    }
+}
+
 impl Obstacle for RotatingBase {
     fn half_space(&self, t: f64, x: Vector) -> HalfSpace {
         self.line.half_space(t, x)
@@ -330,18 +365,11 @@ impl Obstacle for RotatingBase {
     }
 
     fn surface_velocity(&self, t: f64, x: Vector) -> Vector {
-        let l = &self.line;
-        let e = l.direction(t);
-        let n = [-e[0], -e[1], 0.0];
-        let tb = tangent_2d(n);
-        let rho = l.radius - l.flattening.at(t);
-        let v = l.omega * rho;
-        let w_t = l.surface_tangential_velocity(t, x);
-        let r = [
-            x[0] - l.centre[0] - rho * e[0],
-            x[1] - l.centre[1] - rho * e[1],
-            x[2] - l.centre[2],
-        ];
+        let f = self.frame(t);
+        let (n, tb) = (f.normal, f.travel);
+        let v = self.line.omega * f.rho;
+        let w_t = self.line.surface_tangential_velocity(t, x);
+        let r = [x[0] - f.p0[0], x[1] - f.p0[1], x[2] - f.p0[2]];
         // n x r, n in the plane of the wheel.
         let nr = [n[1] * r[2], -n[0] * r[2], n[0] * r[1] - n[1] * r[0]];
         let (eta, phi) = (self.lateral, self.spin);

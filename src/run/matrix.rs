@@ -219,12 +219,11 @@ fn factor_sizes(
     (st, ordering): (&Stepper, Ordering),
 ) -> Vec<(String, usize)> {
     let mut factor_nnz = Vec::new();
-    // A large 3D model's Cholesky factor (nested dissection) alone: an LU of its symmetric
-    // matrix would hold twice its entries at best, with COLAMD many times them (minutes
-    // and gigabytes at 1e5 unknowns); AMD against nested dissection at 3D size is
+    // A large 3D model's own factor (nested dissection: a Cholesky factor, or the LU of
+    // the 3D rolling's unsymmetric matrix) alone: other factors of it would hold many
+    // times its entries (an LU with COLAMD took minutes and gigabytes at 1e5 unknowns, and
+    // more than 13 minutes at 2.3e5); AMD against nested dissection at 3D size is
     // `examples/solver3d_ladder.rs`'s.
-    // The same for the LU of a large 3D model's unsymmetric matrix (the 3D rolling's,
-    // its Coriolis term implicit): its own factor, nested dissection.
     if ordering == Ordering::NestedDissection {
         let name = match st.skew() {
             Some(_) => format!(

@@ -377,6 +377,17 @@ impl<'a> Ctx<'a> {
             Err(self.invalid(key, v, "must be a finite number >= 0"))
         }
     }
+    /// A finite number under `key` within `[lo, hi]`.
+    ///
+    /// # Errors
+    /// [`ScenarioError::Invalid`] saying the range.
+    pub fn within(&self, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, ScenarioError> {
+        if v.is_finite() && v >= lo && v <= hi {
+            Ok(v)
+        } else {
+            Err(self.invalid(key, v, &format!("must be within [{lo}, {hi}]")))
+        }
+    }
     /// See the module's checks.
     pub fn count(&self, key: &str, v: i64, max: i64) -> Result<usize, ScenarioError> {
         if v >= 1 && v <= max {

@@ -530,6 +530,11 @@ impl Simulation {
         &self.snaps[1].state
     }
 
+    /// The newest snapshot (state and pairs): after [`Simulation::run`], the last step's.
+    pub fn last_snapshot(&self) -> &Snapshot {
+        &self.snaps[1]
+    }
+
     /// The engine (integrator, pairs, model).
     pub fn engine(&self) -> &Engine {
         &self.engine

@@ -106,15 +106,6 @@ pub struct PressScenario {
     pub spec: PressSpec,
 }
 
-/// `v` under `key` within `[lo, hi]`.
-fn within(cx: &Ctx, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, ScenarioError> {
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(v)
-    } else {
-        Err(cx.invalid(key, v, &format!("must be within [{lo}, {hi}]")))
-    }
-}
-
 impl Kind for PressKind {
     fn name(&self) -> &'static str {
         "press"
@@ -135,24 +126,16 @@ impl Kind for PressKind {
         let load = p
             .load_kn
             .ok_or_else(|| cx.missing("press.load_kN", "the vertical load, kN"))?;
-        let load = within(cx, "press.load_kN", load, 1e-3, 1e3)?;
-        let lateral = within(
-            cx,
-            "press.lateral_mm",
-            p.lateral_mm.unwrap_or(0.0),
-            -15.0,
-            15.0,
-        )?;
-        let g = within(
-            cx,
+        let load = cx.within("press.load_kN", load, 1e-3, 1e3)?;
+        let lateral = cx.within("press.lateral_mm", p.lateral_mm.unwrap_or(0.0), -15.0, 15.0)?;
+        let g = cx.within(
             "press.shear_modulus_GPa",
             p.shear_modulus_gpa.unwrap_or(82.0),
             1.0,
             1e3,
         )?;
-        let nu = within(cx, "press.poisson", p.poisson.unwrap_or(0.28), 0.0, 0.49)?;
-        let size = within(
-            cx,
+        let nu = cx.within("press.poisson", p.poisson.unwrap_or(0.28), 0.0, 0.49)?;
+        let size = cx.within(
             "press.contact_size_mm",
             p.contact_size_mm.unwrap_or(1.0),
             0.05,
@@ -161,11 +144,10 @@ impl Kind for PressKind {
         let zone = p.zone_mm.unwrap_or([6.0, 12.0]);
         for (k, z) in zone.iter().enumerate() {
             let key = format!("press.zone_mm[{k}]");
-            within(cx, &key, *z, 2.0 * size, 30.0)?;
+            cx.within(&key, *z, 2.0 * size, 30.0)?;
         }
-        let growth = within(cx, "press.growth", p.growth.unwrap_or(1.3), 1.05, 2.0)?;
-        let depth = within(
-            cx,
+        let growth = cx.within("press.growth", p.growth.unwrap_or(1.3), 1.05, 2.0)?;
+        let depth = cx.within(
             "press.approach_depth_mm",
             p.approach_depth_mm.unwrap_or(15.0),
             1.0,
@@ -189,16 +171,9 @@ impl Kind for PressKind {
                 ))
             }
         };
-        let radius = within(cx, "wheel.radius_m", w.radius_m.unwrap_or(0.46), 0.25, 0.7)?;
-        let sector = within(
-            cx,
-            "wheel.sector_deg",
-            w.sector_deg.unwrap_or(30.0),
-            5.0,
-            90.0,
-        )?;
-        let ring = within(
-            cx,
+        let radius = cx.within("wheel.radius_m", w.radius_m.unwrap_or(0.46), 0.25, 0.7)?;
+        let sector = cx.within("wheel.sector_deg", w.sector_deg.unwrap_or(30.0), 5.0, 90.0)?;
+        let ring = cx.within(
             "wheel.depth_mm",
             w.depth_mm.unwrap_or(80.0),
             20.0,
@@ -222,7 +197,7 @@ impl Kind for PressKind {
                 "must be 0 (upright) or n of 1:n within [5, 1000]",
             ));
         }
-        let length = within(cx, "rail.length_m", r.length_m.unwrap_or(0.3), 0.05, 2.0)?;
+        let length = cx.within("rail.length_m", r.length_m.unwrap_or(0.3), 0.05, 2.0)?;
         let e = 2.0 * g * 1e9 * (1.0 + nu);
         let spec = PressSpec {
             wheel: WheelSpec {

@@ -123,15 +123,6 @@ impl Rolling3dScenario {
     }
 }
 
-/// `v` under `key` within `[lo, hi]`.
-fn within(cx: &Ctx, key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, ScenarioError> {
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(v)
-    } else {
-        Err(cx.invalid(key, v, &format!("must be within [{lo}, {hi}]")))
-    }
-}
-
 impl Kind for Rolling3dKind {
     fn name(&self) -> &'static str {
         "rolling3d"
@@ -146,7 +137,7 @@ impl Kind for Rolling3dKind {
         let t = input.tables::<Tables>()?;
         let w = t.wheel.unwrap_or_default();
         let r = t.rolling.unwrap_or_default();
-        let radius = within(cx, "wheel.radius_m", w.radius_m.unwrap_or(0.1), 0.01, 2.0)?;
+        let radius = cx.within("wheel.radius_m", w.radius_m.unwrap_or(0.1), 0.01, 2.0)?;
         let bore = w.bore_m.unwrap_or(0.4 * radius);
         if !(bore.is_finite() && bore > 0.0 && bore < 0.95 * radius) {
             return Err(cx.invalid(
@@ -155,8 +146,7 @@ impl Kind for Rolling3dKind {
                 &format!("must be > 0 and below 0.95 wheel.radius_m = {radius}"),
             ));
         }
-        let thickness = within(
-            cx,
+        let thickness = cx.within(
             "wheel.thickness_m",
             w.thickness_m.unwrap_or(0.1 * radius),
             1e-4,
@@ -175,38 +165,25 @@ impl Kind for Rolling3dKind {
                 ))
             }
         };
-        let young = within(
-            cx,
-            "wheel.young_GPa",
-            w.young_gpa.unwrap_or(205.0),
-            1e-3,
-            1e4,
-        )?;
-        let poisson = within(cx, "wheel.poisson", w.poisson.unwrap_or(0.3), 0.0, 0.49)?;
-        let density = within(cx, "wheel.density", w.density.unwrap_or(7830.0), 1.0, 1e5)?;
-        let omega = within(cx, "rolling.omega", r.omega.unwrap_or(300.0), 1e-3, 1e5)?;
-        let depth = within(
-            cx,
+        let young = cx.within("wheel.young_GPa", w.young_gpa.unwrap_or(205.0), 1e-3, 1e4)?;
+        let poisson = cx.within("wheel.poisson", w.poisson.unwrap_or(0.3), 0.0, 0.49)?;
+        let density = cx.within("wheel.density", w.density.unwrap_or(7830.0), 1.0, 1e5)?;
+        let omega = cx.within("rolling.omega", r.omega.unwrap_or(300.0), 1e-3, 1e5)?;
+        let depth = cx.within(
             "rolling.flattening_mm",
             r.flattening_mm.unwrap_or(1.0),
             0.0,
             100.0 * radius,
         )?;
-        let settle = within(
-            cx,
-            "rolling.settle_ms",
-            r.settle_ms.unwrap_or(3.0),
-            0.0,
-            1e4,
-        )?;
+        let settle = cx.within("rolling.settle_ms", r.settle_ms.unwrap_or(3.0), 0.0, 1e4)?;
         let creep =
-            |key: &str, v: Option<f64>, lim: f64| within(cx, key, v.unwrap_or(0.0), -lim, lim);
+            |key: &str, v: Option<f64>, lim: f64| cx.within(key, v.unwrap_or(0.0), -lim, lim);
         let xi = creep("rolling.creepage", r.creepage, 1.0)?;
         let eta = creep("rolling.lateral_creepage", r.lateral_creepage, 1.0)?;
         let phi = creep("rolling.spin_creepage", r.spin_creepage, 1e3)?;
         let turns = r
             .turns
-            .map(|v| within(cx, "rolling.turns", v, 1e-3, 1e3))
+            .map(|v| cx.within("rolling.turns", v, 1e-3, 1e3))
             .transpose()?;
         Ok(Model::new(Rolling3dScenario {
             slice: SliceSpec {
@@ -306,12 +283,8 @@ impl Spec for Rolling3dScenario {
         Some(
             crate::bodies::rolling3d::RollingSlice::new(&self.slice)
                 .map(|slice| {
-                    let p = slice.problem(
-                        (run.params.alpha, run.params.gamma),
-                        run.params.h,
-                        1,
-                        crate::contact::FrictionLaw::coulomb(0.0),
-                    );
+                    let p =
+                        slice.problem_with((run.integrator, run.params.h, 1), run.contact, None);
                     let n = p.model.n();
                     FreeStep {
                         v0: (0..n).map(|i| 1e-3 * (i as f64).sin()).collect(),

@@ -28,10 +28,9 @@
 //! `traction` object the sweep's creep curve reads, the cost per step).
 
 use super::Rolling3dScenario;
-use crate::bodies::rolling3d::{PatchForce, RollingSlice};
-use crate::contact::obstacle::tangent_2d;
+use crate::bodies::rolling3d::{friction_force, PatchForce, RollingSlice};
 use crate::contact::pair::tangent_basis;
-use crate::contact::{FrictionLaw, RotatingBase};
+use crate::contact::RotatingBase;
 use crate::kinds::wheel::run::traction::{hertz_2d, steady_ratio};
 use crate::model::PairState;
 use crate::output::plot::{sig, Panel, Series, SeriesStyle};
@@ -95,41 +94,6 @@ pub struct PatchNode {
     pub node: usize,
 }
 
-/// The base's frame at `t`: the patch's nominal centre `p0`, the outward normal `n`, the
-/// rolling direction `-t_b` and the pairs' tangents.
-struct Frame {
-    p0: [f64; 3],
-    n: [f64; 3],
-    fwd: [f64; 3],
-    tangents: [[f64; 3]; 2],
-}
-
-impl Frame {
-    fn at(base: &RotatingBase, t: f64) -> Self {
-        let line = &base.line;
-        let e = line.direction(t);
-        let rho = line.radius - line.flattening.at(t);
-        let n = [-e[0], -e[1], 0.0];
-        let tb = tangent_2d(n);
-        Self {
-            p0: [
-                line.centre[0] + rho * e[0],
-                line.centre[1] + rho * e[1],
-                line.centre[2],
-            ],
-            n,
-            fwd: [-tb[0], -tb[1], -tb[2]],
-            tangents: tangent_basis(3, n),
-        }
-    }
-
-    /// The friction force of a pair.
-    fn force(&self, ps: &PairState) -> [f64; 3] {
-        let [t1, t2] = self.tangents;
-        std::array::from_fn(|c| ps.tangential_force * t1[c] + ps.tangential_force_2 * t2[c])
-    }
-}
-
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -174,15 +138,7 @@ pub(crate) fn record(
     let h = run.params.h;
     let steps = (run.t_end / h).round().max(1.0) as usize;
     let mu = run.friction.map_or(0.0, |l| l.static_mu);
-    let mut problem = slice.problem(
-        (run.params.alpha, run.params.gamma),
-        h,
-        steps,
-        run.friction.unwrap_or(FrictionLaw::coulomb(0.0)),
-    );
-    problem.integrator = run.integrator;
-    problem.friction = run.friction;
-    problem.treatment = run.contact;
+    let problem = slice.problem_with((run.integrator, h, steps), run.contact, run.friction);
     let sim_error = |source| RunError::Simulation {
         run: run.label.clone(),
         source,
@@ -196,35 +152,15 @@ pub(crate) fn record(
     let stride = sc.history_stride.max(1);
     let pb = crate::run::options::progress_bar(steps as u64, &run.label, opts);
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
-    let mut last_u = vec![0.0; x_ref.len()];
-    let mut last_pairs: Vec<PairState> = Vec::with_capacity(rim.len());
-    let mut last_t = 0.0;
     let clock = Instant::now();
     let stats = sim
         .run(opts.cancel.flag(), |v| {
             let t = v.state.t;
             let pairs = &v.state.pairs;
             let f = PatchForce::of(&base, t, pairs);
-            let fr = Frame::at(&base, t);
-            let u = &v.state.state.u;
-            let mut spin = 0.0;
-            let (mut held, mut sliding) = (0, 0);
-            for (ps, &node) in pairs.iter().zip(&rim) {
-                held += usize::from(ps.force > 0.0);
-                sliding += usize::from(ps.sliding);
-                if ps.tangential_force == 0.0 && ps.tangential_force_2 == 0.0 {
-                    continue;
-                }
-                let r: [f64; 3] =
-                    std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c] - fr.p0[c]);
-                let q = fr.force(ps);
-                let rxq = [
-                    r[1] * q[2] - r[2] * q[1],
-                    r[2] * q[0] - r[0] * q[2],
-                    r[0] * q[1] - r[1] * q[0],
-                ];
-                spin += dot(rxq, fr.n);
-            }
+            let spin = PatchForce::spin_moment(&base, t, pairs, (&rim, &x_ref, &v.state.state.u));
+            let held = pairs.iter().filter(|p| p.force > 0.0).count();
+            let sliding = pairs.iter().filter(|p| p.sliding).count();
             let rec = Rec {
                 t,
                 normal: f.normal,
@@ -262,17 +198,21 @@ pub(crate) fn record(
                 pb.set_position(v.state.k as u64);
             }
             recs.push(rec);
-            last_u.copy_from_slice(u);
-            last_pairs.clear();
-            last_pairs.extend_from_slice(pairs);
-            last_t = t;
             Ok(())
         })
         .map_err(sim_error)?;
     pb.finish_and_clear();
     let wall = clock.elapsed().as_secs_f64();
     let history = csv.finish().map_err(|e| RunError::output(&hist, e))?;
-    let patch = patch_nodes(m, &base, last_t, (&x_ref, &last_u), (&rim, &last_pairs));
+    let last = sim.last_snapshot();
+    let patch = patch_nodes(
+        m,
+        &base,
+        last.t,
+        (&x_ref, &last.state.u),
+        (&rim, &last.pairs),
+    );
+    let last_u = last.state.u.clone();
     let settled = m.settled();
     let rolling: Vec<Rec> = recs.iter().copied().filter(|r| r.t >= settled).collect();
     let mut lines = Vec::new();
@@ -440,7 +380,10 @@ fn patch_nodes(
     (x_ref, u): (&[f64], &[f64]),
     (rim, pairs): (&[usize], &[PairState]),
 ) -> Vec<PatchNode> {
-    let fr = Frame::at(base, t);
+    let fr = base.frame(t);
+    let tangents = tangent_basis(3, fr.normal);
+    // The wheel rolls over the base along -t_b.
+    let fwd = fr.travel.map(|c| -c);
     let [_, nt, nz] = m.slice.counts;
     let pitch = 2.0 * std::f64::consts::PI * m.slice.radius / nt as f64;
     let dz = m.slice.thickness / nz as f64;
@@ -458,15 +401,15 @@ fn patch_nodes(
                 dz
             };
             let area = pitch * width;
-            let q = fr.force(ps);
+            let q = friction_force(tangents, ps);
             (
-                dot(r, fr.n).abs(),
+                dot(r, fr.normal).abs(),
                 PatchNode {
-                    s: dot(r, fr.fwd),
+                    s: dot(r, fwd),
                     z: z_ref - 0.5 * m.slice.thickness,
                     layer,
                     pressure: ps.force.max(0.0) / area,
-                    traction: dot(q, fr.fwd) / area,
+                    traction: dot(q, fwd) / area,
                     lateral: q[2] / area,
                     sliding: ps.sliding,
                     node,
