@@ -61,10 +61,8 @@ impl Rolled {
     }
 }
 
-/// Rolls the wheel `steps` steps with the creepages `(xi, eta, phi)`, the soft way;
-/// records the steps after the flattening's ramp and a settling of as long again.
-fn roll(xi: f64, eta: f64, phi: f64, steps: usize) -> Rolled {
-    let slice = RollingSlice::new(&SliceSpec {
+fn slice(xi: f64, eta: f64, phi: f64) -> RollingSlice {
+    RollingSlice::new(&SliceSpec {
         radius: R,
         bore: BORE,
         thickness: T,
@@ -78,7 +76,13 @@ fn roll(xi: f64, eta: f64, phi: f64, steps: usize) -> Rolled {
         },
         creepages: [xi, eta, phi],
     })
-    .unwrap();
+    .unwrap()
+}
+
+/// Rolls the wheel `steps` steps with the creepages `(xi, eta, phi)`, the soft way;
+/// records the steps after the flattening's ramp and a settling of as long again.
+fn roll(xi: f64, eta: f64, phi: f64, steps: usize) -> Rolled {
+    let slice = slice(xi, eta, phi);
     let problem = slice.problem((0.8, 0.2), H, steps, FrictionLaw::coulomb(MU));
     let mut sim = Simulation::new(problem).unwrap();
     let mut out = Rolled {
@@ -193,4 +197,73 @@ friction = {MU}
         100.0 * (n / n2 - 1.0)
     );
     assert!((n / n2 - 1.0).abs() < 0.02, "{n} against {n2}");
+}
+
+/// The rim repeats round the axle, so the contact's columns of every rim node are one
+/// sector's turned (`contact::cyclic`): with them turned, the run solves only the base
+/// sector's columns (three per rim node of one sector, and the check's one) where it
+/// solved one per new rim dof, and rolls the same, step by step, to round-off (full slip,
+/// where no stick/slip decision sits on a knife's edge). A symmetry turned the wrong way
+/// round is refused by the set-up's check.
+#[test]
+fn the_rims_columns_turned_from_one_sector_roll_as_the_solved_ones() {
+    let (xi, eta) = (
+        0.2 * 30_f64.to_radians().cos(),
+        0.2 * 30_f64.to_radians().sin(),
+    );
+    let steps = 700;
+    let s = slice(xi, eta, 0.0);
+    let run = |turned: bool| {
+        let mut sim =
+            Simulation::new(s.problem((0.8, 0.2), H, steps, FrictionLaw::coulomb(MU))).unwrap();
+        if turned {
+            sim.set_cyclic_symmetry(s.symmetry(COUNTS)).unwrap();
+        }
+        let mut forces = Vec::new();
+        let stats = sim
+            .run(&AtomicBool::new(false), |v| {
+                let f = PatchForce::of(&s.base, v.state.t, &v.state.pairs);
+                forces.push([f.normal, f.along, f.lateral]);
+                Ok(())
+            })
+            .unwrap();
+        (forces, stats)
+    };
+    let (solved, st_solved) = run(false);
+    let (turned, st_turned) = run(true);
+    let scale = solved.iter().map(|f| f[0]).fold(0.0, f64::max);
+    let worst = solved
+        .iter()
+        .zip(&turned)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+        .fold(0.0, f64::max);
+    let rim_per_sector = COUNTS[2] + 1;
+    println!(
+        "column solves {} -> {} ({} turned); largest difference of a step's force {:.2e} of the peak normal force {scale:.1} N",
+        st_solved.column_solves,
+        st_turned.column_solves,
+        st_turned.columns_turned,
+        worst / scale
+    );
+    assert_eq!(st_solved.columns_turned, 0);
+    assert!(st_solved.column_solves > 20 * 3 * rim_per_sector);
+    assert!(st_turned.column_solves <= 3 * rim_per_sector + 1);
+    assert!(st_turned.columns_turned >= st_solved.column_solves);
+    assert!(worst < 1e-8 * scale, "{worst} of {scale}");
+
+    // The copies numbered the wrong way round: the check finds it.
+    let [nr, nt, nz] = COUNTS;
+    let mut labels = vec![(0, 0); (nr + 1) * nt * (nz + 1)];
+    for k in 0..=nz {
+        for j in 0..nt {
+            for i in 0..=nr {
+                labels[i + (nr + 1) * (j + nt * k)] = (i + (nr + 1) * k, (nt - j) % nt);
+            }
+        }
+    }
+    let wrong = softway::contact::cyclic::CyclicSymmetry::new(3, nt, &labels).unwrap();
+    let mut sim =
+        Simulation::new(s.problem((0.8, 0.2), H, steps, FrictionLaw::coulomb(MU))).unwrap();
+    let err = sim.set_cyclic_symmetry(wrong).unwrap_err().to_string();
+    assert!(err.contains("does not repeat round its axle"), "{err}");
 }

@@ -16,6 +16,7 @@
 //! `tests/rolling3d.rs` checks them against the 2D plane-stress wheel and full slip
 //! (the book's docs/src/solids3d.md, "Rolling in 3D").
 
+use crate::contact::cyclic::CyclicSymmetry;
 use crate::contact::obstacle::Flattening;
 use crate::contact::pair::tangent_basis;
 use crate::contact::search::Motion;
@@ -228,6 +229,28 @@ impl RollingSlice {
             .map(|&node| Pair::Obstacle { node, obstacle: 0 })
             .collect();
         p
+    }
+}
+
+impl RollingSlice {
+    /// The annulus's cyclic symmetry: its `sectors` copies of one sector round the axle
+    /// (`z`), each node the copy `j` (its sector) of the orbit of its ring and layer
+    /// ([`crate::mesh::generators::annulus_hex8`]'s numbering). The spun wheel, its bore's
+    /// support and its step matrix repeat with it; the contact's columns are turned from
+    /// one sector's ([`crate::simulation::Simulation::set_cyclic_symmetry`]).
+    ///
+    /// # Panics
+    /// Never for a slice [`RollingSlice::new`] built.
+    pub fn symmetry(&self, [nr, nt, nz]: [usize; 3]) -> CyclicSymmetry {
+        let mut labels = vec![(0, 0); (nr + 1) * nt * (nz + 1)];
+        for k in 0..=nz {
+            for j in 0..nt {
+                for i in 0..=nr {
+                    labels[i + (nr + 1) * (j + nt * k)] = (i + (nr + 1) * k, j);
+                }
+            }
+        }
+        CyclicSymmetry::new(3, nt, &labels).expect("the annulus's numbering")
     }
 }
 

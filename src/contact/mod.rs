@@ -13,6 +13,8 @@
 //!   start of each step ([`Pair::Searched`]).
 //! - [`rows`]: constraint rows (equality, unilateral, bounded) solved through the factored
 //!   matrix of any integrator.
+//! - [`cyclic`]: the columns of a model that repeats round its axle, turned from one
+//!   sector's.
 //! - [`friction`]: the friction law (Coulomb, or falling with the slip speed).
 //! - [`context`]: what a treatment works with ([`Context`]), its counters and errors.
 //! - [`treatment`]: the contract of a contact treatment and the choice of one.
@@ -26,6 +28,7 @@
 
 pub mod complementarity;
 pub mod context;
+pub mod cyclic;
 pub mod facets;
 pub mod friction;
 pub mod hertz;

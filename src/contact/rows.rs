@@ -74,6 +74,7 @@
 //! loop is the one above. A sliding pair whose slip has a component along its force,
 //! `d . y > tol`, sticks again.
 
+use crate::contact::cyclic::CyclicColumns;
 use crate::linalg::dense_solve_in_place;
 use crate::linalg::team::Team;
 use crate::linalg::with_avx2;
@@ -156,6 +157,10 @@ pub struct RowSolver {
     clock: u64,
     solves: usize,
     stick_slip: usize,
+    /// Dense solves of the active rows so far.
+    dense: usize,
+    /// Solves that stopped at their budget of changes or turns.
+    capped: usize,
     y0: Vec<f64>,
     w: Vec<f64>,
     state: Vec<Activity>,
@@ -176,6 +181,9 @@ pub struct RowSolver {
     /// Their columns, solved together (`TimeIntegrator::inverse_columns`), before they go
     /// to their slots; grown to the most columns one solve has needed.
     fresh: Vec<f64>,
+    /// A model with cyclic symmetry: its base sector's columns, from which every new
+    /// column is turned instead of solved ([`crate::contact::cyclic`]).
+    cyclic: Option<CyclicColumns>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -207,6 +215,8 @@ impl RowSolver {
             clock: 0,
             solves: 0,
             stick_slip: 0,
+            dense: 0,
+            capped: 0,
             y0: vec![0.0; mr],
             w: vec![0.0; mr * mr],
             state: vec![Activity::Off; mr],
@@ -219,7 +229,33 @@ impl RowSolver {
             pending: Vec::with_capacity(MAX_TERMS),
             pending_dofs: Vec::with_capacity(MAX_TERMS),
             fresh: Vec::new(),
+            cyclic: None,
         }
+    }
+
+    /// Derives new columns from the base sector's of `cyclic` instead of solving them
+    /// ([`crate::contact::cyclic`]); `None`: each column solved. The cache is dropped; the
+    /// base columns `cyclic` holds are kept (they must be of the current `A`).
+    ///
+    /// # Panics
+    /// When the symmetry is not on this solver's dofs.
+    pub fn set_cyclic(&mut self, cyclic: Option<CyclicColumns>) {
+        if let Some(c) = &cyclic {
+            assert_eq!(
+                c.symmetry().dofs(),
+                self.n,
+                "a cyclic symmetry on other dofs"
+            );
+        }
+        self.cyclic = cyclic;
+        self.slot_of_dof.fill(NO_SLOT);
+        self.dof_of_slot.fill(NO_SLOT);
+        self.last_used.fill(0);
+    }
+
+    /// The cyclic symmetry's base columns, if one is set.
+    pub fn cyclic(&self) -> Option<&CyclicColumns> {
+        self.cyclic.as_ref()
     }
 
     /// Adds the columns of a solve in two halves on `team`'s threads (the same bits on any
@@ -230,6 +266,9 @@ impl RowSolver {
 
     /// Drops every cached column (call after `A` changes).
     pub fn invalidate(&mut self) {
+        if let Some(c) = self.cyclic.as_mut() {
+            c.invalidate();
+        }
         self.slot_of_dof.fill(NO_SLOT);
         self.dof_of_slot.fill(NO_SLOT);
         self.last_used.fill(0);
@@ -271,6 +310,23 @@ impl RowSolver {
     /// Column solves done so far (`A^{-1} e_d` for a newly constrained dof).
     pub fn column_solves(&self) -> usize {
         self.solves
+    }
+
+    /// Dense solves of the active rows so far (one per active set, stick/slip change and
+    /// turn of a sliding cone's direction).
+    pub fn dense_solves(&self) -> usize {
+        self.dense
+    }
+
+    /// Solves that stopped at their budget of changes (`10 + 4k`) or of a cone's turns
+    /// ([`CONE_TURNS`]) before their active set held.
+    pub fn capped_solves(&self) -> usize {
+        self.capped
+    }
+
+    /// Columns turned from the base sector's instead of solved ([`Self::set_cyclic`]).
+    pub fn columns_turned(&self) -> usize {
+        self.cyclic.as_ref().map_or(0, CyclicColumns::derived)
     }
 
     /// Stick/slip changes of bounded rows so far (each one a dense re-solve of the active
@@ -463,6 +519,9 @@ impl RowSolver {
                 None => break,
             }
         }
+        if budget == 0 || turns >= CONE_TURNS {
+            self.capped += 1;
+        }
         changes
     }
 
@@ -604,6 +663,7 @@ impl RowSolver {
             }
         }
         dense_solve_in_place(&mut self.m[..m * m], &mut self.r[..m], m);
+        self.dense += 1;
         self.lambda[..k].fill(0.0);
         for a in 0..m {
             self.lambda[self.idx[a]] = self.r[a];
@@ -656,6 +716,27 @@ impl RowSolver {
             return;
         }
         let n = self.n;
+        if let Some(cyc) = self.cyclic.as_mut() {
+            // The base sector's columns that are missing, solved together; then each
+            // queued column turned from them.
+            for &s in &self.pending {
+                cyc.need(self.dof_of_slot[s]);
+            }
+            cyc.pending_dofs(&mut self.pending_dofs);
+            let b = self.pending_dofs.len();
+            if b > 0 {
+                if self.fresh.len() < b * n {
+                    self.fresh.resize(b * n, 0.0);
+                }
+                let fresh = &mut self.fresh[..b * n];
+                self.solves += integ.inverse_columns(&self.pending_dofs, fresh);
+                cyc.store(fresh);
+            }
+            for &s in &self.pending {
+                cyc.derive(self.dof_of_slot[s], &mut self.cols[s * n..(s + 1) * n]);
+            }
+            return;
+        }
         self.pending_dofs.clear();
         self.pending_dofs
             .extend(self.pending.iter().map(|&s| self.dof_of_slot[s]));

@@ -24,6 +24,7 @@
 
 use crate::contact::build as build_treatment;
 use crate::contact::context::{ContactError, Context, Counts, Integ, Scratch};
+use crate::contact::cyclic::{CyclicColumns, CyclicSymmetry};
 use crate::contact::mass_redistribution::redistribute_mass;
 use crate::contact::pair::Pair;
 use crate::contact::rows::RowSolver;
@@ -331,6 +332,70 @@ impl Simulation {
             team: Team::default(),
             guard: DivergenceGuard::new(n_guard),
         })
+    }
+
+    /// Turns the contact's new columns from one sector's instead of solving them: the
+    /// model repeats round its axle as `sym` says ([`crate::contact::cyclic`]). The claim is
+    /// checked once: the column of a contact dof off the base sector, turned, against the
+    /// same column solved (`dim + 1` solves, whose base columns are kept).
+    ///
+    /// # Errors
+    /// [`SimError::Unsupported`] when `sym` is not on the model's dofs, with a moving
+    /// refined zone (its relabelling is another map of the nodes), or when the turned column
+    /// differs from the solved one by more than `1e-9` of its largest entry: the model does
+    /// not have the symmetry.
+    pub fn set_cyclic_symmetry(&mut self, sym: CyclicSymmetry) -> Result<(), SimError> {
+        let eng = &mut self.engine;
+        let n = eng.model.n();
+        if sym.dofs() != n || sym.dim() != eng.dim {
+            return Err(SimError::Unsupported(format!(
+                "a cyclic symmetry of {} dofs ({} per node) on a model of {n} ({} per node)",
+                sym.dofs(),
+                sym.dim(),
+                eng.dim
+            )));
+        }
+        if self.relocation.is_some() {
+            return Err(SimError::Unsupported(
+                "a cyclic symmetry with a moving refined zone is not built".into(),
+            ));
+        }
+        // The check's dof: a contact node's first component off the base sector (else any
+        // node's in copy 1).
+        let node = eng
+            .pairs
+            .iter()
+            .flat_map(|p| {
+                let (nodes, len) = p.nodes();
+                nodes.into_iter().take(len)
+            })
+            .find(|&m| sym.locate(sym.dim() * m).1 != 0)
+            .unwrap_or_else(|| sym.dof(0, 1, 0) / sym.dim());
+        let d = sym.dim() * node;
+        let mut cyc = CyclicColumns::new(sym);
+        cyc.need(d);
+        let mut dofs = Vec::new();
+        cyc.pending_dofs(&mut dofs);
+        let mut base = vec![0.0; dofs.len() * n];
+        eng.integ.inverse_columns(&dofs, &mut base);
+        cyc.store(&base);
+        let mut turned = vec![0.0; n];
+        cyc.derive(d, &mut turned);
+        let mut solved = vec![0.0; n];
+        eng.integ.inverse_column(d, &mut solved);
+        let size = solved.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let diff = turned
+            .iter()
+            .zip(&solved)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        if diff.is_nan() || diff > 1e-9 * size {
+            return Err(SimError::Unsupported(format!(
+                "the model does not repeat round its axle as its cyclic symmetry says: a column turned from the base sector differs from the solved one by {:.2e} of its size",
+                diff / size.max(f64::MIN_POSITIVE)
+            )));
+        }
+        eng.rows.set_cyclic(Some(cyc));
+        Ok(())
     }
 
     /// Moves a refined zone with the obstacle ([`Relocation`]).
@@ -643,6 +708,10 @@ impl Simulation {
         stats.factorizations = factors.numeric;
         stats.symbolic_analyses = factors.symbolic;
         stats.stick_slip_changes = self.engine.rows.stick_slip_changes();
+        stats.column_solves = self.engine.rows.column_solves();
+        stats.columns_turned = self.engine.rows.columns_turned();
+        stats.dense_solves = self.engine.rows.dense_solves();
+        stats.capped_row_solves = self.engine.rows.capped_solves();
         stats.diverged_at_s = self.guard.first().map(|d| d.t);
         if let Some(nl) = &self.engine.nonlinear {
             let ns = nl.stats();

@@ -114,6 +114,22 @@ pub struct RunStats {
     /// Stick/slip changes of friction rows, in all solves (each a dense re-solve of the
     /// active rows, no factorization; [`crate::contact::rows::RowSolver::stick_slip_changes`]).
     pub stick_slip_changes: usize,
+    /// Columns `A^{-1} e_d` solved for the contact's rows ([`crate::contact::rows`]); not
+    /// written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub column_solves: usize,
+    /// Columns turned from a cyclic symmetry's base sector instead of solved
+    /// ([`super::Simulation::set_cyclic_symmetry`]); not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub columns_turned: usize,
+    /// Dense solves of the contact's active rows
+    /// ([`crate::contact::rows::RowSolver::dense_solves`]); not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub dense_solves: usize,
+    /// Solves of the contact's rows that stopped at their budget of changes or turns
+    /// ([`crate::contact::rows::RowSolver::capped_solves`]); not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub capped_row_solves: usize,
     /// Numeric factorizations of a system matrix.
     pub factorizations: usize,
     /// Symbolic analyses of a system matrix.

@@ -15,6 +15,7 @@
 //! poisson = 0.3
 //! density = 7830.0            # kg/m^3
 //! lumped = false
+//! cyclic_columns = true       # the contact's columns turned from one sector's
 //! [rolling]
 //! omega = 300.0               # rad/s
 //! flattening_mm = 1.0         # the base pressed into the rim
@@ -74,6 +75,7 @@ struct RawWheel {
     poisson: Option<f64>,
     density: Option<f64>,
     lumped: Option<bool>,
+    cyclic_columns: Option<bool>,
 }
 
 /// `[rolling]` as written.
@@ -102,6 +104,9 @@ pub struct Rolling3dScenario {
     pub slice: SliceSpec,
     /// `rolling.turns` when given.
     pub turns: Option<f64>,
+    /// `wheel.cyclic_columns`: the contact's columns turned from one sector's (the rim
+    /// repeats round the axle; [`crate::contact::cyclic`]) instead of each solved.
+    pub cyclic_columns: bool,
 }
 
 impl Rolling3dScenario {
@@ -205,6 +210,7 @@ impl Kind for Rolling3dKind {
                 creepages: [xi, eta, phi],
             },
             turns,
+            cyclic_columns: w.cyclic_columns.unwrap_or(true),
         }))
     }
 }

@@ -144,6 +144,10 @@ pub(crate) fn record(
         source,
     };
     let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
+    if m.cyclic_columns {
+        sim.set_cyclic_symmetry(slice.symmetry(m.slice.counts))
+            .map_err(sim_error)?;
+    }
     let mesh = slice.bodies[0].mesh.clone();
     let x_ref = mesh.reference_positions();
     let rim = slice.rim.clone();
@@ -233,6 +237,7 @@ pub(crate) fn record(
         "friction": mu,
         "wall_time_s": wall,
         "seconds_per_step": wall / recs.len().max(1) as f64,
+        "counters": stats,
     });
     crate::run::provenance::stamp_provenance(&mut summary, sc);
     let mut steady_value = f64::NAN;

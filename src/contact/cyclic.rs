@@ -1,0 +1,375 @@
+//! The contact's columns of a model with cyclic symmetry: one sector's columns, the rest
+//! turned.
+//!
+//! A wheel in its rotating frame (the paper's §4) is at rest while the contact runs round
+//! its rim: every step new rim nodes enter the patch, and each new constrained dof costs the
+//! soft way a column `A^{-1} e_d` of the step matrix ([`crate::contact::rows`]), one read of
+//! the whole factor. On a 3D wheel that is most of a rolling step. When the mesh repeats
+//! itself round the axle (`count` copies of one sector) and the step matrix does too (the
+//! elastic, mass, spin and Coriolis terms are all invariant under a turn about the axle, and
+//! so are supports that hold whole nodes), those columns repeat as well.
+//!
+//! Let `P` turn a nodal field by one sector: the value at node `m` moves to the node one
+//! sector on, `sigma(m)`, and is rotated there by `Q`, the rotation by `2 pi / count` about
+//! the axle `z`. `A P = P A`, so `A^{-1} P = P A^{-1}`. A node `n = sigma^k(b)`, `b` its
+//! orbit's node in the base sector, has the unit vector `e_{n,c} = P^k (e_b (x) Q^{-k}
+//! e_c)`, hence
+//! $$A^{-1} e_{n,c} = P^k \sum_j (Q^{-k} e_c)_j\\, A^{-1} e_{b,j}:$$
+//! the `dim` columns of `b` (solved once for the run, while `A` does not change) give the
+//! column of every node of its orbit by a turn and a relabelling, `O(n)` work instead of a
+//! solve. The row solver keeps the base columns ([`CyclicColumns`]) beside its cache and
+//! derives each new column from them.
+//!
+//! The symmetry is the model's claim; [`crate::simulation::Simulation::set_cyclic_symmetry`]
+//! checks it once against a solved column before it is used.
+
+/// How a model repeats round the axle `z`: `count` sectors, every node one of an orbit's
+/// `count` copies (module docs). Dofs are `dim` per node, node `m`'s at `dim m ..`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CyclicSymmetry {
+    dim: usize,
+    count: usize,
+    /// Per node: its orbit.
+    orbit: Vec<u32>,
+    /// Per node: its copy `k`: the node is `sigma^k` of its orbit's copy 0.
+    turn: Vec<u32>,
+    /// `node_of[orbit * count + k]`.
+    node_of: Vec<u32>,
+    /// `(cos, sin)` of `2 pi k / count`.
+    rot: Vec<(f64, f64)>,
+}
+
+impl CyclicSymmetry {
+    /// The symmetry of `count` sectors from each node's `(orbit, copy)`: node `m` is the
+    /// copy `k` of its orbit, turned by `2 pi k / count` about `z` (counter-clockwise) from
+    /// copy 0. `dim` is 2 (the plane's rotation) or 3.
+    ///
+    /// # Errors
+    /// A message when `dim` is not 2 or 3, `count < 2`, a copy is out of range or the
+    /// labels are not one node per orbit and copy.
+    pub fn new(dim: usize, count: usize, labels: &[(usize, usize)]) -> Result<Self, String> {
+        if !(dim == 2 || dim == 3) {
+            return Err(format!(
+                "a cyclic symmetry needs 2 or 3 dofs per node, not {dim}"
+            ));
+        }
+        if count < 2 {
+            return Err(format!(
+                "a cyclic symmetry needs 2 sectors or more, not {count}"
+            ));
+        }
+        if labels.len() % count != 0 {
+            return Err(format!(
+                "{} nodes are not whole orbits of {count} copies",
+                labels.len()
+            ));
+        }
+        let orbits = labels.len() / count;
+        let mut node_of = vec![u32::MAX; labels.len()];
+        let mut orbit = Vec::with_capacity(labels.len());
+        let mut turn = Vec::with_capacity(labels.len());
+        for (m, &(o, k)) in labels.iter().enumerate() {
+            if o >= orbits || k >= count {
+                return Err(format!(
+                    "node {m}: orbit {o} of {orbits}, copy {k} of {count}: out of range"
+                ));
+            }
+            let slot = &mut node_of[o * count + k];
+            if *slot != u32::MAX {
+                return Err(format!(
+                    "nodes {slot} and {m} are both copy {k} of orbit {o}"
+                ));
+            }
+            *slot = m as u32;
+            orbit.push(o as u32);
+            turn.push(k as u32);
+        }
+        let rot = (0..count)
+            .map(|k| {
+                let a = 2.0 * std::f64::consts::PI * k as f64 / count as f64;
+                (a.cos(), a.sin())
+            })
+            .collect();
+        Ok(Self {
+            dim,
+            count,
+            orbit,
+            turn,
+            node_of,
+            rot,
+        })
+    }
+
+    /// Dofs per node.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Sectors in the full turn.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Orbits (nodes of one sector).
+    pub fn orbits(&self) -> usize {
+        self.orbit.len() / self.count
+    }
+
+    /// Dofs of the model.
+    pub fn dofs(&self) -> usize {
+        self.dim * self.orbit.len()
+    }
+
+    /// Dof `d`'s orbit, copy and component.
+    pub fn locate(&self, d: usize) -> (usize, usize, usize) {
+        let m = d / self.dim;
+        (self.orbit[m] as usize, self.turn[m] as usize, d % self.dim)
+    }
+
+    /// The dof of component `c` of orbit `o`'s copy `k`.
+    pub fn dof(&self, o: usize, k: usize, c: usize) -> usize {
+        self.dim * self.node_of[o * self.count + k % self.count] as usize + c
+    }
+
+    /// `Q^k` applied to the in-plane part `(x, y)`.
+    fn turn_by(&self, k: usize, x: f64, y: f64) -> (f64, f64) {
+        let (c, s) = self.rot[k % self.count];
+        (c * x - s * y, s * x + c * y)
+    }
+
+    /// `out <- A^{-1} e_d` from the columns `base[j] = A^{-1} e_{b,j}` of `d`'s orbit's
+    /// copy 0 (module docs); each slice `dofs()` long.
+    pub fn derive(&self, d: usize, base: &[&[f64]], out: &mut [f64]) {
+        let dim = self.dim;
+        let (_, k, c) = self.locate(d);
+        // w = Q^{-k} e_c.
+        let mut w = [0.0; 3];
+        match c {
+            0 => {
+                let (x, y) = self.turn_by(self.count - k % self.count, 1.0, 0.0);
+                w[0] = x;
+                w[1] = y;
+            }
+            1 => {
+                let (x, y) = self.turn_by(self.count - k % self.count, 0.0, 1.0);
+                w[0] = x;
+                w[1] = y;
+            }
+            _ => w[2] = 1.0,
+        }
+        for m in 0..self.orbit.len() {
+            let mut v = [0.0; 3];
+            for (j, col) in base.iter().enumerate().take(dim) {
+                if w[j] != 0.0 {
+                    for (vc, &x) in v.iter_mut().zip(&col[dim * m..dim * m + dim]) {
+                        *vc += w[j] * x;
+                    }
+                }
+            }
+            let (x, y) = self.turn_by(k, v[0], v[1]);
+            let target = self.dof(self.orbit[m] as usize, self.turn[m] as usize + k, 0);
+            out[target] = x;
+            out[target + 1] = y;
+            if dim == 3 {
+                out[target + 2] = v[2];
+            }
+        }
+    }
+}
+
+/// The base sector's columns of a run (module docs), solved as they are first needed and
+/// kept while `A` does not change.
+#[derive(Debug, Clone)]
+pub struct CyclicColumns {
+    sym: CyclicSymmetry,
+    /// Per base dof (`orbit * dim + c`): its slot in `cols`, or none.
+    slot: Vec<usize>,
+    cols: Vec<f64>,
+    /// Columns derived so far.
+    derived: usize,
+    /// Base dofs whose columns a solve still needs.
+    pending: Vec<usize>,
+}
+
+const NONE: usize = usize::MAX;
+
+impl CyclicColumns {
+    /// No column yet.
+    pub fn new(sym: CyclicSymmetry) -> Self {
+        let slots = sym.orbits() * sym.dim();
+        Self {
+            sym,
+            slot: vec![NONE; slots],
+            cols: Vec::new(),
+            derived: 0,
+            pending: Vec::new(),
+        }
+    }
+
+    /// The symmetry.
+    pub fn symmetry(&self) -> &CyclicSymmetry {
+        &self.sym
+    }
+
+    /// Forgets every base column (after `A` changes).
+    pub fn invalidate(&mut self) {
+        self.slot.fill(NONE);
+        self.cols.clear();
+    }
+
+    /// Columns derived so far (each one a solve saved).
+    pub fn derived(&self) -> usize {
+        self.derived
+    }
+
+    /// Base columns held.
+    pub fn held(&self) -> usize {
+        self.cols.len() / self.sym.dofs().max(1)
+    }
+
+    /// Queues the base dofs that `d`'s column needs and are not held (each once).
+    pub fn need(&mut self, d: usize) {
+        let (o, _, _) = self.sym.locate(d);
+        for j in 0..self.sym.dim() {
+            let b = o * self.sym.dim() + j;
+            if self.slot[b] == NONE && !self.pending.contains(&b) {
+                self.pending.push(b);
+            }
+        }
+    }
+
+    /// The model dofs of the queued base columns, in the order [`Self::store`] takes them.
+    pub fn pending_dofs(&self, out: &mut Vec<usize>) {
+        out.clear();
+        let dim = self.sym.dim();
+        out.extend(
+            self.pending
+                .iter()
+                .map(|&b| self.sym.dof(b / dim, 0, b % dim)),
+        );
+    }
+
+    /// Keeps the solved queued columns `cols` (each `dofs()` long, in the queue's order).
+    pub fn store(&mut self, cols: &[f64]) {
+        let n = self.sym.dofs();
+        for (i, &b) in self.pending.iter().enumerate() {
+            self.slot[b] = self.cols.len() / n;
+            self.cols.extend_from_slice(&cols[i * n..(i + 1) * n]);
+        }
+        self.pending.clear();
+    }
+
+    /// `out <- A^{-1} e_d` from the held base columns ([`Self::need`] and [`Self::store`]
+    /// first).
+    ///
+    /// # Panics
+    /// When a base column `d` needs is not held.
+    pub fn derive(&mut self, d: usize, out: &mut [f64]) {
+        let n = self.sym.dofs();
+        let dim = self.sym.dim();
+        let (o, _, _) = self.sym.locate(d);
+        let mut base: [&[f64]; 3] = [&[], &[], &[]];
+        for (j, b) in base.iter_mut().enumerate().take(dim) {
+            let s = self.slot[o * dim + j];
+            assert!(s != NONE, "a base column of the cyclic symmetry is missing");
+            *b = &self.cols[s * n..(s + 1) * n];
+        }
+        self.sym.derive(d, &base[..dim], out);
+        self.derived += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ring of `count` nodes round the axle (2 orbits: radius 1 and 2) with a dense
+    /// symmetric "matrix" built to commute with the turn: `A = I + sum` of spring pairs
+    /// between neighbours, their stiffness along the line between them. The derived columns
+    /// equal the solved ones.
+    #[test]
+    fn derived_columns_equal_solved_ones() {
+        let count = 7;
+        let dim = 3;
+        let labels: Vec<(usize, usize)> = (0..2)
+            .flat_map(|o| (0..count).map(move |k| (o, k)))
+            .collect();
+        let sym = CyclicSymmetry::new(dim, count, &labels).unwrap();
+        let nodes = labels.len();
+        let pos: Vec<[f64; 3]> = labels
+            .iter()
+            .map(|&(o, k)| {
+                let a = 2.0 * std::f64::consts::PI * k as f64 / count as f64 + 0.3;
+                let r = 1.0 + o as f64;
+                [r * a.cos(), r * a.sin(), 0.2 * o as f64]
+            })
+            .collect();
+        let n = dim * nodes;
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            a[i * n + i] = 3.0;
+        }
+        let mut spring = |p: usize, q: usize, kf: f64| {
+            let d: Vec<f64> = (0..3).map(|c| pos[q][c] - pos[p][c]).collect();
+            let l = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+            for i in 0..3 {
+                for j in 0..3 {
+                    let v = kf * d[i] * d[j] / (l * l);
+                    a[(3 * p + i) * n + 3 * p + j] += v;
+                    a[(3 * q + i) * n + 3 * q + j] += v;
+                    a[(3 * p + i) * n + 3 * q + j] -= v;
+                    a[(3 * q + i) * n + 3 * p + j] -= v;
+                }
+            }
+        };
+        for k in 0..count {
+            let (i0, i1) = (k, (k + 1) % count);
+            spring(i0, i1, 2.0);
+            spring(count + i0, count + i1, 1.0);
+            spring(i0, count + i0, 5.0);
+            spring(i0, count + i1, 0.7);
+        }
+        // A skew term (a Coriolis-like coupling, invariant under turns about z).
+        for m in 0..nodes {
+            a[(3 * m) * n + 3 * m + 1] += 0.4;
+            a[(3 * m + 1) * n + 3 * m] -= 0.4;
+        }
+        let solve = |d: usize| {
+            let mut m = a.clone();
+            let mut r = vec![0.0; n];
+            r[d] = 1.0;
+            crate::linalg::dense_solve_in_place(&mut m, &mut r, n);
+            r
+        };
+        let mut cc = CyclicColumns::new(sym);
+        for d in 0..n {
+            cc.need(d);
+        }
+        let mut dofs = Vec::new();
+        cc.pending_dofs(&mut dofs);
+        assert_eq!(dofs.len(), 6, "two orbits, three components");
+        let solved: Vec<f64> = dofs.iter().flat_map(|&d| solve(d)).collect();
+        cc.store(&solved);
+        let mut out = vec![f64::NAN; n];
+        let mut worst: f64 = 0.0;
+        for d in 0..n {
+            cc.derive(d, &mut out);
+            let want = solve(d);
+            for (x, y) in out.iter().zip(&want) {
+                worst = worst.max((x - y).abs());
+            }
+        }
+        assert!(worst < 1e-13, "derived against solved: {worst:e}");
+        assert_eq!(cc.derived(), n);
+    }
+
+    #[test]
+    fn bad_labels_are_refused() {
+        assert!(CyclicSymmetry::new(3, 1, &[(0, 0)]).is_err());
+        assert!(CyclicSymmetry::new(4, 2, &[(0, 0), (0, 1)]).is_err());
+        assert!(CyclicSymmetry::new(3, 2, &[(0, 0), (0, 0)]).is_err());
+        assert!(CyclicSymmetry::new(3, 2, &[(0, 0), (0, 2)]).is_err());
+        assert!(CyclicSymmetry::new(3, 2, &[(0, 0), (0, 1), (1, 0)]).is_err());
+        assert!(CyclicSymmetry::new(3, 2, &[(0, 0), (0, 1)]).is_ok());
+    }
+}
