@@ -7,9 +7,9 @@
 /// minimum-norm-like treatment of zeroing the dependent multiplier.
 ///
 /// The rows' updates run on AVX2's instructions where the processor has them
-/// ([`crate::linalg::with_avx2`]): the same multiplications and subtractions in the same
+/// (`linalg::with_avx2`): the same multiplications and subtractions in the same
 /// order, so the same bits, four entries at a time. A 3D rolling patch of 40 nodes poses 120
-/// rows, and its friction cone re-solves them a few times per solve.
+/// rows.
 pub fn dense_solve_in_place(s: &mut [f64], r: &mut [f64], k: usize) {
     crate::linalg::with_avx2!(dense_solve_here(s, r, k), dense_solve_avx2(s, r, k))
 }
