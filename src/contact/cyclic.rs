@@ -206,6 +206,43 @@ impl CyclicColumns {
         }
     }
 
+    /// The base columns of `sym` on `integ`'s step matrix, once the claim is checked: the
+    /// column of dof `d` (off the base sector) turned from its orbit's base columns against
+    /// the same column solved (`dim + 1` solves; the base columns are kept).
+    ///
+    /// # Errors
+    /// A message when the two differ by more than `1e-9` of the column's largest entry.
+    pub fn checked(
+        sym: CyclicSymmetry,
+        integ: &mut dyn crate::time::integrator::TimeIntegrator,
+        d: usize,
+    ) -> Result<Self, String> {
+        let n = sym.dofs();
+        let mut cyc = Self::new(sym);
+        cyc.need(d);
+        let mut dofs = Vec::new();
+        cyc.pending_dofs(&mut dofs);
+        let mut base = vec![0.0; dofs.len() * n];
+        integ.inverse_columns(&dofs, &mut base);
+        cyc.store(&base);
+        let mut turned = vec![0.0; n];
+        cyc.derive(d, &mut turned);
+        let mut solved = vec![0.0; n];
+        integ.inverse_column(d, &mut solved);
+        let size = solved.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let diff = turned
+            .iter()
+            .zip(&solved)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        if diff.is_nan() || diff > 1e-9 * size {
+            return Err(format!(
+                "the model does not repeat round its axle as its cyclic symmetry says: a column turned from the base sector differs from the solved one by {:.2e} of its size",
+                diff / size.max(f64::MIN_POSITIVE)
+            ));
+        }
+        Ok(cyc)
+    }
+
     /// The symmetry.
     pub fn symmetry(&self) -> &CyclicSymmetry {
         &self.sym

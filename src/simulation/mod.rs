@@ -372,28 +372,7 @@ impl Simulation {
             .find(|&m| sym.locate(sym.dim() * m).1 != 0)
             .unwrap_or_else(|| sym.dof(0, 1, 0) / sym.dim());
         let d = sym.dim() * node;
-        let mut cyc = CyclicColumns::new(sym);
-        cyc.need(d);
-        let mut dofs = Vec::new();
-        cyc.pending_dofs(&mut dofs);
-        let mut base = vec![0.0; dofs.len() * n];
-        eng.integ.inverse_columns(&dofs, &mut base);
-        cyc.store(&base);
-        let mut turned = vec![0.0; n];
-        cyc.derive(d, &mut turned);
-        let mut solved = vec![0.0; n];
-        eng.integ.inverse_column(d, &mut solved);
-        let size = solved.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        let diff = turned
-            .iter()
-            .zip(&solved)
-            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-        if diff.is_nan() || diff > 1e-9 * size {
-            return Err(SimError::Unsupported(format!(
-                "the model does not repeat round its axle as its cyclic symmetry says: a column turned from the base sector differs from the solved one by {:.2e} of its size",
-                diff / size.max(f64::MIN_POSITIVE)
-            )));
-        }
+        let cyc = CyclicColumns::checked(sym, &mut *eng.integ, d).map_err(SimError::Unsupported)?;
         eng.rows.set_cyclic(Some(cyc));
         Ok(())
     }
