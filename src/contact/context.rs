@@ -36,6 +36,11 @@ pub struct Counts {
     pub entries: usize,
     /// Releases.
     pub releases: usize,
+    /// Predictions solved ([`Context::predict`]).
+    pub predictions: usize,
+    /// Predictions made again from a known one of the same start state, without a solve
+    /// ([`Context::predict`]).
+    pub predictions_again: usize,
 }
 
 /// Errors of a contact treatment.
@@ -83,11 +88,57 @@ impl std::fmt::Debug for Integ<'_> {
 }
 
 /// The driver's scratch for a [`Context`]: the load vector and the obstacles' half-spaces of
-/// one instant (allocated once, [`Scratch::new`]).
+/// one instant, and the last two predictions (allocated once, [`Scratch::new`]).
 #[derive(Debug, Clone)]
 pub struct Scratch {
     f: Vec<f64>,
     half_spaces: Vec<Option<HalfSpace>>,
+    known: [Known; 2],
+    clock: u64,
+    /// Predictions made again when one serves ([`Scratch::set_predictions_again`]).
+    again: bool,
+}
+
+/// A prediction made: what it was made from (the start, the step, the columns' epoch of
+/// `A`, the extra forces) and its `x_free`.
+#[derive(Debug, Clone)]
+struct Known {
+    /// When it was last made or used (0: never).
+    used: u64,
+    t0: f64,
+    h: f64,
+    epoch: u64,
+    s0: State,
+    extra: Vec<f64>,
+    xfree: Vec<f64>,
+}
+
+impl Known {
+    fn new(n: usize) -> Self {
+        Self {
+            used: 0,
+            t0: 0.0,
+            h: 0.0,
+            epoch: 0,
+            s0: State::zeros(n),
+            extra: vec![0.0; n],
+            xfree: vec![0.0; n],
+        }
+    }
+
+    /// Made from the same start on the same `A` (bit for bit).
+    fn is_from(&self, t0: f64, h: f64, epoch: u64, s0: &State) -> bool {
+        let same = |a: &[f64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        self.used != 0
+            && self.t0.to_bits() == t0.to_bits()
+            && self.h.to_bits() == h.to_bits()
+            && self.epoch == epoch
+            && same(&self.s0.u, &s0.u)
+            && same(&self.s0.v, &s0.v)
+            && same(&self.s0.a, &s0.a)
+    }
 }
 
 impl Scratch {
@@ -96,7 +147,17 @@ impl Scratch {
         Self {
             f: vec![0.0; n],
             half_spaces: Vec::with_capacity(obstacles),
+            known: [Known::new(n), Known::new(n)],
+            clock: 0,
+            again: true,
         }
+    }
+
+    /// Whether [`Context::predict`] makes a prediction again from a known one when it can
+    /// (the default), or solves each.
+    pub fn set_predictions_again(&mut self, on: bool) {
+        self.again = on;
+        self.known.iter_mut().for_each(|k| k.used = 0);
     }
 }
 
@@ -213,12 +274,26 @@ impl Context<'_> {
     ///
     /// With a nonlinear internal force, the load holds its pseudo-load of the state at `t0`
     /// ([`Nonlinear::begin`]).
+    ///
+    /// Made again: when one of the last two predictions (of a linear model) was made from the
+    /// same `t0`, `s0` and `A`, and its extra forces differ only on dofs whose columns
+    /// `A^{-1} e_d` the rows have cached (a re-solve after a release gives back a braking
+    /// force; a step back repeats the interval before), `x_free` is that prediction's plus
+    /// those columns times the change ([`TimeIntegrator::repredict`]), without a solve. The
+    /// same `x_free` to round-off.
     pub fn predict(&mut self, t0: f64, s0: &State) -> Step {
+        if self.nonlinear.is_none() && self.scratch.again {
+            if let Some(step) = self.predict_again(t0, s0) {
+                self.counts.predictions_again += 1;
+                return step;
+            }
+        }
+        self.counts.predictions += 1;
         let extra: &[f64] = match self.nonlinear.as_deref_mut() {
             Some(nl) => nl.begin(t0, s0, self.extra),
             None => self.extra,
         };
-        self.integ.0.predict(
+        let step = self.integ.0.predict(
             t0,
             s0,
             self.load,
@@ -226,7 +301,48 @@ impl Context<'_> {
             &mut self.scratch.f,
             self.pred,
             self.xfree,
-        )
+        );
+        if self.nonlinear.is_none()
+            && self.scratch.again
+            && self.integ.0.repredict(t0, s0, self.pred).is_some()
+        {
+            // Kept in the least recently used of the two.
+            let sc = &mut *self.scratch;
+            sc.clock += 1;
+            let k = usize::from(sc.known[1].used < sc.known[0].used);
+            let known = &mut sc.known[k];
+            known.used = sc.clock;
+            known.t0 = t0;
+            known.h = step.h;
+            known.epoch = self.rows.epoch();
+            known.s0.u.copy_from_slice(&s0.u);
+            known.s0.v.copy_from_slice(&s0.v);
+            known.s0.a.copy_from_slice(&s0.a);
+            known.extra.copy_from_slice(self.extra);
+            known.xfree.copy_from_slice(self.xfree);
+        }
+        step
+    }
+
+    /// [`Context::predict`] made again from a known prediction, if one serves.
+    fn predict_again(&mut self, t0: f64, s0: &State) -> Option<Step> {
+        let (h, epoch) = (self.integ.h(), self.rows.epoch());
+        let sc = &mut *self.scratch;
+        let k = (0..2).find(|&k| sc.known[k].is_from(t0, h, epoch, s0))?;
+        let (step, gain) = self.integ.0.repredict(t0, s0, self.pred)?;
+        let known = &mut sc.known[k];
+        self.xfree.copy_from_slice(&known.xfree);
+        if !self
+            .rows
+            .add_cached(gain, self.extra, &known.extra, self.xfree)
+        {
+            return None;
+        }
+        sc.clock += 1;
+        known.used = sc.clock;
+        known.extra.copy_from_slice(self.extra);
+        known.xfree.copy_from_slice(self.xfree);
+        Some(step)
     }
 
     /// Solves the rows in [`Context::rows`] from `xfree` into `x`; returns the active-set

@@ -196,6 +196,8 @@ pub struct RowSolver {
     /// A model with cyclic symmetry: its base sector's columns, from which every new
     /// column is turned instead of solved ([`crate::contact::cyclic`]).
     cyclic: Option<CyclicColumns>,
+    /// Counts the times the cache was dropped ([`RowSolver::epoch`]).
+    epoch: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -242,6 +244,7 @@ impl RowSolver {
             pending_dofs: Vec::with_capacity(MAX_TERMS),
             fresh: Vec::new(),
             cyclic: None,
+            epoch: 0,
         }
     }
 
@@ -263,6 +266,7 @@ impl RowSolver {
         self.slot_of_dof.fill(NO_SLOT);
         self.dof_of_slot.fill(NO_SLOT);
         self.last_used.fill(0);
+        self.epoch += 1;
     }
 
     /// The cyclic symmetry's base columns, if one is set.
@@ -284,6 +288,34 @@ impl RowSolver {
         self.slot_of_dof.fill(NO_SLOT);
         self.dof_of_slot.fill(NO_SLOT);
         self.last_used.fill(0);
+        self.epoch += 1;
+    }
+
+    /// How many times the cache has been dropped ([`RowSolver::invalidate`],
+    /// [`RowSolver::set_cyclic`]): the columns of two equal epochs are of the same `A`.
+    pub fn epoch(&self) -> u64 {
+        self.epoch
+    }
+
+    /// `x += g sum_d (f_d - f0_d) A^{-1} e_d` from the cached columns, over the dofs where
+    /// `f` and `f0` differ: the change of `g A^{-1} f` when a load `f0` becomes `f`, without a
+    /// solve. Returns false, `x` untouched, when one of those dofs has no cached column (or
+    /// more dofs differ than the solver keeps terms for).
+    pub fn add_cached(&mut self, g: f64, f: &[f64], f0: &[f64], x: &mut [f64]) -> bool {
+        self.axpy.clear();
+        for (d, (&fd, &f0d)) in f.iter().zip(f0).enumerate() {
+            if fd.to_bits() == f0d.to_bits() {
+                continue;
+            }
+            let s = self.slot_of_dof[d];
+            if s == NO_SLOT || self.axpy.len() == self.axpy.capacity() {
+                self.axpy.clear();
+                return false;
+            }
+            self.axpy.push((s, g * (fd - f0d)));
+        }
+        add_columns(&self.team, &self.cols, &self.axpy, x);
+        true
     }
 
     /// Removes all rows.

@@ -334,6 +334,13 @@ impl Simulation {
         })
     }
 
+    /// Whether a prediction is made again from a known one of the same start, without a
+    /// solve, when the contact's cached columns allow it (the default; [`Context::predict`]),
+    /// or solved each time (the reference the same results to round-off are checked against).
+    pub fn set_predictions_again(&mut self, on: bool) {
+        self.engine.scratch.set_predictions_again(on);
+    }
+
     /// Turns the contact's new columns from one sector's instead of solving them: the
     /// model repeats round its axle as `sym` says ([`crate::contact::cyclic`]). The claim is
     /// checked once: the column of a contact dof off the base sector, turned, against the
@@ -683,6 +690,8 @@ impl Simulation {
         stats.brakings = counts.brakings;
         stats.entries = counts.entries;
         stats.releases = counts.releases;
+        stats.predictions = counts.predictions;
+        stats.predictions_again = counts.predictions_again;
         let factors = self.engine.integ.counts();
         stats.factorizations = factors.numeric;
         stats.symbolic_analyses = factors.symbolic;

@@ -130,6 +130,14 @@ pub struct RunStats {
     /// ([`crate::contact::rows::RowSolver::capped_solves`]); not written when zero.
     #[serde(skip_serializing_if = "is_zero")]
     pub capped_row_solves: usize,
+    /// Predictions solved, each a read of the factor
+    /// ([`crate::contact::context::Context::predict`]); not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub predictions: usize,
+    /// Predictions made again from a known one without a solve (re-solves after a release,
+    /// the interval repeated by a step back); not written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub predictions_again: usize,
     /// Numeric factorizations of a system matrix.
     pub factorizations: usize,
     /// Symbolic analyses of a system matrix.

@@ -137,6 +137,15 @@ pub trait TimeIntegrator: Send {
         pred: &mut State,
         x: &mut [f64],
     ) -> Step;
+    /// The predictors of the step from `(t0, s0)` into `pred`, as [`TimeIntegrator::predict`]
+    /// makes them, without its solve, and the gain `g` of its extra forces in `x_free`
+    /// (`x_free = A^{-1} (... + g extra)` on the dofs without a prescribed velocity): for
+    /// a prediction made again from a known one of the same `A`, `t0` and `s0` whose extra
+    /// forces differ ([`crate::contact::context::Context::predict`]). `None` (the default):
+    /// the scheme's `x_free` is not of that form, and it predicts again in full.
+    fn repredict(&self, _t0: f64, _s0: &State, _pred: &mut State) -> Option<(Step, f64)> {
+        None
+    }
     /// `col <- A^{-1} e_dof`; `col` is zero and no solve is made (returns false) when `dof`
     /// has a prescribed velocity (its row of `A` is the identity and its value is lifted).
     fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool;

@@ -433,6 +433,15 @@ impl Stepper {
         }
     }
 
+    /// The predictors of `step` from `s0`: `U = u0 + h (1 - beta) v0`, `V = 0`.
+    fn predictors(&self, step: &Step, s0: &State, pred: &mut State) {
+        let (h, bt) = (step.h, step.weight);
+        for i in 0..self.n {
+            pred.u[i] = s0.u[i] + h * (1.0 - bt) * s0.v[i];
+            pred.v[i] = 0.0;
+        }
+    }
+
     fn apply_dirichlet(&self, b: &mut [f64]) {
         let cp = self.pattern.col_ptr();
         let ri = self.pattern.row_idx();
@@ -496,12 +505,14 @@ impl TimeIntegrator for Stepper {
         }
         self.rhs_into(&s0.u, &s0.v, &s0.a, f, x);
         self.solve(x);
-        let bt = step.weight;
-        for i in 0..self.n {
-            pred.u[i] = s0.u[i] + h * (1.0 - bt) * s0.v[i];
-            pred.v[i] = 0.0;
-        }
+        self.predictors(&step, s0, pred);
         step
+    }
+    /// `b = h f + ...` ([`crate::linalg::rhs::RhsOperator::apply`]): the gain is `h`.
+    fn repredict(&self, t0: f64, s0: &State, pred: &mut State) -> Option<(Step, f64)> {
+        let step = self.step_at(t0);
+        self.predictors(&step, s0, pred);
+        Some((step, step.h))
     }
     fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool {
         col.fill(0.0);
