@@ -529,6 +529,48 @@ mod tests {
         p
     }
 
+    /// A contact patch along the rolling direction: a half-ellipse of pressure over a
+    /// third of the axis, the bound, the tractions, and long legend labels.
+    fn patch_panel() -> Panel {
+        let s: Vec<f64> = (0..=60).map(|i| -23.0 + 46.0 * i as f64 / 60.0).collect();
+        let p: Vec<f64> = s
+            .iter()
+            .map(|&x| 9000.0 * (1.0 - (x / 8.5) * (x / 8.5)).max(0.0).sqrt())
+            .collect();
+        let mut pn = Panel::new(
+            "The patch at the last step, along the rolling direction",
+            "s [mm] (the wheel's travel over the base: +)",
+            "stress [MPa]",
+        );
+        let series = |label: &str, y: Vec<f64>, style| Series::new(label, s.clone(), y, style);
+        pn.series.push(series(
+            "p, layer at z = -5 mm",
+            p.clone(),
+            SeriesStyle::Dashed,
+        ));
+        pn.series
+            .push(series("p, layer at z = 5 mm", p.clone(), SeriesStyle::Line));
+        pn.series.push(series(
+            "mu p (the bound)",
+            p.iter().map(|v| 0.3 * v).collect(),
+            SeriesStyle::Dashed,
+        ));
+        pn.series.push(series(
+            "|q|, sticking",
+            p.iter().map(|v| (0.3 * v).min(1000.0)).collect(),
+            SeriesStyle::Markers,
+        ));
+        pn.series.push(series(
+            "q along the rolling direction",
+            s.iter()
+                .zip(&p)
+                .map(|(x, v)| if *v > 0.0 { 120.0 * x } else { 0.0 })
+                .collect(),
+            SeriesStyle::Line,
+        ));
+        pn
+    }
+
     fn count_color(rgb: &[u8], c: RGBColor) -> usize {
         rgb.chunks(3)
             .filter(|p| (p[0], p[1], p[2]) == (c.0, c.1, c.2))
@@ -1257,10 +1299,20 @@ mod tests {
             ("alone_auto", vec![auto.clone()], 1, 1, (1400, 500)),
             (
                 "grid",
-                vec![spectrum, auto, force.clone(), force],
+                vec![spectrum, auto, force.clone(), force.clone()],
                 2,
                 2,
                 (1700, 1000),
+            ),
+            // A column whose last panel's legend has room only to the right of the axes
+            // (a contact patch's pressure, bound and tractions): the aligned axes leave
+            // exactly that room.
+            (
+                "column_legend_right",
+                vec![force.clone(), force, patch_panel()],
+                3,
+                1,
+                (1200, 1500),
             ),
         ];
         for (name, ps, rows, cols, size) in cases {

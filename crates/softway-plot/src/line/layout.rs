@@ -398,7 +398,10 @@ impl Placing<'_> {
             |plot: &Rect| Rect::new(plot.x1 + pad, plot.y0, plot.x1 + pad + lg.w, plot.y0 + lg.h);
         if best.0 > 0 && lg.h <= plot.h() {
             match self.forced {
-                Some(_) if cell.x1 - pad - plot.x1 >= lg.w + pad => {
+                // The aligned axes of a grid leave exactly the room the natural layout
+                // made (`cell.x1 - pad - lg.w - pad`): compared within half a pixel, as
+                // the alignment's sums round.
+                Some(_) if cell.x1 - pad - plot.x1 >= lg.w + pad - 0.5 => {
                     return Ok((Some(outside_at(plot)), 0));
                 }
                 None if lg.w + pad < 0.4 * plot.w() => {
