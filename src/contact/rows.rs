@@ -185,6 +185,9 @@ pub struct RowSolver {
     /// The multipliers' terms of one solve: `(slot, weight)` of each cached column added
     /// to `x`.
     axpy: Vec<(usize, f64)>,
+    /// Per slot, its place in `axpy` during one solve's gathering (`NO_SLOT`: not listed):
+    /// the terms of one column, from several rows, are summed into one.
+    slot_term: Vec<usize>,
     /// The threads of [`add_columns`] (`Team::default()` until [`RowSolver::set_team`]).
     team: Team,
     /// The slots whose columns one solve still needs, and their dofs.
@@ -239,6 +242,7 @@ impl RowSolver {
             m: vec![0.0; mr * mr],
             r: vec![0.0; mr],
             axpy: Vec::with_capacity(mr * MAX_TERMS),
+            slot_term: vec![NO_SLOT; slots],
             team: Team::default(),
             pending: Vec::with_capacity(MAX_TERMS),
             pending_dofs: Vec::with_capacity(MAX_TERMS),
@@ -419,6 +423,8 @@ impl RowSolver {
             }
         }
         let changes = self.active_set(k, tol);
+        // One term per column: a node's dof is in its normal and tangential rows, so the
+        // rows' terms name each column up to three times.
         self.axpy.clear();
         for q in 0..k {
             let l = self.lambda[q];
@@ -428,9 +434,19 @@ impl RowSolver {
             for (d, c) in self.rows[q].terms.iter() {
                 let wgt = l * c;
                 if wgt != 0.0 {
-                    self.axpy.push((self.slot_of_dof[d], wgt));
+                    let s = self.slot_of_dof[d];
+                    match self.slot_term[s] {
+                        NO_SLOT => {
+                            self.slot_term[s] = self.axpy.len();
+                            self.axpy.push((s, wgt));
+                        }
+                        t => self.axpy[t].1 += wgt,
+                    }
                 }
             }
+        }
+        for &(s, _) in &self.axpy {
+            self.slot_term[s] = NO_SLOT;
         }
         add_columns(&self.team, &self.cols, &self.axpy, x);
         changes
@@ -763,6 +779,7 @@ impl RowSolver {
             let grown = (2 * slots).min(self.max_slots);
             self.dof_of_slot.resize(grown, NO_SLOT);
             self.last_used.resize(grown, 0);
+            self.slot_term.resize(grown, NO_SLOT);
             self.cols.resize(grown * self.n, 0.0);
             s = slots;
         }
