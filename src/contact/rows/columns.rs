@@ -1,0 +1,135 @@
+//! The multipliers' columns added to the solution, `x += sum_t w_t A^{-1} e_{d_t}`: the
+//! cached columns of [`super::RowSolver`] four per pass over `x`, on two threads from
+//! `SPLIT_ADD_MIN` unknowns.
+
+use crate::linalg::team::Team;
+use crate::linalg::with_avx2;
+
+/// `x += sum_t w_t cols[s_t]` for the terms `(s_t, w_t)` (each column `x.len()` long in
+/// `cols`), four columns per pass over `x`, on AVX2's instructions where the processor has
+/// them (`linalg::with_avx2`). Each `x_i` receives the terms one after the other in their
+/// order, as one pass per column would give it, bit for bit. From `SPLIT_ADD_MIN` unknowns
+/// on, the two halves of `x` side by side on `team`'s threads.
+pub(super) fn add_columns(team: &Team, cols: &[f64], terms: &[(usize, f64)], x: &mut [f64]) {
+    let n = x.len();
+    if n < SPLIT_ADD_MIN || terms.is_empty() {
+        add_columns_range(cols, n, terms, 0, x);
+        return;
+    }
+    let (lo, hi) = x.split_at_mut(n / 2);
+    team.join(
+        || add_columns_range(cols, n, terms, 0, lo),
+        || add_columns_range(cols, n, terms, n / 2, hi),
+    );
+}
+
+/// The order from which [`add_columns`] runs on two threads: that of the split factors.
+/// With the energies' two quadratic forms side by side too (`StepView::energies`),
+/// `wheel.toml`'s run (3,432 dofs) went from 124.8 and 122.4 to 108.0 and 110.3 us per
+/// step of its loop (alternated binaries, twice).
+const SPLIT_ADD_MIN: usize = crate::linalg::SPLIT_MIN_ORDER;
+
+/// [`add_columns`] on the rows `i0..i0 + x.len()` of the columns (each `n` long).
+fn add_columns_range(cols: &[f64], n: usize, terms: &[(usize, f64)], i0: usize, x: &mut [f64]) {
+    with_avx2!(
+        add_columns_here(cols, n, terms, i0, x),
+        add_columns_avx2(cols, n, terms, i0, x)
+    );
+}
+
+/// [`add_columns_here`] compiled for AVX2.
+///
+/// # Safety
+/// The processor must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn add_columns_avx2(
+    cols: &[f64],
+    n: usize,
+    terms: &[(usize, f64)],
+    i0: usize,
+    x: &mut [f64],
+) {
+    add_columns_here(cols, n, terms, i0, x);
+}
+
+/// `x` is the rows `i0..i0 + x.len()` of the columns, each `n` long.
+#[inline(always)]
+fn add_columns_here(cols: &[f64], n: usize, terms: &[(usize, f64)], i0: usize, x: &mut [f64]) {
+    let len = x.len();
+    let col = |s: usize| &cols[s * n + i0..s * n + i0 + len];
+    for chunk in terms.chunks(4) {
+        match *chunk {
+            [(a, wa)] => add_k(x, [col(a)], [wa]),
+            [(a, wa), (b, wb)] => add_k(x, [col(a), col(b)], [wa, wb]),
+            [(a, wa), (b, wb), (c, wc)] => add_k(x, [col(a), col(b), col(c)], [wa, wb, wc]),
+            [(a, wa), (b, wb), (c, wc), (d, wd)] => {
+                add_k(x, [col(a), col(b), col(c), col(d)], [wa, wb, wc, wd])
+            }
+            _ => unreachable!("chunks of one to four terms"),
+        }
+    }
+}
+
+/// `x_i += w_0 c_0[i]`, then `+= w_1 c_1[i]`, ... in one pass.
+#[inline(always)]
+fn add_k<const K: usize>(x: &mut [f64], c: [&[f64]; K], w: [f64; K]) {
+    let n = x.len();
+    assert!(c.iter().all(|ct| ct.len() == n));
+    for i in 0..n {
+        let mut xi = x[i];
+        for t in 0..K {
+            xi += w[t] * c[t][i];
+        }
+        x[i] = xi;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The columns added four per pass (baseline and AVX2, whole and in two halves on two
+    /// threads) give what one pass per column gives, bit for bit, for every count of terms
+    /// up to nine.
+    #[test]
+    fn columns_added_together_match_one_pass_each() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let helper = Team::new(crate::linalg::team::Par::threads(2));
+        for n in [37, SPLIT_ADD_MIN + 1] {
+            let cols: Vec<f64> = (0..9 * n).map(|i| (0.7 * i as f64).sin()).collect();
+            for count in 0..=9 {
+                let terms: Vec<(usize, f64)> = (0..count)
+                    .map(|t| ((t * 4) % 9, 1.0 / (t as f64 + 0.3)))
+                    .collect();
+                let x0: Vec<f64> = (0..n).map(|i| (1.3 * i as f64).cos()).collect();
+                let mut want = x0.clone();
+                for &(s, w) in &terms {
+                    for (xi, ci) in want.iter_mut().zip(&cols[s * n..(s + 1) * n]) {
+                        *xi += w * ci;
+                    }
+                }
+                let same = |x: &[f64]| x.iter().zip(&want).all(|(p, q)| p.to_bits() == q.to_bits());
+                let mut x = x0.clone();
+                add_columns_here(&cols, n, &terms, 0, &mut x);
+                assert!(same(&x), "{count} terms");
+                let mut x = x0.clone();
+                pool.install(|| add_columns(&Team::default(), &cols, &terms, &mut x));
+                assert!(same(&x), "{count} terms, n = {n}, two threads of a pool");
+                let mut x = x0.clone();
+                add_columns(&helper, &cols, &terms, &mut x);
+                assert!(same(&x), "{count} terms, n = {n}, two threads");
+                #[cfg(target_arch = "x86_64")]
+                if std::is_x86_feature_detected!("avx2") {
+                    let mut x = x0.clone();
+                    // SAFETY: the processor has AVX2 (checked just above).
+                    unsafe { add_columns_avx2(&cols, n, &terms, 0, &mut x) };
+                    assert!(same(&x), "{count} terms, AVX2");
+                }
+            }
+        }
+    }
+}
