@@ -302,11 +302,9 @@ impl Context<'_> {
             self.pred,
             self.xfree,
         );
-        if self.nonlinear.is_none()
-            && self.scratch.again
-            && self.integ.0.repredict(t0, s0, self.pred).is_some()
-        {
-            // Kept in the least recently used of the two.
+        if self.nonlinear.is_none() && self.scratch.again {
+            // Kept in the least recently used of the two (a scheme that cannot make it
+            // again, `repredict` `None`, only finds it unused).
             let sc = &mut *self.scratch;
             sc.clock += 1;
             let k = usize::from(sc.known[1].used < sc.known[0].used);

@@ -303,27 +303,6 @@ impl RowSolver {
         self.epoch
     }
 
-    /// `x += g sum_d (f_d - f0_d) A^{-1} e_d` from the cached columns, over the dofs where
-    /// `f` and `f0` differ: the change of `g A^{-1} f` when a load `f0` becomes `f`, without a
-    /// solve. Returns false, `x` untouched, when one of those dofs has no cached column (or
-    /// more dofs differ than the solver keeps terms for).
-    pub fn add_cached(&mut self, g: f64, f: &[f64], f0: &[f64], x: &mut [f64]) -> bool {
-        self.axpy.clear();
-        for (d, (&fd, &f0d)) in f.iter().zip(f0).enumerate() {
-            if fd.to_bits() == f0d.to_bits() {
-                continue;
-            }
-            let s = self.slot_of_dof[d];
-            if s == NO_SLOT || self.axpy.len() == self.axpy.capacity() {
-                self.axpy.clear();
-                return false;
-            }
-            self.axpy.push((s, g * (fd - f0d)));
-        }
-        add_columns(&self.team, &self.cols, &self.axpy, x);
-        true
-    }
-
     /// Removes all rows.
     pub fn clear(&mut self) {
         self.rows.clear();
@@ -756,87 +735,6 @@ impl RowSolver {
         self.lambda[..k].fill(0.0);
         for a in 0..m {
             self.lambda[self.idx[a]] = self.r[a];
-        }
-    }
-
-    /// Marks `dof`'s column as used by this solve: kept if cached, else given the least
-    /// recently used slot (the cache grown when every slot holds a column of this solve)
-    /// and queued for [`Self::solve_pending`].
-    fn reserve(&mut self, dof: usize) {
-        let s = self.slot_of_dof[dof];
-        if s != NO_SLOT {
-            self.last_used[s] = self.clock;
-            return;
-        }
-        // Least recently used slot (empty slots have last_used 0).
-        let mut s = 0;
-        for i in 0..self.dof_of_slot.len() {
-            if self.last_used[i] < self.last_used[s] {
-                s = i;
-            }
-        }
-        // Every slot holds a column of this solve: grow (module docs, Memory).
-        let slots = self.dof_of_slot.len();
-        if self.last_used[s] == self.clock && slots < self.max_slots {
-            let grown = (2 * slots).min(self.max_slots);
-            self.dof_of_slot.resize(grown, NO_SLOT);
-            self.last_used.resize(grown, 0);
-            self.slot_term.resize(grown, NO_SLOT);
-            self.cols.resize(grown * self.n, 0.0);
-            s = slots;
-        }
-        assert!(
-            self.last_used[s] < self.clock || self.dof_of_slot[s] == NO_SLOT,
-            "constraint column cache smaller than the active rows"
-        );
-        if self.dof_of_slot[s] != NO_SLOT {
-            self.slot_of_dof[self.dof_of_slot[s]] = NO_SLOT;
-        }
-        self.dof_of_slot[s] = dof;
-        self.slot_of_dof[dof] = s;
-        self.last_used[s] = self.clock;
-        self.pending.push(s);
-    }
-
-    /// Solves the queued columns `A^{-1} e_d` together (one block of right-hand sides: a
-    /// factor in dense supernodes is read once for eight of them) into their slots.
-    fn solve_pending(&mut self, integ: &mut dyn TimeIntegrator) {
-        let m = self.pending.len();
-        if m == 0 {
-            return;
-        }
-        let n = self.n;
-        if let Some(cyc) = self.cyclic.as_mut() {
-            // The base sector's columns that are missing, solved together; then each
-            // queued column turned from them.
-            for &s in &self.pending {
-                cyc.need(self.dof_of_slot[s]);
-            }
-            cyc.pending_dofs(&mut self.pending_dofs);
-            let b = self.pending_dofs.len();
-            if b > 0 {
-                if self.fresh.len() < b * n {
-                    self.fresh.resize(b * n, 0.0);
-                }
-                let fresh = &mut self.fresh[..b * n];
-                self.solves += integ.inverse_columns(&self.pending_dofs, fresh);
-                cyc.store(fresh);
-            }
-            for &s in &self.pending {
-                cyc.derive(self.dof_of_slot[s], &mut self.cols[s * n..(s + 1) * n]);
-            }
-            return;
-        }
-        self.pending_dofs.clear();
-        self.pending_dofs
-            .extend(self.pending.iter().map(|&s| self.dof_of_slot[s]));
-        if self.fresh.len() < m * n {
-            self.fresh.resize(m * n, 0.0);
-        }
-        let fresh = &mut self.fresh[..m * n];
-        self.solves += integ.inverse_columns(&self.pending_dofs, fresh);
-        for (&s, col) in self.pending.iter().zip(fresh.chunks_exact(n)) {
-            self.cols[s * n..(s + 1) * n].copy_from_slice(col);
         }
     }
 }

@@ -206,3 +206,56 @@ impl Default for Settings {
         }
     }
 }
+
+/// The contact's options of a built simulation (how its columns and predictions are made).
+impl Simulation {
+    /// Whether a prediction is made again from a known one of the same start, without a
+    /// solve, when the contact's cached columns allow it (the default; [`Context::predict`]),
+    /// or solved each time (the reference the same results to round-off are checked against).
+    pub fn set_predictions_again(&mut self, on: bool) {
+        self.engine.scratch.set_predictions_again(on);
+    }
+
+    /// Turns the contact's new columns from one sector's instead of solving them: the
+    /// model repeats round its axle as `sym` says ([`crate::contact::cyclic`]). The claim is
+    /// checked once: the column of a contact dof off the base sector, turned, against the
+    /// same column solved (`dim + 1` solves, whose base columns are kept).
+    ///
+    /// # Errors
+    /// [`SimError::Unsupported`] when `sym` is not on the model's dofs, with a moving
+    /// refined zone (its relabelling is another map of the nodes), or when the turned column
+    /// differs from the solved one by more than `1e-9` of its largest entry: the model does
+    /// not have the symmetry.
+    pub fn set_cyclic_symmetry(&mut self, sym: CyclicSymmetry) -> Result<(), SimError> {
+        let eng = &mut self.engine;
+        let n = eng.model.n();
+        if sym.dofs() != n || sym.dim() != eng.dim {
+            return Err(SimError::Unsupported(format!(
+                "a cyclic symmetry of {} dofs ({} per node) on a model of {n} ({} per node)",
+                sym.dofs(),
+                sym.dim(),
+                eng.dim
+            )));
+        }
+        if self.relocation.is_some() {
+            return Err(SimError::Unsupported(
+                "a cyclic symmetry with a moving refined zone is not built".into(),
+            ));
+        }
+        // The check's dof: a contact node's first component off the base sector (else any
+        // node's in copy 1).
+        let node = eng
+            .pairs
+            .iter()
+            .flat_map(|p| {
+                let (nodes, len) = p.nodes();
+                nodes.into_iter().take(len)
+            })
+            .find(|&m| sym.locate(sym.dim() * m).1 != 0)
+            .unwrap_or_else(|| sym.dof(0, 1, 0) / sym.dim());
+        let d = sym.dim() * node;
+        let cyc = CyclicColumns::checked(sym, &mut *eng.integ, d).map_err(SimError::Unsupported)?;
+        eng.rows.set_cyclic(Some(cyc));
+        Ok(())
+    }
+}
