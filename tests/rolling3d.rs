@@ -75,6 +75,7 @@ fn slice(xi: f64, eta: f64, phi: f64) -> RollingSlice {
             settle_time: SETTLE,
         },
         creepages: [xi, eta, phi],
+        zone: None,
     })
     .unwrap()
 }

@@ -25,6 +25,8 @@ use crate::frame3d::Spin;
 use crate::material::{Elastic, PlaneModel};
 use crate::mesh::generators::annulus_hex8;
 use crate::mesh::generators::MeshError;
+use crate::mesh::zone::Source;
+use crate::mesh::zone3d::{annulus_zone, AnnulusZoneOptions};
 use crate::model::PairState;
 use crate::simulation::Problem;
 use crate::time::{Coriolis, Integrator};
@@ -78,6 +80,37 @@ pub struct SliceSpec {
     pub flattening: Flattening,
     /// Longitudinal, lateral and spin (1/m) creepages ([`RotatingBase`]).
     pub creepages: [f64; 3],
+    /// A refined zone that moves with the contact ([`crate::mesh::zone3d`]; `None`: the
+    /// annulus of `counts`, equal rings and sectors).
+    pub zone: Option<SliceZone>,
+}
+
+/// The moving refined zone of a [`SliceSpec`] ([`crate::mesh::zone3d`]): `counts`' rings
+/// give the outer cells' radial size, its sectors the pitch outside the zone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SliceZone {
+    /// The zone's pitch as a count round the rim (the sectors times a power of two).
+    pub sectors: usize,
+    /// The zone's width, rad.
+    pub width: f64,
+    /// The rings' growth from the rim inwards, the first as thick as the zone's pitch
+    /// (`None`: `counts`' equal rings).
+    pub growth: Option<f64>,
+}
+
+/// A built zone: the relocation's sources and step, and the stations' arcs.
+#[derive(Debug, Clone)]
+pub struct BuiltZone {
+    /// Per node, where its state comes from at a relocation.
+    pub sources: Vec<Source>,
+    /// The angle of one relocation, rad.
+    pub step: f64,
+    /// Nodes that land on a node at a relocation.
+    pub exact_nodes: usize,
+    /// Stations round the rim.
+    pub stations: usize,
+    /// Rings (radial cells).
+    pub rings: usize,
 }
 
 /// The spun wheel and its base, ready for the driver.
@@ -92,6 +125,10 @@ pub struct RollingSlice {
     pub base: RotatingBase,
     /// The spun rim's mean radius, m (the base's radius).
     pub spun_radius: f64,
+    /// Per rim node (in `rim`'s order), the arc of the rim it stands for, rad.
+    pub rim_arc: Vec<f64>,
+    /// The moving refined zone, when the spec has one.
+    pub zone: Option<BuiltZone>,
 }
 
 impl RollingSlice {
@@ -133,7 +170,38 @@ impl RollingSlice {
         for (name, c) in ["xi", "eta", "phi"].into_iter().zip(spec.creepages) {
             check(name, c, c.is_finite(), "finite")?;
         }
-        let mesh = annulus_hex8(spec.bore, spec.radius, spec.thickness, spec.counts)?;
+        let [nr, nt, nz] = spec.counts;
+        let (mesh, zone, arcs) = match spec.zone {
+            None => (
+                annulus_hex8(spec.bore, spec.radius, spec.thickness, spec.counts)?,
+                None,
+                vec![2.0 * std::f64::consts::PI / nt as f64; nt],
+            ),
+            Some(z) => {
+                let built = annulus_zone(&AnnulusZoneOptions {
+                    bore: spec.bore,
+                    radius: spec.radius,
+                    thickness: spec.thickness,
+                    rings: nr,
+                    sectors: nt,
+                    layers: nz,
+                    zone_sectors: z.sectors,
+                    zone_width: z.width,
+                    growth: z.growth,
+                })?;
+                let arcs = (0..built.angles.len())
+                    .map(|j| built.station_arc(j))
+                    .collect();
+                let zone = BuiltZone {
+                    stations: built.angles.len(),
+                    rings: built.radii.len() - 1,
+                    sources: built.sources,
+                    step: built.step,
+                    exact_nodes: built.exact_nodes,
+                };
+                (built.mesh, Some(zone), arcs)
+            }
+        };
         let fixed: Vec<usize> = mesh
             .node_set("bore")
             .unwrap_or_default()
@@ -141,6 +209,8 @@ impl RollingSlice {
             .flat_map(|&n| (0..3).map(move |c| 3 * n + c))
             .collect();
         let rim = mesh.node_set("rim").unwrap_or_default().to_vec();
+        // The rim set runs through the stations, layer by layer.
+        let rim_arc = (0..rim.len()).map(|i| arcs[i % arcs.len()]).collect();
         let solid_spec = SolidSpec {
             material: spec.material,
             plane: PlaneModel::Stress,
@@ -185,6 +255,8 @@ impl RollingSlice {
             rim,
             base,
             spun_radius,
+            rim_arc,
+            zone,
         })
     }
 

@@ -356,6 +356,10 @@ impl Obstacle for RotatingBase {
         self.line.surface_normal_velocity(t, x)
     }
 
+    fn turn_frame(&mut self, angle: f64) -> bool {
+        self.line.turn_frame(angle)
+    }
+
     fn time_scale(&self) -> f64 {
         self.line.time_scale()
     }

@@ -19,6 +19,7 @@ pub mod gmsh;
 pub mod profiles;
 pub mod quality;
 pub mod zone;
+pub mod zone3d;
 
 pub use quality::{quality, MeshQuality};
 

@@ -67,34 +67,40 @@ impl Terms {
         s
     }
 
-    /// The same row on relabelled nodes of a 2D model: the terms of node `m` move to node
-    /// `node(m)` with their `(x, y)` coefficients turned by the rotation `rot` (row-major);
-    /// `None` when a node has no new label.
-    pub fn relabel_2d(
+    /// The same row on relabelled nodes of a model of `dim` (2 or 3) unknowns per node: the
+    /// terms of node `m` move to node `node(m)` with their coefficients turned by the
+    /// rotation `rot` (row-major; its leading `dim x dim` block); `None` when a node has no
+    /// new label.
+    pub fn relabel(
         &self,
+        dim: usize,
         node: impl Fn(usize) -> Option<usize>,
-        rot: [[f64; 2]; 2],
+        rot: [[f64; 3]; 3],
     ) -> Option<Terms> {
         let mut out = Terms::default();
         let mut seen = [usize::MAX; MAX_TERMS];
         let mut k = 0;
         let len = self.len as usize;
         for i in 0..len {
-            let m = self.dof[i] as usize / 2;
+            let m = self.dof[i] as usize / dim;
             if seen[..k].contains(&m) {
                 continue;
             }
             seen[k] = m;
             k += 1;
-            let mut c = [0.0; 2];
+            let mut c = [0.0; 3];
             for j in 0..len {
-                if self.dof[j] as usize / 2 == m {
-                    c[self.dof[j] as usize % 2] += self.coef[j];
+                if self.dof[j] as usize / dim == m {
+                    c[self.dof[j] as usize % dim] += self.coef[j];
                 }
             }
             let n = node(m)?;
-            for (comp, r) in rot.iter().enumerate() {
-                out.push(2 * n + comp, r[0] * c[0] + r[1] * c[1]);
+            for (comp, r) in rot.iter().enumerate().take(dim) {
+                let mut v = 0.0;
+                for q in 0..dim {
+                    v += r[q] * c[q];
+                }
+                out.push(dim * n + comp, v);
             }
         }
         Some(out)

@@ -337,16 +337,20 @@ impl Simulation {
     /// Moves a refined zone with the obstacle ([`Relocation`]).
     ///
     /// # Errors
-    /// [`SimError::Unsupported`] unless the model is 2D with one node per pair, the sources
+    /// [`SimError::Unsupported`] unless the model is 2D or 3D with one node per pair, the sources
     /// cover its nodes, every obstacle can turn with the frame, and an internal force's
     /// state is nodal ([`crate::model::InternalForce::nodal_state`]: the large-deformation
     /// body's is, relabelled with the nodes; a plastic body's is not).
     pub fn set_relocation(&mut self, spec: Relocation) -> Result<(), SimError> {
         let eng = &mut self.engine;
         let nodes = eng.reference.len() / eng.dim.max(1);
-        if eng.dim != 2 || spec.sources.len() != nodes || spec.omega.is_nan() || spec.omega <= 0.0 {
+        if !(eng.dim == 2 || eng.dim == 3)
+            || spec.sources.len() != nodes
+            || spec.omega.is_nan()
+            || spec.omega <= 0.0
+        {
             return Err(SimError::Unsupported(
-                "a moving refined zone needs a 2D model, a source for every node and a turning obstacle".into(),
+                "a moving refined zone needs a 2D or 3D model, a source for every node and a turning obstacle".into(),
             ));
         }
         if eng
@@ -407,8 +411,9 @@ impl Simulation {
             done: 0,
             pairs,
             node_map,
-            rot: [[c, s], [-s, c]],
-            scratch: vec![0.0; 2 * nodes],
+            dim: eng.dim,
+            rot: [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]],
+            scratch: vec![0.0; eng.dim * nodes],
             pair_scratch: vec![PairState::default(); eng.pairs.len()],
             spec,
         });

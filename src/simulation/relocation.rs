@@ -9,7 +9,8 @@ use crate::model::{PairMode, PairState};
 /// interpolation in a triangle) with its vectors turned by `-step`, pair `p` the state of the
 /// pair at that node (a fresh state if there is none), and the obstacles turn by `-step`
 /// ([`crate::contact::Obstacle::turn_frame`]). The matrices and their factors do not change.
-/// 2D models of node pairs only.
+/// Models of node pairs only, in 2D or in 3D (the turn about the axle `z`; the 3D wheel's
+/// zone, [`crate::mesh::zone3d`]).
 ///
 /// **Friction.** A pair's whole state goes with its node: the normal mode and rows, and the
 /// tangential ones (the friction force along the pair's tangent, a scalar that a turn of the
@@ -44,27 +45,37 @@ pub(super) struct Relocating {
     pub(super) done: usize,
     /// The new label of each old node (`None`: dropped).
     pub(super) node_map: Vec<Option<usize>>,
-    pub(super) rot: [[f64; 2]; 2],
+    /// Unknowns per node (2 or 3).
+    pub(super) dim: usize,
+    /// The turn by `-step` about `z` (its leading `dim x dim` block used).
+    pub(super) rot: [[f64; 3]; 3],
     pub(super) scratch: Vec<f64>,
     pub(super) pair_scratch: Vec<PairState>,
 }
 
 impl Relocating {
-    /// Relabels a state vector (2 per node) in place.
+    /// Relabels a state vector (`dim` per node) in place.
     pub(super) fn vector(&mut self, x: &mut [f64]) {
-        let r = self.rot;
+        let (r, d) = (self.rot, self.dim);
         for (n, src) in self.spec.sources.iter().enumerate() {
-            let (a, b) = match *src {
-                Source::Node(m) => (x[2 * m], x[2 * m + 1]),
-                Source::Triangle { nodes, weights } => (0..3).fold((0.0, 0.0), |(a, b), k| {
-                    (
-                        a + weights[k] * x[2 * nodes[k]],
-                        b + weights[k] * x[2 * nodes[k] + 1],
-                    )
-                }),
-            };
-            self.scratch[2 * n] = r[0][0] * a + r[0][1] * b;
-            self.scratch[2 * n + 1] = r[1][0] * a + r[1][1] * b;
+            let mut a = [0.0; 3];
+            match *src {
+                Source::Node(m) => a[..d].copy_from_slice(&x[d * m..d * m + d]),
+                Source::Triangle { nodes, weights } => {
+                    for k in 0..3 {
+                        for (c, v) in a.iter_mut().enumerate().take(d) {
+                            *v += weights[k] * x[d * nodes[k] + c];
+                        }
+                    }
+                }
+            }
+            for (c, row) in r.iter().enumerate().take(d) {
+                let mut v = 0.0;
+                for q in 0..d {
+                    v += row[q] * a[q];
+                }
+                self.scratch[d * n + c] = v;
+            }
         }
         x.copy_from_slice(&self.scratch);
     }
@@ -77,9 +88,12 @@ impl Relocating {
                 None => PairState::default(),
                 Some(q) => {
                     let mut st = states[q];
-                    st.brake_row = st.brake_row.relabel_2d(map, self.rot).unwrap_or_default();
+                    st.brake_row = st
+                        .brake_row
+                        .relabel(self.dim, map, self.rot)
+                        .unwrap_or_default();
                     if let PairMode::Brake { q, terms, w } = st.mode {
-                        st.mode = match terms.relabel_2d(map, self.rot) {
+                        st.mode = match terms.relabel(self.dim, map, self.rot) {
                             Some(terms) => PairMode::Brake { q, terms, w },
                             None => PairMode::Free,
                         };

@@ -16,6 +16,12 @@
 //! density = 7830.0            # kg/m^3
 //! lumped = false
 //! cyclic_columns = true       # the contact's columns turned from one sector's
+//! # zone_sectors = 3072       # a refined zone that follows the contact (Fig. 4b in 3D):
+//! #                           # the rim's pitch in the zone as a count round the rim,
+//! #                           # mesh's sectors times 1, 2, 4, ...
+//! # zone_deg = 30.0           # the zone's width, degrees
+//! # zone_growth = 1.2         # the rings graded from the rim, the first as thick as the
+//! #                           # zone's pitch (mesh's rings set the outer cells' size)
 //! [rolling]
 //! omega = 300.0               # rad/s
 //! flattening_mm = 1.0         # the base pressed into the rim
@@ -31,7 +37,7 @@
 //! friction law (`friction`, `friction_kinetic`, `friction_velocity`; none: frictionless).
 //! What a run writes: [`run`].
 
-use crate::bodies::rolling3d::SliceSpec;
+use crate::bodies::rolling3d::{SliceSpec, SliceZone};
 use crate::contact::obstacle::Flattening;
 use crate::contact::Treatment;
 use crate::material::Elastic;
@@ -76,6 +82,9 @@ struct RawWheel {
     density: Option<f64>,
     lumped: Option<bool>,
     cyclic_columns: Option<bool>,
+    zone_sectors: Option<i64>,
+    zone_deg: Option<f64>,
+    zone_growth: Option<f64>,
 }
 
 /// `[rolling]` as written.
@@ -123,8 +132,32 @@ impl Rolling3dScenario {
 
     /// Nodes of the annulus.
     pub fn nodes(&self) -> usize {
-        let [nr, nt, nz] = self.slice.counts;
+        let [nr, nt, nz] = self.stations();
         (nr + 1) * nt * (nz + 1)
+    }
+
+    /// Rings, stations round the rim and layers of the mesh: `wheel.mesh`'s, or with a
+    /// refined zone its graded rings and stations ([`crate::mesh::zone3d`]; `wheel.mesh`'s
+    /// when the zone cannot be built, which the run then reports).
+    pub fn stations(&self) -> [usize; 3] {
+        let s = &self.slice;
+        let [nr, nt, nz] = s.counts;
+        s.zone
+            .and_then(|z| {
+                crate::mesh::zone3d::annulus_zone_counts(&crate::mesh::zone3d::AnnulusZoneOptions {
+                    bore: s.bore,
+                    radius: s.radius,
+                    thickness: s.thickness,
+                    rings: nr,
+                    sectors: nt,
+                    layers: nz,
+                    zone_sectors: z.sectors,
+                    zone_width: z.width,
+                    growth: z.growth,
+                })
+                .ok()
+            })
+            .map_or(s.counts, |(stations, rings)| [rings, stations, nz])
     }
 }
 
@@ -186,10 +219,69 @@ impl Kind for Rolling3dKind {
         let xi = creep("rolling.creepage", r.creepage, 1.0)?;
         let eta = creep("rolling.lateral_creepage", r.lateral_creepage, 1.0)?;
         let phi = creep("rolling.spin_creepage", r.spin_creepage, 1e3)?;
+        let zone = match (w.zone_sectors, w.zone_deg, w.zone_growth) {
+            (None, None, None) => None,
+            (None, _, _) => {
+                return Err(cx.invalid(
+                    if w.zone_deg.is_some() {
+                        "wheel.zone_deg"
+                    } else {
+                        "wheel.zone_growth"
+                    },
+                    "given",
+                    "a key of the moving refined zone: give wheel.zone_sectors too",
+                ))
+            }
+            (Some(z), deg, growth) => {
+                let nt = counts[1];
+                let ratio = usize::try_from(z).unwrap_or(0) / nt;
+                if z < nt as i64 || z > 1 << 20 || z % nt as i64 != 0 || !ratio.is_power_of_two() {
+                    return Err(cx.invalid(
+                        "wheel.zone_sectors",
+                        z,
+                        &format!("the rim's pitch in the zone as a count round the rim: wheel.mesh's sectors ({nt}) times 1, 2, 4, ... (at most 1048576)"),
+                    ));
+                }
+                let deg = cx.within("wheel.zone_deg", deg.unwrap_or(30.0), 0.01, 170.0)?;
+                let growth = cx.within("wheel.zone_growth", growth.unwrap_or(1.2), 1.01, 2.0)?;
+                if w.cyclic_columns == Some(true) {
+                    return Err(cx.invalid(
+                        "wheel.cyclic_columns",
+                        true,
+                        "a rim with a refined zone does not repeat round the axle: remove wheel.cyclic_columns (the zone's columns are kept for the run, as the zone stays under the base)",
+                    ));
+                }
+                Some(SliceZone {
+                    sectors: z as usize,
+                    width: deg.to_radians(),
+                    growth: Some(growth),
+                })
+            }
+        };
         let turns = r
             .turns
             .map(|v| cx.within("rolling.turns", v, 1e-3, 1e3))
             .transpose()?;
+        if let Some(z) = zone {
+            crate::mesh::zone3d::annulus_zone_counts(&crate::mesh::zone3d::AnnulusZoneOptions {
+                bore,
+                radius,
+                thickness,
+                rings: counts[0],
+                sectors: counts[1],
+                layers: counts[2],
+                zone_sectors: z.sectors,
+                zone_width: z.width,
+                growth: z.growth,
+            })
+            .map_err(|e| {
+                cx.invalid(
+                    "wheel.zone_deg",
+                    z.width.to_degrees(),
+                    &format!("the zone cannot be built: {e}"),
+                )
+            })?;
+        }
         Ok(Model::new(Rolling3dScenario {
             slice: SliceSpec {
                 radius,
@@ -208,9 +300,10 @@ impl Kind for Rolling3dKind {
                     settle_time: 1e-3 * settle,
                 },
                 creepages: [xi, eta, phi],
+                zone,
             },
             turns,
-            cyclic_columns: w.cyclic_columns.unwrap_or(true),
+            cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
         }))
     }
 }
@@ -275,7 +368,7 @@ impl Spec for Rolling3dScenario {
     }
 
     fn size(&self, run: &Run, _: Option<usize>) -> Size {
-        let [_, nt, nz] = self.slice.counts;
+        let [_, nt, nz] = self.stations();
         Size {
             dofs: 3.0 * self.nodes() as f64,
             duration: run.t_end,

@@ -94,6 +94,14 @@ pub struct PatchNode {
     pub node: usize,
 }
 
+/// `base` as the mesh's frame sees it after a refined zone's relocations have turned that
+/// frame by `angle` ([`crate::simulation::StepView::frame_angle`]; 0 without a zone).
+fn turned(base: &RotatingBase, angle: f64) -> RotatingBase {
+    let mut b = *base;
+    b.line.theta0 -= angle;
+    b
+}
+
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -148,6 +156,15 @@ pub(crate) fn record(
         sim.set_cyclic_symmetry(slice.symmetry(m.slice.counts))
             .map_err(sim_error)?;
     }
+    if let Some(z) = &slice.zone {
+        sim.set_relocation(crate::simulation::Relocation {
+            sources: z.sources.clone(),
+            step: z.step,
+            omega: m.slice.omega,
+            angle0: 0.0,
+        })
+        .map_err(sim_error)?;
+    }
     let mesh = slice.bodies[0].mesh.clone();
     let x_ref = mesh.reference_positions();
     let rim = slice.rim.clone();
@@ -157,10 +174,14 @@ pub(crate) fn record(
     let pb = crate::run::options::progress_bar(steps as u64, &run.label, opts);
     let mut recs: Vec<Rec> = Vec::with_capacity(steps + 1);
     let clock = Instant::now();
+    let mut last_angle = 0.0;
     let stats = sim
         .run(opts.cancel.flag(), |v| {
             let t = v.state.t;
             let pairs = &v.state.pairs;
+            // The base as the mesh's frame sees it (turned back by a zone's relocations).
+            let base = turned(&base, v.frame_angle);
+            last_angle = v.frame_angle;
             let f = PatchForce::of(&base, t, pairs);
             let spin = PatchForce::spin_moment(&base, t, pairs, (&rim, &x_ref, &v.state.state.u));
             let held = pairs.iter().filter(|p| p.force > 0.0).count();
@@ -211,10 +232,10 @@ pub(crate) fn record(
     let last = sim.last_snapshot();
     let patch = patch_nodes(
         m,
-        &base,
+        &turned(&base, last_angle),
         last.t,
         (&x_ref, &last.state.u),
-        (&rim, &last.pairs),
+        (&rim, &slice.rim_arc, &last.pairs),
     );
     let last_u = last.state.u.clone();
     let settled = m.settled();
@@ -226,6 +247,14 @@ pub(crate) fn record(
         "interrupted": stats.interrupted,
         "units": {"force": "N", "moment": "N m", "time": "s", "length": "m"},
         "mesh": m.slice.counts,
+        "mesh_built": {"rings": m.stations()[0], "stations": m.stations()[1], "layers": m.stations()[2]},
+        "zone": slice.zone.as_ref().map(|z| serde_json::json!({
+            "zone_sectors": m.slice.zone.map(|s| s.sectors),
+            "width_deg": m.slice.zone.map(|s| s.width.to_degrees()),
+            "ring_growth": m.slice.zone.and_then(|s| s.growth),
+            "step_deg": z.step.to_degrees(),
+            "nodes_relocated_exactly": z.exact_nodes,
+        })),
         "dofs": 3 * m.nodes(),
         "rim_nodes": rim.len(),
         "steps": recs.len(),
@@ -383,19 +412,20 @@ fn patch_nodes(
     base: &RotatingBase,
     t: f64,
     (x_ref, u): (&[f64], &[f64]),
-    (rim, pairs): (&[usize], &[PairState]),
+    (rim, arcs, pairs): (&[usize], &[f64], &[PairState]),
 ) -> Vec<PatchNode> {
     let fr = base.frame(t);
     let tangents = tangent_basis(3, fr.normal);
     // The wheel rolls over the base along -t_b.
     let fwd = fr.travel.map(|c| -c);
-    let [_, nt, nz] = m.slice.counts;
+    let [_, nt, nz] = m.stations();
     let pitch = 2.0 * std::f64::consts::PI * m.slice.radius / nt as f64;
     let dz = m.slice.thickness / nz as f64;
     let mut all: Vec<PatchNode> = rim
         .iter()
         .zip(pairs)
-        .map(|(&node, ps)| {
+        .zip(arcs)
+        .map(|((&node, ps), &arc)| {
             let x: [f64; 3] = std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c]);
             let r: [f64; 3] = std::array::from_fn(|c| x[c] - fr.p0[c]);
             let z_ref = x_ref[3 * node + 2];
@@ -405,7 +435,7 @@ fn patch_nodes(
             } else {
                 dz
             };
-            let area = pitch * width;
+            let area = arc * m.slice.radius * width;
             let q = friction_force(tangents, ps);
             (
                 dot(r, fr.normal).abs(),

@@ -32,7 +32,7 @@ mod solid;
 pub use disk::{disk_graded, disk_symmetric_rim, DiskOptions};
 pub use rail3d::{rail_extruded, RailSpec};
 pub use revolution::{wheel_of_revolution, TreadProfile, WheelSpec, WheelWeb};
-pub use solid::{annulus_hex8, box_mesh, quadratic_tetrahedra, tetrahedra};
+pub use solid::{annulus_hex8, box_mesh, quadratic_tetrahedra, swept_annulus_hex8, tetrahedra};
 
 /// Largest number of nodes a generator will build (a guard against accidental huge meshes
 /// that would exhaust memory).

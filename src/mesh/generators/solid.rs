@@ -64,13 +64,64 @@ pub fn annulus_hex8(
         nt,
         (nr + 1).checked_mul(nt).and_then(|n| n.checked_mul(nz + 1)),
     )?;
+    let radii: Vec<f64> = (0..=nr)
+        .map(|i| bore + (radius - bore) * i as f64 / nr as f64)
+        .collect();
+    let angles: Vec<f64> = (0..nt)
+        .map(|j| 2.0 * std::f64::consts::PI * j as f64 / nt as f64)
+        .collect();
+    swept_annulus_hex8(&radii, &angles, thickness, nz)
+}
+
+/// An annulus of hexahedra about the `z` axis swept through the ring radii `radii`
+/// (increasing, from the bore to the rim) and the angular stations `angles` (increasing,
+/// within one turn: the last sector closes back to the first station), the thickness `t` in
+/// `nz` equal layers from `z = 0`. Node `(i, j, k)` (radius `i`, station `j`, layer
+/// boundary `k`) is `i + (nr + 1) (j + nt k)` with `nr + 1 = radii.len()`,
+/// `nt = angles.len()`; node sets `"bore"`, `"rim"` (ordered by `j` then `k`) and `"all"`,
+/// as [`annulus_hex8`], which is this mesh at equal rings and stations. The moving refined
+/// zone's wheel ([`crate::mesh::zone3d`]) has its stations fine under the base.
+///
+/// # Errors
+/// [`MeshError`] for radii or stations that are not finite and increasing (at least two
+/// radii from a positive bore, three stations within one turn), a thickness that is not
+/// finite and positive, no layer, or too many nodes.
+pub fn swept_annulus_hex8(
+    radii: &[f64],
+    angles: &[f64],
+    thickness: f64,
+    nz: usize,
+) -> Result<Mesh, MeshError> {
+    check_length("thickness", thickness)?;
+    check_count("layers", nz)?;
+    let increasing =
+        |v: &[f64]| v.windows(2).all(|w| w[1] > w[0]) && v.iter().all(|x| x.is_finite());
+    if radii.len() < 2 || !increasing(radii) || radii[0] <= 0.0 {
+        return Err(MeshError::CountBelow {
+            name: "ring radii (increasing, from a bore > 0)",
+            value: radii.len(),
+            min: 2,
+        });
+    }
+    let turn = 2.0 * std::f64::consts::PI;
+    if angles.len() < 3 || !increasing(angles) || angles[angles.len() - 1] - angles[0] >= turn {
+        return Err(MeshError::CountBelow {
+            name: "angular stations (increasing, within one turn)",
+            value: angles.len(),
+            min: 3,
+        });
+    }
+    let (nr, nt) = (radii.len() - 1, angles.len());
+    check_nodes(
+        "sectors",
+        nt,
+        (nr + 1).checked_mul(nt).and_then(|n| n.checked_mul(nz + 1)),
+    )?;
     let id = |i: usize, j: usize, k: usize| i + (nr + 1) * ((j % nt) + nt * k);
     let mut coords = Vec::with_capacity(3 * (nr + 1) * nt * (nz + 1));
     for k in 0..=nz {
-        for j in 0..nt {
-            let th = 2.0 * std::f64::consts::PI * j as f64 / nt as f64;
-            for i in 0..=nr {
-                let r = bore + (radius - bore) * i as f64 / nr as f64;
+        for &th in angles {
+            for &r in radii {
                 coords.extend([r * th.cos(), r * th.sin(), thickness * k as f64 / nz as f64]);
             }
         }
