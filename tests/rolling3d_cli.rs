@@ -10,7 +10,8 @@
 //!   (to 1e-6);
 //! - **the summary against the history**: the steady figures are the means of
 //!   `history.csv`'s rows over the last half of the rolling;
-//! - **bad input** refused on one line naming the key, nothing written.
+//! - **bad input** refused on one line naming the key, nothing written (the refined
+//!   zone's keys among them).
 //!
 //! The library's `tests/rolling3d.rs` checks the normal force against the 2D wheel.
 
@@ -154,6 +155,32 @@ fn bad_input_is_refused_by_its_key() {
             "key",
             with("omega = 300.0", "omega = 300.0\nspeed = 3.0"),
             "speed",
+        ),
+        (
+            "zone-sectors",
+            with("poisson = 0.3", "poisson = 0.3\nzone_sectors = 1000"),
+            "wheel.zone_sectors",
+        ),
+        (
+            "zone-alone",
+            with("poisson = 0.3", "poisson = 0.3\nzone_deg = 20.0"),
+            "wheel.zone_deg",
+        ),
+        (
+            "zone-wide",
+            with(
+                "poisson = 0.3",
+                "poisson = 0.3\nzone_sectors = 768\nzone_deg = 170.0",
+            ),
+            "wheel.zone_deg",
+        ),
+        (
+            "zone-cyclic",
+            with(
+                "poisson = 0.3",
+                "poisson = 0.3\nzone_sectors = 768\ncyclic_columns = true",
+            ),
+            "wheel.cyclic_columns",
         ),
     ] {
         let (code, err) = run_err(&format!("rolling3d-{name}"), &text);

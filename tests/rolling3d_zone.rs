@@ -88,6 +88,7 @@ fn a_relocation_of_a_zone_at_the_outer_pitch_is_a_relabelling() {
         sectors: 96,
         width: 30_f64.to_radians(),
         growth: None,
+        depth: None,
     };
     let steps = 400;
     let zoned = slice(counts, Some(zone), xi, eta);
@@ -123,6 +124,7 @@ fn a_refined_zone_rolls_as_the_uniform_rim_of_its_pitch() {
         sectors: 768,
         width: 40_f64.to_radians(),
         growth: None,
+        depth: None,
     };
     let steps = 700;
     let xi = 0.005;

@@ -85,6 +85,25 @@ pub struct SliceSpec {
     pub zone: Option<SliceZone>,
 }
 
+impl SliceSpec {
+    /// The mesh of the refined zone, when the spec has one ([`crate::mesh::zone3d`]).
+    pub fn zone_options(&self) -> Option<AnnulusZoneOptions> {
+        let [rings, sectors, layers] = self.counts;
+        self.zone.map(|z| AnnulusZoneOptions {
+            bore: self.bore,
+            radius: self.radius,
+            thickness: self.thickness,
+            rings,
+            sectors,
+            layers,
+            zone_sectors: z.sectors,
+            zone_width: z.width,
+            growth: z.growth,
+            depth: z.depth,
+        })
+    }
+}
+
 /// The moving refined zone of a [`SliceSpec`] ([`crate::mesh::zone3d`]): `counts`' rings
 /// give the outer cells' radial size, its sectors the pitch outside the zone.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -96,6 +115,8 @@ pub struct SliceZone {
     /// The rings' growth from the rim inwards, the first as thick as the zone's pitch
     /// (`None`: `counts`' equal rings).
     pub growth: Option<f64>,
+    /// The zone refined in depth as well, m ([`AnnulusZoneOptions::depth`]).
+    pub depth: Option<f64>,
 }
 
 /// A built zone: the relocation's sources and step, and the stations' arcs.
@@ -170,25 +191,15 @@ impl RollingSlice {
         for (name, c) in ["xi", "eta", "phi"].into_iter().zip(spec.creepages) {
             check(name, c, c.is_finite(), "finite")?;
         }
-        let [nr, nt, nz] = spec.counts;
-        let (mesh, zone, arcs) = match spec.zone {
+        let nt = spec.counts[1];
+        let (mesh, zone, arcs) = match spec.zone_options() {
             None => (
                 annulus_hex8(spec.bore, spec.radius, spec.thickness, spec.counts)?,
                 None,
                 vec![2.0 * std::f64::consts::PI / nt as f64; nt],
             ),
-            Some(z) => {
-                let built = annulus_zone(&AnnulusZoneOptions {
-                    bore: spec.bore,
-                    radius: spec.radius,
-                    thickness: spec.thickness,
-                    rings: nr,
-                    sectors: nt,
-                    layers: nz,
-                    zone_sectors: z.sectors,
-                    zone_width: z.width,
-                    growth: z.growth,
-                })?;
+            Some(o) => {
+                let built = annulus_zone(&o)?;
                 let arcs = (0..built.angles.len())
                     .map(|j| built.station_arc(j))
                     .collect();

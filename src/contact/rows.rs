@@ -37,7 +37,8 @@
 //!
 //! **Memory.** The rows' buffers are allocated in [`RowSolver::new`]. The column cache
 //! (`n` values per slot) starts with [`MAX_TERMS`] slots and grows, by doubling up to the
-//! `cache_dofs` given to [`RowSolver::new`], only when the rows of one solve need more
+//! `cache_dofs` given to [`RowSolver::new`] (and past it when the rows of one solve need
+//! more columns, all needed at once), only when the rows of one solve need more
 //! distinct dofs than it holds: it follows the largest contact patch of the run (a few
 //! allocations over a run, none once the patch has been seen), not the number of contact
 //! dofs, which on a converged wheel would be hundreds of columns of thousands of values.
@@ -828,6 +829,24 @@ mod tests {
                 "{vt}: {x:?}"
             );
         }
+    }
+
+    /// One solve whose rows need more columns than the cache's bound (40 nodes, each of unit
+    /// mass approaching its plane at -1, against a bound of `MAX_TERMS` = 15 columns): the
+    /// cache grows past its bound, as the columns are all needed at once, and each node is
+    /// stopped by its unit impulse.
+    #[test]
+    fn one_solve_needing_more_columns_than_the_cache_holds_grows_it() {
+        let n = 40;
+        let mut integ = Diagonal(vec![1.0; n]);
+        let mut rows = RowSolver::new(n, n, 1);
+        for d in 0..n {
+            rows.push(row(d, RowKind::Unilateral));
+        }
+        let mut x = vec![-1.0; n];
+        rows.solve(&mut integ, &mut x, 1e-12);
+        assert!(rows.lambda().iter().all(|l| (l - 1.0).abs() < 1e-14));
+        assert!(x.iter().all(|v| v.abs() < 1e-14), "{x:?}");
     }
 
     /// The node of the Coulomb and viscoplastic tests: unit mass, normal velocity -1,

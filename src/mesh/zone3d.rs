@@ -12,8 +12,11 @@
 //! `2 pi R / zone_sectors`, growing by `growth` up to the outer cells' size
 //! `(R - bore) / rings`, then equal to the bore, so that the cells under the contact are
 //! about cubes and shrink with the zone's pitch at every depth the contact's stresses reach
-//! (the 2D zone's refinement in depth, [`crate::mesh::zone`]'s `depth`, here all round the
-//! rim, as a swept mesh must). Layers are equal.
+//! (all round the rim, as a swept mesh must). With the growth alone a ring at depth `d` is
+//! about `(growth - 1) d` thick whatever the pitch; with `depth = Some(l)` it is at most
+//! `s_f (1 + (d / l)^2)` (`s_f` the zone's pitch), the 2D zone's refinement in depth
+//! ([`crate::mesh::zone`]), so that a ladder of pitches refines every depth the contact's
+//! stresses reach (`l` about the patch's half-length). Layers are equal.
 //!
 //! **Relocation.** The mesh outside the zone repeats every `m` lattice steps, so turning the
 //! frame of the mesh by one outer sector `Delta = 2 pi / sectors` with the contact keeps
@@ -52,6 +55,11 @@ pub struct AnnulusZoneOptions {
     pub zone_width: f64,
     /// The rings' growth from the rim inwards (`None`: equal rings).
     pub growth: Option<f64>,
+    /// The zone refined in depth as well (m; `None`: not): a ring at depth `d` is at most
+    /// `s_f (1 + (d / l)^2)` thick, `s_f` the zone's pitch, so that the cells at a depth
+    /// `d ~ l` shrink with the pitch (the 2D zone's rule, [`crate::mesh::zone`]); with the
+    /// growth alone they are about `(growth - 1) d` thick whatever the pitch.
+    pub depth: Option<f64>,
 }
 
 /// An annulus with a refined zone and its relocation map ([`annulus_zone`]).
@@ -255,12 +263,31 @@ fn ring_radii(o: &AnnulusZoneOptions, dl: f64) -> Result<Vec<f64>, MeshError> {
         });
     }
     // From the rim inwards: graded while below the outer size and within half the depth.
+    if let Some(l) = o.depth {
+        if !(l.is_finite() && l > 0.0) {
+            return Err(MeshError::InvalidLength {
+                name: "zone_depth",
+                value: l,
+            });
+        }
+    }
+    let sf = o.radius * dl;
     let mut from_rim = vec![0.0];
-    let mut t = o.radius * dl;
+    let mut t = sf;
     while t < outer && from_rim[from_rim.len() - 1] + t < 0.5 * depth {
-        let last = from_rim[from_rim.len() - 1];
-        from_rim.push(last + t);
+        let last = from_rim[from_rim.len() - 1] + t;
+        from_rim.push(last);
         t *= g;
+        if let Some(l) = o.depth {
+            t = t.min(sf * (1.0 + (last / l).powi(2)));
+        }
+        if from_rim.len() > 100_000 {
+            return Err(MeshError::TooLarge {
+                name: "zone_depth",
+                value: from_rim.len(),
+                max: 100_000,
+            });
+        }
     }
     let graded = from_rim[from_rim.len() - 1];
     let rest = ((depth - graded) / outer).ceil().max(1.0) as usize;
@@ -287,6 +314,7 @@ mod tests {
             zone_sectors,
             zone_width: 20f64.to_radians(),
             growth,
+            depth: None,
         }
     }
 

@@ -268,10 +268,12 @@ impl Simulation {
         // solve) when that fits in 1 GiB, else 256 of them; it grows only as far as the
         // rows of one solve need ([`RowSolver`]).
         let contact_dofs = contact_nodes.len() * dim;
+        // Every contact dof's column when they fit in 1 GiB, else as many as fit (at least
+        // 256); a patch that needs more at once grows the cache past it (`contact::rows`).
         let cache = if contact_dofs * n * 8 <= 1 << 30 {
             contact_dofs
         } else {
-            256
+            ((1usize << 30) / (8 * n.max(1))).max(256).min(contact_dofs)
         };
         let mut state = State::zeros(n);
         state.u.copy_from_slice(&u0);

@@ -48,10 +48,16 @@ impl super::RowSolver {
                 s = i;
             }
         }
-        // Every slot holds a column of this solve: grow (module docs, Memory).
+        // Every slot holds a column of this solve: grow (module docs, Memory), past the
+        // cache's bound if one solve's rows need more columns than it (they are all needed
+        // at once).
         let slots = self.dof_of_slot.len();
-        if self.last_used[s] == self.clock && slots < self.max_slots {
-            let grown = (2 * slots).min(self.max_slots);
+        if self.last_used[s] == self.clock && slots < self.n {
+            let grown = if slots < self.max_slots {
+                (2 * slots).min(self.max_slots)
+            } else {
+                (2 * slots).min(self.n)
+            };
             self.dof_of_slot.resize(grown, NO_SLOT);
             self.last_used.resize(grown, 0);
             self.slot_term.resize(grown, NO_SLOT);

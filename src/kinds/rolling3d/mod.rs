@@ -22,6 +22,8 @@
 //! # zone_deg = 30.0           # the zone's width, degrees
 //! # zone_growth = 1.2         # the rings graded from the rim, the first as thick as the
 //! #                           # zone's pitch (mesh's rings set the outer cells' size)
+//! # zone_depth_mm = 4.0       # and refined in depth: a ring at depth d at most
+//! #                           # s_f (1 + (d / l)^2) thick (s_f the zone's pitch)
 //! [rolling]
 //! omega = 300.0               # rad/s
 //! flattening_mm = 1.0         # the base pressed into the rim
@@ -85,6 +87,7 @@ struct RawWheel {
     zone_sectors: Option<i64>,
     zone_deg: Option<f64>,
     zone_growth: Option<f64>,
+    zone_depth_mm: Option<f64>,
 }
 
 /// `[rolling]` as written.
@@ -141,23 +144,9 @@ impl Rolling3dScenario {
     /// when the zone cannot be built, which the run then reports).
     pub fn stations(&self) -> [usize; 3] {
         let s = &self.slice;
-        let [nr, nt, nz] = s.counts;
-        s.zone
-            .and_then(|z| {
-                crate::mesh::zone3d::annulus_zone_counts(&crate::mesh::zone3d::AnnulusZoneOptions {
-                    bore: s.bore,
-                    radius: s.radius,
-                    thickness: s.thickness,
-                    rings: nr,
-                    sectors: nt,
-                    layers: nz,
-                    zone_sectors: z.sectors,
-                    zone_width: z.width,
-                    growth: z.growth,
-                })
-                .ok()
-            })
-            .map_or(s.counts, |(stations, rings)| [rings, stations, nz])
+        s.zone_options()
+            .and_then(|o| crate::mesh::zone3d::annulus_zone_counts(&o).ok())
+            .map_or(s.counts, |(stations, rings)| [rings, stations, s.counts[2]])
     }
 }
 
@@ -219,20 +208,22 @@ impl Kind for Rolling3dKind {
         let xi = creep("rolling.creepage", r.creepage, 1.0)?;
         let eta = creep("rolling.lateral_creepage", r.lateral_creepage, 1.0)?;
         let phi = creep("rolling.spin_creepage", r.spin_creepage, 1e3)?;
-        let zone = match (w.zone_sectors, w.zone_deg, w.zone_growth) {
-            (None, None, None) => None,
-            (None, _, _) => {
+        let zone = match (w.zone_sectors, w.zone_deg, w.zone_growth, w.zone_depth_mm) {
+            (None, None, None, None) => None,
+            (None, ..) => {
                 return Err(cx.invalid(
                     if w.zone_deg.is_some() {
                         "wheel.zone_deg"
-                    } else {
+                    } else if w.zone_growth.is_some() {
                         "wheel.zone_growth"
+                    } else {
+                        "wheel.zone_depth_mm"
                     },
                     "given",
                     "a key of the moving refined zone: give wheel.zone_sectors too",
                 ))
             }
-            (Some(z), deg, growth) => {
+            (Some(z), deg, growth, depth) => {
                 let nt = counts[1];
                 let ratio = usize::try_from(z).unwrap_or(0) / nt;
                 if z < nt as i64 || z > 1 << 20 || z % nt as i64 != 0 || !ratio.is_power_of_two() {
@@ -244,6 +235,9 @@ impl Kind for Rolling3dKind {
                 }
                 let deg = cx.within("wheel.zone_deg", deg.unwrap_or(30.0), 0.01, 170.0)?;
                 let growth = cx.within("wheel.zone_growth", growth.unwrap_or(1.2), 1.01, 2.0)?;
+                let depth = depth
+                    .map(|l| cx.within("wheel.zone_depth_mm", l, 1e-3, 1e3 * radius))
+                    .transpose()?;
                 if w.cyclic_columns == Some(true) {
                     return Err(cx.invalid(
                         "wheel.cyclic_columns",
@@ -255,6 +249,7 @@ impl Kind for Rolling3dKind {
                     sectors: z as usize,
                     width: deg.to_radians(),
                     growth: Some(growth),
+                    depth: depth.map(|l| 1e-3 * l),
                 })
             }
         };
@@ -262,27 +257,7 @@ impl Kind for Rolling3dKind {
             .turns
             .map(|v| cx.within("rolling.turns", v, 1e-3, 1e3))
             .transpose()?;
-        if let Some(z) = zone {
-            crate::mesh::zone3d::annulus_zone_counts(&crate::mesh::zone3d::AnnulusZoneOptions {
-                bore,
-                radius,
-                thickness,
-                rings: counts[0],
-                sectors: counts[1],
-                layers: counts[2],
-                zone_sectors: z.sectors,
-                zone_width: z.width,
-                growth: z.growth,
-            })
-            .map_err(|e| {
-                cx.invalid(
-                    "wheel.zone_deg",
-                    z.width.to_degrees(),
-                    &format!("the zone cannot be built: {e}"),
-                )
-            })?;
-        }
-        Ok(Model::new(Rolling3dScenario {
+        let scenario = Rolling3dScenario {
             slice: SliceSpec {
                 radius,
                 bore,
@@ -304,7 +279,17 @@ impl Kind for Rolling3dKind {
             },
             turns,
             cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
-        }))
+        };
+        if let (Some(o), Some(z)) = (scenario.slice.zone_options(), zone) {
+            crate::mesh::zone3d::annulus_zone_counts(&o).map_err(|e| {
+                cx.invalid(
+                    "wheel.zone_deg",
+                    z.width.to_degrees(),
+                    &format!("the zone cannot be built: {e}"),
+                )
+            })?;
+        }
+        Ok(Model::new(scenario))
     }
 }
 

@@ -31,6 +31,7 @@ use super::Rolling3dScenario;
 use crate::bodies::rolling3d::{friction_force, PatchForce, RollingSlice};
 use crate::contact::pair::tangent_basis;
 use crate::contact::RotatingBase;
+use crate::kinds::wheel::run::summarise::STEPS_PER_PASSAGE_MIN;
 use crate::kinds::wheel::run::traction::{hertz_2d, steady_ratio};
 use crate::model::PairState;
 use crate::output::plot::{sig, Panel, Series, SeriesStyle};
@@ -141,9 +142,26 @@ pub(crate) fn record(
     let Some(m) = run.model.get::<Rolling3dScenario>() else {
         unreachable!("a rolling3d run of a rolling3d scenario")
     };
+    let h = run.params.h;
+    // The 2D wheel's rule: at least two steps to a rim node's passage under the base, at the
+    // finest pitch of the rim (the zone's).
+    let passing = m.slice.zone.map_or(m.slice.counts[1], |z| z.sectors) as f64;
+    let t_pass = 2.0 * std::f64::consts::PI / (m.slice.omega * passing);
+    if h * STEPS_PER_PASSAGE_MIN > t_pass {
+        return Err(RunError::input(
+            &sc.path,
+            format!(
+                "run `{}`: the step `{}` = {h:e} s is longer than half a rim node's passage under the base ({t_pass:.3e} s: {passing} rim nodes round the rim{} at `rolling.omega` = {} rad/s): the contact would jump nodes between steps; take h <= {:.3e} s",
+                run.label,
+                run.step_key,
+                if m.slice.zone.is_some() { " in the zone" } else { "" },
+                m.slice.omega,
+                t_pass / STEPS_PER_PASSAGE_MIN
+            ),
+        ));
+    }
     let slice =
         RollingSlice::new(&m.slice).map_err(|e| RunError::input(&sc.path, e.to_string()))?;
-    let h = run.params.h;
     let steps = (run.t_end / h).round().max(1.0) as usize;
     let mu = run.friction.map_or(0.0, |l| l.static_mu);
     let problem = slice.problem_with((run.integrator, h, steps), run.contact, run.friction);
@@ -252,6 +270,7 @@ pub(crate) fn record(
             "zone_sectors": m.slice.zone.map(|s| s.sectors),
             "width_deg": m.slice.zone.map(|s| s.width.to_degrees()),
             "ring_growth": m.slice.zone.and_then(|s| s.growth),
+            "depth_m": m.slice.zone.and_then(|s| s.depth),
             "step_deg": z.step.to_degrees(),
             "nodes_relocated_exactly": z.exact_nodes,
         })),

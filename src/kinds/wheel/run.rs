@@ -22,7 +22,7 @@ pub use drive::{drive, LoopOutcome};
 mod lines;
 mod mesh;
 mod seen;
-mod summarise;
+pub(crate) mod summarise;
 pub use lines::summary_lines;
 pub use mesh::{build, check_disk, check_supported, read_mesh_file};
 use summarise::{step_adequacy, summarise, warnings_before};
