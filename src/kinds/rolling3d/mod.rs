@@ -242,7 +242,7 @@ impl Kind for Rolling3dKind {
                     return Err(cx.invalid(
                         "wheel.cyclic_columns",
                         true,
-                        "a rim with a refined zone does not repeat round the axle: remove wheel.cyclic_columns (the zone's columns are kept for the run, as the zone stays under the base)",
+                        "a rim with a refined zone does not repeat round the axle: remove wheel.cyclic_columns (the patch stays under the base in the zone's frame, on the same nodes)",
                     ));
                 }
                 Some(SliceZone {
