@@ -10,7 +10,9 @@
 //!   edge);
 //! - **the zone gives the uniform rim of its pitch**: a 192-sector rim refined to the pitch
 //!   of 768 under the base carries the normal force and the creep force of the uniform
-//!   768-sector rim (another mesh, which never relocates), in partial slip.
+//!   768-sector rim (another mesh, which never relocates), in partial slip, solving a
+//!   quarter of its contact columns or fewer (the patch stays on the zone's nodes, whose
+//!   columns are kept).
 
 use std::sync::atomic::AtomicBool;
 
@@ -130,7 +132,7 @@ fn a_refined_zone_rolls_as_the_uniform_rim_of_its_pitch() {
     let xi = 0.005;
     let zoned = slice([4, 192, 1], Some(zone), xi, 0.0);
     let (with, st) = roll(&zoned, steps);
-    let (uniform, _) = roll(&slice([4, 768, 1], None, xi, 0.0), steps);
+    let (uniform, st_u) = roll(&slice([4, 768, 1], None, xi, 0.0), steps);
     // The last half of the rolling after the ramp and as long again.
     let from = ((2.0 * SETTLE / H) as usize + steps) / 2;
     let mean = |f: &[[f64; 3]], c: usize| {
@@ -149,6 +151,18 @@ fn a_refined_zone_rolls_as_the_uniform_rim_of_its_pitch() {
         n_z,
         n_u,
         100.0 * (n_z / n_u - 1.0)
+    );
+    // The patch stays on the zone's nodes: their columns are solved once and kept, where
+    // the uniform rim solves one for every rim node the patch reaches.
+    println!(
+        "column solves: {} with the zone, {} on the uniform rim",
+        st.column_solves, st_u.column_solves
+    );
+    assert!(
+        4 * st.column_solves < st_u.column_solves,
+        "{} vs {}",
+        st.column_solves,
+        st_u.column_solves
     );
     assert!(st.relocations > 10);
     assert!((n_z / n_u - 1.0).abs() < 5e-3, "{n_z} vs {n_u}");

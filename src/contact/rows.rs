@@ -166,6 +166,9 @@ pub struct RowSolver {
     slot_of_dof: Vec<usize>,
     /// Most slots the cache may grow to.
     max_slots: usize,
+    /// Grow the cache (up to `max_slots`) rather than evict a column
+    /// ([`RowSolver::set_keep_columns`]).
+    keep: bool,
     dof_of_slot: Vec<usize>,
     last_used: Vec<u64>,
     cols: Vec<f64>,
@@ -229,6 +232,7 @@ impl RowSolver {
             lambda: vec![0.0; mr],
             slot_of_dof: vec![NO_SLOT; n],
             max_slots,
+            keep: false,
             dof_of_slot: vec![NO_SLOT; slots],
             last_used: vec![0; slots],
             cols: vec![0.0; slots * n],
@@ -253,6 +257,14 @@ impl RowSolver {
             cyclic: None,
             epoch: 0,
         }
+    }
+
+    /// Keeps every column solved (`true`), the cache growing up to its bound rather than
+    /// evicting the least recently used column: for a contact that comes back to the same
+    /// dofs, as under a moving refined zone ([`crate::simulation::Relocation`]), where the
+    /// patch stays on the zone's nodes. Default `false`: the cache follows the largest patch.
+    pub fn set_keep_columns(&mut self, keep: bool) {
+        self.keep = keep;
     }
 
     /// Derives new columns from the base sector's of `cyclic` instead of solving them

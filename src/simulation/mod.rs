@@ -406,6 +406,8 @@ impl Simulation {
         }
         let dropped = (0..taken.len()).filter(|&q| !taken[q]).collect();
         let fresh = (0..pairs.len()).filter(|&p| pairs[p].is_none()).collect();
+        // The patch stays on the zone's nodes: keep their columns for the run.
+        eng.rows.set_keep_columns(true);
         let (c, s) = (spec.step.cos(), spec.step.sin());
         self.relocation = Some(Relocating {
             dropped,

@@ -52,7 +52,8 @@ impl super::RowSolver {
         // cache's bound if one solve's rows need more columns than it (they are all needed
         // at once).
         let slots = self.dof_of_slot.len();
-        if self.last_used[s] == self.clock && slots < self.n {
+        let keep = self.keep && self.dof_of_slot[s] != NO_SLOT && slots < self.max_slots;
+        if (self.last_used[s] == self.clock || keep) && slots < self.n {
             let grown = if slots < self.max_slots {
                 (2 * slots).min(self.max_slots)
             } else {
