@@ -259,13 +259,14 @@ pub(crate) fn record(
     let settled = m.settled();
     let rolling: Vec<Rec> = recs.iter().copied().filter(|r| r.t >= settled).collect();
     let mut lines = Vec::new();
+    let built = m.stations();
     let mut summary = serde_json::json!({
         "scenario": sc.name,
         "kind": "rolling3d",
         "interrupted": stats.interrupted,
         "units": {"force": "N", "moment": "N m", "time": "s", "length": "m"},
         "mesh": m.slice.counts,
-        "mesh_built": {"rings": m.stations()[0], "stations": m.stations()[1], "layers": m.stations()[2]},
+        "mesh_built": {"rings": built[0], "stations": built[1], "layers": built[2]},
         "zone": slice.zone.as_ref().map(|z| serde_json::json!({
             "zone_sectors": m.slice.zone.map(|s| s.sectors),
             "width_deg": m.slice.zone.map(|s| s.width.to_degrees()),
