@@ -11,7 +11,7 @@
 //! - **the summary against the history**: the steady figures are the means of
 //!   `history.csv`'s rows over the last half of the rolling;
 //! - **bad input** refused on one line naming the key, nothing written (the refined
-//!   zone's keys among them).
+//!   zone's keys and the crown among them).
 //!
 //! The library's `tests/rolling3d.rs` checks the normal force against the 2D wheel.
 
@@ -181,6 +181,27 @@ fn bad_input_is_refused_by_its_key() {
                 "poisson = 0.3\nzone_sectors = 768\ncyclic_columns = true",
             ),
             "wheel.cyclic_columns",
+        ),
+        (
+            "axial-alone",
+            with("poisson = 0.3", "poisson = 0.3\nzone_axial_mm = 2.0"),
+            "wheel.zone_axial_mm",
+        ),
+        (
+            "axial-wide",
+            with(
+                "poisson = 0.3",
+                "poisson = 0.3\nzone_sectors = 768\nzone_axial_mm = 5.0",
+            ),
+            "wheel.zone_axial_mm",
+        ),
+        (
+            "crown",
+            with(
+                "creepage = 0.005",
+                "creepage = 0.005\ncrown_radius_m = 0.002",
+            ),
+            "rolling.crown_radius_m",
         ),
     ] {
         let (code, err) = run_err(&format!("rolling3d-{name}"), &text);

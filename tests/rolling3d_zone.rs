@@ -47,6 +47,7 @@ fn slice(counts: [usize; 3], zone: Option<SliceZone>, xi: f64, eta: f64) -> Roll
         },
         creepages: [xi, eta, 0.0],
         zone,
+        crown: None,
     })
     .unwrap()
 }
@@ -91,6 +92,7 @@ fn a_relocation_of_a_zone_at_the_outer_pitch_is_a_relabelling() {
         width: 30_f64.to_radians(),
         growth: None,
         depth: None,
+        axial: None,
     };
     let steps = 400;
     let zoned = slice(counts, Some(zone), xi, eta);
@@ -127,6 +129,7 @@ fn a_refined_zone_rolls_as_the_uniform_rim_of_its_pitch() {
         width: 40_f64.to_radians(),
         growth: None,
         depth: None,
+        axial: None,
     };
     let steps = 700;
     let xi = 0.005;

@@ -83,6 +83,9 @@ pub struct SliceSpec {
     /// A refined zone that moves with the contact ([`crate::mesh::zone3d`]; `None`: the
     /// annulus of `counts`, equal rings and sectors).
     pub zone: Option<SliceZone>,
+    /// The base's crown across the rolling direction, m ([`RotatingBase::crown`]; `None`:
+    /// a plane): with it the patch is Hertz's ellipse about the wheel's mid-plane.
+    pub crown: Option<f64>,
 }
 
 impl SliceSpec {
@@ -100,6 +103,7 @@ impl SliceSpec {
             zone_width: z.width,
             growth: z.growth,
             depth: z.depth,
+            axial: z.axial,
         })
     }
 }
@@ -117,6 +121,9 @@ pub struct SliceZone {
     pub growth: Option<f64>,
     /// The zone refined in depth as well, m ([`AnnulusZoneOptions::depth`]).
     pub depth: Option<f64>,
+    /// The zone refined across the width about the mid-plane as well, m
+    /// ([`AnnulusZoneOptions::axial`]).
+    pub axial: Option<f64>,
 }
 
 /// A built zone: the relocation's sources and step, and the stations' arcs.
@@ -132,6 +139,8 @@ pub struct BuiltZone {
     pub stations: usize,
     /// Rings (radial cells).
     pub rings: usize,
+    /// Layers (cells along the axle).
+    pub layers: usize,
 }
 
 /// The spun wheel and its base, ready for the driver.
@@ -148,6 +157,8 @@ pub struct RollingSlice {
     pub spun_radius: f64,
     /// Per rim node (in `rim`'s order), the arc of the rim it stands for, rad.
     pub rim_arc: Vec<f64>,
+    /// Per rim node, the width along the axle it stands for (half the layers beside it), m.
+    pub rim_width: Vec<f64>,
     /// The moving refined zone, when the spec has one.
     pub zone: Option<BuiltZone>,
 }
@@ -191,12 +202,23 @@ impl RollingSlice {
         for (name, c) in ["xi", "eta", "phi"].into_iter().zip(spec.creepages) {
             check(name, c, c.is_finite(), "finite")?;
         }
-        let nt = spec.counts[1];
-        let (mesh, zone, arcs) = match spec.zone_options() {
+        if let Some(rc) = spec.crown {
+            check(
+                "crown",
+                rc,
+                rc.is_finite() && rc > 0.5 * spec.thickness,
+                "finite and above half the wheel's thickness (m)",
+            )?;
+        }
+        let [_, nt, nz] = spec.counts;
+        let (mesh, zone, arcs, zs) = match spec.zone_options() {
             None => (
                 annulus_hex8(spec.bore, spec.radius, spec.thickness, spec.counts)?,
                 None,
                 vec![2.0 * std::f64::consts::PI / nt as f64; nt],
+                (0..=nz)
+                    .map(|k| spec.thickness * k as f64 / nz as f64)
+                    .collect::<Vec<f64>>(),
             ),
             Some(o) => {
                 let built = annulus_zone(&o)?;
@@ -206,11 +228,12 @@ impl RollingSlice {
                 let zone = BuiltZone {
                     stations: built.angles.len(),
                     rings: built.radii.len() - 1,
+                    layers: built.zs.len() - 1,
                     sources: built.sources,
                     step: built.step,
                     exact_nodes: built.exact_nodes,
                 };
-                (built.mesh, Some(zone), arcs)
+                (built.mesh, Some(zone), arcs, built.zs)
             }
         };
         let fixed: Vec<usize> = mesh
@@ -222,6 +245,11 @@ impl RollingSlice {
         let rim = mesh.node_set("rim").unwrap_or_default().to_vec();
         // The rim set runs through the stations, layer by layer.
         let rim_arc = (0..rim.len()).map(|i| arcs[i % arcs.len()]).collect();
+        let last = zs.len() - 1;
+        let widths: Vec<f64> = (0..=last)
+            .map(|k| 0.5 * (zs[(k + 1).min(last)] - zs[k.saturating_sub(1)]))
+            .collect();
+        let rim_width = (0..rim.len()).map(|i| widths[i / arcs.len()]).collect();
         let solid_spec = SolidSpec {
             material: spec.material,
             plane: PlaneModel::Stress,
@@ -259,6 +287,7 @@ impl RollingSlice {
             },
             lateral: eta,
             spin: phi,
+            crown: spec.crown,
         };
         Ok(Self {
             bodies,
@@ -267,6 +296,7 @@ impl RollingSlice {
             base,
             spun_radius,
             rim_arc,
+            rim_width,
             zone,
         })
     }
@@ -370,6 +400,40 @@ impl PatchForce {
         }
     }
 
+    /// The forces of the pair states `pairs` at time `t` on `base`, each pair's normal and
+    /// tangents those of the base at its rim node's deformed position (`rim[i]` the node of
+    /// `pairs[i]`, `x_ref` the reference positions, `u` the displacements): on a crowned
+    /// base the normals tilt across the patch. On a plane it is [`PatchForce::of`]. The
+    /// normal force is the total force's part along the base's normal under the axle.
+    pub fn at(
+        base: &RotatingBase,
+        t: f64,
+        pairs: &[PairState],
+        (rim, x_ref, u): (&[usize], &[f64], &[f64]),
+    ) -> Self {
+        if base.crown.is_none() {
+            return Self::of(base, t, pairs);
+        }
+        let frame = base.frame(t);
+        let mut f = [0.0; 3];
+        for (ps, &node) in pairs.iter().zip(rim) {
+            if ps.force == 0.0 && ps.tangential_force == 0.0 && ps.tangential_force_2 == 0.0 {
+                continue;
+            }
+            let x: [f64; 3] = std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c]);
+            let n = base.half_space(t, x).normal;
+            let q = friction_force(tangent_basis(3, n), ps);
+            for c in 0..3 {
+                f[c] += ps.force * n[c] + q[c];
+            }
+        }
+        Self {
+            normal: dot(f, frame.normal),
+            along: dot(f, frame.travel),
+            lateral: f[2],
+        }
+    }
+
     /// The spin moment of the friction forces on the wheel about the base's normal through
     /// its point under the axle, N m: `sum ((x - p0) x f) . n` over the pairs, `x` the
     /// deformed position of the pair's rim node (`rim[i]` the node of `pairs[i]`, `x_ref`
@@ -389,9 +453,14 @@ impl PatchForce {
             .zip(rim)
             .filter(|(ps, _)| ps.tangential_force != 0.0 || ps.tangential_force_2 != 0.0)
             .map(|(ps, &node)| {
-                let r: [f64; 3] =
-                    std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c] - frame.p0[c]);
-                let f = friction_force(tangents, ps);
+                let x: [f64; 3] = std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c]);
+                let r: [f64; 3] = std::array::from_fn(|c| x[c] - frame.p0[c]);
+                // A crowned base's tangents tilt with its normal across the patch.
+                let tg = match base.crown {
+                    None => tangents,
+                    Some(_) => tangent_basis(3, base.half_space(t, x).normal),
+                };
+                let f = friction_force(tg, ps);
                 // (r x f) . n
                 n[0] * (r[1] * f[2] - r[2] * f[1])
                     + n[1] * (r[2] * f[0] - r[0] * f[2])

@@ -297,6 +297,16 @@ impl Obstacle for RotatingLine {
 /// [`RotatingBase::spin`]): the base's material moves at `w = -s` there
 /// ([`Obstacle::surface_velocity`]). With `eta = phi = 0` it is [`RotatingLine`] extended
 /// along the axle.
+///
+/// **A crowned base.** With [`RotatingBase::crown`] `= Some(R_c)` the base is not a plane
+/// but a cylinder of radius `R_c` along `t_b`, its crest the plane's line under the axle at
+/// the height `centre[2]` along the axle (a rail head's crown under a cylindrical wheel:
+/// the contact patch is Hertz's ellipse). Its axis passes through `a = p0 + R_c e`; at a
+/// point `x`, with `r` the part of `x - a` across `t_b`, the gap is `|r| - R_c` and the
+/// normal `r / |r|`. The cylinder turns about the axle with the plane and its material
+/// moves as the plane's does: the rail's translation `omega rho (1 - xi)` along `t_b`, the
+/// frame's rotation `omega e_z x (x - centre)` and the lateral and spin terms, of which the
+/// friction takes the part along the local tangents.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotatingBase {
     /// The plane, its turning, flattening and longitudinal creepage `xi`.
@@ -306,6 +316,8 @@ pub struct RotatingBase {
     /// Spin creepage `phi`, 1/m: the wheel's rigid turning about the base's outward normal
     /// relative to the base, over `V`.
     pub spin: f64,
+    /// The crown's radius across the rolling direction, m (`None`: a plane; type docs).
+    pub crown: Option<f64>,
 }
 
 /// The 3D base's frame at an instant ([`RotatingBase::frame`]).
@@ -343,17 +355,68 @@ impl RotatingBase {
     }
 }
 
+impl RotatingBase {
+    /// The crowned base's outward normal at `x` and the gap there (type docs), at `t`.
+    fn crowned(&self, t: f64, x: Vector, rc: f64) -> (Vector, f64) {
+        let f = self.frame(t);
+        let e = [-f.normal[0], -f.normal[1], 0.0];
+        let a = [f.p0[0] + rc * e[0], f.p0[1] + rc * e[1], f.p0[2]];
+        let d = [x[0] - a[0], x[1] - a[1], x[2] - a[2]];
+        let along = dot(d, f.travel);
+        let r = [
+            d[0] - along * f.travel[0],
+            d[1] - along * f.travel[1],
+            d[2] - along * f.travel[2],
+        ];
+        let len = dot(r, r).sqrt();
+        if len > 0.0 {
+            ([r[0] / len, r[1] / len, r[2] / len], len - rc)
+        } else {
+            (f.normal, -rc)
+        }
+    }
+}
+
 impl Obstacle for RotatingBase {
     fn half_space(&self, t: f64, x: Vector) -> HalfSpace {
-        self.line.half_space(t, x)
+        match self.crown {
+            None => self.line.half_space(t, x),
+            Some(rc) => {
+                let (normal, gap) = self.crowned(t, x, rc);
+                HalfSpace {
+                    normal,
+                    offset: dot(normal, x) - gap,
+                }
+            }
+        }
     }
 
     fn uniform_half_space(&self, t: f64) -> Option<HalfSpace> {
-        self.line.uniform_half_space(t)
+        match self.crown {
+            None => self.line.uniform_half_space(t),
+            Some(_) => None,
+        }
     }
 
     fn surface_normal_velocity(&self, t: f64, x: Vector) -> f64 {
-        self.line.surface_normal_velocity(t, x)
+        match self.crown {
+            None => self.line.surface_normal_velocity(t, x),
+            Some(rc) => {
+                // The surface turns about the axle at omega and comes towards it at the
+                // flattening's rate: v = omega e_z x (x - centre) - d' e.
+                let (n, _) = self.crowned(t, x, rc);
+                let l = &self.line;
+                let e = l.direction(t);
+                let (rx, ry) = (x[0] - l.centre[0], x[1] - l.centre[1]);
+                let d_rate = l.flattening.rate(t);
+                let v = [
+                    -l.omega * ry - d_rate * e[0],
+                    l.omega * rx - d_rate * e[1],
+                    0.0,
+                ];
+                dot(n, v)
+            }
+        }
     }
 
     fn turn_frame(&mut self, angle: f64) -> bool {
@@ -372,14 +435,28 @@ impl Obstacle for RotatingBase {
         let f = self.frame(t);
         let (n, tb) = (f.normal, f.travel);
         let v = self.line.omega * f.rho;
-        let w_t = self.line.surface_tangential_velocity(t, x);
         let r = [x[0] - f.p0[0], x[1] - f.p0[1], x[2] - f.p0[2]];
         // n x r, n in the plane of the wheel.
         let nr = [n[1] * r[2], -n[0] * r[2], n[0] * r[1] - n[1] * r[0]];
         let (eta, phi) = (self.lateral, self.spin);
+        // The rail's translation and the frame's rotation: on a plane only the part along
+        // t_b is tangential; on a crown the rotation's part along the plane's normal has a
+        // share along the crown's local tangent too (type docs).
+        let carried = match self.crown {
+            None => {
+                let w_t = self.line.surface_tangential_velocity(t, x);
+                [w_t * tb[0], w_t * tb[1], 0.0]
+            }
+            Some(_) => {
+                let l = &self.line;
+                let u = v * (1.0 - l.creepage);
+                let (rx, ry) = (x[0] - l.centre[0], x[1] - l.centre[1]);
+                [u * tb[0] - l.omega * ry, u * tb[1] + l.omega * rx, 0.0]
+            }
+        };
         [
-            w_t * tb[0] - v * phi * nr[0],
-            w_t * tb[1] - v * phi * nr[1],
+            carried[0] - v * phi * nr[0],
+            carried[1] - v * phi * nr[1],
             -v * eta - v * phi * nr[2],
         ]
     }
@@ -412,11 +489,13 @@ mod tests {
             line,
             lateral: 0.0,
             spin: 0.0,
+            crown: None,
         };
         let base = RotatingBase {
             line,
             lateral: -0.003,
             spin: 0.7,
+            crown: None,
         };
         for (along, lateral) in [(0.0, 0.0), (2e-3, -1e-3), (-1.5e-3, 4e-3)] {
             // A point on the base: `along` t_b from p0, `lateral` along z.
@@ -440,6 +519,80 @@ mod tests {
                 let ez = [0.0, 0.0, 1.0][c];
                 let want = v * (0.004 * tb[c] - 0.003 * ez + 0.7 * nr[c]);
                 assert!((s[c] - want).abs() < 1e-12 * v, "{c}: {s:?}");
+            }
+        }
+    }
+
+    /// The crowned base: on its crest line it is the plane (gap and normal); a point `g`
+    /// above the plane and `dz` off the crest is `sqrt((R_c + g)^2 + dz^2) - R_c` above the
+    /// crown, whose normal there leans by `atan(dz / (R_c + g))` along the axle; the surface's
+    /// normal velocity is the numerical derivative of its half-space; its material's
+    /// velocity is the plane's along `t_b` and the rail's translation and the frame's
+    /// rotation projected on the local tangents.
+    #[test]
+    fn the_crowned_base_is_a_cylinder_along_the_travel() {
+        let line = RotatingLine {
+            centre: [0.0, 0.0, 0.005],
+            ..settling_base()
+        };
+        let rc = 0.08;
+        let plane = RotatingBase {
+            line,
+            lateral: 0.0,
+            spin: 0.0,
+            crown: None,
+        };
+        let crown = RotatingBase {
+            crown: Some(rc),
+            ..plane
+        };
+        assert!(crown.uniform_half_space(0.0).is_none());
+        #[derive(Debug)]
+        struct Numeric(RotatingBase);
+        impl Obstacle for Numeric {
+            fn half_space(&self, t: f64, x: Vector) -> HalfSpace {
+                self.0.half_space(t, x)
+            }
+            fn time_scale(&self) -> f64 {
+                1e-3
+            }
+        }
+        for t in [0.0007, 0.0025] {
+            let f = plane.frame(t);
+            let on = |along: f64, dz: f64, up: f64| -> Vector {
+                std::array::from_fn(|c| {
+                    f.p0[c] + along * f.travel[c] + dz * [0.0, 0.0, 1.0][c] + up * f.normal[c]
+                })
+            };
+            for (along, dz) in [(0.0, 0.0), (1.5e-3, 0.0), (-2e-3, 3e-3), (1e-3, -4e-3)] {
+                let x = on(along, dz, 1e-5);
+                let (hp, hc) = (plane.half_space(t, x), crown.half_space(t, x));
+                // 1e-5 above the plane, the plane's gap.
+                let up = hp.gap(x);
+                assert!((up - 1e-5).abs() < 1e-12, "{up}");
+                let rr = ((rc + up).powi(2) + dz * dz).sqrt();
+                assert!((hc.gap(x) - (rr - rc)).abs() < 1e-12, "{} {rr}", hc.gap(x));
+                let lean = dot(hc.normal, [0.0, 0.0, 1.0]);
+                assert!((lean - dz / rr).abs() < 1e-12, "{lean}");
+                if dz == 0.0 {
+                    for c in 0..3 {
+                        assert!((hc.normal[c] - hp.normal[c]).abs() < 1e-12);
+                    }
+                }
+                let a = crown.surface_normal_velocity(t, x);
+                let b = Numeric(crown).surface_normal_velocity(t, x);
+                assert!((a - b).abs() < 1e-6 * (1.0 + b.abs()), "{t}: {a} vs {b}");
+                // The material's velocity along t_b is the plane's; across, on the crest,
+                // nothing.
+                let (wp, wc) = (plane.surface_velocity(t, x), crown.surface_velocity(t, x));
+                assert!(
+                    (dot(wp, f.travel) - dot(wc, f.travel)).abs() < 1e-9,
+                    "{wp:?} {wc:?}"
+                );
+                let [_, t2] = crate::contact::pair::tangent_basis(3, hc.normal);
+                if dz == 0.0 {
+                    assert!(dot(wc, t2).abs() < 1e-9, "{wc:?}");
+                }
             }
         }
     }

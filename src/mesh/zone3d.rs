@@ -16,7 +16,10 @@
 //! about `(growth - 1) d` thick whatever the pitch; with `depth = Some(l)` it is at most
 //! `s_f (1 + (d / l)^2)` (`s_f` the zone's pitch), the 2D zone's refinement in depth
 //! ([`crate::mesh::zone`]), so that a ladder of pitches refines every depth the contact's
-//! stresses reach (`l` about the patch's half-length). Layers are equal.
+//! stresses reach (`l` about the patch's half-length). Layers are equal, or with
+//! `axial = Some(w)` graded across the width about the mid-plane: as wide as the zone's
+//! pitch within `w` of it, then growing by `growth` up to `thickness / layers` (a wide
+//! wheel on a crowned base, whose patch is an ellipse about the mid-plane).
 //!
 //! **Relocation.** The mesh outside the zone repeats every `m` lattice steps, so turning the
 //! frame of the mesh by one outer sector `Delta = 2 pi / sectors` with the contact keeps
@@ -60,6 +63,10 @@ pub struct AnnulusZoneOptions {
     /// `d ~ l` shrink with the pitch (the 2D zone's rule, [`crate::mesh::zone`]); with the
     /// growth alone they are about `(growth - 1) d` thick whatever the pitch.
     pub depth: Option<f64>,
+    /// The zone refined across the width as well (m; `None`: `layers` equal layers): the
+    /// layers within this half-width of the mid-plane as wide as the zone's pitch, growing
+    /// by `growth` (1.25 without it) outward up to `thickness / layers` (module docs).
+    pub axial: Option<f64>,
 }
 
 /// An annulus with a refined zone and its relocation map ([`annulus_zone`]).
@@ -72,6 +79,8 @@ pub struct AnnulusZone {
     pub radii: Vec<f64>,
     /// The stations' angles, increasing from the zone's centre `-pi/2`, rad.
     pub angles: Vec<f64>,
+    /// The layers' boundaries along the axle, from 0 to the thickness, m.
+    pub zs: Vec<f64>,
     /// The angle of one relocation, `2 pi / sectors`, rad.
     pub step: f64,
     /// Per node, where its state comes from at a relocation (module docs).
@@ -120,17 +129,17 @@ fn pitch(d: usize, k0: usize, levels: u32) -> usize {
 /// two, a zone narrower than two of its pitches or wider (with its transitions) than half
 /// the rim, a growth outside `(1, 2]`, too many nodes.
 pub fn annulus_zone(o: &AnnulusZoneOptions) -> Result<AnnulusZone, MeshError> {
-    let (ks, radii) = layout(o)?;
+    let (ks, radii, zs) = layout(o)?;
     let nf = o.zone_sectors;
     let ratio = nf / o.sectors;
     let dl = 2.0 * PI / nf as f64;
     let angles: Vec<f64> = ks.iter().map(|&k| -0.5 * PI + dl * k as f64).collect();
-    let mesh = swept_annulus_hex8(&radii, &angles, o.thickness, o.layers)?;
-    let (nr1, nt) = (radii.len(), angles.len());
+    let mesh = swept_annulus_hex8(&radii, &angles, &zs)?;
+    let (nr1, nt, nz) = (radii.len(), angles.len(), zs.len() - 1);
     let id = |i: usize, j: usize, l: usize| i + nr1 * (j + nt * l);
-    let mut sources = Vec::with_capacity(nr1 * nt * (o.layers + 1));
+    let mut sources = Vec::with_capacity(nr1 * nt * (nz + 1));
     let mut exact = 0;
-    for l in 0..=o.layers {
+    for l in 0..=nz {
         for &k in &ks {
             let from = (k + ratio) % nf;
             let at = ks.partition_point(|&q| q < from);
@@ -168,24 +177,27 @@ pub fn annulus_zone(o: &AnnulusZoneOptions) -> Result<AnnulusZone, MeshError> {
         mesh,
         radii,
         angles,
+        zs,
         step: 2.0 * PI / o.sectors as f64,
         sources,
         exact_nodes: exact,
     })
 }
 
-/// The stations and rings of [`annulus_zone`] without the mesh: `(stations, rings)`, for a
-/// size estimate.
+/// The stations, rings and layers of [`annulus_zone`] without the mesh:
+/// `(stations, rings, layers)`, for a size estimate.
 ///
 /// # Errors
 /// As [`annulus_zone`].
-pub fn annulus_zone_counts(o: &AnnulusZoneOptions) -> Result<(usize, usize), MeshError> {
-    let (ks, radii) = layout(o)?;
-    Ok((ks.len(), radii.len() - 1))
+pub fn annulus_zone_counts(o: &AnnulusZoneOptions) -> Result<(usize, usize, usize), MeshError> {
+    let (ks, radii, zs) = layout(o)?;
+    Ok((ks.len(), radii.len() - 1, zs.len() - 1))
 }
 
-/// The stations' lattice indices and the rings' radii (module docs), checked.
-fn layout(o: &AnnulusZoneOptions) -> Result<(Vec<usize>, Vec<f64>), MeshError> {
+/// The stations' lattice indices, the rings' radii and the layers' boundaries (module
+/// docs), checked.
+#[allow(clippy::type_complexity)]
+fn layout(o: &AnnulusZoneOptions) -> Result<(Vec<usize>, Vec<f64>, Vec<f64>), MeshError> {
     for (name, l) in [
         ("bore", o.bore),
         ("radius", o.radius),
@@ -242,7 +254,56 @@ fn layout(o: &AnnulusZoneOptions) -> Result<(Vec<usize>, Vec<f64>), MeshError> {
         .filter(|&k| k % pitch(k.min(nf - k), k0, levels) == 0)
         .collect();
     let radii = ring_radii(o, dl)?;
-    Ok((ks, radii))
+    let zs = layer_bounds(o, o.radius * dl)?;
+    Ok((ks, radii, zs))
+}
+
+/// The layers' boundaries along the axle (module docs), `sf` the zone's pitch.
+fn layer_bounds(o: &AnnulusZoneOptions, sf: f64) -> Result<Vec<f64>, MeshError> {
+    let t = o.thickness;
+    let Some(w) = o.axial else {
+        return Ok((0..=o.layers)
+            .map(|k| t * k as f64 / o.layers as f64)
+            .collect());
+    };
+    let half = 0.5 * t;
+    let core = (w / sf).ceil();
+    if !(w.is_finite() && w > 0.0 && core * sf < half) {
+        return Err(MeshError::OutOfRange {
+            name: "zone_axial (m: the refined half-width about the mid-plane, in whole pitches within half the thickness)",
+            value: w,
+            min: 0.0,
+            max: half - sf,
+        });
+    }
+    let g = o.growth.unwrap_or(1.25);
+    let outer = (t / o.layers as f64).max(sf);
+    // Offsets from the mid-plane: the core's cells, then growing ones up to the face.
+    let mut d: Vec<f64> = (0..=core as usize).map(|k| sf * k as f64).collect();
+    let mut size = sf;
+    loop {
+        size = (size * g).min(outer);
+        let last = d[d.len() - 1];
+        if last + size >= half {
+            // The face: a remainder under half a cell joins the last cell.
+            if half - last < 0.5 * size && d.len() > core as usize + 1 {
+                d.pop();
+            }
+            d.push(half);
+            break;
+        }
+        d.push(last + size);
+        if d.len() > 100_000 {
+            return Err(MeshError::TooLarge {
+                name: "zone_axial",
+                value: d.len(),
+                max: 100_000,
+            });
+        }
+    }
+    let mut zs: Vec<f64> = d.iter().rev().map(|x| half - x).collect();
+    zs.extend(d[1..].iter().map(|x| half + x));
+    Ok(zs)
 }
 
 /// The rings' radii from the bore to the rim (module docs).
@@ -315,7 +376,54 @@ mod tests {
             zone_width: 20f64.to_radians(),
             growth,
             depth: None,
+            axial: None,
         }
+    }
+
+    /// Across the width the layers are the zone's pitch within the half-width asked, then
+    /// grow by the growth up to the outer size, symmetric about the mid-plane, from face to
+    /// face; the relocation's map covers every layer.
+    #[test]
+    fn the_layers_are_graded_about_the_mid_plane() {
+        let mut o = options(384, Some(1.3));
+        o.thickness = 0.04;
+        o.layers = 8;
+        o.axial = Some(2.5e-3);
+        let z = annulus_zone(&o).unwrap();
+        let sf = 0.1 * 2.0 * PI / 384.0;
+        let (first, last) = (z.zs[0], z.zs[z.zs.len() - 1]);
+        assert_eq!((first, last), (0.0, 0.04));
+        let n = z.zs.len();
+        let widths: Vec<f64> = z.zs.windows(2).map(|w| w[1] - w[0]).collect();
+        for (k, w) in widths.iter().enumerate() {
+            // Symmetric about the mid-plane.
+            assert!((w - widths[n - 2 - k]).abs() < 1e-15, "{widths:?}");
+            let mid = 0.5 * (z.zs[k] + z.zs[k + 1]) - 0.02;
+            if mid.abs() < 2.5e-3 {
+                assert!((w - sf).abs() < 1e-15, "{k}: {w} in the core");
+            } else {
+                assert!(
+                    *w <= 1.5 * 0.005 + 1e-15 && *w >= sf * (1.0 - 1e-12),
+                    "{k}: {w}"
+                );
+            }
+        }
+        // Growing outward, by at most the growth (the face's last cell may take a rest).
+        let h = widths.len() / 2;
+        for k in h..widths.len() - 2 {
+            assert!(
+                widths[k + 1] >= widths[k] * (1.0 - 1e-12)
+                    && widths[k + 1] <= 1.3 * widths[k] * (1.0 + 1e-12),
+                "{widths:?}"
+            );
+        }
+        let counts = annulus_zone_counts(&o).unwrap();
+        assert_eq!(counts.2, n - 1);
+        assert_eq!(z.sources.len(), z.mesh.n_nodes());
+        // Wider than the wheel: refused, naming it.
+        o.axial = Some(0.03);
+        let e = annulus_zone(&o).unwrap_err().to_string();
+        assert!(e.contains("zone_axial"), "{e}");
     }
 
     /// Without refinement every station is on the outer pitch and a relocation is a pure

@@ -24,6 +24,9 @@
 //! #                           # zone's pitch (mesh's rings set the outer cells' size)
 //! # zone_depth_mm = 4.0       # and refined in depth: a ring at depth d at most
 //! #                           # s_f (1 + (d / l)^2) thick (s_f the zone's pitch)
+//! # zone_axial_mm = 3.0       # and across the width: layers as wide as the zone's pitch
+//! #                           # within this half-width of the mid-plane, growing by
+//! #                           # zone_growth outward (mesh's layers set the outer size)
 //! [rolling]
 //! omega = 300.0               # rad/s
 //! flattening_mm = 1.0         # the base pressed into the rim
@@ -31,6 +34,9 @@
 //! creepage = 0.0              # longitudinal xi (> 0: the wheel drives)
 //! lateral_creepage = 0.0      # eta
 //! spin_creepage = 0.0         # phi, 1/m
+//! # crown_radius_m = 0.1      # the base's crown across the rolling direction (a rail
+//! #                           # head's): the patch is Hertz's ellipse, centred on the
+//! #                           # wheel's mid-plane (none: a plane)
 //! turns = 0.5                 # the run's length (or time.t_end)
 //! ```
 //!
@@ -88,6 +94,7 @@ struct RawWheel {
     zone_deg: Option<f64>,
     zone_growth: Option<f64>,
     zone_depth_mm: Option<f64>,
+    zone_axial_mm: Option<f64>,
 }
 
 /// `[rolling]` as written.
@@ -100,6 +107,7 @@ struct RawRolling {
     creepage: Option<f64>,
     lateral_creepage: Option<f64>,
     spin_creepage: Option<f64>,
+    crown_radius_m: Option<f64>,
     turns: Option<f64>,
 }
 
@@ -146,7 +154,9 @@ impl Rolling3dScenario {
         let s = &self.slice;
         s.zone_options()
             .and_then(|o| crate::mesh::zone3d::annulus_zone_counts(&o).ok())
-            .map_or(s.counts, |(stations, rings)| [rings, stations, s.counts[2]])
+            .map_or(s.counts, |(stations, rings, layers)| {
+                [rings, stations, layers]
+            })
     }
 }
 
@@ -208,7 +218,12 @@ impl Kind for Rolling3dKind {
         let xi = creep("rolling.creepage", r.creepage, 1.0)?;
         let eta = creep("rolling.lateral_creepage", r.lateral_creepage, 1.0)?;
         let phi = creep("rolling.spin_creepage", r.spin_creepage, 1e3)?;
-        let zone = match (w.zone_sectors, w.zone_deg, w.zone_growth, w.zone_depth_mm) {
+        let zone = match (
+            w.zone_sectors,
+            w.zone_deg,
+            w.zone_growth,
+            w.zone_depth_mm.or(w.zone_axial_mm),
+        ) {
             (None, None, None, None) => None,
             (None, ..) => {
                 return Err(cx.invalid(
@@ -216,14 +231,17 @@ impl Kind for Rolling3dKind {
                         "wheel.zone_deg"
                     } else if w.zone_growth.is_some() {
                         "wheel.zone_growth"
-                    } else {
+                    } else if w.zone_depth_mm.is_some() {
                         "wheel.zone_depth_mm"
+                    } else {
+                        "wheel.zone_axial_mm"
                     },
                     "given",
                     "a key of the moving refined zone: give wheel.zone_sectors too",
                 ))
             }
-            (Some(z), deg, growth, depth) => {
+            (Some(z), deg, growth, _) => {
+                let depth = w.zone_depth_mm;
                 let nt = counts[1];
                 let ratio = usize::try_from(z).unwrap_or(0) / nt;
                 if z < nt as i64 || z > 1 << 20 || z % nt as i64 != 0 || !ratio.is_power_of_two() {
@@ -245,14 +263,23 @@ impl Kind for Rolling3dKind {
                         "a rim with a refined zone does not repeat round the axle: remove wheel.cyclic_columns (the patch stays under the base in the zone's frame, on the same nodes)",
                     ));
                 }
+                let axial = w
+                    .zone_axial_mm
+                    .map(|l| cx.within("wheel.zone_axial_mm", l, 1e-3, 0.5e3 * thickness))
+                    .transpose()?;
                 Some(SliceZone {
                     sectors: z as usize,
                     width: deg.to_radians(),
                     growth: Some(growth),
                     depth: depth.map(|l| 1e-3 * l),
+                    axial: axial.map(|l| 1e-3 * l),
                 })
             }
         };
+        let crown = r
+            .crown_radius_m
+            .map(|c| cx.within("rolling.crown_radius_m", c, 0.5 * thickness, 1e3))
+            .transpose()?;
         let turns = r
             .turns
             .map(|v| cx.within("rolling.turns", v, 1e-3, 1e3))
@@ -276,17 +303,22 @@ impl Kind for Rolling3dKind {
                 },
                 creepages: [xi, eta, phi],
                 zone,
+                crown,
             },
             turns,
             cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
         };
         if let (Some(o), Some(z)) = (scenario.slice.zone_options(), zone) {
             crate::mesh::zone3d::annulus_zone_counts(&o).map_err(|e| {
-                cx.invalid(
-                    "wheel.zone_deg",
-                    z.width.to_degrees(),
-                    &format!("the zone cannot be built: {e}"),
-                )
+                let (key, value) = match (&e, w.zone_axial_mm) {
+                    (crate::mesh::generators::MeshError::OutOfRange { name, .. }, Some(l))
+                        if name.starts_with("zone_axial") =>
+                    {
+                        ("wheel.zone_axial_mm", l)
+                    }
+                    _ => ("wheel.zone_deg", z.width.to_degrees()),
+                };
+                cx.invalid(key, value, &format!("the zone cannot be built: {e}"))
             })?;
         }
         Ok(Model::new(scenario))

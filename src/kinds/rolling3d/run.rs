@@ -30,7 +30,7 @@
 use super::Rolling3dScenario;
 use crate::bodies::rolling3d::{friction_force, PatchForce, RollingSlice};
 use crate::contact::pair::tangent_basis;
-use crate::contact::RotatingBase;
+use crate::contact::{Obstacle, RotatingBase};
 use crate::kinds::wheel::run::summarise::STEPS_PER_PASSAGE_MIN;
 use crate::kinds::wheel::run::traction::{hertz_2d, steady_ratio};
 use crate::model::PairState;
@@ -83,6 +83,8 @@ pub struct PatchNode {
     pub z: f64,
     /// The layer of nodes (0 at `z = 0`).
     pub layer: usize,
+    /// The node's normal force, N.
+    pub force: f64,
     /// Pressure (the normal force over the node's share of the rim), Pa.
     pub pressure: f64,
     /// Traction along the rolling direction, Pa.
@@ -200,7 +202,7 @@ pub(crate) fn record(
             // The base as the mesh's frame sees it (turned back by a zone's relocations).
             let base = turned(&base, v.frame_angle);
             last_angle = v.frame_angle;
-            let f = PatchForce::of(&base, t, pairs);
+            let f = PatchForce::at(&base, t, pairs, (&rim, &x_ref, &v.state.state.u));
             let spin = PatchForce::spin_moment(&base, t, pairs, (&rim, &x_ref, &v.state.state.u));
             let held = pairs.iter().filter(|p| p.force > 0.0).count();
             let sliding = pairs.iter().filter(|p| p.sliding).count();
@@ -253,7 +255,7 @@ pub(crate) fn record(
         &turned(&base, last_angle),
         last.t,
         (&x_ref, &last.state.u),
-        (&rim, &slice.rim_arc, &last.pairs),
+        (&rim, (&slice.rim_arc, &slice.rim_width), &last.pairs),
     );
     let last_u = last.state.u.clone();
     let settled = m.settled();
@@ -318,11 +320,22 @@ pub(crate) fn record(
         steady_value = extrapolated.map_or(per(q), |e| e.0);
         let line = &slice.base.line;
         let rho = line.radius - line.flattening.depth;
-        let (a, p0) = hertz_2d(
-            n / m.slice.thickness,
-            m.slice.radius,
-            m.slice.material.young,
-        );
+        let hertz3d = m.slice.crown.and_then(|rc| {
+            let e = &m.slice.material;
+            let e_star = e.young / (1.0 - e.poisson * e.poisson);
+            crate::contact::hertz::Hertz::from_radii(slice.spun_radius, rc, e_star, n).ok()
+        });
+        let (a, p0) = match &hertz3d {
+            None => hertz_2d(
+                n / m.slice.thickness,
+                m.slice.radius,
+                m.slice.material.young,
+            ),
+            Some(hz) => (hz.semi_axes_xy().0, hz.peak_pressure),
+        };
+        if let Some(hz) = &hertz3d {
+            summary["hertz3d"] = hertz3d_summary(m, hz, &patch, q);
+        }
         let stick = half
             .iter()
             .map(|r| (r.held - r.sliding.min(r.held)) as f64)
@@ -425,6 +438,49 @@ pub(crate) fn record(
     })
 }
 
+/// Hertz's ellipse of a crowned base at the steady normal force `hz` (the wheel's rolling
+/// radius along the rolling direction, the crown across it, `E* = E / (1 - nu^2)` on the
+/// rigid base), the last step's semi-axes from the patch's second moments of the nodal
+/// forces (`a = sqrt(5 sum f s^2 / sum f)`, exact for Hertz's pressure), and the scale of
+/// Kalker's creep coefficients, `G c^2` with `c = sqrt(a b)` and `G` the pair's combined
+/// modulus `2 / (1/G_1 + 1/G_2)`, `2 G_1` on a rigid base: `C_11 = -dF_x / (G c^2 d xi)`
+/// from two creepages (the creep force `q` along the rolling direction; its ratio to the
+/// creepage in one run carries the free-rolling offset).
+fn hertz3d_summary(
+    m: &Rolling3dScenario,
+    hz: &crate::contact::hertz::Hertz,
+    patch: &[PatchNode],
+    q: f64,
+) -> serde_json::Value {
+    let (ax, ay) = hz.semi_axes_xy();
+    let c2 = ax * ay;
+    let e = &m.slice.material;
+    let g = 2.0 * e.young / (2.0 * (1.0 + e.poisson));
+    let f: f64 = patch.iter().map(|p| p.force).sum();
+    let moment = |x: &dyn Fn(&PatchNode) -> f64| {
+        let mean = patch.iter().map(|p| p.force * x(p)).sum::<f64>() / f;
+        (5.0 * patch
+            .iter()
+            .map(|p| p.force * (x(p) - mean).powi(2))
+            .sum::<f64>()
+            / f)
+            .sqrt()
+    };
+    let xi = m.slice.creepages[0];
+    serde_json::json!({
+        "a_rolling_m": ax,
+        "b_lateral_m": ay,
+        "c_m": c2.sqrt(),
+        "peak_pressure_Pa": hz.peak_pressure,
+        "approach_m": hz.approach,
+        "measured_a_rolling_m": if f > 0.0 { moment(&|p| p.s) } else { f64::NAN },
+        "measured_b_lateral_m": if f > 0.0 { moment(&|p| p.z) } else { f64::NAN },
+        "combined_shear_modulus_Pa": g,
+        "kalker_scale_N": g * c2,
+        "creep_force_over_scale_and_creepage": if xi != 0.0 { q / (g * c2 * xi) } else { f64::NAN },
+    })
+}
+
 /// The rim nodes of the last step on the base's side of the wheel within three times the
 /// loaded arc of the patch's centre (module docs), ordered by layer and position.
 fn patch_nodes(
@@ -432,37 +488,39 @@ fn patch_nodes(
     base: &RotatingBase,
     t: f64,
     (x_ref, u): (&[f64], &[f64]),
-    (rim, arcs, pairs): (&[usize], &[f64], &[PairState]),
+    (rim, (arcs, widths), pairs): (&[usize], (&[f64], &[f64]), &[PairState]),
 ) -> Vec<PatchNode> {
     let fr = base.frame(t);
     let tangents = tangent_basis(3, fr.normal);
     // The wheel rolls over the base along -t_b.
     let fwd = fr.travel.map(|c| -c);
-    let [_, nt, nz] = m.stations();
+    let [_, nt, _] = m.stations();
     let pitch = 2.0 * std::f64::consts::PI * m.slice.radius / nt as f64;
-    let dz = m.slice.thickness / nz as f64;
     let mut all: Vec<PatchNode> = rim
         .iter()
+        .enumerate()
         .zip(pairs)
-        .zip(arcs)
-        .map(|((&node, ps), &arc)| {
+        .zip(arcs.iter().zip(widths))
+        .map(|(((i, &node), ps), (&arc, &width))| {
             let x: [f64; 3] = std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c]);
             let r: [f64; 3] = std::array::from_fn(|c| x[c] - fr.p0[c]);
             let z_ref = x_ref[3 * node + 2];
-            let layer = (z_ref / dz).round().max(0.0) as usize;
-            let width = if layer == 0 || layer == nz {
-                0.5 * dz
-            } else {
-                dz
-            };
+            // The rim set runs through the stations, layer by layer.
+            let layer = i / nt;
             let area = arc * m.slice.radius * width;
-            let q = friction_force(tangents, ps);
+            // A crowned base's tangents tilt with its normal across the patch.
+            let tg = match base.crown {
+                None => tangents,
+                Some(_) => tangent_basis(3, base.half_space(t, x).normal),
+            };
+            let q = friction_force(tg, ps);
             (
                 dot(r, fr.normal).abs(),
                 PatchNode {
                     s: dot(r, fwd),
                     z: z_ref - 0.5 * m.slice.thickness,
                     layer,
+                    force: ps.force.max(0.0),
                     pressure: ps.force.max(0.0) / area,
                     traction: dot(q, fwd) / area,
                     lateral: q[2] / area,

@@ -70,32 +70,34 @@ pub fn annulus_hex8(
     let angles: Vec<f64> = (0..nt)
         .map(|j| 2.0 * std::f64::consts::PI * j as f64 / nt as f64)
         .collect();
-    swept_annulus_hex8(&radii, &angles, thickness, nz)
+    let zs: Vec<f64> = (0..=nz).map(|k| thickness * k as f64 / nz as f64).collect();
+    swept_annulus_hex8(&radii, &angles, &zs)
 }
 
 /// An annulus of hexahedra about the `z` axis swept through the ring radii `radii`
 /// (increasing, from the bore to the rim) and the angular stations `angles` (increasing,
-/// within one turn: the last sector closes back to the first station), the thickness `t` in
-/// `nz` equal layers from `z = 0`. Node `(i, j, k)` (radius `i`, station `j`, layer
-/// boundary `k`) is `i + (nr + 1) (j + nt k)` with `nr + 1 = radii.len()`,
+/// within one turn: the last sector closes back to the first station) and the layers'
+/// boundaries `zs` along the axle (increasing). Node `(i, j, k)` (radius `i`, station `j`,
+/// layer boundary `k`) is `i + (nr + 1) (j + nt k)` with `nr + 1 = radii.len()`,
 /// `nt = angles.len()`; node sets `"bore"`, `"rim"` (ordered by `j` then `k`) and `"all"`,
 /// as [`annulus_hex8`], which is this mesh at equal rings and stations. The moving refined
 /// zone's wheel ([`crate::mesh::zone3d`]) has its stations fine under the base.
 ///
 /// # Errors
 /// [`MeshError`] for radii or stations that are not finite and increasing (at least two
-/// radii from a positive bore, three stations within one turn), a thickness that is not
-/// finite and positive, no layer, or too many nodes.
-pub fn swept_annulus_hex8(
-    radii: &[f64],
-    angles: &[f64],
-    thickness: f64,
-    nz: usize,
-) -> Result<Mesh, MeshError> {
-    check_length("thickness", thickness)?;
-    check_count("layers", nz)?;
+/// radii from a positive bore, three stations within one turn, two layer boundaries), or
+/// too many nodes.
+pub fn swept_annulus_hex8(radii: &[f64], angles: &[f64], zs: &[f64]) -> Result<Mesh, MeshError> {
     let increasing =
         |v: &[f64]| v.windows(2).all(|w| w[1] > w[0]) && v.iter().all(|x| x.is_finite());
+    if zs.len() < 2 || !increasing(zs) {
+        return Err(MeshError::CountBelow {
+            name: "layer boundaries along the axle (increasing)",
+            value: zs.len(),
+            min: 2,
+        });
+    }
+    let nz = zs.len() - 1;
     if radii.len() < 2 || !increasing(radii) || radii[0] <= 0.0 {
         return Err(MeshError::CountBelow {
             name: "ring radii (increasing, from a bore > 0)",
@@ -119,10 +121,10 @@ pub fn swept_annulus_hex8(
     )?;
     let id = |i: usize, j: usize, k: usize| i + (nr + 1) * ((j % nt) + nt * k);
     let mut coords = Vec::with_capacity(3 * (nr + 1) * nt * (nz + 1));
-    for k in 0..=nz {
+    for &z in zs {
         for &th in angles {
             for &r in radii {
-                coords.extend([r * th.cos(), r * th.sin(), thickness * k as f64 / nz as f64]);
+                coords.extend([r * th.cos(), r * th.sin(), z]);
             }
         }
     }
