@@ -13,15 +13,15 @@
 //!
 //! Measured: the shipped scenario's sweep gives free-rolling creepages of 0.5623 / 0.5911 /
 //! 0.6046 mu a / R on the undeformed radius at 4,608 / 9,216 / 18,432 in the zone (observed
-//! order 1.10, Richardson limit 0.6164); this test's three creepages per rung (the parabola
-//! through 1, 1.5 and 2 e-3 on each) give 0.5607 / 0.5906 / 0.6041, order 1.15, limit
-//! 0.6151. The half-space's 0.6276 less the wheel's own smooth strain at the contact
-//! (0.0096) is 0.6180: the limit is 0.46 % below it. The shipped mesh is 1.8 % short of the
-//! limit ([`TO_LIMIT`]). The zone's chequerboard of diagonals matters here: with one diagonal
-//! in every cell the same ladder gave 0.529 / 0.578 / 0.5995 (8 ms, the mean), and the
-//! mirrored diagonal 0.606 / 0.599 (the other direction of rolling). The file's tests took
-//! 504 s on two cores beside another run (the ladder's 9 runs of 2,500 steps, side by side
-//! by two; the 18,432 rung takes most).
+//! order 1.10, Richardson limit 0.6164); with three creepages per rung (the parabola
+//! through 1, 1.5 and 2 e-3 on each) 0.5607 / 0.5906 / 0.6041, order 1.15, limit 0.6151.
+//! The half-space's 0.6276 less the wheel's own smooth strain at the contact (0.0096) is
+//! 0.6180: the limit is 0.46 % below it, the shipped mesh 1.8 % short of the limit. The test
+//! runs the ladder's two coarser rungs and takes its order as known ([`LADDER_ORDER`]); the
+//! full ladder is the shipped sweep, about 8 minutes on two cores. The zone's chequerboard
+//! of diagonals matters here: with one diagonal in every cell the same ladder gave 0.529 /
+//! 0.578 / 0.5995 (8 ms, the mean), and the mirrored diagonal 0.606 / 0.599 (the other
+//! direction of rolling).
 
 mod common;
 
@@ -403,18 +403,23 @@ fn the_start_up_transient_extrapolates_to_the_long_runs_creep_force() {
 /// pressure moves free rolling by 1.5 %.
 const HALF_SPACE_FREE_ROLLING: f64 = 0.6276;
 
-/// How close the finest rung is asserted to be to the Richardson limit (the 2 %).
-const TO_LIMIT: f64 = 0.02;
+/// The free-rolling creepage of the shipped scenario's full ladder, `softway sweep
+/// scenarios/creep-curve-coupled.toml` (4,608 / 9,216 / 18,432 in the zone: 0.5623 /
+/// 0.5911 / 0.6046 mu a / R, observed order 1.10, Richardson limit 0.6164; the book's
+/// Friction chapter): its observed order, which the test's two rungs take as known.
+const LADDER_ORDER: f64 = 1.10;
 
-/// The coupled free-rolling creepage converges on a ladder of the shipped family (the zone's
-/// pitch halved twice: 4,608 / 9,216 / 18,432 rim nodes in the zone, the last the shipped
-/// one), run as a user runs it: `softway sweep` over the creepages 0.001 / 0.0015 / 0.002
-/// (on `rho`) with `[sweep] ladder` (the library's sweep, side by side on the cores), its
-/// `creep_ladder.csv` read at `Q/(mu P)` = 0. The observed order is positive, the finest
-/// rung within 2 % of the Richardson limit ([`TO_LIMIT`]), and the limit within 1 % of the
-/// half-space's ([`HALF_SPACE_FREE_ROLLING`]) less the wheel's own smooth strain at the
-/// contact (its curvature and hub; the static solve's, as in Bentall and Johnson's check),
-/// which a half-space does not have.
+/// The coupled free-rolling creepage converges on the ladder of the shipped family (the
+/// zone's pitch halved: 4,608 / 9,216 rim nodes in the zone, the shipped 18,432's two
+/// coarser rungs; the full ladder is the shipped scenario's sweep, whose numbers the book
+/// reports), run as a user runs it: `softway sweep` over the creepages 0.001 / 0.0015 /
+/// 0.002 (on `rho`) with the ladder's key (the library's sweep, side by side on the cores),
+/// its `creep_ladder.csv` read at `Q/(mu P)` = 0. The finer rung is the larger and within 5
+/// % of the reference, and the two rungs extrapolated at the full ladder's order
+/// ([`LADDER_ORDER`]) land within 1 % of the half-space's ([`HALF_SPACE_FREE_ROLLING`]) less
+/// the wheel's own smooth strain at the contact (its curvature and hub; the static solve's,
+/// as in Bentall and Johnson's check), which a half-space does not have. Measured: 0.5607 /
+/// 0.5906, extrapolated 0.6167 against 0.6173 (-0.10 %; the finer rung -4.33 %), in 172 s.
 #[test]
 fn coupled_free_rolling_creepage_converges_on_the_zone_ladder() {
     use softway::scenario::overrides::{grid, Grid};
@@ -429,7 +434,7 @@ fn coupled_free_rolling_creepage_converges_on_the_zone_ladder() {
         ),
         (
             "wheel.zone_rim_nodes".to_string(),
-            vec!["4608".into(), "9216".into(), "18432".into()],
+            vec!["4608".into(), "9216".into()],
         ),
     ];
     let points = grid(&keys, Grid::Product).unwrap();
@@ -458,26 +463,21 @@ fn coupled_free_rolling_creepage_converges_on_the_zone_ladder() {
         let k = head.iter().position(|h| *h == name).unwrap();
         row[k].parse().unwrap()
     };
-    let [x1, x2, x3] =
-        ["4608", "9216", "18432"].map(|z| col(&format!("mu_a_R@wheel.zone_rim_nodes={z}")));
-    let (order, limit) = (col("order"), col("richardson_limit_mu_a_R"));
-    // The unit: mu a / R with the finest rung's a, as the CSV's.
+    let [x1, x2] = ["4608", "9216"].map(|z| col(&format!("mu_a_R@wheel.zone_rim_nodes={z}")));
+    let limit = x2 + (x2 - x1) / (2f64.powf(LADDER_ORDER) - 1.0);
+    // The unit: mu a / R with the finer rung's a, as the CSV's.
     let t = &done.last().unwrap().summary["traction"];
     let unit = 0.3 * t["hertz_half_width"].as_f64().unwrap() / 0.1;
-    let eps_c = smooth_strain(&wheel(&[("wheel.zone_rim_nodes", "18432")], true));
+    let eps_c = smooth_strain(&wheel(&[("wheel.zone_rim_nodes", "9216")], true));
     let reference = HALF_SPACE_FREE_ROLLING - eps_c / unit;
     eprintln!(
-        "free rolling {x1:.4} / {x2:.4} / {x3:.4} mu a / R: order {order:.2}, Richardson limit {limit:.4}; finest {:+.2}% from it; the half-space's {HALF_SPACE_FREE_ROLLING} less the wheel's smooth strain {:.4}: {reference:.4} ({:+.2}%)",
-        100.0 * (x3 / limit - 1.0),
+        "free rolling {x1:.4} / {x2:.4} mu a / R, extrapolated at order {LADDER_ORDER}: {limit:.4}; the half-space's {HALF_SPACE_FREE_ROLLING} less the wheel's smooth strain {:.4}: {reference:.4} ({:+.2}%); the finer rung {:+.2}% from it",
         eps_c / unit,
-        100.0 * (limit / reference - 1.0)
+        100.0 * (limit / reference - 1.0),
+        100.0 * (x2 / reference - 1.0)
     );
-    assert!(order > 0.5 && order < 3.0, "order {order}");
-    assert!(
-        x1 < x2 && x2 < x3 && x3 < limit,
-        "{x1} {x2} {x3} -> {limit}"
-    );
-    assert!((x3 / limit - 1.0).abs() < TO_LIMIT, "{x3} vs {limit}");
+    assert!(x1 < x2 && x2 < reference, "{x1} {x2} -> {reference}");
+    assert!((x2 / reference - 1.0).abs() < 0.05, "{x2} vs {reference}");
     assert!(
         (limit / reference - 1.0).abs() < 0.01,
         "{limit} vs {reference}"
