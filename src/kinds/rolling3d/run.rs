@@ -129,6 +129,9 @@ struct Rolling3dFiles {
     settled: f64,
     steady_ratio: f64,
     thickness: f64,
+    /// A crowned base's Hertz ellipse at the steady normal force: the semi-axis along the
+    /// rolling direction and the peak pressure, m and Pa.
+    hertz: Option<(f64, f64)>,
 }
 
 /// `softway run` of a `rolling3d` scenario (module docs).
@@ -292,6 +295,7 @@ pub(crate) fn record(
     });
     crate::run::provenance::stamp_provenance(&mut summary, sc);
     let mut steady_value = f64::NAN;
+    let mut hertz_fig = None;
     if rolling.len() >= 8 {
         let half = &rolling[rolling.len() / 2..];
         let mean = |f: &dyn Fn(&Rec) -> f64| half.iter().map(f).sum::<f64>() / half.len() as f64;
@@ -335,6 +339,7 @@ pub(crate) fn record(
         };
         if let Some(hz) = &hertz3d {
             summary["hertz3d"] = hertz3d_summary(m, hz, &patch, q);
+            hertz_fig = Some((hz.semi_axes_xy().0, hz.peak_pressure));
         }
         let stick = half
             .iter()
@@ -434,6 +439,7 @@ pub(crate) fn record(
             settled,
             steady_ratio: steady_value,
             thickness: m.slice.thickness,
+            hertz: hertz_fig,
         })),
     })
 }
@@ -671,14 +677,44 @@ impl Rolling3dFiles {
             "s [mm] (the wheel's travel over the base: +)",
             "stress [MPa]",
         );
-        let layers: Vec<usize> = {
+        let all_layers: Vec<usize> = {
             let mut l: Vec<usize> = self.patch.iter().map(|p| p.layer).collect();
             l.dedup();
             l
         };
         // The mid layer (or the first), whose pressure and traction are drawn; the others'
-        // pressures as thin lines.
-        let mid = layers.get(layers.len() / 2).copied().unwrap_or(0);
+        // pressures as thin lines: the loaded ones, and of many (a wide wheel) at most three
+        // on the side z > 0.
+        let mid = all_layers.get(all_layers.len() / 2).copied().unwrap_or(0);
+        let loaded = |l: usize| self.patch.iter().any(|p| p.layer == l && p.pressure > 0.0);
+        let mut layers: Vec<usize> = all_layers
+            .iter()
+            .copied()
+            .filter(|&l| l == mid || loaded(l))
+            .collect();
+        if layers.len() > 5 {
+            let side: Vec<usize> = layers.iter().copied().filter(|&l| l > mid).collect();
+            let picks = 3.min(side.len());
+            let mut kept = vec![mid];
+            kept.extend((0..picks).map(|i| side[(i + 1) * side.len() / (picks + 1)]));
+            layers = kept;
+        }
+        if let Some((a, p0)) = self.hertz {
+            let n = 81;
+            let s: Vec<f64> = (0..n)
+                .map(|i| 1e3 * a * (-1.0 + 2.0 * i as f64 / (n - 1) as f64))
+                .collect();
+            let p: Vec<f64> = s
+                .iter()
+                .map(|x| 1e-6 * p0 * (1.0 - (1e-3 * x / a).powi(2)).max(0.0).sqrt())
+                .collect();
+            patch.series.push(Series::new(
+                "Hertz's pressure at z = 0",
+                s,
+                p,
+                SeriesStyle::LineMarkers,
+            ));
+        }
         for &l in &layers {
             let row: Vec<&PatchNode> = self.patch.iter().filter(|p| p.layer == l).collect();
             let s: Vec<f64> = row.iter().map(|p| 1e3 * p.s).collect();
