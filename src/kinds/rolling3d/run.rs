@@ -258,7 +258,7 @@ pub(crate) fn record(
         &turned(&base, last_angle),
         last.t,
         (&x_ref, &last.state.u),
-        (&rim, (&slice.rim_arc, &slice.rim_width), &last.pairs),
+        (&rim, &slice, &last.pairs),
     );
     let last_u = last.state.u.clone();
     let settled = m.settled();
@@ -494,7 +494,7 @@ fn patch_nodes(
     base: &RotatingBase,
     t: f64,
     (x_ref, u): (&[f64], &[f64]),
-    (rim, (arcs, widths), pairs): (&[usize], (&[f64], &[f64]), &[PairState]),
+    (rim, slice, pairs): (&[usize], &RollingSlice, &[PairState]),
 ) -> Vec<PatchNode> {
     let fr = base.frame(t);
     let tangents = tangent_basis(3, fr.normal);
@@ -506,7 +506,7 @@ fn patch_nodes(
         .iter()
         .enumerate()
         .zip(pairs)
-        .zip(arcs.iter().zip(widths))
+        .zip(slice.rim_arc.iter().zip(&slice.rim_width))
         .map(|(((i, &node), ps), (&arc, &width))| {
             let x: [f64; 3] = std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c]);
             let r: [f64; 3] = std::array::from_fn(|c| x[c] - fr.p0[c]);
