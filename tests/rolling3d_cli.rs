@@ -283,3 +283,111 @@ fn a_crowned_base_gives_hertz_circle_and_the_mirror() {
     }
     assert!(num(s, "/steady/lateral_force_N") < 0.0, "{s}");
 }
+
+/// The reference curve of another code (`rolling.reference_curve`,
+/// `validation/halfspace3d/rolling3d_reference.csv`: the coupled half-space answer) through
+/// `softway sweep` of the shipped 3D creep scenario on two coarse rungs: each run's summary
+/// carries the reference's traction ratio at the run's creepage (on the undeformed radius, in
+/// `mu a / R`), and the ladder's table gives the reference's creepages at `Q/(mu N)` = -0.5 /
+/// 0 / +0.5. Both are checked against the file read here and interpolated linearly (the
+/// sweep's roots use a parabola through three of the curve's points: within 4e-3 of the
+/// line's on this curve, measured 2.6e-3 at +0.5), the creepage's unit against Hertz's semi-axis and the radius in the
+/// summary. A reference file that is not a curve is refused by its key.
+#[test]
+fn a_creep_sweep_is_measured_against_the_reference_curve() {
+    let text = std::fs::read_to_string("validation/halfspace3d/rolling3d_reference.csv").unwrap();
+    let pts: Vec<(f64, f64)> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("creepage"))
+        .map(|l| {
+            let mut c = l.split(',').map(|v| v.parse::<f64>().unwrap());
+            (c.next().unwrap(), c.next().unwrap())
+        })
+        .collect();
+    let at = |x: f64| {
+        let k = pts
+            .windows(2)
+            .position(|w| w[0].0 <= x && x <= w[1].0)
+            .unwrap();
+        let ((x0, y0), (x1, y1)) = (pts[k], pts[k + 1]);
+        y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    };
+    let root = |y: f64| {
+        let k = pts
+            .windows(2)
+            .position(|w| (w[0].1 - y) * (w[1].1 - y) <= 0.0)
+            .unwrap();
+        let ((x0, y0), (x1, y1)) = (pts[k], pts[k + 1]);
+        x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+    };
+    let out = fresh_dir("rolling3d", "creep-reference");
+    let o = cli([
+        "sweep",
+        "scenarios/rolling3d-creep.toml",
+        "--set",
+        "rolling.creepage=0,0.003",
+        "--set",
+        "wheel.zone_sectors=192,384",
+        "--set",
+        "time.h=1e-5",
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let mut runs = 0;
+    for e in std::fs::read_dir(&out).unwrap() {
+        let f = e.unwrap().path().join("summary.json");
+        if !f.exists() {
+            continue;
+        }
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&f).unwrap()).unwrap();
+        let unit = num(&s, "/traction/friction") * num(&s, "/traction/hertz_half_width")
+            / num(&s, "/traction/radius");
+        let x = num(&s, "/traction/reference/creepage_of_run_mu_a_R");
+        assert!(
+            (x - num(&s, "/traction/creepage_undeformed") / unit).abs() < 1e-12,
+            "{s}"
+        );
+        let y = num(&s, "/traction/reference/traction_ratio_at_run");
+        assert!((y - at(x)).abs() < 1e-12, "{x}: {y} against {}", at(x));
+        runs += 1;
+    }
+    assert_eq!(runs, 4);
+    let csv = std::fs::read_to_string(out.join("creep_ladder.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = head.iter().position(|c| *c == "reference_mu_a_R").unwrap();
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let target: f64 = cells[0].parse().unwrap();
+        let r: f64 = cells[col].parse().unwrap();
+        assert!(
+            (r - root(target)).abs() < 4e-3,
+            "{target}: {r} against {}",
+            root(target)
+        );
+    }
+    let md = std::fs::read_to_string(out.join("creep_ladder.md")).unwrap();
+    assert!(md.contains("reference (rolling3d_reference.csv)"), "{md}");
+    assert!(out.join("creep_curve.png").exists());
+
+    let base = std::fs::read_to_string("scenarios/rolling3d-creep.toml").unwrap();
+    for (name, file, why) in [
+        ("missing", "no-such-file.csv", "could not be read"),
+        (
+            "not-a-curve",
+            "rolling3d-reference-not-a-curve.toml",
+            "no column creepage_mu_a_R",
+        ),
+    ] {
+        let text = base.replacen(
+            "reference_curve = \"../validation/halfspace3d/rolling3d_reference.csv\"",
+            &format!("reference_curve = \"{file}\""),
+            1,
+        );
+        let (code, err) = run_err(&format!("rolling3d-reference-{name}"), &text);
+        assert_one_line_error(code, &err, &["rolling.reference_curve", why]);
+    }
+}

@@ -539,21 +539,30 @@ impl ContactTreatment for SoftWay {
                 self.repeat_previous(ctx, ring)?;
                 // Braking may only push (module docs, Braking may only push): a pair whose
                 // braking impulse came out tensile is not braked but held at once in the
-                // interval where its penetration was found.
+                // interval where its penetration was found. Taking one brake off changes
+                // the others' impulses (the pairs share the step's matrix): the interval is
+                // solved again until no brake pulls, at most once per pair braked.
                 let mut tensile = false;
-                for &p in &pen {
-                    let st = &ring[1].pairs[p];
-                    if st.braked && st.force < 0.0 {
-                        ring[0].pairs[p].mode = self.pre_brake[p];
-                        tensile = true;
+                for _ in 0..pen.len() {
+                    let mut pulled = false;
+                    for &p in &pen {
+                        let st = &ring[1].pairs[p];
+                        if st.braked && st.force < 0.0 {
+                            ring[0].pairs[p].mode = self.pre_brake[p];
+                            pulled = true;
+                        }
                     }
+                    if !pulled {
+                        break;
+                    }
+                    tensile = true;
+                    self.repeat_previous(ctx, ring)?;
                 }
                 ctx.counts.brakings += pen
                     .iter()
                     .filter(|&&p| matches!(ring[0].pairs[p].mode, PairMode::Brake { .. }))
                     .count();
                 if tensile {
-                    self.repeat_previous(ctx, ring)?;
                     for &p in &pen {
                         if !ring[1].pairs[p].braked {
                             ring[1].pairs[p].mode = PairMode::Hold;

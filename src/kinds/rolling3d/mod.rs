@@ -38,6 +38,9 @@
 //! #                           # head's): the patch is Hertz's ellipse, centred on the
 //! #                           # wheel's mid-plane (none: a plane)
 //! turns = 0.5                 # the run's length (or time.t_end)
+//! # reference_curve = "ref.csv" # another code's creep curve to draw and measure the
+//! #                           # run against (relative to the scenario's folder;
+//! #                           # crate::analysis::reference_curve)
 //! ```
 //!
 //! `[time]` gives the step (`time.h`, required) and the space-time scheme's `alpha` and
@@ -45,6 +48,7 @@
 //! friction law (`friction`, `friction_kinetic`, `friction_velocity`; none: frictionless).
 //! What a run writes: [`run`].
 
+use crate::analysis::reference_curve::ReferenceCurve;
 use crate::bodies::rolling3d::{SliceSpec, SliceZone};
 use crate::contact::obstacle::Flattening;
 use crate::contact::Treatment;
@@ -109,6 +113,7 @@ struct RawRolling {
     spin_creepage: Option<f64>,
     crown_radius_m: Option<f64>,
     turns: Option<f64>,
+    reference_curve: Option<String>,
 }
 
 #[derive(serde::Deserialize)]
@@ -127,6 +132,9 @@ pub struct Rolling3dScenario {
     /// `wheel.cyclic_columns`: the contact's columns turned from one sector's (the rim
     /// repeats round the axle; [`crate::contact::cyclic`]) instead of each solved.
     pub cyclic_columns: bool,
+    /// `rolling.reference_curve`: another code's creep curve the run and a creep sweep are
+    /// measured against ([`crate::analysis::reference_curve`]).
+    pub reference: Option<ReferenceCurve>,
 }
 
 impl Rolling3dScenario {
@@ -284,6 +292,20 @@ impl Kind for Rolling3dKind {
             .turns
             .map(|v| cx.within("rolling.turns", v, 1e-3, 1e3))
             .transpose()?;
+        let reference = r
+            .reference_curve
+            .as_deref()
+            .map(|f| {
+                let path = cx.path().parent().unwrap_or(Path::new(".")).join(f);
+                ReferenceCurve::load(&path).map_err(|why| {
+                    cx.invalid(
+                        "rolling.reference_curve",
+                        format!("\"{f}\""),
+                        &format!("a CSV of the columns creepage_mu_a_R and traction_ratio, relative to the scenario's folder: {why}"),
+                    )
+                })
+            })
+            .transpose()?;
         let scenario = Rolling3dScenario {
             slice: SliceSpec {
                 radius,
@@ -307,6 +329,7 @@ impl Kind for Rolling3dKind {
             },
             turns,
             cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
+            reference,
         };
         if let (Some(o), Some(z)) = (scenario.slice.zone_options(), zone) {
             crate::mesh::zone3d::annulus_zone_counts(&o).map_err(|e| {

@@ -359,9 +359,14 @@ pub(crate) fn record(
             "lateral_ratio": per(ql),
             "traction_ratio_windows": ratio_q,
         });
+        let xi_r = crate::kinds::wheel::run::traction::creepage_undeformed(
+            m.slice.creepages[0],
+            rho,
+            slice.spun_radius,
+        );
         summary["traction"] = serde_json::json!({
             "creepage": m.slice.creepages[0],
-            "creepage_undeformed": crate::kinds::wheel::run::traction::creepage_undeformed(m.slice.creepages[0], rho, slice.spun_radius),
+            "creepage_undeformed": xi_r,
             "normal": n,
             "traction": q,
             "traction_ratio": per(q),
@@ -375,6 +380,27 @@ pub(crate) fn record(
             "hertz_peak_pressure": p0,
             "mean_stick_nodes": stick,
             "mean_slip_nodes": slip,
+        });
+        let reference_line = m.reference.as_ref().map(|rc| {
+            // The reference's creepage unit: mu a / R, a Hertz's semi-axis along the rolling.
+            let x = xi_r / (mu * a / m.slice.radius);
+            summary["traction"]["reference"] = rc.to_json(x);
+            match rc.at(x) {
+                Some(y) => format!(
+                    "{}: the reference ({}) at this creepage ({} mu a / R on the undeformed radius): Q/(mu N) = {}; this run's steady ratio minus it: {:+.4}",
+                    run.label,
+                    rc.name(),
+                    sig(x, 4),
+                    sig(y, 4),
+                    steady_value - y
+                ),
+                None => format!(
+                    "{}: this creepage ({} mu a / R on the undeformed radius) is outside the reference's ({})",
+                    run.label,
+                    sig(x, 4),
+                    rc.name()
+                ),
+            }
         });
         lines.push(format!(
             "{}: N = {} kN, Q/(mu N) = {} (steady {}), Q_y/(mu N) = {}, M_z = {} N m over the last {} ms; steady state {} (windows differ by {:.1e}); {} stick, {} slip nodes",
@@ -390,6 +416,7 @@ pub(crate) fn record(
             sig(stick, 3),
             sig(slip, 3),
         ));
+        lines.extend(reference_line);
     } else {
         lines.push(format!(
             "{}: the run ended before {} ms of rolling after the flattening's settling: no steady figures",

@@ -21,6 +21,7 @@
 //! distance from them).
 
 use super::{SweepError, SweepPoint};
+use crate::analysis::reference_curve::ReferenceCurve;
 use crate::analysis::richardson::{extrapolate, observed_orders};
 use crate::output::csv::{push_record, record};
 use crate::output::files::write_atomic;
@@ -204,6 +205,9 @@ struct Ladder {
     unit: f64,
     /// The creepages at the targets ([`ladder_rows`]).
     rows: Vec<LadderRow>,
+    /// Another code's curve the points name (`traction.reference`), and its creepages at
+    /// the targets, `mu a / R`.
+    reference: Option<(ReferenceCurve, Vec<Option<f64>>)>,
 }
 
 impl Ladder {
@@ -261,12 +265,24 @@ impl Ladder {
             .map(|c| c.iter().map(|p| (p.1, p.2)).collect())
             .collect();
         let rows = ladder_rows(&rungs, &on_r);
+        let reference = points
+            .iter()
+            .filter(|p| p.status.is_complete())
+            .find_map(|p| ReferenceCurve::from_summary(&p.summary))
+            .map(|rc| {
+                let at = TARGETS
+                    .iter()
+                    .map(|&t| creepage_at(&rc.points, t))
+                    .collect();
+                (rc, at)
+            });
         Ladder {
             rung_key,
             rungs,
             curves,
             unit,
             rows,
+            reference,
         }
     }
 
@@ -319,11 +335,15 @@ impl Ladder {
                 "richardson_limit",
                 "richardson_limit_mu_a_R",
                 "finest_minus_limit_mu_a_R",
+                "reference_mu_a_R",
+                "limit_minus_reference_mu_a_R",
+                "finest_minus_reference_mu_a_R",
             ]
             .map(String::from),
         );
         let mut csv = record(&cells);
-        for row in &self.rows {
+        for (k, row) in self.rows.iter().enumerate() {
+            let rf = self.reference_at(k);
             let mut cells = vec![format!("{}", row.target)];
             for v in &row.values {
                 let abs = if v.is_finite() {
@@ -339,6 +359,9 @@ impl Ladder {
                 row.limit.map_or(String::new(), |l| format!("{l:e}")),
                 fixed(row.limit.map(|l| l / unit), 6),
                 fixed(row.finest_error().map(|e| e / unit), 6),
+                fixed(rf, 6),
+                fixed(row.limit.zip(rf).map(|(l, r)| l / unit - r), 6),
+                fixed(row.values.last().zip(rf).map(|(v, r)| v / unit - r), 6),
             ]);
             push_record(&mut csv, &cells);
         }
@@ -354,12 +377,24 @@ impl Ladder {
         for r in &self.rungs {
             let _ = write!(md, " {r} |");
         }
-        md.push_str(" order | limit | finest - limit |\n|---|");
+        md.push_str(" order | limit | finest - limit |");
+        if let Some((rc, _)) = &self.reference {
+            let _ = write!(
+                md,
+                " reference ({}) | finest - reference | limit - reference |",
+                rc.name()
+            );
+        }
+        md.push_str("\n|---|");
         for _ in &self.rungs {
             md.push_str("---:|");
         }
-        md.push_str("---:|---:|---:|\n");
-        for row in &self.rows {
+        md.push_str("---:|---:|---:|");
+        if self.reference.is_some() {
+            md.push_str("---:|---:|---:|");
+        }
+        md.push('\n');
+        for (k, row) in self.rows.iter().enumerate() {
             let _ = write!(md, "| {:+.1} |", row.target);
             for v in &row.values {
                 let _ = write!(md, " {} |", fixed(Some(v / unit), 4));
@@ -371,13 +406,31 @@ impl Ladder {
                     100.0 * e / row.limit.unwrap_or(f64::NAN)
                 )
             });
-            let _ = writeln!(
+            let _ = write!(
                 md,
                 " {} | {} | {} |",
                 row.order
                     .map_or("- (not asymptotic)".to_string(), |o| format!("{o:.2}")),
                 fixed(row.limit.map(|l| l / unit), 4),
                 err.unwrap_or_default()
+            );
+            if self.reference.is_some() {
+                let rf = self.reference_at(k);
+                let _ = write!(
+                    md,
+                    " {} | {} | {} |",
+                    fixed(rf, 4),
+                    fixed(row.values.last().zip(rf).map(|(v, r)| v / unit - r), 4),
+                    fixed(row.limit.zip(rf).map(|(l, r)| l / unit - r), 4)
+                );
+            }
+            md.push('\n');
+        }
+        if let Some((rc, _)) = &self.reference {
+            let _ = writeln!(
+                md,
+                "\nreference: {} (its creepages at the traction ratios found as the rungs' are: the root of the parabola through the two points that bracket the ratio and the nearer third)",
+                rc.file
             );
         }
         md
@@ -422,12 +475,32 @@ impl Ladder {
                 SeriesStyle::Markers,
             ));
         }
+        if let Some((rc, _)) = &self.reference {
+            // The reference over the sweep's creepages and a quarter of their span beyond.
+            let xs = self.curves.iter().flatten().map(|p| p.1 / unit);
+            let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(x), h.max(x))
+            });
+            let m = 0.25 * (hi - lo);
+            let shown: Vec<(f64, f64)> = rc
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.0 >= lo - m && p.0 <= hi + m)
+                .collect();
+            panel.series.push(Series::new(
+                format!("reference: {}", rc.name()),
+                shown.iter().map(|p| p.0).collect(),
+                shown.iter().map(|p| p.1).collect(),
+                SeriesStyle::Dashed,
+            ));
+        }
         panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
         panel.y_range = Some((-1.15, 1.15));
         panel.note = format!(
             "Q/(mu P): the steady rolling's (the start-up transient extrapolated). Finest rung at Q/(mu P) = -0.5 / 0 / +0.5: {}",
             rows.iter()
-                .map(|r| match (r.values.last(), r.limit) {
+                .map(|r| match (r.values.last().filter(|v| v.is_finite()), r.limit) {
                     (Some(v), Some(l)) => format!("{:.4} (limit {:.4})", v / unit, l / unit),
                     (Some(v), None) => format!("{:.4} (no limit: not asymptotic)", v / unit),
                     _ => "-".into(),
@@ -435,7 +508,26 @@ impl Ladder {
                 .collect::<Vec<_>>()
                 .join(" / ")
         );
+        if self.reference.is_some() {
+            let _ = write!(
+                panel.note,
+                "; reference: {}",
+                (0..rows.len())
+                    .map(|k| self
+                        .reference_at(k)
+                        .map_or("-".into(), |r| format!("{r:.4}")))
+                    .collect::<Vec<_>>()
+                    .join(" / ")
+            );
+        }
         panel
+    }
+}
+
+impl Ladder {
+    /// The reference's creepage at the `k`-th target, `mu a / R`.
+    fn reference_at(&self, k: usize) -> Option<f64> {
+        self.reference.as_ref().and_then(|(_, at)| at[k])
     }
 }
 

@@ -188,6 +188,7 @@ pub(super) fn creep_curve(
     xs: &[f64],
     mark: &dyn Fn(&mut Panel),
 ) -> Result<Vec<PathBuf>, SweepError> {
+    use crate::analysis::reference_curve::ReferenceCurve;
     use crate::kinds::wheel::run::traction::carter_traction_ratio;
     let num = traction_figure;
     let mut pts: Vec<(f64, f64, f64, f64)> = points
@@ -263,6 +264,37 @@ pub(super) fn creep_curve(
             SeriesStyle::Line,
         ));
     }
+    // Another code's curve (`traction.reference`, in mu a / R on the undeformed radius),
+    // drawn on this figure's creepage (on rho) through the points' mean rho / R_s.
+    let reference = points
+        .iter()
+        .find_map(|p| ReferenceCurve::from_summary(&p.summary));
+    let rho_over_r = {
+        let k: Vec<f64> = points
+            .iter()
+            .zip(xs)
+            .map(|(p, &x)| (1.0 - num(p, "creepage_undeformed")) / (1.0 - x))
+            .filter(|k| k.is_finite())
+            .collect();
+        k.iter().sum::<f64>() / k.len().max(1) as f64
+    };
+    let unit = mu * a / radius;
+    let to_rho = |x: f64| 1.0 - (1.0 - x * unit) / rho_over_r;
+    if let Some(rc) = &reference {
+        let m = 0.25 * (hi - lo);
+        let shown: Vec<(f64, f64)> = rc
+            .points
+            .iter()
+            .map(|p| (to_rho(p.0), p.1))
+            .filter(|p| p.0 >= lo - m && p.0 <= hi + m)
+            .collect();
+        panel.series.push(Series::new(
+            format!("reference: {}", rc.name()),
+            shown.iter().map(|p| p.0).collect(),
+            shown.iter().map(|p| p.1).collect(),
+            SeriesStyle::Dashed,
+        ));
+    }
     panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
     panel.y_range = Some((-1.15, 1.15));
     mark(&mut panel);
@@ -294,6 +326,7 @@ pub(super) fn creep_curve(
         "carter_shifted",
         "free_rolling_creepage",
         "free_rolling_creepage_undeformed",
+        "reference",
     ]);
     for (p, r) in pts.iter().zip(&on_r) {
         let shifted = xi0.map_or(f64::NAN, |x0| {
@@ -309,6 +342,10 @@ pub(super) fn creep_curve(
                 shifted,
                 xi0.unwrap_or(f64::NAN),
                 xi0_r.unwrap_or(f64::NAN),
+                reference
+                    .as_ref()
+                    .and_then(|rc| rc.at(r.1 / unit))
+                    .unwrap_or(f64::NAN),
             ]
             .map(|x| format!("{x:e}")),
         );
