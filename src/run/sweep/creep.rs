@@ -481,19 +481,9 @@ impl Ladder {
             let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
                 (l.min(x), h.max(x))
             });
-            let m = 0.25 * (hi - lo);
-            let shown: Vec<(f64, f64)> = rc
-                .points
-                .iter()
-                .copied()
-                .filter(|p| p.0 >= lo - m && p.0 <= hi + m)
-                .collect();
-            panel.series.push(Series::new(
-                format!("reference: {}", rc.name()),
-                shown.iter().map(|p| p.0).collect(),
-                shown.iter().map(|p| p.1).collect(),
-                SeriesStyle::Dashed,
-            ));
+            panel
+                .series
+                .push(super::figures::reference_series(rc, (lo, hi), |x| x));
         }
         panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
         panel.y_range = Some((-1.15, 1.15));

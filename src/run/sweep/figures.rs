@@ -281,19 +281,7 @@ pub(super) fn creep_curve(
     let unit = mu * a / radius;
     let to_rho = |x: f64| 1.0 - (1.0 - x * unit) / rho_over_r;
     if let Some(rc) = &reference {
-        let m = 0.25 * (hi - lo);
-        let shown: Vec<(f64, f64)> = rc
-            .points
-            .iter()
-            .map(|p| (to_rho(p.0), p.1))
-            .filter(|p| p.0 >= lo - m && p.0 <= hi + m)
-            .collect();
-        panel.series.push(Series::new(
-            format!("reference: {}", rc.name()),
-            shown.iter().map(|p| p.0).collect(),
-            shown.iter().map(|p| p.1).collect(),
-            SeriesStyle::Dashed,
-        ));
+        panel.series.push(reference_series(rc, (lo, hi), to_rho));
     }
     panel.hlines = vec![(1.0, "full slip, Q = mu P".into()), (-1.0, String::new())];
     panel.y_range = Some((-1.15, 1.15));
@@ -353,6 +341,29 @@ pub(super) fn creep_curve(
     let f = out.join("creep_curve.csv");
     write_atomic(&f, csv.as_bytes()).map_err(|e| RunError::output(&f, e))?;
     Ok(vec![png, f])
+}
+
+/// The reference curve `rc` as a dashed series over the sweep's creepages `lo..hi` and a
+/// quarter of their span beyond, its creepages (`mu a / R`) mapped by `to_x` onto the
+/// figure's axis.
+pub(super) fn reference_series(
+    rc: &crate::analysis::reference_curve::ReferenceCurve,
+    (lo, hi): (f64, f64),
+    to_x: impl Fn(f64) -> f64,
+) -> Series {
+    let m = 0.25 * (hi - lo);
+    let shown: Vec<(f64, f64)> = rc
+        .points
+        .iter()
+        .map(|p| (to_x(p.0), p.1))
+        .filter(|p| p.0 >= lo - m && p.0 <= hi + m)
+        .collect();
+    Series::new(
+        format!("reference: {}", rc.name()),
+        shown.iter().map(|p| p.0).collect(),
+        shown.iter().map(|p| p.1).collect(),
+        SeriesStyle::Dashed,
+    )
 }
 
 /// The figure `k` of a point's `traction` block (NaN where it has none).
