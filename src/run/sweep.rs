@@ -7,6 +7,7 @@
 pub mod creep;
 mod figures;
 pub mod shard;
+pub mod speed;
 use figures::{creep_curve, force_panel, oscillations_panel, sweep_axis};
 pub(crate) use figures::{steady_traction_ratio, traction_figure};
 
@@ -361,7 +362,8 @@ pub fn sweep(
 
 /// Writes a sweep's table (`sweep.csv`, `sweep.md`; a column per key) and plot
 /// (`sweep.png`, Fig. 15, for wheels over the one key that varies; `creep_curve.png` and
-/// `.csv` over `rolling.creepage` with friction) into `out`, from the points' summaries in
+/// `.csv` over `rolling.creepage` with friction; `speed_effect.*` for the 3D rolling over
+/// its speed, [`speed`]) into `out`, from the points' summaries in
 /// the order given; returns the files.
 ///
 /// # Errors
@@ -382,6 +384,14 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
                 .any(|p| p.sets[i].value != points[0].sets[i].value)
         })
         .collect();
+    // The 3D rolling over its speed (alone, or with a ladder or creepages): what inertia
+    // changes.
+    if let Some((_, other)) = speed::study_keys(points, &keys, &varying) {
+        if points.iter().any(|p| p.status.is_complete()) {
+            files.extend(speed::speed_effect(out, points, other)?);
+        }
+        return Ok(files);
+    }
     // A creepage sweep on a refinement ladder: the creep curve per rung and its limit.
     if let [i, j] = varying[..] {
         let numeric = |k: usize| {

@@ -28,9 +28,13 @@
 //! #                           # within this half-width of the mid-plane, growing by
 //! #                           # zone_growth outward (mesh's layers set the outer size)
 //! [rolling]
-//! omega = 300.0               # rad/s
+//! omega = 300.0               # rad/s (or speed_km_h = 3.6 omega radius_m)
+//! # speed_km_h = 108.0        # the rim's speed, km/h, in place of omega
 //! flattening_mm = 1.0         # the base pressed into the rim
-//! settle_ms = 3.0             # the flattening's ramp
+//! settle_ms = 3.0             # the flattening's ramp (or settle_mm, the distance the rim
+//! #                           # rolls in it: the same ramp at every speed)
+//! # step_mm = 0.075           # the distance the rim rolls in a step, in place of time.h
+//! #                           # (time.h = step_mm / speed): the same steps at every speed
 //! creepage = 0.0              # longitudinal xi (> 0: the wheel drives)
 //! lateral_creepage = 0.0      # eta
 //! spin_creepage = 0.0         # phi, 1/m
@@ -106,8 +110,11 @@ struct RawWheel {
 #[serde(deny_unknown_fields)]
 struct RawRolling {
     omega: Option<f64>,
+    speed_km_h: Option<f64>,
     flattening_mm: Option<f64>,
     settle_ms: Option<f64>,
+    settle_mm: Option<f64>,
+    step_mm: Option<f64>,
     creepage: Option<f64>,
     lateral_creepage: Option<f64>,
     spin_creepage: Option<f64>,
@@ -135,6 +142,9 @@ pub struct Rolling3dScenario {
     /// `rolling.reference_curve`: another code's creep curve the run and a creep sweep are
     /// measured against ([`crate::analysis::reference_curve`]).
     pub reference: Option<ReferenceCurve>,
+    /// `rolling.step_mm` in metres: the distance the rim (`omega wheel.radius_m`) rolls in
+    /// a step, which sets the step `h = step / (omega radius)` in place of `time.h`.
+    pub step_rolled: Option<f64>,
 }
 
 impl Rolling3dScenario {
@@ -213,14 +223,42 @@ impl Kind for Rolling3dKind {
         let young = cx.within("wheel.young_GPa", w.young_gpa.unwrap_or(205.0), 1e-3, 1e4)?;
         let poisson = cx.within("wheel.poisson", w.poisson.unwrap_or(0.3), 0.0, 0.49)?;
         let density = cx.within("wheel.density", w.density.unwrap_or(7830.0), 1.0, 1e5)?;
-        let omega = cx.within("rolling.omega", r.omega.unwrap_or(300.0), 1e-3, 1e5)?;
+        let omega = match (r.omega, r.speed_km_h) {
+            (Some(_), Some(v)) => {
+                return Err(cx.invalid(
+                    "rolling.speed_km_h",
+                    v,
+                    "given with rolling.omega: give one of them (speed_km_h = 3.6 omega wheel.radius_m)",
+                ))
+            }
+            (None, Some(v)) => {
+                cx.within("rolling.speed_km_h", v, 1e-3, 1e4)? / 3.6 / radius
+            }
+            (omega, None) => cx.within("rolling.omega", omega.unwrap_or(300.0), 1e-3, 1e5)?,
+        };
+        let speed = omega * radius;
         let depth = cx.within(
             "rolling.flattening_mm",
             r.flattening_mm.unwrap_or(1.0),
             0.0,
             100.0 * radius,
         )?;
-        let settle = cx.within("rolling.settle_ms", r.settle_ms.unwrap_or(3.0), 0.0, 1e4)?;
+        let settle = match (r.settle_ms, r.settle_mm) {
+            (Some(_), Some(l)) => {
+                return Err(cx.invalid(
+                    "rolling.settle_mm",
+                    l,
+                    "given with rolling.settle_ms: give one of them (settle_mm = settle_ms times the rim's speed in m/s)",
+                ))
+            }
+            (None, Some(l)) => cx.within("rolling.settle_mm", l, 0.0, 1e6)? / speed,
+            (ms, None) => cx.within("rolling.settle_ms", ms.unwrap_or(3.0), 0.0, 1e4)?,
+        };
+        let step_rolled = r
+            .step_mm
+            .map(|l| cx.within("rolling.step_mm", l, 1e-6, 1e3))
+            .transpose()?
+            .map(|l| 1e-3 * l);
         let creep =
             |key: &str, v: Option<f64>, lim: f64| cx.within(key, v.unwrap_or(0.0), -lim, lim);
         let xi = creep("rolling.creepage", r.creepage, 1.0)?;
@@ -330,6 +368,7 @@ impl Kind for Rolling3dKind {
             turns,
             cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
             reference,
+            step_rolled,
         };
         if let (Some(o), Some(z)) = (scenario.slice.zone_options(), zone) {
             crate::mesh::zone3d::annulus_zone_counts(&o).map_err(|e| {
@@ -369,6 +408,24 @@ impl Spec for Rolling3dScenario {
 
     fn coriolis(&self) -> Option<String> {
         None
+    }
+
+    fn default_step(&self) -> Option<f64> {
+        self.step_rolled
+            .map(|l| l / (self.slice.omega * self.slice.radius))
+    }
+
+    fn check_step(&self, cx: &Ctx, key: &str, h: f64) -> Result<(), ScenarioError> {
+        match self.default_step() {
+            Some(own) if (h - own).abs() > 1e-12 * own => Err(cx.invalid(
+                key,
+                h,
+                &format!(
+                    "rolling.step_mm sets the step (h = {own:.4e} s at this speed): give one of the two"
+                ),
+            )),
+            _ => Ok(()),
+        }
     }
 
     fn check_scenario(

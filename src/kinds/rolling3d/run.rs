@@ -286,6 +286,7 @@ pub(crate) fn record(
         "h_s": h,
         "omega_rad_s": m.slice.omega,
         "speed_m_s": m.slice.omega * slice.base.line.radius,
+        "speed_km_h": 3.6 * m.slice.omega * m.slice.radius,
         "spun_radius_m": slice.spun_radius,
         "creepages": {"longitudinal": m.slice.creepages[0], "lateral": m.slice.creepages[1], "spin_per_m": m.slice.creepages[2]},
         "friction": mu,
