@@ -125,6 +125,22 @@ impl LadderRow {
     }
 }
 
+/// The observed order of `values` on the rungs `rungs` from the last three, and their
+/// Richardson limit, when every value is finite and the order lies within [`MIN_ORDER`] to
+/// [`MAX_ORDER`] (else `(None, None)`: not in the asymptotic range).
+pub fn order_and_limit(rungs: &[f64], values: &[f64]) -> (Option<f64>, Option<f64>) {
+    if !values.iter().all(|v| v.is_finite()) {
+        return (None, None);
+    }
+    let orders = observed_orders(rungs, values);
+    let order = orders.last().copied().flatten();
+    if order.is_some_and(|p| (MIN_ORDER..=MAX_ORDER).contains(&p)) {
+        (order, extrapolate(rungs, values, &orders))
+    } else {
+        (None, None)
+    }
+}
+
 /// The ladder's rows at [`TARGETS`] from the creep curves `curves` (one per rung, at the
 /// rung sizes `rungs`, each `(creepage, Q/(mu P))` sorted by creepage). Orders and limits
 /// only where the rungs are a ladder (three or more at one ratio,
@@ -140,14 +156,8 @@ pub fn ladder_rows(rungs: &[f64], curves: &[Vec<(f64, f64)>]) -> Vec<LadderRow> 
                 .iter()
                 .map(|c| creepage_at(c, target).unwrap_or(f64::NAN))
                 .collect();
-            let (order, limit) = if regular && values.iter().all(|v| v.is_finite()) {
-                let orders = observed_orders(rungs, &values);
-                let order = orders.last().copied().flatten();
-                if order.is_some_and(|p| (MIN_ORDER..=MAX_ORDER).contains(&p)) {
-                    (order, extrapolate(rungs, &values, &orders))
-                } else {
-                    (None, None)
-                }
+            let (order, limit) = if regular {
+                order_and_limit(rungs, &values)
             } else {
                 (None, None)
             };

@@ -24,7 +24,6 @@
 //! the speed, a line per series).
 
 use super::{SweepError, SweepPoint};
-use crate::analysis::richardson::{extrapolate, observed_orders};
 use crate::output::csv::{push_record, record};
 use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
@@ -45,7 +44,7 @@ const PHYSICAL_KEYS: [&str; 4] = [
 ];
 
 /// One run's steady figures.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SpeedPoint {
     /// The rim's speed, km/h.
     pub speed: f64,
@@ -57,6 +56,8 @@ pub struct SpeedPoint {
     pub lateral: f64,
     /// The spread (max - min) of the four windows' `Q / (mu N)`.
     pub spread: f64,
+    /// The windows' `Q / (mu N)`.
+    pub windows: Vec<f64>,
 }
 
 impl SpeedPoint {
@@ -77,6 +78,7 @@ impl SpeedPoint {
             ratio: super::steady_traction_ratio(p),
             lateral: num("/traction/lateral_ratio").unwrap_or(f64::NAN),
             spread: if spread.is_finite() { spread } else { f64::NAN },
+            windows,
         })
     }
 }
@@ -142,16 +144,8 @@ pub fn ladder_rows(rungs: &[f64], series: &[SpeedSeries]) -> Vec<SpeedLadderRow>
                         .map_or(f64::NAN, |k| d[k])
                 })
                 .collect();
-            let (order, limit) = if regular && changes.iter().all(|c| c.is_finite()) {
-                let orders = observed_orders(rungs, &changes);
-                let order = orders.last().copied().flatten();
-                if order.is_some_and(|p| {
-                    (super::creep::MIN_ORDER..=super::creep::MAX_ORDER).contains(&p)
-                }) {
-                    (order, extrapolate(rungs, &changes, &orders))
-                } else {
-                    (None, None)
-                }
+            let (order, limit) = if regular {
+                super::creep::order_and_limit(rungs, &changes)
             } else {
                 (None, None)
             };
@@ -364,12 +358,12 @@ impl Study {
     /// speed_effect.png: the change of Q/(mu N), and of N, against the speed.
     fn panels(&self) -> [Panel; 2] {
         let mut q = Panel::new(
-            "Creep force against the rolling speed: change from the slowest speed",
+            "Q / (mu N): change from the slowest speed",
             "rim speed, km/h",
             "change of Q / (mu N)",
         );
         let mut n = Panel::new(
-            "Normal force at the same flattening: change from the slowest speed",
+            "N at the same flattening: change",
             "rim speed, km/h",
             "change of N, %",
         );
@@ -387,6 +381,26 @@ impl Study {
                 s.normal_change().iter().map(|c| 100.0 * c).collect(),
                 SeriesStyle::LineMarkers,
             ));
+        }
+        // The last series' windows: the noise its changes are read against.
+        if let Some(s) = self.series.last() {
+            let base = s.points.first().map_or(f64::NAN, |p| p.ratio);
+            let (v, w): (Vec<f64>, Vec<f64>) = s
+                .points
+                .iter()
+                .flat_map(|p| p.windows.iter().map(move |w| (p.speed, w - base)))
+                .unzip();
+            if !v.is_empty() {
+                q.series.push(Series::new(
+                    match self.key {
+                        Some(_) => format!("{}: its runs' four windows", self.label(s)),
+                        None => "the runs' four windows".to_string(),
+                    },
+                    v,
+                    w,
+                    SeriesStyle::Markers,
+                ));
+            }
         }
         let limits: Vec<(f64, f64)> = self
             .rows
@@ -409,7 +423,7 @@ impl Study {
             .fold(0.0, f64::max);
         q.hlines = vec![(0.0, "the slowest speed (quasi-static)".into())];
         q.note = format!(
-            "Q/(mu N): the steady rolling's; the largest spread of a run's four windows: {spread:.1e}"
+            "Q/(mu N): the steady rolling's (the mean of the last two windows, or their extrapolation); the largest spread of a run's four windows: {spread:.1e}"
         );
         [q, n]
     }
@@ -430,6 +444,7 @@ mod tests {
                     ratio: law(v),
                     lateral: 0.0,
                     spread: 0.0,
+                    windows: Vec::new(),
                 })
                 .collect(),
         }
