@@ -371,6 +371,37 @@ fn a_creep_sweep_is_measured_against_the_reference_curve() {
     }
     let md = std::fs::read_to_string(out.join("creep_ladder.md")).unwrap();
     assert!(md.contains("reference (rolling3d_reference.csv)"), "{md}");
+    // The slope at free rolling: on two points a rung the interpolant is their line, so
+    // the slope is the chord's, in mu a / R; as Kalker's C, times N R / (a G c^2).
+    let pts_csv = std::fs::read_to_string(out.join("creep_curve.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = pts_csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    let slope_line = md
+        .lines()
+        .find(|l| l.starts_with("| slope |"))
+        .unwrap_or_else(|| panic!("{md}"));
+    let cells: Vec<&str> = slope_line.split('|').map(str::trim).collect();
+    for (k, rung) in [192.0, 384.0].iter().enumerate() {
+        let c: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == *rung).collect();
+        let chord = (c[1][4] - c[0][4]) / (c[1][3] - c[0][3]);
+        let got: f64 = cells[2 + k].parse().unwrap();
+        assert!(
+            (got - chord).abs() < 2e-4 * chord.abs() + 1e-4,
+            "{rung}: {got} against {chord}"
+        );
+    }
+    let c_line = md.lines().find(|l| l.starts_with("| C |")).unwrap();
+    let c_finest: f64 = c_line
+        .split('|')
+        .map(str::trim)
+        .nth(3)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(c_finest > 0.0 && c_finest.is_finite(), "{c_line}");
     assert!(out.join("creep_curve.png").exists());
 
     let base = std::fs::read_to_string("scenarios/rolling3d-creep.toml").unwrap();

@@ -91,6 +91,16 @@ pub fn creepage_at(pts: &[(f64, f64)], target: f64) -> Option<f64> {
     Some(0.5 * (lo + hi))
 }
 
+/// The slope `d(Q/(mu P)) / d(creepage)` of the creep curve `pts` where it reaches the
+/// traction ratio `target`: the inverse of the central difference of [`creepage_at`] over
+/// `target +- 0.02` (the same interpolant's inverse). `None` when the curve does not
+/// bracket both.
+pub fn slope_at(pts: &[(f64, f64)], target: f64) -> Option<f64> {
+    const D: f64 = 0.02;
+    let (lo, hi) = (creepage_at(pts, target - D)?, creepage_at(pts, target + D)?);
+    (hi != lo).then(|| 2.0 * D / (hi - lo))
+}
+
 /// The least observed order from which a limit is extrapolated: below it the differences
 /// shrink so slowly that the limit lies far beyond the ladder (an order of 0.3 on a ladder
 /// halving the pitch puts it 4 differences beyond the finest rung): the rungs are not yet
@@ -218,6 +228,14 @@ struct Ladder {
     /// Another code's curve the points name (`traction.reference`), and its creepages at
     /// the targets, `mu a / R`.
     reference: Option<(ReferenceCurve, Vec<Option<f64>>)>,
+    /// The creep curve's slope at free rolling on each rung, `d(Q/(mu P)) / d(xi_R / (mu
+    /// a / R))` ([`slope_at`]), its order and limit, and the reference's.
+    slopes: Vec<f64>,
+    slope_fit: (Option<f64>, Option<f64>),
+    reference_slope: Option<f64>,
+    /// Kalker's scale of a creep coefficient in these units: `C = slope N R / (a G c^2)`
+    /// (`dQ/dxi / (G c^2)`), from the finest rung's summaries' `hertz3d` (NaN without).
+    kalker_factor: f64,
 }
 
 impl Ladder {
@@ -286,6 +304,47 @@ impl Ladder {
                     .collect();
                 (rc, at)
             });
+        let slopes: Vec<f64> = on_r
+            .iter()
+            .map(|c| {
+                let c: Vec<(f64, f64)> = c.iter().map(|p| (p.0 / unit, p.1)).collect();
+                slope_at(&c, 0.0).unwrap_or(f64::NAN)
+            })
+            .collect();
+        let strings: Vec<String> = rungs.iter().map(|r| r.to_string()).collect();
+        let slope_fit = if crate::scenario::overrides::ladder_rungs(&strings, 3).is_ok() {
+            order_and_limit(&rungs, &slopes)
+        } else {
+            (None, None)
+        };
+        let reference_slope = reference
+            .as_ref()
+            .and_then(|(rc, _)| slope_at(&rc.points, 0.0));
+        let finest_pts: Vec<&SweepPoint> = points
+            .iter()
+            .filter(|p| p.status.is_complete() && Some(&value(p, i_rung)) == rungs.last())
+            .collect();
+        let kalker_factor = {
+            let n = finest_pts.len() as f64;
+            let mean =
+                |f: &dyn Fn(&SweepPoint) -> f64| finest_pts.iter().map(|p| f(p)).sum::<f64>() / n;
+            let h = |p: &SweepPoint, k: &str| {
+                p.summary
+                    .pointer(&format!("/hertz3d/{k}"))
+                    .and_then(serde_json::Value::as_f64)
+                    .unwrap_or(f64::NAN)
+            };
+            let (nn, r, a) = (
+                mean(&|p| num(p, "normal")),
+                mean(&|p| num(p, "radius")),
+                mean(&|p| num(p, "hertz_half_width")),
+            );
+            let (g, c) = (
+                mean(&|p| h(p, "combined_shear_modulus_Pa")),
+                mean(&|p| h(p, "c_m")),
+            );
+            nn * r / (a * g * c * c)
+        };
         Ladder {
             rung_key,
             rungs,
@@ -293,6 +352,10 @@ impl Ladder {
             unit,
             rows,
             reference,
+            slopes,
+            slope_fit,
+            reference_slope,
+            kalker_factor,
         }
     }
 
@@ -442,6 +505,53 @@ impl Ladder {
                 "\nreference: {} (its creepages at the traction ratios found as the rungs' are: the root of the parabola through the two points that bracket the ratio and the nearer third)",
                 rc.file
             );
+        }
+        md.push_str(&self.slope_md());
+        md
+    }
+
+    /// The slope at free rolling on each rung, its order and limit, the reference's, and
+    /// the same as Kalker's coefficient `C = dQ/dxi / (G c^2)` when the summaries give `G`
+    /// and `c`.
+    fn slope_md(&self) -> String {
+        let k = self.kalker_factor;
+        let (order, limit) = self.slope_fit;
+        let mut md = format!(
+            "\nThe creep curve's slope at free rolling, d(Q/(mu P)) / d(xi_R / (mu a / R)), on each rung of {}{}\n\n| |",
+            self.rung_key,
+            if k.is_finite() {
+                format!(", and as Kalker's coefficient C = (dQ/dxi_R) / (G c^2) = slope x N R / (a G c^2) = slope x {k:.4}")
+            } else {
+                String::new()
+            }
+        );
+        for r in &self.rungs {
+            let _ = write!(md, " {r} |");
+        }
+        md.push_str(" order | limit | reference | finest - reference | limit - reference |\n|---|");
+        for _ in &self.rungs {
+            md.push_str("---:|");
+        }
+        md.push_str("---:|---:|---:|---:|---:|\n");
+        let rf = self.reference_slope;
+        let mut row = |name: &str, f: f64| {
+            let _ = write!(md, "| {name} |");
+            for v in &self.slopes {
+                let _ = write!(md, " {} |", fixed(Some(v * f), 4));
+            }
+            let _ = writeln!(
+                md,
+                " {} | {} | {} | {} | {} |",
+                order.map_or("- (not asymptotic)".to_string(), |o| format!("{o:.2}")),
+                fixed(limit.map(|l| l * f), 4),
+                fixed(rf.map(|r| r * f), 4),
+                fixed(self.slopes.last().zip(rf).map(|(v, r)| (v - r) * f), 4),
+                fixed(limit.zip(rf).map(|(l, r)| (l - r) * f), 4),
+            );
+        };
+        row("slope", 1.0);
+        if k.is_finite() {
+            row("C", k);
         }
         md
     }
