@@ -135,6 +135,13 @@ impl LadderRow {
     }
 }
 
+/// Whether the rungs are a refinement ladder of three or more
+/// ([`crate::scenario::overrides::ladder_rungs`]): a `--set` grid may be anything.
+pub fn is_ladder(rungs: &[f64]) -> bool {
+    let strings: Vec<String> = rungs.iter().map(|r| r.to_string()).collect();
+    crate::scenario::overrides::ladder_rungs(&strings, 3).is_ok()
+}
+
 /// The observed order of `values` on the rungs `rungs` from the last three, and their
 /// Richardson limit, when every value is finite and the order lies within [`MIN_ORDER`] to
 /// [`MAX_ORDER`] (else `(None, None)`: not in the asymptotic range).
@@ -157,8 +164,7 @@ pub fn order_and_limit(rungs: &[f64], values: &[f64]) -> (Option<f64>, Option<f6
 /// [`crate::scenario::overrides::ladder_rungs`]).
 pub fn ladder_rows(rungs: &[f64], curves: &[Vec<(f64, f64)>]) -> Vec<LadderRow> {
     // Orders only on three or more rungs at one ratio (a `--set` grid may be anything).
-    let strings: Vec<String> = rungs.iter().map(|r| r.to_string()).collect();
-    let regular = crate::scenario::overrides::ladder_rungs(&strings, 3).is_ok();
+    let regular = is_ladder(rungs);
     TARGETS
         .iter()
         .map(|&target| {
@@ -311,8 +317,7 @@ impl Ladder {
                 slope_at(&c, 0.0).unwrap_or(f64::NAN)
             })
             .collect();
-        let strings: Vec<String> = rungs.iter().map(|r| r.to_string()).collect();
-        let slope_fit = if crate::scenario::overrides::ladder_rungs(&strings, 3).is_ok() {
+        let slope_fit = if is_ladder(&rungs) {
             order_and_limit(&rungs, &slopes)
         } else {
             (None, None)

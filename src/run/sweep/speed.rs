@@ -122,8 +122,7 @@ pub struct SpeedLadderRow {
 /// The ladder's rows: at each speed but the slowest, the change of `Q / (mu N)` on each rung
 /// of `series` (the rungs `rungs`), its order and limit.
 pub fn ladder_rows(rungs: &[f64], series: &[SpeedSeries]) -> Vec<SpeedLadderRow> {
-    let strings: Vec<String> = rungs.iter().map(|r| r.to_string()).collect();
-    let regular = crate::scenario::overrides::ladder_rungs(&strings, 3).is_ok();
+    let regular = super::creep::is_ladder(rungs);
     let mut speeds: Vec<f64> = series
         .iter()
         .flat_map(|s| s.points.iter().map(|p| p.speed))
