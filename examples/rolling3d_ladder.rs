@@ -66,6 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 creepages: [xi, 0.0, 0.0],
                 zone: None,
                 crown: None,
+                coupling: softway::bodies::wheel::Coupling::Coupled,
             })?;
             let problem = slice.problem((0.8, 0.2), H, STEPS, FrictionLaw::coulomb(MU));
             let mut sim = Simulation::new(problem)?;

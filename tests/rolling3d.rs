@@ -77,6 +77,7 @@ fn slice(xi: f64, eta: f64, phi: f64) -> RollingSlice {
         creepages: [xi, eta, phi],
         zone: None,
         crown: None,
+        coupling: softway::bodies::wheel::Coupling::Coupled,
     })
     .unwrap()
 }

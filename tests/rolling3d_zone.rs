@@ -48,6 +48,7 @@ fn slice(counts: [usize; 3], zone: Option<SliceZone>, xi: f64, eta: f64) -> Roll
         creepages: [xi, eta, 0.0],
         zone,
         crown: None,
+        coupling: softway::bodies::wheel::Coupling::Coupled,
     })
     .unwrap()
 }

@@ -2,6 +2,7 @@
 //! and derived quantities.
 
 pub mod components;
+pub mod kalker;
 pub mod reference_curve;
 pub mod richardson;
 pub mod signal;

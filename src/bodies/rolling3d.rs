@@ -11,11 +11,23 @@
 //! the base under the friction law given ([`crate::contact::FrictionLaw`], Coulomb's
 //! isotropic cone in 3D), the soft way.
 //!
+//! **Uncoupled: Kalker's quasi-identical pair.** An elastic wheel on a rigid base is not a
+//! pair of one material: the pressure strains the rim tangentially and the traction moves it
+//! normally (Dundurs' `beta = (1 - 2 nu) / (2 (1 - nu))`), and Kalker's creep coefficients
+//! are those of two bodies of one material, whose normal and tangential problems decouple.
+//! [`Coupling::Uncoupled`] poses that pair as the 2D wheel does (Carter's twin): a second
+//! copy of the spun wheel (the twin: the same step matrix, without the spin's load) carries
+//! the tangential tractions alone, the wheel the normal ones; each rim node's gap reads the
+//! wheel, its slip the twin ([`Pair::Split`]), and the wheel's state is their sum
+//! ([`RollingSlice::own_state`]). The tangential compliance is then one wheel's on a rigid
+//! base: Kalker's combined modulus `G = 2 G_1`, as on the coupled pair.
+//!
 //! [`PatchForce::of`] sums a step's pair states into the normal force and the tangential
 //! force on the wheel along the base's travel `t_b` and along the axle: the creep forces.
 //! `tests/rolling3d.rs` checks them against the 2D plane-stress wheel and full slip
 //! (the book's docs/src/solids3d.md, "Rolling in 3D").
 
+use crate::bodies::wheel::Coupling;
 use crate::contact::cyclic::CyclicSymmetry;
 use crate::contact::obstacle::Flattening;
 use crate::contact::pair::tangent_basis;
@@ -86,6 +98,10 @@ pub struct SliceSpec {
     /// The base's crown across the rolling direction, m ([`RotatingBase::crown`]; `None`:
     /// a plane): with it the patch is Hertz's ellipse about the wheel's mid-plane.
     pub crown: Option<f64>,
+    /// The wheel on its rigid base as it is, or Kalker's quasi-identical pair through a twin
+    /// wheel that carries the tangential tractions alone ([`Coupling::Uncoupled`]; module
+    /// docs, Uncoupled).
+    pub coupling: Coupling,
 }
 
 impl SliceSpec {
@@ -161,6 +177,9 @@ pub struct RollingSlice {
     pub rim_width: Vec<f64>,
     /// The moving refined zone, when the spec has one.
     pub zone: Option<BuiltZone>,
+    /// The wheel's nodes when a twin follows them (nodes `N..2N` the twin of `0..N`;
+    /// [`Coupling::Uncoupled`]), else `None`.
+    pub twin: Option<usize>,
 }
 
 impl RollingSlice {
@@ -272,7 +291,39 @@ impl RollingSlice {
             .map(|&n| (x[3 * n] + s.u_spin[3 * n]).hypot(x[3 * n + 1] + s.u_spin[3 * n + 1]))
             .sum::<f64>()
             / rim.len().max(1) as f64;
-        let bodies = vec![s.solid.body];
+        let mut bodies = vec![s.solid.body];
+        let mut zone = zone;
+        let twin = match spec.coupling {
+            Coupling::Coupled => None,
+            Coupling::Uncoupled => {
+                // The twin: the same spun wheel (its step matrix, the spin's softening and
+                // stress stiffening, its Coriolis term), without the spin's load and
+                // displacement, held at the bore as the wheel is.
+                let wheel = &bodies[0];
+                let nodes = wheel.mesh.n_nodes();
+                let mut twin = wheel.clone();
+                twin.name = "twin".into();
+                twin.load.iter_mut().for_each(|f| *f = 0.0);
+                twin.u0.iter_mut().for_each(|u| *u = 0.0);
+                bodies.push(twin);
+                // A relocation carries the twin's state as the wheel's.
+                if let Some(z) = zone.as_mut() {
+                    let shifted: Vec<Source> = z
+                        .sources
+                        .iter()
+                        .map(|s| match *s {
+                            Source::Node(m) => Source::Node(m + nodes),
+                            Source::Triangle { nodes: t, weights } => Source::Triangle {
+                                nodes: t.map(|k| k + nodes),
+                                weights,
+                            },
+                        })
+                        .collect();
+                    z.sources.extend(shifted);
+                }
+                Some(nodes)
+            }
+        };
         let joined =
             super::assemble(&bodies).map_err(|e| RollingSliceError::Assembly(e.to_string()))?;
         let [xi, eta, phi] = spec.creepages;
@@ -298,6 +349,7 @@ impl RollingSlice {
             rim_arc,
             rim_width,
             zone,
+            twin,
         })
     }
 
@@ -339,9 +391,32 @@ impl RollingSlice {
         p.pairs = self
             .rim
             .iter()
-            .map(|&node| Pair::Obstacle { node, obstacle: 0 })
+            .map(|&node| match self.twin {
+                None => Pair::Obstacle { node, obstacle: 0 },
+                Some(nodes) => Pair::Split {
+                    node,
+                    shadow: node + nodes,
+                    obstacle: 0,
+                },
+            })
             .collect();
         p
+    }
+
+    /// The wheel's own displacement (or velocity) from the driver's vector `x`: its first
+    /// `3 N` values, plus the twin's when one carries the tangential tractions.
+    pub fn own_state(&self, x: &[f64]) -> Vec<f64> {
+        match self.twin {
+            None => x.to_vec(),
+            Some(nodes) => {
+                let n = 3 * nodes;
+                x[..n]
+                    .iter()
+                    .zip(&x[n..2 * n])
+                    .map(|(a, b)| a + b)
+                    .collect()
+            }
+        }
     }
 }
 
@@ -355,11 +430,17 @@ impl RollingSlice {
     /// # Panics
     /// Never for a slice [`RollingSlice::new`] built.
     pub fn symmetry(&self, [nr, nt, nz]: [usize; 3]) -> CyclicSymmetry {
-        let mut labels = vec![(0, 0); (nr + 1) * nt * (nz + 1)];
-        for k in 0..=nz {
-            for j in 0..nt {
-                for i in 0..=nr {
-                    labels[i + (nr + 1) * (j + nt * k)] = (i + (nr + 1) * k, j);
+        let per = (nr + 1) * nt * (nz + 1);
+        let orbits = (nr + 1) * (nz + 1);
+        let copies = if self.twin.is_some() { 2 } else { 1 };
+        let mut labels = vec![(0, 0); copies * per];
+        for w in 0..copies {
+            for k in 0..=nz {
+                for j in 0..nt {
+                    for i in 0..=nr {
+                        labels[w * per + i + (nr + 1) * (j + nt * k)] =
+                            (w * orbits + i + (nr + 1) * k, j);
+                    }
                 }
             }
         }

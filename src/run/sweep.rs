@@ -6,6 +6,7 @@
 
 pub mod creep;
 mod figures;
+pub mod kalker;
 pub mod shard;
 pub mod speed;
 use figures::{creep_curve, force_panel, oscillations_panel, sweep_axis};
@@ -391,6 +392,16 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
             files.extend(speed::speed_effect(out, points, other)?);
         }
         return Ok(files);
+    }
+    // The 3D rolling on a crowned base over its creepages: Kalker's coefficients. A sweep
+    // of the longitudinal creepage goes on to the creep curve.
+    if let Some(study) = kalker::study_keys(points, &keys, &varying) {
+        if points.iter().any(|p| p.status.is_complete()) {
+            files.extend(kalker::coefficients(out, points, &study)?);
+        }
+        if study.creepages != [0] {
+            return Ok(files);
+        }
     }
     // A creepage sweep on a refinement ladder: the creep curve per rung and its limit.
     if let [i, j] = varying[..] {

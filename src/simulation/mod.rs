@@ -376,10 +376,12 @@ impl Simulation {
         }
         let mut pair_of_node = vec![None; nodes];
         for (p, pair) in eng.pairs.iter().enumerate() {
-            match pair.nodes() {
-                (n, 1) => pair_of_node[n[0]] = Some(p),
+            // A split pair goes with its normal row's node (its shadow's state is carried
+            // by the sources of the twin's nodes).
+            match (pair, pair.nodes()) {
+                (_, (n, 1)) | (Pair::Split { .. }, (n, 2)) => pair_of_node[n[0]] = Some(p),
                 _ => return Err(SimError::Unsupported(
-                    "a moving refined zone carries node pairs only (not segments or split pairs)"
+                    "a moving refined zone carries node pairs and split pairs only (not segments)"
                         .into(),
                 )),
             }

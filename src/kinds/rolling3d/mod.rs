@@ -42,6 +42,9 @@
 //! #                           # head's): the patch is Hertz's ellipse, centred on the
 //! #                           # wheel's mid-plane (none: a plane)
 //! turns = 0.5                 # the run's length (or time.t_end)
+//! # coupling = "uncoupled"    # Kalker's pair of one material: a twin wheel carries the
+//! #                           # tangential tractions (twice the unknowns; default
+//! #                           # "coupled": the elastic wheel on its rigid base)
 //! # reference_curve = "ref.csv" # another code's creep curve to draw and measure the
 //! #                           # run against (relative to the scenario's folder;
 //! #                           # crate::analysis::reference_curve)
@@ -54,6 +57,7 @@
 
 use crate::analysis::reference_curve::ReferenceCurve;
 use crate::bodies::rolling3d::{SliceSpec, SliceZone};
+use crate::bodies::wheel::Coupling;
 use crate::contact::obstacle::Flattening;
 use crate::contact::Treatment;
 use crate::material::Elastic;
@@ -121,6 +125,7 @@ struct RawRolling {
     crown_radius_m: Option<f64>,
     turns: Option<f64>,
     reference_curve: Option<String>,
+    coupling: Option<String>,
 }
 
 #[derive(serde::Deserialize)]
@@ -159,10 +164,14 @@ impl Rolling3dScenario {
         2.0 * self.slice.flattening.settle_time
     }
 
-    /// Nodes of the annulus.
+    /// Nodes of the model: the annulus's, twice over with an uncoupled twin.
     pub fn nodes(&self) -> usize {
         let [nr, nt, nz] = self.stations();
-        (nr + 1) * nt * (nz + 1)
+        let copies = match self.slice.coupling {
+            Coupling::Coupled => 1,
+            Coupling::Uncoupled => 2,
+        };
+        copies * (nr + 1) * nt * (nz + 1)
     }
 
     /// Rings, stations round the rim and layers of the mesh: `wheel.mesh`'s, or with a
@@ -264,6 +273,17 @@ impl Kind for Rolling3dKind {
         let xi = creep("rolling.creepage", r.creepage, 1.0)?;
         let eta = creep("rolling.lateral_creepage", r.lateral_creepage, 1.0)?;
         let phi = creep("rolling.spin_creepage", r.spin_creepage, 1e3)?;
+        let coupling = match r.coupling.as_deref() {
+            None | Some("coupled") => Coupling::Coupled,
+            Some("uncoupled") => Coupling::Uncoupled,
+            Some(other) => {
+                return Err(cx.invalid(
+                    "rolling.coupling",
+                    format!("\"{other}\""),
+                    "\"coupled\" (the elastic wheel on its rigid base) or \"uncoupled\" (Kalker's pair of one material: a twin wheel carries the tangential tractions)",
+                ))
+            }
+        };
         let zone = match (
             w.zone_sectors,
             w.zone_deg,
@@ -364,6 +384,7 @@ impl Kind for Rolling3dKind {
                 creepages: [xi, eta, phi],
                 zone,
                 crown,
+                coupling,
             },
             turns,
             cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
@@ -471,7 +492,11 @@ impl Spec for Rolling3dScenario {
             duration: run.t_end,
             contact_pairs: (nt * (nz + 1)) as f64,
             key: Some("wheel.mesh"),
-            factor_entries: Some(factor_entries(3.0 * self.nodes() as f64)),
+            // A twin is a second block of the matrix: twice one wheel's factor.
+            factor_entries: Some(match self.slice.coupling {
+                Coupling::Coupled => factor_entries(3.0 * self.nodes() as f64),
+                Coupling::Uncoupled => 2.0 * factor_entries(1.5 * self.nodes() as f64),
+            }),
         }
     }
 

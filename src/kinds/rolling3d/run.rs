@@ -29,6 +29,7 @@
 
 use super::Rolling3dScenario;
 use crate::bodies::rolling3d::{friction_force, PatchForce, RollingSlice};
+use crate::bodies::wheel::Coupling;
 use crate::contact::pair::tangent_basis;
 use crate::contact::{Obstacle, RotatingBase};
 use crate::kinds::wheel::run::summarise::STEPS_PER_PASSAGE_MIN;
@@ -165,6 +166,15 @@ pub(crate) fn record(
             ),
         ));
     }
+    if m.slice.coupling == Coupling::Uncoupled && !run.friction.is_some_and(|f| f.is_active()) {
+        return Err(RunError::input(
+            &sc.path,
+            format!(
+                "run `{}`: `rolling.coupling` = \"uncoupled\" differs from the coupled wheel only through friction: set contact.friction > 0 (or remove rolling.coupling)",
+                run.label
+            ),
+        ));
+    }
     let slice =
         RollingSlice::new(&m.slice).map_err(|e| RunError::input(&sc.path, e.to_string()))?;
     let steps = (run.t_end / h).round().max(1.0) as usize;
@@ -260,7 +270,7 @@ pub(crate) fn record(
         (&x_ref, &last.state.u),
         (&rim, &slice, &last.pairs),
     );
-    let last_u = last.state.u.clone();
+    let last_u = slice.own_state(&last.state.u);
     let settled = m.settled();
     let rolling: Vec<Rec> = recs.iter().copied().filter(|r| r.t >= settled).collect();
     let mut lines = Vec::new();
@@ -282,6 +292,7 @@ pub(crate) fn record(
         })),
         "dofs": 3 * m.nodes(),
         "rim_nodes": rim.len(),
+        "coupling": m.slice.coupling,
         "steps": recs.len(),
         "h_s": h,
         "omega_rad_s": m.slice.omega,
@@ -510,6 +521,7 @@ fn hertz3d_summary(
         "measured_a_rolling_m": if f > 0.0 { moment(&|p| p.s) } else { f64::NAN },
         "measured_b_lateral_m": if f > 0.0 { moment(&|p| p.z) } else { f64::NAN },
         "combined_shear_modulus_Pa": g,
+        "poisson": e.poisson,
         "kalker_scale_N": g * c2,
         "creep_force_over_scale_and_creepage": if xi != 0.0 { q / (g * c2 * xi) } else { f64::NAN },
     })

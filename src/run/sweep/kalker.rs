@@ -1,0 +1,579 @@
+//! Kalker's linear creep coefficients from a creepage sweep of the 3D rolling wheel, on a
+//! refinement ladder ([`crate::analysis::kalker`]).
+//!
+//! A sweep of a `rolling3d` scenario on a crowned base (its summaries carry `hertz3d`) over
+//! one or more of the creepages (`rolling.creepage`, `rolling.lateral_creepage`,
+//! `rolling.spin_creepage`), alone or on a ladder of one more numeric key (`[sweep] ladder =
+//! { key = "wheel.zone_sectors", ... }`), fits on each rung the steady creep forces and spin
+//! moment as linear functions of the creepages that vary (least squares with a constant:
+//! the free-rolling offset, which a finite wheel has and a half-space has not), and gives
+//! the slopes as Kalker's coefficients:
+//!
+//! | creepage | coefficient |
+//! |---|---|
+//! | `xi` | `C_11 = dQ / dxi / (G c^2)` |
+//! | `eta` | `C_22 = -dQ_y / deta / (G c^2)`, `C_23 = -dM_z / deta / (G c^3)` |
+//! | `phi` (1/m) | `C_23 = -dQ_y / dphi / (G c^3)`, `C_33 = dM_z / dphi / (G c^4)` |
+//!
+//! `Q`, `Q_y` and `M_z` are the base's force and moment on the wheel as the run's summary
+//! gives them (`steady.creep_force_N`, `lateral_force_N`, `spin_moment_N_m`); the signs make
+//! each coefficient positive in Kalker's sense (his `F_x = -G c^2 C_11 xi` with softway's `xi`
+//! of the other sign, `validation/halfspace3d`'s convention), `G c^k` from `hertz3d` (`G` the
+//! pair's combined modulus, `2 G_1` on the rigid base; `c = sqrt(a b)` of Hertz's ellipse at
+//! the run's normal force), the mean over the rung's points.
+//!
+//! On three or more rungs at one ratio each coefficient gets its observed order and
+//! Richardson limit ([`super::creep::order_and_limit`]), and every rung is set against
+//! Kalker's Table E.3 at the runs' Poisson's ratio and `a/b`. The table is the theory of two
+//! bodies of one material in full adhesion: it is this problem when the runs are
+//! `rolling.coupling = "uncoupled"` (the twin wheel) with a friction coefficient high enough
+//! that only a node or two at the trailing edge slide (the table gives the slip nodes); the
+//! coupled wheel on its rigid base is another problem (`validation/halfspace3d/coupled.py`),
+//! and the files say so.
+//!
+//! Files: `kalker.md` (the table), `kalker.csv` (a row per rung and coefficient) and
+//! `kalker.png` on a ladder (each coefficient against the rung, the table's value and the
+//! limit).
+
+use super::{SweepError, SweepPoint};
+use crate::analysis::kalker::kalker_table;
+use crate::output::csv::{push_record, record};
+use crate::output::files::write_atomic;
+use crate::output::plot::{panels, Panel, Series, SeriesStyle};
+use crate::run::RunError;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The creepage keys, in the order `xi`, `eta`, `phi`.
+pub const CREEP_KEYS: [&str; 3] = [
+    "rolling.creepage",
+    "rolling.lateral_creepage",
+    "rolling.spin_creepage",
+];
+
+/// A coefficient: its name, the creepage (index into [`CREEP_KEYS`]), the force (0 `Q`, 1
+/// `Q_y`, 2 `M_z`), the sign and the power of `c` (module docs), and the column of
+/// [`kalker_table`] (none for `C_33`).
+type Coefficient = (&'static str, usize, usize, f64, i32, Option<usize>);
+
+/// The coefficients ([`Coefficient`]).
+const COEFFICIENTS: [Coefficient; 5] = [
+    ("C11", 0, 0, 1.0, 2, Some(0)),
+    ("C22", 1, 1, -1.0, 2, Some(1)),
+    ("C23 (M_z, eta)", 1, 2, -1.0, 3, Some(2)),
+    ("C23 (Q_y, phi)", 2, 1, -1.0, 3, Some(2)),
+    ("C33", 2, 2, 1.0, 4, None),
+];
+
+/// The sweep's keys this study reads: the creepages that vary and the ladder's key.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct KalkerKeys {
+    /// The varying creepages, as indices into [`CREEP_KEYS`].
+    pub creepages: Vec<usize>,
+    /// The ladder's key (index into the sweep's keys), if any.
+    pub rung: Option<usize>,
+}
+
+/// Whether the sweep is one this study reads (module docs): a `rolling3d` sweep on a crowned
+/// base over creepages, with at most one other numeric key.
+pub fn study_keys(points: &[SweepPoint], keys: &[String], varying: &[usize]) -> Option<KalkerKeys> {
+    let crowned = points.iter().any(|p| {
+        p.summary["kind"].as_str() == Some("rolling3d") && p.summary.get("hertz3d").is_some()
+    });
+    if !crowned {
+        return None;
+    }
+    let numeric = |i: usize| {
+        points
+            .iter()
+            .all(|p| p.sets[i].value.trim_matches('"').parse::<f64>().is_ok())
+    };
+    let mut creepages = Vec::new();
+    let mut rung = None;
+    for &i in varying {
+        match CREEP_KEYS.iter().position(|k| *k == keys[i]) {
+            Some(c) => creepages.push(c),
+            None if rung.is_none() && numeric(i) => rung = Some(i),
+            None => return None,
+        }
+    }
+    creepages.sort_unstable();
+    (!creepages.is_empty()).then_some(KalkerKeys { creepages, rung })
+}
+
+/// One rung's fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RungFit {
+    /// The rung's value (NaN without a ladder).
+    pub rung: f64,
+    /// The points fitted.
+    pub points: usize,
+    /// The coefficients of [`COEFFICIENTS`] (NaN where the creepage does not vary).
+    pub values: [f64; 5],
+    /// The largest mean count of sliding nodes of the rung's runs, and the mean count of
+    /// nodes in contact.
+    pub slip_nodes: f64,
+    /// The mean count of nodes in contact.
+    pub contact_nodes: f64,
+    /// Hertz's `a / b` and Poisson's ratio of the runs.
+    pub a_over_b: f64,
+    /// Poisson's ratio.
+    pub poisson: f64,
+    /// The largest residual of the fits over the rung's points relative to the forces'
+    /// range (0 for as many points as unknowns): how linear the response is.
+    pub residual: f64,
+}
+
+/// A run's figures the fit reads.
+struct Run {
+    creepages: [f64; 3],
+    forces: [f64; 3],
+    g: f64,
+    c: f64,
+    a_over_b: f64,
+    poisson: f64,
+    slip: f64,
+    contact: f64,
+    uncoupled: bool,
+}
+
+impl Run {
+    fn of(p: &SweepPoint) -> Option<Self> {
+        let s = &p.summary;
+        let f = |ptr: &str| s.pointer(ptr).and_then(serde_json::Value::as_f64);
+        let run = Run {
+            creepages: [
+                f("/creepages/longitudinal")?,
+                f("/creepages/lateral")?,
+                f("/creepages/spin_per_m")?,
+            ],
+            forces: [
+                f("/steady/creep_force_N")?,
+                f("/steady/lateral_force_N")?,
+                f("/steady/spin_moment_N_m")?,
+            ],
+            g: f("/hertz3d/combined_shear_modulus_Pa")?,
+            c: f("/hertz3d/c_m")?,
+            a_over_b: f("/hertz3d/a_rolling_m")? / f("/hertz3d/b_lateral_m")?,
+            poisson: f("/hertz3d/poisson").unwrap_or(f64::NAN),
+            slip: f("/traction/mean_slip_nodes").unwrap_or(f64::NAN),
+            contact: f("/traction/mean_stick_nodes").unwrap_or(f64::NAN)
+                + f("/traction/mean_slip_nodes").unwrap_or(f64::NAN),
+            uncoupled: s["coupling"].as_str() == Some("uncoupled"),
+        };
+        Some(run)
+    }
+}
+
+/// The least-squares solution of `x b = y` (`x` a row per point, `k` columns): `None` when
+/// the normal equations are singular.
+fn least_squares(x: &[Vec<f64>], y: &[f64]) -> Option<Vec<f64>> {
+    let k = x.first()?.len();
+    // The normal equations [X^T X | X^T y], by Gaussian elimination with partial pivoting.
+    let mut a = vec![vec![0.0; k + 1]; k];
+    for (row, &yi) in x.iter().zip(y) {
+        for i in 0..k {
+            for j in 0..k {
+                a[i][j] += row[i] * row[j];
+            }
+            a[i][k] += row[i] * yi;
+        }
+    }
+    let scale = (0..k).map(|i| a[i][i].abs()).fold(0.0, f64::max);
+    for col in 0..k {
+        let piv = (col..k).max_by(|&p, &q| a[p][col].abs().total_cmp(&a[q][col].abs()))?;
+        if a[piv][col].abs() <= 1e-13 * scale {
+            return None;
+        }
+        a.swap(col, piv);
+        for r in 0..k {
+            if r != col {
+                let m = a[r][col] / a[col][col];
+                for c in col..=k {
+                    a[r][c] -= m * a[col][c];
+                }
+            }
+        }
+    }
+    Some((0..k).map(|i| a[i][k] / a[i][i]).collect())
+}
+
+/// The fit of one rung's runs over the creepages `creepages` (indices into [`CREEP_KEYS`]).
+fn fit(rung: f64, runs: &[Run], creepages: &[usize]) -> Option<RungFit> {
+    let k = creepages.len() + 1;
+    if runs.len() < k {
+        return None;
+    }
+    // Creepages scaled to their spread, for the normal equations' condition.
+    let spread: Vec<f64> = creepages
+        .iter()
+        .map(|&c| {
+            let (lo, hi) = runs
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |s, r| {
+                    (s.0.min(r.creepages[c]), s.1.max(r.creepages[c]))
+                });
+            hi - lo
+        })
+        .collect();
+    let x: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| {
+            std::iter::once(1.0)
+                .chain(
+                    creepages
+                        .iter()
+                        .zip(&spread)
+                        .map(|(&c, s)| r.creepages[c] / s),
+                )
+                .collect()
+        })
+        .collect();
+    let n = runs.len() as f64;
+    let mean = |f: &dyn Fn(&Run) -> f64| runs.iter().map(f).sum::<f64>() / n;
+    let (g, c) = (mean(&|r| r.g), mean(&|r| r.c));
+    let mut slopes = [[f64::NAN; 3]; 3];
+    let mut residual: f64 = 0.0;
+    for force in 0..3 {
+        let y: Vec<f64> = runs.iter().map(|r| r.forces[force]).collect();
+        let b = least_squares(&x, &y)?;
+        let range = y.iter().fold(f64::NEG_INFINITY, |m, v| m.max(*v))
+            - y.iter().fold(f64::INFINITY, |m, v| m.min(*v));
+        for (row, yi) in x.iter().zip(&y) {
+            let pred: f64 = row.iter().zip(&b).map(|(xi, bi)| xi * bi).sum();
+            if range > 0.0 {
+                residual = residual.max((pred - yi).abs() / range);
+            }
+        }
+        for (j, &cr) in creepages.iter().enumerate() {
+            slopes[cr][force] = b[j + 1] / spread[j];
+        }
+    }
+    let mut values = [f64::NAN; 5];
+    for (v, &(_, cr, force, sign, power, _)) in values.iter_mut().zip(&COEFFICIENTS) {
+        *v = sign * slopes[cr][force] / (g * c.powi(power));
+    }
+    Some(RungFit {
+        rung,
+        points: runs.len(),
+        values,
+        slip_nodes: runs.iter().map(|r| r.slip).fold(f64::NAN, f64::max),
+        contact_nodes: mean(&|r| r.contact),
+        a_over_b: mean(&|r| r.a_over_b),
+        poisson: mean(&|r| r.poisson),
+        residual,
+    })
+}
+
+/// The study: a fit per rung, and the ladder's order and limit per coefficient.
+pub struct Study {
+    /// The ladder's key, if any.
+    pub rung_key: Option<String>,
+    /// The varying creepages (indices into [`CREEP_KEYS`]).
+    pub creepages: Vec<usize>,
+    /// A fit per rung, in the ladder's order.
+    pub fits: Vec<RungFit>,
+    /// Per coefficient, the observed order and the Richardson limit.
+    pub limits: [(Option<f64>, Option<f64>); 5],
+    /// Kalker's table at the finest rung's `nu` and `a/b` (`None` outside it).
+    pub table: Option<[f64; 3]>,
+    /// Whether every run is the uncoupled pair (the table's problem).
+    pub uncoupled: bool,
+}
+
+impl Study {
+    /// The study of the sweep's complete points.
+    pub fn of(points: &[SweepPoint], keys: &KalkerKeys) -> Self {
+        let rung_of = |p: &SweepPoint| {
+            keys.rung.map_or(f64::NAN, |i| {
+                p.sets[i]
+                    .value
+                    .trim_matches('"')
+                    .parse()
+                    .unwrap_or(f64::NAN)
+            })
+        };
+        let mut rungs: Vec<f64> = Vec::new();
+        for p in points {
+            let r = rung_of(p);
+            if !rungs.iter().any(|q| q.to_bits() == r.to_bits()) {
+                rungs.push(r);
+            }
+        }
+        let mut uncoupled = true;
+        let fits: Vec<RungFit> = rungs
+            .iter()
+            .filter_map(|&r| {
+                let runs: Vec<Run> = points
+                    .iter()
+                    .filter(|p| p.status.is_complete() && rung_of(p).to_bits() == r.to_bits())
+                    .filter_map(Run::of)
+                    .collect();
+                uncoupled &= runs.iter().all(|r| r.uncoupled);
+                fit(r, &runs, &keys.creepages)
+            })
+            .collect();
+        let rung_values: Vec<f64> = fits.iter().map(|f| f.rung).collect();
+        let mut limits = [(None, None); 5];
+        if keys.rung.is_some() && super::creep::is_ladder(&rung_values) {
+            for (k, l) in limits.iter_mut().enumerate() {
+                let v: Vec<f64> = fits.iter().map(|f| f.values[k]).collect();
+                *l = super::creep::order_and_limit(&rung_values, &v);
+            }
+        }
+        let table = fits
+            .last()
+            .and_then(|f| kalker_table(f.poisson, f.a_over_b));
+        Study {
+            rung_key: keys.rung.map(|i| points[0].sets[i].key.clone()),
+            creepages: keys.creepages.clone(),
+            fits,
+            limits,
+            table,
+            uncoupled,
+        }
+    }
+
+    /// The coefficients the sweep gives (indices into [`COEFFICIENTS`]).
+    fn shown(&self) -> Vec<usize> {
+        (0..COEFFICIENTS.len())
+            .filter(|&k| self.creepages.contains(&COEFFICIENTS[k].1))
+            .collect()
+    }
+
+    /// Kalker's value of coefficient `k`, if tabulated.
+    pub fn reference(&self, k: usize) -> Option<f64> {
+        Some(self.table?[COEFFICIENTS[k].5?])
+    }
+
+    /// The coefficient `k` on every rung, its order and limit, Kalker's value and the
+    /// finest rung's and the limit's distances from it (relative).
+    pub fn row(&self, k: usize) -> (Vec<f64>, Option<f64>, Option<f64>, Option<f64>) {
+        let v = self.fits.iter().map(|f| f.values[k]).collect();
+        (v, self.limits[k].0, self.limits[k].1, self.reference(k))
+    }
+
+    fn csv(&self) -> String {
+        let mut out = record([
+            "coefficient",
+            "rung_key",
+            "rung",
+            "points",
+            "value",
+            "order",
+            "limit",
+            "kalker_table",
+            "relative_error",
+            "a_over_b",
+            "poisson",
+            "max_slip_nodes",
+            "contact_nodes",
+            "fit_residual",
+            "uncoupled",
+        ]);
+        let fmt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
+        for k in self.shown() {
+            let reference = self.reference(k);
+            for f in &self.fits {
+                let v = f.values[k];
+                push_record(
+                    &mut out,
+                    [
+                        COEFFICIENTS[k].0.to_string(),
+                        self.rung_key.clone().unwrap_or_default(),
+                        rung_label(f.rung),
+                        f.points.to_string(),
+                        format!("{v:.6e}"),
+                        fmt(self.limits[k].0),
+                        fmt(self.limits[k].1),
+                        fmt(reference),
+                        fmt(reference.map(|r| v / r - 1.0)),
+                        format!("{:.6}", f.a_over_b),
+                        format!("{}", f.poisson),
+                        format!("{}", f.slip_nodes),
+                        format!("{:.2}", f.contact_nodes),
+                        format!("{:.3e}", f.residual),
+                        self.uncoupled.to_string(),
+                    ],
+                );
+            }
+        }
+        out
+    }
+
+    fn md(&self) -> String {
+        let mut s = String::new();
+        let finest = self.fits.last();
+        let _ = writeln!(
+            s,
+            "# Kalker's linear creep coefficients\n\nThe steady creep forces fitted on each rung as linear functions of the creepages that vary (a constant for the free-rolling offset), their slopes as Kalker's `C = dF / (G c^k dxi)` (`G` the pair's combined modulus, `c = sqrt(a b)` of Hertz's ellipse at the run's normal force), against Kalker's Table E.3 (1990; Johnson's Table 8.1) at nu = {} and a/b = {:.4} of the finest rung.\n",
+            finest.map_or(f64::NAN, |f| f.poisson),
+            finest.map_or(f64::NAN, |f| f.a_over_b)
+        );
+        if !self.uncoupled {
+            let _ = writeln!(
+                s,
+                "**Not the table's problem.** These runs are the elastic wheel on its rigid base (`rolling.coupling = \"coupled\"`): Kalker's table is the pair of one material, which `rolling.coupling = \"uncoupled\"` poses. The coupled pair's full-adhesion coefficients do not converge (the bonded edge's oscillating singularity between dissimilar bodies); compare its creep curve with `validation/halfspace3d/coupled.py` instead.\n"
+            );
+        }
+        let key = self.rung_key.as_deref().unwrap_or("rung");
+        let _ = write!(s, "| {key} | points | slip nodes (max) / in contact |");
+        let shown = self.shown();
+        for &k in &shown {
+            let _ = write!(s, " {} |", COEFFICIENTS[k].0);
+        }
+        let _ = write!(s, "\n|---:|---:|---:|");
+        for _ in &shown {
+            s.push_str("---:|");
+        }
+        s.push('\n');
+        for f in &self.fits {
+            let _ = write!(
+                s,
+                "| {} | {} | {:.2} / {:.1} |",
+                rung_label(f.rung),
+                f.points,
+                f.slip_nodes,
+                f.contact_nodes
+            );
+            for &k in &shown {
+                let _ = write!(s, " {:.4} |", f.values[k]);
+            }
+            s.push('\n');
+        }
+        let opt = |x: Option<f64>, d: usize| x.map_or("-".to_string(), |v| format!("{v:.d$}"));
+        let mut line = |label: &str, cell: &dyn Fn(usize) -> String| {
+            let _ = write!(s, "| {label} | | |");
+            for &k in &shown {
+                let _ = write!(s, " {} |", cell(k));
+            }
+            s.push('\n');
+        };
+        line("observed order", &|k| opt(self.limits[k].0, 2));
+        line("Richardson limit", &|k| opt(self.limits[k].1, 4));
+        line("Kalker's table", &|k| opt(self.reference(k), 3));
+        line("finest rung's distance", &|k| {
+            opt(
+                self.reference(k)
+                    .zip(finest)
+                    .map(|(r, f)| 100.0 * (f.values[k] / r - 1.0)),
+                2,
+            ) + " %"
+        });
+        line("limit's distance", &|k| {
+            opt(
+                self.reference(k)
+                    .zip(self.limits[k].1)
+                    .map(|(r, l)| 100.0 * (l / r - 1.0)),
+                2,
+            ) + " %"
+        });
+        let residual = self.fits.iter().map(|f| f.residual).fold(0.0, f64::max);
+        let _ = writeln!(
+            s,
+            "\nThe fits' largest residual: {residual:.2e} of the forces' range (0 with as many points as unknowns). Orders and limits from the last three rungs where they converge monotonically at an order within the ladder's bounds (else '-')."
+        );
+        s
+    }
+
+    fn panel(&self) -> Panel {
+        let key = self.rung_key.as_deref().unwrap_or("rung");
+        let mut p = Panel::new(
+            "Kalker's coefficients on the ladder",
+            key.to_string(),
+            "C = dF / (G c^k dxi)",
+        );
+        p.x_log = true;
+        for k in self.shown() {
+            let (v, _, limit, reference) = self.row(k);
+            let x: Vec<f64> = self.fits.iter().map(|f| f.rung).collect();
+            let name = COEFFICIENTS[k].0;
+            p.series.push(Series::new(
+                name.to_string(),
+                x.clone(),
+                v,
+                SeriesStyle::LineMarkers,
+            ));
+            if let (Some(l), Some(&last)) = (limit, x.last()) {
+                p.series.push(Series::new(
+                    format!("{name}: Richardson limit {l:.3}"),
+                    vec![last],
+                    vec![l],
+                    SeriesStyle::Markers,
+                ));
+            }
+            if let Some(r) = reference {
+                p.hlines.push((r, format!("{name}: Kalker's table {r:.3}")));
+            }
+        }
+        p.note = format!(
+            "{}; slopes of the steady forces against the creepages, G c^k of Hertz's ellipse at each run's normal force.",
+            if self.uncoupled {
+                "the pair of one material (the twin wheel), Kalker's problem"
+            } else {
+                "the coupled wheel on its rigid base: not Kalker's problem"
+            }
+        );
+        p
+    }
+}
+
+/// A rung's value as the tables write it: `-` without a ladder.
+fn rung_label(rung: f64) -> String {
+    if rung.is_nan() {
+        "-".into()
+    } else {
+        format!("{rung}")
+    }
+}
+
+/// Writes the study (module docs) of the sweep's complete points; returns the files.
+///
+/// # Errors
+/// [`SweepError`] when a file cannot be written.
+pub fn coefficients(
+    out: &Path,
+    points: &[SweepPoint],
+    keys: &KalkerKeys,
+) -> Result<Vec<PathBuf>, SweepError> {
+    let study = Study::of(points, keys);
+    if study.fits.is_empty() {
+        return Ok(Vec::new());
+    }
+    let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
+        let f = out.join(name);
+        write_atomic(&f, text.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+        Ok(f)
+    };
+    let mut files = vec![
+        write("kalker.csv", study.csv())?,
+        write("kalker.md", study.md())?,
+    ];
+    // The figure draws a ladder: two rungs or more of a numeric key.
+    if study.rung_key.is_some() && study.fits.len() >= 2 {
+        let png = out.join("kalker.png");
+        panels(&png, &[study.panel()], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
+        files.push(png);
+    }
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The least-squares fit recovers an exact linear law through more points than
+    /// unknowns, and refuses points that do not span the creepages.
+    #[test]
+    fn least_squares_recovers_a_linear_law() {
+        let pts = [(-1.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.0, 1.0), (0.5, 0.5)];
+        let x: Vec<Vec<f64>> = pts.iter().map(|&(a, b)| vec![1.0, a, b]).collect();
+        let y: Vec<f64> = pts.iter().map(|&(a, b)| 3.0 - 2.0 * a + 0.5 * b).collect();
+        let b = least_squares(&x, &y).unwrap();
+        for (got, want) in b.iter().zip([3.0, -2.0, 0.5]) {
+            assert!((got - want).abs() < 1e-12, "{b:?}");
+        }
+        let flat: Vec<Vec<f64>> = pts.iter().map(|&(a, _)| vec![1.0, a, 2.0 * a]).collect();
+        assert!(least_squares(&flat, &y).is_none());
+    }
+}
