@@ -361,6 +361,16 @@ pub fn sweep(
     Ok((points, files))
 }
 
+/// Writes `text` atomically to `out/name`; returns the file.
+///
+/// # Errors
+/// [`SweepError`] when the file cannot be written.
+pub(crate) fn write_text(out: &Path, name: &str, text: &str) -> Result<PathBuf, SweepError> {
+    let f = out.join(name);
+    write_atomic(&f, text.as_bytes()).map_err(|e| RunError::output(&f, e))?;
+    Ok(f)
+}
+
 /// Writes a sweep's table (`sweep.csv`, `sweep.md`; a column per key) and plot
 /// (`sweep.png`, Fig. 15, for wheels over the one key that varies; `creep_curve.png` and
 /// `.csv` over `rolling.creepage` with friction; `speed_effect.*` for the 3D rolling over

@@ -24,7 +24,6 @@ use super::{SweepError, SweepPoint};
 use crate::analysis::reference_curve::ReferenceCurve;
 use crate::analysis::richardson::{extrapolate, observed_orders};
 use crate::output::csv::{push_record, record};
-use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::run::RunError;
 use std::fmt::Write as _;
@@ -204,11 +203,7 @@ pub fn creep_ladder(
     i_rung: usize,
 ) -> Result<Vec<PathBuf>, SweepError> {
     let ladder = Ladder::of(points, i_creep, i_rung);
-    let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
-        let f = out.join(name);
-        write_atomic(&f, text.as_bytes()).map_err(|e| RunError::output(&f, e))?;
-        Ok(f)
-    };
+    let write = |name: &str, text: String| super::write_text(out, name, &text);
     let mut files = vec![
         write("creep_curve.csv", ladder.points_csv())?,
         write("creep_ladder.csv", ladder.targets_csv())?,

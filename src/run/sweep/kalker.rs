@@ -5,9 +5,14 @@
 //! one or more of the creepages (`rolling.creepage`, `rolling.lateral_creepage`,
 //! `rolling.spin_creepage`), alone or on a ladder of one more numeric key (`[sweep] ladder =
 //! { key = "wheel.zone_sectors", ... }`), fits on each rung the steady creep forces and spin
-//! moment as linear functions of the creepages that vary (least squares with a constant:
-//! the free-rolling offset, which a finite wheel has and a half-space has not), and gives
-//! the slopes as Kalker's coefficients:
+//! moment as linear functions of the creepages that vary (least squares), and gives the
+//! slopes as Kalker's coefficients. The wheel and its crowned base are symmetric about the
+//! wheel's mid-plane (the zone is graded symmetrically about the crest), so the mirror `eta
+//! -> -eta`, `phi -> -phi` keeps `Q` and reverses `Q_y` and `M_z` (`tests/rolling3d_cli.rs`
+//! checks it to 1e-9): `Q` is fitted on a constant (the free-rolling offset, which a finite
+//! wheel has and a half-space has not) and `xi`, `Q_y` and `M_z` on `eta` and `phi` without
+//! a constant ([`regressors`]). A longitudinal coefficient takes two runs a rung, a lateral
+//! one a single run:
 //!
 //! | creepage | coefficient |
 //! |---|---|
@@ -38,7 +43,6 @@
 use super::{SweepError, SweepPoint};
 use crate::analysis::kalker::kalker_table;
 use crate::output::csv::{push_record, record};
-use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::run::RunError;
 use std::fmt::Write as _;
@@ -110,8 +114,7 @@ pub struct RungFit {
     pub points: usize,
     /// The coefficients of [`COEFFICIENTS`] (NaN where the creepage does not vary).
     pub values: [f64; 5],
-    /// The largest mean count of sliding nodes of the rung's runs, and the mean count of
-    /// nodes in contact.
+    /// The largest mean count of sliding nodes of the rung's runs.
     pub slip_nodes: f64,
     /// The mean count of nodes in contact.
     pub contact_nodes: f64,
@@ -119,8 +122,8 @@ pub struct RungFit {
     pub a_over_b: f64,
     /// Poisson's ratio.
     pub poisson: f64,
-    /// The largest residual of the fits over the rung's points relative to the forces'
-    /// range (0 for as many points as unknowns): how linear the response is.
+    /// The largest residual of the fits over the rung's points relative to the largest
+    /// force fitted (0 for as many points as unknowns): how linear the response is.
     pub residual: f64,
 }
 
@@ -198,55 +201,72 @@ fn least_squares(x: &[Vec<f64>], y: &[f64]) -> Option<Vec<f64>> {
     Some((0..k).map(|i| a[i][k] / a[i][i]).collect())
 }
 
-/// The fit of one rung's runs over the creepages `creepages` (indices into [`CREEP_KEYS`]).
+/// The creepages (indices into [`CREEP_KEYS`]) force `force` is fitted on, of those that
+/// vary, and whether with a constant: the mirror about the wheel's mid-plane makes `Q` even
+/// in `(eta, phi)` and `Q_y`, `M_z` odd (module docs), so `Q` takes a constant and `xi`,
+/// `Q_y` and `M_z` take `eta` and `phi` and no constant.
+fn regressors(force: usize, creepages: &[usize]) -> (bool, Vec<usize>) {
+    let odd = force > 0;
+    let terms = creepages
+        .iter()
+        .copied()
+        .filter(|&c| (c > 0) == odd)
+        .collect();
+    (!odd, terms)
+}
+
+/// The fit of one rung's runs over the creepages `creepages` (indices into [`CREEP_KEYS`]):
+/// each force on its [`regressors`]; `None` when the runs are too few for one of them.
 fn fit(rung: f64, runs: &[Run], creepages: &[usize]) -> Option<RungFit> {
-    let k = creepages.len() + 1;
-    if runs.len() < k {
+    if runs.is_empty() {
         return None;
     }
-    // Creepages scaled to their spread, for the normal equations' condition.
-    let spread: Vec<f64> = creepages
-        .iter()
-        .map(|&c| {
-            let (lo, hi) = runs
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |s, r| {
-                    (s.0.min(r.creepages[c]), s.1.max(r.creepages[c]))
-                });
-            hi - lo
-        })
-        .collect();
-    let x: Vec<Vec<f64>> = runs
-        .iter()
-        .map(|r| {
-            std::iter::once(1.0)
-                .chain(
-                    creepages
-                        .iter()
-                        .zip(&spread)
-                        .map(|(&c, s)| r.creepages[c] / s),
-                )
-                .collect()
-        })
-        .collect();
+    // Creepages scaled to their largest magnitude, for the normal equations' condition.
+    let scale: [f64; 3] = std::array::from_fn(|c| {
+        let m = runs
+            .iter()
+            .fold(0.0_f64, |m, r| m.max(r.creepages[c].abs()));
+        if m > 0.0 {
+            m
+        } else {
+            1.0
+        }
+    });
     let n = runs.len() as f64;
     let mean = |f: &dyn Fn(&Run) -> f64| runs.iter().map(f).sum::<f64>() / n;
     let (g, c) = (mean(&|r| r.g), mean(&|r| r.c));
     let mut slopes = [[f64::NAN; 3]; 3];
     let mut residual: f64 = 0.0;
     for force in 0..3 {
+        let (constant, terms) = regressors(force, creepages);
+        if terms.is_empty() {
+            continue;
+        }
+        if runs.len() < terms.len() + usize::from(constant) {
+            return None;
+        }
+        let x: Vec<Vec<f64>> = runs
+            .iter()
+            .map(|r| {
+                constant
+                    .then_some(1.0)
+                    .into_iter()
+                    .chain(terms.iter().map(|&t| r.creepages[t] / scale[t]))
+                    .collect()
+            })
+            .collect();
         let y: Vec<f64> = runs.iter().map(|r| r.forces[force]).collect();
         let b = least_squares(&x, &y)?;
-        let range = y.iter().fold(f64::NEG_INFINITY, |m, v| m.max(*v))
-            - y.iter().fold(f64::INFINITY, |m, v| m.min(*v));
+        let size = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         for (row, yi) in x.iter().zip(&y) {
             let pred: f64 = row.iter().zip(&b).map(|(xi, bi)| xi * bi).sum();
-            if range > 0.0 {
-                residual = residual.max((pred - yi).abs() / range);
+            if size > 0.0 {
+                residual = residual.max((pred - yi).abs() / size);
             }
         }
-        for (j, &cr) in creepages.iter().enumerate() {
-            slopes[cr][force] = b[j + 1] / spread[j];
+        let first = usize::from(constant);
+        for (j, &t) in terms.iter().enumerate() {
+            slopes[t][force] = b[first + j] / scale[t];
         }
     }
     let mut values = [f64::NAN; 5];
@@ -471,7 +491,7 @@ impl Study {
         let residual = self.fits.iter().map(|f| f.residual).fold(0.0, f64::max);
         let _ = writeln!(
             s,
-            "\nThe fits' largest residual: {residual:.2e} of the forces' range (0 with as many points as unknowns). Orders and limits from the last three rungs where they converge monotonically at an order within the ladder's bounds (else '-')."
+            "\nThe fits' largest residual: {residual:.2e} of the largest force fitted (0 with as many points as unknowns). By the mirror about the wheel's mid-plane, Q is fitted on a constant and xi, Q_y and M_z on eta and phi without a constant. Orders and limits from the last three rungs where they converge monotonically at an order within the ladder's bounds (else '-')."
         );
         s
     }
@@ -540,11 +560,7 @@ pub fn coefficients(
     if study.fits.is_empty() {
         return Ok(Vec::new());
     }
-    let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
-        let f = out.join(name);
-        write_atomic(&f, text.as_bytes()).map_err(|e| RunError::output(&f, e))?;
-        Ok(f)
-    };
+    let write = |name: &str, text: String| super::write_text(out, name, &text);
     let mut files = vec![
         write("kalker.csv", study.csv())?,
         write("kalker.md", study.md())?,

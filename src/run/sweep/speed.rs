@@ -25,7 +25,6 @@
 
 use super::{SweepError, SweepPoint};
 use crate::output::csv::{push_record, record};
-use crate::output::files::write_atomic;
 use crate::output::plot::{panels, Panel, Series, SeriesStyle};
 use crate::run::RunError;
 use std::fmt::Write as _;
@@ -195,11 +194,7 @@ pub fn speed_effect(
     i_series: Option<usize>,
 ) -> Result<Vec<PathBuf>, SweepError> {
     let study = Study::of(points, i_series);
-    let write = |name: &str, text: String| -> Result<PathBuf, SweepError> {
-        let f = out.join(name);
-        write_atomic(&f, text.as_bytes()).map_err(|e| RunError::output(&f, e))?;
-        Ok(f)
-    };
+    let write = |name: &str, text: String| super::write_text(out, name, &text);
     let mut files = vec![
         write("speed_effect.csv", study.csv())?,
         write("speed_effect.md", study.md())?,
