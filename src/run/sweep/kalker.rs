@@ -48,6 +48,10 @@ use crate::run::RunError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// The largest `Q / (mu N)` of a run read as full adhesion: on Vermeulen and Johnson's
+/// cubic, the chord there is within 2 % of the slope at zero.
+pub const FULL_ADHESION: f64 = 0.05;
+
 /// The creepage keys, in the order `xi`, `eta`, `phi`.
 pub const CREEP_KEYS: [&str; 3] = [
     "rolling.creepage",
@@ -79,7 +83,9 @@ pub struct KalkerKeys {
 }
 
 /// Whether the sweep is one this study reads (module docs): a `rolling3d` sweep on a crowned
-/// base over creepages, with at most one other numeric key.
+/// base over creepages, with at most one other numeric key; or on a refinement ladder alone
+/// ([`super::creep::is_ladder`]) at a lateral or spin creepage (one run a rung). The
+/// creepages fitted are those that are not zero at every point (the summaries' `creepages`).
 pub fn study_keys(points: &[SweepPoint], keys: &[String], varying: &[usize]) -> Option<KalkerKeys> {
     let crowned = points.iter().any(|p| {
         p.summary["kind"].as_str() == Some("rolling3d") && p.summary.get("hertz3d").is_some()
@@ -87,21 +93,45 @@ pub fn study_keys(points: &[SweepPoint], keys: &[String], varying: &[usize]) -> 
     if !crowned {
         return None;
     }
-    let numeric = |i: usize| {
+    let values = |i: usize| -> Option<Vec<f64>> {
         points
             .iter()
-            .all(|p| p.sets[i].value.trim_matches('"').parse::<f64>().is_ok())
+            .map(|p| p.sets[i].value.trim_matches('"').parse::<f64>().ok())
+            .collect()
     };
-    let mut creepages = Vec::new();
+    let mut swept = false;
     let mut rung = None;
     for &i in varying {
-        match CREEP_KEYS.iter().position(|k| *k == keys[i]) {
-            Some(c) => creepages.push(c),
-            None if rung.is_none() && numeric(i) => rung = Some(i),
-            None => return None,
+        if CREEP_KEYS.contains(&keys[i].as_str()) {
+            swept = true;
+        } else if rung.is_none() && values(i).is_some() {
+            rung = Some(i);
+        } else {
+            return None;
         }
     }
-    creepages.sort_unstable();
+    if !swept {
+        // A ladder alone: its rungs must be a refinement.
+        let mut rungs: Vec<f64> = Vec::new();
+        for v in values(rung?)? {
+            if !rungs.contains(&v) {
+                rungs.push(v);
+            }
+        }
+        if !super::creep::is_ladder(&rungs) {
+            return None;
+        }
+    }
+    const NAMES: [&str; 3] = ["longitudinal", "lateral", "spin_per_m"];
+    let creepages: Vec<usize> = (0..3)
+        .filter(|&c| {
+            points.iter().any(|p| {
+                p.summary["creepages"][NAMES[c]]
+                    .as_f64()
+                    .is_some_and(|x| x != 0.0)
+            })
+        })
+        .collect();
     (!creepages.is_empty()).then_some(KalkerKeys { creepages, rung })
 }
 
@@ -122,6 +152,8 @@ pub struct RungFit {
     pub a_over_b: f64,
     /// Poisson's ratio.
     pub poisson: f64,
+    /// The largest `|Q| / (mu N)` or `|Q_y| / (mu N)` of the rung's runs.
+    pub ratio: f64,
     /// The largest residual of the fits over the rung's points relative to the largest
     /// force fitted (0 for as many points as unknowns): how linear the response is.
     pub residual: f64,
@@ -138,6 +170,8 @@ struct Run {
     slip: f64,
     contact: f64,
     uncoupled: bool,
+    /// The larger of `|Q| / (mu N)` and `|Q_y| / (mu N)`.
+    ratio: f64,
 }
 
 impl Run {
@@ -163,6 +197,10 @@ impl Run {
             contact: f("/traction/mean_stick_nodes").unwrap_or(f64::NAN)
                 + f("/traction/mean_slip_nodes").unwrap_or(f64::NAN),
             uncoupled: s["coupling"].as_str() == Some("uncoupled"),
+            ratio: f("/steady/traction_ratio")
+                .unwrap_or(f64::NAN)
+                .abs()
+                .max(f("/steady/lateral_ratio").unwrap_or(f64::NAN).abs()),
         };
         Some(run)
     }
@@ -216,7 +254,8 @@ fn regressors(force: usize, creepages: &[usize]) -> (bool, Vec<usize>) {
 }
 
 /// The fit of one rung's runs over the creepages `creepages` (indices into [`CREEP_KEYS`]):
-/// each force on its [`regressors`]; `None` when the runs are too few for one of them.
+/// each force on its [`regressors`] (a force whose runs are too few is left out: its
+/// coefficients NaN); `None` without runs.
 fn fit(rung: f64, runs: &[Run], creepages: &[usize]) -> Option<RungFit> {
     if runs.is_empty() {
         return None;
@@ -238,12 +277,11 @@ fn fit(rung: f64, runs: &[Run], creepages: &[usize]) -> Option<RungFit> {
     let mut slopes = [[f64::NAN; 3]; 3];
     let mut residual: f64 = 0.0;
     for force in 0..3 {
-        let (constant, terms) = regressors(force, creepages);
-        if terms.is_empty() {
+        let (constant, mut terms) = regressors(force, creepages);
+        // A term with a constant needs two values of its creepage on the rung.
+        terms.retain(|&t| !constant || runs.iter().any(|r| r.creepages[t] != runs[0].creepages[t]));
+        if terms.is_empty() || runs.len() < terms.len() + usize::from(constant) {
             continue;
-        }
-        if runs.len() < terms.len() + usize::from(constant) {
-            return None;
         }
         let x: Vec<Vec<f64>> = runs
             .iter()
@@ -281,6 +319,7 @@ fn fit(rung: f64, runs: &[Run], creepages: &[usize]) -> Option<RungFit> {
         contact_nodes: mean(&|r| r.contact),
         a_over_b: mean(&|r| r.a_over_b),
         poisson: mean(&|r| r.poisson),
+        ratio: runs.iter().map(|r| r.ratio).fold(0.0, f64::max),
         residual,
     })
 }
@@ -436,6 +475,13 @@ impl Study {
                 "**Not the table's problem.** These runs are the elastic wheel on its rigid base (`rolling.coupling = \"coupled\"`): Kalker's table is the pair of one material, which `rolling.coupling = \"uncoupled\"` poses. The coupled pair's full-adhesion coefficients do not converge (the bonded edge's oscillating singularity between dissimilar bodies); compare its creep curve with `validation/halfspace3d/coupled.py` instead.\n"
             );
         }
+        let ratio = self.fits.iter().map(|f| f.ratio).fold(0.0, f64::max);
+        if ratio > FULL_ADHESION {
+            let _ = writeln!(
+                s,
+                "**Not full adhesion.** A run's creep force reaches {ratio:.3} of mu N (the table's theory is the limit of vanishing creepage: keep it below {FULL_ADHESION}, with small creepages or a large `contact.friction`): the slopes below are chords of the creep curve, not Kalker's coefficients.\n"
+            );
+        }
         let key = self.rung_key.as_deref().unwrap_or("rung");
         let _ = write!(s, "| {key} | points | slip nodes (max) / in contact |");
         let shown = self.shown();
@@ -499,40 +545,43 @@ impl Study {
     fn panel(&self) -> Panel {
         let key = self.rung_key.as_deref().unwrap_or("rung");
         let mut p = Panel::new(
-            "Kalker's coefficients on the ladder",
+            "Kalker's coefficients on the ladder, against his table",
             key.to_string(),
-            "C = dF / (G c^k dxi)",
+            "C / Kalker's table",
         );
         p.x_log = true;
+        let x: Vec<f64> = self.fits.iter().map(|f| f.rung).collect();
         for k in self.shown() {
-            let (v, _, limit, reference) = self.row(k);
-            let x: Vec<f64> = self.fits.iter().map(|f| f.rung).collect();
+            // Each coefficient against its own table value, so that they share the axis.
+            let (v, _, limit, Some(reference)) = self.row(k) else {
+                continue;
+            };
             let name = COEFFICIENTS[k].0;
             p.series.push(Series::new(
-                name.to_string(),
+                format!("{name} (table {reference:.3})"),
                 x.clone(),
-                v,
+                v.iter().map(|c| c / reference).collect(),
                 SeriesStyle::LineMarkers,
             ));
             if let (Some(l), Some(&last)) = (limit, x.last()) {
                 p.series.push(Series::new(
                     format!("{name}: Richardson limit {l:.3}"),
                     vec![last],
-                    vec![l],
+                    vec![l / reference],
                     SeriesStyle::Markers,
                 ));
             }
-            if let Some(r) = reference {
-                p.hlines.push((r, format!("{name}: Kalker's table {r:.3}")));
-            }
         }
+        p.hlines.push((1.0, "Kalker's table".into()));
         p.note = format!(
-            "{}; slopes of the steady forces against the creepages, G c^k of Hertz's ellipse at each run's normal force.",
+            "{}; the slopes of the steady forces against the creepages over G c^k, c of Hertz's ellipse at each run's normal force; a/b = {:.3}, nu = {}.",
             if self.uncoupled {
-                "the pair of one material (the twin wheel), Kalker's problem"
+                "The pair of one material (the twin wheel), Kalker's problem"
             } else {
-                "the coupled wheel on its rigid base: not Kalker's problem"
-            }
+                "The coupled wheel on its rigid base: not Kalker's problem"
+            },
+            self.fits.last().map_or(f64::NAN, |f| f.a_over_b),
+            self.fits.last().map_or(f64::NAN, |f| f.poisson),
         );
         p
     }
@@ -565,8 +614,9 @@ pub fn coefficients(
         write("kalker.csv", study.csv())?,
         write("kalker.md", study.md())?,
     ];
-    // The figure draws a ladder: two rungs or more of a numeric key.
-    if study.rung_key.is_some() && study.fits.len() >= 2 {
+    // The figure draws a ladder (two rungs or more of a numeric key) against the table.
+    let drawn = study.shown().iter().any(|&k| study.reference(k).is_some());
+    if study.rung_key.is_some() && study.fits.len() >= 2 && drawn {
         let png = out.join("kalker.png");
         panels(&png, &[study.panel()], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
