@@ -628,6 +628,112 @@ pub fn coefficients(
 mod tests {
     use super::*;
 
+    /// A sweep point of the 3D rolling on a crowned base with these creepages and forces.
+    fn point(sets: &[(&str, f64)], creep: [f64; 3], forces: [f64; 3], c: f64) -> SweepPoint {
+        use crate::run::sweep::PointStatus;
+        use crate::scenario::overrides::Override;
+        SweepPoint {
+            sets: sets
+                .iter()
+                .map(|(k, v)| Override {
+                    key: (*k).into(),
+                    value: format!("{v}"),
+                })
+                .collect(),
+            value: String::new(),
+            dir: std::path::PathBuf::new(),
+            summary: serde_json::json!({
+                "kind": "rolling3d",
+                "coupling": "uncoupled",
+                "creepages": {"longitudinal": creep[0], "lateral": creep[1], "spin_per_m": creep[2]},
+                "steady": {"creep_force_N": forces[0], "lateral_force_N": forces[1],
+                           "spin_moment_N_m": forces[2], "traction_ratio": 0.004, "lateral_ratio": 0.004},
+                "hertz3d": {"combined_shear_modulus_Pa": 1.64e11, "c_m": c, "a_rolling_m": c,
+                            "b_lateral_m": c, "poisson": 0.25},
+                "traction": {"mean_slip_nodes": 0.1, "mean_stick_nodes": 30.0},
+            }),
+            warnings: Vec::new(),
+            status: PointStatus::Complete,
+        }
+    }
+
+    /// Synthetic ladders whose coefficients converge to Kalker's table at second order,
+    /// `C(h) = C_table (1 + 0.1 h^2)` (`h` the pitch relative to the coarsest rung), with a
+    /// free-rolling offset on `Q`: the longitudinal sweep (two creepages a rung) and the
+    /// lateral ladder alone (one run a rung) give the order 2 and the table as the limit.
+    #[test]
+    fn ladders_converge_to_the_table() {
+        let (g, c) = (1.64e11, 2.5e-3);
+        let table = kalker_table(0.25, 1.0).unwrap();
+        let rungs = [384.0, 768.0, 1536.0];
+        let at = |r: f64, k: usize| table[k] * (1.0 + 0.1 * (384.0 / r).powi(2));
+        let keys = vec![
+            "rolling.creepage".to_string(),
+            "wheel.zone_sectors".to_string(),
+        ];
+        let mut pts = Vec::new();
+        for xi in [-5e-4, 5e-4] {
+            for r in rungs {
+                let q = 300.0 + g * c * c * at(r, 0) * xi;
+                pts.push(point(
+                    &[("rolling.creepage", xi), ("wheel.zone_sectors", r)],
+                    [xi, 0.0, 0.0],
+                    [q, 0.0, 0.0],
+                    c,
+                ));
+            }
+        }
+        let study_keys_of = |pts: &[SweepPoint], keys: &[String], varying: &[usize]| {
+            study_keys(pts, keys, varying).expect("a Kalker study")
+        };
+        let k = study_keys_of(&pts, &keys, &[0, 1]);
+        assert_eq!(k.creepages, vec![0]);
+        let s = Study::of(&pts, &k);
+        let (v, order, limit, reference) = s.row(0);
+        assert!((v[2] / at(1536.0, 0) - 1.0).abs() < 1e-12, "{v:?}");
+        assert!((order.unwrap() - 2.0).abs() < 1e-6, "{order:?}");
+        assert!((limit.unwrap() / table[0] - 1.0).abs() < 1e-9, "{limit:?}");
+        assert_eq!(reference, Some(table[0]));
+        let keys = vec![
+            "rolling.lateral_creepage".to_string(),
+            "wheel.zone_sectors".to_string(),
+        ];
+        let eta = 5e-4;
+        let pts: Vec<SweepPoint> = rungs
+            .iter()
+            .map(|&r| {
+                point(
+                    &[("rolling.lateral_creepage", eta), ("wheel.zone_sectors", r)],
+                    [0.0, eta, 0.0],
+                    [
+                        250.0,
+                        -g * c * c * at(r, 1) * eta,
+                        -g * c.powi(3) * at(r, 2) * eta,
+                    ],
+                    c,
+                )
+            })
+            .collect();
+        let k = study_keys_of(&pts, &keys, &[1]);
+        assert_eq!(k.creepages, vec![1]);
+        let s = Study::of(&pts, &k);
+        for (coef, col) in [(1, 1), (2, 2)] {
+            let (_, order, limit, _) = s.row(coef);
+            assert!((order.unwrap() - 2.0).abs() < 1e-6, "{order:?}");
+            assert!(
+                (limit.unwrap() / table[col] - 1.0).abs() < 1e-9,
+                "{limit:?}"
+            );
+        }
+        assert!(s.row(0).0.iter().all(|v| v.is_nan()), "no C11 without xi");
+        // Not a refinement: a ladder alone of 1, 3, 4 is no study.
+        let odd: Vec<SweepPoint> = [1.0, 3.0, 4.0]
+            .iter()
+            .map(|&r| point(&[("wheel.zone_sectors", r)], [0.0, eta, 0.0], [0.0; 3], c))
+            .collect();
+        assert!(study_keys(&odd, &keys[1..], &[0]).is_none());
+    }
+
     /// The least-squares fit recovers an exact linear law through more points than
     /// unknowns, and refuses points that do not span the creepages.
     #[test]
