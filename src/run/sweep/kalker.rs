@@ -573,8 +573,14 @@ impl Study {
             }
         }
         p.hlines.push((1.0, "Kalker's table".into()));
+        let no_limit: Vec<&str> = self
+            .shown()
+            .into_iter()
+            .filter(|&k| self.reference(k).is_some() && self.limits[k].1.is_none())
+            .map(|k| COEFFICIENTS[k].0)
+            .collect();
         p.note = format!(
-            "{}; the slopes of the steady forces against the creepages over G c^k, c of Hertz's ellipse at each run's normal force; a/b = {:.3}, nu = {}.",
+            "{}; the slopes of the steady forces against the creepages over G c^k, c of Hertz's ellipse at each run's normal force; a/b = {:.3}, nu = {}.{}",
             if self.uncoupled {
                 "The pair of one material (the twin wheel), Kalker's problem"
             } else {
@@ -582,6 +588,14 @@ impl Study {
             },
             self.fits.last().map_or(f64::NAN, |f| f.a_over_b),
             self.fits.last().map_or(f64::NAN, |f| f.poisson),
+            if no_limit.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " No Richardson limit for {}: the last three rungs do not converge monotonically at an order within bounds.",
+                    no_limit.join(", ")
+                )
+            },
         );
         p
     }
