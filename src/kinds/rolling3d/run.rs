@@ -775,12 +775,15 @@ impl Rolling3dFiles {
                 SeriesStyle::Line,
             ));
             if self.mu > 0.0 {
-                patch.series.push(Series::new(
-                    "mu p (the bound)",
-                    s.clone(),
-                    row.iter().map(|p| 1e-6 * self.mu * p.pressure).collect(),
-                    SeriesStyle::Dashed,
-                ));
+                // Above mu = 1 the bound would set the scale and flatten the rest.
+                if self.mu <= 1.0 {
+                    patch.series.push(Series::new(
+                        "mu p (the bound)",
+                        s.clone(),
+                        row.iter().map(|p| 1e-6 * self.mu * p.pressure).collect(),
+                        SeriesStyle::Dashed,
+                    ));
+                }
                 let pick = |sl: bool| -> (Vec<f64>, Vec<f64>) {
                     row.iter()
                         .filter(|p| p.pressure > 0.0 && p.sliding == sl)
@@ -804,8 +807,16 @@ impl Rolling3dFiles {
             }
         }
         patch.note = format!(
-            "Each node's force over its share of the rim (pitch x layer width; slice {} mm thick).",
-            sig(1e3 * self.thickness, 3)
+            "Each node's force over its share of the rim (pitch x layer width; slice {} mm thick).{}",
+            sig(1e3 * self.thickness, 3),
+            if self.mu > 1.0 {
+                format!(
+                    " The bound mu p (mu = {}) is off the scale and not drawn.",
+                    sig(self.mu, 3)
+                )
+            } else {
+                String::new()
+            }
         );
         vec![creep, normal, patch]
     }
