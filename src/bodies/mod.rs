@@ -290,6 +290,20 @@ impl Assembled {
     }
 }
 
+/// A body's own state from the driver's vector `x` into `out` (its `out.len()` values):
+/// `x`'s first values, plus its twin's when `x` holds a twin after them (`x.len() = 2
+/// out.len()`: the uncoupled pair of the 2D and 3D wheels, whose state is the sum of the
+/// two copies).
+pub fn own_with_twin(x: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    out.copy_from_slice(&x[..n]);
+    if x.len() == 2 * n {
+        for (o, t) in out.iter_mut().zip(&x[n..]) {
+            *o += t;
+        }
+    }
+}
+
 /// Joins `bodies` (module docs).
 ///
 /// # Errors

@@ -406,17 +406,9 @@ impl RollingSlice {
     /// The wheel's own displacement (or velocity) from the driver's vector `x`: its first
     /// `3 N` values, plus the twin's when one carries the tangential tractions.
     pub fn own_state(&self, x: &[f64]) -> Vec<f64> {
-        match self.twin {
-            None => x.to_vec(),
-            Some(nodes) => {
-                let n = 3 * nodes;
-                x[..n]
-                    .iter()
-                    .zip(&x[n..2 * n])
-                    .map(|(a, b)| a + b)
-                    .collect()
-            }
-        }
+        let mut out = vec![0.0; self.twin.map_or(x.len(), |nodes| 3 * nodes)];
+        super::own_with_twin(x, &mut out);
+        out
     }
 }
 

@@ -539,13 +539,7 @@ impl WheelModel {
     /// The wheel's own state from the driver's into `out` (`n` dofs of [`Mesh::n_dofs`]): the
     /// same values when coupled, the sum of the disk's and its twin's when uncoupled.
     pub fn own_state(&self, x: &[f64], out: &mut [f64]) {
-        let n = out.len();
-        out.copy_from_slice(&x[..n]);
-        if x.len() == 2 * n {
-            for (o, t) in out.iter_mut().zip(&x[n..]) {
-                *o += t;
-            }
-        }
+        super::own_with_twin(x, out);
     }
 
     /// Element stresses `[sxx, syy, txy]` (Pa) of the displacement `u`, into `out`
