@@ -708,3 +708,113 @@ fn kalker_coefficients_of_the_twin_wheel() {
     );
     assert!(!md.contains("Not the table's problem"), "{md}");
 }
+
+/// `softway sweep` of the falling-friction scenario over the zone's pitch (a coarse ladder,
+/// a = 5 mm, 96 to 384 sectors) writes `slip_history.md`, `.csv` and `.png`, and each point's
+/// figures hold against what the runs' histories and the rim's geometry say:
+/// - **the ripple's frequency** is the rim pitch's passage through the patch, `omega sectors
+///   / (2 pi)`, or a harmonic of it (within 3 %): the forces' ripple is the discrete rim's,
+///   periodic at the passage;
+/// - **it falls under refinement**, rung by rung;
+/// - **`Q / (mu_s N)` and the ripple** are the mean and the RMS about it of `history.csv`'s
+///   last half of the rolling, recomputed here (1e-9);
+/// - the slip share lies in [0, 1] and `Q <= mu_s N`; the summary names the law and its
+///   memory.
+#[test]
+fn falling_friction_refinement_sweep_writes_the_slip_history() {
+    let out = fresh_dir("rolling3d", "falling-sweep");
+    let mut args: Vec<String> = vec![
+        "sweep".into(),
+        "scenarios/rolling3d-falling.toml".into(),
+        "--out".into(),
+        out.display().to_string(),
+        "--force".into(),
+    ];
+    for s in [
+        "wheel.zone_sectors=96,192,384",
+        "time.h=1e-5",
+        "rolling.flattening_mm=0.3",
+        "wheel.zone_deg=24",
+        "wheel.zone_axial_mm=4",
+        "wheel.zone_depth_mm=4",
+        "rolling.turns=0.2",
+    ] {
+        args.push("--set".into());
+        args.push(s.to_string());
+    }
+    let o = cli(&args);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for f in ["slip_history.md", "slip_history.csv", "slip_history.png"] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let md = std::fs::read_to_string(out.join("slip_history.md")).unwrap();
+    assert!(
+        md.contains("the mesh at h = 10 us") && md.contains("mu_k = 0.2"),
+        "{md}"
+    );
+    let csv = std::fs::read_to_string(out.join("slip_history.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    let mut ripples = Vec::new();
+    for r in &rows {
+        let sectors = r[col("zone_sectors")];
+        let dir = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|d| {
+                d.file_name()
+                    .unwrap()
+                    .to_string_lossy()
+                    .starts_with(&format!("wheel.zone_sectors={sectors},"))
+            })
+            .unwrap();
+        let s = summary(&dir);
+        assert_eq!(num(&s, "/friction_law/kinetic"), 0.2);
+        assert_eq!(num(&s, "/friction_law/stribeck_velocity_m_s"), 0.02);
+        let passage = num(&s, "/omega_rad_s") * sectors / std::f64::consts::TAU;
+        let peak = r[col("ripple_peak_hz")];
+        let harmonic = (peak / passage).round();
+        assert!(
+            harmonic >= 1.0 && (peak / (harmonic * passage) - 1.0).abs() < 0.03,
+            "{sectors}: {peak} Hz against {passage}"
+        );
+        let share = r[col("slip_share")];
+        assert!((0.0..=1.0).contains(&share), "{share}");
+        // The steady figures from the history's last half of the rolling.
+        let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+        let mut hl = text.lines();
+        let hh: Vec<&str> = hl.next().unwrap().split(',').collect();
+        let hc = |name: &str| hh.iter().position(|h| *h == name).unwrap();
+        let (ct, cr) = (hc("t_s"), hc("traction_ratio"));
+        let (cq, cn) = (hc("creep_force_N"), hc("normal_force_N"));
+        let from = num(&s, "/steady/from_s");
+        let rows: Vec<Vec<f64>> = hl
+            .map(|l| {
+                l.split(',')
+                    .map(|x| x.parse::<f64>().unwrap_or(f64::NAN))
+                    .collect::<Vec<_>>()
+            })
+            .filter(|r| r[ct] >= from)
+            .collect();
+        let half = &rows[rows.len() / 2..];
+        let avg = |c: usize| half.iter().map(|r| r[c]).sum::<f64>() / half.len() as f64;
+        // Q/(mu_s N): the means' ratio; the ripple: the RMS of each step's ratio.
+        let mean = avg(cq) / (0.3 * avg(cn));
+        let m = avg(cr);
+        let rms =
+            (half.iter().map(|r| (r[cr] - m).powi(2)).sum::<f64>() / half.len() as f64).sqrt();
+        let q = r[col("traction_ratio")];
+        assert!((q - mean).abs() < 1e-6 * q, "{q} against {mean}");
+        assert!(q > 0.0 && q <= 1.0, "{q}");
+        let ripple = r[col("traction_ratio_ripple")];
+        assert!((ripple / rms - 1.0).abs() < 1e-3, "{ripple} against {rms}");
+        println!("{sectors} sectors: Q/(mu_s N) = {q:.4}, slip share {share:.3}, ripple {ripple:.2e} at {peak:.0} Hz (passage {passage:.0} Hz)");
+        ripples.push(ripple);
+    }
+    assert!(ripples.windows(2).all(|w| w[1] < w[0]), "{ripples:?}");
+}

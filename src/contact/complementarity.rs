@@ -235,7 +235,7 @@ impl Complementarity {
                         (p, normal),
                         pr.tangents,
                         (&fs.v, &ctx.pred.v),
-                        (kt, f0),
+                        (kt, f0, fs.pairs[p].friction_coefficient),
                         (maps, h),
                     );
                 }
@@ -265,6 +265,7 @@ impl Complementarity {
         for p in 0..self.posed.len() {
             ts.pairs[p] = plain_state(0.0, false, ctx.gap(p, t1, &ts.u));
             ts.pairs[p].dissipated = fs.pairs[p].dissipated;
+            ts.pairs[p].friction_coefficient = fs.pairs[p].friction_coefficient;
         }
         for (i, row) in ctx.rows.rows().iter().enumerate() {
             let lam = ctx.rows.lambda()[i];
@@ -287,6 +288,21 @@ impl Complementarity {
             }
             ts.pairs[row.pair].force = lam * force * h / h;
             ts.pairs[row.pair].held = lam > 0.0;
+        }
+        // A friction memory's state (module docs of `super::friction`, Memory) on the pairs
+        // that had friction rows.
+        if let Some(law) = self.friction.filter(|l| l.memory > 0.0) {
+            for p in 0..self.posed.len() {
+                let Some(pr) = self.posed[p] else { continue };
+                if !self.candidate[p] || pr.tangents[0].is_none() {
+                    continue;
+                }
+                let slips = pr
+                    .tangents
+                    .map(|t| t.map_or(0.0, |(c, w)| c.dot(&ts.v) - w));
+                ts.pairs[p].friction_coefficient =
+                    law.remember(fs.pairs[p].friction_coefficient, slips, h);
+            }
         }
         for p in 0..self.posed.len() {
             let (was, now) = (fs.pairs[p].held, ts.pairs[p].held);

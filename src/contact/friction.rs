@@ -25,6 +25,28 @@
 //! takes the normal penalty stiffness for `k_t` unless it is given; the others take a rigid
 //! stick. Like a penalty stiffness, `k_t` is per pair.
 //!
+//! **Memory: the coefficient follows the slip.** Without memory the coefficient is a
+//! function of the slip speed alone, taken at the step's start. A coefficient that falls
+//! with the speed is then negative damping on every sliding node, `N |dmu/dv|` against the
+//! node's mass: the smaller the element, the faster a node's slip oscillates (stick-slip at
+//! the pitch's scale, the micro-slip oscillation explicit codes have met), and the
+//! continuum's law has no length to converge to. With a memory `L` (`contact.friction_memory_um`,
+//! a slip distance) a pair carries its coefficient as a state
+//! ([`crate::model::PairState::friction_coefficient`]) that relaxes towards the falling law's
+//! over the distance slid, `d mu / ds = -(mu - mu_ss(|v|)) / L` (the slip law of
+//! rate-and-state friction, Ruina 1983, with the exponential falling law as its steady
+//! curve). Over a step at the slip speed `|v|` of its end,
+//! `mu_1 = mu_ss(|v|) + (mu_0 - mu_ss(|v|)) exp(-|v| h / L)` ([`FrictionLaw::relaxed`]), exact
+//! for a constant speed; the next step's bound is `mu_1`. A pair that lands starts at
+//! `mu_s` (the surfaces at rest); a sticking pair keeps its state, and so does a pair out
+//! of contact (a node that chatters does not start again at `mu_s`). Nothing heals it with
+//! time: a wheel's rim without a moving zone brings its material back to the patch after a
+//! turn with the state it left with; a moving zone (`wheel.zone_sectors`) brings fresh
+//! material, at rest, into the patch. Oscillations of a
+//! node whose slip in a period is much less than `L` no longer move its coefficient, so the
+//! mesh's scale loses the negative damping, while the patch's (slip distances of `L` and
+//! more) keeps the falling law. The step must resolve the memory, `|v| h << L`.
+//!
 //! **In the step.** Each bounded tangential row ([`super::rows::RowKind::Bounded`]) takes
 //! `mu(|v|)` at the pair's tangential relative velocity at the start of the step,
 //! `c_t . v0 - w_t` (the slip speed of a sliding pair, about 0 for a sticking one, the
@@ -56,6 +78,9 @@ pub struct FrictionLaw {
     /// The tangential (stick) stiffness `k_t`, N/m per pair (0: a rigid stick, or the normal
     /// stiffness with the penalty treatment; module docs).
     pub tangential_stiffness: f64,
+    /// The memory `L`, m: the slip distance over which a pair's coefficient follows the
+    /// falling law (module docs, Memory); 0: the coefficient at the step's start slip speed.
+    pub memory: f64,
 }
 
 impl FrictionLaw {
@@ -67,6 +92,7 @@ impl FrictionLaw {
             velocity: 1.0,
             viscosity: 0.0,
             tangential_stiffness: 0.0,
+            memory: 0.0,
         }
     }
 
@@ -77,6 +103,26 @@ impl FrictionLaw {
         } else {
             self.kinetic + (self.static_mu - self.kinetic) * (-v.abs() / self.velocity).exp()
         }
+    }
+
+    /// A pair's coefficient `mu0` after a step `h` at the slip speed `speed` with memory
+    /// (module docs, Memory): `mu_ss + (mu0 - mu_ss) exp(-|v| h / L)`, `mu_ss` the falling
+    /// law's coefficient at `speed`.
+    pub fn relaxed(&self, mu0: f64, speed: f64, h: f64) -> f64 {
+        let steady = self.coefficient(speed);
+        if self.memory > 0.0 {
+            steady + (mu0 - steady) * (-speed.abs() * h / self.memory).exp()
+        } else {
+            steady
+        }
+    }
+
+    /// The coefficient state a pair carries to the next step, with memory: its state
+    /// `prev` (`None`: at rest, `mu_s`) relaxed over a step `h` at the slip velocity
+    /// `slips` (the tangents' rates at the step's end); `None` without memory.
+    pub fn remember(&self, prev: Option<f64>, slips: [f64; 2], h: f64) -> Option<f64> {
+        (self.memory > 0.0)
+            .then(|| self.relaxed(prev.unwrap_or(self.static_mu), slips[0].hypot(slips[1]), h))
     }
 
     /// Some friction at some speed (a law that is zero everywhere adds no rows).
@@ -109,6 +155,12 @@ impl FrictionLaw {
             return Err(format!(
                 "contact.tangential_stiffness must be a finite stiffness >= 0 (N/m per contact pair), got {}",
                 self.tangential_stiffness
+            ));
+        }
+        if !(self.memory.is_finite() && self.memory >= 0.0) {
+            return Err(format!(
+                "contact.friction_memory_um must be a finite slip distance >= 0 (um), got {}",
+                1e6 * self.memory
             ));
         }
         if !(self.velocity.is_finite() && self.velocity > 0.0) {
@@ -157,13 +209,14 @@ impl From<f64> for FrictionLaw {
 /// when `kt > 0`. In 3D (`tangents[1]` given) the two rows name each other: their bound is
 /// Coulomb's cone on the tangential vector, the coefficient taken at the slip speed
 /// `|s|` of the start velocities `v0`; in 2D at the one tangent's slip rate, as before.
+/// With memory the coefficient is the pair's `state` instead (module docs, Memory).
 pub fn push_rows(
     rows: &mut RowSolver,
     law: &FrictionLaw,
     (p, normal): (usize, usize),
     tangents: [Option<(Terms, f64)>; 2],
     (v0, v_pred): (&[f64], &[f64]),
-    (kt, f0): (f64, [f64; 2]),
+    (kt, f0, state): (f64, [f64; 2], Option<f64>),
     (maps, h): (Maps, f64),
 ) {
     let slip = |k: usize| tangents[k].map_or(0.0, |(t, w): (Terms, f64)| t.dot(v0) - w);
@@ -171,7 +224,12 @@ pub fn push_rows(
         Some(_) => slip(0).hypot(slip(1)),
         None => slip(0),
     };
-    let mu_f = law.coefficient(speed);
+    // With memory the pair's state (at rest: mu_s), else the law at the start's speed.
+    let mu_f = if law.memory > 0.0 {
+        state.unwrap_or(law.static_mu)
+    } else {
+        law.coefficient(speed)
+    };
     let first = rows.rows().len();
     for (k, tangent) in tangents.iter().enumerate() {
         let Some((terms, w)) = *tangent else { continue };
@@ -213,6 +271,7 @@ mod tests {
             velocity: 0.5,
             viscosity: 0.0,
             tangential_stiffness: 0.0,
+            memory: 0.0,
         };
         assert_eq!(law.coefficient(0.0), 0.4);
         assert!((law.coefficient(0.5) - (0.2 + 0.2 / std::f64::consts::E)).abs() < 1e-15);

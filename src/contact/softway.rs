@@ -227,7 +227,7 @@ impl SoftWay {
                 (p, normal),
                 tangents,
                 (&fs.v, &ctx.pred.v),
-                (kt, f0),
+                (kt, f0, fs.pairs[p].friction_coefficient),
                 (step.maps, ctx.integ.h()),
             );
         }
@@ -300,6 +300,7 @@ impl SoftWay {
                     sliding,
                     slip_power,
                     dissipated,
+                    friction_coefficient,
                 } = &mut *st;
                 mode.assign(&self.modes[p]);
                 *restore = None;
@@ -315,7 +316,11 @@ impl SoftWay {
                 *sliding = false;
                 *slip_power = 0.0;
                 *dissipated = prev.dissipated;
+                // Carried through a step out of contact (module docs of
+                // `super::friction`, Memory); relaxed below when the pair has friction rows.
+                *friction_coefficient = prev.friction_coefficient;
             }
+            let mut slips = [0.0; 2];
             for k in 0..2 {
                 let Some((terms, wt)) = &self.friction_row[p][k] else {
                     continue;
@@ -327,6 +332,10 @@ impl SoftWay {
                 let kt = self.stick_stiffness();
                 let f0 = [prev.tangential_force, prev.tangential_force_2][k];
                 record_friction(st, (k, force), self.sliding[p], slip, h, (kt, f0));
+                slips[k] = slip;
+            }
+            if let (Some(law), Some(_)) = (self.friction, self.friction_row[p][0]) {
+                st.friction_coefficient = law.remember(prev.friction_coefficient, slips, h);
             }
             match &self.modes[p] {
                 PairMode::Brake { terms, .. } => {

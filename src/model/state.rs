@@ -136,6 +136,11 @@ pub struct PairState {
     /// `slip_power h` over the final steps; it is part of the state, so a repeated step
     /// does not count twice).
     pub dissipated: f64,
+    /// With a friction memory, the pair's coefficient at the end of the step, the bound of
+    /// its next ([`crate::contact::FrictionLaw::memory`]), carried through steps out of
+    /// contact; `None`: at rest (the static coefficient; a pair that never slid), or no
+    /// memory.
+    pub friction_coefficient: Option<f64>,
 }
 
 impl Default for PairState {
@@ -155,6 +160,7 @@ impl Default for PairState {
             sliding: false,
             slip_power: 0.0,
             dissipated: 0.0,
+            friction_coefficient: None,
         }
     }
 }

@@ -8,6 +8,7 @@ pub mod creep;
 mod figures;
 pub mod kalker;
 pub mod shard;
+pub mod slip_history;
 pub mod speed;
 use figures::{creep_curve, force_panel, oscillations_panel, sweep_axis};
 pub(crate) use figures::{steady_traction_ratio, traction_figure};
@@ -412,6 +413,14 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
         if study.creepages != [0] {
             return Ok(files);
         }
+    }
+    // The 3D rolling under refinement of its mesh, its step or both: the steady figures,
+    // the slip area's history and the ripple.
+    if slip_history::applies(points, &keys, &varying) {
+        if points.iter().any(|p| p.status.is_complete()) {
+            files.extend(slip_history::slip_history(out, points)?);
+        }
+        return Ok(files);
     }
     // A creepage sweep on a refinement ladder: the creep curve per rung and its limit.
     if let [i, j] = varying[..] {

@@ -267,6 +267,8 @@ pub(super) struct RawContact {
     pub friction: Option<f64>,
     pub friction_kinetic: Option<f64>,
     pub friction_velocity: Option<f64>,
+    /// The falling law's memory, a slip distance in micrometres (`FrictionLaw::memory`).
+    pub friction_memory_um: Option<f64>,
     pub friction_viscosity: Option<f64>,
     pub tangential_stiffness: Option<f64>,
 }

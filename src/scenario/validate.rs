@@ -553,6 +553,7 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
         for (key, v) in [
             ("contact.friction_kinetic", c.friction_kinetic),
             ("contact.friction_velocity", c.friction_velocity),
+            ("contact.friction_memory_um", c.friction_memory_um),
             ("contact.friction_viscosity", c.friction_viscosity),
             ("contact.tangential_stiffness", c.tangential_stiffness),
         ] {
@@ -576,6 +577,7 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
                 velocity: cx.positive("contact.friction_velocity", v)?,
                 viscosity: 0.0,
                 tangential_stiffness: 0.0,
+                memory: 0.0,
             },
             (Some(k), None) => return Err(cx.invalid(
                 "contact.friction_kinetic",
@@ -590,6 +592,16 @@ fn friction_law(cx: &Ctx, c: &RawContact) -> Result<Option<FrictionLaw>, Scenari
                 ))
             }
         };
+    if let Some(l) = c.friction_memory_um {
+        if c.friction_kinetic.is_none() {
+            return Err(cx.invalid(
+                "contact.friction_memory_um",
+                l,
+                "is the falling law's memory: give contact.friction_kinetic and contact.friction_velocity beside it",
+            ));
+        }
+        law.memory = 1e-6 * cx.positive("contact.friction_memory_um", l)?;
+    }
     if let Some(eta) = c.friction_viscosity {
         law.viscosity = cx.non_negative("contact.friction_viscosity", eta)?;
     }

@@ -121,6 +121,32 @@ fn quarters(recs: &[Rec], f: impl Fn(&Rec) -> f64) -> [f64; 4] {
     })
 }
 
+/// The ripple of a steady signal sampled every `dt`: its RMS about its mean over `steady`,
+/// and the strongest spectral peak of the longer record `all` above four periods of it
+/// (`(Hz, amplitude)`, [`crate::analysis::signal::dominant_peak`]; none when `all` is
+/// empty), where the rim's discrete passage shows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Ripple {
+    rms: f64,
+    peak: Option<(f64, f64)>,
+}
+
+impl Ripple {
+    fn of(steady: &[f64], all: &[f64], dt: f64) -> Self {
+        let n = steady.len().max(1) as f64;
+        let mean = steady.iter().sum::<f64>() / n;
+        let rms = (steady.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+        let peak = (all.len() >= 8).then(|| {
+            let spec = crate::analysis::signal::amplitude_spectrum(all, dt);
+            crate::analysis::signal::dominant_peak(&spec, 4.0 / (all.len() as f64 * dt))
+        });
+        Ripple {
+            rms,
+            peak: peak.flatten(),
+        }
+    }
+}
+
 /// The run's files beyond the history (module docs).
 #[derive(Debug)]
 struct Rolling3dFiles {
@@ -181,6 +207,8 @@ pub(crate) fn record(
         RollingSlice::new(&m.slice).map_err(|e| RunError::input(&sc.path, e.to_string()))?;
     let steps = (run.t_end / h).round().max(1.0) as usize;
     let mu = run.friction.map_or(0.0, |l| l.static_mu);
+    // A coefficient falling with the slip speed (the ratios are on `mu_s`).
+    let falling = run.friction.filter(|l| l.kinetic != l.static_mu);
     let problem = slice.problem_with((run.integrator, h, steps), run.contact, run.friction);
     let sim_error = |source| RunError::Simulation {
         run: run.label.clone(),
@@ -303,11 +331,18 @@ pub(crate) fn record(
         "spun_radius_m": slice.spun_radius,
         "creepages": {"longitudinal": m.slice.creepages[0], "lateral": m.slice.creepages[1], "spin_per_m": m.slice.creepages[2]},
         "friction": mu,
+        "friction_law": falling.map(|l| serde_json::json!({
+            "static": l.static_mu, "kinetic": l.kinetic, "stribeck_velocity_m_s": l.velocity,
+        })),
         "wall_time_s": wall,
         "seconds_per_step": wall / recs.len().max(1) as f64,
         "counters": stats,
     });
     crate::run::provenance::stamp_provenance(&mut summary, sc);
+    // The rim pitch's passage through the patch: the frequency at which the discrete rim
+    // modulates the forces (the zone's pitch, else the mesh's sectors).
+    let sectors = m.slice.zone.map_or(m.slice.counts[1], |z| z.sectors) as f64;
+    let pitch_passage = m.slice.omega * sectors / std::f64::consts::TAU;
     let mut steady_value = f64::NAN;
     let mut hertz_fig = None;
     if rolling.len() >= 8 {
@@ -361,6 +396,26 @@ pub(crate) fn record(
             .sum::<f64>()
             / half.len() as f64;
         let slip = half.iter().map(|r| r.sliding as f64).sum::<f64>() / half.len() as f64;
+        let held = half.iter().map(|r| r.held as f64).sum::<f64>() / half.len() as f64;
+        // Each step's Q / (mu N), as history.csv writes it.
+        let ratio_of = |rs: &[Rec]| {
+            rs.iter()
+                .map(|r| {
+                    if mu > 0.0 && r.normal > 0.0 {
+                        r.creep / (mu * r.normal)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect::<Vec<_>>()
+        };
+        let ripple = Ripple::of(&ratio_of(half), &ratio_of(&rolling), h);
+        let share_of = |rs: &[Rec]| {
+            rs.iter()
+                .map(|r| r.sliding.min(r.held) as f64 / r.held.max(1) as f64)
+                .collect::<Vec<_>>()
+        };
+        let share_rms = Ripple::of(&share_of(half), &[], h).rms;
         summary["steady"] = serde_json::json!({
             "from_s": settled,
             "reached": reached,
@@ -372,6 +427,12 @@ pub(crate) fn record(
             "traction_ratio": per(q),
             "lateral_ratio": per(ql),
             "traction_ratio_windows": ratio_q,
+            "traction_ratio_ripple": ripple.rms,
+            "ripple_peak_hz": ripple.peak.map(|p| p.0),
+            "ripple_peak_amplitude": ripple.peak.map(|p| p.1),
+            "pitch_passage_hz": pitch_passage,
+            "slip_share": if held > 0.0 { slip / held } else { 0.0 },
+            "slip_share_ripple": share_rms,
         });
         let xi_r = crate::kinds::wheel::run::traction::creepage_undeformed(
             m.slice.creepages[0],
@@ -396,6 +457,14 @@ pub(crate) fn record(
             "mean_slip_nodes": slip,
         });
         let reference_line = m.reference.as_ref().map(|rc| {
+            if falling.is_some() {
+                // The reference is Coulomb's curve, at one coefficient.
+                return format!(
+                    "{}: the reference ({}) is Coulomb's creep curve: not compared under a coefficient falling with the slip speed (contact.friction_kinetic)",
+                    run.label,
+                    rc.name()
+                );
+            }
             // The reference's creepage unit: mu a / R, a Hertz's semi-axis along the rolling.
             let x = xi_r / (mu * a / m.slice.radius);
             summary["traction"]["reference"] = rc.to_json(x);

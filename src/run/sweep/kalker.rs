@@ -132,6 +132,12 @@ pub fn study_keys(points: &[SweepPoint], keys: &[String], varying: &[usize]) -> 
             })
         })
         .collect();
+    // One run a rung fits a lateral or spin coefficient (no constant), not C11 (whose fit
+    // takes the free-rolling offset): a ladder alone at a longitudinal creepage alone is
+    // another study (the refinement's, [`super::slip_history`]).
+    if !swept && !creepages.iter().any(|&c| c > 0) {
+        return None;
+    }
     (!creepages.is_empty()).then_some(KalkerKeys { creepages, rung })
 }
 
@@ -630,9 +636,14 @@ pub fn coefficients(
     ];
     // The figure draws a ladder (two rungs or more of a numeric key) against the table.
     let drawn = study.shown().iter().any(|&k| study.reference(k).is_some());
-    if study.rung_key.is_some() && study.fits.len() >= 2 && drawn {
+    let panel = study.panel();
+    let finite = panel
+        .series
+        .iter()
+        .any(|s| s.y.iter().any(|y| y.is_finite()));
+    if study.rung_key.is_some() && study.fits.len() >= 2 && drawn && finite {
         let png = out.join("kalker.png");
-        panels(&png, &[study.panel()], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
+        panels(&png, &[panel], 1, 1, (1100, 750)).map_err(|e| RunError::output(&png, e))?;
         files.push(png);
     }
     Ok(files)
