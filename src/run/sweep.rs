@@ -698,8 +698,9 @@ fn table_columns(points: &[SweepPoint], is_wheel: bool, with_traction: bool) -> 
 }
 
 /// The table's cell of point `p` in column `c` (a path `a/b` into the summary's nested
-/// objects): a float to five decimals, an array as JSON (`[3,4,4]`; quoted in the CSV),
-/// nothing for the rest.
+/// objects): a float to five decimals (below 0.01, to six significant digits: a step of
+/// 2.5e-6 s is not 0.00000), an array as JSON (`[3,4,4]`; quoted in the CSV), nothing for
+/// the rest.
 fn table_cell(p: &SweepPoint, c: &str) -> String {
     let v = if c.contains('/') {
         p.summary
@@ -710,6 +711,7 @@ fn table_cell(p: &SweepPoint, c: &str) -> String {
     };
     match v {
         serde_json::Value::Number(n) => match n.as_f64() {
+            Some(x) if n.is_f64() && x != 0.0 && x.abs() < 1e-2 => format!("{x:.5e}"),
             Some(x) if n.is_f64() => format!("{x:.5}"),
             _ => n.to_string(),
         },

@@ -558,7 +558,7 @@ impl Study {
                 SeriesStyle::Markers,
             ));
         }
-        steady.note = "Solid: Q/(mu_s N); dashed: the slip share; the lines of one step share a colour pair. The step's own lines (one mesh) are in slip_history.md.".into();
+        steady.note = "Solid: Q/(mu_s N); dashed: the slip share, a line each. The step's own lines (one mesh) are in slip_history.md.".into();
         if !steady.series.is_empty() {
             out.extend([steady, ripple]);
         }
