@@ -323,12 +323,16 @@ impl Study {
         let (mesh_varies, step_varies) = (vary(&|p| p.sectors), vary(&|p| p.h));
         if mesh_varies && step_varies {
             for (_, m) in groups(&|p| p.sectors * p.h) {
-                lines.push(Line::of(
-                    &points,
-                    Refines::Both,
-                    m,
-                    "the mesh and the step together".into(),
-                ));
+                // Named by its coarsest point: a product grid has several diagonals.
+                let first = m
+                    .iter()
+                    .map(|&k| &points[k])
+                    .min_by(|a, b| a.sectors.total_cmp(&b.sectors))
+                    .map_or(String::new(), |p| {
+                        format!(" from {} sectors, {} us", p.sectors, sig(1e6 * p.h))
+                    });
+                let label = format!("the mesh and the step together{first}");
+                lines.push(Line::of(&points, Refines::Both, m, label));
             }
         }
         if mesh_varies {
@@ -514,23 +518,47 @@ impl Study {
         );
         ripple.x_log = true;
         ripple.y_log = true;
-        for l in self.lines.iter().filter(|l| l.refines != Refines::Step) {
+        // The lines over the mesh (alone or with the step), the longest only (three rungs
+        // and more, when there are); the steady panel draws the first diagonal and the mesh
+        // at the finest step, the ripple panel every one.
+        let over_mesh: Vec<&Line> = self
+            .lines
+            .iter()
+            .filter(|l| l.refines != Refines::Step)
+            .collect();
+        let longest = over_mesh.iter().map(|l| l.members.len()).max().unwrap_or(0);
+        let drawn: Vec<&Line> = over_mesh
+            .into_iter()
+            .filter(|l| l.members.len() == longest)
+            .collect();
+        let finest_mesh_line = drawn
+            .iter()
+            .filter(|l| l.refines == Refines::Mesh)
+            .min_by(|a, b| self.points[a.members[0]].h.total_cmp(&self.points[b.members[0]].h));
+        let on_steady = |l: &Line| {
+            let first_diagonal = drawn.iter().find(|d| d.refines == Refines::Both);
+            first_diagonal.is_some_and(|d| std::ptr::eq(*d, l))
+                || finest_mesh_line.is_some_and(|d| std::ptr::eq(*d, l))
+        };
+        for l in drawn.iter().copied() {
             let x: Vec<f64> = l.members.iter().map(|&k| self.points[k].sectors).collect();
             let y = |f: &dyn Fn(&Point) -> f64| -> Vec<f64> {
                 l.members.iter().map(|&k| f(&self.points[k])).collect()
             };
-            steady.series.push(Series::new(
-                format!("Q/(mu_s N), {}", l.label),
-                x.clone(),
-                y(&|p| p.ratio),
-                SeriesStyle::LineMarkers,
-            ));
-            steady.series.push(Series::new(
-                format!("slip share, {}", l.label),
-                x.clone(),
-                y(&|p| p.share),
-                SeriesStyle::Dashed,
-            ));
+            if on_steady(l) {
+                steady.series.push(Series::new(
+                    format!("Q/(mu_s N), {}", l.label),
+                    x.clone(),
+                    y(&|p| p.ratio),
+                    SeriesStyle::LineMarkers,
+                ));
+                steady.series.push(Series::new(
+                    format!("slip share, {}", l.label),
+                    x.clone(),
+                    y(&|p| p.share),
+                    SeriesStyle::Dashed,
+                ));
+            }
             ripple.series.push(Series::new(
                 l.label.clone(),
                 x,
@@ -538,10 +566,9 @@ impl Study {
                 SeriesStyle::LineMarkers,
             ));
         }
-        let limits: Vec<(f64, f64)> = self
-            .lines
+        let limits: Vec<(f64, f64)> = drawn
             .iter()
-            .filter(|l| l.refines != Refines::Step)
+            .filter(|l| on_steady(l))
             .flat_map(|l| {
                 let x = l.rungs.last().copied().unwrap_or(f64::NAN);
                 [l.ratio.1, l.share.1]
@@ -558,7 +585,7 @@ impl Study {
                 SeriesStyle::Markers,
             ));
         }
-        steady.note = "Solid: Q/(mu_s N); dashed: the slip share, a line each. The step's own lines (one mesh) are in slip_history.md.".into();
+        steady.note = "Solid: Q/(mu_s N); dashed: the slip share. The other lines (the step's at one mesh among them) are in slip_history.md.".into();
         if !steady.series.is_empty() {
             out.extend([steady, ripple]);
         }
