@@ -531,10 +531,15 @@ impl Study {
             .into_iter()
             .filter(|l| l.members.len() == longest)
             .collect();
-        let finest_mesh_line = drawn
-            .iter()
-            .filter(|l| l.refines == Refines::Mesh)
-            .min_by(|a, b| self.points[a.members[0]].h.total_cmp(&self.points[b.members[0]].h));
+        let finest_mesh_line =
+            drawn
+                .iter()
+                .filter(|l| l.refines == Refines::Mesh)
+                .min_by(|a, b| {
+                    self.points[a.members[0]]
+                        .h
+                        .total_cmp(&self.points[b.members[0]].h)
+                });
         let on_steady = |l: &Line| {
             let first_diagonal = drawn.iter().find(|d| d.refines == Refines::Both);
             first_diagonal.is_some_and(|d| std::ptr::eq(*d, l))
