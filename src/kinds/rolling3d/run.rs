@@ -154,6 +154,8 @@ struct Rolling3dFiles {
     u: Vec<f64>,
     patch: Vec<PatchNode>,
     mu: f64,
+    /// The coefficient falls with the slip speed (`mu` is the static one).
+    falling: bool,
     series: Vec<[f64; 4]>,
     settled: f64,
     steady_ratio: f64,
@@ -545,6 +547,7 @@ pub(crate) fn record(
             u: last_u,
             patch,
             mu,
+            falling: falling.is_some(),
             series,
             settled,
             steady_ratio: steady_value,

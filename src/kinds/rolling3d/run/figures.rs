@@ -131,7 +131,11 @@ impl Rolling3dFiles {
                 // Above mu = 1 the bound would set the scale and flatten the rest.
                 if self.mu <= 1.0 {
                     patch.series.push(Series::new(
-                        "mu p (the bound)",
+                        if self.falling {
+                            "mu_s p (the bound at rest; sliding lowers it)"
+                        } else {
+                            "mu p (the bound)"
+                        },
                         s.clone(),
                         row.iter().map(|p| 1e-6 * self.mu * p.pressure).collect(),
                         SeriesStyle::Dashed,
