@@ -290,11 +290,12 @@ impl Complementarity {
             ts.pairs[row.pair].held = lam > 0.0;
         }
         // A friction memory's state (module docs of `super::friction`, Memory) on the pairs
-        // that had friction rows.
+        // in contact with friction rows; a candidate the solve left without a reaction is
+        // out of contact and keeps its state, as in the soft way.
         if let Some(law) = self.friction.filter(|l| l.memory > 0.0) {
             for p in 0..self.posed.len() {
                 let Some(pr) = self.posed[p] else { continue };
-                if !self.candidate[p] || pr.tangents[0].is_none() {
+                if !self.candidate[p] || !ts.pairs[p].held || pr.tangents[0].is_none() {
                     continue;
                 }
                 let slips = pr

@@ -77,6 +77,14 @@ struct Rec {
     sliding: usize,
 }
 
+impl Rec {
+    /// `x / (mu N)` at this step (a force over the bound of the coefficient `mu`); `None`
+    /// without friction or without contact.
+    fn per_mu_n(&self, x: f64, mu: f64) -> Option<f64> {
+        (mu > 0.0 && self.normal > 0.0).then(|| x / (mu * self.normal))
+    }
+}
+
 /// A rim node of the last step's patch.
 #[derive(Debug, Clone, Copy)]
 pub struct PatchNode {
@@ -123,8 +131,8 @@ fn quarters(recs: &[Rec], f: impl Fn(&Rec) -> f64) -> [f64; 4] {
 
 /// The ripple of a steady signal sampled every `dt`: its RMS about its mean over `steady`,
 /// and the strongest spectral peak of the longer record `all` above four periods of it
-/// (`(Hz, amplitude)`, [`crate::analysis::signal::dominant_peak`]; none when `all` is
-/// empty), where the rim's discrete passage shows.
+/// (`(Hz, amplitude)`, [`crate::analysis::signal::dominant_peak`]; none when `all` has
+/// fewer than 8 samples), where the rim's discrete passage shows.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Ripple {
     rms: f64,
@@ -133,9 +141,7 @@ struct Ripple {
 
 impl Ripple {
     fn of(steady: &[f64], all: &[f64], dt: f64) -> Self {
-        let n = steady.len().max(1) as f64;
-        let mean = steady.iter().sum::<f64>() / n;
-        let rms = (steady.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+        let rms = crate::growth::spectrum::rms(steady);
         let peak = (all.len() >= 8).then(|| {
             let spec = crate::analysis::signal::amplitude_spectrum(all, dt);
             crate::analysis::signal::dominant_peak(&spec, 4.0 / (all.len() as f64 * dt))
@@ -260,13 +266,7 @@ pub(crate) fn record(
                 held,
                 sliding,
             };
-            let ratio = |x: f64| {
-                if mu > 0.0 && f.normal > 0.0 {
-                    x / (mu * f.normal)
-                } else {
-                    0.0
-                }
-            };
+            let ratio = |x: f64| rec.per_mu_n(x, mu).unwrap_or(0.0);
             if v.state.k % stride == 0 {
                 csv.push(
                     0,
@@ -335,6 +335,7 @@ pub(crate) fn record(
         "friction": mu,
         "friction_law": falling.map(|l| serde_json::json!({
             "static": l.static_mu, "kinetic": l.kinetic, "stribeck_velocity_m_s": l.velocity,
+            "memory_um": 1e6 * l.memory,
         })),
         "wall_time_s": wall,
         "seconds_per_step": wall / recs.len().max(1) as f64,
@@ -402,13 +403,7 @@ pub(crate) fn record(
         // Each step's Q / (mu N), as history.csv writes it.
         let ratio_of = |rs: &[Rec]| {
             rs.iter()
-                .map(|r| {
-                    if mu > 0.0 && r.normal > 0.0 {
-                        r.creep / (mu * r.normal)
-                    } else {
-                        0.0
-                    }
-                })
+                .map(|r| r.per_mu_n(r.creep, mu).unwrap_or(0.0))
                 .collect::<Vec<_>>()
         };
         let ripple = Ripple::of(&ratio_of(half), &ratio_of(&rolling), h);
@@ -417,7 +412,7 @@ pub(crate) fn record(
                 .map(|r| r.sliding.min(r.held) as f64 / r.held.max(1) as f64)
                 .collect::<Vec<_>>()
         };
-        let share_rms = Ripple::of(&share_of(half), &[], h).rms;
+        let share_rms = crate::growth::spectrum::rms(&share_of(half));
         summary["steady"] = serde_json::json!({
             "from_s": settled,
             "reached": reached,
@@ -520,13 +515,7 @@ pub(crate) fn record(
     let series = recs
         .iter()
         .map(|r| {
-            let per = |x: f64| {
-                if mu > 0.0 && r.normal > 0.0 {
-                    x / (mu * r.normal)
-                } else {
-                    f64::NAN
-                }
-            };
+            let per = |x: f64| r.per_mu_n(x, mu).unwrap_or(f64::NAN);
             [r.t, r.normal, per(r.creep), per(r.lateral)]
         })
         .collect();

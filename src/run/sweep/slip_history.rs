@@ -201,14 +201,13 @@ impl Point {
     }
 
     fn label(&self) -> String {
-        format!("{} sectors, h = {} us", self.sectors, sig(1e6 * self.h))
+        format!("{} sectors, h = {} us", self.sectors, us(self.h))
     }
 }
 
-/// A number to four significant digits, without trailing zeros.
-fn sig(x: f64) -> String {
-    let s = format!("{:.4e}", x);
-    s.parse::<f64>().map_or(s, |v| format!("{v}"))
+/// Microseconds to four significant digits, as the figures print numbers.
+fn us(seconds: f64) -> String {
+    crate::output::plot::sig(1e6 * seconds, 4)
 }
 
 /// What a line refines.
@@ -329,7 +328,7 @@ impl Study {
                     .map(|&k| &points[k])
                     .min_by(|a, b| a.sectors.total_cmp(&b.sectors))
                     .map_or(String::new(), |p| {
-                        format!(" from {} sectors, {} us", p.sectors, sig(1e6 * p.h))
+                        format!(" from {} sectors, {} us", p.sectors, us(p.h))
                     });
                 let label = format!("the mesh and the step together{first}");
                 lines.push(Line::of(&points, Refines::Both, m, label));
@@ -337,7 +336,7 @@ impl Study {
         }
         if mesh_varies {
             for (h, m) in groups(&|p| p.h) {
-                let label = format!("the mesh at h = {} us", sig(1e6 * h));
+                let label = format!("the mesh at h = {} us", us(h));
                 lines.push(Line::of(&points, Refines::Mesh, m, label));
             }
         }
@@ -351,8 +350,12 @@ impl Study {
             .iter()
             .find_map(|p| {
                 let l = p.summary.get("friction_law")?;
+                let memory = match l["memory_um"].as_f64() {
+                    Some(m) if m > 0.0 => format!(", a memory of {m} um of slip"),
+                    _ => ", no memory".to_string(),
+                };
                 Some(format!(
-                    "mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s), mu_s = {}, mu_k = {}, v_s = {} m/s",
+                    "mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s), mu_s = {}, mu_k = {}, v_s = {} m/s{memory}",
                     l["static"].as_f64()?,
                     l["kinetic"].as_f64()?,
                     l["stribeck_velocity_m_s"].as_f64()?
@@ -419,7 +422,7 @@ impl Study {
                 md,
                 "| {} | {} | {} | {:.2} | {:.3} | {:.4} | {:.4} | {:.2e} | {:.1} | {:.1} | {:.3} |",
                 p.sectors,
-                sig(1e6 * p.h),
+                us(p.h),
                 p.dofs,
                 p.steps_a_pitch(),
                 1e-3 * p.normal,
@@ -445,7 +448,7 @@ impl Study {
                     md,
                     "| {} | {} | {:.4} | {:.4} | {:.2e} | {} | {} |",
                     p.sectors,
-                    sig(1e6 * p.h),
+                    us(p.h),
                     p.ratio,
                     p.share,
                     p.ripple,
