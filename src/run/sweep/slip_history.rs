@@ -352,7 +352,8 @@ impl Study {
                 let l = p.summary.get("friction_law")?;
                 let memory = match l["memory_um"].as_f64() {
                     Some(m) if m > 0.0 => format!(", a memory of {m} um of slip"),
-                    _ => ", no memory".to_string(),
+                    Some(_) => ", no memory".to_string(),
+                    None => String::new(),
                 };
                 Some(format!(
                     "mu(v) = mu_k + (mu_s - mu_k) exp(-|v| / v_s), mu_s = {}, mu_k = {}, v_s = {} m/s{memory}",
