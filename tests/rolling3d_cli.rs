@@ -817,4 +817,72 @@ fn falling_friction_refinement_sweep_writes_the_slip_history() {
         ripples.push(ripple);
     }
     assert!(ripples.windows(2).all(|w| w[1] < w[0]), "{ripples:?}");
+    the_cost_study_holds_against_the_summaries(&out);
+}
+
+/// A rolling 3D sweep's `cost.md`, `.csv` and `.png`, against its runs' summaries:
+/// - **each run's `cost`** holds its invariants: the loop's step costs at least the free
+///   solves it made (`step / free >= free solves a step`: the loop's time contains them),
+///   a free step reads at least its factor (8 bytes an entry), a metre is `step / (V h)`;
+/// - **the study's figures** are the summaries', and its floor is the free step's bytes
+///   over the bandwidth the study measured and wrote (1e-9);
+/// - the finer the zone, the more unknowns and the larger the factor.
+fn the_cost_study_holds_against_the_summaries(out: &std::path::Path) {
+    for f in ["cost.md", "cost.csv", "cost.png"] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("cost.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|h| h.trim_matches('"').to_string())
+        .collect();
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let mut sizes = Vec::new();
+    for line in lines {
+        // The point's values (the first column, quoted) hold commas: the other cells are
+        // read from the right.
+        let mut cells: Vec<&str> = line.rsplitn(head.len(), ',').collect();
+        cells.reverse();
+        let get = |name: &str| cells[col(name)].trim_matches('"').parse::<f64>().unwrap();
+        let dir = std::fs::read_dir(out)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|d| {
+                d.join("summary.json").exists() && summary(d)["dofs"].as_f64() == Some(get("dofs"))
+            })
+            .unwrap();
+        let s = summary(&dir);
+        let c = |k: &str| num(&s, &format!("/cost/{k}"));
+        let step = c("step_s");
+        let free = c("free_step_s");
+        assert!(
+            step / free >= c("free_solves_per_step") * (1.0 - 1e-12)
+                && c("free_solves_per_step") >= 1.0,
+            "{}: step {step} s against free {free} s and {} free solves a step",
+            dir.display(),
+            c("free_solves_per_step")
+        );
+        assert!(c("free_step_bytes") >= 8.0 * c("factor_nnz"));
+        let metre = step / (num(&s, "/speed_m_s") * num(&s, "/h_s"));
+        assert!((c("metre_s") / metre - 1.0).abs() < 1e-12);
+        let floor_ms = 1e3 * c("free_step_bytes") / (1e9 * get("bandwidth_triad_GB_s"));
+        assert!((get("floor_ms") / floor_ms - 1.0).abs() < 1e-9);
+        assert!((get("step_ms") / (1e3 * step) - 1.0).abs() < 1e-9);
+        assert!(
+            (get("free_over_floor") - get("free_step_ms") / get("floor_ms")).abs()
+                < 1e-9 * get("free_over_floor")
+        );
+        sizes.push((get("dofs"), c("factor_nnz")));
+    }
+    assert_eq!(sizes.len(), 3);
+    sizes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!(
+        sizes.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 > w[0].1),
+        "{sizes:?}"
+    );
+    let md = std::fs::read_to_string(out.join("cost.md")).unwrap();
+    assert!(md.contains("rolls a metre in"), "{md}");
 }

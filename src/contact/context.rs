@@ -97,6 +97,8 @@ pub struct Scratch {
     clock: u64,
     /// Predictions made again when one serves ([`Scratch::set_predictions_again`]).
     again: bool,
+    /// The time spent in the predictions solved ([`Context::predict`]), s.
+    predict_s: f64,
 }
 
 /// A prediction made: what it was made from (the start, the step, the columns' epoch of
@@ -150,7 +152,14 @@ impl Scratch {
             known: [Known::new(n), Known::new(n)],
             clock: 0,
             again: true,
+            predict_s: 0.0,
         }
+    }
+
+    /// The time spent in the predictions solved so far (their right-hand sides and
+    /// solves, each a free step), s.
+    pub fn prediction_seconds(&self) -> f64 {
+        self.predict_s
     }
 
     /// Whether [`Context::predict`] makes a prediction again from a known one when it can
@@ -293,6 +302,7 @@ impl Context<'_> {
             Some(nl) => nl.begin(t0, s0, self.extra),
             None => self.extra,
         };
+        let clock = std::time::Instant::now();
         let step = self.integ.0.predict(
             t0,
             s0,
@@ -302,6 +312,7 @@ impl Context<'_> {
             self.pred,
             self.xfree,
         );
+        self.scratch.predict_s += clock.elapsed().as_secs_f64();
         if self.nonlinear.is_none() && self.scratch.again {
             // Kept in the least recently used of the two (a scheme that cannot make it
             // again, `repredict` `None`, only finds it unused).

@@ -104,6 +104,7 @@ macro_rules! avx2_method {
     };
 }
 
+pub mod bandwidth;
 mod bisect;
 pub mod dense;
 mod dissect;

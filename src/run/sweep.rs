@@ -4,6 +4,7 @@
 //! slices on several machines ([`shard`]: `softway sweep --shard I/N`) and be assembled
 //! into the same table and plot (`softway gather`).
 
+pub mod cost;
 pub mod creep;
 mod figures;
 pub mod kalker;
@@ -375,7 +376,8 @@ pub(crate) fn write_text(out: &Path, name: &str, text: &str) -> Result<PathBuf, 
 /// Writes a sweep's table (`sweep.csv`, `sweep.md`; a column per key) and plot
 /// (`sweep.png`, Fig. 15, for wheels over the one key that varies; `creep_curve.png` and
 /// `.csv` over `rolling.creepage` with friction; `speed_effect.*` for the 3D rolling over
-/// its speed, [`speed`]) into `out`, from the points' summaries in
+/// its speed, [`speed`]; `cost.*` for any 3D rolling sweep, [`cost`]) into `out`, from the
+/// points' summaries in
 /// the order given; returns the files.
 ///
 /// # Errors
@@ -388,6 +390,10 @@ pub fn write_sweep(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, Sw
     let (is_wheel, with_traction) = model_of(points);
     let cols = table_columns(points, is_wheel, with_traction);
     let mut files = write_tables(out, &keys, &cols, points)?;
+    // The 3D rolling runs' cost: the step against the free step and the memory's floor.
+    if cost::applies(points) {
+        files.extend(cost::cost(out, points)?);
+    }
     // Fig. 15 for wheels, over the one key that varies.
     let varying: Vec<usize> = (0..keys.len())
         .filter(|&i| {

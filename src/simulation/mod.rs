@@ -537,6 +537,12 @@ impl Simulation {
         self.engine.stats.relocations += 1;
     }
 
+    /// The time the run's predictions solved took, s ([`crate::contact::context::Scratch::prediction_seconds`]):
+    /// over [`RunStats::predictions`], the mean free step as the loop ran it.
+    pub fn prediction_seconds(&self) -> f64 {
+        self.engine.scratch.prediction_seconds()
+    }
+
     /// The newest state: after [`Simulation::run`], the last step's.
     pub fn last_state(&self) -> &State {
         &self.snaps[1].state

@@ -99,6 +99,19 @@ pub struct FactorCounts {
     pub symbolic: usize,
 }
 
+/// The factor a scheme's free step solves with ([`TimeIntegrator::factor_size`]): what a
+/// run's cost record reports beside the step's time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct FactorSize {
+    /// The factorization.
+    pub kind: crate::linalg::FactorKind,
+    /// Its stored entries (`L + U`, or `L` for Cholesky).
+    pub nnz: usize,
+    /// The bytes a free step reads (the factor as a solve reads it, the right-hand side's
+    /// rows, the passes over the state): its floor is these over the memory's bandwidth.
+    pub free_step_bytes: usize,
+}
+
 /// A time integrator (module docs).
 pub trait TimeIntegrator: Send {
     /// The name used in tables, e.g. `space_time(alpha=0.8 gamma=0)`, `newmark`.
@@ -175,6 +188,11 @@ pub trait TimeIntegrator: Send {
     fn set_step(&mut self, h: f64) -> Result<(), LinalgError>;
     /// Factorizations so far.
     fn counts(&self) -> FactorCounts;
+    /// The factor of the run's step and the bytes a free step reads; `None` (the default)
+    /// for a scheme that does not report them.
+    fn factor_size(&self) -> Option<FactorSize> {
+        None
+    }
     /// Runs the integrator's two-part work on `team`'s threads, if it has any (the same bits
     /// on any team; by default nothing changes).
     fn set_team(&mut self, _team: &crate::linalg::team::Team) {}

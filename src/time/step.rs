@@ -581,6 +581,13 @@ impl TimeIntegrator for Stepper {
     /// other step length's, as they count them ([`Factorization::numeric_factorizations`],
     /// [`Factorization::symbolic_analyses`]): one analysis while the second shares the
     /// first's.
+    fn factor_size(&self) -> Option<super::integrator::FactorSize> {
+        Some(super::integrator::FactorSize {
+            kind: self.factor_kind(),
+            nnz: self.factor_nnz(),
+            free_step_bytes: self.free_step_bytes(),
+        })
+    }
     fn counts(&self) -> FactorCounts {
         FactorCounts {
             numeric: self

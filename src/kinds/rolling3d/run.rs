@@ -18,6 +18,16 @@
 //! means of `Q / (mu N)` and `Q_y / (mu N)` differ by less than [`STEADY_TOLERANCE`] and
 //! `N` by less than 1 %.
 //!
+//! **Cost.** `summary.json`'s `cost` says what the run's step cost against the yardsticks a
+//! user compares it with: the set-up (the slice, its matrices and the factor, s), the
+//! factor's kind and entries, the free step (the prediction of a step without contact, its
+//! right-hand side and solve: the mean of the loop's predictions solved, timed as the loop
+//! ran them) and the bytes it reads, whose floor is these over the memory's bandwidth (`softway
+//! sweep`'s `cost.md` measures the bandwidth); the loop's step with the contact (the loop's
+//! wall time over its steps, the observer's history included) and its ratio to the free
+//! step; the free and the columns' solves a step; and `metre_s`, the loop's time for one
+//! metre of rolling at the run's speed and step (`step_s / (V h)`), on the run's `threads`.
+//!
 //! Files: `history.csv` (every `output.history_stride` steps: the forces, the ratios, the
 //! nodes in contact and sliding, the frictional power), `patch.csv` (the last step's rim
 //! nodes near the patch: position along the rolling direction and the axle, pressure and
@@ -171,6 +181,34 @@ struct Rolling3dFiles {
     hertz: Option<(f64, f64)>,
 }
 
+/// The summary's `cost` (module docs, Cost): what the run's step costs against a free step
+/// and against the memory's floor, and what a metre of rolling costs. `times` are the
+/// set-up's and the loop's, s; `run` the threads, the rim's speed (m/s) and the step (s).
+fn cost_record(
+    sim: &Simulation,
+    stats: &crate::simulation::RunStats,
+    (setup_s, loop_s): (f64, f64),
+    (threads, speed, h): (usize, f64, f64),
+) -> serde_json::Value {
+    let steps = stats.steps.max(1) as f64;
+    let free_step_s = sim.prediction_seconds() / stats.predictions.max(1) as f64;
+    let step_s = loop_s / steps;
+    let factor = sim.engine().integ.factor_size();
+    serde_json::json!({
+        "threads": threads,
+        "setup_s": setup_s,
+        "factor": factor.map(|f| f.kind),
+        "factor_nnz": factor.map(|f| f.nnz),
+        "free_step_bytes": factor.map(|f| f.free_step_bytes),
+        "free_step_s": free_step_s,
+        "step_s": step_s,
+        "step_over_free_step": step_s / free_step_s,
+        "free_solves_per_step": stats.predictions as f64 / steps,
+        "column_solves_per_step": stats.column_solves as f64 / steps,
+        "metre_s": step_s / (speed * h),
+    })
+}
+
 /// `softway run` of a `rolling3d` scenario (module docs).
 ///
 /// # Errors
@@ -222,6 +260,7 @@ pub(crate) fn record(
         run: run.label.clone(),
         source,
     };
+    let setup_clock = Instant::now();
     let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
     if m.cyclic_columns {
         sim.set_cyclic_symmetry(slice.symmetry(m.slice.counts))
@@ -236,6 +275,7 @@ pub(crate) fn record(
         })
         .map_err(sim_error)?;
     }
+    let setup_s = setup_clock.elapsed().as_secs_f64();
     let mesh = slice.bodies[0].mesh.clone();
     let x_ref = mesh.reference_positions();
     let rim = slice.rim.clone();
@@ -339,6 +379,7 @@ pub(crate) fn record(
         })),
         "wall_time_s": wall,
         "seconds_per_step": wall / recs.len().max(1) as f64,
+        "cost": cost_record(&sim, &stats, (setup_s, wall), (opts.par().count(), slice.base.line.radius * m.slice.omega, h)),
         "counters": stats,
     });
     crate::run::provenance::stamp_provenance(&mut summary, sc);
