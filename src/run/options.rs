@@ -39,8 +39,8 @@ pub struct RunOptions {
     /// Show a progress bar (on a terminal).
     pub progress: bool,
     /// The threads of each run; `None` (the default): [`Par::current`] when the run starts,
-    /// i.e. the rayon pool it is called in. Sweeps and convergence ladders run their runs
-    /// side by side, each with [`Par::Seq`].
+    /// i.e. the rayon pool it is called in. Sweeps run their runs side by side, each on its
+    /// share of the cores (one thread when as many run at once as there are cores).
     pub par: Option<Par>,
     /// Stops the job at its next step (it then keeps what it has, `interrupted` set).
     pub cancel: Cancel,

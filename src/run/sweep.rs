@@ -239,7 +239,8 @@ pub fn check_points(
 
 /// Validates and builds the scenario text at `path` for every point (its overrides written
 /// into the text as `--set` writes them; all before any run starts), then runs them in
-/// parallel (rayon, in the caller's pool; each run on one thread, [`Par::Seq`]) into
+/// parallel (rayon, in the caller's pool; each run on the cores over the runs at once,
+/// [`Par::threads`]: one thread each when the pool fills the cores) into
 /// `out/<key>=<value>,.../`; returns the points in their order, each with its
 /// [`PointStatus`]. `cancel` stops every run at its next step; a point not started by then
 /// is not run (interrupted, no folder). A run that fails is that point's status (its
@@ -272,10 +273,14 @@ pub fn run_points(
         .map(|(sc, sets)| (sets.clone(), sc))
         .collect();
     std::fs::create_dir_all(out).map_err(|e| RunError::output(out, e))?;
-    // The runs share the cores: each on one thread, no helper for its split solves.
+    // The runs share the cores: each on its share of them (one thread, no helper for its
+    // split solves, when as many run at once as there are cores; both threads of two
+    // cores with `--jobs 1`). The same bits on any threads.
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let at_once = rayon::current_num_threads().min(scs.len()).max(1);
     let opts = RunOptions {
         progress: false,
-        par: Some(Par::Seq),
+        par: Some(Par::threads(cores / at_once)),
         cancel: cancel.clone(),
         ..RunOptions::default()
     };
