@@ -178,7 +178,7 @@ impl Default for Limits {
 }
 
 /// The machine's memory (`MemTotal` of `/proc/meminfo`), bytes, where known.
-fn physical_memory_bytes() -> Option<f64> {
+pub(crate) fn physical_memory_bytes() -> Option<f64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;

@@ -267,6 +267,13 @@ impl RowSolver {
         self.keep = keep;
     }
 
+    /// Lets the cache grow to `slots` columns (at most `n`) where its bound was lower: the
+    /// kept columns of a moving zone's band ([`RowSolver::set_keep_columns`]), which the
+    /// patch sweeps between two relocations and comes back to after each.
+    pub fn raise_column_bound(&mut self, slots: usize) {
+        self.max_slots = self.max_slots.max(slots.min(self.n.max(1)));
+    }
+
     /// Derives new columns from the base sector's of `cyclic` instead of solving them
     /// ([`crate::contact::cyclic`]); `None`: each column solved. The cache is dropped; the
     /// base columns `cyclic` holds are kept (they must be of the current `A`).

@@ -155,6 +155,10 @@ impl Engine {
     }
 }
 
+/// The share of the machine's memory the columns kept for a moving zone may take
+/// ([`Simulation::set_relocation`]).
+const KEPT_COLUMNS_SHARE: f64 = 0.125;
+
 /// The step loop over a [`Problem`].
 pub struct Simulation {
     engine: Engine,
@@ -408,8 +412,16 @@ impl Simulation {
         }
         let dropped = (0..taken.len()).filter(|&q| !taken[q]).collect();
         let fresh = (0..pairs.len()).filter(|&p| pairs[p].is_none()).collect();
-        // The patch stays on the zone's nodes: keep their columns for the run.
+        // The patch stays on the zone's nodes: keep their columns for the run. The band it
+        // sweeps between two relocations holds more dofs than one patch (a well-resolved
+        // patch's band, with a twin's dofs, may pass the 1 GiB of the cache's first bound),
+        // and it comes back to them after each relocation: the kept columns may take up to
+        // KEPT_COLUMNS_SHARE of the machine's memory.
         eng.rows.set_keep_columns(true);
+        let n = eng.model.n();
+        let memory = crate::build::physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
+        eng.rows
+            .raise_column_bound((KEPT_COLUMNS_SHARE * memory / (8.0 * n.max(1) as f64)) as usize);
         let (c, s) = (spec.step.cos(), spec.step.sin());
         self.relocation = Some(Relocating {
             dropped,
