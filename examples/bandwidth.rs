@@ -1,6 +1,6 @@
 //! The machine's memory bandwidth, STREAM-like (McCalpin 1995): the triad `a = b + s c` and
-//! a read-only sum over arrays far larger than the caches, best of ten rounds
-//! ([`softway::linalg::bandwidth`]).
+//! a read-only sum over arrays far larger than the caches, best of ten rounds, on one thread
+//! and on every core ([`softway::linalg::bandwidth`]).
 //!
 //! ```sh
 //! cargo run --release --example bandwidth [-- MIB_PER_ARRAY]
@@ -16,10 +16,16 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(256);
-    let b = softway::linalg::bandwidth::measure(mib, 10);
-    println!(
-        "arrays of {mib} MiB: triad {:.2} GB/s, read {:.2} GB/s (best of 10)",
-        b.triad / 1e9,
-        b.read / 1e9
-    );
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    for threads in [1, cores] {
+        let b = softway::linalg::bandwidth::measure(mib, 10, threads);
+        println!(
+            "arrays of {mib} MiB on {threads} thread(s): triad {:.2} GB/s, read {:.2} GB/s (best of 10)",
+            b.triad / 1e9,
+            b.read / 1e9
+        );
+        if cores == 1 {
+            break;
+        }
+    }
 }

@@ -6,9 +6,10 @@
 //! the mean of the loop's own predictions solved, so under the loop's conditions) and the
 //! bytes it reads, the loop's
 //! step with the contact, the solves a step and `metre_s`. The study adds the floor: the
-//! free step's bytes over the memory's bandwidth, measured once when the study is written
-//! (the STREAM-like triad of [`crate::linalg::bandwidth`], on the machine and at the load of
-//! that moment: a study gathered elsewhere measures the gathering machine).
+//! free step's bytes over the memory's bandwidth on the run's threads, measured when the
+//! study is written (the STREAM-like triad of [`crate::linalg::bandwidth`], once for each
+//! count of threads the runs had, on the machine and at the load of that moment: a study
+//! gathered elsewhere measures the gathering machine).
 //!
 //! The ratios are what a user compares:
 //! - `free / floor`: how near the free step is to reading its factor once at the memory's
@@ -123,8 +124,38 @@ pub fn applies(points: &[SweepPoint]) -> bool {
 /// # Errors
 /// [`SweepError`] when a file cannot be written.
 pub fn cost(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, SweepError> {
-    let bw = crate::linalg::bandwidth::measure(BANDWIDTH_MIB, BANDWIDTH_ROUNDS);
-    cost_at(out, points, &bw)
+    let mut threads: Vec<usize> = points
+        .iter()
+        .filter_map(RunCost::of)
+        .map(|r| r.threads.max(1.0) as usize)
+        .collect();
+    threads.sort_unstable();
+    threads.dedup();
+    let bws = Bandwidths(
+        threads
+            .into_iter()
+            .map(|t| crate::linalg::bandwidth::measure(BANDWIDTH_MIB, BANDWIDTH_ROUNDS, t))
+            .collect(),
+    );
+    cost_at(out, points, &bws)
+}
+
+/// The bandwidths measured, one per count of threads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bandwidths(pub Vec<Bandwidth>);
+
+impl Bandwidths {
+    /// The triad on `threads` threads (the measure on the nearest count), bytes/s.
+    pub fn triad(&self, threads: f64) -> f64 {
+        self.0
+            .iter()
+            .min_by(|a, b| {
+                (a.threads as f64 - threads)
+                    .abs()
+                    .total_cmp(&(b.threads as f64 - threads).abs())
+            })
+            .map_or(f64::NAN, |b| b.triad)
+    }
 }
 
 /// [`cost`] at a bandwidth measured before.
@@ -134,7 +165,7 @@ pub fn cost(out: &Path, points: &[SweepPoint]) -> Result<Vec<PathBuf>, SweepErro
 pub fn cost_at(
     out: &Path,
     points: &[SweepPoint],
-    bw: &Bandwidth,
+    bw: &Bandwidths,
 ) -> Result<Vec<PathBuf>, SweepError> {
     let runs: Vec<RunCost> = points.iter().filter_map(RunCost::of).collect();
     let write = |name: &str, text: String| super::write_text(out, name, &text);
@@ -149,7 +180,7 @@ pub fn cost_at(
 }
 
 /// cost.csv: a row per run.
-fn csv(runs: &[RunCost], bw: &Bandwidth) -> String {
+fn csv(runs: &[RunCost], bw: &Bandwidths) -> String {
     let mut csv = record([
         "point",
         "dofs",
@@ -171,7 +202,7 @@ fn csv(runs: &[RunCost], bw: &Bandwidth) -> String {
         "bandwidth_triad_GB_s",
     ]);
     for r in runs {
-        let floor = r.floor_s(bw.triad);
+        let floor = r.floor_s(bw.triad(r.threads));
         push_record(
             &mut csv,
             [
@@ -192,7 +223,7 @@ fn csv(runs: &[RunCost], bw: &Bandwidth) -> String {
                 format!("{:e}", r.h),
                 format!("{:e}", r.speed),
                 format!("{:e}", r.metre_s / 60.0),
-                format!("{:e}", bw.triad / 1e9),
+                format!("{:e}", bw.triad(r.threads) / 1e9),
             ],
         );
     }
@@ -200,16 +231,26 @@ fn csv(runs: &[RunCost], bw: &Bandwidth) -> String {
 }
 
 /// cost.md: the table and how to read it.
-fn md(runs: &[RunCost], bw: &Bandwidth) -> String {
+fn md(runs: &[RunCost], bw: &Bandwidths) -> String {
+    let measured =
+        bw.0.iter()
+            .map(|b| {
+                format!(
+                    "on {} thread{}, triad {:.2} GB/s, read {:.2} GB/s",
+                    b.threads,
+                    if b.threads == 1 { "" } else { "s" },
+                    b.triad / 1e9,
+                    b.read / 1e9
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
+    let (mib, rounds) = bw.0.first().map_or((0, 0), |b| (b.mib, b.rounds));
     let mut md = format!(
-        "What each run's step cost. The free step is a step's right-hand side and solve without contact, the mean of the loop's own predictions solved; its floor is the bytes it reads (the factor once forward and once back, the right-hand side's rows, the passes over the state) over the memory's bandwidth, measured when this file was written: triad {:.2} GB/s, read {:.2} GB/s (arrays of {} MiB, best of {}). The step is the loop's, with the contact, over its steps. The times are the runs' own, side by side with the sweep's other runs and whatever else ran: the ratio of a run's step to its own free step, both timed in its loop, holds better than the seconds.\n\n| point | unknowns | threads | factor, entries | set-up s | free step ms | floor ms | free / floor | step ms | step / free | free solves a step | columns' solves a step | one metre, min |\n|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-        bw.triad / 1e9,
-        bw.read / 1e9,
-        bw.mib,
-        bw.rounds
+        "What each run's step cost. The free step is a step's right-hand side and solve without contact, the mean of the loop's own predictions solved; its floor is the bytes it reads (the factor once forward and once back, the right-hand side's rows, the passes over the state) over the memory's bandwidth on the run's threads, measured when this file was written: {measured} (arrays of {mib} MiB, best of {rounds}). The step is the loop's, with the contact, over its steps. The times are the runs' own, side by side with the sweep's other runs and whatever else ran: the ratio of a run's step to its own free step, both timed in its loop, holds better than the seconds.\n\n| point | unknowns | threads | factor, entries | set-up s | free step ms | floor ms | free / floor | step ms | step / free | free solves a step | columns' solves a step | one metre, min |\n|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     for r in runs {
-        let floor = r.floor_s(bw.triad);
+        let floor = r.floor_s(bw.triad(r.threads));
         let _ = writeln!(
             md,
             "| {} | {} | {} | {}, {:.3e} | {:.1} | {} | {} | {:.2} | {} | {:.2} | {:.2} | {:.3} | {} |",
@@ -253,7 +294,7 @@ fn md(runs: &[RunCost], bw: &Bandwidth) -> String {
 
 /// cost.png: the step, the free step and the floor against the unknowns; the ratios against
 /// the marks a user holds them to; the minutes a metre.
-fn figure(runs: &[RunCost], bw: &Bandwidth) -> [Panel; 3] {
+fn figure(runs: &[RunCost], bw: &Bandwidths) -> [Panel; 3] {
     let x: Vec<f64> = runs.iter().map(|r| r.dofs).collect();
     let of = |f: &dyn Fn(&RunCost) -> f64| runs.iter().map(f).collect::<Vec<_>>();
     let mut step = Panel::new(
@@ -277,12 +318,9 @@ fn figure(runs: &[RunCost], bw: &Bandwidth) -> [Panel; 3] {
             SeriesStyle::Markers,
         ),
         Series::new(
-            format!(
-                "the free step's floor: its bytes at {:.1} GB/s",
-                bw.triad / 1e9
-            ),
+            "the free step's floor: its bytes at the triad's bandwidth".to_string(),
             x.clone(),
-            of(&|r| 1e3 * r.floor_s(bw.triad)),
+            of(&|r| 1e3 * r.floor_s(bw.triad(r.threads))),
             SeriesStyle::Markers,
         ),
     ];
@@ -299,7 +337,7 @@ fn figure(runs: &[RunCost], bw: &Bandwidth) -> [Panel; 3] {
         Series::new(
             "the free step / its floor",
             x.clone(),
-            of(&|r| r.free_step_s / r.floor_s(bw.triad)),
+            of(&|r| r.free_step_s / r.floor_s(bw.triad(r.threads))),
             SeriesStyle::Markers,
         ),
     ];
@@ -357,12 +395,13 @@ mod tests {
     /// each ratio the quotient of the columns it names.
     #[test]
     fn the_ratios_are_the_quotients_they_name() {
-        let bw = Bandwidth {
+        let bw = Bandwidths(vec![Bandwidth {
             triad: 1e10,
             read: 1.2e10,
             mib: 128,
             rounds: 5,
-        };
+            threads: 2,
+        }]);
         let runs = [run(1e4, 2e-3, 5e-3, 1e7), run(2e5, 0.1, 0.25, 8e8)];
         let text = csv(&runs, &bw);
         let rows: Vec<Vec<&str>> = text
