@@ -42,6 +42,9 @@
 //! distinct dofs than it holds: it follows the largest contact patch of the run (a few
 //! allocations over a run, none once the patch has been seen), not the number of contact
 //! dofs, which on a converged wheel would be hundreds of columns of thousands of values.
+//! Under a moving refined zone the columns are kept, not evicted, up to a bound the driver
+//! raises to an eighth of the machine's memory ([`RowSolver::raise_column_bound`]): the
+//! patch comes back to the same band of dofs after each relocation.
 //!
 //! **Stick/slip (Coulomb friction).** A bounded row starts a solve sticking (`y_p = 0`) when
 //! its normal row starts active, else off (`lambda_p = 0`), and follows the normal row in and
