@@ -11,6 +11,7 @@
 //!
 //! The wheel's mesh is read later, by the wheel job ([`crate::kinds::wheel::run::build`]).
 
+use crate::linalg::bandwidth::physical_memory_bytes;
 use crate::scenario::{Contact, Run, RunSpec, Scenario, ScenarioError, TimeStep};
 use crate::time::SpaceTimeParams;
 
@@ -175,14 +176,6 @@ impl Default for Limits {
             disk_bytes: 20e9,
         }
     }
-}
-
-/// The machine's memory (`MemTotal` of `/proc/meminfo`), bytes, where known.
-pub(crate) fn physical_memory_bytes() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0)
 }
 
 /// Estimates the cost of a built scenario; `mesh_nodes` gives the nodes of a wheel whose

@@ -1,4 +1,4 @@
-//! The machine's memory bandwidth, STREAM-like (McCalpin 1995): the triad `a = b + s c` and
+//! The machine's memory: its size, and its bandwidth, STREAM-like (McCalpin 1995): the triad `a = b + s c` and
 //! a read-only sum over arrays far larger than the caches, best of several rounds, on one
 //! thread or several (each its own slice of the arrays, as STREAM's OpenMP loops).
 //!
@@ -10,6 +10,14 @@
 //! reports.
 
 use std::time::Instant;
+
+/// The machine's memory (`MemTotal` of `/proc/meminfo`), bytes, where known.
+pub fn physical_memory_bytes() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
 
 /// The best triad and read bandwidths of [`measure`], bytes per second.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

@@ -419,7 +419,8 @@ impl Simulation {
         // KEPT_COLUMNS_SHARE of the machine's memory.
         eng.rows.set_keep_columns(true);
         let n = eng.model.n();
-        let memory = crate::build::physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
+        let memory =
+            crate::linalg::bandwidth::physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
         eng.rows
             .raise_column_bound((KEPT_COLUMNS_SHARE * memory / (8.0 * n.max(1) as f64)) as usize);
         let (c, s) = (spec.step.cos(), spec.step.sin());
