@@ -249,6 +249,8 @@ pub(crate) fn record(
             ),
         ));
     }
+    // The set-up's time: the slice, its matrices and the factor (the cost record).
+    let setup_clock = Instant::now();
     let slice =
         RollingSlice::new(&m.slice).map_err(|e| RunError::input(&sc.path, e.to_string()))?;
     let steps = (run.t_end / h).round().max(1.0) as usize;
@@ -260,7 +262,6 @@ pub(crate) fn record(
         run: run.label.clone(),
         source,
     };
-    let setup_clock = Instant::now();
     let mut sim = Simulation::with_settings(problem, opts.settings()).map_err(sim_error)?;
     if m.cyclic_columns {
         sim.set_cyclic_symmetry(slice.symmetry(m.slice.counts))
