@@ -31,8 +31,9 @@
 //! planes, the rolling speed for the rotating base; 0 between two nodes). The slip velocity
 //! is `c_t . v - w`. A 1D model has no tangent (`None`). The friction treatments use the
 //! plane's one tangent in 2D and both in 3D, bounded together by Coulomb's isotropic cone
-//! ([`super::rows`]); friction between two 3D bodies (a searched pair) is refused at set-up
-//! until the 3D search gives its two tangents.
+//! ([`super::rows`]). Between two 3D bodies (a searched pair) the two tangents are the facet
+//! search's at the node's target, on the slave node and the facet's corners
+//! ([`super::facets`], The rows).
 //!
 //! **Split pairs (the uncoupled rolling check).** [`Pair::Split`] is a node against an
 //! obstacle whose normal row sits on one node and whose tangential row on another: the

@@ -237,12 +237,6 @@ impl Simulation {
         treatment
             .check_friction(friction, dim)
             .map_err(SimError::Unsupported)?;
-        let searched = pairs.iter().any(|p| matches!(p, Pair::Searched { .. }));
-        if dim == 3 && searched && friction.is_some_and(|f| f.is_active()) {
-            return Err(SimError::Unsupported(
-                "contact.friction between two 3D bodies is not available yet (a body against a rigid obstacle is); remove the key or set it to 0".to_string(),
-            ));
-        }
         let friction = friction.filter(FrictionLaw::is_active);
         let n = model.n();
         let np = pairs.len();

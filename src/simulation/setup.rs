@@ -47,8 +47,8 @@ pub struct Problem {
     pub energy_stiffness: Option<Vec<f64>>,
     /// The friction law of every pair (scenario keys `contact.friction`,
     /// `contact.friction_kinetic`, `contact.friction_velocity`; `Some(mu.into())`: Coulomb);
-    /// `None` or a zero law: frictionless, exactly the rows without friction. Needs a 2D
-    /// model and a treatment that carries it ([`Treatment::check_friction`]).
+    /// `None` or a zero law: frictionless, exactly the rows without friction. Needs a 2D or
+    /// 3D model and a treatment that carries it ([`Treatment::check_friction`]).
     pub friction: Option<FrictionLaw>,
 }
 
