@@ -194,6 +194,37 @@ pub fn annulus_zone_counts(o: &AnnulusZoneOptions) -> Result<(usize, usize, usiz
     Ok((ks.len(), radii.len() - 1, zs.len() - 1))
 }
 
+/// The rim nodes at the zone's own pitch, along the rim and across it: the stations
+/// within the zone's width and the layers' boundaries within its axial half-width (every
+/// boundary without one), for a size estimate.
+///
+/// # Errors
+/// As [`annulus_zone`].
+pub fn annulus_zone_fine_rim(o: &AnnulusZoneOptions) -> Result<(usize, usize), MeshError> {
+    let (ks, _, zs) = layout(o)?;
+    let nf = o.zone_sectors;
+    let n = ks.len();
+    // A station next to one a lattice step away (round the rim).
+    let along = (0..n)
+        .filter(|&i| {
+            let next = (ks[(i + 1) % n] + nf - ks[i]) % nf;
+            let prev = (ks[i] + nf - ks[(i + n - 1) % n]) % nf;
+            next == 1 || prev == 1
+        })
+        .count();
+    let sf = o.radius * 2.0 * PI / nf as f64;
+    let across = match o.axial {
+        None => zs.len(),
+        Some(_) => (0..zs.len())
+            .filter(|&i| {
+                let near = |j: usize| ((zs[i] - zs[j]).abs() - sf).abs() < 1e-6 * sf;
+                (i > 0 && near(i - 1)) || (i + 1 < zs.len() && near(i + 1))
+            })
+            .count(),
+    };
+    Ok((along, across))
+}
+
 /// The stations' lattice indices, the rings' radii and the layers' boundaries (module
 /// docs), checked.
 #[allow(clippy::type_complexity)]
@@ -377,6 +408,35 @@ mod tests {
             growth,
             depth: None,
             axial: None,
+        }
+    }
+
+    /// The fine rim counted for the cost estimate is the built zone's: the stations with a
+    /// neighbour at the zone's pitch, and the layers' boundaries with a neighbour at it.
+    #[test]
+    fn the_fine_rim_is_the_built_zones_finest_pitch() {
+        for (sectors, axial) in [(384, Some(2.5e-3)), (768, Some(3.5e-3)), (384, None)] {
+            let mut o = options(sectors, Some(1.3));
+            o.thickness = 0.04;
+            o.layers = 8;
+            o.axial = axial;
+            let z = annulus_zone(&o).unwrap();
+            let fine = |x: &[f64], pitch: f64| {
+                (0..x.len())
+                    .filter(|&i| {
+                        let near = |j: usize| ((x[i] - x[j]).abs() - pitch).abs() < 1e-9 * pitch;
+                        (i > 0 && near(i - 1)) || (i + 1 < x.len() && near(i + 1))
+                    })
+                    .count()
+            };
+            let dl = 2.0 * PI / sectors as f64;
+            let along = fine(&z.angles, dl);
+            let across = match axial {
+                Some(_) => fine(&z.zs, 0.1 * dl),
+                None => z.zs.len(),
+            };
+            assert_eq!(annulus_zone_fine_rim(&o).unwrap(), (along, across));
+            assert!(along > 10 && across > 2, "{along} {across}");
         }
     }
 

@@ -95,6 +95,10 @@ pub struct Size {
     /// The kind's own upper estimate of its factor's entries (a 3D model of a known shape);
     /// `None`: the generic one of its dimension ([`crate::build::factor_entries_3d`] in 3D).
     pub factor_entries: Option<f64>,
+    /// The most columns `A^-1 e_d` a moving zone keeps for the run: one a dof its contact
+    /// rows may touch; 0 without a moving zone. The run keeps at most
+    /// [`crate::simulation::KEPT_COLUMNS_SHARE`] of the machine's memory of them.
+    pub kept_columns: f64,
 }
 
 /// The model and the state and load of one free step (no contact), which `softway matrix`

@@ -156,8 +156,9 @@ impl Engine {
 }
 
 /// The share of the machine's memory the columns kept for a moving zone may take
-/// ([`Simulation::set_relocation`]).
-const KEPT_COLUMNS_SHARE: f64 = 0.125;
+/// ([`Simulation::set_relocation`]); the cost estimate counts it
+/// ([`crate::scenario::kind::Size::kept_columns`]).
+pub const KEPT_COLUMNS_SHARE: f64 = 0.125;
 
 /// The step loop over a [`Problem`].
 pub struct Simulation {

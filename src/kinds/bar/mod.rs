@@ -224,6 +224,7 @@ impl Spec for BarImpact {
             contact_pairs: 2.0,
             key: Some("bar.elements"),
             factor_entries: None,
+            kept_columns: 0.0,
         }
     }
 
@@ -277,6 +278,7 @@ impl Spec for TwoBars {
             contact_pairs: 2.0,
             key: Some("two_bars.elements"),
             factor_entries: None,
+            kept_columns: 0.0,
         }
     }
 

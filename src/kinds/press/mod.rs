@@ -279,6 +279,7 @@ impl Spec for PressScenario {
             contact_pairs: rows,
             key: Some("press.contact_size_mm"),
             factor_entries: Some(factor_entries(dofs)),
+            kept_columns: 0.0,
         }
     }
 

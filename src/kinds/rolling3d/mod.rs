@@ -487,10 +487,24 @@ impl Spec for Rolling3dScenario {
 
     fn size(&self, run: &Run, _: Option<usize>) -> Size {
         let [_, nt, nz] = self.stations();
+        let rim = (nt * (nz + 1)) as f64;
         Size {
             dofs: 3.0 * self.nodes() as f64,
             duration: run.t_end,
-            contact_pairs: (nt * (nz + 1)) as f64,
+            contact_pairs: rim,
+            // The patch and the band it sweeps lie on the zone's fine rim nodes: their three
+            // dofs, and their twins' three.
+            kept_columns: self
+                .slice
+                .zone_options()
+                .and_then(|o| crate::mesh::zone3d::annulus_zone_fine_rim(&o).ok())
+                .map_or(0.0, |(along, across)| {
+                    let per_node = match self.slice.coupling {
+                        Coupling::Coupled => 3.0,
+                        Coupling::Uncoupled => 6.0,
+                    };
+                    per_node * (along * across) as f64
+                }),
             key: Some("wheel.mesh"),
             // A twin is a second block of the matrix: twice one wheel's factor.
             factor_entries: Some(match self.slice.coupling {

@@ -79,6 +79,7 @@ impl Spec for Sdof {
             contact_pairs: 2.0,
             key: None,
             factor_entries: None,
+            kept_columns: 0.0,
         }
     }
 

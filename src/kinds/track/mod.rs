@@ -226,6 +226,7 @@ impl Spec for TrackScenario {
             contact_pairs: pairs,
             key: Some(key),
             factor_entries: None,
+            kept_columns: 0.0,
         }
     }
 

@@ -258,6 +258,11 @@ impl Spec for WheelScenario {
             contact_pairs: rim_nodes(&self.mesh, mesh_nodes),
             key: Some(key),
             factor_entries: None,
+            // The zone's rows touch the rim nodes' two dofs.
+            kept_columns: match self.mesh {
+                MeshSource::Zone(_) => 2.0 * rim_nodes(&self.mesh, mesh_nodes),
+                _ => 0.0,
+            },
         }
     }
 
