@@ -95,6 +95,7 @@ impl Spec for HangingMass {
             contact_pairs: 0.0,
             key: None,
             factor_entries: None,
+            kept_columns: 0.0,
         }
     }
 
