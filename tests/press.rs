@@ -194,3 +194,41 @@ press_refused!(
     "load_kN = 10.0\nload_kn = 10.0",
     ["load_kn"]
 );
+
+/// A sweep one run at a time writes each run's own peak memory (`peak_rss_scope = "run"`):
+/// the press at 1.2 mm cells (81,141 unknowns), then at 2 mm (42,804), whose peak is below
+/// the first's, where the process's peak would repeat it (measured 2032 and 1017 MiB).
+#[test]
+fn a_sweep_one_run_at_a_time_writes_each_runs_own_peak() {
+    let out = common::fresh_dir("press", "peak-sweep");
+    let o = common::cli([
+        "sweep",
+        "scenarios/press.toml",
+        "--jobs",
+        "1",
+        "--set",
+        "press.contact_size_mm=1.2,2.0",
+        "--out",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let peak = |size: &str| {
+        let text = std::fs::read_to_string(
+            out.join(format!("press.contact_size_mm={size}"))
+                .join("summary.json"),
+        )
+        .unwrap();
+        let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+        (
+            s["peak_rss_mib"].as_f64(),
+            s["peak_rss_scope"].as_str().map(String::from),
+        )
+    };
+    let (fine, coarse) = (peak("1.2"), peak("2.0"));
+    if let (Some(f), Some(c)) = (fine.0, coarse.0) {
+        assert_eq!(fine.1.as_deref(), Some("run"));
+        assert_eq!(coarse.1.as_deref(), Some("run"));
+        assert!(c < 0.8 * f, "peaks {f} then {c} MiB");
+    }
+}

@@ -3,14 +3,33 @@
 
 use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The peak resident set size of this process so far, MiB (`VmHWM` of `/proc/self/status`;
 /// `None` where that file does not exist, i.e. off Linux). Written into every
-/// `summary.json` as `peak_rss_mib`: the process's peak, so in a sweep or a convergence
-/// ladder, whose runs share one process, it bounds the runs that ran together up to then.
+/// `summary.json` as `peak_rss_mib`, with `peak_rss_scope`: `"run"` when it is the run's
+/// own (a `softway run`, or a sweep's or ladder's run one at a time, the peak reset before
+/// each to the process's size then, [`reset_peak_rss`]), `"process"` when runs ran
+/// together and it bounds them all.
 pub fn peak_rss_mib() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     parse_vm_hwm(&status)
+}
+
+/// Whether the peak written into the summaries is the process's, shared by runs that ran
+/// together ([`peak_rss_mib`]).
+static PEAK_SHARED: AtomicBool = AtomicBool::new(false);
+
+/// Marks the peaks written from now on as the process's (runs at once), or as each run's.
+pub(crate) fn set_peak_shared(shared: bool) {
+    PEAK_SHARED.store(shared, Ordering::Relaxed);
+}
+
+/// Resets this process's peak resident set size to its present size (Linux's
+/// `/proc/self/clear_refs`, value 5), so that the next [`peak_rss_mib`] is the peak since;
+/// `false` where that cannot be done.
+pub(crate) fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
 /// `VmHWM` (kB) of a `/proc/<pid>/status` text, in MiB.
@@ -36,6 +55,12 @@ pub(crate) fn stamp_provenance(json: &mut serde_json::Value, sc: &Scenario) {
     if let Some(o) = json.as_object_mut() {
         if let Some(mib) = peak_rss_mib() {
             o.insert("peak_rss_mib".into(), mib.into());
+            let scope = if PEAK_SHARED.load(Ordering::Relaxed) {
+                "process"
+            } else {
+                "run"
+            };
+            o.insert("peak_rss_scope".into(), scope.into());
         }
         o.insert(
             "softway_version".into(),

@@ -284,6 +284,10 @@ pub fn run_points(
         cancel: cancel.clone(),
         ..RunOptions::default()
     };
+    // One run at a time: each summary's peak memory is its run's, the peak reset before it;
+    // runs at once share the process's.
+    let alone = at_once == 1;
+    crate::run::provenance::set_peak_shared(!alone);
     let results: Vec<SweepPoint> = scs
         .par_iter()
         .map(|(sets, sc)| {
@@ -303,6 +307,9 @@ pub fn run_points(
             if cancel.is_cancelled() {
                 crate::output::note(format_args!("  {}: not started", point_label(sets)));
                 return point;
+            }
+            if alone && !crate::run::provenance::reset_peak_rss() {
+                crate::run::provenance::set_peak_shared(true);
             }
             match run_scenario(sc, &dir, &opts) {
                 Ok(rep) => {
@@ -337,6 +344,7 @@ pub fn run_points(
             point
         })
         .collect();
+    crate::run::provenance::set_peak_shared(false);
     Ok(results)
 }
 
