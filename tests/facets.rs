@@ -66,15 +66,29 @@ fn shifted(mut mesh: Mesh, shift: [f64; 3]) -> Mesh {
     mesh
 }
 
-/// The base, `base = (size, cells)` held at `z = 0`, and the block `block = (size, cells)`
-/// centred above its top with a gap `gap0`, falling at `v`; `steps` steps of `h`.
-fn drop(
+/// Two blocks of `kind` hexahedra or tetrahedra of `material`: the base, `base = (size,
+/// cells)` held at `z = 0`, and the block `block = (size, cells)` centred above its top
+/// with a gap `gap0`, the block's bottom nodes searched against the base's top facets;
+/// `steps` steps of `h` of the space-time scheme (alpha = 0.8, gamma = 0).
+struct Stacked {
+    problem: softway::simulation::Problem,
+    /// The block's first dof.
+    first: usize,
+    /// The block's mesh, placed.
+    block_mesh: Mesh,
+    /// The block's bottom nodes (its own indices).
+    bottom: Vec<usize>,
+    /// A copy of the base's facet search, to probe the placed surface.
+    probe: FacetSearch,
+}
+
+fn stacked(
     (kind, material): (CellKind, Elastic),
     base: ([f64; 3], [usize; 3]),
     block: ([f64; 3], [usize; 3]),
-    (v, gap0): (f64, f64),
+    gap0: f64,
     (h, steps): (f64, usize),
-) -> Drop {
+) -> Stacked {
     let base_mesh = box_mesh(kind, base.0, base.1).unwrap();
     let shift = [
         0.5 * (base.0[0] - block.0[0]),
@@ -104,7 +118,7 @@ fn drop(
     };
     let reach = 0.25 * base.0[2];
     let search = FacetSearch::on_mesh(&base_mesh, base_mesh.node_set("z1"), master, reach).unwrap();
-    let mut probe = search.clone();
+    let probe = search.clone();
     let iface = Interface::new(search, slave, bottom.clone(), &block_mesh.coords);
     let pairs = Pair::searched(0, &iface, joined.first_node[1]);
     let integrator = Integrator::SpaceTime {
@@ -112,9 +126,33 @@ fn drop(
         gamma: 0.0,
         coriolis: softway::time::Coriolis::Implicit,
     };
-    let mut problem = joined.problem(&bodies, (vec![iface], pairs), (integrator, h, steps));
+    let problem = joined.problem(&bodies, (vec![iface], pairs), (integrator, h, steps));
+    Stacked {
+        problem,
+        first: joined.first_dof[1],
+        block_mesh,
+        bottom,
+        probe,
+    }
+}
+
+/// The base, `base = (size, cells)` held at `z = 0`, and the block `block = (size, cells)`
+/// centred above its top with a gap `gap0`, falling at `v`; `steps` steps of `h`.
+fn drop(
+    (kind, material): (CellKind, Elastic),
+    base: ([f64; 3], [usize; 3]),
+    block: ([f64; 3], [usize; 3]),
+    (v, gap0): (f64, f64),
+    (h, steps): (f64, usize),
+) -> Drop {
+    let Stacked {
+        mut problem,
+        first,
+        block_mesh,
+        bottom,
+        mut probe,
+    } = stacked((kind, material), base, block, gap0, (h, steps));
     let n = problem.v0.len();
-    let first = joined.first_dof[1];
     problem.v0 = (0..n)
         .map(|d| if d >= first && d % 3 == 2 { -v } else { 0.0 })
         .collect();
@@ -353,44 +391,10 @@ fn slide(
     (v0, g, mu): ([f64; 2], f64, f64),
     (treatment, h, steps, ramp): (Treatment, f64, usize, f64),
 ) -> Slide {
-    let base_mesh = box_mesh(CellKind::Hex8, base.0, base.1).unwrap();
-    let shift = [
-        0.5 * (base.0[0] - block.0[0]),
-        0.5 * (base.0[1] - block.0[1]),
-        base.0[2],
-    ];
-    let block_mesh = shifted(box_mesh(CellKind::Hex8, block.0, block.1).unwrap(), shift);
-    let held = base_mesh.node_set("z0").unwrap().to_vec();
-    let bottom = block_mesh.node_set("z0").unwrap().to_vec();
-    let mut base_body = solid("base", base_mesh.clone(), &SPEC, Motion::Fixed)
-        .unwrap()
-        .body;
-    base_body.fixed_dofs = held.iter().flat_map(|&i| 3 * i..3 * i + 3).collect();
-    let block_body = solid("block", block_mesh.clone(), &SPEC, Motion::Fixed)
-        .unwrap()
-        .body;
-    let bodies: Vec<Body> = vec![base_body, block_body];
-    let joined = bodies::assemble(&bodies).unwrap();
-    let master = Placed {
-        motion: Motion::Fixed,
-        first_dof: joined.first_dof[0],
-    };
-    let slave = Placed {
-        motion: Motion::Fixed,
-        first_dof: joined.first_dof[1],
-    };
-    let reach = 0.25 * base.0[2];
-    let search = FacetSearch::on_mesh(&base_mesh, base_mesh.node_set("z1"), master, reach).unwrap();
-    let iface = Interface::new(search, slave, bottom, &block_mesh.coords);
-    let pairs = Pair::searched(0, &iface, joined.first_node[1]);
-    let integrator = Integrator::SpaceTime {
-        alpha: 0.8,
-        gamma: 0.0,
-        coriolis: softway::time::Coriolis::Implicit,
-    };
-    let mut problem = joined.problem(&bodies, (vec![iface], pairs), (integrator, h, steps));
+    let Stacked {
+        mut problem, first, ..
+    } = stacked((CellKind::Hex8, STEEL), base, block, 0.0, (h, steps));
     let n = problem.v0.len();
-    let first = joined.first_dof[1];
     // M 1_c on the block's dofs: its momentum along c is (M 1_c) . v.
     let mass_along: Vec<Vec<f64>> = (0..3)
         .map(|c| {
