@@ -383,6 +383,18 @@ impl Context<'_> {
         }
     }
 
+    /// The rows' multipliers of [`Context::solve`] alone, without forming `x` (the rows'
+    /// columns times the multipliers, `n` values a column); with a nonlinear internal force,
+    /// [`Context::solve`] itself (its iteration needs `x`); without, `x` is left as it was.
+    pub fn solve_multipliers(&mut self, tol: f64) -> usize {
+        match self.nonlinear {
+            None => self
+                .rows
+                .solve_multipliers(&mut *self.integ.0, self.xfree, tol),
+            Some(_) => self.solve(tol),
+        }
+    }
+
     /// The end state of `step` (returned by [`Context::predict`]) from `pred` and `x`; with
     /// a nonlinear internal force, its state of the last solve is committed to the step's
     /// end ([`Nonlinear::commit`]).

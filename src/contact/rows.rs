@@ -396,6 +396,23 @@ impl RowSolver {
     /// `tol` is the violation tolerance of unilateral rows (in the units of `y`). Returns the
     /// number of active-set changes.
     pub fn solve(&mut self, integ: &mut dyn TimeIntegrator, x: &mut [f64], tol: f64) -> usize {
+        let changes = self.solve_multipliers(integ, x, tol);
+        if self.rows.is_empty() {
+            return changes;
+        }
+        self.add_solution(x);
+        changes
+    }
+
+    /// [`RowSolver::solve`]'s multipliers alone ([`RowSolver::lambda`]), from `x_free`, without
+    /// forming `x` (`n` values a column the rows touch): for a solve whose multipliers alone
+    /// are read (the soft way's stopping impulses). The same multipliers, bit for bit.
+    pub fn solve_multipliers(
+        &mut self,
+        integ: &mut dyn TimeIntegrator,
+        xfree: &[f64],
+        tol: f64,
+    ) -> usize {
         let k = self.rows.len();
         if k == 0 {
             return 0;
@@ -412,7 +429,7 @@ impl RowSolver {
         let n = self.n;
         for p in 0..k {
             let rp = self.rows[p];
-            self.y0[p] = rp.y0 + rp.mu * rp.terms.dot(x);
+            self.y0[p] = rp.y0 + rp.mu * rp.terms.dot(xfree);
             for q in 0..k {
                 let tq = self.rows[q].terms;
                 let mut v = 0.0;
@@ -426,7 +443,12 @@ impl RowSolver {
                 self.w[p * k + q] = rp.mu * v + if p == q { rp.reg } else { 0.0 };
             }
         }
-        let changes = self.active_set(k, tol);
+        self.active_set(k, tol)
+    }
+
+    /// `x += sum_q z_q lambda_q` with the last solve's multipliers.
+    fn add_solution(&mut self, x: &mut [f64]) {
+        let k = self.rows.len();
         // One term per column: a node's dof is in its normal and tangential rows, so the
         // rows' terms name each column up to three times.
         self.axpy.clear();
@@ -453,7 +475,6 @@ impl RowSolver {
             self.slot_term[s] = NO_SLOT;
         }
         add_columns(&self.team, &self.cols, &self.axpy, x);
-        changes
     }
 
     /// `y_p` of the current multipliers.

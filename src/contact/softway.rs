@@ -432,7 +432,7 @@ impl ContactTreatment for SoftWay {
                 });
             if braking && self.restore_mode == Restore::StoppingImpulse {
                 self.push_rows(ctx, fs, &step, true);
-                ctx.solve(0.0);
+                ctx.solve_multipliers(0.0);
                 let k = self.row_pair.len();
                 self.lambda_stop[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
             }
