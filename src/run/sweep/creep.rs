@@ -134,6 +134,49 @@ impl LadderRow {
     }
 }
 
+/// The rungs `rungs` (values of one key) from the coarsest to the finest, whatever the order
+/// they were written in: by the unknowns of their complete runs (more is finer), then by
+/// the step (smaller is finer); rungs alike in both keep their order. `rung_of` gives a
+/// point's rung. A ladder written finest first (`wheel.zone_sectors=1536,768,384`) is the
+/// same study as one written coarsest first.
+pub fn coarse_to_fine(
+    rungs: &mut [f64],
+    points: &[SweepPoint],
+    rung_of: impl Fn(&SweepPoint) -> f64,
+) {
+    let size = |r: f64| {
+        let runs: Vec<&SweepPoint> = points
+            .iter()
+            .filter(|p| p.status.is_complete() && rung_of(p).to_bits() == r.to_bits())
+            .collect();
+        let mean = |key: &str| {
+            let v: Vec<f64> = runs
+                .iter()
+                .filter_map(|p| p.summary.get(key).and_then(serde_json::Value::as_f64))
+                .collect();
+            if v.is_empty() {
+                f64::NAN
+            } else {
+                v.iter().sum::<f64>() / v.len() as f64
+            }
+        };
+        (mean("dofs"), mean("h_s"))
+    };
+    let known: Vec<(f64, f64)> = rungs.iter().map(|&r| size(r)).collect();
+    if known.iter().any(|(d, h)| d.is_nan() || h.is_nan()) {
+        return;
+    }
+    let mut order: Vec<usize> = (0..rungs.len()).collect();
+    order.sort_by(|&a, &b| {
+        known[a]
+            .0
+            .total_cmp(&known[b].0)
+            .then(known[b].1.total_cmp(&known[a].1))
+    });
+    let sorted: Vec<f64> = order.iter().map(|&i| rungs[i]).collect();
+    rungs.copy_from_slice(&sorted);
+}
+
 /// Whether the rungs are a refinement ladder of three or more
 /// ([`crate::scenario::overrides::ladder_rungs`]): a `--set` grid may be anything.
 pub fn is_ladder(rungs: &[f64]) -> bool {
@@ -257,6 +300,7 @@ impl Ladder {
                 rungs.push(r);
             }
         }
+        coarse_to_fine(&mut rungs, points, |p| value(p, i_rung));
         let curves: Vec<Vec<RungPoint>> = rungs
             .iter()
             .map(|&r| {

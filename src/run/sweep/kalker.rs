@@ -365,6 +365,7 @@ impl Study {
                 rungs.push(r);
             }
         }
+        super::creep::coarse_to_fine(&mut rungs, points, rung_of);
         let mut uncoupled = true;
         let fits: Vec<RungFit> = rungs
             .iter()
@@ -719,6 +720,21 @@ mod tests {
         assert!((order.unwrap() - 2.0).abs() < 1e-6, "{order:?}");
         assert!((limit.unwrap() / table[0] - 1.0).abs() < 1e-9, "{limit:?}");
         assert_eq!(reference, Some(table[0]));
+        // The same ladder written finest first (`wheel.zone_sectors=1536,768,384`), the runs'
+        // unknowns growing with the sectors: the same study, the finest rung last.
+        let mut reversed: Vec<SweepPoint> = pts.iter().rev().cloned().collect();
+        for p in &mut reversed {
+            let sectors: f64 = p.sets[1].value.parse().unwrap();
+            p.summary["dofs"] = (100.0 * sectors).into();
+            p.summary["h_s"] = 2.5e-6.into();
+        }
+        let r = Study::of(&reversed, &k);
+        let (vr, order_r, limit_r, _) = r.row(0);
+        assert_eq!(
+            (vr.to_vec(), order_r, limit_r),
+            (v.to_vec(), order, limit),
+            "a ladder written finest first"
+        );
         let keys = vec![
             "rolling.lateral_creepage".to_string(),
             "wheel.zone_sectors".to_string(),
