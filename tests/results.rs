@@ -14,7 +14,12 @@ use softway::scenario::Scenario;
 use std::path::Path;
 
 /// Fields that measure the machine, not the run.
-const WALL_CLOCK: [&str; 3] = ["wall_time_s", "time_per_step_us", "peak_rss_mib"];
+const WALL_CLOCK: [&str; 4] = [
+    "wall_time_s",
+    "time_per_step_us",
+    "peak_rss_mib",
+    "peak_rss_scope",
+];
 
 /// A `summary.json` text without the lines of the wall-clock fields (compared as text:
 /// parsing JSON numbers back is not exact in serde_json's default build).

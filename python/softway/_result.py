@@ -16,7 +16,13 @@ from . import _native
 
 #: Entries of ``summary.json`` that measure the machine, not the model (they differ from
 #: run to run): left out of comparisons and of a sweep's Dataset.
-TIMING_KEYS = ("wall_time_s", "time_per_step_us", "time_per_metre_s", "peak_rss_mib")
+TIMING_KEYS = (
+    "wall_time_s",
+    "time_per_step_us",
+    "time_per_metre_s",
+    "peak_rss_mib",
+    "peak_rss_scope",
+)
 
 
 def without_timings(summary: Any) -> Any:
