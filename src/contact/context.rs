@@ -385,13 +385,23 @@ impl Context<'_> {
 
     /// The rows' multipliers of [`Context::solve`] alone, without forming `x` (the rows'
     /// columns times the multipliers, `n` values a column); with a nonlinear internal force,
-    /// [`Context::solve`] itself (its iteration needs `x`); without, `x` is left as it was.
+    /// [`Context::solve`] itself (its iteration needs `x`); without, `x` is left as it was
+    /// until [`Context::form_x`].
     pub fn solve_multipliers(&mut self, tol: f64) -> usize {
         match self.nonlinear {
             None => self
                 .rows
                 .solve_multipliers(&mut *self.integ.0, self.xfree, tol),
             Some(_) => self.solve(tol),
+        }
+    }
+
+    /// `x` of the last [`Context::solve_multipliers`]: then the same as [`Context::solve`]'s,
+    /// bit for bit (with a nonlinear internal force it is already formed).
+    pub fn form_x(&mut self) {
+        if self.nonlinear.is_none() {
+            self.x.copy_from_slice(self.xfree);
+            self.rows.add_solution(self.x);
         }
     }
 

@@ -446,8 +446,13 @@ impl RowSolver {
         self.active_set(k, tol)
     }
 
-    /// `x += sum_q z_q lambda_q` with the last solve's multipliers.
-    fn add_solution(&mut self, x: &mut [f64]) {
+    /// `x += sum_q z_q lambda_q` with the last solve's multipliers: after
+    /// [`RowSolver::solve_multipliers`] from `x_free`, what [`RowSolver::solve`] gives, bit for
+    /// bit.
+    pub fn add_solution(&mut self, x: &mut [f64]) {
+        if self.rows.is_empty() {
+            return;
+        }
         let k = self.rows.len();
         // One term per column: a node's dof is in its normal and tangential rows, so the
         // rows' terms name each column up to three times.

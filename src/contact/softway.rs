@@ -415,6 +415,7 @@ impl ContactTreatment for SoftWay {
             self.released[p] = false;
         }
         let mut gaps_fresh = false;
+        let mut finished = false;
         for _ in 0..MAX_RESOLVES {
             gaps_fresh = false;
             ctx.extra.fill(0.0);
@@ -437,7 +438,11 @@ impl ContactTreatment for SoftWay {
                 self.lambda_stop[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
             }
             self.push_rows(ctx, fs, &step, false);
-            ctx.solve(0.0);
+            // The multipliers first: a release solves the interval again, and the velocity
+            // (every column the rows touch, `n` values each) is formed only for a solve
+            // that may stand.
+            ctx.solve_multipliers(0.0);
+            finished = false;
             let k = self.row_pair.len();
             self.lambda[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
             for (i, row) in ctx.rows.rows().iter().enumerate().skip(k) {
@@ -445,9 +450,6 @@ impl ContactTreatment for SoftWay {
                 self.lambda_t[row.pair][t] = ctx.rows.lambda()[i];
                 self.sliding[row.pair] = ctx.rows.is_sliding(i);
             }
-            ctx.finish(&step, &fs.state, &mut ts.state);
-            ts.t = t1;
-            ts.k = fs.k + 1;
             // Tension: release (Table 1, item 7).
             let mut changed = false;
             for i in 0..k {
@@ -468,6 +470,11 @@ impl ContactTreatment for SoftWay {
                 ctx.counts.resolves += 1;
                 continue;
             }
+            ctx.form_x();
+            ctx.finish(&step, &fs.state, &mut ts.state);
+            ts.t = t1;
+            ts.k = fs.k + 1;
+            finished = true;
             // Penetration of free pairs at t1.
             ctx.gaps_into(t1, &ts.u, &mut self.gaps);
             gaps_fresh = true;
@@ -492,6 +499,13 @@ impl ContactTreatment for SoftWay {
                 continue;
             }
             break;
+        }
+        if !finished {
+            // The re-solves ran out on a release: the last solve stands.
+            ctx.form_x();
+            ctx.finish(&step, &fs.state, &mut ts.state);
+            ts.t = t1;
+            ts.k = fs.k + 1;
         }
         if !gaps_fresh {
             ctx.gaps_into(t1, &ts.u, &mut self.gaps);
