@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// `None` where that file does not exist, i.e. off Linux). Written into every
 /// `summary.json` as `peak_rss_mib`, with `peak_rss_scope`: `"run"` when it is the run's
 /// own (a `softway run`, or a sweep's or ladder's run one at a time, the peak reset before
-/// each to the process's size then, [`reset_peak_rss`]), `"process"` when runs ran
+/// each to the process's size then, `reset_peak_rss`), `"process"` when runs ran
 /// together and it bounds them all.
 pub fn peak_rss_mib() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
