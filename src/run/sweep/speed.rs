@@ -232,6 +232,12 @@ impl Study {
                 values.push(v);
             }
         }
+        let key = i_series.map(|i| points[0].sets[i].key.clone());
+        let refinement = key.as_deref().is_some_and(|k| !PHYSICAL_KEYS.contains(&k));
+        if refinement {
+            // A ladder's rungs coarsest to finest, whatever order they were written in.
+            super::creep::coarse_to_fine(&mut values, points, value);
+        }
         let series: Vec<SpeedSeries> = values
             .iter()
             .map(|&v| {
@@ -247,8 +253,6 @@ impl Study {
                 }
             })
             .collect();
-        let key = i_series.map(|i| points[0].sets[i].key.clone());
-        let refinement = key.as_deref().is_some_and(|k| !PHYSICAL_KEYS.contains(&k));
         let rows = if refinement && series.len() >= 3 {
             ladder_rows(&values, &series)
         } else {
