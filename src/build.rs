@@ -11,7 +11,7 @@
 //!
 //! The wheel's mesh is read later, by the wheel job ([`crate::kinds::wheel::run::build`]).
 
-use crate::linalg::bandwidth::physical_memory_bytes;
+use crate::linalg::bandwidth::{memory_bytes_or_default, physical_memory_bytes};
 use crate::scenario::{Contact, Run, RunSpec, Scenario, ScenarioError, TimeStep};
 use crate::time::SpaceTimeParams;
 
@@ -172,7 +172,7 @@ impl Default for Limits {
     fn default() -> Self {
         Self {
             seconds: 4.0 * 3600.0,
-            memory_bytes: 0.5 * physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64),
+            memory_bytes: 0.5 * memory_bytes_or_default(),
             disk_bytes: 20e9,
         }
     }
@@ -218,10 +218,7 @@ pub fn estimate(sc: &Scenario, mesh_nodes: Option<usize>) -> Estimate {
         e.dofs = e.dofs.max(dofs);
         let windowed = steps.min(crate::analysis::trace::SPECTRUM_WINDOW_CAP as f64);
         // A moving zone's kept columns, up to their share of the machine's memory.
-        let kept = (8.0 * dofs * kept_columns).min(
-            crate::simulation::KEPT_COLUMNS_SHARE
-                * physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64),
-        );
+        let kept = (8.0 * dofs * kept_columns).min(crate::simulation::kept_columns_bytes());
         e.memory_bytes = e.memory_bytes.max(
             4096.0 * dofs
                 + FACTOR_BYTES_PER_ENTRY * factor
@@ -357,7 +354,7 @@ mod tests {
         let l = Limits::default();
         assert_eq!(l.seconds, 4.0 * 3600.0);
         assert_eq!(l.disk_bytes, 20e9);
-        let half = 0.5 * physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
+        let half = 0.5 * memory_bytes_or_default();
         assert_eq!(l.memory_bytes, half);
         assert!(l.memory_bytes > 1e8);
     }

@@ -2,7 +2,8 @@
 //! run after run and in a sweep with `--jobs 1` or `--jobs 2`; the summary records the
 //! softway version and the SHA-256 of the scenario text. The machine's measurements
 //! (`wall_time_s`, `time_per_step_us`, `peak_rss_mib` and its `peak_rss_scope`) are the only
-//! fields allowed to differ: they are left out of the comparison by name.
+//! fields allowed to differ: they are left out of the comparison by name (the scope is
+//! checked: `run` with `--jobs 1`, `process` with `--jobs 2`).
 
 mod common;
 
@@ -116,6 +117,17 @@ fn sweeps_with_one_and_two_jobs_give_bit_identical_results() {
         }
         for v in values {
             assert_same_results(&dir.join("jobs1").join(v), &dir.join("jobs2").join(v));
+            // What the two differ in, by design: whose peak memory each summary holds.
+            for (jobs, scope) in [("jobs1", "run"), ("jobs2", "process")] {
+                let text =
+                    std::fs::read_to_string(dir.join(jobs).join(v).join("summary.json")).unwrap();
+                if text.contains("\"peak_rss_mib\"") {
+                    assert!(
+                        text.contains(&format!("\"peak_rss_scope\": \"{scope}\"")),
+                        "{jobs}/{v}: not {scope}"
+                    );
+                }
+            }
         }
         // The points differ from each other (the comparison can fail).
         assert_ne!(

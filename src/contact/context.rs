@@ -361,8 +361,9 @@ impl Context<'_> {
     pub fn solve(&mut self, tol: f64) -> usize {
         match self.nonlinear.as_deref_mut() {
             None => {
-                self.x.copy_from_slice(self.xfree);
-                self.rows.solve(&mut *self.integ.0, self.x, tol)
+                let changes = self.solve_multipliers(tol);
+                self.form_x();
+                changes
             }
             Some(nl) => {
                 let rows = &mut *self.rows;

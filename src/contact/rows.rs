@@ -397,9 +397,6 @@ impl RowSolver {
     /// number of active-set changes.
     pub fn solve(&mut self, integ: &mut dyn TimeIntegrator, x: &mut [f64], tol: f64) -> usize {
         let changes = self.solve_multipliers(integ, x, tol);
-        if self.rows.is_empty() {
-            return changes;
-        }
         self.add_solution(x);
         changes
     }

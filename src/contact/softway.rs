@@ -376,6 +376,15 @@ impl SoftWay {
     }
 }
 
+/// The interval `fs -> ts` (ending at `t1`) of the last solve of the rows: its velocity
+/// formed from the multipliers ([`Context::form_x`]) and the end state.
+fn stand(ctx: &mut Context<'_>, (step, t1): (&Step, f64), fs: &Snapshot, ts: &mut Snapshot) {
+    ctx.form_x();
+    ctx.finish(step, &fs.state, &mut ts.state);
+    ts.t = t1;
+    ts.k = fs.k + 1;
+}
+
 impl ContactTreatment for SoftWay {
     fn stored_energy(&self, s: &Snapshot) -> f64 {
         let kt = self.stick_stiffness();
@@ -470,10 +479,7 @@ impl ContactTreatment for SoftWay {
                 ctx.counts.resolves += 1;
                 continue;
             }
-            ctx.form_x();
-            ctx.finish(&step, &fs.state, &mut ts.state);
-            ts.t = t1;
-            ts.k = fs.k + 1;
+            stand(ctx, (&step, t1), fs, ts);
             finished = true;
             // Penetration of free pairs at t1.
             ctx.gaps_into(t1, &ts.u, &mut self.gaps);
@@ -502,10 +508,7 @@ impl ContactTreatment for SoftWay {
         }
         if !finished {
             // The re-solves ran out on a release: the last solve stands.
-            ctx.form_x();
-            ctx.finish(&step, &fs.state, &mut ts.state);
-            ts.t = t1;
-            ts.k = fs.k + 1;
+            stand(ctx, (&step, t1), fs, ts);
         }
         if !gaps_fresh {
             ctx.gaps_into(t1, &ts.u, &mut self.gaps);

@@ -19,6 +19,11 @@ pub fn physical_memory_bytes() -> Option<f64> {
     Some(kb * 1024.0)
 }
 
+/// [`physical_memory_bytes`], or 8 GiB where it is not known.
+pub fn memory_bytes_or_default() -> f64 {
+    physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64)
+}
+
 /// The best triad and read bandwidths of [`measure`], bytes per second.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Bandwidth {

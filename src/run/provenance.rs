@@ -2,8 +2,8 @@
 //! and the process's peak memory.
 
 use crate::scenario::Scenario;
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The peak resident set size of this process so far, MiB (`VmHWM` of `/proc/self/status`;
 /// `None` where that file does not exist, i.e. off Linux). Written into every
@@ -16,13 +16,20 @@ pub fn peak_rss_mib() -> Option<f64> {
     parse_vm_hwm(&status)
 }
 
-/// Whether the peak written into the summaries is the process's, shared by runs that ran
-/// together ([`peak_rss_mib`]).
-static PEAK_SHARED: AtomicBool = AtomicBool::new(false);
+thread_local! {
+    /// Whether the peak this thread's run writes into its summary is the process's, shared
+    /// with runs at once ([`peak_rss_mib`]): set by a sweep around each run, on the thread
+    /// that runs it and stamps its summary.
+    static PEAK_SHARED: Cell<bool> = const { Cell::new(false) };
+}
 
-/// Marks the peaks written from now on as the process's (runs at once), or as each run's.
-pub(crate) fn set_peak_shared(shared: bool) {
-    PEAK_SHARED.store(shared, Ordering::Relaxed);
+/// Runs `run` with its summary's peak marked as the process's (`shared`) or as the run's
+/// own; the mark is taken off after.
+pub(crate) fn with_peak_scope<T>(shared: bool, run: impl FnOnce() -> T) -> T {
+    let before = PEAK_SHARED.with(|s| s.replace(shared));
+    let out = run();
+    PEAK_SHARED.with(|s| s.set(before));
+    out
 }
 
 /// Resets this process's peak resident set size to its present size (Linux's
@@ -55,7 +62,7 @@ pub(crate) fn stamp_provenance(json: &mut serde_json::Value, sc: &Scenario) {
     if let Some(o) = json.as_object_mut() {
         if let Some(mib) = peak_rss_mib() {
             o.insert("peak_rss_mib".into(), mib.into());
-            let scope = if PEAK_SHARED.load(Ordering::Relaxed) {
+            let scope = if PEAK_SHARED.with(Cell::get) {
                 "process"
             } else {
                 "run"

@@ -287,7 +287,6 @@ pub fn run_points(
     // One run at a time: each summary's peak memory is its run's, the peak reset before it;
     // runs at once share the process's.
     let alone = at_once == 1;
-    crate::run::provenance::set_peak_shared(!alone);
     let results: Vec<SweepPoint> = scs
         .par_iter()
         .map(|(sets, sc)| {
@@ -308,10 +307,8 @@ pub fn run_points(
                 crate::output::note(format_args!("  {}: not started", point_label(sets)));
                 return point;
             }
-            if alone && !crate::run::provenance::reset_peak_rss() {
-                crate::run::provenance::set_peak_shared(true);
-            }
-            match run_scenario(sc, &dir, &opts) {
+            let own = alone && crate::run::provenance::reset_peak_rss();
+            match crate::run::provenance::with_peak_scope(!own, || run_scenario(sc, &dir, &opts)) {
                 Ok(rep) => {
                     point.summary = std::fs::read_to_string(dir.join("summary.json"))
                         .ok()
@@ -344,7 +341,6 @@ pub fn run_points(
             point
         })
         .collect();
-    crate::run::provenance::set_peak_shared(false);
     Ok(results)
 }
 

@@ -160,6 +160,12 @@ impl Engine {
 /// ([`crate::scenario::kind::Size::kept_columns`]).
 pub const KEPT_COLUMNS_SHARE: f64 = 0.125;
 
+/// The bytes the columns kept for a moving zone may take: [`KEPT_COLUMNS_SHARE`] of the
+/// machine's memory.
+pub fn kept_columns_bytes() -> f64 {
+    KEPT_COLUMNS_SHARE * crate::linalg::bandwidth::memory_bytes_or_default()
+}
+
 /// The step loop over a [`Problem`].
 pub struct Simulation {
     engine: Engine,
@@ -414,10 +420,8 @@ impl Simulation {
         // KEPT_COLUMNS_SHARE of the machine's memory.
         eng.rows.set_keep_columns(true);
         let n = eng.model.n();
-        let memory =
-            crate::linalg::bandwidth::physical_memory_bytes().unwrap_or(8.0 * (1u64 << 30) as f64);
         eng.rows
-            .raise_column_bound((KEPT_COLUMNS_SHARE * memory / (8.0 * n.max(1) as f64)) as usize);
+            .raise_column_bound((kept_columns_bytes() / (8.0 * n.max(1) as f64)) as usize);
         let (c, s) = (spec.step.cos(), spec.step.sin());
         self.relocation = Some(Relocating {
             dropped,
