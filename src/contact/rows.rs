@@ -30,7 +30,8 @@
 //! when violated (`y < -tol`) and leaves when its multiplier turns negative, one change at a
 //! time (the most violated first); a bounded row sticks until its multiplier leaves the
 //! bound, then slides on it while `y` keeps the sign that the bound opposes. Each active set
-//! is one dense solve of its size. The columns `A^{-1} e_d` of the constrained dofs are
+//! is one dense solve of its size (from [`crate::linalg::BLOCKED_MIN_ROWS`] rows up by faer's
+//! blocked LU, [`DenseLu`]). The columns `A^{-1} e_d` of the constrained dofs are
 //! cached (least recently used slot replaced) while `A` does not change, so a change of the
 //! active set, a new pair or a turned normal costs no factorization, only column solves the
 //! first time a dof is constrained.
@@ -91,8 +92,8 @@
 //! (docs/src/solids3d.md, "The 3D rolling step's cost").
 
 use crate::contact::cyclic::CyclicColumns;
-use crate::linalg::dense_solve_in_place;
 use crate::linalg::team::Team;
+use crate::linalg::DenseLu;
 use crate::time::integrator::TimeIntegrator;
 
 mod columns;
@@ -210,6 +211,9 @@ pub struct RowSolver {
     cyclic: Option<CyclicColumns>,
     /// Counts the times the cache was dropped ([`RowSolver::epoch`]).
     epoch: u64,
+    /// The dense solves' workspace: faer's blocked LU on a large active set
+    /// ([`DenseLu`]).
+    lu: DenseLu,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -259,6 +263,7 @@ impl RowSolver {
             fresh: Vec::new(),
             cyclic: None,
             epoch: 0,
+            lu: DenseLu::new(),
         }
     }
 
@@ -776,7 +781,8 @@ impl RowSolver {
                 }
             }
         }
-        dense_solve_in_place(&mut self.m[..m * m], &mut self.r[..m], m);
+        self.lu
+            .solve_in_place(&mut self.m[..m * m], &mut self.r[..m], m);
         self.dense += 1;
         self.lambda[..k].fill(0.0);
         for a in 0..m {

@@ -40,7 +40,7 @@ pub mod indent;
 pub mod pair;
 
 use crate::contact::HalfSpace;
-use crate::linalg::dense_solve_in_place;
+use crate::linalg::DenseLu;
 use crate::linalg::{Factor, LinalgError, Pattern, SparseLu};
 
 /// The result of a static contact solve.
@@ -368,6 +368,7 @@ impl Statics {
         let mut seen: HashSet<Vec<usize>> = HashSet::new();
         let limit = 100.max(4 * n_rows);
         let mut is_active = vec![false; n_rows];
+        let mut lu = DenseLu::new();
         for it in 1..=limit {
             self.columns(&active);
             let m = active.len();
@@ -379,7 +380,7 @@ impl Statics {
                     s[p * m + q] = self.coupling(cp, cq);
                 }
             }
-            dense_solve_in_place(&mut s, &mut r, m);
+            lu.solve_in_place(&mut s, &mut r, m);
             u.copy_from_slice(&self.u0);
             for (q, &cq) in active.iter().enumerate() {
                 let col = self.cols[cq].as_deref().unwrap_or(&[]);

@@ -122,7 +122,7 @@ pub mod symbolic;
 pub mod team;
 mod triangle;
 
-pub use dense::dense_solve_in_place;
+pub use dense::{dense_solve_in_place, DenseLu, BLOCKED_MIN_ROWS};
 pub use huge::{HugeBuf, HUGE_MIN_BYTES};
 pub(crate) use kernels::{broadcast2, has_avx2, prefetch_span};
 pub use llt::SparseLlt;
