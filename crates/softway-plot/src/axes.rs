@@ -442,6 +442,55 @@ fn sub_decade_ticks(lo: f64, hi: f64, len_px: f64, fs: f64, horizontal: bool) ->
     None
 }
 
+/// Labelled ticks at the given values `at` (module docs of [`crate::Panel::x_ticks`]), the
+/// automatic ticks `auto` as minor ones; `None` when a value is outside `[lo, hi]` (or not
+/// positive on a log axis) or two labels would not fit apart.
+pub(crate) fn given_ticks(
+    at: &[f64],
+    (lo, hi): (f64, f64),
+    log: bool,
+    len_px: f64,
+    (fs, horizontal): (f64, bool),
+    auto: Ticks,
+) -> Option<Ticks> {
+    let mut vals: Vec<f64> = at.to_vec();
+    vals.sort_by(f64::total_cmp);
+    vals.dedup();
+    let inside = |v: f64| v.is_finite() && v >= lo && v <= hi && (!log || v > 0.0);
+    if vals.is_empty() || !vals.iter().all(|&v| inside(v)) || !(hi > lo) {
+        return None;
+    }
+    let px = |v: f64| {
+        if log {
+            (v.log10() - lo.log10()) / (hi.log10() - lo.log10()) * len_px
+        } else {
+            (v - lo) / (hi - lo) * len_px
+        }
+    };
+    let labels: Vec<String> = vals.iter().map(|&v| fmt_general(v)).collect();
+    let gap = vals
+        .windows(2)
+        .map(|w| px(w[1]) - px(w[0]))
+        .fold(f64::INFINITY, f64::min);
+    if gap < tick_need(&labels, fs, horizontal) {
+        return None;
+    }
+    // A minor tick a hair from a labelled one reads as a misplaced tick: left out.
+    let near = |v: f64| vals.iter().any(|&w| (px(v) - px(w)).abs() < 0.03 * len_px);
+    let minor = auto
+        .major
+        .iter()
+        .map(|(v, _)| *v)
+        .chain(auto.minor)
+        .filter(|&v| !near(v))
+        .collect();
+    Some(Ticks {
+        major: vals.into_iter().zip(labels).collect(),
+        minor,
+        offset: None,
+    })
+}
+
 pub(crate) fn make_ticks(
     lo: f64,
     hi: f64,
@@ -505,6 +554,40 @@ mod tests {
         assert!(t.major.len() >= 3);
         let t = log_ticks(2.0, 8.0, 800.0, 20.0, true);
         assert!(t.major.len() >= 2, "{:?}", t.major);
+    }
+
+    /// A ladder's rungs as the labelled ticks of a log axis, the automatic ticks as minor
+    /// ones; refused when a rung leaves the range or two labels would overlap.
+    #[test]
+    fn given_ticks_label_a_ladders_rungs_or_give_way() {
+        let (lo, hi) = (349.0, 2000.0);
+        let auto = log_ticks(lo, hi, 1600.0, FS, true);
+        let t = given_ticks(
+            &[1536.0, 384.0, 768.0],
+            (lo, hi),
+            true,
+            1600.0,
+            (FS, true),
+            auto.clone(),
+        )
+        .expect("three rungs fit");
+        let labels: Vec<&str> = t.major.iter().map(|(_, l)| l.as_str()).collect();
+        assert_eq!(labels, ["384", "768", "1536"]);
+        assert!(
+            t.minor.iter().any(|&v| (v - 1000.0).abs() < 1e-9),
+            "{:?}",
+            t.minor
+        );
+        assert!(given_ticks(
+            &[384.0, 2500.0],
+            (lo, hi),
+            true,
+            1600.0,
+            (FS, true),
+            auto.clone()
+        )
+        .is_none());
+        assert!(given_ticks(&[1000.0, 1001.0], (lo, hi), true, 1600.0, (FS, true), auto).is_none());
     }
 
     /// `step` is 1, 2, 2.5 or 5 times a power of ten.

@@ -247,6 +247,11 @@ pub struct Panel {
     /// No legend for this panel (in a grid, a legend equal to an earlier panel's is left
     /// out anyway).
     pub no_legend: bool,
+    /// The x axis's labelled ticks at these values (a refinement ladder's rungs, so that
+    /// each point is read off its own tick), the automatic ticks becoming unlabelled minor
+    /// ones; the automatic ticks when empty, or when these leave the range or their labels
+    /// would not fit.
+    pub x_ticks: Vec<f64>,
 }
 
 impl Panel {

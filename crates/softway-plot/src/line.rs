@@ -4,7 +4,7 @@
 use plotters::prelude::*;
 
 use crate::audit;
-use crate::axes::{extend, make_ticks, resolve_range, valid, Scale, Ticks};
+use crate::axes::{extend, given_ticks, make_ticks, resolve_range, valid, Scale, Ticks};
 use crate::geom::{
     clip_polylines, clip_segment, dash_polyline, draw_line, draw_marker, draw_polyline, fill_rect,
     stroke_rect, Pt, Rect,

@@ -558,15 +558,8 @@ impl Study {
         );
         p.x_log = true;
         let x: Vec<f64> = self.fits.iter().map(|f| f.rung).collect();
-        // To the next round value past the finest rung, so that the log axis labels it
-        // (384 ... 1536 ended at an unlabelled 1600).
-        let (lo, hi) = x
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
-        if lo.is_finite() && lo > 0.0 && hi > lo {
-            let step = 10f64.powf(hi.log10().floor());
-            p.x_range = Some((lo / 1.1, ((hi * 1.05 / step).ceil() * step).max(hi * 1.05)));
-        }
+        // Each rung on its own labelled tick (384 ... 1536 ended at an unlabelled 1600).
+        p.x_ticks = x.clone();
         for k in self.shown() {
             // Each coefficient against its own table value, so that they share the axis.
             let (v, _, limit, Some(reference)) = self.row(k) else {

@@ -549,6 +549,13 @@ impl Study {
             first_diagonal.is_some_and(|d| std::ptr::eq(*d, l))
                 || finest_mesh_line.is_some_and(|d| std::ptr::eq(*d, l))
         };
+        // Each rung drawn on its own labelled tick.
+        let rungs: Vec<f64> = drawn
+            .iter()
+            .flat_map(|l| l.members.iter().map(|&k| self.points[k].sectors))
+            .collect();
+        steady.x_ticks = rungs.clone();
+        ripple.x_ticks = rungs;
         for l in drawn.iter().copied() {
             let x: Vec<f64> = l.members.iter().map(|&k| self.points[k].sectors).collect();
             let y = |f: &dyn Fn(&Point) -> f64| -> Vec<f64> {

@@ -50,6 +50,7 @@ struct Ranges {
     y: (f64, f64),
     x_log: bool,
     y_log: bool,
+    x_ticks: Vec<f64>,
 }
 
 impl Ranges {
@@ -69,6 +70,7 @@ impl Ranges {
             y: (ylo, yhi),
             x_log: p.x_log,
             y_log: p.y_log,
+            x_ticks: p.x_ticks.clone(),
         })
     }
 
@@ -92,7 +94,20 @@ impl Ranges {
     }
 
     fn xticks(&self, plot: &Rect, fs: f64) -> Ticks {
-        make_ticks(self.x.0, self.x.1, self.x_log, plot.w(), fs, true)
+        let auto = make_ticks(self.x.0, self.x.1, self.x_log, plot.w(), fs, true);
+        if self.x_ticks.is_empty() {
+            return auto;
+        }
+        let fallback = auto.clone();
+        given_ticks(
+            &self.x_ticks,
+            self.x,
+            self.x_log,
+            plot.w(),
+            (fs, true),
+            auto,
+        )
+        .unwrap_or(fallback)
     }
 
     fn yticks(&self, plot: &Rect, fs: f64) -> Ticks {
