@@ -457,7 +457,10 @@ pub(crate) fn given_ticks(
     vals.sort_by(f64::total_cmp);
     vals.dedup();
     let inside = |v: f64| v.is_finite() && v >= lo && v <= hi && (!log || v > 0.0);
-    if vals.is_empty() || !vals.iter().all(|&v| inside(v)) || !(hi > lo) {
+    if vals.is_empty()
+        || !vals.iter().all(|&v| inside(v))
+        || hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater)
+    {
         return None;
     }
     let px = |v: f64| {
