@@ -214,6 +214,17 @@ pub struct RowSolver {
     /// The dense solves' workspace: faer's blocked LU on a large active set
     /// ([`DenseLu`]).
     lu: DenseLu,
+    /// Per dof, its place among the distinct dofs of one solve's rows (`NO_SLOT`: none);
+    /// reset after each gathering.
+    local_of_dof: Vec<usize>,
+    /// The distinct dofs of one solve's rows, in order of first appearance.
+    local_dofs: Vec<usize>,
+    /// Each row's terms on those places.
+    local_terms: Vec<Terms>,
+    /// The cached columns at those dofs, column after column (`gathered[j * D + i]` the
+    /// column of dof `j` at dof `i`, `D` of them): the rows' matrix `W` reads each column
+    /// once per distinct dof from here, not once per term pair across the `n` values.
+    gathered: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -264,6 +275,10 @@ impl RowSolver {
             cyclic: None,
             epoch: 0,
             lu: DenseLu::new(),
+            local_of_dof: vec![NO_SLOT; n],
+            local_dofs: Vec::with_capacity(mr),
+            local_terms: vec![Terms::default(); mr],
+            gathered: Vec::new(),
         }
     }
 
@@ -428,24 +443,61 @@ impl RowSolver {
             }
         }
         self.solve_pending(integ);
-        let n = self.n;
+        self.gather(k);
+        let nd = self.local_dofs.len();
         for p in 0..k {
             let rp = self.rows[p];
+            let lp = self.local_terms[p];
             self.y0[p] = rp.y0 + rp.mu * rp.terms.dot(xfree);
             for q in 0..k {
-                let tq = self.rows[q].terms;
+                // The same products in the same order as over the columns themselves.
                 let mut v = 0.0;
-                for (dq, cq) in tq.iter() {
-                    let s = self.slot_of_dof[dq];
-                    let col = &self.cols[s * n..(s + 1) * n];
-                    for (dp, cp) in rp.terms.iter() {
-                        v += cp * col[dp] * cq;
+                for (jq, cq) in self.local_terms[q].iter() {
+                    let col = &self.gathered[jq * nd..(jq + 1) * nd];
+                    for (ip, cp) in lp.iter() {
+                        v += cp * col[ip] * cq;
                     }
                 }
                 self.w[p * k + q] = rp.mu * v + if p == q { rp.reg } else { 0.0 };
             }
         }
         self.active_set(k, tol)
+    }
+
+    /// The rows' distinct dofs, their terms on them and the cached columns at them
+    /// (`local_dofs`, `local_terms`, `gathered`) for the first `k` rows.
+    fn gather(&mut self, k: usize) {
+        self.local_dofs.clear();
+        for p in 0..k {
+            let mut local = Terms::default();
+            for (d, c) in self.rows[p].terms.iter() {
+                let j = match self.local_of_dof[d] {
+                    NO_SLOT => {
+                        self.local_of_dof[d] = self.local_dofs.len();
+                        self.local_dofs.push(d);
+                        self.local_dofs.len() - 1
+                    }
+                    j => j,
+                };
+                local.push(j, c);
+            }
+            self.local_terms[p] = local;
+        }
+        let (n, nd) = (self.n, self.local_dofs.len());
+        if self.gathered.len() < nd * nd {
+            self.gathered.resize(nd * nd, 0.0);
+        }
+        for (j, &dj) in self.local_dofs.iter().enumerate() {
+            let s = self.slot_of_dof[dj];
+            let col = &self.cols[s * n..(s + 1) * n];
+            let out = &mut self.gathered[j * nd..(j + 1) * nd];
+            for (g, &di) in out.iter_mut().zip(&self.local_dofs) {
+                *g = col[di];
+            }
+        }
+        for &d in &self.local_dofs {
+            self.local_of_dof[d] = NO_SLOT;
+        }
     }
 
     /// `x += sum_q z_q lambda_q` with the last solve's multipliers: after
