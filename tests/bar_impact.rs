@@ -156,4 +156,14 @@ fn momentum_restoring_on_the_paper_bar() {
     // the energy as vibration (its energy is kept to 0.1%); 80 elements and the same
     // step-to-element ratio come within 1% (see the ladders above).
     assert!(with.rebound_velocity > 0.96 && with.rebound_velocity < 1.01);
+    // The approach's momentum alone (`soft_way_momentum_restore`) is the stopping impulse
+    // less the impulse of the forces in the braking step: none act on the unloaded,
+    // unstrained bar before it arrives, so the two give back one impulse.
+    let approach = run(PAPER, 0.01, Restore::ApproachMomentum);
+    for (a, b) in [
+        (approach.rebound_velocity, with.rebound_velocity),
+        (approach.energy_final, with.energy_final),
+    ] {
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} against {b}");
+    }
 }

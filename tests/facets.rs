@@ -468,8 +468,10 @@ fn slide(
 /// 10 x 10 x 5 cm base of 10 x 10 x 4 held at its bottom, pressed by its weight at
 /// 1000 m/s^2 (brought on over 0.2 ms) and set sliding at 0.3 m/s, `mu = 0.3`, `h = 4 us`:
 /// along x with the exact hold, and at 30 degrees to x (both tangents carry the friction)
-/// with the soft way giving back Table 1's braking reaction (the default's stopping
-/// impulse throws the block off as it stops: the book, Friction in 3D).
+/// with the soft way giving back Table 1's braking reaction, and again giving back the
+/// approach's momentum alone (`Restore::ApproachMomentum`). The default's stopping impulse
+/// throws the block off (the book, Friction in 3D): it also gives back the impulse of the
+/// weight over the braking step, at every release of a chattering corner.
 ///
 /// While every loaded pair slides, Coulomb's cone puts the friction at `mu` times the
 /// normal force against the slip, which is the block's velocity but for its elastic
@@ -492,10 +494,12 @@ fn a_block_sliding_on_a_held_block_feels_coulombs_cone_through_both_tangents() {
     let (speed, g, mu, h, ramp) = (0.3f64, 1000.0, 0.3, 4e-6, 2e-4);
     let t_stop = speed / (mu * g) + 0.5 * ramp;
     let steps = (1.4 * t_stop / h).round() as usize;
-    let soft = Treatment::SoftWay {
-        restore: Restore::BrakingReaction,
-    };
-    for (angle, treatment) in [(0.0f64, Treatment::Exact), (30.0, soft)] {
+    let soft = |restore| Treatment::SoftWay { restore };
+    for (angle, treatment) in [
+        (0.0f64, Treatment::Exact),
+        (30.0, soft(Restore::BrakingReaction)),
+        (30.0, soft(Restore::ApproachMomentum)),
+    ] {
         let dir = [angle.to_radians().cos(), angle.to_radians().sin()];
         let r = slide(
             ([0.1, 0.1, 0.05], [10, 10, 4]),

@@ -397,6 +397,19 @@ impl Context<'_> {
         }
     }
 
+    /// The rows' multipliers with `x_free` replaced by `x0` (the space-time scheme's velocity
+    /// at the interval's start: what the rows would meet if no force acted in the step);
+    /// with a nonlinear internal force or a scheme whose unknown is not the velocity,
+    /// [`Context::solve_multipliers`].
+    pub fn solve_multipliers_at(&mut self, x0: &[f64], tol: f64) -> usize {
+        let velocity =
+            self.integ.step_at(0.0).unit == crate::time::integrator::MultiplierUnit::Impulse;
+        match self.nonlinear {
+            None if velocity => self.rows.solve_multipliers(&mut *self.integ.0, x0, tol),
+            _ => self.solve_multipliers(tol),
+        }
+    }
+
     /// `x` of the last [`Context::solve_multipliers`]: then the same as [`Context::solve`]'s,
     /// bit for bit (with a nonlinear internal force it is already formed).
     pub fn form_x(&mut self) {

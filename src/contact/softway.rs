@@ -40,6 +40,13 @@
 //! `lambda_s` the restored momentum does not depend on that phase, and for `h -> 0` it is
 //! the node's effective mass times its approach speed, so the impact gives back the energy
 //! it took (an elastic impact of the node).
+//! `lambda_s` also holds the impulse of the forces acting in the braking step,
+//! `S^{-1} C (v_{-1} - A^{-1} b)`; a node resting under a load (a chattering corner under
+//! a block's weight) gets that back as a push at each release, and the cycles can pump it
+//! off. [`Restore::ApproachMomentum`] gives back the approach's momentum alone,
+//! `S^{-1}(w - C v_{-1})` (the same rows solved on the velocity at the braking step's
+//! start, `Context::solve_multipliers_at`), the same as `lambda_s` for a node that no force
+//! acts on before it arrives.
 //!
 //! **Braking may only push.** Eq. (26) asks two things of the arrival, the position and the
 //! velocity, of one braking velocity. When the penetration found at `t_i` is the obstacle's
@@ -235,6 +242,14 @@ impl SoftWay {
 }
 
 impl SoftWay {
+    /// Whether a braking step solves the stopping impulses to give back.
+    fn keeps_stop(&self) -> bool {
+        matches!(
+            self.restore_mode,
+            Restore::StoppingImpulse | Restore::ApproachMomentum
+        )
+    }
+
     /// The stick's tangential stiffness, N/m per pair (0: a rigid stick;
     /// [`super::friction`]: elastic stick).
     fn stick_stiffness(&self) -> f64 {
@@ -341,9 +356,7 @@ impl SoftWay {
                 PairMode::Brake { terms, .. } => {
                     st.braked = true;
                     let ls = match i {
-                        Some(i) if self.restore_mode == Restore::StoppingImpulse => {
-                            self.lambda_stop[i]
-                        }
+                        Some(i) if self.keeps_stop() => self.lambda_stop[i],
                         _ => lam,
                     };
                     st.brake_force = ls / h;
@@ -360,7 +373,7 @@ impl SoftWay {
                     if let (true, Some(i), Some(terms)) =
                         (self.arrive[p], i, self.hold_terms[p].as_ref())
                     {
-                        if self.restore_mode == Restore::StoppingImpulse {
+                        if self.keeps_stop() {
                             st.brake_force = self.lambda_stop[i] / h;
                             st.brake_row.assign(terms);
                         }
@@ -440,9 +453,13 @@ impl ContactTreatment for SoftWay {
                 self.modes.iter().zip(&self.arrive).any(|(m, &a)| {
                     matches!(m, PairMode::Brake { .. }) || (a && *m == PairMode::Hold)
                 });
-            if braking && self.restore_mode == Restore::StoppingImpulse {
+            if braking && self.keeps_stop() {
                 self.push_rows(ctx, fs, &step, true);
-                ctx.solve_multipliers(0.0);
+                if self.restore_mode == Restore::ApproachMomentum {
+                    ctx.solve_multipliers_at(&fs.v, 0.0);
+                } else {
+                    ctx.solve_multipliers(0.0);
+                }
                 let k = self.row_pair.len();
                 self.lambda_stop[..k].copy_from_slice(&ctx.rows.lambda()[..k]);
             }

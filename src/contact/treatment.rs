@@ -88,6 +88,7 @@ impl Treatment {
                 Restore::StoppingImpulse => "soft_way".into(),
                 Restore::BrakingReaction => "soft_way_braking_restore".into(),
                 Restore::Nothing => "soft_way_no_restore".into(),
+                Restore::ApproachMomentum => "soft_way_momentum_restore".into(),
             },
             Treatment::Exact => "exact".into(),
             Treatment::Penalty { stiffness } => format!("penalty({stiffness:e})"),
@@ -239,6 +240,10 @@ pub enum Restore {
     BrakingReaction,
     /// Nothing (`soft_way_no_restore`; exact enforcement).
     Nothing,
+    /// The impulse that would have stopped the node's approach velocity alone, at the
+    /// start of the braking step (`soft_way_momentum_restore`): the stopping impulse
+    /// without the impulse of the forces acting during that step.
+    ApproachMomentum,
 }
 
 /// Records the friction of pair state `st` for a step of length `h`: the tangential force

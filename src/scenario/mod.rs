@@ -47,7 +47,8 @@
 //!
 //! [contact]
 //! method = "soft_way"          # "soft_way" | "soft_way_braking_restore" |
-//!                              # "soft_way_no_restore" | "exact" | "penalty" (penalty,
+//!                              # "soft_way_no_restore" | "soft_way_momentum_restore" |
+//!                              # "exact" | "penalty" (penalty,
 //!                              # N/m) | "mass_redistribution" | "moreau_jean"
 //!                              # (restitution) | "subdivision" (see crate::contact)
 //! friction = 0.3               # Coulomb coefficient mu, >= 0 (default 0: frictionless);

@@ -418,11 +418,12 @@ impl<'a> Ctx<'a> {
             "soft_way" => soft(Restore::StoppingImpulse),
             "soft_way_no_restore" => soft(Restore::Nothing),
             "soft_way_braking_restore" => soft(Restore::BrakingReaction),
+            "soft_way_momentum_restore" => soft(Restore::ApproachMomentum),
             "exact" => Ok(Treatment::Exact),
             _ => Err(self.invalid(
                 key,
                 format!("\"{v}\""),
-                "allowed for the wheel: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\", \"exact\"",
+                "allowed for the wheel: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_momentum_restore\", \"soft_way_no_restore\", \"exact\"",
             )),
         }
     }
@@ -436,7 +437,10 @@ impl<'a> Ctx<'a> {
         restitution: Option<(String, f64)>,
     ) -> Result<Contact, ScenarioError> {
         let t = match v {
-            "soft_way" | "soft_way_no_restore" | "soft_way_braking_restore" => {
+            "soft_way"
+            | "soft_way_no_restore"
+            | "soft_way_braking_restore"
+            | "soft_way_momentum_restore" => {
                 return self.method(key, v)
             }
             "exact" => Treatment::Exact,
@@ -467,7 +471,7 @@ impl<'a> Ctx<'a> {
                 return Err(self.invalid(
                     key,
                     format!("\"{v}\""),
-                    "allowed: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_no_restore\", \"exact\", \"penalty\", \"mass_redistribution\", \"moreau_jean\", \"subdivision\"",
+                    "allowed: \"soft_way\", \"soft_way_braking_restore\", \"soft_way_momentum_restore\", \"soft_way_no_restore\", \"exact\", \"penalty\", \"mass_redistribution\", \"moreau_jean\", \"subdivision\"",
                 ))
             }
         };
