@@ -14,7 +14,8 @@
 //! | `bar_impact`, `two_bars` | `central_difference`                      | `exact`, `penalty`                                                 |
 //! | `track`      | `space_time`, `newmark`, `newmark_dissipative`, `hht`, `generalized_alpha` | `exact` (the default), `soft_way_no_restore` (the rolling wheel; the moving load refuses `[contact]`) |
 //!
-//! `soft_way*` is `soft_way`, `soft_way_braking_restore` and `soft_way_no_restore`. The rules
+//! `soft_way*` is `soft_way`, `soft_way_braking_restore`, `soft_way_momentum_restore` and
+//! `soft_way_no_restore`. The rules
 //! between an integrator and a treatment alone (the soft way and the subdivision are
 //! space-time treatments; mass redistribution and Moreau-Jean need an implicit step) are the
 //! engine's, [`crate::contact::Treatment::check`]; this table adds the model's: the
@@ -205,6 +206,12 @@ mod tests {
                     restore: Restore::Nothing,
                 },
             ),
+            (
+                "soft_way_momentum_restore",
+                Treatment::SoftWay {
+                    restore: Restore::ApproachMomentum,
+                },
+            ),
             ("exact", Treatment::Exact),
             ("penalty", Treatment::Penalty { stiffness: 50.0 }),
             ("mass_redistribution", Treatment::MassRedistribution),
@@ -260,8 +267,8 @@ mod tests {
                 }
             }
         }
-        // sdof 8, bar_impact and two_bars 8 + 4*4 + 2 each, wheel 8 + 4*4 - 1, track 5*2: 93.
-        assert_eq!(allowed, 8 + 26 + 26 + 23 + 10);
+        // sdof 9, bar_impact and two_bars 9 + 4*4 + 2 each, wheel 9 + 4*4 - 1, track 5*2: 97.
+        assert_eq!(allowed, 9 + 27 + 27 + 24 + 10);
     }
 
     /// A scenario of `kind` with `time.h` set and, for the models with contact, a
@@ -375,8 +382,8 @@ mod tests {
                 }
             }
         }
-        // Bars and wheel: 75 of 3 * 6 * 8 allowed; the oscillator: 1 of 6 integrators.
-        assert_eq!((allowed, refused), (2 * (75 + 1), 2 * (3 * 6 * 8 - 75 + 5)));
+        // Bars and wheel: 78 of 3 * 6 * 9 allowed; the oscillator: 1 of 6 integrators.
+        assert_eq!((allowed, refused), (2 * (78 + 1), 2 * (3 * 6 * 9 - 78 + 5)));
     }
 
     /// The trapezoidal members (`newmark`, `hht` with `alpha_h = 0`, `newmark_dissipative`
