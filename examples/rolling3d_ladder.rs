@@ -67,6 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 zone: None,
                 crown: None,
                 coupling: softway::bodies::wheel::Coupling::Coupled,
+                rail: None,
             })?;
             let problem = slice.problem((0.8, 0.2), H, STEPS, FrictionLaw::coulomb(MU));
             let mut sim = Simulation::new(problem)?;

@@ -78,6 +78,7 @@ fn slice(xi: f64, eta: f64, phi: f64) -> RollingSlice {
         zone: None,
         crown: None,
         coupling: softway::bodies::wheel::Coupling::Coupled,
+        rail: None,
     })
     .unwrap()
 }

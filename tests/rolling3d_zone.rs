@@ -49,6 +49,7 @@ fn slice(counts: [usize; 3], zone: Option<SliceZone>, xi: f64, eta: f64) -> Roll
         zone,
         crown: None,
         coupling: softway::bodies::wheel::Coupling::Coupled,
+        rail: None,
     })
     .unwrap()
 }
@@ -64,6 +65,7 @@ fn roll(s: &RollingSlice, steps: usize) -> (Vec<[f64; 3]>, RunStats) {
             step: z.step,
             omega: OMEGA,
             angle0: 0.0,
+            turned: z.turned,
         })
         .unwrap();
     }

@@ -69,6 +69,7 @@ fn relocation_without_a_zone_is_an_exact_relabelling() {
                 step,
                 omega: ws.spec.omega,
                 angle0: 0.0,
+                turned: sources.len(),
             })
             .unwrap();
         }
@@ -128,6 +129,7 @@ fn relocation_in_large_deformation_is_a_relabelling_to_the_iterations_tolerance(
         step,
         omega: ws.spec.omega,
         angle0: 0.0,
+        turned: sources.len(),
     };
     let forces = |relocate: bool, force_first: bool| {
         let pb = wm.problem(run.integrator, run.params.h, vec![], run.contact, steps);
@@ -375,6 +377,7 @@ fn relocation_with_friction_is_an_exact_relabelling() {
                 step,
                 omega: ws.spec.omega,
                 angle0: 0.0,
+                turned: sources.len(),
             })
             .unwrap();
         }

@@ -27,7 +27,13 @@
 //! `tests/rolling3d.rs` checks them against the 2D plane-stress wheel and full slip
 //! (the book's docs/src/solids3d.md, "Rolling in 3D").
 
+pub mod rail;
+
 use crate::bodies::wheel::Coupling;
+use crate::contact::facets::FacetSearch;
+use crate::contact::search::Placed;
+use crate::contact::Interface;
+
 use crate::contact::cyclic::CyclicSymmetry;
 use crate::contact::obstacle::Flattening;
 use crate::contact::pair::tangent_basis;
@@ -42,6 +48,7 @@ use crate::mesh::zone3d::{annulus_zone, AnnulusZoneOptions};
 use crate::model::PairState;
 use crate::simulation::Problem;
 use crate::time::{Coriolis, Integrator};
+pub use rail::RailBlock;
 
 use super::solid::SolidSpec;
 use super::spinning::{spinning_solid, SpinSpec, SpinningError};
@@ -102,6 +109,8 @@ pub struct SliceSpec {
     /// wheel that carries the tangential tractions alone ([`Coupling::Uncoupled`]; module
     /// docs, Uncoupled).
     pub coupling: Coupling,
+    /// An elastic rail in place of the rigid base ([`rail`]; `None`: the rigid base).
+    pub rail: Option<RailBlock>,
 }
 
 impl SliceSpec {
@@ -155,6 +164,9 @@ pub struct BuiltZone {
     pub stations: usize,
     /// Rings (radial cells).
     pub rings: usize,
+    /// The nodes that turn with the zone's frame (the wheel's and its twin's; an elastic
+    /// rail's nodes follow, each its own source).
+    pub turned: usize,
     /// Layers (cells along the axle).
     pub layers: usize,
 }
@@ -180,6 +192,22 @@ pub struct RollingSlice {
     /// The wheel's nodes when a twin follows them (nodes `N..2N` the twin of `0..N`;
     /// [`Coupling::Uncoupled`]), else `None`.
     pub twin: Option<usize>,
+    /// The elastic rail, when the spec has one: the second body, met by the rim through
+    /// the facet search (module docs, The elastic rail).
+    pub rail: Option<BuiltRail>,
+}
+
+/// The elastic rail of a [`RollingSlice`], built.
+#[derive(Debug, Clone)]
+pub struct BuiltRail {
+    /// The rim's nodes against the rail's top.
+    pub interface: Interface,
+    /// The rail's frame.
+    pub motion: Motion,
+    /// The rail's cells along, across and in depth.
+    pub counts: [usize; 3],
+    /// The rail's length, m.
+    pub length: f64,
 }
 
 impl RollingSlice {
@@ -248,6 +276,7 @@ impl RollingSlice {
                     stations: built.angles.len(),
                     rings: built.radii.len() - 1,
                     layers: built.zs.len() - 1,
+                    turned: built.sources.len(),
                     sources: built.sources,
                     step: built.step,
                     exact_nodes: built.exact_nodes,
@@ -320,13 +349,73 @@ impl RollingSlice {
                         })
                         .collect();
                     z.sources.extend(shifted);
+                    z.turned = z.sources.len();
                 }
                 Some(nodes)
             }
         };
+        let [xi, eta, phi] = spec.creepages;
+        let rail = match spec.rail {
+            None => None,
+            Some(block) => {
+                if twin.is_some() || phi != 0.0 {
+                    return Err(RollingSliceError::Assembly(
+                        "the elastic rail meets the wheel alone: no twin (the rail is the other body of the pair) and no spin creepage (the rail's frame translates)".into(),
+                    ));
+                }
+                let rail_mesh = block.mesh(block.rolled, spec.crown)?;
+                let counts = block.counts(block.rolled)?;
+                let motion = rail::rail_frame(
+                    spun_radius,
+                    spec.omega,
+                    [xi, eta],
+                    block.margin,
+                    0.5 * spec.thickness,
+                    spec.flattening,
+                );
+                let top = rail_mesh.node_set("top").unwrap_or_default().to_vec();
+                let foot = rail_mesh.node_set("foot").unwrap_or_default().to_vec();
+                let first_dof = bodies[0].mesh.n_dofs();
+                let search = FacetSearch::on_mesh(
+                    &rail_mesh,
+                    Some(&top),
+                    Placed { motion, first_dof },
+                    block.reach(spec.flattening.depth),
+                )
+                .map_err(|e| RollingSliceError::Assembly(e.to_string()))?;
+                let interface = Interface::new(
+                    search,
+                    Placed {
+                        motion: frame,
+                        first_dof: 0,
+                    },
+                    rim.clone(),
+                    &bodies[0].reference,
+                );
+                let mut body = super::solid::solid("rail", rail_mesh, &solid_spec, motion)
+                    .map_err(|e| RollingSliceError::Assembly(e.to_string()))?
+                    .body;
+                body.fixed_dofs = foot
+                    .iter()
+                    .flat_map(|&n| (0..3).map(move |c| 3 * n + c))
+                    .collect();
+                // A relocation leaves the rail's nodes where they are.
+                if let Some(z) = zone.as_mut() {
+                    let first = z.sources.len();
+                    z.sources
+                        .extend((0..body.mesh.n_nodes()).map(|n| Source::Node(first + n)));
+                }
+                bodies.push(body);
+                Some(BuiltRail {
+                    interface,
+                    motion,
+                    counts,
+                    length: block.length(block.rolled),
+                })
+            }
+        };
         let joined =
             super::assemble(&bodies).map_err(|e| RollingSliceError::Assembly(e.to_string()))?;
-        let [xi, eta, phi] = spec.creepages;
         let base = RotatingBase {
             line: RotatingLine {
                 centre: [0.0, 0.0, 0.5 * spec.thickness],
@@ -350,6 +439,7 @@ impl RollingSlice {
             rim_width,
             zone,
             twin,
+            rail,
         })
     }
 
@@ -386,6 +476,20 @@ impl RollingSlice {
         );
         p.friction = friction;
         p.treatment = treatment;
+        if let Some(rail) = &self.rail {
+            p.interfaces = vec![rail.interface.clone()];
+            p.pairs = self
+                .rim
+                .iter()
+                .enumerate()
+                .map(|(slot, &node)| Pair::Searched {
+                    node,
+                    interface: 0,
+                    slot,
+                })
+                .collect();
+            return p;
+        }
         let base: Box<dyn Obstacle> = Box::new(self.base);
         p.obstacles = vec![base];
         p.pairs = self
@@ -404,10 +508,16 @@ impl RollingSlice {
     }
 
     /// The wheel's own displacement (or velocity) from the driver's vector `x`: its first
-    /// `3 N` values, plus the twin's when one carries the tangential tractions.
+    /// `3 N` values, plus the twin's when one carries the tangential tractions (an elastic
+    /// rail's follow them and are left out).
     pub fn own_state(&self, x: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; self.twin.map_or(x.len(), |nodes| 3 * nodes)];
-        super::own_with_twin(x, &mut out);
+        let n = self.bodies[0].mesh.n_dofs();
+        let mut out = x[..n].to_vec();
+        if self.twin.is_some() {
+            for (o, t) in out.iter_mut().zip(&x[n..2 * n]) {
+                *o += t;
+            }
+        }
         out
     }
 }

@@ -26,7 +26,7 @@ use std::any::Any;
 
 use super::obstacle::Vector;
 use super::rows::Terms;
-use super::search::{Placed, Search, SearchedRow, Target};
+use super::search::{Motion, Placed, Search, SearchedRow, Target};
 
 /// A master surface that an [`Interface`] searches: the contract of a contact search, in
 /// any dimension. The planar segment search ([`Search`]: a body's boundary edges, or a rail
@@ -246,6 +246,21 @@ impl Interface {
     /// The slave body's placement.
     pub fn slave(&self) -> Placed {
         self.slave
+    }
+
+    /// Turns the slave body's frame by `angle` (rad) about the ground's `z` through its
+    /// centre, and forgets the targets: a moving refined zone's relocation, whose mesh frame
+    /// turns by one sector ([`crate::simulation::Relocation`]); the next refresh finds them
+    /// again. `false` (nothing done) unless the slave's frame turns about `z`.
+    pub fn turn_slave_frame(&mut self, angle: f64) -> bool {
+        let Motion::Rotating { angle0, .. } = &mut self.slave.motion else {
+            return false;
+        };
+        *angle0 += angle;
+        if angle != 0.0 {
+            self.targets.iter_mut().for_each(|t| *t = None);
+        }
+        true
     }
 
     /// The master surface's search.

@@ -70,12 +70,14 @@ impl Terms {
     /// The same row on relabelled nodes of a model of `dim` (2 or 3) unknowns per node: the
     /// terms of node `m` move to node `node(m)` with their coefficients turned by the
     /// rotation `rot` (row-major; its leading `dim x dim` block); `None` when a node has no
-    /// new label.
+    /// new label. Nodes from `turned` on (another body's, in a frame that does not turn)
+    /// move as `node` says with their coefficients as they are.
     pub fn relabel(
         &self,
         dim: usize,
         node: impl Fn(usize) -> Option<usize>,
         rot: [[f64; 3]; 3],
+        turned: usize,
     ) -> Option<Terms> {
         let mut out = Terms::default();
         let mut seen = [usize::MAX; MAX_TERMS];
@@ -97,8 +99,12 @@ impl Terms {
             let n = node(m)?;
             for (comp, r) in rot.iter().enumerate().take(dim) {
                 let mut v = 0.0;
-                for q in 0..dim {
-                    v += r[q] * c[q];
+                if m < turned {
+                    for q in 0..dim {
+                        v += r[q] * c[q];
+                    }
+                } else {
+                    v = c[comp];
                 }
                 out.push(dim * n + comp, v);
             }
@@ -138,6 +144,28 @@ mod tests {
             assert_eq!(dst, src, "{a} -> {b} terms");
             assert_eq!(format!("{dst:?}"), format!("{src:?}"));
         }
+    }
+
+    /// A row on a turned body's node and another body's: the first node's terms move and
+    /// turn, the second's move as the map says with their coefficients kept; a node without
+    /// a label drops the row.
+    #[test]
+    fn a_relabelled_row_turns_only_the_turned_bodys_terms() {
+        let mut t = Terms::default();
+        // Node 1 (turned) along x, node 5 (the other body's) along (0, 1, 2).
+        t.push(3, 1.0);
+        t.push(16, 1.0);
+        t.push(17, 2.0);
+        let (c, s) = (0.6_f64, 0.8_f64);
+        let rot = [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]];
+        let r = t
+            .relabel(3, |m| Some(if m == 1 { 2 } else { m }), rot, 4)
+            .unwrap();
+        let mut x = vec![0.0; 18];
+        r.scatter(1.0, &mut x);
+        assert_eq!(&x[6..9], &[c, -s, 0.0]);
+        assert_eq!(&x[15..18], &[0.0, 1.0, 2.0]);
+        assert!(t.relabel(3, |m| (m == 1).then_some(2), rot, 4).is_none());
     }
 
     /// A mode assigned equals the source for every pair of variants.

@@ -9,8 +9,12 @@ use crate::model::{PairMode, PairState};
 /// interpolation in a triangle) with its vectors turned by `-step`, pair `p` the state of the
 /// pair at that node (a fresh state if there is none), and the obstacles turn by `-step`
 /// ([`crate::contact::Obstacle::turn_frame`]). The matrices and their factors do not change.
-/// Models of node pairs only, in 2D or in 3D (the turn about the axle `z`; the 3D wheel's
-/// zone, [`crate::mesh::zone3d`]).
+/// Models of node pairs, in 2D or in 3D (the turn about the axle `z`; the 3D wheel's
+/// zone, [`crate::mesh::zone3d`]), and of a wheel met by another body through a contact
+/// interface whose slave it is (the 3D wheel on its elastic rail): the interface's slave
+/// frame turns with the mesh's ([`crate::contact::Interface::turn_slave_frame`]), the
+/// other body's nodes (from [`Relocation::turned`] on) keep their states, and a row's
+/// terms on them keep their coefficients.
 ///
 /// **Friction.** A pair's whole state goes with its node: the normal mode and rows, and the
 /// tangential ones (the friction force along the pair's tangent, a scalar that a turn of the
@@ -29,6 +33,10 @@ pub struct Relocation {
     pub omega: f64,
     /// The obstacle's angle past the zone's centre at `t = 0`, rad.
     pub angle0: f64,
+    /// The nodes `0..turned` turn with the frame (the wheel's, and its twin's); the nodes
+    /// after them belong to a body in a frame of its own (an elastic rail met through a
+    /// contact interface) and keep their labels and states, each its own source.
+    pub turned: usize,
 }
 
 /// The relocation's work, built once ([`super::Simulation::set_relocation`]).
@@ -69,6 +77,10 @@ impl Relocating {
                     }
                 }
             }
+            if n >= self.spec.turned {
+                self.scratch[d * n..d * n + d].copy_from_slice(&a[..d]);
+                continue;
+            }
             for (c, row) in r.iter().enumerate().take(d) {
                 let mut v = 0.0;
                 for q in 0..d {
@@ -90,10 +102,10 @@ impl Relocating {
                     let mut st = states[q];
                     st.brake_row = st
                         .brake_row
-                        .relabel(self.dim, map, self.rot)
+                        .relabel(self.dim, map, self.rot, self.spec.turned)
                         .unwrap_or_default();
                     if let PairMode::Brake { q, terms, w } = st.mode {
-                        st.mode = match terms.relabel(self.dim, map, self.rot) {
+                        st.mode = match terms.relabel(self.dim, map, self.rot, self.spec.turned) {
                             Some(terms) => PairMode::Brake { q, terms, w },
                             None => PairMode::Free,
                         };

@@ -35,6 +35,9 @@ pub struct StepView<'a> {
     /// obstacles are turned back by it, so a direction `e(t)` of the base in the laboratory's
     /// wheel frame is `e(t)` turned by `-frame_angle` in the mesh's.
     pub frame_angle: f64,
+    /// The contact interfaces, their targets those of the latest refresh (the newest step's
+    /// start: the final step's own, or one step later when the treatment stepped back).
+    pub interfaces: &'a [crate::contact::Interface],
     /// The run's threads ([`super::Simulation::set_par`]), for [`StepView::energies`].
     pub(super) team: &'a Team,
     /// The nonlinear internal force and the ring slot of this step's state, when set

@@ -56,7 +56,7 @@
 //! What a run writes: [`run`].
 
 use crate::analysis::reference_curve::ReferenceCurve;
-use crate::bodies::rolling3d::{SliceSpec, SliceZone};
+use crate::bodies::rolling3d::{RailBlock, SliceSpec, SliceZone};
 use crate::bodies::wheel::Coupling;
 use crate::contact::obstacle::Flattening;
 use crate::contact::Treatment;
@@ -128,10 +128,24 @@ struct RawRolling {
     coupling: Option<String>,
 }
 
+/// `[rail]` as written.
+#[derive(serde::Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawRail {
+    height_mm: Option<f64>,
+    width_mm: Option<f64>,
+    pitch_mm: Option<f64>,
+    fine_half_width_mm: Option<f64>,
+    fine_depth_mm: Option<f64>,
+    growth: Option<f64>,
+    margin_mm: Option<f64>,
+}
+
 #[derive(serde::Deserialize)]
 struct Tables {
     wheel: Option<RawWheel>,
     rolling: Option<RawRolling>,
+    rail: Option<RawRail>,
 }
 
 /// The validated 3D rolling: the slice to build and the run's length.
@@ -153,6 +167,17 @@ pub struct Rolling3dScenario {
 }
 
 impl Rolling3dScenario {
+    /// The slice of a run of `t_end` s: an elastic rail long enough for the rolling
+    /// ([`RailBlock::rolled`]: the rim's travel with its creepages, and 1 % more).
+    pub fn slice_for(&self, t_end: f64) -> SliceSpec {
+        let mut slice = self.slice;
+        if let Some(rail) = slice.rail.as_mut() {
+            let [xi, eta, _] = slice.creepages;
+            rail.rolled = 1.01 * slice.omega * slice.radius * (1.0 + xi.abs() + eta.abs()) * t_end;
+        }
+        slice
+    }
+
     /// The wheel's turn, s.
     pub fn period(&self) -> f64 {
         2.0 * std::f64::consts::PI / self.slice.omega
@@ -193,7 +218,7 @@ impl Kind for Rolling3dKind {
     }
 
     fn tables(&self) -> &'static [&'static str] {
-        &["wheel", "rolling", "contact"]
+        &["wheel", "rolling", "rail", "contact"]
     }
 
     fn model(&self, input: &KindInput) -> Result<Model, ScenarioError> {
@@ -216,7 +241,7 @@ impl Kind for Rolling3dKind {
             1e-4,
             radius,
         )?;
-        let mesh = w.mesh.unwrap_or_else(|| vec![12, 192, 1]);
+        let mesh = w.mesh.clone().unwrap_or_else(|| vec![12, 192, 1]);
         let counts = match mesh[..] {
             [a, b, c] if a >= 1 && b >= 8 && c >= 1 && a <= 512 && b <= 8192 && c <= 64 => {
                 [a as usize, b as usize, c as usize]
@@ -364,6 +389,20 @@ impl Kind for Rolling3dKind {
                 })
             })
             .transpose()?;
+        let rail = t
+            .rail
+            .map(|rail| {
+                let sectors = zone.map_or(counts[1], |z| z.sectors);
+                rail_block(
+                    cx,
+                    &rail,
+                    &w,
+                    &r,
+                    (radius, thickness, sectors),
+                    (depth, crown, zone),
+                )
+            })
+            .transpose()?;
         let scenario = Rolling3dScenario {
             slice: SliceSpec {
                 radius,
@@ -385,9 +424,10 @@ impl Kind for Rolling3dKind {
                 zone,
                 crown,
                 coupling,
+                rail,
             },
             turns,
-            cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none()),
+            cyclic_columns: w.cyclic_columns.unwrap_or(zone.is_none() && rail.is_none()),
             reference,
             step_rolled,
         };
@@ -406,6 +446,132 @@ impl Kind for Rolling3dKind {
         }
         Ok(Model::new(scenario))
     }
+}
+
+/// `[rail]`: the elastic rail in place of the rigid base, checked against the wheel's
+/// other keys (the rail meets the wheel alone, without a twin, a moving zone or spin).
+fn rail_block(
+    cx: &Ctx,
+    rail: &RawRail,
+    w: &RawWheel,
+    r: &RawRolling,
+    (radius, thickness, sectors): (f64, f64, usize),
+    (depth_mm, crown, zone): (f64, Option<f64>, Option<SliceZone>),
+) -> Result<RailBlock, ScenarioError> {
+    let refuse = |key: &str, value: String, why: &str| {
+        Err(cx.invalid(
+            key,
+            value,
+            &format!("{why} with an elastic rail ([rail]; remove it, or the [rail] table for the rigid base)"),
+        ))
+    };
+    if let Some(c) = r.coupling.as_deref().filter(|c| *c != "coupled") {
+        return refuse(
+            "rolling.coupling",
+            format!("\"{c}\""),
+            "must be \"coupled\": the rail is the wheel's other body, no twin",
+        );
+    }
+    if let Some(phi) = r.spin_creepage.filter(|p| *p != 0.0) {
+        return refuse(
+            "rolling.spin_creepage",
+            phi.to_string(),
+            "spin creepage is not built (the rail's frame translates)",
+        );
+    }
+    if w.cyclic_columns == Some(true) {
+        return refuse("wheel.cyclic_columns", "true".into(), "the columns of the rail's dofs do not repeat round the axle: the turned columns are not built");
+    }
+    let mm = |key: &str, v: Option<f64>, default: f64, lo: f64, hi: f64| {
+        cx.within(key, v.unwrap_or(1e3 * default), 1e3 * lo, 1e3 * hi)
+            .map(|v| 1e-3 * v)
+    };
+    let width = mm(
+        "rail.width_mm",
+        rail.width_mm,
+        thickness,
+        1e-4,
+        10.0 * radius,
+    )?;
+    let height = mm(
+        "rail.height_mm",
+        rail.height_mm,
+        thickness.max(0.2 * radius),
+        1e-4,
+        10.0 * radius,
+    )?;
+    let pitch = mm(
+        "rail.pitch_mm",
+        rail.pitch_mm,
+        2.0 * std::f64::consts::PI * radius / sectors as f64,
+        1e-6,
+        0.5 * width.min(height),
+    )?;
+    if let Some(rc) = crown.filter(|rc| *rc <= 0.5 * width) {
+        return Err(cx.invalid(
+            "rolling.crown_radius_m",
+            rc,
+            &format!(
+                "must be above half the rail's width (rail.width_mm = {})",
+                1e3 * width
+            ),
+        ));
+    }
+    // Fine where the wheel's zone is (its axial half-width, depth and growth), else
+    // across where the patch can reach: the whole width under a line contact, about the
+    // crown's Hertz semi-axis (2.5 sqrt(R_c d)) under a crown.
+    let fine_default = crown.map_or(0.5 * width, |rc| {
+        (2.5 * (rc * 1e-3 * depth_mm).sqrt()).clamp(pitch, 0.5 * width)
+    });
+    let fine_across = zone
+        .and_then(|z| z.axial)
+        .unwrap_or(fine_default)
+        .min(0.5 * width);
+    let fine_below = zone
+        .and_then(|z| z.depth)
+        .unwrap_or(fine_default)
+        .min(height);
+    let fine_half_width = mm(
+        "rail.fine_half_width_mm",
+        rail.fine_half_width_mm,
+        fine_across,
+        0.0,
+        0.5 * width,
+    )?;
+    let fine_depth = mm(
+        "rail.fine_depth_mm",
+        rail.fine_depth_mm,
+        fine_below,
+        0.0,
+        height,
+    )?;
+    let growth = cx.within(
+        "rail.growth",
+        rail.growth
+            .unwrap_or_else(|| zone.and_then(|z| z.growth).unwrap_or(1.3)),
+        1.0,
+        2.0,
+    )?;
+    let mut block = RailBlock {
+        height,
+        width,
+        pitch,
+        fine_half_width,
+        fine_depth,
+        growth,
+        margin: 0.0,
+        rolled: 0.0,
+    };
+    // The patch kept from the rail's free ends: the rail's height, or eight fine
+    // half-widths, the larger.
+    block.margin = mm(
+        "rail.margin_mm",
+        rail.margin_mm,
+        height.max(8.0 * fine_half_width),
+        0.0,
+        100.0 * radius,
+    )?;
+    Ok(block)
 }
 
 impl Spec for Rolling3dScenario {
@@ -488,8 +654,13 @@ impl Spec for Rolling3dScenario {
     fn size(&self, run: &Run, _: Option<usize>) -> Size {
         let [_, nt, nz] = self.stations();
         let rim = (nt * (nz + 1)) as f64;
+        // An elastic rail: a block of its own in the matrix.
+        let rail_dofs = self
+            .slice_for(run.t_end)
+            .rail
+            .map_or(0.0, |b| 3.0 * b.nodes(b.rolled) as f64);
         Size {
-            dofs: 3.0 * self.nodes() as f64,
+            dofs: 3.0 * self.nodes() as f64 + rail_dofs,
             duration: run.t_end,
             contact_pairs: rim,
             // The patch and the band it sweeps lie on the zone's fine rim nodes: their three
@@ -507,16 +678,18 @@ impl Spec for Rolling3dScenario {
                 }),
             key: Some("wheel.mesh"),
             // A twin is a second block of the matrix: twice one wheel's factor.
-            factor_entries: Some(match self.slice.coupling {
-                Coupling::Coupled => factor_entries(3.0 * self.nodes() as f64),
-                Coupling::Uncoupled => 2.0 * factor_entries(1.5 * self.nodes() as f64),
-            }),
+            factor_entries: Some(
+                match self.slice.coupling {
+                    Coupling::Coupled => factor_entries(3.0 * self.nodes() as f64),
+                    Coupling::Uncoupled => 2.0 * factor_entries(1.5 * self.nodes() as f64),
+                } + factor_entries(rail_dofs),
+            ),
         }
     }
 
     fn free_step(&self, run: &Run, scenario: &Path) -> Option<Result<FreeStep, RunError>> {
         Some(
-            crate::bodies::rolling3d::RollingSlice::new(&self.slice)
+            crate::bodies::rolling3d::RollingSlice::new(&self.slice_for(run.t_end))
                 .map(|slice| {
                     let p =
                         slice.problem_with((run.integrator, run.params.h, 1), run.contact, None);

@@ -41,6 +41,7 @@ use super::Rolling3dScenario;
 use crate::bodies::rolling3d::{friction_force, PatchForce, RollingSlice};
 use crate::bodies::wheel::Coupling;
 use crate::contact::pair::tangent_basis;
+use crate::contact::Interface;
 use crate::contact::{Obstacle, RotatingBase};
 use crate::kinds::wheel::run::summarise::STEPS_PER_PASSAGE_MIN;
 use crate::kinds::wheel::run::traction::{hertz_2d, steady_ratio};
@@ -251,8 +252,8 @@ pub(crate) fn record(
     }
     // The set-up's time: the slice, its matrices and the factor (the cost record).
     let setup_clock = Instant::now();
-    let slice =
-        RollingSlice::new(&m.slice).map_err(|e| RunError::input(&sc.path, e.to_string()))?;
+    let slice = RollingSlice::new(&m.slice_for(run.t_end))
+        .map_err(|e| RunError::input(&sc.path, e.to_string()))?;
     let steps = (run.t_end / h).round().max(1.0) as usize;
     let mu = run.friction.map_or(0.0, |l| l.static_mu);
     // A coefficient falling with the slip speed (the ratios are on `mu_s`).
@@ -273,6 +274,7 @@ pub(crate) fn record(
             step: z.step,
             omega: m.slice.omega,
             angle0: 0.0,
+            turned: z.turned,
         })
         .map_err(sim_error)?;
     }
@@ -294,8 +296,15 @@ pub(crate) fn record(
             // The base as the mesh's frame sees it (turned back by a zone's relocations).
             let base = turned(&base, v.frame_angle);
             last_angle = v.frame_angle;
-            let f = PatchForce::at(&base, t, pairs, (&rim, &x_ref, &v.state.state.u));
-            let spin = PatchForce::spin_moment(&base, t, pairs, (&rim, &x_ref, &v.state.state.u));
+            let (f, spin) = match v.interfaces.first() {
+                Some(rail) => {
+                    rail_patch_force(rail, &base, t, pairs, (&rim, &x_ref, &v.state.state.u))
+                }
+                None => (
+                    PatchForce::at(&base, t, pairs, (&rim, &x_ref, &v.state.state.u)),
+                    PatchForce::spin_moment(&base, t, pairs, (&rim, &x_ref, &v.state.state.u)),
+                ),
+            };
             let held = pairs.iter().filter(|p| p.force > 0.0).count();
             let sliding = pairs.iter().filter(|p| p.sliding).count();
             let rec = Rec {
@@ -342,6 +351,7 @@ pub(crate) fn record(
         last.t,
         (&x_ref, &last.state.u),
         (&rim, &slice, &last.pairs),
+        sim.engine().interfaces.first(),
     );
     let last_u = slice.own_state(&last.state.u);
     let settled = m.settled();
@@ -363,8 +373,17 @@ pub(crate) fn record(
             "step_deg": z.step.to_degrees(),
             "nodes_relocated_exactly": z.exact_nodes,
         })),
-        "dofs": 3 * m.nodes(),
+        "dofs": sim.engine().model.n(),
         "rim_nodes": rim.len(),
+        "rail": slice.rail.as_ref().map(|r| serde_json::json!({
+            "cells": r.counts,
+            "length_m": r.length,
+            "block": m.slice.rail.map(|b| serde_json::json!({
+                "height_m": b.height, "width_m": b.width, "pitch_m": b.pitch,
+                "fine_half_width_m": b.fine_half_width, "fine_depth_m": b.fine_depth,
+                "growth": b.growth, "margin_m": b.margin,
+            })),
+        })),
         "coupling": m.slice.coupling,
         "steps": recs.len(),
         "h_s": h,
@@ -418,21 +437,23 @@ pub(crate) fn record(
         steady_value = extrapolated.map_or(per(q), |e| e.0);
         let line = &slice.base.line;
         let rho = line.radius - line.flattening.depth;
+        // Two bodies of one material: half the modulus of one on a rigid base.
+        let pair = if slice.rail.is_some() { 2.0 } else { 1.0 };
         let hertz3d = m.slice.crown.and_then(|rc| {
             let e = &m.slice.material;
-            let e_star = e.young / (1.0 - e.poisson * e.poisson);
+            let e_star = e.young / (1.0 - e.poisson * e.poisson) / pair;
             crate::contact::hertz::Hertz::from_radii(slice.spun_radius, rc, e_star, n).ok()
         });
         let (a, p0) = match &hertz3d {
             None => hertz_2d(
                 n / m.slice.thickness,
                 m.slice.radius,
-                m.slice.material.young,
+                m.slice.material.young / pair,
             ),
             Some(hz) => (hz.semi_axes_xy().0, hz.peak_pressure),
         };
         if let Some(hz) = &hertz3d {
-            summary["hertz3d"] = hertz3d_summary(m, hz, &patch, q);
+            summary["hertz3d"] = hertz3d_summary(m, hz, &patch, q, pair);
             hertz_fig = Some((hz.semi_axes_xy().0, hz.peak_pressure));
         }
         let stick = half
@@ -550,7 +571,7 @@ pub(crate) fn record(
         "{} steps of {} s on {} unknowns in {:.1} s ({:.3} s a step)",
         recs.len(),
         h,
-        3 * m.nodes(),
+        sim.engine().model.n(),
         wall,
         wall / recs.len().max(1) as f64
     ));
@@ -593,7 +614,8 @@ pub(crate) fn record(
 /// rigid base), the last step's semi-axes from the patch's second moments of the nodal
 /// forces (`a = sqrt(5 sum f s^2 / sum f)`, exact for Hertz's pressure), and the scale of
 /// Kalker's creep coefficients, `G c^2` with `c = sqrt(a b)` and `G` the pair's combined
-/// modulus `2 / (1/G_1 + 1/G_2)`, `2 G_1` on a rigid base: `C_11 = -dF_x / (G c^2 d xi)`
+/// modulus `2 / (1/G_1 + 1/G_2)`, `2 G_1` on a rigid base and `G_1` on the elastic rail of
+/// the wheel's material (`pair` = 2: Hertz's `E*` halved too): `C_11 = -dF_x / (G c^2 d xi)`
 /// from two creepages (the creep force `q` along the rolling direction; its ratio to the
 /// creepage in one run carries the free-rolling offset).
 fn hertz3d_summary(
@@ -601,11 +623,12 @@ fn hertz3d_summary(
     hz: &crate::contact::hertz::Hertz,
     patch: &[PatchNode],
     q: f64,
+    pair: f64,
 ) -> serde_json::Value {
     let (ax, ay) = hz.semi_axes_xy();
     let c2 = ax * ay;
     let e = &m.slice.material;
-    let g = 2.0 * e.young / (2.0 * (1.0 + e.poisson));
+    let g = 2.0 * e.young / (2.0 * (1.0 + e.poisson)) / pair;
     let f: f64 = patch.iter().map(|p| p.force).sum();
     let moment = |x: &dyn Fn(&PatchNode) -> f64| {
         let mean = patch.iter().map(|p| p.force * x(p)).sum::<f64>() / f;
@@ -632,6 +655,62 @@ fn hertz3d_summary(
     })
 }
 
+/// The unit normal and tangents of the rows of slot `slot` of the rim against the elastic
+/// rail at time `t`, in the wheel's mesh frame: its target's normal in the ground and
+/// [`tangent_basis`] of it, as the facet search poses the rows
+/// ([`crate::contact::facets`]), turned back into the wheel's frame. Zero without a
+/// target (an open pair: no force).
+fn rail_directions(rail: &Interface, slot: usize, t: f64) -> ([f64; 3], [[f64; 3]; 2]) {
+    match rail.target(slot) {
+        None => ([0.0; 3], [[0.0; 3]; 2]),
+        Some(target) => {
+            let back = |d| rail.slave().motion.rotate_back(t, d);
+            let [t1, t2] = tangent_basis(3, target.normal);
+            (back(target.normal), [back(t1), back(t2)])
+        }
+    }
+}
+
+/// The rail's forces on the wheel at a step and their spin moment about the base's normal
+/// through `p0` (the nominal rail's frame in the wheel's, [`RotatingBase::frame`]): each
+/// pair's normal and friction forces along its rows' directions ([`rail_directions`]),
+/// summed, and projected as [`PatchForce::at`] projects the base's; the spin moment of the
+/// friction forces as [`PatchForce::spin_moment`].
+fn rail_patch_force(
+    rail: &Interface,
+    base: &RotatingBase,
+    t: f64,
+    pairs: &[PairState],
+    (rim, x_ref, u): (&[usize], &[f64], &[f64]),
+) -> (PatchForce, f64) {
+    let frame = base.frame(t);
+    let n = frame.normal;
+    let (mut f, mut spin) = ([0.0; 3], 0.0);
+    for (slot, (ps, &node)) in pairs.iter().zip(rim).enumerate() {
+        if ps.force == 0.0 && ps.tangential_force == 0.0 && ps.tangential_force_2 == 0.0 {
+            continue;
+        }
+        let (normal, tg) = rail_directions(rail, slot, t);
+        let q = friction_force(tg, ps);
+        for c in 0..3 {
+            f[c] += ps.force * normal[c] + q[c];
+        }
+        let r: [f64; 3] =
+            std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c] - frame.p0[c]);
+        spin += n[0] * (r[1] * q[2] - r[2] * q[1])
+            + n[1] * (r[2] * q[0] - r[0] * q[2])
+            + n[2] * (r[0] * q[1] - r[1] * q[0]);
+    }
+    (
+        PatchForce {
+            normal: dot(f, n),
+            along: dot(f, frame.travel),
+            lateral: f[2],
+        },
+        spin,
+    )
+}
+
 /// The rim nodes of the last step on the base's side of the wheel within three times the
 /// loaded arc of the patch's centre (module docs), ordered by layer and position.
 fn patch_nodes(
@@ -640,6 +719,7 @@ fn patch_nodes(
     t: f64,
     (x_ref, u): (&[f64], &[f64]),
     (rim, slice, pairs): (&[usize], &RollingSlice, &[PairState]),
+    rail: Option<&Interface>,
 ) -> Vec<PatchNode> {
     let fr = base.frame(t);
     let tangents = tangent_basis(3, fr.normal);
@@ -660,9 +740,10 @@ fn patch_nodes(
             let layer = i / nt;
             let area = arc * m.slice.radius * width;
             // A crowned base's tangents tilt with its normal across the patch.
-            let tg = match base.crown {
-                None => tangents,
-                Some(_) => tangent_basis(3, base.half_space(t, x).normal),
+            let tg = match (rail, base.crown) {
+                (Some(rail), _) => rail_directions(rail, i, t).1,
+                (None, None) => tangents,
+                (None, Some(_)) => tangent_basis(3, base.half_space(t, x).normal),
             };
             let q = friction_force(tg, ps);
             (

@@ -111,6 +111,7 @@ pub fn drive(
             step: *step,
             omega: ws.spec.omega,
             angle0: 0.0,
+            turned: sources.len(),
         })
         .map_err(sim_error)?;
     }

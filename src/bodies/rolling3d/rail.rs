@@ -1,0 +1,228 @@
+//! The elastic rail under the rolling slice: a straight bar of the wheel's material with the
+//! base's crown, whose frame translates under the wheel (the contact zone moves along the
+//! rail) and is pressed up into the rim by the flattening program.
+//!
+//! **Why the rail translates and the wheel turns.** The wheel stays in its rotating frame,
+//! as the paper's (§4): its material does not move in its mesh, and its moving refined zone
+//! follows the contact round the rim. The rail's material moves straight, so its mesh
+//! travels with it under the axle (a Lagrangian bar in a translating frame, [`Motion::Pressed`]):
+//! no convective term, no remeshing, and a uniform pitch along the rail gives the contact
+//! the same cells wherever it is. The price is a rail as long as the run's rolling, fine
+//! along its whole length. (A rail meshed in the wheel's frame would need the material's
+//! flow through its mesh, an Eulerian term the space-time scheme does not carry.)
+//!
+//! **Geometry.** In its own coordinates the rail runs along `x` from 0 to `length`, its top
+//! at `y = 0` on its centre line `z = 0` and its foot at `y = -height`, `z` across it within
+//! `+-width / 2`. With a crown `R_c` the top is the circle `y = sqrt(R_c^2 - z^2) - R_c`
+//! across the rail (the rigid base's cylinder, [`crate::contact::RotatingBase::crown`]); the
+//! columns of nodes below it are stretched so that the foot stays flat. Cells: `pitch`
+//! along the rail over its whole length, `pitch` across within `+-fine_half_width` and in
+//! depth within `fine_depth` of the top, growing by `growth` beyond (the rulers of
+//! [`crate::mesh::generators::graded`]). The foot is held; the ends are free.
+//!
+//! **Frame.** `x = o + v t + d(t) e_y + X + u` ([`Motion::Pressed`]) with `o = (-margin,
+//! -rho, z_c)` (`rho` the spun rim's mean radius, `z_c` the wheel's mid-plane: at `t = 0`
+//! the crest at `X = margin` touches the rim's lowest point), `v = -V (1 - xi, 0, eta)`
+//! with `V = omega rho` (the rigid base's material velocity: the longitudinal creepage `xi`
+//! as its turning line's, the lateral `eta` its slide along the axle, both as
+//! [`crate::contact::RotatingBase`] poses them) and `d(t)` the flattening program. A frame
+//! that accelerates loads the rail with `-M 1 d''` ([`crate::bodies::load_fn`]).
+
+use crate::contact::obstacle::Flattening;
+use crate::contact::search::Motion;
+use crate::mesh::generators::graded::ruler;
+use crate::mesh::generators::{box_mesh, MeshError};
+use crate::mesh::{CellKind, Mesh};
+
+/// The rail's section, its cells and its length margin, m (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RailBlock {
+    /// Height from the crest to the foot, m.
+    pub height: f64,
+    /// Width across, m.
+    pub width: f64,
+    /// Cell size along the rail, and across and in depth near the crest, m.
+    pub pitch: f64,
+    /// Half-width of the fine cells across the rail, m.
+    pub fine_half_width: f64,
+    /// Depth of the fine cells below the crest, m.
+    pub fine_depth: f64,
+    /// Growth of the cells beyond the fine ones, in `[1, 2]`.
+    pub growth: f64,
+    /// Rail ahead of the patch at the start and behind it at the end, m.
+    pub margin: f64,
+    /// The distance the rail travels under the axle in the run, m (the run sets it).
+    pub rolled: f64,
+}
+
+impl RailBlock {
+    /// How far from the rail's top a rim node finds it, m: four flattenings `depth` or two
+    /// pitches, the larger.
+    pub fn reach(&self, depth: f64) -> f64 {
+        (4.0 * depth).max(2.0 * self.pitch)
+    }
+
+    /// The rail's length for a run that rolls `rolled` m: the rolling plus a margin at
+    /// each end.
+    pub fn length(&self, rolled: f64) -> f64 {
+        rolled + 2.0 * self.margin
+    }
+
+    /// The cells along, across and in depth of a rail rolled over for `rolled` m.
+    ///
+    /// # Errors
+    /// [`MeshError`] for a size out of range.
+    pub fn counts(&self, rolled: f64) -> Result<[usize; 3], MeshError> {
+        let [a, c, d] = self.rulers(rolled)?;
+        Ok([a.len() - 1, c.len() - 1, d.len() - 1])
+    }
+
+    /// The rail's nodes for `rolled` m of rolling (0 when it cannot be built).
+    pub fn nodes(&self, rolled: f64) -> usize {
+        self.counts(rolled)
+            .map_or(0, |[a, b, c]| (a + 1) * (b + 1) * (c + 1))
+    }
+
+    /// The rulers along, across (from `-width / 2`) and down from the crest.
+    fn rulers(&self, rolled: f64) -> Result<[Vec<f64>; 3], MeshError> {
+        let length = self.length(rolled);
+        let along = ruler(length, length, self.pitch, self.growth.max(1.0))?;
+        let half = ruler(
+            0.5 * self.width,
+            self.fine_half_width,
+            self.pitch,
+            self.growth,
+        )?;
+        let across: Vec<f64> = half
+            .iter()
+            .rev()
+            .map(|&z| -z)
+            .chain(half.iter().skip(1).copied())
+            .collect();
+        let depth = ruler(self.height, self.fine_depth, self.pitch, self.growth)?;
+        Ok([along, across, depth])
+    }
+
+    /// The rail's mesh of hexahedra for `rolled` m of rolling under a crown `crown` (m;
+    /// `None`: a flat top), in its own coordinates (module docs). Node sets `"top"`, `"foot"`,
+    /// `"x0"`, `"x1"` (the ends) and `"all"`.
+    ///
+    /// # Errors
+    /// [`MeshError`] for a size out of range, a crown narrower than the rail, or too many
+    /// nodes.
+    pub fn mesh(&self, rolled: f64, crown: Option<f64>) -> Result<Mesh, MeshError> {
+        if let Some(rc) = crown {
+            if !(rc.is_finite() && rc > 0.5 * self.width) {
+                return Err(MeshError::OutOfRange {
+                    name: "crown radius (m, above half the rail's width)",
+                    value: rc,
+                    min: 0.5 * self.width,
+                    max: f64::INFINITY,
+                });
+            }
+        }
+        let [along, across, depth] = self.rulers(rolled)?;
+        let counts = [along.len() - 1, across.len() - 1, depth.len() - 1];
+        // The box's axes (a, b, c) are the rail's (x, -z, y): a turn that keeps the cells'
+        // orientation.
+        let mut mesh = box_mesh(CellKind::Hex8, [1.0; 3], counts)?;
+        let at =
+            |r: &[f64], t: f64| r[((t * (r.len() - 1) as f64).round() as usize).min(r.len() - 1)];
+        let height = self.height;
+        for p in mesh.coords.chunks_exact_mut(3) {
+            let x = at(&along, p[0]);
+            let z = -at(&across, p[1]);
+            // From the top (c = 1) down.
+            let y0 = -at(&depth, 1.0 - p[2]);
+            let top = crown.map_or(0.0, |rc| (rc * rc - z * z).sqrt() - rc);
+            let y = y0 + top * (1.0 + y0 / height);
+            p.copy_from_slice(&[x, y, z]);
+        }
+        let rename = [("z1", "top"), ("z0", "foot")];
+        for (from, to) in rename {
+            if let Some(set) = mesh.node_sets.remove(from) {
+                mesh.node_sets.insert(to.to_string(), set);
+            }
+        }
+        for gone in ["y0", "y1"] {
+            mesh.node_sets.remove(gone);
+        }
+        Ok(mesh)
+    }
+}
+
+/// The rail's frame (module docs): under the wheel of spun radius `rho` turning at `omega`
+/// with the creepages `xi` and `eta`, its crest at `X = margin` under the axle at `t = 0`
+/// on the wheel's mid-plane `z_c`, pressed by `flattening`.
+pub fn rail_frame(
+    rho: f64,
+    omega: f64,
+    [xi, eta]: [f64; 2],
+    margin: f64,
+    z_c: f64,
+    flattening: Flattening,
+) -> Motion {
+    let speed = omega * rho;
+    Motion::Pressed {
+        origin: [-margin, -rho, z_c],
+        velocity: [-speed * (1.0 - xi), 0.0, -speed * eta],
+        direction: [0.0, 1.0, 0.0],
+        program: flattening,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bodies::solid::{solid, SolidSpec};
+    use crate::material::{Elastic, PlaneModel};
+
+    fn block() -> RailBlock {
+        RailBlock {
+            height: 0.02,
+            width: 0.02,
+            pitch: 1e-3,
+            fine_half_width: 3e-3,
+            fine_depth: 2e-3,
+            growth: 1.4,
+            margin: 0.01,
+            rolled: 0.03,
+        }
+    }
+
+    /// The crest on the crown's circle, the foot flat, the fine pitch where the contact
+    /// runs, and every cell turned the right way (positive Jacobians).
+    #[test]
+    fn the_rail_is_crowned_on_top_flat_below_and_fine_along_its_crest() {
+        let b = block();
+        let rc = 0.1;
+        let mesh = b.mesh(0.03, Some(rc)).unwrap();
+        let x = &mesh.coords;
+        for &n in mesh.node_set("top").unwrap() {
+            let (y, z) = (x[3 * n + 1], x[3 * n + 2]);
+            assert!(
+                (y - ((rc * rc - z * z).sqrt() - rc)).abs() < 1e-15,
+                "{y} {z}"
+            );
+        }
+        for &n in mesh.node_set("foot").unwrap() {
+            assert!((x[3 * n + 1] + 0.02).abs() < 1e-15);
+        }
+        let [na, nc, nd] = b.counts(0.03).unwrap();
+        assert_eq!(na, 50);
+        assert!(nc > 6 && nd > 2, "{nc} {nd}");
+        assert_eq!(b.nodes(0.03), mesh.n_nodes());
+        // The element refuses an inverted or degenerate cell.
+        let spec = SolidSpec {
+            material: Elastic {
+                young: 2e11,
+                poisson: 0.3,
+                density: 7800.0,
+            },
+            plane: PlaneModel::Stress,
+            thickness: 1.0,
+            lumped: false,
+        };
+        assert!(solid("rail", mesh, &spec, Motion::Fixed).is_ok());
+    }
+}

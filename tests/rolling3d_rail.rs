@@ -1,0 +1,116 @@
+//! The 3D wheel rolling on an elastic rail of its own material (`scenarios/rolling3d-rail.toml`,
+//! `[rail]`): two bodies met through the facet search, the rail's frame translating under the
+//! wheel, the wheel's refined zone relocating round its rim.
+//!
+//! What is checked against an answer the code does not compute:
+//! - **Kalker's pair of one material.** Two elastic bodies of one material decouple the
+//!   normal and tangential problems; the twin wheel on the rigid crown
+//!   (`scenarios/rolling3d-kalker.toml`, `rolling.coupling = "uncoupled"`) poses that pair
+//!   by another construction (a second copy of the wheel carries the tangential tractions,
+//!   `G = 2 G_1`). On the same wheel mesh, the coefficient `C11 = dF / (G c^2 d xi)` of the
+//!   wheel on the rail (`G = G_1`, `c` Hertz's at half the modulus) agrees with the twin's;
+//! - **Hertz's contact of two elastic bodies**: the patch's measured semi-axes (its
+//!   pressure's second moments) against Hertz's circle at the run's normal force and half the
+//!   modulus of one body on a rigid base, and Hertz's approach within the flattening that
+//!   the rail's frame pushes (the rest is the bodies' global give);
+//! - **the relocations**: the zone relocates round the rim with the rail's nodes left where
+//!   they are, and the normal force keeps steady through them;
+//! - **bad input** refused on one line naming the key.
+
+mod common;
+
+use common::{assert_one_line_error, run_err, run_in_process, shipped};
+
+fn num(v: &serde_json::Value, path: &str) -> f64 {
+    v.pointer(path)
+        .and_then(|x| x.as_f64())
+        .unwrap_or_else(|| panic!("{path} missing from {v}"))
+}
+
+/// `C11` from the runs of `name` at `xi = +-5e-4` on the zone of `sectors`, and the summary
+/// of the `+` run.
+fn c11(name: &str, sectors: &str, extra: &[(&str, &str)]) -> (f64, serde_json::Value) {
+    let mut sums = Vec::new();
+    for xi in ["0.0005", "-0.0005"] {
+        let mut keys = vec![("wheel.zone_sectors", sectors), ("rolling.creepage", xi)];
+        keys.extend_from_slice(extra);
+        let (path, text) = shipped(name, &keys);
+        let (_dir, s) = run_in_process(&path, &text, &format!("{name}-{sectors}-{xi}"));
+        sums.push(s);
+    }
+    let q = |s: &serde_json::Value| num(s, "/steady/creep_force_N");
+    let scale = |s: &serde_json::Value| num(s, "/hertz3d/kalker_scale_N");
+    let c = (q(&sums[0]) - q(&sums[1])) / (0.5 * (scale(&sums[0]) + scale(&sums[1])) * 1e-3);
+    (c, sums.swap_remove(0))
+}
+
+#[test]
+fn the_wheel_on_an_elastic_rail_of_its_material_is_kalkers_pair() {
+    let (c_rail, rail) = c11("rolling3d-rail", "192", &[]);
+    let (c_twin, twin) = c11("rolling3d-kalker", "192", &[("rolling.turns", "0.12")]);
+    eprintln!("C11: rail {c_rail:.4}, twin {c_twin:.4}");
+    // Two constructions of one continuum problem on the same wheel mesh.
+    assert!(
+        (c_rail / c_twin - 1.0).abs() < 0.05,
+        "C11 on the rail {c_rail} against the twin's {c_twin}"
+    );
+    // Full adhesion: the creep force drives the wheel at xi > 0.
+    assert!(num(&rail, "/steady/creep_force_N") > 0.0);
+    // G_1 on the rail, 2 G_1 for the twin on its rigid base.
+    let g = |s: &serde_json::Value| num(s, "/hertz3d/combined_shear_modulus_Pa");
+    assert!((g(&twin) / g(&rail) - 2.0).abs() < 1e-12);
+    // Hertz's circle of two elastic bodies at the run's normal force.
+    let c = num(&rail, "/hertz3d/c_m");
+    for key in [
+        "/hertz3d/measured_a_rolling_m",
+        "/hertz3d/measured_b_lateral_m",
+    ] {
+        let m = num(&rail, key);
+        assert!((m / c - 1.0).abs() < 0.15, "{key} {m} against Hertz's {c}");
+    }
+    let approach = num(&rail, "/hertz3d/approach_m");
+    assert!(
+        approach > 0.8 * 7e-5 && approach < 7e-5,
+        "Hertz's approach {approach} against the flattening 7e-5 m"
+    );
+    // The rail halves the modulus: at the same flattening the normal force falls (it
+    // would halve with the approach all Hertz's).
+    let ratio = num(&rail, "/steady/normal_force_N") / num(&twin, "/steady/normal_force_N");
+    assert!(
+        ratio > 0.5 && ratio < 0.65,
+        "N on the rail / N on the rigid crown {ratio}"
+    );
+    // The zone relocated round the rim (7.5 degrees a relocation at 192 sectors),
+    // the rail's nodes left where they are, and the normal force kept steady.
+    assert!(
+        num(&rail, "/counters/relocations") >= 3.0,
+        "{}",
+        rail["counters"]
+    );
+    let [a, b] = [
+        "/steady/window_changes/normal_relative",
+        "/steady/window_changes/traction_ratio",
+    ]
+    .map(|k| num(&rail, k));
+    assert!(a < 0.01 && b < 1e-3, "window changes {a} {b}");
+}
+
+#[test]
+fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
+    let base = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/rolling3d-rail.toml"
+    ))
+    .unwrap();
+    for (key, value, must) in [
+        ("rolling.coupling", "\"uncoupled\"", "rolling.coupling"),
+        ("rolling.spin_creepage", "0.5", "rolling.spin_creepage"),
+        ("rail.pitch_mm", "50.0", "rail.pitch_mm"),
+        ("wheel.cyclic_columns", "true", "wheel.cyclic_columns"),
+        ("rail.growth", "3.0", "rail.growth"),
+    ] {
+        let text = softway::scenario::set_key(&base, key, value).unwrap();
+        let (code, err) = run_err(&format!("rail-bad-{key}"), &text);
+        assert_one_line_error(code, &err, &[must]);
+    }
+}
