@@ -22,6 +22,14 @@
 //! ([`RollingSlice::own_state`]). The tangential compliance is then one wheel's on a rigid
 //! base: Kalker's combined modulus `G = 2 G_1`, as on the coupled pair.
 //!
+//! **The elastic rail.** With [`SliceSpec::rail`] the base is a body: a straight bar of the
+//! wheel's material with the base's crown ([`rail`]), whose frame translates under the wheel
+//! at the base's material speed and is pressed by the flattening program. Each rim node is a
+//! [`Pair::Searched`] against the rail's top facets ([`crate::contact::facets`]; the wheel's
+//! frame turning, the rail's translating), and the moving zone relocates with the rail's
+//! nodes left where they are ([`crate::simulation::Relocation::turned`]). Two bodies of one
+//! material are Kalker's pair itself: no twin.
+//!
 //! [`PatchForce::of`] sums a step's pair states into the normal force and the tangential
 //! force on the wheel along the base's travel `t_b` and along the axle: the creep forces.
 //! `tests/rolling3d.rs` checks them against the 2D plane-stress wheel and full slip

@@ -48,6 +48,23 @@
 //! # reference_curve = "ref.csv" # another code's creep curve to draw and measure the
 //! #                           # run against (relative to the scenario's folder;
 //! #                           # crate::analysis::reference_curve)
+//! # [rail]                    # an elastic rail of the wheel's material in place of the
+//! #                           # rigid base (crate::bodies::rolling3d::rail): a bar with
+//! #                           # the base's crown whose frame moves under the wheel, its
+//! #                           # foot held; coupled only, no spin creepage
+//! # height_mm = 20.0          # crest to foot (default: the wheel's thickness or a fifth
+//! #                           # of its radius, the larger)
+//! # width_mm = 10.0           # across (default: the wheel's thickness)
+//! # pitch_mm = 1.6            # cells along the rail, and across and in depth near the
+//! #                           # crest (default: the rim's pitch, the zone's with a zone)
+//! # fine_half_width_mm = 3.5  # the fine cells across (default: wheel.zone_axial_mm, or
+//! #                           # about the crown's Hertz semi-axis, or the whole width)
+//! # fine_depth_mm = 2.0       # and in depth (default: wheel.zone_depth_mm, or as across)
+//! # growth = 1.4              # beyond them (default: wheel.zone_growth, or 1.3)
+//! # margin_mm = 28.0          # rail ahead of the patch at the start and behind it at the
+//! #                           # end (default: the height or 8 fine half-widths, the
+//! #                           # larger); the rail is as long as the run's rolling and two
+//! #                           # margins
 //! ```
 //!
 //! `[time]` gives the step (`time.h`, required) and the space-time scheme's `alpha` and

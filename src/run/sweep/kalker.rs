@@ -31,10 +31,12 @@
 //! Richardson limit ([`super::creep::order_and_limit`]), and every rung is set against
 //! Kalker's Table E.3 at the runs' Poisson's ratio and `a/b`. The table is the theory of two
 //! bodies of one material in full adhesion: it is this problem when the runs are
-//! `rolling.coupling = "uncoupled"` (the twin wheel) with a friction coefficient high enough
-//! that only a node or two at the trailing edge slide (the table gives the slip nodes); the
-//! coupled wheel on its rigid base is another problem (`validation/halfspace3d/coupled.py`),
-//! and the files say so.
+//! `rolling.coupling = "uncoupled"` (the twin wheel), or the wheel on an elastic rail of its
+//! material (`[rail]`), with a friction coefficient high enough that only a node or two at
+//! the trailing edge slide (the table gives the slip nodes); the coupled wheel on its rigid
+//! base is another problem (`validation/halfspace3d/coupled.py`), and the files say so.
+//! A limit is given only where the last three rungs converge monotonically: the steps of an
+//! oscillating ladder (a coarse rung's ripple) give an order but no trustworthy limit.
 //!
 //! Files: `kalker.md` (the table), `kalker.csv` (a row per rung and coefficient) and
 //! `kalker.png` on a ladder (each coefficient against the rung, the table's value and the
@@ -202,7 +204,8 @@ impl Run {
             slip: f("/traction/mean_slip_nodes").unwrap_or(f64::NAN),
             contact: f("/traction/mean_stick_nodes").unwrap_or(f64::NAN)
                 + f("/traction/mean_slip_nodes").unwrap_or(f64::NAN),
-            uncoupled: s["coupling"].as_str() == Some("uncoupled"),
+            // The twin, or two bodies (the wheel on its rail of one material).
+            uncoupled: s["coupling"].as_str() == Some("uncoupled") || s["rail"].is_object(),
             ratio: f("/steady/traction_ratio")
                 .unwrap_or(f64::NAN)
                 .abs()
@@ -342,7 +345,8 @@ pub struct Study {
     pub limits: [(Option<f64>, Option<f64>); 5],
     /// Kalker's table at the finest rung's `nu` and `a/b` (`None` outside it).
     pub table: Option<[f64; 3]>,
-    /// Whether every run is the uncoupled pair (the table's problem).
+    /// Whether every run is a pair of one material, the twin or the wheel on its elastic
+    /// rail (the table's problem).
     pub uncoupled: bool,
 }
 
@@ -384,7 +388,11 @@ impl Study {
         if keys.rung.is_some() && super::creep::is_ladder(&rung_values) {
             for (k, l) in limits.iter_mut().enumerate() {
                 let v: Vec<f64> = fits.iter().map(|f| f.values[k]).collect();
-                *l = super::creep::order_and_limit(&rung_values, &v);
+                let n = v.len();
+                let monotone = n >= 3 && (v[n - 1] - v[n - 2]) * (v[n - 2] - v[n - 3]) > 0.0;
+                if monotone {
+                    *l = super::creep::order_and_limit(&rung_values, &v);
+                }
             }
         }
         let table = fits
@@ -479,7 +487,7 @@ impl Study {
         if !self.uncoupled {
             let _ = writeln!(
                 s,
-                "**Not the table's problem.** These runs are the elastic wheel on its rigid base (`rolling.coupling = \"coupled\"`): Kalker's table is the pair of one material, which `rolling.coupling = \"uncoupled\"` poses. The coupled pair's full-adhesion coefficients do not converge (the bonded edge's oscillating singularity between dissimilar bodies); compare its creep curve with `validation/halfspace3d/coupled.py` instead.\n"
+                "**Not the table's problem.** These runs are the elastic wheel on its rigid base (`rolling.coupling = \"coupled\"`): Kalker's table is the pair of one material, which `rolling.coupling = \"uncoupled\"` or an elastic rail (`[rail]`) poses. The coupled pair's full-adhesion coefficients do not converge (the bonded edge's oscillating singularity between dissimilar bodies); compare its creep curve with `validation/halfspace3d/coupled.py` instead.\n"
             );
         }
         let ratio = self.fits.iter().map(|f| f.ratio).fold(0.0, f64::max);
@@ -591,7 +599,7 @@ impl Study {
         p.note = format!(
             "{}; the slopes of the steady forces against the creepages over G c^k, c of Hertz's ellipse at each run's normal force; a/b = {:.3}, nu = {}.{}",
             if self.uncoupled {
-                "The pair of one material (the twin wheel), Kalker's problem"
+                "The pair of one material (the twin wheel, or the wheel on its rail), Kalker's problem"
             } else {
                 "The coupled wheel on its rigid base: not Kalker's problem"
             },
