@@ -303,10 +303,11 @@ fn check_summary(s: &serde_json::Value, doc: &Table) -> Result<(), String> {
                 }
                 // A node caught in the step it crosses the wall has gone at most a step's
                 // travel past it (the bars' relative speed: at most twice the speed); a
-                // penalty spring holds the peak force at `F / k`.
+                // penalty spring holds the peak force at `F / k`, give or take a step's
+                // travel (the force reported is the step's, the penetration its end's).
                 let pen = finite("max_penetration")?;
                 let travel = 2.0 * bar_speed(doc) * finite("h")?;
-                let bound = 1.01 * travel.max(penalty(r).map_or(0.0, |k| peak / k)) + 1e-12;
+                let bound = 1.01 * penalty(r).map_or(travel, |k| travel + peak / k) + 1e-12;
                 if pen > bound {
                     return Err(format!(
                         "{label}: penetration {pen:e} m beyond the treatment's bound {bound:e} m"

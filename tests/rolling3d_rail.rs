@@ -15,6 +15,8 @@
 //!   the rail's frame pushes (the rest is the bodies' global give);
 //! - **the relocations**: the zone relocates round the rim with the rail's nodes left where
 //!   they are, and the normal force keeps steady through them;
+//! - **the UIC60 rail**: the patch's semi-axes against Hertz's ellipse of the rim's radius
+//!   and the head's 0.3 m crest;
 //! - **bad input** refused on one line naming the key.
 
 mod common;
@@ -95,6 +97,46 @@ fn the_wheel_on_an_elastic_rail_of_its_material_is_kalkers_pair() {
     assert!(a < 0.01 && b < 1e-3, "window changes {a} {b}");
 }
 
+/// The wheel on the UIC60 rail (`scenarios/rolling3d-uic60.toml`, shortened): Hertz's
+/// ellipse of the rim's radius along and the head's 0.3 m crest across, at half the
+/// modulus, against the patch's measured semi-axes; the creep force drives the wheel within
+/// Coulomb's bound.
+#[test]
+fn the_wheel_on_a_uic60_rail_has_hertzs_ellipse_of_the_heads_crest() {
+    let (path, text) = shipped(
+        "rolling3d-uic60",
+        &[("rolling.settle_ms", "0.5"), ("rolling.turns", "0.06")],
+    );
+    let (_dir, s) = run_in_process(&path, &text, "rail-uic60");
+    let (a, b) = (
+        num(&s, "/hertz3d/a_rolling_m"),
+        num(&s, "/hertz3d/b_lateral_m"),
+    );
+    // Hertz's ellipse of R_x = 0.1 m and R_y = 0.3 m: b / a about 2.
+    assert!(b / a > 1.9 && b / a < 2.2, "Hertz's b/a {}", b / a);
+    let (ma, mb) = (
+        num(&s, "/hertz3d/measured_a_rolling_m"),
+        num(&s, "/hertz3d/measured_b_lateral_m"),
+    );
+    eprintln!("a {ma:e} against {a:e}, b {mb:e} against {b:e}");
+    assert!((ma / a - 1.0).abs() < 0.12, "a {ma} against Hertz's {a}");
+    assert!((mb / b - 1.0).abs() < 0.12, "b {mb} against Hertz's {b}");
+    let (n, q) = (
+        num(&s, "/steady/normal_force_N"),
+        num(&s, "/steady/creep_force_N"),
+    );
+    assert!(
+        q > 0.0 && q < 0.3 * n * (1.0 + 1e-9),
+        "Q {q} N against mu N {}",
+        0.3 * n
+    );
+    assert!(
+        s["rail"]["cells"][1].as_u64().unwrap() > 100,
+        "{}",
+        s["rail"]
+    );
+}
+
 #[test]
 fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
     let base = std::fs::read_to_string(concat!(
@@ -108,9 +150,20 @@ fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
         ("rail.pitch_mm", "50.0", "rail.pitch_mm"),
         ("wheel.cyclic_columns", "true", "wheel.cyclic_columns"),
         ("rail.growth", "3.0", "rail.growth"),
+        ("rail.profile", "\"uic61\"", "rail.profile"),
+        ("rail.inclination", "0.025", "rail.inclination"),
     ] {
         let text = softway::scenario::set_key(&base, key, value).unwrap();
         let (code, err) = run_err(&format!("rail-bad-{key}"), &text);
         assert_one_line_error(code, &err, &[must]);
     }
+    // The UIC60 section has its own height.
+    let uic = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/rolling3d-uic60.toml"
+    ))
+    .unwrap();
+    let text = softway::scenario::set_key(&uic, "rail.height_mm", "20.0").unwrap();
+    let (code, err) = run_err("rail-bad-uic-height", &text);
+    assert_one_line_error(code, &err, &["rail.height_mm", "UIC60"]);
 }

@@ -56,7 +56,7 @@ use crate::mesh::zone3d::{annulus_zone, AnnulusZoneOptions};
 use crate::model::PairState;
 use crate::simulation::Problem;
 use crate::time::{Coriolis, Integrator};
-pub use rail::RailBlock;
+pub use rail::{RailBlock, RailProfile};
 
 use super::solid::SolidSpec;
 use super::spinning::{spinning_solid, SpinSpec, SpinningError};

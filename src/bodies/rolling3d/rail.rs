@@ -31,7 +31,8 @@
 use crate::contact::obstacle::Flattening;
 use crate::contact::search::Motion;
 use crate::mesh::generators::graded::ruler;
-use crate::mesh::generators::{box_mesh, MeshError};
+use crate::mesh::generators::rail3d::rail_stations;
+use crate::mesh::generators::{box_mesh, rail_extruded, MeshError, RailSpec};
 use crate::mesh::{CellKind, Mesh};
 
 /// The rail's section, its cells and its length margin, m (module docs).
@@ -53,6 +54,25 @@ pub struct RailBlock {
     pub margin: f64,
     /// The distance the rail travels under the axle in the run, m (the run sets it).
     pub rolled: f64,
+    /// The section: the crowned bar of `height` and `width`, or the UIC60 rail.
+    pub profile: RailProfile,
+}
+
+/// The rail's section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RailProfile {
+    /// A rectangular bar whose top has the base's crown (module docs).
+    Bar,
+    /// The UIC60 (60E1) section of [`rail_extruded`] (its head in the published profile,
+    /// the crest's radius 0.3 m), upright or inclined by `inclination` (tan of the angle),
+    /// its head's surface `pitch` fine within `fine_half_width` of the crest and its
+    /// section's cells growing by `growth` to 10 mm, `pitch` long over the patch's travel
+    /// and growing to 10 mm in the margins; `height`, `width` and `fine_depth` are the
+    /// section's own.
+    Uic60 {
+        /// The inclination toward the track's centre (0: upright).
+        inclination: f64,
+    },
 }
 
 impl RailBlock {
@@ -68,19 +88,58 @@ impl RailBlock {
         rolled + 2.0 * self.margin
     }
 
-    /// The cells along, across and in depth of a rail rolled over for `rolled` m.
+    /// The cells along, across and in depth of a bar rolled over for `rolled` m (of a
+    /// UIC60 rail: the cells along, its section's cells and 1).
     ///
     /// # Errors
     /// [`MeshError`] for a size out of range.
     pub fn counts(&self, rolled: f64) -> Result<[usize; 3], MeshError> {
-        let [a, c, d] = self.rulers(rolled)?;
-        Ok([a.len() - 1, c.len() - 1, d.len() - 1])
+        match self.profile {
+            RailProfile::Bar => {
+                let [a, c, d] = self.rulers(rolled)?;
+                Ok([a.len() - 1, c.len() - 1, d.len() - 1])
+            }
+            RailProfile::Uic60 { .. } => {
+                let spec = self.uic60(rolled);
+                let stations = rail_stations(&spec).len();
+                let cells = self.mesh(rolled, None)?.cells.len();
+                Ok([stations - 1, cells / (stations - 1).max(1), 1])
+            }
+        }
     }
 
     /// The rail's nodes for `rolled` m of rolling (0 when it cannot be built).
     pub fn nodes(&self, rolled: f64) -> usize {
-        self.counts(rolled)
-            .map_or(0, |[a, b, c]| (a + 1) * (b + 1) * (c + 1))
+        match self.profile {
+            RailProfile::Bar => self
+                .counts(rolled)
+                .map_or(0, |[a, b, c]| (a + 1) * (b + 1) * (c + 1)),
+            RailProfile::Uic60 { .. } => self.mesh(rolled, None).map_or(0, |m| m.n_nodes()),
+        }
+    }
+
+    /// The UIC60 rail's spec: `pitch` along the patch's travel (and two fine half-widths
+    /// beyond) and on its head's surface within `fine_half_width` of the crest; the margins
+    /// graded to the section's 10 mm.
+    fn uic60(&self, rolled: f64) -> RailSpec {
+        let inclination = match self.profile {
+            RailProfile::Uic60 { inclination } => inclination,
+            RailProfile::Bar => 0.0,
+        };
+        RailSpec {
+            length: self.length(rolled),
+            inclination,
+            focus_y: 0.0,
+            head_size: self.pitch,
+            head_band: self.fine_half_width.max(self.pitch),
+            section_size: 0.01_f64.max(self.pitch),
+            fine_size: self.pitch,
+            // Fine over the patch's travel, growing to the section's size in the margins.
+            fine_half_length: (0.5 * rolled + 2.0 * self.fine_half_width)
+                .min(0.5 * self.length(rolled)),
+            coarse_size: 0.01_f64.max(self.pitch),
+            growth: self.growth.max(1.01),
+        }
     }
 
     /// The rulers along, across (from `-width / 2`) and down from the crest.
@@ -111,6 +170,26 @@ impl RailBlock {
     /// [`MeshError`] for a size out of range, a crown narrower than the rail, or too many
     /// nodes.
     pub fn mesh(&self, rolled: f64, crown: Option<f64>) -> Result<Mesh, MeshError> {
+        if let RailProfile::Uic60 { .. } = self.profile {
+            let spec = self.uic60(rolled);
+            spec.validate()?;
+            let mut mesh = rail_extruded(&spec)?;
+            // rail_extruded's (x along from the middle, y across, z up) to the rail's own
+            // (x along from its start, y up, z across): a turn about x.
+            let half = 0.5 * spec.length;
+            for p in mesh.coords.chunks_exact_mut(3) {
+                let [x, y, z] = [p[0], p[1], p[2]];
+                p.copy_from_slice(&[x + half, z, -y]);
+            }
+            // The contact searches the head's whole surface along the whole rail (its
+            // running band is fine only over the patch's travel): a rim node within reach
+            // of the margins finds the head there too.
+            mesh.node_sets.remove("running");
+            if let Some(set) = mesh.node_sets.get("head").cloned() {
+                mesh.node_sets.insert("top".to_string(), set);
+            }
+            return Ok(mesh);
+        }
         if let Some(rc) = crown {
             if !(rc.is_finite() && rc > 0.5 * self.width) {
                 return Err(MeshError::OutOfRange {
@@ -187,6 +266,7 @@ mod tests {
             growth: 1.4,
             margin: 0.01,
             rolled: 0.03,
+            profile: RailProfile::Bar,
         }
     }
 
@@ -223,6 +303,36 @@ mod tests {
             thickness: 1.0,
             lumped: false,
         };
+        assert!(solid("rail", mesh, &spec, Motion::Fixed).is_ok());
+        // The UIC60 rail turned into the rail's frame: its crest at the origin's height on
+        // z = 0, its top the head's surface along the whole rail, its foot 172 mm below,
+        // every cell turned the right way.
+        let uic = RailBlock {
+            profile: RailProfile::Uic60 { inclination: 0.0 },
+            pitch: 2e-3,
+            fine_half_width: 6e-3,
+            ..b
+        };
+        let mesh = uic.mesh(0.03, None).unwrap();
+        let x = &mesh.coords;
+        let top = mesh.node_set("top").unwrap();
+        let crest = top.iter().map(|&n| x[3 * n + 1]).fold(f64::MIN, f64::max);
+        assert!(crest.abs() < 1e-9, "{crest}");
+        let length = uic.length(0.03);
+        for &n in top {
+            // The head between its flanks (72 mm wide), along the whole rail.
+            assert!(x[3 * n + 2].abs() <= 0.037 && x[3 * n + 1] > -0.05);
+            assert!(x[3 * n] >= -1e-12 && x[3 * n] <= length + 1e-12);
+        }
+        for end in [0.0, length] {
+            assert!(top.iter().any(|&n| (x[3 * n] - end).abs() < 1e-12));
+        }
+        let foot = mesh.node_set("foot").unwrap();
+        assert!(
+            foot.iter().all(|&n| (x[3 * n + 1] + 0.172).abs() < 1e-3),
+            "foot"
+        );
+        assert_eq!(uic.nodes(0.03), mesh.n_nodes());
         assert!(solid("rail", mesh, &spec, Motion::Fixed).is_ok());
     }
 }

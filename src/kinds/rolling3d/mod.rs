@@ -52,6 +52,9 @@
 //! #                           # rigid base (crate::bodies::rolling3d::rail): a bar with
 //! #                           # the base's crown whose frame moves under the wheel, its
 //! #                           # foot held; coupled only, no spin creepage
+//! # profile = "bar"           # or "uic60": the 60E1 section (its own height and width;
+//! #                           # rolling.crown_radius_m defaults to its crest's 0.3 m)
+//! # inclination = 0.0         # the UIC60 rail's, tan of the angle (1:40 = 0.025)
 //! # height_mm = 20.0          # crest to foot (default: the wheel's thickness or a fifth
 //! #                           # of its radius, the larger)
 //! # width_mm = 10.0           # across (default: the wheel's thickness)
@@ -73,7 +76,7 @@
 //! What a run writes: [`run`].
 
 use crate::analysis::reference_curve::ReferenceCurve;
-use crate::bodies::rolling3d::{RailBlock, SliceSpec, SliceZone};
+use crate::bodies::rolling3d::{RailBlock, RailProfile, SliceSpec, SliceZone};
 use crate::bodies::wheel::Coupling;
 use crate::contact::obstacle::Flattening;
 use crate::contact::Treatment;
@@ -149,6 +152,8 @@ struct RawRolling {
 #[derive(serde::Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawRail {
+    profile: Option<String>,
+    inclination: Option<f64>,
     height_mm: Option<f64>,
     width_mm: Option<f64>,
     pitch_mm: Option<f64>,
@@ -420,6 +425,10 @@ impl Kind for Rolling3dKind {
                 )
             })
             .transpose()?;
+        // The UIC60 head's crest radius sets Hertz's ellipse of the summary.
+        let crown = crown.or(rail
+            .filter(|b| matches!(b.profile, RailProfile::Uic60 { .. }))
+            .map(|_| 0.3));
         let scenario = Rolling3dScenario {
             slice: SliceSpec {
                 radius,
@@ -499,24 +508,57 @@ fn rail_block(
     if w.cyclic_columns == Some(true) {
         return refuse("wheel.cyclic_columns", "true".into(), "the columns of the rail's dofs do not repeat round the axle: the turned columns are not built");
     }
+    let profile = match rail.profile.as_deref() {
+        None | Some("bar") => {
+            if let Some(i) = rail.inclination {
+                return Err(cx.invalid("rail.inclination", i, "an inclination is the UIC60 rail's: set rail.profile = \"uic60\", or remove it for the bar"));
+            }
+            RailProfile::Bar
+        }
+        Some("uic60") => {
+            for (key, v) in [("rail.height_mm", rail.height_mm), ("rail.width_mm", rail.width_mm), ("rail.fine_depth_mm", rail.fine_depth_mm)] {
+                if let Some(v) = v {
+                    return Err(cx.invalid(key, v, "the UIC60 section has its own: remove the key, or set rail.profile = \"bar\" for a bar of that size"));
+                }
+            }
+            RailProfile::Uic60 {
+                inclination: cx.within("rail.inclination", rail.inclination.unwrap_or(0.0), -0.2, 0.2)?,
+            }
+        }
+        Some(other) => {
+            return Err(cx.invalid(
+                "rail.profile",
+                format!("\"{other}\""),
+                "\"bar\" (a rectangular bar with the base's crown) or \"uic60\" (the 60E1 section, its head's crest radius 0.3 m)",
+            ))
+        }
+    };
+    let uic60 = matches!(profile, RailProfile::Uic60 { .. });
     let mm = |key: &str, v: Option<f64>, default: f64, lo: f64, hi: f64| {
         cx.within(key, v.unwrap_or(1e3 * default), 1e3 * lo, 1e3 * hi)
             .map(|v| 1e-3 * v)
     };
-    let width = mm(
-        "rail.width_mm",
-        rail.width_mm,
-        thickness,
-        1e-4,
-        10.0 * radius,
-    )?;
-    let height = mm(
-        "rail.height_mm",
-        rail.height_mm,
-        thickness.max(0.2 * radius),
-        1e-4,
-        10.0 * radius,
-    )?;
+    // The UIC60 section: its head 72 mm wide, 172 mm high.
+    let (width, height) = if uic60 {
+        (0.072, 0.172)
+    } else {
+        (
+            mm(
+                "rail.width_mm",
+                rail.width_mm,
+                thickness,
+                1e-4,
+                10.0 * radius,
+            )?,
+            mm(
+                "rail.height_mm",
+                rail.height_mm,
+                thickness.max(0.2 * radius),
+                1e-4,
+                10.0 * radius,
+            )?,
+        )
+    };
     let pitch = mm(
         "rail.pitch_mm",
         rail.pitch_mm,
@@ -524,7 +566,7 @@ fn rail_block(
         1e-6,
         0.5 * width.min(height),
     )?;
-    if let Some(rc) = crown.filter(|rc| *rc <= 0.5 * width) {
+    if let Some(rc) = crown.filter(|rc| !uic60 && *rc <= 0.5 * width) {
         return Err(cx.invalid(
             "rolling.crown_radius_m",
             rc,
@@ -537,7 +579,7 @@ fn rail_block(
     // Fine where the wheel's zone is (its axial half-width, depth and growth), else
     // across where the patch can reach: the whole width under a line contact, about the
     // crown's Hertz semi-axis (2.5 sqrt(R_c d)) under a crown.
-    let fine_default = crown.map_or(0.5 * width, |rc| {
+    let fine_default = crown.or(uic60.then_some(0.3)).map_or(0.5 * width, |rc| {
         (2.5 * (rc * 1e-3 * depth_mm).sqrt()).clamp(pitch, 0.5 * width)
     });
     let fine_across = zone
@@ -578,9 +620,10 @@ fn rail_block(
         growth,
         margin: 0.0,
         rolled: 0.0,
+        profile,
     };
-    // The patch kept from the rail's free ends: the rail's height, or eight fine
-    // half-widths, the larger.
+    // The patch kept from the rail's free ends: the rail's height (graded along a UIC60
+    // rail's margins), or eight fine half-widths, the larger.
     block.margin = mm(
         "rail.margin_mm",
         rail.margin_mm,
