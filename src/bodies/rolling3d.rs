@@ -662,6 +662,62 @@ impl PatchForce {
     }
 }
 
+/// The unit normal and tangents of the rows of slot `slot` of the rim against the elastic
+/// rail at time `t`, in the wheel's mesh frame: its target's normal in the ground and
+/// [`tangent_basis`] of it, as the facet search poses the rows
+/// ([`crate::contact::facets`]), turned back into the wheel's frame. Zero without a
+/// target (an open pair: no force).
+pub fn rail_directions(rail: &Interface, slot: usize, t: f64) -> ([f64; 3], [[f64; 3]; 2]) {
+    match rail.target(slot) {
+        None => ([0.0; 3], [[0.0; 3]; 2]),
+        Some(target) => {
+            let back = |d| rail.slave().motion.rotate_back(t, d);
+            let [t1, t2] = tangent_basis(3, target.normal);
+            (back(target.normal), [back(t1), back(t2)])
+        }
+    }
+}
+
+/// The rail's forces on the wheel at a step and their spin moment about the base's normal
+/// through `p0` (the nominal rail's frame in the wheel's, [`RotatingBase::frame`]): each
+/// pair's normal and friction forces along its rows' directions ([`rail_directions`]),
+/// summed, and projected as [`PatchForce::at`] projects the base's; the spin moment of the
+/// friction forces as [`PatchForce::spin_moment`].
+pub fn rail_patch_force(
+    rail: &Interface,
+    base: &RotatingBase,
+    t: f64,
+    pairs: &[PairState],
+    (rim, x_ref, u): (&[usize], &[f64], &[f64]),
+) -> (PatchForce, f64) {
+    let frame = base.frame(t);
+    let n = frame.normal;
+    let (mut f, mut spin) = ([0.0; 3], 0.0);
+    for (slot, (ps, &node)) in pairs.iter().zip(rim).enumerate() {
+        if ps.force == 0.0 && ps.tangential_force == 0.0 && ps.tangential_force_2 == 0.0 {
+            continue;
+        }
+        let (normal, tg) = rail_directions(rail, slot, t);
+        let q = friction_force(tg, ps);
+        for c in 0..3 {
+            f[c] += ps.force * normal[c] + q[c];
+        }
+        let r: [f64; 3] =
+            std::array::from_fn(|c| x_ref[3 * node + c] + u[3 * node + c] - frame.p0[c]);
+        spin += n[0] * (r[1] * q[2] - r[2] * q[1])
+            + n[1] * (r[2] * q[0] - r[0] * q[2])
+            + n[2] * (r[0] * q[1] - r[1] * q[0]);
+    }
+    (
+        PatchForce {
+            normal: dot(f, n),
+            along: dot(f, frame.travel),
+            lateral: f[2],
+        },
+        spin,
+    )
+}
+
 /// A pair's friction force on the wheel in 3D, from its components along the two tangents
 /// `t1`, `t2` of the base's normal ([`tangent_basis`]), N.
 pub fn friction_force([t1, t2]: [[f64; 3]; 2], ps: &PairState) -> [f64; 3] {
