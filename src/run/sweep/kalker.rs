@@ -785,6 +785,52 @@ mod tests {
         assert!(study_keys(&odd, &keys[1..], &[0]).is_none());
     }
 
+    /// An oscillating ladder (the rail's 4.457, 4.221, 4.280) has no limit, though its
+    /// steps shrink; the wheel on its elastic rail (coupled, with `rail` in its summary)
+    /// is the table's problem, the coupled wheel on the rigid base is not.
+    #[test]
+    fn an_oscillating_ladder_has_no_limit_and_the_rail_is_the_tables_problem() {
+        let c = 2.6e-3;
+        let g = 8.2e10;
+        let keys = vec![
+            "rolling.creepage".to_string(),
+            "wheel.zone_sectors".to_string(),
+        ];
+        let ladder = |values: [f64; 3], rail: bool| {
+            let mut pts = Vec::new();
+            for xi in [-5e-4, 5e-4] {
+                for (r, v) in [192.0, 384.0, 768.0].into_iter().zip(values) {
+                    let mut p = point(
+                        &[("rolling.creepage", xi), ("wheel.zone_sectors", r)],
+                        [xi, 0.0, 0.0],
+                        [-500.0 + g * c * c * v * xi, 0.0, 0.0],
+                        c,
+                    );
+                    p.summary["hertz3d"]["combined_shear_modulus_Pa"] = g.into();
+                    p.summary["coupling"] = "coupled".into();
+                    if rail {
+                        p.summary["rail"] = serde_json::json!({"length_m": 0.13});
+                    }
+                    pts.push(p);
+                }
+            }
+            let k = study_keys(&pts, &keys, &[0, 1]).expect("a Kalker study");
+            Study::of(&pts, &k)
+        };
+        let s = ladder([4.457, 4.221, 4.280], true);
+        let (v, order, limit, _) = s.row(0);
+        assert!((v[2] / 4.280 - 1.0).abs() < 1e-9, "{v:?}");
+        assert_eq!((order, limit), (None, None));
+        assert!(
+            s.uncoupled,
+            "the wheel on its rail is the pair of one material"
+        );
+        // A monotone ladder of the same rungs gives its limit.
+        let m = ladder([4.457, 4.321, 4.290], true);
+        assert!(m.row(0).1.is_some() && m.row(0).2.is_some());
+        assert!(!ladder([4.457, 4.321, 4.290], false).uncoupled);
+    }
+
     /// The least-squares fit recovers an exact linear law through more points than
     /// unknowns, and refuses points that do not span the creepages.
     #[test]
