@@ -390,8 +390,13 @@ impl Study {
                 .unzip();
             if !v.is_empty() {
                 q.series.push(Series::new(
-                    match self.key {
-                        Some(_) => format!("{}: its runs' four windows", self.label(s)),
+                    // Short: a ladder's key and value would make the legend wider than
+                    // the panel.
+                    match self.key.as_deref() {
+                        Some(k) if !PHYSICAL_KEYS.contains(&k) => {
+                            "the finest rung's four windows".to_string()
+                        }
+                        Some(_) => "the last series' four windows".to_string(),
                         None => "the runs' four windows".to_string(),
                     },
                     v,
