@@ -369,22 +369,7 @@ impl Simulation {
                 "a plastic body in a moving refined zone is not built (the zone's relabelling carries nodal states, not element states)".into(),
             ));
         }
-        // Another body in the model (an elastic rail): met through interfaces whose slave is
-        // the turning body, its own nodes each their own source.
-        let turned = spec.turned.min(nodes);
-        let own = |n: usize| matches!(spec.sources[n], Source::Node(m) if m == n);
-        let from_turned = |n: usize| match spec.sources[n] {
-            Source::Node(m) => m < turned,
-            Source::Triangle { nodes, .. } => nodes.iter().all(|&m| m < turned),
-        };
-        let labels_kept = (turned..nodes).all(own) && (0..turned).all(from_turned);
-        let slaves_turn = eng.interfaces.iter_mut().all(|i| {
-            i.slave().first_dof == 0
-                && i.nodes().iter().all(|&n| n < turned)
-                && i.turn_slave_frame(0.0)
-        });
-        let other_met = turned == nodes || !eng.interfaces.is_empty();
-        if !(labels_kept && slaves_turn && other_met) {
+        if !spec.other_body_kept(&mut eng.interfaces) {
             return Err(SimError::Unsupported(
                 "a moving refined zone turns one body (and its twin) against its base, or against another body through an interface whose slave it is, the other body's nodes their own sources".into(),
             ));

@@ -39,6 +39,28 @@ pub struct Relocation {
     pub turned: usize,
 }
 
+impl Relocation {
+    /// Whether the nodes from [`Relocation::turned`] on (another body's, an elastic rail's)
+    /// are each their own source and no turned node takes its state from them, and that
+    /// body is met through `interfaces` whose slave is the turning body (its nodes below
+    /// `turned`, its dofs first, its frame turning about `z`).
+    pub(super) fn other_body_kept(&self, interfaces: &mut [crate::contact::Interface]) -> bool {
+        let (nodes, turned) = (self.sources.len(), self.turned.min(self.sources.len()));
+        let own = |n: usize| matches!(self.sources[n], Source::Node(m) if m == n);
+        let from_turned = |n: usize| match self.sources[n] {
+            Source::Node(m) => m < turned,
+            Source::Triangle { nodes, .. } => nodes.iter().all(|&m| m < turned),
+        };
+        let labels_kept = (turned..nodes).all(own) && (0..turned).all(from_turned);
+        let slaves_turn = interfaces.iter_mut().all(|i| {
+            i.slave().first_dof == 0
+                && i.nodes().iter().all(|&n| n < turned)
+                && i.turn_slave_frame(0.0)
+        });
+        labels_kept && slaves_turn && (turned == nodes || !interfaces.is_empty())
+    }
+}
+
 /// The relocation's work, built once ([`super::Simulation::set_relocation`]).
 #[derive(Debug)]
 pub(super) struct Relocating {

@@ -31,7 +31,7 @@
 use crate::contact::obstacle::Flattening;
 use crate::contact::search::Motion;
 use crate::mesh::generators::graded::ruler;
-use crate::mesh::generators::rail3d::rail_stations;
+use crate::mesh::generators::rail3d::{rail_section, rail_stations};
 use crate::mesh::generators::{box_mesh, rail_extruded, MeshError, RailSpec};
 use crate::mesh::{CellKind, Mesh};
 
@@ -101,9 +101,8 @@ impl RailBlock {
             }
             RailProfile::Uic60 { .. } => {
                 let spec = self.uic60(rolled);
-                let stations = rail_stations(&spec).len();
-                let cells = self.mesh(rolled, None)?.cells.len();
-                Ok([stations - 1, cells / (stations - 1).max(1), 1])
+                let (section, _, _) = rail_section(&spec)?;
+                Ok([rail_stations(&spec).len() - 1, section.quads.len(), 1])
             }
         }
     }
@@ -114,7 +113,12 @@ impl RailBlock {
             RailProfile::Bar => self
                 .counts(rolled)
                 .map_or(0, |[a, b, c]| (a + 1) * (b + 1) * (c + 1)),
-            RailProfile::Uic60 { .. } => self.mesh(rolled, None).map_or(0, |m| m.n_nodes()),
+            RailProfile::Uic60 { .. } => {
+                let spec = self.uic60(rolled);
+                rail_section(&spec).map_or(0, |(section, _, _)| {
+                    section.points.len() * rail_stations(&spec).len()
+                })
+            }
         }
     }
 
