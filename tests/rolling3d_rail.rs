@@ -17,6 +17,9 @@
 //!   they are, and the normal force keeps steady through them;
 //! - **the UIC60 rail**: the patch's semi-axes against Hertz's ellipse of the rim's radius
 //!   and the head's 0.3 m crest;
+//! - **the bar closed on itself** (`rail.periodic`, the bar's default): its columns shifted
+//!   from one station's (each checked at set-up against a solved one) for a fraction of
+//!   the solves, and the forces of the open bar with free ends far from the patch;
 //! - **bad input** refused on one line naming the key.
 
 mod common;
@@ -137,6 +140,43 @@ fn the_wheel_on_a_uic60_rail_has_hertzs_ellipse_of_the_heads_crest() {
     );
 }
 
+/// The bar closed on itself against the bar with free ends, on the coarse rung: the rail's
+/// columns shifted from one station's (the set-up checked one against a solved column),
+/// the forces the same where the ends are far from the patch.
+#[test]
+fn a_closed_rail_shifts_its_columns_and_keeps_the_open_rails_forces() {
+    let mut sums = Vec::new();
+    for periodic in ["true", "false"] {
+        let (path, text) = shipped(
+            "rolling3d-rail",
+            &[("wheel.zone_sectors", "192"), ("rail.periodic", periodic)],
+        );
+        let (_dir, s) = run_in_process(&path, &text, &format!("rail-closed-{periodic}"));
+        sums.push(s);
+    }
+    let (closed, open) = (&sums[0], &sums[1]);
+    assert_eq!(closed["rail"]["closed"], true);
+    assert_eq!(open["rail"]["closed"], false);
+    // One station fewer: its nodes merged into the first's.
+    assert!(num(closed, "/dofs") < num(open, "/dofs"));
+    let solves = |s: &serde_json::Value| num(s, "/counters/column_solves");
+    let shifted = closed["counters"]["columns_turned"].as_f64().unwrap_or(0.0);
+    eprintln!(
+        "columns solved: closed {} (and {shifted} shifted), open {}",
+        solves(closed),
+        solves(open)
+    );
+    assert!(shifted > solves(closed), "{}", closed["counters"]);
+    assert!(solves(closed) < 0.35 * solves(open));
+    for (key, tol) in [
+        ("/steady/normal_force_N", 2e-3),
+        ("/steady/creep_force_N", 1e-2),
+    ] {
+        let (c, o) = (num(closed, key), num(open, key));
+        assert!((c / o - 1.0).abs() < tol, "{key}: closed {c}, open {o}");
+    }
+}
+
 #[test]
 fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
     let base = std::fs::read_to_string(concat!(
@@ -166,4 +206,8 @@ fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
     let text = softway::scenario::set_key(&uic, "rail.height_mm", "20.0").unwrap();
     let (code, err) = run_err("rail-bad-uic-height", &text);
     assert_one_line_error(code, &err, &["rail.height_mm", "UIC60"]);
+    // Its margins are graded: its stations are not equal, it cannot close on itself.
+    let text = softway::scenario::set_key(&uic, "rail.periodic", "true").unwrap();
+    let (code, err) = run_err("rail-bad-uic-periodic", &text);
+    assert_one_line_error(code, &err, &["rail.periodic", "UIC60"]);
 }

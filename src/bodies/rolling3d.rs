@@ -42,7 +42,7 @@ use crate::contact::facets::FacetSearch;
 use crate::contact::search::Placed;
 use crate::contact::Interface;
 
-use crate::contact::cyclic::CyclicSymmetry;
+use crate::contact::cyclic::{Copies, CyclicSymmetry};
 use crate::contact::obstacle::Flattening;
 use crate::contact::pair::tangent_basis;
 use crate::contact::search::Motion;
@@ -216,6 +216,10 @@ pub struct BuiltRail {
     pub counts: [usize; 3],
     /// The rail's length, m.
     pub length: f64,
+    /// A rail closed on itself ([`RailBlock::periodic`]): its shift by one station, over the
+    /// model's nodes (the wheel's outside it), and the node its check takes a column of (the
+    /// crest's node at the middle station).
+    pub shift: Option<(CyclicSymmetry, usize)>,
 }
 
 impl RollingSlice {
@@ -371,7 +375,15 @@ impl RollingSlice {
                         "the elastic rail meets the wheel alone: no twin (the rail is the other body of the pair) and no spin creepage (the rail's frame translates)".into(),
                     ));
                 }
-                let rail_mesh = block.mesh(block.rolled, spec.crown)?;
+                let open = block.mesh(block.rolled, spec.crown)?;
+                let closed = if block.periodic {
+                    Some(block.close(&open)?)
+                } else {
+                    None
+                };
+                let rail_mesh = closed
+                    .as_ref()
+                    .map_or_else(|| open.clone(), |c| c.mesh.clone());
                 let counts = block.counts(block.rolled)?;
                 let motion = rail::rail_frame(
                     spun_radius,
@@ -400,7 +412,36 @@ impl RollingSlice {
                     rim.clone(),
                     &bodies[0].reference,
                 );
-                let mut body = super::solid::solid("rail", rail_mesh, &solid_spec, motion)
+                let first_node = bodies[0].mesh.n_nodes();
+                let shift = match &closed {
+                    None => None,
+                    Some(c) => {
+                        let mut labels = vec![None; first_node];
+                        labels.extend(c.labels.iter().copied().map(Some));
+                        let sym = CyclicSymmetry::partial(3, c.stations, &labels, Copies::Shift)
+                            .map_err(RollingSliceError::Assembly)?;
+                        // The check's node: the crest's at the middle station.
+                        let x = &c.mesh.coords;
+                        let probe = top
+                            .iter()
+                            .copied()
+                            .filter(|&n| c.labels[n].1 == c.stations / 2)
+                            .max_by(|&a, &b| x[3 * a + 1].total_cmp(&x[3 * b + 1]))
+                            .ok_or_else(|| {
+                                RollingSliceError::Assembly(
+                                    "the closed rail has no top node at its middle station".into(),
+                                )
+                            })?;
+                        Some((sym, first_node + probe))
+                    }
+                };
+                let solid = match closed {
+                    None => super::solid::solid("rail", rail_mesh, &solid_spec, motion),
+                    Some(c) => {
+                        super::solid::solid_closed("rail", &open, c.mesh, &solid_spec, motion)
+                    }
+                };
+                let mut body = solid
                     .map_err(|e| RollingSliceError::Assembly(e.to_string()))?
                     .body;
                 body.fixed_dofs = foot
@@ -419,6 +460,7 @@ impl RollingSlice {
                     motion,
                     counts,
                     length: block.length(block.rolled),
+                    shift,
                 })
             }
         };

@@ -9,7 +9,7 @@
 
 use crate::contact::search::Motion;
 use crate::element::continuum::{
-    assemble_continuum, CellError, Cells, PlaneTri3, SolidHex8, SolidTet10, SolidTet4,
+    assemble_continuum_shaped, CellError, Cells, PlaneTri3, SolidHex8, SolidTet10, SolidTet4,
 };
 use crate::element::{CellStresses, Continuum};
 use crate::material::{Elastic, PlaneModel};
@@ -63,17 +63,44 @@ pub fn solid(
     spec: &SolidSpec,
     motion: Motion,
 ) -> Result<Solid, SolidError> {
+    solid_shaped(name, None, mesh, spec, motion)
+}
+
+/// The body `name` of a mesh closed on itself (a rail whose ends are joined), each cell
+/// shaped by the same cell of `open`, the mesh it was closed from
+/// ([`crate::element::continuum::assemble_continuum_shaped`]).
+///
+/// # Errors
+/// As [`solid`], or a cell of `open` that is not `closed`'s.
+pub fn solid_closed(
+    name: &str,
+    open: &Mesh,
+    closed: Mesh,
+    spec: &SolidSpec,
+    motion: Motion,
+) -> Result<Solid, SolidError> {
+    solid_shaped(name, Some(open), closed, spec, motion)
+}
+
+/// [`solid`], the cells shaped by `shape`'s when there is one.
+fn solid_shaped(
+    name: &str,
+    shape: Option<&Mesh>,
+    mesh: Mesh,
+    spec: &SolidSpec,
+    motion: Motion,
+) -> Result<Solid, SolidError> {
     match mesh.cells.kind() {
         CellKind::Tri3 => {
             let el = PlaneTri3 {
                 d: spec.plane.elasticity_matrix(&spec.material),
                 thickness: spec.thickness,
             };
-            build(name, mesh, el, spec, motion)
+            build(name, shape, mesh, el, spec, motion)
         }
-        CellKind::Tet4 => build(name, mesh, SolidTet4 { d: d3(spec) }, spec, motion),
-        CellKind::Tet10 => build(name, mesh, SolidTet10 { d: d3(spec) }, spec, motion),
-        CellKind::Hex8 => build(name, mesh, SolidHex8 { d: d3(spec) }, spec, motion),
+        CellKind::Tet4 => build(name, shape, mesh, SolidTet4 { d: d3(spec) }, spec, motion),
+        CellKind::Tet10 => build(name, shape, mesh, SolidTet10 { d: d3(spec) }, spec, motion),
+        CellKind::Hex8 => build(name, shape, mesh, SolidHex8 { d: d3(spec) }, spec, motion),
         other => Err(SolidError::NoElement(other.describe())),
     }
 }
@@ -86,6 +113,7 @@ fn d3(spec: &SolidSpec) -> [[f64; 6]; 6] {
 /// The body of `mesh` with the element `el`.
 fn build<E, const N: usize>(
     name: &str,
+    shape: Option<&Mesh>,
     mesh: Mesh,
     el: E,
     spec: &SolidSpec,
@@ -94,7 +122,13 @@ fn build<E, const N: usize>(
 where
     E: Continuum<N> + Send + std::fmt::Debug + 'static,
 {
-    let a = assemble_continuum(&mesh, &el, spec.material.density, spec.lumped)?;
+    let a = assemble_continuum_shaped(
+        shape.unwrap_or(&mesh),
+        &mesh,
+        &el,
+        spec.material.density,
+        spec.lumped,
+    )?;
     let stresses = Box::new(Cells {
         element: el,
         geometry: a.geometry,

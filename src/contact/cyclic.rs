@@ -20,24 +20,48 @@
 //! solve. The row solver keeps the base columns ([`CyclicColumns`]) beside its cache and
 //! derives each new column from them.
 //!
+//! **A rail closed on itself.** The same algebra holds for any cyclic group of node maps
+//! that commutes with `A`. A straight rail whose two ends are joined (its mesh `count`
+//! equal stations along it, [`crate::bodies::rolling3d::RailBlock::periodic`]) repeats
+//! under a shift by one station: `P` moves each node's value to the next station's node
+//! without turning it (`Q = I`, [`Copies::Shift`]). The rail is one body of a model whose
+//! other body (the wheel) does not repeat that way; the step matrix is block diagonal by
+//! body, so a rail dof's column is zero on the wheel's dofs, and the symmetry covers the
+//! rail's nodes alone ([`CyclicSymmetry::partial`]): the wheel's columns are solved.
+//!
 //! The symmetry is the model's claim; [`crate::simulation::Simulation::set_cyclic_symmetry`]
 //! checks it once against a solved column before it is used.
 
+/// How one copy follows from the one before.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Copies {
+    /// Turned by `2 pi / count` about the axle `z` (the wheel round its axle).
+    Turn,
+    /// Shifted, the vectors as they are (a rail closed on itself).
+    Shift,
+}
+
 /// How a model repeats round the axle `z`: `count` sectors, every node one of an orbit's
-/// `count` copies (module docs). Dofs are `dim` per node, node `m`'s at `dim m ..`.
+/// `count` copies (module docs); or how some of its nodes repeat ([`Self::partial`]), the
+/// others outside. Dofs are `dim` per node, node `m`'s at `dim m ..`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CyclicSymmetry {
     dim: usize,
     count: usize,
-    /// Per node: its orbit.
+    /// Per node: its orbit ([`OUTSIDE`] for a node the symmetry does not cover).
     orbit: Vec<u32>,
     /// Per node: its copy `k`: the node is `sigma^k` of its orbit's copy 0.
     turn: Vec<u32>,
     /// `node_of[orbit * count + k]`.
     node_of: Vec<u32>,
-    /// `(cos, sin)` of `2 pi k / count`.
+    /// `(cos, sin)` of `2 pi k / count` ([`Copies::Turn`]), or `(1, 0)` ([`Copies::Shift`]).
     rot: Vec<(f64, f64)>,
+    /// The covered nodes, ascending.
+    covered: Vec<u32>,
 }
+
+/// The orbit of a node outside a partial symmetry.
+const OUTSIDE: u32 = u32::MAX;
 
 impl CyclicSymmetry {
     /// The symmetry of `count` sectors from each node's `(orbit, copy)`: node `m` is the
@@ -48,6 +72,23 @@ impl CyclicSymmetry {
     /// A message when `dim` is not 2 or 3, `count < 2`, a copy is out of range or the
     /// labels are not one node per orbit and copy.
     pub fn new(dim: usize, count: usize, labels: &[(usize, usize)]) -> Result<Self, String> {
+        let labels: Vec<Option<(usize, usize)>> = labels.iter().copied().map(Some).collect();
+        Self::partial(dim, count, &labels, Copies::Turn)
+    }
+
+    /// The symmetry of `count` copies of the nodes labelled `Some((orbit, copy))`, each copy
+    /// following from the one before as `copies` says; a node labelled `None` is outside it,
+    /// and a covered dof's column must be zero there (module docs, A rail closed on itself).
+    ///
+    /// # Errors
+    /// A message when `dim` is not 2 or 3, `count < 2`, a copy is out of range, no node is
+    /// covered or the covered nodes are not one node per orbit and copy.
+    pub fn partial(
+        dim: usize,
+        count: usize,
+        labels: &[Option<(usize, usize)>],
+        copies: Copies,
+    ) -> Result<Self, String> {
         if !(dim == 2 || dim == 3) {
             return Err(format!(
                 "a cyclic symmetry needs 2 or 3 dofs per node, not {dim}"
@@ -58,17 +99,26 @@ impl CyclicSymmetry {
                 "a cyclic symmetry needs 2 sectors or more, not {count}"
             ));
         }
-        if labels.len() % count != 0 {
+        let covered: Vec<u32> = (0..labels.len())
+            .filter(|&m| labels[m].is_some())
+            .map(|m| m as u32)
+            .collect();
+        if covered.is_empty() || covered.len() % count != 0 {
             return Err(format!(
                 "{} nodes are not whole orbits of {count} copies",
-                labels.len()
+                covered.len()
             ));
         }
-        let orbits = labels.len() / count;
-        let mut node_of = vec![u32::MAX; labels.len()];
+        let orbits = covered.len() / count;
+        let mut node_of = vec![u32::MAX; covered.len()];
         let mut orbit = Vec::with_capacity(labels.len());
         let mut turn = Vec::with_capacity(labels.len());
-        for (m, &(o, k)) in labels.iter().enumerate() {
+        for (m, label) in labels.iter().enumerate() {
+            let Some((o, k)) = *label else {
+                orbit.push(OUTSIDE);
+                turn.push(0);
+                continue;
+            };
             if o >= orbits || k >= count {
                 return Err(format!(
                     "node {m}: orbit {o} of {orbits}, copy {k} of {count}: out of range"
@@ -85,9 +135,12 @@ impl CyclicSymmetry {
             turn.push(k as u32);
         }
         let rot = (0..count)
-            .map(|k| {
-                let a = 2.0 * std::f64::consts::PI * k as f64 / count as f64;
-                (a.cos(), a.sin())
+            .map(|k| match copies {
+                Copies::Turn => {
+                    let a = 2.0 * std::f64::consts::PI * k as f64 / count as f64;
+                    (a.cos(), a.sin())
+                }
+                Copies::Shift => (1.0, 0.0),
             })
             .collect();
         Ok(Self {
@@ -97,6 +150,7 @@ impl CyclicSymmetry {
             turn,
             node_of,
             rot,
+            covered,
         })
     }
 
@@ -112,7 +166,12 @@ impl CyclicSymmetry {
 
     /// Orbits (nodes of one sector).
     pub fn orbits(&self) -> usize {
-        self.orbit.len() / self.count
+        self.covered.len() / self.count
+    }
+
+    /// Whether dof `d`'s node is one the symmetry covers.
+    pub fn covers(&self, d: usize) -> bool {
+        self.orbit.get(d / self.dim).is_some_and(|&o| o != OUTSIDE)
     }
 
     /// Dofs of the model.
@@ -120,7 +179,7 @@ impl CyclicSymmetry {
         self.dim * self.orbit.len()
     }
 
-    /// Dof `d`'s orbit, copy and component.
+    /// Dof `d`'s orbit, copy and component (`d` covered: [`Self::covers`]).
     pub fn locate(&self, d: usize) -> (usize, usize, usize) {
         let m = d / self.dim;
         (self.orbit[m] as usize, self.turn[m] as usize, d % self.dim)
@@ -138,7 +197,8 @@ impl CyclicSymmetry {
     }
 
     /// `out <- A^{-1} e_d` from the columns `base[j] = A^{-1} e_{b,j}` of `d`'s orbit's
-    /// copy 0 (module docs); each slice `dofs()` long.
+    /// copy 0 (module docs); each slice `dofs()` long. The nodes outside a partial symmetry
+    /// get zeros.
     pub fn derive(&self, d: usize, base: &[&[f64]], out: &mut [f64]) {
         let dim = self.dim;
         let (_, k, c) = self.locate(d);
@@ -157,7 +217,11 @@ impl CyclicSymmetry {
             }
             _ => w[2] = 1.0,
         }
-        for m in 0..self.orbit.len() {
+        if self.covered.len() < self.orbit.len() {
+            out.fill(0.0);
+        }
+        for &m in &self.covered {
+            let m = m as usize;
             let mut v = [0.0; 3];
             for (j, col) in base.iter().enumerate().take(dim) {
                 if w[j] != 0.0 {
@@ -398,6 +462,82 @@ mod tests {
         }
         assert!(worst < 1e-13, "derived against solved: {worst:e}");
         assert_eq!(cc.derived(), n);
+    }
+
+    /// A partial symmetry: a ring of `count` nodes closed on itself under a shift (springs
+    /// between neighbours along a line, the last joined to the first, no turn) beside two
+    /// nodes outside it, in a block of their own. The shifted columns equal the solved
+    /// ones, zero on the outside nodes; the outside dofs are not covered.
+    #[test]
+    fn shifted_columns_of_a_closed_ring_equal_solved_ones() {
+        let count = 6;
+        let dim = 3;
+        let outside = 2;
+        let mut labels: Vec<Option<(usize, usize)>> = vec![None; outside];
+        labels.extend((0..2).flat_map(|o| (0..count).map(move |k| Some((o, k)))));
+        let sym = CyclicSymmetry::partial(dim, count, &labels, Copies::Shift).unwrap();
+        let nodes = labels.len();
+        let n = dim * nodes;
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            a[i * n + i] = 3.0;
+        }
+        // The outside block: its own coupling.
+        a[1] = 0.5;
+        a[n] = 0.5;
+        let node = |o: usize, k: usize| outside + o * count + k % count;
+        let mut spring = |p: usize, q: usize, d: [f64; 3], kf: f64| {
+            let l2: f64 = d.iter().map(|x| x * x).sum();
+            for i in 0..3 {
+                for j in 0..3 {
+                    let v = kf * d[i] * d[j] / l2;
+                    a[(3 * p + i) * n + 3 * p + j] += v;
+                    a[(3 * q + i) * n + 3 * q + j] += v;
+                    a[(3 * p + i) * n + 3 * q + j] -= v;
+                    a[(3 * q + i) * n + 3 * p + j] -= v;
+                }
+            }
+        };
+        for k in 0..count {
+            spring(node(0, k), node(0, k + 1), [1.0, 0.0, 0.0], 2.0);
+            spring(node(1, k), node(1, k + 1), [1.0, 0.0, 0.0], 1.0);
+            spring(node(0, k), node(1, k), [0.0, 1.0, 0.0], 5.0);
+            spring(node(0, k), node(1, k + 1), [1.0, 1.0, 0.3], 0.7);
+        }
+        let solve = |d: usize| {
+            let mut m = a.clone();
+            let mut r = vec![0.0; n];
+            r[d] = 1.0;
+            crate::linalg::dense_solve_in_place(&mut m, &mut r, n);
+            r
+        };
+        assert!(!sym.covers(0) && !sym.covers(dim * outside - 1) && sym.covers(dim * outside));
+        assert_eq!(sym.orbits(), 2);
+        let mut cc = CyclicColumns::new(sym);
+        for d in dim * outside..n {
+            cc.need(d);
+        }
+        let mut dofs = Vec::new();
+        cc.pending_dofs(&mut dofs);
+        assert_eq!(dofs.len(), 6, "two orbits, three components");
+        let solved: Vec<f64> = dofs.iter().flat_map(|&d| solve(d)).collect();
+        cc.store(&solved);
+        let mut out = vec![f64::NAN; n];
+        let mut worst: f64 = 0.0;
+        for d in dim * outside..n {
+            cc.derive(d, &mut out);
+            assert!(out[..dim * outside].iter().all(|&x| x == 0.0));
+            let want = solve(d);
+            for (x, y) in out.iter().zip(&want) {
+                worst = worst.max((x - y).abs());
+            }
+        }
+        assert!(worst < 1e-13, "shifted against solved: {worst:e}");
+        // Not a symmetry of a ring whose copies are not whole.
+        assert!(
+            CyclicSymmetry::partial(dim, count, &labels[..outside + 3], Copies::Shift).is_err()
+        );
+        assert!(CyclicSymmetry::partial(dim, count, &[None, None], Copies::Shift).is_err());
     }
 
     #[test]

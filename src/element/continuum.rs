@@ -178,7 +178,33 @@ pub fn assemble_continuum<E: Continuum<N>, const N: usize>(
     density: f64,
     lumped: bool,
 ) -> Result<Assembled<E::Geometry>, CellError> {
-    let geometry = geometries(mesh, el)?;
+    assemble_continuum_shaped(mesh, mesh, el, density, lumped)
+}
+
+/// [`assemble_continuum`] on `mesh`'s nodes and cells with each cell's geometry taken from
+/// the same cell of `shape`: a mesh closed on itself (a rail whose ends are joined), whose
+/// cells across the seam name the first station's nodes, is shaped by the open mesh it was
+/// closed from (the same cells in the same order, the last station not yet merged).
+///
+/// # Errors
+/// As [`assemble_continuum`], or [`CellError::WrongCells`] when `shape` has another count
+/// or kind of cells.
+pub fn assemble_continuum_shaped<E: Continuum<N>, const N: usize>(
+    shape: &Mesh,
+    mesh: &Mesh,
+    el: &E,
+    density: f64,
+    lumped: bool,
+) -> Result<Assembled<E::Geometry>, CellError> {
+    if shape.cells.len() != mesh.cells.len() || shape.cells.kind() != mesh.cells.kind() {
+        return Err(CellError::WrongCells {
+            expected: mesh.cells.kind().describe(),
+            dim: mesh.dim,
+            got: shape.cells.kind().describe(),
+            got_dim: shape.dim,
+        });
+    }
+    let geometry = geometries(shape, el)?;
     let assembler = Assembler::new(mesh);
     let m = assembler.assemble(&ContinuumMass {
         element: el,

@@ -374,6 +374,15 @@ impl Simulation {
                 "a moving refined zone turns one body (and its twin) against its base, or against another body through an interface whose slave it is, the other body's nodes their own sources".into(),
             ));
         }
+        if let Some(c) = eng.rows.cyclic() {
+            let sym = c.symmetry();
+            if (0..spec.turned.min(nodes)).any(|m| sym.covers(sym.dim() * m)) {
+                return Err(SimError::Unsupported(
+                    "a cyclic symmetry of the nodes a moving refined zone relabels is not built"
+                        .into(),
+                ));
+            }
+        }
         if !eng.obstacles.iter_mut().all(|o| o.turn_frame(0.0)) {
             return Err(SimError::Unsupported(
                 "a moving refined zone needs obstacles that turn about the origin (the wheel's base)".into(),

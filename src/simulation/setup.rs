@@ -222,11 +222,36 @@ impl Simulation {
     /// same column solved (`dim + 1` solves, whose base columns are kept).
     ///
     /// # Errors
-    /// [`SimError::Unsupported`] when `sym` is not on the model's dofs, with a moving
-    /// refined zone (its relabelling is another map of the nodes), or when the turned column
-    /// differs from the solved one by more than `1e-9` of its largest entry: the model does
-    /// not have the symmetry.
+    /// [`SimError::Unsupported`] when `sym` is not on the model's dofs, covers nodes a
+    /// moving refined zone relabels (its relabelling is another map of the nodes), or when
+    /// the turned column differs from the solved one by more than `1e-9` of its largest
+    /// entry: the model does not have the symmetry.
     pub fn set_cyclic_symmetry(&mut self, sym: CyclicSymmetry) -> Result<(), SimError> {
+        // The check's node: a contact node off the base sector (else any node in copy 1).
+        let node = self
+            .engine
+            .pairs
+            .iter()
+            .flat_map(|p| {
+                let (nodes, len) = p.nodes();
+                nodes.into_iter().take(len)
+            })
+            .find(|&m| sym.covers(sym.dim() * m) && sym.locate(sym.dim() * m).1 != 0)
+            .unwrap_or_else(|| sym.dof(0, 1, 0) / sym.dim());
+        self.set_cyclic_symmetry_at(sym, node)
+    }
+
+    /// [`Self::set_cyclic_symmetry`], its claim checked on the column of `node`'s first
+    /// dof (a node the symmetry covers, off its base copy, and free: a node the contact
+    /// meets, where the columns will be taken).
+    ///
+    /// # Errors
+    /// As [`Self::set_cyclic_symmetry`], and when `node` is not covered or in the base copy.
+    pub fn set_cyclic_symmetry_at(
+        &mut self,
+        sym: CyclicSymmetry,
+        node: usize,
+    ) -> Result<(), SimError> {
         let eng = &mut self.engine;
         let n = eng.model.n();
         if sym.dofs() != n || sym.dim() != eng.dim {
@@ -237,23 +262,22 @@ impl Simulation {
                 eng.dim
             )));
         }
-        if self.relocation.is_some() {
-            return Err(SimError::Unsupported(
-                "a cyclic symmetry with a moving refined zone is not built".into(),
-            ));
+        if let Some(rel) = &self.relocation {
+            // The zone relabels the nodes below `turned`; the symmetry may cover the others
+            // (an elastic rail's, which keep their labels).
+            if (0..rel.spec.turned).any(|m| sym.covers(sym.dim() * m)) {
+                return Err(SimError::Unsupported(
+                    "a cyclic symmetry of the nodes a moving refined zone relabels is not built"
+                        .into(),
+                ));
+            }
         }
-        // The check's dof: a contact node's first component off the base sector (else any
-        // node's in copy 1).
-        let node = eng
-            .pairs
-            .iter()
-            .flat_map(|p| {
-                let (nodes, len) = p.nodes();
-                nodes.into_iter().take(len)
-            })
-            .find(|&m| sym.locate(sym.dim() * m).1 != 0)
-            .unwrap_or_else(|| sym.dof(0, 1, 0) / sym.dim());
         let d = sym.dim() * node;
+        if !sym.covers(d) || sym.locate(d).1 == 0 {
+            return Err(SimError::Unsupported(format!(
+                "the cyclic symmetry's check needs a node it covers off its base copy, not node {node}"
+            )));
+        }
         let cyc = CyclicColumns::checked(sym, &mut *eng.integ, d).map_err(SimError::Unsupported)?;
         eng.rows.set_cyclic(Some(cyc));
         Ok(())

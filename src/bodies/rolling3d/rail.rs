@@ -18,7 +18,17 @@
 //! columns of nodes below it are stretched so that the foot stays flat. Cells: `pitch`
 //! along the rail over its whole length, `pitch` across within `+-fine_half_width` and in
 //! depth within `fine_depth` of the top, growing by `growth` beyond (the rulers of
-//! [`crate::mesh::generators::graded`]). The foot is held; the ends are free.
+//! [`crate::mesh::generators::graded`]). The foot is held; the ends are free, or joined.
+//!
+//! **The bar closed on itself** ([`RailBlock::periodic`], the bar's default). Its last
+//! station's nodes are merged into its first's ([`RailBlock::close`]): a ring of equal
+//! stations, each cell shaped by the open bar's ([`crate::bodies::solid::solid_closed`]).
+//! It has no free end to soften the rail as the patch nears it, and its step matrix does
+//! not change under a shift by one station, so the column `A^{-1} e_d` of every rail node
+//! the patch meets is its section's node's column at one station, shifted
+//! ([`crate::contact::cyclic`], A rail closed on itself): the rail's columns cost no solve
+//! once its section's are known, where each station the patch reaches would cost one a dof.
+//! The top's facets leave out the seam's station, which the margins keep from the patch.
 //!
 //! **Frame.** `x = o + v t + d(t) e_y + X + u` ([`Motion::Pressed`]) with `o = (-margin,
 //! -rho, z_c)` (`rho` the spun rim's mean radius, `z_c` the wheel's mid-plane: at `t = 0`
@@ -56,6 +66,23 @@ pub struct RailBlock {
     pub rolled: f64,
     /// The section: the crowned bar of `height` and `width`, or the UIC60 rail.
     pub profile: RailProfile,
+    /// The rail's two ends joined ([`RailBlock::close`]): a ring of equal stations, with no
+    /// free end, whose contact columns repeat shifted by a station
+    /// ([`crate::contact::cyclic`], A rail closed on itself). The bar only.
+    pub periodic: bool,
+}
+
+/// A rail mesh closed on itself ([`RailBlock::close`]).
+#[derive(Debug, Clone)]
+pub struct ClosedRail {
+    /// The mesh: the open mesh's nodes without its last station, its cells across the seam
+    /// naming the first station's nodes. Node sets `"top"` (less the first station: no
+    /// facet spans the seam) and `"foot"`.
+    pub mesh: Mesh,
+    /// Per node: its place in the section (the orbit) and its station along the rail.
+    pub labels: Vec<(usize, usize)>,
+    /// The stations along the rail.
+    pub stations: usize,
 }
 
 /// The rail's section.
@@ -234,6 +261,102 @@ impl RailBlock {
     }
 }
 
+impl RailBlock {
+    /// The bar `open` ([`RailBlock::mesh`]) with its ends joined: the nodes of its last
+    /// station (at `x = length`) merged into the first's (at `x = 0`), the cells keeping
+    /// their order. Each cell is shaped by the open mesh's
+    /// ([`crate::bodies::solid::solid_closed`]); the rail is a ring of `stations` equal
+    /// stations under a shift by one of which its step matrix does not change.
+    ///
+    /// # Errors
+    /// [`MeshError::Invalid`] when the stations along the open mesh are not equal, or a node
+    /// of the last station has no twin in the first.
+    pub fn close(&self, open: &Mesh) -> Result<ClosedRail, MeshError> {
+        let dim = open.dim;
+        let nodes = open.n_nodes();
+        let xs: Vec<f64> = (0..nodes).map(|n| open.coords[dim * n]).collect();
+        let length = xs.iter().copied().fold(0.0_f64, f64::max);
+        // The stations: the distinct x, which must be equally spaced.
+        let mut along: Vec<f64> = xs.clone();
+        along.sort_by(f64::total_cmp);
+        along.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * length);
+        let stations = along.len().saturating_sub(1);
+        let dx = length / stations.max(1) as f64;
+        if stations < 3
+            || along
+                .iter()
+                .enumerate()
+                .any(|(i, &x)| (x - i as f64 * dx).abs() > 1e-9 * length)
+        {
+            return Err(MeshError::Invalid(format!(
+                "a rail closed on itself needs equal stations along it ({} stations over {length} m)",
+                stations
+            )));
+        }
+        let station = |n: usize| (xs[n] / dx).round() as usize;
+        let key = |n: usize| {
+            (
+                open.coords[dim * n + 1].to_bits(),
+                open.coords[dim * n + 2].to_bits(),
+            )
+        };
+        // The orbits: the first station's nodes in their order.
+        let mut orbit_of = std::collections::HashMap::new();
+        for n in (0..nodes).filter(|&n| station(n) == 0) {
+            let o = orbit_of.len();
+            orbit_of.insert(key(n), o);
+        }
+        let mut new_of = vec![usize::MAX; nodes];
+        let mut labels = Vec::with_capacity(nodes);
+        let mut coords = Vec::with_capacity(dim * nodes);
+        let mut first = vec![usize::MAX; orbit_of.len()];
+        for n in 0..nodes {
+            let i = station(n);
+            let Some(&o) = orbit_of.get(&key(n)) else {
+                return Err(MeshError::Invalid(format!(
+                    "node {n} of the rail has no twin on its first station: its section varies along it"
+                )));
+            };
+            if i == stations {
+                continue;
+            }
+            new_of[n] = labels.len();
+            if i == 0 {
+                first[o] = labels.len();
+            }
+            labels.push((o, i));
+            coords.extend_from_slice(open.point(n));
+        }
+        for n in 0..nodes {
+            if station(n) == stations {
+                new_of[n] = first[orbit_of[&key(n)]];
+            }
+        }
+        let mut cells = open.cells.clone();
+        for c in cells.connectivity_mut() {
+            *c = new_of[*c];
+        }
+        let mut sets = std::collections::BTreeMap::new();
+        for name in ["top", "foot"] {
+            let mut set: Vec<usize> = open
+                .node_set(name)
+                .unwrap_or_default()
+                .iter()
+                .filter(|&&n| name != "top" || station(n) != 0 && station(n) != stations)
+                .map(|&n| new_of[n])
+                .collect();
+            set.sort_unstable();
+            set.dedup();
+            sets.insert(name.to_string(), set);
+        }
+        Ok(ClosedRail {
+            mesh: Mesh::new(dim, coords, cells, sets),
+            labels,
+            stations,
+        })
+    }
+}
+
 /// The rail's frame (module docs): under the wheel of spun radius `rho` turning at `omega`
 /// with the creepages `xi` and `eta`, its crest at `X = margin` under the axle at `t = 0`
 /// on the wheel's mid-plane `z_c`, pressed by `flattening`.
@@ -259,6 +382,7 @@ mod tests {
     use super::*;
     use crate::bodies::solid::{solid, SolidSpec};
     use crate::material::{Elastic, PlaneModel};
+    use crate::model::LinearModel;
 
     fn block() -> RailBlock {
         RailBlock {
@@ -271,6 +395,7 @@ mod tests {
             margin: 0.01,
             rolled: 0.03,
             profile: RailProfile::Bar,
+            periodic: false,
         }
     }
 
@@ -338,5 +463,112 @@ mod tests {
         );
         assert_eq!(uic.nodes(0.03), mesh.n_nodes());
         assert!(solid("rail", mesh, &spec, Motion::Fixed).is_ok());
+    }
+
+    /// The bar closed on itself: one station fewer than the open bar, every cell shaped,
+    /// and its stiffness and mass the same under a shift by one station (the claim the
+    /// shifted columns rest on), with the open bar's mass and the rigid translations still
+    /// free of strain. The top leaves out the seam's stations; the UIC60 rail's unequal
+    /// stations are refused.
+    #[test]
+    fn the_closed_bar_repeats_under_a_shift_by_one_station() {
+        use crate::bodies::solid::solid_closed;
+        let b = RailBlock {
+            periodic: true,
+            ..block()
+        };
+        let open = b.mesh(0.03, Some(0.1)).unwrap();
+        let closed = b.close(&open).unwrap();
+        let [na, nc, nd] = b.counts(0.03).unwrap();
+        assert_eq!(closed.stations, na);
+        let per = (nc + 1) * (nd + 1);
+        assert_eq!(closed.mesh.n_nodes(), na * per);
+        assert_eq!(open.n_nodes(), (na + 1) * per);
+        let spec = SolidSpec {
+            material: Elastic {
+                young: 2e11,
+                poisson: 0.3,
+                density: 7800.0,
+            },
+            plane: PlaneModel::Stress,
+            thickness: 1.0,
+            lumped: false,
+        };
+        let body = solid_closed("rail", &open, closed.mesh.clone(), &spec, Motion::Fixed)
+            .unwrap()
+            .body;
+        let whole = solid("rail", open.clone(), &spec, Motion::Fixed)
+            .unwrap()
+            .body;
+        let model = &body.model;
+        // The node one station on.
+        let mut node_of = vec![usize::MAX; na * per];
+        for (m, &(o, i)) in closed.labels.iter().enumerate() {
+            node_of[o * na + i] = m;
+        }
+        let shift = |m: usize| {
+            let (o, i) = closed.labels[m];
+            node_of[o * na + (i + 1) % na]
+        };
+        let n = 3 * closed.mesh.n_nodes();
+        let kmax = model.k.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        let mmax = model.m.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        let mut entries = 0;
+        for i in 0..n {
+            for j in 0..n {
+                let Some(s) = model.assembler.slot(i, j) else {
+                    continue;
+                };
+                let (si, sj) = (3 * shift(i / 3) + i % 3, 3 * shift(j / 3) + j % 3);
+                let t = model
+                    .assembler
+                    .slot(si, sj)
+                    .expect("the shifted entry in the pattern");
+                assert!((model.k[s] - model.k[t]).abs() <= 1e-12 * kmax, "k {i} {j}");
+                assert!((model.m[s] - model.m[t]).abs() <= 1e-12 * mmax, "m {i} {j}");
+                entries += 1;
+            }
+        }
+        assert_eq!(entries, model.assembler.nnz());
+        // The mass of the open bar; a rigid translation strains nothing.
+        let total = |m: &LinearModel, dofs: usize| {
+            let mut sum = 0.0;
+            for i in (0..dofs).step_by(3) {
+                for j in (0..dofs).step_by(3) {
+                    if let Some(s) = m.assembler.slot(i, j) {
+                        sum += m.m[s];
+                    }
+                }
+            }
+            sum
+        };
+        let (mc, mo) = (total(model, n), total(&whole.model, 3 * open.n_nodes()));
+        assert!((mc - mo).abs() < 1e-12 * mo, "{mc} {mo}");
+        for c in 0..3 {
+            let mut worst: f64 = 0.0;
+            for i in 0..n {
+                let mut f = 0.0;
+                for m in 0..closed.mesh.n_nodes() {
+                    if let Some(s) = model.assembler.slot(i, 3 * m + c) {
+                        f += model.k[s];
+                    }
+                }
+                worst = worst.max(f.abs());
+            }
+            assert!(worst < 1e-9 * kmax, "translation {c}: {worst:e}");
+        }
+        // No top node on the seam's station; the foot on every station.
+        let top = closed.mesh.node_set("top").unwrap();
+        assert!(top.iter().all(|&m| closed.labels[m].1 != 0));
+        assert_eq!(closed.mesh.node_set("foot").unwrap().len(), na * (nc + 1));
+        let uic = RailBlock {
+            profile: RailProfile::Uic60 { inclination: 0.0 },
+            pitch: 2e-3,
+            fine_half_width: 6e-3,
+            margin: 0.1,
+            ..b
+        };
+        let graded = uic.mesh(0.03, None).unwrap();
+        assert!(matches!(uic.close(&graded), Err(MeshError::Invalid(_))));
     }
 }

@@ -87,10 +87,14 @@ impl super::RowSolver {
         }
         let n = self.n;
         if let Some(cyc) = self.cyclic.as_mut() {
-            // The base sector's columns that are missing, solved together; then each
-            // queued column turned from them.
+            // The base columns that are missing, solved together; then each queued column
+            // the symmetry covers turned (or shifted) from them. The others (the dofs
+            // outside a partial symmetry) are solved below.
             for &s in &self.pending {
-                cyc.need(self.dof_of_slot[s]);
+                let d = self.dof_of_slot[s];
+                if cyc.symmetry().covers(d) {
+                    cyc.need(d);
+                }
             }
             cyc.pending_dofs(&mut self.pending_dofs);
             let b = self.pending_dofs.len();
@@ -102,11 +106,21 @@ impl super::RowSolver {
                 self.solves += integ.inverse_columns(&self.pending_dofs, fresh);
                 cyc.store(fresh);
             }
-            for &s in &self.pending {
-                cyc.derive(self.dof_of_slot[s], &mut self.cols[s * n..(s + 1) * n]);
+            let dof_of_slot = &self.dof_of_slot;
+            let cols = &mut self.cols;
+            self.pending.retain(|&s| {
+                let d = dof_of_slot[s];
+                if !cyc.symmetry().covers(d) {
+                    return true;
+                }
+                cyc.derive(d, &mut cols[s * n..(s + 1) * n]);
+                false
+            });
+            if self.pending.is_empty() {
+                return;
             }
-            return;
         }
+        let m = self.pending.len();
         self.pending_dofs.clear();
         self.pending_dofs
             .extend(self.pending.iter().map(|&s| self.dof_of_slot[s]));

@@ -68,6 +68,10 @@
 //! #                           # end (default: the height or 8 fine half-widths, the
 //! #                           # larger); the rail is as long as the run's rolling and two
 //! #                           # margins
+//! # periodic = true           # the bar's ends joined: a ring of equal stations, no free
+//! #                           # end, its contact columns shifted from one station's
+//! #                           # (default for the bar; false: free ends, each column
+//! #                           # solved; the UIC60 rail's graded margins are open)
 //! ```
 //!
 //! `[time]` gives the step (`time.h`, required) and the space-time scheme's `alpha` and
@@ -161,6 +165,7 @@ struct RawRail {
     fine_depth_mm: Option<f64>,
     growth: Option<f64>,
     margin_mm: Option<f64>,
+    periodic: Option<bool>,
 }
 
 #[derive(serde::Deserialize)]
@@ -611,6 +616,14 @@ fn rail_block(
         1.0,
         2.0,
     )?;
+    let periodic = rail.periodic.unwrap_or(!uic60);
+    if periodic && uic60 {
+        return Err(cx.invalid(
+            "rail.periodic",
+            true,
+            "a rail closed on itself is the bar's (the UIC60 rail's margins are graded, its stations unequal): remove it, or set rail.profile = \"bar\"",
+        ));
+    }
     let mut block = RailBlock {
         height,
         width,
@@ -621,6 +634,7 @@ fn rail_block(
         margin: 0.0,
         rolled: 0.0,
         profile,
+        periodic,
     };
     // The patch kept from the rail's free ends: the rail's height (graded along a UIC60
     // rail's margins), or eight fine half-widths, the larger.

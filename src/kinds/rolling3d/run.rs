@@ -280,6 +280,10 @@ pub(crate) fn record(
         })
         .map_err(sim_error)?;
     }
+    // A rail closed on itself: its columns shifted from one station's.
+    if let Some((sym, probe)) = slice.rail.as_ref().and_then(|r| r.shift.clone()) {
+        sim.set_cyclic_symmetry_at(sym, probe).map_err(sim_error)?;
+    }
     let setup_s = setup_clock.elapsed().as_secs_f64();
     let mesh = slice.bodies[0].mesh.clone();
     let x_ref = mesh.reference_positions();
@@ -385,6 +389,8 @@ pub(crate) fn record(
                 "fine_half_width_m": b.fine_half_width, "fine_depth_m": b.fine_depth,
                 "growth": b.growth, "margin_m": b.margin,
             })),
+            "closed": r.shift.is_some(),
+            "stations": r.shift.as_ref().map(|(sym, _)| sym.count()),
         })),
         "coupling": m.slice.coupling,
         "steps": recs.len(),

@@ -92,6 +92,9 @@ pub enum MeshError {
         /// The node limit ([`MAX_NODES`]).
         max: usize,
     },
+    /// The mesh cannot be built as asked (the message says why).
+    #[error("{0}")]
+    Invalid(String),
 }
 
 fn check_length(name: &'static str, value: f64) -> Result<(), MeshError> {
