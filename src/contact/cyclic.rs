@@ -384,6 +384,44 @@ impl CyclicColumns {
 mod tests {
     use super::*;
 
+    /// The columns of `dofs` derived from the base columns of the dense matrix `a` (row
+    /// major) against the same columns solved: the largest difference, and the count
+    /// derived; `check` sees each derived column.
+    fn derived_against_solved(
+        sym: CyclicSymmetry,
+        a: &[f64],
+        dofs: std::ops::Range<usize>,
+        check: impl Fn(&[f64]),
+    ) -> (f64, usize) {
+        let n = sym.dofs();
+        let solve = |d: usize| {
+            let mut m = a.to_vec();
+            let mut r = vec![0.0; n];
+            r[d] = 1.0;
+            crate::linalg::dense_solve_in_place(&mut m, &mut r, n);
+            r
+        };
+        let mut cc = CyclicColumns::new(sym);
+        for d in dofs.clone() {
+            cc.need(d);
+        }
+        let mut base = Vec::new();
+        cc.pending_dofs(&mut base);
+        assert_eq!(base.len(), 6, "two orbits, three components");
+        let solved: Vec<f64> = base.iter().flat_map(|&d| solve(d)).collect();
+        cc.store(&solved);
+        let mut out = vec![f64::NAN; n];
+        let mut worst: f64 = 0.0;
+        for d in dofs {
+            cc.derive(d, &mut out);
+            check(&out);
+            for (x, y) in out.iter().zip(&solve(d)) {
+                worst = worst.max((x - y).abs());
+            }
+        }
+        (worst, cc.derived())
+    }
+
     /// A ring of `count` nodes round the axle (2 orbits: radius 1 and 2) with a dense
     /// symmetric "matrix" built to commute with the turn: `A = I + sum` of spring pairs
     /// between neighbours, their stiffness along the line between them. The derived columns
@@ -435,33 +473,9 @@ mod tests {
             a[(3 * m) * n + 3 * m + 1] += 0.4;
             a[(3 * m + 1) * n + 3 * m] -= 0.4;
         }
-        let solve = |d: usize| {
-            let mut m = a.clone();
-            let mut r = vec![0.0; n];
-            r[d] = 1.0;
-            crate::linalg::dense_solve_in_place(&mut m, &mut r, n);
-            r
-        };
-        let mut cc = CyclicColumns::new(sym);
-        for d in 0..n {
-            cc.need(d);
-        }
-        let mut dofs = Vec::new();
-        cc.pending_dofs(&mut dofs);
-        assert_eq!(dofs.len(), 6, "two orbits, three components");
-        let solved: Vec<f64> = dofs.iter().flat_map(|&d| solve(d)).collect();
-        cc.store(&solved);
-        let mut out = vec![f64::NAN; n];
-        let mut worst: f64 = 0.0;
-        for d in 0..n {
-            cc.derive(d, &mut out);
-            let want = solve(d);
-            for (x, y) in out.iter().zip(&want) {
-                worst = worst.max((x - y).abs());
-            }
-        }
+        let (worst, derived) = derived_against_solved(sym, &a, 0..n, |_| {});
         assert!(worst < 1e-13, "derived against solved: {worst:e}");
-        assert_eq!(cc.derived(), n);
+        assert_eq!(derived, n);
     }
 
     /// A partial symmetry: a ring of `count` nodes closed on itself under a shift (springs
@@ -504,34 +518,11 @@ mod tests {
             spring(node(0, k), node(1, k), [0.0, 1.0, 0.0], 5.0);
             spring(node(0, k), node(1, k + 1), [1.0, 1.0, 0.3], 0.7);
         }
-        let solve = |d: usize| {
-            let mut m = a.clone();
-            let mut r = vec![0.0; n];
-            r[d] = 1.0;
-            crate::linalg::dense_solve_in_place(&mut m, &mut r, n);
-            r
-        };
         assert!(!sym.covers(0) && !sym.covers(dim * outside - 1) && sym.covers(dim * outside));
         assert_eq!(sym.orbits(), 2);
-        let mut cc = CyclicColumns::new(sym);
-        for d in dim * outside..n {
-            cc.need(d);
-        }
-        let mut dofs = Vec::new();
-        cc.pending_dofs(&mut dofs);
-        assert_eq!(dofs.len(), 6, "two orbits, three components");
-        let solved: Vec<f64> = dofs.iter().flat_map(|&d| solve(d)).collect();
-        cc.store(&solved);
-        let mut out = vec![f64::NAN; n];
-        let mut worst: f64 = 0.0;
-        for d in dim * outside..n {
-            cc.derive(d, &mut out);
+        let (worst, _) = derived_against_solved(sym, &a, dim * outside..n, |out| {
             assert!(out[..dim * outside].iter().all(|&x| x == 0.0));
-            let want = solve(d);
-            for (x, y) in out.iter().zip(&want) {
-                worst = worst.max((x - y).abs());
-            }
-        }
+        });
         assert!(worst < 1e-13, "shifted against solved: {worst:e}");
         // Not a symmetry of a ring whose copies are not whole.
         assert!(

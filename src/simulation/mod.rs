@@ -689,6 +689,7 @@ impl Simulation {
         stats.stick_slip_changes = self.engine.rows.stick_slip_changes();
         stats.column_solves = self.engine.rows.column_solves();
         stats.columns_turned = self.engine.rows.columns_turned();
+        stats.base_columns = self.engine.rows.cyclic().map_or(0, |c| c.held());
         stats.dense_solves = self.engine.rows.dense_solves();
         stats.capped_row_solves = self.engine.rows.capped_solves();
         stats.diverged_at_s = self.guard.first().map(|d| d.t);

@@ -125,6 +125,11 @@ pub struct RunStats {
     /// ([`super::Simulation::set_cyclic_symmetry`]); not written when zero.
     #[serde(skip_serializing_if = "is_zero")]
     pub columns_turned: usize,
+    /// The base sector's (or station's) columns a cyclic symmetry holds, each solved once
+    /// (those of the set-up's check among them), from which it turns the others; not
+    /// written when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub base_columns: usize,
     /// Dense solves of the contact's active rows
     /// ([`crate::contact::rows::RowSolver::dense_solves`]); not written when zero.
     #[serde(skip_serializing_if = "is_zero")]

@@ -399,6 +399,20 @@ mod tests {
         }
     }
 
+    /// The rail's steel, consistent mass.
+    fn steel() -> SolidSpec {
+        SolidSpec {
+            material: Elastic {
+                young: 2e11,
+                poisson: 0.3,
+                density: 7800.0,
+            },
+            plane: PlaneModel::Stress,
+            thickness: 1.0,
+            lumped: false,
+        }
+    }
+
     /// The crest on the crown's circle, the foot flat, the fine pitch where the contact
     /// runs, and every cell turned the right way (positive Jacobians).
     #[test]
@@ -422,16 +436,7 @@ mod tests {
         assert!(nc > 6 && nd > 2, "{nc} {nd}");
         assert_eq!(b.nodes(0.03), mesh.n_nodes());
         // The element refuses an inverted or degenerate cell.
-        let spec = SolidSpec {
-            material: Elastic {
-                young: 2e11,
-                poisson: 0.3,
-                density: 7800.0,
-            },
-            plane: PlaneModel::Stress,
-            thickness: 1.0,
-            lumped: false,
-        };
+        let spec = steel();
         assert!(solid("rail", mesh, &spec, Motion::Fixed).is_ok());
         // The UIC60 rail turned into the rail's frame: its crest at the origin's height on
         // z = 0, its top the head's surface along the whole rail, its foot 172 mm below,
@@ -484,16 +489,7 @@ mod tests {
         let per = (nc + 1) * (nd + 1);
         assert_eq!(closed.mesh.n_nodes(), na * per);
         assert_eq!(open.n_nodes(), (na + 1) * per);
-        let spec = SolidSpec {
-            material: Elastic {
-                young: 2e11,
-                poisson: 0.3,
-                density: 7800.0,
-            },
-            plane: PlaneModel::Stress,
-            thickness: 1.0,
-            lumped: false,
-        };
+        let spec = steel();
         let body = solid_closed("rail", &open, closed.mesh.clone(), &spec, Motion::Fixed)
             .unwrap()
             .body;
