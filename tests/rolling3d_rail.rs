@@ -192,6 +192,7 @@ fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
         ("rail.growth", "3.0", "rail.growth"),
         ("rail.profile", "\"uic61\"", "rail.profile"),
         ("rail.inclination", "0.025", "rail.inclination"),
+        ("rail.margin_mm", "5.0", "rail.periodic"),
     ] {
         let text = softway::scenario::set_key(&base, key, value).unwrap();
         let (code, err) = run_err(&format!("rail-bad-{key}"), &text);

@@ -645,6 +645,22 @@ fn rail_block(
         0.0,
         100.0 * radius,
     )?;
+    // A closed rail's seam (a station without top facets) kept beyond the rim nodes the
+    // patch may meet: the zone's half arc (else four fine half-widths), the search's reach
+    // and two pitches.
+    let seam = zone.map_or(4.0 * fine_half_width, |z| 0.5 * z.width * radius)
+        + block.reach(1e-3 * depth_mm)
+        + 2.0 * pitch;
+    if periodic && block.margin < seam {
+        return Err(cx.invalid(
+            "rail.margin_mm",
+            1e3 * block.margin,
+            &format!(
+                "a rail closed on itself (rail.periodic) keeps its seam, whose station has no top facets, beyond the rim nodes the patch meets: at least {:.1} mm (the zone's half arc, the search's reach and two pitches), or rail.periodic = false",
+                1e3 * seam
+            ),
+        ));
+    }
     Ok(block)
 }
 
