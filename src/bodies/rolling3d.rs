@@ -381,9 +381,7 @@ impl RollingSlice {
                 } else {
                     None
                 };
-                let rail_mesh = closed
-                    .as_ref()
-                    .map_or_else(|| open.clone(), |c| c.mesh.clone());
+                let rail_mesh = closed.as_ref().map_or(&open, |c| &c.mesh);
                 let counts = block.counts(block.rolled)?;
                 let motion = rail::rail_frame(
                     spun_radius,
@@ -397,7 +395,7 @@ impl RollingSlice {
                 let foot = rail_mesh.node_set("foot").unwrap_or_default().to_vec();
                 let first_dof = bodies[0].mesh.n_dofs();
                 let search = FacetSearch::on_mesh(
-                    &rail_mesh,
+                    rail_mesh,
                     Some(&top),
                     Placed { motion, first_dof },
                     block.reach(spec.flattening.depth),
@@ -436,7 +434,7 @@ impl RollingSlice {
                     }
                 };
                 let solid = match closed {
-                    None => super::solid::solid("rail", rail_mesh, &solid_spec, motion),
+                    None => super::solid::solid("rail", open, &solid_spec, motion),
                     Some(c) => {
                         super::solid::solid_closed("rail", &open, c.mesh, &solid_spec, motion)
                     }
