@@ -20,6 +20,10 @@
 //! - **the bar closed on itself** (`rail.periodic`, the bar's default): its columns shifted
 //!   from one station's (each checked at set-up against a solved one) for a fraction of
 //!   the solves, and the forces of the open bar with free ends far from the patch;
+//! - **the ring rolled over again** (`rail.length_mm` shorter than the rolling): its labels
+//!   shifted a station at a time are a symmetry of the ring, so a run whose patch starts a
+//!   station further on (two shifts more, at other steps) has the same forces at every step
+//!   to round-off;
 //! - **bad input** refused on one line naming the key.
 
 mod common;
@@ -177,6 +181,59 @@ fn a_closed_rail_shifts_its_columns_and_keeps_the_open_rails_forces() {
     }
 }
 
+/// A ring of 70 mm under 75 mm of rolling, its seam kept ahead of the patch by shifting its
+/// labels a station at a time: the shift is the ring's symmetry, so starting the patch one
+/// station further on (`rail.margin_mm` + one station: the shifts come at other steps, two
+/// more of them) changes no force at any step beyond round-off.
+#[test]
+fn a_ring_rolled_over_again_shifts_its_labels_exactly() {
+    let run = |margin: &str, tag: &str| {
+        let (path, text) = shipped(
+            "rolling3d-rail",
+            &[
+                ("wheel.zone_sectors", "192"),
+                ("rail.length_mm", "70.0"),
+                ("rail.margin_mm", margin),
+            ],
+        );
+        let (dir, s) = run_in_process(&path, &text, tag);
+        let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+        (s, history)
+    };
+    let (a, ha) = run("28.0", "ring-a");
+    let stations = num(&a, "/rail/stations");
+    let length = num(&a, "/rail/length_m");
+    assert!((length - 0.07).abs() < 1e-12, "{length}");
+    let (b, hb) = run(&format!("{}", 28.0 + 1e3 * length / stations), "ring-b");
+    assert_eq!(a["rail"]["ring"], true);
+    let shifts = |s: &serde_json::Value| num(s, "/counters/ring_shifts");
+    assert!(shifts(&a) >= 15.0, "{}", a["counters"]);
+    assert_eq!(shifts(&b), shifts(&a) + 2.0);
+    let column = |h: &str, key: &str| -> Vec<f64> {
+        let mut lines = h.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let k = head.iter().position(|c| *c == key).unwrap();
+        lines
+            .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+            .collect()
+    };
+    let peak = column(&ha, "normal_force_N")
+        .iter()
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    for key in ["normal_force_N", "creep_force_N", "lateral_force_N"] {
+        let (x, y) = (column(&ha, key), column(&hb, key));
+        assert_eq!(x.len(), y.len());
+        let worst = x
+            .iter()
+            .zip(&y)
+            .fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));
+        assert!(
+            worst < 1e-9 * peak,
+            "{key}: {worst:e} N apart (peak N {peak})"
+        );
+    }
+}
+
 #[test]
 fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
     let base = std::fs::read_to_string(concat!(
@@ -193,6 +250,7 @@ fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
         ("rail.profile", "\"uic61\"", "rail.profile"),
         ("rail.inclination", "0.025", "rail.inclination"),
         ("rail.margin_mm", "5.0", "rail.periodic"),
+        ("rail.length_mm", "40.0", "rail.length_mm"),
     ] {
         let text = softway::scenario::set_key(&base, key, value).unwrap();
         let (code, err) = run_err(&format!("rail-bad-{key}"), &text);
@@ -207,6 +265,11 @@ fn a_rail_refuses_a_twin_spin_and_a_bad_pitch_by_name() {
     let text = softway::scenario::set_key(&uic, "rail.height_mm", "20.0").unwrap();
     let (code, err) = run_err("rail-bad-uic-height", &text);
     assert_one_line_error(code, &err, &["rail.height_mm", "UIC60"]);
+    // A length is a closed rail's.
+    let text = softway::scenario::set_key(&base, "rail.periodic", "false").unwrap();
+    let text = softway::scenario::set_key(&text, "rail.length_mm", "80.0").unwrap();
+    let (code, err) = run_err("rail-bad-open-length", &text);
+    assert_one_line_error(code, &err, &["rail.length_mm", "rail.periodic"]);
     // Its margins are graded: its stations are not equal, it cannot close on itself.
     let text = softway::scenario::set_key(&uic, "rail.periodic", "true").unwrap();
     let (code, err) = run_err("rail-bad-uic-periodic", &text);

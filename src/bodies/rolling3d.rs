@@ -220,6 +220,9 @@ pub struct BuiltRail {
     /// model's nodes (the wheel's outside it), and the node its check takes a column of (the
     /// crest's node at the middle station).
     pub shift: Option<(CyclicSymmetry, usize)>,
+    /// A ring shorter than the run's rolling ([`RailBlock::ring`]): its seam kept ahead of
+    /// the patch.
+    pub ring: Option<crate::simulation::RingShift>,
 }
 
 impl RollingSlice {
@@ -433,6 +436,34 @@ impl RollingSlice {
                         Some((sym, first_node + probe))
                     }
                 };
+                // A ring shorter than the rolling: node (o, i) takes the state of (o, i + 1)
+                // at each shift, the frame one station on.
+                let ring = match (&closed, block.ring) {
+                    (Some(c), Some(length)) => {
+                        let mut node_of = vec![0; c.labels.len()];
+                        for (m, &(o, i)) in c.labels.iter().enumerate() {
+                            node_of[o * c.stations + i] = m;
+                        }
+                        let mut sources: Vec<usize> = (0..first_node).collect();
+                        sources.extend(c.labels.iter().map(|&(o, i)| {
+                            first_node + node_of[o * c.stations + (i + 1) % c.stations]
+                        }));
+                        let pitch = length / c.stations as f64;
+                        let speed = match motion {
+                            Motion::Pressed { velocity, .. } => -velocity[0],
+                            _ => 0.0,
+                        };
+                        Some(crate::simulation::RingShift {
+                            sources,
+                            pitch,
+                            step: pitch,
+                            start: block.margin,
+                            speed,
+                            limit: length - block.margin,
+                        })
+                    }
+                    _ => None,
+                };
                 let solid = match closed {
                     None => super::solid::solid("rail", open, &solid_spec, motion),
                     Some(c) => {
@@ -459,6 +490,7 @@ impl RollingSlice {
                     counts,
                     length: block.length(block.rolled),
                     shift,
+                    ring,
                 })
             }
         };

@@ -80,6 +80,13 @@ pub trait MasterSurface: Send + Sync + std::fmt::Debug {
         u: &[f64],
     ) -> Option<SearchedRow>;
 
+    /// Moves the master body's translating frame by `d` (m) in the ground: a ring rail's
+    /// labels shifted by a station ([`crate::simulation::RingShift`]). `false` (nothing
+    /// done) for a surface whose frame does not translate.
+    fn shift_frame(&mut self, _d: Vector) -> bool {
+        false
+    }
+
     /// A boxed copy (an interface is cloned with its problem).
     fn clone_box(&self) -> Box<dyn MasterSurface>;
 
@@ -260,6 +267,18 @@ impl Interface {
         if angle != 0.0 {
             self.targets.iter_mut().for_each(|t| *t = None);
         }
+        true
+    }
+
+    /// Moves the master body's translating frame by `d` (m) and forgets the targets: a ring
+    /// rail whose nodes were relabelled one station on ([`crate::simulation::RingShift`]);
+    /// the next refresh finds them again. `false` (nothing done) unless the master's frame
+    /// translates.
+    pub fn shift_master_frame(&mut self, d: Vector) -> bool {
+        if !self.search.shift_frame(d) {
+            return false;
+        }
+        self.targets.iter_mut().for_each(|t| *t = None);
         true
     }
 

@@ -39,6 +39,7 @@ pub use crate::model::{LoadFn, Snapshot};
 
 pub mod behind;
 mod relocation;
+mod ring;
 mod setup;
 mod view;
 
@@ -49,6 +50,7 @@ use crate::time::step::{FactorChoice, Stepper};
 use crate::time::SpaceTimeParams;
 use relocation::Relocating;
 pub use relocation::Relocation;
+pub use ring::RingShift;
 pub use setup::{build_integrator, build_integrator_on, Problem, Settings, SimError};
 use std::sync::atomic::{AtomicBool, Ordering};
 pub use view::{RunStats, StepView};
@@ -176,6 +178,7 @@ pub struct Simulation {
     snaps: [Snapshot; 3],
     massless: Vec<usize>,
     relocation: Option<Relocating>,
+    ring: Option<ring::Shifting>,
     /// The threads of the run's two-part work ([`Simulation::set_par`]).
     team: Team,
     /// The divergence guard ([`crate::guard`]).
@@ -336,6 +339,7 @@ impl Simulation {
             snaps: [snap.clone(), snap.clone(), snap],
             massless,
             relocation: None,
+            ring: None,
             team: Team::default(),
             guard: DivergenceGuard::new(n_guard),
         })
@@ -665,6 +669,11 @@ impl Simulation {
             self.guard_step(have_prev, false)?;
             self.emit(1, false, &mut observer)?;
             self.relocate_if_due();
+            if let Some(r) = self.ring.as_mut() {
+                if r.shift_if_due(&mut self.snaps, &mut self.engine.interfaces) {
+                    self.engine.stats.ring_shifts += 1;
+                }
+            }
             self.snaps.rotate_left(1);
             if let Some(nl) = self.engine.nonlinear.as_mut() {
                 nl.rotate();

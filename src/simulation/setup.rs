@@ -216,6 +216,34 @@ impl Simulation {
         self.engine.scratch.set_predictions_again(on);
     }
 
+    /// Keeps a ring rail's seam ahead of the patch ([`super::RingShift`]).
+    ///
+    /// # Errors
+    /// [`SimError::Unsupported`] unless the sources are a permutation of the model's nodes,
+    /// the shift's pitch, speed and limit make sense, the model is linear (a nonlinear
+    /// force's state is not relabelled here) and an interface's master frame translates.
+    pub fn set_ring_shift(&mut self, spec: super::RingShift) -> Result<(), SimError> {
+        let eng = &mut self.engine;
+        let nodes = eng.reference.len() / eng.dim.max(1);
+        let ok = spec.sources.len() == nodes
+            && eng.nonlinear.is_none()
+            && !eng.interfaces.is_empty()
+            && eng
+                .interfaces
+                .iter_mut()
+                .all(|i| i.shift_master_frame([0.0; 3]));
+        let shifting = ok
+            .then(|| super::ring::Shifting::new(spec, eng.dim))
+            .flatten()
+            .ok_or_else(|| {
+                SimError::Unsupported(
+                    "a ring's shift needs a source for every node (a permutation), a linear model, a limit past its start and a contact interface whose master frame translates".into(),
+                )
+            })?;
+        self.ring = Some(shifting);
+        Ok(())
+    }
+
     /// Turns the contact's new columns from one sector's instead of solving them: the
     /// model repeats round its axle as `sym` says ([`crate::contact::cyclic`]). The claim is
     /// checked once: the column of a contact dof off the base sector, turned, against the

@@ -152,6 +152,10 @@ pub struct RunStats {
     pub symbolic_analyses: usize,
     /// Relocations of a moving refined zone ([`super::Relocation`]).
     pub relocations: usize,
+    /// Shifts of a ring rail's labels by a station ([`super::RingShift`]); not written
+    /// when zero.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub ring_shifts: usize,
     /// True when the run stopped on an interrupt.
     pub interrupted: bool,
     /// Corrections of the plastic (nonlinear internal force) iteration over the run, each

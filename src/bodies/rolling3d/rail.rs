@@ -70,6 +70,10 @@ pub struct RailBlock {
     /// free end, whose contact columns repeat shifted by a station
     /// ([`crate::contact::cyclic`], A rail closed on itself). The bar only.
     pub periodic: bool,
+    /// A closed rail's length, m, when it is shorter than the run's rolling and two margins
+    /// (`None`: that length): the ring rolled over again, its seam kept ahead of the patch
+    /// ([`crate::simulation::RingShift`]).
+    pub ring: Option<f64>,
 }
 
 /// A rail mesh closed on itself ([`RailBlock::close`]).
@@ -110,9 +114,9 @@ impl RailBlock {
     }
 
     /// The rail's length for a run that rolls `rolled` m: the rolling plus a margin at
-    /// each end.
+    /// each end, or the ring's ([`RailBlock::ring`]).
     pub fn length(&self, rolled: f64) -> f64 {
-        rolled + 2.0 * self.margin
+        self.ring.unwrap_or(rolled + 2.0 * self.margin)
     }
 
     /// The cells along, across and in depth of a bar rolled over for `rolled` m (of a
@@ -396,6 +400,7 @@ mod tests {
             rolled: 0.03,
             profile: RailProfile::Bar,
             periodic: false,
+            ring: None,
         }
     }
 

@@ -59,7 +59,7 @@ use super::interface::MasterSurface;
 use super::obstacle::{dot, Vector};
 use super::pair::tangent_basis;
 use super::rows::Terms;
-use super::search::{Placed, SearchedRow, Target};
+use super::search::{Motion, Placed, SearchedRow, Target};
 use crate::mesh::{CellKind, Mesh};
 use bvh::Bvh;
 use closest::{
@@ -516,6 +516,18 @@ impl FacetSearch {
 impl MasterSurface for FacetSearch {
     fn dim(&self) -> usize {
         3
+    }
+
+    fn shift_frame(&mut self, d: Vector) -> bool {
+        match &mut self.master.motion {
+            Motion::Translating { origin, .. } | Motion::Pressed { origin, .. } => {
+                for (o, dc) in origin.iter_mut().zip(d) {
+                    *o += dc;
+                }
+                true
+            }
+            _ => false,
+        }
     }
 
     fn reach(&self) -> f64 {

@@ -72,6 +72,10 @@
 //! #                           # end, its contact columns shifted from one station's
 //! #                           # (default for the bar; false: free ends, each column
 //! #                           # solved; the UIC60 rail's graded margins are open)
+//! # length_mm = 80.0          # a closed rail's length (at least two margins and two
+//! #                           # pitches; default: the run's rolling and two margins):
+//! #                           # shorter, the ring is rolled over again, its labels
+//! #                           # shifted a station at a time to keep its seam ahead
 //! ```
 //!
 //! `[time]` gives the step (`time.h`, required) and the space-time scheme's `alpha` and
@@ -166,6 +170,7 @@ struct RawRail {
     growth: Option<f64>,
     margin_mm: Option<f64>,
     periodic: Option<bool>,
+    length_mm: Option<f64>,
 }
 
 #[derive(serde::Deserialize)]
@@ -635,6 +640,7 @@ fn rail_block(
         rolled: 0.0,
         profile,
         periodic,
+        ring: None,
     };
     // The patch kept from the rail's free ends: the rail's height (graded along a UIC60
     // rail's margins), or eight fine half-widths, the larger.
@@ -651,6 +657,22 @@ fn rail_block(
     let seam = zone.map_or(4.0 * fine_half_width, |z| 0.5 * z.width * radius)
         + block.reach(1e-3 * depth_mm)
         + 2.0 * pitch;
+    if let Some(l) = rail.length_mm {
+        if !periodic {
+            return Err(cx.invalid(
+                "rail.length_mm",
+                l,
+                "a length is a closed rail's, its ring rolled over again (rail.periodic = true, the bar's default); an open rail is as long as the run's rolling and two margins",
+            ));
+        }
+        block.ring = Some(mm(
+            "rail.length_mm",
+            Some(l),
+            0.0,
+            2.0 * block.margin + 2.0 * pitch,
+            1000.0 * radius,
+        )?);
+    }
     if periodic && block.margin < seam {
         return Err(cx.invalid(
             "rail.margin_mm",

@@ -280,6 +280,10 @@ pub(crate) fn record(
         })
         .map_err(sim_error)?;
     }
+    // A ring shorter than the rolling: its seam kept ahead of the patch.
+    if let Some(ring) = slice.rail.as_ref().and_then(|r| r.ring.clone()) {
+        sim.set_ring_shift(ring).map_err(sim_error)?;
+    }
     // A rail closed on itself: its columns shifted from one station's.
     if let Some((sym, probe)) = slice.rail.as_ref().and_then(|r| r.shift.clone()) {
         sim.set_cyclic_symmetry_at(sym, probe).map_err(sim_error)?;
@@ -390,6 +394,7 @@ pub(crate) fn record(
                 "growth": b.growth, "margin_m": b.margin,
             })),
             "closed": r.shift.is_some(),
+            "ring": r.ring.is_some(),
             "stations": r.shift.as_ref().map(|(sym, _)| sym.count()),
         })),
         "coupling": m.slice.coupling,
