@@ -30,6 +30,15 @@
 //! once its section's are known, where each station the patch reaches would cost one a dof.
 //! The top's facets leave out the seam's station, which the margins keep from the patch.
 //!
+//! **The ring rolled over again** ([`RailBlock::ring`]). A closed rail shorter than the
+//! run's rolling and two margins is a ring the patch goes round again and again, as a
+//! twin-disc machine's. Each time the patch has come within a margin of the seam ahead, the
+//! rail's labels shift one station back and its frame one station on
+//! ([`crate::simulation::RingShift`]): the same material in the same place, the seam a
+//! station further ahead. The shift is the ring's symmetry, so the step matrix, its factor
+//! and the cached columns stay as they are, and the model's size no longer grows with the
+//! distance rolled.
+//!
 //! **Frame.** `x = o + v t + d(t) e_y + X + u` ([`Motion::Pressed`]) with `o = (-margin,
 //! -rho, z_c)` (`rho` the spun rim's mean radius, `z_c` the wheel's mid-plane: at `t = 0`
 //! the crest at `X = margin` touches the rim's lowest point), `v = -V (1 - xi, 0, eta)`
