@@ -432,7 +432,10 @@ fn run_command(
     for w in &report.warnings {
         errln!("softway: warning: {w}");
     }
-    let interrupted = report.interrupted || cancel.is_cancelled();
+    // Interrupted when the run stopped before its last step: a signal that comes once the
+    // steps are done (while the files are written) leaves complete results, whose summary
+    // says so, and the command exits 0.
+    let interrupted = report.interrupted;
     let files = stage.finish(&report.files, Some(&sc), interrupted)?;
     print_report(
         Some(format!("{} ({})", sc.name, scenario.display())),
