@@ -670,9 +670,8 @@ impl Simulation {
             self.emit(1, false, &mut observer)?;
             self.relocate_if_due();
             if let Some(r) = self.ring.as_mut() {
-                if r.shift_if_due(&mut self.snaps, &mut self.engine.interfaces) {
-                    self.engine.stats.ring_shifts += 1;
-                }
+                self.engine.stats.ring_shifts +=
+                    r.shift_if_due(&mut self.snaps, &mut self.engine.interfaces);
             }
             self.snaps.rotate_left(1);
             if let Some(nl) = self.engine.nonlinear.as_mut() {

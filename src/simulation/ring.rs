@@ -22,7 +22,7 @@ pub struct RingShift {
     /// The frame's move along `x` per shift, m (`+pitch` when the patch travels toward `+x`
     /// in the ring's coordinates).
     pub step: f64,
-    /// The patch's place along the ring at `t = 0`, m, and its speed along it, m/s (> 0).
+    /// The patch's place along the ring at `t = 0`, m.
     pub start: f64,
     /// The patch's speed along the ring, m/s (> 0).
     pub speed: f64,
@@ -64,19 +64,30 @@ impl Shifting {
         })
     }
 
-    /// Shifts the ring once when the patch at the newest state (`snaps[2]`) has passed the
-    /// limit: the snapshots' states and pairs relabelled, the interfaces' master frames
-    /// moved. Returns whether it shifted.
+    /// Shifts the ring while the patch at the newest state (`snaps[2]`) is past the limit
+    /// (once a step unless a step rolls more than a station): the snapshots' states and
+    /// pairs relabelled, the interfaces' master frames moved. Returns the shifts done.
     pub(super) fn shift_if_due(
         &mut self,
         snaps: &mut [Snapshot; 3],
         interfaces: &mut [Interface],
-    ) -> bool {
-        let s = &self.spec;
-        let at = s.start + s.speed * snaps[2].t - self.done as f64 * s.pitch;
-        if at < s.limit {
-            return false;
+    ) -> usize {
+        let mut shifts = 0;
+        while self.due(snaps[2].t) {
+            self.shift(snaps, interfaces);
+            shifts += 1;
         }
+        shifts
+    }
+
+    /// Whether the patch at `t` is past the limit.
+    fn due(&self, t: f64) -> bool {
+        let s = &self.spec;
+        s.start + s.speed * t - self.done as f64 * s.pitch >= s.limit
+    }
+
+    /// One shift (type docs).
+    fn shift(&mut self, snaps: &mut [Snapshot; 3], interfaces: &mut [Interface]) {
         for snap in snaps.iter_mut() {
             for x in [&mut snap.state.u, &mut snap.state.v, &mut snap.state.a] {
                 self.vector(x);
@@ -88,7 +99,6 @@ impl Shifting {
             i.shift_master_frame(d);
         }
         self.done += 1;
-        true
     }
 
     /// Node `n` takes the values of its source.
