@@ -42,7 +42,7 @@ use crate::contact::facets::FacetSearch;
 use crate::contact::search::Placed;
 use crate::contact::Interface;
 
-use crate::contact::cyclic::{Copies, CyclicSymmetry};
+use crate::contact::cyclic::CyclicSymmetry;
 use crate::contact::obstacle::Flattening;
 use crate::contact::pair::tangent_basis;
 use crate::contact::search::Motion;
@@ -416,54 +416,19 @@ impl RollingSlice {
                 let first_node = bodies[0].mesh.n_nodes();
                 let shift = match &closed {
                     None => None,
-                    Some(c) => {
-                        let mut labels = vec![None; first_node];
-                        labels.extend(c.labels.iter().copied().map(Some));
-                        let sym = CyclicSymmetry::partial(3, c.stations, &labels, Copies::Shift)
-                            .map_err(RollingSliceError::Assembly)?;
-                        // The check's node: the crest's at the middle station.
-                        let x = &c.mesh.coords;
-                        let probe = top
-                            .iter()
-                            .copied()
-                            .filter(|&n| c.labels[n].1 == c.stations / 2)
-                            .max_by(|&a, &b| x[3 * a + 1].total_cmp(&x[3 * b + 1]))
-                            .ok_or_else(|| {
-                                RollingSliceError::Assembly(
-                                    "the closed rail has no top node at its middle station".into(),
-                                )
-                            })?;
-                        Some((sym, first_node + probe))
-                    }
+                    Some(c) => Some(
+                        c.shift(first_node, &top)
+                            .map_err(RollingSliceError::Assembly)?,
+                    ),
                 };
-                // A ring shorter than the rolling: node (o, i) takes the state of (o, i + 1)
-                // at each shift, the frame one station on.
-                let ring = match (&closed, block.ring) {
-                    (Some(c), Some(length)) => {
-                        let mut node_of = vec![0; c.labels.len()];
-                        for (m, &(o, i)) in c.labels.iter().enumerate() {
-                            node_of[o * c.stations + i] = m;
-                        }
-                        let mut sources: Vec<usize> = (0..first_node).collect();
-                        sources.extend(c.labels.iter().map(|&(o, i)| {
-                            first_node + node_of[o * c.stations + (i + 1) % c.stations]
-                        }));
-                        let pitch = length / c.stations as f64;
-                        let speed = match motion {
-                            Motion::Pressed { velocity, .. } => -velocity[0],
-                            _ => 0.0,
-                        };
-                        Some(crate::simulation::RingShift {
-                            sources,
-                            pitch,
-                            step: pitch,
-                            start: block.margin,
-                            speed,
-                            limit: length - block.margin,
-                        })
-                    }
-                    _ => None,
+                let speed = match motion {
+                    Motion::Pressed { velocity, .. } => -velocity[0],
+                    _ => 0.0,
                 };
+                let ring = closed
+                    .as_ref()
+                    .zip(block.ring)
+                    .map(|(c, length)| c.ring_shift(first_node, length, block.margin, speed));
                 let solid = match closed {
                     None => super::solid::solid("rail", open, &solid_spec, motion),
                     Some(c) => {

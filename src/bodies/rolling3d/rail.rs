@@ -47,12 +47,14 @@
 //! [`crate::contact::RotatingBase`] poses them) and `d(t)` the flattening program. A frame
 //! that accelerates loads the rail with `-M 1 d''` ([`crate::bodies::load_fn`]).
 
+use crate::contact::cyclic::{Copies, CyclicSymmetry};
 use crate::contact::obstacle::Flattening;
 use crate::contact::search::Motion;
 use crate::mesh::generators::graded::ruler;
 use crate::mesh::generators::rail3d::{rail_section, rail_stations};
 use crate::mesh::generators::{box_mesh, rail_extruded, MeshError, RailSpec};
 use crate::mesh::{CellKind, Mesh};
+use crate::simulation::RingShift;
 
 /// The rail's section, its cells and its length margin, m (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -367,6 +369,59 @@ impl RailBlock {
             labels,
             stations,
         })
+    }
+}
+
+impl ClosedRail {
+    /// Its shift by one station over a model whose first `first_node` nodes are another
+    /// body's (outside the symmetry), and the node the set-up's check takes a column of: the
+    /// crest's node (of `top`, the closed mesh's) at the middle station, as a model node.
+    ///
+    /// # Errors
+    /// A message when the labels are not whole stations, or no top node is at the middle.
+    pub fn shift(
+        &self,
+        first_node: usize,
+        top: &[usize],
+    ) -> Result<(CyclicSymmetry, usize), String> {
+        let mut labels = vec![None; first_node];
+        labels.extend(self.labels.iter().copied().map(Some));
+        let sym = CyclicSymmetry::partial(3, self.stations, &labels, Copies::Shift)?;
+        let x = &self.mesh.coords;
+        let probe = top
+            .iter()
+            .copied()
+            .filter(|&n| self.labels[n].1 == self.stations / 2)
+            .max_by(|&a, &b| x[3 * a + 1].total_cmp(&x[3 * b + 1]))
+            .ok_or("the closed rail has no top node at its middle station")?;
+        Ok((sym, first_node + probe))
+    }
+
+    /// The ring rolled over again ([`RailBlock::ring`]) of `length` (m), its nodes after the
+    /// model's first `first_node`: node `(o, i)` takes the state of `(o, i + 1)` at each
+    /// shift, the frame one station on, when the patch (from `margin`, at `speed` m/s along
+    /// the ring) comes within `margin` of the seam ahead.
+    pub fn ring_shift(&self, first_node: usize, length: f64, margin: f64, speed: f64) -> RingShift {
+        let n = self.stations;
+        let mut node_of = vec![0; self.labels.len()];
+        for (m, &(o, i)) in self.labels.iter().enumerate() {
+            node_of[o * n + i] = m;
+        }
+        let mut sources: Vec<usize> = (0..first_node).collect();
+        sources.extend(
+            self.labels
+                .iter()
+                .map(|&(o, i)| first_node + node_of[o * n + (i + 1) % n]),
+        );
+        let pitch = length / n as f64;
+        RingShift {
+            sources,
+            pitch,
+            step: pitch,
+            start: margin,
+            speed,
+            limit: length - margin,
+        }
     }
 }
 
