@@ -201,7 +201,7 @@ pub struct Rolling3dScenario {
 
 impl Rolling3dScenario {
     /// The slice of a run of `t_end` s: an elastic rail long enough for the rolling
-    /// ([`RailBlock::rolled`]: the rim's travel with its creepages, and 1 % more).
+    /// ([`crate::bodies::rolling3d::RailBlock::rolled`]: the rim's travel with its creepages, and 1 % more).
     pub fn slice_for(&self, t_end: f64) -> SliceSpec {
         let mut slice = self.slice;
         if let Some(rail) = slice.rail.as_mut() {
