@@ -186,13 +186,21 @@ pub(super) fn rail_block(
                 "a length is a closed rail's, its ring rolled over again (rail.periodic = true, the bar's default); an open rail is as long as the run's rolling and two margins",
             ));
         }
-        block.ring = Some(mm(
-            "rail.length_mm",
-            Some(l),
-            0.0,
-            2.0 * block.margin + 2.0 * pitch,
-            1000.0 * radius,
-        )?);
+        let least = 2.0 * block.margin + 2.0 * pitch;
+        if !(l.is_finite() && 1e-3 * l >= least && 1e-3 * l <= 1000.0 * radius) {
+            return Err(cx.invalid(
+                "rail.length_mm",
+                l,
+                &format!(
+                    "a ring holds a margin each side of the patch and two pitches: from {:.1} mm (rail.margin_mm = {:.1} twice, the pitch {:.2} mm twice) to {:.0} mm",
+                    1e3 * least,
+                    1e3 * block.margin,
+                    1e3 * pitch,
+                    1e6 * radius
+                ),
+            ));
+        }
+        block.ring = Some(1e-3 * l);
     }
     if periodic && block.margin < seam {
         return Err(cx.invalid(
