@@ -535,36 +535,6 @@ impl Simulation {
         self.engine.nonlinear.as_ref()
     }
 
-    /// Relocates the zone when the obstacle at the newest state has turned half a sector
-    /// past the zone's centre.
-    fn relocate_if_due(&mut self) {
-        let Some(rel) = self.relocation.as_mut() else {
-            return;
-        };
-        let t = self.snaps[2].t;
-        if rel.spec.angle0 + rel.spec.omega * t < 0.5 * rel.spec.step {
-            return;
-        }
-        for snap in &mut self.snaps {
-            rel.vector(&mut snap.state.u);
-            rel.vector(&mut snap.state.v);
-            rel.vector(&mut snap.state.a);
-            rel.pairs(&mut snap.pairs);
-        }
-        if let Some(nl) = self.engine.nonlinear.as_mut() {
-            nl.relabel(|x| rel.vector(x));
-        }
-        for o in &mut self.engine.obstacles {
-            o.turn_frame(rel.spec.step);
-        }
-        for i in &mut self.engine.interfaces {
-            i.turn_slave_frame(rel.spec.step);
-        }
-        rel.spec.angle0 -= rel.spec.step;
-        rel.done += 1;
-        self.engine.stats.relocations += 1;
-    }
-
     /// The time the run's predictions solved took, s ([`crate::contact::context::Scratch::prediction_seconds`]):
     /// over [`RunStats::predictions`], the mean free step as the loop ran it.
     pub fn prediction_seconds(&self) -> f64 {
@@ -668,7 +638,17 @@ impl Simulation {
             }
             self.guard_step(have_prev, false)?;
             self.emit(1, false, &mut observer)?;
-            self.relocate_if_due();
+            if let Some(rel) = self.relocation.as_mut() {
+                let eng = &mut self.engine;
+                if rel.relocate_if_due(
+                    &mut self.snaps,
+                    eng.nonlinear.as_mut(),
+                    &mut eng.obstacles,
+                    &mut eng.interfaces,
+                ) {
+                    eng.stats.relocations += 1;
+                }
+            }
             if let Some(r) = self.ring.as_mut() {
                 self.engine.stats.ring_shifts +=
                     r.shift_if_due(&mut self.snaps, &mut self.engine.interfaces);

@@ -1,7 +1,9 @@
 //! The moving refined zone's relocation of the state ([`Relocation`]).
 
+use crate::contact::{Interface, Obstacle};
 use crate::mesh::zone::Source;
-use crate::model::{PairMode, PairState};
+use crate::model::internal::Nonlinear;
+use crate::model::{PairMode, PairState, Snapshot};
 
 /// A moving refined zone ([`crate::mesh::zone`]): each time the obstacle has turned half a
 /// sector past the zone's centre, the frame of the mesh turns by one sector `step` with it,
@@ -84,6 +86,40 @@ pub(super) struct Relocating {
 }
 
 impl Relocating {
+    /// Relocates the zone when the obstacle at the newest state (`snaps[2]`) has turned half
+    /// a sector past the zone's centre: the snapshots, a nonlinear force's nodal states and
+    /// the pairs relabelled, the obstacles and the interfaces' slave frames turned. Returns
+    /// whether it relocated.
+    pub(super) fn relocate_if_due(
+        &mut self,
+        snaps: &mut [Snapshot; 3],
+        nonlinear: Option<&mut Nonlinear>,
+        obstacles: &mut [Box<dyn Obstacle>],
+        interfaces: &mut [Interface],
+    ) -> bool {
+        if self.spec.angle0 + self.spec.omega * snaps[2].t < 0.5 * self.spec.step {
+            return false;
+        }
+        for snap in snaps.iter_mut() {
+            self.vector(&mut snap.state.u);
+            self.vector(&mut snap.state.v);
+            self.vector(&mut snap.state.a);
+            self.pairs(&mut snap.pairs);
+        }
+        if let Some(nl) = nonlinear {
+            nl.relabel(|x| self.vector(x));
+        }
+        for o in obstacles.iter_mut() {
+            o.turn_frame(self.spec.step);
+        }
+        for i in interfaces.iter_mut() {
+            i.turn_slave_frame(self.spec.step);
+        }
+        self.spec.angle0 -= self.spec.step;
+        self.done += 1;
+        true
+    }
+
     /// Relabels a state vector (`dim` per node) in place.
     pub(super) fn vector(&mut self, x: &mut [f64]) {
         let (r, d) = (self.rot, self.dim);
