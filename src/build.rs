@@ -51,6 +51,7 @@ pub fn resolve(sc: &Scenario<RunSpec>) -> Result<Scenario, ScenarioError> {
         warnings,
         sweep: sc.sweep.clone(),
         sweep_ladder: sc.sweep_ladder.clone(),
+        sweep_ladder_with: sc.sweep_ladder_with.clone(),
         source_sha256: sc.source_sha256.clone(),
         source_text: sc.source_text.clone(),
         overrides: sc.overrides.clone(),

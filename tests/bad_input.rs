@@ -224,6 +224,19 @@ bar_refused!(
     ["`sweep.ladder.key`", "other than sweep.key"]
 );
 
+bar_refused!(
+    sweep_ladder_linked_key_of_another_length,
+    "elements = 8",
+    "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = [1.0, 2.0]\nladder = { key = \"bar.elements\", values = [8, 16], with = { \"time.h\" = [0.1] } }",
+    ["`sweep.ladder.with.\"time.h\"`", "one value a rung: 2 values"]
+);
+bar_refused!(
+    sweep_ladder_linked_to_the_swept_key,
+    "elements = 8",
+    "elements = 8\n[sweep]\nkey = \"bar.speed\"\nvalues = [1.0, 2.0]\nladder = { key = \"bar.elements\", values = [8, 16], with = { \"bar.speed\" = [1, 2] } }",
+    ["`sweep.ladder.with.\"bar.speed\"`", "other than sweep.key"]
+);
+
 /// A step of 1e-12 s: 1e12 steps, refused with the estimate (steps, time, memory, disk)
 /// and the key, unless `--yes`.
 #[test]

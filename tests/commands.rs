@@ -327,6 +327,49 @@ fn sweeps_over_several_keys() {
     assert_one_line_error(o.code, &o.stderr, &["--grid zip", "same length"]);
 }
 
+/// A `[sweep]` ladder with a key set with each rung (`ladder.with`): every value of the
+/// sweep's key on every rung, each rung with its own value of the linked key (three rungs
+/// of `bar.elements`, each with its own step: 6 points, not the 18 of a product), as
+/// `sweep.csv`'s rows and each run's steps say.
+#[test]
+fn a_ladder_sets_its_linked_keys_with_each_rung() {
+    let p = scenario(
+        "ladder_with",
+        &format!(
+            "{BAR}[sweep]\nkey = \"bar.speed\"\nvalues = [1.0, 2.0]\nladder = {{ key = \"bar.elements\", values = [8, 16, 32], with = {{ \"time.h\" = [0.1, 0.05, 0.025] }} }}\n"
+        ),
+    );
+    let out = fresh_dir("cmd", "ladder-with").join("out");
+    let o = cli(args(&[
+        "sweep",
+        p.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert!(
+        lines
+            .next()
+            .unwrap()
+            .starts_with("bar.speed_m_s,bar.elements,time.h_s,"),
+        "{csv}"
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 6, "{csv}");
+    let mut i = 0;
+    for v in ["1.0", "2.0"] {
+        for (e, h) in [("8", "0.1"), ("16", "0.05"), ("32", "0.025")] {
+            assert!(rows[i].starts_with(&format!("{v},{e},{h},")), "{}", rows[i]);
+            let d = out.join(format!("bar.speed={v},bar.elements={e},time.h={h}"));
+            let steps = summary(&d)["runs"][0]["steps"].as_u64().unwrap();
+            assert_eq!(steps, (1.0 / h.parse::<f64>().unwrap()).round() as u64);
+            i += 1;
+        }
+    }
+}
+
 /// Every command that writes a folder keeps the scenario's copy: compare and modes (with
 /// `--set`), converge.
 #[test]

@@ -27,7 +27,7 @@ pub(super) fn shard_command(
     cancel: &Cancel,
 ) -> CommandResult {
     let shard: Shard = shard.parse()?;
-    let (sc, text, keys) = sweep_values(scenario, set)?;
+    let (sc, text, keys, how) = sweep_values(scenario, set, how)?;
     let points = crate::scenario::overrides::grid(&keys, how)?;
     check_ladder_estimate(scenario, &text, &points, yes)?;
     let out = out.unwrap_or_else(|| {

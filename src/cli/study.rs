@@ -3,6 +3,7 @@
 //! their cost over every point.
 
 use super::*;
+use crate::scenario::overrides::Grid;
 
 /// `softway sweep`: the scenario over the grid of `--set` values (or its `[sweep]` table).
 pub(super) fn sweep_command(
@@ -17,10 +18,13 @@ pub(super) fn sweep_command(
     let sc = Scenario::from_file(scenario)?;
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-    let keys = if set.is_empty() {
+    let (keys, grid) = if set.is_empty() {
         default_sweep(&sc, scenario)?
     } else {
-        set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?
+        (
+            set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?,
+            grid,
+        )
     };
     let points = crate::scenario::overrides::grid(&keys, grid)?;
     check_ladder_estimate(scenario, &text, &points, yes)?;
@@ -65,21 +69,57 @@ pub(super) fn sweep_command(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The keys of the scenario's `[sweep]` table: its key, and its ladder's when given (the
-/// product of the two: every value on every rung).
+/// A sweep's key and its values (TOML literals).
+type KeyValues = (String, Vec<String>);
+
+/// The keys of the scenario's `[sweep]` table and how they combine: its key, and its
+/// ladder's when given (the product of the two: every value on every rung). A ladder with
+/// keys set with each rung (`ladder.with`) is written out as lists taken side by side
+/// ([`Grid::Zip`]): every value of the sweep's key on every rung, each rung with its own
+/// values of those keys.
 fn default_sweep(
     sc: &Scenario<crate::scenario::RunSpec>,
     scenario: &Path,
-) -> Result<Vec<(String, Vec<String>)>, String> {
+) -> Result<(Vec<KeyValues>, Grid), String> {
     let sweep = sc.sweep.clone().ok_or_else(|| {
         format!(
             "{}: no [sweep] table and no --set KEY=V1,V2,...",
             scenario.display()
         )
     })?;
-    Ok(std::iter::once(sweep)
-        .chain(sc.sweep_ladder.clone())
-        .collect())
+    Ok(match (&sc.sweep_ladder, sc.sweep_ladder_with.is_empty()) {
+        (Some((key, rungs)), false) => {
+            let (values, n) = (&sweep.1, rungs.len());
+            let spread = |vs: &[String]| -> Vec<String> {
+                values
+                    .iter()
+                    .flat_map(|_| vs.iter().cloned())
+                    .collect::<Vec<_>>()
+            };
+            let mut keys = vec![
+                (
+                    sweep.0.clone(),
+                    values
+                        .iter()
+                        .flat_map(|v| std::iter::repeat_n(v.clone(), n))
+                        .collect(),
+                ),
+                (key.clone(), spread(rungs)),
+            ];
+            keys.extend(
+                sc.sweep_ladder_with
+                    .iter()
+                    .map(|(k, vs)| (k.clone(), spread(vs))),
+            );
+            (keys, Grid::Zip)
+        }
+        _ => (
+            std::iter::once(sweep)
+                .chain(sc.sweep_ladder.clone())
+                .collect(),
+            Grid::Product,
+        ),
+    })
 }
 
 /// ` (N interrupted, M failed: ...)` after a sweep's count of points when some did not
@@ -139,22 +179,28 @@ type SweepValues = (
     Scenario<crate::scenario::RunSpec>,
     String,
     Vec<(String, Vec<String>)>,
+    Grid,
 );
 
-/// [`SweepValues`] of the scenario file at `scenario`.
+/// [`SweepValues`] of the scenario file at `scenario` (`how` for `--set`'s keys; the
+/// `[sweep]` table's own otherwise).
 pub(super) fn sweep_values(
     scenario: &Path,
     set: Vec<String>,
+    how: Grid,
 ) -> Result<SweepValues, Box<dyn std::error::Error>> {
     let sc = Scenario::from_file(scenario)?;
     let text = std::fs::read_to_string(scenario)
         .map_err(|e| format!("{}: cannot read the scenario: {e}", scenario.display()))?;
-    let keys = if set.is_empty() {
+    let (keys, how) = if set.is_empty() {
         default_sweep(&sc, scenario)?
     } else {
-        set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?
+        (
+            set.iter().map(|s| parse_set(s)).collect::<Result<_, _>>()?,
+            how,
+        )
     };
-    Ok((sc, text, keys))
+    Ok((sc, text, keys, how))
 }
 
 /// `softway converge`: the scenario over the refinement ladder of `--set`.

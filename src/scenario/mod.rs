@@ -550,6 +550,10 @@ pub struct Scenario<R = Run> {
     /// mesh ladder gives the creep curve with its Richardson limit
     /// ([`crate::run::sweep`]).
     pub sweep_ladder: Option<(String, Vec<String>)>,
+    /// Keys set with each rung of the ladder (`[sweep] ladder.with`), one value a rung:
+    /// what else a rung changes beside its key (a zone's pitch that needs another coarse
+    /// mesh, e.g. `wheel.mesh`).
+    pub sweep_ladder_with: Vec<(String, Vec<String>)>,
     /// SHA-256 of the scenario text as run (the file's bytes; a sweep's or a ladder's
     /// value set into it for that run), lowercase hex: recorded in `summary.json`.
     pub source_sha256: String,

@@ -62,6 +62,8 @@ pub(super) struct RawSweep {
 pub(super) struct RawLadder {
     pub key: String,
     pub values: Vec<toml::Value>,
+    /// `with = { "other.key" = [v1, v2, ...] }`: keys set with each rung, one value a rung.
+    pub with: Option<toml::Table>,
 }
 
 /// `[time]`.

@@ -130,7 +130,7 @@ pub(super) fn validate(
         out.history_stride.unwrap_or(1),
         1_000_000_000,
     )?;
-    let (sweep, sweep_ladder) = sweep_tables(&cx, sweep)?;
+    let (sweep, sweep_ladder, sweep_ladder_with) = sweep_tables(&cx, sweep)?;
     Ok(Scenario {
         name,
         description: description.unwrap_or_default(),
@@ -141,6 +141,7 @@ pub(super) fn validate(
         warnings,
         sweep,
         sweep_ladder,
+        sweep_ladder_with,
         source_sha256: String::new(),
         source_text: String::new(),
         overrides: Vec::new(),
@@ -188,17 +189,24 @@ fn every_run_explicit(integrator: Option<&String>, raw_runs: &[RawRun]) -> bool 
     }
 }
 
-/// The scenario's `[sweep]`: its key and values, and the refinement ladder it runs on.
-#[allow(clippy::type_complexity)]
+/// A sweep's or a ladder's key and its values (TOML literals).
+type KeyValues = (String, Vec<String>);
+
+/// `[sweep]`: its key and values, its ladder's, and the keys set with each rung.
+type SweepTables = (Option<KeyValues>, Option<KeyValues>, Vec<KeyValues>);
+
+/// The scenario's `[sweep]`: its key and values, the refinement ladder it runs on, and the
+/// keys set with each rung (`ladder.with`).
 fn sweep_tables(
     cx: &Ctx,
     sweep: Option<crate::scenario::raw::RawSweep>,
-) -> Result<(Option<(String, Vec<String>)>, Option<(String, Vec<String>)>), ScenarioError> {
+) -> Result<SweepTables, ScenarioError> {
     Ok(match sweep {
         Some(sw) if sw.values.is_empty() => {
             return Err(cx.invalid("sweep.values", "[]", "give at least one value"));
         }
         Some(sw) => {
+            let mut with = Vec::new();
             let ladder = match sw.ladder {
                 Some(l) if l.key == sw.key => {
                     return Err(cx.invalid(
@@ -216,6 +224,31 @@ fn sweep_tables(
                             &why,
                         )
                     })?;
+                    for (k, v) in l.with.iter().flatten() {
+                        let name = format!("sweep.ladder.with.\"{k}\"");
+                        if *k == sw.key || *k == l.key || !k.contains('.') {
+                            return Err(cx.invalid(
+                                &name,
+                                v,
+                                "a dotted key of the scenario other than sweep.key and sweep.ladder.key, set with each rung",
+                            ));
+                        }
+                        match v.as_array() {
+                            Some(vs) if vs.len() == values.len() => {
+                                with.push((k.clone(), vs.iter().map(|v| v.to_string()).collect()))
+                            }
+                            _ => {
+                                return Err(cx.invalid(
+                                    &name,
+                                    v,
+                                    &format!(
+                                    "a list of one value a rung: {} values, as sweep.ladder.values",
+                                    values.len()
+                                ),
+                                ))
+                            }
+                        }
+                    }
                     Some((l.key, values))
                 }
                 None => None,
@@ -223,9 +256,10 @@ fn sweep_tables(
             (
                 Some((sw.key, sw.values.iter().map(|v| v.to_string()).collect())),
                 ladder,
+                with,
             )
         }
-        None => (None, None),
+        None => (None, None, Vec::new()),
     })
 }
 

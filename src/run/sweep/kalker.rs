@@ -108,7 +108,7 @@ pub fn study_keys(points: &[SweepPoint], keys: &[String], varying: &[usize]) -> 
             swept = true;
         } else if rung.is_none() && values(i).is_some() {
             rung = Some(i);
-        } else {
+        } else if !rung.is_some_and(|r| follows(points, i, r)) {
             return None;
         }
     }
@@ -141,6 +141,18 @@ pub fn study_keys(points: &[SweepPoint], keys: &[String], varying: &[usize]) -> 
         return None;
     }
     (!creepages.is_empty()).then_some(KalkerKeys { creepages, rung })
+}
+
+/// Whether key `i` takes one value on each value of key `r` at every point: a key set with
+/// each rung (`[sweep] ladder.with`, e.g. the coarse mesh a zone's pitch needs), part of the
+/// rung rather than a key of its own.
+fn follows(points: &[SweepPoint], i: usize, r: usize) -> bool {
+    points.iter().all(|p| {
+        points
+            .iter()
+            .filter(|q| q.sets[r].value == p.sets[r].value)
+            .all(|q| q.sets[i].value == p.sets[i].value)
+    })
 }
 
 /// One rung's fit.
@@ -783,6 +795,45 @@ mod tests {
             .map(|&r| point(&[("wheel.zone_sectors", r)], [0.0, eta, 0.0], [0.0; 3], c))
             .collect();
         assert!(study_keys(&odd, &keys[1..], &[0]).is_none());
+    }
+
+    /// The shipped ladder of ratio sqrt(2), 768, 1088 and 1536 sectors, each rung with its
+    /// own coarse mesh (`[sweep] ladder.with`: the key `wheel.mesh` follows the rung): a
+    /// Kalker study whose order and limit are the power law's, at rungs of two ratios
+    /// (1.4167 then 1.4118). A key that changes within a rung is no part of it: no study.
+    #[test]
+    fn a_ladder_with_its_coarse_meshes_converges_to_the_table() {
+        use crate::scenario::overrides::Override;
+        let (g, c) = (1.64e11, 2.5e-3);
+        let table = kalker_table(0.25, 1.0).unwrap();
+        let at = |r: f64| table[0] * (1.0 + 0.1 * (768.0 / r).powi(2));
+        let keys: Vec<String> = ["rolling.creepage", "wheel.zone_sectors", "wheel.mesh"]
+            .map(String::from)
+            .to_vec();
+        let mut pts = Vec::new();
+        for xi in [-5e-4, 5e-4] {
+            for (r, mesh) in [(768.0, 48), (1088.0, 68), (1536.0, 48)] {
+                let mut p = point(
+                    &[("rolling.creepage", xi), ("wheel.zone_sectors", r)],
+                    [xi, 0.0, 0.0],
+                    [300.0 + g * c * c * at(r) * xi, 0.0, 0.0],
+                    c,
+                );
+                p.sets.push(Override {
+                    key: "wheel.mesh".into(),
+                    value: format!("[4, {mesh}, 2]"),
+                });
+                pts.push(p);
+            }
+        }
+        let k = study_keys(&pts, &keys, &[0, 1, 2]).expect("a Kalker study");
+        assert_eq!(k.rung, Some(1));
+        let s = Study::of(&pts, &k);
+        let (_, order, limit, _) = s.row(0);
+        assert!((order.unwrap() - 2.0).abs() < 1e-6, "{order:?}");
+        assert!((limit.unwrap() / table[0] - 1.0).abs() < 1e-9, "{limit:?}");
+        pts[0].sets[2].value = "[4, 96, 2]".into();
+        assert!(study_keys(&pts, &keys, &[0, 1, 2]).is_none());
     }
 
     /// An oscillating ladder (the rail's 4.457, 4.221, 4.280) has no limit, though its
