@@ -132,8 +132,8 @@ pub use reference::{FaerLlt, FaerLu};
 pub use rhs::{rhs_plain_into, BParts, RhsOperator, RhsValues};
 pub use solver::{Backend, Factor, FactorKind, Factorization, LinalgError};
 pub use sparse::{
-    is_symmetric, quadratic_form, quadratic_forms, set_identity_rows, spmv_add, spmv_into,
-    transpose_positions, write_matrix_market, Pattern,
+    diagonal_blocks, is_symmetric, quadratic_form, quadratic_forms, set_identity_rows, spmv_add,
+    spmv_into, transpose_positions, write_matrix_market, Pattern,
 };
 pub use split::PartWork;
 use supernodal::Supernodal;

@@ -25,6 +25,35 @@ pub fn set_identity_rows(pattern: &Pattern, values: &mut [f64], fixed: &[bool]) 
     }
 }
 
+/// The contiguous diagonal blocks of a square pattern: the cuts `0 = c_0 < c_1 < ... < c_m =
+/// n` such that no entry joins a block `c_k..c_{k+1}` to another. A model of several bodies
+/// numbered one after the other (a wheel and its rail, a wheel and its twin) has a step
+/// matrix block diagonal by body: a column `A^{-1} e_d` is zero outside `d`'s block. One
+/// block (`[0, n]`) when the bodies are joined or interleaved.
+pub fn diagonal_blocks(pattern: &Pattern) -> Vec<usize> {
+    let n = pattern.ncols();
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let rows = |j: usize| ri[cp[j]..cp[j + 1]].iter().copied();
+    // A cut at `c` needs no entry in a column below `c` at a row at or above it (the
+    // largest row of the columns below `c` is below `c`), and none in a column at or
+    // above `c` at a row below it (a pattern need not be symmetric): the least row of the
+    // columns from `c` on is `c` or more.
+    let mut least = vec![usize::MAX; n + 1];
+    for j in (0..n).rev() {
+        least[j] = rows(j).fold(j, usize::min).min(least[j + 1]);
+    }
+    let mut cuts = vec![0];
+    let mut high = 0;
+    for j in 0..n {
+        high = rows(j).fold(high.max(j), usize::max);
+        if j + 1 < n && high <= j && least[j + 1] > j {
+            cuts.push(j + 1);
+        }
+    }
+    cuts.push(n);
+    cuts
+}
+
 /// `y = A x` for a CSC matrix given by its pattern and values (overwrites `y`).
 pub fn spmv_into(pattern: &Pattern, values: &[f64], x: &[f64], y: &mut [f64]) {
     y.fill(0.0);
@@ -174,4 +203,47 @@ pub fn write_matrix_market<W: std::io::Write>(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The pattern of the entries `(i, j)` (rows sorted within each column).
+    fn pattern(n: usize, entries: &[(usize, usize)]) -> Pattern {
+        let mut cols = vec![Vec::new(); n];
+        for &(i, j) in entries {
+            cols[j].push(i);
+        }
+        let mut cp = vec![0];
+        let mut ri = Vec::new();
+        for mut c in cols {
+            c.sort_unstable();
+            c.dedup();
+            ri.extend(c);
+            cp.push(ri.len());
+        }
+        Pattern::new_checked(n, n, cp, None, ri)
+    }
+
+    /// Two bodies one after the other are two blocks, three a chain of three; an entry
+    /// joining the first body to the last (either way round: a pattern need not be
+    /// symmetric) leaves one block, and a diagonal alone gives a block a dof.
+    #[test]
+    fn bodies_numbered_in_turn_are_the_blocks() {
+        let diag = |n: usize| (0..n).map(|i| (i, i)).collect::<Vec<_>>();
+        let mut e = diag(6);
+        e.extend([(0, 1), (1, 0), (2, 4), (4, 2), (3, 4), (4, 3), (5, 5)]);
+        assert_eq!(diagonal_blocks(&pattern(6, &e)), vec![0, 2, 5, 6]);
+        let mut joined = e.clone();
+        joined.push((5, 0));
+        assert_eq!(diagonal_blocks(&pattern(6, &joined)), vec![0, 6]);
+        let mut joined = e.clone();
+        joined.push((0, 5));
+        assert_eq!(diagonal_blocks(&pattern(6, &joined)), vec![0, 6]);
+        let mut bridged = e;
+        bridged.push((3, 1));
+        assert_eq!(diagonal_blocks(&pattern(6, &bridged)), vec![0, 5, 6]);
+        assert_eq!(diagonal_blocks(&pattern(3, &diag(3))), vec![0, 1, 2, 3]);
+    }
 }

@@ -311,6 +311,11 @@ impl Simulation {
             scratch: Scratch::new(n, n_obstacles),
             nonlinear: None,
         };
+        // The bodies numbered in turn (a wheel and its rail or twin): each contact column
+        // is added on its own body's dofs.
+        engine
+            .rows
+            .set_blocks(crate::linalg::diagonal_blocks(engine.model.pattern()));
         if !integrator.is_space_time() {
             for &(d, _) in &dirichlet {
                 state.v[d] = 0.0;

@@ -28,7 +28,7 @@ impl super::RowSolver {
             }
             self.axpy.push((s, g * (fd - f0d)));
         }
-        add_columns(&self.team, &self.cols, &self.axpy, x);
+        self.add_terms(x);
         true
     }
 
@@ -81,6 +81,22 @@ impl super::RowSolver {
     /// Solves the queued columns `A^{-1} e_d` together (one block of right-hand sides: a
     /// factor in dense supernodes is read once for eight of them) into their slots.
     pub(super) fn solve_pending(&mut self, integ: &mut dyn TimeIntegrator) {
+        if self.blocks.len() <= 2 {
+            self.fill_pending(integ);
+            return;
+        }
+        let mut written = std::mem::take(&mut self.written);
+        written.clear();
+        written.extend_from_slice(&self.pending);
+        self.fill_pending(integ);
+        for &s in &written {
+            self.check_block(s);
+        }
+        self.written = written;
+    }
+
+    /// [`Self::solve_pending`]'s columns, solved or derived into their slots.
+    fn fill_pending(&mut self, integ: &mut dyn TimeIntegrator) {
         let m = self.pending.len();
         if m == 0 {
             return;
@@ -141,15 +157,28 @@ impl super::RowSolver {
 /// order, as one pass per column would give it, bit for bit. From `SPLIT_ADD_MIN` unknowns
 /// on, the two halves of `x` side by side on `team`'s threads.
 pub(super) fn add_columns(team: &Team, cols: &[f64], terms: &[(usize, f64)], x: &mut [f64]) {
-    let n = x.len();
-    if n < SPLIT_ADD_MIN || terms.is_empty() {
-        add_columns_range(cols, n, terms, 0, x);
+    add_columns_on(team, cols, x.len(), terms, 0, x);
+}
+
+/// [`add_columns`] on the rows `i0..i0 + x.len()` of columns `n` long: a block of the
+/// unknowns ([`super::RowSolver::set_blocks`]).
+pub(super) fn add_columns_on(
+    team: &Team,
+    cols: &[f64],
+    n: usize,
+    terms: &[(usize, f64)],
+    i0: usize,
+    x: &mut [f64],
+) {
+    let len = x.len();
+    if len < SPLIT_ADD_MIN || terms.is_empty() {
+        add_columns_range(cols, n, terms, i0, x);
         return;
     }
-    let (lo, hi) = x.split_at_mut(n / 2);
+    let (lo, hi) = x.split_at_mut(len / 2);
     team.join(
-        || add_columns_range(cols, n, terms, 0, lo),
-        || add_columns_range(cols, n, terms, n / 2, hi),
+        || add_columns_range(cols, n, terms, i0, lo),
+        || add_columns_range(cols, n, terms, i0 + len / 2, hi),
     );
 }
 
