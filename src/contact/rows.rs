@@ -845,11 +845,21 @@ mod tests {
     use crate::time::integrator::{FactorCounts, Maps, MultiplierUnit, Step};
 
     /// `A = diag(d)`: the rows' solution is checkable by hand.
-    struct Diagonal(Vec<f64>);
+    fn diagonal(d: Vec<f64>) -> Inverse {
+        let n = d.len();
+        let mut inv = vec![0.0; n * n];
+        for (i, di) in d.iter().enumerate() {
+            inv[i * n + i] = 1.0 / di;
+        }
+        Inverse(inv, n)
+    }
 
-    impl TimeIntegrator for Diagonal {
+    /// `A^{-1}` given whole (`inv[i * n + j]`, symmetric): columns of any coupling.
+    struct Inverse(Vec<f64>, usize);
+
+    impl TimeIntegrator for Inverse {
         fn name(&self) -> String {
-            "diagonal".into()
+            "inverse".into()
         }
         fn h(&self) -> f64 {
             1.0
@@ -867,48 +877,6 @@ mod tests {
                 unit: MultiplierUnit::Impulse,
                 explicit: false,
             }
-        }
-        fn predict(
-            &mut self,
-            t0: f64,
-            _s0: &State,
-            _load: &LoadFn,
-            _extra: &[f64],
-            _f: &mut [f64],
-            _pred: &mut State,
-            _x: &mut [f64],
-        ) -> Step {
-            self.step_at(t0)
-        }
-        fn inverse_column(&mut self, dof: usize, col: &mut [f64]) -> bool {
-            col.fill(0.0);
-            col[dof] = 1.0 / self.0[dof];
-            true
-        }
-        fn finish(&self, _: &Step, _s0: &State, _pred: &State, _x: &[f64], _s1: &mut State) {}
-        fn stiffness_point(&self, _s0: &State, _pred: &State, _p: &mut [f64]) -> f64 {
-            0.0
-        }
-        fn set_step(&mut self, _h: f64) -> Result<(), LinalgError> {
-            Ok(())
-        }
-        fn counts(&self) -> FactorCounts {
-            FactorCounts::default()
-        }
-    }
-
-    /// `A^{-1}` given whole (`inv[i * n + j]`, symmetric): columns of any coupling.
-    struct Inverse(Vec<f64>, usize);
-
-    impl TimeIntegrator for Inverse {
-        fn name(&self) -> String {
-            "inverse".into()
-        }
-        fn h(&self) -> f64 {
-            1.0
-        }
-        fn step_at(&self, t0: f64) -> Step {
-            Diagonal(Vec::new()).step_at(t0)
         }
         fn predict(
             &mut self,
@@ -1057,7 +1025,7 @@ mod tests {
     #[test]
     fn one_solve_needing_more_columns_than_the_cache_holds_grows_it() {
         let n = 40;
-        let mut integ = Diagonal(vec![1.0; n]);
+        let mut integ = diagonal(vec![1.0; n]);
         let mut rows = RowSolver::new(n, n, 1);
         for d in 0..n {
             rows.push(row(d, RowKind::Unilateral));
@@ -1071,7 +1039,7 @@ mod tests {
     /// The node of the Coulomb and viscoplastic tests: unit mass, normal velocity -1,
     /// tangential `vt`, friction 0.5 with the viscosity `eta`; its multipliers and velocity.
     fn node_on_plane(vt: f64, eta: f64) -> (Vec<f64>, Vec<f64>) {
-        let mut integ = Diagonal(vec![1.0, 1.0]);
+        let mut integ = diagonal(vec![1.0, 1.0]);
         let mut rows = RowSolver::new(2, 2, 2);
         let n = rows.push(row(0, RowKind::Unilateral));
         rows.push(row(
@@ -1092,7 +1060,7 @@ mod tests {
     /// the tangential velocity `vt`, under Coulomb's cone of coefficient 0.5 with the
     /// viscosity `eta`: the multipliers and the velocity.
     fn node_on_plane_3d(m: [f64; 3], vt: [f64; 2], eta: f64) -> (Vec<f64>, Vec<f64>) {
-        let mut integ = Diagonal(m.to_vec());
+        let mut integ = diagonal(m.to_vec());
         let mut rows = RowSolver::new(3, 3, 3);
         let n = rows.push(row(0, RowKind::Unilateral));
         for (dof, other) in [(1, 2), (2, 1)] {
@@ -1181,7 +1149,7 @@ mod tests {
     /// `lambda = -y0 / (W + reg)`.
     #[test]
     fn unilateral_equality_and_compliant_rows() {
-        let mut integ = Diagonal(vec![2.0, 4.0]);
+        let mut integ = diagonal(vec![2.0, 4.0]);
         let mut rows = RowSolver::new(2, 2, 2);
         rows.push(row(0, RowKind::Unilateral));
         rows.push(row(1, RowKind::Equality));
