@@ -26,7 +26,7 @@ pub fn observed_orders(xs: &[f64], values: &[f64]) -> Vec<Option<f64>> {
 /// (e^{r0 p} - 1) / (e^{r p} - 1)`, which is `e^{r p}` on a ladder of one ratio. A ladder
 /// whose rungs' ratios differ a little (a zone's pitch 768, 1088, 1536 round the rim: 1.4167
 /// then 1.4118) takes the root (bisection: the right side grows with `p`), not `ln q / r`.
-fn order_of(q: f64, r0: f64, r: f64) -> Option<f64> {
+pub fn order_of(q: f64, r0: f64, r: f64) -> Option<f64> {
     if (r0 - r).abs() <= 1e-12 * r {
         return Some(q.ln() / r);
     }
