@@ -116,6 +116,12 @@ class Scenario:
         return self.info["sweep_ladder"]
 
     @property
+    def sweep_ladder_with(self) -> list[tuple[str, list[str]]]:
+        """The keys set with each rung of the ladder (``ladder.with``), each with one value a
+        rung (TOML literals): what else a rung changes beside its key (``[]`` without)."""
+        return list(self.info["sweep_ladder_with"])
+
+    @property
     def sha256(self) -> str:
         """SHA-256 of the text (``summary.json``'s ``scenario_sha256``)."""
         return self.info["sha256"]

@@ -201,6 +201,7 @@ fn check<'py>(py: Python<'py>, text: &str, path: &str) -> PyResult<Bound<'py, Py
     d.set_item("warnings", sc.warnings.clone())?;
     d.set_item("sweep", sc.sweep.clone())?;
     d.set_item("sweep_ladder", sc.sweep_ladder.clone())?;
+    d.set_item("sweep_ladder_with", sc.sweep_ladder_with.clone())?;
     d.set_item("sha256", &sc.source_sha256)?;
     d.set_item(
         "runs",

@@ -394,6 +394,12 @@ def test_the_sweep_table_and_its_ladder_as_the_command_line_reads_them():
     assert key == "rolling.creepage" and len(values) >= 3
     assert sc.sweep_ladder == ("wheel.zone_rim_nodes", ["4608", "9216", "18432"])
     assert softway.Scenario(SCENARIOS / "creep-curve.toml").sweep_ladder is None
+    assert sc.sweep_ladder_with == []
+    kalker = softway.Scenario(SCENARIOS / "rolling3d-kalker.toml")
+    assert kalker.sweep_ladder == ("wheel.zone_sectors", ["768", "1088", "1536"])
+    assert kalker.sweep_ladder_with == [
+        ("wheel.mesh", ["[4, 48, 2]", "[4, 68, 2]", "[4, 48, 2]"])
+    ]
     text = (SCENARIOS / "creep-curve-coupled.toml").read_text().replace(
         "values = [4608, 9216, 18432]", "values = [4608]"
     )
