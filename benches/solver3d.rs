@@ -93,5 +93,64 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// The step's right-hand side `b = h f + B v0 - h K u0 - h G (v0 + c a0)` of a steel bar of
+/// 12 x 12 x 100 hexahedra spinning about its long axis (the rolling wheel's Coriolis term
+/// on the right-hand side, 51,207 unknowns, some 4.1M entries): by 3D node blocks (`K`'s
+/// nine values, `d` and `g` a block) against the rows by pairs (`B`'s and `K`'s values an
+/// entry and `G`'s beside them), one thread, beyond the caches as in a run.
+fn bench_rhs(c: &mut Criterion) {
+    use softway::element::continuum::{assemble_continuum, SolidHex8};
+    use softway::element::solid::elasticity_3d;
+    use softway::frame3d::{add_coriolis, Spin};
+    use softway::linalg::{BParts, RhsOperator, RhsValues};
+    let steel = Elastic {
+        young: 210e9,
+        poisson: 0.3,
+        density: 7850.0,
+    };
+    let mesh = box_mesh(CellKind::Hex8, [0.1, 0.1, 1.0], [12, 12, 100]).unwrap();
+    let el = SolidHex8 {
+        d: elasticity_3d(&steel),
+    };
+    let a = assemble_continuum(&mesh, &el, steel.density, false).unwrap();
+    let spin = Spin::new([0.05, 0.05, 0.0], [0.0, 0.0, 1.0], 300.0).unwrap();
+    let mut g = a.assembler.zeros();
+    add_coriolis(&a.assembler, &a.m, &spin, &mut g);
+    let pattern = a.assembler.pattern.clone();
+    let (alpha, h) = (0.8, 2.5e-6);
+    let parts = BParts::new(alpha, h);
+    let cs = vec![0.0; a.m.len()];
+    let bv: Vec<f64> = (0..a.m.len())
+        .map(|p| parts.b(a.m[p], 0.0, a.k[p]))
+        .collect();
+    let values = RhsValues {
+        m: &a.m,
+        c: &cs,
+        k: &a.k,
+        g: &g,
+        bv: &bv,
+        parts,
+    };
+    let n = pattern.nrows();
+    let u: Vec<f64> = (0..n).map(|i| 1e-4 * (0.3 * i as f64).sin()).collect();
+    let v: Vec<f64> = (0..n).map(|i| 1e-2 * (0.7 * i as f64).cos()).collect();
+    let acc: Vec<f64> = (0..n).map(|i| 3.0 * (0.9 * i as f64).sin()).collect();
+    let f = vec![0.0; n];
+    let team = Team::new(Par::threads(1));
+    let mut grp = c.benchmark_group("rhs3d_bar_12x12x100");
+    grp.sample_size(20);
+    for (name, rows) in [
+        ("pairs", RhsOperator::by_pairs(&pattern, &values)),
+        ("node_blocks", RhsOperator::new(&pattern, &values)),
+    ] {
+        eprintln!("{name}: {} bytes", rows.bytes());
+        let mut b = vec![0.0; n];
+        grp.bench_function(name, |bch| {
+            bch.iter(|| rows.apply(&team, h, alpha * h, [&u, &v, &acc], &f, &mut b))
+        });
+    }
+    grp.finish();
+}
+
+criterion_group!(benches, bench, bench_rhs);
 criterion_main!(benches);

@@ -240,7 +240,9 @@ pub fn centrifugal_load(pattern: &Pattern, m: &[f64], spin: &Spin, x: &[f64]) ->
 }
 
 /// Adds `s M_s (x) B` into `out` (same pattern as the mass `m`, `M_s` read off its
-/// x-x entries).
+/// x-x entries, those above the diagonal for both blocks of a pair of nodes: an assembled
+/// mass may differ from its transpose in the last bit, and `G` is then skew and `K_s`
+/// symmetric bit for bit).
 fn add_kronecker(asm: &Assembler, m: &[f64], b: &[[f64; 3]; 3], s: f64, out: &mut [f64]) {
     let n = asm.pattern.nrows();
     let (cp, ri) = (asm.pattern.col_ptr(), asm.pattern.row_idx());
@@ -250,13 +252,18 @@ fn add_kronecker(asm: &Assembler, m: &[f64], b: &[[f64; 3]; 3], s: f64, out: &mu
             if i % 3 != 0 || m[p] == 0.0 {
                 continue;
             }
+            let mij = if i <= j {
+                m[p]
+            } else {
+                asm.slot(j, i).map_or(m[p], |t| m[t])
+            };
             for (r, row) in b.iter().enumerate() {
                 for (c, &v) in row.iter().enumerate() {
                     if v == 0.0 {
                         continue;
                     }
                     if let Some(slot) = asm.slot(i + r, j + c) {
-                        out[slot] += s * m[p] * v;
+                        out[slot] += s * mij * v;
                     }
                 }
             }

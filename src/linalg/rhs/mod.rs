@@ -10,7 +10,9 @@
 use super::{spmv_add, HugeBuf, Pattern};
 
 mod kernels;
+mod nodes3;
 use kernels::ScalarSkew;
+use nodes3::Nodes3;
 
 /// Bytes of the right-hand side's blocks from which its products prefetch them
 /// ([`RhsOperator::blocks_ahead`]): below, they stay in the second-level caches (2 MiB a core
@@ -95,6 +97,9 @@ pub struct RhsOperator {
     skew: bool,
     /// The pattern's order.
     n: usize,
+    /// A 3D solid's rows by node blocks ([`Nodes3`]), where they have the form: then the
+    /// singles and pairs above are empty.
+    nodes3: Option<Nodes3>,
 }
 
 /// The order from which the right-hand side's pairs of rows are formed in parts side by
@@ -182,8 +187,25 @@ pub struct RhsValues<'a> {
 }
 
 impl RhsOperator {
-    /// The operator on `pattern` (structurally symmetric or not) for `values`' step.
+    /// The operator on `pattern` (structurally symmetric or not) for `values`' step: by
+    /// node blocks where a 3D solid's rows allow them ([`Nodes3`]), else by pairs.
     pub fn new(pattern: &Pattern, values: &RhsValues) -> Self {
+        Self::build(pattern, values, true)
+    }
+
+    /// The same by pairs of rows even where node blocks would do: the reference
+    /// `benches/solver3d.rs` times the node blocks against.
+    #[doc(hidden)]
+    pub fn by_pairs(pattern: &Pattern, values: &RhsValues) -> Self {
+        Self::build(pattern, values, false)
+    }
+
+    /// True when the rows are formed by 3D node blocks ([`Nodes3`]).
+    pub fn by_node_blocks(&self) -> bool {
+        self.nodes3.is_some()
+    }
+
+    fn build(pattern: &Pattern, values: &RhsValues, nodes: bool) -> Self {
         let g = values.g;
         let n = pattern.nrows();
         assert!(n <= u32::MAX as usize, "too many dofs for 32-bit indices");
@@ -233,7 +255,12 @@ impl RhsOperator {
             g: Vec::new(),
             pair_g: Vec::new(),
             pair_mid: None,
+            nodes3: None,
         };
+        if let Some(nodes) = nodes.then(|| Nodes3::new(n, row, values)).flatten() {
+            rows.nodes3 = Some(nodes);
+            return rows;
+        }
         let (mut i, mut blk_idx) = (0, Vec::new());
         while i < n {
             let same = i + 1 < n
@@ -350,6 +377,10 @@ impl RhsOperator {
         let pairs = r.pair.len();
         let skew = self.skew;
         assert!(!skew || a0.len() == n);
+        if let Some(nodes) = &self.nodes3 {
+            nodes.apply(team, h, c, skew, [u0, v0, a0], f, b);
+            return;
+        }
         let part = |range: std::ops::Range<usize>, offset: usize, b: &mut [f64]| {
             if skew {
                 r.pairs_g_into(range, offset, h, c, [f, u0, v0, a0], b);
@@ -449,12 +480,17 @@ impl RhsOperator {
             + b(&self.pair_g[..])
             + b(&self.blk_ptr[..])
             + self.blk_bytes()
+            + self.nodes3.as_ref().map_or(0, Nodes3::bytes)
     }
 
     /// Fills the values for `values`' step (the blocks' arrays are allocated again only
     /// when their form changes).
     pub fn refill(&mut self, values: &RhsValues) {
         self.skew = !values.g.is_empty();
+        if let Some(nodes) = &mut self.nodes3 {
+            nodes.refill(values);
+            return;
+        }
         let (k, bv) = (values.k, values.bv);
         for (e, &p) in self.bk.iter_mut().zip(&self.src) {
             *e = [bv[p], k[p]];

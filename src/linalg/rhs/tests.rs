@@ -226,3 +226,124 @@ fn right_hand_side_kernels_agree_bit_for_bit() {
     assert!(rows.blk_kd.is_empty() && rows.blk_bk.len() == rows.blk_idx.len());
     check(&rows, &bv, &[]);
 }
+
+/// A spinning steel box of hexahedra (consistent mass): `M`, `K` (with the spin
+/// softening) and `C` the Coriolis term of a spin about `axis`, on one pattern.
+fn spinning_box(axis: [f64; 3]) -> (Pattern, Vec<f64>, Vec<f64>, Vec<f64>) {
+    use crate::element::continuum::{assemble_continuum, SolidHex8};
+    use crate::element::solid::elasticity_3d;
+    use crate::frame3d::{add_coriolis, add_spin_softening, Spin};
+    let steel = crate::material::Elastic {
+        young: 2.1e11,
+        poisson: 0.3,
+        density: 7850.0,
+    };
+    let mesh =
+        crate::mesh::generators::box_mesh(crate::mesh::CellKind::Hex8, [0.3, 0.2, 0.1], [4, 3, 2])
+            .unwrap();
+    let el = SolidHex8 {
+        d: elasticity_3d(&steel),
+    };
+    let a = assemble_continuum(&mesh, &el, steel.density, false).unwrap();
+    let spin = Spin::new([0.1, 0.0, 0.0], axis, 300.0).unwrap();
+    let mut c = a.assembler.zeros();
+    add_coriolis(&a.assembler, &a.m, &spin, &mut c);
+    let mut k = a.k.clone();
+    add_spin_softening(&a.assembler, &a.m, &spin, &mut k);
+    (a.assembler.pattern.clone(), a.m, k, c)
+}
+
+/// A 3D solid's rows by node blocks: `M = M_s (x) I_3` and `G` about a coordinate axis
+/// give [`Nodes3`]; its right-hand side is the plain sparse products' to round-off, with
+/// and without `G` on the right-hand side, on one thread as on two or three (the same bits), for
+/// a spin about each axis; a spin off the axes, or a mass that is not `M_s (x) I_3`, keep
+/// the rows by pairs, with the same answer.
+#[test]
+fn node_blocks_of_a_solid_give_the_plain_products() {
+    let teams = [
+        Team::oversubscribed(Par::threads(2)),
+        Team::oversubscribed(Par::threads(3)),
+    ];
+    for (axis, blocks) in [
+        ([1.0, 0.0, 0.0], true),
+        ([0.0, 1.0, 0.0], true),
+        ([0.0, 0.0, 1.0], true),
+        ([0.0, 0.6, 0.8], false),
+    ] {
+        let (pattern, m, k, c_full) = spinning_box(axis);
+        let n = pattern.nrows();
+        let (cs, g) = split_skew(&pattern, &c_full).unwrap();
+        let u: Vec<f64> = (0..n).map(|i| 1e-4 * (0.3 * i as f64).sin()).collect();
+        let v: Vec<f64> = (0..n).map(|i| 1e-2 * (0.7 * i as f64).cos()).collect();
+        let acc: Vec<f64> = (0..n).map(|i| 3.0 * (0.9 * i as f64).sin()).collect();
+        let f: Vec<f64> = (0..n).map(|i| 1e3 * (1.1 * i as f64).cos()).collect();
+        let (alpha, h) = (0.6, 2e-6);
+        let c = alpha * h;
+        for (cc, gg) in [(&cs, &g[..]), (&c_full, &[][..])] {
+            let nnz = m.len();
+            let (mut a_orig, mut bv, mut a_work) = (vec![0.0; nnz], vec![0.0; nnz], vec![0.0; nnz]);
+            Operators {
+                m: &m,
+                c: cc,
+                k: &k,
+                pattern: &pattern,
+                is_bc: &vec![false; n],
+            }
+            .fill(alpha, h, &mut a_orig, &mut bv, &mut a_work);
+            let values = RhsValues {
+                m: &m,
+                c: cc,
+                k: &k,
+                g: gg,
+                bv: &bv,
+                parts: BParts::new(alpha, h),
+            };
+            let rows = RhsOperator::new(&pattern, &values);
+            // Without `G` on the right-hand side, `C` is the whole skew term: no block
+            // form.
+            let expect = blocks && !gg.is_empty();
+            assert_eq!(
+                rows.nodes3.is_some(),
+                expect,
+                "axis {axis:?}, G {}",
+                gg.len()
+            );
+            let mut reference = vec![0.0; n];
+            rhs_plain_into(&pattern, &values, h, c, [&u, &v, &acc], &f, &mut reference);
+            let scale = reference.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+            let mut one = vec![f64::NAN; n];
+            rows.apply(&Team::new(Par::Seq), h, c, [&u, &v, &acc], &f, &mut one);
+            let d = one
+                .iter()
+                .zip(&reference)
+                .fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+            assert!(d <= 1e-13 * scale, "axis {axis:?}: {d:e} of {scale:e}");
+            for team in &teams {
+                let mut more = vec![f64::NAN; n];
+                rows.apply(team, h, c, [&u, &v, &acc], &f, &mut more);
+                assert!(one
+                    .iter()
+                    .zip(&more)
+                    .all(|(x, y)| x.to_bits() == y.to_bits()));
+            }
+        }
+    }
+    // A mass that couples a node's components: the rows by pairs.
+    let (pattern, mut m, k, c_full) = spinning_box([0.0, 0.0, 1.0]);
+    let (cs, g) = split_skew(&pattern, &c_full).unwrap();
+    let t = crate::linalg::transpose_positions(&pattern).unwrap();
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let p = (cp[0]..cp[1]).find(|&p| ri[p] == 1).unwrap();
+    m[p] = 1e-3;
+    m[t[p]] = 1e-3;
+    let bv = vec![0.0; m.len()];
+    let values = RhsValues {
+        m: &m,
+        c: &cs,
+        k: &k,
+        g: &g,
+        bv: &bv,
+        parts: BParts::new(0.6, 2e-6),
+    };
+    assert!(RhsOperator::new(&pattern, &values).nodes3.is_none());
+}
