@@ -235,11 +235,13 @@ enum Command {
         #[command(flatten)]
         replace: Replace,
     },
-    /// Write the space-time step's matrices of a wheel or bar scenario (Matrix Market) for
-    /// other solvers, with the size of each factor and softway's time for one free step:
-    /// A.mtx, B.mtx, K.mtx, u0/v0/f.mtx, fixed.txt, matrix.json (bench/peers/ reads them).
+    /// Write the space-time step's matrices of a wheel, bar, press or 3D rolling scenario
+    /// (Matrix Market) for other solvers, with the size of each factor and softway's time
+    /// for one free step: A.mtx, B.mtx, K.mtx, u0/v0/f.mtx, fixed.txt, matrix.json
+    /// (bench/peers/ reads them).
     Matrix {
-        /// The scenario file (TOML, kind = "wheel" or "bar_impact"; its first run).
+        /// The scenario file (TOML, kind = "wheel", "bar_impact", "press" or "rolling3d"; its
+        /// first run).
         scenario: PathBuf,
         /// Output folder [default: out/<scenario name>-matrix].
         #[arg(long)]

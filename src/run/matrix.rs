@@ -202,7 +202,7 @@ fn step_inputs(sc: &Scenario) -> Result<FreeStep, RunError> {
         Err(RunError::input(
             &sc.path,
             format!(
-                "`softway matrix` takes a wheel or a bar_impact scenario, not kind = \"{}\"",
+                "`softway matrix` takes a wheel, bar_impact, press or rolling3d scenario, not kind = \"{}\"",
                 run.model.kind()
             ),
         ))
