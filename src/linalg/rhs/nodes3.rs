@@ -248,6 +248,9 @@ impl Nodes3 {
         self.rows_here::<G>(triples, h, c, uva, f, b);
     }
 
+    /// The rows of `triples` into `b` (as [`Nodes3::rows_into`]): per block, `d v0`, `K z`
+    /// and with `G` `g [e_k]_x w` summed by rows, `z` and `w` formed from the block's
+    /// columns of the state.
     #[inline(always)]
     fn rows_here<const G: bool>(
         &self,
