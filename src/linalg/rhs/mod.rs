@@ -188,7 +188,8 @@ pub struct RhsValues<'a> {
 
 impl RhsOperator {
     /// The operator on `pattern` (structurally symmetric or not) for `values`' step: by
-    /// node blocks where a 3D solid's rows allow them ([`Nodes3`]), else by pairs.
+    /// node blocks where a 3D solid's rows allow them (`K`'s nine values, `d` and `g` a 3 x 3
+    /// block: module `nodes3`), else by pairs.
     pub fn new(pattern: &Pattern, values: &RhsValues) -> Self {
         Self::build(pattern, values, true)
     }
@@ -200,7 +201,7 @@ impl RhsOperator {
         Self::build(pattern, values, false)
     }
 
-    /// True when the rows are formed by 3D node blocks ([`Nodes3`]).
+    /// True when the rows are formed by 3D node blocks (module `nodes3`).
     pub fn by_node_blocks(&self) -> bool {
         self.nodes3.is_some()
     }
