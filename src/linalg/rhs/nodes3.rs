@@ -190,23 +190,24 @@ impl Nodes3 {
             let (lo, hi) = b.split_at_mut(3 * self.mid);
             team.join(|| part(0..self.mid, lo), || part(self.mid..triples, hi));
         } else {
-            // A few parts a call (one a thread), as the rows by pairs cut theirs.
+            // One part a thread, up to `MAX_PARTS`, held on the stack (no allocation a step).
+            let width = width.min(MAX_PARTS);
             let blocks = self.idx.len();
-            let mut parts = Vec::with_capacity(width);
+            let mut parts: [(std::ops::Range<usize>, &mut [f64]); MAX_PARTS] =
+                std::array::from_fn(|_| (0..0, &mut [][..]));
             let (mut rest, mut t0) = (b, 0);
-            for w in 1..=width {
-                let t1 = if w == width {
+            for (w, slot) in parts.iter_mut().enumerate().take(width) {
+                let t1 = if w + 1 == width {
                     triples
                 } else {
-                    self.ptr
-                        .partition_point(|&p| p < w * blocks / width)
-                        .clamp(t0, triples)
+                    let want = (w + 1) * blocks / width;
+                    self.ptr.partition_point(|&p| p < want).clamp(t0, triples)
                 };
                 let (mine, tail) = std::mem::take(&mut rest).split_at_mut(3 * (t1 - t0));
-                parts.push((t0..t1, mine));
+                *slot = (t0..t1, mine);
                 (rest, t0) = (tail, t1);
             }
-            team.for_each(&mut parts, |(range, b)| part(range.clone(), b));
+            team.for_each(&mut parts[..width], |(range, b)| part(range.clone(), b));
         }
     }
 
@@ -221,13 +222,10 @@ impl Nodes3 {
         f: &[f64],
         b: &mut [f64],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::linalg::has_avx2() {
-            // SAFETY: the processor has AVX2.
-            unsafe { self.rows_avx2::<G>(triples, h, c, [u0, v0, a0], f, b) };
-            return;
-        }
-        self.rows_here::<G>(triples, h, c, [u0, v0, a0], f, b);
+        crate::linalg::with_avx2!(
+            self.rows_here::<G>(triples, h, c, [u0, v0, a0], f, b),
+            self.rows_avx2::<G>(triples, h, c, [u0, v0, a0], f, b)
+        );
     }
 
     /// [`Nodes3::rows_here`] compiled for AVX2.
@@ -305,6 +303,10 @@ impl Nodes3 {
         }
     }
 }
+
+/// The most parts the rows are formed in side by side (a team wider than this gives each of
+/// these parts a thread and leaves the rest idle for the right-hand side).
+const MAX_PARTS: usize = 8;
 
 /// How many blocks ahead of the one being formed the values are asked for (about 22 KiB).
 const AHEAD: usize = 256;
