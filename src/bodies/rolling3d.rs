@@ -373,9 +373,9 @@ impl RollingSlice {
         let rail = match spec.rail {
             None => None,
             Some(block) => {
-                if twin.is_some() || phi != 0.0 {
+                if twin.is_some() {
                     return Err(RollingSliceError::Assembly(
-                        "the elastic rail meets the wheel alone: no twin (the rail is the other body of the pair) and no spin creepage (the rail's frame translates)".into(),
+                        "the elastic rail meets the wheel alone: no twin (the rail is the other body of the pair)".into(),
                     ));
                 }
                 let open = block.mesh(block.rolled, spec.crown)?;
@@ -403,7 +403,11 @@ impl RollingSlice {
                     Placed { motion, first_dof },
                     block.reach(spec.flattening.depth),
                 )
-                .map_err(|e| RollingSliceError::Assembly(e.to_string()))?;
+                .map_err(|e| RollingSliceError::Assembly(e.to_string()))?
+                .with_spin(
+                    (phi != 0.0)
+                        .then(|| rail::spin(spun_radius, spec.omega, phi, 0.5 * spec.thickness)),
+                );
                 let interface = Interface::new(
                     search,
                     Placed {

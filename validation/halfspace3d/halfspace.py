@@ -243,6 +243,21 @@ class Rolling:
         _, fy2, _ = self.forces(Q[:, 2])
         return -fx / (self.G * c2), -fy1 / (self.G * c2), -fy2 / (self.G * c2 ** 1.5)
 
+    def spin_coefficients(self, a, b):
+        """The spin's coefficients of the full-stick limit, c = sqrt(a b), in Kalker's form
+        F_y = -G c^2 (C22 eta + c C23 phi), M_z = G c^3 (C23 eta - c C33 phi): C23 read from F_y
+        at phi, C23 read from M_z at eta (the same in the exact theory: the coupling is
+        antisymmetric) and C33."""
+        from scipy.linalg import lu_factor, lu_solve
+        lu = lu_factor(self.D, overwrite_a=False, check_finite=False)
+        W = np.stack([self.rigid_slip(0, 1, 0), self.rigid_slip(0, 0, 1)], axis=1)
+        Q = lu_solve(lu, W, check_finite=False)
+        c = np.sqrt(a * b)
+        _, _, mz_eta = self.forces(Q[:, 0])
+        _, fy_phi, mz_phi = self.forces(Q[:, 1])
+        G = self.G
+        return -fy_phi / (G * c ** 3), mz_eta / (G * c ** 3), -mz_phi / (G * c ** 4)
+
     def forces(self, q):
         dA = self.grid.dx * self.grid.dy
         n = self.n

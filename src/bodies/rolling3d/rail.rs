@@ -46,8 +46,19 @@
 //! as its turning line's, the lateral `eta` its slide along the axle, both as
 //! [`crate::contact::RotatingBase`] poses them) and `d(t)` the flattening program. A frame
 //! that accelerates loads the rail with `-M 1 d''` ([`crate::bodies::load_fn`]).
+//!
+//! **Spin.** The spin creepage `phi` is the wheel's turning about the contact's normal
+//! relative to the rail, at `V phi`. The rail's frame cannot turn with it (the rail is long
+//! and straight), so the turning is the rail's material's alone, under its mesh
+//! ([`spin`], [`crate::contact::facets::MaterialSpin`]): the contact's tangential rows see the
+//! rail's material at a point `x` move by `-V phi e_y x (x - p0)` beside the frame's
+//! velocity, `p0` the point under the axle, which is the rigid base's rigid slip
+//! `V phi n x (x - p0)` ([`crate::contact::RotatingBase`]) and Kalker's `phi (-y, x)`. Over the
+//! patch's passage the turning is `2 a phi` (1e-3 rad at `phi` = 0.2 1/m, `a` = 2.5 mm), and the
+//! geometry and the normal rows leave it out, as the rigid base's crown does.
 
 use crate::contact::cyclic::{Copies, CyclicSymmetry};
+use crate::contact::facets::MaterialSpin;
 use crate::contact::obstacle::Flattening;
 use crate::contact::search::Motion;
 use crate::mesh::generators::graded::ruler;
@@ -442,6 +453,19 @@ pub fn rail_frame(
         velocity: [-speed * (1.0 - xi), 0.0, -speed * eta],
         direction: [0.0, 1.0, 0.0],
         program: flattening,
+    }
+}
+
+/// The spin creepage `phi` (1/m) under the wheel of spun radius `rho` turning at `omega`, its
+/// mid-plane at `z_c` (module docs, Spin): the rail's material turns about the upward normal
+/// through the point under the axle, `p0 = (0, -rho, z_c)`, at `-V phi` (`V = omega rho`),
+/// so that a point of the wheel at rest in its frame slides on it at the rigid base's
+/// `V phi n x (x - p0)` ([`crate::contact::RotatingBase`]).
+pub fn spin(rho: f64, omega: f64, phi: f64, z_c: f64) -> MaterialSpin {
+    MaterialSpin {
+        axis: [0.0, 1.0, 0.0],
+        pivot: [0.0, -rho, z_c],
+        rate: -omega * rho * phi,
     }
 }
 

@@ -273,6 +273,32 @@ pub struct FacetSearch {
     /// The facets' boxes at the last update.
     boxes: Vec<(Vector, Vector)>,
     bvh: Bvh,
+    /// A turning of the master's material that its mesh does not follow
+    /// ([`FacetSearch::with_spin`]).
+    spin: Option<MaterialSpin>,
+}
+
+/// A rigid turning of the master body's material about the axis `axis` (unit) through
+/// `pivot` at `rate` (rad/s, right-handed about `axis`), which the body's mesh and frame do
+/// not follow: Kalker's spin creepage as a rigid slip. Its velocity
+/// `rate axis x (x - pivot)` enters the tangential rows' surface velocity alone
+/// ([`FacetSearch::with_spin`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialSpin {
+    /// The axis, unit.
+    pub axis: Vector,
+    /// A point of the axis in the ground, m.
+    pub pivot: Vector,
+    /// The rate, rad/s.
+    pub rate: f64,
+}
+
+impl MaterialSpin {
+    /// The turning's velocity at the ground point `x`, m/s.
+    pub fn velocity(&self, x: Vector) -> Vector {
+        let r = sub(x, self.pivot);
+        cross(self.axis, r).map(|c| self.rate * c)
+    }
 }
 
 impl FacetSearch {
@@ -337,7 +363,20 @@ impl FacetSearch {
             reach,
             tie: 1e-12 * size.max(reach),
             facets,
+            spin: None,
         })
+    }
+
+    /// With the master's material turning by `spin` under its mesh: the tangential rows
+    /// ([`MasterSurface::tangent_row`]) see the facet point's material move by
+    /// [`MaterialSpin::velocity`] beside its frame's drift, so the slip they hold carries
+    /// the spin's rigid slip (Kalker's `phi (-y, x)`, as the rigid base's
+    /// [`crate::contact::RotatingBase::spin`]); the normal rows and the geometry do not.
+    /// For a small spin over the patch's passage (the elastic rail's, whose frame
+    /// translates) it is Kalker's steady theory's rigid slip; it is not a turning body.
+    pub fn with_spin(mut self, spin: Option<MaterialSpin>) -> Self {
+        self.spin = spin;
+        self
     }
 
     /// The search against the surface of the 3D solid `mesh` ([`surface_facets`], within
@@ -578,7 +617,24 @@ impl MasterSurface for FacetSearch {
     ) -> Option<SearchedRow> {
         (k < 2).then(|| {
             let tangent = tangent_basis(3, target.normal)[k];
-            self.row(target, tangent, slave, node, x_ref, t, u)
+            let mut row = self.row(target, tangent, slave, node, x_ref, t, u);
+            if let Some(spin) = &self.spin {
+                // The facet point's material velocity gains the spin's: w = -t.(v_a - v_f).
+                let facet = self.facets[target.segment];
+                let weights = facet.weights(target.xi, target.eta);
+                let mut x = [0.0; 3];
+                for (&m, &wgt) in facet.nodes().iter().zip(&weights) {
+                    let p = self
+                        .master
+                        .motion
+                        .place(t, self.master.local(3, &self.reference, u, m));
+                    for c in 0..3 {
+                        x[c] += wgt * p[c];
+                    }
+                }
+                row.w += dot(tangent, spin.velocity(x));
+            }
+            row
         })
     }
 

@@ -414,6 +414,92 @@ fn the_row_gives_the_search_s_gap_and_w_its_rate() {
     assert!(s.tangent_row(&target, 2, slave, 0, &x_ref, t, &u).is_none());
 }
 
+/// A master whose material turns under its mesh ([`MaterialSpin`]) gives its tangential rows
+/// the surface velocity of a master whose frame really turns, at the instant the two
+/// coincide (the turning frame's drift, [`Motion::Rotating`], is the same field); its normal
+/// rows stay those of the master at rest, whose geometry it keeps.
+#[test]
+fn a_material_spin_slides_the_tangential_rows_as_a_turning_frame_does() {
+    let mesh = sphere_like(CellKind::Hex8, 0.5, 3);
+    let (centre, omega) = ([0.3, 0.6, -0.2], 7.0);
+    let place = |motion| Placed {
+        motion,
+        first_dof: 3,
+    };
+    let turning = FacetSearch::on_mesh(
+        &mesh,
+        None,
+        place(Motion::Rotating {
+            centre,
+            omega,
+            angle0: 0.0,
+        }),
+        0.2,
+    )
+    .unwrap();
+    let at_rest = FacetSearch::on_mesh(
+        &mesh,
+        None,
+        place(Motion::Translating {
+            origin: centre,
+            velocity: [0.0; 3],
+        }),
+        0.2,
+    )
+    .unwrap();
+    let spun = at_rest.clone().with_spin(Some(MaterialSpin {
+        axis: [0.0, 0.0, 1.0],
+        pivot: centre,
+        rate: omega,
+    }));
+    let slave = Placed {
+        motion: Motion::Translating {
+            origin: [0.0; 3],
+            velocity: [1.0, -2.0, 0.5],
+        },
+        first_dof: 0,
+    };
+    let mut u = vec![0.0; 3 + mesh.n_dofs()];
+    let mut rng = Rng(7);
+    for v in u.iter_mut() {
+        *v = 1e-3 * (rng.next() - 0.5);
+    }
+    let mut searches = [turning, at_rest, spun];
+    for s in searches.iter_mut() {
+        s.update(0.0, &u);
+    }
+    // Points just off the sphere's top and sides (its centre at centre + (0.5, 0.5, 0.5)).
+    for ground in [[0.85, 1.12, 0.85], [1.33, 1.05, 0.32], [0.78, 0.57, 0.25]] {
+        let x_ref: Vec<f64> = (0..3).map(|c| ground[c] - u[c]).collect();
+        let target = searches[0].find(ground).unwrap();
+        assert_eq!(searches[2].find(ground), Some(target));
+        let mut slid: f64 = 0.0;
+        for k in 0..2 {
+            let [tt, tr, ts] = [0, 1, 2].map(|i| {
+                searches[i]
+                    .tangent_row(&target, k, slave, 0, &x_ref, 0.0, &u)
+                    .unwrap()
+            });
+            assert!(
+                (ts.w - tt.w).abs() < 1e-12 * (1.0 + tt.w.abs()),
+                "tangent {k} at {ground:?}: spun {}, turning {}",
+                ts.w,
+                tt.w
+            );
+            slid = slid.max((ts.w - tr.w).abs());
+            assert_eq!(
+                ts.terms.iter().collect::<Vec<_>>(),
+                tt.terms.iter().collect::<Vec<_>>()
+            );
+        }
+        assert!(slid > 0.1, "the spin slides the rows at {ground:?}: {slid}");
+        let [nr, ns] =
+            [1, 2].map(|i| searches[i].normal_row_for_test(&target, slave, &x_ref, 0.0, &u));
+        assert_eq!(nr.w.to_bits(), ns.w.to_bits());
+        assert_eq!(nr.offset.to_bits(), ns.offset.to_bits());
+    }
+}
+
 impl FacetSearch {
     /// The normal row of slave node 0.
     fn normal_row_for_test(

@@ -51,7 +51,8 @@
 //! # [rail]                    # an elastic rail of the wheel's material in place of the
 //! #                           # rigid base (crate::bodies::rolling3d::rail): a bar with
 //! #                           # the base's crown whose frame moves under the wheel, its
-//! #                           # foot held; coupled only, no spin creepage
+//! #                           # foot held; coupled only (its spin creepage: the
+//! #                           # rail's material turning under its mesh, a rigid slip)
 //! # profile = "bar"           # or "uic60": the 60E1 section (its own height and width;
 //! #                           # rolling.crown_radius_m defaults to its crest's 0.3 m)
 //! # inclination = 0.0         # the UIC60 rail's, tan of the angle (1:40 = 0.025)

@@ -29,13 +29,6 @@ pub(super) fn rail_block(
             "must be \"coupled\": the rail is the wheel's other body, no twin",
         );
     }
-    if let Some(phi) = r.spin_creepage.filter(|p| *p != 0.0) {
-        return refuse(
-            "rolling.spin_creepage",
-            phi.to_string(),
-            "spin creepage is not built (the rail's frame translates)",
-        );
-    }
     if w.cyclic_columns == Some(true) {
         return refuse("wheel.cyclic_columns", "true".into(), "the columns of the rail's dofs do not repeat round the axle: the turned columns are not built");
     }

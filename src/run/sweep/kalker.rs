@@ -18,7 +18,15 @@
 //! |---|---|
 //! | `xi` | `C_11 = dQ / dxi / (G c^2)` |
 //! | `eta` | `C_22 = -dQ_y / deta / (G c^2)`, `C_23 = -dM_z / deta / (G c^3)` |
-//! | `phi` (1/m) | `C_23 = -dQ_y / dphi / (G c^3)`, `C_33 = dM_z / dphi / (G c^4)` |
+//! | `phi` (1/m) | `C_23 = dQ_y / dphi / (G c^3)`, `C_33 = -dM_z / dphi / (G c^4)` |
+//!
+//! The spin's signs follow from two facts no convention changes. Kalker's forces are
+//! `F_y = -G c^2 (C_22 eta + c C_23 phi)` and `M_z = G c^3 (C_23 eta - c C_33 phi)`: the
+//! coupling is antisymmetric, `dQ_y / dphi = -dM_z / deta`, whatever the orientation of the
+//! axis `phi` and `M_z` are taken about (softway takes both about the base's normal `n`), so
+//! the coefficient read from `Q_y` at `phi` has the sign opposite to the one read from `M_z`
+//! at `eta`. And the moment on the wheel resists its spin on the base, `dM_z / dphi < 0`, so
+//! `C_33` is minus that slope. `tests/rolling3d_rail.rs` checks both on the elastic rail.
 //!
 //! `Q`, `Q_y` and `M_z` are the base's force and moment on the wheel as the run's summary
 //! gives them (`steady.creep_force_N`, `lateral_force_N`, `spin_moment_N_m`); the signs make
@@ -71,8 +79,8 @@ const COEFFICIENTS: [Coefficient; 5] = [
     ("C11", 0, 0, 1.0, 2, Some(0)),
     ("C22", 1, 1, -1.0, 2, Some(1)),
     ("C23 (M_z, eta)", 1, 2, -1.0, 3, Some(2)),
-    ("C23 (Q_y, phi)", 2, 1, -1.0, 3, Some(2)),
-    ("C33", 2, 2, 1.0, 4, None),
+    ("C23 (Q_y, phi)", 2, 1, 1.0, 3, Some(2)),
+    ("C33", 2, 2, -1.0, 4, None),
 ];
 
 /// The sweep's keys this study reads: the creepages that vary and the ladder's key.
@@ -535,6 +543,7 @@ impl Study {
             s.push('\n');
         }
         let opt = |x: Option<f64>, d: usize| x.map_or("-".to_string(), |v| format!("{v:.d$}"));
+        let percent = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:+.2} %"));
         let mut line = |label: &str, cell: &dyn Fn(usize) -> String| {
             let _ = write!(s, "| {label} | | |");
             for &k in &shown {
@@ -546,20 +555,18 @@ impl Study {
         line("Richardson limit", &|k| opt(self.limits[k].1, 4));
         line("Kalker's table", &|k| opt(self.reference(k), 3));
         line("finest rung's distance", &|k| {
-            opt(
+            percent(
                 self.reference(k)
                     .zip(finest)
                     .map(|(r, f)| 100.0 * (f.values[k] / r - 1.0)),
-                2,
-            ) + " %"
+            )
         });
         line("limit's distance", &|k| {
-            opt(
+            percent(
                 self.reference(k)
                     .zip(self.limits[k].1)
                     .map(|(r, l)| 100.0 * (l / r - 1.0)),
-                2,
-            ) + " %"
+            )
         });
         let residual = self.fits.iter().map(|f| f.residual).fold(0.0, f64::max);
         let _ = writeln!(
