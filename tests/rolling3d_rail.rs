@@ -320,6 +320,12 @@ fn a_rail_refuses_a_twin_and_a_bad_pitch_by_name() {
         let (code, err) = run_err(&format!("rail-bad-{key}"), &text);
         assert_one_line_error(code, &err, &[must]);
     }
+    // A zone too narrow to hold the patch until it relocates by one of 34 coarse sectors
+    // (10.6 degrees): a coarse rim node would enter the patch late in the run.
+    let text = softway::scenario::set_key(&base, "wheel.zone_sectors", "544").unwrap();
+    let text = softway::scenario::set_key(&text, "wheel.mesh", "[4, 34, 2]").unwrap();
+    let (code, err) = run_err("rail-bad-zone-width", &text);
+    assert_one_line_error(code, &err, &["wheel.zone_deg", "13.6"]);
     // The UIC60 section has its own height.
     let uic = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),

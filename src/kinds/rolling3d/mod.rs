@@ -97,6 +97,7 @@ use crate::scenario::combinations::Refusal;
 use crate::scenario::kind::{Culprit, FreeStep, Kind, KindInput, Model, Size, Spec};
 use crate::scenario::{Ctx, Run, Scenario, ScenarioError};
 use crate::time::Integrator;
+use std::f64::consts::PI;
 use std::path::Path;
 
 mod rail;
@@ -343,6 +344,9 @@ impl Kind for Rolling3dKind {
                 ))
             }
         };
+        // The patch's half-length along the rim, about Hertz's `sqrt(R delta)` (the zone's
+        // check below).
+        let patch_half = (radius * 1e-3 * depth).sqrt();
         let zone = match (
             w.zone_sectors,
             w.zone_deg,
@@ -377,6 +381,17 @@ impl Kind for Rolling3dKind {
                     ));
                 }
                 let deg = cx.within("wheel.zone_deg", deg.unwrap_or(30.0), 0.01, 170.0)?;
+                // The zone relocates by one of the mesh's sectors when the patch has moved
+                // that far: the patch must stay inside it until then, half a sector off its
+                // centre and its own half-length on (else a coarse rim node enters the patch).
+                let least = (PI / nt as f64 + patch_half / radius).to_degrees() * 2.0;
+                if deg < least {
+                    return Err(cx.invalid(
+                        "wheel.zone_deg",
+                        deg,
+                        &format!("at least {least:.1}: the zone relocates by one of wheel.mesh's {nt} sectors ({:.1} degrees) as the patch moves, so it must hold the patch (about {:.1} mm long at this flattening) half a sector off its centre; widen the zone, or give wheel.mesh more sectors", 360.0 / nt as f64, 2e3 * patch_half),
+                    ));
+                }
                 let growth = cx.within("wheel.zone_growth", growth.unwrap_or(1.2), 1.01, 2.0)?;
                 let depth = depth
                     .map(|l| cx.within("wheel.zone_depth_mm", l, 1e-3, 1e3 * radius))
