@@ -20,14 +20,15 @@ import numpy as np
 from halfspace import Grid, Rolling, ellipse_cells, hertz, kalker_table
 
 
-def ladder(a, b, nu, ns):
+def ladder(a, b, nu, ns, method="linear_coefficients"):
+    """Per grid of n x n cells: (n, cells, coefficients of Rolling.<method>(a, b)..., seconds)."""
     rows = []
     for n in ns:
         t = time.time()
         g = Grid.box(a, b, n, n)
         idx = ellipse_cells(g, a, b)
         r = Rolling(g, 1.0, nu, idx)
-        rows.append((n, len(idx)) + tuple(r.linear_coefficients(a, b)) + (time.time() - t,))
+        rows.append((n, len(idx)) + tuple(getattr(r, method)(a, b)) + (time.time() - t,))
         del r
     return rows
 

@@ -8,29 +8,21 @@ number in the exact theory), and C33, the reference of the elastic rail's spin r
 python spin_coefficients.py [n ...]      (default 16 32 64; about a minute)
 """
 import sys
-import time
-from halfspace import Grid, Rolling, ellipse_cells, kalker_table
-from kalker_coefficients import richardson
+from halfspace import kalker_table
+from kalker_coefficients import ladder, richardson
 
 
 def main(ns, a=1.0, b=1.0, nu=0.25):
     ref = kalker_table(nu, a / b)
     print(f"nu = {nu}, a/b = {a / b}: Kalker (Table E.3) C23 = {ref[2]:.3f}")
     print("    n  cells  C23 (F_y, phi)  C23 (M_z, eta)      C33   time/s")
-    rows = []
-    for n in ns:
-        t = time.time()
-        g = Grid.box(a, b, n, n)
-        idx = ellipse_cells(g, a, b)
-        r = Rolling(g, 1.0, nu, idx)
-        v = r.spin_coefficients(a, b)
-        rows.append(v)
-        print(f"  {n:3d}  {len(idx):5d}  {v[0]:14.4f}  {v[1]:14.4f}  {v[2]:7.4f}  {time.time() - t:7.1f}")
-        del r
+    rows = ladder(a, b, nu, ns, "spin_coefficients")
+    for n, cells, *v, secs in rows:
+        print(f"  {n:3d}  {cells:5d}  {v[0]:14.4f}  {v[1]:14.4f}  {v[2]:7.4f}  {secs:7.1f}")
     if len(rows) >= 3:
         for k, lab in enumerate(("C23 (F_y, phi)", "C23 (M_z, eta)", "C33")):
-            lim, p = richardson([row[k] for row in rows])
-            print(f"  {lab}: finest {rows[-1][k]:.4f}, Richardson {lim:.4f} (observed order {p:.2f})")
+            lim, p = richardson([row[2 + k] for row in rows])
+            print(f"  {lab}: finest {rows[-1][2 + k]:.4f}, Richardson {lim:.4f} (observed order {p:.2f})")
 
 
 if __name__ == "__main__":
