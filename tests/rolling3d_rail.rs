@@ -335,6 +335,11 @@ fn a_rail_refuses_a_twin_and_a_bad_pitch_by_name() {
     let text = softway::scenario::set_key(&uic, "rail.height_mm", "20.0").unwrap();
     let (code, err) = run_err("rail-bad-uic-height", &text);
     assert_one_line_error(code, &err, &["rail.height_mm", "UIC60"]);
+    // A spin turns about the wheel's mid-plane, off an inclined rail's patch.
+    let text = softway::scenario::set_key(&uic, "rail.inclination", "0.025").unwrap();
+    let text = softway::scenario::set_key(&text, "rolling.spin_creepage", "0.2").unwrap();
+    let (code, err) = run_err("rail-bad-uic-spin", &text);
+    assert_one_line_error(code, &err, &["rolling.spin_creepage", "rail.inclination"]);
     // A length is a closed rail's.
     let text = softway::scenario::set_key(&base, "rail.periodic", "false").unwrap();
     let text = softway::scenario::set_key(&text, "rail.length_mm", "80.0").unwrap();

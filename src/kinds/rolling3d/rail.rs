@@ -57,6 +57,17 @@ pub(super) fn rail_block(
             ))
         }
     };
+    if let (RailProfile::Uic60 { inclination }, Some(phi)) =
+        (profile, r.spin_creepage.filter(|p| *p != 0.0))
+    {
+        if inclination != 0.0 {
+            return refuse(
+                "rolling.spin_creepage",
+                phi.to_string(),
+                "a spin on an inclined rail is not built: the patch sits off the wheel's mid-plane, about which the spin turns (set rail.inclination = 0)",
+            );
+        }
+    }
     let uic60 = matches!(profile, RailProfile::Uic60 { .. });
     let mm = |key: &str, v: Option<f64>, default: f64, lo: f64, hi: f64| {
         cx.within(key, v.unwrap_or(1e3 * default), 1e3 * lo, 1e3 * hi)
