@@ -500,7 +500,10 @@ impl FacetSearch {
     }
 
     /// The row of slave node `node` against `target` along the unit direction `n` at time
-    /// `t` in the configuration `u` (module docs, The rows).
+    /// `t` in the configuration `u` (module docs, The rows); with `spin`, the master's
+    /// material velocity at the facet point gains [`MaterialSpin::velocity`] (a tangential
+    /// row's, [`FacetSearch::with_spin`]: linear in the point, so summed over the facet's
+    /// nodes with their weights as the frame's drift is).
     #[allow(clippy::too_many_arguments)]
     fn row(
         &self,
@@ -511,6 +514,7 @@ impl FacetSearch {
         x_ref: &[f64],
         t: f64,
         u: &[f64],
+        spin: Option<&MaterialSpin>,
     ) -> SearchedRow {
         let facet = self.facets[target.segment];
         let weights = facet.weights(target.xi, target.eta);
@@ -527,10 +531,12 @@ impl FacetSearch {
             for (c, &v) in cm.iter().enumerate() {
                 terms.push(d + c, -wgt * v);
             }
-            let dm = self
-                .master
-                .motion
-                .drift(t, self.master.local(3, &self.reference, u, m));
+            let local = self.master.local(3, &self.reference, u, m);
+            let mut dm = self.master.motion.drift(t, local);
+            if let Some(spin) = spin {
+                let v = spin.velocity(self.master.motion.place(t, local));
+                dm = std::array::from_fn(|c| dm[c] + v[c]);
+            }
             for c in 0..3 {
                 drift_f[c] += wgt * dm[c];
             }
@@ -602,7 +608,7 @@ impl MasterSurface for FacetSearch {
         t: f64,
         u: &[f64],
     ) -> SearchedRow {
-        self.row(target, target.normal, slave, node, x_ref, t, u)
+        self.row(target, target.normal, slave, node, x_ref, t, u, None)
     }
 
     fn tangent_row(
@@ -617,24 +623,8 @@ impl MasterSurface for FacetSearch {
     ) -> Option<SearchedRow> {
         (k < 2).then(|| {
             let tangent = tangent_basis(3, target.normal)[k];
-            let mut row = self.row(target, tangent, slave, node, x_ref, t, u);
-            if let Some(spin) = &self.spin {
-                // The facet point's material velocity gains the spin's: w = -t.(v_a - v_f).
-                let facet = self.facets[target.segment];
-                let weights = facet.weights(target.xi, target.eta);
-                let mut x = [0.0; 3];
-                for (&m, &wgt) in facet.nodes().iter().zip(&weights) {
-                    let p = self
-                        .master
-                        .motion
-                        .place(t, self.master.local(3, &self.reference, u, m));
-                    for c in 0..3 {
-                        x[c] += wgt * p[c];
-                    }
-                }
-                row.w += dot(tangent, spin.velocity(x));
-            }
-            row
+            let spin = self.spin.as_ref();
+            self.row(target, tangent, slave, node, x_ref, t, u, spin)
         })
     }
 
